@@ -1,0 +1,81 @@
+// Warping functions from [0,1)^2 to directions, with their densities.
+//
+// Conventions: returned directions are unit vectors in the local frame (z up, facet/frame.h);
+// every pdf is per unit solid angle unless its name says otherwise. Inputs u are in [0,1)^2.
+#pragma once
+
+#include "facet/types.h"
+
+namespace facet {
+
+// Concentric (Shirley-Chiu) map of the unit square onto the unit disk: area preserving and
+// continuous, so stratification survives the warp.
+inline Vec2 sample_uniform_disk_concentric(Vec2 u) {
+    Vec2 o = 2.f * u - Vec2(1.f);
+    if (o.x == 0.f && o.y == 0.f) return {0.f, 0.f};
+    float r, theta;
+    if (std::fabs(o.x) > std::fabs(o.y)) {
+        r = o.x;
+        theta = (kPi / 4.f) * (o.y / o.x);
+    } else {
+        r = o.y;
+        theta = kPiOver2 - (kPi / 4.f) * (o.x / o.y);
+    }
+    return r * Vec2(std::cos(theta), std::sin(theta));
+}
+
+// Cosine-weighted hemisphere (Malley's method): pdf = cos(theta) / pi.
+inline Vec3 sample_cosine_hemisphere(Vec2 u) {
+    Vec2 d = sample_uniform_disk_concentric(u);
+    float z = std::sqrt(std::fmax(0.f, 1.f - d.x * d.x - d.y * d.y));
+    return {d.x, d.y, z};
+}
+inline float cosine_hemisphere_pdf(float cos_theta) { return std::fmax(cos_theta, 0.f) * kInvPi; }
+
+inline Vec3 sample_uniform_sphere(Vec2 u) {
+    float z = 1.f - 2.f * u.x;
+    float r = std::sqrt(std::fmax(0.f, 1.f - z * z));
+    float phi = 2.f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline constexpr float uniform_sphere_pdf() { return kInv4Pi; }
+
+inline Vec3 sample_uniform_hemisphere(Vec2 u) {
+    float z = u.x;
+    float r = std::sqrt(std::fmax(0.f, 1.f - z * z));
+    float phi = 2.f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline constexpr float uniform_hemisphere_pdf() { return kInv2Pi; }
+
+// Uniform direction inside a cone of half-angle with cosine cos_max around +z.
+inline Vec3 sample_uniform_cone(Vec2 u, float cos_max) {
+    float z = (1.f - u.x) + u.x * cos_max;
+    float r = std::sqrt(std::fmax(0.f, 1.f - z * z));
+    float phi = 2.f * kPi * u.y;
+    return {r * std::cos(phi), r * std::sin(phi), z};
+}
+inline float uniform_cone_pdf(float cos_max) { return 1.f / (2.f * kPi * (1.f - cos_max)); }
+
+// Uniform point on a triangle, as barycentrics (b0, b1); b2 = 1 - b0 - b1 (Heitz 2019 warp,
+// low distortion so stratification survives).
+inline Vec2 sample_uniform_triangle(Vec2 u) {
+    float b0, b1;
+    if (u.x < u.y) {
+        b0 = u.x / 2.f;
+        b1 = u.y - b0;
+    } else {
+        b1 = u.y / 2.f;
+        b0 = u.x - b1;
+    }
+    return {b0, b1};
+}
+
+// Power heuristic with beta = 2 (Veach 1997, eq. 9.13) for multiple importance sampling.
+inline float power_heuristic(float pdf_a, float pdf_b) {
+    float a = pdf_a * pdf_a, b = pdf_b * pdf_b;
+    if (std::isinf(a)) return 1.f;
+    return a + b > 0.f ? a / (a + b) : 0.f;
+}
+
+}  // namespace facet
