@@ -1,0 +1,62 @@
+// A Facet material: the sum of a diffuse, a glossy and a mirror component (Cohen & Wallace
+// §2.5.5, f = kd f_d + ks f_s + f_m), energy conserving by construction.
+//
+// Conventions: facet/bxdf.h (local frame, no cosine in f, pdf per solid angle, delta lobes).
+//  - Glossy and mirror are summed as they are: the registry requires their scales to sum to
+//    at most 1 per channel, and F <= 1, so together they reflect at most 1.
+//  - The diffuse lobe gets what the specular lobes leave, reciprocally:
+//      f_d(wo, wi) = rho_d/pi * (1 - Es(wo)) (1 - Es(wi)) / (1 - Es_avg)
+//    where Es(mu) is the directional albedo of glossy + mirror and Es_avg = 2 int Es(mu) mu dmu
+//    (Kelemen & Szirmay-Kalos 2001 form; Kulla & Conty 2017 §5.3). Then the albedo at wo is
+//    Es(wo) + rho_d (1 - Es(wo)) <= 1, and f stays symmetric in wo, wi (eq. 2.24).
+//    Es is tabulated per channel at construction by Gauss-Legendre quadrature over mu.
+//  - sample_f picks a lobe with probability proportional to its albedo at wo (luminance), and
+//    pdf() is the matching mixture density of the non-delta lobes.
+#pragma once
+
+#include <array>
+#include <optional>
+#include <string>
+
+#include "facet/bxdf.h"
+#include "facet/lambert.h"
+#include "facet/microfacet.h"
+#include "facet/mirror.h"
+
+namespace facet {
+
+class Material {
+public:
+    Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
+             std::optional<MirrorReflection> mirror);
+
+    Rgb f(const Vec3& wo, const Vec3& wi) const;
+    float pdf(const Vec3& wo, const Vec3& wi) const;
+    std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const;
+    BxDFFlags flags() const { return m_flags; }
+
+    const std::optional<LambertReflection>& diffuse() const { return m_diffuse; }
+    const std::optional<MicrofacetReflection>& glossy() const { return m_glossy; }
+    const std::optional<MirrorReflection>& mirror() const { return m_mirror; }
+
+    // Directional albedo of the specular part (glossy + mirror) at cos theta = mu, per channel.
+    Rgb specular_albedo(float mu) const;
+
+    // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
+    static constexpr int kTableSize = 64;
+
+private:
+    // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
+    std::array<float, 3> lobe_probabilities(const Vec3& wo) const;
+    Rgb diffuse_scale(float mu) const { return Rgb(1.f) - specular_albedo(mu); }
+
+    std::optional<LambertReflection> m_diffuse;
+    std::optional<MicrofacetReflection> m_glossy;
+    std::optional<MirrorReflection> m_mirror;
+    BxDFFlags m_flags = BxDFFlags::None;
+    bool m_has_table = false;              // false when the diffuse lobe needs no compensation
+    std::array<Rgb, kTableSize> m_es{};    // Es(mu_k), mu_k = k / (kTableSize - 1)
+    Rgb m_inv_one_minus_es_avg{1.f};       // 1 / (1 - Es_avg), per channel
+};
+
+}  // namespace facet
