@@ -1,0 +1,133 @@
+// Light sources of the renderer, in physical units, and their sampling as seen from a point.
+//
+// Conventions:
+//  - Units: point and spot lights are given by their radiant power Phi (W, per RGB channel),
+//    directional lights by the irradiance E (W/m^2) on a surface facing them, area lights
+//    (emissive shapes) and the environment by their radiance L (W sr^-1 m^-2).
+//  - `sample_li(ctx, u)` picks a direction wi (unit, world space, from ctx.p TOWARD the light)
+//    and returns `li` such that the direct-lighting estimate at ctx.p is
+//        f(wo, wi) * li * |cos theta_i| / pdf.
+//    For area lights and the environment `li` is the incident radiance and `pdf` is per unit
+//    solid angle of wi. For the delta lights `pdf` = 1 and `delta` is true, and li is
+//      point:       Phi / (4 pi r^2)                 so li |cos| = Phi cos / (4 pi r^2),
+//                                                    Cohen & Wallace eq. 2.40;
+//      spot:        I(theta) / r^2, I(theta) = I0 * falloff(cos theta), where falloff is 1
+//                   inside the inner cone, 0 outside the outer cone and LINEAR IN cos theta
+//                   between them, so Phi = 2 pi I0 [(1 - cos_in) + (cos_in - cos_out) / 2]
+//                   holds exactly;
+//      directional: E (the irradiance on a surface facing the light), dist = +inf.
+//    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
+//    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
+//    use Scene::occluded(p, ng, wi, dist) (which shortens the ray to avoid the emitter itself).
+//  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
+//    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
+//    multiple importance sampling of BSDF-sampled rays. 0 for delta lights.
+//  - Area lights emit only from the FRONT side of their shape (the side the geometric normal of
+//    the shape points to, see scene.h); `le(n_light, w)` is the radiance leaving toward w.
+//  - `ctx.n` is the (unit) shading normal on the side being lit, used by the environment to
+//    sample the cosine-weighted hemisphere; pass n = 0 for a point not on a surface (then the
+//    environment is sampled uniformly over the sphere). Spheres are sampled in the cone they
+//    subtend (pdf per solid angle), triangles, quads, boxes, meshes and discs uniformly by area
+//    (converted to solid angle: pdf = r^2 / (A |cos theta_l|)).
+#pragma once
+
+#include <cstdint>
+#include <optional>
+#include <vector>
+
+#include "facet/types.h"
+
+namespace facet::render {
+
+struct LightSampleContext {
+    Vec3 p{0.f};  // the shaded point (world space)
+    Vec3 n{0.f};  // unit shading normal on the lit side, or 0 (see conventions)
+};
+
+struct LightLiSample {
+    Rgb li{0.f};         // see conventions: radiance, or the delta lights' equivalent
+    Vec3 wi{0.f};        // unit, from p toward the light
+    float pdf = 0.f;     // per unit solid angle; 1 for delta lights
+    float dist = 0.f;    // distance from p to the sampled point; +inf for directional/environment
+    Vec3 p_light{0.f};   // sampled point on the light (area lights; position for point/spot)
+    Vec3 n_light{0.f};   // unit geometric normal there (area lights), else 0
+    bool delta = false;  // true for point, spot and directional lights
+};
+
+class Light {
+  public:
+    enum class Kind : std::uint8_t { Point, Spot, Directional, Area, Environment };
+
+    // Factories. Arguments are validated by the scene loader (finite, non-negative power,
+    // unit directions, 0 <= inner <= outer < 180 degrees...), not here.
+    static Light point(const Vec3& position, const Rgb& power);
+    // `direction` is the cone axis (unit, the way the light shines); angles are half-angles.
+    static Light spot(const Vec3& position, const Vec3& direction, const Rgb& power,
+                      float inner_half_angle_deg, float outer_half_angle_deg);
+    // `direction` is the way the light TRAVELS (unit); wi = -direction.
+    static Light directional(const Vec3& direction, const Rgb& irradiance);
+    static Light environment(const Rgb& radiance);
+    // Area light over world-space triangles (p0, p1, p2 per triangle, front side by the
+    // counter-clockwise winding: n = normalize(cross(p1 - p0, p2 - p0))). Degenerate triangles
+    // are dropped; at least one must remain.
+    static Light area_triangles(std::vector<Vec3> triangle_vertices, const Rgb& radiance,
+                                std::uint32_t shape);
+    // Area light on an exact sphere (outward normals emit).
+    static Light area_sphere(const Vec3& center, float radius, const Rgb& radiance,
+                             std::uint32_t shape);
+    // Area light on a flat ellipse: points c + cos(a) e1 + sin(a) e2 scaled by r in [0,1],
+    // front normal normalize(cross(e1, e2)). A transformed disc is such an ellipse.
+    static Light area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
+                           std::uint32_t shape);
+
+    Kind kind() const { return m_kind; }
+    bool is_delta() const {
+        return m_kind == Kind::Point || m_kind == Kind::Spot || m_kind == Kind::Directional;
+    }
+    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise.
+    std::uint32_t shape() const { return m_shape; }
+
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;
+    float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                 const Vec3& n_light) const;
+
+    // Area light: radiance leaving the light at a point with geometric normal n_light toward
+    // direction w (unit, pointing away from the light); 0 on the back side. Other kinds: 0.
+    Rgb le(const Vec3& n_light, const Vec3& w) const;
+    // Environment: radiance arriving along a ray that escapes the scene in direction d. Others: 0.
+    Rgb le_escape(const Vec3& d) const;
+
+    // Total emitted power (W per channel) for choosing lights in proportion to power.
+    // Directional and environment lights need the radius of the scene's bounding sphere.
+    Rgb power(float scene_radius) const;
+
+    // Parameters, for exporters, tests and --explain.
+    const Vec3& position() const { return m_position; }    // point, spot; sphere/disc centre
+    const Vec3& direction() const { return m_direction; }  // spot axis, directional travel dir
+    const Rgb& emission() const { return m_emission; }     // Phi, E or L depending on kind
+    float cos_inner() const { return m_cos_inner; }
+    float cos_outer() const { return m_cos_outer; }
+    float area() const { return m_area; }  // area lights: total area
+
+  private:
+    Kind m_kind = Kind::Point;
+    std::uint32_t m_shape = UINT32_MAX;
+    Vec3 m_position{0.f};
+    Vec3 m_direction{0.f, 0.f, -1.f};
+    Rgb m_emission{0.f};   // Phi (point/spot), E (directional), L (area/environment)
+    Rgb m_intensity{0.f};  // I0 = radiant intensity on the axis (point, spot)
+    float m_cos_inner = 1.f, m_cos_outer = 1.f;
+    // Area lights.
+    enum class AreaShape : std::uint8_t {
+        Triangles,
+        Sphere,
+        Disc
+    } m_area_shape = AreaShape::Triangles;
+    float m_radius = 0.f;                           // sphere
+    Vec3 m_e1{0.f}, m_e2{0.f}, m_disc_normal{0.f};  // disc
+    float m_area = 0.f;
+    std::vector<Vec3> m_tri;       // 3 vertices per triangle
+    std::vector<float> m_tri_cdf;  // running area fraction, last = 1
+};
+
+}  // namespace facet::render

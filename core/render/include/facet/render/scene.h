@@ -1,0 +1,183 @@
+// The renderer's scene: geometry (Embree behind a private implementation), camera, lights,
+// materials and render settings, loaded from the JSON scene format (scenes/FORMAT.md).
+//
+// Conventions:
+//  - World space is right-handed, units are whatever the scene uses (metres unless stated);
+//    radiometric quantities are in W, W/m^2, W sr^-1 m^-2 (see light.h).
+//  - SurfaceHit::ng is the unit GEOMETRIC normal as the shape defines it, NOT flipped toward the
+//    ray: outward for spheres, boxes and icospheres; cross(p1 - p0, p2 - p0) for triangles
+//    (counter-clockwise winding seen from the front); the shape's +normal for planes, quads and
+//    discs. `ns` is the unit shading normal (interpolated vertex normals for meshes that have
+//    them, else ns = ng), always in ng's hemisphere. `dpdu` is a tangent hint for anisotropic
+//    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
+//    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent).
+//  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
+//    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
+//    is always one-sided: only the front side emits (light.h).
+//  - `emitted_radiance` is the radiance the surface emits toward the ray origin (0 for
+//    non-emitters and for the back of an emitter); `light` is the index of the area light in
+//    lights() (or -1). Scene::lights() holds every light: area lights too.
+//  - Shadow and continuation rays must be spawned with spawn_ray()/occluded(): they offset the
+//    origin along ng by an amount scaled with the hit position's magnitude, so that float
+//    round-off of the hit point never re-hits the surface it leaves.
+//  - After load_scene() the Scene is immutable; every const member is thread-safe.
+//  - Errors: load_scene* throw SceneError whose what() is "<file>: <JSON pointer>: <message>"
+//    (e.g. "scene.json: /shapes/3/material: unknown material 'glosy' (did you mean 'glossy'?)").
+#pragma once
+
+#include <cstdint>
+#include <memory>
+#include <span>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "facet/bxdf.h"
+#include "facet/material.h"
+#include "facet/render/camera.h"
+#include "facet/render/light.h"
+#include "facet/types.h"
+
+namespace facet::render {
+
+class SceneError : public std::runtime_error {
+  public:
+    using std::runtime_error::runtime_error;
+};
+
+struct SurfaceHit {
+    float t = kInfinity;                 // ray parameter of the hit
+    Vec3 p{0.f};                         // hit point (world space)
+    Vec3 ng{0.f};                        // unit geometric normal (see conventions: not flipped)
+    Vec3 ns{0.f};                        // unit shading normal, same hemisphere as ng
+    Vec3 dpdu{0.f};                      // tangent hint, may be 0
+    std::uint32_t shape = 0;             // index into Scene::shapes()
+    const Material* material = nullptr;  // never null for a hit
+    Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
+    bool two_sided = true;               // see conventions
+    std::int32_t light = -1;             // index into Scene::lights() when the shape emits, else -1
+};
+
+struct RenderSettings {
+    std::string integrator = "path";  // "direct" | "path"
+    int spp = 16;                     // samples per pixel (>= 1)
+    double time_budget_s = 0.0;       // > 0: render until the budget is spent (spp is then a cap)
+    int max_depth = 8;  // maximum path depth in bounces (>= 0; 0 = only what camera rays see)
+    std::uint64_t seed = 0;
+    int width = 0, height = 0;  // copied from the camera
+};
+
+enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid };
+
+// One entry per element of the scene file's "shapes" array, in file order.
+struct ShapeInfo {
+    ShapeKind kind = ShapeKind::Mesh;
+    std::string material_name;  // the "materials" key, or "<inline>"
+    const Material* material = nullptr;
+    Rgb emission{0.f};        // radiance; non-zero makes the shape an area light
+    std::int32_t light = -1;  // index into lights() when emissive
+    bool two_sided = true;
+    std::uint64_t triangles = 0;  // 0 for the analytic shapes (sphere, plane, disc)
+};
+
+// What the scene contains, computed once at load time; integrators pick a specialised kernel
+// from it and `facet render --explain` prints it.
+struct SceneFeatures {
+    BxDFFlags lobes = BxDFFlags::None;  // union of every material's Material::flags()
+    bool has_diffuse = false, has_glossy = false, has_specular = false;
+    bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
+    bool has_point = false, has_spot = false, has_directional = false, has_area = false,
+         has_environment = false;
+    bool all_lights_delta = true;      // no area light and no environment: no MIS needed
+    bool any_non_delta_light = false;  // == !all_lights_delta (when there is any light)
+    // Conservative: true unless no emitter (area light, environment) can appear in a primary
+    // ray (every emitter's bounds lie outside the view frustum, and no environment).
+    bool emitter_visible = false;
+    // True when some surface reflects a non-zero fraction of light (some material has a lobe
+    // with non-zero reflectance): only then can indirect light exist.
+    bool can_reflect = false;
+    std::size_t num_lights = 0, num_shapes = 0, num_materials = 0;
+    std::uint64_t num_triangles = 0, num_spheres = 0, num_planes = 0, num_discs = 0;
+
+    // Multi-line human-readable summary for --explain.
+    std::string describe() const;
+};
+
+// Axis-aligned bounds of the finite geometry (planes excluded).
+struct Bounds3 {
+    Vec3 lo{kInfinity}, hi{-kInfinity};
+    bool empty() const { return !(lo.x <= hi.x); }
+};
+
+class Scene {
+  public:
+    Scene();
+    ~Scene();
+    Scene(Scene&&) noexcept;
+    Scene& operator=(Scene&&) noexcept;
+    Scene(const Scene&) = delete;
+    Scene& operator=(const Scene&) = delete;
+
+    // Closest hit along the ray with t in (0, ray.tmax]. Fills `hit` and returns true, or
+    // returns false and leaves `hit` untouched.
+    bool intersect(const Ray& ray, SurfaceHit& hit) const;
+    // Shadow ray from surface point p (geometric normal ng, either orientation) toward unit
+    // direction wi, over distance dist (may be +inf). True when something blocks it. The origin
+    // is offset to the side of ng that wi is on, and the ray stops short of the end point by the
+    // same kind of offset, so an area light's own surface never shadows its sample.
+    bool occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const;
+    // A ray leaving surface point p (geometric normal ng) in unit direction d, origin offset.
+    static Ray spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d);
+    // The offset spawn_ray uses at p: kRayOffsetScale * (1 + max |p_i|).
+    static float ray_offset(const Vec3& p);
+
+    const Camera& camera() const { return m_camera; }
+    std::span<const Light> lights() const { return m_lights; }
+    // The environment light, or null when the scene has none (escaping rays then see black).
+    const Light* environment() const {
+        return m_environment >= 0 ? &m_lights[std::size_t(m_environment)] : nullptr;
+    }
+    const RenderSettings& settings() const { return m_settings; }
+    const SceneFeatures& features() const { return m_features; }
+    std::span<const ShapeInfo> shapes() const { return m_shapes; }
+    const Bounds3& bounds() const { return m_bounds; }
+    // Radius of a sphere around bounds() (at least 1), for Light::power().
+    float radius() const;
+    // The file name the scene was loaded from (or the name given for a string).
+    const std::string& name() const { return m_name; }
+
+    // Benchmark peer: traces `rays` with bare Embree calls (rtcIntersect1, or rtcOccluded1 when
+    // `shadow`), without building SurfaceHits; returns the number of rays that hit something.
+    std::uint64_t trace_raw(std::span<const Ray> rays, bool shadow) const;
+
+    // Relative scale of the ray origin offset (see ray_offset): a few hundred float ulps of the
+    // hit point's magnitude, well above the intersection error of Embree's triangle test and of
+    // the double-precision sphere/plane/disc tests, well below any feature size of the scenes.
+    static constexpr float kRayOffsetScale = 1e-5f;
+
+    // Implementation detail (the loader and the Embree wrapper fill these).
+    struct Impl;
+    struct Builder;
+
+  private:
+    friend struct Builder;
+    std::string m_name;
+    Camera m_camera;
+    RenderSettings m_settings;
+    SceneFeatures m_features;
+    std::vector<std::unique_ptr<Material>> m_materials;  // stable addresses
+    std::vector<ShapeInfo> m_shapes;
+    std::vector<Light> m_lights;
+    std::int32_t m_environment = -1;
+    Bounds3 m_bounds;
+    std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
+};
+
+// Loads a scene file (JSON, scenes/FORMAT.md). Throws SceneError("<path>: <pointer>: message").
+// Relative mesh file paths are resolved against the scene file's directory.
+Scene load_scene(const std::string& path);
+// Same, from JSON text; `name_for_errors` prefixes messages, `base_dir` resolves mesh files.
+Scene load_scene_from_string(const std::string& json, const std::string& name_for_errors,
+                             const std::string& base_dir = ".");
+
+}  // namespace facet::render
