@@ -1,0 +1,126 @@
+// Low-discrepancy sample generation: Owen-scrambled Sobol points with no direction-number
+// tables, after Burley 2020, "Practical Hash-based Owen Scrambling" (JCGT 9(4)).
+//
+// Conventions:
+//  - Every sample value is a pure function of (pixel, sample index, dimension, seed): no state
+//    is shared between pixels or threads, so images do not depend on the thread count or on the
+//    order in which tiles are rendered.
+//  - Dimensions are consumed in order by get_1d() / get_2d(); each call uses one dimension
+//    (get_2d uses one *pair*). Integrators must consume dimensions in the same order for a given
+//    path vertex so that a vertex's samples stay stratified across the pixel's sample indices.
+//  - 2D samples come from the first two Sobol dimensions, which form a (0,2)-sequence: every
+//    power-of-two prefix of the sample indices is stratified in every elementary interval.
+//    Each dimension pair gets its own index shuffle (a nested uniform scramble of the index)
+//    and its own Owen scramble of the point, both seeded by hashing pixel, dimension and seed.
+//    This "padding" of independent 2D sequences avoids the correlation of high Sobol dimensions.
+//  - Values lie in [0, 1): they are 24-bit fixed-point, so 1 - 2^-24 is the largest value.
+#pragma once
+
+#include <cstdint>
+
+#include "facet/types.h"
+
+namespace facet::render {
+
+// Bit reversal of a 32-bit word.
+inline std::uint32_t reverse_bits(std::uint32_t x) {
+    x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
+    x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
+    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
+    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
+    return (x >> 16) | (x << 16);
+}
+
+// A 32-bit integer hash with good avalanche (the "lowbias32" constants of C. Wellons' hash
+// prospector); used to derive per-pixel/per-dimension seeds.
+inline std::uint32_t hash_u32(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352du;
+    x ^= x >> 15;
+    x *= 0x846ca68bu;
+    x ^= x >> 16;
+    return x;
+}
+
+inline std::uint32_t hash_combine(std::uint32_t seed, std::uint32_t v) {
+    return hash_u32(seed ^ (v + 0x9e3779b9u + (seed << 6) + (seed >> 2)));
+}
+
+// Owen (nested uniform) scrambling of a fixed-point number in [0,1) stored MSB-first:
+// flipping bit k depends only on the bits above it. In the bit-reversed domain this becomes
+// "each bit depends only on lower bits", which a multiply-xor hash with even multipliers
+// provides (Laine & Karras 2011, with the improved constants of Burley 2020 §3).
+inline std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
+    std::uint32_t x = reverse_bits(v);
+    x += seed;
+    x ^= x * 0x6c50b47cu;
+    x ^= x * 0xb82f1e52u;
+    x ^= x * 0xc7afe638u;
+    x ^= x * 0x8d22f6e6u;
+    return reverse_bits(x);
+}
+
+// First Sobol dimension: the van der Corput sequence in base 2.
+inline std::uint32_t sobol_dim0(std::uint32_t i) {
+    return reverse_bits(i);
+}
+
+// Second Sobol dimension (primitive polynomial x + 1, all m_k = 1): the direction numbers are
+// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1), so no table is needed.
+inline std::uint32_t sobol_dim1(std::uint32_t i) {
+    std::uint32_t r = 0, v = 0x80000000u;
+    for (; i != 0; i >>= 1, v ^= v >> 1)
+        if (i & 1u) r ^= v;
+    return r;
+}
+
+// 32-bit fixed point -> float in [0,1): keep 24 bits so the result is exact in float.
+inline float fixed_to_float(std::uint32_t v) {
+    return float(v >> 8) * 0x1p-24f;
+}
+
+// Per-pixel sample generator (a small value type: create one per pixel sample).
+class Sampler {
+  public:
+    // `pixel_seed` identifies the pixel (see pixel_seed()); `index` is the sample index within
+    // the pixel; `dimension` is where to start consuming dimensions (0 for a camera sample).
+    Sampler(std::uint32_t pixel_seed, std::uint32_t index, std::uint32_t dimension = 0)
+        : m_pixel_seed(pixel_seed), m_index(index), m_dimension(dimension) {}
+
+    // Seed of pixel (x, y) for a render seed: every pixel gets an independent randomisation.
+    static std::uint32_t pixel_seed(int x, int y, std::uint64_t seed) {
+        std::uint32_t h = hash_u32(std::uint32_t(seed) ^ 0x5bd1e995u);
+        h = hash_combine(h, std::uint32_t(seed >> 32));
+        h = hash_combine(h, std::uint32_t(x));
+        return hash_combine(h, std::uint32_t(y));
+    }
+
+    // One value in [0,1): a 1D Owen-scrambled van der Corput sequence over the sample indices,
+    // with its own index shuffle per dimension.
+    float get_1d() {
+        const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
+        const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
+        return fixed_to_float(owen_scramble(sobol_dim0(i), hash_u32(dim_seed ^ 0xa511e9b3u)));
+    }
+
+    // A pair in [0,1)^2 from the (0,2)-sequence, shuffled and Owen-scrambled per dimension pair.
+    Vec2 get_2d() {
+        const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
+        const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
+        const float x =
+            fixed_to_float(owen_scramble(sobol_dim0(i), hash_u32(dim_seed ^ 0xa511e9b3u)));
+        const float y =
+            fixed_to_float(owen_scramble(sobol_dim1(i), hash_u32(dim_seed ^ 0x63d83595u)));
+        return {x, y};
+    }
+
+    std::uint32_t dimension() const { return m_dimension; }
+    void set_dimension(std::uint32_t d) { m_dimension = d; }
+
+  private:
+    std::uint32_t m_pixel_seed;
+    std::uint32_t m_index;
+    std::uint32_t m_dimension;
+};
+
+}  // namespace facet::render
