@@ -39,8 +39,13 @@ public:
     const std::optional<MicrofacetReflection>& glossy() const { return m_glossy; }
     const std::optional<MirrorReflection>& mirror() const { return m_mirror; }
 
-    // Directional albedo of the specular part (glossy + mirror) at cos theta = mu, per channel.
+    // Directional albedo of the specular part (glossy + mirror) at cos theta = mu, per channel
+    // (0 for a single-lobe material, which needs no table).
     Rgb specular_albedo(float mu) const;
+    // Directional albedo of the glossy lobe alone (phi-averaged table), per channel.
+    Rgb glossy_albedo(float mu) const;
+    // The diffuse lobe's f including its energy-conserving weight (see header comment).
+    Rgb diffuse_f(const Vec3& wo, const Vec3& wi) const;
 
     // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
     static constexpr int kTableSize = 64;
@@ -54,8 +59,8 @@ private:
     std::optional<MicrofacetReflection> m_glossy;
     std::optional<MirrorReflection> m_mirror;
     BxDFFlags m_flags = BxDFFlags::None;
-    bool m_has_table = false;              // false when the diffuse lobe needs no compensation
-    std::array<Rgb, kTableSize> m_es{};    // Es(mu_k), mu_k = k / (kTableSize - 1)
+    bool m_has_table = false;              // false for single-lobe materials
+    std::array<Rgb, kTableSize> m_eg{};    // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
     Rgb m_inv_one_minus_es_avg{1.f};       // 1 / (1 - Es_avg), per channel
 };
 

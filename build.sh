@@ -1,0 +1,12 @@
+#!/usr/bin/env bash
+# Command 1 of the README: install dependencies, build everything (Release) and run the main
+# job — render the showcase scene into out/.
+set -euo pipefail
+cd "$(dirname "$0")"
+tools/deps.sh
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$(nproc)"
+mkdir -p out
+build/core/cli/facet render scenes/showcase.json -o out/showcase_facet.exr -o out/showcase_facet.png
+build/core/cli/facet brdf plot --model ggx --alpha 0.3 --theta 45 -o out/ggx_lobe.png
+echo "build.sh: done; images in out/"

@@ -1,0 +1,19 @@
+#!/usr/bin/env bash
+# Command 2 of the README: the whole test suite — Release build, then a Debug build with
+# AddressSanitizer + UndefinedBehaviorSanitizer — every CTest test in both.
+set -euo pipefail
+cd "$(dirname "$0")"
+tools/deps.sh
+jobs="$(nproc)"
+
+echo "== Release build and tests"
+cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release
+cmake --build build -j"$jobs"
+ctest --test-dir build --output-on-failure -j"$jobs"
+
+echo "== Debug + ASan/UBSan build and tests"
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFACET_SANITIZE=ON -DFACET_BUILD_BENCH=OFF
+cmake --build build-asan -j"$jobs"
+# Stress and convergence tests scale their query counts down under sanitizers (see tests/).
+FACET_STRESS_SCALE=0.1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --test-dir build-asan --output-on-failure -j"$jobs"

@@ -1,0 +1,23 @@
+#!/usr/bin/env bash
+# Installs Facet's build and test dependencies from Debian 12's packages (idempotent: does
+# nothing when they are all present). Needs root (or sudo) and the Debian package registry.
+set -euo pipefail
+packages=(
+  build-essential cmake ninja-build ccache pkg-config git
+  libglm-dev libembree-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
+  nlohmann-json3-dev libtinyobjloader-dev libopenexr-dev libstb-dev libcli11-dev libfmt-dev
+  libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
+)
+missing=()
+for p in "${packages[@]}"; do
+  dpkg-query -W -f='${Status}' "$p" 2>/dev/null | grep -q "install ok installed" || missing+=("$p")
+done
+if [ ${#missing[@]} -eq 0 ]; then
+  exit 0
+fi
+echo "deps: installing ${missing[*]}"
+SUDO=""
+[ "$(id -u)" -eq 0 ] || SUDO="sudo"
+export DEBIAN_FRONTEND=noninteractive
+$SUDO apt-get update -qq
+$SUDO apt-get install -y -qq --no-install-recommends "${missing[@]}"
