@@ -1,0 +1,93 @@
+// Integrators (`direct`, `path`) and the choice of a specialised kernel from the scene analysis.
+//
+// Conventions:
+//  - A kernel computes radiance estimates for camera samples. Radiance is linear RGB in
+//    W sr^-1 m^-2; the pixel value is the box-filtered mean of its samples (film.h).
+//  - Materials are evaluated in the local shading frame Frame::from_z_x(ns, dpdu), with ns (and
+//    ng) flipped toward the viewer on the back of a two-sided surface (scene.h); BRDF values,
+//    pdfs and samples come only from facet::Material (or, in the Lambert-only kernel, from the
+//    material's own LambertReflection lobe, which is the whole Material in that case).
+//  - `direct` (Cohen & Wallace §2.6.1, eq. 2.42): L = Le + sum over lights of f Li |cos| with a
+//    shadow ray per light, plus perfect-mirror recursion through the delta lobe up to max_depth
+//    mirror bounces. Delta lights (point, spot, directional) are evaluated exactly, so with only
+//    delta lights the result is deterministic; area lights and the environment get one light
+//    sample per light per camera sample. Glossy lobes receive direct light only.
+//  - `path` (the rendering equation, §2.6.2): unidirectional path tracing with next-event
+//    estimation (one light chosen uniformly per vertex), multiple importance sampling of light
+//    and BSDF samples with the power heuristic (Veach eq. 9.13), delta lobes and delta lights
+//    handled exactly (no MIS for them), Russian roulette from kRouletteDepth on, and at most
+//    max_depth bounces (max_depth = 0: only what camera rays see).
+//  - Sample dimensions (sampler.h): 0 is the film position; path vertex k uses the fixed block
+//    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D), light position (2D),
+//    lobe choice (1D), BSDF direction (2D), roulette (1D). Fixed blocks keep every kernel
+//    variant on the same sample values, so specialised and general kernels agree.
+//  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
+//    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
+#pragma once
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "facet/render/scene.h"
+
+namespace facet::render {
+
+inline constexpr int kDimsPerVertex = 7;
+// Russian roulette starts after this many bounces; earlier vertices carry most of the image.
+inline constexpr int kRouletteDepth = 3;
+
+// Compile-time features of a kernel. The general kernel has every feature except LambertOnly.
+enum KernelFeature : std::uint32_t {
+    kFeatLambertOnly = 1u << 0,  // every material is a single Lambertian lobe: call it directly
+    kFeatSpecular = 1u << 1,     // some material has a delta (mirror) lobe
+    kFeatMis = 1u << 2,          // some light is non-delta: MIS of light and BSDF samples
+    kFeatEmission = 1u << 3,     // rays can hit emitters / escape to an environment
+    kFeatIndirect = 1u << 4,     // paths longer than one bounce (path) / mirror recursion
+    kFeatAreaSampling = 1u << 5  // direct: stochastic light samples (area lights, environment)
+};
+
+enum class IntegratorKind { Direct, Path };
+
+struct KernelChoice {
+    IntegratorKind integrator = IntegratorKind::Path;
+    std::uint32_t features = 0;                // KernelFeature bits of the kernel that will run
+    int max_depth = 0;                         // effective (0 when nothing can reflect)
+    bool general = false;                      // the general kernel was forced (--kernel general)
+    std::string name;                          // e.g. "path<lambert,no-mis,emission,indirect>"
+    std::vector<std::string> chosen, skipped;  // one line each, for --explain
+};
+
+// Parses "direct" | "path"; throws std::invalid_argument("unknown integrator 'x' (did you mean
+// 'path'?)").
+IntegratorKind parse_integrator(const std::string& name);
+const char* integrator_name(IntegratorKind kind);
+
+// Picks the kernel for a scene. `force_general` selects the general kernel of the integrator
+// (same estimator, every branch present), for benchmarks and the equality test.
+KernelChoice choose_kernel(const SceneFeatures& features, IntegratorKind integrator, int max_depth,
+                           bool force_general);
+
+// Counters a kernel accumulates (per tile, summed by the render loop).
+struct KernelCounters {
+    std::uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
+    std::uint64_t nonfinite = 0;  // samples whose estimate was NaN/inf (dropped, counted)
+};
+
+// Renders samples [first_sample, end_sample) of every pixel in the tile [x0, x1) x [y0, y1)
+// and adds their radiance sums into `sums` (row-major, width of the image, double precision).
+// Never throws, allocates or logs.
+struct TileJob {
+    int x0, y0, x1, y1;
+    int first_sample, end_sample;
+    int spp_total;  // the full spp of the render (spp = 1 means pixel-centre rays)
+    std::uint64_t seed;
+    int max_depth;
+};
+using TileKernel = void (*)(const Scene& scene, const TileJob& job, DVec3* sums,
+                            KernelCounters& counters);
+
+// The kernel function for a choice (never null).
+TileKernel kernel_function(const KernelChoice& choice);
+
+}  // namespace facet::render

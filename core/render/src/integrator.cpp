@@ -1,0 +1,429 @@
+// The `direct` and `path` integrators as templates on compile-time scene features, and the
+// choice among their instantiations (facet/render/integrator.h).
+#include "facet/render/integrator.h"
+
+#include <algorithm>
+#include <array>
+#include <stdexcept>
+#include <utility>
+
+#include "facet/frame.h"
+#include "facet/registry.h"
+#include "facet/render/sampler.h"
+#include "facet/sampling.h"
+
+namespace facet::render {
+
+namespace {
+
+// ---- BSDF access: the Material, or its single Lambertian lobe in the Lambert-only kernel ----
+
+template <std::uint32_t F>
+Rgb bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
+    if constexpr ((F & kFeatLambertOnly) != 0)
+        return m.diffuse()->f(wo, wi);
+    else
+        return m.f(wo, wi);
+}
+
+template <std::uint32_t F>
+float bsdf_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
+    if constexpr ((F & kFeatLambertOnly) != 0)
+        return m.diffuse()->pdf(wo, wi);
+    else
+        return m.pdf(wo, wi);
+}
+
+template <std::uint32_t F>
+std::optional<BSDFSample> bsdf_sample(const Material& m, const Vec3& wo, float uc, Vec2 u) {
+    if constexpr ((F & kFeatLambertOnly) != 0)
+        return m.diffuse()->sample_f(wo, uc, u);
+    else
+        return m.sample_f(wo, uc, u);
+}
+
+template <std::uint32_t F>
+bool has_non_specular(const Material& m) {
+    if constexpr ((F & kFeatLambertOnly) != 0)
+        return true;
+    else
+        return is_non_specular(m.flags());
+}
+
+// Shading geometry at a hit, oriented toward the viewer (scene.h sidedness rules).
+struct Shading {
+    Frame frame;
+    Vec3 ng, ns, wo;  // world ng/ns on the viewer's side; wo in the local frame
+};
+
+// False when the surface is seen from the back and is one-sided (it reflects nothing).
+inline bool make_shading(const SurfaceHit& hit, const Vec3& ray_d, Shading& sh) {
+    const Vec3 wo_w = -ray_d;
+    const bool front = glm::dot(hit.ng, wo_w) > 0.f;
+    if (!front && !hit.two_sided) return false;
+    sh.ng = front ? hit.ng : -hit.ng;
+    sh.ns = front ? hit.ns : -hit.ns;
+    sh.frame = Frame::from_z_x(sh.ns, hit.dpdu);
+    sh.wo = sh.frame.to_local(wo_w);
+    return true;
+}
+
+// ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
+
+template <std::uint32_t F>
+Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounters& c) {
+    constexpr bool kMis = (F & kFeatMis) != 0;
+    constexpr bool kSpecular = (F & kFeatSpecular) != 0;
+    constexpr bool kEmission = (F & kFeatEmission) != 0;
+    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    const std::span<const Light> lights = scene.lights();
+    const int num_lights = int(lights.size());
+    const float select_pdf = num_lights > 0 ? 1.f / float(num_lights) : 0.f;
+
+    Rgb L(0.f), beta(1.f);
+    bool specular_bounce = false;
+    float prev_bsdf_pdf = 0.f;
+    LightSampleContext prev_ctx;
+    for (int depth = 0;; ++depth) {
+        SurfaceHit hit;
+        const bool found = scene.intersect(ray, hit);
+        // Emission reached by this ray: full weight from the camera or after a delta lobe
+        // (light sampling cannot produce those paths); MIS-weighted against NEE otherwise.
+        if constexpr (kMis) {
+            if (depth > 0 || kEmission) {
+                if (!found) {
+                    if (const Light* env = scene.environment()) {
+                        const Rgb le = env->le_escape(ray.d);
+                        if (depth == 0 || specular_bounce) {
+                            L += beta * le;
+                        } else {
+                            const float lp =
+                                select_pdf * env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                            L += beta * le * power_heuristic(prev_bsdf_pdf, lp);
+                        }
+                    }
+                } else if (hit.light >= 0 && max_component(hit.emitted_radiance) > 0.f) {
+                    if (depth == 0 || specular_bounce) {
+                        L += beta * hit.emitted_radiance;
+                    } else {
+                        const float lp = select_pdf * lights[std::size_t(hit.light)].pdf_li(
+                                                          prev_ctx, ray.d, hit.p, hit.ng);
+                        L += beta * hit.emitted_radiance * power_heuristic(prev_bsdf_pdf, lp);
+                    }
+                }
+            }
+        }
+        if (!found || depth >= max_depth) break;
+        if constexpr (!kIndirect && !kSpecular) {
+            if (depth >= 1) break;
+        }
+        Shading sh;
+        if (!make_shading(hit, ray.d, sh)) break;
+        const Material& m = *hit.material;
+        const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
+        const LightSampleContext ctx{hit.p, sh.ns};
+
+        // Next-event estimation: one light, chosen uniformly.
+        if (num_lights > 0 && has_non_specular<F>(m)) {
+            s.set_dimension(base);
+            const float ul = s.get_1d();
+            const Vec2 u = s.get_2d();
+            const Light& light =
+                lights[std::size_t(std::min(int(ul * float(num_lights)), num_lights - 1))];
+            if (auto ls = light.sample_li(ctx, u)) {
+                // Reflection only: the light must be on the viewer's side of the surface.
+                if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
+                    const Vec3 wi = sh.frame.to_local(ls->wi);
+                    const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
+                    if (max_component(contrib) > 0.f) {
+                        ++c.shadow_rays;
+                        if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) {
+                            const float lp = select_pdf * ls->pdf;
+                            float w = 1.f;
+                            if constexpr (kMis) {
+                                if (!ls->delta) w = power_heuristic(lp, bsdf_pdf<F>(m, sh.wo, wi));
+                            }
+                            L += beta * contrib * (w / lp);
+                        }
+                    }
+                }
+            }
+        }
+        // The last vertex needs a BSDF sample only to find emitters (MIS) or through a mirror.
+        if constexpr (!kMis) {
+            if (depth + 1 >= max_depth) break;
+        }
+
+        // BSDF sampling for the next vertex.
+        s.set_dimension(base + 3u);
+        const float uc = s.get_1d();
+        const Vec2 u2 = s.get_2d();
+        const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, u2);
+        if (!bs || !(bs->pdf > 0.f)) break;
+        const Vec3 wi_w = sh.frame.from_local(bs->wi);
+        if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;  // below the geometric surface
+        beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+        if (!(max_component(beta) > 0.f)) break;
+        if constexpr (kSpecular) specular_bounce = bs->is_specular();
+        prev_bsdf_pdf = bs->pdf;
+        prev_ctx = ctx;
+
+        // Russian roulette (unbiased): survive with probability max(beta), reweight survivors.
+        if (depth + 1 >= kRouletteDepth) {
+            const float q = std::max(0.f, 1.f - max_component(beta));
+            if (q > 0.f) {
+                s.set_dimension(base + 6u);
+                if (s.get_1d() < q) break;
+                beta /= 1.f - q;
+            }
+        }
+        ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
+        ++c.rays;
+    }
+    return L;
+}
+
+// ---- direct: local illumination (C&W eq. 2.42) + perfect mirror recursion ----
+
+template <std::uint32_t F>
+Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounters& c) {
+    constexpr bool kSpecular = (F & kFeatSpecular) != 0;
+    constexpr bool kEmission = (F & kFeatEmission) != 0;
+    constexpr bool kArea = (F & kFeatAreaSampling) != 0;
+    const std::span<const Light> lights = scene.lights();
+    const std::uint32_t block = 1u + std::uint32_t(lights.size());
+
+    Rgb L(0.f), beta(1.f);
+    for (int depth = 0;; ++depth) {
+        SurfaceHit hit;
+        if (!scene.intersect(ray, hit)) {
+            if constexpr (kEmission) {
+                if (const Light* env = scene.environment()) L += beta * env->le_escape(ray.d);
+            }
+            break;
+        }
+        if constexpr (kEmission) L += beta * hit.emitted_radiance;
+        Shading sh;
+        if (!make_shading(hit, ray.d, sh)) break;
+        const Material& m = *hit.material;
+        const LightSampleContext ctx{hit.p, sh.ns};
+
+        // Sum over every light of f Li |cos theta_i| (delta lights exactly, others one sample).
+        if (has_non_specular<F>(m)) {
+            const std::uint32_t base = 1u + block * std::uint32_t(depth);
+            for (std::size_t j = 0; j < lights.size(); ++j) {
+                const Light& light = lights[j];
+                Vec2 u(0.5f);
+                if constexpr (kArea) {
+                    if (!light.is_delta()) {
+                        s.set_dimension(base + std::uint32_t(j));
+                        u = s.get_2d();
+                    }
+                } else {
+                    (void)base;
+                }
+                auto ls = light.sample_li(ctx, u);
+                if (!ls || !(ls->pdf > 0.f) || !(glm::dot(ls->wi, sh.ng) > 0.f)) continue;
+                const Vec3 wi = sh.frame.to_local(ls->wi);
+                const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
+                if (!(max_component(contrib) > 0.f)) continue;
+                ++c.shadow_rays;
+                if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) L += beta * contrib / ls->pdf;
+            }
+        }
+        // Perfect mirror recursion through the delta lobe.
+        if constexpr (kSpecular) {
+            if (depth < max_depth && m.mirror()) {
+                const std::optional<BSDFSample> ms = m.mirror()->sample_f(sh.wo, 0.f, Vec2(0.f));
+                if (!ms) break;
+                const Vec3 wi_w = sh.frame.from_local(ms->wi);
+                if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;
+                beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
+                if (!(max_component(beta) > 0.f)) break;
+                ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
+                ++c.rays;
+                continue;
+            }
+        }
+        break;
+    }
+    return L;
+}
+
+// ---- tile loop ----
+
+template <IntegratorKind I, std::uint32_t F>
+void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCounters& c) {
+    const Camera& cam = scene.camera();
+    const int width = cam.width;
+    for (int y = job.y0; y < job.y1; ++y) {
+        for (int x = job.x0; x < job.x1; ++x) {
+            const std::uint32_t pixel_seed = Sampler::pixel_seed(x, y, job.seed);
+            DVec3 acc(0.0);
+            for (int i = job.first_sample; i < job.end_sample; ++i) {
+                Sampler s(pixel_seed, std::uint32_t(i), 0u);
+                const Vec2 film = job.spp_total == 1 ? Vec2(float(x) + 0.5f, float(y) + 0.5f)
+                                                     : Vec2(float(x), float(y)) + s.get_2d();
+                const Ray ray = cam.generate_ray(film);
+                ++c.camera_rays;
+                ++c.rays;
+                Rgb L;
+                if constexpr (I == IntegratorKind::Path)
+                    L = path_li<F>(scene, ray, s, job.max_depth, c);
+                else
+                    L = direct_li<F>(scene, ray, s, job.max_depth, c);
+                // A NaN/inf estimate would poison the pixel forever: drop it and count it.
+                if (!is_finite(L)) {
+                    ++c.nonfinite;
+                    continue;
+                }
+                acc += DVec3(L);
+            }
+            sums[std::size_t(y) * std::size_t(width) + std::size_t(x)] += acc;
+        }
+    }
+}
+
+// Kernel tables indexed by the feature bits.
+constexpr std::uint32_t kFeatureBits = 6;
+constexpr std::size_t kTableSize = std::size_t(1) << kFeatureBits;
+
+// Features each integrator's kernels actually read; the others are masked off so that only
+// 32 path and 16 direct kernels are instantiated.
+constexpr std::uint32_t kPathMask =
+    kFeatLambertOnly | kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect;
+constexpr std::uint32_t kDirectMask =
+    kFeatLambertOnly | kFeatSpecular | kFeatEmission | kFeatAreaSampling;
+
+template <IntegratorKind I, std::uint32_t Mask, std::size_t... N>
+constexpr std::array<TileKernel, kTableSize> make_table(std::index_sequence<N...>) {
+    return {&render_tile<I, std::uint32_t(N) & Mask>...};
+}
+
+std::string feature_list(IntegratorKind kind, std::uint32_t f) {
+    std::string s;
+    auto add = [&](bool on, const char* yes, const char* no) {
+        const char* w = on ? yes : no;
+        if (!*w) return;
+        if (!s.empty()) s += ",";
+        s += w;
+    };
+    add(f & kFeatLambertOnly, "lambert-only", "");
+    add(f & kFeatSpecular, "specular", "no-specular");
+    if (kind == IntegratorKind::Path) {
+        add(f & kFeatMis, "mis", "no-mis");
+        add(f & kFeatEmission, "emission", "no-emission");
+        add(f & kFeatIndirect, "indirect", "no-indirect");
+    } else {
+        add(f & kFeatAreaSampling, "area-sampling", "delta-lights-only");
+        add(f & kFeatEmission, "emission", "no-emission");
+    }
+    return s;
+}
+
+}  // namespace
+
+IntegratorKind parse_integrator(const std::string& name) {
+    if (name == "path") return IntegratorKind::Path;
+    if (name == "direct") return IntegratorKind::Direct;
+    const std::string near = closest_name(name, {"direct", "path"});
+    throw std::invalid_argument("unknown integrator '" + name + "'" +
+                                (near.empty() ? std::string(" (expected 'direct' or 'path')")
+                                              : " (did you mean '" + near + "'?)"));
+}
+
+const char* integrator_name(IntegratorKind kind) {
+    return kind == IntegratorKind::Path ? "path" : "direct";
+}
+
+KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, int max_depth,
+                           bool force_general) {
+    KernelChoice k;
+    k.integrator = integrator;
+    k.max_depth = max_depth;
+    k.general = force_general;
+    const bool path = integrator == IntegratorKind::Path;
+    if (force_general) {
+        k.features = path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
+                          : (kFeatSpecular | kFeatEmission | kFeatAreaSampling);
+        k.chosen.push_back("general kernel forced (--kernel general): every branch present");
+    } else {
+        std::uint32_t f = 0;
+        if (sf.lambert_only) {
+            f |= kFeatLambertOnly;
+            k.chosen.push_back(
+                "Lambert-only kernel: BRDF calls go straight to the Lambertian lobe");
+        } else {
+            k.skipped.push_back("Lambert-only kernel: some material has a glossy or mirror lobe");
+        }
+        if (sf.has_specular) {
+            f |= kFeatSpecular;
+            k.chosen.push_back(path ? "delta (mirror) lobes: specular-bounce bookkeeping"
+                                    : "mirror recursion through delta lobes");
+        } else {
+            k.skipped.push_back(path ? "delta-lobe bookkeeping: no mirror lobe in the scene"
+                                     : "mirror recursion: no mirror lobe in the scene");
+        }
+        if (!sf.can_reflect) {
+            k.max_depth = 0;
+            k.skipped.push_back("all shading: no surface reflects light (only emitters are seen)");
+        }
+        if (path) {
+            if (sf.any_non_delta_light) {
+                f |= kFeatMis;
+                k.chosen.push_back(
+                    "MIS of light and BSDF samples (power heuristic): area or "
+                    "environment lights present");
+            } else {
+                k.skipped.push_back(
+                    "MIS and emitter look-ups on BSDF rays: every light is a "
+                    "delta light; last-vertex BSDF rays are not traced");
+            }
+            if (sf.any_non_delta_light && sf.emitter_visible) {
+                f |= kFeatEmission;
+                k.chosen.push_back("emission on camera rays: an emitter is visible");
+            } else {
+                k.skipped.push_back("emission on camera rays: no emitter visible to the camera");
+            }
+            if (k.max_depth >= 2 && sf.can_reflect) {
+                f |= kFeatIndirect;
+                k.chosen.push_back("indirect bounces up to max_depth " +
+                                   std::to_string(k.max_depth) + " with Russian roulette");
+            } else {
+                k.skipped.push_back("indirect bounces: max_depth " + std::to_string(k.max_depth) +
+                                    (sf.can_reflect ? "" : ", nothing reflects"));
+            }
+        } else {
+            if (sf.any_non_delta_light) {
+                f |= kFeatAreaSampling;
+                k.chosen.push_back("stochastic light samples for area/environment lights");
+            } else {
+                k.skipped.push_back(
+                    "light sampling: only delta lights, evaluated exactly "
+                    "(deterministic image)");
+            }
+            if (sf.any_non_delta_light && (sf.emitter_visible || sf.has_specular)) {
+                f |= kFeatEmission;
+                k.chosen.push_back("emission on camera/mirror rays");
+            } else {
+                k.skipped.push_back("emission look-ups: no emitter can be seen");
+            }
+        }
+        k.features = f;
+    }
+    k.features &= path ? kPathMask : kDirectMask;
+    k.name = std::string(integrator_name(integrator)) + "<" + feature_list(integrator, k.features) +
+             ">" + (force_general ? " (general)" : "");
+    return k;
+}
+
+TileKernel kernel_function(const KernelChoice& choice) {
+    static constexpr std::array<TileKernel, kTableSize> kPath =
+        make_table<IntegratorKind::Path, kPathMask>(std::make_index_sequence<kTableSize>{});
+    static constexpr std::array<TileKernel, kTableSize> kDirect =
+        make_table<IntegratorKind::Direct, kDirectMask>(std::make_index_sequence<kTableSize>{});
+    const std::size_t i = choice.features & (kTableSize - 1);
+    return choice.integrator == IntegratorKind::Path ? kPath[i] : kDirect[i];
+}
+
+}  // namespace facet::render
