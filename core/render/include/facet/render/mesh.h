@@ -1,0 +1,52 @@
+// Triangle meshes for the scene layer: procedural generators and file readers.
+//
+// Conventions:
+//  - Triangles are index triples into `positions`; the front side is the counter-clockwise one,
+//    n = cross(p1 - p0, p2 - p0) (scene.h). `normals` is empty or holds one unit vertex normal
+//    per position (used for smooth shading only; geometry stays flat).
+//  - Readers throw std::runtime_error with a message naming the line / element at fault (the
+//    scene loader prefixes the file and JSON path); they never crash on malformed input.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "facet/types.h"
+
+namespace facet::render {
+
+struct TriangleMesh {
+    std::vector<Vec3> positions;
+    std::vector<Vec3> normals;           // empty, or one per position
+    std::vector<std::uint32_t> indices;  // 3 per triangle
+    std::size_t num_triangles() const { return indices.size() / 3; }
+};
+
+// Axis-aligned box [lo, hi], outward facing, 12 triangles, flat.
+TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
+// Quad p0 p1 p2 p3 (counter-clockwise seen from the front) as triangles (p0 p1 p2), (p0 p2 p3).
+TriangleMesh make_quad(const std::array<Vec3, 4>& p);
+// Unit sphere at the origin: an icosahedron subdivided `subdivisions` times (20 * 4^s
+// triangles), outward facing; smooth = vertex normals = positions.
+TriangleMesh make_icosphere(int subdivisions, bool smooth);
+// nx x ny cells over [-1, 1]^2 in the z = 0 plane, 2 nx ny triangles facing +z; optionally
+// displaced by z = amplitude * sin(frequency x) * sin(frequency y) (with matching normals).
+TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency);
+
+// Wavefront OBJ (tinyobjloader; polygons are triangulated, vertex normals kept when every
+// corner has one).
+TriangleMesh load_obj(const std::string& path);
+// PLY, ascii or binary_little_endian: element vertex with float/double x y z (optional nx ny
+// nz), element face with a list of vertex indices (polygons are fan-triangulated). Other
+// elements and properties are skipped. Written here: Debian ships no small PLY library.
+TriangleMesh load_ply(const std::string& path);
+TriangleMesh parse_ply(std::string_view data);
+
+// "" when the mesh is usable, else a message: index out of range, non-finite position, wrong
+// normal count, no triangles.
+std::string validate_mesh(const TriangleMesh& mesh);
+
+}  // namespace facet::render

@@ -1,0 +1,423 @@
+// The only file that talks to Embree (shared/STYLE.md): RAII owners for the device and the
+// scene, the error callback installed right after the device is created, triangle meshes as
+// Embree triangle geometry, exact spheres and discs as one Embree user geometry solved in
+// double precision, and infinite planes tested analytically beside Embree (an infinite plane has
+// no finite bounding box for Embree's BVH).
+#include <embree3/rtcore.h>
+
+#include <atomic>
+#include <cstring>
+#include <mutex>
+
+#include "scene_impl.h"
+
+namespace facet::render {
+
+namespace {
+
+struct DeviceDeleter {
+    void operator()(RTCDevice d) const {
+        if (d) rtcReleaseDevice(d);
+    }
+};
+struct SceneDeleter {
+    void operator()(RTCScene s) const {
+        if (s) rtcReleaseScene(s);
+    }
+};
+using DevicePtr = std::unique_ptr<RTCDeviceTy, DeviceDeleter>;
+using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
+
+}  // namespace
+
+struct EmbreeBackend {
+    DevicePtr device;
+    ScenePtr scene;
+    std::vector<std::int32_t> geom_to_mesh;  // Embree geomID -> index in Impl::meshes (-1: user)
+    unsigned analytic_geom = RTC_INVALID_GEOMETRY_ID;
+    std::mutex error_mutex;
+    std::string first_error;  // first Embree error reported through the callback
+};
+
+namespace {
+
+void embree_error(void* user, RTCError code, const char* message) {
+    auto* be = static_cast<EmbreeBackend*>(user);
+    std::lock_guard<std::mutex> lock(be->error_mutex);
+    if (be->first_error.empty()) {
+        be->first_error = "error " + std::to_string(int(code)) + ": " + (message ? message : "");
+    }
+}
+
+// --- exact analytic primitives (double precision, object space) --------------------------------
+
+// Nearest root t of the unit sphere |o + t d| = 1 in (tnear, tfar), or -1. The discriminant is
+// formed as a (1 - |f|^2), f = o - (b/a) d (Ray Tracing Gems ch. 7), which stays accurate for
+// distant and tiny spheres; roots by the numerically stable quadratic formula.
+double intersect_unit_sphere(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) {
+    double a = glm::dot(d, d);
+    double b = glm::dot(o, d);  // half the linear coefficient
+    glm::dvec3 f = o - (b / a) * d;
+    double disc = a * (1.0 - glm::dot(f, f));
+    if (disc < 0.0) return -1.0;
+    double c = glm::dot(o, o) - 1.0;
+    double q = -(b + std::copysign(std::sqrt(disc), b));
+    double t0 = q != 0.0 ? c / q : 0.0;
+    double t1 = q / a;
+    if (t0 > t1) std::swap(t0, t1);
+    if (t0 > tnear && t0 < tfar) return t0;
+    if (t1 > tnear && t1 < tfar) return t1;
+    return -1.0;
+}
+
+double intersect_unit_disc(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) {
+    if (d.z == 0.0) return -1.0;
+    double t = -o.z / d.z;
+    if (!(t > tnear && t < tfar)) return -1.0;
+    double x = o.x + t * d.x, y = o.y + t * d.y;
+    return x * x + y * y <= 1.0 ? t : -1.0;
+}
+
+double intersect_prim(const AnalyticPrim& prim, const glm::dvec3& o_world,
+                      const glm::dvec3& d_world, double tnear, double tfar) {
+    glm::dvec3 o = glm::dvec3(prim.to_object * glm::dvec4(o_world, 1.0));
+    glm::dvec3 d = glm::dmat3(prim.to_object) * d_world;
+    return prim.kind == AnalyticPrim::Kind::Sphere ? intersect_unit_sphere(o, d, tnear, tfar)
+                                                   : intersect_unit_disc(o, d, tnear, tfar);
+}
+
+void analytic_bounds(const RTCBoundsFunctionArguments* args) {
+    const auto* impl = static_cast<const Scene::Impl*>(args->geometryUserPtr);
+    const AnalyticPrim& prim = impl->prims[args->primID];
+    glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
+    double zr = prim.kind == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
+    for (int i = 0; i < 8; ++i) {
+        glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
+        glm::dvec3 w = glm::dvec3(prim.to_world * glm::dvec4(c, 1.0));
+        lo = glm::min(lo, w);
+        hi = glm::max(hi, w);
+    }
+    // Pad so that rounding the double box to float can only grow it.
+    glm::dvec3 pad = 1e-6 * (glm::abs(lo) + glm::abs(hi)) + 1e-30;
+    lo -= pad;
+    hi += pad;
+    RTCBounds* b = args->bounds_o;
+    b->lower_x = float(lo.x);
+    b->lower_y = float(lo.y);
+    b->lower_z = float(lo.z);
+    b->upper_x = float(hi.x);
+    b->upper_y = float(hi.y);
+    b->upper_z = float(hi.z);
+}
+
+void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
+    const auto* impl = static_cast<const Scene::Impl*>(args->geometryUserPtr);
+    const AnalyticPrim& prim = impl->prims[args->primID];
+    RTCRayN* rays = RTCRayHitN_RayN(args->rayhit, args->N);
+    RTCHitN* hits = RTCRayHitN_HitN(args->rayhit, args->N);
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        glm::dvec3 o(RTCRayN_org_x(rays, args->N, i), RTCRayN_org_y(rays, args->N, i),
+                     RTCRayN_org_z(rays, args->N, i));
+        glm::dvec3 d(RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i),
+                     RTCRayN_dir_z(rays, args->N, i));
+        float& tfar = RTCRayN_tfar(rays, args->N, i);
+        double t =
+            intersect_prim(prim, o, d, double(RTCRayN_tnear(rays, args->N, i)), double(tfar));
+        if (!(t > 0.0)) continue;
+        float tf = float(t);
+        if (!(tf < tfar)) continue;
+        tfar = tf;
+        RTCHitN_Ng_x(hits, args->N, i) = 0.f;
+        RTCHitN_Ng_y(hits, args->N, i) = 0.f;
+        RTCHitN_Ng_z(hits, args->N, i) = 1.f;
+        RTCHitN_u(hits, args->N, i) = 0.f;
+        RTCHitN_v(hits, args->N, i) = 0.f;
+        RTCHitN_primID(hits, args->N, i) = args->primID;
+        RTCHitN_geomID(hits, args->N, i) = args->geomID;
+        RTCHitN_instID(hits, args->N, i, 0) = args->context->instID[0];
+    }
+}
+
+void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
+    const auto* impl = static_cast<const Scene::Impl*>(args->geometryUserPtr);
+    const AnalyticPrim& prim = impl->prims[args->primID];
+    for (unsigned i = 0; i < args->N; ++i) {
+        if (args->valid[i] != -1) continue;
+        glm::dvec3 o(RTCRayN_org_x(args->ray, args->N, i), RTCRayN_org_y(args->ray, args->N, i),
+                     RTCRayN_org_z(args->ray, args->N, i));
+        glm::dvec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
+                     RTCRayN_dir_z(args->ray, args->N, i));
+        float& tfar = RTCRayN_tfar(args->ray, args->N, i);
+        double t =
+            intersect_prim(prim, o, d, double(RTCRayN_tnear(args->ray, args->N, i)), double(tfar));
+        if (t > 0.0) tfar = -kInfinity;  // Embree's "occluded" mark
+    }
+}
+
+// Nearest plane hit with t in (0, tmax) in double, or -1; sets `which`.
+double intersect_planes(const std::vector<PlaneGeom>& planes, const Ray& ray, double tmax,
+                        std::size_t& which) {
+    double best = -1.0;
+    glm::dvec3 o(ray.o), d(ray.d);
+    for (std::size_t i = 0; i < planes.size(); ++i) {
+        const PlaneGeom& pl = planes[i];
+        double dn = glm::dot(d, pl.normal);
+        if (dn == 0.0) continue;
+        double t = glm::dot(pl.point - o, pl.normal) / dn;
+        if (t > 0.0 && t < tmax) {
+            tmax = t;
+            best = t;
+            which = i;
+        }
+    }
+    return best;
+}
+
+void init_ray(RTCRay& r, const Ray& ray, float tmax) {
+    r.org_x = ray.o.x;
+    r.org_y = ray.o.y;
+    r.org_z = ray.o.z;
+    r.tnear = 0.f;
+    r.dir_x = ray.d.x;
+    r.dir_y = ray.d.y;
+    r.dir_z = ray.d.z;
+    r.time = 0.f;
+    r.tfar = tmax;
+    r.mask = 0xFFFFFFFFu;
+    r.id = 0;
+    r.flags = 0;
+}
+
+void init_rayhit(RTCRayHit& rh, const Ray& ray) {
+    init_ray(rh.ray, ray, ray.tmax);
+    rh.hit.Ng_x = rh.hit.Ng_y = rh.hit.Ng_z = 0.f;
+    rh.hit.u = rh.hit.v = 0.f;
+    rh.hit.primID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+}
+
+}  // namespace
+
+// --- Scene::Impl ------------------------------------------------------------------------------
+
+Scene::Impl::Impl() = default;
+Scene::Impl::~Impl() = default;
+
+void Scene::Impl::build(const std::string& name) {
+    backend = std::make_unique<EmbreeBackend>();
+    EmbreeBackend& be = *backend;
+    be.device.reset(rtcNewDevice(nullptr));
+    if (!be.device) {
+        throw SceneError(name + ": embree: cannot create a device (error " +
+                         std::to_string(int(rtcGetDeviceError(nullptr))) + ")");
+    }
+    rtcSetDeviceErrorFunction(be.device.get(), embree_error, &be);
+    be.scene.reset(rtcNewScene(be.device.get()));
+    // Robust: no accuracy-reducing shortcuts in the triangle test (no cracks between the
+    // Cornell box's walls). High build quality: static scenes are traced far more than built.
+    rtcSetSceneFlags(be.scene.get(), RTC_SCENE_FLAG_ROBUST);
+    rtcSetSceneBuildQuality(be.scene.get(), RTC_BUILD_QUALITY_HIGH);
+
+    for (std::size_t m = 0; m < meshes.size(); ++m) {
+        const TriangleMesh& mesh = meshes[m].mesh;
+        RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
+        // Embree-owned buffers: Embree pads them as its SIMD loads require.
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
+                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
+                                                              mesh.positions.size()));
+        auto* idx = static_cast<unsigned*>(
+            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
+                                    3 * sizeof(unsigned), mesh.num_triangles()));
+        if (v && idx) {
+            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+                std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
+            }
+            std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
+        }
+        rtcCommitGeometry(g);
+        unsigned id = rtcAttachGeometry(be.scene.get(), g);
+        rtcReleaseGeometry(g);
+        if (be.geom_to_mesh.size() <= id) be.geom_to_mesh.resize(id + 1, -1);
+        be.geom_to_mesh[id] = std::int32_t(m);
+    }
+    if (!prims.empty()) {
+        RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_USER);
+        rtcSetGeometryUserPrimitiveCount(g, unsigned(prims.size()));
+        rtcSetGeometryUserData(g, this);
+        rtcSetGeometryBoundsFunction(g, analytic_bounds, this);
+        rtcSetGeometryIntersectFunction(g, analytic_intersect);
+        rtcSetGeometryOccludedFunction(g, analytic_occluded);
+        rtcCommitGeometry(g);
+        be.analytic_geom = rtcAttachGeometry(be.scene.get(), g);
+        rtcReleaseGeometry(g);
+        if (be.geom_to_mesh.size() <= be.analytic_geom) {
+            be.geom_to_mesh.resize(be.analytic_geom + 1, -1);
+        }
+    }
+    rtcCommitScene(be.scene.get());
+    std::lock_guard<std::mutex> lock(be.error_mutex);
+    if (!be.first_error.empty()) throw SceneError(name + ": embree: " + be.first_error);
+}
+
+void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float t,
+                                SurfaceHit& hit) const {
+    // Recompute the hit in double in object space and project it onto the surface, so the
+    // returned point lies on the exact surface to float round-off.
+    glm::dvec3 o = glm::dvec3(prim.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0));
+    glm::dvec3 d = glm::dmat3(prim.to_object) * glm::dvec3(ray.d);
+    glm::dvec3 po = o + double(t) * d;
+    glm::dvec3 n_obj, tangent_obj;
+    if (prim.kind == AnalyticPrim::Kind::Sphere) {
+        double len = glm::length(po);
+        po = len > 0.0 ? po / len : glm::dvec3(0.0, 0.0, 1.0);
+        n_obj = po;
+        tangent_obj = glm::dvec3(-po.y, po.x, 0.0);  // d p / d longitude about local z
+    } else {
+        po.z = 0.0;
+        n_obj = glm::dvec3(0.0, 0.0, 1.0);
+        tangent_obj = glm::dvec3(1.0, 0.0, 0.0);
+    }
+    hit.t = t;
+    hit.p = Vec3(glm::dvec3(prim.to_world * glm::dvec4(po, 1.0)));
+    hit.ng = Vec3(glm::normalize(prim.normal_to_world * n_obj));
+    hit.ns = hit.ng;
+    hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
+    hit.shape = prim.shape;
+}
+
+void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, float u, float v, float t,
+                                SurfaceHit& hit) const {
+    const TriangleMesh& m = mg.mesh;
+    std::uint32_t i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
+    const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
+    float w = 1.f - u - v;
+    hit.t = t;
+    // Barycentric interpolation is more accurate than o + t d (pbrt-v4 §6.8.6).
+    hit.p = w * p0 + u * p1 + v * p2;
+    Vec3 n = glm::cross(p1 - p0, p2 - p0);
+    float len = glm::length(n);
+    hit.ng = len > 0.f ? n / len : Vec3(0.f, 0.f, 1.f);
+    hit.ns = hit.ng;
+    if (!m.normals.empty()) {
+        Vec3 ns = w * m.normals[i0] + u * m.normals[i1] + v * m.normals[i2];
+        float l = glm::length(ns);
+        if (l > 0.f && std::isfinite(l)) {
+            ns /= l;
+            hit.ns = glm::dot(ns, hit.ng) < 0.f ? -ns : ns;
+        }
+    }
+    hit.dpdu = mg.tangent;
+    hit.shape = mg.shape;
+}
+
+// --- Scene ------------------------------------------------------------------------------------
+
+Scene::Scene() : m_impl(std::make_unique<Impl>()) {}
+Scene::~Scene() = default;
+Scene::Scene(Scene&&) noexcept = default;
+Scene& Scene::operator=(Scene&&) noexcept = default;
+
+float Scene::ray_offset(const Vec3& p) {
+    float m = std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z)));
+    return kRayOffsetScale * (1.f + m);
+}
+
+Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
+    float off = ray_offset(p);
+    Ray r;
+    r.o = p + (glm::dot(ng, d) >= 0.f ? off : -off) * ng;
+    r.d = d;
+    r.tmax = kInfinity;
+    return r;
+}
+
+float Scene::radius() const {
+    if (m_bounds.empty()) return 1.f;
+    return std::fmax(1.f, 0.5f * glm::length(m_bounds.hi - m_bounds.lo));
+}
+
+bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
+    const Impl& impl = *m_impl;
+    const EmbreeBackend& be = *impl.backend;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    init_rayhit(rh, ray);
+    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    float tfar = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : ray.tmax;
+
+    std::size_t plane = 0;
+    double tp = impl.planes.empty() ? -1.0 : intersect_planes(impl.planes, ray, tfar, plane);
+    if (tp > 0.0 && float(tp) <= tfar) {
+        const PlaneGeom& pl = impl.planes[plane];
+        glm::dvec3 p = glm::dvec3(ray.o) + tp * glm::dvec3(ray.d);
+        p -= glm::dot(p - pl.point, pl.normal) * pl.normal;  // back onto the plane
+        hit.t = float(tp);
+        hit.p = Vec3(p);
+        hit.ng = Vec3(pl.normal);
+        hit.ns = hit.ng;
+        hit.dpdu = pl.tangent;
+        hit.shape = pl.shape;
+    } else if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+        return false;
+    } else if (rh.hit.geomID == be.analytic_geom) {
+        impl.fill_analytic(impl.prims[rh.hit.primID], ray, rh.ray.tfar, hit);
+    } else {
+        impl.fill_triangle(impl.meshes[std::size_t(be.geom_to_mesh[rh.hit.geomID])], rh.hit.primID,
+                           rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    }
+    const ShapeInfo& s = m_shapes[hit.shape];
+    hit.material = s.material;
+    hit.two_sided = s.two_sided;
+    hit.light = s.light;
+    hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
+    return true;
+}
+
+bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const {
+    Ray r = spawn_ray(p, ng, wi);
+    if (std::isfinite(dist)) {
+        // Stop short of the end point by its own offset too (it may lie on an emitter).
+        float tmax = dist - ray_offset(p) - ray_offset(p + dist * wi);
+        if (!(tmax > 0.f)) return false;
+        r.tmax = tmax;
+    }
+    const Impl& impl = *m_impl;
+    if (!impl.planes.empty()) {
+        std::size_t which = 0;
+        if (intersect_planes(impl.planes, r, double(r.tmax), which) > 0.0) return true;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray;
+    init_ray(ray, r, r.tmax);
+    rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
+    return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
+}
+
+std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
+    RTCScene scene = m_impl->backend->scene.get();
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    std::uint64_t hits = 0;
+    if (shadow) {
+        for (const Ray& r : rays) {
+            RTCRay ray;
+            init_ray(ray, r, r.tmax);
+            rtcOccluded1(scene, &ctx, &ray);
+            hits += ray.tfar < 0.f;
+        }
+    } else {
+        for (const Ray& r : rays) {
+            RTCRayHit rh;
+            init_rayhit(rh, r);
+            rtcIntersect1(scene, &ctx, &rh);
+            hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
+        }
+    }
+    return hits;
+}
+
+}  // namespace facet::render

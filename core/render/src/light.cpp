@@ -1,0 +1,319 @@
+// Light sampling (conventions in facet/render/light.h).
+#include "facet/render/light.h"
+
+#include <algorithm>
+
+#include "facet/frame.h"
+#include "facet/sampling.h"
+
+namespace facet::render {
+
+namespace {
+
+// Spot falloff, linear in cos theta between the outer and the inner cone (light.h).
+float spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
+    if (cos_theta >= cos_inner) return 1.f;
+    if (cos_theta <= cos_outer) return 0.f;
+    return (cos_theta - cos_outer) / (cos_inner - cos_outer);
+}
+
+// Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
+// angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
+float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light,
+                              const Vec3& n_light, float inv_area) {
+    float cos_l = -glm::dot(n_light, wi);
+    if (!(cos_l > 0.f)) return 0.f;
+    Vec3 v = p_light - p;
+    float pdf = glm::dot(v, v) * inv_area / cos_l;
+    return std::isfinite(pdf) ? pdf : 0.f;
+}
+
+// 1 - cos(theta_max) of the cone subtended by a sphere seen at distance^2 dc2 > r^2, written
+// as sin^2 / (1 + cos) so that tiny (distant) spheres lose no precision to cancellation.
+double sphere_cone_one_minus_cos(double dc2, double r2) {
+    double sin2 = r2 / dc2;
+    double cos_max = safe_sqrt(1.0 - sin2);
+    return sin2 / (1.0 + cos_max);
+}
+
+}  // namespace
+
+Light Light::point(const Vec3& position, const Rgb& power) {
+    Light l;
+    l.m_kind = Kind::Point;
+    l.m_position = position;
+    l.m_emission = power;
+    l.m_intensity = power * kInv4Pi;  // isotropic: I = Phi / (4 pi)
+    return l;
+}
+
+Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
+                  float inner_half_angle_deg, float outer_half_angle_deg) {
+    Light l;
+    l.m_kind = Kind::Spot;
+    l.m_position = position;
+    l.m_direction = glm::normalize(direction);
+    l.m_emission = power;
+    double ci = std::cos(double(inner_half_angle_deg) * kPiD / 180.0);
+    double co = std::cos(double(outer_half_angle_deg) * kPiD / 180.0);
+    l.m_cos_inner = float(ci);
+    l.m_cos_outer = float(co);
+    // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu = 2 pi I0 [(1 - ci) + (ci - co) / 2].
+    // 1 - ci written as 2 sin^2(theta/2) to keep precision for narrow cones.
+    double half_in = 0.5 * double(inner_half_angle_deg) * kPiD / 180.0;
+    double half_out = 0.5 * double(outer_half_angle_deg) * kPiD / 180.0;
+    double one_minus_ci = 2.0 * sqr(std::sin(half_in));
+    double one_minus_co = 2.0 * sqr(std::sin(half_out));
+    double solid = 2.0 * kPiD * 0.5 * (one_minus_ci + one_minus_co);
+    l.m_intensity = solid > 0.0 ? Rgb(glm::dvec3(power) / solid) : Rgb(0.f);
+    return l;
+}
+
+Light Light::directional(const Vec3& direction, const Rgb& irradiance) {
+    Light l;
+    l.m_kind = Kind::Directional;
+    l.m_direction = glm::normalize(direction);
+    l.m_emission = irradiance;
+    return l;
+}
+
+Light Light::environment(const Rgb& radiance) {
+    Light l;
+    l.m_kind = Kind::Environment;
+    l.m_emission = radiance;
+    return l;
+}
+
+Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uint32_t shape) {
+    Light l;
+    l.m_kind = Kind::Area;
+    l.m_area_shape = AreaShape::Triangles;
+    l.m_shape = shape;
+    l.m_emission = radiance;
+    // Keep the non-degenerate triangles; areas accumulated in double for large meshes.
+    std::vector<Vec3> kept;
+    std::vector<double> areas;
+    kept.reserve(tri.size());
+    double total = 0.0;
+    for (std::size_t i = 0; i + 2 < tri.size(); i += 3) {
+        glm::dvec3 a(tri[i]), b(tri[i + 1]), c(tri[i + 2]);
+        double area = 0.5 * glm::length(glm::cross(b - a, c - a));
+        if (!(area > 0.0) || !std::isfinite(area)) continue;
+        kept.insert(kept.end(), {tri[i], tri[i + 1], tri[i + 2]});
+        areas.push_back(area);
+        total += area;
+    }
+    l.m_tri = std::move(kept);
+    l.m_area = float(total);
+    l.m_tri_cdf.resize(areas.size());
+    double run = 0.0;
+    for (std::size_t i = 0; i < areas.size(); ++i) {
+        run += areas[i];
+        l.m_tri_cdf[i] = float(run / total);
+    }
+    if (!l.m_tri_cdf.empty()) l.m_tri_cdf.back() = 1.f;
+    if (!l.m_tri.empty()) {
+        l.m_position = (l.m_tri[0] + l.m_tri[1] + l.m_tri[2]) / 3.f;
+    }
+    return l;
+}
+
+Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance,
+                         std::uint32_t shape) {
+    Light l;
+    l.m_kind = Kind::Area;
+    l.m_area_shape = AreaShape::Sphere;
+    l.m_shape = shape;
+    l.m_position = center;
+    l.m_radius = radius;
+    l.m_emission = radiance;
+    l.m_area = 4.f * kPi * radius * radius;
+    return l;
+}
+
+Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
+                       std::uint32_t shape) {
+    Light l;
+    l.m_kind = Kind::Area;
+    l.m_area_shape = AreaShape::Disc;
+    l.m_shape = shape;
+    l.m_position = center;
+    l.m_e1 = e1;
+    l.m_e2 = e2;
+    Vec3 c = glm::cross(e1, e2);
+    l.m_disc_normal = glm::normalize(c);
+    l.m_emission = radiance;
+    l.m_area = kPi * glm::length(c);  // an affine image of the unit disc
+    return l;
+}
+
+std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+    LightLiSample s;
+    switch (m_kind) {
+        case Kind::Point:
+        case Kind::Spot: {
+            Vec3 v = m_position - ctx.p;
+            float r2 = glm::dot(v, v);
+            if (!(r2 > 0.f)) return std::nullopt;
+            float r = std::sqrt(r2);
+            s.wi = v / r;
+            Rgb intensity = m_intensity;
+            if (m_kind == Kind::Spot) {
+                float f = spot_falloff(-glm::dot(s.wi, m_direction), m_cos_inner, m_cos_outer);
+                if (f == 0.f) return std::nullopt;
+                intensity *= f;
+            }
+            s.li = intensity / r2;  // I / r^2: eq. 2.40 once the receiver multiplies by cos
+            s.pdf = 1.f;
+            s.dist = r;
+            s.p_light = m_position;
+            s.delta = true;
+            return s;
+        }
+        case Kind::Directional:
+            s.wi = -m_direction;
+            s.li = m_emission;
+            s.pdf = 1.f;
+            s.dist = kInfinity;
+            s.delta = true;
+            return s;
+        case Kind::Environment: {
+            if (ctx.n != Vec3(0.f)) {
+                Vec3 local = sample_cosine_hemisphere(u);
+                s.pdf = cosine_hemisphere_pdf(local.z);
+                s.wi = Frame::from_z(ctx.n).from_local(local);
+            } else {
+                s.wi = sample_uniform_sphere(u);
+                s.pdf = uniform_sphere_pdf();
+            }
+            if (!(s.pdf > 0.f)) return std::nullopt;
+            s.li = m_emission;
+            s.dist = kInfinity;
+            return s;
+        }
+        case Kind::Area:
+            break;
+    }
+
+    // Area lights.
+    switch (m_area_shape) {
+        case AreaShape::Triangles: {
+            if (m_tri_cdf.empty()) return std::nullopt;
+            // Pick a triangle in proportion to its area, then reuse u.x within it.
+            auto it = std::upper_bound(m_tri_cdf.begin(), m_tri_cdf.end(), u.x);
+            std::size_t i = std::min<std::size_t>(it - m_tri_cdf.begin(), m_tri_cdf.size() - 1);
+            float lo = i == 0 ? 0.f : m_tri_cdf[i - 1];
+            float w = m_tri_cdf[i] - lo;
+            float ux = w > 0.f ? std::min((u.x - lo) / w, kOneMinusEpsilon) : 0.5f;
+            Vec2 b = sample_uniform_triangle({ux, u.y});
+            const Vec3& p0 = m_tri[3 * i];
+            const Vec3& p1 = m_tri[3 * i + 1];
+            const Vec3& p2 = m_tri[3 * i + 2];
+            s.p_light = b.x * p0 + b.y * p1 + (1.f - b.x - b.y) * p2;
+            s.n_light = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+            break;
+        }
+        case AreaShape::Disc: {
+            Vec2 d = sample_uniform_disk_concentric(u);
+            s.p_light = m_position + d.x * m_e1 + d.y * m_e2;
+            s.n_light = m_disc_normal;
+            break;
+        }
+        case AreaShape::Sphere: {
+            // Sample the cone of directions the sphere subtends (uniform in solid angle).
+            glm::dvec3 c(m_position), p(ctx.p);
+            glm::dvec3 to_c = c - p;
+            double dc2 = glm::dot(to_c, to_c);
+            double r2 = double(m_radius) * double(m_radius);
+            if (!(dc2 > r2)) return std::nullopt;  // inside: the one-sided emitter is unseen
+            double dc = std::sqrt(dc2);
+            double omc = sphere_cone_one_minus_cos(dc2, r2);
+            double one_minus_cos = double(u.x) * omc;
+            double cos_t = 1.0 - one_minus_cos;
+            double sin_t = safe_sqrt(one_minus_cos * (2.0 - one_minus_cos));
+            double phi = 2.0 * kPiD * double(u.y);
+            Frame f = Frame::from_z(Vec3(to_c / dc));
+            glm::dvec3 wi =
+                glm::normalize(glm::dvec3(f.x) * (sin_t * std::cos(phi)) +
+                               glm::dvec3(f.y) * (sin_t * std::sin(phi)) + glm::dvec3(f.z) * cos_t);
+            // Nearest intersection of p + t wi with the sphere (Ray Tracing Gems ch. 7 form);
+            // at grazing angles round-off may miss: take the point of closest approach.
+            double b = glm::dot(to_c, wi);
+            glm::dvec3 q = to_c - b * wi;
+            double disc = r2 - glm::dot(q, q);
+            double t = disc > 0.0 ? b - std::sqrt(disc) : b;
+            glm::dvec3 n = glm::normalize(p + t * wi - c);
+            glm::dvec3 pl = c + double(m_radius) * n;
+            s.p_light = Vec3(pl);
+            s.n_light = Vec3(n);
+            s.wi = Vec3(wi);
+            s.dist = float(glm::length(pl - p));
+            s.pdf = float(1.0 / (2.0 * kPiD * omc));
+            s.li = m_emission;
+            if (!(s.pdf > 0.f) || !std::isfinite(s.pdf) || !(s.dist > 0.f)) return std::nullopt;
+            return s;
+        }
+    }
+    // Triangles and discs: uniform by area, converted to solid angle.
+    Vec3 v = s.p_light - ctx.p;
+    float d2 = glm::dot(v, v);
+    if (!(d2 > 0.f)) return std::nullopt;
+    s.dist = std::sqrt(d2);
+    s.wi = v / s.dist;
+    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, 1.f / m_area);
+    if (!(s.pdf > 0.f)) return std::nullopt;
+    s.li = m_emission;
+    return s;
+}
+
+float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                    const Vec3& n_light) const {
+    switch (m_kind) {
+        case Kind::Point:
+        case Kind::Spot:
+        case Kind::Directional:
+            return 0.f;
+        case Kind::Environment:
+            if (ctx.n != Vec3(0.f)) return cosine_hemisphere_pdf(glm::dot(ctx.n, wi));
+            return uniform_sphere_pdf();
+        case Kind::Area:
+            break;
+    }
+    if (m_area_shape == AreaShape::Sphere) {
+        if (!(-glm::dot(n_light, wi) > 0.f)) return 0.f;
+        glm::dvec3 to_c = glm::dvec3(m_position) - glm::dvec3(ctx.p);
+        double dc2 = glm::dot(to_c, to_c);
+        double r2 = double(m_radius) * double(m_radius);
+        if (!(dc2 > r2)) return 0.f;
+        return float(1.0 / (2.0 * kPiD * sphere_cone_one_minus_cos(dc2, r2)));
+    }
+    if (!(m_area > 0.f)) return 0.f;
+    return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, 1.f / m_area);
+}
+
+Rgb Light::le(const Vec3& n_light, const Vec3& w) const {
+    if (m_kind != Kind::Area) return Rgb(0.f);
+    return glm::dot(n_light, w) > 0.f ? m_emission : Rgb(0.f);
+}
+
+Rgb Light::le_escape(const Vec3& /*d*/) const {
+    return m_kind == Kind::Environment ? m_emission : Rgb(0.f);
+}
+
+Rgb Light::power(float scene_radius) const {
+    switch (m_kind) {
+        case Kind::Point:
+        case Kind::Spot:
+            return m_emission;
+        case Kind::Directional:
+            return m_emission * (kPi * scene_radius * scene_radius);
+        case Kind::Environment:
+            // Radiance L from every direction through a disc of the scene's cross-section.
+            return m_emission * (4.f * kPi * kPi * scene_radius * scene_radius);
+        case Kind::Area:
+            return m_emission * (kPi * m_area);  // one-sided Lambertian emitter: Phi = pi A L
+    }
+    return Rgb(0.f);
+}
+
+}  // namespace facet::render

@@ -1,0 +1,72 @@
+// Private to facet_render: the geometry a Scene holds, shared by the loader (which fills it)
+// and embree_scene.cpp (which hands it to Embree). No Embree type here: the backend is opaque.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "facet/render/mesh.h"
+#include "facet/render/scene.h"
+
+namespace facet::render {
+
+// A triangle mesh in world space (transform already applied).
+struct MeshGeom {
+    std::uint32_t shape = 0;
+    TriangleMesh mesh;
+    Vec3 tangent{0.f};  // dpdu hint for every hit (0 = none)
+};
+
+// An exact analytic primitive defined in object space: the unit sphere at the origin, or the
+// unit disc in the z = 0 plane facing +z. Kept in double: rays are transformed into object
+// space and solved there, so the hit is exact to double round-off.
+struct AnalyticPrim {
+    enum class Kind : std::uint8_t { Sphere, Disc } kind = Kind::Sphere;
+    std::uint32_t shape = 0;
+    glm::dmat4 to_world{1.0};
+    glm::dmat4 to_object{1.0};
+    glm::dmat3 normal_to_world{1.0};  // inverse transpose of to_world's linear part
+};
+
+// An infinite plane through `point` with unit normal `normal` (world space).
+struct PlaneGeom {
+    std::uint32_t shape = 0;
+    glm::dvec3 point{0.0};
+    glm::dvec3 normal{0.0, 0.0, 1.0};
+    Vec3 tangent{1.f, 0.f, 0.f};
+};
+
+struct EmbreeBackend;  // embree_scene.cpp
+
+struct Scene::Impl {
+    Impl();
+    ~Impl();
+    std::vector<MeshGeom> meshes;
+    std::vector<AnalyticPrim> prims;
+    std::vector<PlaneGeom> planes;
+    std::unique_ptr<EmbreeBackend> backend;
+
+    // Builds the Embree scene from meshes and prims. Throws SceneError("<name>: embree: ...").
+    void build(const std::string& name);
+    // Fills `hit` (except material/emission fields) for a closest hit found by the backend.
+    void fill_analytic(const AnalyticPrim& prim, const Ray& ray, float t, SurfaceHit& hit) const;
+    void fill_triangle(const MeshGeom& mesh, std::uint32_t tri, float u, float v, float t,
+                       SurfaceHit& hit) const;
+};
+
+// The loader's access to a Scene's private members.
+struct Scene::Builder {
+    Scene scene;
+    std::string& name() { return scene.m_name; }
+    Camera& camera() { return scene.m_camera; }
+    RenderSettings& settings() { return scene.m_settings; }
+    SceneFeatures& features() { return scene.m_features; }
+    std::vector<std::unique_ptr<Material>>& materials() { return scene.m_materials; }
+    std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }
+    std::vector<Light>& lights() { return scene.m_lights; }
+    std::int32_t& environment() { return scene.m_environment; }
+    Bounds3& bounds() { return scene.m_bounds; }
+    Impl& impl() { return *scene.m_impl; }
+};
+
+}  // namespace facet::render
