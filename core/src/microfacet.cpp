@@ -1,0 +1,506 @@
+// Microfacet distributions and reflection; see facet/microfacet.h for the conventions.
+#include "facet/microfacet.h"
+
+#include <boost/math/special_functions/beta.hpp>
+#include <boost/math/special_functions/erf.hpp>
+#include <cmath>
+#include <vector>
+
+#include "facet/quadrature.h"
+#include "facet/sampling.h"
+
+namespace facet {
+
+namespace {
+
+// Boost.Math policy for the hot paths: never throw, never promote double to long double
+// (which would be several times slower and is not needed for a float result).
+using namespace boost::math::policies;
+using BoostPolicy =
+    policy<domain_error<ignore_error>, pole_error<ignore_error>, overflow_error<ignore_error>,
+           underflow_error<ignore_error>, evaluation_error<ignore_error>,
+           rounding_error<ignore_error>, promote_float<false>, promote_double<false>>;
+
+constexpr double kInvSqrtPiD = 0.56418958354775628695;  // 1 / sqrt(pi)
+
+// Lambda values above this are treated as +inf's square-root regime: for t > 1e30 the GGX form
+// t / (2 (1 + sqrt(1 + t))) would compute inf / inf; sqrt(t) / 2 is exact to float precision.
+constexpr float kGgxLargeT = 1e30f;
+
+// Beckmann Lambda: for a = cot / alpha >= 9 the exact value is below 1e-37 (exp(-81) / a^3),
+// which is 0 next to the 1 in 1 + Lambda; returning 0 avoids computing two denormals.
+constexpr double kBeckmannZeroLambdaA = 9.0;
+
+// Blinn Lambda: when (nu - 1) / 2 log(1 + mu^2) exceeds this, both terms of Lambda are below
+// exp(-110) ~ 2e-48 times c / ((nu - 1) mu) <= 1 for every mu reaching it: 0 in float.
+constexpr double kBlinnZeroLambdaExponent = 110.0;
+
+// Beckmann visible-slope inversion: slopes of the unit distribution beyond +-9 have
+// probability below erfc(9) ~ 4e-37, far below the 2^-24 resolution of a float sample.
+constexpr double kBeckmannMaxSlope = 9.0;
+// Newton/bisection stop: |step| below this (relative to 1 + |x|); a float result needs 6e-8.
+constexpr double kBeckmannSlopeTolerance = 1e-10;
+constexpr int kBeckmannMaxIterations = 60;
+
+// Compensation is skipped when the lobe misses less energy than this: f_ms would be < 1e-5 of
+// f and 1 / (1 - E_avg) would amplify the table's quadrature error.
+constexpr float kMinMissingEnergy = 1e-5f;
+
+Vec3 normalize_or_normal(double x, double y, double z) {
+    double len2 = x * x + y * y + z * z;
+    if (!(len2 > 0.0) || !std::isfinite(len2)) return {0.f, 0.f, 1.f};
+    double inv = 1.0 / std::sqrt(len2);
+    return Vec3(float(x * inv), float(y * inv), float(z * inv));
+}
+
+}  // namespace
+
+// ---------------------------------------------------------------------------------------------
+// Construction
+
+MicrofacetDistribution MicrofacetDistribution::ggx(float alpha_u, float alpha_v) {
+    MicrofacetDistribution d;
+    d.m_kind = DistributionKind::GGX;
+    d.m_ax = std::fmax(alpha_u, kMinAlpha);
+    d.m_ay = std::fmax(alpha_v, kMinAlpha);
+    d.m_equivalent_alpha = std::sqrt(std::fmax(alpha_u, 0.f) * std::fmax(alpha_v, 0.f));
+    d.m_norm = float(1.0 / (kPiD * double(d.m_ax) * double(d.m_ay)));
+    return d;
+}
+
+MicrofacetDistribution MicrofacetDistribution::beckmann(float alpha_u, float alpha_v) {
+    MicrofacetDistribution d = ggx(alpha_u, alpha_v);
+    d.m_kind = DistributionKind::Beckmann;
+    d.m_log_norm = float(-std::log(kPiD * double(d.m_ax) * double(d.m_ay)));
+    return d;
+}
+
+MicrofacetDistribution MicrofacetDistribution::blinn(float exponent_u, float exponent_v) {
+    MicrofacetDistribution d;
+    d.m_kind = DistributionKind::Blinn;
+    double ku = std::fmax(double(exponent_u), 0.0), kv = std::fmax(double(exponent_v), 0.0);
+    // Stretched Student-t: nu = sqrt((ku + 2)(kv + 2)), stretches with alpha_u alpha_v = 1.
+    double nu = ku == kv ? ku + 2.0 : std::sqrt((ku + 2.0) * (kv + 2.0));
+    d.m_nu = nu;
+    d.m_ax = ku == kv ? 1.f : std::fmax(float(std::sqrt(nu / (ku + 2.0))), kMinAlpha);
+    d.m_ay = ku == kv ? 1.f : std::fmax(float(std::sqrt(nu / (kv + 2.0))), kMinAlpha);
+    d.m_equivalent_alpha = float(std::sqrt(2.0 / nu));
+    d.m_log_norm = float(std::log(nu / (2.0 * kPiD)));
+    // c / (nu - 1), c = Gamma((nu + 1) / 2) / (Gamma(nu / 2) sqrt(pi)), by lgamma differences
+    // (absolute error ~ 1e-16 * lgamma(nu) ~ 1e-8 relative at nu = 1e7: ample for float).
+    double log_c = std::lgamma(0.5 * (nu + 1.0)) - std::lgamma(0.5 * nu) - 0.5 * std::log(kPiD);
+    d.m_blinn_k = std::exp(log_c) / (nu - 1.0);
+    return d;
+}
+
+// ---------------------------------------------------------------------------------------------
+// D and Lambda
+
+float MicrofacetDistribution::D(const Vec3& wm) const {
+    float cos2 = wm.z * wm.z;
+    if (!(wm.z > 0.f)) return 0.f;
+    // Stretched tangential part from the x, y components: no 1 - cos^2 cancellation.
+    float sx = wm.x / m_ax, sy = wm.y / m_ay;
+    float s = sx * sx + sy * sy;
+    switch (m_kind) {
+        case DistributionKind::GGX: {
+            // D = 1 / (pi ax ay (cos^2 + sin^2 (cos^2 phi / ax^2 + sin^2 phi / ay^2))^2).
+            float q = cos2 + s;
+            return m_norm / (q * q);
+        }
+        case DistributionKind::Beckmann: {
+            // D = exp(-tan^2 (...)) / (pi ax ay cos^4), as a single exp: no 0 / 0 at grazing.
+            float e = s / cos2;
+            if (!(e < kInfinity)) return 0.f;
+            return std::exp(m_log_norm - e - 2.f * std::log(cos2));
+        }
+        case DistributionKind::Blinn: {
+            // D = nu / (2 pi) cos^-4 (1 + tan^2 (...))^(-(nu + 2) / 2); the power in log space
+            // (log1p keeps kappa = 1e7 exact near the peak).
+            float t = s / cos2;
+            if (!(t < kInfinity)) return 0.f;
+            float e = m_log_norm - float(0.5 * (m_nu + 2.0)) * std::log1p(t) - 2.f * std::log(cos2);
+            return std::exp(e);
+        }
+    }
+    return 0.f;
+}
+
+double MicrofacetDistribution::mu(const Vec3& w) const {
+    double x = double(m_ax) * double(w.x), y = double(m_ay) * double(w.y);
+    double r = std::sqrt(x * x + y * y);
+    double z = std::fabs(double(w.z));
+    if (r == 0.0) return std::numeric_limits<double>::infinity();
+    return z / r;
+}
+
+double MicrofacetDistribution::lambda_of_mu(double mu) const {
+    if (std::isinf(mu)) return 0.0;
+    if (!(mu > 0.0)) return std::numeric_limits<double>::infinity();
+    switch (m_kind) {
+        case DistributionKind::GGX: {
+            double t = 1.0 / (mu * mu);
+            return t / (2.0 * (1.0 + std::sqrt(1.0 + t)));
+        }
+        case DistributionKind::Beckmann: {
+            // Lambda(a) = (exp(-a^2) / (a sqrt(pi)) - erfc(a)) / 2, a = mu. In double the
+            // cancellation costs log10(2 a^2) < 3 digits for a < 9.
+            double a = mu;
+            if (a >= kBeckmannZeroLambdaA) return 0.0;
+            return std::fmax(0.0, 0.5 * (std::exp(-a * a) * kInvSqrtPiD / a - std::erfc(a)));
+        }
+        case DistributionKind::Blinn: {
+            // Student-t Lambda (header comment); (1 + mu^2)^((1 - nu) / 2) in log space.
+            double l = std::log1p(mu * mu);
+            double e = 0.5 * (m_nu - 1.0) * l;
+            if (e > kBlinnZeroLambdaExponent) return 0.0;
+            double first = m_blinn_k * std::exp(-e) / mu;
+            double x = 1.0 / (1.0 + mu * mu);
+            double tail = 0.5 * boost::math::ibeta(0.5 * m_nu, 0.5, x, BoostPolicy());
+            return std::fmax(0.0, first - tail);
+        }
+    }
+    return 0.0;
+}
+
+float MicrofacetDistribution::lambda(const Vec3& w) const {
+    if (m_kind == DistributionKind::GGX) {
+        // Float fast path: t = alpha_phi^2 tan^2 from the tangential components;
+        // Lambda = t / (2 (1 + sqrt(1 + t))) (= (sqrt(1 + t) - 1) / 2 without cancellation).
+        float x = m_ax * w.x, y = m_ay * w.y;
+        float z2 = w.z * w.z;
+        if (!(z2 > 0.f)) return kInfinity;
+        float t = (x * x + y * y) / z2;
+        if (!(t < kGgxLargeT)) return 0.5f * std::sqrt(t);
+        return t / (2.f * (1.f + std::sqrt(1.f + t)));
+    }
+    if (w.z == 0.f) return kInfinity;
+    return float(lambda_of_mu(mu(w)));
+}
+
+// ---------------------------------------------------------------------------------------------
+// Visible normals and sampling
+
+float MicrofacetDistribution::D(const Vec3& w, const Vec3& wm) const {
+    if (!(w.z > 0.f)) return 0.f;
+    float c = glm::dot(w, wm);
+    if (!(c > 0.f)) return 0.f;
+    // G1(w) / cos = 1 / (cos + cos Lambda): finite as cos -> 0 (Lambda ~ 1 / cos).
+    float lam = lambda(w);
+    float denom = w.z + w.z * lam;
+    if (!(denom < kInfinity)) return 0.f;
+    return D(wm) * c / denom;
+}
+
+float MicrofacetDistribution::pdf(const Vec3& w, const Vec3& wm) const {
+    if (!(w.z > 0.f)) return 0.f;
+    if (m_kind == DistributionKind::Blinn) return D(wm) * std::fmax(wm.z, 0.f);
+    return D(w, wm);
+}
+
+Vec3 MicrofacetDistribution::sample_wm(const Vec3& w, Vec2 u) const {
+    switch (m_kind) {
+        case DistributionKind::GGX:
+            return sample_ggx_visible(w, u);
+        case DistributionKind::Beckmann:
+            return sample_beckmann_visible(w, u);
+        case DistributionKind::Blinn:
+            return sample_d_cos(u);
+    }
+    return {0.f, 0.f, 1.f};
+}
+
+Vec3 MicrofacetDistribution::sample_ggx_visible(const Vec3& w, Vec2 u) const {
+    // Dupuy & Benyoub 2023, "Sampling Visible GGX Normals with Spherical Caps": in the
+    // configuration stretched to alpha = 1, the visible normals of the view direction wh are
+    // h = c + wh with c uniform on the spherical cap z >= -wh.z; then unstretch the normal.
+    Vec3 wh = glm::normalize(Vec3(m_ax * w.x, m_ay * w.y, std::fabs(w.z)));
+    if (!std::isfinite(wh.z)) return {0.f, 0.f, 1.f};
+    float phi = 2.f * kPi * u.x;
+    float z = std::fma(1.f - u.y, 1.f + wh.z, -wh.z);
+    float sin_t = safe_sqrt(1.f - z * z);
+    float hx = sin_t * std::cos(phi) + wh.x;
+    float hy = sin_t * std::sin(phi) + wh.y;
+    float hz = std::fmax(z + wh.z, 0.f);
+    return normalize_or_normal(double(m_ax) * hx, double(m_ay) * hy, double(hz));
+}
+
+Vec3 MicrofacetDistribution::sample_beckmann_visible(const Vec3& w, Vec2 u) const {
+    // Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using the Distribution of
+    // Visible Normals": stretch w to the alpha = 1 configuration, sample the visible slopes of
+    // the unit Beckmann distribution for that incidence, rotate, unstretch.
+    double wx = double(m_ax) * w.x, wy = double(m_ay) * w.y, wz = std::fabs(double(w.z));
+    double sin_t = std::sqrt(wx * wx + wy * wy);
+    double len = std::sqrt(sin_t * sin_t + wz * wz);
+    if (!(len > 0.0) || !std::isfinite(len)) return {0.f, 0.f, 1.f};
+    double cos_p = sin_t > 0.0 ? wx / sin_t : 1.0, sin_p = sin_t > 0.0 ? wy / sin_t : 0.0;
+    sin_t /= len;
+    double cos_t = wz / len;
+
+    // Incidence in the xz plane at theta: the visible slope x (normal (-x, -y, 1)) has density
+    // proportional to exp(-x^2) (cos - x sin) on x < cot, so its CDF is
+    //   F(x) = [p erfc(-x) + q exp(-x^2) / sqrt(pi)] / [p erfc(-cot) + q exp(-cot^2) / sqrt(pi)]
+    // with (p, q) = (cot, 1), or the same divided by cot, (1, tan), near normal incidence; the
+    // two forms keep cot = 0 (grazing) and cot = inf (normal) finite.
+    double cot = sin_t > 0.0 ? cos_t / sin_t : std::numeric_limits<double>::infinity();
+    double p, q;
+    if (cot < 1.0) {
+        p = cot, q = 1.0;
+    } else {
+        p = 1.0, q = sin_t / cos_t;
+    }
+    double hi = std::fmin(cot, kBeckmannMaxSlope), lo = -kBeckmannMaxSlope;
+    double norm = p * std::erfc(-hi) + q * std::exp(-hi * hi) * kInvSqrtPiD;
+    double target = double(u.x) * norm;  // solve p erfc(-x) + q exp(-x^2)/sqrt(pi) = target
+    auto cdf = [&](double x) { return p * std::erfc(-x) + q * std::exp(-x * x) * kInvSqrtPiD; };
+
+    // Initial guess: the normal-incidence (Gaussian) quantile, or the grazing one
+    // (density ~ -x exp(-x^2): x = -sqrt(-log u)); the safeguarded Newton loop fixes the rest.
+    double ux = std::fmin(std::fmax(double(u.x), 1e-300), 1.0 - 1e-16);
+    double x = cot >= 1.0 ? boost::math::erf_inv(2.0 * ux - 1.0, BoostPolicy())
+                          : -std::sqrt(-std::log(ux)) + cot;
+    if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
+    for (int it = 0; it < kBeckmannMaxIterations; ++it) {
+        double r = cdf(x) - target;
+        if (r > 0.0) {
+            hi = x;
+        } else {
+            lo = x;
+        }
+        // dF/dx = 2 / sqrt(pi) exp(-x^2) (p - q x) >= 0 on the bracket.
+        double dens = 2.0 * kInvSqrtPiD * std::exp(-x * x) * (p - q * x);
+        double xn = dens > 0.0 ? x - r / dens : 0.5 * (lo + hi);
+        if (!(xn > lo && xn < hi)) xn = 0.5 * (lo + hi);  // bisection (also catches NaN)
+        bool done = std::fabs(xn - x) <= kBeckmannSlopeTolerance * (1.0 + std::fabs(x)) ||
+                    hi - lo <= kBeckmannSlopeTolerance;
+        x = xn;
+        if (done) break;
+    }
+    // y is independent: the unit Gaussian slope, by the inverse error function.
+    double uy = 2.0 * double(u.y) - 1.0;
+    uy = std::fmin(std::fmax(uy, -1.0 + 1e-16), 1.0 - 1e-16);
+    double y = boost::math::erf_inv(uy, BoostPolicy());
+    if (!std::isfinite(y)) y = 0.0;
+
+    // Rotate back to the incidence azimuth, unstretch.
+    double sx = cos_p * x - sin_p * y, sy = sin_p * x + cos_p * y;
+    return normalize_or_normal(-double(m_ax) * sx, -double(m_ay) * sy, 1.0);
+}
+
+Vec3 MicrofacetDistribution::sample_d_cos(Vec2 u) const {
+    // Exact sampling of the slope density P22 = D(wm) cos^4 (i.e. of D cos per solid angle):
+    // radius of the unit isotropic slope distribution by inverting its radial CDF, azimuth
+    // uniform, then stretch.
+    float r2 = 0.f;
+    switch (m_kind) {
+        case DistributionKind::GGX:  // CDF r^2 / (1 + r^2)
+            r2 = u.x / (1.f - u.x);
+            break;
+        case DistributionKind::Beckmann:  // CDF 1 - exp(-r^2)
+            r2 = -std::log1p(-u.x);
+            break;
+        case DistributionKind::Blinn:  // CDF 1 - (1 + r^2)^(-nu / 2)
+            r2 = float(std::expm1(-2.0 / m_nu * std::log1p(-double(u.x))));
+            break;
+    }
+    float r = std::sqrt(std::fmax(r2, 0.f));
+    float phi = 2.f * kPi * u.y;
+    return normalize_or_normal(-double(m_ax) * r * std::cos(phi), -double(m_ay) * r * std::sin(phi),
+                               1.0);
+}
+
+// ---------------------------------------------------------------------------------------------
+// MicrofacetReflection
+
+namespace {
+
+constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per dimension of [0,1)^2
+constexpr int kAlbedoPhiNodes = 6;      // azimuth nodes over [0, pi/2] when anisotropic
+constexpr float kAlbedoMinMu = 1e-3f;   // mu of the first table node (E(0) is a limit)
+constexpr int kBlinnLambdaTable = 512;  // G1 table nodes for the Blinn albedo quadrature
+
+// G1 of a Blinn distribution tabulated on v = mu / (mu + s) in [0, 1], s = sqrt(2 / nu) (the
+// slope scale, so the G1 transition spreads over the whole table), linear interpolation.
+// Used only by the albedo quadrature (ibeta per quadrature point would cost ~10-50 ms); its
+// error (< 1e-5) is far below the quadrature's.
+struct BlinnG1Table {
+    std::vector<float> g1;
+    double s;
+    explicit BlinnG1Table(const MicrofacetDistribution& d,
+                          double (*lambda_fn)(const MicrofacetDistribution&, double)) {
+        s = std::sqrt(2.0 / double(d.nu()));
+        g1.resize(kBlinnLambdaTable);
+        for (int j = 0; j < kBlinnLambdaTable; ++j) {
+            double v = double(j) / (kBlinnLambdaTable - 1);
+            double mu = v < 1.0 ? s * v / (1.0 - v) : std::numeric_limits<double>::infinity();
+            g1[j] = float(1.0 / (1.0 + lambda_fn(d, mu)));
+        }
+    }
+    float lambda(double mu) const {
+        double v = std::isinf(mu) ? 1.0 : mu / (mu + s);
+        double x = v * (kBlinnLambdaTable - 1);
+        int i = std::min(int(x), kBlinnLambdaTable - 2);
+        float t = float(x - i);
+        float g = g1[i] + t * (g1[i + 1] - g1[i]);
+        return g > 0.f ? 1.f / g - 1.f : kInfinity;
+    }
+};
+
+}  // namespace
+
+MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel,
+                                           const Rgb& scale, bool energy_compensation)
+    : m_distribution(d),
+      m_fresnel(fresnel),
+      m_scale(scale),
+      m_energy_compensation(energy_compensation),
+      m_smooth(d.effectively_smooth()) {
+    m_e.fill(1.f);
+    if (!m_energy_compensation || m_smooth) return;
+
+    // E(mu) = int f_{F=1} cos_i dwi over [0,1)^2 through a normal sampler:
+    //  GGX: visible normals, weight f cos / pdf = G / G1(wo);
+    //  Beckmann, Blinn: D cos sampling (closed form, avoids the iterative visible-normal
+    //  inversion), weight = G <wo, m> / (cos_o cos_m).
+    // The weight goes to 0 continuously where wi reaches the horizon (G -> 0), so the tensor
+    // Gauss-Legendre rule converges fast.
+    const MicrofacetDistribution& dist = m_distribution;
+    std::optional<BlinnG1Table> blinn;
+    if (dist.kind() == DistributionKind::Blinn)
+        blinn.emplace(
+            dist, [](const MicrofacetDistribution& dd, double mu) { return dd.lambda_of_mu(mu); });
+    auto lambda = [&](const Vec3& w) -> float {
+        if (blinn) return blinn->lambda(dist.mu(w));
+        return dist.lambda(w);
+    };
+
+    const QuadratureRule& gu = gauss_legendre(kAlbedoGrid);
+    bool aniso = dist.alpha_x() != dist.alpha_y();
+    const QuadratureRule& gphi = gauss_legendre(aniso ? kAlbedoPhiNodes : 1);
+    for (int k = 0; k < kTableSize; ++k) {
+        float mu_o = std::fmax(float(k) / (kTableSize - 1), kAlbedoMinMu);
+        float sin_o = safe_sqrt(1.f - mu_o * mu_o);
+        double e = 0.0;
+        for (size_t p = 0; p < gphi.nodes.size(); ++p) {
+            float phi = aniso ? float(gphi.nodes[p] * kPiD / 2.0) : 0.f;
+            Vec3 wo(sin_o * std::cos(phi), sin_o * std::sin(phi), mu_o);
+            float lam_o = lambda(wo);
+            double ep = 0.0;
+            for (int a = 0; a < kAlbedoGrid; ++a) {
+                for (int b = 0; b < kAlbedoGrid; ++b) {
+                    Vec2 u(float(gu.nodes[a]), float(gu.nodes[b]));
+                    bool visible = dist.kind() == DistributionKind::GGX;
+                    Vec3 wm = visible ? dist.sample_wm(wo, u) : dist.sample_d_cos(u);
+                    float c = glm::dot(wo, wm);
+                    if (!(c > 0.f)) continue;
+                    Vec3 wi = reflect(wo, wm);
+                    if (!(wi.z > 0.f)) continue;
+                    float g = 1.f / (1.f + lam_o + lambda(wi));
+                    float weight = visible ? g * (1.f + lam_o) : g * c / (mu_o * wm.z);
+                    ep += gu.weights[a] * gu.weights[b] * double(weight);
+                }
+            }
+            e += gphi.weights[p] * ep;
+        }
+        m_e[k] = float(std::fmin(std::fmax(e, 0.0), 1.0));
+    }
+    // E_avg = 2 int E(mu) mu dmu of the piecewise-linear table (exact for the interpolant, so
+    // that f_ms integrates to exactly (1 - E(mu_o)) F_ms): on [m0, m1] with E linear,
+    // int E mu = h/6 (E0 (2 m0 + m1) + E1 (m0 + 2 m1)).
+    double h = 1.0 / (kTableSize - 1), avg = 0.0;
+    for (int k = 0; k + 1 < kTableSize; ++k) {
+        double m0 = k * h, m1 = (k + 1) * h;
+        avg += h / 6.0 * (m_e[k] * (2.0 * m0 + m1) + m_e[k + 1] * (m0 + 2.0 * m1));
+    }
+    m_e_avg = float(std::fmin(2.0 * avg, 1.0));
+    if (1.f - m_e_avg < kMinMissingEnergy) return;
+
+    Rgb f_avg = m_fresnel.average();
+    Rgb f_ms = f_avg * f_avg * m_e_avg / (Rgb(1.f) - f_avg * (1.f - m_e_avg));
+    m_ms_factor = m_scale * f_ms / (kPi * (1.f - m_e_avg));
+    m_w_ss = std::fmax(luminance(f_avg * m_scale), 0.f);
+    m_w_ms = std::fmax(luminance(f_ms * m_scale), 0.f);
+    m_has_ms = is_finite(m_ms_factor) && m_w_ms > 0.f;
+    if (!m_has_ms) m_ms_factor = Rgb(0.f);
+}
+
+float MicrofacetReflection::albedo_table(float mu) const {
+    float x = glm::clamp(mu, 0.f, 1.f) * (kTableSize - 1);
+    int i = std::min(int(x), kTableSize - 2);
+    float t = x - float(i);
+    return m_e[i] + t * (m_e[i + 1] - m_e[i]);
+}
+
+float MicrofacetReflection::ms_probability(float mu_o) const {
+    if (!m_has_ms) return 0.f;
+    float e = albedo_table(mu_o);
+    float ws = e * m_w_ss, wm = (1.f - e) * m_w_ms;
+    return ws + wm > 0.f ? wm / (ws + wm) : 0.f;
+}
+
+Rgb MicrofacetReflection::f(const Vec3& wo, const Vec3& wi) const {
+    if (m_smooth) return Rgb(0.f);
+    float cos_o = wo.z, cos_i = wi.z;
+    if (!(cos_o > 0.f && cos_i > 0.f)) return Rgb(0.f);
+    Vec3 h = wo + wi;
+    float len2 = glm::dot(h, h);
+    if (!(len2 > 0.f)) return Rgb(0.f);
+    Vec3 wm = h / std::sqrt(len2);
+    // f = D G F / (4 cos_o cos_i) (eq. 2.37); divide one cosine at a time (no underflow of the
+    // product at grazing angles; G ~ cos there keeps the quotient finite).
+    float dg = m_distribution.D(wm) * m_distribution.G(wo, wi);
+    float s = dg / (4.f * cos_o) / cos_i;
+    // Constant Fresnel stores its value in eta(): skip the evaluation.
+    Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(glm::dot(wo, wm));
+    Rgb result = m_scale * fr * s;
+    if (m_has_ms)
+        result += m_ms_factor * ((1.f - albedo_table(cos_o)) * (1.f - albedo_table(cos_i)));
+    return result;
+}
+
+float MicrofacetReflection::pdf(const Vec3& wo, const Vec3& wi) const {
+    if (m_smooth) return 0.f;
+    if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
+    Vec3 h = wo + wi;
+    float len2 = glm::dot(h, h);
+    if (!(len2 > 0.f)) return 0.f;
+    Vec3 wm = h / std::sqrt(len2);
+    float c = glm::dot(wo, wm);
+    if (!(c > 0.f)) return 0.f;
+    // Half-vector Jacobian dwm / dwi = 1 / (4 <wo, wm>) (Walter et al. 2007, eq. 14).
+    float p;
+    if (m_distribution.kind() == DistributionKind::Blinn) {
+        p = m_distribution.D(wm) * wm.z / (4.f * c);
+    } else {
+        // Visible normals: G1(wo) D(wm) <wo, wm> / cos_o / (4 <wo, wm>) = G1 D / (4 cos_o).
+        float denom = 4.f * (wo.z + wo.z * m_distribution.lambda(wo));
+        p = denom < kInfinity ? m_distribution.D(wm) / denom : 0.f;
+    }
+    if (m_has_ms) {
+        float pm = ms_probability(wo.z);
+        p = (1.f - pm) * p + pm * cosine_hemisphere_pdf(wi.z);
+    }
+    return p;
+}
+
+std::optional<BSDFSample> MicrofacetReflection::sample_f(const Vec3& wo, float uc, Vec2 u) const {
+    if (!(wo.z > 0.f)) return std::nullopt;
+    if (m_smooth) {
+        // The lobe is the mirror (Cohen & Wallace eq. 2.27-2.29): a true delta.
+        Vec3 wi(-wo.x, -wo.y, wo.z);
+        return BSDFSample{m_scale * m_fresnel.eval(wo.z) / wo.z, wi, 1.f, BxDFFlags::Specular};
+    }
+    Vec3 wi;
+    if (m_has_ms && uc < ms_probability(wo.z)) {
+        wi = sample_cosine_hemisphere(u);
+    } else {
+        Vec3 wm = m_distribution.sample_wm(wo, u);
+        wi = reflect(wo, wm);
+    }
+    if (!(wi.z > 0.f)) return std::nullopt;
+    float p = pdf(wo, wi);
+    if (!(p > 0.f) || !(p < kInfinity)) return std::nullopt;
+    return BSDFSample{f(wo, wi), wi, p, BxDFFlags::Glossy};
+}
+
+}  // namespace facet
