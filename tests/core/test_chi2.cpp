@@ -13,7 +13,9 @@
 
 #include "chi2.h"
 #include "facet/lambert.h"
+#include "facet/microfacet.h"
 #include "facet/mirror.h"
+#include "facet/registry.h"
 
 namespace facet {
 namespace {
@@ -53,11 +55,124 @@ std::vector<Chi2Case> make_cases() {
             return test::chi2_sampling_test(b, wo_at(th, 30.0));
         });
     }
+
+    // Bare microfacet lobes. Sharp lobes (equivalent alpha < 0.15) are binned about the mirror
+    // direction, over a cap of 8 lobe widths, so that the lobe spans many cells; the rest of
+    // the sphere is the band below the cap.
+    using MD = MicrofacetDistribution;
+    auto lobe_options = [](const MicrofacetReflection& b, const Vec3& wo) {
+        Chi2Options o;
+        float a = b.distribution().equivalent_alpha();
+        if (a < 0.15f) {
+            o.axis = Vec3(-wo.x, -wo.y, wo.z);
+            o.cos_min = std::cos(std::min(80.0 * kDeg, 8.0 * a));
+        }
+        return o;
+    };
+    auto add_lobe = [&](const std::string& name, std::function<MD()> dist, Fresnel fr, bool ec,
+                        double th, double ph) {
+        add(name + "_theta" + std::to_string(int(th)) + "_phi" + std::to_string(int(ph)), [=] {
+            MicrofacetReflection b(dist(), fr, Rgb(1.f), ec);
+            Vec3 wo = wo_at(th, ph);
+            return test::chi2_sampling_test(b, wo, lobe_options(b, wo));
+        });
+    };
+    // Isotropic: several roughnesses per distribution, all four incidences.
+    for (float a : {0.05f, 0.3f, 1.0f}) {
+        for (double th : kThetas) {
+            add_lobe(
+                "ggx_a" + std::to_string(a), [a] { return MD::ggx(a, a); }, Fresnel::none(), false,
+                th, 20.0);
+            add_lobe(
+                "beckmann_a" + std::to_string(a), [a] { return MD::beckmann(a, a); },
+                Fresnel::none(), false, th, 20.0);
+        }
+    }
+    for (float k : {0.f, 10.f, 1000.f}) {
+        for (double th : kThetas)
+            add_lobe(
+                "blinn_k" + std::to_string(int(k)), [k] { return MD::blinn(k, k); },
+                Fresnel::none(), false, th, 20.0);
+    }
+    // Anisotropic, with wo at several azimuths (rotated anisotropy) and both axis orders.
+    for (double th : {45.0, 80.0}) {
+        for (double ph : {0.0, 30.0, 90.0, 135.0}) {
+            add_lobe(
+                "ggx_aniso_0_1_0_6", [] { return MD::ggx(0.1f, 0.6f); }, Fresnel::none(), false, th,
+                ph);
+            add_lobe(
+                "beckmann_aniso_0_5_0_08", [] { return MD::beckmann(0.5f, 0.08f); },
+                Fresnel::none(), false, th, ph);
+            add_lobe(
+                "blinn_aniso_5_500", [] { return MD::blinn(5.f, 500.f); }, Fresnel::none(), false,
+                th, ph);
+        }
+    }
+    // Energy compensation adds a cosine lobe to the mixture; a coloured conductor makes the
+    // lobe-selection weights depend on F_avg.
+    Fresnel gold = Fresnel::conductor(Rgb(0.18f, 0.42f, 1.37f), Rgb(3.42f, 2.35f, 1.77f));
+    for (double th : {0.0, 60.0, 85.0}) {
+        add_lobe(
+            "ggx_ec_a0_8", [] { return MD::ggx(0.8f, 0.8f); }, Fresnel::none(), true, th, 0.0);
+        add_lobe(
+            "beckmann_ec_gold_a0_5", [] { return MD::beckmann(0.5f, 0.5f); }, gold, true, th, 0.0);
+        add_lobe(
+            "blinn_ec_aniso_k1_k20", [] { return MD::blinn(1.f, 20.f); }, gold, true, th, 45.0);
+    }
+
+    // Materials through the registry (the same path scenes take), incl. composite mixtures
+    // with a delta lobe (their specular fraction gets its own chi-square cell).
+    struct Mat {
+        std::string name, model;
+        ParamSet params;
+    };
+    std::vector<Mat> mats;
+    {
+        Mat m{"mat_lambert", "lambert", {}};
+        m.params.set("reflectance", Rgb(0.2f, 0.5f, 0.9f));
+        mats.push_back(m);
+        Mat g{"mat_ggx_conductor", "ggx", {}};
+        g.params.set("alpha", 0.25);
+        g.params.set("fresnel", std::string("conductor"));
+        mats.push_back(g);
+        Mat c{"mat_composite_default", "composite", {}};
+        mats.push_back(c);
+        Mat cm{"mat_composite_mirror", "composite", {}};
+        cm.params.set("glossy_reflectance", 0.5);
+        cm.params.set("mirror_reflectance", 0.3);
+        cm.params.set("alpha", 0.4);
+        mats.push_back(cm);
+        Mat cb{"mat_composite_blinn_aniso_ec", "composite", {}};
+        cb.params.set("distribution", std::string("blinn"));
+        cb.params.set("exponent_u", 3.0);
+        cb.params.set("exponent_v", 60.0);
+        cb.params.set("energy_compensation", true);
+        cb.params.set("mirror_reflectance", 0.2);
+        cb.params.set("glossy_reflectance", 0.8);
+        mats.push_back(cb);
+        Mat ck{"mat_composite_beckmann_schlick", "composite", {}};
+        ck.params.set("distribution", std::string("beckmann"));
+        ck.params.set("alpha_u", 0.2);
+        ck.params.set("alpha_v", 0.7);
+        ck.params.set("fresnel", std::string("schlick"));
+        ck.params.set("f0", 0.3);
+        ck.params.set("diffuse_reflectance", Rgb(0.9f, 0.1f, 0.4f));
+        mats.push_back(ck);
+    }
+    for (const Mat& m : mats) {
+        for (double th : kThetas) {
+            add(m.name + "_theta" + std::to_string(int(th)), [m, th] {
+                Material mat = make_material(m.model, m.params);
+                return test::chi2_sampling_test(mat, wo_at(th, 50.0));
+            });
+        }
+    }
     return cases;
 }
 
 const std::vector<Chi2Case>& all_cases() {
     static const std::vector<Chi2Case> cases = make_cases();
+
     return cases;
 }
 
