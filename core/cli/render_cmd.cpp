@@ -1,9 +1,165 @@
+// `facet render scene.json -o out.exr [-o out.png] [--spp N] [--time S] [--threads N]
+//  [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general] [--explain]
+//  [--quiet] [--stats-json FILE]`
+//
+// Errors (bad flags, a bad scene, an unwritable output) print "facet: <place>: <message>" and
+// exit with a non-zero code: CLI11's codes for flag errors, 1 for everything else.
+#include <fmt/format.h>
 #include <CLI/CLI.hpp>
+#include <nlohmann/json.hpp>
+
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+#include <string>
+#include <vector>
 
 #include "commands.h"
+#include "facet/render/image.h"
+#include "facet/render/render.h"
+#include "facet/render/scene.h"
 
 namespace facet::cli {
 
-void add_render_command(CLI::App& app) { (void)app; }  // placeholder until the command lands
+namespace {
+
+struct RenderCmdOptions {
+    std::string scene;
+    std::vector<std::string> outputs;
+    int spp = 0;
+    double time_s = -1.0;
+    int threads = 0;
+    std::string integrator;
+    std::int64_t seed = -1;
+    int max_depth = -1;
+    std::string kernel = "auto";
+    bool explain = false;
+    bool quiet = false;
+    std::string stats_json;
+};
+
+std::string extension_of(const std::string& path) {
+    const auto dot = path.find_last_of('.');
+    const auto slash = path.find_last_of('/');
+    if (dot == std::string::npos || (slash != std::string::npos && dot < slash)) return "";
+    std::string e = path.substr(dot);
+    std::transform(e.begin(), e.end(), e.begin(),
+                   [](unsigned char c) { return char(std::tolower(c)); });
+    return e;
+}
+
+void print_explain(const render::Scene& scene, const render::KernelChoice& k,
+                   const render::ResolvedSettings& rs) {
+    fmt::print("scene {}\n{}", scene.name(), scene.features().describe());
+    fmt::print("integrator {}  spp {}  max_depth {}  seed {}  threads {}{}\n",
+               render::integrator_name(rs.integrator), rs.spp, rs.max_depth, rs.seed, rs.threads,
+               rs.time_budget_s > 0 ? fmt::format("  time budget {} s", rs.time_budget_s) : "");
+    fmt::print("kernel {}\n", k.name);
+    for (const auto& s : k.chosen) fmt::print("  chosen:  {}\n", s);
+    for (const auto& s : k.skipped) fmt::print("  skipped: {}\n", s);
+    std::fflush(stdout);
+}
+
+void run_render(const RenderCmdOptions& o) {
+    if (o.outputs.empty() && !o.explain)
+        throw std::runtime_error("render: no output: give -o out.exr and/or -o out.png");
+    for (const auto& out : o.outputs) {
+        const std::string e = extension_of(out);
+        if (e != ".exr" && e != ".png")
+            throw std::runtime_error("render: -o " + out +
+                                     ": unknown image extension (use .exr or .png)");
+    }
+    if (o.kernel != "auto" && o.kernel != "general")
+        throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
+                                 o.kernel + "'");
+
+    const render::Scene scene = render::load_scene(o.scene);  // SceneError names file + path
+
+    render::RenderOptions ro;
+    ro.integrator = o.integrator;
+    ro.spp = o.spp;
+    if (o.time_s >= 0.0) ro.time_budget_s = o.time_s;
+    ro.max_depth = o.max_depth;
+    if (o.seed >= 0) ro.seed = std::uint64_t(o.seed);
+    ro.threads = o.threads;
+    ro.force_general_kernel = o.kernel == "general";
+    ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
+
+    render::ResolvedSettings rs;
+    try {
+        rs = render::resolve_settings(scene, ro);
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(std::string("render: ") + e.what());
+    }
+    if (o.explain) {
+        print_explain(scene,
+                      render::choose_kernel(scene.features(), rs.integrator, rs.max_depth,
+                                            ro.force_general_kernel),
+                      rs);
+        if (o.outputs.empty()) return;
+    }
+
+    render::RenderStats st;
+    const render::Image image = render::render(scene, ro, &st);
+    for (const auto& out : o.outputs) render::write_image(image, out);
+
+    if (!o.stats_json.empty()) {
+        nlohmann::json j{{"scene", scene.name()},
+                         {"kernel", st.kernel.name},
+                         {"integrator", render::integrator_name(st.kernel.integrator)},
+                         {"seconds", st.seconds},
+                         {"spp", st.spp},
+                         {"passes", st.passes},
+                         {"threads", st.threads},
+                         {"paths", st.paths},
+                         {"rays", st.rays},
+                         {"shadow_rays", st.shadow_rays},
+                         {"nonfinite_samples", st.nonfinite},
+                         {"paths_per_s", double(st.paths) / st.seconds},
+                         {"rays_per_s", double(st.rays + st.shadow_rays) / st.seconds}};
+        std::ofstream f(o.stats_json);
+        if (!(f << j.dump(2) << "\n"))
+            throw std::runtime_error("render: --stats-json " + o.stats_json + ": cannot write");
+    }
+    if (st.nonfinite > 0)
+        std::fprintf(stderr, "facet: render: warning: %llu samples were NaN/inf and were dropped\n",
+                     static_cast<unsigned long long>(st.nonfinite));
+}
+
+}  // namespace
+
+void add_render_command(CLI::App& app) {
+    auto o = std::make_shared<RenderCmdOptions>();
+    CLI::App* cmd = app.add_subcommand("render", "Render a JSON scene (scenes/FORMAT.md)");
+    cmd->add_option("scene", o->scene, "scene file (.json)")->required();
+    cmd->add_option("-o,--output", o->outputs,
+                    "output image; .exr = linear float, .png = 8-bit sRGB; repeatable")
+        ->allow_extra_args(false);
+    cmd->add_option("--spp", o->spp, "samples per pixel (default: the scene's)")
+        ->check(CLI::PositiveNumber);
+    cmd->add_option("--time", o->time_s,
+                    "time budget in seconds: render in passes until it is spent (spp is a cap)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--threads", o->threads, "worker threads (0 = all cores)")
+        ->check(CLI::NonNegativeNumber)
+        ->capture_default_str();
+    cmd->add_option("--integrator", o->integrator, "direct | path (default: the scene's)");
+    cmd->add_option("--seed", o->seed, "sampler seed (default: the scene's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--max-depth", o->max_depth, "maximum bounces (default: the scene's)")
+        ->check(CLI::NonNegativeNumber);
+    cmd->add_option("--kernel", o->kernel,
+                    "auto: kernel specialised to the scene; general: the all-features kernel")
+        ->check(CLI::IsMember({"auto", "general"}))
+        ->capture_default_str();
+    cmd->add_flag("--explain", o->explain,
+                  "print the scene analysis and which kernel features were chosen and skipped");
+    cmd->add_flag("-q,--quiet", o->quiet, "no progress output");
+    cmd->add_option("--stats-json", o->stats_json, "write timing and ray counts as JSON");
+    cmd->callback([o] { run_render(*o); });
+}
 
 }  // namespace facet::cli

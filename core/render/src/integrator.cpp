@@ -42,10 +42,13 @@ std::optional<BSDFSample> bsdf_sample(const Material& m, const Vec3& wo, float u
         return m.sample_f(wo, uc, u);
 }
 
+// Whether the material has a non-delta lobe. In the Lambert-only kernel every material is
+// either one Lambertian lobe or black (no lobe at all, e.g. an emitter's default material);
+// the BSDF functions above are only called after this returned true.
 template <std::uint32_t F>
 bool has_non_specular(const Material& m) {
     if constexpr ((F & kFeatLambertOnly) != 0)
-        return true;
+        return m.diffuse().has_value();
     else
         return is_non_specular(m.flags());
 }
@@ -155,6 +158,9 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
         }
 
         // BSDF sampling for the next vertex.
+        if constexpr ((F & kFeatLambertOnly) != 0) {
+            if (!m.diffuse()) break;  // black
+        }
         s.set_dimension(base + 3u);
         const float uc = s.get_1d();
         const Vec2 u2 = s.get_2d();
