@@ -24,7 +24,6 @@ using json = nlohmann::json;
 
 // Limits that keep a hostile or mistyped file from exhausting memory (documented in FORMAT.md).
 constexpr int kMaxImageSide = 1 << 16;
-constexpr std::int64_t kMaxImagePixels = std::int64_t(1) << 28;
 constexpr int kMaxIcosphereSubdivisions = 9;     // 20 * 4^9 = 5.2M triangles
 constexpr std::int64_t kMaxGridCells = 1 << 24;  // 33.5M triangles
 constexpr int kMaxSpp = 1 << 20;
@@ -121,8 +120,8 @@ struct BuiltShape {
 
 class Loader {
   public:
-    Loader(std::string name, std::string base_dir)
-        : m_name(std::move(name)), m_base(std::move(base_dir)) {}
+    Loader(std::string name, std::string base_dir, const SceneLimits& limits)
+        : m_name(std::move(name)), m_base(std::move(base_dir)), m_limits(limits) {}
 
     Scene load(const std::string& text) {
         json root = parse(text);
@@ -262,7 +261,8 @@ class Loader {
                           (v.is_number() ? std::string("a fractional number") : type_name(v)));
         }
         if (v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t(hi)) {
-            fail(ptr, "value is out of range: must be in [" + std::to_string(lo) + ", " +
+            fail(ptr, "value " + std::to_string(v.get<std::uint64_t>()) +
+                          " is out of range: must be in [" + std::to_string(lo) + ", " +
                           std::to_string(hi) + "]");
         }
         std::int64_t i = v.get<std::int64_t>();
@@ -331,7 +331,10 @@ class Loader {
                                 "in [0.001, 179] degrees (full vertical angle)");
         int w = int(get_int(require(c, ptr, "width"), ptr + "/width", 1, kMaxImageSide));
         int h = int(get_int(require(c, ptr, "height"), ptr + "/height", 1, kMaxImageSide));
-        if (std::int64_t(w) * h > kMaxImagePixels) fail(ptr, "image has too many pixels");
+        if (std::int64_t(w) * h > m_limits.max_pixels) {
+            fail(ptr, "the image has too many pixels (limit " +
+                          std::to_string(m_limits.max_pixels) + ")");
+        }
         glm::dvec3 f = glm::dvec3(at) - glm::dvec3(pos);
         double flen = glm::length(f);
         if (!(flen > 0.0)) fail(ptr + "/look_at", "must differ from the camera position");
@@ -748,6 +751,7 @@ class Loader {
             }
             case ShapeKind::Mesh:
                 mesh = load_mesh_shape(s, ptr);
+                reserve_triangles(mesh.num_triangles(), ptr);
                 is_mesh = true;
                 break;
             case ShapeKind::Icosphere: {
@@ -758,6 +762,7 @@ class Loader {
                 int sub = int(get_int(require(s, ptr, "subdivisions"), ptr + "/subdivisions", 0,
                                       kMaxIcosphereSubdivisions));
                 bool smooth = s.contains("smooth") ? get_bool(s["smooth"], ptr + "/smooth") : true;
+                reserve_triangles(20ull << (2 * sub), ptr + "/subdivisions");
                 mesh = make_icosphere(sub, smooth);
                 for (Vec3& p : mesh.positions) p = c + float(r) * p;
                 is_mesh = true;
@@ -778,6 +783,7 @@ class Loader {
                     s.contains("frequency")
                         ? get_number(s["frequency"], ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]")
                         : 0.0;
+                reserve_triangles(2ull * std::uint64_t(nx) * std::uint64_t(ny), ptr);
                 mesh = make_grid(int(nx), int(ny), float(amp), float(freq));
                 tangent = Vec3(1.f, 0.f, 0.f);
                 is_mesh = true;
@@ -854,6 +860,7 @@ class Loader {
                 }
             }
             std::string file = get_string(s["file"], ptr + "/file");
+            if (!m_limits.allow_files) fail(ptr + "/file", "mesh files are disabled here");
             std::filesystem::path p(file);
             if (p.is_relative()) p = std::filesystem::path(m_base) / p;
             std::string ext = p.extension().string();
@@ -1051,7 +1058,18 @@ class Loader {
         f.all_lights_delta = !f.any_non_delta_light;
     }
 
+    // Counts triangles against the limit before they are generated.
+    void reserve_triangles(std::uint64_t n, const std::string& ptr) {
+        m_triangles += n;
+        if (n > m_limits.max_triangles || m_triangles > m_limits.max_triangles) {
+            fail(ptr, "the scene exceeds the limit of " + std::to_string(m_limits.max_triangles) +
+                          " triangles");
+        }
+    }
+
     std::string m_name, m_base;
+    SceneLimits m_limits;
+    std::uint64_t m_triangles = 0;
     Scene::Builder m_builder;
     std::map<std::string, const Material*> m_named;
     const Material* m_black = nullptr;
@@ -1077,8 +1095,8 @@ std::string SceneFeatures::describe() const {
 }
 
 Scene load_scene_from_string(const std::string& json_text, const std::string& name_for_errors,
-                             const std::string& base_dir) {
-    Loader loader(name_for_errors, base_dir);
+                             const std::string& base_dir, const SceneLimits& limits) {
+    Loader loader(name_for_errors, base_dir, limits);
     return loader.load(json_text);
 }
 

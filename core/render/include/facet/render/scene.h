@@ -173,11 +173,19 @@ class Scene {
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
 };
 
+// Resource limits the loader enforces (scenes/FORMAT.md); an input over a limit is a SceneError.
+// The defaults allow any sensible scene; the fuzzer lowers them and forbids file access.
+struct SceneLimits {
+    std::uint64_t max_triangles = std::uint64_t(1) << 26;  // 67M triangles in the whole scene
+    std::int64_t max_pixels = std::int64_t(1) << 28;
+    bool allow_files = true;  // mesh "file" entries
+};
+
 // Loads a scene file (JSON, scenes/FORMAT.md). Throws SceneError("<path>: <pointer>: message").
 // Relative mesh file paths are resolved against the scene file's directory.
 Scene load_scene(const std::string& path);
 // Same, from JSON text; `name_for_errors` prefixes messages, `base_dir` resolves mesh files.
 Scene load_scene_from_string(const std::string& json, const std::string& name_for_errors,
-                             const std::string& base_dir = ".");
+                             const std::string& base_dir = ".", const SceneLimits& limits = {});
 
 }  // namespace facet::render
