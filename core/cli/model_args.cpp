@@ -32,7 +32,8 @@ Vec3 direction_from_degrees(const std::string& text, const std::string& flag) {
     std::vector<double> v = parse_numbers(text, flag);
     if (v.size() != 2) throw std::runtime_error(flag + ": expected theta,phi in degrees");
     if (v[0] < 0.0 || v[0] > 90.0)
-        throw std::runtime_error(fmt::format("{}: theta must be in [0, 90] degrees (got {})", flag, v[0]));
+        throw std::runtime_error(
+            fmt::format("{}: theta must be in [0, 90] degrees (got {})", flag, v[0]));
     const double deg = kPiD / 180.0;
     return spherical_direction(float(v[0] * deg), float(v[1] * deg));
 }
@@ -75,9 +76,12 @@ Material material_from_args(const std::string& model, const std::vector<std::str
                     break;
                 case ParamType::Color: {
                     auto v = parse_numbers(value, flag);
-                    if (v.size() == 1) params.set(name, v[0]);
-                    else if (v.size() == 3) params.set(name, Rgb(float(v[0]), float(v[1]), float(v[2])));
-                    else throw std::runtime_error(flag + ": expected one number or r,g,b");
+                    if (v.size() == 1)
+                        params.set(name, v[0]);
+                    else if (v.size() == 3)
+                        params.set(name, Rgb(float(v[0]), float(v[1]), float(v[2])));
+                    else
+                        throw std::runtime_error(flag + ": expected one number or r,g,b");
                     break;
                 }
                 case ParamType::Bool:

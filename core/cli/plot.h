@@ -13,7 +13,7 @@ struct Color8 {
 };
 
 class Canvas {
-public:
+  public:
     Canvas(int width, int height, Color8 background);
     // Anti-aliased-by-coverage thick line (distance-to-segment test over the bounding box).
     void line(float x0, float y0, float x1, float y1, Color8 c, float thickness = 1.5f);
@@ -24,7 +24,7 @@ public:
     int width() const { return m_width; }
     int height() const { return m_height; }
 
-private:
+  private:
     void blend(int x, int y, Color8 c, float alpha);
     int m_width, m_height;
     std::vector<std::uint8_t> m_rgb;

@@ -26,7 +26,7 @@
 namespace facet {
 
 class Material {
-public:
+  public:
     Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
              std::optional<MirrorReflection> mirror);
 
@@ -50,7 +50,7 @@ public:
     // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
     static constexpr int kTableSize = 64;
 
-private:
+  private:
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
     std::array<float, 3> lobe_probabilities(const Vec3& wo) const;
     Rgb diffuse_scale(float mu) const { return Rgb(1.f) - specular_albedo(mu); }
@@ -59,9 +59,9 @@ private:
     std::optional<MicrofacetReflection> m_glossy;
     std::optional<MirrorReflection> m_mirror;
     BxDFFlags m_flags = BxDFFlags::None;
-    bool m_has_table = false;              // false for single-lobe materials
-    std::array<Rgb, kTableSize> m_eg{};    // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
-    Rgb m_inv_one_minus_es_avg{1.f};       // 1 / (1 - Es_avg), per channel
+    bool m_has_table = false;            // false for single-lobe materials
+    std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
+    Rgb m_inv_one_minus_es_avg{1.f};     // 1 / (1 - Es_avg), per channel
 };
 
 }  // namespace facet

@@ -16,7 +16,9 @@
 // balance heuristic, and each is integrated by an n x n Gauss-Legendre product rule. Sharp lobes
 // (Blinn kappa = 1e7) are then resolved exactly as well as broad ones, because in the
 // sampler's coordinates the integrand is smooth. Delta lobes are added in closed form.
-// `error` is an a-posteriori estimate: |Q(n) - Q(2n)|, where `value` is Q(2n). Biconical
+// `error` is an a-posteriori estimate, max(|Q(n/2) - Q(n)|, |Q(n) - Q(2n)|) where `value` is
+// Q(2n): one difference alone can vanish by coincidence, because the integrand has kinks where
+// the half-vector map crosses the horizon and Gauss-Legendre then converges irregularly. Biconical
 // reflectances whose cones cut the mirror direction converge slowly (the indicator of the cone
 // is discontinuous): read their error estimate.
 #pragma once

@@ -1,0 +1,156 @@
+#include "facet/material.h"
+
+#include "facet/reflectance.h"
+
+namespace facet {
+
+namespace {
+// Below this, 1 - Es_avg means the specular layers reflect (almost) everything: the diffuse
+// lobe then receives nothing, instead of a 0/0 normalisation.
+constexpr float kMinDiffuseShare = 1e-6f;
+
+// Exact integral 2 * int_0^1 e(mu) mu dmu of the piecewise-linear interpolant through
+// table[k] at mu_k = k/(n-1): the same function f() uses, so the diffuse normalisation is
+// consistent to round-off, not only to the table's resolution.
+template <size_t N>
+Rgb hemispherical_average(const std::array<Rgb, N>& table) {
+    DVec3 sum(0.0);
+    const double h = 1.0 / double(N - 1);
+    for (size_t k = 0; k + 1 < N; ++k) {
+        double a = k * h, b = (k + 1) * h;
+        DVec3 ea(table[k]), eb(table[k + 1]);
+        // int_a^b (ea + (eb - ea)(mu - a)/h) mu dmu
+        double i0 = (b * b - a * a) / 2.0;                   // int mu
+        double i1 = (b * b * b - a * a * a) / 3.0 - a * i0;  // int (mu - a) mu
+        sum += ea * i0 + (eb - ea) * (i1 / h);
+    }
+    return Rgb(2.0 * sum);
+}
+}  // namespace
+
+Material::Material(std::optional<LambertReflection> diffuse,
+                   std::optional<MicrofacetReflection> glossy,
+                   std::optional<MirrorReflection> mirror)
+    : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
+    if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
+    if (m_glossy) m_flags = m_flags | m_glossy->flags();
+    if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
+
+    // The glossy albedo table is needed to weight the diffuse lobe and to choose between lobes;
+    // a single-lobe material needs neither.
+    int lobes = int(m_diffuse.has_value()) + int(m_glossy.has_value()) + int(m_mirror.has_value());
+    if (lobes < 2) return;
+    m_has_table = true;
+    for (int k = 0; k < kTableSize; ++k) {
+        float mu = float(k) / float(kTableSize - 1);
+        m_eg[k] = m_glossy ? phi_averaged_albedo(*m_glossy, mu) : Rgb(0.f);
+    }
+    if (m_diffuse) {
+        std::array<Rgb, kTableSize> es;
+        for (int k = 0; k < kTableSize; ++k) {
+            float mu = float(k) / float(kTableSize - 1);
+            es[k] = glm::clamp(m_eg[k] + (m_mirror ? m_mirror->reflectance(mu) : Rgb(0.f)),
+                               Rgb(0.f), Rgb(1.f));
+        }
+        Rgb one_minus_avg = Rgb(1.f) - hemispherical_average(es);
+        for (int c = 0; c < 3; ++c)
+            m_inv_one_minus_es_avg[c] =
+                one_minus_avg[c] > kMinDiffuseShare ? 1.f / one_minus_avg[c] : 0.f;
+    }
+}
+
+Rgb Material::glossy_albedo(float mu) const {
+    if (!m_has_table) return Rgb(0.f);
+    float x = glm::clamp(mu, 0.f, 1.f) * float(kTableSize - 1);
+    int k = std::min(int(x), kTableSize - 2);
+    float t = x - float(k);
+    return m_eg[k] * (1.f - t) + m_eg[k + 1] * t;
+}
+
+Rgb Material::specular_albedo(float mu) const {
+    Rgb e = glossy_albedo(mu);
+    if (m_mirror) e += m_mirror->reflectance(glm::clamp(mu, 0.f, 1.f));
+    return glm::clamp(e, Rgb(0.f), Rgb(1.f));
+}
+
+Rgb Material::diffuse_f(const Vec3& wo, const Vec3& wi) const {
+    Rgb f = m_diffuse->f(wo, wi);
+    if (!m_has_table) return f;
+    return f * diffuse_scale(wo.z) * diffuse_scale(wi.z) * m_inv_one_minus_es_avg;
+}
+
+std::array<float, 3> Material::lobe_probabilities(const Vec3& wo) const {
+    if (!m_has_table) {
+        return {m_diffuse ? 1.f : 0.f, m_glossy ? 1.f : 0.f, m_mirror ? 1.f : 0.f};
+    }
+    float mu = glm::clamp(wo.z, 0.f, 1.f);
+    std::array<float, 3> w{0.f, 0.f, 0.f};
+    // Albedo of each lobe at wo (luminance): diffuse gets rho_d (1 - Es) (see header).
+    if (m_diffuse) w[0] = luminance(m_diffuse->rho() * diffuse_scale(mu));
+    if (m_glossy) w[1] = luminance(glossy_albedo(mu));
+    if (m_mirror) w[2] = luminance(m_mirror->reflectance(mu));
+    float sum = w[0] + w[1] + w[2];
+    if (!(sum > 0.f)) {
+        // Black at this angle: fall back to uniform over the present lobes so pdf stays
+        // defined (the samples then carry f = 0 and are discarded by the caller).
+        float n = float(m_diffuse.has_value() + m_glossy.has_value() + m_mirror.has_value());
+        return {m_diffuse ? 1.f / n : 0.f, m_glossy ? 1.f / n : 0.f, m_mirror ? 1.f / n : 0.f};
+    }
+    return {w[0] / sum, w[1] / sum, w[2] / sum};
+}
+
+Rgb Material::f(const Vec3& wo, const Vec3& wi) const {
+    Rgb result(0.f);
+    if (m_diffuse) result += diffuse_f(wo, wi);
+    if (m_glossy) result += m_glossy->f(wo, wi);
+    return result;  // the mirror is a delta: f = 0 (facet/bxdf.h)
+}
+
+float Material::pdf(const Vec3& wo, const Vec3& wi) const {
+    auto p = lobe_probabilities(wo);
+    float result = 0.f;
+    if (m_diffuse && p[0] > 0.f) result += p[0] * m_diffuse->pdf(wo, wi);
+    if (m_glossy && p[1] > 0.f) result += p[1] * m_glossy->pdf(wo, wi);
+    return result;
+}
+
+std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) const {
+    if (!(wo.z > 0.f)) return std::nullopt;
+    auto p = lobe_probabilities(wo);
+    // Choose a lobe with uc, then stretch the used part of uc back to [0, 1) for the lobe.
+    int lobe = 0;
+    float lo = 0.f;
+    if (uc >= p[0]) {
+        lobe = 1, lo = p[0];
+        if (uc >= p[0] + p[1]) lobe = 2, lo = p[0] + p[1];
+    }
+    while (!(p[lobe] > 0.f)) {  // round-off put uc on an empty lobe: take the previous one
+        if (--lobe < 0) return std::nullopt;
+        lo = 0.f;
+        for (int k = 0; k < lobe; ++k) lo += p[k];
+    }
+    float uc_lobe = std::min((uc - lo) / p[lobe], kOneMinusEpsilon);
+    uc_lobe = std::max(uc_lobe, 0.f);
+
+    std::optional<BSDFSample> s;
+    if (lobe == 0)
+        s = m_diffuse->sample_f(wo, uc_lobe, u);
+    else if (lobe == 1)
+        s = m_glossy->sample_f(wo, uc_lobe, u);
+    else
+        s = m_mirror->sample_f(wo, uc_lobe, u);
+    if (!s) return std::nullopt;
+
+    if (s->is_specular()) {
+        // Discrete choice of a delta lobe: pdf is its selection probability.
+        s->pdf *= p[lobe];
+        return s;
+    }
+    // One-sample MIS over the non-delta lobes: full f and the mixture pdf.
+    s->f = f(wo, s->wi);
+    s->pdf = pdf(wo, s->wi);
+    if (!(s->pdf > 0.f)) return std::nullopt;
+    return s;
+}
+
+}  // namespace facet

@@ -1,0 +1,57 @@
+#!/usr/bin/env bash
+# Command-line tests of `facet brdf | reflectance`: values against closed forms and bad input
+# against the documented errors (message naming the flag, non-zero exit).
+# Usage: cli_test.sh path/to/facet
+set -u
+facet="$1"
+tmp="$(mktemp -d)"
+trap 'rm -rf "$tmp"' EXIT
+pass=0
+fail=0
+
+# expect_ok NAME REGEX CMD...: exit 0 and stdout matches REGEX
+expect_ok() {
+  local name="$1" regex="$2"; shift 2
+  local out
+  if out="$("$@" 2>&1)" && grep -Eq -- "$regex" <<<"$out"; then pass=$((pass + 1))
+  else fail=$((fail + 1)); echo "FAIL $name: $*"; echo "$out" | head -5; fi
+}
+# expect_err NAME REGEX CMD...: exit != 0 and stderr+stdout matches REGEX
+expect_err() {
+  local name="$1" regex="$2"; shift 2
+  local out
+  if out="$("$@" 2>&1)"; then fail=$((fail + 1)); echo "FAIL $name: exit 0 for $*"; return; fi
+  if grep -Eq -- "$regex" <<<"$out"; then pass=$((pass + 1))
+  else fail=$((fail + 1)); echo "FAIL $name: message '$out' does not match '$regex'"; fi
+}
+
+# Lambert f = rho/pi = 0.5/pi = 0.159155 (printed to 6 significant digits).
+expect_ok lambert-eval '^    0\.1591549' "$facet" brdf eval --model lambert --reflectance 0.5 --wi 10,0 --wo 40,90 --json
+expect_ok lambert-eval-text 'f   = 0.159155 0.159155 0.159155' "$facet" brdf eval --model lambert --reflectance 0.5
+# Cosine-weighted sampling: pdf = cos(theta)/pi <= 1/pi for every sample.
+expect_ok lambert-sample 'diffuse' "$facet" brdf sample --model lambert --count 4 --seed 7
+# Mirror: a delta, f = pdf = 0 off the delta; samples are specular with pdf 1.
+expect_ok mirror-eval '"pdf": 0' "$facet" brdf eval --model mirror --json
+expect_ok mirror-sample '"flags": "specular"' "$facet" brdf sample --model mirror --wo 30,0 --count 1 --json
+# Reflectance of a white Lambertian: exactly 1.
+expect_ok reflectance-lambert 'rho\(wi->2pi\) at theta_i = 60 deg: 1.000000 1.000000 1.000000' "$facet" reflectance --model lambert --reflectance 1 --theta-i 60
+expect_ok reflectance-bihemi 'rho\(2pi->2pi\) = 0.250000' "$facet" reflectance --model lambert --reflectance 0.25 --bihemispherical
+expect_ok reflectance-table 'alpha=0.5' "$facet" reflectance --model ggx --table --thetas 0,60 --sweep alpha=0.1,0.5
+expect_ok plot 'wrote' "$facet" brdf plot --model composite --alpha 0.2 -o "$tmp/lobe.png"
+[ -s "$tmp/lobe.png" ] && pass=$((pass + 1)) || { fail=$((fail + 1)); echo "FAIL plot: no PNG"; }
+expect_ok models-markdown '#### `ggx`' "$facet" brdf models --markdown
+
+# Bad input: the flag is named, the exit code is non-zero.
+expect_err unknown-model "--model: unknown model 'lamber' \(did you mean 'lambert'\?\)" "$facet" brdf eval --model lamber
+expect_err unknown-param "--alpah: unknown parameter 'alpah' for model 'ggx' \(did you mean 'alpha'\?\)" "$facet" brdf eval --model ggx --alpah 0.3
+expect_err negative-alpha "--alpha: parameter 'alpha' of model 'ggx': must be in \[0, 10\]" "$facet" brdf eval --model ggx --alpha -1
+expect_err rho-range "--reflectance: parameter 'reflectance' of model 'lambert': must be in \[0, 1\]" "$facet" brdf eval --model lambert --reflectance 1.5
+expect_err nan "--alpha: 'nan' is not a finite number" "$facet" brdf eval --model ggx --alpha nan
+expect_err bad-direction "--wi: theta must be in \[0, 90\]" "$facet" brdf eval --model lambert --wi 120,0
+expect_err bad-direction-format "--wo: expected theta,phi" "$facet" brdf eval --model lambert --wo 30
+expect_err missing-model "model is required|--model is required" "$facet" brdf eval
+expect_err bad-count "--count: must be in" "$facet" brdf sample --model lambert --count 0
+expect_err bad-cone "--cone-in: half_angle must be in" "$facet" reflectance --model lambert --cone-in 0,0,0 --cone-out 0,0,10
+
+echo "cli: $pass passed, $fail failed"
+[ "$fail" -eq 0 ]
