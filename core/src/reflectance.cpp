@@ -99,32 +99,29 @@ Vec3 clamp_above_horizon(Vec3 w) {
     return w;
 }
 
-}  // namespace
-
-Reflectance hemispherical_directional(const Material& m, const Vec3& wo_in, int order) {
-    Vec3 wo = clamp_above_horizon(glm::normalize(wo_in));
+// int f cos dw over the free direction with `fixed_in` held: fixed = wo when fixed_is_wo
+// (integrating over wi), else fixed = wi (integrating over wo). No reciprocity is assumed.
+Reflectance hemispherical_integral(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
+                                   int order) {
+    Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
     const MicrofacetDistribution* dist = glossy_distribution(m);
-    Rgb delta = delta_reflectance(m, wo);
+    Rgb delta = delta_reflectance(m, fixed);
+    auto integrand = [&](const Vec3& w) {
+        return (fixed_is_wo ? m.f(fixed, w) : m.f(w, fixed)) * w.z;
+    };
     return with_error(
-        [&](int n) {
-            return hemisphere_quadrature([&](const Vec3& wi) { return m.f(wo, wi) * wi.z; }, dist,
-                                         wo, n) +
-                   DVec3(delta);
-        },
+        [&](int n) { return hemisphere_quadrature(integrand, dist, fixed, n) + DVec3(delta); },
         order);
 }
 
-Reflectance directional_hemispherical(const Material& m, const Vec3& wi_in, int order) {
-    Vec3 wi = clamp_above_horizon(glm::normalize(wi_in));
-    const MicrofacetDistribution* dist = glossy_distribution(m);
-    Rgb delta = delta_reflectance(m, wi);
-    return with_error(
-        [&](int n) {
-            return hemisphere_quadrature([&](const Vec3& wo) { return m.f(wo, wi) * wo.z; }, dist,
-                                         wi, n) +
-                   DVec3(delta);
-        },
-        order);
+}  // namespace
+
+Reflectance hemispherical_directional(const Material& m, const Vec3& wo, int order) {
+    return hemispherical_integral(m, wo, true, order);
+}
+
+Reflectance directional_hemispherical(const Material& m, const Vec3& wi, int order) {
+    return hemispherical_integral(m, wi, false, order);
 }
 
 Reflectance bihemispherical(const Material& m, int order) {
