@@ -1,0 +1,138 @@
+// The `facet render` and `facet diff` commands: documented errors and exit codes, outputs.
+#include <gtest/gtest.h>
+
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <array>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <string>
+
+#include "facet/render/image.h"
+
+#ifndef FACET_CLI
+#error "FACET_CLI must be the path of the facet executable"
+#endif
+
+namespace fr = facet::render;
+
+namespace {
+
+struct CmdResult {
+    int code;
+    std::string output;  // stdout + stderr
+};
+
+CmdResult run(const std::string& args) {
+    const std::string cmd = std::string(FACET_CLI) + " " + args + " 2>&1";
+    CmdResult r{-1, ""};
+    FILE* p = popen(cmd.c_str(), "r");
+    if (!p) return r;
+    std::array<char, 4096> buf;
+    size_t n;
+    while ((n = fread(buf.data(), 1, buf.size(), p)) > 0) r.output.append(buf.data(), n);
+    const int status = pclose(p);
+    r.code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+    return r;
+}
+
+class CliTest : public ::testing::Test {
+  protected:
+    void SetUp() override {
+        m_dir = std::filesystem::temp_directory_path() /
+                ("facet_cli_" + std::to_string(::getpid()) + "_" +
+                 ::testing::UnitTest::GetInstance()->current_test_info()->name());
+        std::filesystem::create_directories(m_dir);
+    }
+    void TearDown() override { std::filesystem::remove_all(m_dir); }
+    std::string write(const std::string& name, const std::string& text) {
+        const std::string path = (m_dir / name).string();
+        std::ofstream(path) << text;
+        return path;
+    }
+    std::string path(const std::string& name) const { return (m_dir / name).string(); }
+    std::filesystem::path m_dir;
+};
+
+const char* kScene = R"({"format": "facet-scene", "version": 1,
+  "camera": {"position": [0, 3, 3], "look_at": [0, 0, 0], "fov": 50, "width": 16, "height": 12},
+  "materials": {"glossy": {"model": "ggx", "alpha": 0.3}, "white": {"model": "lambert"}},
+  "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"}],
+  "lights": [{"type": "point", "position": [0, 2, 0], "power": 50}],
+  "render": {"integrator": "direct", "spp": 1}})";
+
+}  // namespace
+
+TEST_F(CliTest, RenderWritesExrAndPngAndExplains) {
+    const std::string scene = write("s.json", kScene);
+    const CmdResult r =
+        run("render " + scene + " -o " + path("a.exr") + " -o " + path("a.png") + " --explain -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("kernel direct<lambert-only"), std::string::npos) << r.output;
+    EXPECT_NE(r.output.find("skipped: light sampling"), std::string::npos) << r.output;
+    const fr::Image a = fr::read_image(path("a.exr"));
+    EXPECT_EQ(a.width(), 16);
+    EXPECT_EQ(a.height(), 12);
+    EXPECT_EQ(fr::read_image(path("a.png")).width(), 16);
+    // diff of an image with itself: zero error, exit 0; --json is machine readable.
+    const CmdResult d = run("diff " + path("a.exr") + " " + path("a.exr") + " --json");
+    ASSERT_EQ(d.code, 0) << d.output;
+    EXPECT_NE(d.output.find("\"rmse\": 0.0"), std::string::npos) << d.output;
+    EXPECT_NE(d.output.find("\"fraction_within\": 1.0"), std::string::npos) << d.output;
+}
+
+TEST_F(CliTest, BadSceneNamesFileAndJsonPath) {
+    std::string text = kScene;
+    text.replace(text.find("\"material\": \"white\""), 19, "\"material\": \"glosy\"");
+    const std::string scene = write("bad.json", text);
+    const CmdResult r = run("render " + scene + " -o " + path("x.exr"));
+    EXPECT_NE(r.code, 0);
+    EXPECT_NE(r.output.find("bad.json: /shapes/0/material: unknown material 'glosy' (did you "
+                            "mean 'glossy'?)"),
+              std::string::npos)
+        << r.output;
+    EXPECT_FALSE(std::filesystem::exists(path("x.exr")));
+    const CmdResult missing = run("render " + path("nope.json") + " -o " + path("x.exr"));
+    EXPECT_NE(missing.code, 0);
+    EXPECT_NE(missing.output.find("nope.json"), std::string::npos) << missing.output;
+}
+
+TEST_F(CliTest, BadFlagsFailWithMessages) {
+    const std::string scene = write("s.json", kScene);
+    struct Case {
+        std::string args, message;
+    };
+    const Case cases[] = {
+        {"render " + scene + " -o " + path("x.bmp"), "unknown image extension"},
+        {"render " + scene + " -o " + path("x.exr") + " --integrator pth", "did you mean 'path'"},
+        {"render " + scene + " -o " + path("x.exr") + " --spp 0", "--spp"},
+        {"render " + scene + " -o " + path("x.exr") + " --threads -2", "--threads"},
+        {"render " + scene + " -o " + path("x.exr") + " --kernel fast", "--kernel"},
+        {"render " + scene, "no output"},
+        {"render " + scene + " -o " + path("x.exr") + " --bogus", "--bogus"},
+    };
+    for (const Case& c : cases) {
+        const CmdResult r = run(c.args);
+        EXPECT_NE(r.code, 0) << c.args << "\n" << r.output;
+        EXPECT_NE(r.output.find(c.message), std::string::npos) << c.args << "\n" << r.output;
+    }
+}
+
+TEST_F(CliTest, DiffSizeMismatchAndRequire) {
+    fr::Image a(4, 4), b(5, 4), c(4, 4);
+    for (auto& p : c.pixels()) p = facet::Rgb(1.f);
+    fr::write_image(a, path("a.exr"));
+    fr::write_image(b, path("b.exr"));
+    fr::write_image(c, path("c.exr"));
+    const CmdResult r = run("diff " + path("a.exr") + " " + path("b.exr"));
+    EXPECT_EQ(r.code, 1) << r.output;
+    EXPECT_NE(r.output.find("is 4x4 but"), std::string::npos) << r.output;
+    // a = 0 vs c = 1 everywhere: nothing within 1% -> --require 0.5 fails with exit code 2.
+    const CmdResult q = run("diff " + path("a.exr") + " " + path("c.exr") +
+                            " --require 0.5 --heatmap " + path("h.png"));
+    EXPECT_EQ(q.code, 2) << q.output;
+    EXPECT_NE(q.output.find("RMSE              1"), std::string::npos) << q.output;
+    EXPECT_TRUE(std::filesystem::exists(path("h.png")));
+}
