@@ -39,7 +39,8 @@ double gl_rect(const std::function<double(double, double)>& f, double x0, double
 }
 
 double adapt(const std::function<double(double, double)>& f, double x0, double x1, double y0,
-             double y1, double whole, double tol_per_area, double rel_tol, int depth) {
+             double y1, double whole, double tol_per_area, double rel_tol, int depth,
+             int min_depth) {
     double xm = 0.5 * (x0 + x1), ym = 0.5 * (y0 + y1);
     double q00 = gl_rect(f, x0, xm, y0, ym), q01 = gl_rect(f, x0, xm, ym, y1);
     double q10 = gl_rect(f, xm, x1, y0, ym), q11 = gl_rect(f, xm, x1, ym, y1);
@@ -48,18 +49,20 @@ double adapt(const std::function<double(double, double)>& f, double x0, double x
     // Relative criterion: the integrand is a float function, so refining below its round-off
     // (~1e-7 relative) would never converge.
     double tol = std::fmax(tol_per_area * area, rel_tol * std::fabs(fine));
-    if (depth <= 0 || std::fabs(fine - whole) <= tol) return fine;
-    return adapt(f, x0, xm, y0, ym, q00, tol_per_area, rel_tol, depth - 1) +
-           adapt(f, x0, xm, ym, y1, q01, tol_per_area, rel_tol, depth - 1) +
-           adapt(f, xm, x1, y0, ym, q10, tol_per_area, rel_tol, depth - 1) +
-           adapt(f, xm, x1, ym, y1, q11, tol_per_area, rel_tol, depth - 1);
+    if (depth <= 0 || (min_depth <= 0 && std::fabs(fine - whole) <= tol)) return fine;
+    return adapt(f, x0, xm, y0, ym, q00, tol_per_area, rel_tol, depth - 1, min_depth - 1) +
+           adapt(f, x0, xm, ym, y1, q01, tol_per_area, rel_tol, depth - 1, min_depth - 1) +
+           adapt(f, xm, x1, y0, ym, q10, tol_per_area, rel_tol, depth - 1, min_depth - 1) +
+           adapt(f, xm, x1, ym, y1, q11, tol_per_area, rel_tol, depth - 1, min_depth - 1);
 }
 
 }  // namespace
 
 double adaptive_integrate_2d(const std::function<double(double, double)>& f, double x0, double x1,
-                             double y0, double y1, double abs_tol, double rel_tol, int max_depth) {
-    return adapt(f, x0, x1, y0, y1, gl_rect(f, x0, x1, y0, y1), abs_tol, rel_tol, max_depth);
+                             double y0, double y1, double abs_tol, double rel_tol, int max_depth,
+                             int min_depth) {
+    return adapt(f, x0, x1, y0, y1, gl_rect(f, x0, x1, y0, y1), abs_tol, rel_tol, max_depth,
+                 min_depth);
 }
 
 Chi2Statistic chi2_statistic(const std::vector<double>& observed,
