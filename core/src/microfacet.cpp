@@ -314,8 +314,8 @@ Vec3 MicrofacetDistribution::sample_d_cos(Vec2 u) const {
 
 namespace {
 
-constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per dimension of [0,1)^2
-constexpr int kAlbedoPhiNodes = 6;      // azimuth nodes over [0, pi/2] when anisotropic
+constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per slope dimension
+constexpr int kAlbedoPhiNodes = 3;      // azimuth nodes over [0, pi/2] when anisotropic
 constexpr float kAlbedoMinMu = 1e-3f;   // mu of the first table node (E(0) is a limit)
 constexpr int kBlinnLambdaTable = 512;  // G1 table nodes for the Blinn albedo quadrature
 
@@ -358,12 +358,14 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     m_e.fill(1.f);
     if (!m_energy_compensation || m_smooth) return;
 
-    // E(mu) = int f_{F=1} cos_i dwi over [0,1)^2 through a normal sampler:
-    //  GGX: visible normals, weight f cos / pdf = G / G1(wo);
-    //  Beckmann, Blinn: D cos sampling (closed form, avoids the iterative visible-normal
-    //  inversion), weight = G <wo, m> / (cos_o cos_m).
-    // The weight goes to 0 continuously where wi reaches the horizon (G -> 0), so the tensor
-    // Gauss-Legendre rule converges fast.
+    // E(mu_o) = int f_{F=1} cos_i dwi. Through the half vector (dwi = 4 <wo, m> dm) and the
+    // slopes of m (D cos dm = P22 dx dy) this is
+    //     E = 1 / mu_o int P22(x, y) (mu_o - x' sin_o)+ G(wo, wi(m)) dx dy,
+    // where x' is the slope along wo's azimuth and y' across it. The kink of ( )+ is the line
+    // x' = cot_o, so we integrate x' over (-inf, cot_o] only, with x' = sx tan(a) (a in
+    // (-pi/2, atan(cot_o / sx)]) and y' = sy tan(b), (sx, sy) the lobe's slope scale along
+    // and across: smooth integrands (G -> 0 continuously at the wi horizon), sharp lobes
+    // resolved, heavy tails mapped onto finite intervals; tensor Gauss-Legendre.
     const MicrofacetDistribution& dist = m_distribution;
     std::optional<BlinnG1Table> blinn;
     if (dist.kind() == DistributionKind::Blinn)
@@ -373,33 +375,52 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
         if (blinn) return blinn->lambda(dist.mu(w));
         return dist.lambda(w);
     };
+    double s_blinn =
+        dist.kind() == DistributionKind::Blinn ? std::sqrt(2.0 / double(dist.nu())) : 1.0;
+    double ax = s_blinn * dist.alpha_x(), ay = s_blinn * dist.alpha_y();
 
     const QuadratureRule& gu = gauss_legendre(kAlbedoGrid);
     bool aniso = dist.alpha_x() != dist.alpha_y();
     const QuadratureRule& gphi = gauss_legendre(aniso ? kAlbedoPhiNodes : 1);
     for (int k = 0; k < kTableSize; ++k) {
-        float mu_o = std::fmax(float(k) / (kTableSize - 1), kAlbedoMinMu);
-        float sin_o = safe_sqrt(1.f - mu_o * mu_o);
+        double mu_o = std::fmax(double(k) / (kTableSize - 1), double(kAlbedoMinMu));
+        double sin_o = std::sqrt(std::fmax(0.0, 1.0 - mu_o * mu_o));
+        double cot_o = mu_o / sin_o;
         double e = 0.0;
         for (size_t p = 0; p < gphi.nodes.size(); ++p) {
-            float phi = aniso ? float(gphi.nodes[p] * kPiD / 2.0) : 0.f;
-            Vec3 wo(sin_o * std::cos(phi), sin_o * std::sin(phi), mu_o);
+            double phi = aniso ? gphi.nodes[p] * kPiD / 2.0 : 0.0;
+            double cp = std::cos(phi), sp = std::sin(phi);
+            Vec3 wo(float(sin_o * cp), float(sin_o * sp), float(mu_o));
             float lam_o = lambda(wo);
+            // Slope scales along and across the azimuth phi.
+            double sx = std::sqrt(sqr(ax * cp) + sqr(ay * sp));
+            double sy = std::sqrt(sqr(ax * sp) + sqr(ay * cp));
+            double a_lo = -kPiD / 2.0, a_hi = std::atan(cot_o / sx);
             double ep = 0.0;
-            for (int a = 0; a < kAlbedoGrid; ++a) {
-                for (int b = 0; b < kAlbedoGrid; ++b) {
-                    Vec2 u(float(gu.nodes[a]), float(gu.nodes[b]));
-                    bool visible = dist.kind() == DistributionKind::GGX;
-                    Vec3 wm = visible ? dist.sample_wm(wo, u) : dist.sample_d_cos(u);
-                    float c = glm::dot(wo, wm);
-                    if (!(c > 0.f)) continue;
+            for (int i = 0; i < kAlbedoGrid; ++i) {
+                double ang_a = a_lo + (a_hi - a_lo) * gu.nodes[i];
+                double ca = std::cos(ang_a);
+                double xr = sx * std::tan(ang_a);
+                double wa = gu.weights[i] * (a_hi - a_lo) * sx / (ca * ca);
+                double proj = mu_o - xr * sin_o;
+                if (!(proj > 0.0)) continue;
+                for (int j = 0; j < kAlbedoGrid; ++j) {
+                    double ang_b = kPiD * (gu.nodes[j] - 0.5);
+                    double cb = std::cos(ang_b);
+                    double yr = sy * std::tan(ang_b);
+                    double wb = gu.weights[j] * kPiD * sy / (cb * cb);
+                    double x = xr * cp - yr * sp, y = xr * sp + yr * cp;
+                    double n2 = 1.0 + x * x + y * y;
+                    Vec3 wm = normalize_or_normal(-x, -y, 1.0);
+                    double p22 = double(dist.D(wm)) / (n2 * n2);
+                    if (!(p22 > 0.0)) continue;
                     Vec3 wi = reflect(wo, wm);
                     if (!(wi.z > 0.f)) continue;
-                    float g = 1.f / (1.f + lam_o + lambda(wi));
-                    float weight = visible ? g * (1.f + lam_o) : g * c / (mu_o * wm.z);
-                    ep += gu.weights[a] * gu.weights[b] * double(weight);
+                    double g = 1.0 / (1.0 + double(lam_o) + double(lambda(wi)));
+                    ep += wa * wb * p22 * proj * g;
                 }
             }
+            ep /= mu_o;
             e += gphi.weights[p] * ep;
         }
         m_e[k] = float(std::fmin(std::fmax(e, 0.0), 1.0));
