@@ -533,3 +533,52 @@ TEST(MeshFiles, ProceduralCounts) {
         ASSERT_GT(glm::dot(glm::cross(b - a, cc - a), (a + b + cc) / 3.f - c), 0.f);
     }
 }
+
+// "flip_normals" turns a sphere inside out (normals, emission and light sampling face the
+// centre); a mirroring transform does not (it keeps the authored front side), and emissive discs
+// under such transforms sample the same side the hits report.
+TEST(Geometry, FlipNormalsAndMirroringTransforms) {
+    Scene s = load_scene_from_string(
+        wrap(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 2, "flip_normals": true,
+                  "emission": 0.5, "material": "white"},
+                 {"type": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 0.2,
+                  "emission": 1, "transform": {"scale": [1, 1, -1]}},
+                 {"type": "sphere", "center": [0, 0, 0], "radius": 0.1, "material": "white",
+                  "transform": {"scale": -1}}])",
+             "[]"),
+        "t.json");
+    SurfaceHit h;
+    ASSERT_TRUE(s.intersect({{0.f, 0.f, 0.5f}, {1.f, 0.f, 0.f}, kInfinity}, h));
+    EXPECT_EQ(h.shape, 0u);
+    EXPECT_NEAR(glm::dot(h.ng, -glm::normalize(h.p)), 1.f, 1e-6f);  // inward
+    EXPECT_EQ(h.emitted_radiance, Rgb(0.5f));
+    // The inside-out sphere's light: samples from inside, pdf_li agrees, E[L cos / pdf] over
+    // the hemisphere = pi L (the whole hemisphere is the emitter).
+    const Light& big = s.lights()[std::size_t(s.shapes()[0].light)];
+    LightSampleContext ctx{{0.f, 0.5f, 0.f}, {0.f, 1.f, 0.f}};
+    double sum = 0.0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        auto ls = big.sample_li(ctx, halton2(i));
+        if (!ls) continue;
+        EXPECT_NEAR(big.pdf_li(ctx, ls->wi, ls->p_light, ls->n_light), ls->pdf, 1e-3f * ls->pdf);
+        float c = glm::dot(ls->wi, ctx.n);
+        if (c > 0.f) sum += double(ls->li.r) * c / ls->pdf;
+    }
+    // Tolerance 2%: uniform-area sampling of a sphere seen from off-centre, 2e4 Halton samples.
+    EXPECT_NEAR(sum / n, kPiD * 0.5, 0.02 * kPiD * 0.5);
+    EXPECT_FALSE(big.sample_li({{0.f, 3.f, 0.f}, {0.f, 1.f, 0.f}}, {0.5f, 0.5f}).has_value());
+    // The disc mirrored in z faces -z: hit from -z it emits, and its light agrees.
+    ASSERT_TRUE(s.intersect({{0.15f, 0.05f, -1.f}, {0.f, 0.f, 1.f}, 1.5f}, h));
+    EXPECT_EQ(h.shape, 1u);
+    EXPECT_NEAR(h.ng.z, -1.f, 1e-6f);
+    EXPECT_EQ(h.emitted_radiance, Rgb(1.f));
+    const Light& disc = s.lights()[std::size_t(s.shapes()[1].light)];
+    auto ls = disc.sample_li({{0.f, 0.f, -1.f}, {0.f, 0.f, 1.f}}, {0.3f, 0.4f});
+    ASSERT_TRUE(ls.has_value());
+    EXPECT_NEAR(ls->n_light.z, -1.f, 1e-6f);
+    // scale -1 on a sphere keeps its normals outward.
+    ASSERT_TRUE(s.intersect({{0.f, 0.f, 0.05f}, {0.f, 1.f, 0.f}, 1.f}, h));
+    EXPECT_EQ(h.shape, 2u);
+    EXPECT_GT(glm::dot(h.ng, h.p), 0.f);
+}

@@ -282,6 +282,7 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.t = t;
     hit.p = Vec3(glm::dvec3(prim.to_world * glm::dvec4(po, 1.0)));
     hit.ng = Vec3(glm::normalize(prim.normal_to_world * n_obj));
+    if (prim.flip) hit.ng = -hit.ng;
     hit.ns = hit.ng;
     hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
     hit.shape = prim.shape;

@@ -118,14 +118,15 @@ Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uin
     return l;
 }
 
-Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance,
-                         std::uint32_t shape) {
+Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, std::uint32_t shape,
+                         bool inward) {
     Light l;
     l.m_kind = Kind::Area;
     l.m_area_shape = AreaShape::Sphere;
     l.m_shape = shape;
     l.m_position = center;
     l.m_radius = radius;
+    l.m_inward = inward;
     l.m_emission = radiance;
     l.m_area = 4.f * kPi * radius * radius;
     return l;
@@ -220,6 +221,15 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
             break;
         }
         case AreaShape::Sphere: {
+            if (m_inward) {
+                // Inside-out sphere: only its interior is lit; uniform by area from inside.
+                Vec3 v = ctx.p - m_position;
+                if (!(glm::dot(v, v) < m_radius * m_radius)) return std::nullopt;
+                Vec3 n = sample_uniform_sphere(u);
+                s.p_light = m_position + m_radius * n;
+                s.n_light = -n;
+                break;
+            }
             // Sample the cone of directions the sphere subtends (uniform in solid angle).
             glm::dvec3 c(m_position), p(ctx.p);
             glm::dvec3 to_c = c - p;
@@ -278,6 +288,11 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
             return uniform_sphere_pdf();
         case Kind::Area:
             break;
+    }
+    if (m_area_shape == AreaShape::Sphere && m_inward) {
+        Vec3 v = ctx.p - m_position;
+        if (!(glm::dot(v, v) < m_radius * m_radius)) return 0.f;
+        return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, 1.f / m_area);
     }
     if (m_area_shape == AreaShape::Sphere) {
         if (!(-glm::dot(n_light, wi) > 0.f)) return 0.f;

@@ -23,6 +23,7 @@ struct MeshGeom {
 struct AnalyticPrim {
     enum class Kind : std::uint8_t { Sphere, Disc } kind = Kind::Sphere;
     std::uint32_t shape = 0;
+    bool flip = false;  // "flip_normals": the geometric normal points inward
     glm::dmat4 to_world{1.0};
     glm::dmat4 to_object{1.0};
     glm::dmat3 normal_to_world{1.0};  // inverse transpose of to_world's linear part

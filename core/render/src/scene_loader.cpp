@@ -539,8 +539,8 @@ class Loader {
             fail(ptr + "/type", msg);
         }
         ShapeKind kind = ShapeKind(it - kTypes.begin());
-        std::vector<const char*> keys = {"type",     "name",      "material",
-                                         "emission", "two_sided", "transform"};
+        std::vector<const char*> keys = {"type",      "name",      "material",    "emission",
+                                         "two_sided", "transform", "flip_normals"};
         switch (kind) {
             case ShapeKind::Sphere:
                 keys.insert(keys.end(), {"center", "radius"});
@@ -573,6 +573,8 @@ class Loader {
         ShapeInfo info;
         info.kind = kind;
         if (s.contains("two_sided")) info.two_sided = get_bool(s["two_sided"], ptr + "/two_sided");
+        bool flip_normals =
+            s.contains("flip_normals") ? get_bool(s["flip_normals"], ptr + "/flip_normals") : false;
         if (s.contains("emission")) {
             info.emission = get_color(s["emission"], ptr + "/emission", "an emitted radiance");
         }
@@ -628,6 +630,7 @@ class Loader {
             AnalyticPrim prim;
             prim.kind = k;
             prim.shape = index;
+            prim.flip = flip_normals;
             prim.to_world = xf * local;
             prim.to_object = glm::inverse(prim.to_world);
             prim.normal_to_world = glm::transpose(glm::inverse(glm::dmat3(prim.to_world)));
@@ -676,8 +679,12 @@ class Loader {
                     Vec3 center(glm::dvec3(prim.to_world[3]));
                     if (kind == ShapeKind::Disc) {
                         info.light = std::int32_t(lights.size());
-                        lights.push_back(
-                            Light::area_disc(center, Vec3(L[0]), Vec3(L[1]), info.emission, index));
+                        // cross(L e1, L e2) = det(L) L^-T z: swap the axes when that disagrees
+                        // with the hit normal (mirroring transform XOR flip_normals).
+                        bool swap = (glm::determinant(L) < 0.0) != flip_normals;
+                        Vec3 e1(L[0]), e2(L[1]);
+                        if (swap) std::swap(e1, e2);
+                        lights.push_back(Light::area_disc(center, e1, e2, info.emission, index));
                     } else {
                         // Light sampling needs a true sphere: the transform must be a similarity.
                         double s2 = glm::dot(L[0], L[0]);
@@ -692,8 +699,8 @@ class Loader {
                             }
                         }
                         info.light = std::int32_t(lights.size());
-                        lights.push_back(
-                            Light::area_sphere(center, float(std::sqrt(s2)), info.emission, index));
+                        lights.push_back(Light::area_sphere(center, float(std::sqrt(s2)),
+                                                            info.emission, index, flip_normals));
                     }
                 }
                 break;
@@ -710,6 +717,7 @@ class Loader {
                 pl.shape = index;
                 pl.point = to_world(glm::dvec3(p));
                 pl.normal = glm::normalize(normal_mat * glm::dvec3(n));
+                if (flip_normals) pl.normal = -pl.normal;
                 pl.tangent = Vec3(glm::normalize(lin * glm::dvec3(Frame::from_z(n).x)));
                 if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
                     fail(ptr, "the transformed plane is not finite");
@@ -792,7 +800,9 @@ class Loader {
         }
 
         if (is_mesh) {
-            bool flip = glm::determinant(lin) < 0.0;  // a mirroring transform flips the winding
+            // A mirroring transform reverses the winding: undo it so the authored front stays
+            // the front; "flip_normals" reverses it on purpose.
+            bool flip = (glm::determinant(lin) < 0.0) != flip_normals;
             for (Vec3& p : mesh.positions) {
                 p = Vec3(to_world(glm::dvec3(p)));
                 grow(glm::dvec3(p));

@@ -72,9 +72,11 @@ class Light {
     // are dropped; at least one must remain.
     static Light area_triangles(std::vector<Vec3> triangle_vertices, const Rgb& radiance,
                                 std::uint32_t shape);
-    // Area light on an exact sphere (outward normals emit).
+    // Area light on an exact sphere. Outward normals emit (sampled by the subtended cone from
+    // outside); with `inward` the sphere is turned inside out ("flip_normals"): it lights its
+    // interior and is sampled uniformly by area from inside.
     static Light area_sphere(const Vec3& center, float radius, const Rgb& radiance,
-                             std::uint32_t shape);
+                             std::uint32_t shape, bool inward = false);
     // Area light on a flat ellipse: points c + cos(a) e1 + sin(a) e2 scaled by r in [0,1],
     // front normal normalize(cross(e1, e2)). A transformed disc is such an ellipse.
     static Light area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
@@ -124,6 +126,7 @@ class Light {
         Disc
     } m_area_shape = AreaShape::Triangles;
     float m_radius = 0.f;                           // sphere
+    bool m_inward = false;                          // sphere turned inside out
     Vec3 m_e1{0.f}, m_e2{0.f}, m_disc_normal{0.f};  // disc
     float m_area = 0.f;
     std::vector<Vec3> m_tri;       // 3 vertices per triangle

@@ -7,7 +7,10 @@
 //  - SurfaceHit::ng is the unit GEOMETRIC normal as the shape defines it, NOT flipped toward the
 //    ray: outward for spheres, boxes and icospheres; cross(p1 - p0, p2 - p0) for triangles
 //    (counter-clockwise winding seen from the front); the shape's +normal for planes, quads and
-//    discs. `ns` is the unit shading normal (interpolated vertex normals for meshes that have
+//    discs; all of them reversed when the shape sets "flip_normals" (an inside-out sphere
+//    reflects and emits toward its centre). Transforms never turn a shape inside out: a
+//    mirroring transform (negative determinant) keeps the authored front side. `ns` is the unit
+//    shading normal (interpolated vertex normals for meshes that have
 //    them, else ns = ng), always in ng's hemisphere. `dpdu` is a tangent hint for anisotropic
 //    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
 //    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent).
