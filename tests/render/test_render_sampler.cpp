@@ -20,6 +20,14 @@ TEST(Sampler, SobolFirstPointsAreTheKnownSequence) {
     }
 }
 
+TEST(Sampler, TableSobolMatchesTheRecurrence) {
+    std::uint32_t x = 1;
+    for (int k = 0; k < 10000; ++k) {
+        x = fr::hash_u32(x + std::uint32_t(k));
+        ASSERT_EQ(fr::sobol_dim1(x), fr::sobol_dim1_slow(x)) << x;
+    }
+}
+
 TEST(Sampler, OwenScrambleIsABijectionOnPrefixes) {
     // Nested uniform scrambling permutes the 2^k elementary intervals at every level: the top 8
     // bits of 256 distinct top-8-bit values must stay distinct.

@@ -1,0 +1,264 @@
+// Renderer throughput against a raw Embree peer, and specialised vs general kernels, measured
+// in the same run on the same scene. Prints a table of medians and same-run ratios.
+//
+//   facet_render_bench [--threads N] [--reps R] [--spp S] [--rays N] [scene.json ...]
+//
+// Per scene:
+//  - raw Embree peer (Scene::trace_raw: bare rtcIntersect1 / rtcOccluded1 loops, no hit
+//    records) on a fixed set of incoherent rays (cosine-distributed bounces from the surfaces the
+//    camera sees, i.e. second-bounce rays of a path tracer) and of shadow rays (from those points
+//    to random points of the scene's bounding box);
+//  - the renderer's Scene::intersect / Scene::occluded on the same rays (full SurfaceHit);
+//  - the path integrator end to end (specialised and general kernel): paths/s and rays/s, where
+//    rays = closest-hit + shadow rays; "vs raw" compares the renderer's ray rate with the raw
+//    rate of the same ray mix (n_rays / raw_isect_rate + n_shadow / raw_occl_rate).
+// Every timing is the median of R repetitions; everything uses the same TBB arena of N threads.
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/parallel_reduce.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <vector>
+
+#include "facet/frame.h"
+#include "facet/render/render.h"
+#include "facet/render/sampler.h"
+#include "facet/render/scene.h"
+#include "facet/sampling.h"
+
+#ifndef FACET_SCENES_DIR
+#define FACET_SCENES_DIR "scenes"
+#endif
+
+namespace fr = facet::render;
+using facet::Vec2;
+using facet::Vec3;
+
+namespace {
+
+double now_s() {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch())
+        .count();
+}
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+struct ShadowQuery {
+    Vec3 p, ng, wi;
+    float dist;
+};
+
+struct RaySets {
+    std::vector<fr::Ray> bounce;  // incoherent closest-hit rays
+    std::vector<fr::Ray> shadow;  // the shadow rays as raw rays (origin offset, tmax shortened)
+    std::vector<ShadowQuery> shadow_queries;  // the same, as Scene::occluded arguments
+};
+
+// Uniform float in [0,1) from a counter (hash), for the ray-set construction only.
+float rnd(std::uint32_t& state) {
+    state = fr::hash_u32(state + 0x9e3779b9u);
+    return fr::fixed_to_float(state);
+}
+
+RaySets make_rays(const fr::Scene& scene, std::size_t count) {
+    RaySets sets;
+    const fr::Camera& cam = scene.camera();
+    const fr::Bounds3& b = scene.bounds();
+    std::uint32_t state = 12345;
+    std::size_t attempts = 0;
+    while (sets.bounce.size() < count && attempts < count * 20) {
+        ++attempts;
+        const Vec2 film(rnd(state) * float(cam.width), rnd(state) * float(cam.height));
+        fr::SurfaceHit hit;
+        if (!scene.intersect(cam.generate_ray(film), hit)) continue;
+        const Vec3 wo = -cam.generate_ray(film).d;
+        const Vec3 n = glm::dot(hit.ng, wo) >= 0.f ? hit.ng : -hit.ng;
+        const facet::Frame f = facet::Frame::from_z(n);
+        const Vec3 d = f.from_local(facet::sample_cosine_hemisphere({rnd(state), rnd(state)}));
+        sets.bounce.push_back(fr::Scene::spawn_ray(hit.p, n, d));
+        // Shadow ray toward a random point of the bounds (or up, if the scene is unbounded).
+        Vec3 target =
+            b.empty() ? hit.p + n : b.lo + Vec3(rnd(state), rnd(state), rnd(state)) * (b.hi - b.lo);
+        Vec3 to = target - hit.p;
+        float dist = glm::length(to);
+        if (!(dist > 1e-4f)) continue;
+        to /= dist;
+        sets.shadow_queries.push_back({hit.p, hit.ng, to, dist});
+        fr::Ray r = fr::Scene::spawn_ray(hit.p, hit.ng, to);
+        r.tmax = dist - fr::Scene::ray_offset(hit.p) - fr::Scene::ray_offset(target);
+        sets.shadow.push_back(r);
+    }
+    return sets;
+}
+
+// Runs fn(begin, end) over [0, n) in chunks on the arena; returns seconds.
+template <class Fn>
+double timed_parallel(tbb::task_arena& arena, std::size_t n, Fn fn) {
+    const double t0 = now_s();
+    arena.execute([&] {
+        tbb::parallel_for(
+            tbb::blocked_range<std::size_t>(0, n, 4096),
+            [&](const tbb::blocked_range<std::size_t>& r) { fn(r.begin(), r.end()); });
+    });
+    return now_s() - t0;
+}
+
+struct Row {
+    std::string scene, what;
+    double value;  // per second
+    std::string unit;
+    std::string note;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int threads = 2, reps = 5, spp = 1;
+    std::size_t nrays = 400000;
+    std::vector<std::string> scenes;
+    for (int i = 1; i < argc; ++i) {
+        auto next = [&](const char* name) -> const char* {
+            if (i + 1 >= argc) {
+                std::fprintf(stderr, "facet_render_bench: %s needs a value\n", name);
+                std::exit(1);
+            }
+            return argv[++i];
+        };
+        if (!std::strcmp(argv[i], "--threads"))
+            threads = std::atoi(next("--threads"));
+        else if (!std::strcmp(argv[i], "--reps"))
+            reps = std::atoi(next("--reps"));
+        else if (!std::strcmp(argv[i], "--spp"))
+            spp = std::atoi(next("--spp"));
+        else if (!std::strcmp(argv[i], "--rays"))
+            nrays = std::size_t(std::atol(next("--rays")));
+        else
+            scenes.emplace_back(argv[i]);
+    }
+    if (threads < 1 || reps < 1 || spp < 1 || nrays < 1) {
+        std::fprintf(stderr, "facet_render_bench: --threads, --reps, --spp, --rays must be >= 1\n");
+        return 1;
+    }
+    if (scenes.empty()) {
+        scenes = {std::string(FACET_SCENES_DIR) + "/cornell_box.json",
+                  std::string(FACET_SCENES_DIR) + "/big_mesh.json"};
+    }
+    tbb::task_arena arena(threads);
+    std::printf(
+        "facet render benchmark: %d threads, median of %d reps, %d spp per render, %zu "
+        "rays per ray set\n\n",
+        threads, reps, spp, nrays);
+    std::printf("| scene | measure | median | unit | same-run ratio |\n");
+    std::printf("|---|---|---:|---|---|\n");
+
+    for (const std::string& path : scenes) {
+        fr::Scene scene;
+        const double tl = now_s();
+        try {
+            scene = fr::load_scene(path);
+        } catch (const std::exception& e) {
+            std::fprintf(stderr, "facet_render_bench: %s\n", e.what());
+            return 1;
+        }
+        const double load_s = now_s() - tl;
+        std::string name = path.substr(path.find_last_of('/') + 1);
+        const RaySets sets = make_rays(scene, nrays);
+        const std::size_t nb = sets.bounce.size(), ns = sets.shadow.size();
+
+        std::vector<double> t_raw_i, t_raw_o, t_ren_i, t_ren_o;
+        std::atomic<std::uint64_t> sink{0};
+        for (int r = 0; r < reps; ++r) {
+            t_raw_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
+                sink += scene.trace_raw(std::span(sets.bounce).subspan(b, e - b), false);
+            }));
+            t_ren_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
+                std::uint64_t h = 0;
+                for (std::size_t k = b; k < e; ++k) {
+                    fr::SurfaceHit hit;
+                    h += scene.intersect(sets.bounce[k], hit);
+                }
+                sink += h;
+            }));
+            t_raw_o.push_back(timed_parallel(arena, ns, [&](std::size_t b, std::size_t e) {
+                sink += scene.trace_raw(std::span(sets.shadow).subspan(b, e - b), true);
+            }));
+            t_ren_o.push_back(timed_parallel(arena, ns, [&](std::size_t b, std::size_t e) {
+                std::uint64_t h = 0;
+                for (std::size_t k = b; k < e; ++k) {
+                    const ShadowQuery& q = sets.shadow_queries[k];
+                    h += scene.occluded(q.p, q.ng, q.wi, q.dist);
+                }
+                sink += h;
+            }));
+        }
+        const double raw_i = double(nb) / median(t_raw_i), ren_i = double(nb) / median(t_ren_i);
+        const double raw_o = double(ns) / median(t_raw_o), ren_o = double(ns) / median(t_ren_o);
+
+        // End-to-end path tracing, specialised and general kernels, interleaved per rep.
+        std::vector<double> t_spec, t_gen;
+        fr::RenderStats st_spec, st_gen;
+        for (int r = 0; r < reps; ++r) {
+            for (bool general : {false, true}) {
+                fr::RenderOptions o;
+                o.integrator = "path";
+                o.spp = spp;
+                o.threads = threads;
+                o.seed = 1;
+                o.force_general_kernel = general;
+                fr::RenderStats st;
+                (void)fr::render(scene, o, &st);
+                (general ? t_gen : t_spec).push_back(st.seconds);
+                (general ? st_gen : st_spec) = st;
+            }
+        }
+        const double ts = median(t_spec), tg = median(t_gen);
+        auto mix_raw_time = [&](const fr::RenderStats& st) {
+            return double(st.rays) / raw_i + double(st.shadow_rays) / raw_o;
+        };
+        const double paths_s = double(st_spec.paths) / ts;
+        const double rays_s = double(st_spec.rays + st_spec.shadow_rays) / ts;
+        const double paths_g = double(st_gen.paths) / tg;
+        const double rays_g = double(st_gen.rays + st_gen.shadow_rays) / tg;
+
+        auto row = [&](const char* what, double v, const char* unit, const std::string& ratio) {
+            std::printf("| %s | %s | %.3f | %s | %s |\n", name.c_str(), what, v, unit,
+                        ratio.c_str());
+        };
+        char buf[160];
+        std::printf("| %s | scene load + BVH build | %.3f | s | - |\n", name.c_str(), load_s);
+        row("raw Embree rtcIntersect1, incoherent", raw_i * 1e-6, "M rays/s", "1 (peer)");
+        std::snprintf(buf, sizeof buf, "%.2f of raw", ren_i / raw_i);
+        row("Scene::intersect (SurfaceHit), same rays", ren_i * 1e-6, "M rays/s", buf);
+        row("raw Embree rtcOccluded1, shadow", raw_o * 1e-6, "M rays/s", "1 (peer)");
+        std::snprintf(buf, sizeof buf, "%.2f of raw", ren_o / raw_o);
+        row("Scene::occluded, same rays", ren_o * 1e-6, "M rays/s", buf);
+        std::snprintf(buf, sizeof buf, "kernel %s", st_spec.kernel.name.c_str());
+        row("path, specialised: paths", paths_s * 1e-6, "M paths/s", buf);
+        std::snprintf(buf, sizeof buf, "%.2f of raw on the same ray mix (%.2f rays+shadow/path)",
+                      mix_raw_time(st_spec) / ts,
+                      double(st_spec.rays + st_spec.shadow_rays) / double(st_spec.paths));
+        row("path, specialised: rays (incl. shadow)", rays_s * 1e-6, "M rays/s", buf);
+        row("path, general: paths", paths_g * 1e-6, "M paths/s", "");
+        std::snprintf(buf, sizeof buf, "%.2f of raw on the same ray mix",
+                      mix_raw_time(st_gen) / tg);
+        row("path, general: rays (incl. shadow)", rays_g * 1e-6, "M rays/s", buf);
+        std::snprintf(buf, sizeof buf, "specialised/general time %.3f (%.1f%% saved)", ts / tg,
+                      100.0 * (1.0 - ts / tg));
+        std::printf("| %s | render time specialised / general | %.4f / %.4f | s | %s |\n",
+                    name.c_str(), ts, tg, buf);
+        std::fflush(stdout);
+        if (sink.load() == 0) std::printf("(no ray hit anything)\n");
+    }
+    return 0;
+}
