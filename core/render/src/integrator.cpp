@@ -53,6 +53,14 @@ bool has_non_specular(const Material& m) {
         return is_non_specular(m.flags());
 }
 
+// Largest channel without a libm call (std::fmax is not inlined without -ffinite-math-only);
+// a NaN channel may be ignored, which is harmless: callers test `> 0` and NaN estimates are
+// dropped per sample by the tile loop.
+inline float max3(const Rgb& c) {
+    const float m = c.r > c.g ? c.r : c.g;
+    return m > c.b ? m : c.b;
+}
+
 // Shading geometry at a hit, oriented toward the viewer (scene.h sidedness rules).
 struct Shading {
     Frame frame;
@@ -105,7 +113,7 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
                             L += beta * le * power_heuristic(prev_bsdf_pdf, lp);
                         }
                     }
-                } else if (hit.light >= 0 && max_component(hit.emitted_radiance) > 0.f) {
+                } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
                     if (depth == 0 || specular_bounce) {
                         L += beta * hit.emitted_radiance;
                     } else {
@@ -128,8 +136,11 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
 
         // Next-event estimation: one light, chosen uniformly.
         if (num_lights > 0 && has_non_specular<F>(m)) {
+            // The light choice needs a sample only when there is a choice; every draw has a
+            // fixed dimension, so skipping one does not shift the others.
             s.set_dimension(base);
-            const float ul = s.get_1d();
+            const float ul = num_lights > 1 ? s.get_1d() : 0.f;
+            s.set_dimension(base + 1u);
             const Vec2 u = s.get_2d();
             const Light& light =
                 lights[std::size_t(std::min(int(ul * float(num_lights)), num_lights - 1))];
@@ -138,7 +149,7 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
                 if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
-                    if (max_component(contrib) > 0.f) {
+                    if (max3(contrib) > 0.f) {
                         ++c.shadow_rays;
                         if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) {
                             const float lp = select_pdf * ls->pdf;
@@ -161,22 +172,25 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
         if constexpr ((F & kFeatLambertOnly) != 0) {
             if (!m.diffuse()) break;  // black
         }
+        // Lobe choice: a Lambertian lobe ignores uc (facet/lambert.h), so the Lambert-only
+        // kernel does not draw it; the general kernel passes a value the single lobe ignores.
         s.set_dimension(base + 3u);
-        const float uc = s.get_1d();
+        const float uc = (F & kFeatLambertOnly) != 0 ? 0.f : s.get_1d();
+        s.set_dimension(base + 4u);
         const Vec2 u2 = s.get_2d();
         const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, u2);
         if (!bs || !(bs->pdf > 0.f)) break;
         const Vec3 wi_w = sh.frame.from_local(bs->wi);
         if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;  // below the geometric surface
         beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
-        if (!(max_component(beta) > 0.f)) break;
+        if (!(max3(beta) > 0.f)) break;
         if constexpr (kSpecular) specular_bounce = bs->is_specular();
         prev_bsdf_pdf = bs->pdf;
         prev_ctx = ctx;
 
         // Russian roulette (unbiased): survive with probability max(beta), reweight survivors.
         if (depth + 1 >= kRouletteDepth) {
-            const float q = std::max(0.f, 1.f - max_component(beta));
+            const float q = std::max(0.f, 1.f - max3(beta));
             if (q > 0.f) {
                 s.set_dimension(base + 6u);
                 if (s.get_1d() < q) break;
@@ -232,7 +246,7 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
                 if (!ls || !(ls->pdf > 0.f) || !(glm::dot(ls->wi, sh.ng) > 0.f)) continue;
                 const Vec3 wi = sh.frame.to_local(ls->wi);
                 const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
-                if (!(max_component(contrib) > 0.f)) continue;
+                if (!(max3(contrib) > 0.f)) continue;
                 ++c.shadow_rays;
                 if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) L += beta * contrib / ls->pdf;
             }
@@ -245,7 +259,7 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
                 const Vec3 wi_w = sh.frame.from_local(ms->wi);
                 if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
-                if (!(max_component(beta) > 0.f)) break;
+                if (!(max3(beta) > 0.f)) break;
                 ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
                 ++c.rays;
                 continue;

@@ -28,13 +28,12 @@ namespace facet::render {
 // Cornell-box profile as out-of-line calls).
 #define FACET_SAMPLER_INLINE [[gnu::always_inline]] inline
 
-// Bit reversal of a 32-bit word.
+// Bit reversal of a 32-bit word (byte swap, then the bits within each byte).
 FACET_SAMPLER_INLINE std::uint32_t reverse_bits(std::uint32_t x) {
+    x = __builtin_bswap32(x);
     x = ((x >> 1) & 0x55555555u) | ((x & 0x55555555u) << 1);
     x = ((x >> 2) & 0x33333333u) | ((x & 0x33333333u) << 2);
-    x = ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
-    x = ((x >> 8) & 0x00FF00FFu) | ((x & 0x00FF00FFu) << 8);
-    return (x >> 16) | (x << 16);
+    return ((x >> 4) & 0x0F0F0F0Fu) | ((x & 0x0F0F0F0Fu) << 4);
 }
 
 // A 32-bit integer hash with good avalanche (the "lowbias32" constants of C. Wellons' hash
@@ -56,14 +55,16 @@ FACET_SAMPLER_INLINE std::uint32_t hash_combine(std::uint32_t seed, std::uint32_
 // flipping bit k depends only on the bits above it. In the bit-reversed domain this becomes
 // "each bit depends only on lower bits", which a multiply-xor hash with even multipliers
 // provides (Laine & Karras 2011, with the improved constants of Burley 2020 §3).
-FACET_SAMPLER_INLINE std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
-    std::uint32_t x = reverse_bits(v);
+FACET_SAMPLER_INLINE std::uint32_t laine_karras(std::uint32_t x, std::uint32_t seed) {
     x += seed;
     x ^= x * 0x6c50b47cu;
     x ^= x * 0xb82f1e52u;
     x ^= x * 0xc7afe638u;
     x ^= x * 0x8d22f6e6u;
-    return reverse_bits(x);
+    return x;
+}
+FACET_SAMPLER_INLINE std::uint32_t owen_scramble(std::uint32_t v, std::uint32_t seed) {
+    return reverse_bits(laine_karras(reverse_bits(v), seed));
 }
 
 // First Sobol dimension: the van der Corput sequence in base 2.
@@ -82,16 +83,30 @@ inline constexpr std::uint32_t sobol_dim1_slow(std::uint32_t i) {
     return r;
 }
 
-inline constexpr std::array<std::array<std::uint32_t, 256>, 4> kSobolDim1Tables = [] {
+inline constexpr std::uint32_t reverse_bits_constexpr(std::uint32_t x) {
+    std::uint32_t r = 0;
+    for (int k = 0; k < 32; ++k) r |= ((x >> k) & 1u) << (31 - k);
+    return r;
+}
+
+// Tables of the generator-matrix columns, stored bit-reversed (reversal is linear over XOR),
+// because the Owen scramble below works in the bit-reversed domain.
+inline constexpr std::array<std::array<std::uint32_t, 256>, 4> kSobolDim1ReversedTables = [] {
     std::array<std::array<std::uint32_t, 256>, 4> t{};
     for (int b = 0; b < 4; ++b)
-        for (std::uint32_t x = 0; x < 256; ++x) t[b][x] = sobol_dim1_slow(x << (8 * b));
+        for (std::uint32_t x = 0; x < 256; ++x)
+            t[b][x] = reverse_bits_constexpr(sobol_dim1_slow(x << (8 * b)));
     return t;
 }();
 
+// reverse_bits(sobol_dim1(i)).
+FACET_SAMPLER_INLINE std::uint32_t sobol_dim1_reversed(std::uint32_t i) {
+    const auto& t = kSobolDim1ReversedTables;
+    return t[0][i & 0xffu] ^ t[1][(i >> 8) & 0xffu] ^ t[2][(i >> 16) & 0xffu] ^ t[3][i >> 24];
+}
+
 FACET_SAMPLER_INLINE std::uint32_t sobol_dim1(std::uint32_t i) {
-    return kSobolDim1Tables[0][i & 0xffu] ^ kSobolDim1Tables[1][(i >> 8) & 0xffu] ^
-           kSobolDim1Tables[2][(i >> 16) & 0xffu] ^ kSobolDim1Tables[3][i >> 24];
+    return reverse_bits(sobol_dim1_reversed(i));
 }
 
 // 32-bit fixed point -> float in [0,1): keep 24 bits so the result is exact in float.
@@ -117,10 +132,12 @@ class Sampler {
 
     // One value in [0,1): a 1D Owen-scrambled van der Corput sequence over the sample indices,
     // with its own index shuffle per dimension.
+    // Both getters use owen_scramble(sobol(i), seed) = reverse(laine_karras(reverse(sobol(i))))
+    // with reverse(sobol_dim0(i)) = i, which saves most bit reversals.
     FACET_SAMPLER_INLINE float get_1d() {
         const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
         const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
-        return fixed_to_float(owen_scramble(sobol_dim0(i), hash_u32(dim_seed ^ 0xa511e9b3u)));
+        return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
     }
 
     // A pair in [0,1)^2 from the (0,2)-sequence, shuffled and Owen-scrambled per dimension pair.
@@ -128,9 +145,9 @@ class Sampler {
         const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
         const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
         const float x =
-            fixed_to_float(owen_scramble(sobol_dim0(i), hash_u32(dim_seed ^ 0xa511e9b3u)));
-        const float y =
-            fixed_to_float(owen_scramble(sobol_dim1(i), hash_u32(dim_seed ^ 0x63d83595u)));
+            fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
+        const float y = fixed_to_float(
+            reverse_bits(laine_karras(sobol_dim1_reversed(i), hash_u32(dim_seed ^ 0x63d83595u))));
         return {x, y};
     }
 
