@@ -224,7 +224,8 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
             if (m_inward) {
                 // Inside-out sphere: only its interior is lit; uniform by area from inside.
                 Vec3 v = ctx.p - m_position;
-                if (!(glm::dot(v, v) < m_radius * m_radius)) return std::nullopt;
+                // Points ON the sphere (the usual case: it lights itself) pass despite round-off.
+                if (!(glm::dot(v, v) <= m_radius * m_radius * 1.001f)) return std::nullopt;
                 Vec3 n = sample_uniform_sphere(u);
                 s.p_light = m_position + m_radius * n;
                 s.n_light = -n;
@@ -291,7 +292,7 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
     }
     if (m_area_shape == AreaShape::Sphere && m_inward) {
         Vec3 v = ctx.p - m_position;
-        if (!(glm::dot(v, v) < m_radius * m_radius)) return 0.f;
+        if (!(glm::dot(v, v) <= m_radius * m_radius * 1.001f)) return 0.f;  // see sample_li
         return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, 1.f / m_area);
     }
     if (m_area_shape == AreaShape::Sphere) {
