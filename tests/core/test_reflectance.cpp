@@ -59,7 +59,7 @@ TEST(Reflectance, GlossyIntegralsAgreeAndErrorEstimateHolds) {
         Material m = std::string(name) == "blinn"
                          ? model(name, {{"exponent", 20.0}, {"fresnel", std::string("dielectric")}})
                          : model(name, {{"alpha", 0.35}, {"fresnel", std::string("dielectric")}});
-        for (float t : {0.1f, 0.9f, 1.4f}) {
+        for (float t : {0.1f, 0.9f, 1.4f, 1.52f}) {
             Vec3 w = spherical_direction(t, 0.f);
             Reflectance ref = directional_hemispherical(m, w, 128);
             for (int order : {8, 16, 32}) {

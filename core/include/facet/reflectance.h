@@ -11,12 +11,12 @@
 //  - bihemispherical(m)  = rho(2pi -> 2pi) = (1/pi) int rho(wi -> 2pi) cos(theta_i) dwi
 //  - biconical(m, in, out) = int_in int_out f cos_i cos_o dwo dwi / int_in cos_i dwi
 //
-// Method: the integral over the free direction is split over two warps of the unit square — a
-// cosine-weighted polar map and the glossy lobe's own half-vector sampler — combined with the
-// balance heuristic, and each is integrated by an n x n Gauss-Legendre product rule. Sharp lobes
+// Method: each lobe is integrated over the free direction through its own warp of the unit
+// square — the diffuse lobe through a cosine-weighted polar map, the glossy lobe through its
+// own half-vector sampler — by an n x n Gauss-Legendre product rule. Sharp lobes
 // (Blinn kappa = 1e7) are then resolved exactly as well as broad ones, because in the
 // sampler's coordinates the integrand is smooth. Delta lobes are added in closed form.
-// `error` is an a-posteriori estimate, max(|Q(n/2) - Q(n)|, |Q(n) - Q(2n)|) where `value` is
+// `error` is an a-posteriori estimate, 2 max(|Q(n/2) - Q(n)|, |Q(n) - Q(2n)|) where `value` is
 // Q(2n): one difference alone can vanish by coincidence, because the integrand has kinks where
 // the half-vector map crosses the horizon and Gauss-Legendre then converges irregularly. Biconical
 // reflectances whose cones cut the mirror direction converge slowly (the indicator of the cone
