@@ -332,3 +332,18 @@ TEST(RenderOptions, TimeBudgetStopsEarly) {
     EXPECT_LT(st.seconds, 5.0);  // generous: sanitizer builds are slow, but not 100x over
     EXPECT_GT(mean_se(img).mean, 1.0);
 }
+
+// The repository's furnace scene (an inside-out emitting sphere, Le = 0.5, rho = 0.8): path
+// converges to Le / (1 - rho) = 2.5, direct to Le (1 + rho) = 0.9. Same 3-standard-error
+// tolerance as above. This caught points on the sphere being rejected as "outside" it (direct
+// gave 0.58).
+TEST(RenderAnalytic, SceneFileFurnaceBothIntegrators) {
+    const fr::Scene scene = fr::load_scene(std::string(FACET_SCENES_DIR) + "/furnace.json");
+    const MeanSe path = mean_se(render(scene, "path", 4));
+    EXPECT_NEAR(path.mean, 2.5, 3 * path.se) << "se " << path.se;
+    const MeanSe direct = mean_se(render(scene, "direct", 4));
+    // Uniform-by-area sampling of a sphere from a point on it makes every direct sample equal
+    // rho Le exactly (the cosines and distances cancel), so the SE is ~0: allow float round-off
+    // (1e-5 relative) on top.
+    EXPECT_NEAR(direct.mean, 0.9, 3 * direct.se + 1e-5 * 0.9) << "se " << direct.se;
+}
