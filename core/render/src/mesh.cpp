@@ -432,7 +432,7 @@ TriangleMesh parse_ply(std::string_view data) {
                 }
                 m.positions.emplace_back(float(vals[ix]), float(vals[iy]), float(vals[iz]));
                 if (normals) {
-                    Vec3 n(float(vals[inx]), float(vals[iny]), float(vals[inz]));
+                    Vec3 n = Vec3(float(vals[inx]), float(vals[iny]), float(vals[inz]));
                     float len = glm::length(n);
                     m.normals.push_back(len > 0.f && std::isfinite(len) ? n / len
                                                                         : Vec3(0.f, 0.f, 1.f));
