@@ -347,3 +347,49 @@ TEST(RenderAnalytic, SceneFileFurnaceBothIntegrators) {
     // (1e-5 relative) on top.
     EXPECT_NEAR(direct.mean, 0.9, 3 * direct.se + 1e-5 * 0.9) << "se " << direct.se;
 }
+
+// Directional and spot lights over the Lambertian plane (direct integrator, pixel centres),
+// against light.h's definitions computed here in double; tolerance 1e-5 relative as for the
+// point light (float round-off only), plus 1e-7 absolute for the spot's zero region.
+TEST(RenderAnalytic, DirectionalAndSpotLightsOverLambertianPlane) {
+    const double rho = 0.6, e = 3.0, phi = 40.0;
+    const double cos_in = std::cos(20.0 * facet::kPiD / 180.0);
+    const double cos_out = std::cos(35.0 * facet::kPiD / 180.0);
+    const facet::DVec3 dir_travel = glm::normalize(facet::DVec3(0.3, -1.0, 0.2));
+    const facet::DVec3 spot_pos(0.2, 1.5, -0.1);
+    const fr::Scene scene = scene_from(R"(
+        "camera": {"position": [0, 3, 3], "look_at": [0, 0, 0], "fov": 60, "width": 40,
+                   "height": 30},
+        "materials": {"m": {"model": "lambert", "reflectance": 0.6}},
+        "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "m"}],
+        "lights": [
+          {"type": "directional", "direction": [0.3, -1.0, 0.2], "irradiance": 3},
+          {"type": "spot", "position": [0.2, 1.5, -0.1], "direction": [0, -1, 0], "power": 40,
+           "inner_angle": 20, "outer_angle": 35}
+        ])");
+    const fr::Image img = render(scene, "direct", 1);
+    const double i0 = phi / (2 * facet::kPiD * ((1 - cos_in) + (cos_in - cos_out) / 2));
+    int in_cone = 0, in_blend = 0;
+    for (int y = 0; y < img.height(); ++y) {
+        for (int x = 0; x < img.width(); ++x) {
+            const fr::Ray ray = scene.camera().generate_ray({float(x) + 0.5f, float(y) + 0.5f});
+            const facet::DVec3 o(ray.o), d(ray.d);
+            ASSERT_LT(d.y, 0.0);
+            const facet::DVec3 p = o + (-o.y / d.y) * d;
+            double want = rho / facet::kPiD * e * (-dir_travel.y);  // E cos(theta), eq. 2.42
+            const facet::DVec3 v = spot_pos - p;
+            const double r2 = glm::dot(v, v);
+            const double cos_axis = v.y / std::sqrt(r2);  // angle from the downward axis
+            double falloff = 0;
+            if (cos_axis >= cos_in)
+                falloff = 1, ++in_cone;
+            else if (cos_axis > cos_out)
+                falloff = (cos_axis - cos_out) / (cos_in - cos_out), ++in_blend;
+            want += rho / facet::kPiD * i0 * falloff / r2 * (v.y / std::sqrt(r2));
+            for (int c = 0; c < 3; ++c)
+                ASSERT_NEAR(img.at(x, y)[c], want, 1e-5 * want + 1e-7) << x << "," << y;
+        }
+    }
+    EXPECT_GT(in_cone, 20);  // the image covers the inner cone, the blend ring and beyond
+    EXPECT_GT(in_blend, 20);
+}
