@@ -224,7 +224,7 @@ def big_mesh():
 def showcase():
     s = header("Glossy, mirror and diffuse spheres on a plane under an area light: the README's "
                "showcase image.",
-               {"position": [0, 1.6, 5.5], "look_at": [0, 0.6, 0], "up": [0, 1, 0], "fov": 35,
+               {"position": [0, 1.8, 6.5], "look_at": [0, 0.55, 0], "up": [0, 1, 0], "fov": 36,
                 "width": 960, "height": 540},
                {"integrator": "path", "spp": 256, "max_depth": 12, "seed": 7})
     s["materials"] = {
@@ -241,7 +241,7 @@ def showcase():
     }
     s["shapes"] = [
         {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor"},
-        {"type": "sphere", "name": "clay", "center": [-2.1, 0.5, -0.3], "radius": 0.5,
+        {"type": "sphere", "name": "clay", "center": [-2.3, 0.5, -0.6], "radius": 0.5,
          "material": "clay"},
         {"type": "sphere", "name": "gold", "center": [-0.9, 0.6, 0.2], "radius": 0.6,
          "material": "gold"},
@@ -249,9 +249,11 @@ def showcase():
          "material": "chrome"},
         {"type": "sphere", "name": "plastic", "center": [1.65, 0.5, 0.3], "radius": 0.5,
          "material": "plastic"},
-        {"type": "sphere", "name": "brushed", "center": [2.7, 0.45, -0.6], "radius": 0.45,
+        # Local z turned to world +y first, then moved: the brushing runs around the vertical.
+        {"type": "sphere", "name": "brushed", "center": [0, 0, 0], "radius": 0.45,
          "material": "brushed",
-         "transform": [{"rotate": {"axis": [1, 0, 0], "angle": -90}}]},
+         "transform": [{"rotate": {"axis": [1, 0, 0], "angle": -90}},
+                       {"translate": [2.75, 0.45, -0.9]}]},
         {"type": "quad", "name": "softbox", "emission": [9, 8.6, 8],
          "vertices": [[-1.5, 4, -1], [1.5, 4, -1], [1.5, 4, 1.5], [-1.5, 4, 1.5]]},
     ]
