@@ -582,3 +582,12 @@ TEST(Geometry, FlipNormalsAndMirroringTransforms) {
     EXPECT_EQ(h.shape, 2u);
     EXPECT_GT(glm::dot(h.ng, h.p), 0.f);
 }
+
+TEST(Geometry, EmptySceneHitsNothing) {
+    Scene s;
+    SurfaceHit h;
+    EXPECT_FALSE(s.intersect({{0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, kInfinity}, h));
+    EXPECT_FALSE(s.occluded({0.f, 0.f, 0.f}, {0.f, 0.f, 1.f}, {0.f, 0.f, 1.f}, kInfinity));
+    EXPECT_EQ(s.lights().size(), 0u);
+    EXPECT_EQ(s.environment(), nullptr);
+}

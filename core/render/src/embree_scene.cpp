@@ -341,6 +341,7 @@ float Scene::radius() const {
 
 bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
+    if (!impl.backend) return false;  // a default-constructed (empty) scene
     const EmbreeBackend& be = *impl.backend;
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -386,6 +387,7 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
         r.tmax = tmax;
     }
     const Impl& impl = *m_impl;
+    if (!impl.backend) return false;
     if (!impl.planes.empty()) {
         std::size_t which = 0;
         if (intersect_planes(impl.planes, r, double(r.tmax), which) > 0.0) return true;
@@ -399,6 +401,7 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
 }
 
 std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
+    if (!m_impl->backend) return 0;
     RTCScene scene = m_impl->backend->scene.get();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
