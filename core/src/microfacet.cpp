@@ -316,7 +316,7 @@ namespace {
 
 constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per slope dimension
 constexpr int kAlbedoPhiNodes = 3;      // azimuth nodes over [0, pi/2] when anisotropic
-constexpr float kAlbedoMinMu = 1e-3f;   // mu of the first table node (E(0) is a limit)
+constexpr float kAlbedoMinMu = 1e-4f;   // mu where the first node (mu = 0) is evaluated
 constexpr int kBlinnLambdaTable = 512;  // G1 table nodes for the Blinn albedo quadrature
 
 // G1 of a Blinn distribution tabulated on v = mu / (mu + s) in [0, 1], s = sqrt(2 / nu) (the
@@ -383,9 +383,9 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     bool aniso = dist.alpha_x() != dist.alpha_y();
     const QuadratureRule& gphi = gauss_legendre(aniso ? kAlbedoPhiNodes : 1);
     for (int k = 0; k < kTableSize; ++k) {
-        double mu_o = std::fmax(double(k) / (kTableSize - 1), double(kAlbedoMinMu));
+        double s_k = double(k) / (kTableSize - 1);  // nodes uniform in sqrt(mu)
+        double mu_o = std::fmax(s_k * s_k, double(kAlbedoMinMu));
         double sin_o = std::sqrt(std::fmax(0.0, 1.0 - mu_o * mu_o));
-        double cot_o = mu_o / sin_o;
         double e = 0.0;
         for (size_t p = 0; p < gphi.nodes.size(); ++p) {
             double phi = aniso ? gphi.nodes[p] * kPiD / 2.0 : 0.0;
@@ -395,7 +395,11 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
             // Slope scales along and across the azimuth phi.
             double sx = std::sqrt(sqr(ax * cp) + sqr(ay * sp));
             double sy = std::sqrt(sqr(ax * sp) + sqr(ay * cp));
-            double a_lo = -kPiD / 2.0, a_hi = std::atan(cot_o / sx);
+            // wi.z > 0 <=> 1 + x'^2 + y'^2 < 2 (1 - x' tan_o): x' in [-tan - sec, sec - tan]
+            // and |y'| < Y(x') = sqrt(1 - 2 x' tan_o - x'^2), which also implies x' < cot_o.
+            double tan_o = sin_o / mu_o, sec_o = 1.0 / mu_o;
+            double a_lo = std::atan((-tan_o - sec_o) / sx);
+            double a_hi = std::atan((sec_o - tan_o) / sx);
             double ep = 0.0;
             for (int i = 0; i < kAlbedoGrid; ++i) {
                 double ang_a = a_lo + (a_hi - a_lo) * gu.nodes[i];
@@ -403,12 +407,14 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
                 double xr = sx * std::tan(ang_a);
                 double wa = gu.weights[i] * (a_hi - a_lo) * sx / (ca * ca);
                 double proj = mu_o - xr * sin_o;
-                if (!(proj > 0.0)) continue;
+                double y_max2 = 1.0 - 2.0 * xr * tan_o - xr * xr;
+                if (!(proj > 0.0) || !(y_max2 > 0.0)) continue;
+                double b_hi = std::atan(std::sqrt(y_max2) / sy);
                 for (int j = 0; j < kAlbedoGrid; ++j) {
-                    double ang_b = kPiD * (gu.nodes[j] - 0.5);
+                    double ang_b = b_hi * (2.0 * gu.nodes[j] - 1.0);
                     double cb = std::cos(ang_b);
                     double yr = sy * std::tan(ang_b);
-                    double wb = gu.weights[j] * kPiD * sy / (cb * cb);
+                    double wb = gu.weights[j] * 2.0 * b_hi * sy / (cb * cb);
                     double x = xr * cp - yr * sp, y = xr * sp + yr * cp;
                     double n2 = 1.0 + x * x + y * y;
                     Vec3 wm = normalize_or_normal(-x, -y, 1.0);
@@ -425,15 +431,17 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
         }
         m_e[k] = float(std::fmin(std::fmax(e, 0.0), 1.0));
     }
-    // E_avg = 2 int E(mu) mu dmu of the piecewise-linear table (exact for the interpolant, so
-    // that f_ms integrates to exactly (1 - E(mu_o)) F_ms): on [m0, m1] with E linear,
-    // int E mu = h/6 (E0 (2 m0 + m1) + E1 (m0 + 2 m1)).
+    // E_avg = 2 int E(mu) mu dmu of the table's interpolant, exactly (so that f_ms integrates
+    // to exactly (1 - E(mu_o)) F_ms): with s = sqrt(mu), E = A + B s on each interval and
+    // 2 int E mu dmu = 4 int (A s^3 + B s^4) ds.
     double h = 1.0 / (kTableSize - 1), avg = 0.0;
     for (int k = 0; k + 1 < kTableSize; ++k) {
-        double m0 = k * h, m1 = (k + 1) * h;
-        avg += h / 6.0 * (m_e[k] * (2.0 * m0 + m1) + m_e[k + 1] * (m0 + 2.0 * m1));
+        double s0 = k * h, s1 = (k + 1) * h;
+        double b = (double(m_e[k + 1]) - double(m_e[k])) / h, a = double(m_e[k]) - b * s0;
+        avg += a * (std::pow(s1, 4) - std::pow(s0, 4)) / 4.0 +
+               b * (std::pow(s1, 5) - std::pow(s0, 5)) / 5.0;
     }
-    m_e_avg = float(std::fmin(2.0 * avg, 1.0));
+    m_e_avg = float(std::fmin(4.0 * avg, 1.0));  // avg = int E(s) s^3 ds
     if (1.f - m_e_avg < kMinMissingEnergy) return;
 
     Rgb f_avg = m_fresnel.average();
@@ -446,7 +454,9 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
 }
 
 float MicrofacetReflection::albedo_table(float mu) const {
-    float x = glm::clamp(mu, 0.f, 1.f) * (kTableSize - 1);
+    // Nodes are uniform in sqrt(mu): E(mu) rises steeply near grazing (e.g. GGX alpha = 1:
+    // 0.85 at mu = 0.05, 0.993 at mu = 1e-3), where a uniform-in-mu table would be too coarse.
+    float x = std::sqrt(glm::clamp(mu, 0.f, 1.f)) * (kTableSize - 1);
     int i = std::min(int(x), kTableSize - 2);
     float t = x - float(i);
     return m_e[i] + t * (m_e[i + 1] - m_e[i]);

@@ -275,13 +275,13 @@ TEST(Microfacet, GgxAlphaOneNormalIncidenceAlbedo) {
     //   E = int_0^{pi/4} 4 cos(2t) cos(t) sin(t) / (1 + cos(2t)) dt = 1 + 2 ln(1/sqrt 2)
     //     = 1 - ln 2 = 0.306853 (the claim of the issue holds).
     // Tolerance 2e-4 for the quadrature (the integrand is continuous at the horizon, measured
-    // error 6e-5 with the 128^2 rule); 3e-3 for the construction-time table (24^2-point slope
-    // rule whose error is O(h^2) from the kink where wi crosses the horizon; measured 1.7e-3).
+    // error 6e-5 with the 128^2 rule); 1e-4 for the construction-time table (24^2-point slope
+    // rule over the exact visible domain, smooth integrand: measured 9e-8).
     MicrofacetReflection r(MicrofacetDistribution::ggx(1.f, 1.f), Fresnel::none(), Rgb(1.f), false);
     double e = albedo(r, Vec3(0, 0, 1));
     EXPECT_NEAR(e, 1.0 - std::log(2.0), 2e-4);
     MicrofacetReflection rc(MicrofacetDistribution::ggx(1.f, 1.f), Fresnel::none(), Rgb(1.f), true);
-    EXPECT_NEAR(rc.albedo_table(1.f), 1.0 - std::log(2.0), 3e-3);
+    EXPECT_NEAR(rc.albedo_table(1.f), 1.0 - std::log(2.0), 1e-4);
 }
 
 std::vector<Named> rough_distributions(float alpha) {
@@ -292,18 +292,19 @@ std::vector<Named> rough_distributions(float alpha) {
 }
 
 TEST(Microfacet, EnergyCompensationWhiteFurnace) {
-    // With compensation a white (F = 1) rough lobe reflects everything. Tolerance 1e-2: the
+    // With compensation a white (F = 1) rough lobe reflects everything. Tolerance 3e-3: the
     // compensation is exact for the tabulated E, so the error is the table's (24^2-point
-    // slope quadrature, linear interpolation over 32 mu nodes); measured max |1 - albedo| is
-    // 6.1e-3 (Beckmann, alpha 0.6, normal incidence).
+    // slope quadrature, linear interpolation over 32 nodes in sqrt(mu)) plus this test's own
+    // quadrature (~6e-5); measured max |1 - albedo| is 2.5e-4 up to 80 degrees and 1.1e-3
+    // at 89 degrees.
     for (float alpha : {0.1f, 0.3f, 0.6f, 1.f}) {
         for (const Named& n : rough_distributions(alpha)) {
             MicrofacetReflection r(n.d, Fresnel::none(), Rgb(1.f), true);
             MicrofacetReflection r0(n.d, Fresnel::none(), Rgb(1.f), false);
-            for (float theta_deg : {0.f, 30.f, 60.f, 80.f}) {
+            for (float theta_deg : {0.f, 30.f, 60.f, 80.f, 89.f}) {
                 Vec3 wo = spherical_direction(theta_deg * kPi / 180.f, 0.4f);
                 double a = albedo(r, wo);
-                EXPECT_NEAR(a, 1.0, 1e-2) << n.name << " alpha=" << alpha << " th=" << theta_deg;
+                EXPECT_NEAR(a, 1.0, 3e-3) << n.name << " alpha=" << alpha << " th=" << theta_deg;
                 EXPECT_LT(albedo(r0, wo), 1.0);
             }
         }

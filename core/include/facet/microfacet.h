@@ -124,8 +124,9 @@ class MicrofacetDistribution {
 //     f_ms = scale * (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) * F_ms,
 //     F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),
 // where E(mu) is the F = 1 single-scattering albedo of this distribution (averaged over phi when
-// anisotropic), tabulated at construction on kTableSize uniform mu nodes by Gauss-Legendre
-// quadrature, and E_avg = 2 int E(mu) mu dmu of the (piecewise linear) table.
+// anisotropic), tabulated at construction on kTableSize nodes uniform in sqrt(mu) (linear
+// interpolation in sqrt(mu)) by Gauss-Legendre quadrature in slope space, and
+// E_avg = 2 int E(mu) mu dmu of that interpolant, exactly.
 //
 // Conventions: facet/bxdf.h. Sampling draws the distribution's sample_wm and reflects
 // (Jacobian 1 / (4 |wo.wm|)); with compensation, the cosine-weighted f_ms lobe is chosen with
@@ -165,7 +166,7 @@ class MicrofacetReflection {
     bool m_energy_compensation;
     bool m_smooth;
     bool m_has_ms = false;                // compensation on and the lobe misses some energy
-    std::array<float, kTableSize> m_e{};  // E(mu_k), mu_k = k / (kTableSize - 1)
+    std::array<float, kTableSize> m_e{};  // E(mu_k), mu_k = (k / (kTableSize - 1))^2
     float m_e_avg = 1.f;
     Rgb m_ms_factor{0.f};              // scale * F_ms / (pi (1 - E_avg))
     float m_w_ss = 0.f, m_w_ms = 0.f;  // lum(F_avg), lum(F_ms) for lobe selection
