@@ -235,6 +235,22 @@ void Scene::Impl::build(const std::string& name) {
                 std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
             }
             std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
+            meshes[m].vertices = v;
+            meshes[m].triangles = idx;
+            std::vector<glm::vec4>& planes = meshes[m].planes;
+            planes.resize(mesh.num_triangles());
+            for (std::size_t t = 0; t < planes.size(); ++t) {
+                const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
+                const Vec3& p1 = mesh.positions[mesh.indices[3 * t + 1]];
+                const Vec3& p2 = mesh.positions[mesh.indices[3 * t + 2]];
+                Vec3 n = glm::cross(p1 - p0, p2 - p0);
+                float len = glm::length(n);
+                n = len > 0.f ? n / len : Vec3(0.f, 0.f, 1.f);
+                planes[t] = glm::vec4(n, glm::dot(n, p0));
+            }
+            // Embree holds the data now (the scene keeps the geometry and its buffers alive).
+            meshes[m].mesh.positions = {};
+            meshes[m].mesh.indices = {};
         }
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(be.scene.get(), g);
@@ -288,21 +304,21 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.shape = prim.shape;
 }
 
-void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, float u, float v, float t,
-                                SurfaceHit& hit) const {
-    const TriangleMesh& m = mg.mesh;
-    std::uint32_t i0 = m.indices[3 * tri], i1 = m.indices[3 * tri + 1], i2 = m.indices[3 * tri + 2];
-    const Vec3 &p0 = m.positions[i0], &p1 = m.positions[i1], &p2 = m.positions[i2];
-    float w = 1.f - u - v;
+void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, const Ray& ray, float u,
+                                float v, float t, SurfaceHit& hit) const {
+    const glm::vec4& plane = mg.planes[tri];
     hit.t = t;
-    // Barycentric interpolation is more accurate than o + t d (pbrt-v4 §6.8.6).
-    hit.p = w * p0 + u * p1 + v * p2;
-    Vec3 n = glm::cross(p1 - p0, p2 - p0);
-    float len = glm::length(n);
-    hit.ng = len > 0.f ? n / len : Vec3(0.f, 0.f, 1.f);
+    hit.ng = Vec3(plane);
+    // o + t d, then projected back onto the triangle's plane: the error left is along the
+    // surface, where it cannot cause self-intersection (the offset of spawn_ray covers the
+    // plane equation's own round-off, a few ulps of |p|).
+    Vec3 p = ray.o + t * ray.d;
+    hit.p = p - (glm::dot(p, hit.ng) - plane.w) * hit.ng;
     hit.ns = hit.ng;
-    if (!m.normals.empty()) {
-        Vec3 ns = w * m.normals[i0] + u * m.normals[i1] + v * m.normals[i2];
+    if (!mg.mesh.normals.empty()) {
+        const std::uint32_t* tv = mg.triangles + 3 * std::size_t(tri);
+        const std::vector<Vec3>& n = mg.mesh.normals;
+        Vec3 ns = (1.f - u - v) * n[tv[0]] + u * n[tv[1]] + v * n[tv[2]];
         float l = glm::length(ns);
         if (l > 0.f && std::isfinite(l)) {
             ns /= l;
@@ -368,7 +384,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         impl.fill_analytic(impl.prims[rh.hit.primID], ray, rh.ray.tfar, hit);
     } else {
         impl.fill_triangle(impl.meshes[std::size_t(be.geom_to_mesh[rh.hit.geomID])], rh.hit.primID,
-                           rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+                           ray, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
     }
     const ShapeInfo& s = m_shapes[hit.shape];
     hit.material = s.material;
