@@ -10,6 +10,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <cmath>
 #include <stdexcept>
 #include <vector>
 
@@ -78,10 +79,12 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStats* stat
     };
 
     int done = 0, passes = 0;
+    int affordable = rs.spp;  // samples per pixel the remaining budget allows (estimated)
     while (done < rs.spp) {
-        // Pass size: everything at once without a budget; 1, 1, 2, 4, ... (capped) with one.
+        // Pass size: everything at once without a budget; 1, 1, 2, 4, ... (capped, and cut to
+        // what the remaining budget affords) with one.
         int pass = rs.spp - done;
-        if (budgeted) pass = std::min({pass, std::max(1, done), kMaxPassSpp});
+        if (budgeted) pass = std::min({pass, std::max(1, done), kMaxPassSpp, affordable});
         const TileJob proto{0, 0, 0, 0, done, done + pass, rs.spp, rs.seed, choice.max_depth};
         arena.execute([&] {
             tbb::parallel_for(
@@ -108,11 +111,12 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStats* stat
         done += pass;
         ++passes;
         if (budgeted) {
-            // Stop when the next pass (about as long as this one per sample) would overrun.
+            // Stop when not even one more sample per pixel fits (at this run's mean cost).
             const double t = elapsed();
             const double per_spp = t / double(done);
-            const int next = std::min({rs.spp - done, std::max(1, done), kMaxPassSpp});
-            if (t + per_spp * double(next) > rs.time_budget_s) break;
+            const double fit = std::floor((rs.time_budget_s - t) / per_spp);
+            if (!(fit >= 1.0)) break;
+            affordable = int(std::min(fit, double(kMaxPassSpp)));
         }
     }
     const double seconds = elapsed();

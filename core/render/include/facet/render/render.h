@@ -5,7 +5,8 @@
 //  - Determinism: every pixel sample is a pure function of (pixel, sample index, seed)
 //    (sampler.h) and each pixel is accumulated by one tile in sample order, so for a given spp
 //    the image is bit-identical whatever the thread count. With a time budget the image is
-//    rendered in passes (1, 1, 2, 4, ... samples per pixel, at most kMaxPassSpp per pass); the
+//    rendered in passes (1, 1, 2, 4, ... samples per pixel, at most kMaxPassSpp per pass, cut
+//    to what the remaining budget affords at the mean cost so far); the
 //    image is the mean of the completed passes, and equals the fixed-spp image of the same
 //    total only up to float summation order across passes.
 //  - render() validates its options and throws std::invalid_argument naming the option
