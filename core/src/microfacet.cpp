@@ -262,6 +262,7 @@ Vec3 MicrofacetDistribution::sample_beckmann_visible(const Vec3& w, Vec2 u) cons
     if (!(x > lo && x < hi)) x = 0.5 * (lo + hi);
     for (int it = 0; it < kBeckmannMaxIterations; ++it) {
         double r = cdf(x) - target;
+        if (r == 0.0) break;  // exact root (e.g. the normal-incidence guess)
         if (r > 0.0) {
             hi = x;
         } else {
