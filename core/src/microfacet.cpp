@@ -470,48 +470,64 @@ float MicrofacetReflection::ms_probability(float mu_o) const {
     return ws + wm > 0.f ? wm / (ws + wm) : 0.f;
 }
 
-Rgb MicrofacetReflection::f(const Vec3& wo, const Vec3& wi) const {
-    if (m_smooth) return Rgb(0.f);
+void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
+                                    float* pdf_out) const {
+    if (f_out) *f_out = Rgb(0.f);
+    if (pdf_out) *pdf_out = 0.f;
+    if (m_smooth) return;
     float cos_o = wo.z, cos_i = wi.z;
-    if (!(cos_o > 0.f && cos_i > 0.f)) return Rgb(0.f);
+    if (!(cos_o > 0.f && cos_i > 0.f)) return;
     Vec3 h = wo + wi;
     float len2 = glm::dot(h, h);
-    if (!(len2 > 0.f)) return Rgb(0.f);
+    if (!(len2 > 0.f)) return;
     Vec3 wm = h / std::sqrt(len2);
-    // f = D G F / (4 cos_o cos_i) (eq. 2.37); divide one cosine at a time (no underflow of the
-    // product at grazing angles; G ~ cos there keeps the quotient finite).
-    float dg = m_distribution.D(wm) * m_distribution.G(wo, wi);
-    float s = dg / (4.f * cos_o) / cos_i;
-    // Constant Fresnel stores its value in eta(): skip the evaluation.
-    Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(glm::dot(wo, wm));
-    Rgb result = m_scale * fr * s;
-    if (m_has_ms)
-        result += m_ms_factor * ((1.f - albedo_table(cos_o)) * (1.f - albedo_table(cos_i)));
+    float c = glm::dot(wo, wm);
+    float d = m_distribution.D(wm);
+    bool blinn = m_distribution.kind() == DistributionKind::Blinn;
+    // Lambda(wo) serves both G and the visible-normal pdf (Blinn's pdf does not need it).
+    float lam_o = f_out || !blinn ? m_distribution.lambda(wo) : 0.f;
+    if (f_out) {
+        // f = D G F / (4 cos_o cos_i) (eq. 2.37), height-correlated G (Heitz 2014, eq. 99);
+        // divide one cosine at a time (no underflow of the product at grazing angles; G ~ cos
+        // there keeps the quotient finite).
+        float g = 1.f / (1.f + lam_o + m_distribution.lambda(wi));
+        float s = d * g / (4.f * cos_o) / cos_i;
+        // Constant Fresnel stores its value in eta(): skip the evaluation.
+        Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
+        Rgb result = m_scale * fr * s;
+        if (m_has_ms)
+            result += m_ms_factor * ((1.f - albedo_table(cos_o)) * (1.f - albedo_table(cos_i)));
+        *f_out = result;
+    }
+    if (pdf_out) {
+        // Half-vector Jacobian dwm / dwi = 1 / (4 <wo, wm>) (Walter et al. 2007, eq. 14).
+        float p = 0.f;
+        if (c > 0.f) {
+            if (blinn) {
+                p = d * wm.z / (4.f * c);
+            } else {
+                // Visible normals: G1(wo) D <wo, wm> / cos_o / (4 <wo, wm>) = G1 D / (4 cos_o).
+                float denom = 4.f * (cos_o + cos_o * lam_o);
+                p = denom < kInfinity ? d / denom : 0.f;
+            }
+        }
+        if (m_has_ms) {
+            float pm = ms_probability(cos_o);
+            p = (1.f - pm) * p + pm * cosine_hemisphere_pdf(cos_i);
+        }
+        *pdf_out = p;
+    }
+}
+
+Rgb MicrofacetReflection::f(const Vec3& wo, const Vec3& wi) const {
+    Rgb result;
+    evaluate(wo, wi, &result, nullptr);
     return result;
 }
 
 float MicrofacetReflection::pdf(const Vec3& wo, const Vec3& wi) const {
-    if (m_smooth) return 0.f;
-    if (!(wo.z > 0.f && wi.z > 0.f)) return 0.f;
-    Vec3 h = wo + wi;
-    float len2 = glm::dot(h, h);
-    if (!(len2 > 0.f)) return 0.f;
-    Vec3 wm = h / std::sqrt(len2);
-    float c = glm::dot(wo, wm);
-    if (!(c > 0.f)) return 0.f;
-    // Half-vector Jacobian dwm / dwi = 1 / (4 <wo, wm>) (Walter et al. 2007, eq. 14).
     float p;
-    if (m_distribution.kind() == DistributionKind::Blinn) {
-        p = m_distribution.D(wm) * wm.z / (4.f * c);
-    } else {
-        // Visible normals: G1(wo) D(wm) <wo, wm> / cos_o / (4 <wo, wm>) = G1 D / (4 cos_o).
-        float denom = 4.f * (wo.z + wo.z * m_distribution.lambda(wo));
-        p = denom < kInfinity ? m_distribution.D(wm) / denom : 0.f;
-    }
-    if (m_has_ms) {
-        float pm = ms_probability(wo.z);
-        p = (1.f - pm) * p + pm * cosine_hemisphere_pdf(wi.z);
-    }
+    evaluate(wo, wi, nullptr, &p);
     return p;
 }
 
@@ -530,9 +546,11 @@ std::optional<BSDFSample> MicrofacetReflection::sample_f(const Vec3& wo, float u
         wi = reflect(wo, wm);
     }
     if (!(wi.z > 0.f)) return std::nullopt;
-    float p = pdf(wo, wi);
+    Rgb f_value;
+    float p;
+    evaluate(wo, wi, &f_value, &p);
     if (!(p > 0.f) || !(p < kInfinity)) return std::nullopt;
-    return BSDFSample{f(wo, wi), wi, p, BxDFFlags::Glossy};
+    return BSDFSample{f_value, wi, p, BxDFFlags::Glossy};
 }
 
 }  // namespace facet

@@ -157,6 +157,8 @@ class MicrofacetReflection {
     static constexpr int kTableSize = 32;
 
   private:
+    // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
+    void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(float mu_o) const;
 
