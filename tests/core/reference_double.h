@@ -110,7 +110,7 @@ inline double student_lambda(double nu, double mu) {
         return dd * std::exp(-p * std::log1p((2.0 * mu * dd + dd * dd) / (1.0 + mu2)));
     };
     double integral = boost::math::quadrature::gauss_kronrod<double, 61>::integrate(
-                          g, 0.0, std::numeric_limits<double>::infinity(), 20, 1e-12) *
+                          g, 0.0, std::numeric_limits<double>::infinity(), 15, 1e-10) *
                       h;
     double log_front = log_c - p * std::log1p(mu2);
     return std::exp(log_front) * integral / mu;
