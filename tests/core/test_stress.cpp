@@ -218,7 +218,7 @@ constexpr double kCondFactor = 16.0;
 constexpr double kWellConditioned = 1e-6;
 
 bool comparable(double v) {
-    return std::isfinite(v) && v >= 1e-30 && v <= 1e30;
+    return std::isfinite(v) && v >= 1e-20 && v <= 1e20;
 }
 
 // Compares one float value with its oracle; `exact(wo, wi)` re-evaluates the oracle.
