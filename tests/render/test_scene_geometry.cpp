@@ -591,3 +591,22 @@ TEST(Geometry, EmptySceneHitsNothing) {
     EXPECT_EQ(s.lights().size(), 0u);
     EXPECT_EQ(s.environment(), nullptr);
 }
+
+// A point on (or rounded to just outside) an emitting sphere gets no light from that sphere: a
+// convex emitter cannot light itself. Without the guard, the sample lands at distance ~0, no
+// shadow ray can block it, and the sphere glows from the back (a bias seen as a furnace error).
+TEST(Lights, EmittingSphereDoesNotLightItself) {
+    Light l = Light::area_sphere({0, 0, 0}, 1.f, Rgb(1.f), 0);
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    int lit = 0;
+    for (int i = 0; i < 1000; ++i) {
+        Vec3 n = random_unit(rng);
+        Vec3 p = n * (1.f + 2e-7f * float(i % 5));  // on the surface, up to a few ulps outside
+        if (l.sample_li({p, n}, {u(rng), u(rng)})) ++lit;
+        EXPECT_EQ(l.pdf_li({p, n}, -n, -n, n), 0.f);
+    }
+    EXPECT_EQ(lit, 0);
+    // A point a little way off still sees it.
+    EXPECT_TRUE(l.sample_li({{0.f, 0.f, 1.01f}, {0.f, 0.f, 1.f}}, {0.5f, 0.5f}).has_value());
+}

@@ -28,6 +28,13 @@ float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
+// A point closer than 1e-4 r to an emitting sphere counts as on it. A convex emitter cannot
+// light its own surface, but a hit point rounded to just outside the sphere would otherwise see
+// a near-hemispherical cone whose samples land at distance ~0 (no shadow ray can block them).
+// The excluded shell is 1e-4 r thick: far above float round-off (~1e-7 r), and the light it
+// would receive is at grazing angles over a cap of that size.
+constexpr double kSphereOutside2 = (1.0 + 1e-4) * (1.0 + 1e-4);
+
 // 1 - cos(theta_max) of the cone subtended by a sphere seen at distance^2 dc2 > r^2, written
 // as sin^2 / (1 + cos) so that tiny (distant) spheres lose no precision to cancellation.
 double sphere_cone_one_minus_cos(double dc2, double r2) {
@@ -236,7 +243,7 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
             glm::dvec3 to_c = c - p;
             double dc2 = glm::dot(to_c, to_c);
             double r2 = double(m_radius) * double(m_radius);
-            if (!(dc2 > r2)) return std::nullopt;  // inside: the one-sided emitter is unseen
+            if (!(dc2 > r2 * kSphereOutside2)) return std::nullopt;  // inside or on it: unseen
             double dc = std::sqrt(dc2);
             double omc = sphere_cone_one_minus_cos(dc2, r2);
             double one_minus_cos = double(u.x) * omc;
@@ -300,7 +307,7 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
         glm::dvec3 to_c = glm::dvec3(m_position) - glm::dvec3(ctx.p);
         double dc2 = glm::dot(to_c, to_c);
         double r2 = double(m_radius) * double(m_radius);
-        if (!(dc2 > r2)) return 0.f;
+        if (!(dc2 > r2 * kSphereOutside2)) return 0.f;
         return float(1.0 / (2.0 * kPiD * sphere_cone_one_minus_cos(dc2, r2)));
     }
     if (!(m_area > 0.f)) return 0.f;
