@@ -610,3 +610,22 @@ TEST(Lights, EmittingSphereDoesNotLightItself) {
     // A point a little way off still sees it.
     EXPECT_TRUE(l.sample_li({{0.f, 0.f, 1.01f}, {0.f, 0.f, 1.f}}, {0.5f, 0.5f}).has_value());
 }
+
+// The benchmark peer (bare Embree calls) sees the same geometry as Scene::intersect/occluded.
+TEST(Geometry, TraceRawAgreesWithIntersect) {
+    Scene s = load_scene_from_string(
+        wrap(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"},
+                 {"type": "box", "min": [2, -1, -1], "max": [3, 1, 1], "material": "white"}])"),
+        "t.json");
+    std::mt19937 rng(9);
+    std::vector<Ray> rays(4000);
+    std::uint64_t hits = 0;
+    for (Ray& r : rays) {
+        r = {Vec3(1.f, 0.f, 6.f) + random_unit(rng), random_unit(rng), kInfinity};
+        SurfaceHit h;
+        hits += s.intersect(r, h);
+    }
+    EXPECT_GT(hits, 0u);
+    EXPECT_EQ(s.trace_raw(rays, false), hits);
+    EXPECT_EQ(s.trace_raw(rays, true), hits);  // tmax = inf: occluded iff something is hit
+}
