@@ -218,6 +218,7 @@ TEST(Chi2Power, RejectsTiltedLambertPdf) {
     for (float tilt : {0.1f, 0.05f}) {
         test::TiltedPdf<LambertReflection> wrong{lambert, tilt};
         Chi2Result r = test::chi2_sampling_test(wrong, wo_at(30.0, 90.0));
+        std::printf("  tilt %.2f: %s\n", tilt, r.describe().c_str());
         SCOPED_TRACE(r.describe());
         EXPECT_NEAR(r.pdf_integral, 1.0, 1e-6);
         EXPECT_LT(r.chi2.p_value, alpha) << "tilt " << tilt;
