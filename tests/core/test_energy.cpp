@@ -9,7 +9,7 @@
 // w = f cos / q, and each u-integral is an n x n Gauss-Legendre product rule over [0,1)^2. The
 // weight w is bounded (<= 2 f cos / p_ref ~ 2 F G / G1) but discontinuous in u where samples
 // leave the hemisphere. The difference between the n = 32 and n = 64 results is the stated
-// error estimate. Where it is < 2e-3 we require rho_128 <= 1 + 2e-3; where the rule has not
+// error estimate. Where it is < 2e-3 we require rho_64 <= 1 + 2e-3; where the rule has not
 // converged (sharp lobes at grazing incidence), we fall back to Monte Carlo with the model's
 // own sampler (5e4 samples) and require mean - 5 standard errors <= 1 + 2e-3.
 // Lobes with Kulla-Conty compensation get 5e-3 instead of 2e-3: their extra lobe is built from
