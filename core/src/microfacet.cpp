@@ -43,9 +43,11 @@ constexpr double kBeckmannMaxSlope = 9.0;
 constexpr double kBeckmannSlopeTolerance = 1e-10;
 constexpr int kBeckmannMaxIterations = 60;
 
-// Compensation is skipped when the lobe misses less energy than this: f_ms would be < 1e-5 of
-// f and 1 / (1 - E_avg) would amplify the table's quadrature error.
-constexpr float kMinMissingEnergy = 1e-5f;
+// Compensation is skipped when the lobe misses less energy than this on average: the table's
+// quadrature error (1e-5 .. 1e-3, worst at grazing mu) would then be of the order of what f_ms
+// restores, and 1 / (1 - E_avg) amplifies it (measured: a compensated Blinn kappa = 1e7 lobe,
+// which loses ~1e-3, reflected 1.02 at 89.9 deg with a 1e-5 threshold).
+constexpr float kMinMissingEnergy = 2e-3f;
 
 Vec3 normalize_or_normal(double x, double y, double z) {
     double len2 = x * x + y * y + z * z;
@@ -320,7 +322,6 @@ Vec3 MicrofacetDistribution::sample_d_cos(Vec2 u) const {
 namespace {
 
 constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per slope dimension
-constexpr int kAlbedoPhiNodes = 3;      // azimuth nodes over [0, pi/2] when anisotropic
 constexpr float kAlbedoMinMu = 1e-4f;   // mu where the first node (mu = 0) is evaluated
 constexpr int kBlinnLambdaTable = 512;  // G1 table nodes for the Blinn albedo quadrature
 
@@ -353,6 +354,50 @@ struct BlinnG1Table {
 
 }  // namespace
 
+namespace {
+// E(wo) for an anisotropic lobe, integrated in *unstretched* slope space, where the slope
+// density is isotropic with unit scale and so is resolved by a fixed Gauss-Legendre grid
+// whatever the anisotropy ratio (in the stretched frame a 1e-4 x 1 lobe is a thin diagonal
+// ridge that no tensor grid resolves). Unstretched slopes (xt, yt) map to slopes
+// (ax xt, ay yt); the kink line of ( )+, x' = cot_o with x' the slope along wo's azimuth, is
+// xt . n = cot_o with n = (ax cos phi, ay sin phi): rotate (xt, yt) onto n / |n| and integrate
+// x'' in (-inf, cot_o / |n|] and y'' over R, both through tan maps. The wi horizon is a mild
+// kink here (G -> 0 continuously there).
+template <class Lambda>
+float anisotropic_albedo(const Vec3& wo, float lam_o, double ax, double ay, double cp, double sp,
+                         const QuadratureRule& gu, const Lambda& lambda,
+                         const MicrofacetDistribution& dist) {
+    double mu_o = wo.z, sin_o = std::sqrt(std::fmax(0.0, 1.0 - mu_o * mu_o));
+    double nx = ax * cp, ny = ay * sp, s = std::sqrt(nx * nx + ny * ny);
+    double e1x = nx / s, e1y = ny / s, e2x = -e1y, e2y = e1x;
+    double a_lo = -kPiD / 2.0, a_hi = std::atan(mu_o / std::fmax(sin_o, 1e-300) / s);
+    double b_lo = -kPiD / 2.0, b_hi = kPiD / 2.0;
+    double e = 0.0;
+    for (size_t i = 0; i < gu.nodes.size(); ++i) {
+        double ang_a = a_lo + (a_hi - a_lo) * gu.nodes[i];
+        double ca = std::cos(ang_a), xr = std::tan(ang_a);
+        double wa = gu.weights[i] * (a_hi - a_lo) / (ca * ca);
+        double proj = mu_o - s * xr * sin_o;
+        if (!(proj > 0.0)) continue;
+        for (size_t j = 0; j < gu.nodes.size(); ++j) {
+            double ang_b = b_lo + (b_hi - b_lo) * gu.nodes[j];
+            double cb = std::cos(ang_b), yr = std::tan(ang_b);
+            double wb = gu.weights[j] * (b_hi - b_lo) / (cb * cb);
+            double x = ax * (xr * e1x + yr * e2x), y = ay * (xr * e1y + yr * e2y);
+            double n2 = 1.0 + x * x + y * y;
+            Vec3 wm = glm::normalize(Vec3(float(-x), float(-y), 1.f));
+            double p22 = double(dist.D(wm)) / (n2 * n2) * ax * ay;  // dx dy = ax ay dxt dyt
+            if (!(p22 > 0.0)) continue;
+            Vec3 wi = reflect(wo, wm);
+            if (!(wi.z > 0.f)) continue;
+            double g = 1.0 / (1.0 + double(lam_o) + double(lambda(wi)));
+            e += wa * wb * p22 * proj * g;
+        }
+    }
+    return float(std::fmin(std::fmax(e / mu_o, 0.0), 1.0));
+}
+}  // namespace
+
 MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel,
                                            const Rgb& scale, bool energy_compensation)
     : m_distribution(d),
@@ -361,6 +406,7 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
       m_energy_compensation(energy_compensation),
       m_smooth(d.effectively_smooth()) {
     m_e.fill(1.f);
+    m_phi_count = 1;
     if (!m_energy_compensation || m_smooth) return;
 
     // E(mu_o) = int f_{F=1} cos_i dwi. Through the half vector (dwi = 4 <wo, m> dm) and the
@@ -385,18 +431,25 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     double ax = s_blinn * dist.alpha_x(), ay = s_blinn * dist.alpha_y();
 
     const QuadratureRule& gu = gauss_legendre(kAlbedoGrid);
-    bool aniso = dist.alpha_x() != dist.alpha_y();
-    const QuadratureRule& gphi = gauss_legendre(aniso ? kAlbedoPhiNodes : 1);
+    // Anisotropic lobes: E depends on phi_o too, and a phi-averaged E lets f_ms create energy
+    // where the true E exceeds the average (measured: rho 1.86 for GGX 1e-4 x 1 at 89 deg).
+    // So E is tabulated over (sqrt(mu), phi) on [0, pi/2] (the models are symmetric under
+    // x -> -x and y -> -y) and interpolated bilinearly.
+    m_phi_count = dist.alpha_x() != dist.alpha_y() ? kPhiTableSize : 1;
     for (int k = 0; k < kTableSize; ++k) {
         double s_k = double(k) / (kTableSize - 1);  // nodes uniform in sqrt(mu)
         double mu_o = std::fmax(s_k * s_k, double(kAlbedoMinMu));
         double sin_o = std::sqrt(std::fmax(0.0, 1.0 - mu_o * mu_o));
-        double e = 0.0;
-        for (size_t p = 0; p < gphi.nodes.size(); ++p) {
-            double phi = aniso ? gphi.nodes[p] * kPiD / 2.0 : 0.0;
+        for (int p = 0; p < m_phi_count; ++p) {
+            double phi = m_phi_count > 1 ? double(p) / (m_phi_count - 1) * kPiD / 2.0 : 0.0;
             double cp = std::cos(phi), sp = std::sin(phi);
             Vec3 wo(float(sin_o * cp), float(sin_o * sp), float(mu_o));
             float lam_o = lambda(wo);
+            if (m_phi_count > 1) {
+                m_e[size_t(p) * kTableSize + k] =
+                    anisotropic_albedo(wo, lam_o, ax, ay, cp, sp, gu, lambda, dist);
+                continue;
+            }
             // Slope scales along and across the azimuth phi.
             double sx = std::sqrt(sqr(ax * cp) + sqr(ay * sp));
             double sy = std::sqrt(sqr(ax * sp) + sqr(ay * cp));
@@ -432,19 +485,26 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
                 }
             }
             ep /= mu_o;
-            e += gphi.weights[p] * ep;
+            m_e[size_t(p) * kTableSize + k] = float(std::fmin(std::fmax(ep, 0.0), 1.0));
         }
-        m_e[k] = float(std::fmin(std::fmax(e, 0.0), 1.0));
     }
     // E_avg = 2 int E(mu) mu dmu of the table's interpolant, exactly (so that f_ms integrates
     // to exactly (1 - E(mu_o)) F_ms): with s = sqrt(mu), E = A + B s on each interval and
     // 2 int E mu dmu = 4 int (A s^3 + B s^4) ds.
+    // Over phi the interpolant is piecewise linear, so its phi-average is the trapezoid rule on
+    // the phi nodes, exactly.
     double h = 1.0 / (kTableSize - 1), avg = 0.0;
-    for (int k = 0; k + 1 < kTableSize; ++k) {
-        double s0 = k * h, s1 = (k + 1) * h;
-        double b = (double(m_e[k + 1]) - double(m_e[k])) / h, a = double(m_e[k]) - b * s0;
-        avg += a * (std::pow(s1, 4) - std::pow(s0, 4)) / 4.0 +
-               b * (std::pow(s1, 5) - std::pow(s0, 5)) / 5.0;
+    for (int p = 0; p < m_phi_count; ++p) {
+        const float* e = &m_e[size_t(p) * kTableSize];
+        double w_phi = m_phi_count == 1 ? 1.0
+                                        : ((p == 0 || p == m_phi_count - 1) ? 0.5 : 1.0) /
+                                              double(m_phi_count - 1);
+        for (int k = 0; k + 1 < kTableSize; ++k) {
+            double s0 = k * h, s1 = (k + 1) * h;
+            double b = (double(e[k + 1]) - double(e[k])) / h, a = double(e[k]) - b * s0;
+            avg += w_phi * (a * (std::pow(s1, 4) - std::pow(s0, 4)) / 4.0 +
+                            b * (std::pow(s1, 5) - std::pow(s0, 5)) / 5.0);
+        }
     }
     m_e_avg = float(std::fmin(4.0 * avg, 1.0));  // avg = int E(s) s^3 ds
     if (1.f - m_e_avg < kMinMissingEnergy) return;
@@ -458,18 +518,29 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     if (!m_has_ms) m_ms_factor = Rgb(0.f);
 }
 
-float MicrofacetReflection::albedo_table(float mu) const {
+float MicrofacetReflection::albedo_row(int row, float mu) const {
     // Nodes are uniform in sqrt(mu): E(mu) rises steeply near grazing (e.g. GGX alpha = 1:
     // 0.85 at mu = 0.05, 0.993 at mu = 1e-3), where a uniform-in-mu table would be too coarse.
+    const float* e = &m_e[size_t(row) * kTableSize];
     float x = std::sqrt(glm::clamp(mu, 0.f, 1.f)) * (kTableSize - 1);
     int i = std::min(int(x), kTableSize - 2);
     float t = x - float(i);
-    return m_e[i] + t * (m_e[i + 1] - m_e[i]);
+    return e[i] + t * (e[i + 1] - e[i]);
 }
 
-float MicrofacetReflection::ms_probability(float mu_o) const {
+float MicrofacetReflection::albedo_table(const Vec3& w) const {
+    if (m_phi_count == 1) return albedo_row(0, w.z);
+    // Fold phi into [0, pi/2] (symmetry of the anisotropic models) and interpolate linearly.
+    float phi = std::atan2(std::fabs(w.y), std::fabs(w.x));
+    float x = glm::clamp(phi / kPiOver2, 0.f, 1.f) * float(m_phi_count - 1);
+    int j = std::min(int(x), m_phi_count - 2);
+    float t = x - float(j);
+    return (1.f - t) * albedo_row(j, w.z) + t * albedo_row(j + 1, w.z);
+}
+
+float MicrofacetReflection::ms_probability(const Vec3& wo) const {
     if (!m_has_ms) return 0.f;
-    float e = albedo_table(mu_o);
+    float e = albedo_table(wo);
     float ws = e * m_w_ss, wm = (1.f - e) * m_w_ms;
     return ws + wm > 0.f ? wm / (ws + wm) : 0.f;
 }
@@ -499,8 +570,7 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
         // Constant Fresnel stores its value in eta(): skip the evaluation.
         Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
         Rgb result = m_scale * fr * s;
-        if (m_has_ms)
-            result += m_ms_factor * ((1.f - albedo_table(cos_o)) * (1.f - albedo_table(cos_i)));
+        if (m_has_ms) result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
         *f_out = result;
     }
     if (pdf_out) {
@@ -516,7 +586,7 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
             }
         }
         if (m_has_ms) {
-            float pm = ms_probability(cos_o);
+            float pm = ms_probability(wo);
             p = (1.f - pm) * p + pm * cosine_hemisphere_pdf(cos_i);
         }
         *pdf_out = p;
@@ -543,7 +613,7 @@ std::optional<BSDFSample> MicrofacetReflection::sample_f(const Vec3& wo, float u
         return BSDFSample{m_scale * m_fresnel.eval(wo.z) / wo.z, wi, 1.f, BxDFFlags::Specular};
     }
     Vec3 wi;
-    if (m_has_ms && uc < ms_probability(wo.z)) {
+    if (m_has_ms && uc < ms_probability(wo)) {
         wi = sample_cosine_hemisphere(u);
     } else {
         Vec3 wm = m_distribution.sample_wm(wo, u);

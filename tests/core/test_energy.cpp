@@ -180,20 +180,21 @@ void check_energy(const B& b, const std::optional<MicrofacetReflection>& ref, co
             << where << " (MC fallback, quadrature error estimate " << a.error_estimate << ")";
 }
 
-// KNOWN ISSUE (reported): with energy compensation, strongly anisotropic lobes (axis ratio
-// >= 100) and any lobe at grazing incidence (theta >= 89 deg) reflect more than 1: measured
-// rho up to 1.86 (GGX alpha 1e-4 x 1, compensated, theta 89), 1.32 (Beckmann 1e-3 x 10,
-// gold), 1.11 (Blinn 1e4 x 1), and 1.007-1.03 for isotropic lobes at 89.9 deg. The
-// compensation lobe uses a phi-averaged E(mu) table, which for such lobes underestimates the
-// single-scattering albedo in the directions that matter (and the 32-node table misses the
-// drop of E near mu = 0). These corners are checked by the DISABLED_ test below, which fails
-// today; all other corners must pass.
+// KNOWN ISSUE: with energy compensation, lobes of extreme anisotropy (axis ratio >= 1000,
+// e.g. alpha 1e-3 x 10) still reflect slightly more than 1: measured up to 1.021 (Beckmann
+// 1e-3 x 10, theta 0, MC) and 1.0066 (GGX 1e-3 x 10, theta 89), because the (mu, phi) albedo
+// table is bilinear in phi and E varies too fast with phi there. History: with a phi-averaged
+// E(mu) table these corners, all ratios >= 100 and grazing isotropic lobes reached 1.86; the
+// (mu, phi) table integrated in unstretched slope space and the 2e-3 missing-energy threshold
+// brought ratios <= 100 and grazing angles within tolerance (checked by the enabled tests).
+// The remaining corners are checked by the DISABLED_ test below, which fails today.
 bool known_compensation_issue(const test::LobeSpec& spec, double theta_deg) {
     if (!spec.energy_compensation) return false;
     double ratio = std::fmax(spec.ax, spec.ay) / std::fmax(std::fmin(spec.ax, spec.ay), 1e-30f);
     if (spec.dist == ref::Dist::Blinn)
         ratio = std::fmax(spec.ax + 2.f, spec.ay + 2.f) / std::fmin(spec.ax + 2.f, spec.ay + 2.f);
-    return ratio >= 100.0 || theta_deg >= 89.0;
+    (void)theta_deg;
+    return ratio >= 1000.0;
 }
 
 void lobe_corner_energy(bool known_issues_only) {
@@ -224,8 +225,8 @@ TEST(Energy, EveryLobeCornerReflectsAtMostOne) {
     lobe_corner_energy(false);
 }
 
-// See KNOWN ISSUE above: fails today (rho up to 1.86); enable with
-// --gtest_also_run_disabled_tests once the compensation handles anisotropy and grazing angles.
+// See KNOWN ISSUE above: fails today (rho up to 1.021); run with
+// --gtest_also_run_disabled_tests.
 TEST(Energy, DISABLED_CompensatedAnisotropicAndGrazingLobesReflectAtMostOne) {
     lobe_corner_energy(true);
 }

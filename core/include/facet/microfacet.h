@@ -152,24 +152,32 @@ class MicrofacetReflection {
 
     // The tabulated F = 1 single-scattering albedo E(mu) (linear interpolation; 1 when the lobe
     // is smooth, and also 1 when compensation is off, since no table is built then) and E_avg.
-    float albedo_table(float mu) const;
+    // For anisotropic lobes E depends on phi too: albedo_table(w) reads the (mu, phi) table;
+    // albedo_table(mu) is the phi = 0 row.
+    float albedo_table(float mu) const { return albedo_row(0, mu); }
+    float albedo_table(const Vec3& w) const;
     float albedo_average() const { return m_e_avg; }
 
-    static constexpr int kTableSize = 32;
+    static constexpr int kTableSize = 32;    // nodes in sqrt(mu)
+    static constexpr int kPhiTableSize = 9;  // nodes in phi over [0, pi/2], anisotropic only
 
   private:
     // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
     void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
-    float ms_probability(float mu_o) const;
+    float ms_probability(const Vec3& wo) const;
+    float albedo_row(int row, float mu) const;
 
     MicrofacetDistribution m_distribution;
     Fresnel m_fresnel;
     Rgb m_scale;
     bool m_energy_compensation;
     bool m_smooth;
-    bool m_has_ms = false;                // compensation on and the lobe misses some energy
-    std::array<float, kTableSize> m_e{};  // E(mu_k), mu_k = (k / (kTableSize - 1))^2
+    bool m_has_ms = false;  // compensation on and the lobe misses some energy
+    // E(mu_k, phi_j) at m_e[j * kTableSize + k], mu_k = (k / (kTableSize - 1))^2,
+    // phi_j = j / (m_phi_count - 1) * pi / 2.
+    std::array<float, kTableSize * kPhiTableSize> m_e{};
+    int m_phi_count = 1;
     float m_e_avg = 1.f;
     Rgb m_ms_factor{0.f};              // scale * F_ms / (pi (1 - E_avg))
     float m_w_ss = 0.f, m_w_ms = 0.f;  // lum(F_avg), lum(F_ms) for lobe selection
