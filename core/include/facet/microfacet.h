@@ -164,6 +164,7 @@ class MicrofacetReflection {
   private:
     // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
     void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
+    void evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;
