@@ -216,20 +216,7 @@ class Loader {
 
     void check_keys(const json& obj, const std::string& ptr,
                     std::initializer_list<const char*> allowed) const {
-        std::vector<std::string> names(allowed.begin(), allowed.end());
-        for (const auto& [key, value] : obj.items()) {
-            if (std::find(names.begin(), names.end(), key) != names.end()) continue;
-            std::string msg = "unknown key '" + key + "'";
-            std::string guess = closest_name(key, names);
-            if (!guess.empty()) {
-                msg += " (did you mean '" + guess + "'?)";
-            } else {
-                msg += " (expected one of:";
-                for (const auto& n : names) msg += " " + n;
-                msg += ")";
-            }
-            fail(ptr + "/" + escape_pointer_token(key), msg);
-        }
+        check_keys_v(obj, ptr, std::vector<const char*>(allowed));
     }
 
     const json& require(const json& obj, const std::string& ptr, const char* key) const {
@@ -845,7 +832,7 @@ class Loader {
 
     void check_keys_v(const json& obj, const std::string& ptr,
                       const std::vector<const char*>& allowed) const {
-        // Same as check_keys, for a list built at run time.
+        // Unknown keys are errors, with the closest allowed key as a suggestion.
         std::vector<std::string> names(allowed.begin(), allowed.end());
         for (const auto& [key, value] : obj.items()) {
             if (std::find(names.begin(), names.end(), key) != names.end()) continue;
