@@ -38,16 +38,20 @@ constexpr BxDFFlags operator|(BxDFFlags a, BxDFFlags b) {
 constexpr BxDFFlags operator&(BxDFFlags a, BxDFFlags b) {
     return BxDFFlags(std::uint8_t(a) & std::uint8_t(b));
 }
-constexpr bool any(BxDFFlags f) { return std::uint8_t(f) != 0; }
-constexpr bool is_specular(BxDFFlags f) { return any(f & BxDFFlags::Specular); }
+constexpr bool any(BxDFFlags f) {
+    return std::uint8_t(f) != 0;
+}
+constexpr bool is_specular(BxDFFlags f) {
+    return any(f & BxDFFlags::Specular);
+}
 constexpr bool is_non_specular(BxDFFlags f) {
     return any(f & (BxDFFlags::Diffuse | BxDFFlags::Glossy));
 }
 
 struct BSDFSample {
-    Rgb f{0.f};        // BRDF value for (wo, wi), without cosine (see header comment for deltas)
-    Vec3 wi{0.f};      // sampled direction, local frame, pointing away from the surface
-    float pdf = 0.f;   // per unit solid angle; for a Specular sample the discrete probability
+    Rgb f{0.f};       // BRDF value for (wo, wi), without cosine (see header comment for deltas)
+    Vec3 wi{0.f};     // sampled direction, local frame, pointing away from the surface
+    float pdf = 0.f;  // per unit solid angle; for a Specular sample the discrete probability
     BxDFFlags flags = BxDFFlags::None;  // the lobe that produced the sample
 
     bool is_specular() const { return facet::is_specular(flags); }

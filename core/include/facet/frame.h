@@ -12,13 +12,25 @@
 
 namespace facet {
 
-inline float cos_theta(const Vec3& w) { return w.z; }
-inline float cos2_theta(const Vec3& w) { return w.z * w.z; }
-inline float abs_cos_theta(const Vec3& w) { return std::fabs(w.z); }
+inline float cos_theta(const Vec3& w) {
+    return w.z;
+}
+inline float cos2_theta(const Vec3& w) {
+    return w.z * w.z;
+}
+inline float abs_cos_theta(const Vec3& w) {
+    return std::fabs(w.z);
+}
 // sin^2 from the tangential components: no 1 - cos^2 cancellation near the normal.
-inline float sin2_theta(const Vec3& w) { return w.x * w.x + w.y * w.y; }
-inline float sin_theta(const Vec3& w) { return std::sqrt(sin2_theta(w)); }
-inline float tan2_theta(const Vec3& w) { return sin2_theta(w) / cos2_theta(w); }
+inline float sin2_theta(const Vec3& w) {
+    return w.x * w.x + w.y * w.y;
+}
+inline float sin_theta(const Vec3& w) {
+    return std::sqrt(sin2_theta(w));
+}
+inline float tan2_theta(const Vec3& w) {
+    return sin2_theta(w) / cos2_theta(w);
+}
 
 // cos/sin of phi; at the pole (sin theta = 0) phi is undefined and we return phi = 0.
 inline float cos_phi(const Vec3& w) {
@@ -30,10 +42,14 @@ inline float sin_phi(const Vec3& w) {
     return s == 0.f ? 0.f : glm::clamp(w.y / s, -1.f, 1.f);
 }
 
-inline bool same_hemisphere(const Vec3& a, const Vec3& b) { return a.z * b.z > 0.f; }
+inline bool same_hemisphere(const Vec3& a, const Vec3& b) {
+    return a.z * b.z > 0.f;
+}
 
 // Mirror direction of w about n (Cohen & Wallace eq. 2.27): both point away from the surface.
-inline Vec3 reflect(const Vec3& w, const Vec3& n) { return -w + 2.f * glm::dot(w, n) * n; }
+inline Vec3 reflect(const Vec3& w, const Vec3& n) {
+    return -w + 2.f * glm::dot(w, n) * n;
+}
 
 // Unit direction from spherical angles (radians) in the local frame.
 inline Vec3 spherical_direction(float theta, float phi) {

@@ -15,7 +15,7 @@
 namespace facet {
 
 class Fresnel {
-public:
+  public:
     enum class Kind : std::uint8_t { Constant, Dielectric, Conductor, Schlick };
 
     static Fresnel constant(const Rgb& value) { return Fresnel(Kind::Constant, value, Rgb(0.f)); }
@@ -37,7 +37,7 @@ public:
     const Rgb& eta() const { return m_a; }
     const Rgb& k() const { return m_b; }
 
-private:
+  private:
     Fresnel(Kind kind, const Rgb& a, const Rgb& b) : m_kind(kind), m_a(a), m_b(b) {}
     Kind m_kind;
     Rgb m_a;  // Constant: value; Dielectric: eta (all channels); Conductor: eta; Schlick: F0

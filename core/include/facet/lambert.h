@@ -12,7 +12,7 @@
 namespace facet {
 
 class LambertReflection {
-public:
+  public:
     // rho: directional-hemispherical reflectance per channel, in [0, 1] (validated by the
     // registry, not here).
     explicit LambertReflection(const Rgb& rho) : m_rho(rho) {}
@@ -33,7 +33,7 @@ public:
     BxDFFlags flags() const { return BxDFFlags::Diffuse; }
     const Rgb& rho() const { return m_rho; }
 
-private:
+  private:
     Rgb m_rho;
 };
 

@@ -14,8 +14,9 @@
 namespace facet {
 
 class MirrorReflection {
-public:
-    MirrorReflection(const Fresnel& fresnel, const Rgb& scale) : m_fresnel(fresnel), m_scale(scale) {}
+  public:
+    MirrorReflection(const Fresnel& fresnel, const Rgb& scale)
+        : m_fresnel(fresnel), m_scale(scale) {}
 
     Rgb f(const Vec3&, const Vec3&) const { return Rgb(0.f); }
     float pdf(const Vec3&, const Vec3&) const { return 0.f; }
@@ -30,7 +31,7 @@ public:
     const Fresnel& fresnel() const { return m_fresnel; }
     const Rgb& scale() const { return m_scale; }
 
-private:
+  private:
     Fresnel m_fresnel;
     Rgb m_scale;
 };

@@ -24,23 +24,23 @@ namespace facet {
 using ParamValue = std::variant<double, Rgb, std::string, bool>;
 
 class ParamError : public std::runtime_error {
-public:
+  public:
     ParamError(std::string param, const std::string& message)
         : std::runtime_error(message), m_param(std::move(param)) {}
     // The offending parameter's name ("" for the model name itself).
     const std::string& param() const { return m_param; }
 
-private:
+  private:
     std::string m_param;
 };
 
 class ParamSet {
-public:
+  public:
     void set(const std::string& name, ParamValue value) { m_values[name] = std::move(value); }
     bool has(const std::string& name) const { return m_values.count(name) != 0; }
     const std::map<std::string, ParamValue>& values() const { return m_values; }
 
-private:
+  private:
     std::map<std::string, ParamValue> m_values;
 };
 

@@ -30,7 +30,9 @@ inline Vec3 sample_cosine_hemisphere(Vec2 u) {
     float z = std::sqrt(std::fmax(0.f, 1.f - d.x * d.x - d.y * d.y));
     return {d.x, d.y, z};
 }
-inline float cosine_hemisphere_pdf(float cos_theta) { return std::fmax(cos_theta, 0.f) * kInvPi; }
+inline float cosine_hemisphere_pdf(float cos_theta) {
+    return std::fmax(cos_theta, 0.f) * kInvPi;
+}
 
 inline Vec3 sample_uniform_sphere(Vec2 u) {
     float z = 1.f - 2.f * u.x;
@@ -38,7 +40,9 @@ inline Vec3 sample_uniform_sphere(Vec2 u) {
     float phi = 2.f * kPi * u.y;
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
-inline constexpr float uniform_sphere_pdf() { return kInv4Pi; }
+inline constexpr float uniform_sphere_pdf() {
+    return kInv4Pi;
+}
 
 inline Vec3 sample_uniform_hemisphere(Vec2 u) {
     float z = u.x;
@@ -46,7 +50,9 @@ inline Vec3 sample_uniform_hemisphere(Vec2 u) {
     float phi = 2.f * kPi * u.y;
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
-inline constexpr float uniform_hemisphere_pdf() { return kInv2Pi; }
+inline constexpr float uniform_hemisphere_pdf() {
+    return kInv2Pi;
+}
 
 // Uniform direction inside a cone of half-angle with cosine cos_max around +z.
 inline Vec3 sample_uniform_cone(Vec2 u, float cos_max) {
@@ -55,7 +61,9 @@ inline Vec3 sample_uniform_cone(Vec2 u, float cos_max) {
     float phi = 2.f * kPi * u.y;
     return {r * std::cos(phi), r * std::sin(phi), z};
 }
-inline float uniform_cone_pdf(float cos_max) { return 1.f / (2.f * kPi * (1.f - cos_max)); }
+inline float uniform_cone_pdf(float cos_max) {
+    return 1.f / (2.f * kPi * (1.f - cos_max));
+}
 
 // Uniform point on a triangle, as barycentrics (b0, b1); b2 = 1 - b0 - b1 (Heitz 2019 warp,
 // low distortion so stratification survives).

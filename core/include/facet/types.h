@@ -32,19 +32,31 @@ inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 inline constexpr float kOneMinusEpsilon = 0x1.fffffep-1f;
 
 // Rec. 709 luminance, used to turn RGB albedos into scalar lobe-selection weights.
-inline float luminance(const Rgb& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(const Rgb& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
-inline float max_component(const Rgb& c) { return std::fmax(c.r, std::fmax(c.g, c.b)); }
+inline float max_component(const Rgb& c) {
+    return std::fmax(c.r, std::fmax(c.g, c.b));
+}
 
 inline bool is_finite(const Rgb& c) {
     return std::isfinite(c.r) && std::isfinite(c.g) && std::isfinite(c.b);
 }
 
-inline float sqr(float x) { return x * x; }
-inline double sqr(double x) { return x * x; }
+inline float sqr(float x) {
+    return x * x;
+}
+inline double sqr(double x) {
+    return x * x;
+}
 
 // sqrt that clamps tiny negative round-off to 0 instead of returning NaN.
-inline float safe_sqrt(float x) { return std::sqrt(std::fmax(0.f, x)); }
-inline double safe_sqrt(double x) { return std::sqrt(std::fmax(0.0, x)); }
+inline float safe_sqrt(float x) {
+    return std::sqrt(std::fmax(0.f, x));
+}
+inline double safe_sqrt(double x) {
+    return std::sqrt(std::fmax(0.0, x));
+}
 
 }  // namespace facet

@@ -16,9 +16,10 @@
 namespace facet::render {
 
 class Image {
-public:
+  public:
     Image() = default;
-    Image(int width, int height) : m_width(width), m_height(height), m_pixels(size_t(width) * height) {}
+    Image(int width, int height)
+        : m_width(width), m_height(height), m_pixels(size_t(width) * height) {}
 
     int width() const { return m_width; }
     int height() const { return m_height; }
@@ -27,7 +28,7 @@ public:
     std::vector<Rgb>& pixels() { return m_pixels; }
     const std::vector<Rgb>& pixels() const { return m_pixels; }
 
-private:
+  private:
     int m_width = 0, m_height = 0;
     std::vector<Rgb> m_pixels;
 };
@@ -37,7 +38,7 @@ void write_image(const Image& image, const std::string& path);
 // Reads ".exr" or ".png" (see conventions). Throws on a missing or malformed file.
 Image read_image(const std::string& path);
 
-float srgb_encode(float linear);  // linear [0,1] -> sRGB-encoded [0,1]
-float srgb_decode(float encoded); // sRGB-encoded [0,1] -> linear
+float srgb_encode(float linear);   // linear [0,1] -> sRGB-encoded [0,1]
+float srgb_decode(float encoded);  // sRGB-encoded [0,1] -> linear
 
 }  // namespace facet::render
