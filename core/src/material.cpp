@@ -61,7 +61,7 @@ Material::Material(std::optional<LambertReflection> diffuse,
 
 Rgb Material::glossy_albedo(float mu) const {
     if (!m_has_table) return Rgb(0.f);
-    float x = glm::clamp(mu, 0.f, 1.f) * float(kTableSize - 1);
+    float x = clamp_unit(mu) * float(kTableSize - 1);
     int k = std::min(int(x), kTableSize - 2);
     float t = x - float(k);
     return m_eg[k] * (1.f - t) + m_eg[k + 1] * t;

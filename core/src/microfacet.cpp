@@ -522,7 +522,7 @@ float MicrofacetReflection::albedo_row(int row, float mu) const {
     // Nodes are uniform in sqrt(mu): E(mu) rises steeply near grazing (e.g. GGX alpha = 1:
     // 0.85 at mu = 0.05, 0.993 at mu = 1e-3), where a uniform-in-mu table would be too coarse.
     const float* e = &m_e[size_t(row) * kTableSize];
-    float x = std::sqrt(glm::clamp(mu, 0.f, 1.f)) * (kTableSize - 1);
+    float x = std::sqrt(clamp_unit(mu)) * (kTableSize - 1);
     int i = std::min(int(x), kTableSize - 2);
     float t = x - float(i);
     return e[i] + t * (e[i + 1] - e[i]);
@@ -532,7 +532,7 @@ float MicrofacetReflection::albedo_table(const Vec3& w) const {
     if (m_phi_count == 1) return albedo_row(0, w.z);
     // Fold phi into [0, pi/2] (symmetry of the anisotropic models) and interpolate linearly.
     float phi = std::atan2(std::fabs(w.y), std::fabs(w.x));
-    float x = glm::clamp(phi / kPiOver2, 0.f, 1.f) * float(m_phi_count - 1);
+    float x = clamp_unit(phi / kPiOver2) * float(m_phi_count - 1);
     int j = std::min(int(x), m_phi_count - 2);
     float t = x - float(j);
     return (1.f - t) * albedo_row(j, w.z) + t * albedo_row(j + 1, w.z);

@@ -51,6 +51,12 @@ inline double sqr(double x) {
     return x * x;
 }
 
+// Clamp to [0, 1] mapping NaN to 0: safe to turn into a table index (std::clamp and
+// glm::clamp pass NaN through, and int(NaN) is undefined behaviour).
+inline float clamp_unit(float x) {
+    return x > 0.f ? (x < 1.f ? x : 1.f) : 0.f;
+}
+
 // sqrt that clamps tiny negative round-off to 0 instead of returning NaN.
 inline float safe_sqrt(float x) {
     return std::sqrt(std::fmax(0.f, x));
