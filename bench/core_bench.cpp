@@ -17,6 +17,7 @@
 
 #include "facet/lambert.h"
 #include "facet/microfacet.h"
+#include "facet/microfacet_batch.h"
 #include "facet/mirror.h"
 #include "facet/registry.h"
 
@@ -217,17 +218,81 @@ void peer_ggx_batch(const float* __restrict ox, const float* __restrict oy,
     }
 }
 
-void BM_f_peer_ggx_batched(benchmark::State& state) {
+// The same peer loop compiled for AVX2 too (the loader picks the AVX2 copy where the CPU has
+// it), because Facet's own batched kernel is built that way: like for like.
+#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
+__attribute__((target_clones("avx2", "default")))
+#endif
+void peer_ggx_batch_avx2(const float* __restrict ox, const float* __restrict oy,
+                         const float* __restrict oz, const float* __restrict ix,
+                         const float* __restrict iy, const float* __restrict iz, float alpha,
+                         const Rgb& f0, float* __restrict r, float* __restrict g,
+                         float* __restrict b, int n) {
+    const float a2 = alpha * alpha, f0r = f0.r, f0g = f0.g, f0b = f0.b;
+    for (int i = 0; i < n; ++i) {
+        float hx = ox[i] + ix[i], hy = oy[i] + iy[i], hz = oz[i] + iz[i];
+        float inv = 1.f / std::sqrt(hx * hx + hy * hy + hz * hz);
+        hx *= inv, hy *= inv, hz *= inv;
+        float d = hz * hz * (a2 - 1.f) + 1.f;
+        float D = a2 / (kPi * d * d);
+        float co = oz[i], ci = iz[i];
+        float g1o = 2.f * co / (co + std::sqrt(a2 + (1.f - a2) * co * co));
+        float g1i = 2.f * ci / (ci + std::sqrt(a2 + (1.f - a2) * ci * ci));
+        float m = 1.f - (ox[i] * hx + oy[i] * hy + oz[i] * hz);
+        float m5 = m * m * m * m * m;
+        float k = D * g1o * g1i / (4.f * co * ci);
+        r[i] = (f0r + (1.f - f0r) * m5) * k;
+        g[i] = (f0g + (1.f - f0g) * m5) * k;
+        b[i] = (f0b + (1.f - f0b) * m5) * k;
+    }
+}
+
+template <auto Kernel>
+void run_peer_batched(benchmark::State& state) {
     Soa& s = const_cast<Soa&>(soa());
     for (auto _ : state) {
-        peer_ggx_batch(s.ox.data(), s.oy.data(), s.oz.data(), s.ix.data(), s.iy.data(), s.iz.data(),
-                       0.3f, kF0, s.r.data(), s.g.data(), s.b.data(), kN);
+        Kernel(s.ox.data(), s.oy.data(), s.oz.data(), s.ix.data(), s.iy.data(), s.iz.data(), 0.3f,
+               kF0, s.r.data(), s.g.data(), s.b.data(), kN);
         benchmark::DoNotOptimize(s.r.data());
         benchmark::ClobberMemory();
     }
     set_ns_per_call(state);
 }
+void BM_f_peer_ggx_batched(benchmark::State& state) {
+    run_peer_batched<peer_ggx_batch>(state);
+}
 BENCHMARK(BM_f_peer_ggx_batched);
+void BM_f_peer_ggx_batched_avx2(benchmark::State& state) {
+    run_peer_batched<peer_ggx_batch_avx2>(state);
+}
+BENCHMARK(BM_f_peer_ggx_batched_avx2);
+
+// Facet's batched API (facet/microfacet_batch.h): the full model (exact height-correlated
+// Smith G, Schlick F, RGB scale), vectorised, on the same SoA queries.
+void BM_f_ggx_batched(benchmark::State& state) {
+    static const MicrofacetBatch batch(ggx_lobe(0.3f, 0.3f));
+    Soa& s = const_cast<Soa&>(soa());
+    for (auto _ : state) {
+        batch.f(kN, {s.ox.data(), s.oy.data(), s.oz.data()},
+                {s.ix.data(), s.iy.data(), s.iz.data()}, {s.r.data(), s.g.data(), s.b.data()});
+        benchmark::DoNotOptimize(s.r.data());
+        benchmark::ClobberMemory();
+    }
+    set_ns_per_call(state);
+}
+BENCHMARK(BM_f_ggx_batched);
+void BM_pdf_ggx_batched(benchmark::State& state) {
+    static const MicrofacetBatch batch(ggx_lobe(0.3f, 0.3f));
+    Soa& s = const_cast<Soa&>(soa());
+    for (auto _ : state) {
+        batch.pdf(kN, {s.ox.data(), s.oy.data(), s.oz.data()},
+                  {s.ix.data(), s.iy.data(), s.iz.data()}, s.r.data());
+        benchmark::DoNotOptimize(s.r.data());
+        benchmark::ClobberMemory();
+    }
+    set_ns_per_call(state);
+}
+BENCHMARK(BM_pdf_ggx_batched);
 
 // The full model in a batch loop over the same queries (scalar inside: f() is out of line),
 // for a like-for-like comparison with the batched peer.

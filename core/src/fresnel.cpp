@@ -1,23 +1,40 @@
 #include "facet/fresnel.h"
 
-#include <complex>
-
 #include "facet/quadrature.h"
 
 namespace facet {
 
 namespace {
-// Exact unpolarised Fresnel reflectance for a complex relative IOR (Born & Wolf; pbrt-v4
-// FrComplex has the same form). Double precision: for eta -> 1 both amplitudes are differences
-// of nearly equal numbers, and float loses the few-1e-4 reflectance entirely.
-double fresnel_complex(double cos_i, std::complex<double> eta) {
-    cos_i = std::clamp(cos_i, 0.0, 1.0);
-    double sin2_i = 1.0 - cos_i * cos_i;
-    std::complex<double> sin2_t = sin2_i / (eta * eta);
-    std::complex<double> cos_t = std::sqrt(1.0 - sin2_t);
-    std::complex<double> r_parl = (eta * cos_i - cos_t) / (eta * cos_i + cos_t);
-    std::complex<double> r_perp = (cos_i - eta * cos_t) / (cos_i + eta * cos_t);
-    return 0.5 * (std::norm(r_parl) + std::norm(r_perp));
+// Exact unpolarised Fresnel reflectance for a complex relative IOR eta + i k (Born & Wolf), in
+// real double arithmetic (std::complex division guards inf/NaN cases and costs ~4x more).
+// With s2 = sin^2, x = eta^2 - k^2 - s2 and t = |(eta + i k)^2 - s2| = sqrt(x^2 + 4 eta^2 k^2),
+// the complex cosine-like term a + i b = sqrt((eta + i k)^2 - s2) has
+//     a = sqrt((t + x) / 2),  b = sqrt((t - x) / 2),  a b = eta k,
+// and (Lagarde 2013, "Memo on Fresnel equations", rearranged as sums of squares)
+//     R_s = ((a - c)^2 + b^2) / ((a + c)^2 + b^2),
+//     R_p = R_s ((a c - s2)^2 + (b c)^2) / ((a c + s2)^2 + (b c)^2).
+// Each of a, b is computed from the sum without cancellation and the other from a b = eta k, so
+// the eta -> 1, k -> 0 limit (reflectance ~1e-8) keeps its relative precision. Double
+// precision throughout: in float the few-1e-4 reflectance near eta = 1 would be lost.
+double fresnel_complex(double c, double eta, double k) {
+    c = std::clamp(c, 0.0, 1.0);
+    double s2 = 1.0 - c * c;
+    double x = eta * eta - k * k - s2;
+    double t = std::sqrt(x * x + 4.0 * eta * eta * k * k);
+    double a, b;
+    if (x >= 0.0) {
+        a = std::sqrt(0.5 * (t + x));
+        b = a > 0.0 ? eta * k / a : 0.0;
+    } else {
+        b = std::sqrt(0.5 * (t - x));
+        a = eta * k / b;  // b > 0 here: t - x >= -2x > 0
+    }
+    double den_s = sqr(a + c) + b * b;
+    if (!(den_s > 0.0)) return 1.0;  // c = 0 with eta + i k = 1: the grazing limit, as dielectric
+    double rs = (sqr(a - c) + b * b) / den_s;
+    double den_p = sqr(a * c + s2) + sqr(b * c);
+    double rp = den_p > 0.0 ? rs * (sqr(a * c - s2) + sqr(b * c)) / den_p : rs;
+    return 0.5 * (rs + rp);
 }
 }  // namespace
 
@@ -33,26 +50,14 @@ float fresnel_dielectric(float cos_i, float eta) {
 }
 
 float fresnel_conductor(float cos_i, float eta, float k) {
-    return float(std::clamp(fresnel_complex(cos_i, {double(eta), double(k)}), 0.0, 1.0));
+    return float(std::clamp(fresnel_complex(cos_i, double(eta), double(k)), 0.0, 1.0));
 }
 
-Rgb Fresnel::eval(float cos_i) const {
+Rgb Fresnel::eval_exact(float cos_i) const {
     cos_i = std::clamp(cos_i, 0.f, 1.f);
-    switch (m_kind) {
-        case Kind::Constant:
-            return m_a;
-        case Kind::Dielectric:
-            return Rgb(fresnel_dielectric(cos_i, m_a.r));
-        case Kind::Conductor:
-            return {fresnel_conductor(cos_i, m_a.r, m_b.r), fresnel_conductor(cos_i, m_a.g, m_b.g),
-                    fresnel_conductor(cos_i, m_a.b, m_b.b)};
-        case Kind::Schlick: {
-            float m = 1.f - cos_i;
-            float m5 = (m * m) * (m * m) * m;
-            return m_a + (Rgb(1.f) - m_a) * m5;
-        }
-    }
-    return Rgb(0.f);
+    if (m_kind == Kind::Dielectric) return Rgb(fresnel_dielectric(cos_i, m_a.r));
+    return {fresnel_conductor(cos_i, m_a.r, m_b.r), fresnel_conductor(cos_i, m_a.g, m_b.g),
+            fresnel_conductor(cos_i, m_a.b, m_b.b)};
 }
 
 Rgb Fresnel::average() const {

@@ -4,7 +4,8 @@
 // data-dependent branches (below-horizon pairs are masked with a select at the end), so the
 // compiler vectorises it. The kernels are compiled twice (target_clones): for the baseline
 // x86-64 ISA and for AVX2; the loader picks the AVX2 copy on machines that have it. This file
-// is built with -fno-math-errno (lets sqrt vectorise; errno is never read) and
+// is built with -fno-math-errno (lets sqrt vectorise; errno is never read), -fno-trapping-math
+// (lets the masked lanes' divisions be computed; FP exceptions are never enabled) and
 // -ffp-contract=off (no FMA: results stay identical to the scalar path). No -ffast-math.
 #include "facet/microfacet_batch.h"
 
@@ -50,7 +51,7 @@ void ggx_f_block(std::size_t n, const float* __restrict ox, const float* __restr
         float s = dd / (2.f * (a_o * cos_i + a_i * cos_o));
         float c = (ox[j] * hx + oy[j] * hy + cos_o * hz) / std::sqrt(len2);
         c = c < 0.f ? 0.f : (1.f < c ? 1.f : c);
-        bool above = cos_o > 0.f && cos_i > 0.f;
+        bool above = (cos_o > 0.f) & (cos_i > 0.f);  // & not &&: no branch, so it vectorises
         // Masked lanes get s = 0 and c = 0 (not NaN from wo = -wi): F stays finite, f = 0.
         s_out[j] = above ? s : 0.f;
         c_out[j] = above ? c : 0.f;
@@ -87,7 +88,7 @@ void ggx_pdf_block(std::size_t n, const float* __restrict ox, const float* __res
         float a_o = std::sqrt(cos_o * cos_o + (k.ax * ox[j]) * (k.ax * ox[j]) +
                               (k.ay * oy[j]) * (k.ay * oy[j]));
         float p = dd / (2.f * (a_o + cos_o));
-        out[j] = cos_o > 0.f && cos_i > 0.f ? p : 0.f;
+        out[j] = (cos_o > 0.f) & (cos_i > 0.f) ? p : 0.f;
     }
 }
 

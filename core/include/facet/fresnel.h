@@ -26,7 +26,16 @@ class Fresnel {
     }
     static Fresnel schlick(const Rgb& f0) { return Fresnel(Kind::Schlick, f0, Rgb(0.f)); }
 
-    Rgb eval(float cos_i) const;
+    // Constant and Schlick are inline (the hot microfacet path); the exact equations are not.
+    Rgb eval(float cos_i) const {
+        if (m_kind == Kind::Schlick) {
+            float m = 1.f - std::clamp(cos_i, 0.f, 1.f);
+            float m5 = (m * m) * (m * m) * m;
+            return m_a + (Rgb(1.f) - m_a) * m5;
+        }
+        if (m_kind == Kind::Constant) return m_a;
+        return eval_exact(cos_i);
+    }
     Kind kind() const { return m_kind; }
     // True when F does not depend on the angle (Constant); lets models skip the evaluation.
     bool is_constant() const { return m_kind == Kind::Constant; }
@@ -38,6 +47,7 @@ class Fresnel {
     const Rgb& k() const { return m_b; }
 
   private:
+    Rgb eval_exact(float cos_i) const;  // Dielectric and Conductor
     Fresnel(Kind kind, const Rgb& a, const Rgb& b) : m_kind(kind), m_a(a), m_b(b) {}
     Kind m_kind;
     Rgb m_a;  // Constant: value; Dielectric: eta (all channels); Conductor: eta; Schlick: F0
