@@ -193,11 +193,11 @@ const Soa& soa() {
     return s;
 }
 
-void peer_ggx_batch(const float* __restrict ox, const float* __restrict oy,
-                    const float* __restrict oz, const float* __restrict ix,
-                    const float* __restrict iy, const float* __restrict iz, float alpha,
-                    const Rgb& f0, float* __restrict r, float* __restrict g, float* __restrict b,
-                    int n) {
+// The loop body, shared by the baseline-ISA and the AVX2-cloned peer.
+__attribute__((always_inline)) inline void peer_ggx_loop(
+    const float* __restrict ox, const float* __restrict oy, const float* __restrict oz,
+    const float* __restrict ix, const float* __restrict iy, const float* __restrict iz, float alpha,
+    const Rgb& f0, float* __restrict r, float* __restrict g, float* __restrict b, int n) {
     const float a2 = alpha * alpha, f0r = f0.r, f0g = f0.g, f0b = f0.b;
     for (int i = 0; i < n; ++i) {
         float hx = ox[i] + ix[i], hy = oy[i] + iy[i], hz = oz[i] + iz[i];
@@ -218,33 +218,23 @@ void peer_ggx_batch(const float* __restrict ox, const float* __restrict oy,
     }
 }
 
+#define FACET_PEER_ARGS                                                                            \
+    const float *__restrict ox, const float *__restrict oy, const float *__restrict oz,            \
+        const float *__restrict ix, const float *__restrict iy, const float *__restrict iz,        \
+        float alpha, const Rgb &f0, float *__restrict r, float *__restrict g, float *__restrict b, \
+        int n
+
+void peer_ggx_batch(FACET_PEER_ARGS) {
+    peer_ggx_loop(ox, oy, oz, ix, iy, iz, alpha, f0, r, g, b, n);
+}
+
 // The same peer loop compiled for AVX2 too (the loader picks the AVX2 copy where the CPU has
 // it), because Facet's own batched kernel is built that way: like for like.
 #if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__)
 __attribute__((target_clones("avx2", "default")))
 #endif
-void peer_ggx_batch_avx2(const float* __restrict ox, const float* __restrict oy,
-                         const float* __restrict oz, const float* __restrict ix,
-                         const float* __restrict iy, const float* __restrict iz, float alpha,
-                         const Rgb& f0, float* __restrict r, float* __restrict g,
-                         float* __restrict b, int n) {
-    const float a2 = alpha * alpha, f0r = f0.r, f0g = f0.g, f0b = f0.b;
-    for (int i = 0; i < n; ++i) {
-        float hx = ox[i] + ix[i], hy = oy[i] + iy[i], hz = oz[i] + iz[i];
-        float inv = 1.f / std::sqrt(hx * hx + hy * hy + hz * hz);
-        hx *= inv, hy *= inv, hz *= inv;
-        float d = hz * hz * (a2 - 1.f) + 1.f;
-        float D = a2 / (kPi * d * d);
-        float co = oz[i], ci = iz[i];
-        float g1o = 2.f * co / (co + std::sqrt(a2 + (1.f - a2) * co * co));
-        float g1i = 2.f * ci / (ci + std::sqrt(a2 + (1.f - a2) * ci * ci));
-        float m = 1.f - (ox[i] * hx + oy[i] * hy + oz[i] * hz);
-        float m5 = m * m * m * m * m;
-        float k = D * g1o * g1i / (4.f * co * ci);
-        r[i] = (f0r + (1.f - f0r) * m5) * k;
-        g[i] = (f0g + (1.f - f0g) * m5) * k;
-        b[i] = (f0b + (1.f - f0b) * m5) * k;
-    }
+void peer_ggx_batch_avx2(FACET_PEER_ARGS) {
+    peer_ggx_loop(ox, oy, oz, ix, iy, iz, alpha, f0, r, g, b, n);
 }
 
 template <auto Kernel>

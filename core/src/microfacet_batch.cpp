@@ -28,10 +28,28 @@ struct GgxConstants {
     float ax, ay, norm;
 };
 
-// Per element: s = D G2 / (4 cos_o cos_i) and the Fresnel cosine c = <wo, wm>, clamped to
-// [0, 1] as Fresnel::eval does. Same operations and order as MicrofacetReflection::evaluate_ggx:
-//   h = wo + wi, D = norm (|h|^2 / Q)^2 with Q = hz^2 + (hx/ax)^2 + (hy/ay)^2,
-//   A = sqrt(cos^2 + (ax x)^2 + (ay y)^2), s = D / (2 (A_o cos_i + A_i cos_o)).
+// The terms shared by f and pdf for one pair, with the operations and order of
+// MicrofacetReflection::evaluate_ggx: h = wo + wi, |h|^2, D = norm (|h|^2 / Q)^2 with
+// Q = hz^2 + (hx/ax)^2 + (hy/ay)^2 (Walter et al. 2007 eq. 33 from the unnormalised h), and
+// A_o = sqrt(cos_o^2 + (ax x_o)^2 + (ay y_o)^2).
+struct GgxPair {
+    float hx, hy, hz, len2, d, a_o;
+};
+__attribute__((always_inline)) inline GgxPair ggx_pair(float ox, float oy, float oz, float ix,
+                                                       float iy, float iz, GgxConstants k) {
+    GgxPair p;
+    p.hx = ox + ix, p.hy = oy + iy, p.hz = oz + iz;
+    p.len2 = p.hx * p.hx + p.hy * p.hy + p.hz * p.hz;
+    float sx = p.hx / k.ax, sy = p.hy / k.ay;
+    float q = p.hz * p.hz + sx * sx + sy * sy;
+    p.d = k.norm * (p.len2 / q) * (p.len2 / q);
+    p.a_o = std::sqrt(oz * oz + (k.ax * ox) * (k.ax * ox) + (k.ay * oy) * (k.ay * oy));
+    return p;
+}
+
+// Per element: s = D G2 / (4 cos_o cos_i) = D / (2 (A_o cos_i + A_i cos_o)) (Heitz 2014
+// eq. 99 rearranged) and the Fresnel cosine c = <wo, wm>, clamped to [0, 1] as Fresnel::eval
+// does.
 FACET_TARGET_CLONES
 void ggx_f_block(std::size_t n, const float* __restrict ox, const float* __restrict oy,
                  const float* __restrict oz, const float* __restrict ix, const float* __restrict iy,
@@ -39,17 +57,11 @@ void ggx_f_block(std::size_t n, const float* __restrict ox, const float* __restr
                  float* __restrict c_out) {
     for (std::size_t j = 0; j < n; ++j) {
         float cos_o = oz[j], cos_i = iz[j];
-        float hx = ox[j] + ix[j], hy = oy[j] + iy[j], hz = cos_o + cos_i;
-        float len2 = hx * hx + hy * hy + hz * hz;
-        float sx = hx / k.ax, sy = hy / k.ay;
-        float q = hz * hz + sx * sx + sy * sy;
-        float dd = k.norm * (len2 / q) * (len2 / q);
-        float a_o = std::sqrt(cos_o * cos_o + (k.ax * ox[j]) * (k.ax * ox[j]) +
-                              (k.ay * oy[j]) * (k.ay * oy[j]));
+        GgxPair p = ggx_pair(ox[j], oy[j], cos_o, ix[j], iy[j], cos_i, k);
         float a_i = std::sqrt(cos_i * cos_i + (k.ax * ix[j]) * (k.ax * ix[j]) +
                               (k.ay * iy[j]) * (k.ay * iy[j]));
-        float s = dd / (2.f * (a_o * cos_i + a_i * cos_o));
-        float c = (ox[j] * hx + oy[j] * hy + cos_o * hz) / std::sqrt(len2);
+        float s = p.d / (2.f * (p.a_o * cos_i + a_i * cos_o));
+        float c = (ox[j] * p.hx + oy[j] * p.hy + cos_o * p.hz) / std::sqrt(p.len2);
         c = c < 0.f ? 0.f : (1.f < c ? 1.f : c);
         bool above = (cos_o > 0.f) & (cos_i > 0.f);  // & not &&: no branch, so it vectorises
         // Masked lanes get s = 0 and c = 0 (not NaN from wo = -wi): F stays finite, f = 0.
@@ -79,16 +91,9 @@ void ggx_pdf_block(std::size_t n, const float* __restrict ox, const float* __res
                    const float* __restrict iy, const float* __restrict iz, GgxConstants k,
                    float* __restrict out) {
     for (std::size_t j = 0; j < n; ++j) {
-        float cos_o = oz[j], cos_i = iz[j];
-        float hx = ox[j] + ix[j], hy = oy[j] + iy[j], hz = cos_o + cos_i;
-        float len2 = hx * hx + hy * hy + hz * hz;
-        float sx = hx / k.ax, sy = hy / k.ay;
-        float q = hz * hz + sx * sx + sy * sy;
-        float dd = k.norm * (len2 / q) * (len2 / q);
-        float a_o = std::sqrt(cos_o * cos_o + (k.ax * ox[j]) * (k.ax * ox[j]) +
-                              (k.ay * oy[j]) * (k.ay * oy[j]));
-        float p = dd / (2.f * (a_o + cos_o));
-        out[j] = (cos_o > 0.f) & (cos_i > 0.f) ? p : 0.f;
+        GgxPair p = ggx_pair(ox[j], oy[j], oz[j], ix[j], iy[j], iz[j], k);
+        float pdf = p.d / (2.f * (p.a_o + oz[j]));
+        out[j] = (oz[j] > 0.f) & (iz[j] > 0.f) ? pdf : 0.f;
     }
 }
 
