@@ -8,7 +8,8 @@
 //    records) on a fixed set of path-tracer rays: camera rays plus cosine-distributed bounce
 //    rays from the surfaces they hit (closest-hit set), and shadow rays from those points to a
 //    sample on a light (occlusion set);
-//  - the renderer's Scene::intersect / Scene::occluded on the same rays (full SurfaceHit);
+//  - the renderer's Scene::intersect / Scene::occluded(_segment) on the same rays (full
+//    SurfaceHit);
 //  - the scene's integrator end to end (specialised and general kernel): paths/s and rays/s, where
 //    rays = closest-hit + shadow rays; "vs raw" compares the renderer's ray rate with the raw
 //    rate of the same ray mix (n_rays / raw_isect_rate + n_shadow / raw_occl_rate).
@@ -60,6 +61,7 @@ double median(std::vector<double> v) {
 struct ShadowQuery {
     Vec3 p, ng, wi;
     float dist;
+    Vec3 p_light, n_light;  // finite dist: the segment the renderer tests (occluded_segment)
 };
 
 struct RaySets {
@@ -76,7 +78,8 @@ float rnd(std::uint32_t& state) {
 
 // The rays of the first vertex of a path tracer: camera rays, cosine-distributed bounce rays
 // from the surfaces they hit (closest-hit set), and shadow rays from those points toward a
-// sample on a uniformly chosen light (occlusion set, shortened like Scene::occluded does).
+// sample on a light chosen like the path tracer does, in proportion to power (occlusion set:
+// the rays Scene::occluded_segment traces).
 RaySets make_rays(const fr::Scene& scene, std::size_t count) {
     RaySets sets;
     const fr::Camera& cam = scene.camera();
@@ -95,20 +98,17 @@ RaySets make_rays(const fr::Scene& scene, std::size_t count) {
         const Vec3 d = f.from_local(facet::sample_cosine_hemisphere({rnd(state), rnd(state)}));
         sets.bounce.push_back(fr::Scene::spawn_ray(hit.p, n, d));
         if (lights.empty()) continue;
-        const fr::Light& light =
-            lights[std::min(std::size_t(rnd(state) * float(lights.size())), lights.size() - 1)];
+        float pmf = 0.f;
+        const fr::Light& light = lights[scene.light_distribution().sample(rnd(state), pmf)];
         const auto ls = light.sample_li({hit.p, n}, {rnd(state), rnd(state)});
         if (!ls || !(glm::dot(ls->wi, n) > 0.f)) continue;
-        sets.shadow_queries.push_back({hit.p, hit.ng, ls->wi, ls->dist});
-        fr::Ray r = fr::Scene::spawn_ray(hit.p, hit.ng, ls->wi);
-        if (std::isfinite(ls->dist)) {
-            r.tmax = ls->dist - fr::Scene::ray_offset(hit.p) -
-                     fr::Scene::ray_offset(hit.p + ls->dist * ls->wi);
-            if (!(r.tmax > 0.f)) {
-                sets.shadow_queries.pop_back();
-                continue;
-            }
-        }
+        // The ray the integrators trace (integrator.cpp: occluded_segment for lights at a finite
+        // distance, occluded for directional/environment lights).
+        fr::Ray r = std::isfinite(ls->dist)
+                        ? fr::Scene::shadow_ray(hit.p, hit.ng, ls->p_light, ls->n_light)
+                        : fr::Scene::spawn_ray(hit.p, hit.ng, ls->wi);
+        if (!(r.tmax > 0.f)) continue;
+        sets.shadow_queries.push_back({hit.p, hit.ng, ls->wi, ls->dist, ls->p_light, ls->n_light});
         sets.shadow.push_back(r);
     }
     return sets;
@@ -210,7 +210,9 @@ int main(int argc, char** argv) {
                 std::uint64_t h = 0;
                 for (std::size_t k = b; k < e; ++k) {
                     const ShadowQuery& q = sets.shadow_queries[k];
-                    h += scene.occluded(q.p, q.ng, q.wi, q.dist);
+                    h += std::isfinite(q.dist)
+                             ? scene.occluded_segment(q.p, q.ng, q.p_light, q.n_light)
+                             : scene.occluded(q.p, q.ng, q.wi, q.dist);
                 }
                 sink += h;
             }));
@@ -269,7 +271,7 @@ int main(int argc, char** argv) {
         row("Scene::intersect (SurfaceHit), same rays", ren_i * 1e-6, "M rays/s", buf);
         row("raw Embree rtcOccluded1, shadow rays to lights", raw_o * 1e-6, "M rays/s", "1 (peer)");
         std::snprintf(buf, sizeof buf, "%.2f of raw", ren_o / raw_o);
-        row("Scene::occluded, same rays", ren_o * 1e-6, "M rays/s", buf);
+        row("Scene::occluded_segment, same rays", ren_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "kernel %s, %d spp", st_spec.kernel.name.c_str(),
                       render_spp);
         row((integ + ", specialised: paths").c_str(), paths_s * 1e-6, "M paths/s", buf);

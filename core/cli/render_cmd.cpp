@@ -1,6 +1,6 @@
 // `facet render scene.json -o out.exr [-o out.png] [--spp N] [--time S] [--threads N]
-//  [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general] [--explain]
-//  [--quiet] [--stats-json FILE]`
+//  [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
+//  [--light-selection power|uniform] [--explain] [--quiet] [--stats-json FILE]`
 //
 // Errors (bad flags, a bad scene, an unwritable output) print "facet: <place>: <message>" and
 // exit with a non-zero code: CLI11's codes for flag errors, 1 for everything else.
@@ -36,6 +36,7 @@ struct RenderCmdOptions {
     std::int64_t seed = -1;
     int max_depth = -1;
     std::string kernel = "auto";
+    std::string light_selection = "power";
     bool explain = false;
     bool quiet = false;
     std::string stats_json;
@@ -86,6 +87,7 @@ void run_render(const RenderCmdOptions& o) {
     if (o.seed >= 0) ro.seed = std::uint64_t(o.seed);
     ro.threads = o.threads;
     ro.force_general_kernel = o.kernel == "general";
+    ro.uniform_light_selection = o.light_selection == "uniform";
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
 
     render::ResolvedSettings rs;
@@ -154,6 +156,11 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--kernel", o->kernel,
                     "auto: kernel specialised to the scene; general: the all-features kernel")
         ->check(CLI::IsMember({"auto", "general"}))
+        ->capture_default_str();
+    cmd->add_option("--light-selection", o->light_selection,
+                    "path: choose the light for each shadow ray in proportion to power, or "
+                    "uniformly")
+        ->check(CLI::IsMember({"power", "uniform"}))
         ->capture_default_str();
     cmd->add_flag("--explain", o->explain,
                   "print the scene analysis and which kernel features were chosen and skipped");

@@ -337,7 +337,10 @@ Scene::Scene(Scene&&) noexcept = default;
 Scene& Scene::operator=(Scene&&) noexcept = default;
 
 float Scene::ray_offset(const Vec3& p) {
-    float m = std::fmax(std::fabs(p.x), std::fmax(std::fabs(p.y), std::fabs(p.z)));
+    // Comparisons instead of std::fmax, which GCC does not inline without -ffinite-math-only
+    // (a libm call per ray). Hit points are finite, so fmax's NaN rule is not needed.
+    const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
+    const float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
     return kRayOffsetScale * (1.f + m);
 }
 
@@ -402,6 +405,35 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
         if (!(tmax > 0.f)) return false;
         r.tmax = tmax;
     }
+    return occluded_ray(r);
+}
+
+Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light, const Vec3& n_light) {
+    const float off_p = ray_offset(p), off_q = ray_offset(p_light);
+    // Origin: off the surface on the light's side; end: off the light on the origin's side.
+    const Vec3 o = p + (glm::dot(ng, p_light - p) >= 0.f ? off_p : -off_p) * ng;
+    const bool on_surface = n_light != Vec3(0.f);
+    const Vec3 q =
+        on_surface ? p_light + (glm::dot(n_light, o - p_light) >= 0.f ? off_q : -off_q) * n_light
+                   : p_light;
+    const Vec3 d = q - o;
+    const float len = std::sqrt(glm::dot(d, d));
+    Ray r;
+    r.o = o;
+    r.d = len > 0.f ? d / len : Vec3(0.f, 0.f, 1.f);
+    // A point light is not on a surface: stop short of it along the ray instead.
+    r.tmax = on_surface ? len : len - off_q;
+    return r;
+}
+
+bool Scene::occluded_segment(const Vec3& p, const Vec3& ng, const Vec3& p_light,
+                             const Vec3& n_light) const {
+    const Ray r = shadow_ray(p, ng, p_light, n_light);
+    if (!(r.tmax > 0.f)) return false;
+    return occluded_ray(r);
+}
+
+bool Scene::occluded_ray(const Ray& r) const {
     const Impl& impl = *m_impl;
     if (!impl.backend) return false;
     if (!impl.planes.empty()) {

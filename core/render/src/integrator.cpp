@@ -67,29 +67,52 @@ struct Shading {
     Vec3 ng, ns, wo;  // world ng/ns on the viewer's side; wo in the local frame
 };
 
+// Whether the material reads the tangent direction: only an anisotropic glossy lobe does.
+// Lambertian, mirror and isotropic microfacet lobes are invariant under rotation about the
+// normal, so for them the frame's tangent is arbitrary and Frame::from_z(ns) replaces the
+// Gram-Schmidt of from_z_x (every kernel makes the same choice, so their images still agree).
+template <std::uint32_t F>
+bool needs_tangent(const Material& m) {
+    if constexpr ((F & kFeatLambertOnly) != 0) {
+        return false;
+    } else {
+        if (!m.glossy()) return false;
+        const MicrofacetDistribution& d = m.glossy()->distribution();
+        return d.alpha_x() != d.alpha_y();
+    }
+}
+
 // False when the surface is seen from the back and is one-sided (it reflects nothing).
-inline bool make_shading(const SurfaceHit& hit, const Vec3& ray_d, Shading& sh) {
+template <std::uint32_t F>
+bool make_shading(const SurfaceHit& hit, const Material& m, const Vec3& ray_d, Shading& sh) {
     const Vec3 wo_w = -ray_d;
     const bool front = glm::dot(hit.ng, wo_w) > 0.f;
     if (!front && !hit.two_sided) return false;
     sh.ng = front ? hit.ng : -hit.ng;
     sh.ns = front ? hit.ns : -hit.ns;
-    sh.frame = Frame::from_z_x(sh.ns, hit.dpdu);
+    sh.frame = needs_tangent<F>(m) ? Frame::from_z_x(sh.ns, hit.dpdu) : Frame::from_z(sh.ns);
     sh.wo = sh.frame.to_local(wo_w);
     return true;
+}
+
+// Shadow ray for a light sample: the segment to the sampled point (offset at both ends along
+// their normals, scene.h) for lights at a finite distance, a ray for directional/environment.
+inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSample& ls) {
+    return std::isfinite(ls.dist) ? scene.occluded_segment(hit.p, hit.ng, ls.p_light, ls.n_light)
+                                  : scene.occluded(hit.p, hit.ng, ls.wi, ls.dist);
 }
 
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
 
 template <std::uint32_t F>
-Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounters& c) {
+Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, Sampler& s,
+            int max_depth, KernelCounters& c) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     const std::span<const Light> lights = scene.lights();
     const int num_lights = int(lights.size());
-    const float select_pdf = num_lights > 0 ? 1.f / float(num_lights) : 0.f;
 
     Rgb L(0.f), beta(1.f);
     bool specular_bounce = false;
@@ -108,8 +131,8 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
                         if (depth == 0 || specular_bounce) {
                             L += beta * le;
                         } else {
-                            const float lp =
-                                select_pdf * env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                            const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
+                                             env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
                             L += beta * le * power_heuristic(prev_bsdf_pdf, lp);
                         }
                     }
@@ -117,8 +140,9 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
                     if (depth == 0 || specular_bounce) {
                         L += beta * hit.emitted_radiance;
                     } else {
-                        const float lp = select_pdf * lights[std::size_t(hit.light)].pdf_li(
-                                                          prev_ctx, ray.d, hit.p, hit.ng);
+                        const std::size_t li = std::size_t(hit.light);
+                        const float lp =
+                            light_dist.pmf(li) * lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
                         L += beta * hit.emitted_radiance * power_heuristic(prev_bsdf_pdf, lp);
                     }
                 }
@@ -128,22 +152,25 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
         if constexpr (!kIndirect && !kSpecular) {
             if (depth >= 1) break;
         }
-        Shading sh;
-        if (!make_shading(hit, ray.d, sh)) break;
         const Material& m = *hit.material;
+        Shading sh;
+        if (!make_shading<F>(hit, m, ray.d, sh)) break;
         const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
         const LightSampleContext ctx{hit.p, sh.ns};
 
-        // Next-event estimation: one light, chosen uniformly.
+        // Next-event estimation: one light, chosen in proportion to power (light.h).
         if (num_lights > 0 && has_non_specular<F>(m)) {
             // The light choice needs a sample only when there is a choice; every draw has a
             // fixed dimension, so skipping one does not shift the others.
-            s.set_dimension(base);
-            const float ul = num_lights > 1 ? s.get_1d() : 0.f;
+            float select_pmf = 1.f;
+            std::uint32_t light_index = 0;
+            if (num_lights > 1) {
+                s.set_dimension(base);
+                light_index = light_dist.sample(s.get_1d(), select_pmf);
+            }
             s.set_dimension(base + 1u);
             const Vec2 u = s.get_2d();
-            const Light& light =
-                lights[std::size_t(std::min(int(ul * float(num_lights)), num_lights - 1))];
+            const Light& light = lights[light_index];
             if (auto ls = light.sample_li(ctx, u)) {
                 // Reflection only: the light must be on the viewer's side of the surface.
                 if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
@@ -151,8 +178,8 @@ Rgb path_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounte
                     const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
                     if (max3(contrib) > 0.f) {
                         ++c.shadow_rays;
-                        if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) {
-                            const float lp = select_pdf * ls->pdf;
+                        if (!shadowed(scene, hit, *ls)) {
+                            const float lp = select_pmf * ls->pdf;
                             float w = 1.f;
                             if constexpr (kMis) {
                                 if (!ls->delta) w = power_heuristic(lp, bsdf_pdf<F>(m, sh.wo, wi));
@@ -223,9 +250,9 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
             break;
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
-        Shading sh;
-        if (!make_shading(hit, ray.d, sh)) break;
         const Material& m = *hit.material;
+        Shading sh;
+        if (!make_shading<F>(hit, m, ray.d, sh)) break;
         const LightSampleContext ctx{hit.p, sh.ns};
 
         // Sum over every light of f Li |cos theta_i| (delta lights exactly, others one sample).
@@ -248,7 +275,7 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
                 const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
                 if (!(max3(contrib) > 0.f)) continue;
                 ++c.shadow_rays;
-                if (!scene.occluded(hit.p, hit.ng, ls->wi, ls->dist)) L += beta * contrib / ls->pdf;
+                if (!shadowed(scene, hit, *ls)) L += beta * contrib / ls->pdf;
             }
         }
         // Perfect mirror recursion through the delta lobe.
@@ -289,7 +316,7 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 ++c.rays;
                 Rgb L;
                 if constexpr (I == IntegratorKind::Path)
-                    L = path_li<F>(scene, ray, s, job.max_depth, c);
+                    L = path_li<F>(scene, *job.light_distribution, ray, s, job.max_depth, c);
                 else
                     L = direct_li<F>(scene, ray, s, job.max_depth, c);
                 // A NaN/inf estimate would poison the pixel forever: drop it and count it.

@@ -119,10 +119,47 @@ Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uin
         l.m_tri_cdf[i] = float(run / total);
     }
     if (!l.m_tri_cdf.empty()) l.m_tri_cdf.back() = 1.f;
+    l.m_inv_area = total > 0.0 ? float(1.0 / total) : 0.f;
+    l.m_tri_n.resize(areas.size());
+    for (std::size_t i = 0; i < areas.size(); ++i) {
+        const Vec3 &p0 = l.m_tri[3 * i], &p1 = l.m_tri[3 * i + 1], &p2 = l.m_tri[3 * i + 2];
+        l.m_tri_n[i] = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+    }
     if (!l.m_tri.empty()) {
         l.m_position = (l.m_tri[0] + l.m_tri[1] + l.m_tri[2]) / 3.f;
     }
+    if (areas.size() == 2) l.detect_parallelogram();
     return l;
+}
+
+// Two triangles (a, b, c) and (d, e, f) sharing exactly two vertices s0, s1 (the diagonal) form
+// a parallelogram when the diagonals bisect each other: o0 + o1 = s0 + s1 for the two other
+// vertices. Tolerance: 1e-6 of the coordinates' magnitude (a few float ulps), so sampled points
+// stay on the traced triangles to float round-off. Both triangles must face the same way.
+void Light::detect_parallelogram() {
+    const Vec3* t0 = &m_tri[0];
+    const Vec3* t1 = &m_tri[3];
+    int shared0[2] = {-1, -1}, shared1[2] = {-1, -1}, nshared = 0;
+    for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+            if (t0[i] == t1[j] && nshared < 2) {
+                shared0[nshared] = i;
+                shared1[nshared] = j;
+                ++nshared;
+            }
+    if (nshared != 2) return;
+    const int other0 = 3 - shared0[0] - shared0[1], other1 = 3 - shared1[0] - shared1[1];
+    const Vec3 &o0 = t0[other0], &o1 = t1[other1], &s0 = t0[shared0[0]], &s1 = t0[shared0[1]];
+    const glm::dvec3 gap = glm::dvec3(o0) + glm::dvec3(o1) - glm::dvec3(s0) - glm::dvec3(s1);
+    const double scale = std::max({glm::length(glm::dvec3(o0)), glm::length(glm::dvec3(o1)),
+                                   glm::length(glm::dvec3(s0)), glm::length(glm::dvec3(s1))});
+    if (!(glm::length(gap) <= 1e-6 * scale)) return;
+    if (!(glm::dot(m_tri_n[0], m_tri_n[1]) > 0.999f)) return;
+    m_area_shape = AreaShape::Parallelogram;
+    m_corner = o0;
+    m_e1 = s0 - o0;
+    m_e2 = s1 - o0;
+    m_normal = m_tri_n[0];
 }
 
 Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, std::uint32_t shape,
@@ -136,6 +173,7 @@ Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, 
     l.m_inward = inward;
     l.m_emission = radiance;
     l.m_area = 4.f * kPi * radius * radius;
+    l.m_inv_area = 1.f / l.m_area;
     return l;
 }
 
@@ -149,9 +187,10 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     l.m_e1 = e1;
     l.m_e2 = e2;
     Vec3 c = glm::cross(e1, e2);
-    l.m_disc_normal = glm::normalize(c);
+    l.m_normal = glm::normalize(c);
     l.m_emission = radiance;
     l.m_area = kPi * glm::length(c);  // an affine image of the unit disc
+    l.m_inv_area = 1.f / l.m_area;
     return l;
 }
 
@@ -218,13 +257,17 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
             const Vec3& p1 = m_tri[3 * i + 1];
             const Vec3& p2 = m_tri[3 * i + 2];
             s.p_light = b.x * p0 + b.y * p1 + (1.f - b.x - b.y) * p2;
-            s.n_light = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+            s.n_light = m_tri_n[i];
             break;
         }
+        case AreaShape::Parallelogram:
+            s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
+            s.n_light = m_normal;
+            break;
         case AreaShape::Disc: {
             Vec2 d = sample_uniform_disk_concentric(u);
             s.p_light = m_position + d.x * m_e1 + d.y * m_e2;
-            s.n_light = m_disc_normal;
+            s.n_light = m_normal;
             break;
         }
         case AreaShape::Sphere: {
@@ -278,7 +321,7 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
     if (!(d2 > 0.f)) return std::nullopt;
     s.dist = std::sqrt(d2);
     s.wi = v / s.dist;
-    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, 1.f / m_area);
+    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, m_inv_area);
     if (!(s.pdf > 0.f)) return std::nullopt;
     s.li = m_emission;
     return s;
@@ -300,7 +343,7 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
     if (m_area_shape == AreaShape::Sphere && m_inward) {
         Vec3 v = ctx.p - m_position;
         if (!(glm::dot(v, v) <= m_radius * m_radius * 1.001f)) return 0.f;  // see sample_li
-        return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, 1.f / m_area);
+        return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, m_inv_area);
     }
     if (m_area_shape == AreaShape::Sphere) {
         if (!(-glm::dot(n_light, wi) > 0.f)) return 0.f;
@@ -311,7 +354,7 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
         return float(1.0 / (2.0 * kPiD * sphere_cone_one_minus_cos(dc2, r2)));
     }
     if (!(m_area > 0.f)) return 0.f;
-    return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, 1.f / m_area);
+    return area_to_solid_angle_pdf(ctx.p, wi, p_light, n_light, m_inv_area);
 }
 
 Rgb Light::le(const Vec3& n_light, const Vec3& w) const {
@@ -337,6 +380,45 @@ Rgb Light::power(float scene_radius) const {
             return m_emission * (kPi * m_area);  // one-sided Lambertian emitter: Phi = pi A L
     }
     return Rgb(0.f);
+}
+
+// --- LightDistribution --------------------------------------------------------------------
+
+LightDistribution::LightDistribution(std::span<const Light> lights, float scene_radius) {
+    std::vector<double> w(lights.size());
+    for (std::size_t i = 0; i < lights.size(); ++i) {
+        const Rgb phi = lights[i].power(scene_radius);
+        const double avg = (double(phi.r) + double(phi.g) + double(phi.b)) / 3.0;
+        w[i] = std::isfinite(avg) && avg > 0.0 ? avg : 0.0;
+    }
+    build(w);
+}
+
+LightDistribution LightDistribution::uniform(std::size_t n) {
+    LightDistribution d;
+    d.build(std::vector<double>(n, 1.0));
+    return d;
+}
+
+void LightDistribution::build(const std::vector<double>& weights) {
+    const std::size_t n = weights.size();
+    m_cdf.assign(n, 0.f);
+    m_pmf.assign(n, 0.f);
+    if (n == 0) return;
+    double total = 0.0;
+    for (double w : weights) total += w;
+    const bool uniform = !(total > 0.0) || !std::isfinite(total);
+    double run = 0.0;
+    for (std::size_t i = 0; i < n; ++i) {
+        run += uniform ? 1.0 : weights[i];
+        m_cdf[i] = float(run / (uniform ? double(n) : total));
+    }
+    // The last entry is exactly 1 so that every u in [0,1) selects some light; the trailing
+    // zero-weight lights keep their zero probability.
+    const float last = m_cdf[n - 1];
+    for (std::size_t i = n; i-- > 0 && m_cdf[i] == last;) m_cdf[i] = 1.f;
+    // pmf as the selection actually happens: the width of each light's interval of u.
+    for (std::size_t i = 0; i < n; ++i) m_pmf[i] = m_cdf[i] - (i > 0 ? m_cdf[i - 1] : 0.f);
 }
 
 }  // namespace facet::render

@@ -63,6 +63,9 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStats* stat
     const TileKernel kernel = kernel_function(choice);
     const int width = scene.camera().width, height = scene.camera().height;
     const std::vector<Tile> tiles = make_tiles(width, height, rs.tile_size);
+    const LightDistribution light_dist = options.uniform_light_selection
+                                             ? LightDistribution::uniform(scene.lights().size())
+                                             : scene.light_distribution();
     Film film(width, height);
 
     std::atomic<std::uint64_t> camera_rays{0}, rays{0}, shadow_rays{0}, nonfinite{0};
@@ -85,7 +88,8 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStats* stat
         // what the remaining budget affords) with one.
         int pass = rs.spp - done;
         if (budgeted) pass = std::min({pass, std::max(1, done), kMaxPassSpp, affordable});
-        const TileJob proto{0, 0, 0, 0, done, done + pass, rs.spp, rs.seed, choice.max_depth};
+        const TileJob proto{
+            0, 0, 0, 0, done, done + pass, rs.spp, rs.seed, choice.max_depth, &light_dist};
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),

@@ -73,6 +73,7 @@ struct Scene::Builder {
     std::vector<std::unique_ptr<Material>>& materials() { return scene.m_materials; }
     std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }
     std::vector<Light>& lights() { return scene.m_lights; }
+    LightDistribution& light_distribution() { return scene.m_light_distribution; }
     std::int32_t& environment() { return scene.m_environment; }
     Bounds3& bounds() { return scene.m_bounds; }
     Impl& impl() { return *scene.m_impl; }

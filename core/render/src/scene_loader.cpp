@@ -167,6 +167,8 @@ class Loader {
 
         m_builder.impl().build(m_name);
         analyse();
+        m_builder.light_distribution() =
+            LightDistribution(m_builder.scene.lights(), m_builder.scene.radius());
         return std::move(m_builder.scene);
     }
 

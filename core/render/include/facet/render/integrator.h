@@ -13,7 +13,8 @@
 //    delta lights the result is deterministic; area lights and the environment get one light
 //    sample per light per camera sample. Glossy lobes receive direct light only.
 //  - `path` (the rendering equation, §2.6.2): unidirectional path tracing with next-event
-//    estimation (one light chosen uniformly per vertex), multiple importance sampling of light
+//    estimation (one light per vertex, chosen in proportion to power: LightDistribution,
+//    light.h), multiple importance sampling of light
 //    and BSDF samples with the power heuristic (Veach eq. 9.13), delta lobes and delta lights
 //    handled exactly (no MIS for them), Russian roulette from kRouletteDepth on, and at most
 //    max_depth bounces (max_depth = 0: only what camera rays see).
@@ -83,6 +84,9 @@ struct TileJob {
     int spp_total;  // the full spp of the render (spp = 1 means pixel-centre rays)
     std::uint64_t seed;
     int max_depth;
+    // Next-event estimation's light choice (path): the scene's power distribution, or another
+    // over the same lights (RenderOptions::uniform_light_selection). Never null.
+    const LightDistribution* light_distribution;
 };
 using TileKernel = void (*)(const Scene& scene, const TileJob& job, DVec3* sums,
                             KernelCounters& counters);

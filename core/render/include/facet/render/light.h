@@ -28,11 +28,17 @@
 //    sample the cosine-weighted hemisphere; pass n = 0 for a point not on a surface (then the
 //    environment is sampled uniformly over the sphere). Spheres are sampled in the cone they
 //    subtend (pdf per solid angle), triangles, quads, boxes, meshes and discs uniformly by area
-//    (converted to solid angle: pdf = r^2 / (A |cos theta_l|)).
+//    (converted to solid angle: pdf = r^2 / (A |cos theta_l|)). A light of exactly two triangles
+//    that form a parallelogram (a quad light) maps u straight onto the parallelogram,
+//    p = o + u.x e1 + u.y e2: the same density, no triangle search, and u's 2D stratification
+//    carries over to the whole light.
+//  - Choosing a light for next-event estimation: LightDistribution, in proportion to power().
 #pragma once
 
+#include <algorithm>
 #include <cstdint>
 #include <optional>
+#include <span>
 #include <vector>
 
 #include "facet/types.h"
@@ -112,6 +118,9 @@ class Light {
     float area() const { return m_area; }  // area lights: total area
 
   private:
+    // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
+    void detect_parallelogram();
+
     Kind m_kind = Kind::Point;
     std::uint32_t m_shape = UINT32_MAX;
     Vec3 m_position{0.f};
@@ -122,15 +131,56 @@ class Light {
     // Area lights.
     enum class AreaShape : std::uint8_t {
         Triangles,
+        Parallelogram,  // two triangles forming a parallelogram (a quad)
         Sphere,
         Disc
     } m_area_shape = AreaShape::Triangles;
-    float m_radius = 0.f;                           // sphere
-    bool m_inward = false;                          // sphere turned inside out
-    Vec3 m_e1{0.f}, m_e2{0.f}, m_disc_normal{0.f};  // disc
+    float m_radius = 0.f;   // sphere
+    bool m_inward = false;  // sphere turned inside out
+    // Disc: the ellipse's axes; parallelogram: its edges from the corner m_corner.
+    Vec3 m_e1{0.f}, m_e2{0.f};
+    Vec3 m_normal{0.f};  // disc and parallelogram: unit front normal
+    Vec3 m_corner{0.f};  // parallelogram
     float m_area = 0.f;
+    float m_inv_area = 0.f;
     std::vector<Vec3> m_tri;       // 3 vertices per triangle
+    std::vector<Vec3> m_tri_n;     // unit front normal per triangle
     std::vector<float> m_tri_cdf;  // running area fraction, last = 1
+};
+
+// The discrete distribution next-event estimation chooses lights from: probability in
+// proportion to each light's power (Light::power, averaged over the RGB channels; the
+// environment and directional lights by their estimate over the scene's bounding sphere), so a
+// strong light gets most shadow rays and a weak one few (pbrt-v4's PowerLightSampler). Built
+// once at load time. Lights of zero power are never chosen; if every light has zero power the
+// choice is uniform. `uniform(n)` builds the uniform choice (for comparisons and tests).
+class LightDistribution {
+  public:
+    LightDistribution() = default;
+    LightDistribution(std::span<const Light> lights, float scene_radius);
+    static LightDistribution uniform(std::size_t n);
+
+    std::size_t size() const { return m_pmf.size(); }
+    // Index of the light chosen by u in [0,1) (the first i with u < cdf_i), and its probability.
+    // Call only when size() > 0.
+    std::uint32_t sample(float u, float& pmf) const {
+        const std::size_t n = m_cdf.size();
+        std::size_t i = 0;
+        if (n <= 8) {
+            while (i + 1 < n && !(u < m_cdf[i])) ++i;
+        } else {
+            i = std::size_t(std::upper_bound(m_cdf.begin(), m_cdf.end() - 1, u) - m_cdf.begin());
+        }
+        pmf = m_pmf[i];
+        return std::uint32_t(i);
+    }
+    // Probability of choosing light i (what sample() returns for it).
+    float pmf(std::size_t i) const { return m_pmf[i]; }
+
+  private:
+    void build(const std::vector<double>& weights);
+    std::vector<float> m_cdf;  // running probability, last = 1
+    std::vector<float> m_pmf;  // m_cdf[i] - m_cdf[i - 1], exactly as sample() selects
 };
 
 }  // namespace facet::render

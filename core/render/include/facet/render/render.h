@@ -36,6 +36,8 @@ struct RenderOptions {
     std::optional<std::uint64_t> seed;    // unset = scene setting
     int threads = 0;                      // 0 = every hardware thread
     bool force_general_kernel = false;    // --kernel general
+    // Path: choose NEE lights uniformly instead of in proportion to power (comparisons, tests).
+    bool uniform_light_selection = false;  // --light-selection uniform
     Progress::Mode progress = Progress::Mode::Silent;
     int tile_size = kDefaultTileSize;
 };
