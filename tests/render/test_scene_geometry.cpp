@@ -629,3 +629,38 @@ TEST(Geometry, TraceRawAgreesWithIntersect) {
     EXPECT_EQ(s.trace_raw(rays, false), hits);
     EXPECT_EQ(s.trace_raw(rays, true), hits);  // tmax = inf: occluded iff something is hit
 }
+
+// The Cornell box is closed except for its front (z = 0): a ray from inside moving away from the
+// front (d.z > 0) must hit a wall, the floor, the ceiling or a block, whatever its direction.
+// Rays start on a grid of interior points and aim at corners and edges (where two walls meet,
+// the place a non-watertight triangle test leaks) as well as at random directions. Zero misses
+// allowed: a crack would show as black speckles along the edges of the box.
+TEST(Geometry, CornellBoxIsWatertight) {
+    const Scene s = load_scene(std::string(FACET_SCENES_DIR) + "/cornell_box.json");
+    std::mt19937 rng(17);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    // The walls' corners (Cornell's measured data: the box is not quite rectangular).
+    const Vec3 corners[] = {{552.8f, 0.f, 0.f},    {0.f, 0.f, 0.f},        {0.f, 0.f, 559.2f},
+                            {549.6f, 0.f, 559.2f}, {556.f, 548.8f, 0.f},   {0.f, 548.8f, 0.f},
+                            {0.f, 548.8f, 559.2f}, {556.f, 548.8f, 559.2f}};
+    int misses = 0, rays = 0;
+    for (int i = 0; i < 200000; ++i) {
+        const Vec3 o(20.f + 510.f * u01(rng), 20.f + 500.f * u01(rng), 5.f + 100.f * u01(rng));
+        Vec3 target;
+        if (i % 2 == 0) {
+            // Along an edge between two corners (walls meet there), jittered by < 1e-3 mm.
+            const Vec3& a = corners[i % 8];
+            const Vec3& b = corners[(i / 8 + 1 + i % 8) % 8];
+            target = a + u01(rng) * (b - a) + 1e-3f * (Vec3(u01(rng), u01(rng), u01(rng)) - 0.5f);
+        } else {
+            target = o + Vec3(u01(rng) - 0.5f, u01(rng) - 0.5f, u01(rng)) * 1000.f;
+        }
+        const Vec3 d = glm::normalize(target - o);
+        if (!(d.z > 1e-3f)) continue;
+        SurfaceHit h;
+        ++rays;
+        if (!s.intersect({o, d, kInfinity}, h)) ++misses;
+    }
+    EXPECT_GT(rays, 100000);
+    EXPECT_EQ(misses, 0) << "of " << rays << " rays";
+}

@@ -84,7 +84,8 @@ bool needs_tangent(const Material& m) {
 
 // False when the surface is seen from the back and is one-sided (it reflects nothing).
 template <std::uint32_t F>
-bool make_shading(const SurfaceHit& hit, const Material& m, const Vec3& ray_d, Shading& sh) {
+[[gnu::always_inline]] inline bool make_shading(const SurfaceHit& hit, const Material& m,
+                                                const Vec3& ray_d, Shading& sh) {
     const Vec3 wo_w = -ray_d;
     const bool front = glm::dot(hit.ng, wo_w) > 0.f;
     if (!front && !hit.two_sided) return false;

@@ -195,6 +195,24 @@ class Scene {
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
 };
 
+// Inline: both run for every continuation and shadow ray.
+inline float Scene::ray_offset(const Vec3& p) {
+    // Comparisons instead of std::fmax, which GCC does not inline without -ffinite-math-only
+    // (a libm call per ray). Hit points are finite, so fmax's NaN rule is not needed.
+    const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
+    const float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
+    return kRayOffsetScale * (1.f + m);
+}
+
+inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
+    const float off = ray_offset(p);
+    Ray r;
+    r.o = p + (glm::dot(ng, d) >= 0.f ? off : -off) * ng;
+    r.d = d;
+    r.tmax = kInfinity;
+    return r;
+}
+
 // Resource limits the loader enforces (scenes/FORMAT.md); an input over a limit is a SceneError.
 // The defaults allow any sensible scene; the fuzzer lowers them and forbids file access.
 struct SceneLimits {
