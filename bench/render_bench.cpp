@@ -189,11 +189,17 @@ int main(int argc, char** argv) {
         const RaySets sets = make_rays(scene, nrays);
         const std::size_t nb = sets.bounce.size(), ns = sets.shadow.size();
 
-        std::vector<double> t_raw_i, t_raw_o, t_ren_i, t_ren_o;
+        std::vector<double> t_raw_i, t_raw_o, t_ren_i, t_ren_o, t_pk_i, t_pk_o;
         std::atomic<std::uint64_t> sink{0};
         for (int r = 0; r < reps; ++r) {
             t_raw_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
                 sink += scene.trace_raw(std::span(sets.bounce).subspan(b, e - b), false);
+            }));
+            t_pk_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
+                sink += scene.trace_raw_packet(std::span(sets.bounce).subspan(b, e - b), false);
+            }));
+            t_pk_o.push_back(timed_parallel(arena, ns, [&](std::size_t b, std::size_t e) {
+                sink += scene.trace_raw_packet(std::span(sets.shadow).subspan(b, e - b), true);
             }));
             t_ren_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
                 std::uint64_t h = 0;
@@ -219,6 +225,7 @@ int main(int argc, char** argv) {
         }
         const double raw_i = double(nb) / median(t_raw_i), ren_i = double(nb) / median(t_ren_i);
         const double raw_o = double(ns) / median(t_raw_o), ren_o = double(ns) / median(t_ren_o);
+        const double pk_i = double(nb) / median(t_pk_i), pk_o = double(ns) / median(t_pk_o);
 
         // End-to-end path tracing, specialised and general kernels, interleaved per rep.
         // Samples per pixel: at least --spp, more for tiny scenes so a render lasts >= ~0.2 s.
@@ -269,7 +276,11 @@ int main(int argc, char** argv) {
         row("raw Embree rtcIntersect1, camera+bounce rays", raw_i * 1e-6, "M rays/s", "1 (peer)");
         std::snprintf(buf, sizeof buf, "%.2f of raw", ren_i / raw_i);
         row("Scene::intersect (SurfaceHit), same rays", ren_i * 1e-6, "M rays/s", buf);
+        std::snprintf(buf, sizeof buf, "%.2f x rtcIntersect1", pk_i / raw_i);
+        row("raw Embree rtcIntersect8 packets, same rays", pk_i * 1e-6, "M rays/s", buf);
         row("raw Embree rtcOccluded1, shadow rays to lights", raw_o * 1e-6, "M rays/s", "1 (peer)");
+        std::snprintf(buf, sizeof buf, "%.2f x rtcOccluded1", pk_o / raw_o);
+        row("raw Embree rtcOccluded8 packets, same rays", pk_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "%.2f of raw", ren_o / raw_o);
         row("Scene::occluded_segment, same rays", ren_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "kernel %s, %d spp", st_spec.kernel.name.c_str(),

@@ -5,6 +5,7 @@
 // no finite bounding box for Embree's BVH).
 #include <embree3/rtcore.h>
 
+#include <algorithm>
 #include <atomic>
 #include <cstring>
 #include <mutex>
@@ -198,6 +199,39 @@ void init_rayhit(RTCRayHit& rh, const Ray& ray) {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOccluded8");
+
+// Lane k of an 8-wide packet: what init_rayhit does for one ray.
+void init_rayhit_lane(RTCRayHit8& rh, int k, const Ray& ray) {
+    rh.ray.org_x[k] = ray.o.x;
+    rh.ray.org_y[k] = ray.o.y;
+    rh.ray.org_z[k] = ray.o.z;
+    rh.ray.tnear[k] = 0.f;
+    rh.ray.dir_x[k] = ray.d.x;
+    rh.ray.dir_y[k] = ray.d.y;
+    rh.ray.dir_z[k] = ray.d.z;
+    rh.ray.time[k] = 0.f;
+    rh.ray.tfar[k] = ray.tmax;
+    rh.ray.mask[k] = 0xFFFFFFFFu;
+    rh.ray.id[k] = unsigned(k);
+    rh.ray.flags[k] = 0;
+    rh.hit.Ng_x[k] = rh.hit.Ng_y[k] = rh.hit.Ng_z[k] = 0.f;
+    rh.hit.u[k] = rh.hit.v[k] = 0.f;
+    rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
+}
+
+// An 8-wide packet of rays[0, min(8, size)); the unused lanes repeat ray 0 and are masked off
+// in `valid` (-1 = active, Embree's convention).
+void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays) {
+    for (int k = 0; k < 8; ++k) {
+        const bool on = std::size_t(k) < rays.size();
+        valid[k] = on ? -1 : 0;
+        init_rayhit_lane(rh, k, rays[on ? std::size_t(k) : 0]);
+    }
+}
+
 }  // namespace
 
 // --- Scene::Impl ------------------------------------------------------------------------------
@@ -353,8 +387,16 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
-    float tfar = rh.hit.geomID != RTC_INVALID_GEOMETRY_ID ? rh.ray.tfar : ray.tmax;
+    return complete_hit(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+}
 
+// The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
+// then the hit record of whatever is nearest. `geom` is Embree's geomID (invalid: no hit).
+inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v,
+                                float t, SurfaceHit& hit) const {
+    const Impl& impl = *m_impl;
+    const EmbreeBackend& be = *impl.backend;
+    const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;
     std::size_t plane = 0;
     double tp = impl.planes.empty() ? -1.0 : intersect_planes(impl.planes, ray, tfar, plane);
     if (tp > 0.0 && float(tp) <= tfar) {
@@ -367,13 +409,13 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         hit.ns = hit.ng;
         hit.dpdu = pl.tangent;
         hit.shape = pl.shape;
-    } else if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) {
+    } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
-    } else if (rh.hit.geomID == be.analytic_geom) {
-        impl.fill_analytic(impl.prims[rh.hit.primID], ray, rh.ray.tfar, hit);
+    } else if (geom == be.analytic_geom) {
+        impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
-        impl.fill_triangle(impl.meshes[std::size_t(be.geom_to_mesh[rh.hit.geomID])], rh.hit.primID,
-                           ray, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+        impl.fill_triangle(impl.meshes[std::size_t(be.geom_to_mesh[geom])], prim, ray, u, v, t,
+                           hit);
     }
     const ShapeInfo& s = m_shapes[hit.shape];
     hit.material = s.material;
@@ -381,6 +423,25 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.light = s.light;
     hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
     return true;
+}
+
+void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* found) const {
+    const std::size_t n = std::min(rays.size(), kPacketSize);
+    const Impl& impl = *m_impl;
+    if (!impl.backend) {  // a default-constructed (empty) scene
+        std::fill(found, found + n, false);
+        return;
+    }
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    alignas(32) int valid[kPacketSize];
+    RTCRayHit8 rh;
+    init_packet(rh, valid, rays.first(n));
+    rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
+    for (std::size_t k = 0; k < n; ++k) {
+        found[k] = complete_hit(rays[k], rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
+                                rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+    }
 }
 
 bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const {
@@ -432,6 +493,28 @@ bool Scene::occluded_ray(const Ray& r) const {
     init_ray(ray, r, r.tmax);
     rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
     return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
+}
+
+std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) const {
+    if (!m_impl->backend) return 0;
+    RTCScene scene = m_impl->backend->scene.get();
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    std::uint64_t hits = 0;
+    for (std::size_t i = 0; i < rays.size(); i += kPacketSize) {
+        alignas(32) int valid[kPacketSize];
+        RTCRayHit8 rh;
+        init_packet(rh, valid, rays.subspan(i, std::min(kPacketSize, rays.size() - i)));
+        if (shadow) {
+            rtcOccluded8(valid, scene, &ctx, &rh.ray);
+            for (std::size_t k = 0; k < kPacketSize; ++k) hits += valid[k] && rh.ray.tfar[k] < 0.f;
+        } else {
+            rtcIntersect8(valid, scene, &ctx, &rh);
+            for (std::size_t k = 0; k < kPacketSize; ++k)
+                hits += valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
+        }
+    }
+    return hits;
 }
 
 std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {

@@ -105,9 +105,11 @@ inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSam
 
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
 
+// `found` / `first_hit`: the camera ray's closest hit, traced by the caller (render_tile traces
+// the camera rays of neighbouring pixels as one packet).
 template <std::uint32_t F>
-Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, Sampler& s,
-            int max_depth, KernelCounters& c) {
+Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, bool found,
+            const SurfaceHit& first_hit, Sampler& s, int max_depth, KernelCounters& c) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
@@ -119,9 +121,9 @@ Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, Sa
     bool specular_bounce = false;
     float prev_bsdf_pdf = 0.f;
     LightSampleContext prev_ctx;
+    SurfaceHit hit = first_hit;
     for (int depth = 0;; ++depth) {
-        SurfaceHit hit;
-        const bool found = scene.intersect(ray, hit);
+        if (depth > 0) found = scene.intersect(ray, hit);
         // Emission reached by this ray: full weight from the camera or after a delta lobe
         // (light sampling cannot produce those paths); MIS-weighted against NEE otherwise.
         if constexpr (kMis) {
@@ -233,8 +235,10 @@ Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, Sa
 
 // ---- direct: local illumination (C&W eq. 2.42) + perfect mirror recursion ----
 
+// `found` / `first_hit` as for path_li.
 template <std::uint32_t F>
-Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCounters& c) {
+Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_hit, Sampler& s,
+              int max_depth, KernelCounters& c) {
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kArea = (F & kFeatAreaSampling) != 0;
@@ -242,9 +246,10 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
     const std::uint32_t block = 1u + std::uint32_t(lights.size());
 
     Rgb L(0.f), beta(1.f);
+    SurfaceHit hit = first_hit;
     for (int depth = 0;; ++depth) {
-        SurfaceHit hit;
-        if (!scene.intersect(ray, hit)) {
+        if (depth > 0) found = scene.intersect(ray, hit);
+        if (!found) {
             if constexpr (kEmission) {
                 if (const Light* env = scene.environment()) L += beta * env->le_escape(ray.d);
             }
@@ -302,32 +307,54 @@ Rgb direct_li(const Scene& scene, Ray ray, Sampler& s, int max_depth, KernelCoun
 
 template <IntegratorKind I, std::uint32_t F>
 void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCounters& c) {
+    constexpr std::size_t kLanes = Scene::kPacketSize;
     const Camera& cam = scene.camera();
     const int width = cam.width;
+    std::array<Ray, kLanes> rays;
+    std::array<bool, kLanes> found;
+    std::array<SurfaceHit, kLanes> hits;
+    std::array<std::uint32_t, kLanes> seeds;
+    std::array<DVec3, kLanes> acc;
     for (int y = job.y0; y < job.y1; ++y) {
-        for (int x = job.x0; x < job.x1; ++x) {
-            const std::uint32_t pixel_seed = Sampler::pixel_seed(x, y, job.seed);
-            DVec3 acc(0.0);
-            for (int i = job.first_sample; i < job.end_sample; ++i) {
-                Sampler s(pixel_seed, std::uint32_t(i), 0u);
-                const Vec2 film = job.spp_total == 1 ? Vec2(float(x) + 0.5f, float(y) + 0.5f)
-                                                     : Vec2(float(x), float(y)) + s.get_2d();
-                const Ray ray = cam.generate_ray(film);
-                ++c.camera_rays;
-                ++c.rays;
-                Rgb L;
-                if constexpr (I == IntegratorKind::Path)
-                    L = path_li<F>(scene, *job.light_distribution, ray, s, job.max_depth, c);
-                else
-                    L = direct_li<F>(scene, ray, s, job.max_depth, c);
-                // A NaN/inf estimate would poison the pixel forever: drop it and count it.
-                if (!is_finite(L)) {
-                    ++c.nonfinite;
-                    continue;
-                }
-                acc += DVec3(L);
+        // Up to kLanes neighbouring pixels of the row at a time: their camera rays for one
+        // sample index are traced as one (coherent) packet, the rest of each path ray by ray.
+        // Each pixel still sums its samples in index order, so images do not change.
+        for (int x0 = job.x0; x0 < job.x1; x0 += int(kLanes)) {
+            const std::size_t n = std::min(kLanes, std::size_t(job.x1 - x0));
+            for (std::size_t k = 0; k < n; ++k) {
+                seeds[k] = Sampler::pixel_seed(x0 + int(k), y, job.seed);
+                acc[k] = DVec3(0.0);
             }
-            sums[std::size_t(y) * std::size_t(width) + std::size_t(x)] += acc;
+            for (int i = job.first_sample; i < job.end_sample; ++i) {
+                for (std::size_t k = 0; k < n; ++k) {
+                    Sampler s(seeds[k], std::uint32_t(i), 0u);
+                    const float fx = float(x0 + int(k)), fy = float(y);
+                    const Vec2 film = job.spp_total == 1 ? Vec2(fx + 0.5f, fy + 0.5f)
+                                                         : Vec2(fx, fy) + s.get_2d();
+                    rays[k] = cam.generate_ray(film);
+                }
+                scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data());
+                c.camera_rays += n;
+                c.rays += n;
+                for (std::size_t k = 0; k < n; ++k) {
+                    // Dimension 0 was the film position; the integrators set every other.
+                    Sampler s(seeds[k], std::uint32_t(i), 1u);
+                    Rgb L;
+                    if constexpr (I == IntegratorKind::Path)
+                        L = path_li<F>(scene, *job.light_distribution, rays[k], found[k], hits[k],
+                                       s, job.max_depth, c);
+                    else
+                        L = direct_li<F>(scene, rays[k], found[k], hits[k], s, job.max_depth, c);
+                    // A NaN/inf estimate would poison the pixel forever: drop it and count it.
+                    if (!is_finite(L)) {
+                        ++c.nonfinite;
+                        continue;
+                    }
+                    acc[k] += DVec3(L);
+                }
+            }
+            for (std::size_t k = 0; k < n; ++k)
+                sums[std::size_t(y) * std::size_t(width) + std::size_t(x0) + k] += acc[k];
         }
     }
 }

@@ -125,6 +125,12 @@ class Scene {
     // Closest hit along the ray with t in (0, ray.tmax]. Fills `hit` and returns true, or
     // returns false and leaves `hit` untouched.
     bool intersect(const Ray& ray, SurfaceHit& hit) const;
+    // Closest hits of up to kPacketSize rays in one Embree packet query (rtcIntersect8):
+    // found[k] and hits[k] as intersect(rays[k], hits[k]) would give them. Cheaper than ray by
+    // ray when the rays are coherent (the camera rays of neighbouring pixels); on incoherent
+    // rays intersect() is the better choice.
+    void intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* found) const;
+    static constexpr std::size_t kPacketSize = 8;
     // Shadow ray from surface point p (geometric normal ng, either orientation) toward unit
     // direction wi, over distance dist (may be +inf). True when something blocks it. The origin
     // is offset to the side of ng that wi is on, and the ray stops short of the end point by the
@@ -168,6 +174,9 @@ class Scene {
     // Benchmark peer: traces `rays` with bare Embree calls (rtcIntersect1, or rtcOccluded1 when
     // `shadow`), without building SurfaceHits; returns the number of rays that hit something.
     std::uint64_t trace_raw(std::span<const Ray> rays, bool shadow) const;
+    // The same with Embree's 8-wide packets (rtcIntersect8 / rtcOccluded8) over consecutive
+    // groups of 8 rays, for comparison: what packet tracing would gain on the same rays.
+    std::uint64_t trace_raw_packet(std::span<const Ray> rays, bool shadow) const;
 
     // Relative scale of the ray origin offset (see ray_offset): a few hundred float ulps of the
     // hit point's magnitude, well above the intersection error of Embree's triangle test and of
@@ -182,6 +191,9 @@ class Scene {
     friend struct Builder;
     // Any hit with t in (0, r.tmax) (planes outside Embree, then Embree's occlusion query).
     bool occluded_ray(const Ray& r) const;
+    // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray`.
+    bool complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v, float t,
+                      SurfaceHit& hit) const;
     std::string m_name;
     Camera m_camera;
     RenderSettings m_settings;
