@@ -180,24 +180,12 @@ void check_energy(const B& b, const std::optional<MicrofacetReflection>& ref, co
             << where << " (MC fallback, quadrature error estimate " << a.error_estimate << ")";
 }
 
-// KNOWN ISSUE: with energy compensation, lobes of extreme anisotropy (axis ratio >= 1000,
-// e.g. alpha 1e-3 x 10) still reflect slightly more than 1: measured up to 1.021 (Beckmann
-// 1e-3 x 10, theta 0, MC) and 1.0066 (GGX 1e-3 x 10, theta 89), because the (mu, phi) albedo
-// table is bilinear in phi and E varies too fast with phi there. History: with a phi-averaged
-// E(mu) table these corners, all ratios >= 100 and grazing isotropic lobes reached 1.86; the
-// (mu, phi) table integrated in unstretched slope space and the 2e-3 missing-energy threshold
-// brought ratios <= 100 and grazing angles within tolerance (checked by the enabled tests).
-// The remaining corners are checked by the DISABLED_ test below, which fails today.
-bool known_compensation_issue(const test::LobeSpec& spec, double theta_deg) {
-    if (!spec.energy_compensation) return false;
-    double ratio = std::fmax(spec.ax, spec.ay) / std::fmax(std::fmin(spec.ax, spec.ay), 1e-30f);
-    if (spec.dist == ref::Dist::Blinn)
-        ratio = std::fmax(spec.ax + 2.f, spec.ay + 2.f) / std::fmin(spec.ax + 2.f, spec.ay + 2.f);
-    (void)theta_deg;
-    return ratio >= 1000.0;
-}
-
-void lobe_corner_energy(bool known_issues_only) {
+// Every distribution x roughness corner (including anisotropy ratios 1e4) with F = 1 (the most
+// energetic Fresnel term) and with a gold conductor, with and without compensation, at
+// phi_o = 30 deg. Compensated lobes must stay within 5e-3 of the bound: the compensation is
+// exact only up to the E table's interpolation error (measured <= 3.4e-3, see the furnace test
+// below); uncompensated ones within the quadrature tolerance.
+TEST(Energy, EveryLobeCornerReflectsAtMostOne) {
     Worst worst;
     int checked = 0, mc = 0;
     for (const auto& spec : test::lobe_corners(false)) {
@@ -207,7 +195,6 @@ void lobe_corner_energy(bool known_issues_only) {
         auto ref = reference_lobe(lobe.distribution());
         double tol = spec.energy_compensation ? 5e-3 : kEnergyTol;
         for (double th : kThetas) {
-            if (known_compensation_issue(spec, th) != known_issues_only) continue;
             check_energy(lobe, ref, wo_at(th, 30.0), tol,
                          spec.name() + " theta " + std::to_string(th), worst, mc);
             ++checked;
@@ -219,16 +206,42 @@ void lobe_corner_energy(bool known_issues_only) {
         checked, mc, worst.rho, worst.rho_where.c_str(), worst.err, worst.err_where.c_str());
 }
 
-// Every distribution x roughness corner (including anisotropy ratios 1e4) with F = 1 (the most
-// energetic Fresnel term) and with a gold conductor, with and without compensation.
-TEST(Energy, EveryLobeCornerReflectsAtMostOne) {
-    lobe_corner_energy(false);
-}
-
-// See KNOWN ISSUE above: fails today (rho up to 1.021); run with
-// --gtest_also_run_disabled_tests.
-TEST(Energy, DISABLED_CompensatedAnisotropicAndGrazingLobesReflectAtMostOne) {
-    lobe_corner_energy(true);
+// Anisotropic compensated white lobes are white furnaces in every direction, including the
+// grazing azimuths where E(wo) has ridges as narrow as the anisotropy: |rho - 1| < 5e-3
+// (the E table's interpolation error, measured <= 3.4e-3 with 64 x 9 nodes; a table over
+// (mu_o, phi_o) instead of the stretched direction missed by 0.12 here, a 32-node one by 0.013).
+TEST(Energy, CompensatedAnisotropicLobesAreWhiteFurnacesAtGrazingAzimuths) {
+    struct Case {
+        bool beckmann;
+        float ax, ay;
+    };
+    const Case cases[] = {{false, 0.1f, 1.f},   {false, 0.01f, 1.f}, {false, 1e-4f, 1.f},
+                          {false, 0.3f, 0.05f}, {true, 0.01f, 1.f},  {true, 1e-3f, 10.f}};
+    double worst = 0.0;
+    std::string where_worst;
+    for (const Case& c : cases) {
+        MicrofacetDistribution d = c.beckmann ? MicrofacetDistribution::beckmann(c.ax, c.ay)
+                                              : MicrofacetDistribution::ggx(c.ax, c.ay);
+        MicrofacetReflection lobe(d, Fresnel::none(), Rgb(1.f), true);
+        for (double th : {0.0, 60.0, 80.0, 89.0, 89.9}) {
+            for (double ph : {0.0, 0.5, 2.0, 5.0, 15.0, 45.0, 90.0}) {
+                std::string where = std::string(c.beckmann ? "beckmann(" : "ggx(") +
+                                    std::to_string(c.ax) + "," + std::to_string(c.ay) + ") theta " +
+                                    std::to_string(th) + " phi " + std::to_string(ph);
+                Albedo a = albedo(lobe, reference_lobe(d), wo_at(th, ph));
+                double rho = a.value.x, slack = 0.0;
+                if (a.error_estimate >= kEnergyTol) {  // quadrature unresolved: MC, 5 sigma
+                    auto [mean, se] = albedo_mc(lobe, wo_at(th, ph), 200000);
+                    rho = mean.x, slack = 5.0 * se.x;
+                }
+                double dev = std::fmax(std::fabs(rho - 1.0) - slack, 0.0);
+                if (dev > worst) worst = dev, where_worst = where;
+                EXPECT_LT(dev, 5e-3) << where << " rho " << rho;
+            }
+        }
+    }
+    std::printf("  anisotropic compensated furnace: worst |rho - 1| = %.2e at %s\n", worst,
+                where_worst.c_str());
 }
 
 TEST(Energy, EveryRegistryMaterialReflectsAtMostOne) {

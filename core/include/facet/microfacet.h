@@ -48,6 +48,8 @@
 
 namespace facet {
 
+struct QuadratureRule;
+
 enum class DistributionKind : std::uint8_t { Blinn, Beckmann, GGX };
 
 // Below this equivalent alpha a microfacet lobe *is* the mirror. At alpha = 1e-4 the lobe is
@@ -124,9 +126,10 @@ class MicrofacetDistribution {
 // optionally plus the Kulla & Conty (2017) multiple-scattering compensation lobe
 //     f_ms = scale * (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)) * F_ms,
 //     F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)),
-// where E(mu) is the F = 1 single-scattering albedo of this distribution (averaged over phi when
-// anisotropic), tabulated at construction on kTableSize nodes uniform in sqrt(mu) (linear
-// interpolation in sqrt(mu)) by Gauss-Legendre quadrature in slope space, and
+// where E(mu) is the F = 1 single-scattering albedo of this distribution (for anisotropic
+// lobes E(mu, phi), tabulated over the stretched direction, see albedo_table), tabulated at
+// construction on kTableSize nodes uniform in sqrt(mu) (linear interpolation in sqrt(mu)) by
+// Gauss-Legendre quadrature in slope space, and
 // E_avg = 2 int E(mu) mu dmu of that interpolant, exactly.
 //
 // Conventions: facet/bxdf.h. Sampling draws the distribution's sample_wm and reflects
@@ -152,13 +155,13 @@ class MicrofacetReflection {
 
     // The tabulated F = 1 single-scattering albedo E(mu) (linear interpolation; 1 when the lobe
     // is smooth, and also 1 when compensation is off, since no table is built then) and E_avg.
-    // For anisotropic lobes E depends on phi too: albedo_table(w) reads the (mu, phi) table;
-    // albedo_table(mu) is the phi = 0 row.
+    // For anisotropic lobes E depends on phi too: albedo_table(w) reads the table over the
+    // stretched direction (mu_s, phi_s); albedo_table(mu) is its phi_s = 0 row.
     float albedo_table(float mu) const { return albedo_row(0, mu); }
     float albedo_table(const Vec3& w) const;
     float albedo_average() const { return m_e_avg; }
 
-    static constexpr int kTableSize = 32;    // nodes in sqrt(mu)
+    static constexpr int kTableSize = 64;    // nodes in sqrt(mu)
     static constexpr int kPhiTableSize = 9;  // nodes in phi over [0, pi/2], anisotropic only
 
   private:
@@ -168,6 +171,9 @@ class MicrofacetReflection {
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;
+    // E_avg of the table's interpolant, exactly (isotropic) / by cellwise quadrature.
+    float isotropic_average() const;
+    float anisotropic_average(const QuadratureRule& gu) const;
 
     MicrofacetDistribution m_distribution;
     Fresnel m_fresnel;
@@ -176,9 +182,10 @@ class MicrofacetReflection {
     bool m_smooth;
     bool m_has_ms = false;  // compensation on and the lobe misses some energy
     // E(mu_k, phi_j) at m_e[j * kTableSize + k], mu_k = (k / (kTableSize - 1))^2,
-    // phi_j = j / (m_phi_count - 1) * pi / 2.
+    // phi_j = j / (m_phi_count - 1) * pi / 2 (of the stretched direction when anisotropic).
     std::array<float, kTableSize * kPhiTableSize> m_e{};
     int m_phi_count = 1;
+    Vec2 m_stretch{1.f};  // (ax, ay): anisotropic tables are indexed by normalize(ax x, ay y, z)
     float m_e_avg = 1.f;
     Rgb m_ms_factor{0.f};              // scale * F_ms / (pi (1 - E_avg))
     float m_w_ss = 0.f, m_w_ms = 0.f;  // lum(F_avg), lum(F_ms) for lobe selection
