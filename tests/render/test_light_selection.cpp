@@ -10,6 +10,7 @@
 #include "facet/render/light.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "render_test_util.h"
 
 namespace fr = facet::render;
 using facet::kPi;
@@ -20,18 +21,11 @@ using facet::Vec3;
 
 namespace {
 
-fr::Scene scene_from(const std::string& body) {
-    return fr::load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                      "test.json");
-}
+using fr::testing::scene_from;
 
 fr::Image render(const fr::Scene& scene, int spp, bool uniform, std::uint64_t seed,
                  const std::string& integrator = "path") {
-    fr::RenderOptions o;
-    o.integrator = integrator;
-    o.spp = spp;
-    o.threads = 2;
-    o.seed = seed;
+    fr::RenderOptions o = fr::testing::test_options(integrator, spp, seed);
     o.uniform_light_selection = uniform;
     return fr::render(scene, o);
 }
@@ -132,13 +126,9 @@ TEST(LightSelection, ColocatedStrongAndWeakLightsAreExactAtOneSample) {
     double worst_uniform = 0.0;
     for (int y = 0; y < power.height(); ++y) {
         for (int x = 0; x < power.width(); ++x) {
-            const fr::Ray ray = cam.generate_ray({float(x) + 0.5f, float(y) + 0.5f});
-            const facet::DVec3 o(ray.o), dir(ray.d);
-            ASSERT_LT(dir.y, 0.0);
-            const facet::DVec3 p = o + (-o.y / dir.y) * dir;
-            const facet::DVec3 to_light = facet::DVec3(light) - p;
-            const double r2 = glm::dot(to_light, to_light);
-            const double want = 0.8 / kPiD * 100.0 * (to_light.y / std::sqrt(r2)) / (4 * kPiD * r2);
+            const auto on_plane = fr::testing::point_light_on_plane(cam, x, y, light, 100.0, 0.8);
+            ASSERT_TRUE(on_plane.has_value());  // the camera looks down: every pixel sees the plane
+            const double want = *on_plane;
             ASSERT_NEAR(power.at(x, y).r, want, 1e-5 * want) << "pixel " << x << "," << y;
             worst_uniform = std::max(worst_uniform, std::fabs(uniform.at(x, y).r - want) / want);
         }
@@ -253,13 +243,8 @@ TEST(LightSelection, ParallelogramAndTriangleSamplingAgree) {
 TEST(LightSelection, QuadLightIrradianceIsNotClippedByShadowRays) {
     const fr::Scene scene = scene_from(R"(
         "camera": {"position": [0.3, 0.3, 0.2], "look_at": [0.3, 0, 0.2], "up": [0, 0, 1],
-                   "fov": 0.001, "width": 1, "height": 1},
-        "materials": {"white": {"model": "lambert", "reflectance": 0.7}},
-        "shapes": [
-          {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"},
-          {"type": "quad", "emission": 5,
-           "vertices": [[-1, 0.6, -1], [1, 0.6, -1], [1, 0.6, 1], [-1, 0.6, 1]]}
-        ])");
+                   "fov": 0.001, "width": 1, "height": 1},)" +
+                                       std::string(fr::testing::kQuadLightOverPlane));
     const double h = 0.6, px = 0.3, pz = 0.2;
     const int n = 1000;
     double integral = 0.0;

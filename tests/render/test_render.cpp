@@ -7,6 +7,7 @@
 
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "render_test_util.h"
 
 namespace fr = facet::render;
 using facet::Rgb;
@@ -14,21 +15,15 @@ using facet::Vec3;
 
 namespace {
 
-fr::Scene scene_from(const std::string& body) {
-    return fr::load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                      "test.json");
-}
+using fr::testing::scene_from;
+using fr::testing::test_options;
 
 fr::Image render(const fr::Scene& scene, const std::string& integrator, int spp, int threads = 2,
                  bool general = false, int max_depth = -1, std::uint64_t seed = 7,
                  fr::RenderStats* stats = nullptr) {
-    fr::RenderOptions o;
-    o.integrator = integrator;
-    o.spp = spp;
-    o.threads = threads;
+    fr::RenderOptions o = test_options(integrator, spp, seed, threads);
     o.force_general_kernel = general;
     o.max_depth = max_depth;
-    o.seed = seed;
     return fr::render(scene, o, stats);
 }
 
@@ -110,16 +105,10 @@ TEST(RenderAnalytic, PointLightOverLambertianPlaneDirect) {
         int checked = 0;
         for (int y = 0; y < img.height(); ++y) {
             for (int x = 0; x < img.width(); ++x) {
-                const fr::Ray ray = cam.generate_ray({float(x) + 0.5f, float(y) + 0.5f});
-                const facet::DVec3 o(ray.o), d(ray.d);
-                if (!(d.y < 0)) continue;  // above the horizon: black, checked below
-                const facet::DVec3 p = o + (-o.y / d.y) * d;
-                const facet::DVec3 to_light = facet::DVec3(kLight) - p;
-                const double r2 = glm::dot(to_light, to_light);
-                const double cos_t = to_light.y / std::sqrt(r2);
-                const double want = kRho / facet::kPiD * kPhi * cos_t / (4 * facet::kPiD * r2);
+                const auto want = fr::testing::point_light_on_plane(cam, x, y, kLight, kPhi, kRho);
+                if (!want) continue;  // above the horizon: black, checked below
                 for (int c = 0; c < 3; ++c)
-                    ASSERT_NEAR(img.at(x, y)[c], want, 1e-5 * want)
+                    ASSERT_NEAR(img.at(x, y)[c], *want, 1e-5 * *want)
                         << integrator << " pixel " << x << "," << y;
                 ++checked;
             }
@@ -186,13 +175,7 @@ TEST(RenderAnalytic, FurnaceErrorFallsAsInverseSqrtSpp) {
 TEST(RenderAnalytic, DirectEqualsPathWithoutIndirectLight) {
     const fr::Scene scene = scene_from(R"(
         "camera": {"position": [0, 2, 4], "look_at": [0, 0, 0], "fov": 45, "width": 24,
-                   "height": 16},
-        "materials": {"white": {"model": "lambert", "reflectance": 0.7}},
-        "shapes": [
-          {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "white"},
-          {"type": "quad", "emission": 5,
-           "vertices": [[-1, 0.6, -1], [1, 0.6, -1], [1, 0.6, 1], [-1, 0.6, 1]]}
-        ])");
+                   "height": 16},)" + std::string(fr::testing::kQuadLightOverPlane));
     const fr::Image a = render(scene, "direct", 64);
     const fr::Image b = render(scene, "path", 64);
     fr::Image d(a.width(), a.height());
@@ -248,11 +231,7 @@ TEST(RenderDeterminism, ThreadCountDoesNotChangeTheImage) {
     for (const char* integrator : {"path", "direct"}) {
         const fr::Image one = render(scene, integrator, 4, 1);
         const fr::Image two = render(scene, integrator, 4, 2);
-        fr::RenderOptions o;
-        o.integrator = integrator;
-        o.spp = 4;
-        o.threads = 2;
-        o.seed = 7;
+        fr::RenderOptions o = test_options(integrator, 4, 7);
         o.tile_size = 7;
         const fr::Image odd_tiles = fr::render(scene, o);
         expect_identical(one, two, integrator);

@@ -329,8 +329,8 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 for (std::size_t k = 0; k < n; ++k) {
                     Sampler s(seeds[k], std::uint32_t(i), 0u);
                     const float fx = float(x0 + int(k)), fy = float(y);
-                    const Vec2 film = job.spp_total == 1 ? Vec2(fx + 0.5f, fy + 0.5f)
-                                                         : Vec2(fx, fy) + s.get_2d();
+                    const Vec2 film =
+                        job.spp_total == 1 ? Vec2(fx + 0.5f, fy + 0.5f) : Vec2(fx, fy) + s.get_2d();
                     rays[k] = cam.generate_ray(film);
                 }
                 scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data());
