@@ -222,13 +222,15 @@ void init_rayhit_lane(RTCRayHit8& rh, int k, const Ray& ray) {
     rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
 }
 
-// An 8-wide packet of rays[0, min(8, size)); the unused lanes repeat ray 0 and are masked off
-// in `valid` (-1 = active, Embree's convention).
-void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays) {
+// An 8-wide packet of rays[0, min(8, size)) with active[k] (all when null); the unused lanes
+// repeat ray 0 and are masked off in `valid` (-1 = active, Embree's convention).
+void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays,
+                 const bool* active = nullptr) {
     for (int k = 0; k < 8; ++k) {
-        const bool on = std::size_t(k) < rays.size();
+        const std::size_t i = std::size_t(k);
+        const bool on = i < rays.size() && (!active || active[i]);
         valid[k] = on ? -1 : 0;
-        init_rayhit_lane(rh, k, rays[on ? std::size_t(k) : 0]);
+        init_rayhit_lane(rh, k, rays[on ? i : 0]);
     }
 }
 
@@ -425,23 +427,57 @@ inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, fl
     return true;
 }
 
-void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* found) const {
+void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* found,
+                             const bool* active) const {
     const std::size_t n = std::min(rays.size(), kPacketSize);
     const Impl& impl = *m_impl;
     if (!impl.backend) {  // a default-constructed (empty) scene
-        std::fill(found, found + n, false);
+        for (std::size_t k = 0; k < n; ++k)
+            if (!active || active[k]) found[k] = false;
         return;
     }
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     alignas(32) int valid[kPacketSize];
     RTCRayHit8 rh;
-    init_packet(rh, valid, rays.first(n));
+    init_packet(rh, valid, rays.first(n), active);
     rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     for (std::size_t k = 0; k < n; ++k) {
+        if (!valid[k]) continue;
         found[k] = complete_hit(rays[k], rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
                                 rh.hit.v[k], rh.ray.tfar[k], hits[k]);
     }
+}
+
+void Scene::occluded_packet(std::span<const Ray> rays, const bool* active, bool* blocked) const {
+    const std::size_t n = std::min(rays.size(), kPacketSize);
+    const Impl& impl = *m_impl;
+    // Lanes to trace: active, something to test, not already blocked by an infinite plane
+    // (tested outside Embree, as occluded_ray does).
+    bool trace[kPacketSize] = {};
+    int count = 0;
+    for (std::size_t k = 0; k < n; ++k) {
+        blocked[k] = false;
+        if (!active[k] || !(rays[k].tmax > 0.f) || !impl.backend) continue;
+        if (!impl.planes.empty()) {
+            std::size_t which = 0;
+            if (intersect_planes(impl.planes, rays[k], double(rays[k].tmax), which) > 0.0) {
+                blocked[k] = true;
+                continue;
+            }
+        }
+        trace[k] = true;
+        ++count;
+    }
+    if (count == 0) return;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    alignas(32) int valid[kPacketSize];
+    RTCRayHit8 rh;  // the hit part is unused: occlusion queries take rh.ray
+    init_packet(rh, valid, rays.first(n), trace);
+    rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &rh.ray);
+    for (std::size_t k = 0; k < n; ++k)
+        if (trace[k]) blocked[k] = rh.ray.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
 bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const {

@@ -102,14 +102,35 @@ inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSam
     return std::isfinite(ls.dist) ? scene.occluded_segment(hit.p, hit.ng, ls.p_light, ls.n_light)
                                   : scene.occluded(hit.p, hit.ng, ls.wi, ls.dist);
 }
+// The ray shadowed() traces (tmax <= 0: nothing to test, not shadowed).
+inline Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
+    return std::isfinite(ls.dist) ? Scene::shadow_ray(hit.p, hit.ng, ls.p_light, ls.n_light)
+                                  : Scene::spawn_ray(hit.p, hit.ng, ls.wi);
+}
 
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
 
-// `found` / `first_hit`: the camera ray's closest hit, traced by the caller (render_tile traces
-// the camera rays of neighbouring pixels as one packet).
+constexpr std::size_t kLanes = Scene::kPacketSize;
+
+// One path of a packet (path_packet): what a path keeps from one vertex to the next. The ray to
+// the current vertex and its hit live in the packet's arrays, next to the other lanes'.
+struct PathState {
+    Rgb L{0.f}, beta{1.f};
+    bool specular_bounce = false;
+    float prev_bsdf_pdf = 0.f;
+    LightSampleContext prev_ctx;
+    // Next-event estimation at the current vertex: what L gains when the shadow ray (traced
+    // with the other lanes' after every lane has shaded its vertex) is not blocked.
+    Rgb nee{0.f};
+};
+
+// The vertex at `depth` of path `p`, reached by `ray` (closest hit `hit` when `found`): emission
+// found by the ray, the light sample (`shadow` and p.nee, `has_shadow` set), and the BSDF sample
+// that continues the path (`ray` becomes the next ray). False when the path ends here.
 template <std::uint32_t F>
-Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, bool found,
-            const SurfaceHit& first_hit, Sampler& s, int max_depth, KernelCounters& c) {
+bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p, Ray& ray,
+                 bool found, const SurfaceHit& hit, bool& has_shadow, Ray& shadow, int depth,
+                 Sampler& s, int max_depth, KernelCounters& c) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
@@ -117,120 +138,163 @@ Rgb path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, bo
     const std::span<const Light> lights = scene.lights();
     const int num_lights = int(lights.size());
 
-    Rgb L(0.f), beta(1.f);
-    bool specular_bounce = false;
-    float prev_bsdf_pdf = 0.f;
-    LightSampleContext prev_ctx;
-    SurfaceHit hit = first_hit;
-    for (int depth = 0;; ++depth) {
-        if (depth > 0) found = scene.intersect(ray, hit);
-        // Emission reached by this ray: full weight from the camera or after a delta lobe
-        // (light sampling cannot produce those paths); MIS-weighted against NEE otherwise.
-        if constexpr (kMis) {
-            if (depth > 0 || kEmission) {
-                if (!found) {
-                    if (const Light* env = scene.environment()) {
-                        const Rgb le = env->le_escape(ray.d);
-                        if (depth == 0 || specular_bounce) {
-                            L += beta * le;
-                        } else {
-                            const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                             env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
-                            L += beta * le * power_heuristic(prev_bsdf_pdf, lp);
-                        }
-                    }
-                } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
-                    if (depth == 0 || specular_bounce) {
-                        L += beta * hit.emitted_radiance;
+    // Emission reached by this ray: full weight from the camera or after a delta lobe (light
+    // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
+    if constexpr (kMis) {
+        if (depth > 0 || kEmission) {
+            if (!found) {
+                if (const Light* env = scene.environment()) {
+                    const Rgb le = env->le_escape(ray.d);
+                    if (depth == 0 || p.specular_bounce) {
+                        p.L += p.beta * le;
                     } else {
-                        const std::size_t li = std::size_t(hit.light);
-                        const float lp =
-                            light_dist.pmf(li) * lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
-                        L += beta * hit.emitted_radiance * power_heuristic(prev_bsdf_pdf, lp);
+                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
+                                         env->pdf_li(p.prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                        p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
                     }
+                }
+            } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
+                if (depth == 0 || p.specular_bounce) {
+                    p.L += p.beta * hit.emitted_radiance;
+                } else {
+                    const std::size_t li = std::size_t(hit.light);
+                    const float lp =
+                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray.d, hit.p, hit.ng);
+                    p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
         }
-        if (!found || depth >= max_depth) break;
-        if constexpr (!kIndirect && !kSpecular) {
-            if (depth >= 1) break;
-        }
-        const Material& m = *hit.material;
-        Shading sh;
-        if (!make_shading<F>(hit, m, ray.d, sh)) break;
-        const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
-        const LightSampleContext ctx{hit.p, sh.ns};
-
-        // Next-event estimation: one light, chosen in proportion to power (light.h).
-        if (num_lights > 0 && has_non_specular<F>(m)) {
-            // The light choice needs a sample only when there is a choice; every draw has a
-            // fixed dimension, so skipping one does not shift the others.
-            float select_pmf = 1.f;
-            std::uint32_t light_index = 0;
-            if (num_lights > 1) {
-                s.set_dimension(base);
-                light_index = light_dist.sample(s.get_1d(), select_pmf);
-            }
-            s.set_dimension(base + 1u);
-            const Vec2 u = s.get_2d();
-            const Light& light = lights[light_index];
-            if (auto ls = light.sample_li(ctx, u)) {
-                // Reflection only: the light must be on the viewer's side of the surface.
-                if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
-                    const Vec3 wi = sh.frame.to_local(ls->wi);
-                    const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
-                    if (max3(contrib) > 0.f) {
-                        ++c.shadow_rays;
-                        if (!shadowed(scene, hit, *ls)) {
-                            const float lp = select_pmf * ls->pdf;
-                            float w = 1.f;
-                            if constexpr (kMis) {
-                                if (!ls->delta) w = power_heuristic(lp, bsdf_pdf<F>(m, sh.wo, wi));
-                            }
-                            L += beta * contrib * (w / lp);
-                        }
-                    }
-                }
-            }
-        }
-        // The last vertex needs a BSDF sample only to find emitters (MIS) or through a mirror.
-        if constexpr (!kMis) {
-            if (depth + 1 >= max_depth) break;
-        }
-
-        // BSDF sampling for the next vertex.
-        if constexpr ((F & kFeatLambertOnly) != 0) {
-            if (!m.diffuse()) break;  // black
-        }
-        // Lobe choice: a Lambertian lobe ignores uc (facet/lambert.h), so the Lambert-only
-        // kernel does not draw it; the general kernel passes a value the single lobe ignores.
-        s.set_dimension(base + 3u);
-        const float uc = (F & kFeatLambertOnly) != 0 ? 0.f : s.get_1d();
-        s.set_dimension(base + 4u);
-        const Vec2 u2 = s.get_2d();
-        const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, u2);
-        if (!bs || !(bs->pdf > 0.f)) break;
-        const Vec3 wi_w = sh.frame.from_local(bs->wi);
-        if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;  // below the geometric surface
-        beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
-        if (!(max3(beta) > 0.f)) break;
-        if constexpr (kSpecular) specular_bounce = bs->is_specular();
-        prev_bsdf_pdf = bs->pdf;
-        prev_ctx = ctx;
-
-        // Russian roulette (unbiased): survive with probability max(beta), reweight survivors.
-        if (depth + 1 >= kRouletteDepth) {
-            const float q = std::max(0.f, 1.f - max3(beta));
-            if (q > 0.f) {
-                s.set_dimension(base + 6u);
-                if (s.get_1d() < q) break;
-                beta /= 1.f - q;
-            }
-        }
-        ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
-        ++c.rays;
     }
-    return L;
+    if (!found || depth >= max_depth) return false;
+    if constexpr (!kIndirect && !kSpecular) {
+        if (depth >= 1) return false;
+    }
+    const Material& m = *hit.material;
+    Shading sh;
+    if (!make_shading<F>(hit, m, ray.d, sh)) return false;
+    const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
+    const LightSampleContext ctx{hit.p, sh.ns};
+
+    // Next-event estimation: one light, chosen in proportion to power (light.h).
+    if (num_lights > 0 && has_non_specular<F>(m)) {
+        // The light choice needs a sample only when there is a choice; every draw has a fixed
+        // dimension, so skipping one does not shift the others.
+        float select_pmf = 1.f;
+        std::uint32_t light_index = 0;
+        if (num_lights > 1) {
+            s.set_dimension(base);
+            light_index = light_dist.sample(s.get_1d(), select_pmf);
+        }
+        s.set_dimension(base + 1u);
+        const Vec2 u = s.get_2d();
+        const Light& light = lights[light_index];
+        if (auto ls = light.sample_li(ctx, u)) {
+            // Reflection only: the light must be on the viewer's side of the surface.
+            if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
+                const Vec3 wi = sh.frame.to_local(ls->wi);
+                const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
+                if (max3(contrib) > 0.f) {
+                    ++c.shadow_rays;
+                    has_shadow = true;
+                    shadow = shadow_ray(hit, *ls);
+                    const float lp = select_pmf * ls->pdf;
+                    float w = 1.f;
+                    if constexpr (kMis) {
+                        if (!ls->delta) w = power_heuristic(lp, bsdf_pdf<F>(m, sh.wo, wi));
+                    }
+                    p.nee = p.beta * contrib * (w / lp);
+                }
+            }
+        }
+    }
+    // The last vertex needs a BSDF sample only to find emitters (MIS) or through a mirror.
+    if constexpr (!kMis) {
+        if (depth + 1 >= max_depth) return false;
+    }
+
+    // BSDF sampling for the next vertex.
+    if constexpr ((F & kFeatLambertOnly) != 0) {
+        if (!m.diffuse()) return false;  // black
+    }
+    // Lobe choice: a Lambertian lobe ignores uc (facet/lambert.h), so the Lambert-only kernel
+    // does not draw it; the general kernel passes a value the single lobe ignores.
+    s.set_dimension(base + 3u);
+    const float uc = (F & kFeatLambertOnly) != 0 ? 0.f : s.get_1d();
+    s.set_dimension(base + 4u);
+    const Vec2 u2 = s.get_2d();
+    const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, u2);
+    if (!bs || !(bs->pdf > 0.f)) return false;
+    const Vec3 wi_w = sh.frame.from_local(bs->wi);
+    if (!(glm::dot(wi_w, sh.ng) > 0.f)) return false;  // below the geometric surface
+    p.beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+    if (!(max3(p.beta) > 0.f)) return false;
+    if constexpr (kSpecular) p.specular_bounce = bs->is_specular();
+    p.prev_bsdf_pdf = bs->pdf;
+    p.prev_ctx = ctx;
+
+    // Russian roulette (unbiased): survive with probability max(beta), reweight survivors.
+    if (depth + 1 >= kRouletteDepth) {
+        const float q = std::max(0.f, 1.f - max3(p.beta));
+        if (q > 0.f) {
+            s.set_dimension(base + 6u);
+            if (s.get_1d() < q) return false;
+            p.beta /= 1.f - q;
+        }
+    }
+    ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
+    ++c.rays;
+    return true;
+}
+
+// Fewer live paths than this trace their closest-hit rays one by one: a packet query costs
+// about as much as a few single-ray queries whatever the number of active lanes.
+constexpr int kMinPacketLanes = 3;
+
+// The paths of n <= kLanes camera rays `rays` (closest hits `hits` / `found`, traced by the
+// caller), pixel seeds `seeds`, sample index `index`, traced together depth by depth: the
+// closest-hit rays of a depth go to Embree as one packet (one by one when only a few paths are
+// left), then the shadow rays of that depth as one packet. Each path performs exactly the
+// operations, in the same order, that it would alone, so images do not depend on the grouping.
+// Radiance estimates are left in L[k].
+template <std::uint32_t F>
+void path_packet(const Scene& scene, const LightDistribution& light_dist, std::size_t n,
+                 std::array<Ray, kLanes>& rays, std::array<SurfaceHit, kLanes>& hits,
+                 std::array<bool, kLanes>& found, const std::uint32_t* seeds, std::uint32_t index,
+                 int max_depth, KernelCounters& c, Rgb* L) {
+    std::array<PathState, kLanes> paths;
+    std::array<bool, kLanes> alive, has_shadow, blocked;
+    std::array<Ray, kLanes> shadow;
+    alive.fill(false);
+    std::fill(alive.begin(), alive.begin() + std::ptrdiff_t(n), true);
+    for (int depth = 0;; ++depth) {
+        if (depth > 0) {
+            int live = 0;
+            for (std::size_t k = 0; k < n; ++k) live += alive[k];
+            if (live == 0) break;
+            if (live < kMinPacketLanes) {
+                for (std::size_t k = 0; k < n; ++k)
+                    if (alive[k]) found[k] = scene.intersect(rays[k], hits[k]);
+            } else {
+                scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data(),
+                                       alive.data());
+            }
+        }
+        bool any_shadow = false;
+        for (std::size_t k = 0; k < n; ++k) {
+            has_shadow[k] = false;
+            if (!alive[k]) continue;
+            Sampler s(seeds[k], index, 0u);  // path_vertex sets every dimension it draws
+            alive[k] = path_vertex<F>(scene, light_dist, paths[k], rays[k], found[k], hits[k],
+                                      has_shadow[k], shadow[k], depth, s, max_depth, c);
+            any_shadow |= has_shadow[k];
+        }
+        if (any_shadow) {
+            scene.occluded_packet(std::span(shadow).first(n), has_shadow.data(), blocked.data());
+            for (std::size_t k = 0; k < n; ++k)
+                if (has_shadow[k] && !blocked[k]) paths[k].L += paths[k].nee;
+        }
+    }
+    for (std::size_t k = 0; k < n; ++k) L[k] = paths[k].L;
 }
 
 // ---- direct: local illumination (C&W eq. 2.42) + perfect mirror recursion ----
@@ -307,7 +371,6 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
 
 template <IntegratorKind I, std::uint32_t F>
 void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCounters& c) {
-    constexpr std::size_t kLanes = Scene::kPacketSize;
     const Camera& cam = scene.camera();
     const int width = cam.width;
     std::array<Ray, kLanes> rays;
@@ -315,10 +378,11 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
     std::array<SurfaceHit, kLanes> hits;
     std::array<std::uint32_t, kLanes> seeds;
     std::array<DVec3, kLanes> acc;
+    std::array<Rgb, kLanes> L;
     for (int y = job.y0; y < job.y1; ++y) {
         // Up to kLanes neighbouring pixels of the row at a time: their camera rays for one
-        // sample index are traced as one (coherent) packet, the rest of each path ray by ray.
-        // Each pixel still sums its samples in index order, so images do not change.
+        // sample index are traced as one (coherent) packet, and the path integrator traces the
+        // rest of their paths together too. Each pixel still sums its samples in index order.
         for (int x0 = job.x0; x0 < job.x1; x0 += int(kLanes)) {
             const std::size_t n = std::min(kLanes, std::size_t(job.x1 - x0));
             for (std::size_t k = 0; k < n; ++k) {
@@ -336,21 +400,23 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data());
                 c.camera_rays += n;
                 c.rays += n;
+                if constexpr (I == IntegratorKind::Path) {
+                    path_packet<F>(scene, *job.light_distribution, n, rays, hits, found,
+                                   seeds.data(), std::uint32_t(i), job.max_depth, c, L.data());
+                } else {
+                    for (std::size_t k = 0; k < n; ++k) {
+                        // Dimension 0 was the film position; direct_li sets every other.
+                        Sampler s(seeds[k], std::uint32_t(i), 1u);
+                        L[k] = direct_li<F>(scene, rays[k], found[k], hits[k], s, job.max_depth, c);
+                    }
+                }
                 for (std::size_t k = 0; k < n; ++k) {
-                    // Dimension 0 was the film position; the integrators set every other.
-                    Sampler s(seeds[k], std::uint32_t(i), 1u);
-                    Rgb L;
-                    if constexpr (I == IntegratorKind::Path)
-                        L = path_li<F>(scene, *job.light_distribution, rays[k], found[k], hits[k],
-                                       s, job.max_depth, c);
-                    else
-                        L = direct_li<F>(scene, rays[k], found[k], hits[k], s, job.max_depth, c);
                     // A NaN/inf estimate would poison the pixel forever: drop it and count it.
-                    if (!is_finite(L)) {
+                    if (!is_finite(L[k])) {
                         ++c.nonfinite;
                         continue;
                     }
-                    acc[k] += DVec3(L);
+                    acc[k] += DVec3(L[k]);
                 }
             }
             for (std::size_t k = 0; k < n; ++k)
