@@ -96,7 +96,49 @@ MicrofacetDistribution MicrofacetDistribution::blinn(float exponent_u, float exp
     double c =
         1.0 / (std::sqrt(kPiD) * boost::math::tgamma_delta_ratio(0.5 * nu, 0.5, BoostPolicy()));
     d.m_blinn_k = c / (nu - 1.0);
+    // rho table (header comment): rho(v) = Lambda(mu) / first(mu), mu = s v / (1 - v), with
+    // the limits rho(0) = 1 (the ibeta tail is bounded while first ~ k / mu) and rho(1) = 1 / nu
+    // (both terms ~ x^(nu/2), x = 1 / (1 + mu^2), with ratio (nu - 1) / nu (1 - x) -> (nu - 1) /
+    // nu). Where first < exp(-200) Lambda is 0 in float whatever rho is: the node copies its
+    // neighbour so that the interpolant stays bounded there.
+    const int n = kBlinnTableSize;
+    const double s = std::sqrt(2.0 / nu);
+    d.m_blinn_s = float(s);
+    d.m_blinn_kf = float(d.m_blinn_k);
+    d.m_blinn_half_nu_m1 = float(0.5 * (nu - 1.0));
+    auto table = std::make_shared<std::vector<float>>(size_t(n) + 2);
+    std::vector<double> r(static_cast<size_t>(n));
+    r[0] = 1.0;
+    r[size_t(n - 1)] = 1.0 / nu;
+    for (int j = 1; j + 1 < n; ++j) {
+        double v = double(j) / (n - 1), mu = s * v / (1.0 - v);
+        double e = 0.5 * (nu - 1.0) * std::log1p(mu * mu);
+        if (e > 200.0) {
+            r[size_t(j)] = r[size_t(j - 1)];
+            continue;
+        }
+        double first = d.m_blinn_k * std::exp(-e) / mu;
+        double tail = 0.5 * boost::math::ibeta(0.5 * nu, 0.5, 1.0 / (1.0 + mu * mu), BoostPolicy());
+        r[size_t(j)] = (first - tail) / first;
+    }
+    for (int j = 0; j < n; ++j) (*table)[size_t(j) + 1] = float(r[size_t(j)]);
+    (*table)[0] = float(3.0 * r[0] - 3.0 * r[1] + r[2]);
+    (*table)[size_t(n) + 1] =
+        float(3.0 * r[size_t(n - 1)] - 3.0 * r[size_t(n - 2)] + r[size_t(n - 3)]);
+    d.m_blinn_rho = std::move(table);
     return d;
+}
+
+float MicrofacetDistribution::blinn_rho(float v) const {
+    // Catmull-Rom on the uniform v grid (ghost nodes at both ends).
+    const float* t = m_blinn_rho->data();
+    float x = v * float(kBlinnTableSize - 1);
+    int i = std::min(int(x), kBlinnTableSize - 2);
+    float u = x - float(i);
+    float p0 = t[i], p1 = t[i + 1], p2 = t[i + 2], p3 = t[i + 3];
+    return p1 + 0.5f * u *
+                    ((p2 - p0) +
+                     u * ((2.f * p0 - 5.f * p1 + 4.f * p2 - p3) + u * (3.f * (p1 - p2) + p3 - p0)));
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -181,6 +223,19 @@ float MicrofacetDistribution::lambda(const Vec3& w) const {
         return t / (2.f * (1.f + std::sqrt(1.f + t)));
     }
     if (w.z == 0.f) return kInfinity;
+    if (m_kind == DistributionKind::Blinn) {
+        // Lambda = first(mu) rho(v) (header comment); mu = z / |(ax x, ay y)| and
+        // v = mu / (mu + s) from the tangential components. first carries the whole dynamic
+        // range (k / mu at grazing, (1 + mu^2)^((1 - nu) / 2) in the tail) in closed form.
+        float x = m_ax * w.x, y = m_ay * w.y, z = std::fabs(w.z);
+        float r = std::sqrt(x * x + y * y);
+        if (r == 0.f) return 0.f;  // mu = inf
+        float mu = z / r;
+        float e = m_blinn_half_nu_m1 * std::log1p(mu * mu);
+        if (!(e < float(kBlinnZeroLambdaExponent))) return 0.f;
+        float l = m_blinn_kf * std::exp(-e) / mu * blinn_rho(z / (z + m_blinn_s * r));
+        return l < kInfinity ? std::fmax(l, 0.f) : kInfinity;
+    }
     return float(lambda_of_mu(mu(w)));
 }
 
@@ -321,37 +376,8 @@ Vec3 MicrofacetDistribution::sample_d_cos(Vec2 u) const {
 
 namespace {
 
-constexpr int kAlbedoGrid = 24;         // Gauss-Legendre nodes per slope dimension
-constexpr float kAlbedoMinMu = 1e-4f;   // mu where the first node (mu = 0) is evaluated
-constexpr int kBlinnLambdaTable = 512;  // G1 table nodes for the Blinn albedo quadrature
-
-// G1 of a Blinn distribution tabulated on v = mu / (mu + s) in [0, 1], s = sqrt(2 / nu) (the
-// slope scale, so the G1 transition spreads over the whole table), linear interpolation.
-// Used only by the albedo quadrature (ibeta per quadrature point would cost ~10-50 ms); its
-// error (< 1e-5) is far below the quadrature's.
-struct BlinnG1Table {
-    std::vector<float> g1;
-    double s;
-    explicit BlinnG1Table(const MicrofacetDistribution& d,
-                          double (*lambda_fn)(const MicrofacetDistribution&, double)) {
-        s = std::sqrt(2.0 / double(d.nu()));
-        g1.resize(kBlinnLambdaTable);
-        for (int j = 0; j < kBlinnLambdaTable; ++j) {
-            double v = double(j) / (kBlinnLambdaTable - 1);
-            double mu = v < 1.0 ? s * v / (1.0 - v) : std::numeric_limits<double>::infinity();
-            g1[j] = float(1.0 / (1.0 + lambda_fn(d, mu)));
-        }
-    }
-    float lambda(double mu) const {
-        double v = std::isinf(mu) ? 1.0 : mu / (mu + s);
-        double x = v * (kBlinnLambdaTable - 1);
-        int i = std::min(int(x), kBlinnLambdaTable - 2);
-        float t = float(x - i);
-        float g = g1[i] + t * (g1[i + 1] - g1[i]);
-        return g > 0.f ? 1.f / g - 1.f : kInfinity;
-    }
-};
-
+constexpr int kAlbedoGrid = 24;        // Gauss-Legendre nodes per slope dimension
+constexpr float kAlbedoMinMu = 1e-4f;  // mu where the first node (mu = 0) is evaluated
 }  // namespace
 
 namespace {
@@ -421,14 +447,7 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
 
     // E(mu_o, phi_o) by albedo_quadrature (above), tabulated.
     const MicrofacetDistribution& dist = m_distribution;
-    std::optional<BlinnG1Table> blinn;
-    if (dist.kind() == DistributionKind::Blinn)
-        blinn.emplace(
-            dist, [](const MicrofacetDistribution& dd, double mu) { return dd.lambda_of_mu(mu); });
-    auto lambda = [&](const Vec3& w) -> float {
-        if (blinn) return blinn->lambda(dist.mu(w));
-        return dist.lambda(w);
-    };
+    auto lambda = [&](const Vec3& w) -> float { return dist.lambda(w); };
     double s_blinn =
         dist.kind() == DistributionKind::Blinn ? std::sqrt(2.0 / double(dist.nu())) : 1.0;
     double ax = s_blinn * dist.alpha_x(), ay = s_blinn * dist.alpha_y();

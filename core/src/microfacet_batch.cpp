@@ -93,7 +93,7 @@ void ggx_pdf_block(std::size_t n, const float* __restrict ox, const float* __res
     for (std::size_t j = 0; j < n; ++j) {
         GgxPair p = ggx_pair(ox[j], oy[j], oz[j], ix[j], iy[j], iz[j], k);
         float pdf = p.d / (2.f * (p.a_o + oz[j]));
-        out[j] = (oz[j] > 0.f) & (iz[j] > 0.f) ? pdf : 0.f;
+        out[j] = ((oz[j] > 0.f) & (iz[j] > 0.f)) ? pdf : 0.f;
     }
 }
 
