@@ -25,18 +25,6 @@ Camera Camera::make(const Vec3& position, const Vec3& look_at, const Vec3& up, f
     return c;
 }
 
-Ray Camera::generate_ray(Vec2 film_pos) const {
-    // Image-plane coordinates at distance 1: x in [-tan_half_x, tan_half_x] from left to right,
-    // y in [-tan_half_y, tan_half_y] from bottom to top (film y grows downward).
-    float sx = (2.f * film_pos.x / float(width) - 1.f) * tan_half_x;
-    float sy = (1.f - 2.f * film_pos.y / float(height)) * tan_half_y;
-    Ray ray;
-    ray.o = position;
-    ray.d = glm::normalize(forward + sx * right + sy * true_up);
-    ray.tmax = kInfinity;
-    return ray;
-}
-
 std::optional<Vec2> Camera::project(const Vec3& p) const {
     Vec3 v = p - position;
     float z = glm::dot(v, forward);

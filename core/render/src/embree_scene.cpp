@@ -201,36 +201,41 @@ void init_rayhit(RTCRayHit& rh, const Ray& ray) {
 
 static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOccluded8");
 
-// Lane k of an 8-wide packet: what init_rayhit does for one ray.
-void init_rayhit_lane(RTCRayHit8& rh, int k, const Ray& ray) {
-    rh.ray.org_x[k] = ray.o.x;
-    rh.ray.org_y[k] = ray.o.y;
-    rh.ray.org_z[k] = ray.o.z;
-    rh.ray.tnear[k] = 0.f;
-    rh.ray.dir_x[k] = ray.d.x;
-    rh.ray.dir_y[k] = ray.d.y;
-    rh.ray.dir_z[k] = ray.d.z;
-    rh.ray.time[k] = 0.f;
-    rh.ray.tfar[k] = ray.tmax;
-    rh.ray.mask[k] = 0xFFFFFFFFu;
-    rh.ray.id[k] = unsigned(k);
-    rh.ray.flags[k] = 0;
-    rh.hit.Ng_x[k] = rh.hit.Ng_y[k] = rh.hit.Ng_z[k] = 0.f;
-    rh.hit.u[k] = rh.hit.v[k] = 0.f;
-    rh.hit.primID[k] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
-    rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
-}
-
-// An 8-wide packet of rays[0, min(8, size)) with active[k] (all when null); the unused lanes
-// repeat ray 0 and are masked off in `valid` (-1 = active, Embree's convention).
-void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays,
+// An 8-wide packet of rays[0, min(8, size)) with active[k] (all when null): the ray fields, as
+// init_ray sets them for one ray. Lanes that are not traced repeat ray 0 and are masked off in
+// `valid` (-1 = active, Embree's convention).
+void init_packet(RTCRay8& r, int (&valid)[8], std::span<const Ray> rays,
                  const bool* active = nullptr) {
     for (int k = 0; k < 8; ++k) {
         const std::size_t i = std::size_t(k);
         const bool on = i < rays.size() && (!active || active[i]);
         valid[k] = on ? -1 : 0;
-        init_rayhit_lane(rh, k, rays[on ? i : 0]);
+        const Ray& ray = rays[on ? i : 0];
+        r.org_x[k] = ray.o.x;
+        r.org_y[k] = ray.o.y;
+        r.org_z[k] = ray.o.z;
+        r.dir_x[k] = ray.d.x;
+        r.dir_y[k] = ray.d.y;
+        r.dir_z[k] = ray.d.z;
+        r.tfar[k] = ray.tmax;
+    }
+    for (int k = 0; k < 8; ++k) {
+        r.tnear[k] = 0.f;
+        r.time[k] = 0.f;
+        r.mask[k] = 0xFFFFFFFFu;
+        r.id[k] = unsigned(k);
+        r.flags[k] = 0;
+    }
+}
+
+// The same for a closest-hit packet: Embree fills the hit record on a hit and needs only
+// "no hit yet" in it (geomID and instID invalid).
+void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays,
+                 const bool* active = nullptr) {
+    init_packet(rh.ray, valid, rays, active);
+    for (int k = 0; k < 8; ++k) {
+        rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
+        rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
     }
 }
 
@@ -473,11 +478,11 @@ void Scene::occluded_packet(std::span<const Ray> rays, const bool* active, bool*
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     alignas(32) int valid[kPacketSize];
-    RTCRayHit8 rh;  // the hit part is unused: occlusion queries take rh.ray
-    init_packet(rh, valid, rays.first(n), trace);
-    rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &rh.ray);
+    RTCRay8 r;
+    init_packet(r, valid, rays.first(n), trace);
+    rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
-        if (trace[k]) blocked[k] = rh.ray.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
+        if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
 bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const {
@@ -489,24 +494,6 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
         r.tmax = tmax;
     }
     return occluded_ray(r);
-}
-
-Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light, const Vec3& n_light) {
-    const float off_p = ray_offset(p), off_q = ray_offset(p_light);
-    // Origin: off the surface on the light's side; end: off the light on the origin's side.
-    const Vec3 o = p + (glm::dot(ng, p_light - p) >= 0.f ? off_p : -off_p) * ng;
-    const bool on_surface = n_light != Vec3(0.f);
-    const Vec3 q =
-        on_surface ? p_light + (glm::dot(n_light, o - p_light) >= 0.f ? off_q : -off_q) * n_light
-                   : p_light;
-    const Vec3 d = q - o;
-    const float len = std::sqrt(glm::dot(d, d));
-    Ray r;
-    r.o = o;
-    r.d = len > 0.f ? d / len : Vec3(0.f, 0.f, 1.f);
-    // A point light is not on a surface: stop short of it along the ray instead.
-    r.tmax = on_surface ? len : len - off_q;
-    return r;
 }
 
 bool Scene::occluded_segment(const Vec3& p, const Vec3& ng, const Vec3& p_light,

@@ -17,17 +17,6 @@ float spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
     return (cos_theta - cos_outer) / (cos_inner - cos_outer);
 }
 
-// Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
-// angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
-float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light,
-                              const Vec3& n_light, float inv_area) {
-    float cos_l = -glm::dot(n_light, wi);
-    if (!(cos_l > 0.f)) return 0.f;
-    Vec3 v = p_light - p;
-    float pdf = glm::dot(v, v) * inv_area / cos_l;
-    return std::isfinite(pdf) ? pdf : 0.f;
-}
-
 // A point closer than 1e-4 r to an emitting sphere counts as on it. A convex emitter cannot
 // light its own surface, but a hit point rounded to just outside the sphere would otherwise see
 // a near-hemispherical cone whose samples land at distance ~0 (no shadow ray can block them).
@@ -194,7 +183,7 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     return l;
 }
 
-std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ctx, Vec2 u) const {
     LightLiSample s;
     switch (m_kind) {
         case Kind::Point:
@@ -315,16 +304,8 @@ std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec
             return s;
         }
     }
-    // Triangles and discs: uniform by area, converted to solid angle.
-    Vec3 v = s.p_light - ctx.p;
-    float d2 = glm::dot(v, v);
-    if (!(d2 > 0.f)) return std::nullopt;
-    s.dist = std::sqrt(d2);
-    s.wi = v / s.dist;
-    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, m_inv_area);
-    if (!(s.pdf > 0.f)) return std::nullopt;
-    s.li = m_emission;
-    return s;
+    // Triangles, parallelograms and discs: uniform by area, converted to solid angle.
+    return finish_area_sample(ctx, s);
 }
 
 float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,

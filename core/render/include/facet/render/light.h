@@ -36,6 +36,7 @@
 #pragma once
 
 #include <algorithm>
+#include <cmath>
 #include <cstdint>
 #include <optional>
 #include <span>
@@ -120,6 +121,12 @@ class Light {
   private:
     // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
     void detect_parallelogram();
+    // sample_li for every light but the parallelogram (quad) light, which is inline below.
+    std::optional<LightLiSample> sample_li_other(const LightSampleContext& ctx, Vec2 u) const;
+    // The end of sample_li for lights sampled uniformly by area (triangles, parallelograms,
+    // discs): direction, distance and solid-angle pdf of s.p_light (normal s.n_light) from ctx.p.
+    std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
+                                                    LightLiSample& s) const;
 
     Kind m_kind = Kind::Point;
     std::uint32_t m_shape = UINT32_MAX;
@@ -147,6 +154,41 @@ class Light {
     std::vector<Vec3> m_tri_n;     // unit front normal per triangle
     std::vector<float> m_tri_cdf;  // running area fraction, last = 1
 };
+
+// Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
+// angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
+inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light,
+                                     const Vec3& n_light, float inv_area) {
+    float cos_l = -glm::dot(n_light, wi);
+    if (!(cos_l > 0.f)) return 0.f;
+    Vec3 v = p_light - p;
+    float pdf = glm::dot(v, v) * inv_area / cos_l;
+    return std::isfinite(pdf) ? pdf : 0.f;
+}
+
+inline std::optional<LightLiSample> Light::finish_area_sample(const LightSampleContext& ctx,
+                                                              LightLiSample& s) const {
+    Vec3 v = s.p_light - ctx.p;
+    float d2 = glm::dot(v, v);
+    if (!(d2 > 0.f)) return std::nullopt;
+    s.dist = std::sqrt(d2);
+    s.wi = v / s.dist;
+    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, m_inv_area);
+    if (!(s.pdf > 0.f)) return std::nullopt;
+    s.li = m_emission;
+    return s;
+}
+
+// Inline for quad lights (the usual area light, the Cornell box's): it runs at every path
+// vertex. p = corner + u.x e1 + u.y e2, uniform by area.
+inline std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+    if (m_kind != Kind::Area || m_area_shape != AreaShape::Parallelogram)
+        return sample_li_other(ctx, u);
+    LightLiSample s;
+    s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
+    s.n_light = m_normal;
+    return finish_area_sample(ctx, s);
+}
 
 // The discrete distribution next-event estimation chooses lights from: probability in
 // proportion to each light's power (Light::power, averaged over the RGB channels; the

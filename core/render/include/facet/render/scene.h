@@ -213,7 +213,7 @@ class Scene {
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
 };
 
-// Inline: both run for every continuation and shadow ray.
+// Inline: these run for every continuation and shadow ray.
 inline float Scene::ray_offset(const Vec3& p) {
     // Comparisons instead of std::fmax, which GCC does not inline without -ffinite-math-only
     // (a libm call per ray). Hit points are finite, so fmax's NaN rule is not needed.
@@ -228,6 +228,25 @@ inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
     r.o = p + (glm::dot(ng, d) >= 0.f ? off : -off) * ng;
     r.d = d;
     r.tmax = kInfinity;
+    return r;
+}
+
+inline Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light,
+                             const Vec3& n_light) {
+    const float off_p = ray_offset(p), off_q = ray_offset(p_light);
+    // Origin: off the surface on the light's side; end: off the light on the origin's side.
+    const Vec3 o = p + (glm::dot(ng, p_light - p) >= 0.f ? off_p : -off_p) * ng;
+    const bool on_surface = n_light != Vec3(0.f);
+    const Vec3 q =
+        on_surface ? p_light + (glm::dot(n_light, o - p_light) >= 0.f ? off_q : -off_q) * n_light
+                   : p_light;
+    const Vec3 d = q - o;
+    const float len = std::sqrt(glm::dot(d, d));
+    Ray r;
+    r.o = o;
+    r.d = len > 0.f ? d / len : Vec3(0.f, 0.f, 1.f);
+    // A point light is not on a surface: stop short of it along the ray instead.
+    r.tmax = on_surface ? len : len - off_q;
     return r;
 }
 
