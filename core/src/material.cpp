@@ -114,6 +114,23 @@ float Material::pdf(const Vec3& wo, const Vec3& wi) const {
     return result;
 }
 
+BSDFEval Material::eval(const Vec3& wo, const Vec3& wi) const {
+    // f() and pdf() in one pass: the glossy lobe's D and Lambda and the lobe probabilities are
+    // computed once (same arithmetic, so the results equal f() and pdf() bit for bit).
+    BSDFEval e;
+    auto p = lobe_probabilities(wo);
+    if (m_diffuse) {
+        e.f += diffuse_f(wo, wi);
+        if (p[0] > 0.f) e.pdf += p[0] * m_diffuse->pdf(wo, wi);
+    }
+    if (m_glossy) {
+        BSDFEval g = m_glossy->eval(wo, wi);
+        e.f += g.f;
+        if (p[1] > 0.f) e.pdf += p[1] * g.pdf;
+    }
+    return e;
+}
+
 std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) const {
     if (!(wo.z > 0.f)) return std::nullopt;
     auto p = lobe_probabilities(wo);
@@ -140,6 +157,8 @@ std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) c
     else
         s = m_mirror->sample_f(wo, uc_lobe, u);
     if (!s) return std::nullopt;
+    // A single-lobe material is that lobe: its sample already carries the full f and pdf.
+    if (!m_has_table) return s;
 
     if (s->is_specular()) {
         // Discrete choice of a delta lobe: pdf is its selection probability.
@@ -147,8 +166,9 @@ std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) c
         return s;
     }
     // One-sample MIS over the non-delta lobes: full f and the mixture pdf.
-    s->f = f(wo, s->wi);
-    s->pdf = pdf(wo, s->wi);
+    const BSDFEval e = eval(wo, s->wi);
+    s->f = e.f;
+    s->pdf = e.pdf;
     if (!(s->pdf > 0.f)) return std::nullopt;
     return s;
 }

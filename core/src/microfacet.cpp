@@ -685,6 +685,12 @@ float MicrofacetReflection::pdf(const Vec3& wo, const Vec3& wi) const {
     return p;
 }
 
+BSDFEval MicrofacetReflection::eval(const Vec3& wo, const Vec3& wi) const {
+    BSDFEval e;
+    evaluate(wo, wi, &e.f, &e.pdf);
+    return e;
+}
+
 std::optional<BSDFSample> MicrofacetReflection::sample_f(const Vec3& wo, float uc, Vec2 u) const {
     if (!(wo.z > 0.f)) return std::nullopt;
     if (m_smooth) {

@@ -57,4 +57,11 @@ struct BSDFSample {
     bool is_specular() const { return facet::is_specular(flags); }
 };
 
+// f (without cosine) and pdf (per solid angle) of one (wo, wi) pair, for callers that need both
+// (MIS weights, one-sample MIS in sample_f): one evaluation shares the half vector, D and Lambda.
+struct BSDFEval {
+    Rgb f{0.f};
+    float pdf = 0.f;
+};
+
 }  // namespace facet

@@ -32,6 +32,7 @@ class Material {
 
     Rgb f(const Vec3& wo, const Vec3& wi) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
+    BSDFEval eval(const Vec3& wo, const Vec3& wi) const;  // f and pdf together
     std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const;
     BxDFFlags flags() const { return m_flags; }
 
