@@ -115,6 +115,7 @@ constexpr std::size_t kLanes = Scene::kPacketSize;
 // One path of a packet (path_packet): what a path keeps from one vertex to the next. The ray to
 // the current vertex and its hit live in the packet's arrays, next to the other lanes'.
 struct PathState {
+    Sampler sampler{0u, 0u};
     Rgb L{0.f}, beta{1.f};
     bool specular_bounce = false;
     float prev_bsdf_pdf = 0.f;
@@ -130,7 +131,8 @@ struct PathState {
 template <std::uint32_t F>
 bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p, Ray& ray,
                  bool found, const SurfaceHit& hit, bool& has_shadow, Ray& shadow, int depth,
-                 Sampler& s, int max_depth, KernelCounters& c) {
+                 int max_depth, KernelCounters& c) {
+    Sampler& s = p.sampler;
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
@@ -262,6 +264,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
                  std::array<bool, kLanes>& found, const std::uint32_t* seeds, std::uint32_t index,
                  int max_depth, KernelCounters& c, Rgb* L) {
     std::array<PathState, kLanes> paths;
+    // Dimension 0 was the film position; path_vertex sets every dimension it draws.
+    for (std::size_t k = 0; k < n; ++k) paths[k].sampler = Sampler(seeds[k], index, 1u);
     std::array<bool, kLanes> alive, has_shadow, blocked;
     std::array<Ray, kLanes> shadow;
     alive.fill(false);
@@ -283,9 +287,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
         for (std::size_t k = 0; k < n; ++k) {
             has_shadow[k] = false;
             if (!alive[k]) continue;
-            Sampler s(seeds[k], index, 0u);  // path_vertex sets every dimension it draws
             alive[k] = path_vertex<F>(scene, light_dist, paths[k], rays[k], found[k], hits[k],
-                                      has_shadow[k], shadow[k], depth, s, max_depth, c);
+                                      has_shadow[k], shadow[k], depth, max_depth, c);
             any_shadow |= has_shadow[k];
         }
         if (any_shadow) {

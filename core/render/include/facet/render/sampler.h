@@ -120,7 +120,7 @@ class Sampler {
     // `pixel_seed` identifies the pixel (see pixel_seed()); `index` is the sample index within
     // the pixel; `dimension` is where to start consuming dimensions (0 for a camera sample).
     Sampler(std::uint32_t pixel_seed, std::uint32_t index, std::uint32_t dimension = 0)
-        : m_pixel_seed(pixel_seed), m_index(index), m_dimension(dimension) {}
+        : m_pixel_seed(pixel_seed), m_index_reversed(reverse_bits(index)), m_dimension(dimension) {}
 
     // Seed of pixel (x, y) for a render seed: every pixel gets an independent randomisation.
     static std::uint32_t pixel_seed(int x, int y, std::uint64_t seed) {
@@ -133,17 +133,19 @@ class Sampler {
     // One value in [0,1): a 1D Owen-scrambled van der Corput sequence over the sample indices,
     // with its own index shuffle per dimension.
     // Both getters use owen_scramble(sobol(i), seed) = reverse(laine_karras(reverse(sobol(i))))
-    // with reverse(sobol_dim0(i)) = i, which saves most bit reversals.
+    // with reverse(sobol_dim0(i)) = i, which saves most bit reversals; the index shuffle
+    // owen_scramble(index, s) = reverse(laine_karras(reverse(index), s)) starts from the
+    // reversed index the constructor stores.
     FACET_SAMPLER_INLINE float get_1d() {
         const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
-        const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
+        const std::uint32_t i = reverse_bits(laine_karras(m_index_reversed, dim_seed));  // shuffle
         return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
     }
 
     // A pair in [0,1)^2 from the (0,2)-sequence, shuffled and Owen-scrambled per dimension pair.
     FACET_SAMPLER_INLINE Vec2 get_2d() {
         const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
-        const std::uint32_t i = owen_scramble(m_index, dim_seed);  // index shuffle
+        const std::uint32_t i = reverse_bits(laine_karras(m_index_reversed, dim_seed));  // shuffle
         const float x =
             fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
         const float y = fixed_to_float(
@@ -156,7 +158,7 @@ class Sampler {
 
   private:
     std::uint32_t m_pixel_seed;
-    std::uint32_t m_index;
+    std::uint32_t m_index_reversed;  // reverse_bits(sample index)
     std::uint32_t m_dimension;
 };
 
