@@ -103,7 +103,7 @@ inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSam
                                   : scene.occluded(hit.p, hit.ng, ls.wi, ls.dist);
 }
 // The ray shadowed() traces (tmax <= 0: nothing to test, not shadowed).
-inline Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
+[[gnu::always_inline]] inline Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
     return std::isfinite(ls.dist) ? Scene::shadow_ray(hit.p, hit.ng, ls.p_light, ls.n_light)
                                   : Scene::spawn_ray(hit.p, hit.ng, ls.wi);
 }
