@@ -4,11 +4,13 @@
 //  - Options left at their "unset" value take the scene's render settings (scene.h).
 //  - Determinism: every pixel sample is a pure function of (pixel, sample index, seed)
 //    (sampler.h) and each pixel is accumulated by one tile in sample order, so for a given spp
-//    the image is bit-identical whatever the thread count. With a time budget the image is
-//    rendered in passes (1, 1, 2, 4, ... samples per pixel, at most kMaxPassSpp per pass, cut
-//    to what the remaining budget affords at the mean cost so far); the
-//    image is the mean of the completed passes, and equals the fixed-spp image of the same
-//    total only up to float summation order across passes.
+//    the image is bit-identical whatever the thread count. (The tile size decides which pixels
+//    share an Embree packet, groups of 8 along a tile row; Embree's packet and single-ray
+//    kernels can disagree in the last bits on rays that graze an edge.) With a time budget the
+//    image is rendered in passes (1, 1, 2, 4, ... samples per pixel, at most kMaxPassSpp per
+//    pass, cut to what the remaining budget affords at the mean cost so far); the image is the
+//    mean of the completed passes, and equals the fixed-spp image of the same total only up to
+//    float summation order across passes.
 //  - render() validates its options and throws std::invalid_argument naming the option
 //    ("--spp: must be >= 1"); after that it never throws, and it never allocates or logs per
 //    sample.
