@@ -37,6 +37,7 @@ struct RenderCmdOptions {
     int max_depth = -1;
     std::string kernel = "auto";
     std::string light_selection = "power";
+    std::string sampler = "sobol";
     bool explain = false;
     bool quiet = false;
     std::string stats_json;
@@ -88,6 +89,7 @@ void run_render(const RenderCmdOptions& o) {
     ro.threads = o.threads;
     ro.force_general_kernel = o.kernel == "general";
     ro.uniform_light_selection = o.light_selection == "uniform";
+    ro.independent_samples = o.sampler == "independent";
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
 
     render::ResolvedSettings rs;
@@ -161,6 +163,11 @@ void add_render_command(CLI::App& app) {
                     "path: choose the light for each shadow ray in proportion to power, or "
                     "uniformly")
         ->check(CLI::IsMember({"power", "uniform"}))
+        ->capture_default_str();
+    cmd->add_option("--sampler", o->sampler,
+                    "sobol: Owen-scrambled Sobol samples; independent: independent uniform "
+                    "samples (for comparisons: slower convergence)")
+        ->check(CLI::IsMember({"sobol", "independent"}))
         ->capture_default_str();
     cmd->add_flag("--explain", o->explain,
                   "print the scene analysis and which kernel features were chosen and skipped");

@@ -382,7 +382,7 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
     std::array<Ray, kLanes> rays;
     std::array<bool, kLanes> found;
     std::array<SurfaceHit, kLanes> hits;
-    std::array<std::uint32_t, kLanes> seeds;
+    std::array<std::uint32_t, kLanes> seeds, sample_seeds;
     std::array<DVec3, kLanes> acc;
     std::array<Rgb, kLanes> L;
     for (int y = job.y0; y < job.y1; ++y) {
@@ -396,8 +396,18 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 acc[k] = DVec3(0.0);
             }
             for (int i = job.first_sample; i < job.end_sample; ++i) {
+                // Independent samples (RenderOptions::independent_samples): a fresh seed per
+                // sample and index 0, whose scrambled point is uniform and independent.
+                std::uint32_t index = std::uint32_t(i);
+                if (job.independent_samples) {
+                    for (std::size_t k = 0; k < n; ++k)
+                        sample_seeds[k] = hash_combine(seeds[k], std::uint32_t(i));
+                    index = 0u;
+                }
+                const std::uint32_t* ss =
+                    job.independent_samples ? sample_seeds.data() : seeds.data();
                 for (std::size_t k = 0; k < n; ++k) {
-                    Sampler s(seeds[k], std::uint32_t(i), 0u);
+                    Sampler s(ss[k], index, 0u);
                     const float fx = float(x0 + int(k)), fy = float(y);
                     const Vec2 film =
                         job.spp_total == 1 ? Vec2(fx + 0.5f, fy + 0.5f) : Vec2(fx, fy) + s.get_2d();
@@ -407,12 +417,12 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 c.camera_rays += n;
                 c.rays += n;
                 if constexpr (I == IntegratorKind::Path) {
-                    path_packet<F>(scene, *job.light_distribution, n, rays, hits, found,
-                                   seeds.data(), std::uint32_t(i), job.max_depth, c, L.data());
+                    path_packet<F>(scene, *job.light_distribution, n, rays, hits, found, ss, index,
+                                   job.max_depth, c, L.data());
                 } else {
                     for (std::size_t k = 0; k < n; ++k) {
                         // Dimension 0 was the film position; direct_li sets every other.
-                        Sampler s(seeds[k], std::uint32_t(i), 1u);
+                        Sampler s(ss[k], index, 1u);
                         L[k] = direct_li<F>(scene, rays[k], found[k], hits[k], s, job.max_depth, c);
                     }
                 }

@@ -88,8 +88,9 @@ Image render(const Scene& scene, const RenderOptions& options, RenderStats* stat
         // what the remaining budget affords) with one.
         int pass = rs.spp - done;
         if (budgeted) pass = std::min({pass, std::max(1, done), kMaxPassSpp, affordable});
-        const TileJob proto{
-            0, 0, 0, 0, done, done + pass, rs.spp, rs.seed, choice.max_depth, &light_dist};
+        TileJob proto{0,          0, 0, 0, done, done + pass, rs.spp, rs.seed, choice.max_depth,
+                      &light_dist};
+        proto.independent_samples = options.independent_samples;
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),

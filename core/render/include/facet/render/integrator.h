@@ -87,6 +87,8 @@ struct TileJob {
     // Next-event estimation's light choice (path): the scene's power distribution, or another
     // over the same lights (RenderOptions::uniform_light_selection). Never null.
     const LightDistribution* light_distribution;
+    // Independent uniform samples instead of the Sobol sequence (RenderOptions).
+    bool independent_samples = false;
 };
 using TileKernel = void (*)(const Scene& scene, const TileJob& job, DVec3* sums,
                             KernelCounters& counters);

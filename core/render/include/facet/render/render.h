@@ -40,6 +40,9 @@ struct RenderOptions {
     bool force_general_kernel = false;    // --kernel general
     // Path: choose NEE lights uniformly instead of in proportion to power (comparisons, tests).
     bool uniform_light_selection = false;  // --light-selection uniform
+    // Independent uniform samples instead of Owen-scrambled Sobol (the peer of the time-to-error
+    // benchmark; --sampler independent). Images converge to the same value, more slowly.
+    bool independent_samples = false;
     Progress::Mode progress = Progress::Mode::Silent;
     int tile_size = kDefaultTileSize;
 };
