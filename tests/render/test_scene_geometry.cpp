@@ -3,6 +3,7 @@
 // irradiance, power normalisation).
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -628,6 +629,71 @@ TEST(Geometry, TraceRawAgreesWithIntersect) {
     EXPECT_GT(hits, 0u);
     EXPECT_EQ(s.trace_raw(rays, false), hits);
     EXPECT_EQ(s.trace_raw(rays, true), hits);  // tmax = inf: occluded iff something is hit
+}
+
+// Packet queries (Scene::intersect_packet / occluded_packet, rtcIntersect8 / rtcOccluded8) give
+// the single-ray answers: the same hits (shape, t, point, normals) and the same occlusion, over
+// meshes, exact spheres and discs, and an infinite plane (tested outside Embree); lanes masked
+// off are left untouched and rays with tmax <= 0 are not blocked. Random rays, so none grazes
+// an edge exactly (where Embree's packet and single-ray kernels may round differently).
+TEST(Geometry, PacketQueriesAgreeWithSingleRays) {
+    Scene s = load_scene_from_string(
+        wrap(R"([{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "white"},
+                 {"type": "box", "min": [2, -1, -1], "max": [3, 1, 1], "material": "white"},
+                 {"type": "disc", "center": [-2, 0, 0], "normal": [0, 0, 1], "radius": 0.8,
+                  "material": "white"},
+                 {"type": "plane", "point": [0, -2, 0], "normal": [0, 1, 0],
+                  "material": "white"}])"),
+        "t.json");
+    std::mt19937 rng(21);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    int hits = 0, blocked = 0;
+    for (int batch = 0; batch < 500; ++batch) {
+        const std::size_t n = 1 + std::size_t(batch) % Scene::kPacketSize;
+        std::array<Ray, Scene::kPacketSize> rays;
+        std::array<bool, Scene::kPacketSize> active, found, shadowed;
+        std::array<SurfaceHit, Scene::kPacketSize> packet_hits;
+        for (std::size_t k = 0; k < n; ++k) {
+            rays[k] = {Vec3(0.f, 0.f, 5.f) + 3.f * random_unit(rng), random_unit(rng),
+                       k % 3 == 0 ? kInfinity : 8.f * u01(rng) - 0.5f};  // some tmax <= 0
+            active[k] = (k + std::size_t(batch)) % 4 != 0;
+            found[k] = false;
+            packet_hits[k].shape = 999u;  // a mark for "untouched"
+        }
+        const std::span<const Ray> span(rays.data(), n);
+        s.intersect_packet(span, packet_hits.data(), found.data(), active.data());
+        s.occluded_packet(span, active.data(), shadowed.data());
+        for (std::size_t k = 0; k < n; ++k) {
+            SurfaceHit h;
+            const bool f = s.intersect(rays[k], h);
+            if (!active[k]) {
+                EXPECT_FALSE(found[k]);
+                EXPECT_EQ(packet_hits[k].shape, 999u);
+                EXPECT_FALSE(shadowed[k]);
+                continue;
+            }
+            ASSERT_EQ(found[k], f) << "batch " << batch << " lane " << k;
+            if (f) {
+                ++hits;
+                EXPECT_EQ(packet_hits[k].shape, h.shape);
+                EXPECT_EQ(packet_hits[k].t, h.t);
+                EXPECT_EQ(packet_hits[k].p, h.p);
+                EXPECT_EQ(packet_hits[k].ng, h.ng);
+                EXPECT_EQ(packet_hits[k].ns, h.ns);
+            }
+            // Occlusion: something on the ray with t < tmax, i.e. a closest hit (intersect
+            // searches t in (0, tmax]; t = tmax exactly has probability 0).
+            blocked += shadowed[k];
+            EXPECT_EQ(shadowed[k], f) << "batch " << batch << " lane " << k;
+        }
+    }
+    EXPECT_GT(hits, 300);
+    EXPECT_GT(blocked, 100);
+    // Empty spans are allowed and do nothing.
+    SurfaceHit h;
+    bool f = true;
+    s.intersect_packet({}, &h, &f);
+    EXPECT_TRUE(f);
 }
 
 // The Cornell box is closed except for its front (z = 0): a ray from inside moving away from the

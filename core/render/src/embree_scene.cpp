@@ -203,7 +203,7 @@ static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOc
 
 // An 8-wide packet of rays[0, min(8, size)) with active[k] (all when null): the ray fields, as
 // init_ray sets them for one ray. Lanes that are not traced repeat ray 0 and are masked off in
-// `valid` (-1 = active, Embree's convention).
+// `valid` (-1 = active, Embree's convention). `rays` must not be empty.
 void init_packet(RTCRay8& r, int (&valid)[8], std::span<const Ray> rays,
                  const bool* active = nullptr) {
     for (int k = 0; k < 8; ++k) {
@@ -436,6 +436,7 @@ void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* 
                              const bool* active) const {
     const std::size_t n = std::min(rays.size(), kPacketSize);
     const Impl& impl = *m_impl;
+    if (n == 0) return;
     if (!impl.backend) {  // a default-constructed (empty) scene
         for (std::size_t k = 0; k < n; ++k)
             if (!active || active[k]) found[k] = false;
