@@ -151,6 +151,19 @@ int main(int argc, char** argv) {
             }
             return argv[++i];
         };
+        if (!std::strcmp(argv[i], "--help") || !std::strcmp(argv[i], "-h")) {
+            std::printf(
+                "usage: facet_render_bench [--threads N] [--reps R] [--spp S] [--rays N] "
+                "[scene.json ...]\n"
+                "  --threads N  TBB threads (default 2)\n"
+                "  --reps R     repetitions; every figure is the median (default 5)\n"
+                "  --spp S      samples per pixel of the end-to-end renders, at least (default 1;\n"
+                "               raised so that a render lasts >= 0.2 s)\n"
+                "  --rays N     rays per ray set of the raw Embree peers (default 400000)\n"
+                "  scenes       default: cornell_box, big_mesh, point_plane from %s\n",
+                FACET_SCENES_DIR);
+            return 0;
+        }
         if (!std::strcmp(argv[i], "--threads"))
             threads = std::atoi(next("--threads"));
         else if (!std::strcmp(argv[i], "--reps"))
