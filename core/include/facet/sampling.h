@@ -8,30 +8,42 @@
 
 namespace facet {
 
+// (cos t, sin t) for t in [-pi/4, pi/4] by polynomials in t^2: Chebyshev interpolation of
+// cos(t) (degree 4 in t^2) and sin(t) / t (degree 3), truncation error < 2.5e-9, below float
+// rounding. The concentric map needs no range reduction, and the libm sincosf call it replaces
+// cost ~4% of a Cornell-box render.
+inline Vec2 cos_sin_quarter(float t) {
+    const float s = t * t;
+    const float c =
+        0.99999999995f +
+        s * (-0.49999999615f + s * (0.041666616693f + s * (-0.0013886618f + s * 2.4379831e-5f)));
+    const float n =
+        t * (0.99999999692f + s * (-0.16666650674f + s * (0.0083320358f + s * -1.9503904e-4f)));
+    return {c, n};
+}
+
 // Concentric (Shirley-Chiu) map of the unit square onto the unit disk: area preserving and
-// continuous, so stratification survives the warp.
+// continuous, so stratification survives the warp. theta = pi/4 (b/a) on the sectors around
+// the x axis and pi/2 - pi/4 (a/b) around the y axis, whose (cos, sin) is the swapped pair.
 inline Vec2 sample_uniform_disk_concentric(Vec2 u) {
     Vec2 o = 2.f * u - Vec2(1.f);
     if (o.x == 0.f && o.y == 0.f) return {0.f, 0.f};
-    float r, theta;
     if (std::fabs(o.x) > std::fabs(o.y)) {
-        r = o.x;
-        theta = (kPi / 4.f) * (o.y / o.x);
-    } else {
-        r = o.y;
-        theta = kPiOver2 - (kPi / 4.f) * (o.x / o.y);
+        const Vec2 cs = cos_sin_quarter((kPi / 4.f) * (o.y / o.x));
+        return o.x * cs;
     }
-    return r * Vec2(std::cos(theta), std::sin(theta));
+    const Vec2 cs = cos_sin_quarter((kPi / 4.f) * (o.x / o.y));
+    return o.y * Vec2(cs.y, cs.x);
 }
 
 // Cosine-weighted hemisphere (Malley's method): pdf = cos(theta) / pi.
 inline Vec3 sample_cosine_hemisphere(Vec2 u) {
     Vec2 d = sample_uniform_disk_concentric(u);
-    float z = std::sqrt(std::fmax(0.f, 1.f - d.x * d.x - d.y * d.y));
+    float z = std::sqrt(positive_part(1.f - d.x * d.x - d.y * d.y));
     return {d.x, d.y, z};
 }
 inline float cosine_hemisphere_pdf(float cos_theta) {
-    return std::fmax(cos_theta, 0.f) * kInvPi;
+    return positive_part(cos_theta) * kInvPi;
 }
 
 inline Vec3 sample_uniform_sphere(Vec2 u) {
