@@ -66,6 +66,8 @@ MicrofacetDistribution MicrofacetDistribution::ggx(float alpha_u, float alpha_v)
     d.m_kind = DistributionKind::GGX;
     d.m_ax = std::fmax(alpha_u, kMinAlpha);
     d.m_ay = std::fmax(alpha_v, kMinAlpha);
+    d.m_inv_ax = 1.f / d.m_ax;
+    d.m_inv_ay = 1.f / d.m_ay;
     d.m_equivalent_alpha = std::sqrt(std::fmax(alpha_u, 0.f) * std::fmax(alpha_v, 0.f));
     d.m_norm = float(1.0 / (kPiD * double(d.m_ax) * double(d.m_ay)));
     return d;
@@ -645,7 +647,7 @@ void MicrofacetReflection::evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_o
     float cos_o = wo.z, cos_i = wi.z;
     Vec3 h = wo + wi;  // h.z > 0: both directions are above the surface
     float len2 = glm::dot(h, h);
-    float hx = h.x / d.m_ax, hy = h.y / d.m_ay;
+    float hx = h.x * d.m_inv_ax, hy = h.y * d.m_inv_ay;
     float q = h.z * h.z + hx * hx + hy * hy;
     float dd = d.m_norm * (len2 / q) * (len2 / q);
     float a_o = std::sqrt(sqr(cos_o) + sqr(d.m_ax * wo.x) + sqr(d.m_ay * wo.y));

@@ -25,13 +25,13 @@ constexpr std::size_t kBlock = 256;
 #endif
 
 struct GgxConstants {
-    float ax, ay, norm;
+    float ax, ay, inv_ax, inv_ay, norm;
 };
 
 // The terms shared by f and pdf for one pair, with the operations and order of
 // MicrofacetReflection::evaluate_ggx: h = wo + wi, |h|^2, D = norm (|h|^2 / Q)^2 with
-// Q = hz^2 + (hx/ax)^2 + (hy/ay)^2 (Walter et al. 2007 eq. 33 from the unnormalised h), and
-// A_o = sqrt(cos_o^2 + (ax x_o)^2 + (ay y_o)^2).
+// Q = hz^2 + (hx/ax)^2 + (hy/ay)^2 (as hx (1/ax)) (Walter et al. 2007 eq. 33 from the unnormalised
+// h), and A_o = sqrt(cos_o^2 + (ax x_o)^2 + (ay y_o)^2).
 struct GgxPair {
     float hx, hy, hz, len2, d, a_o;
 };
@@ -40,7 +40,7 @@ __attribute__((always_inline)) inline GgxPair ggx_pair(float ox, float oy, float
     GgxPair p;
     p.hx = ox + ix, p.hy = oy + iy, p.hz = oz + iz;
     p.len2 = p.hx * p.hx + p.hy * p.hy + p.hz * p.hz;
-    float sx = p.hx / k.ax, sy = p.hy / k.ay;
+    float sx = p.hx * k.inv_ax, sy = p.hy * k.inv_ay;
     float q = p.hz * p.hz + sx * sx + sy * sy;
     p.d = k.norm * (p.len2 / q) * (p.len2 / q);
     p.a_o = std::sqrt(oz * oz + (k.ax * ox) * (k.ax * ox) + (k.ay * oy) * (k.ay * oy));
@@ -138,7 +138,7 @@ void MicrofacetBatch::f(std::size_t n, Vec3Soa wo, Vec3Soa wi, RgbSoa out) const
         }
         return;
     }
-    const GgxConstants kc{m_ax, m_ay, m_norm};
+    const GgxConstants kc{m_ax, m_ay, 1.f / m_ax, 1.f / m_ay, m_norm};
     float s[kBlock], c[kBlock];
     for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
         std::size_t m = std::min(kBlock, n - k0);
@@ -165,7 +165,7 @@ void MicrofacetBatch::pdf(std::size_t n, Vec3Soa wo, Vec3Soa wi, float* out) con
         for (std::size_t k = 0; k < n; ++k) out[k] = m_lobe.pdf(at(wo, k), at(wi, k));
         return;
     }
-    const GgxConstants kc{m_ax, m_ay, m_norm};
+    const GgxConstants kc{m_ax, m_ay, 1.f / m_ax, 1.f / m_ay, m_norm};
     ggx_pdf_block(n, wo.x, wo.y, wo.z, wi.x, wi.y, wi.z, kc, out);
 }
 

@@ -121,7 +121,8 @@ class MicrofacetDistribution {
     Vec3 sample_ggx_visible(const Vec3& w, Vec2 u) const;
 
     DistributionKind m_kind = DistributionKind::GGX;
-    float m_ax = 1.f, m_ay = 1.f;  // slope stretches along x, y
+    float m_ax = 1.f, m_ay = 1.f;          // slope stretches along x, y
+    float m_inv_ax = 1.f, m_inv_ay = 1.f;  // GGX: 1 / m_ax, 1 / m_ay (the fast path multiplies)
     float m_equivalent_alpha = 1.f;
     float m_norm = 0.f;      // GGX: 1 / (pi ax ay)
     float m_log_norm = 0.f;  // Beckmann: log(1 / (pi ax ay)); Blinn: log(nu / (2 pi))
