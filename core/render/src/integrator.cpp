@@ -26,12 +26,14 @@ Rgb bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
         return m.f(wo, wi);
 }
 
+// f and pdf together (next-event estimation with MIS): one pass over the glossy lobe's D and
+// Lambda; equal to bsdf_f / bsdf_pdf bit for bit (Material::eval).
 template <std::uint32_t F>
-float bsdf_pdf(const Material& m, const Vec3& wo, const Vec3& wi) {
+BSDFEval bsdf_eval(const Material& m, const Vec3& wo, const Vec3& wi) {
     if constexpr ((F & kFeatLambertOnly) != 0)
-        return m.diffuse()->pdf(wo, wi);
+        return {m.diffuse()->f(wo, wi), m.diffuse()->pdf(wo, wi)};
     else
-        return m.pdf(wo, wi);
+        return m.eval(wo, wi);
 }
 
 template <std::uint32_t F>
@@ -194,7 +196,13 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             // Reflection only: the light must be on the viewer's side of the surface.
             if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
                 const Vec3 wi = sh.frame.to_local(ls->wi);
-                const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
+                // With MIS the BSDF pdf is needed too: one evaluation for both.
+                BSDFEval e;
+                if constexpr (kMis)
+                    e = bsdf_eval<F>(m, sh.wo, wi);
+                else
+                    e.f = bsdf_f<F>(m, sh.wo, wi);
+                const Rgb contrib = e.f * std::fabs(wi.z) * ls->li;
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
@@ -202,7 +210,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
-                        if (!ls->delta) w = power_heuristic(lp, bsdf_pdf<F>(m, sh.wo, wi));
+                        if (!ls->delta) w = power_heuristic(lp, e.pdf);
                     }
                     p.nee = p.beta * contrib * (w / lp);
                 }
