@@ -477,7 +477,10 @@ TriangleMesh parse_ply(std::string_view data) {
                 }
             }
         } else {
-            // Skip an unknown element.
+            // Skip an unknown element. One without properties holds no data whatever its count
+            // (and the count check above cannot bound it: looping over a claimed 3e12 entries
+            // hung the PLY fuzzer).
+            if (e.props.empty()) continue;
             for (std::size_t i = 0; i < e.count; ++i) {
                 for (const PlyProperty& p : e.props) {
                     if (p.is_list) {
