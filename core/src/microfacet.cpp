@@ -99,6 +99,7 @@ MicrofacetDistribution MicrofacetDistribution::blinn(float exponent_u, float exp
         1.0 / (std::sqrt(kPiD) * boost::math::tgamma_delta_ratio(0.5 * nu, 0.5, BoostPolicy()));
     d.m_blinn_k = c / (nu - 1.0);
     // rho table (header comment): rho(v) = Lambda(mu) / first(mu), mu = s v / (1 - v), with
+    // Lambda = first - tail the Student-t closed form (first in log space, tail by ibeta), with
     // the limits rho(0) = 1 (the ibeta tail is bounded while first ~ k / mu) and rho(1) = 1 / nu
     // (both terms ~ x^(nu/2), x = 1 / (1 + mu^2), with ratio (nu - 1) / nu (1 - x) -> (nu - 1) /
     // nu). Where first < exp(-200) Lambda is 0 in float whatever rho is: the node copies its
@@ -199,16 +200,8 @@ double MicrofacetDistribution::lambda_of_mu(double mu) const {
             if (a >= kBeckmannZeroLambdaA) return 0.0;
             return std::fmax(0.0, 0.5 * (std::exp(-a * a) * kInvSqrtPiD / a - std::erfc(a)));
         }
-        case DistributionKind::Blinn: {
-            // Student-t Lambda (header comment); (1 + mu^2)^((1 - nu) / 2) in log space.
-            double l = std::log1p(mu * mu);
-            double e = 0.5 * (m_nu - 1.0) * l;
-            if (e > kBlinnZeroLambdaExponent) return 0.0;
-            double first = m_blinn_k * std::exp(-e) / mu;
-            double x = 1.0 / (1.0 + mu * mu);
-            double tail = 0.5 * boost::math::ibeta(0.5 * m_nu, 0.5, x, BoostPolicy());
-            return std::fmax(0.0, first - tail);
-        }
+        case DistributionKind::Blinn:
+            break;  // lambda() reads the rho table built by blinn()
     }
     return 0.0;
 }
@@ -398,10 +391,9 @@ namespace {
 // density onto a finite angle and resolves chords of any length: |yt| < 0.1 for ay = 10 at
 // normal incidence, where integrating yt over R left ~1 node in the support and E was
 // overestimated by 2%), tensor Gauss-Legendre.
-template <class Lambda>
-float albedo_quadrature(const Vec3& wo, float lam_o, double ax, double ay, double cp, double sp,
-                        const QuadratureRule& gu, const Lambda& lambda,
-                        const MicrofacetDistribution& dist) {
+float albedo_quadrature(const Vec3& wo, double ax, double ay, double cp, double sp,
+                        const QuadratureRule& gu, const MicrofacetDistribution& dist) {
+    const double lam_o = dist.lambda(wo);
     const double mu_o = wo.z, sin_o = std::sqrt(std::fmax(0.0, 1.0 - mu_o * mu_o));
     const double tan_o = sin_o / mu_o, sec_o = 1.0 / mu_o;
     const double cx = tan_o * cp, cy = tan_o * sp;  // ellipse: (ax xt + cx)^2 + (ay yt + cy)^2
@@ -428,7 +420,7 @@ float albedo_quadrature(const Vec3& wo, float lam_o, double ax, double ay, doubl
             if (!(p22 > 0.0)) continue;
             const Vec3 wi = reflect(wo, wm);
             if (!(wi.z > 0.f)) continue;
-            const double g = 1.0 / (1.0 + double(lam_o) + double(lambda(wi)));
+            const double g = 1.0 / (1.0 + lam_o + double(dist.lambda(wi)));
             e += wa * wb * p22 * proj * g;
         }
     }
@@ -449,7 +441,6 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
 
     // E(mu_o, phi_o) by albedo_quadrature (above), tabulated.
     const MicrofacetDistribution& dist = m_distribution;
-    auto lambda = [&](const Vec3& w) -> float { return dist.lambda(w); };
     double s_blinn =
         dist.kind() == DistributionKind::Blinn ? std::sqrt(2.0 / double(dist.nu())) : 1.0;
     double ax = s_blinn * dist.alpha_x(), ay = s_blinn * dist.alpha_y();
@@ -480,8 +471,7 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
             double st = std::sqrt(std::fmax(0.0, 1.0 - wz * wz)), sxy = std::hypot(wx, wy);
             double cp = sxy > 0.0 ? wx / sxy : 1.0, sp = sxy > 0.0 ? wy / sxy : 0.0;
             Vec3 wo(float(st * cp), float(st * sp), float(wz));
-            m_e[size_t(p) * kTableSize + k] =
-                albedo_quadrature(wo, lambda(wo), ax, ay, cp, sp, gu, lambda, dist);
+            m_e[size_t(p) * kTableSize + k] = albedo_quadrature(wo, ax, ay, cp, sp, gu, dist);
         }
     }
     m_e_avg = m_phi_count == 1 ? isotropic_average() : anisotropic_average(gu);

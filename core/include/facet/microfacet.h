@@ -41,7 +41,7 @@
 // tabulated per distribution at construction (kBlinnTableSize ibeta calls, ~0.3 ms) on
 // v = mu / (mu + s), s = sqrt(2 / nu) the slope scale, Catmull-Rom. Lambda and G1 stay
 // relatively accurate from the horizon to the underflow (tests: BlinnLambdaTable and the
-// stress test against the double oracle). lambda_of_mu (double, exact) builds the table.
+// stress test against the double oracle).
 #pragma once
 
 #include <array>
@@ -112,7 +112,8 @@ class MicrofacetDistribution {
 
     // mu = cot(theta) / alpha_phi = |w.z| / |(alpha_x w.x, alpha_y w.y)| (stretched cotangent).
     double mu(const Vec3& w) const;
-    // Lambda of the unit (unstretched) distribution as a function of mu (double precision).
+    // Lambda of the unit (unstretched) distribution as a function of mu (double precision);
+    // Beckmann only in practice (GGX and Blinn have float paths in lambda()).
     double lambda_of_mu(double mu) const;
     // Draws slopes of D(wm) cos(theta_m) (not visible normals) and returns the normal; used by
     // the Blinn sampler and the albedo quadrature.
