@@ -8,6 +8,7 @@
 // (lets the masked lanes' divisions be computed; FP exceptions are never enabled) and
 // -ffp-contract=off (no FMA: results stay identical to the scalar path). No -ffast-math.
 #include "facet/microfacet_batch.h"
+#include "facet/target_clones.h"
 
 #include <algorithm>
 
@@ -16,13 +17,6 @@ namespace facet {
 namespace {
 
 constexpr std::size_t kBlock = 256;
-
-#if defined(__x86_64__) && defined(__GNUC__) && !defined(__clang__) && \
-    !defined(__SANITIZE_ADDRESS__)
-#define FACET_TARGET_CLONES __attribute__((target_clones("avx2", "default")))
-#else
-#define FACET_TARGET_CLONES
-#endif
 
 struct GgxConstants {
     float ax, ay, inv_ax, inv_ay, norm;

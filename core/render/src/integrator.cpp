@@ -117,7 +117,6 @@ constexpr std::size_t kLanes = Scene::kPacketSize;
 // One path of a packet (path_packet): what a path keeps from one vertex to the next. The ray to
 // the current vertex and its hit live in the packet's arrays, next to the other lanes'.
 struct PathState {
-    Sampler sampler{0u, 0u};
     Rgb L{0.f}, beta{1.f};
     bool specular_bounce = false;
     float prev_bsdf_pdf = 0.f;
@@ -127,14 +126,50 @@ struct PathState {
     Rgb nee{0.f};
 };
 
-// The vertex at `depth` of path `p`, reached by `ray` (closest hit `hit` when `found`): emission
-// found by the ray, the light sample (`shadow` and p.nee, `has_shadow` set), and the BSDF sample
-// that continues the path (`ray` becomes the next ray). False when the path ends here.
+// The sample values one path vertex may use (integrator.h: the dimensions of a vertex), drawn
+// for the 8 paths of a packet together (VertexSampleLanes).
+struct VertexSamples {
+    float light_choice;  // base + 0 (only with more than one light)
+    Vec2 light;          // base + 1
+    float lobe;          // base + 3 (not in the Lambert-only kernel)
+    Vec2 bsdf;           // base + 4
+    float roulette;      // base + 6 (only from kRouletteDepth on)
+};
+
+// The samples of one depth for every lane of a packet: each dimension of the vertex block is
+// drawn for all lanes at once (sample_*_lanes, vectorised), and only the dimensions the kernel
+// can read at this depth. Lane k gets exactly the values its own Sampler would give.
+struct VertexSampleLanes {
+    alignas(32) float light_choice[kSamplerLanes], light_x[kSamplerLanes], light_y[kSamplerLanes],
+        lobe[kSamplerLanes], bsdf_x[kSamplerLanes], bsdf_y[kSamplerLanes], roulette[kSamplerLanes];
+
+    template <std::uint32_t F>
+    void draw(const std::uint32_t* seeds, std::uint32_t index, int depth, int num_lights) {
+        const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
+        if (num_lights > 1) sample_1d_lanes(seeds, index, base, light_choice);
+        sample_2d_lanes(seeds, index, base + 1u, light_x, light_y);
+        if constexpr ((F & kFeatLambertOnly) == 0) sample_1d_lanes(seeds, index, base + 3u, lobe);
+        sample_2d_lanes(seeds, index, base + 4u, bsdf_x, bsdf_y);
+        if (depth + 1 >= kRouletteDepth) sample_1d_lanes(seeds, index, base + 6u, roulette);
+    }
+    // Lane k's values (the entries that draw() skipped are never read).
+    VertexSamples lane(std::size_t k) const {
+        return {light_choice[k],
+                {light_x[k], light_y[k]},
+                lobe[k],
+                {bsdf_x[k], bsdf_y[k]},
+                roulette[k]};
+    }
+};
+
+// The vertex at `depth` of path `p`, reached by `ray` (closest hit `hit` when `found`), with the
+// vertex's samples `s`: emission found by the ray, the light sample (`shadow` and p.nee,
+// `has_shadow` set), and the BSDF sample that continues the path (`ray` becomes the next ray).
+// False when the path ends here.
 template <std::uint32_t F>
 bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p, Ray& ray,
-                 bool found, const SurfaceHit& hit, bool& has_shadow, Ray& shadow, int depth,
-                 int max_depth, KernelCounters& c) {
-    Sampler& s = p.sampler;
+                 bool found, const SurfaceHit& hit, const VertexSamples& s, bool& has_shadow,
+                 Ray& shadow, int depth, int max_depth, KernelCounters& c) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
@@ -176,7 +211,6 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     const Material& m = *hit.material;
     Shading sh;
     if (!make_shading<F>(hit, m, ray.d, sh)) return false;
-    const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
     const LightSampleContext ctx{hit.p, sh.ns};
 
     // Next-event estimation: one light, chosen in proportion to power (light.h).
@@ -185,14 +219,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
         // dimension, so skipping one does not shift the others.
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
-        if (num_lights > 1) {
-            s.set_dimension(base);
-            light_index = light_dist.sample(s.get_1d(), select_pmf);
-        }
-        s.set_dimension(base + 1u);
-        const Vec2 u = s.get_2d();
+        if (num_lights > 1) light_index = light_dist.sample(s.light_choice, select_pmf);
         const Light& light = lights[light_index];
-        if (auto ls = light.sample_li(ctx, u)) {
+        if (auto ls = light.sample_li(ctx, s.light)) {
             // Reflection only: the light must be on the viewer's side of the surface.
             if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
                 const Vec3 wi = sh.frame.to_local(ls->wi);
@@ -228,11 +257,8 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     }
     // Lobe choice: a Lambertian lobe ignores uc (facet/lambert.h), so the Lambert-only kernel
     // does not draw it; the general kernel passes a value the single lobe ignores.
-    s.set_dimension(base + 3u);
-    const float uc = (F & kFeatLambertOnly) != 0 ? 0.f : s.get_1d();
-    s.set_dimension(base + 4u);
-    const Vec2 u2 = s.get_2d();
-    const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, u2);
+    const float uc = (F & kFeatLambertOnly) != 0 ? 0.f : s.lobe;
+    const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, s.bsdf);
     if (!bs || !(bs->pdf > 0.f)) return false;
     const Vec3 wi_w = sh.frame.from_local(bs->wi);
     if (!(glm::dot(wi_w, sh.ng) > 0.f)) return false;  // below the geometric surface
@@ -246,8 +272,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     if (depth + 1 >= kRouletteDepth) {
         const float q = std::max(0.f, 1.f - max3(p.beta));
         if (q > 0.f) {
-            s.set_dimension(base + 6u);
-            if (s.get_1d() < q) return false;
+            if (s.roulette < q) return false;
             p.beta /= 1.f - q;
         }
     }
@@ -262,7 +287,8 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
 constexpr int kMinPacketLanes = 3;
 
 // The paths of n <= kLanes camera rays `rays` (closest hits `hits` / `found`, traced by the
-// caller), pixel seeds `seeds`, sample index `index`, traced together depth by depth: the
+// caller), pixel seeds `seeds` (kLanes of them; the first n are used), sample index `index`,
+// traced together depth by depth: the
 // closest-hit rays of a depth go to Embree as one packet (one by one when only a few paths are
 // left), then the shadow rays of that depth as one packet. Each path performs exactly the
 // shading operations, in the same order, that it would alone; only Embree's packet and
@@ -274,9 +300,12 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
                  std::array<Ray, kLanes>& rays, std::array<SurfaceHit, kLanes>& hits,
                  std::array<bool, kLanes>& found, const std::uint32_t* seeds, std::uint32_t index,
                  int max_depth, KernelCounters& c, Rgb* L) {
+    static_assert(kLanes == kSamplerLanes);
+    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    constexpr bool kSpecular = (F & kFeatSpecular) != 0;
+    const int num_lights = int(scene.lights().size());
     std::array<PathState, kLanes> paths;
-    // Dimension 0 was the film position; path_vertex sets every dimension it draws.
-    for (std::size_t k = 0; k < n; ++k) paths[k].sampler = Sampler(seeds[k], index, 1u);
+    VertexSampleLanes samples;
     std::array<bool, kLanes> alive, has_shadow, blocked;
     std::array<Ray, kLanes> shadow;
     alive.fill(false);
@@ -294,12 +323,18 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
                                        alive.data());
             }
         }
+        // Dimension 0 was the film position; a vertex that shades draws from its own block.
+        // Past max_depth (and past the first bounce without indirect light or mirrors) a
+        // vertex only looks for emission.
+        if (depth < max_depth && (kIndirect || kSpecular || depth < 1))
+            samples.draw<F>(seeds, index, depth, num_lights);
         bool any_shadow = false;
         for (std::size_t k = 0; k < n; ++k) {
             has_shadow[k] = false;
             if (!alive[k]) continue;
-            alive[k] = path_vertex<F>(scene, light_dist, paths[k], rays[k], found[k], hits[k],
-                                      has_shadow[k], shadow[k], depth, max_depth, c);
+            alive[k] =
+                path_vertex<F>(scene, light_dist, paths[k], rays[k], found[k], hits[k],
+                               samples.lane(k), has_shadow[k], shadow[k], depth, max_depth, c);
             any_shadow |= has_shadow[k];
         }
         if (any_shadow) {
@@ -390,7 +425,10 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
     std::array<Ray, kLanes> rays;
     std::array<bool, kLanes> found;
     std::array<SurfaceHit, kLanes> hits;
-    std::array<std::uint32_t, kLanes> seeds, sample_seeds;
+    // The lane sampler draws all kLanes lanes; past the end of a short row they hold stale or
+    // zero seeds, and their values are never read.
+    std::array<std::uint32_t, kLanes> seeds{}, sample_seeds{};
+    alignas(32) std::array<float, kLanes> film_x, film_y;
     std::array<DVec3, kLanes> acc;
     std::array<Rgb, kLanes> L;
     for (int y = job.y0; y < job.y1; ++y) {
@@ -414,11 +452,15 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 }
                 const std::uint32_t* ss =
                     job.independent_samples ? sample_seeds.data() : seeds.data();
+                // Film position: dimension 0 (the pixel centre when spp = 1).
+                if (job.spp_total == 1) {
+                    film_x.fill(0.5f);
+                    film_y.fill(0.5f);
+                } else {
+                    sample_2d_lanes(ss, index, 0u, film_x.data(), film_y.data());
+                }
                 for (std::size_t k = 0; k < n; ++k) {
-                    Sampler s(ss[k], index, 0u);
-                    const float fx = float(x0 + int(k)), fy = float(y);
-                    const Vec2 film =
-                        job.spp_total == 1 ? Vec2(fx + 0.5f, fy + 0.5f) : Vec2(fx, fy) + s.get_2d();
+                    const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
                     rays[k] = cam.generate_ray(film);
                 }
                 scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data());

@@ -16,7 +16,7 @@
 //  - Values lie in [0, 1): they are 24-bit fixed-point, so 1 - 2^-24 is the largest value.
 #pragma once
 
-#include <array>
+#include <cstddef>
 #include <cstdint>
 
 #include "facet/types.h"
@@ -73,9 +73,8 @@ FACET_SAMPLER_INLINE std::uint32_t sobol_dim0(std::uint32_t i) {
 }
 
 // Second Sobol dimension (primitive polynomial x + 1, all m_k = 1): the direction numbers are
-// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1), so no table of direction numbers is needed. The
-// generator-matrix product is evaluated a byte at a time from four 256-entry tables computed at
-// compile time from that recurrence (a bit loop would run 32 times for shuffled indices).
+// v_1 = 2^31, v_{k+1} = v_k ^ (v_k >> 1), so no table of direction numbers is needed. This is
+// the reference definition (a loop over the index bits); sobol_dim1_reversed is the fast one.
 inline constexpr std::uint32_t sobol_dim1_slow(std::uint32_t i) {
     std::uint32_t r = 0, v = 0x80000000u;
     for (; i != 0; i >>= 1, v ^= v >> 1)
@@ -83,26 +82,19 @@ inline constexpr std::uint32_t sobol_dim1_slow(std::uint32_t i) {
     return r;
 }
 
-inline constexpr std::uint32_t reverse_bits_constexpr(std::uint32_t x) {
-    std::uint32_t r = 0;
-    for (int k = 0; k < 32; ++k) r |= ((x >> k) & 1u) << (31 - k);
-    return r;
-}
-
-// Tables of the generator-matrix columns, stored bit-reversed (reversal is linear over XOR),
-// because the Owen scramble below works in the bit-reversed domain.
-inline constexpr std::array<std::array<std::uint32_t, 256>, 4> kSobolDim1ReversedTables = [] {
-    std::array<std::array<std::uint32_t, 256>, 4> t{};
-    for (int b = 0; b < 4; ++b)
-        for (std::uint32_t x = 0; x < 256; ++x)
-            t[b][x] = reverse_bits_constexpr(sobol_dim1_slow(x << (8 * b)));
-    return t;
-}();
-
-// reverse_bits(sobol_dim1(i)).
+// reverse_bits(sobol_dim1(i)), without tables. v_{k+1} = (1 + S)^k 2^31 (S: shift right by 1), so
+// bit 31 - j of v_{k+1} is binom(k, j) mod 2, which by Lucas' theorem is 1 exactly when the bits
+// of j are a subset of the bits of k. Bit-reversed, output bit j is then the XOR of the index
+// bits k that are supersets of j: the superset (Moebius) transform over GF(2) of the 5-bit bit
+// positions, five masked shift-XOR steps (one per bit of j). Branch- and load-free, so the
+// lane sampler below vectorises it; equal to the recurrence on every index (test).
 FACET_SAMPLER_INLINE std::uint32_t sobol_dim1_reversed(std::uint32_t i) {
-    const auto& t = kSobolDim1ReversedTables;
-    return t[0][i & 0xffu] ^ t[1][(i >> 8) & 0xffu] ^ t[2][(i >> 16) & 0xffu] ^ t[3][i >> 24];
+    i ^= (i >> 1) & 0x55555555u;
+    i ^= (i >> 2) & 0x33333333u;
+    i ^= (i >> 4) & 0x0F0F0F0Fu;
+    i ^= (i >> 8) & 0x00FF00FFu;
+    i ^= (i >> 16) & 0x0000FFFFu;
+    return i;
 }
 
 FACET_SAMPLER_INLINE std::uint32_t sobol_dim1(std::uint32_t i) {
@@ -112,6 +104,38 @@ FACET_SAMPLER_INLINE std::uint32_t sobol_dim1(std::uint32_t i) {
 // 32-bit fixed point -> float in [0,1): keep 24 bits so the result is exact in float.
 FACET_SAMPLER_INLINE float fixed_to_float(std::uint32_t v) {
     return float(v >> 8) * 0x1p-24f;
+}
+
+// One sample value of a pixel (seed `pixel_seed`) at sample index i (`index_reversed` =
+// reverse_bits(i)) in dimension `dimension`: a 1D Owen-scrambled van der Corput sequence over
+// the sample indices, with its own index shuffle per dimension. Sampler::get_1d and the lane
+// sampler below are this function.
+// Both getters use owen_scramble(sobol(i), seed) = reverse(laine_karras(reverse(sobol(i))))
+// with reverse(sobol_dim0(i)) = i, which saves most bit reversals; the index shuffle
+// owen_scramble(index, s) = reverse(laine_karras(reverse(index), s)) starts from the reversed
+// index.
+FACET_SAMPLER_INLINE std::uint32_t dimension_seed(std::uint32_t pixel_seed,
+                                                  std::uint32_t dimension) {
+    return hash_combine(pixel_seed, dimension);
+}
+FACET_SAMPLER_INLINE std::uint32_t shuffled_index(std::uint32_t index_reversed,
+                                                  std::uint32_t dim_seed) {
+    return reverse_bits(laine_karras(index_reversed, dim_seed));
+}
+FACET_SAMPLER_INLINE float sample_1d(std::uint32_t pixel_seed, std::uint32_t index_reversed,
+                                     std::uint32_t dimension) {
+    const std::uint32_t dim_seed = dimension_seed(pixel_seed, dimension);
+    const std::uint32_t i = shuffled_index(index_reversed, dim_seed);
+    return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
+}
+// The second coordinate of the 2D sample of the dimension pair (the first is sample_1d): the
+// (0,2)-sequence's second dimension at the same shuffled index, with its own Owen scramble.
+FACET_SAMPLER_INLINE float sample_2d_second(std::uint32_t pixel_seed, std::uint32_t index_reversed,
+                                            std::uint32_t dimension) {
+    const std::uint32_t dim_seed = dimension_seed(pixel_seed, dimension);
+    const std::uint32_t i = shuffled_index(index_reversed, dim_seed);
+    return fixed_to_float(
+        reverse_bits(laine_karras(sobol_dim1_reversed(i), hash_u32(dim_seed ^ 0x63d83595u))));
 }
 
 // Per-pixel sample generator (a small value type: create one per pixel sample).
@@ -130,27 +154,16 @@ class Sampler {
         return hash_combine(h, std::uint32_t(y));
     }
 
-    // One value in [0,1): a 1D Owen-scrambled van der Corput sequence over the sample indices,
-    // with its own index shuffle per dimension.
-    // Both getters use owen_scramble(sobol(i), seed) = reverse(laine_karras(reverse(sobol(i))))
-    // with reverse(sobol_dim0(i)) = i, which saves most bit reversals; the index shuffle
-    // owen_scramble(index, s) = reverse(laine_karras(reverse(index), s)) starts from the
-    // reversed index the constructor stores.
+    // One value in [0,1) (sample_1d).
     FACET_SAMPLER_INLINE float get_1d() {
-        const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
-        const std::uint32_t i = reverse_bits(laine_karras(m_index_reversed, dim_seed));  // shuffle
-        return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
+        return sample_1d(m_pixel_seed, m_index_reversed, m_dimension++);
     }
 
     // A pair in [0,1)^2 from the (0,2)-sequence, shuffled and Owen-scrambled per dimension pair.
     FACET_SAMPLER_INLINE Vec2 get_2d() {
-        const std::uint32_t dim_seed = hash_combine(m_pixel_seed, m_dimension++);
-        const std::uint32_t i = reverse_bits(laine_karras(m_index_reversed, dim_seed));  // shuffle
-        const float x =
-            fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
-        const float y = fixed_to_float(
-            reverse_bits(laine_karras(sobol_dim1_reversed(i), hash_u32(dim_seed ^ 0x63d83595u))));
-        return {x, y};
+        const std::uint32_t d = m_dimension++;
+        return {sample_1d(m_pixel_seed, m_index_reversed, d),
+                sample_2d_second(m_pixel_seed, m_index_reversed, d)};
     }
 
     std::uint32_t dimension() const { return m_dimension; }
@@ -161,6 +174,18 @@ class Sampler {
     std::uint32_t m_index_reversed;  // reverse_bits(sample index)
     std::uint32_t m_dimension;
 };
+
+// The samples of kSamplerLanes pixels at one sample index and dimension, computed together:
+// lane k is Sampler(seeds[k], index, dimension).get_1d() / get_2d() bit for bit (test). The
+// path integrator's packets (8 neighbouring pixels, one path each) draw every dimension of a
+// depth for all their paths at once; the loops over the lanes vectorise (an AVX2 clone is
+// chosen at load time where the CPU has it), where one pixel at a time the hashing cost ~300
+// instructions per path vertex. Every lane is computed; seeds of unused lanes may be anything.
+inline constexpr std::size_t kSamplerLanes = 8;
+void sample_1d_lanes(const std::uint32_t* seeds, std::uint32_t index, std::uint32_t dimension,
+                     float* out);
+void sample_2d_lanes(const std::uint32_t* seeds, std::uint32_t index, std::uint32_t dimension,
+                     float* x, float* y);
 
 #undef FACET_SAMPLER_INLINE
 
