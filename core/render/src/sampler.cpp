@@ -18,9 +18,7 @@ FACET_TARGET_CLONES
 void sample_2d_lanes(const std::uint32_t* seeds, std::uint32_t index, std::uint32_t dimension,
                      float* x, float* y) {
     const std::uint32_t ir = reverse_bits(index);
-    for (std::size_t k = 0; k < kSamplerLanes; ++k) x[k] = sample_1d(seeds[k], ir, dimension);
-    for (std::size_t k = 0; k < kSamplerLanes; ++k)
-        y[k] = sample_2d_second(seeds[k], ir, dimension);
+    for (std::size_t k = 0; k < kSamplerLanes; ++k) sample_2d(seeds[k], ir, dimension, x[k], y[k]);
 }
 
 }  // namespace facet::render

@@ -122,19 +122,23 @@ FACET_SAMPLER_INLINE std::uint32_t shuffled_index(std::uint32_t index_reversed,
                                                   std::uint32_t dim_seed) {
     return reverse_bits(laine_karras(index_reversed, dim_seed));
 }
+// The Owen-scrambled first Sobol dimension at shuffled index i.
+FACET_SAMPLER_INLINE float first_coordinate(std::uint32_t dim_seed, std::uint32_t i) {
+    return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
+}
 FACET_SAMPLER_INLINE float sample_1d(std::uint32_t pixel_seed, std::uint32_t index_reversed,
                                      std::uint32_t dimension) {
     const std::uint32_t dim_seed = dimension_seed(pixel_seed, dimension);
-    const std::uint32_t i = shuffled_index(index_reversed, dim_seed);
-    return fixed_to_float(reverse_bits(laine_karras(i, hash_u32(dim_seed ^ 0xa511e9b3u))));
+    return first_coordinate(dim_seed, shuffled_index(index_reversed, dim_seed));
 }
-// The second coordinate of the 2D sample of the dimension pair (the first is sample_1d): the
-// (0,2)-sequence's second dimension at the same shuffled index, with its own Owen scramble.
-FACET_SAMPLER_INLINE float sample_2d_second(std::uint32_t pixel_seed, std::uint32_t index_reversed,
-                                            std::uint32_t dimension) {
+// The 2D sample of the dimension pair: x is sample_1d, y the (0,2)-sequence's second dimension
+// at the same shuffled index with its own Owen scramble.
+FACET_SAMPLER_INLINE void sample_2d(std::uint32_t pixel_seed, std::uint32_t index_reversed,
+                                    std::uint32_t dimension, float& x, float& y) {
     const std::uint32_t dim_seed = dimension_seed(pixel_seed, dimension);
     const std::uint32_t i = shuffled_index(index_reversed, dim_seed);
-    return fixed_to_float(
+    x = first_coordinate(dim_seed, i);
+    y = fixed_to_float(
         reverse_bits(laine_karras(sobol_dim1_reversed(i), hash_u32(dim_seed ^ 0x63d83595u))));
 }
 
@@ -161,9 +165,9 @@ class Sampler {
 
     // A pair in [0,1)^2 from the (0,2)-sequence, shuffled and Owen-scrambled per dimension pair.
     FACET_SAMPLER_INLINE Vec2 get_2d() {
-        const std::uint32_t d = m_dimension++;
-        return {sample_1d(m_pixel_seed, m_index_reversed, d),
-                sample_2d_second(m_pixel_seed, m_index_reversed, d)};
+        Vec2 u;
+        sample_2d(m_pixel_seed, m_index_reversed, m_dimension++, u.x, u.y);
+        return u;
     }
 
     std::uint32_t dimension() const { return m_dimension; }
