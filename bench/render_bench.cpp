@@ -18,6 +18,9 @@
 //    The path tracer traces 8 neighbouring pixels' paths as packets, so that ratio also counts
 //    what packets gain; "of raw packets" is the same ratio against the packet peer.
 // Every timing is the median of R repetitions; everything uses the same TBB arena of N threads.
+// A repetition measures the peers and the renders back to back, and the "of raw" ratios are the
+// medians of the per-repetition ratios (their range is printed): on a shared machine whose
+// speed drifts, a ratio of two medians taken seconds apart read 0.64-0.76 in runs of one build.
 // Infinite planes are intersected outside Embree (scene.h), so on plane-only scenes the raw
 // peer traces an empty BVH and its ratio is meaningless.
 #include <tbb/blocked_range.h>
@@ -141,7 +144,7 @@ struct Row {
 
 int main(int argc, char** argv) {
     int threads = 2, reps = 5, spp = 1;
-    std::size_t nrays = 400000;
+    std::size_t nrays = 1000000;
     std::vector<std::string> scenes;
     for (int i = 1; i < argc; ++i) {
         auto next = [&](const char* name) -> const char* {
@@ -159,7 +162,7 @@ int main(int argc, char** argv) {
                 "  --reps R     repetitions; every figure is the median (default 5)\n"
                 "  --spp S      samples per pixel of the end-to-end renders, at least (default 1;\n"
                 "               raised so that a render lasts >= 0.2 s)\n"
-                "  --rays N     rays per ray set of the raw Embree peers (default 400000)\n"
+                "  --rays N     rays per ray set of the raw Embree peers (default 1000000)\n"
                 "  scenes       default: cornell_box, big_mesh, point_plane from %s\n",
                 FACET_SCENES_DIR);
             return 0;
@@ -206,7 +209,28 @@ int main(int argc, char** argv) {
         const RaySets sets = make_rays(scene, nrays);
         const std::size_t nb = sets.bounce.size(), ns = sets.shadow.size();
 
+        // Samples per pixel of the end-to-end renders: at least --spp, more for tiny scenes so
+        // that a render lasts >= ~0.2 s.
+        int render_spp = spp;
+        {
+            fr::RenderOptions o;
+            o.integrator = scene.settings().integrator;
+            o.spp = spp;
+            o.threads = threads;
+            fr::RenderStats st;
+            (void)fr::render(scene, o, &st);
+            if (st.seconds < 0.2)
+                render_spp = std::min(
+                    64 * spp, int(std::ceil(0.2 / std::max(st.seconds, 1e-4) * double(spp))));
+        }
+
+        // Every repetition measures everything once, peers and renders back to back, so that
+        // a change in the shared machine's speed hits peer and renderer alike; the "of raw"
+        // ratios are the medians of the per-repetition ratios.
         std::vector<double> t_raw_i, t_raw_o, t_ren_i, t_ren_o, t_pk_i, t_pk_o;
+        std::vector<double> t_spec, t_gen;
+        std::vector<double> of_raw_spec, of_pk_spec, of_raw_gen, of_pk_gen;
+        fr::RenderStats st_spec, st_gen;
         std::atomic<std::uint64_t> sink{0};
         for (int r = 0; r < reps; ++r) {
             t_raw_i.push_back(timed_parallel(arena, nb, [&](std::size_t b, std::size_t e) {
@@ -239,28 +263,7 @@ int main(int argc, char** argv) {
                 }
                 sink += h;
             }));
-        }
-        const double raw_i = double(nb) / median(t_raw_i), ren_i = double(nb) / median(t_ren_i);
-        const double raw_o = double(ns) / median(t_raw_o), ren_o = double(ns) / median(t_ren_o);
-        const double pk_i = double(nb) / median(t_pk_i), pk_o = double(ns) / median(t_pk_o);
-
-        // End-to-end path tracing, specialised and general kernels, interleaved per rep.
-        // Samples per pixel: at least --spp, more for tiny scenes so a render lasts >= ~0.2 s.
-        int render_spp = spp;
-        {
-            fr::RenderOptions o;
-            o.integrator = scene.settings().integrator;
-            o.spp = spp;
-            o.threads = threads;
-            fr::RenderStats st;
-            (void)fr::render(scene, o, &st);
-            if (st.seconds < 0.2)
-                render_spp = std::min(
-                    64 * spp, int(std::ceil(0.2 / std::max(st.seconds, 1e-4) * double(spp))));
-        }
-        std::vector<double> t_spec, t_gen;
-        fr::RenderStats st_spec, st_gen;
-        for (int r = 0; r < reps; ++r) {
+            // End-to-end path tracing, specialised and general kernels.
             for (bool general : {false, true}) {
                 fr::RenderOptions o;
                 o.integrator = scene.settings().integrator;
@@ -272,19 +275,27 @@ int main(int argc, char** argv) {
                 (void)fr::render(scene, o, &st);
                 (general ? t_gen : t_spec).push_back(st.seconds);
                 (general ? st_gen : st_spec) = st;
+                // This repetition's peers on the render's ray mix, over the render's time.
+                const double raw_mix = double(st.rays) * t_raw_i.back() / double(nb) +
+                                       double(st.shadow_rays) * t_raw_o.back() / double(ns);
+                const double pk_mix = double(st.rays) * t_pk_i.back() / double(nb) +
+                                      double(st.shadow_rays) * t_pk_o.back() / double(ns);
+                (general ? of_raw_gen : of_raw_spec).push_back(raw_mix / st.seconds);
+                (general ? of_pk_gen : of_pk_spec).push_back(pk_mix / st.seconds);
             }
         }
+        const double raw_i = double(nb) / median(t_raw_i), ren_i = double(nb) / median(t_ren_i);
+        const double raw_o = double(ns) / median(t_raw_o), ren_o = double(ns) / median(t_ren_o);
+        const double pk_i = double(nb) / median(t_pk_i), pk_o = double(ns) / median(t_pk_o);
         const double ts = median(t_spec), tg = median(t_gen);
-        auto mix_raw_time = [&](const fr::RenderStats& st) {
-            return double(st.rays) / raw_i + double(st.shadow_rays) / raw_o;
-        };
-        auto mix_packet_time = [&](const fr::RenderStats& st) {
-            return double(st.rays) / pk_i + double(st.shadow_rays) / pk_o;
-        };
         const double paths_s = double(st_spec.paths) / ts;
         const double rays_s = double(st_spec.rays + st_spec.shadow_rays) / ts;
         const double paths_g = double(st_gen.paths) / tg;
         const double rays_g = double(st_gen.rays + st_gen.shadow_rays) / tg;
+        auto spread = [](const std::vector<double>& v) {
+            return std::make_pair(*std::min_element(v.begin(), v.end()),
+                                  *std::max_element(v.begin(), v.end()));
+        };
 
         const std::string integ = scene.settings().integrator;
         auto row = [&](const char* what, double v, const char* unit, const std::string& ratio) {
@@ -306,15 +317,18 @@ int main(int argc, char** argv) {
         std::snprintf(buf, sizeof buf, "kernel %s, %d spp", st_spec.kernel.name.c_str(),
                       render_spp);
         row((integ + ", specialised: paths").c_str(), paths_s * 1e-6, "M paths/s", buf);
-        std::snprintf(
-            buf, sizeof buf,
-            "%.2f of raw on the same ray mix (%.2f of raw packets; %.2f rays+shadow/path)",
-            mix_raw_time(st_spec) / ts, mix_packet_time(st_spec) / ts,
-            double(st_spec.rays + st_spec.shadow_rays) / double(st_spec.paths));
+        const auto [lo_spec, hi_spec] = spread(of_raw_spec);
+        std::snprintf(buf, sizeof buf,
+                      "%.2f of raw on the same ray mix (reps %.2f-%.2f; %.2f of raw packets; "
+                      "%.2f rays+shadow/path)",
+                      median(of_raw_spec), lo_spec, hi_spec, median(of_pk_spec),
+                      double(st_spec.rays + st_spec.shadow_rays) / double(st_spec.paths));
         row((integ + ", specialised: rays (incl. shadow)").c_str(), rays_s * 1e-6, "M rays/s", buf);
         row((integ + ", general: paths").c_str(), paths_g * 1e-6, "M paths/s", "");
-        std::snprintf(buf, sizeof buf, "%.2f of raw on the same ray mix (%.2f of raw packets)",
-                      mix_raw_time(st_gen) / tg, mix_packet_time(st_gen) / tg);
+        const auto [lo_gen, hi_gen] = spread(of_raw_gen);
+        std::snprintf(buf, sizeof buf,
+                      "%.2f of raw on the same ray mix (reps %.2f-%.2f; %.2f of raw packets)",
+                      median(of_raw_gen), lo_gen, hi_gen, median(of_pk_gen));
         row((integ + ", general: rays (incl. shadow)").c_str(), rays_g * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "specialised/general time %.3f (%.1f%% saved)", ts / tg,
                       100.0 * (1.0 - ts / tg));
