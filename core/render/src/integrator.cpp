@@ -29,7 +29,7 @@ Rgb bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
 // f and pdf together (next-event estimation with MIS): one pass over the glossy lobe's D and
 // Lambda; equal to f() and pdf() bit for bit (Material::eval).
 template <std::uint32_t F>
-BSDFEval bsdf_eval(const Material& m, const Vec3& wo, const Vec3& wi) {
+[[gnu::always_inline]] inline BSDFEval bsdf_eval(const Material& m, const Vec3& wo, const Vec3& wi) {
     if constexpr ((F & kFeatLambertOnly) != 0)
         return {m.diffuse()->f(wo, wi), m.diffuse()->pdf(wo, wi)};
     else

@@ -166,7 +166,7 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
-inline std::optional<LightLiSample> Light::finish_area_sample(const LightSampleContext& ctx,
+[[gnu::always_inline]] inline std::optional<LightLiSample> Light::finish_area_sample(const LightSampleContext& ctx,
                                                               LightLiSample& s) const {
     Vec3 v = s.p_light - ctx.p;
     float d2 = glm::dot(v, v);
@@ -181,7 +181,7 @@ inline std::optional<LightLiSample> Light::finish_area_sample(const LightSampleC
 
 // Inline for quad lights (the usual area light, the Cornell box's): it runs at every path
 // vertex. p = corner + u.x e1 + u.y e2, uniform by area.
-inline std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+[[gnu::always_inline]] inline std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
     if (m_kind != Kind::Area || m_area_shape != AreaShape::Parallelogram)
         return sample_li_other(ctx, u);
     LightLiSample s;

@@ -214,7 +214,7 @@ class Scene {
 };
 
 // Inline: these run for every continuation and shadow ray.
-inline float Scene::ray_offset(const Vec3& p) {
+[[gnu::always_inline]] inline float Scene::ray_offset(const Vec3& p) {
     // Comparisons instead of std::fmax, which GCC does not inline without -ffinite-math-only
     // (a libm call per ray). Hit points are finite, so fmax's NaN rule is not needed.
     const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
@@ -222,7 +222,7 @@ inline float Scene::ray_offset(const Vec3& p) {
     return kRayOffsetScale * (1.f + m);
 }
 
-inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
+[[gnu::always_inline]] inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
     const float off = ray_offset(p);
     Ray r;
     r.o = p + (glm::dot(ng, d) >= 0.f ? off : -off) * ng;
@@ -231,7 +231,7 @@ inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) {
     return r;
 }
 
-inline Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light,
+[[gnu::always_inline]] inline Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light,
                              const Vec3& n_light) {
     const float off_p = ray_offset(p), off_q = ray_offset(p_light);
     // Origin: off the surface on the light's side; end: off the light on the origin's side.
