@@ -660,9 +660,10 @@ TEST(Geometry, PacketQueriesAgreeWithSingleRays) {
             found[k] = false;
             packet_hits[k].shape = 999u;  // a mark for "untouched"
         }
-        const std::span<const Ray> span(rays.data(), n);
-        s.intersect_packet(span, packet_hits.data(), found.data(), active.data());
-        s.occluded_packet(span, active.data(), shadowed.data());
+        RayPacket packet;
+        for (std::size_t k = 0; k < n; ++k) packet.set(k, rays[k]);
+        s.intersect_packet(packet, n, packet_hits.data(), found.data(), active.data());
+        s.occluded_packet(packet, n, active.data(), shadowed.data());
         for (std::size_t k = 0; k < n; ++k) {
             SurfaceHit h;
             const bool f = s.intersect(rays[k], h);
@@ -689,10 +690,10 @@ TEST(Geometry, PacketQueriesAgreeWithSingleRays) {
     }
     EXPECT_GT(hits, 300);
     EXPECT_GT(blocked, 100);
-    // Empty spans are allowed and do nothing.
+    // Empty packets are allowed and do nothing.
     SurfaceHit h;
     bool f = true;
-    s.intersect_packet({}, &h, &f);
+    s.intersect_packet(RayPacket(), 0, &h, &f);
     EXPECT_TRUE(f);
 }
 

@@ -7,6 +7,7 @@
 
 #include <algorithm>
 #include <atomic>
+#include <cstddef>
 #include <cstring>
 #include <mutex>
 
@@ -200,39 +201,31 @@ void init_rayhit(RTCRayHit& rh, const Ray& ray) {
 }
 
 static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOccluded8");
+// RayPacket is laid out as RTCRay8, so that a packet query copies it as one block.
+static_assert(sizeof(RayPacket) == sizeof(RTCRay8) && alignof(RayPacket) == alignof(RTCRay8));
+static_assert(offsetof(RayPacket, ox) == offsetof(RTCRay8, org_x) &&
+              offsetof(RayPacket, oy) == offsetof(RTCRay8, org_y) &&
+              offsetof(RayPacket, oz) == offsetof(RTCRay8, org_z) &&
+              offsetof(RayPacket, tnear) == offsetof(RTCRay8, tnear) &&
+              offsetof(RayPacket, dx) == offsetof(RTCRay8, dir_x) &&
+              offsetof(RayPacket, dy) == offsetof(RTCRay8, dir_y) &&
+              offsetof(RayPacket, dz) == offsetof(RTCRay8, dir_z) &&
+              offsetof(RayPacket, time) == offsetof(RTCRay8, time) &&
+              offsetof(RayPacket, tmax) == offsetof(RTCRay8, tfar) &&
+              offsetof(RayPacket, mask) == offsetof(RTCRay8, mask) &&
+              offsetof(RayPacket, id) == offsetof(RTCRay8, id) &&
+              offsetof(RayPacket, flags) == offsetof(RTCRay8, flags));
 
-// An 8-wide packet of rays[0, min(8, size)) with active[k] (all when null): the ray fields, as
-// init_ray sets them for one ray. Lanes that are not traced repeat ray 0 and are masked off in
-// `valid` (-1 = active, Embree's convention). `rays` must not be empty.
-void init_packet(RTCRay8& r, int (&valid)[8], std::span<const Ray> rays,
-                 const bool* active = nullptr) {
-    for (int k = 0; k < 8; ++k) {
-        const std::size_t i = std::size_t(k);
-        const bool on = i < rays.size() && (!active || active[i]);
-        valid[k] = on ? -1 : 0;
-        const Ray& ray = rays[on ? i : 0];
-        r.org_x[k] = ray.o.x;
-        r.org_y[k] = ray.o.y;
-        r.org_z[k] = ray.o.z;
-        r.dir_x[k] = ray.d.x;
-        r.dir_y[k] = ray.d.y;
-        r.dir_z[k] = ray.d.z;
-        r.tfar[k] = ray.tmax;
-    }
-    for (int k = 0; k < 8; ++k) {
-        r.tnear[k] = 0.f;
-        r.time[k] = 0.f;
-        r.mask[k] = 0xFFFFFFFFu;
-        r.id[k] = unsigned(k);
-        r.flags[k] = 0;
-    }
+// Embree's mask of the lanes to trace (-1 = active): the first n, where active[k] (all when
+// `active` is null).
+void packet_valid(int (&valid)[8], std::size_t n, const bool* active) {
+    for (std::size_t k = 0; k < 8; ++k) valid[k] = k < n && (!active || active[k]) ? -1 : 0;
 }
 
-// The same for a closest-hit packet: Embree fills the hit record on a hit and needs only
-// "no hit yet" in it (geomID and instID invalid).
-void init_packet(RTCRayHit8& rh, int (&valid)[8], std::span<const Ray> rays,
-                 const bool* active = nullptr) {
-    init_packet(rh.ray, valid, rays, active);
+// The closest-hit packet of `rays`: the rays as they are, and a hit record that says "no hit
+// yet" (geomID and instID invalid), which is all Embree needs in it.
+void init_rayhit8(RTCRayHit8& rh, const RayPacket& rays) {
+    std::memcpy(&rh.ray, &rays, sizeof rh.ray);
     for (int k = 0; k < 8; ++k) {
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -432,9 +425,9 @@ inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, fl
     return true;
 }
 
-void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* found,
+void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* hits, bool* found,
                              const bool* active) const {
-    const std::size_t n = std::min(rays.size(), kPacketSize);
+    n = std::min(n, kPacketSize);
     const Impl& impl = *m_impl;
     if (n == 0) return;
     if (!impl.backend) {  // a default-constructed (empty) scene
@@ -445,18 +438,20 @@ void Scene::intersect_packet(std::span<const Ray> rays, SurfaceHit* hits, bool* 
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     alignas(32) int valid[kPacketSize];
+    packet_valid(valid, n, active);
     RTCRayHit8 rh;
-    init_packet(rh, valid, rays.first(n), active);
+    init_rayhit8(rh, rays);
     rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     for (std::size_t k = 0; k < n; ++k) {
         if (!valid[k]) continue;
-        found[k] = complete_hit(rays[k], rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
+        found[k] = complete_hit(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
                                 rh.hit.v[k], rh.ray.tfar[k], hits[k]);
     }
 }
 
-void Scene::occluded_packet(std::span<const Ray> rays, const bool* active, bool* blocked) const {
-    const std::size_t n = std::min(rays.size(), kPacketSize);
+void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* active,
+                            bool* blocked) const {
+    n = std::min(n, kPacketSize);
     const Impl& impl = *m_impl;
     // Lanes to trace: active, something to test, not already blocked by an infinite plane
     // (tested outside Embree, as occluded_ray does).
@@ -464,10 +459,10 @@ void Scene::occluded_packet(std::span<const Ray> rays, const bool* active, bool*
     int count = 0;
     for (std::size_t k = 0; k < n; ++k) {
         blocked[k] = false;
-        if (!active[k] || !(rays[k].tmax > 0.f) || !impl.backend) continue;
+        if (!active[k] || !(rays.tmax[k] > 0.f) || !impl.backend) continue;
         if (!impl.planes.empty()) {
             std::size_t which = 0;
-            if (intersect_planes(impl.planes, rays[k], double(rays[k].tmax), which) > 0.0) {
+            if (intersect_planes(impl.planes, rays.get(k), double(rays.tmax[k]), which) > 0.0) {
                 blocked[k] = true;
                 continue;
             }
@@ -479,8 +474,9 @@ void Scene::occluded_packet(std::span<const Ray> rays, const bool* active, bool*
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     alignas(32) int valid[kPacketSize];
+    packet_valid(valid, n, trace);
     RTCRay8 r;
-    init_packet(r, valid, rays.first(n), trace);
+    std::memcpy(&r, &rays, sizeof r);
     rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
         if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
@@ -526,9 +522,13 @@ std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) co
     rtcInitIntersectContext(&ctx);
     std::uint64_t hits = 0;
     for (std::size_t i = 0; i < rays.size(); i += kPacketSize) {
+        const std::size_t n = std::min(kPacketSize, rays.size() - i);
+        RayPacket packet;
+        for (std::size_t k = 0; k < n; ++k) packet.set(k, rays[i + k]);
         alignas(32) int valid[kPacketSize];
+        packet_valid(valid, n, nullptr);
         RTCRayHit8 rh;
-        init_packet(rh, valid, rays.subspan(i, std::min(kPacketSize, rays.size() - i)));
+        init_rayhit8(rh, packet);
         if (shadow) {
             rtcOccluded8(valid, scene, &ctx, &rh.ray);
             for (std::size_t k = 0; k < kPacketSize; ++k) hits += valid[k] && rh.ray.tfar[k] < 0.f;

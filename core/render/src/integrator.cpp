@@ -29,7 +29,8 @@ Rgb bsdf_f(const Material& m, const Vec3& wo, const Vec3& wi) {
 // f and pdf together (next-event estimation with MIS): one pass over the glossy lobe's D and
 // Lambda; equal to f() and pdf() bit for bit (Material::eval).
 template <std::uint32_t F>
-[[gnu::always_inline]] inline BSDFEval bsdf_eval(const Material& m, const Vec3& wo, const Vec3& wi) {
+[[gnu::always_inline]] inline BSDFEval bsdf_eval(const Material& m, const Vec3& wo,
+                                                 const Vec3& wi) {
     if constexpr ((F & kFeatLambertOnly) != 0)
         return {m.diffuse()->f(wo, wi), m.diffuse()->pdf(wo, wi)};
     else
@@ -162,14 +163,16 @@ struct VertexSampleLanes {
     }
 };
 
-// The vertex at `depth` of path `p`, reached by `ray` (closest hit `hit` when `found`), with the
-// vertex's samples `s`: emission found by the ray, the light sample (`shadow` and p.nee,
-// `has_shadow` set), and the BSDF sample that continues the path (`ray` becomes the next ray).
-// False when the path ends here.
+// The vertex at `depth` of path `p`, lane k of the packets: reached by the ray rays[k] (closest
+// hit `hit` when `found`), with the vertex's samples `s`: emission found by the ray, the light
+// sample (shadow ray shadow[k] and p.nee, `has_shadow` set), and the BSDF sample that continues
+// the path (rays[k] becomes the next ray). False when the path ends here.
 template <std::uint32_t F>
-bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p, Ray& ray,
-                 bool found, const SurfaceHit& hit, const VertexSamples& s, bool& has_shadow,
-                 Ray& shadow, int depth, int max_depth, KernelCounters& c) {
+bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p,
+                 RayPacket& rays, std::size_t k, bool found, const SurfaceHit& hit,
+                 const VertexSamples& s, bool& has_shadow, RayPacket& shadow, int depth,
+                 int max_depth, KernelCounters& c) {
+    const Vec3 ray_d = rays.direction(k);
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
@@ -183,12 +186,12 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
         if (depth > 0 || kEmission) {
             if (!found) {
                 if (const Light* env = scene.environment()) {
-                    const Rgb le = env->le_escape(ray.d);
+                    const Rgb le = env->le_escape(ray_d);
                     if (depth == 0 || p.specular_bounce) {
                         p.L += p.beta * le;
                     } else {
                         const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(p.prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
                         p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
                     }
                 }
@@ -198,7 +201,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 } else {
                     const std::size_t li = std::size_t(hit.light);
                     const float lp =
-                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray.d, hit.p, hit.ng);
+                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
                     p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
@@ -210,7 +213,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     }
     const Material& m = *hit.material;
     Shading sh;
-    if (!make_shading<F>(hit, m, ray.d, sh)) return false;
+    if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
 
     // Next-event estimation: one light, chosen in proportion to power (light.h).
@@ -235,7 +238,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
-                    shadow = shadow_ray(hit, *ls);
+                    shadow.set(k, shadow_ray(hit, *ls));
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
@@ -276,7 +279,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             p.beta /= 1.f - q;
         }
     }
-    ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
+    rays.set(k, Scene::spawn_ray(hit.p, hit.ng, wi_w));
     ++c.rays;
     return true;
 }
@@ -297,7 +300,7 @@ constexpr int kMinPacketLanes = 3;
 // are left in L[k].
 template <std::uint32_t F>
 void path_packet(const Scene& scene, const LightDistribution& light_dist, std::size_t n,
-                 std::array<Ray, kLanes>& rays, std::array<SurfaceHit, kLanes>& hits,
+                 RayPacket& rays, std::array<SurfaceHit, kLanes>& hits,
                  std::array<bool, kLanes>& found, const std::uint32_t* seeds, std::uint32_t index,
                  int max_depth, KernelCounters& c, Rgb* L) {
     static_assert(kLanes == kSamplerLanes);
@@ -307,7 +310,7 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
     std::array<PathState, kLanes> paths;
     VertexSampleLanes samples;
     std::array<bool, kLanes> alive, has_shadow, blocked;
-    std::array<Ray, kLanes> shadow;
+    RayPacket shadow;
     alive.fill(false);
     std::fill(alive.begin(), alive.begin() + std::ptrdiff_t(n), true);
     for (int depth = 0;; ++depth) {
@@ -317,10 +320,9 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
             if (live == 0) break;
             if (live < kMinPacketLanes) {
                 for (std::size_t k = 0; k < n; ++k)
-                    if (alive[k]) found[k] = scene.intersect(rays[k], hits[k]);
+                    if (alive[k]) found[k] = scene.intersect(rays.get(k), hits[k]);
             } else {
-                scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data(),
-                                       alive.data());
+                scene.intersect_packet(rays, n, hits.data(), found.data(), alive.data());
             }
         }
         // Dimension 0 was the film position; a vertex that shades draws from its own block.
@@ -332,13 +334,12 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
         for (std::size_t k = 0; k < n; ++k) {
             has_shadow[k] = false;
             if (!alive[k]) continue;
-            alive[k] =
-                path_vertex<F>(scene, light_dist, paths[k], rays[k], found[k], hits[k],
-                               samples.lane(k), has_shadow[k], shadow[k], depth, max_depth, c);
+            alive[k] = path_vertex<F>(scene, light_dist, paths[k], rays, k, found[k], hits[k],
+                                      samples.lane(k), has_shadow[k], shadow, depth, max_depth, c);
             any_shadow |= has_shadow[k];
         }
         if (any_shadow) {
-            scene.occluded_packet(std::span(shadow).first(n), has_shadow.data(), blocked.data());
+            scene.occluded_packet(shadow, n, has_shadow.data(), blocked.data());
             for (std::size_t k = 0; k < n; ++k)
                 if (has_shadow[k] && !blocked[k]) paths[k].L += paths[k].nee;
         }
@@ -422,7 +423,7 @@ template <IntegratorKind I, std::uint32_t F>
 void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCounters& c) {
     const Camera& cam = scene.camera();
     const int width = cam.width;
-    std::array<Ray, kLanes> rays;
+    RayPacket rays;
     std::array<bool, kLanes> found;
     std::array<SurfaceHit, kLanes> hits;
     // The lane sampler draws all kLanes lanes; past the end of a short row they hold stale or
@@ -461,9 +462,9 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                 }
                 for (std::size_t k = 0; k < n; ++k) {
                     const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
-                    rays[k] = cam.generate_ray(film);
+                    rays.set(k, cam.generate_ray(film));
                 }
-                scene.intersect_packet(std::span(rays).first(n), hits.data(), found.data());
+                scene.intersect_packet(rays, n, hits.data(), found.data());
                 c.camera_rays += n;
                 c.rays += n;
                 if constexpr (I == IntegratorKind::Path) {
@@ -473,7 +474,8 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                     for (std::size_t k = 0; k < n; ++k) {
                         // Dimension 0 was the film position; direct_li sets every other.
                         Sampler s(ss[k], index, 1u);
-                        L[k] = direct_li<F>(scene, rays[k], found[k], hits[k], s, job.max_depth, c);
+                        L[k] = direct_li<F>(scene, rays.get(k), found[k], hits[k], s, job.max_depth,
+                                            c);
                     }
                 }
                 for (std::size_t k = 0; k < n; ++k) {
