@@ -201,7 +201,8 @@ void init_rayhit(RTCRayHit& rh, const Ray& ray) {
 }
 
 static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOccluded8");
-// RayPacket is laid out as RTCRay8, so that a packet query copies it as one block.
+// RayPacket is laid out as RTCRay8 (copy_rays copies it field by field, but the layout keeps that
+// a straight block copy).
 static_assert(sizeof(RayPacket) == sizeof(RTCRay8) && alignof(RayPacket) == alignof(RTCRay8));
 static_assert(offsetof(RayPacket, ox) == offsetof(RTCRay8, org_x) &&
               offsetof(RayPacket, oy) == offsetof(RTCRay8, org_y) &&
@@ -222,10 +223,30 @@ void packet_valid(int (&valid)[8], std::size_t n, const bool* active) {
     for (std::size_t k = 0; k < 8; ++k) valid[k] = k < n && (!active || active[k]) ? -1 : 0;
 }
 
+// Embree's copy of a packet. Field by field in one loop, which GCC turns into 16-byte moves; a
+// memcpy of the 384 bytes became `rep movsq`, whose start-up cost was 9-19% of the samples of
+// the packet queries.
+void copy_rays(RTCRay8& r, const RayPacket& rays) {
+    for (std::size_t k = 0; k < 8; ++k) {
+        r.org_x[k] = rays.ox[k];
+        r.org_y[k] = rays.oy[k];
+        r.org_z[k] = rays.oz[k];
+        r.tnear[k] = rays.tnear[k];
+        r.dir_x[k] = rays.dx[k];
+        r.dir_y[k] = rays.dy[k];
+        r.dir_z[k] = rays.dz[k];
+        r.time[k] = rays.time[k];
+        r.tfar[k] = rays.tmax[k];
+        r.mask[k] = rays.mask[k];
+        r.id[k] = rays.id[k];
+        r.flags[k] = rays.flags[k];
+    }
+}
+
 // The closest-hit packet of `rays`: the rays as they are, and a hit record that says "no hit
 // yet" (geomID and instID invalid), which is all Embree needs in it.
 void init_rayhit8(RTCRayHit8& rh, const RayPacket& rays) {
-    std::memcpy(&rh.ray, &rays, sizeof rh.ray);
+    copy_rays(rh.ray, rays);
     for (int k = 0; k < 8; ++k) {
         rh.hit.geomID[k] = RTC_INVALID_GEOMETRY_ID;
         rh.hit.instID[0][k] = RTC_INVALID_GEOMETRY_ID;
@@ -476,7 +497,7 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
     alignas(32) int valid[kPacketSize];
     packet_valid(valid, n, trace);
     RTCRay8 r;
-    std::memcpy(&r, &rays, sizeof r);
+    copy_rays(r, rays);
     rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
         if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
