@@ -166,8 +166,8 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
     return std::isfinite(pdf) ? pdf : 0.f;
 }
 
-[[gnu::always_inline]] inline std::optional<LightLiSample> Light::finish_area_sample(const LightSampleContext& ctx,
-                                                              LightLiSample& s) const {
+[[gnu::always_inline]] inline std::optional<LightLiSample> Light::finish_area_sample(
+    const LightSampleContext& ctx, LightLiSample& s) const {
     Vec3 v = s.p_light - ctx.p;
     float d2 = glm::dot(v, v);
     if (!(d2 > 0.f)) return std::nullopt;
@@ -181,7 +181,8 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
 
 // Inline for quad lights (the usual area light, the Cornell box's): it runs at every path
 // vertex. p = corner + u.x e1 + u.y e2, uniform by area.
-[[gnu::always_inline]] inline std::optional<LightLiSample> Light::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+[[gnu::always_inline]] inline std::optional<LightLiSample> Light::sample_li(
+    const LightSampleContext& ctx, Vec2 u) const {
     if (m_kind != Kind::Area || m_area_shape != AreaShape::Parallelogram)
         return sample_li_other(ctx, u);
     LightLiSample s;
