@@ -463,6 +463,18 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     RTCRayHit8 rh;
     init_rayhit8(rh, rays);
     rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
+    // The hit records read per-triangle data that Embree's traversal did not touch (its leaves
+    // hold their own vertex copies): on a large mesh these are cache misses. Ask for all lanes'
+    // lines first so that the misses overlap instead of queueing one lane at a time.
+    for (std::size_t k = 0; k < n; ++k) {
+        const unsigned geom = rh.hit.geomID[k];
+        if (!valid[k] || geom == RTC_INVALID_GEOMETRY_ID || geom == impl.backend->analytic_geom)
+            continue;
+        const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
+        const std::size_t tri = rh.hit.primID[k];
+        __builtin_prefetch(&mg.planes[tri]);
+        if (!mg.mesh.normals.empty()) __builtin_prefetch(mg.triangles + 3 * tri);
+    }
     for (std::size_t k = 0; k < n; ++k) {
         if (!valid[k]) continue;
         found[k] = complete_hit(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
