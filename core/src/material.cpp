@@ -107,6 +107,12 @@ Rgb Material::f(const Vec3& wo, const Vec3& wi) const {
 }
 
 float Material::pdf(const Vec3& wo, const Vec3& wi) const {
+    // A single-lobe material is that lobe (probability 1: the same bits as the sum below).
+    if (!m_has_table) {
+        if (m_diffuse) return m_diffuse->pdf(wo, wi);
+        if (m_glossy) return m_glossy->pdf(wo, wi);
+        return 0.f;
+    }
     auto p = lobe_probabilities(wo);
     float result = 0.f;
     if (m_diffuse && p[0] > 0.f) result += p[0] * m_diffuse->pdf(wo, wi);
@@ -117,6 +123,11 @@ float Material::pdf(const Vec3& wo, const Vec3& wi) const {
 BSDFEval Material::eval(const Vec3& wo, const Vec3& wi) const {
     // f() and pdf() in one pass: the glossy lobe's D and Lambda and the lobe probabilities are
     // computed once (same arithmetic, so the results equal f() and pdf() bit for bit).
+    if (!m_has_table) {  // single lobe, as in pdf()
+        if (m_diffuse) return {m_diffuse->f(wo, wi), m_diffuse->pdf(wo, wi)};
+        if (m_glossy) return m_glossy->eval(wo, wi);
+        return {};
+    }
     BSDFEval e;
     auto p = lobe_probabilities(wo);
     if (m_diffuse) {
@@ -133,6 +144,15 @@ BSDFEval Material::eval(const Vec3& wo, const Vec3& wi) const {
 
 std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) const {
     if (!(wo.z > 0.f)) return std::nullopt;
+    if (!m_has_table) {
+        // A single-lobe material is that lobe: it gets uc as the general path below would
+        // stretch it (probability 1, offset 0), and its sample as it is.
+        const float uc_lobe = std::max(std::min(uc, kOneMinusEpsilon), 0.f);
+        if (m_diffuse) return m_diffuse->sample_f(wo, uc_lobe, u);
+        if (m_glossy) return m_glossy->sample_f(wo, uc_lobe, u);
+        if (m_mirror) return m_mirror->sample_f(wo, uc_lobe, u);
+        return std::nullopt;
+    }
     auto p = lobe_probabilities(wo);
     // Choose a lobe with uc, then stretch the used part of uc back to [0, 1) for the lobe.
     int lobe = 0;
