@@ -80,9 +80,6 @@ Rgb Material::diffuse_f(const Vec3& wo, const Vec3& wi) const {
 }
 
 std::array<float, 3> Material::lobe_probabilities(const Vec3& wo) const {
-    if (!m_has_table) {
-        return {m_diffuse ? 1.f : 0.f, m_glossy ? 1.f : 0.f, m_mirror ? 1.f : 0.f};
-    }
     float mu = glm::clamp(wo.z, 0.f, 1.f);
     std::array<float, 3> w{0.f, 0.f, 0.f};
     // Albedo of each lobe at wo (luminance): diffuse gets rho_d (1 - Es) (see header).
@@ -177,8 +174,6 @@ std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) c
     else
         s = m_mirror->sample_f(wo, uc_lobe, u);
     if (!s) return std::nullopt;
-    // A single-lobe material is that lobe: its sample already carries the full f and pdf.
-    if (!m_has_table) return s;
 
     if (s->is_specular()) {
         // Discrete choice of a delta lobe: pdf is its selection probability.

@@ -22,6 +22,12 @@ struct GgxConstants {
     float ax, ay, inv_ax, inv_ay, norm;
 };
 
+// The lobe's constants; 1 / alpha is computed as MicrofacetDistribution::ggx does, so that the
+// kernel's products hx (1 / ax) are the scalar path's bit for bit.
+GgxConstants ggx_constants(float ax, float ay, float norm) {
+    return {ax, ay, 1.f / ax, 1.f / ay, norm};
+}
+
 // The terms shared by f and pdf for one pair, with the operations and order of
 // MicrofacetReflection::evaluate_ggx: h = wo + wi, |h|^2, D = norm (|h|^2 / Q)^2 with
 // Q = hz^2 + (hx/ax)^2 + (hy/ay)^2 (as hx (1/ax)) (Walter et al. 2007 eq. 33 from the unnormalised
@@ -132,7 +138,7 @@ void MicrofacetBatch::f(std::size_t n, Vec3Soa wo, Vec3Soa wi, RgbSoa out) const
         }
         return;
     }
-    const GgxConstants kc{m_ax, m_ay, 1.f / m_ax, 1.f / m_ay, m_norm};
+    const GgxConstants kc = ggx_constants(m_ax, m_ay, m_norm);
     float s[kBlock], c[kBlock];
     for (std::size_t k0 = 0; k0 < n; k0 += kBlock) {
         std::size_t m = std::min(kBlock, n - k0);
@@ -159,7 +165,7 @@ void MicrofacetBatch::pdf(std::size_t n, Vec3Soa wo, Vec3Soa wi, float* out) con
         for (std::size_t k = 0; k < n; ++k) out[k] = m_lobe.pdf(at(wo, k), at(wi, k));
         return;
     }
-    const GgxConstants kc{m_ax, m_ay, 1.f / m_ax, 1.f / m_ay, m_norm};
+    const GgxConstants kc = ggx_constants(m_ax, m_ay, m_norm);
     ggx_pdf_block(n, wo.x, wo.y, wo.z, wi.x, wi.y, wi.z, kc, out);
 }
 

@@ -53,6 +53,7 @@ class Material {
 
   private:
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
+    // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
     std::array<float, 3> lobe_probabilities(const Vec3& wo) const;
     Rgb diffuse_scale(float mu) const { return Rgb(1.f) - specular_albedo(mu); }
 

@@ -291,13 +291,12 @@ constexpr int kMinPacketLanes = 3;
 
 // The paths of n <= kLanes camera rays `rays` (closest hits `hits` / `found`, traced by the
 // caller), pixel seeds `seeds` (kLanes of them; the first n are used), sample index `index`,
-// traced together depth by depth: the
-// closest-hit rays of a depth go to Embree as one packet (one by one when only a few paths are
-// left), then the shadow rays of that depth as one packet. Each path performs exactly the
-// shading operations, in the same order, that it would alone; only Embree's packet and
-// single-ray kernels may disagree on a ray that grazes an edge (measured: material_sweep within
-// 7.5e-7 relative of single-ray tracing, the other scenes bit-identical). Radiance estimates
-// are left in L[k].
+// traced together depth by depth: the closest-hit rays of a depth go to Embree as one packet
+// (one by one when only a few paths are left), then the shadow rays of that depth as one packet.
+// Each path performs exactly the shading operations, in the same order, that it would alone; only
+// Embree's packet and single-ray kernels may disagree on a ray that grazes an edge (measured:
+// material_sweep within 7.5e-7 relative of single-ray tracing, the other scenes bit-identical).
+// Radiance estimates are left in L[k].
 template <std::uint32_t F>
 void path_packet(const Scene& scene, const LightDistribution& light_dist, std::size_t n,
                  RayPacket& rays, std::array<SurfaceHit, kLanes>& hits,
@@ -349,7 +348,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
 
 // ---- direct: local illumination (C&W eq. 2.42) + perfect mirror recursion ----
 
-// `found` / `first_hit` as for path_li.
+// The radiance along camera ray `ray`, whose closest hit the caller traced (`first_hit` when
+// `found`); `s` starts at dimension 1.
 template <std::uint32_t F>
 Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_hit, Sampler& s,
               int max_depth, KernelCounters& c) {

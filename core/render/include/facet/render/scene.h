@@ -113,24 +113,20 @@ struct Bounds3 {
     bool empty() const { return !(lo.x <= hi.x); }
 };
 
-// Up to 8 rays in structure-of-arrays form, for the packet queries below. The layout is that of
-// Embree's 8-wide ray packet (checked where Embree is wrapped), so a query copies it as one
-// block; the path integrator writes each lane's next ray straight into it, component by
-// component (building Ray values and copying them cost store-forwarding stalls: 4.5% of the
-// kernel's samples on one such copy). Lanes never set hold a harmless ray (origin 0, +z, tmax 0).
+// Up to 8 rays in structure-of-arrays form, for the packet queries below. The path integrator
+// writes each lane's next ray straight into it, component by component (building Ray values
+// and copying them cost store-forwarding stalls: 4.5% of the kernel's samples on one such
+// copy), and a query copies the arrays into Embree's packet. Lanes never set hold a harmless
+// ray (origin 0, +z, tmax 0).
 struct RayPacket {
     static constexpr std::size_t kSize = 8;
-    alignas(32) float ox[kSize], oy[kSize], oz[kSize], tnear[kSize];
-    float dx[kSize], dy[kSize], dz[kSize], time[kSize], tmax[kSize];
-    std::uint32_t mask[kSize], id[kSize], flags[kSize];
+    alignas(32) float ox[kSize], oy[kSize], oz[kSize];
+    float dx[kSize], dy[kSize], dz[kSize], tmax[kSize];
 
     RayPacket() {
         for (std::size_t k = 0; k < kSize; ++k) {
-            ox[k] = oy[k] = oz[k] = tnear[k] = dx[k] = dy[k] = time[k] = tmax[k] = 0.f;
+            ox[k] = oy[k] = oz[k] = dx[k] = dy[k] = tmax[k] = 0.f;
             dz[k] = 1.f;
-            mask[k] = 0xFFFFFFFFu;
-            id[k] = std::uint32_t(k);
-            flags[k] = 0u;
         }
     }
     void set(std::size_t k, const Ray& r) {
