@@ -7,6 +7,8 @@ packages=(
   libglm-dev libembree-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libtinyobjloader-dev libopenexr-dev libstb-dev libcli11-dev libfmt-dev
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
+  # the facet Python module (built against Debian's /usr/bin/python3, the one Blender embeds)
+  python3-dev pybind11-dev python3-numpy python3-pytest
 )
 missing=()
 for p in "${packages[@]}"; do
