@@ -39,6 +39,7 @@ class ParamSet {
     void set(const std::string& name, ParamValue value) { m_values[name] = std::move(value); }
     bool has(const std::string& name) const { return m_values.count(name) != 0; }
     const std::map<std::string, ParamValue>& values() const { return m_values; }
+    bool operator==(const ParamSet&) const = default;
 
   private:
     std::map<std::string, ParamValue> m_values;

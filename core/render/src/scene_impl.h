@@ -67,6 +67,8 @@ struct Scene::Impl {
 struct Scene::Builder {
     Scene scene;
     std::string& name() { return scene.m_name; }
+    std::uint64_t& fingerprint() { return scene.m_fingerprint; }
+    std::vector<std::string>& warnings() { return scene.m_warnings; }
     Camera& camera() { return scene.m_camera; }
     RenderSettings& settings() { return scene.m_settings; }
     SceneFeatures& features() { return scene.m_features; }

@@ -1,10 +1,26 @@
-// The film: per-pixel sums of radiance samples, resolved to an Image by a box filter.
+// The film: per-pixel sums of radiance samples and sample counts over a region of the image,
+// resolved to an Image by a box filter; and render parts (a film saved with what it covers),
+// which merge into exactly the image one render gives.
 //
-// Conventions: one double-precision RGB sum per pixel, row-major like Image. Each pixel is
-// written only by the tile that owns it, so no synchronisation is needed and the sums do not
-// depend on the thread count or the tile order. The image is sum / samples per pixel.
+// Conventions:
+//  - Sums are FIXED POINT: each sample's float RGB value is converted exactly (truncated below
+//    2^-kFixedFracBits, ~8.7e-19) to a signed 128-bit integer with kFixedFracBits fraction bits
+//    and added as an integer. Integer addition is associative, so a pixel's sum does not depend
+//    on the order in which its samples, tiles, passes, threads or parts were added: splitting a
+//    render by region or by sample range and merging the parts gives the single render's image
+//    bit for bit. (Double-precision sums, as before, depend on the summation order.)
+//  - A sample is accepted when it is finite and every channel is below kMaxSampleValue (2^46,
+//    7.0e13 W sr^-1 m^-2); others are dropped and counted by the kernel (RenderStats::nonfinite).
+//    With at most 2^20 samples per pixel a sum then stays below 2^66, far from overflow.
+//  - The image is sum * 2^-kFixedFracBits (exact, in double) / count per pixel, rounded to float;
+//    pixels with no samples are black.
+//  - A Film covers `region` (half-open pixel rectangle of the full image), row-major inside it.
+//    Each pixel is written by one tile at a time; no synchronisation is needed.
 #pragma once
 
+#include <cmath>
+#include <cstdint>
+#include <string>
 #include <vector>
 
 #include "facet/render/image.h"
@@ -12,27 +28,113 @@
 
 namespace facet::render {
 
+__extension__ typedef __int128 FixedSum;  // GCC/Clang 128-bit integer
+
+inline constexpr int kFixedFracBits = 60;
+inline constexpr float kMaxSampleValue = 0x1p46f;
+
+struct FixedRgb {
+    FixedSum c[3] = {0, 0, 0};
+    FixedRgb& operator+=(const FixedRgb& o) {
+        c[0] += o.c[0];
+        c[1] += o.c[1];
+        c[2] += o.c[2];
+        return *this;
+    }
+    bool operator==(const FixedRgb&) const = default;
+};
+
+// Exact fixed-point value of a float with |v| < 2^(127 - kFixedFracBits), truncated toward zero
+// below 2^-kFixedFracBits. Bit arithmetic: no float-to-int128 library call per sample.
+inline FixedSum to_fixed(float v) {
+    std::uint32_t bits;
+    __builtin_memcpy(&bits, &v, 4);
+    const int e = int((bits >> 23) & 0xffu);
+    const std::uint32_t m = (bits & 0x7fffffu) | (e != 0 ? 0x800000u : 0u);
+    // v = m * 2^(max(e, 1) - 150); in fixed point m * 2^(max(e, 1) - 150 + kFixedFracBits).
+    const int shift = (e != 0 ? e : 1) - 150 + kFixedFracBits;
+    FixedSum r = 0;
+    if (shift >= 0)
+        r = FixedSum(m) << shift;
+    else if (shift > -32)
+        r = FixedSum(m >> -shift);
+    return (bits >> 31) ? -r : r;
+}
+double from_fixed(FixedSum s);  // s * 2^-kFixedFracBits, correctly rounded to double
+
+// Is the sample accepted into the film (see conventions)?
+inline bool film_accepts(const Rgb& v) {
+    return std::fabs(v.x) < kMaxSampleValue && std::fabs(v.y) < kMaxSampleValue &&
+           std::fabs(v.z) < kMaxSampleValue;  // false for NaN too
+}
+
+// Half-open pixel rectangle [x0, x1) x [y0, y1).
+struct Region {
+    int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+    int width() const { return x1 - x0; }
+    int height() const { return y1 - y0; }
+    bool empty() const { return x1 <= x0 || y1 <= y0; }
+    bool contains(int x, int y) const { return x >= x0 && x < x1 && y >= y0 && y < y1; }
+    bool intersects(const Region& o) const {
+        return x0 < o.x1 && o.x0 < x1 && y0 < o.y1 && o.y0 < y1;
+    }
+    bool operator==(const Region&) const = default;
+};
+
 class Film {
   public:
-    Film(int width, int height)
-        : m_width(width), m_height(height), m_sums(std::size_t(width) * std::size_t(height)) {}
+    Film() = default;
+    explicit Film(const Region& region)
+        : m_region(region),
+          m_sums(std::size_t(region.width()) * std::size_t(region.height())),
+          m_counts(m_sums.size(), 0u) {}
 
-    int width() const { return m_width; }
-    int height() const { return m_height; }
-    DVec3* sums() { return m_sums.data(); }
-    const std::vector<DVec3>& sum_values() const { return m_sums; }
+    const Region& region() const { return m_region; }
+    int width() const { return m_region.width(); }
+    int height() const { return m_region.height(); }
+    // Row-major over the region: index (y - y0) * width + (x - x0).
+    FixedRgb* sums() { return m_sums.data(); }
+    const std::vector<FixedRgb>& sum_values() const { return m_sums; }
+    std::uint32_t* counts() { return m_counts.data(); }
+    const std::vector<std::uint32_t>& count_values() const { return m_counts; }
 
-    // Mean radiance per pixel after `samples_per_pixel` samples (black when 0).
-    Image resolve(int samples_per_pixel) const {
-        Image img(m_width, m_height);
-        const double inv = samples_per_pixel > 0 ? 1.0 / double(samples_per_pixel) : 0.0;
-        for (std::size_t i = 0; i < m_sums.size(); ++i) img.pixels()[i] = Rgb(m_sums[i] * inv);
-        return img;
-    }
+    // Mean radiance per pixel of the region (black where no sample was taken).
+    Image resolve() const;
+    // Adds another film's sums and counts over its region, which must lie inside this one's.
+    void add(const Film& other);
 
   private:
-    int m_width, m_height;
-    std::vector<DVec3> m_sums;
+    Region m_region;
+    std::vector<FixedRgb> m_sums;
+    std::vector<std::uint32_t> m_counts;
 };
+
+// What a part covers and which render it belongs to; merge() checks these.
+struct PartInfo {
+    std::string scene;             // scene name (for messages only)
+    std::uint64_t fingerprint = 0; // scene description + image-changing render settings
+    int width = 0, height = 0;     // the full image
+    Region region;                 // pixels covered
+    int sample_begin = 0, sample_end = 0;  // samples [begin, end) of every pixel of the region
+    std::uint64_t seed = 0;
+};
+
+struct RenderPart {
+    PartInfo info;
+    Film film;  // over info.region; every count == sample_end - sample_begin
+};
+
+// Part files ("facet-part" version 1, extension .fpart): the line "FACETPART 1", one line of
+// JSON with the PartInfo fields, then per pixel of the region, row-major, three little-endian
+// signed 128-bit sums (R, G, B; low 64 bits first) — counts are implied by the sample range.
+// Errors throw std::runtime_error naming the file.
+void write_part(const RenderPart& part, const std::string& path);
+RenderPart read_part(const std::string& path);
+
+// Assembles parts into the full image. Every part must have the same fingerprint, seed and
+// image size; no two parts may cover a sample of a pixel twice; every pixel must end up with
+// samples [0, N) for one N. Violations throw std::runtime_error naming the part (by `names[i]`)
+// or the pixel. The result equals the film of one render of samples [0, N), bit for bit.
+Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::string>& names);
 
 }  // namespace facet::render

@@ -1,25 +1,41 @@
-// The render loop: tiles over TBB, a fixed sample count or a time budget, progress reporting.
+// Rendering: RenderSession (progressive passes that can be watched, cancelled, continued and
+// split by region or sample range) and render(), one session run to the end.
 //
 // Conventions:
 //  - Options left at their "unset" value take the scene's render settings (scene.h).
 //  - Determinism: every pixel sample is a pure function of (pixel, sample index, seed)
-//    (sampler.h) and each pixel is accumulated by one tile in sample order, so for a given spp
-//    the image is bit-identical whatever the thread count. (The tile size decides which pixels
-//    share an Embree packet, groups of 8 along a tile row; Embree's packet and single-ray
-//    kernels can disagree in the last bits on rays that graze an edge.) With a time budget the
-//    image is rendered in passes (1, 1, 2, 4, ... samples per pixel, at most kMaxPassSpp per
-//    pass, cut to what the remaining budget affords at the mean cost so far); the image is the
-//    mean of the completed passes, and equals the fixed-spp image of the same total only up to
-//    float summation order across passes.
-//  - render() validates its options and throws std::invalid_argument naming the option
-//    ("--spp: must be >= 1"); after that it never throws, and it never allocates or logs per
-//    sample.
+//    (sampler.h), and the film's fixed-point sums (film.h) make a pixel's value independent of
+//    the order its samples are added in. Tiles lie on a fixed grid of the full image and a tile
+//    traces its rows in Embree packets of 8 pixels aligned to multiples of 8 in x, whatever the
+//    region (pixels of a packet outside the region are traced and discarded), so every ray is
+//    traced in the same packet in every split. Hence for given options the image is bit-identical
+//    whatever the thread count, tile order, pass sizes, cancellations and continuations, and
+//    regions or sample ranges rendered separately merge into it bit for bit (film.h).
+//  - With spp = 1 camera rays go through pixel centres (integrator.h); such a session cannot
+//    be continued to more samples (set spp >= 2 to render progressively).
+//  - Passes: a pass takes every tile of the region from the samples it has to the pass's end
+//    sample. Without a callback and without a time budget the whole range is one pass. With a
+//    callback, passes are sized to take about `pass_seconds` each at the cost measured so far
+//    (1 sample first). With a time budget, passes are 1, 1, 2, 4, ... samples (at most
+//    kMaxPassSpp), cut to what the remaining budget affords at the mean cost so far.
+//  - cancel() may be called from any thread (or the callback may return false): no tile starts
+//    after it, tiles in flight finish (a tile-pass takes well under a millisecond at one sample),
+//    and render() returns false. The film keeps every completed tile-pass: the image is then
+//    valid (each pixel the mean of the samples it has), and a later render() continues from
+//    exactly there.
+//  - Constructors validate options and throw std::invalid_argument naming the option
+//    ("--spp: must be >= 1"); after that nothing throws (but the callback may), allocates or
+//    logs per sample.
 #pragma once
 
+#include <atomic>
 #include <cstdint>
+#include <functional>
+#include <memory>
 #include <optional>
 #include <string>
 
+#include "facet/render/film.h"
 #include "facet/render/image.h"
 #include "facet/render/integrator.h"
 #include "facet/render/progress.h"
@@ -45,18 +61,26 @@ struct RenderOptions {
     bool independent_samples = false;
     Progress::Mode progress = Progress::Mode::Silent;
     int tile_size = kDefaultTileSize;
+    // Crop window of the full image (--region); unset = the whole image.
+    std::optional<Region> region;
+    // Samples [sample_begin, sample_end) of every pixel (--samples s0:s1); sample_end 0 = spp.
+    // The range is part of the spp-sample render (sample_end <= spp).
+    int sample_begin = 0, sample_end = 0;
+    // Target duration of a pass when a callback watches the session (seconds).
+    double pass_seconds = 0.25;
 };
 
 struct RenderStats {
     KernelChoice kernel;
     double seconds = 0;  // wall time of the sample loop (excludes scene loading)
-    int spp = 0;         // samples per pixel actually taken
+    int spp = 0;         // samples per pixel taken (the least over the region's tiles)
     int passes = 0;
     int threads = 0;
     std::uint64_t paths = 0;        // camera samples
     std::uint64_t rays = 0;         // closest-hit rays (camera + continuation)
     std::uint64_t shadow_rays = 0;  // occlusion rays
-    std::uint64_t nonfinite = 0;    // samples dropped because their estimate was NaN/inf
+    std::uint64_t nonfinite = 0;    // samples dropped: NaN/inf or beyond film.h's kMaxSampleValue
+    bool cancelled = false;
 };
 
 // Resolved settings (options merged with the scene's); throws std::invalid_argument.
@@ -65,10 +89,62 @@ struct ResolvedSettings {
     int spp, max_depth, threads, tile_size;
     double time_budget_s;
     std::uint64_t seed;
+    Region region;
+    int sample_begin, sample_end;
 };
 ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& options);
 
-// Renders the scene's camera view. Throws std::invalid_argument for bad options only.
+// What a pass callback sees.
+struct PassInfo {
+    int pass = 0;               // passes completed (1 after the first)
+    int samples_done = 0;       // samples per pixel completed (within the sample range)
+    int samples_target = 0;     // samples per pixel the session is rendering toward
+    double elapsed_s = 0;       // session time so far (all render() calls)
+    double eta_s = 0;           // estimated seconds to the target (0 when done)
+};
+
+class RenderSession {
+  public:
+    // Called on the thread that called render(), after each pass; return false to cancel.
+    using PassCallback = std::function<bool(const PassInfo&)>;
+
+    // The scene must outlive the session. Throws std::invalid_argument for bad options.
+    RenderSession(const Scene& scene, const RenderOptions& options);
+    ~RenderSession();
+    RenderSession(const RenderSession&) = delete;
+    RenderSession& operator=(const RenderSession&) = delete;
+
+    // Renders toward the target (see conventions). True when the target was reached (or the
+    // time budget spent), false when cancelled. Not re-entrant; one render() at a time.
+    bool render(const PassCallback& on_pass = {});
+    // Thread safe; see conventions. Clears itself when the next render() starts.
+    void cancel();
+    // Raises the target to `spp` samples per pixel (>= the current target): the next render()
+    // renders only the new samples. Throws std::invalid_argument for spp < target, or for a
+    // 1-spp (pixel-centre) session.
+    void continue_to(int spp);
+
+    // The current image over the region (call between passes or after render()).
+    Image image() const;
+    const Film& film() const;
+    // The part this session has rendered (requires every tile to be complete: throws
+    // std::logic_error after a cancellation that left some tile behind).
+    RenderPart part() const;
+    const RenderStats& stats() const;
+    const ResolvedSettings& settings() const;
+    int samples_done() const;  // the least sample count over the region's tiles
+
+  private:
+    struct State;
+    std::unique_ptr<State> m;
+};
+
+// Renders the scene (or options' region / sample range) to the end: one RenderSession.
 Image render(const Scene& scene, const RenderOptions& options, RenderStats* stats = nullptr);
+
+// The fingerprint a part of this scene rendered with these options carries (film.h): the
+// scene's and every setting that changes the image.
+std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& settings,
+                               const RenderOptions& options);
 
 }  // namespace facet::render

@@ -69,6 +69,7 @@ struct RenderSettings {
     int max_depth = 8;  // maximum path depth in bounces (>= 0; 0 = only what camera rays see)
     std::uint64_t seed = 0;
     int width = 0, height = 0;  // copied from the camera
+    bool operator==(const RenderSettings&) const = default;
 };
 
 enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid };
@@ -208,6 +209,10 @@ class Scene {
     float radius() const;
     // The file name the scene was loaded from (or the name given for a string).
     const std::string& name() const { return m_name; }
+    // fingerprint() of the SceneDescription it was built from (scene_description.h).
+    std::uint64_t fingerprint() const { return m_fingerprint; }
+    // Warnings build_scene() reported (dropped zero-area triangles, ...), one line each.
+    std::span<const std::string> warnings() const { return m_warnings; }
 
     // Benchmark peer: traces `rays` with bare Embree calls (rtcIntersect1, or rtcOccluded1 when
     // `shadow`), without building SurfaceHits; returns the number of rays that hit something.
@@ -233,6 +238,8 @@ class Scene {
     bool complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v, float t,
                       SurfaceHit& hit) const;
     std::string m_name;
+    std::uint64_t m_fingerprint = 0;
+    std::vector<std::string> m_warnings;
     Camera m_camera;
     RenderSettings m_settings;
     SceneFeatures m_features;
@@ -290,8 +297,9 @@ struct SceneLimits {
     bool allow_files = true;  // mesh "file" entries
 };
 
-// Loads a scene file (JSON, scenes/FORMAT.md). Throws SceneError("<path>: <pointer>: message").
-// Relative mesh file paths are resolved against the scene file's directory.
+// Loads a scene file (JSON, scenes/FORMAT.md): read_scene_description() then build_scene()
+// (scene_description.h). Throws SceneError("<path>: <pointer>: message"). Relative mesh file
+// paths are resolved against the scene file's directory.
 Scene load_scene(const std::string& path);
 // Same, from JSON text; `name_for_errors` prefixes messages, `base_dir` resolves mesh files.
 Scene load_scene_from_string(const std::string& json, const std::string& name_for_errors,

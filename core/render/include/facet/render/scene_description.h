@@ -1,0 +1,160 @@
+// SceneDescription: the plain-data scene every front end fills or reads — the JSON reader and
+// writer (scenes/FORMAT.md version 1), the Python module (numpy arrays), the Blender addon and
+// `facet export-pov` — and build_scene(), the one route from a description to a renderable
+// Scene.
+//
+// Conventions:
+//  - The vocabulary is the scene format's, field for field (scenes/FORMAT.md): units, colours,
+//    degrees, front sides and defaults are exactly as documented there. A default-constructed
+//    field means the format's default.
+//  - Nothing here is validated when it is filled. build_scene() validates everything and throws
+//    SceneError("<name>: <path>: <message>"), where <path> is the JSON pointer of the offending
+//    value as the JSON writer would place it ("/shapes/3/indices/17", "/materials/gold/alpha",
+//    "/lights/0/power"); for shapes it adds the shape's name when it has one
+//    ("/shapes/3 ('Suzanne'): ..."). A description read from JSON therefore reports the same
+//    pointers as the file.
+//  - Mesh arrays are spans: over the description's own storage (MeshData::copy_of, the JSON
+//    reader), or over a caller's arrays (numpy, Blender) kept alive by `owner` or by the caller
+//    until build_scene() returns. build_scene() never keeps a pointer into them.
+//  - Transforms are object-to-world affine matrices in double precision (column vectors, glm
+//    layout m[column][row]); the JSON reader composes the file's transform list into one.
+//  - operator== compares every field by value (mesh arrays by content): read -> write -> read
+//    gives an equal description.
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <optional>
+#include <span>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "facet/registry.h"
+#include "facet/render/scene.h"
+#include "facet/types.h"
+
+namespace facet::render {
+
+struct CameraDesc {
+    Vec3 position{0.f};
+    Vec3 look_at{0.f, 0.f, -1.f};
+    Vec3 up{0.f, 1.f, 0.f};
+    double fov = 40.0;  // full vertical field of view, degrees
+    int width = 0, height = 0;
+    bool operator==(const CameraDesc&) const = default;
+};
+
+struct MaterialDesc {
+    std::string model;  // a name of the core's model table (facet::model_table())
+    ParamSet params;
+    bool operator==(const MaterialDesc&) const = default;
+};
+
+// Flat triangle-mesh arrays: positions x0 y0 z0 x1 ..., 3 indices per triangle, normals empty
+// or one per position.
+struct MeshData {
+    std::span<const float> positions;
+    std::span<const std::uint32_t> indices;
+    std::span<const float> normals;
+    std::shared_ptr<const void> owner;  // keeps the arrays alive (may be null: see conventions)
+
+    // A mesh that owns copies of (or takes) the given arrays.
+    static MeshData copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
+                            std::vector<float> normals = {});
+    std::size_t num_vertices() const { return positions.size() / 3; }
+    std::size_t num_triangles() const { return indices.size() / 3; }
+    bool operator==(const MeshData& o) const;
+};
+
+// One element of "shapes". Only the fields of `kind` are read (the table in FORMAT.md).
+struct ShapeDesc {
+    ShapeKind kind = ShapeKind::Mesh;
+    std::string name;  // "" = none
+    // The "materials" key (material_ref), or an inline material, or neither (emissive shapes
+    // only: they reflect nothing).
+    std::string material_ref;
+    std::optional<MaterialDesc> material;
+    Rgb emission{0.f};
+    bool two_sided = true;
+    bool flip_normals = false;
+    std::optional<glm::dmat4> transform;  // object to world; none = identity
+
+    Vec3 center{0.f};                     // sphere, disc, icosphere
+    double radius = 1.0;                  // sphere, disc, icosphere
+    Vec3 point{0.f};                      // plane
+    Vec3 normal{0.f, 0.f, 1.f};           // plane, disc (need not be unit)
+    Vec3 min{-1.f}, max{1.f};             // box
+    std::array<Vec3, 4> vertices{};       // quad
+    MeshData mesh;                        // mesh from arrays
+    std::string file;                     // mesh from an .obj/.ply file (instead of arrays)
+    int subdivisions = 0;                 // icosphere
+    bool smooth = true;                   // icosphere
+    int nx = 1, ny = 1;                   // grid
+    double amplitude = 0.0, frequency = 0.0;  // grid
+
+    bool operator==(const ShapeDesc&) const = default;
+};
+
+enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment };
+
+// One element of "lights".
+struct LightDesc {
+    LightKind kind = LightKind::Point;
+    Vec3 position{0.f};                // point, spot
+    std::optional<Vec3> direction;     // spot (or look_at), directional; need not be unit
+    std::optional<Vec3> look_at;       // spot
+    Rgb power{0.f};                    // point, spot: W
+    double outer_angle = 45.0;         // spot half-angle, degrees
+    std::optional<double> inner_angle; // spot; none = outer_angle
+    Rgb irradiance{0.f};               // directional: W/m^2
+    Rgb radiance{0.f};                 // environment: W sr^-1 m^-2
+    bool operator==(const LightDesc&) const = default;
+};
+
+struct SceneDescription {
+    std::string description;  // free text
+    CameraDesc camera;
+    // Named materials, in the order they are written (the JSON reader gives them sorted by
+    // name, as the JSON library stores objects). Names must be unique.
+    std::vector<std::pair<std::string, MaterialDesc>> materials;
+    std::vector<ShapeDesc> shapes;
+    std::vector<LightDesc> lights;
+    RenderSettings render;  // width/height are ignored (the camera's)
+    // Directory that relative mesh "file" paths are resolved against (not part of equality).
+    std::string base_dir = ".";
+
+    bool operator==(const SceneDescription& o) const;
+};
+
+// What build_scene() reports besides errors.
+struct BuildReport {
+    std::uint64_t degenerate_triangles = 0;  // zero-area triangles dropped (every mesh)
+    std::vector<std::string> warnings;       // one line each, naming the shape
+};
+
+// Builds the renderable scene. Validates the whole description (see conventions): NaN/Inf
+// positions, normals and parameters, indices out of range, empty meshes, unknown or duplicate
+// material names, model parameters (the core's registry), a scene without lights, the limits.
+// Zero-area triangles are dropped and counted (a warning per shape, also in Scene::warnings()).
+// `name` prefixes every message (a file name, "blender", ...).
+Scene build_scene(const SceneDescription& desc, const std::string& name,
+                  const SceneLimits& limits = {}, BuildReport* report = nullptr);
+
+// JSON (scenes/FORMAT.md version 1) -> description. Checks the JSON: syntax, types, keys,
+// required keys; value checks are build_scene's. Throws SceneError("<name>: <pointer>: ...").
+SceneDescription parse_scene_description(const std::string& json_text, const std::string& name,
+                                         const std::string& base_dir = ".");
+SceneDescription read_scene_description(const std::string& path);
+
+// Description -> JSON text (FORMAT.md version 1, indented). Mesh arrays are written inline,
+// mesh files as their path. Numbers are written so that they read back bit for bit.
+std::string write_scene_json(const SceneDescription& desc);
+void write_scene_file(const SceneDescription& desc, const std::string& path);
+
+// 64-bit fingerprint of everything in the description that changes the image (mesh arrays by
+// content; not base_dir), for telling render parts of different scenes apart.
+std::uint64_t fingerprint(const SceneDescription& desc);
+
+}  // namespace facet::render
