@@ -27,8 +27,8 @@ MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32
         std::vector<std::uint32_t> i;
         std::vector<float> n;
     };
-    auto a = std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
-                                             std::move(normals)});
+    auto a = std::make_shared<Arrays>(
+        Arrays{std::move(positions), std::move(indices), std::move(normals)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
@@ -101,7 +101,8 @@ class Builder {
 
     void check_finite(const Vec3& v, const std::string& ptr) const {
         for (int i = 0; i < 3; ++i) {
-            if (!std::isfinite(v[i])) fail(ptr + "/" + std::to_string(i), "must be a finite number");
+            if (!std::isfinite(v[i]))
+                fail(ptr + "/" + std::to_string(i), "must be a finite number");
         }
     }
     void check_finite(double d, const std::string& ptr) const {
@@ -461,8 +462,7 @@ class Builder {
                 }
                 double amp =
                     check_range(s.amplitude, ptr + "/amplitude", -1e6, 1e6, "in [-1e6, 1e6]");
-                double freq =
-                    check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
+                double freq = check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
                 reserve_triangles(2ull * std::uint64_t(nx) * std::uint64_t(ny), ptr);
                 mesh = make_grid(int(nx), int(ny), float(amp), float(freq));
                 tangent = Vec3(1.f, 0.f, 0.f);
@@ -636,9 +636,10 @@ class Builder {
                 if (!(outer > 0.0 && outer < 180.0)) {
                     fail(ptr + "/outer_angle", "must be in (0, 180) degrees (half-angle)");
                 }
-                double inner = l.inner_angle ? check_range(*l.inner_angle, ptr + "/inner_angle",
-                                                           0.0, outer, "in [0, outer_angle] degrees")
-                                             : outer;
+                double inner = l.inner_angle
+                                   ? check_range(*l.inner_angle, ptr + "/inner_angle", 0.0, outer,
+                                                 "in [0, outer_angle] degrees")
+                                   : outer;
                 lights.push_back(Light::spot(p, dir, phi, float(inner), float(outer)));
                 break;
             }
@@ -778,8 +779,8 @@ std::string SceneFeatures::describe() const {
     return s.str();
 }
 
-Scene build_scene(const SceneDescription& desc, const std::string& name,
-                  const SceneLimits& limits, BuildReport* report) {
+Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,
+                  BuildReport* report) {
     return Builder(desc, name, limits, report).build();
 }
 
