@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -64,6 +65,7 @@ class Builder {
         : m_desc(desc), m_name(std::move(name)), m_limits(limits), m_report(report) {}
 
     Scene build() {
+        const auto t0 = std::chrono::steady_clock::now();
         m_builder.name() = m_name;
         m_builder.fingerprint() = fingerprint(m_desc);
         build_camera();
@@ -80,13 +82,17 @@ class Builder {
                  "\"emission\")");
         }
         build_render();
+        const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);
+        const auto t2 = std::chrono::steady_clock::now();
         analyse();
         m_builder.light_distribution() =
             LightDistribution(m_builder.scene.lights(), m_builder.scene.radius());
         if (m_report) {
             m_report->degenerate_triangles = m_degenerate;
             m_report->warnings = m_builder.warnings();
+            m_report->seconds_before_bvh = std::chrono::duration<double>(t1 - t0).count();
+            m_report->seconds_bvh = std::chrono::duration<double>(t2 - t1).count();
         }
         return std::move(m_builder.scene);
     }
