@@ -15,17 +15,22 @@
 #pragma once
 
 #include <pybind11/numpy.h>
+#include <pybind11/operators.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <string>
 
 #include <glm/glm.hpp>
 
 #include "facet/registry.h"
 #include "facet/types.h"
+#ifndef FACET_PYTHON_BRDF_ONLY
+#include "facet/render/scene.h"
+#endif
 
 namespace pybind11::detail {
 
@@ -123,6 +128,12 @@ py::dict params_to_dict(const ParamSet& params);
 
 void bind_brdf(py::module_& m);
 #ifndef FACET_PYTHON_BRDF_ONLY
+// facet.Scene: a built scene, shared by the sessions rendering it (they keep it alive).
+struct SceneHandle {
+    std::shared_ptr<const render::Scene> scene;
+    std::uint64_t degenerate_triangles = 0;  // from build_scene's BuildReport
+};
+
 void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
 #endif
