@@ -379,9 +379,14 @@ def local_cluster(workers: int | None = None, threads: int | None = None):
     from distributed import LocalCluster
 
     cores = os.cpu_count() or 1
+    # Quiet worker processes: they read Dask's logging levels from the environment at import.
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     return LocalCluster(n_workers=workers or 1, threads_per_worker=threads or cores,
                         processes=True, host="127.0.0.1", dashboard_address=None,
-                        scheduler_port=0, silence_logs=logging.ERROR, memory_limit=0)
+                        preload=["facet.farm"],  # dask_setup: Ctrl-C is the client's
+                        scheduler_port=0, silence_logs=logging.ERROR, memory_limit=0,
+                        # the scheduler's HTTP endpoint on loopback too, any free port
+                        scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
 
 
 def connect(address, timeout: float = 10.0):
@@ -402,6 +407,15 @@ def quiet_logs():
 
     for name in ("distributed", "tornado", "asyncio", "bokeh"):
         logging.getLogger(name).setLevel(logging.ERROR)
+
+
+def dask_setup(worker):
+    """Preload of the local cluster's worker processes: they ignore SIGINT, which a terminal's
+    Ctrl-C sends to the whole process group; the client cancels the job and closes them."""
+    import signal
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
 
 
 def _slots(client) -> int:
