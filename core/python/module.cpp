@@ -3,9 +3,7 @@
 
 #include "bindings.h"
 #include "facet/registry.h"
-#ifndef FACET_PYTHON_BRDF_ONLY
 #include "facet/render/scene.h"
-#endif
 
 namespace facet::python {
 
@@ -74,16 +72,12 @@ PYBIND11_MODULE(_facet, m) {
             if (p) std::rethrow_exception(p);
         } catch (const facet::ParamError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
-#ifndef FACET_PYTHON_BRDF_ONLY
         } catch (const facet::render::SceneError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
-#endif
         }
     });
 
     facet::python::bind_brdf(m);
-#ifndef FACET_PYTHON_BRDF_ONLY
     facet::python::bind_scene(m);
     facet::python::bind_render(m);
-#endif
 }
