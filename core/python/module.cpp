@@ -62,6 +62,7 @@ PYBIND11_MODULE(_facet, m) {
     m.doc() =
         "Facet: physically based reflection models (Cohen & Wallace ch. 2) and the Facet "
         "renderer. See the README's Python section.";
+    m.attr("__version__") = FACET_VERSION;
 
     // C++ errors -> Python exceptions with the C++ message. ParamError and SceneError (bad
     // values, with their parameter name or JSON pointer) are ValueErrors, as std::invalid_argument
