@@ -128,7 +128,9 @@ void bind_brdf(py::module_& m);
 // facet.Scene: a built scene, shared by the sessions rendering it (they keep it alive).
 struct SceneHandle {
     std::shared_ptr<const render::Scene> scene;
-    std::uint64_t degenerate_triangles = 0;  // from build_scene's BuildReport
+    // From build_scene's BuildReport (zero for load_scene).
+    std::uint64_t degenerate_triangles = 0;
+    double seconds_before_bvh = 0.0, seconds_bvh = 0.0;
 };
 
 void bind_scene(py::module_& m);

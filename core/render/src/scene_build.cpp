@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -27,8 +28,8 @@ MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32
         std::vector<std::uint32_t> i;
         std::vector<float> n;
     };
-    auto a = std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
-                                             std::move(normals)});
+    auto a = std::make_shared<Arrays>(
+        Arrays{std::move(positions), std::move(indices), std::move(normals)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
@@ -64,6 +65,7 @@ class Builder {
         : m_desc(desc), m_name(std::move(name)), m_limits(limits), m_report(report) {}
 
     Scene build() {
+        const auto t0 = std::chrono::steady_clock::now();
         m_builder.name() = m_name;
         m_builder.fingerprint() = fingerprint(m_desc);
         build_camera();
@@ -80,13 +82,17 @@ class Builder {
                  "\"emission\")");
         }
         build_render();
+        const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);
+        const auto t2 = std::chrono::steady_clock::now();
         analyse();
         m_builder.light_distribution() =
             LightDistribution(m_builder.scene.lights(), m_builder.scene.radius());
         if (m_report) {
             m_report->degenerate_triangles = m_degenerate;
             m_report->warnings = m_builder.warnings();
+            m_report->seconds_before_bvh = std::chrono::duration<double>(t1 - t0).count();
+            m_report->seconds_bvh = std::chrono::duration<double>(t2 - t1).count();
         }
         return std::move(m_builder.scene);
     }
@@ -101,7 +107,8 @@ class Builder {
 
     void check_finite(const Vec3& v, const std::string& ptr) const {
         for (int i = 0; i < 3; ++i) {
-            if (!std::isfinite(v[i])) fail(ptr + "/" + std::to_string(i), "must be a finite number");
+            if (!std::isfinite(v[i]))
+                fail(ptr + "/" + std::to_string(i), "must be a finite number");
         }
     }
     void check_finite(double d, const std::string& ptr) const {
@@ -461,8 +468,7 @@ class Builder {
                 }
                 double amp =
                     check_range(s.amplitude, ptr + "/amplitude", -1e6, 1e6, "in [-1e6, 1e6]");
-                double freq =
-                    check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
+                double freq = check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
                 reserve_triangles(2ull * std::uint64_t(nx) * std::uint64_t(ny), ptr);
                 mesh = make_grid(int(nx), int(ny), float(amp), float(freq));
                 tangent = Vec3(1.f, 0.f, 0.f);
@@ -636,9 +642,10 @@ class Builder {
                 if (!(outer > 0.0 && outer < 180.0)) {
                     fail(ptr + "/outer_angle", "must be in (0, 180) degrees (half-angle)");
                 }
-                double inner = l.inner_angle ? check_range(*l.inner_angle, ptr + "/inner_angle",
-                                                           0.0, outer, "in [0, outer_angle] degrees")
-                                             : outer;
+                double inner = l.inner_angle
+                                   ? check_range(*l.inner_angle, ptr + "/inner_angle", 0.0, outer,
+                                                 "in [0, outer_angle] degrees")
+                                   : outer;
                 lights.push_back(Light::spot(p, dir, phi, float(inner), float(outer)));
                 break;
             }
@@ -778,8 +785,8 @@ std::string SceneFeatures::describe() const {
     return s.str();
 }
 
-Scene build_scene(const SceneDescription& desc, const std::string& name,
-                  const SceneLimits& limits, BuildReport* report) {
+Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,
+                  BuildReport* report) {
     return Builder(desc, name, limits, report).build();
 }
 
