@@ -280,8 +280,9 @@ std::string vec_str(const Vec3& v) {
     return s.str();
 }
 
-SceneHandle make_handle(Scene&& scene, std::uint64_t degenerate) {
-    return {std::make_shared<const Scene>(std::move(scene)), degenerate};
+SceneHandle make_handle(Scene&& scene, const BuildReport& report = {}) {
+    return {std::make_shared<const Scene>(std::move(scene)), report.degenerate_triangles,
+            report.seconds_before_bvh, report.seconds_bvh};
 }
 
 }  // namespace
@@ -575,6 +576,10 @@ void bind_scene(py::module_& m) {
                                    return std::vector<std::string>(w.begin(), w.end());
                                })
         .def_readonly("degenerate_triangles", &SceneHandle::degenerate_triangles)
+        .def_readonly("seconds_before_bvh", &SceneHandle::seconds_before_bvh,
+                      "build_scene's time before the BVH build (BuildReport)")
+        .def_readonly("seconds_bvh", &SceneHandle::seconds_bvh,
+                      "build_scene's BVH build time (BuildReport)")
         .def_property_readonly("fingerprint",
                                [](const SceneHandle& s) { return s.scene->fingerprint(); })
         .def_property_readonly("width",
@@ -611,7 +616,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(build_scene(d, name, limits, &report));
             }
-            return make_handle(std::move(*scene), report.degenerate_triangles);
+            return make_handle(std::move(*scene), report);
         },
         py::arg("desc"), py::arg("name") = "python", py::arg("max_triangles") = py::none(),
         py::arg("allow_files") = true,
@@ -626,7 +631,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(load_scene(path));
             }
-            return make_handle(std::move(*scene), 0);
+            return make_handle(std::move(*scene));
         },
         py::arg("path"), "Loads a JSON scene file (read_scene_description + build_scene).");
     m.def(
@@ -637,7 +642,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(load_scene_from_string(json, name, base_dir));
             }
-            return make_handle(std::move(*scene), 0);
+            return make_handle(std::move(*scene));
         },
         py::arg("json"), py::arg("name") = "<string>", py::arg("base_dir") = ".",
         "Loads a scene from JSON text.");
