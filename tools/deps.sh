@@ -9,6 +9,8 @@ packages=(
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
   # the facet Python module (built against Debian's /usr/bin/python3, the one Blender embeds)
   python3-dev pybind11-dev python3-numpy python3-pytest
+  # facet-farm, distributed rendering (facet.farm): Dask's scheduler, workers and LocalCluster
+  python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do

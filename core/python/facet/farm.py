@@ -441,7 +441,7 @@ def frame_number(path: str, position: int) -> int:
 def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str | None = None,
                  tile_size: int | None = None, sample_chunk: int | None = None,
                  spp: int | None = None, seed: int | None = None, workers: int | None = None,
-                 threads: int | None = None, timeout: float = 10.0,
+                 threads: int | None = None, task_threads: int = 1, timeout: float = 10.0,
                  progress: bool | None = None, client=None, stats: dict | None = None):
     """Renders scene files (one still, or the frames of an animation) on Dask; see main()."""
     if not scenes:
@@ -466,8 +466,8 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
                 cluster = local_cluster(workers, threads)
                 client = connect(cluster, timeout)
         slots = _slots(client)
-        # Task threads: each task renders on 1 thread when a worker runs several tasks at once.
-        per_task = 1
+        # Render threads per task: 1 when each worker runs as many tasks at once as it has cores.
+        per_task = max(1, task_threads)
         t_cluster = time.monotonic()
         jobs = []
         for k, payload in enumerate(payloads):
@@ -516,6 +516,8 @@ def _parser():
     r.add_argument("--workers", type=int, help="local cluster: worker processes (default 1)")
     r.add_argument("--threads", type=int, help="local cluster: task threads per worker "
                    "(default: the cores)")
+    r.add_argument("--task-threads", type=int, default=1,
+                   help="render threads of each task (default 1: one task per core)")
     r.add_argument("--timeout", type=float, default=10.0,
                    help="seconds to wait for the scheduler (default 10)")
     r.add_argument("--progress", dest="progress", action="store_true", default=None,
@@ -531,6 +533,7 @@ def main(argv: Sequence[str] | None = None) -> int:
         render_files(args.scenes, args.output, scheduler=args.scheduler,
                      tile_size=args.tile_size, sample_chunk=args.sample_chunk, spp=args.spp,
                      seed=args.seed, workers=args.workers, threads=args.threads,
+                     task_threads=args.task_threads,
                      timeout=args.timeout, progress=args.progress)
     except FarmError as e:
         print(f"facet-farm: error: {e}", file=sys.stderr)
