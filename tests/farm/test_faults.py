@@ -109,10 +109,11 @@ def test_unreachable_scheduler_is_a_clear_error_within_the_timeout(tmp_path):
     assert wait_gone(p.pid, 5) == []
 
 
-def test_ctrl_c_cancels_the_whole_job(tmp_path):
+@pytest.mark.parametrize("workers", [0, 2], ids=["inproc", "2proc"])
+def test_ctrl_c_cancels_the_whole_job(tmp_path, workers):
     scene = write_scene(tmp_path / "s.json", 320, 240, 1024)
     p = subprocess.Popen(farm_cmd("render", scene, "-o", tmp_path / "o.exr", "--tile-size", "16",
-                                  "--progress"),
+                                  "--progress", "--workers", workers),
                          stdout=subprocess.PIPE, stderr=subprocess.PIPE, start_new_session=True)
     err = bytearray()
     started = threading.Event()
@@ -130,7 +131,8 @@ def test_ctrl_c_cancels_the_whole_job(tmp_path):
     reader.start()
     try:
         assert started.wait(60), err.decode()
-        assert len(session_processes(p.pid)) >= 2  # the client and its worker process(es)
+        # the client and its worker processes (none: in-process worker threads)
+        assert len(session_processes(p.pid)) >= 1 + workers
         t = time.monotonic()
         os.killpg(p.pid, signal.SIGINT)  # what a terminal's Ctrl-C does
         rc = p.wait(timeout=30)

@@ -1,5 +1,5 @@
 # Bit-identity of facet-farm against `facet render`: several tile sizes and sample chunks,
-# 2 worker processes x 1 thread and 1 worker x 3 threads, stills and animations (per frame and
+# 2 worker processes x 1 thread and 1 in-process worker x 3 threads, stills and animations (per frame and
 # per tile), the library entry point and the command (facet-farm, python3 -m facet.farm).
 import subprocess
 import sys
@@ -20,12 +20,12 @@ def still(tmp_path_factory):
     return scene, cli_render(scene, d / "ref.exr")
 
 
-@pytest.fixture(scope="module", params=[(2, 1), (1, 3)], ids=["2x1", "1x3"])
+@pytest.fixture(scope="module", params=[(2, 1), (0, 3)], ids=["2procx1", "inprocx3"])
 def client(request):
-    workers, threads = request.param
+    workers, threads = request.param  # workers 0: one worker in this process (the default)
     cluster = farm.local_cluster(workers, threads)
     c = farm.connect(cluster)
-    c.wait_for_workers(workers, timeout=60)
+    c.wait_for_workers(max(workers, 1), timeout=60)
     yield c
     c.close()
     cluster.close()

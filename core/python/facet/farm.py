@@ -106,7 +106,6 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
             scene = facet.build_scene(desc, name=path)
         except (ValueError, RuntimeError, OSError) as e:
             raise FarmError(str(e)) from None
-        del scene
     fp = desc.fingerprint()
     settings = desc.render
     base = pathlib.Path(desc.base_dir or ".")
@@ -131,10 +130,13 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
         meshes.append((i, np.array(mesh.positions), np.array(mesh.indices),
                        None if normals is None else np.array(normals)))
         shape.mesh = facet.MeshData(*_STANDIN)
-    return ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
-                        fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
-                        spp=int(spp if spp is not None else settings.spp),
-                        seed=int(seed if seed is not None else settings.seed))
+    payload = ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
+                           fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
+                           spp=int(spp if spp is not None else settings.spp),
+                           seed=int(seed if seed is not None else settings.seed))
+    if validate:
+        _cache_scene(payload.key, scene)  # in-process workers use it as it is
+    return payload
 
 
 # ---------------------------------------------------------------------------------------------
@@ -143,6 +145,18 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
 _cache_lock = threading.Lock()
 _scenes: "collections.OrderedDict[str, object]" = collections.OrderedDict()
 _CACHED_SCENES = 2  # animations: the frame being rendered and the next one
+
+
+def _cache_scene(key, scene):
+    with _cache_lock:
+        _scenes[key] = scene
+        _scenes.move_to_end(key)
+        while len(_scenes) > _CACHED_SCENES:
+            _scenes.popitem(last=False)
+
+
+# Set by the client on Ctrl-C: in-process workers' renders stop within a pass.
+_cancel = threading.Event()
 
 
 def _worker_scene(payload: ScenePayload):
@@ -184,7 +198,8 @@ def render_piece(payload: ScenePayload, region, samples, threads: int):
     scene = _worker_scene(payload)
     session = facet.RenderSession(scene, spp=payload.spp, seed=payload.seed, region=region,
                                   samples=samples, threads=threads, time_budget=0)
-    session.render()
+    if not session.render(lambda info: not _cancel.is_set()):
+        raise FarmError("cancelled")
     part = session.part()
     part.name = f"{payload.name} region {tuple(region)} samples {tuple(samples)}"
     return part
@@ -318,6 +333,7 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
 
     futures = {}
     pending = {}
+    _cancel.clear()
     try:
         for j, job in enumerate(jobs):
             # The scene travels once per job to the scheduler, as the spec of a task returning
@@ -362,6 +378,9 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
                 _write(job.image, job.outputs)
                 if len(jobs) > 1:
                     job.image = None if job.outputs else job.image
+    except KeyboardInterrupt:
+        _cancel.set()
+        raise
     finally:
         if futures:
             client.cancel(list(futures))
@@ -374,16 +393,22 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
 # Clusters
 
 
-def local_cluster(workers: int | None = None, threads: int | None = None):
-    """A LocalCluster of worker processes listening on 127.0.0.1 only, no dashboard."""
+def local_cluster(workers: int | None = None, threads: int | None = None,
+                  processes: bool | None = None):
+    """A LocalCluster on this machine, no dashboard. Default (workers None or 0): one worker in
+    this process with a task thread per core (inproc transport: no socket but the scheduler's
+    HTTP endpoint on 127.0.0.1); workers >= 1: that many worker processes listening on
+    127.0.0.1 only."""
     from distributed import LocalCluster
 
     cores = os.cpu_count() or 1
+    if processes is None:
+        processes = bool(workers)
     # Quiet worker processes: they read Dask's logging levels from the environment at import.
     os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
     return LocalCluster(n_workers=workers or 1, threads_per_worker=threads or cores,
-                        processes=True, host="127.0.0.1", dashboard_address=None,
-                        preload=["facet.farm"],  # dask_setup: Ctrl-C is the client's
+                        processes=processes, host="127.0.0.1" if processes else None, dashboard_address=None,
+                        preload=["facet.farm"] if processes else [],  # dask_setup: no SIGINT
                         scheduler_port=0, silence_logs=logging.ERROR, memory_limit=0,
                         # the scheduler's HTTP endpoint on loopback too, any free port
                         scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
@@ -513,7 +538,9 @@ def _parser():
     r.add_argument("--sample-chunk", type=int, help="samples per task (default: all)")
     r.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
     r.add_argument("--seed", type=int, help="sampler seed (default: the scene's)")
-    r.add_argument("--workers", type=int, help="local cluster: worker processes (default 1)")
+    r.add_argument("--workers", type=int, default=0,
+                   help="local cluster: worker processes (default 0: one worker thread per core "
+                   "in this process)")
     r.add_argument("--threads", type=int, help="local cluster: task threads per worker "
                    "(default: the cores)")
     r.add_argument("--task-threads", type=int, default=1,
