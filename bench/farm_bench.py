@@ -92,13 +92,15 @@ def main():
         ref = timed([CLI, "render", small, "--threads", "2", "-o", tmp / "l_cli.exr"])
         print(f"## Local layouts, 1920x1080 at {args.layout_spp} spp "
               f"(facet render: {ref:.2f} s)\n")
-        print("| workers x task threads x render threads | wall s | / facet render |")
+        print("| local cluster (--workers x --threads x --task-threads) | wall s | "
+              "/ facet render |")
         print("|---|---|---|")
-        for w, t, rt in [(1, 2, 1), (2, 1, 1), (1, 1, 2)]:
+        for w, t, rt in [(0, 2, 1), (0, 1, 2), (1, 2, 1), (2, 1, 1)]:
             s = timed([py, FARM, "render", small, "-o", tmp / "l.exr", "--workers", w,
                        "--threads", t, "--task-threads", rt])
             assert same(tmp / "l.exr", tmp / "l_cli.exr")
-            print(f"| {w} x {t} x {rt} | {s:.2f} | {s / ref:.3f} |")
+            kind = "in-process worker" if w == 0 else f"{w} worker process{'es' * (w > 1)}"
+            print(f"| {kind} x {t} x {rt} | {s:.2f} | {s / ref:.3f} |")
         print()
 
     # 3. Per-task costs on a local cluster.
@@ -113,11 +115,11 @@ def main():
     client.gather(futs)
     noop_s = (time.perf_counter() - t) / n
     del futs
-    tiny = scene_file(tmp, 400, 320, 1)
+    tiny = scene_file(tmp, 320, 256, 2)
     payload = farm.load_payload(str(tiny))
-    regions, samples = farm.plan_still(400, 320, 1, 2, tile_size=8)
+    regions, samples = farm.plan_still(320, 256, 2, 2, tile_size=8, sample_chunk=1)
+    farm.run_jobs(client, [farm.Job(payload, regions, samples, [])])  # warm the worker's cache
     job = farm.Job(payload, regions, samples, [])
-    farm.run_jobs(client, [farm.Job(payload, regions[:50], samples, [])])  # warm the scene cache
     t = time.perf_counter()
     farm.run_jobs(client, [job])
     tiny_s = (time.perf_counter() - t) / job.tasks
@@ -155,11 +157,11 @@ def main():
         farm._sum_parts(halves[k:k + 2])
     sum_px_s = 8 * 256 * 256 / (time.perf_counter() - t)
 
-    print("## Per-task costs (local cluster, 1 worker x 2 threads)\n")
+    print("## Per-task costs (local cluster: 1 worker process x 2 threads, TCP on loopback)\n")
     print("| quantity | value |\n|---|---|")
     print(f"| no-op Dask task, client round trip | {noop_s * 1e3:.2f} ms/task "
           f"({1 / noop_s:.0f} tasks/s) |")
-    print(f"| facet task of 8x8 px x 1 spp (session, part, pickle) | {tiny_s * 1e3:.2f} ms/task "
+    print(f"| facet task of 8x8 px x 1 sample (session, part, pickle, merge) | {tiny_s * 1e3:.2f} ms/task "
           f"({job.tasks} tasks; the same pixels in one render: {tiny_render:.3f} s) |")
     print(f"| bytes per task (arguments) | {task_bytes} B |")
     print(f"| scene payload (Cornell box), once per worker | {payload_bytes} B |")
@@ -170,44 +172,74 @@ def main():
           f"core-ns/sample |\n")
 
     # 4. The model: 4K at 4096 spp.
+    # Per task: the measured facet task (8x8 px, 1 sample: almost all of it is overhead).
+    model(core_s_per_sample, max(noop_s, tiny_s), result_bytes, merge_px_s, sum_px_s)
+
+
+def model(c, sched_s, result_bytes, merge_px_s, sum_px_s, bandwidth=125e6):
+    """Frame time on P one-core workers (tiles >= 32 px: Embree packets are 8 px wide) with one scheduler and one client (1 Gbit/s link):
+    the work W/P plus a tail of one task, or the client's serial costs when they are longer
+    (scheduler per task; results 52 B/px per sample chunk over the link; exact chunk sums and
+    the final merge). Picks tile size and sample chunk per P, >= 4 tasks per worker."""
     W, H, SPP = 3840, 2160, 4096
-    work = W * H * SPP * core_s_per_sample  # core-seconds
-    bandwidth = 125e6  # client NIC: 1 Gbit/s
-    per_task_sched = noop_s  # serial scheduler + client cost per task
-    print(f"## Model: 4K ({W}x{H}) at {SPP} spp = {work / 3600:.1f} core-hours "
-          f"({core_s_per_sample * 1e9:.1f} core-ns/sample); client link 1 Gbit/s\n")
-    print("| workers (1 core each) | tile / chunk | tasks | work/worker s | serial (sched + "
-          "results + merge) s | frame s | efficiency |\n|---|---|---|---|---|---|---|")
+    px = W * H
+    work = px * SPP * c
+
+    def cost(P, tile, chunk):
+        ntiles = len(farm.tiles(W, H, tile))
+        nchunks = -(-SPP // chunk)
+        tasks = ntiles * nchunks
+        if tasks < 4 * P:
+            return None
+        sched = tasks * sched_s
+        net = px * nchunks * result_bytes / bandwidth
+        merge = px * (nchunks - 1) / sum_px_s + px / merge_px_s
+        task_s = work / tasks
+        compute = work / P + task_s  # the last wave's tail: one task
+        serial = sched + net + merge
+        total = max(compute, serial) + px / merge_px_s  # the final merge after the last result
+        return dict(P=P, tile=tile, chunk=chunk, tasks=tasks, task_s=task_s, sched=sched,
+                    net=net, merge=merge, total=total, overhead=total / (work / P) - 1)
+
+    def best(P):
+        cands = [cost(P, t, ch) for t in (1024, 512, 256, 128, 64, 32)
+                 for ch in (SPP, 2048, 1024, 512, 256, 128, 64, 32)]
+        cands = [x for x in cands if x]
+        if not cands:
+            return None
+        # The fewest tasks among the splits within 0.5% of the fastest: the least load on the
+        # scheduler, the link and the client for the same frame time.
+        fastest = min(x["total"] for x in cands)
+        return min((x for x in cands if x["total"] <= 1.005 * fastest), key=lambda x: x["tasks"])
+
+    print(f"## Model: a 4K frame ({W}x{H}) at {SPP} spp = {work / 3600:.0f} core-hours "
+          f"({c * 1e9:.0f} core-ns/sample as measured here), one scheduler, 1 Gbit/s client "
+          f"link\n")
+    print("| workers (1 core) | tile / sample chunk | tasks | s per task | scheduler s | "
+          "results over the link s | merge s | frame | overhead vs work/P |")
+    print("|---|---|---|---|---|---|---|---|---|")
     for P in (10, 100, 1000):
-        best = None
-        for tile in (512, 256, 128, 64, 32):
-            for chunk in (SPP, 1024, 256, 64, 16):
-                ntiles = len(farm.tiles(W, H, tile))
-                nchunks = -(-SPP // chunk)
-                tasks = ntiles * nchunks
-                if tasks < 4 * P:  # load balance: >= 4 tasks per worker
-                    continue
-                per_worker = work / P
-                results = W * H * nchunks * result_bytes / bandwidth
-                merge = W * H / merge_px_s + W * H * (nchunks - 1) / sum_px_s
-                serial = tasks * per_task_sched + results + merge
-                # serial costs overlap with the work, except the last wave's results and merge
-                total = max(per_worker, serial) + W * H / merge_px_s
-                eff = work / P / total
-                cand = (total, tile, chunk, tasks, per_worker, serial, eff)
-                if best is None or total < best[0]:
-                    best = cand
-        total, tile, chunk, tasks, per_worker, serial, eff = best
-        print(f"| {P} | {tile} px / {chunk} spp | {tasks} | {per_worker:.0f} | {serial:.1f} | "
-              f"{total:.0f} | {eff * 100:.1f}% |")
-    # Where it stops scaling: serial client costs equal the per-worker work.
-    tile, chunk = 64, 64
-    tasks = len(farm.tiles(W, H, tile)) * (SPP // chunk)
-    serial = (tasks * per_task_sched + W * H * (SPP // chunk) * result_bytes / bandwidth +
-              W * H * (SPP // chunk) / sum_px_s)
-    print(f"\nOne scheduler/client saturates when work/P falls to its serial cost: with "
-          f"{tile}-px tiles x {chunk}-spp chunks ({tasks} tasks, {serial:.0f} s serial) at "
-          f"P = {work / serial:.0f} workers.")
+        b = best(P)
+        print(f"| {P} | {b['tile']} px / {b['chunk']} spp | {b['tasks']} | {b['task_s']:.1f} | "
+              f"{b['sched']:.1f} | {b['net']:.1f} | {b['merge']:.1f} | "
+              f"{b['total'] / 60:.1f} min | {b['overhead'] * 100:.1f}% |")
+    P = 10
+    while True:
+        b = best(P * 2)
+        if b is None or b["overhead"] > 0.05:
+            break
+        P *= 2
+    b5 = best(P)
+    P2 = P
+    while True:
+        b = best(P2 * 2)
+        if b is None or b["total"] >= best(P2)["total"]:
+            break
+        P2 *= 2
+    print(f"\nOverhead stays <= 5% up to ~{P} workers ({b5['tile']}-px tiles, {b5['chunk']}-spp "
+          f"chunks, {b5['tasks']} tasks); the frame stops getting faster at ~{P2} workers "
+          f"({best(P2)['total']:.0f} s), where the client's serial costs "
+          f"(scheduler + results + merge) equal the work per worker.")
 
 
 def _noop(i):
