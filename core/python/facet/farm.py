@@ -223,20 +223,34 @@ def chunks(spp: int, chunk: int):
 
 def plan_still(width: int, height: int, spp: int, slots: int, tile_size: int | None = None,
                sample_chunk: int | None = None):
-    """(regions, sample ranges) of a still. Default tile size: the largest of 512, 256, 128,
-    64 px giving at least 8 tiles per task slot (load balance), so a task is long against the
-    scheduler's ~ms per task and the tail wait is short against the whole render."""
-    if tile_size is None:
-        tile_size = 64
-        for size in (512, 256, 128):
-            if len(tiles(width, height, size)) >= 8 * slots:
-                tile_size = size
-                break
-    if tile_size < 1:
+    """(regions, sample ranges) of a still, in the order the tasks are submitted (Dask runs
+    independent tasks roughly in that order). Default: the largest tile of 512, 256, 128 or 64
+    px giving at least 8 tiles per task slot, so a task is long against the scheduler's ~ms per
+    task; and the last 2 tiles per slot cut in 4 x 4, so the wait for the last task (slots idle
+    while it runs) is a sixteenth of a tile. Regions need not lie on one grid: any split merges
+    to the same image."""
+    if tile_size is not None and tile_size < 1:
         raise FarmError(f"--tile-size: must be >= 1, got {tile_size}")
     if sample_chunk is not None and sample_chunk < 1:
         raise FarmError(f"--sample-chunk: must be >= 1, got {sample_chunk}")
-    return tiles(width, height, tile_size), chunks(spp, sample_chunk or spp)
+    samples = chunks(spp, sample_chunk or spp)
+    if tile_size is not None:
+        return tiles(width, height, tile_size), samples
+    size = 64
+    for candidate in (512, 256, 128):
+        if len(tiles(width, height, candidate)) >= 8 * slots:
+            size = candidate
+            break
+    regions = tiles(width, height, size)
+    tail = min(len(regions) // 4, 2 * slots)
+    if size >= 64 and tail > 0:
+        sub = size // 4
+        last = regions[-tail:]
+        regions = regions[:-tail]
+        for x0, y0, x1, y1 in last:
+            regions += [(x, y, min(x + sub, x1), min(y + sub, y1))
+                        for y in range(y0, y1, sub) for x in range(x0, x1, sub)]
+    return regions, samples
 
 
 def _part_state(part):
@@ -271,6 +285,23 @@ def _sum_parts(parts):
     return merged
 
 
+def _place(job, part):
+    """Pastes a complete tile (samples [0, spp)) into the job's image. A pixel's value depends
+    only on its own sums (film.h), so the tile's resolved image is exactly that pixel of the
+    merged image: no full-image merge at the end. Checks what merge_parts would."""
+    p = job.payload
+    if job.fingerprint is None:
+        job.fingerprint = part.fingerprint
+    if part.fingerprint != job.fingerprint or part.seed != p.seed or \
+            (part.width, part.height) != (p.width, p.height) or part.samples != (0, p.spp):
+        raise FarmError(f"{p.name}: internal: part {part.name} does not belong to this render "
+                        f"(fingerprint, seed, size or samples {part.samples} differ)")
+    if job.image is None:
+        job.image = np.zeros((p.height, p.width, 3), dtype=np.float32)
+    x0, y0, x1, y1 = part.region
+    job.image[y0:y1, x0:x1] = part.image()
+
+
 @dataclasses.dataclass
 class Job:
     """One image: a payload, its pieces and where the merged image goes."""
@@ -281,6 +312,7 @@ class Job:
     outputs: list                 # paths written when the image is complete
     label: str = ""
     image: np.ndarray | None = None
+    fingerprint: int | None = None  # of the first part (scene + render settings)
 
     @property
     def tasks(self) -> int:
@@ -347,7 +379,7 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
                     f = client.submit(render_piece, scattered, r, s, threads_per_task,
                                       pure=False, retries=0)
                     futures[f] = (j, r)
-        done_parts = {j: [] for j in pending}
+        tiles_left = {j: len(job.regions) for j, job in enumerate(jobs)}
         for future in as_completed(list(futures), loop=client.loop):
             j, r = futures.pop(future)
             try:
@@ -365,19 +397,17 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             tile = pending[j][r]
             tile.append(part)
             if len(tile) == len(jobs[j].samples):
-                done_parts[j].append(_sum_parts(tile))
-                tile.clear()
+                _place(jobs[j], _sum_parts(tile))
+                del pending[j][r]
+                tiles_left[j] -= 1
             if progress:
                 progress.step()
-            if len(done_parts[j]) == len(jobs[j].regions):
+            if tiles_left[j] == 0:
                 job = jobs[j]
-                try:
-                    job.image = facet.merge_parts(done_parts.pop(j))
-                except RuntimeError as e:
-                    raise FarmError(f"{job.payload.name}: merge: {e}") from None
+                tiles_left[j] = -1
                 _write(job.image, job.outputs)
-                if len(jobs) > 1:
-                    job.image = None if job.outputs else job.image
+                if len(jobs) > 1 and job.outputs:
+                    job.image = None  # animations: written, dropped
     except KeyboardInterrupt:
         _cancel.set()
         raise
