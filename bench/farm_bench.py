@@ -19,6 +19,7 @@ import json
 import os
 import pathlib
 import pickle
+import resource
 import statistics
 import subprocess
 import sys
@@ -45,10 +46,17 @@ def scene_file(d, width, height, spp):
     return p
 
 
+CPU = []  # CPU seconds (user + system, the command and its waited-for children) per timed()
+
+
 def timed(cmd):
+    r0 = resource.getrusage(resource.RUSAGE_CHILDREN)
     t = time.perf_counter()
     subprocess.run([str(c) for c in cmd], check=True, capture_output=True)
-    return time.perf_counter() - t
+    wall = time.perf_counter() - t
+    r1 = resource.getrusage(resource.RUSAGE_CHILDREN)
+    CPU.append(r1.ru_utime - r0.ru_utime + r1.ru_stime - r0.ru_stime)
+    return wall
 
 
 def same(a, b):
@@ -61,6 +69,7 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--layout-spp", type=int, default=4)
     ap.add_argument("--skip-layouts", action="store_true")
+    ap.add_argument("--compare-only", action="store_true", help="only part 1")
     args = ap.parse_args()
     farm.quiet_logs()
     tmp = pathlib.Path(tempfile.mkdtemp(prefix="farm-bench-"))
@@ -68,14 +77,17 @@ def main():
     py = sys.executable
 
     # 1. Same scene, same run.
-    cli_t, farm_t, ratios = [], [], []
+    cli_t, farm_t, ratios, cli_c, farm_c, cpu_ratios = [], [], [], [], [], []
     for rep in range(args.reps):
         a = timed([CLI, "render", scene, "--threads", "2", "-o", tmp / "cli.exr"])
+        cli_c.append(CPU[-1])
         b = timed([py, FARM, "render", scene, "-o", tmp / "farm.exr"])
+        farm_c.append(CPU[-1])
         assert same(tmp / "cli.exr", tmp / "farm.exr"), "farm image differs from facet render"
         cli_t.append(a)
         farm_t.append(b)
         ratios.append(b / a)
+        cpu_ratios.append(farm_c[-1] / cli_c[-1])
     print(f"## Cornell box 1920x1080, {args.spp} spp, {args.reps} reps (bit-identical images)\n")
     print("| | median s | all reps s |\n|---|---|---|")
     print(f"| facet render --threads 2 | {statistics.median(cli_t):.2f} | "
@@ -83,8 +95,16 @@ def main():
     print(f"| facet-farm (local, default) | {statistics.median(farm_t):.2f} | "
           f"{', '.join(f'{t:.2f}' for t in farm_t)} |")
     print(f"| ratio farm / render (per rep) | {statistics.median(ratios):.3f} | "
-          f"{', '.join(f'{r:.3f}' for r in ratios)} |\n")
+          f"{', '.join(f'{r:.3f}' for r in ratios)} |")
+    print(f"| CPU s: facet render | {statistics.median(cli_c):.2f} | "
+          f"{', '.join(f'{t:.2f}' for t in cli_c)} |")
+    print(f"| CPU s: facet-farm | {statistics.median(farm_c):.2f} | "
+          f"{', '.join(f'{t:.2f}' for t in farm_c)} |")
+    print(f"| CPU ratio farm / render (per rep) | {statistics.median(cpu_ratios):.3f} | "
+          f"{', '.join(f'{r:.3f}' for r in cpu_ratios)} |\n")
     core_s_per_sample = statistics.median(cli_t) * 2 / (1920 * 1080 * args.spp)
+    if args.compare_only:
+        return
 
     # 2. Local layouts.
     if not args.skip_layouts:
