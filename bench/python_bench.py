@@ -146,6 +146,12 @@ def bench_render(cli, reps, spp):
         ("  same, wall time", f"{m(sess_wall):.3f} s", f"{m(sess_wall) / c:.3f}"),
         ("1-spp-pass session / facet.render session (sample loop)", "",
          f"{m(sess_loop) / m(py_loop):.3f}"),
+        # Ratios of neighbouring runs, then their median: less sensitive to the load drifting
+        # across the whole benchmark than ratios of medians.
+        ("median per-rep ratio: facet.render / CLI", "",
+         f"{m([p / c for p, c in zip(py_loop, cli_s)]):.3f}"),
+        ("median per-rep ratio: 1-spp session / facet.render", "",
+         f"{m([q / p for q, p in zip(sess_loop, py_loop)]):.3f}"),
     ]
     return rows, {"cli": cli_s, "python": py_loop, "session_1spp": sess_loop}
 
