@@ -12,7 +12,8 @@ cmake --build build -j"$jobs"
 ctest --test-dir build --output-on-failure -j"$jobs"
 
 echo "== Debug + ASan/UBSan build and tests"
-cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFACET_SANITIZE=ON -DFACET_BUILD_BENCH=OFF
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFACET_SANITIZE=ON -DFACET_BUILD_BENCH=OFF \
+  -DFACET_BUILD_BLENDER=OFF
 cmake --build build-asan -j"$jobs"
 # Stress and convergence tests scale their query counts down under sanitizers (see tests/).
 FACET_STRESS_SCALE=0.1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \

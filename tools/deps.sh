@@ -9,6 +9,10 @@ packages=(
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
   # the facet Python module (built against Debian's /usr/bin/python3, the one Blender embeds)
   python3-dev pybind11-dev python3-numpy python3-pytest
+  # the Blender addon and its tests: Debian's Blender 3.4.1 (embeds /usr/bin/python3 3.11 and
+  # loads the system Embree/TBB; ~32 s to install here) run headless (`blender -b`), and Xvfb
+  # for the viewport tests
+  blender xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do
