@@ -20,6 +20,9 @@ from . import export, native
 # for tests and scripts.
 last_image = None
 last_problems = []
+last_cancelled = False
+# Tests only: a callable polled with test_break() after each pass (headless Blender has no Esc).
+test_break_hook = None
 
 
 def to_blender_rect(img):
@@ -52,7 +55,7 @@ class FacetRenderEngine(bpy.types.RenderEngine):
             self.error_set(msg)
 
     def _render(self, depsgraph):
-        global last_image
+        global last_image, last_cancelled
         scene = depsgraph.scene
         t0 = time.perf_counter()
         self.update_stats("", "Facet | Exporting scene")
@@ -77,7 +80,7 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         combined = layer.passes["Combined"]
 
         def on_pass(done, target, elapsed, eta):
-            if self.test_break():
+            if self.test_break() or (test_break_hook is not None and test_break_hook()):
                 return False
             combined.rect.foreach_set(to_blender_rect(session.image()))
             self.update_result(result)
@@ -91,6 +94,7 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         combined.rect.foreach_set(to_blender_rect(img))
         self.end_result(result)
         last_image = img
+        last_cancelled = not finished
         self.update_stats("", "Facet | %s in %.2f s (export and build %.2f s)"
                           % ("Done" if finished else "Cancelled",
                              time.perf_counter() - t0, t_export))
