@@ -1,6 +1,8 @@
-// `facet render scene.json -o out.exr [-o out.png] [--spp N] [--time S] [--threads N]
-//  [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
-//  [--light-selection power|uniform] [--explain] [--quiet] [--stats-json FILE]`
+// `facet render scene.json -o out.exr [-o out.png] [-o part.fpart] [--spp N] [--time S]
+//  [--threads N] [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
+//  [--light-selection power|uniform] [--region x0,y0,x1,y1] [--samples s0:s1] [--explain]
+//  [--quiet] [--stats-json FILE]`
+// `facet merge part.fpart ... -o out.exr [-o out.png]`
 //
 // Errors (bad flags, a bad scene, an unwritable output) print "facet: <place>: <message>" and
 // exit with a non-zero code: CLI11's codes for flag errors, 1 for everything else.
@@ -41,7 +43,37 @@ struct RenderCmdOptions {
     bool explain = false;
     bool quiet = false;
     std::string stats_json;
+    std::string region;   // "x0,y0,x1,y1"
+    std::string samples;  // "s0:s1"
 };
+
+// Parses "a<sep>b<sep>..." into exactly n non-negative integers, or throws naming the flag.
+std::vector<int> parse_ints(const std::string& text, char sep, std::size_t n, const char* flag,
+                            const char* form) {
+    std::vector<int> v;
+    std::size_t pos = 0;
+    while (true) {
+        std::size_t end = text.find(sep, pos);
+        std::string item = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+        std::size_t used = 0;
+        int x = -1;
+        try {
+            x = std::stoi(item, &used);
+        } catch (const std::exception&) {
+            used = 0;
+        }
+        if (item.empty() || used != item.size() || x < 0)
+            throw std::runtime_error(std::string("render: ") + flag + ": expected " + form +
+                                     " (non-negative integers), got '" + text + "'");
+        v.push_back(x);
+        if (end == std::string::npos) break;
+        pos = end + 1;
+    }
+    if (v.size() != n)
+        throw std::runtime_error(std::string("render: ") + flag + ": expected " + form + ", got '" +
+                                 text + "'");
+    return v;
+}
 
 std::string extension_of(const std::string& path) {
     const auto dot = path.find_last_of('.');
@@ -70,9 +102,9 @@ void run_render(const RenderCmdOptions& o) {
         throw std::runtime_error("render: no output: give -o out.exr and/or -o out.png");
     for (const auto& out : o.outputs) {
         const std::string e = extension_of(out);
-        if (e != ".exr" && e != ".png")
+        if (e != ".exr" && e != ".png" && e != ".fpart")
             throw std::runtime_error("render: -o " + out +
-                                     ": unknown image extension (use .exr or .png)");
+                                     ": unknown output extension (use .exr, .png or .fpart)");
     }
     if (o.kernel != "auto" && o.kernel != "general")
         throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
@@ -91,6 +123,17 @@ void run_render(const RenderCmdOptions& o) {
     ro.uniform_light_selection = o.light_selection == "uniform";
     ro.independent_samples = o.sampler == "independent";
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
+    if (!o.region.empty()) {
+        const std::vector<int> r = parse_ints(o.region, ',', 4, "--region", "x0,y0,x1,y1");
+        ro.region = render::Region{r[0], r[1], r[2], r[3]};
+    }
+    if (!o.samples.empty()) {
+        const std::vector<int> r = parse_ints(o.samples, ':', 2, "--samples", "s0:s1");
+        ro.sample_begin = r[0];
+        ro.sample_end = r[1];
+        if (r[1] == 0)
+            throw std::runtime_error("render: --samples: the range " + o.samples + " is empty");
+    }
 
     render::ResolvedSettings rs;
     try {
@@ -106,9 +149,16 @@ void run_render(const RenderCmdOptions& o) {
         if (o.outputs.empty()) return;
     }
 
-    render::RenderStats st;
-    const render::Image image = render::render(scene, ro, &st);
-    for (const auto& out : o.outputs) render::write_image(image, out);
+    render::RenderSession session(scene, ro);
+    session.render();
+    const render::RenderStats& st = session.stats();
+    const render::Image image = session.image();
+    for (const auto& out : o.outputs) {
+        if (extension_of(out) == ".fpart")
+            render::write_part(session.part(), out);
+        else
+            render::write_image(image, out);
+    }
 
     if (!o.stats_json.empty()) {
         nlohmann::json j{{"scene", scene.name()},
@@ -129,8 +179,25 @@ void run_render(const RenderCmdOptions& o) {
             throw std::runtime_error("render: --stats-json " + o.stats_json + ": cannot write");
     }
     if (st.nonfinite > 0)
-        std::fprintf(stderr, "facet: render: warning: %llu samples were NaN/inf and were dropped\n",
+        std::fprintf(stderr,
+                     "facet: render: warning: %llu samples were NaN/inf (or beyond 7e13) and were "
+                     "dropped\n",
                      static_cast<unsigned long long>(st.nonfinite));
+}
+
+void run_merge(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+    if (outputs.empty()) throw std::runtime_error("merge: no output: give -o out.exr and/or -o out.png");
+    for (const auto& out : outputs) {
+        const std::string e = extension_of(out);
+        if (e != ".exr" && e != ".png")
+            throw std::runtime_error("merge: -o " + out +
+                                     ": unknown image extension (use .exr or .png)");
+    }
+    std::vector<render::RenderPart> parts;
+    for (const auto& in : inputs) parts.push_back(render::read_part(in));
+    const render::Film film = render::merge_parts(parts, inputs);
+    const render::Image image = film.resolve();
+    for (const auto& out : outputs) render::write_image(image, out);
 }
 
 }  // namespace
@@ -173,7 +240,21 @@ void add_render_command(CLI::App& app) {
                   "print the scene analysis and which kernel features were chosen and skipped");
     cmd->add_flag("-q,--quiet", o->quiet, "no progress output");
     cmd->add_option("--stats-json", o->stats_json, "write timing and ray counts as JSON");
+    cmd->add_option("--region", o->region,
+                    "render only the pixels [x0, x1) x [y0, y1) of the image: x0,y0,x1,y1");
+    cmd->add_option("--samples", o->samples,
+                    "render only samples [s0, s1) of every pixel (of the spp-sample render): "
+                    "s0:s1; write the part with -o part.fpart and assemble with facet merge");
     cmd->callback([o] { run_render(*o); });
+
+    auto inputs = std::make_shared<std::vector<std::string>>();
+    auto outputs = std::make_shared<std::vector<std::string>>();
+    CLI::App* merge = app.add_subcommand(
+        "merge", "Assemble render parts (.fpart from render --region/--samples) into the image");
+    merge->add_option("parts", *inputs, "part files (.fpart)")->required();
+    merge->add_option("-o,--output", *outputs, "output image (.exr or .png); repeatable")
+        ->allow_extra_args(false);
+    merge->callback([inputs, outputs] { run_merge(*inputs, *outputs); });
 }
 
 }  // namespace facet::cli

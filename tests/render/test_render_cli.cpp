@@ -105,7 +105,7 @@ TEST_F(CliTest, BadFlagsFailWithMessages) {
         std::string args, message;
     };
     const Case cases[] = {
-        {"render " + scene + " -o " + path("x.bmp"), "unknown image extension"},
+        {"render " + scene + " -o " + path("x.bmp"), "unknown output extension"},
         {"render " + scene + " -o " + path("x.exr") + " --integrator pth", "did you mean 'path'"},
         {"render " + scene + " -o " + path("x.exr") + " --spp 0", "--spp"},
         {"render " + scene + " -o " + path("x.exr") + " --threads -2", "--threads"},

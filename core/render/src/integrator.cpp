@@ -420,7 +420,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
 // ---- tile loop ----
 
 template <IntegratorKind I, std::uint32_t F>
-void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCounters& c) {
+void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelCounters& c) {
     const Camera& cam = scene.camera();
     const int width = cam.width;
     RayPacket rays;
@@ -430,17 +430,20 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
     // zero seeds, and their values are never read.
     std::array<std::uint32_t, kLanes> seeds{}, sample_seeds{};
     alignas(32) std::array<float, kLanes> film_x, film_y;
-    std::array<DVec3, kLanes> acc;
+    std::array<FixedRgb, kLanes> acc;
     std::array<Rgb, kLanes> L;
+    // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
+    // the whole image, so that a pixel is traced in the same packet whatever the tile or region
+    // (render.h); lanes outside the tile are traced and not written.
+    const int gx_begin = job.x0 - job.x0 % int(kLanes);
     for (int y = job.y0; y < job.y1; ++y) {
-        // Up to kLanes neighbouring pixels of the row at a time: their camera rays for one
-        // sample index are traced as one (coherent) packet, and the path integrator traces the
-        // rest of their paths together too. Each pixel still sums its samples in index order.
-        for (int x0 = job.x0; x0 < job.x1; x0 += int(kLanes)) {
-            const std::size_t n = std::min(kLanes, std::size_t(job.x1 - x0));
+        // The camera rays of a packet for one sample index are traced together (coherent), and
+        // the path integrator traces the rest of their paths together too.
+        for (int x0 = gx_begin; x0 < job.x1; x0 += int(kLanes)) {
+            const std::size_t n = std::min(kLanes, std::size_t(width - x0));
             for (std::size_t k = 0; k < n; ++k) {
                 seeds[k] = Sampler::pixel_seed(x0 + int(k), y, job.seed);
-                acc[k] = DVec3(0.0);
+                acc[k] = FixedRgb{};
             }
             for (int i = job.first_sample; i < job.end_sample; ++i) {
                 // Independent samples (RenderOptions::independent_samples): a fresh seed per
@@ -479,16 +482,23 @@ void render_tile(const Scene& scene, const TileJob& job, DVec3* sums, KernelCoun
                     }
                 }
                 for (std::size_t k = 0; k < n; ++k) {
-                    // A NaN/inf estimate would poison the pixel forever: drop it and count it.
-                    if (!is_finite(L[k])) {
+                    // A NaN/inf (or absurdly large) estimate would poison the pixel forever:
+                    // drop it and count it.
+                    if (!film_accepts(L[k])) {
                         ++c.nonfinite;
                         continue;
                     }
-                    acc[k] += DVec3(L[k]);
+                    acc[k].c[0] += to_fixed(L[k].x);
+                    acc[k].c[1] += to_fixed(L[k].y);
+                    acc[k].c[2] += to_fixed(L[k].z);
                 }
             }
-            for (std::size_t k = 0; k < n; ++k)
-                sums[std::size_t(y) * std::size_t(width) + std::size_t(x0) + k] += acc[k];
+            for (std::size_t k = 0; k < n; ++k) {
+                const int x = x0 + int(k);
+                if (x < job.x0 || x >= job.x1) continue;
+                sums[std::size_t(y - job.film_y0) * std::size_t(job.film_width) +
+                     std::size_t(x - job.film_x0)] += acc[k];
+            }
         }
     }
 }

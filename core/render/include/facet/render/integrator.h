@@ -30,6 +30,7 @@
 #include <string>
 #include <vector>
 
+#include "facet/render/film.h"
 #include "facet/render/scene.h"
 
 namespace facet::render {
@@ -72,14 +73,17 @@ KernelChoice choose_kernel(const SceneFeatures& features, IntegratorKind integra
 // Counters a kernel accumulates (per tile, summed by the render loop).
 struct KernelCounters {
     std::uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
-    std::uint64_t nonfinite = 0;  // samples whose estimate was NaN/inf (dropped, counted)
+    std::uint64_t nonfinite = 0;  // samples not accepted by the film (NaN/inf/huge; dropped)
 };
 
 // Renders samples [first_sample, end_sample) of every pixel in the tile [x0, x1) x [y0, y1)
-// and adds their radiance sums into `sums` (row-major, width of the image, double precision).
+// and adds their fixed-point radiance sums (film.h) into `sums`, a film over the region whose
+// top-left pixel is (film_x0, film_y0), row-major with film_width pixels per row (the tile lies
+// inside it). Rows are traced in packets aligned to multiples of 8 pixels of the image (render.h).
 // Never throws, allocates or logs.
 struct TileJob {
     int x0, y0, x1, y1;
+    int film_x0, film_y0, film_width;
     int first_sample, end_sample;
     int spp_total;  // the full spp of the render (spp = 1 means pixel-centre rays)
     std::uint64_t seed;
@@ -90,7 +94,7 @@ struct TileJob {
     // Independent uniform samples instead of the Sobol sequence (RenderOptions).
     bool independent_samples = false;
 };
-using TileKernel = void (*)(const Scene& scene, const TileJob& job, DVec3* sums,
+using TileKernel = void (*)(const Scene& scene, const TileJob& job, FixedRgb* sums,
                             KernelCounters& counters);
 
 // The kernel function for a choice (never null).

@@ -1,0 +1,646 @@
+// The scene part of the module: SceneDescription (camera, materials, shapes with meshes from
+// numpy arrays, lights, render settings), JSON read/parse/write, build_scene and load_scene.
+//
+// Conventions:
+//  - facet.SceneDescription holds Python objects: `shapes` and `lights` are Python lists of
+//    ShapeDesc / LightDesc objects, `materials` a dict name -> MaterialDesc (in insertion order,
+//    the order the JSON writer writes them), `camera` and `render` a CameraDesc and a
+//    RenderSettings. Mutating them mutates the description (desc.shapes[0].radius = 2). The C++
+//    SceneDescription is assembled from them when it is needed (build_scene, the JSON writer,
+//    fingerprint, ==): shapes are copied, mesh arrays never are.
+//  - Meshes (MeshData) are spans over numpy arrays: positions float32 (n, 3), indices int32 or
+//    uint32 (m, 3), normals float32 (n, 3) or None. Arrays of exactly that dtype and C layout
+//    are used in place (zero copy) and kept alive by MeshData::owner; other real float dtypes
+//    (positions, normals) and integer dtypes (indices) are converted once, and non-contiguous
+//    arrays copied. Do not modify an array while a description using it is being built.
+//  - Bad arrays raise ValueError naming the argument (and the row): wrong dtype or shape,
+//    NaN/Inf, negative or out-of-range indices, a normal count different from the positions'.
+//    Everything else is build_scene's validation (SceneError -> ValueError with the JSON pointer
+//    the JSON writer would give: "python: /shapes/3 ('Suzanne'): ...").
+//  - Enum values use the scene format's words: ShapeKind.sphere, LightKind.spot; strings
+//    ("sphere") are accepted wherever a kind is set.
+#include <limits>
+#include <sstream>
+
+#include "bindings.h"
+#include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
+
+namespace facet::python {
+
+using namespace facet::render;
+
+namespace {
+
+// ---------------------------------------------------------------------------------------------
+// numpy arrays -> MeshData
+
+// A shared_ptr owning one reference to a Python object; released with the GIL held.
+std::shared_ptr<const void> python_owner(py::object o) {
+    PyObject* p = o.release().ptr();
+    return std::shared_ptr<const void>(p, [](const void* q) {
+        if (!Py_IsInitialized()) return;
+        py::gil_scoped_acquire gil;
+        Py_DECREF(static_cast<PyObject*>(const_cast<void*>(q)));
+    });
+}
+
+std::string shape_str(const py::array& a) {
+    return std::string(py::str(py::tuple(a.attr("shape"))));
+}
+std::string dtype_str(const py::array& a) {
+    return std::string(py::str(a.dtype()));
+}
+
+py::array as_array(py::handle obj, const char* what, const char* expected) {
+    py::array a = py::array::ensure(obj);
+    if (!a) {
+        PyErr_Clear();
+        bad_argument(what, std::string("expected a numpy array ") + expected);
+    }
+    return a;
+}
+
+// Float rows (n, 3): float32 C-contiguous in place, else converted. Checks finiteness.
+py::array_t<float, py::array::c_style> float_rows(py::handle obj, const char* what) {
+    py::array a = as_array(obj, what, "of float32, shape (n, 3)");
+    if (a.dtype().kind() != 'f')
+        bad_argument(what, "dtype " + dtype_str(a) + ", expected float32 (or another float dtype)");
+    if (a.ndim() != 2 || a.shape(1) != 3)
+        bad_argument(what, "shape " + shape_str(a) + ", expected (n, 3)");
+    auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+    if (!f) throw py::error_already_set();
+    const float* p = f.data();
+    const py::ssize_t n = f.shape(0);
+    for (py::ssize_t i = 0; i < n; ++i)
+        if (!(std::isfinite(p[3 * i]) && std::isfinite(p[3 * i + 1]) &&
+              std::isfinite(p[3 * i + 2])))
+            bad_argument(what, "row " + std::to_string(i) + " is not finite (" +
+                                   std::to_string(p[3 * i]) + ", " + std::to_string(p[3 * i + 1]) +
+                                   ", " + std::to_string(p[3 * i + 2]) + ")");
+    return f;
+}
+
+// Index rows (m, 3) as uint32: int32/uint32 C-contiguous in place, other integer dtypes
+// converted. Checks 0 <= index < num_vertices.
+py::array index_rows(py::handle obj, const char* what, std::size_t num_vertices) {
+    py::array a = as_array(obj, what, "of int32, shape (m, 3)");
+    const char kind = a.dtype().kind();
+    if (kind != 'i' && kind != 'u')
+        bad_argument(what, "dtype " + dtype_str(a) + ", expected int32 (or another integer dtype)");
+    if (a.ndim() != 2 || a.shape(1) != 3)
+        bad_argument(what, "shape " + shape_str(a) + ", expected (m, 3)");
+    const bool c_layout = (a.flags() & py::array::c_style) != 0 &&
+                          (a.flags() & py::detail::npy_api::NPY_ARRAY_ALIGNED_) != 0;
+    const auto bad_index = [&](py::ssize_t k, long long v) {
+        const std::string at =
+            "row " + std::to_string(k / 3) + " (index " + std::to_string(v) + ")";
+        if (v < 0) bad_argument(what, at + " is negative");
+        bad_argument(what, at + " is out of range: there are " + std::to_string(num_vertices) +
+                               " positions");
+    };
+    const py::ssize_t count = a.size();
+    if (c_layout && a.itemsize() == 4) {
+        // In place: int32 (no negatives) or uint32, both read as uint32.
+        const bool is_signed = kind == 'i';
+        const auto* p = static_cast<const std::uint32_t*>(a.data());
+        for (py::ssize_t k = 0; k < count; ++k) {
+            const std::uint32_t v = p[k];
+            if (v >= num_vertices)
+                bad_index(k, is_signed ? (long long)std::int32_t(v) : (long long)v);
+        }
+        return a;
+    }
+    // Converted: read as int64 (uint64 values beyond int64 become negative: still rejected).
+    auto wide = py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(a);
+    if (!wide) throw py::error_already_set();
+    py::array_t<std::uint32_t> out({a.shape(0), py::ssize_t(3)});
+    const std::int64_t* p = wide.data();
+    std::uint32_t* q = out.mutable_data();
+    for (py::ssize_t k = 0; k < count; ++k) {
+        const std::int64_t v = p[k];
+        if (v < 0 || std::uint64_t(v) >= num_vertices) bad_index(k, v);
+        q[k] = std::uint32_t(v);
+    }
+    return out;
+}
+
+MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals) {
+    auto pos = float_rows(positions, "positions");
+    const std::size_t n = std::size_t(pos.shape(0));
+    py::array idx = index_rows(indices, "indices", n);
+    py::object nrm = py::none();
+    MeshData mesh;
+    mesh.positions = {pos.data(), std::size_t(pos.size())};
+    mesh.indices = {static_cast<const std::uint32_t*>(idx.data()), std::size_t(idx.size())};
+    if (!normals.is_none()) {
+        auto nr = float_rows(normals, "normals");
+        if (std::size_t(nr.shape(0)) != n)
+            bad_argument("normals", std::to_string(nr.shape(0)) +
+                                        " rows, expected one per position (" + std::to_string(n) +
+                                        ")");
+        mesh.normals = {nr.data(), std::size_t(nr.size())};
+        nrm = nr;
+    }
+    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm));
+    return mesh;
+}
+
+// A read-only (rows, 3) numpy view of a mesh span, kept alive by the mesh's owner (copied when
+// the mesh has no owner).
+template <class T>
+py::array mesh_view(std::span<const T> s, const MeshData& mesh) {
+    using Out = std::conditional_t<std::is_same_v<T, float>, float, std::int32_t>;
+    const std::vector<py::ssize_t> shape{py::ssize_t(s.size() / 3), 3};
+    const std::vector<py::ssize_t> strides{py::ssize_t(3 * sizeof(T)), py::ssize_t(sizeof(T))};
+    const auto* data = reinterpret_cast<const Out*>(s.data());
+    if (!mesh.owner || s.empty()) return py::array_t<Out>(shape, strides, data);  // a copy
+    auto* keep = new std::shared_ptr<const void>(mesh.owner);
+    py::capsule base(keep, [](void* p) { delete static_cast<std::shared_ptr<const void>*>(p); });
+    py::array a(py::dtype::of<Out>(), shape, strides, data, base);
+    a.attr("flags").attr("writeable") = false;
+    return a;
+}
+
+// ---------------------------------------------------------------------------------------------
+// Kinds <-> strings
+
+const std::pair<const char*, ShapeKind> kShapeKinds[] = {
+    {"sphere", ShapeKind::Sphere},       {"plane", ShapeKind::Plane}, {"box", ShapeKind::Box},
+    {"quad", ShapeKind::Quad},           {"disc", ShapeKind::Disc},   {"mesh", ShapeKind::Mesh},
+    {"icosphere", ShapeKind::Icosphere}, {"grid", ShapeKind::Grid}};
+const std::pair<const char*, LightKind> kLightKinds[] = {{"point", LightKind::Point},
+                                                         {"spot", LightKind::Spot},
+                                                         {"directional", LightKind::Directional},
+                                                         {"environment", LightKind::Environment}};
+
+template <class E, std::size_t N>
+E kind_from(py::handle v, const std::pair<const char*, E> (&table)[N], const char* what) {
+    if (py::isinstance<py::str>(v)) {
+        const std::string s = v.cast<std::string>();
+        std::vector<std::string> names;
+        for (const auto& [name, kind] : table) {
+            if (s == name) return kind;
+            names.push_back(name);
+        }
+        std::string msg = "unknown " + std::string(what) + " '" + s + "'";
+        const std::string guess = closest_name(s, names);
+        if (!guess.empty()) msg += " (did you mean '" + guess + "'?)";
+        throw py::value_error(msg);
+    }
+    try {
+        return v.cast<E>();
+    } catch (const py::cast_error&) {
+        throw py::type_error(std::string(what) + ": expected a string or a facet enum value");
+    }
+}
+
+// Sets each keyword argument as an attribute of `self` (TypeError for unknown names).
+void set_fields(py::object self, const py::kwargs& kw, const char* type) {
+    for (auto [key, value] : kw) {
+        const std::string k = key.cast<std::string>();
+        if (!py::hasattr(self, k.c_str()) || k.rfind("_", 0) == 0)
+            throw py::type_error(std::string(type) + " has no field '" + k + "'");
+        self.attr(key) = value;
+    }
+}
+
+template <class T>
+T from_kwargs(const py::kwargs& kw, const char* type) {
+    py::object self = py::cast(T{});
+    set_fields(self, kw, type);
+    return self.cast<T>();
+}
+
+// ---------------------------------------------------------------------------------------------
+// The Python-side description
+
+struct PySceneDescription {
+    std::string description;
+    py::object camera;   // CameraDesc
+    py::dict materials;  // str -> MaterialDesc
+    py::list shapes;     // [ShapeDesc]
+    py::list lights;     // [LightDesc]
+    py::object render;   // RenderSettings
+    std::string base_dir = ".";
+
+    PySceneDescription() : camera(py::cast(CameraDesc{})), render(py::cast(RenderSettings{})) {}
+};
+
+template <class T>
+const T& element(py::handle item, const std::string& where, const char* type) {
+    if (!py::isinstance<T>(item))
+        throw py::type_error(where + ": expected a facet." + type + ", got " +
+                             std::string(py::str(py::type::of(item).attr("__name__"))));
+    return item.cast<const T&>();
+}
+
+SceneDescription to_cpp(const PySceneDescription& d) {
+    SceneDescription s;
+    s.description = d.description;
+    s.camera = element<CameraDesc>(d.camera, "camera", "CameraDesc");
+    s.render = element<RenderSettings>(d.render, "render", "RenderSettings");
+    s.base_dir = d.base_dir;
+    for (auto [key, value] : d.materials) {
+        if (!py::isinstance<py::str>(key)) throw py::type_error("materials: keys must be strings");
+        const std::string name = key.cast<std::string>();
+        s.materials.emplace_back(
+            name, element<MaterialDesc>(value, "materials['" + name + "']", "MaterialDesc"));
+    }
+    s.shapes.reserve(d.shapes.size());
+    for (std::size_t i = 0; i < d.shapes.size(); ++i)
+        s.shapes.push_back(
+            element<ShapeDesc>(d.shapes[i], "shapes[" + std::to_string(i) + "]", "ShapeDesc"));
+    for (std::size_t i = 0; i < d.lights.size(); ++i)
+        s.lights.push_back(
+            element<LightDesc>(d.lights[i], "lights[" + std::to_string(i) + "]", "LightDesc"));
+    return s;
+}
+
+PySceneDescription from_cpp(SceneDescription&& s) {
+    PySceneDescription d;
+    d.description = std::move(s.description);
+    d.camera = py::cast(s.camera);
+    d.render = py::cast(s.render);
+    d.base_dir = std::move(s.base_dir);
+    for (auto& [name, mat] : s.materials) d.materials[py::str(name)] = py::cast(std::move(mat));
+    for (auto& shape : s.shapes) d.shapes.append(py::cast(std::move(shape)));
+    for (auto& light : s.lights) d.lights.append(py::cast(std::move(light)));
+    return d;
+}
+
+// The description argument: a facet.SceneDescription.
+SceneDescription description_arg(py::handle desc) {
+    return to_cpp(element<PySceneDescription>(desc, "desc", "SceneDescription"));
+}
+
+std::string vec_str(const Vec3& v) {
+    std::ostringstream s;
+    s << "(" << v.x << ", " << v.y << ", " << v.z << ")";
+    return s.str();
+}
+
+SceneHandle make_handle(Scene&& scene, std::uint64_t degenerate) {
+    return {std::make_shared<const Scene>(std::move(scene)), degenerate};
+}
+
+}  // namespace
+
+void bind_scene(py::module_& m) {
+    py::enum_<ShapeKind> shape_kind(m, "ShapeKind", "Shape types (the scene format's \"type\")");
+    for (const auto& [name, kind] : kShapeKinds) shape_kind.value(name, kind);
+    py::enum_<LightKind> light_kind(m, "LightKind", "Light types (the scene format's \"type\")");
+    for (const auto& [name, kind] : kLightKinds) light_kind.value(name, kind);
+
+    py::class_<CameraDesc>(m, "CameraDesc",
+                           "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "
+                           "vertical, degrees), width, height")
+        .def(py::init([](py::kwargs kw) { return from_kwargs<CameraDesc>(kw, "CameraDesc"); }))
+        .def_readwrite("position", &CameraDesc::position)
+        .def_readwrite("look_at", &CameraDesc::look_at)
+        .def_readwrite("up", &CameraDesc::up)
+        .def_readwrite("fov", &CameraDesc::fov)
+        .def_readwrite("width", &CameraDesc::width)
+        .def_readwrite("height", &CameraDesc::height)
+        .def(py::self == py::self)
+        .def("__repr__", [](const CameraDesc& c) {
+            return "facet.CameraDesc(position=" + vec_str(c.position) +
+                   ", look_at=" + vec_str(c.look_at) + ", fov=" + std::to_string(c.fov) +
+                   ", width=" + std::to_string(c.width) + ", height=" + std::to_string(c.height) +
+                   ")";
+        });
+
+    py::class_<RenderSettings>(m, "RenderSettings",
+                               "The scene's render settings: integrator ('path' | 'direct'), spp, "
+                               "time_budget_s, max_depth, seed")
+        .def(py::init(
+            [](py::kwargs kw) { return from_kwargs<RenderSettings>(kw, "RenderSettings"); }))
+        .def_readwrite("integrator", &RenderSettings::integrator)
+        .def_readwrite("spp", &RenderSettings::spp)
+        .def_readwrite("time_budget_s", &RenderSettings::time_budget_s)
+        .def_readwrite("max_depth", &RenderSettings::max_depth)
+        .def_readwrite("seed", &RenderSettings::seed)
+        .def_readonly("width", &RenderSettings::width)
+        .def_readonly("height", &RenderSettings::height)
+        .def(py::self == py::self)
+        .def("__repr__", [](const RenderSettings& r) {
+            return "facet.RenderSettings(integrator='" + r.integrator +
+                   "', spp=" + std::to_string(r.spp) +
+                   ", max_depth=" + std::to_string(r.max_depth) +
+                   ", seed=" + std::to_string(r.seed) + ")";
+        });
+
+    py::class_<MaterialDesc>(m, "MaterialDesc",
+                             "A named material: model name (facet.models()) and parameters, "
+                             "e.g. MaterialDesc('ggx', alpha=0.3)")
+        .def(py::init([](std::string model, py::object params, py::kwargs kw) {
+                 MaterialDesc d;
+                 d.model = std::move(model);
+                 d.params = params_from_dict(params, "params");
+                 const ParamSet extra = params_from_dict(kw, "params");
+                 for (const auto& [k, v] : extra.values()) d.params.set(k, v);
+                 return d;
+             }),
+             py::arg("model") = "", py::arg("params") = py::none())
+        .def_readwrite("model", &MaterialDesc::model)
+        .def_property(
+            "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
+            [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })
+        .def(py::self == py::self)
+        .def("__repr__", [](const MaterialDesc& d) {
+            return "facet.MaterialDesc('" + d.model + "', " +
+                   std::string(py::repr(params_to_dict(d.params))) + ")";
+        });
+
+    py::class_<MeshData>(m, "MeshData",
+                         "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
+                         "normals float32 (n, 3) or None. Used in place when of exactly these "
+                         "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
+        .def(py::init([](py::handle positions, py::handle indices, py::handle normals) {
+                 return mesh_from_arrays(positions, indices, normals);
+             }),
+             py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none())
+        .def_property_readonly("positions",
+                               [](const MeshData& d) { return mesh_view(d.positions, d); })
+        .def_property_readonly("indices", [](const MeshData& d) { return mesh_view(d.indices, d); })
+        .def_property_readonly("normals",
+                               [](const MeshData& d) -> py::object {
+                                   if (d.normals.empty()) return py::none();
+                                   return mesh_view(d.normals, d);
+                               })
+        .def_property_readonly("num_vertices", &MeshData::num_vertices)
+        .def_property_readonly("num_triangles", &MeshData::num_triangles)
+        .def(py::self == py::self)
+        .def("__repr__", [](const MeshData& d) {
+            return "facet.MeshData(" + std::to_string(d.num_vertices()) + " vertices, " +
+                   std::to_string(d.num_triangles()) + " triangles" +
+                   (d.normals.empty() ? "" : ", normals") + ")";
+        });
+
+    py::class_<ShapeDesc>(m, "ShapeDesc",
+                          "One shape (scenes/FORMAT.md): kind ('sphere', 'plane', 'box', 'quad', "
+                          "'disc', 'mesh', 'icosphere', 'grid') and the fields of that kind. "
+                          "ShapeDesc('mesh', positions=P, indices=I, material_ref='white') builds "
+                          "the MeshData from arrays.")
+        .def(py::init([](py::object kind, py::kwargs kw) {
+                 py::object self = py::cast(ShapeDesc{});
+                 if (!kind.is_none()) self.attr("kind") = kind;
+                 py::kwargs rest;
+                 py::object positions = py::none(), indices = py::none(), normals = py::none();
+                 for (auto [key, value] : kw) {
+                     const std::string k = key.cast<std::string>();
+                     if (k == "positions")
+                         positions = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "indices")
+                         indices = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "normals")
+                         normals = py::reinterpret_borrow<py::object>(value);
+                     else
+                         rest[key] = value;
+                 }
+                 if (!positions.is_none() || !indices.is_none()) {
+                     if (positions.is_none() || indices.is_none())
+                         throw py::value_error("ShapeDesc: give positions and indices together");
+                     self.attr("mesh") = py::cast(mesh_from_arrays(positions, indices, normals));
+                     if (kind.is_none()) self.attr("kind") = py::str("mesh");
+                 } else if (!normals.is_none()) {
+                     throw py::value_error("ShapeDesc: normals need positions and indices");
+                 }
+                 set_fields(self, rest, "ShapeDesc");
+                 return self.cast<ShapeDesc>();
+             }),
+             py::arg("kind") = py::none())
+        .def_property(
+            "kind", [](const ShapeDesc& s) { return s.kind; },
+            [](ShapeDesc& s, py::handle v) { s.kind = kind_from(v, kShapeKinds, "shape kind"); })
+        .def_readwrite("name", &ShapeDesc::name)
+        .def_readwrite("material_ref", &ShapeDesc::material_ref)
+        .def_readwrite("material", &ShapeDesc::material)
+        .def_readwrite("emission", &ShapeDesc::emission)
+        .def_readwrite("two_sided", &ShapeDesc::two_sided)
+        .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
+        .def_readwrite("transform", &ShapeDesc::transform)
+        .def_readwrite("center", &ShapeDesc::center)
+        .def_readwrite("radius", &ShapeDesc::radius)
+        .def_readwrite("point", &ShapeDesc::point)
+        .def_readwrite("normal", &ShapeDesc::normal)
+        .def_readwrite("min", &ShapeDesc::min)
+        .def_readwrite("max", &ShapeDesc::max)
+        .def_readwrite("vertices", &ShapeDesc::vertices)
+        .def_readwrite("mesh", &ShapeDesc::mesh)
+        .def_readwrite("file", &ShapeDesc::file)
+        .def_readwrite("subdivisions", &ShapeDesc::subdivisions)
+        .def_readwrite("smooth", &ShapeDesc::smooth)
+        .def_readwrite("nx", &ShapeDesc::nx)
+        .def_readwrite("ny", &ShapeDesc::ny)
+        .def_readwrite("amplitude", &ShapeDesc::amplitude)
+        .def_readwrite("frequency", &ShapeDesc::frequency)
+        .def(py::self == py::self)
+        .def("__repr__", [](const ShapeDesc& s) {
+            std::string kind = "?";
+            for (const auto& [name, k] : kShapeKinds)
+                if (k == s.kind) kind = name;
+            return "facet.ShapeDesc('" + kind + "'" +
+                   (s.name.empty() ? "" : ", name='" + s.name + "'") +
+                   (s.material_ref.empty() ? "" : ", material_ref='" + s.material_ref + "'") + ")";
+        });
+
+    py::class_<LightDesc>(m, "LightDesc",
+                          "One light (scenes/FORMAT.md): kind ('point', 'spot', 'directional', "
+                          "'environment') and its fields")
+        .def(py::init([](py::object kind, py::kwargs kw) {
+                 py::object self = py::cast(LightDesc{});
+                 if (!kind.is_none()) self.attr("kind") = kind;
+                 set_fields(self, kw, "LightDesc");
+                 return self.cast<LightDesc>();
+             }),
+             py::arg("kind") = py::none())
+        .def_property(
+            "kind", [](const LightDesc& l) { return l.kind; },
+            [](LightDesc& l, py::handle v) { l.kind = kind_from(v, kLightKinds, "light kind"); })
+        .def_readwrite("position", &LightDesc::position)
+        .def_readwrite("direction", &LightDesc::direction)
+        .def_readwrite("look_at", &LightDesc::look_at)
+        .def_readwrite("power", &LightDesc::power)
+        .def_readwrite("outer_angle", &LightDesc::outer_angle)
+        .def_readwrite("inner_angle", &LightDesc::inner_angle)
+        .def_readwrite("irradiance", &LightDesc::irradiance)
+        .def_readwrite("radiance", &LightDesc::radiance)
+        .def(py::self == py::self)
+        .def("__repr__", [](const LightDesc& l) {
+            std::string kind = "?";
+            for (const auto& [name, k] : kLightKinds)
+                if (k == l.kind) kind = name;
+            return "facet.LightDesc('" + kind + "')";
+        });
+
+    py::class_<PySceneDescription>(
+        m, "SceneDescription",
+        "The plain-data scene (scene_description.h): description, camera (CameraDesc), materials "
+        "(dict name -> MaterialDesc), shapes (list of ShapeDesc), lights (list of LightDesc), "
+        "render (RenderSettings), base_dir. Mutable in place; build it with build_scene().")
+        .def(py::init([](py::kwargs kw) {
+            py::object self = py::cast(PySceneDescription{});
+            set_fields(self, kw, "SceneDescription");
+            return self.cast<PySceneDescription>();
+        }))
+        .def_readwrite("description", &PySceneDescription::description)
+        .def_property(
+            "camera", [](const PySceneDescription& d) { return d.camera; },
+            [](PySceneDescription& d, py::object c) {
+                element<CameraDesc>(c, "camera", "CameraDesc");
+                d.camera = c;
+            })
+        .def_property(
+            "render", [](const PySceneDescription& d) { return d.render; },
+            [](PySceneDescription& d, py::object r) {
+                element<RenderSettings>(r, "render", "RenderSettings");
+                d.render = r;
+            })
+        .def_property(
+            "materials", [](const PySceneDescription& d) { return d.materials; },
+            [](PySceneDescription& d, py::dict v) { d.materials = v; })
+        .def_property(
+            "shapes", [](const PySceneDescription& d) { return d.shapes; },
+            [](PySceneDescription& d, py::iterable v) { d.shapes = py::list(v); })
+        .def_property(
+            "lights", [](const PySceneDescription& d) { return d.lights; },
+            [](PySceneDescription& d, py::iterable v) { d.lights = py::list(v); })
+        .def_readwrite("base_dir", &PySceneDescription::base_dir)
+        .def("__eq__",
+             [](const PySceneDescription& a, py::handle b) -> py::object {
+                 if (!py::isinstance<PySceneDescription>(b))
+                     return py::reinterpret_borrow<py::object>(Py_NotImplemented);
+                 return py::bool_(to_cpp(a) == to_cpp(b.cast<const PySceneDescription&>()));
+             })
+        .def(
+            "to_json", [](const PySceneDescription& d) { return write_scene_json(to_cpp(d)); },
+            "write_scene_json(self)")
+        .def(
+            "fingerprint", [](const PySceneDescription& d) { return fingerprint(to_cpp(d)); },
+            "fingerprint(self)")
+        .def(py::pickle(
+            [](const PySceneDescription& d) {
+                return py::make_tuple(write_scene_json(to_cpp(d)), d.base_dir);
+            },
+            [](py::tuple t) {
+                return from_cpp(parse_scene_description(t[0].cast<std::string>(), "<pickle>",
+                                                        t[1].cast<std::string>()));
+            }))
+        .def("__repr__", [](const PySceneDescription& d) {
+            return "facet.SceneDescription(" + std::to_string(d.materials.size()) + " materials, " +
+                   std::to_string(d.shapes.size()) + " shapes, " + std::to_string(d.lights.size()) +
+                   " lights)";
+        });
+
+    m.def(
+        "read_scene_description",
+        [](const std::string& path) {
+            SceneDescription d;
+            {
+                py::gil_scoped_release release;
+                d = read_scene_description(path);
+            }
+            return from_cpp(std::move(d));
+        },
+        py::arg("path"), "Reads a JSON scene file (scenes/FORMAT.md) into a SceneDescription.");
+    m.def(
+        "parse_scene_description",
+        [](const std::string& text, const std::string& name, const std::string& base_dir) {
+            return from_cpp(parse_scene_description(text, name, base_dir));
+        },
+        py::arg("text"), py::arg("name") = "<string>", py::arg("base_dir") = ".",
+        "Parses JSON scene text; `name` prefixes error messages.");
+    m.def(
+        "write_scene_json", [](py::handle desc) { return write_scene_json(description_arg(desc)); },
+        py::arg("desc"), "The description as JSON text (FORMAT.md version 1).");
+    m.def(
+        "write_scene_file",
+        [](py::handle desc, const std::string& path) {
+            write_scene_file(description_arg(desc), path);
+        },
+        py::arg("desc"), py::arg("path"), "Writes the description as a JSON scene file.");
+    m.def(
+        "fingerprint", [](py::handle desc) { return fingerprint(description_arg(desc)); },
+        py::arg("desc"),
+        "64-bit fingerprint of everything in the description that changes the image.");
+
+    py::class_<SceneHandle>(m, "Scene",
+                            "A built, renderable scene (immutable). From build_scene() or "
+                            "load_scene().")
+        .def_property_readonly("name", [](const SceneHandle& s) { return s.scene->name(); })
+        .def_property_readonly("warnings",
+                               [](const SceneHandle& s) {
+                                   auto w = s.scene->warnings();
+                                   return std::vector<std::string>(w.begin(), w.end());
+                               })
+        .def_readonly("degenerate_triangles", &SceneHandle::degenerate_triangles)
+        .def_property_readonly("fingerprint",
+                               [](const SceneHandle& s) { return s.scene->fingerprint(); })
+        .def_property_readonly("width",
+                               [](const SceneHandle& s) { return s.scene->camera().width; })
+        .def_property_readonly("height",
+                               [](const SceneHandle& s) { return s.scene->camera().height; })
+        .def_property_readonly("settings", [](const SceneHandle& s) { return s.scene->settings(); })
+        .def_property_readonly("num_shapes",
+                               [](const SceneHandle& s) { return s.scene->shapes().size(); })
+        .def_property_readonly("num_lights",
+                               [](const SceneHandle& s) { return s.scene->lights().size(); })
+        .def_property_readonly(
+            "num_triangles", [](const SceneHandle& s) { return s.scene->features().num_triangles; })
+        .def(
+            "explain", [](const SceneHandle& s) { return s.scene->features().describe(); },
+            "What the scene contains (facet render --explain)")
+        .def("__repr__", [](const SceneHandle& s) {
+            return "facet.Scene('" + s.scene->name() + "', " +
+                   std::to_string(s.scene->camera().width) + "x" +
+                   std::to_string(s.scene->camera().height) + ")";
+        });
+
+    m.def(
+        "build_scene",
+        [](py::handle desc, const std::string& name, std::optional<std::uint64_t> max_triangles,
+           bool allow_files) {
+            SceneDescription d = description_arg(desc);
+            SceneLimits limits;
+            if (max_triangles) limits.max_triangles = *max_triangles;
+            limits.allow_files = allow_files;
+            BuildReport report;
+            std::optional<Scene> scene;
+            {
+                py::gil_scoped_release release;
+                scene.emplace(build_scene(d, name, limits, &report));
+            }
+            return make_handle(std::move(*scene), report.degenerate_triangles);
+        },
+        py::arg("desc"), py::arg("name") = "python", py::arg("max_triangles") = py::none(),
+        py::arg("allow_files") = true,
+        "Validates the description and builds the scene (Embree BVH). Errors raise ValueError "
+        "naming the shape or material ('<name>: /shapes/3 ('Suzanne'): ...'); dropped zero-area "
+        "triangles are counted in Scene.warnings and Scene.degenerate_triangles.");
+    m.def(
+        "load_scene",
+        [](const std::string& path) {
+            std::optional<Scene> scene;
+            {
+                py::gil_scoped_release release;
+                scene.emplace(load_scene(path));
+            }
+            return make_handle(std::move(*scene), 0);
+        },
+        py::arg("path"), "Loads a JSON scene file (read_scene_description + build_scene).");
+    m.def(
+        "load_scene_from_string",
+        [](const std::string& json, const std::string& name, const std::string& base_dir) {
+            std::optional<Scene> scene;
+            {
+                py::gil_scoped_release release;
+                scene.emplace(load_scene_from_string(json, name, base_dir));
+            }
+            return make_handle(std::move(*scene), 0);
+        },
+        py::arg("json"), py::arg("name") = "<string>", py::arg("base_dir") = ".",
+        "Loads a scene from JSON text.");
+}
+
+}  // namespace facet::python

@@ -1,0 +1,192 @@
+// Film resolve and merge, render part files (facet/render/film.h).
+#include "facet/render/film.h"
+
+#include <nlohmann/json.hpp>
+
+#include <bit>
+#include <cstring>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+namespace facet::render {
+
+double from_fixed(FixedSum s) {
+    // int128 -> double rounds to nearest (libgcc); the power-of-two scale is exact.
+    return double(s) * 0x1p-60;
+}
+static_assert(kFixedFracBits == 60, "from_fixed's scale");
+
+Image Film::resolve() const {
+    Image img(width(), height());
+    for (std::size_t i = 0; i < m_sums.size(); ++i) {
+        const std::uint32_t n = m_counts[i];
+        if (n == 0) continue;  // black
+        const double inv = 1.0 / double(n);
+        const FixedRgb& s = m_sums[i];
+        img.pixels()[i] = Rgb(float(from_fixed(s.c[0]) * inv), float(from_fixed(s.c[1]) * inv),
+                              float(from_fixed(s.c[2]) * inv));
+    }
+    return img;
+}
+
+void Film::add(const Film& o) {
+    const Region& r = o.m_region;
+    if (r.x0 < m_region.x0 || r.y0 < m_region.y0 || r.x1 > m_region.x1 || r.y1 > m_region.y1)
+        throw std::logic_error("Film::add: region outside the film");
+    for (int y = r.y0; y < r.y1; ++y) {
+        for (int x = r.x0; x < r.x1; ++x) {
+            const std::size_t src = std::size_t(y - r.y0) * std::size_t(r.width()) +
+                                    std::size_t(x - r.x0);
+            const std::size_t dst = std::size_t(y - m_region.y0) * std::size_t(width()) +
+                                    std::size_t(x - m_region.x0);
+            m_sums[dst] += o.m_sums[src];
+            m_counts[dst] += o.m_counts[src];
+        }
+    }
+}
+
+namespace {
+
+constexpr const char* kPartMagic = "FACETPART 1";
+
+std::string region_text(const Region& r) {
+    return "[" + std::to_string(r.x0) + ", " + std::to_string(r.y0) + ", " + std::to_string(r.x1) +
+           ", " + std::to_string(r.y1) + ")";
+}
+
+}  // namespace
+
+void write_part(const RenderPart& part, const std::string& path) {
+    const PartInfo& p = part.info;
+    nlohmann::json h{{"format", "facet-part"},
+                     {"version", 1},
+                     {"scene", p.scene},
+                     {"fingerprint", p.fingerprint},
+                     {"width", p.width},
+                     {"height", p.height},
+                     {"region", {p.region.x0, p.region.y0, p.region.x1, p.region.y1}},
+                     {"samples", {p.sample_begin, p.sample_end}},
+                     {"seed", p.seed},
+                     {"fixed_point_fraction_bits", kFixedFracBits}};
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw std::runtime_error(path + ": cannot create the part file");
+    out << kPartMagic << "\n" << h.dump() << "\n";
+    // Little-endian: the host's order on every platform Facet builds for (x86-64, aarch64).
+    static_assert(std::endian::native == std::endian::little);
+    for (const FixedRgb& s : part.film.sum_values()) {
+        out.write(reinterpret_cast<const char*>(s.c), sizeof s.c);
+    }
+    if (!out) throw std::runtime_error(path + ": cannot write the part file");
+}
+
+RenderPart read_part(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw std::runtime_error(path + ": cannot open the part file");
+    auto bad = [&](const std::string& why) {
+        return std::runtime_error(path + ": not a valid Facet part file: " + why);
+    };
+    std::string magic, header;
+    if (!std::getline(in, magic) || magic != kPartMagic) throw bad("missing 'FACETPART 1' line");
+    if (!std::getline(in, header)) throw bad("missing header line");
+    RenderPart part;
+    PartInfo& p = part.info;
+    try {
+        const nlohmann::json h = nlohmann::json::parse(header);
+        if (h.at("format") != "facet-part" || h.at("version") != 1)
+            throw bad("unsupported format or version");
+        if (h.at("fixed_point_fraction_bits") != kFixedFracBits)
+            throw bad("fixed-point format differs from this build's");
+        p.scene = h.at("scene").get<std::string>();
+        p.fingerprint = h.at("fingerprint").get<std::uint64_t>();
+        p.width = h.at("width").get<int>();
+        p.height = h.at("height").get<int>();
+        const auto& r = h.at("region");
+        const auto& s = h.at("samples");
+        if (r.size() != 4 || s.size() != 2) throw bad("region needs 4 numbers, samples 2");
+        p.region = {r[0].get<int>(), r[1].get<int>(), r[2].get<int>(), r[3].get<int>()};
+        p.sample_begin = s[0].get<int>();
+        p.sample_end = s[1].get<int>();
+        p.seed = h.at("seed").get<std::uint64_t>();
+    } catch (const nlohmann::json::exception& e) {
+        throw bad(std::string("header: ") + e.what());
+    }
+    const Region& r = p.region;
+    if (p.width < 1 || p.height < 1 || r.empty() || r.x0 < 0 || r.y0 < 0 || r.x1 > p.width ||
+        r.y1 > p.height)
+        throw bad("region " + region_text(r) + " is empty or outside the " +
+                  std::to_string(p.width) + "x" + std::to_string(p.height) + " image");
+    if (p.sample_begin < 0 || p.sample_end <= p.sample_begin)
+        throw bad("empty or negative sample range");
+    part.film = Film(r);
+    const std::size_t n = std::size_t(r.width()) * std::size_t(r.height());
+    FixedRgb* sums = part.film.sums();
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!in.read(reinterpret_cast<char*>(sums[i].c), sizeof sums[i].c))
+            throw bad("truncated: expected " + std::to_string(n) + " pixels");
+    }
+    if (in.peek() != std::char_traits<char>::eof()) throw bad("trailing data after the pixels");
+    std::uint32_t* counts = part.film.counts();
+    for (std::size_t i = 0; i < n; ++i) counts[i] = std::uint32_t(p.sample_end - p.sample_begin);
+    return part;
+}
+
+Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::string>& names) {
+    if (parts.empty()) throw std::runtime_error("merge: no parts given");
+    auto name = [&](std::size_t i) {
+        return i < names.size() ? names[i] : "part " + std::to_string(i);
+    };
+    const PartInfo& first = parts[0].info;
+    int end = 0;
+    for (std::size_t i = 0; i < parts.size(); ++i) {
+        const PartInfo& p = parts[i].info;
+        if (p.width != first.width || p.height != first.height)
+            throw std::runtime_error(name(i) + ": image size " + std::to_string(p.width) + "x" +
+                                     std::to_string(p.height) + " differs from " + name(0) +
+                                     "'s " + std::to_string(first.width) + "x" +
+                                     std::to_string(first.height));
+        if (p.seed != first.seed)
+            throw std::runtime_error(name(i) + ": rendered with seed " + std::to_string(p.seed) +
+                                     ", " + name(0) + " with seed " + std::to_string(first.seed));
+        if (p.fingerprint != first.fingerprint)
+            throw std::runtime_error(name(i) + ": from a different scene or render settings than " +
+                                     name(0) + " (scene '" + p.scene + "' vs '" + first.scene +
+                                     "')");
+        const Film& f = parts[i].film;
+        if (!(f.region() == p.region))
+            throw std::runtime_error(name(i) + ": film does not match its region");
+        for (std::uint32_t c : f.count_values()) {
+            if (c != std::uint32_t(p.sample_end - p.sample_begin))
+                throw std::runtime_error(name(i) + ": incomplete part (a cancelled render)");
+        }
+        end = std::max(end, p.sample_end);
+        for (std::size_t j = 0; j < i; ++j) {
+            const PartInfo& q = parts[j].info;
+            if (p.region.intersects(q.region) && p.sample_begin < q.sample_end &&
+                q.sample_begin < p.sample_end) {
+                const Region ov{std::max(p.region.x0, q.region.x0), std::max(p.region.y0, q.region.y0),
+                                std::min(p.region.x1, q.region.x1), std::min(p.region.y1, q.region.y1)};
+                throw std::runtime_error(
+                    name(i) + " and " + name(j) + " overlap: both cover samples [" +
+                    std::to_string(std::max(p.sample_begin, q.sample_begin)) + ", " +
+                    std::to_string(std::min(p.sample_end, q.sample_end)) + ") of pixels " +
+                    region_text(ov));
+            }
+        }
+    }
+    Film out(Region{0, 0, first.width, first.height});
+    for (const RenderPart& p : parts) out.add(p.film);
+    const std::vector<std::uint32_t>& counts = out.count_values();
+    for (std::size_t i = 0; i < counts.size(); ++i) {
+        if (counts[i] != std::uint32_t(end)) {
+            const int x = int(i % std::size_t(first.width)), y = int(i / std::size_t(first.width));
+            throw std::runtime_error(
+                "merge: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") has " +
+                std::to_string(counts[i]) + " of samples [0, " + std::to_string(end) +
+                "): no part covers the rest");
+        }
+    }
+    return out;
+}
+
+}  // namespace facet::render

@@ -1,0 +1,869 @@
+// The JSON scene format, "facet-scene" version 1 (scenes/FORMAT.md): reader (JSON ->
+// SceneDescription), writer (SceneDescription -> JSON), the description's fingerprint, and
+// load_scene (reader + build_scene). The reader checks what JSON can get wrong — syntax,
+// duplicate keys, types, unknown keys and names, required keys — and reports it as a SceneError
+// "<file>: <JSON pointer>: <message>"; value checks are build_scene's (scene_build.cpp), which
+// names the same pointers.
+#include <nlohmann/json.hpp>
+
+#include <array>
+#include <bit>
+#include <filesystem>
+#include <fstream>
+#include <set>
+#include <sstream>
+
+#include "facet/render/scene_description.h"
+#include "scene_checks.h"
+
+namespace facet::render {
+
+namespace {
+
+using json = nlohmann::json;
+using detail::escape_pointer_token;
+
+const std::vector<std::string> kShapeTypes = {"sphere", "plane", "box",       "quad",
+                                              "disc",   "mesh",  "icosphere", "grid"};
+const std::vector<std::string> kLightTypes = {"point", "spot", "directional", "environment"};
+
+std::string type_name(const json& v) {
+    switch (v.type()) {
+        case json::value_t::null:
+            return "null";
+        case json::value_t::boolean:
+            return "a boolean";
+        case json::value_t::number_integer:
+        case json::value_t::number_unsigned:
+        case json::value_t::number_float:
+            return "a number";
+        case json::value_t::string:
+            return "a string";
+        case json::value_t::array:
+            return "an array";
+        case json::value_t::object:
+            return "an object";
+        default:
+            return "an unsupported value";
+    }
+}
+
+// Rejects duplicate object keys (nlohmann keeps the last one silently), naming the object.
+class DuplicateKeyGuard {
+  public:
+    struct Duplicate {
+        std::string pointer, key;
+    };
+    bool operator()(int /*depth*/, json::parse_event_t event, json& parsed) {
+        switch (event) {
+            case json::parse_event_t::object_start:
+                m_frames.push_back({false, {}, {}, 0});
+                break;
+            case json::parse_event_t::array_start:
+                m_frames.push_back({true, {}, {}, 0});
+                break;
+            case json::parse_event_t::key: {
+                Frame& f = m_frames.back();
+                f.key = parsed.get<std::string>();
+                if (!f.keys.insert(f.key).second) throw Duplicate{pointer(), f.key};
+                break;
+            }
+            case json::parse_event_t::object_end:
+            case json::parse_event_t::array_end:
+                m_frames.pop_back();
+                if (!m_frames.empty() && m_frames.back().is_array) ++m_frames.back().index;
+                break;
+            case json::parse_event_t::value:
+                if (!m_frames.empty() && m_frames.back().is_array) ++m_frames.back().index;
+                break;
+        }
+        return true;
+    }
+
+  private:
+    struct Frame {
+        bool is_array;
+        std::set<std::string> keys;
+        std::string key;
+        std::size_t index;
+    };
+    // Pointer of the innermost open object (the one that received the duplicate key).
+    std::string pointer() const {
+        std::string p;
+        for (std::size_t i = 0; i + 1 < m_frames.size(); ++i) {
+            const Frame& f = m_frames[i];
+            p += "/" + (f.is_array ? std::to_string(f.index) : escape_pointer_token(f.key));
+        }
+        return p;
+    }
+    std::vector<Frame> m_frames;
+};
+
+class Reader {
+  public:
+    Reader(std::string name, std::string base_dir)
+        : m_name(std::move(name)), m_base(std::move(base_dir)) {}
+
+    SceneDescription read(const std::string& text) {
+        json root = parse(text);
+        expect_object(root, "");
+        check_keys(root, "",
+                   {"format", "version", "description", "camera", "materials", "shapes", "lights",
+                    "render"});
+        std::string fmt = get_string(require(root, "", "format"), "/format");
+        if (fmt != "facet-scene") fail("/format", "expected \"facet-scene\", got \"" + fmt + "\"");
+        std::int64_t version = get_int(require(root, "", "version"), "/version", 0, 1 << 30);
+        if (version != 1) {
+            fail("/version", "unsupported version " + std::to_string(version) +
+                                 " (this build reads version 1)");
+        }
+        SceneDescription d;
+        d.base_dir = m_base;
+        if (root.contains("description")) {
+            d.description = get_string(root["description"], "/description");
+        }
+        d.camera = read_camera(require(root, "", "camera"), "/camera");
+        if (root.contains("materials")) {
+            const json& mats = root["materials"];
+            expect_object(mats, "/materials");
+            for (const auto& [name, m] : mats.items()) {
+                d.materials.emplace_back(
+                    name, read_material(m, "/materials/" + escape_pointer_token(name)));
+            }
+        }
+        if (root.contains("shapes")) {
+            const json& shapes = root["shapes"];
+            expect_array(shapes, "/shapes");
+            for (std::size_t i = 0; i < shapes.size(); ++i) {
+                d.shapes.push_back(read_shape(shapes[i], "/shapes/" + std::to_string(i)));
+            }
+        }
+        if (root.contains("lights")) {
+            const json& lights = root["lights"];
+            expect_array(lights, "/lights");
+            for (std::size_t i = 0; i < lights.size(); ++i) {
+                d.lights.push_back(read_light(lights[i], "/lights/" + std::to_string(i)));
+            }
+        }
+        // build_scene says the same, at /lights; a file without the key gets the root pointer.
+        bool emitter = !d.lights.empty();
+        for (const ShapeDesc& s : d.shapes) emitter |= s.emission != Rgb(0.f);
+        if (!emitter && !root.contains("lights")) {
+            fail("",
+                 "the scene has no light source (no entry in \"lights\" and no shape with "
+                 "\"emission\")");
+        }
+        if (root.contains("render")) read_render(root["render"], "/render", d.render);
+        return d;
+    }
+
+  private:
+    // --- errors and JSON access ---------------------------------------------------------------
+
+    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+        throw SceneError(m_name + ": " + (pointer.empty() ? std::string("/") : pointer) + ": " +
+                         message);
+    }
+
+    json parse(const std::string& text) const {
+        DuplicateKeyGuard guard;
+        try {
+            return json::parse(text, std::ref(guard), true, false);
+        } catch (const DuplicateKeyGuard::Duplicate& d) {
+            fail(d.pointer, "duplicate key '" + d.key + "'");
+        } catch (const json::parse_error& e) {
+            // Line and column from the byte offset; the library's text minus its prefix.
+            std::size_t line = 1, col = 1;
+            for (std::size_t i = 0; i + 1 < e.byte && i < text.size(); ++i) {
+                if (text[i] == '\n') {
+                    ++line;
+                    col = 1;
+                } else {
+                    ++col;
+                }
+            }
+            // what() is "[json.exception.parse_error.N] parse error at line L, column C: why".
+            std::string detail = e.what();
+            if (std::size_t p = detail.find(": "); p != std::string::npos) {
+                detail = detail.substr(p + 2);
+            }
+            throw SceneError(m_name + ": line " + std::to_string(line) + ", column " +
+                             std::to_string(col) + ": invalid JSON: " + detail);
+        } catch (const json::exception& e) {
+            throw SceneError(m_name + ": invalid JSON: " + std::string(e.what()));
+        }
+    }
+
+    void expect_object(const json& v, const std::string& ptr) const {
+        if (!v.is_object()) fail(ptr, "expected an object, got " + type_name(v));
+    }
+    void expect_array(const json& v, const std::string& ptr) const {
+        if (!v.is_array()) fail(ptr, "expected an array, got " + type_name(v));
+    }
+
+    void check_keys(const json& obj, const std::string& ptr,
+                    std::initializer_list<const char*> allowed) const {
+        check_keys_v(obj, ptr, std::vector<const char*>(allowed));
+    }
+    void check_keys_v(const json& obj, const std::string& ptr,
+                      const std::vector<const char*>& allowed) const {
+        // Unknown keys are errors, with the closest allowed key as a suggestion.
+        std::vector<std::string> names(allowed.begin(), allowed.end());
+        for (const auto& [key, value] : obj.items()) {
+            if (std::find(names.begin(), names.end(), key) != names.end()) continue;
+            std::string msg = "unknown key '" + key + "'";
+            std::string guess = closest_name(key, names);
+            if (!guess.empty()) {
+                msg += " (did you mean '" + guess + "'?)";
+            } else {
+                msg += " (expected one of:";
+                for (const auto& n : names) msg += " " + n;
+                msg += ")";
+            }
+            fail(ptr + "/" + escape_pointer_token(key), msg);
+        }
+    }
+
+    const json& require(const json& obj, const std::string& ptr, const char* key) const {
+        auto it = obj.find(key);
+        if (it == obj.end()) fail(ptr, std::string("missing required key '") + key + "'");
+        return *it;
+    }
+
+    double get_number(const json& v, const std::string& ptr) const {
+        if (!v.is_number()) fail(ptr, "expected a number, got " + type_name(v));
+        double d = v.get<double>();
+        if (!std::isfinite(d)) fail(ptr, "must be a finite number");
+        return d;
+    }
+    std::int64_t get_int(const json& v, const std::string& ptr, std::int64_t lo,
+                         std::int64_t hi) const {
+        if (!v.is_number_integer()) {
+            fail(ptr, "expected an integer, got " +
+                          (v.is_number() ? std::string("a fractional number") : type_name(v)));
+        }
+        if (v.is_number_unsigned() && v.get<std::uint64_t>() > std::uint64_t(hi)) {
+            fail(ptr, "value " + std::to_string(v.get<std::uint64_t>()) +
+                          " is out of range: must be in [" + std::to_string(lo) + ", " +
+                          std::to_string(hi) + "]");
+        }
+        std::int64_t i = v.get<std::int64_t>();
+        if (i < lo || i > hi) fail(ptr, detail::int_range_message(i, lo, hi));
+        return i;
+    }
+    bool get_bool(const json& v, const std::string& ptr) const {
+        if (!v.is_boolean()) fail(ptr, "expected true or false, got " + type_name(v));
+        return v.get<bool>();
+    }
+    std::string get_string(const json& v, const std::string& ptr) const {
+        if (!v.is_string()) fail(ptr, "expected a string, got " + type_name(v));
+        return v.get<std::string>();
+    }
+    Vec3 get_vec3(const json& v, const std::string& ptr) const {
+        if (!v.is_array() || v.size() != 3) {
+            fail(ptr, "expected an array of 3 numbers, got " +
+                          (v.is_array() ? "an array of " + std::to_string(v.size()) + " elements"
+                                        : type_name(v)));
+        }
+        Vec3 r;
+        for (int i = 0; i < 3; ++i) {
+            double d = get_number(v[std::size_t(i)], ptr + "/" + std::to_string(i));
+            if (!std::isfinite(float(d)))
+                fail(ptr + "/" + std::to_string(i), "too large for float");
+            r[i] = float(d);
+        }
+        return r;
+    }
+    Vec3 get_direction(const json& v, const std::string& ptr) const {
+        Vec3 d = get_vec3(v, ptr);
+        float len = glm::length(d);
+        if (!(len > 0.f) || !std::isfinite(len)) fail(ptr, "must be a non-zero direction");
+        return d / len;
+    }
+    // A radiometric colour: a number (grey) or [r, g, b] (its sign is build_scene's check).
+    Rgb get_color(const json& v, const std::string& ptr, const char* what) const {
+        Rgb c;
+        if (v.is_number()) {
+            c = Rgb(float(get_number(v, ptr)));
+        } else if (v.is_array() && v.size() == 3) {
+            c = get_vec3(v, ptr);
+        } else {
+            fail(ptr,
+                 std::string("expected ") + what + ": a number or [r, g, b], got " + type_name(v));
+        }
+        if (!is_finite(c)) fail(ptr, "too large for float");
+        return c;
+    }
+
+    // --- camera, render, materials -------------------------------------------------------------
+
+    CameraDesc read_camera(const json& c, const std::string& ptr) const {
+        expect_object(c, ptr);
+        check_keys(c, ptr, {"position", "look_at", "up", "fov", "width", "height"});
+        CameraDesc d;
+        d.position = get_vec3(require(c, ptr, "position"), ptr + "/position");
+        d.look_at = get_vec3(require(c, ptr, "look_at"), ptr + "/look_at");
+        if (c.contains("up")) d.up = get_vec3(c["up"], ptr + "/up");
+        d.fov = get_number(require(c, ptr, "fov"), ptr + "/fov");
+        d.width = int(get_int(require(c, ptr, "width"), ptr + "/width", 1, detail::kMaxImageSide));
+        d.height =
+            int(get_int(require(c, ptr, "height"), ptr + "/height", 1, detail::kMaxImageSide));
+        return d;
+    }
+
+    void read_render(const json& r, const std::string& ptr, RenderSettings& s) const {
+        expect_object(r, ptr);
+        check_keys(r, ptr, {"integrator", "spp", "time_budget", "max_depth", "seed"});
+        if (r.contains("integrator")) s.integrator = get_string(r["integrator"], ptr + "/integrator");
+        if (r.contains("spp")) s.spp = int(get_int(r["spp"], ptr + "/spp", 1, detail::kMaxSpp));
+        if (r.contains("time_budget")) {
+            s.time_budget_s = get_number(r["time_budget"], ptr + "/time_budget");
+        }
+        if (r.contains("max_depth")) {
+            s.max_depth = int(get_int(r["max_depth"], ptr + "/max_depth", 0, detail::kMaxDepth));
+        }
+        if (r.contains("seed")) {
+            const json& v = r["seed"];
+            if (v.is_number_unsigned()) {
+                s.seed = v.get<std::uint64_t>();
+            } else {
+                s.seed = std::uint64_t(get_int(v, ptr + "/seed", 0, INT64_MAX));
+            }
+        }
+    }
+
+    MaterialDesc read_material(const json& m, const std::string& ptr) const {
+        expect_object(m, ptr);
+        MaterialDesc d;
+        d.model = get_string(require(m, ptr, "model"), ptr + "/model");
+        for (const auto& [key, v] : m.items()) {
+            if (key == "model") continue;
+            std::string p = ptr + "/" + escape_pointer_token(key);
+            if (v.is_number()) {
+                d.params.set(key, get_number(v, p));
+            } else if (v.is_boolean()) {
+                d.params.set(key, v.get<bool>());
+            } else if (v.is_string()) {
+                d.params.set(key, v.get<std::string>());
+            } else if (v.is_array() && v.size() == 3) {
+                d.params.set(key, Rgb(get_vec3(v, p)));
+            } else {
+                fail(p, "expected a number, a colour [r, g, b], a string or a boolean, got " +
+                            type_name(v));
+            }
+        }
+        return d;
+    }
+
+    // --- transforms ----------------------------------------------------------------------------
+
+    glm::dmat4 read_transform_step(const json& t, const std::string& ptr) const {
+        expect_object(t, ptr);
+        check_keys(t, ptr, {"matrix", "scale", "rotate", "translate"});
+        if (t.contains("matrix")) {
+            if (t.size() != 1) {
+                fail(ptr + "/matrix",
+                     "a \"matrix\" cannot be combined with scale, rotate or "
+                     "translate in the same object (use a list of transforms)");
+            }
+            const json& m = t["matrix"];
+            if (!m.is_array() || m.size() != 16) {
+                fail(ptr + "/matrix",
+                     "expected 16 numbers (a 4x4 matrix, row-major), got " +
+                         (m.is_array() ? std::to_string(m.size()) + " elements" : type_name(m)));
+            }
+            glm::dmat4 r(1.0);
+            for (int row = 0; row < 4; ++row) {
+                for (int col = 0; col < 4; ++col) {
+                    r[col][row] = get_number(m[std::size_t(4 * row + col)],
+                                             ptr + "/matrix/" + std::to_string(4 * row + col));
+                }
+            }
+            if (r[0][3] != 0.0 || r[1][3] != 0.0 || r[2][3] != 0.0 || r[3][3] != 1.0) {
+                fail(ptr + "/matrix", "the last row must be [0, 0, 0, 1] (affine transforms only)");
+            }
+            return r;
+        }
+        glm::dmat4 s(1.0), rot(1.0), tr(1.0);
+        if (t.contains("scale")) {
+            const json& v = t["scale"];
+            glm::dvec3 k = v.is_number() ? glm::dvec3(get_number(v, ptr + "/scale"))
+                                         : glm::dvec3(get_vec3(v, ptr + "/scale"));
+            s[0][0] = k.x;
+            s[1][1] = k.y;
+            s[2][2] = k.z;
+        }
+        if (t.contains("rotate")) {
+            const json& r = t["rotate"];
+            std::string p = ptr + "/rotate";
+            expect_object(r, p);
+            check_keys(r, p, {"axis", "angle"});
+            glm::dvec3 axis = glm::dvec3(get_direction(require(r, p, "axis"), p + "/axis"));
+            double angle = get_number(require(r, p, "angle"), p + "/angle") * kPiD / 180.0;
+            // Rodrigues' rotation formula, right-handed (counter-clockwise about the axis).
+            double c = std::cos(angle), sn = std::sin(angle), k = 1.0 - c;
+            glm::dmat3 m;
+            m[0] = {c + axis.x * axis.x * k, axis.y * axis.x * k + axis.z * sn,
+                    axis.z * axis.x * k - axis.y * sn};
+            m[1] = {axis.x * axis.y * k - axis.z * sn, c + axis.y * axis.y * k,
+                    axis.z * axis.y * k + axis.x * sn};
+            m[2] = {axis.x * axis.z * k + axis.y * sn, axis.y * axis.z * k - axis.x * sn,
+                    c + axis.z * axis.z * k};
+            rot = glm::dmat4(m);
+        }
+        if (t.contains("translate")) {
+            glm::dvec3 d(get_vec3(t["translate"], ptr + "/translate"));
+            tr[3] = glm::dvec4(d, 1.0);
+        }
+        return tr * rot * s;
+    }
+
+    glm::dmat4 read_transform(const json& t, const std::string& ptr) const {
+        glm::dmat4 m(1.0);
+        if (t.is_array()) {
+            for (std::size_t i = 0; i < t.size(); ++i) {
+                m = read_transform_step(t[i], ptr + "/" + std::to_string(i)) * m;
+            }
+        } else {
+            m = read_transform_step(t, ptr);
+        }
+        return m;
+    }
+
+    // --- shapes --------------------------------------------------------------------------------
+
+    ShapeDesc read_shape(const json& s, const std::string& ptr) const {
+        expect_object(s, ptr);
+        std::string type = get_string(require(s, ptr, "type"), ptr + "/type");
+        auto it = std::find(kShapeTypes.begin(), kShapeTypes.end(), type);
+        if (it == kShapeTypes.end()) {
+            std::string msg = "unknown shape type '" + type + "'";
+            std::string g = closest_name(type, kShapeTypes);
+            if (!g.empty()) {
+                msg += " (did you mean '" + g + "'?)";
+            } else {
+                msg += " (expected one of: sphere plane box quad disc mesh icosphere grid)";
+            }
+            fail(ptr + "/type", msg);
+        }
+        ShapeDesc d;
+        d.kind = ShapeKind(it - kShapeTypes.begin());
+        std::vector<const char*> keys = {"type",      "name",      "material",    "emission",
+                                         "two_sided", "transform", "flip_normals"};
+        switch (d.kind) {
+            case ShapeKind::Sphere:
+                keys.insert(keys.end(), {"center", "radius"});
+                break;
+            case ShapeKind::Plane:
+                keys.insert(keys.end(), {"point", "normal"});
+                break;
+            case ShapeKind::Box:
+                keys.insert(keys.end(), {"min", "max"});
+                break;
+            case ShapeKind::Quad:
+                keys.insert(keys.end(), {"vertices"});
+                break;
+            case ShapeKind::Disc:
+                keys.insert(keys.end(), {"center", "normal", "radius"});
+                break;
+            case ShapeKind::Mesh:
+                keys.insert(keys.end(), {"positions", "indices", "normals", "file"});
+                break;
+            case ShapeKind::Icosphere:
+                keys.insert(keys.end(), {"center", "radius", "subdivisions", "smooth"});
+                break;
+            case ShapeKind::Grid:
+                keys.insert(keys.end(), {"nx", "ny", "amplitude", "frequency"});
+                break;
+        }
+        check_keys_v(s, ptr, keys);
+        if (s.contains("name")) d.name = get_string(s["name"], ptr + "/name");
+        if (s.contains("two_sided")) d.two_sided = get_bool(s["two_sided"], ptr + "/two_sided");
+        if (s.contains("flip_normals")) {
+            d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
+        }
+        if (s.contains("emission")) {
+            d.emission = get_color(s["emission"], ptr + "/emission", "an emitted radiance");
+        }
+        if (s.contains("material")) {
+            const json& m = s["material"];
+            if (m.is_string()) {
+                d.material_ref = m.get<std::string>();
+                if (d.material_ref.empty()) fail(ptr + "/material", "unknown material ''");
+            } else if (m.is_object()) {
+                d.material = read_material(m, ptr + "/material");
+            } else {
+                fail(ptr + "/material",
+                     "expected a material name or an inline {\"model\": ...} object, got " +
+                         type_name(m));
+            }
+        }
+        if (s.contains("transform")) d.transform = read_transform(s["transform"], ptr + "/transform");
+
+        switch (d.kind) {
+            case ShapeKind::Sphere:
+            case ShapeKind::Disc:
+                d.center = get_vec3(require(s, ptr, "center"), ptr + "/center");
+                d.radius = get_number(require(s, ptr, "radius"), ptr + "/radius");
+                if (d.kind == ShapeKind::Disc) {
+                    d.normal = get_vec3(require(s, ptr, "normal"), ptr + "/normal");
+                }
+                break;
+            case ShapeKind::Plane:
+                d.point = get_vec3(require(s, ptr, "point"), ptr + "/point");
+                d.normal = get_vec3(require(s, ptr, "normal"), ptr + "/normal");
+                break;
+            case ShapeKind::Box:
+                d.min = get_vec3(require(s, ptr, "min"), ptr + "/min");
+                d.max = get_vec3(require(s, ptr, "max"), ptr + "/max");
+                break;
+            case ShapeKind::Quad: {
+                const json& v = require(s, ptr, "vertices");
+                if (!v.is_array() || v.size() != 4) {
+                    fail(
+                        ptr + "/vertices",
+                        "expected an array of 4 points, got " +
+                            (v.is_array() ? std::to_string(v.size()) + " elements" : type_name(v)));
+                }
+                for (std::size_t i = 0; i < 4; ++i) {
+                    d.vertices[i] = get_vec3(v[i], ptr + "/vertices/" + std::to_string(i));
+                }
+                break;
+            }
+            case ShapeKind::Mesh:
+                read_mesh(s, ptr, d);
+                break;
+            case ShapeKind::Icosphere:
+                d.center = get_vec3(require(s, ptr, "center"), ptr + "/center");
+                d.radius = get_number(require(s, ptr, "radius"), ptr + "/radius");
+                d.subdivisions = int(get_int(require(s, ptr, "subdivisions"), ptr + "/subdivisions",
+                                             0, detail::kMaxIcosphereSubdivisions));
+                if (s.contains("smooth")) d.smooth = get_bool(s["smooth"], ptr + "/smooth");
+                break;
+            case ShapeKind::Grid:
+                d.nx = int(get_int(require(s, ptr, "nx"), ptr + "/nx", 1, detail::kMaxGridSide));
+                d.ny = int(get_int(require(s, ptr, "ny"), ptr + "/ny", 1, detail::kMaxGridSide));
+                if (s.contains("amplitude")) {
+                    d.amplitude = get_number(s["amplitude"], ptr + "/amplitude");
+                }
+                if (s.contains("frequency")) {
+                    d.frequency = get_number(s["frequency"], ptr + "/frequency");
+                }
+                break;
+        }
+        return d;
+    }
+
+    void read_mesh(const json& s, const std::string& ptr, ShapeDesc& d) const {
+        if (s.contains("file")) {
+            for (const char* k : {"positions", "indices", "normals"}) {
+                if (s.contains(k)) {
+                    fail(ptr + "/" + k, "cannot be combined with \"file\" (give one or the other)");
+                }
+            }
+            d.file = get_string(s["file"], ptr + "/file");
+            if (d.file.empty()) fail(ptr + "/file", "must not be empty");
+            return;
+        }
+        const json& pos = require(s, ptr, "positions");
+        const json& idx = require(s, ptr, "indices");
+        auto read_floats = [&](const json& a, const std::string& p) {
+            if (!a.is_array() || a.size() % 3 != 0 || a.empty()) {
+                fail(p, "expected a flat array of 3n numbers (x0, y0, z0, x1, ...)");
+            }
+            std::vector<float> out(a.size());
+            for (std::size_t i = 0; i < a.size(); ++i) {
+                out[i] = float(get_number(a[i], p + "/" + std::to_string(i)));
+            }
+            return out;
+        };
+        std::vector<float> positions = read_floats(pos, ptr + "/positions");
+        if (!idx.is_array() || idx.size() % 3 != 0 || idx.empty()) {
+            fail(ptr + "/indices", "expected a flat array of 3n vertex indices");
+        }
+        std::vector<std::uint32_t> indices(idx.size());
+        const std::int64_t last = std::int64_t(positions.size() / 3) - 1;
+        for (std::size_t i = 0; i < idx.size(); ++i) {
+            indices[i] =
+                std::uint32_t(get_int(idx[i], ptr + "/indices/" + std::to_string(i), 0, last));
+        }
+        std::vector<float> normals;
+        if (s.contains("normals")) normals = read_floats(s["normals"], ptr + "/normals");
+        d.mesh = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals));
+    }
+
+    // --- lights --------------------------------------------------------------------------------
+
+    LightDesc read_light(const json& l, const std::string& ptr) const {
+        expect_object(l, ptr);
+        std::string type = get_string(require(l, ptr, "type"), ptr + "/type");
+        LightDesc d;
+        if (type == "point") {
+            d.kind = LightKind::Point;
+            check_keys(l, ptr, {"type", "position", "power"});
+            d.position = get_vec3(require(l, ptr, "position"), ptr + "/position");
+            d.power = get_color(require(l, ptr, "power"), ptr + "/power", "a power (W)");
+        } else if (type == "spot") {
+            d.kind = LightKind::Spot;
+            check_keys(l, ptr,
+                       {"type", "position", "direction", "look_at", "power", "inner_angle",
+                        "outer_angle"});
+            d.position = get_vec3(require(l, ptr, "position"), ptr + "/position");
+            if (l.contains("direction") == l.contains("look_at")) {
+                fail(ptr, "give exactly one of \"direction\" and \"look_at\"");
+            }
+            if (l.contains("direction")) {
+                d.direction = get_vec3(l["direction"], ptr + "/direction");
+            } else {
+                d.look_at = get_vec3(l["look_at"], ptr + "/look_at");
+            }
+            d.power = get_color(require(l, ptr, "power"), ptr + "/power", "a power (W)");
+            d.outer_angle = get_number(require(l, ptr, "outer_angle"), ptr + "/outer_angle");
+            if (l.contains("inner_angle")) {
+                d.inner_angle = get_number(l["inner_angle"], ptr + "/inner_angle");
+            }
+        } else if (type == "directional") {
+            d.kind = LightKind::Directional;
+            check_keys(l, ptr, {"type", "direction", "irradiance"});
+            d.direction = get_vec3(require(l, ptr, "direction"), ptr + "/direction");
+            d.irradiance = get_color(require(l, ptr, "irradiance"), ptr + "/irradiance",
+                                     "an irradiance (W/m^2)");
+        } else if (type == "environment") {
+            d.kind = LightKind::Environment;
+            check_keys(l, ptr, {"type", "radiance"});
+            d.radiance = get_color(require(l, ptr, "radiance"), ptr + "/radiance", "a radiance");
+        } else {
+            std::string msg = "unknown light type '" + type + "'";
+            std::string g = closest_name(type, kLightTypes);
+            if (!g.empty()) {
+                msg += " (did you mean '" + g + "'?)";
+            } else {
+                msg +=
+                    " (expected point, spot, directional or environment; area lights are "
+                    "shapes with \"emission\")";
+            }
+            fail(ptr + "/type", msg);
+        }
+        return d;
+    }
+
+    std::string m_name, m_base;
+};
+
+// --- writer ------------------------------------------------------------------------------------
+
+json vec_json(const Vec3& v) { return json::array({double(v.x), double(v.y), double(v.z)}); }
+
+json material_json(const MaterialDesc& m) {
+    json j = json::object();
+    j["model"] = m.model;
+    for (const auto& [name, v] : m.params.values()) {
+        const std::string& key = name;  // (clang 14 cannot capture a structured binding)
+        std::visit(
+            [&](const auto& x) {
+                using T = std::decay_t<decltype(x)>;
+                if constexpr (std::is_same_v<T, Rgb>)
+                    j[key] = vec_json(x);
+                else
+                    j[key] = x;
+            },
+            v);
+    }
+    return j;
+}
+
+json matrix_json(const glm::dmat4& m) {
+    json a = json::array();
+    for (int row = 0; row < 4; ++row)
+        for (int col = 0; col < 4; ++col) a.push_back(m[col][row]);
+    return json{{"matrix", a}};
+}
+
+// Mesh arrays by value, or (for the fingerprint) by a hash of their bytes.
+json array_json(std::span<const float> a, bool hashed);
+json array_json(std::span<const std::uint32_t> a, bool hashed);
+
+std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < n; ++i) {
+        h ^= p[i];
+        h *= 1099511628211ull;
+    }
+    return h;
+}
+
+template <class T>
+json array_json_impl(std::span<const T> a, bool hashed) {
+    if (hashed) return std::to_string(a.size()) + ":" + std::to_string(fnv1a(a.data(), a.size_bytes()));
+    json j = json::array();
+    for (const T& x : a) {
+        if constexpr (std::is_floating_point_v<T>)
+            j.push_back(double(x));
+        else
+            j.push_back(x);
+    }
+    return j;
+}
+json array_json(std::span<const float> a, bool hashed) { return array_json_impl(a, hashed); }
+json array_json(std::span<const std::uint32_t> a, bool hashed) {
+    return array_json_impl(a, hashed);
+}
+
+json description_json(const SceneDescription& d, bool hashed_arrays) {
+    json root = json::object();
+    root["format"] = "facet-scene";
+    root["version"] = 1;
+    if (!d.description.empty()) root["description"] = d.description;
+    const CameraDesc& c = d.camera;
+    root["camera"] = {{"position", vec_json(c.position)}, {"look_at", vec_json(c.look_at)},
+                      {"up", vec_json(c.up)},             {"fov", c.fov},
+                      {"width", c.width},                 {"height", c.height}};
+    json mats = json::object();
+    for (const auto& [name, m] : d.materials) mats[name] = material_json(m);
+    root["materials"] = mats;
+    json shapes = json::array();
+    for (const ShapeDesc& s : d.shapes) {
+        json j = json::object();
+        j["type"] = kShapeTypes[std::size_t(s.kind)];
+        if (!s.name.empty()) j["name"] = s.name;
+        if (s.material)
+            j["material"] = material_json(*s.material);
+        else if (!s.material_ref.empty())
+            j["material"] = s.material_ref;
+        if (s.emission != Rgb(0.f)) j["emission"] = vec_json(s.emission);
+        if (!s.two_sided) j["two_sided"] = false;
+        if (s.flip_normals) j["flip_normals"] = true;
+        if (s.transform) j["transform"] = matrix_json(*s.transform);
+        switch (s.kind) {
+            case ShapeKind::Sphere:
+                j["center"] = vec_json(s.center);
+                j["radius"] = s.radius;
+                break;
+            case ShapeKind::Disc:
+                j["center"] = vec_json(s.center);
+                j["normal"] = vec_json(s.normal);
+                j["radius"] = s.radius;
+                break;
+            case ShapeKind::Plane:
+                j["point"] = vec_json(s.point);
+                j["normal"] = vec_json(s.normal);
+                break;
+            case ShapeKind::Box:
+                j["min"] = vec_json(s.min);
+                j["max"] = vec_json(s.max);
+                break;
+            case ShapeKind::Quad: {
+                json v = json::array();
+                for (const Vec3& p : s.vertices) v.push_back(vec_json(p));
+                j["vertices"] = v;
+                break;
+            }
+            case ShapeKind::Mesh:
+                if (!s.file.empty()) {
+                    j["file"] = s.file;
+                } else {
+                    j["positions"] = array_json(s.mesh.positions, hashed_arrays);
+                    j["indices"] = array_json(s.mesh.indices, hashed_arrays);
+                    if (!s.mesh.normals.empty())
+                        j["normals"] = array_json(s.mesh.normals, hashed_arrays);
+                }
+                break;
+            case ShapeKind::Icosphere:
+                j["center"] = vec_json(s.center);
+                j["radius"] = s.radius;
+                j["subdivisions"] = s.subdivisions;
+                j["smooth"] = s.smooth;
+                break;
+            case ShapeKind::Grid:
+                j["nx"] = s.nx;
+                j["ny"] = s.ny;
+                j["amplitude"] = s.amplitude;
+                j["frequency"] = s.frequency;
+                break;
+        }
+        shapes.push_back(j);
+    }
+    root["shapes"] = shapes;
+    json lights = json::array();
+    for (const LightDesc& l : d.lights) {
+        json j = json::object();
+        j["type"] = kLightTypes[std::size_t(l.kind)];
+        switch (l.kind) {
+            case LightKind::Point:
+                j["position"] = vec_json(l.position);
+                j["power"] = vec_json(l.power);
+                break;
+            case LightKind::Spot:
+                j["position"] = vec_json(l.position);
+                if (l.direction) j["direction"] = vec_json(*l.direction);
+                if (l.look_at) j["look_at"] = vec_json(*l.look_at);
+                j["power"] = vec_json(l.power);
+                j["outer_angle"] = l.outer_angle;
+                if (l.inner_angle) j["inner_angle"] = *l.inner_angle;
+                break;
+            case LightKind::Directional:
+                if (l.direction) j["direction"] = vec_json(*l.direction);
+                j["irradiance"] = vec_json(l.irradiance);
+                break;
+            case LightKind::Environment:
+                j["radiance"] = vec_json(l.radiance);
+                break;
+        }
+        lights.push_back(j);
+    }
+    root["lights"] = lights;
+    const RenderSettings& r = d.render;
+    root["render"] = {{"integrator", r.integrator},
+                      {"spp", r.spp},
+                      {"time_budget", r.time_budget_s},
+                      {"max_depth", r.max_depth},
+                      {"seed", r.seed}};
+    return root;
+}
+
+}  // namespace
+
+SceneDescription parse_scene_description(const std::string& json_text, const std::string& name,
+                                         const std::string& base_dir) {
+    return Reader(name, base_dir).read(json_text);
+}
+
+SceneDescription read_scene_description(const std::string& path) {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw SceneError(path + ": cannot open the scene file");
+    std::ostringstream ss;
+    ss << in.rdbuf();
+    if (in.bad()) throw SceneError(path + ": cannot read the scene file");
+    std::string base = std::filesystem::path(path).parent_path().string();
+    return parse_scene_description(ss.str(), path, base.empty() ? "." : base);
+}
+
+std::string write_scene_json(const SceneDescription& desc) {
+    // nlohmann prints doubles with the shortest representation that reads back exactly.
+    return description_json(desc, false).dump(2) + "\n";
+}
+
+void write_scene_file(const SceneDescription& desc, const std::string& path) {
+    std::ofstream out(path, std::ios::binary);
+    if (!out) throw SceneError(path + ": cannot create the scene file");
+    out << write_scene_json(desc);
+    if (!out) throw SceneError(path + ": cannot write the scene file");
+}
+
+std::uint64_t fingerprint(const SceneDescription& desc) {
+    const std::string text = description_json(desc, true).dump();
+    return fnv1a(text.data(), text.size());
+}
+
+Scene load_scene_from_string(const std::string& json_text, const std::string& name_for_errors,
+                             const std::string& base_dir, const SceneLimits& limits) {
+    return build_scene(parse_scene_description(json_text, name_for_errors, base_dir),
+                       name_for_errors, limits);
+}
+
+Scene load_scene(const std::string& path) {
+    SceneDescription d = read_scene_description(path);
+    return build_scene(d, path);
+}
+
+}  // namespace facet::render

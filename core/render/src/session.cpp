@@ -1,0 +1,331 @@
+// RenderSession and render() (facet/render/render.h): tiles over TBB, passes, progress,
+// cancellation, continuation, regions and sample ranges.
+#include <tbb/blocked_range.h>
+#include <tbb/info.h>
+#include <tbb/parallel_for.h>
+#include <tbb/partitioner.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <stdexcept>
+#include <vector>
+
+#include "facet/render/render.h"
+
+namespace facet::render {
+
+namespace {
+
+struct Tile {
+    Region r;
+    int next = 0;  // the first sample this tile has not taken yet
+};
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+std::uint64_t mix(std::uint64_t h, std::uint64_t v) {
+    // splitmix64 finaliser over h ^ v: order-dependent, well spread.
+    std::uint64_t z = h ^ (v + 0x9e3779b97f4a7c15ull + (h << 6) + (h >> 2));
+    z = (z ^ (z >> 30)) * 0xbf58476d1ce4e5b9ull;
+    z = (z ^ (z >> 27)) * 0x94d049bb133111ebull;
+    return z ^ (z >> 31);
+}
+
+}  // namespace
+
+ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& o) {
+    const RenderSettings& s = scene.settings();
+    ResolvedSettings r{};
+    r.integrator = parse_integrator(o.integrator.empty() ? s.integrator : o.integrator);
+    r.spp = o.spp != 0 ? o.spp : s.spp;
+    if (r.spp < 1)
+        throw std::invalid_argument("--spp: must be >= 1 (got " + std::to_string(r.spp) + ")");
+    r.max_depth = o.max_depth >= 0 ? o.max_depth : s.max_depth;
+    if (r.max_depth < 0) throw std::invalid_argument("--max-depth: must be >= 0");
+    r.time_budget_s = o.time_budget_s ? *o.time_budget_s : s.time_budget_s;
+    if (!(r.time_budget_s >= 0.0))
+        throw std::invalid_argument("--time: the time budget must be >= 0 seconds");
+    r.seed = o.seed ? *o.seed : s.seed;
+    if (o.threads < 0) throw std::invalid_argument("--threads: must be >= 0 (0 = all cores)");
+    r.threads = o.threads > 0 ? o.threads : int(tbb::info::default_concurrency());
+    if (o.tile_size < 1) throw std::invalid_argument("tile size must be >= 1");
+    r.tile_size = o.tile_size;
+    const int w = scene.camera().width, h = scene.camera().height;
+    if (w < 1 || h < 1) throw std::invalid_argument("camera: empty image");
+    r.region = o.region ? *o.region : Region{0, 0, w, h};
+    if (r.region.empty() || r.region.x0 < 0 || r.region.y0 < 0 || r.region.x1 > w ||
+        r.region.y1 > h) {
+        throw std::invalid_argument(
+            "--region: " + std::to_string(r.region.x0) + "," + std::to_string(r.region.y0) + "," +
+            std::to_string(r.region.x1) + "," + std::to_string(r.region.y1) +
+            " must be a non-empty x0,y0,x1,y1 rectangle inside the " + std::to_string(w) + "x" +
+            std::to_string(h) + " image (x1, y1 exclusive)");
+    }
+    r.sample_begin = o.sample_begin;
+    r.sample_end = o.sample_end != 0 ? o.sample_end : r.spp;
+    if (r.sample_begin < 0 || r.sample_end <= r.sample_begin || r.sample_end > r.spp) {
+        throw std::invalid_argument("--samples: " + std::to_string(r.sample_begin) + ":" +
+                                    std::to_string(r.sample_end) +
+                                    " must be a non-empty range s0:s1 with 0 <= s0 < s1 <= spp (" +
+                                    std::to_string(r.spp) + ")");
+    }
+    if (r.time_budget_s > 0.0 && (r.sample_begin != 0 || r.sample_end != r.spp)) {
+        throw std::invalid_argument("--samples: cannot be combined with a time budget (--time)");
+    }
+    return r;
+}
+
+std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
+                               const RenderOptions& o) {
+    std::uint64_t h = mix(0x46414345545041ull, scene.fingerprint());
+    h = mix(h, std::uint64_t(rs.integrator));
+    h = mix(h, std::uint64_t(rs.max_depth));
+    h = mix(h, rs.seed);
+    h = mix(h, rs.spp == 1 ? 1u : 0u);  // pixel-centre camera rays
+    h = mix(h, (o.independent_samples ? 1u : 0u) | (o.uniform_light_selection ? 2u : 0u) |
+                   (o.force_general_kernel ? 4u : 0u));
+    return h;
+}
+
+struct RenderSession::State {
+    const Scene& scene;
+    RenderOptions options;
+    ResolvedSettings rs;
+    KernelChoice choice;
+    TileKernel kernel = nullptr;
+    LightDistribution light_dist;
+    std::vector<Tile> tiles;
+    Film film;
+    RenderStats stats;
+    int target = 0;  // sample end the session renders toward
+    std::atomic<bool> cancel{false};
+    std::atomic<std::uint64_t> camera_rays{0}, rays{0}, shadow_rays{0}, nonfinite{0};
+
+    State(const Scene& s, const RenderOptions& o)
+        : scene(s), options(o), rs(resolve_settings(s, o)) {}
+
+    int min_next() const {
+        int m = target;
+        for (const Tile& t : tiles) m = std::min(m, t.next);
+        return m;
+    }
+
+    // Takes every tile with next < end to `end` (unless cancelled first).
+    void run_pass(tbb::task_arena& arena, int end, Progress& progress) {
+        TileJob proto{};
+        proto.film_x0 = rs.region.x0;
+        proto.film_y0 = rs.region.y0;
+        proto.film_width = rs.region.width();
+        proto.spp_total = rs.spp;
+        proto.seed = rs.seed;
+        proto.max_depth = choice.max_depth;
+        proto.light_distribution = &light_dist;
+        proto.independent_samples = options.independent_samples;
+        arena.execute([&] {
+            tbb::parallel_for(
+                tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
+                [&](const tbb::blocked_range<std::size_t>& range) {
+                    for (std::size_t t = range.begin(); t != range.end(); ++t) {
+                        Tile& tile = tiles[t];
+                        if (tile.next >= end || cancel.load(std::memory_order_relaxed)) continue;
+                        TileJob job = proto;
+                        job.x0 = tile.r.x0;
+                        job.y0 = tile.r.y0;
+                        job.x1 = tile.r.x1;
+                        job.y1 = tile.r.y1;
+                        job.first_sample = tile.next;
+                        job.end_sample = end;
+                        KernelCounters c;
+                        kernel(scene, job, film.sums(), c);
+                        const std::uint32_t added = std::uint32_t(end - tile.next);
+                        std::uint32_t* counts = film.counts();
+                        for (int y = tile.r.y0; y < tile.r.y1; ++y) {
+                            std::uint32_t* row = counts +
+                                                 std::size_t(y - rs.region.y0) * std::size_t(rs.region.width()) -
+                                                 std::size_t(rs.region.x0);
+                            for (int x = tile.r.x0; x < tile.r.x1; ++x) row[x] += added;
+                        }
+                        tile.next = end;
+                        camera_rays.fetch_add(c.camera_rays, std::memory_order_relaxed);
+                        rays.fetch_add(c.rays, std::memory_order_relaxed);
+                        shadow_rays.fetch_add(c.shadow_rays, std::memory_order_relaxed);
+                        nonfinite.fetch_add(c.nonfinite, std::memory_order_relaxed);
+                        progress.add(std::uint64_t(tile.r.width()) * std::uint64_t(tile.r.height()) *
+                                     added);
+                    }
+                },
+                tbb::simple_partitioner());
+        });
+    }
+};
+
+RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
+    : m(std::make_unique<State>(scene, options)) {
+    State& s = *m;
+    s.choice = choose_kernel(scene.features(), s.rs.integrator, s.rs.max_depth,
+                             options.force_general_kernel);
+    s.kernel = kernel_function(s.choice);
+    s.light_dist = options.uniform_light_selection
+                       ? LightDistribution::uniform(scene.lights().size())
+                       : scene.light_distribution();
+    if (!(options.pass_seconds > 0.0)) throw std::invalid_argument("pass_seconds must be > 0");
+    const Region& reg = s.rs.region;
+    const int ts = s.rs.tile_size;
+    // Tiles: the cells of a fixed grid over the whole image, cut to the region.
+    for (int gy = reg.y0 - reg.y0 % ts; gy < reg.y1; gy += ts) {
+        for (int gx = reg.x0 - reg.x0 % ts; gx < reg.x1; gx += ts) {
+            Tile t;
+            t.r = Region{std::max(gx, reg.x0), std::max(gy, reg.y0), std::min(gx + ts, reg.x1),
+                         std::min(gy + ts, reg.y1)};
+            t.next = s.rs.sample_begin;
+            s.tiles.push_back(t);
+        }
+    }
+    s.film = Film(reg);
+    s.target = s.rs.sample_end;
+    s.stats.kernel = s.choice;
+    s.stats.threads = s.rs.threads;
+}
+
+RenderSession::~RenderSession() = default;
+
+void RenderSession::cancel() { m->cancel.store(true); }
+
+void RenderSession::continue_to(int spp) {
+    if (m->rs.spp == 1) {
+        throw std::invalid_argument(
+            "continue_to: a 1-spp render traces pixel centres and cannot be continued (start "
+            "with spp >= 2)");
+    }
+    if (spp < m->target) {
+        throw std::invalid_argument("continue_to: " + std::to_string(spp) +
+                                    " is below the current target of " +
+                                    std::to_string(m->target) + " samples");
+    }
+    if (spp > (1 << 20)) throw std::invalid_argument("continue_to: at most 2^20 samples");
+    m->target = spp;
+}
+
+bool RenderSession::render(const PassCallback& on_pass) {
+    State& s = *m;
+    s.cancel.store(false);
+    const ResolvedSettings& rs = s.rs;
+    const std::uint64_t pixels =
+        std::uint64_t(rs.region.width()) * std::uint64_t(rs.region.height());
+    const int start_done = s.min_next();
+    Progress progress(std::string("render ") + s.scene.name(),
+                      pixels * std::uint64_t(s.target - start_done), s.options.progress);
+    const bool budgeted = rs.time_budget_s > 0.0;
+    if (budgeted) progress.set_time_budget(rs.time_budget_s);
+    tbb::task_arena arena(rs.threads);
+    const auto start = Clock::now();
+    const double elapsed_before = s.stats.seconds;
+
+    bool completed = true;
+    int affordable = s.target;  // samples per pixel the remaining budget allows (estimated)
+    while (true) {
+        const int done = s.min_next();
+        if (done >= s.target) break;
+        // Pass size (render.h): budgeted 1, 1, 2, 4, ... cut to the budget; watched: about
+        // pass_seconds at the cost so far; otherwise everything, in steps of kMaxPassSpp so
+        // that a tile in flight is short when cancel() comes.
+        const int taken = done - start_done;
+        int pass = s.target - done;
+        if (budgeted) {
+            pass = std::min({pass, std::max(1, taken), kMaxPassSpp, affordable});
+        } else if (on_pass) {
+            const double t = seconds_since(start);
+            const int fit = taken > 0 ? int(std::floor(s.options.pass_seconds * taken / t)) : 1;
+            pass = std::clamp(fit, 1, pass);
+        } else {
+            pass = std::min(pass, kMaxPassSpp);
+        }
+        s.run_pass(arena, done + pass, progress);
+        ++s.stats.passes;
+        if (s.cancel.load()) {
+            completed = false;
+            break;
+        }
+        const double t = seconds_since(start);
+        const int now_done = s.min_next();
+        if (on_pass) {
+            PassInfo info;
+            info.pass = s.stats.passes;
+            info.samples_done = now_done - rs.sample_begin;
+            info.samples_target = s.target - rs.sample_begin;
+            info.elapsed_s = elapsed_before + t;
+            const int taken_now = now_done - start_done;
+            info.eta_s =
+                taken_now > 0 ? t / double(taken_now) * double(s.target - now_done) : 0.0;
+            s.stats.seconds = elapsed_before + t;
+            if (!on_pass(info)) {
+                completed = false;
+                break;
+            }
+        }
+        if (budgeted) {
+            // Stop when not even one more sample per pixel fits (at this run's mean cost).
+            const double per_spp = t / double(now_done - start_done);
+            const double fit = std::floor((rs.time_budget_s - t) / per_spp);
+            if (!(fit >= 1.0)) break;
+            affordable = int(std::min(fit, double(kMaxPassSpp)));
+        }
+    }
+    const double seconds = seconds_since(start);
+    RenderStats& st = s.stats;
+    st.seconds = elapsed_before + seconds;
+    st.spp = s.min_next() - rs.sample_begin;
+    st.paths = s.camera_rays.load();
+    st.rays = s.rays.load();
+    st.shadow_rays = s.shadow_rays.load();
+    st.nonfinite = s.nonfinite.load();
+    st.cancelled = !completed;
+    char summary[256];
+    std::snprintf(summary, sizeof summary,
+                  "%d spp, %.3g M paths/s, %.3g M rays/s (+%.3g M shadow rays/s), kernel %s%s",
+                  st.spp, double(st.paths) / st.seconds * 1e-6,
+                  double(st.rays) / st.seconds * 1e-6, double(st.shadow_rays) / st.seconds * 1e-6,
+                  s.choice.name.c_str(), completed ? "" : " (cancelled)");
+    progress.finish(summary);
+    return completed;
+}
+
+Image RenderSession::image() const { return m->film.resolve(); }
+const Film& RenderSession::film() const { return m->film; }
+const RenderStats& RenderSession::stats() const { return m->stats; }
+const ResolvedSettings& RenderSession::settings() const { return m->rs; }
+int RenderSession::samples_done() const { return m->min_next() - m->rs.sample_begin; }
+
+RenderPart RenderSession::part() const {
+    const State& s = *m;
+    for (const Tile& t : s.tiles) {
+        if (t.next != s.target)
+            throw std::logic_error("RenderSession::part: the render is incomplete (cancelled)");
+    }
+    RenderPart p;
+    p.info.scene = s.scene.name();
+    p.info.fingerprint = part_fingerprint(s.scene, s.rs, s.options);
+    p.info.width = s.scene.camera().width;
+    p.info.height = s.scene.camera().height;
+    p.info.region = s.rs.region;
+    p.info.sample_begin = s.rs.sample_begin;
+    p.info.sample_end = s.target;
+    p.info.seed = s.rs.seed;
+    p.film = s.film;
+    return p;
+}
+
+Image render(const Scene& scene, const RenderOptions& options, RenderStats* stats) {
+    RenderSession session(scene, options);
+    session.render();
+    if (stats) *stats = session.stats();
+    return session.image();
+}
+
+}  // namespace facet::render

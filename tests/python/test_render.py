@@ -1,0 +1,174 @@
+# Rendering from Python: the same image as the CLI, progress callbacks, cancellation (from the
+# callback, from another thread, by Ctrl-C) and continuation, with the GIL released.
+import _thread
+import subprocess
+import threading
+import time
+
+import numpy as np
+import pytest
+
+import facet
+import tiny_scenes as ts
+
+
+@pytest.fixture(scope="module")
+def scene():
+    return facet.load_scene_from_string(ts.scene_json(), name="tiny")
+
+
+def big_session(scene_json_spp=256, **options):
+    # Slow enough to be interrupted: 256 spp of the tiny scene at 2 threads takes seconds.
+    scene = facet.load_scene_from_string(ts.scene_json(scene_json_spp), name="slow")
+    return scene, facet.RenderSession(scene, threads=2, **options)
+
+
+def test_python_render_equals_the_cli(tmp_path, facet_cli):
+    path = ts.write_scene(tmp_path, spp=6)
+    exr = tmp_path / "cli.exr"
+    subprocess.run([str(facet_cli), "render", str(path), "-o", str(exr), "-q"], check=True)
+    cli = facet.read_image(str(exr))
+    py = facet.render(facet.load_scene(str(path)))
+    assert py.shape == cli.shape == (ts.HEIGHT, ts.WIDTH, 3)
+    np.testing.assert_array_equal(py, cli)
+    # Thread count and pass sizes do not change the image.
+    np.testing.assert_array_equal(facet.render(facet.load_scene(str(path)), threads=1,
+                                               pass_seconds=0.0), cli)
+
+
+def test_options_override_the_scene_and_bad_options_raise(scene):
+    a = facet.render(scene, spp=2, seed=3, max_depth=2, integrator="direct")
+    b = facet.render(scene, spp=2, seed=4, max_depth=2, integrator="direct")
+    assert not np.array_equal(a, b)
+    with pytest.raises(ValueError, match=r"^spp: "):
+        facet.render(scene, spp=0)
+    with pytest.raises(ValueError, match="integrator"):
+        facet.render(scene, integrator="pth")
+    with pytest.raises(TypeError, match=r"unexpected keyword argument 'sp' \(did you mean 'spp'"):
+        facet.render(scene, sp=2)
+    with pytest.raises(ValueError, match=r"region: expected \(x0, y0, x1, y1\)"):
+        facet.render(scene, region=(0, 0, 4))
+    with pytest.raises(TypeError, match="expected a facet.Scene"):
+        facet.render(ts.numpy_description())
+
+
+def test_progress_callback_sees_every_pass(scene):
+    infos = []
+    image = facet.render(scene, spp=8, pass_seconds=0.0, progress=lambda i: infos.append(i))
+    assert [i.pass_ for i in infos] == list(range(1, len(infos) + 1))
+    assert infos[-1].samples_done == 8 and infos[-1].samples_target == 8
+    assert all(a.samples_done < b.samples_done for a, b in zip(infos, infos[1:]))
+    np.testing.assert_array_equal(image, facet.render(scene, spp=8))
+
+
+def test_cancel_from_the_callback_then_continue(scene):
+    session = facet.RenderSession(scene, spp=8, pass_seconds=0.0)
+    seen = []
+
+    def on_pass(info):
+        seen.append(session.samples_done)
+        return info.samples_done < 2  # False cancels
+
+    assert session.render(on_pass) is False
+    assert session.stats.cancelled
+    done = session.samples_done
+    assert 2 <= done < 8
+    partial = session.image()
+    assert np.all(np.isfinite(partial))
+    np.testing.assert_array_equal(partial, facet.render(scene, spp=8, samples=(0, done)))
+    # A later render() continues from exactly there.
+    assert session.render() is True
+    np.testing.assert_array_equal(session.image(), facet.render(scene, spp=8))
+
+
+def test_cancel_from_another_thread():
+    scene, session = big_session()
+    timer = threading.Timer(0.2, session.cancel)
+    t0 = time.perf_counter()
+    timer.start()
+    finished = session.render()
+    elapsed = time.perf_counter() - t0
+    timer.join()
+    assert finished is False and session.stats.cancelled
+    assert elapsed < 2.0
+    assert 0 < session.samples_done < 256
+    assert np.all(np.isfinite(session.image()))
+
+
+def test_gil_is_released_while_rendering():
+    scene, session = big_session()
+    ticks = []
+    worker = threading.Thread(target=session.render)
+    worker.start()
+    t_end = time.perf_counter() + 0.3
+    while time.perf_counter() < t_end:
+        ticks.append(1)
+        time.sleep(0.001)
+    # Another thread cannot read the image while a pass renders.
+    with pytest.raises(RuntimeError, match="running on another thread"):
+        for _ in range(1000):
+            session.image()
+    session.cancel()
+    worker.join()
+    assert len(ticks) > 50  # the main thread ran Python during the render
+    assert session.stats.cancelled
+
+
+@pytest.mark.parametrize("with_callback", [False, True])
+def test_ctrl_c_cancels_cleanly(with_callback):
+    scene, session = big_session()
+    timer = threading.Timer(0.2, _thread.interrupt_main)  # what Ctrl-C does
+    calls = []
+    timer.start()
+    t0 = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        session.render((lambda info: calls.append(info)) if with_callback else None)
+    elapsed = time.perf_counter() - t0
+    timer.join()
+    assert elapsed < 2.0
+    # The render has stopped: the session is usable and holds a valid partial image.
+    assert session.stats.cancelled
+    assert 0 < session.samples_done < 256
+    assert np.all(np.isfinite(session.image()))
+    # Ctrl-C inside facet.render, no callback.
+    timer = threading.Timer(0.2, _thread.interrupt_main)
+    timer.start()
+    with pytest.raises(KeyboardInterrupt):
+        facet.render(scene, threads=2)
+    timer.join()
+
+
+def test_callback_exception_cancels_and_propagates(scene):
+    session = facet.RenderSession(scene, spp=8, pass_seconds=0.0)
+
+    def boom(info):
+        raise ZeroDivisionError("from the callback")
+
+    with pytest.raises(ZeroDivisionError, match="from the callback"):
+        session.render(boom)
+    assert session.stats.cancelled and session.samples_done < 8
+
+
+def test_continue_to_equals_a_fresh_render_of_the_total(scene):
+    session = facet.RenderSession(scene, spp=3)
+    assert session.render() is True
+    np.testing.assert_array_equal(session.image(), facet.render(scene, spp=3))
+    session.continue_to(10)
+    assert session.render() is True
+    assert session.samples_done == 10
+    np.testing.assert_array_equal(session.image(), facet.render(scene, spp=10))
+    with pytest.raises(ValueError):
+        session.continue_to(4)
+    assert session.settings.spp == 10
+
+
+def test_images_round_trip_through_files(scene, tmp_path):
+    image = facet.render(scene, spp=2)
+    facet.write_image(image, str(tmp_path / "a.exr"))
+    np.testing.assert_array_equal(facet.read_image(str(tmp_path / "a.exr")), image)
+    facet.write_image(image, str(tmp_path / "a.png"))
+    assert facet.read_image(str(tmp_path / "a.png")).shape == image.shape
+    with pytest.raises(ValueError, match=r"image: shape \(30, 40\), expected \(h, w, 3\)"):
+        facet.write_image(image[:, :, 0], str(tmp_path / "b.exr"))
+    with pytest.raises(RuntimeError, match="nope.exr"):
+        facet.read_image(str(tmp_path / "nope.exr"))
