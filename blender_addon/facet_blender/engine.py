@@ -14,7 +14,7 @@ import traceback
 import bpy
 import numpy as np
 
-from . import export, native
+from . import export, native, viewport
 
 # The last final image rendered (float32 (h, w, 3), top row first) and the problems reported,
 # for tests and scripts.
@@ -98,6 +98,36 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         self.update_stats("", "Facet | %s in %.2f s (export and build %.2f s)"
                           % ("Done" if finished else "Cancelled",
                              time.perf_counter() - t0, t_export))
+
+
+    # --- viewport (Rendered shading): viewport.py --------------------------------------------
+
+    def view_update(self, context, depsgraph):
+        vs = getattr(self, "_viewport", None)
+        if vs is None:
+            vs = self._viewport = viewport.ViewportSession()
+        try:
+            data, problems = export.export_scene(depsgraph, camera=viewport.view_camera(context))
+            fs = depsgraph.scene.facet
+            data["render"]["spp"] = fs.viewport_spp
+            vs.update(data)
+        except Exception as e:
+            traceback.print_exc()
+            self.update_stats("", "Facet: %s" % e)
+
+    def view_draw(self, context, depsgraph):
+        vs = getattr(self, "_viewport", None)
+        if vs is None:
+            return
+        vs.set_camera(viewport.view_camera(context))
+        vs.draw(self, context, depsgraph.scene)
+
+    def __del__(self):
+        # May run twice (Blender 3.4); the worker never holds the engine, so this runs here.
+        vs = getattr(self, "_viewport", None)
+        if vs is not None:
+            self._viewport = None
+            vs.stop()
 
 
 def register():

@@ -216,14 +216,15 @@ def _light_data(obj, matrix, problems):
     return [], []
 
 
-def export_scene(depsgraph, region=None):
+def export_scene(depsgraph, camera=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
-    scene cannot be rendered at all (no camera, ...)."""
+    scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
+    scene's camera (the viewport's view)."""
     scene = depsgraph.scene
     problems = []
     mats = _Materials(problems)
     data = {"description": "exported from Blender scene '%s'" % scene.name,
-            "camera": export_camera(depsgraph, scene, problems),
+            "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
     area_shapes = []
     mesh_cache = {}

@@ -46,10 +46,8 @@ def models():
     for m in facet.models():
         params = []
         for p in m.params:
-            t = str(p.type).split(".")[-1].lower()
-            t = {"color": "colour", "float": "number", "double": "number", "str": "string",
-                 "boolean": "bool"}.get(t, t)
-            params.append({"name": p.name, "type": t, "default": p.default_value, "doc": p.doc})
+            t = {"color": "colour"}.get(p.type, p.type)
+            params.append({"name": p.name, "type": t, "default": p.default, "doc": p.doc})
         out.append({"name": m.name, "summary": m.summary, "params": params})
     return out
 
@@ -85,6 +83,37 @@ def _rgb(v):
     return [float(c) for c in v]
 
 
+def _shape_desc(s):
+    sd = facet.ShapeDesc()
+    sd.kind = s["type"]
+    sd.name = s.get("name", "")
+    mat = s.get("material")
+    if isinstance(mat, dict):
+        sd.material = facet.MaterialDesc(mat["model"], {k: v for k, v in mat.items()
+                                                        if k != "model"})
+    elif mat:
+        sd.material_ref = mat
+    if "emission" in s:
+        sd.emission = _rgb(s["emission"])
+    sd.two_sided = bool(s.get("two_sided", True))
+    sd.flip_normals = bool(s.get("flip_normals", False))
+    if s.get("transform") is not None:
+        sd.transform = np.asarray(s["transform"], dtype=np.float64)
+    for k in _SHAPE_KEYS[s["type"]]:
+        if k in s:
+            setattr(sd, k, s[k])
+    if s["type"] == "mesh":
+        if "file" in s:
+            sd.file = s["file"]
+        else:
+            sd.mesh = facet.MeshData(
+                np.ascontiguousarray(s["positions"], dtype=np.float32),
+                np.ascontiguousarray(s["indices"], dtype=np.int32),
+                None if s.get("normals") is None else
+                np.ascontiguousarray(s["normals"], dtype=np.float32))
+    return sd
+
+
 def to_description(data):
     """Scene data -> facet.SceneDescription (no validation here: build_scene validates)."""
     d = facet.SceneDescription()
@@ -98,38 +127,16 @@ def to_description(data):
     c.width = int(cam["width"])
     c.height = int(cam["height"])
     d.camera = c
-    d.materials = [(name, facet.MaterialDesc(m["model"], {k: v for k, v in m.items()
-                                                          if k != "model"}))
-                   for name, m in data.get("materials", [])]
+    d.materials = {name: facet.MaterialDesc(m["model"], {k: v for k, v in m.items()
+                                                         if k != "model"})
+                   for name, m in data.get("materials", [])}
     shapes = []
-    for s in data.get("shapes", []):
-        sd = facet.ShapeDesc()
-        sd.kind = s["type"]
-        sd.name = s.get("name", "")
-        mat = s.get("material")
-        if isinstance(mat, dict):
-            sd.material = facet.MaterialDesc(mat["model"], {k: v for k, v in mat.items()
-                                                            if k != "model"})
-        elif mat:
-            sd.material_ref = mat
-        if "emission" in s:
-            sd.emission = _rgb(s["emission"])
-        sd.two_sided = bool(s.get("two_sided", True))
-        sd.flip_normals = bool(s.get("flip_normals", False))
-        if s.get("transform") is not None:
-            sd.transform = np.asarray(s["transform"], dtype=np.float64)
-        for k in _SHAPE_KEYS[s["type"]]:
-            if k in s:
-                setattr(sd, k, s[k])
-        if s["type"] == "mesh":
-            if "file" in s:
-                sd.file = s["file"]
-            else:
-                sd.set_mesh(np.ascontiguousarray(s["positions"], dtype=np.float32),
-                            np.ascontiguousarray(s["indices"], dtype=np.int32),
-                            None if s.get("normals") is None else
-                            np.ascontiguousarray(s["normals"], dtype=np.float32))
-        shapes.append(sd)
+    for i, s in enumerate(data.get("shapes", [])):
+        try:
+            shapes.append(_shape_desc(s))
+        except (ValueError, TypeError) as e:  # bad arrays: name the shape as build_scene does
+            raise ValueError("%s: /shapes/%d ('%s'): %s" % (data.get("name", "blender"), i,
+                                                           s.get("name", ""), e)) from e
     d.shapes = shapes
     lights = []
     for lt in data.get("lights", []):
@@ -180,7 +187,7 @@ def from_description(d):
         "description": d.description,
         "camera": {"position": _vec(c.position), "look_at": _vec(c.look_at), "up": _vec(c.up),
                    "fov": float(c.fov), "width": int(c.width), "height": int(c.height)},
-        "materials": [(name, _material_data(m)) for name, m in d.materials],
+        "materials": [(name, _material_data(m)) for name, m in d.materials.items()],
         "shapes": [],
         "lights": [],
     }
@@ -205,10 +212,12 @@ def from_description(d):
             if sd.file:
                 s["file"] = os.path.join(d.base_dir, sd.file)
             else:
-                s["positions"] = np.array(sd.positions, dtype=np.float32).reshape(-1, 3)
-                s["indices"] = np.array(sd.indices, dtype=np.int32).reshape(-1, 3)
-                n = np.array(sd.normals, dtype=np.float32)
-                s["normals"] = n.reshape(-1, 3) if n.size else None
+                mesh = sd.mesh
+                s["positions"] = np.array(mesh.positions, dtype=np.float32).reshape(-1, 3)
+                s["indices"] = np.array(mesh.indices, dtype=np.int32).reshape(-1, 3)
+                n = mesh.normals
+                s["normals"] = None if n is None or len(n) == 0 else np.array(
+                    n, dtype=np.float32).reshape(-1, 3)
         data["shapes"].append(s)
     for ld in d.lights:
         kind = str(ld.kind).split(".")[-1].lower()
@@ -239,8 +248,7 @@ def write_scene(data, path):
 def build(data, name="blender"):
     """Scene data -> (renderable facet scene, [warning lines])."""
     scene = facet.build_scene(to_description(data), name=name)
-    return scene, list(getattr(scene, "warnings", lambda: [])() if callable(
-        getattr(scene, "warnings", None)) else getattr(scene, "warnings", []))
+    return scene, list(scene.warnings)
 
 
 class Session:

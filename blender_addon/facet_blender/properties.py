@@ -19,6 +19,8 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                                description="seconds; > 0 renders until the budget is spent")
     max_depth: IntProperty(name="Max Bounces", default=8, min=0, max=1024)
     seed: IntProperty(name="Seed", default=0, min=0, description="sampler seed")
+    viewport_spp: IntProperty(name="Viewport Samples", default=256, min=1, max=1 << 20,
+                              description="samples per pixel the viewport refines to")
     animated_seed: BoolProperty(name="Animated Seed", default=False,
                                 description="add the frame number to the seed")
 

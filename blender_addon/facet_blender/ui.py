@@ -64,6 +64,7 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.use_property_split = True
         lay.prop(fs, "integrator")
         lay.prop(fs, "spp")
+        lay.prop(fs, "viewport_spp")
         lay.prop(fs, "time_budget")
         lay.prop(fs, "max_depth")
         row = lay.row(align=True)
