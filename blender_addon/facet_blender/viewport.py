@@ -34,7 +34,7 @@ def view_camera(context):
 
 
 # Counters for tests: view_draw calls that drew an image, images published by the worker.
-stats = {"draws": 0, "images": 0, "restarts": 0}
+stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
 
 
 class ViewportSession:
@@ -135,6 +135,7 @@ class ViewportSession:
                         self._image = rect.reshape(h, w, 4)
                         self._version += 1
                         stats["images"] += 1
+                        stats["mean"] = float(rect[:, :3].mean())
                         return self._pending is None and not self._quit
 
                 session.render(on_pass)

@@ -75,7 +75,7 @@ def step():
             time.sleep(1.0)
             state["a"] = screenshot("viewport_a.png")
             a = state["a"]
-            bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f)" % a.std())
+            bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f) %s" % (a.std(), viewport.stats))
             state["restarts"] = viewport.stats["restarts"]
             bpy.data.objects["Cube"].location.x += 1.5
             state["t"] = time.time()
