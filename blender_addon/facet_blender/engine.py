@@ -107,7 +107,9 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         if vs is None:
             vs = self._viewport = viewport.ViewportSession()
         try:
-            data, problems = export.export_scene(depsgraph, camera=viewport.view_camera(context))
+            viewport.forget_changed(vs.mesh_cache, depsgraph)
+            data, problems = export.export_scene(depsgraph, camera=viewport.view_camera(context),
+                                                 mesh_cache=vs.mesh_cache)
             fs = depsgraph.scene.facet
             data["render"]["spp"] = fs.viewport_spp
             vs.update(data)

@@ -216,10 +216,15 @@ def _light_data(obj, matrix, problems):
     return [], []
 
 
-def export_scene(depsgraph, camera=None):
+# Counters for tests: meshes converted by mesh_arrays (the viewport re-exports only changed ones).
+stats = {"meshes": 0}
+
+
+def export_scene(depsgraph, camera=None, mesh_cache=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
-    scene's camera (the viewport's view)."""
+    scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
+    arrays of objects converted before (the viewport drops the entries of changed objects)."""
     scene = depsgraph.scene
     problems = []
     mats = _Materials(problems)
@@ -227,7 +232,7 @@ def export_scene(depsgraph, camera=None):
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
     area_shapes = []
-    mesh_cache = {}
+    mesh_cache = {} if mesh_cache is None else mesh_cache
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
@@ -268,6 +273,7 @@ def export_scene(depsgraph, camera=None):
         key = obj.name if not inst.is_instance else (obj.name, "instance")
         if key not in mesh_cache:
             mesh_cache[key] = mesh_arrays(obj)
+            stats["meshes"] += 1
         arrays = mesh_cache[key]
         if arrays is None:
             problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)

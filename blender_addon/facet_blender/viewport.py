@@ -37,6 +37,22 @@ def view_camera(context):
 stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
 
 
+def forget_changed(mesh_cache, depsgraph):
+    """Drops the cached mesh arrays of objects whose geometry changed (a moved object keeps its
+    arrays: only its matrix is exported again)."""
+    import bpy
+    for u in depsgraph.updates:
+        if not u.is_updated_geometry:
+            continue
+        idb = getattr(u.id, "original", u.id)
+        if isinstance(idb, bpy.types.Object):
+            mesh_cache.pop(idb.name, None)
+            mesh_cache.pop((idb.name, "instance"), None)
+        elif isinstance(idb, (bpy.types.Mesh, bpy.types.Curve, bpy.types.MetaBall,
+                              bpy.types.Collection, bpy.types.Scene)):
+            mesh_cache.clear()  # shared data, or objects added or removed
+
+
 class ViewportSession:
     def __init__(self):
         self._lock = threading.Lock()
@@ -47,6 +63,7 @@ class ViewportSession:
         self._version = 0
         self._busy = False
         self.data = None       # the last exported scene data (main thread)
+        self.mesh_cache = {}   # export.export_scene's arrays per object (main thread)
         self.camera = None
         self.errors = []
         self._texture = None

@@ -77,6 +77,8 @@ def step():
             a = state["a"]
             bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f) %s" % (a.std(), viewport.stats))
             state["restarts"] = viewport.stats["restarts"]
+            from facet_blender import export
+            state["meshes"] = export.stats["meshes"]
             bpy.data.objects["Cube"].location.x += 1.5
             state["t"] = time.time()
             state["phase"] = 2
@@ -86,6 +88,10 @@ def step():
                 return 0.3
             bt.check(viewport.stats["restarts"] > state["restarts"],
                      "moving the cube restarted the render")
+            from facet_blender import export
+            bt.check(export.stats["meshes"] == state["meshes"],
+                     "moving the cube re-exported no mesh (%d before, %d after)"
+                     % (state["meshes"], export.stats["meshes"]))
             time.sleep(3.0)
             state["phase"] = 3
             return 0.5
