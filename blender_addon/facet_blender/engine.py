@@ -21,6 +21,9 @@ from . import export, native, viewport
 last_image = None
 last_problems = []
 last_cancelled = False
+preview_count = [0]  # material preview renders so far (tests)
+PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
+
 # Tests only: a callable polled with test_break() after each pass (headless Blender has no Esc).
 test_break_hook = None
 
@@ -38,7 +41,7 @@ def to_blender_rect(img):
 class FacetRenderEngine(bpy.types.RenderEngine):
     bl_idname = 'FACET'
     bl_label = 'Facet'
-    bl_use_preview = False
+    bl_use_preview = True  # material previews (small, few samples)
     bl_use_shading_nodes_custom = False  # keep Cycles' shader node editor
     bl_use_postprocess = True
 
@@ -60,9 +63,12 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         t0 = time.perf_counter()
         self.update_stats("", "Facet | Exporting scene")
         data, problems = export.export_scene(depsgraph)
+        if self.is_preview:
+            preview_count[0] += 1
         for p in problems:
             last_problems.append(p)
-            self.report({'WARNING'}, "Facet: " + p)
+            if not self.is_preview:  # the preview scene's own materials are not the user's
+                self.report({'WARNING'}, "Facet: " + p)
         width, height = data["camera"]["width"], data["camera"]["height"]
         self.update_stats("", "Facet | Building scene")
         fscene, warnings = native.build(data, name="blender")
@@ -70,6 +76,8 @@ class FacetRenderEngine(bpy.types.RenderEngine):
             last_problems.append(w)
             self.report({'WARNING'}, "Facet: " + w)
         rs = data["render"]
+        if self.is_preview:
+            rs["spp"] = min(rs["spp"], PREVIEW_SPP)
         threads = scene.render.threads if scene.render.threads_mode == 'FIXED' else 0
         session = native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                  max_depth=rs["max_depth"], integrator=rs["integrator"],

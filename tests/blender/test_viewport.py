@@ -1,6 +1,7 @@
 """The 3D view's Rendered shading under Xvfb (Mesa software OpenGL): Facet's view_update /
 view_draw draw a non-empty image, and the image changes after the cube is moved (a screenshot
-test). Runs with the UI: `xvfb-run blender --factory-startup --python test_viewport.py`."""
+test) without re-exporting the cube's mesh; then the material tab's previews are rendered by
+Facet. Runs with the UI: `xvfb-run blender --factory-startup --python test_viewport.py`."""
 import os
 import sys
 import time
@@ -99,6 +100,20 @@ def step():
             b = screenshot("viewport_b.png")
             diff = np.abs(b - state["a"]).mean()
             bt.check(diff > 1e-3, "the image changed after the move (mean diff %.4f)" % diff)
+            # Material previews (bl_use_preview): show the material tab.
+            for area in bpy.context.window.screen.areas:
+                if area.type == 'PROPERTIES':
+                    area.spaces[0].context = 'MATERIAL'
+                    area.tag_redraw()
+            state["t"] = time.time()
+            state["phase"] = 4
+            return 0.5
+        if phase == 4:
+            import facet_blender.engine as eng
+            if eng.preview_count[0] == 0 and time.time() - state["t"] < 30:
+                return 0.3
+            bt.check(eng.preview_count[0] > 0, "Facet rendered material previews (%d)"
+                     % eng.preview_count[0])
             print("PASS")
             sys.stdout.flush()
             os._exit(0)
