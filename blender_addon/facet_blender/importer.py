@@ -19,7 +19,8 @@ from . import export, materials, properties, units
 
 PLANE_DISPLAY_HALF_SIZE = 50.0  # the infinite plane is drawn as a square of this half size
 MAX_DISPLAY_SUBDIVISIONS = 4    # icospheres are drawn at most this fine
-MAX_DISPLAY_GRID = 128          # grids are drawn with at most this many cells per side
+MAX_DISPLAY_GRID = 128
+CLIP_START, CLIP_END = 1e-3, 1e7  # the imported camera's clipping (Facet has none)          # grids are drawn with at most this many cells per side
 
 
 def _json(value):
@@ -149,6 +150,8 @@ def import_scene(context, data, collection=None):
     cd = bpy.data.cameras.new("Camera")
     cd.sensor_fit = 'VERTICAL'
     cd.angle_y = math.radians(cam["fov"])
+    # Facet's camera does not clip; Blender's default clip_end (100) would cut scenes in mm.
+    cd.clip_start, cd.clip_end = CLIP_START, CLIP_END
     co = bpy.data.objects.new("Camera", cd)
     co.matrix_world = _camera_matrix(cam["position"], cam["look_at"], cam["up"])
     coll.objects.link(co)
