@@ -3,7 +3,9 @@ by the core's names), and Facet added to the COMPAT_ENGINES of Blender's usual p
 Cycles does), so camera, light, world, object and output panels stay visible."""
 import bpy
 
-from . import properties
+from . import materials, plot, properties
+
+_plot = []  # the PanelPlot while registered
 
 ENGINE = 'FACET'
 
@@ -86,8 +88,19 @@ class FACET_PT_material(FacetPanel, bpy.types.Panel):
         return super().poll(context) and context.material is not None
 
     def draw(self, context):
-        ms = context.material.facet
+        mat = context.material
+        ms = mat.facet
         lay = self.layout
+        if _plot:
+            conv = materials.convert(mat)
+            icon, err = _plot[0].icon(mat.name, conv.data)
+            lay.template_icon(icon_value=icon, scale=10.0)
+            lay.label(text="%s: lobe at 45 deg (top), albedo vs angle (bottom)"
+                      % conv.data["model"])
+            if err:
+                lay.label(text=err, icon='ERROR')
+            for p in conv.problems[:3]:
+                lay.label(text=p, icon='INFO')
         lay.use_property_split = True
         lay.prop(ms, "source")
         lay.prop(ms, "two_sided")
@@ -160,6 +173,7 @@ _classes = (FACET_PT_render, FACET_PT_material, FACET_PT_light, FACET_PT_object)
 def register():
     for c in _classes:
         bpy.utils.register_class(c)
+    _plot[:] = [plot.PanelPlot()]
     _panels[:] = _compat_panels()
     for p in _panels:
         p.COMPAT_ENGINES.add(ENGINE)
@@ -169,5 +183,8 @@ def unregister():
     for p in _panels:
         p.COMPAT_ENGINES.discard(ENGINE)
     _panels.clear()
+    for p in _plot:
+        p.close()
+    _plot.clear()
     for c in reversed(_classes):
         bpy.utils.unregister_class(c)

@@ -112,5 +112,24 @@ def main():
         rejected = "ior" in str(e)
     bt.check(rejected, "the core rejects ior with fresnel conductor, naming it")
 
+    # The panel's lobe and albedo plot, from the core's f and albedo.
+    from facet_blender import plot
+    import numpy as np
+    img = plot.lobe_image({"model": "lambert", "reflectance": 0.5})
+    S = plot.SIZE
+    black = (img[..., :3].sum(axis=2) < 0.05)
+    # Lambert: f cos = rho/pi cos theta_o: the lobe's peak (scaled to r) straight up.
+    top = int(150 - 115)
+    bt.check(black[top - 2:top + 3, S // 2 - 2:S // 2 + 3].any(), "lambert lobe peaks at the normal")
+    # albedo 0.5 at every angle: a horizontal black line half way up the strip.
+    y_half = int(round((S - 12) - ((S - 12) - 172) * 0.5))
+    bt.check(black[y_half - 1:y_half + 2, S // 2].any(), "lambert albedo 0.5 drawn")
+    img = plot.lobe_image({"model": "ggx", "alpha": 0.1, "fresnel": "conductor",
+                           "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2]})
+    red = (img[..., 0] > 0.7) & (img[..., 1] < 0.3)
+    ys, xs = np.nonzero(red[:150])
+    bt.check(xs.size > 0 and np.median(xs[ys < 100]) < S // 2,
+             "a coloured GGX lobe drawn per channel, toward the mirror direction (left)")
+
 
 bt.run(main)

@@ -114,6 +114,15 @@ def step():
                 return 0.3
             bt.check(eng.preview_count[0] > 0, "Facet rendered material previews (%d)"
                      % eng.preview_count[0])
+            from facet_blender import ui
+            bt.check(bool(ui._plot) and "Material" in ui._plot[0].keys,
+                     "the Facet material panel drew the lobe plot of 'Material'")
+            for win in bpy.context.window_manager.windows:
+                for area in win.screen.areas:
+                    if area.type == 'PROPERTIES':
+                        with bpy.context.temp_override(window=win, area=area):
+                            bpy.ops.screen.screenshot_area(
+                                filepath=os.path.join(OUT, "material_panel.png"))
             print("PASS")
             sys.stdout.flush()
             os._exit(0)
