@@ -29,9 +29,10 @@ _EXCLUDE = {
     'VIEWLAYER_PT_eevee_layer_passes_data', 'VIEWLAYER_PT_eevee_layer_passes_light',
     'VIEWLAYER_PT_eevee_layer_passes_effects', 'RENDER_PT_simplify_greasepencil',
 }
-# Cycles' material and world panels (node-based) are useful for Facet's node conversion.
-_CYCLES_PANELS = ('CYCLES_MATERIAL_PT_surface', 'CYCLES_WORLD_PT_surface',
-                  'CYCLES_LIGHT_PT_light', 'CYCLES_PT_context_material')
+# Cycles' material panels cannot be shared: their polls test Cycles' mixin's COMPAT_ENGINES
+# (one set for every Cycles panel), so Facet draws its own slot list, preview and node panels
+# below (the same templates Cycles' ui.py uses).
+_CYCLES_PANELS = ()
 
 
 def _compat_panels():
@@ -77,6 +78,92 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         sub = lay.row()
         sub.enabled = rd.threads_mode == 'FIXED'
         sub.prop(rd, "threads")
+
+
+class FACET_PT_context_material(FacetPanel, bpy.types.Panel):
+    bl_label = ""
+    bl_context = "material"
+    bl_options = {'HIDE_HEADER'}
+
+    @classmethod
+    def poll(cls, context):
+        ob = context.active_object
+        return (super().poll(context) and (context.material or context.object) is not None
+                and not (ob and ob.type == 'GPENCIL'))
+
+    def draw(self, context):
+        lay = self.layout
+        ob, mat, slot = context.object, context.material, context.material_slot
+        space = context.space_data
+        if ob:
+            is_sortable = len(ob.material_slots) > 1
+            row = lay.row()
+            row.template_list("MATERIAL_UL_matslots", "", ob, "material_slots", ob,
+                              "active_material_index", rows=3 if is_sortable else 1)
+            col = row.column(align=True)
+            col.operator("object.material_slot_add", icon='ADD', text="")
+            col.operator("object.material_slot_remove", icon='REMOVE', text="")
+        split = lay.split(factor=0.65)
+        if ob:
+            split.template_ID(ob, "active_material", new="material.new")
+            row = split.row()
+            if slot:
+                row.prop(slot, "link", text="")
+        elif mat:
+            split.template_ID(space, "pin_id")
+
+
+class FACET_PT_material_preview(FacetPanel, bpy.types.Panel):
+    bl_label = "Preview"
+    bl_context = "material"
+    bl_options = {'DEFAULT_CLOSED'}
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.material is not None
+
+    def draw(self, context):
+        self.layout.template_preview(context.material)
+
+
+def _node_panel(layout, id_data, output_type, input_name, fallback):
+    if not id_data.use_nodes:
+        layout.prop(id_data, "use_nodes", icon='NODETREE')
+        layout.prop(id_data, fallback)
+        return
+    ntree = id_data.node_tree
+    node = ntree.get_output_node('CYCLES')
+    if node is None:
+        layout.label(text="No output node")
+        return
+    sock = next((i for i in node.inputs if i.name == input_name), None)
+    if sock is not None:
+        layout.template_node_view(ntree, node, sock)
+
+
+class FACET_PT_material_surface(FacetPanel, bpy.types.Panel):
+    bl_label = "Surface"
+    bl_context = "material"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.material is not None
+
+    def draw(self, context):
+        _node_panel(self.layout, context.material, 'OUTPUT_MATERIAL', 'Surface',
+                    "diffuse_color")
+
+
+class FACET_PT_world_surface(FacetPanel, bpy.types.Panel):
+    bl_label = "Surface"
+    bl_context = "world"
+
+    @classmethod
+    def poll(cls, context):
+        return super().poll(context) and context.world is not None
+
+    def draw(self, context):
+        _node_panel(self.layout, context.world, 'OUTPUT_WORLD', 'Surface', "color")
 
 
 class FACET_PT_material(FacetPanel, bpy.types.Panel):
@@ -166,22 +253,32 @@ class FACET_PT_object(FacetPanel, bpy.types.Panel):
         self.layout.operator("facet.clear_shape")
 
 
-_panels = []
-_classes = (FACET_PT_render, FACET_PT_material, FACET_PT_light, FACET_PT_object)
+_panels = []  # (panel class, its own COMPAT_ENGINES before, or None when inherited)
+_classes = (FACET_PT_render, FACET_PT_context_material, FACET_PT_material_preview,
+            FACET_PT_material_surface, FACET_PT_material, FACET_PT_world_surface,
+            FACET_PT_light, FACET_PT_object)
 
 
 def register():
     for c in _classes:
         bpy.utils.register_class(c)
     _plot[:] = [plot.PanelPlot()]
-    _panels[:] = _compat_panels()
-    for p in _panels:
-        p.COMPAT_ENGINES.add(ENGINE)
+    # Each panel gets its own set: COMPAT_ENGINES is often a set shared through a mixin (all of
+    # Cycles' panels share CyclesButtonsPanel's), and adding to it in place would show every
+    # panel of the mixin.
+    _panels.clear()
+    for p in _compat_panels():
+        own = p.__dict__.get("COMPAT_ENGINES")
+        _panels.append((p, own))
+        p.COMPAT_ENGINES = set(p.COMPAT_ENGINES) | {ENGINE}
 
 
 def unregister():
-    for p in _panels:
-        p.COMPAT_ENGINES.discard(ENGINE)
+    for p, own in _panels:
+        if own is None:
+            del p.COMPAT_ENGINES
+        else:
+            p.COMPAT_ENGINES = own
     _panels.clear()
     for p in _plot:
         p.close()

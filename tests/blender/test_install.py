@@ -27,9 +27,14 @@ def main():
     bt.check(os.path.dirname(facet.__file__).startswith(os.path.dirname(facet_blender.__file__)),
              "the native module is the zip's (%s)" % facet.__file__)
     bt.check(bpy.types.RENDER_PT_format.COMPAT_ENGINES >= {"FACET"}, "usual panels visible")
-    bt.check("FACET" in bpy.types.CYCLES_MATERIAL_PT_surface.COMPAT_ENGINES
-             if hasattr(bpy.types, "CYCLES_MATERIAL_PT_surface") else True,
-             "Cycles' node material panel visible for Facet")
+    bt.check("FACET" not in bpy.types.CYCLES_RENDER_PT_sampling.COMPAT_ENGINES
+             and "FACET" not in bpy.types.CYCLES_RENDER_PT_light_paths.COMPAT_ENGINES,
+             "Cycles' own render settings stay hidden for Facet")
+    bt.check("FACET" not in bpy.types.RENDER_PT_eevee_sampling.COMPAT_ENGINES,
+             "Eevee's panels stay hidden for Facet")
+    bt.check(hasattr(bpy.types, "FACET_PT_material_surface")
+             and hasattr(bpy.types, "FACET_PT_material_preview"),
+             "Facet's node surface and preview panels registered")
 
 
 bt.run(main)
