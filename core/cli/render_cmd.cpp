@@ -54,7 +54,8 @@ std::vector<int> parse_ints(const std::string& text, char sep, std::size_t n, co
     std::size_t pos = 0;
     while (true) {
         std::size_t end = text.find(sep, pos);
-        std::string item = text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
+        std::string item =
+            text.substr(pos, end == std::string::npos ? std::string::npos : end - pos);
         std::size_t used = 0;
         int x = -1;
         try {
@@ -186,7 +187,8 @@ void run_render(const RenderCmdOptions& o) {
 }
 
 void run_merge(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
-    if (outputs.empty()) throw std::runtime_error("merge: no output: give -o out.exr and/or -o out.png");
+    if (outputs.empty())
+        throw std::runtime_error("merge: no output: give -o out.exr and/or -o out.png");
     for (const auto& out : outputs) {
         const std::string e = extension_of(out);
         if (e != ".exr" && e != ".png")

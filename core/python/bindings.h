@@ -27,10 +27,8 @@
 #include <glm/glm.hpp>
 
 #include "facet/registry.h"
-#include "facet/types.h"
-#ifndef FACET_PYTHON_BRDF_ONLY
 #include "facet/render/scene.h"
-#endif
+#include "facet/types.h"
 
 namespace pybind11::detail {
 
@@ -127,15 +125,15 @@ ParamSet params_from_dict(py::handle params, const std::string& what);
 py::dict params_to_dict(const ParamSet& params);
 
 void bind_brdf(py::module_& m);
-#ifndef FACET_PYTHON_BRDF_ONLY
 // facet.Scene: a built scene, shared by the sessions rendering it (they keep it alive).
 struct SceneHandle {
     std::shared_ptr<const render::Scene> scene;
-    std::uint64_t degenerate_triangles = 0;  // from build_scene's BuildReport
+    // From build_scene's BuildReport (zero for load_scene).
+    std::uint64_t degenerate_triangles = 0;
+    double seconds_before_bvh = 0.0, seconds_bvh = 0.0;
 };
 
 void bind_scene(py::module_& m);
 void bind_render(py::module_& m);
-#endif
 
 }  // namespace facet::python

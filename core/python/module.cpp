@@ -3,9 +3,7 @@
 
 #include "bindings.h"
 #include "facet/registry.h"
-#ifndef FACET_PYTHON_BRDF_ONLY
 #include "facet/render/scene.h"
-#endif
 
 namespace facet::python {
 
@@ -64,6 +62,7 @@ PYBIND11_MODULE(_facet, m) {
     m.doc() =
         "Facet: physically based reflection models (Cohen & Wallace ch. 2) and the Facet "
         "renderer. See the README's Python section.";
+    m.attr("__version__") = FACET_VERSION;
 
     // C++ errors -> Python exceptions with the C++ message. ParamError and SceneError (bad
     // values, with their parameter name or JSON pointer) are ValueErrors, as std::invalid_argument
@@ -74,16 +73,12 @@ PYBIND11_MODULE(_facet, m) {
             if (p) std::rethrow_exception(p);
         } catch (const facet::ParamError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
-#ifndef FACET_PYTHON_BRDF_ONLY
         } catch (const facet::render::SceneError& e) {
             PyErr_SetString(PyExc_ValueError, e.what());
-#endif
         }
     });
 
     facet::python::bind_brdf(m);
-#ifndef FACET_PYTHON_BRDF_ONLY
     facet::python::bind_scene(m);
     facet::python::bind_render(m);
-#endif
 }

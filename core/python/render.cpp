@@ -102,8 +102,8 @@ T option_value(py::handle v, const char* name, const char* expected) {
     try {
         return v.cast<T>();
     } catch (const py::cast_error&) {
-        bad_argument(name, std::string("expected ") + expected + ", got " +
-                               std::string(py::str(py::type::of(v).attr("__name__"))));
+        bad_argument(name,
+                     std::string("expected ") + expected + ", got " + std::string(py::repr(v)));
     }
 }
 
@@ -150,7 +150,6 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
             o.tile_size = option_value<int>(value, "tile_size", "an int");
         else if (k == "pass_seconds") {
             o.pass_seconds = option_value<double>(value, "pass_seconds", "seconds");
-            if (!(o.pass_seconds >= 0)) bad_argument("pass_seconds", "must be >= 0");
         } else if (k == "force_general_kernel")
             o.force_general_kernel = option_value<bool>(value, k.c_str(), "a bool");
         else if (k == "uniform_light_selection")

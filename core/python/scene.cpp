@@ -195,6 +195,13 @@ E kind_from(py::handle v, const std::pair<const char*, E> (&table)[N], const cha
     }
 }
 
+template <class E, std::size_t N>
+std::string kind_name(E kind, const std::pair<const char*, E> (&table)[N]) {
+    for (const auto& [name, k] : table)
+        if (k == kind) return name;
+    return "?";
+}
+
 // Sets each keyword argument as an attribute of `self` (TypeError for unknown names).
 void set_fields(py::object self, const py::kwargs& kw, const char* type) {
     for (auto [key, value] : kw) {
@@ -280,8 +287,9 @@ std::string vec_str(const Vec3& v) {
     return s.str();
 }
 
-SceneHandle make_handle(Scene&& scene, std::uint64_t degenerate) {
-    return {std::make_shared<const Scene>(std::move(scene)), degenerate};
+SceneHandle make_handle(Scene&& scene, const BuildReport& report = {}) {
+    return {std::make_shared<const Scene>(std::move(scene)), report.degenerate_triangles,
+            report.seconds_before_bvh, report.seconds_bvh};
 }
 
 }  // namespace
@@ -437,10 +445,7 @@ void bind_scene(py::module_& m) {
         .def_readwrite("frequency", &ShapeDesc::frequency)
         .def(py::self == py::self)
         .def("__repr__", [](const ShapeDesc& s) {
-            std::string kind = "?";
-            for (const auto& [name, k] : kShapeKinds)
-                if (k == s.kind) kind = name;
-            return "facet.ShapeDesc('" + kind + "'" +
+            return "facet.ShapeDesc('" + kind_name(s.kind, kShapeKinds) + "'" +
                    (s.name.empty() ? "" : ", name='" + s.name + "'") +
                    (s.material_ref.empty() ? "" : ", material_ref='" + s.material_ref + "'") + ")";
         });
@@ -468,10 +473,7 @@ void bind_scene(py::module_& m) {
         .def_readwrite("radiance", &LightDesc::radiance)
         .def(py::self == py::self)
         .def("__repr__", [](const LightDesc& l) {
-            std::string kind = "?";
-            for (const auto& [name, k] : kLightKinds)
-                if (k == l.kind) kind = name;
-            return "facet.LightDesc('" + kind + "')";
+            return "facet.LightDesc('" + kind_name(l.kind, kLightKinds) + "')";
         });
 
     py::class_<PySceneDescription>(
@@ -575,6 +577,10 @@ void bind_scene(py::module_& m) {
                                    return std::vector<std::string>(w.begin(), w.end());
                                })
         .def_readonly("degenerate_triangles", &SceneHandle::degenerate_triangles)
+        .def_readonly("seconds_before_bvh", &SceneHandle::seconds_before_bvh,
+                      "build_scene's time before the BVH build (BuildReport)")
+        .def_readonly("seconds_bvh", &SceneHandle::seconds_bvh,
+                      "build_scene's BVH build time (BuildReport)")
         .def_property_readonly("fingerprint",
                                [](const SceneHandle& s) { return s.scene->fingerprint(); })
         .def_property_readonly("width",
@@ -611,7 +617,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(build_scene(d, name, limits, &report));
             }
-            return make_handle(std::move(*scene), report.degenerate_triangles);
+            return make_handle(std::move(*scene), report);
         },
         py::arg("desc"), py::arg("name") = "python", py::arg("max_triangles") = py::none(),
         py::arg("allow_files") = true,
@@ -626,7 +632,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(load_scene(path));
             }
-            return make_handle(std::move(*scene), 0);
+            return make_handle(std::move(*scene));
         },
         py::arg("path"), "Loads a JSON scene file (read_scene_description + build_scene).");
     m.def(
@@ -637,7 +643,7 @@ void bind_scene(py::module_& m) {
                 py::gil_scoped_release release;
                 scene.emplace(load_scene_from_string(json, name, base_dir));
             }
-            return make_handle(std::move(*scene), 0);
+            return make_handle(std::move(*scene));
         },
         py::arg("json"), py::arg("name") = "<string>", py::arg("base_dir") = ".",
         "Loads a scene from JSON text.");

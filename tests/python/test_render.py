@@ -17,9 +17,12 @@ def scene():
     return facet.load_scene_from_string(ts.scene_json(), name="tiny")
 
 
-def big_session(scene_json_spp=256, **options):
-    # Slow enough to be interrupted: 256 spp of the tiny scene at 2 threads takes seconds.
-    scene = facet.load_scene_from_string(ts.scene_json(scene_json_spp), name="slow")
+SLOW_SPP = 1024
+
+
+def big_session(**options):
+    # Slow enough to be interrupted: 1024 spp at 160 x 120 takes several seconds at 2 threads.
+    scene = facet.load_scene_from_string(ts.scene_json(SLOW_SPP, 160, 120), name="slow")
     return scene, facet.RenderSession(scene, threads=2, **options)
 
 
@@ -33,15 +36,19 @@ def test_python_render_equals_the_cli(tmp_path, facet_cli):
     np.testing.assert_array_equal(py, cli)
     # Thread count and pass sizes do not change the image.
     np.testing.assert_array_equal(facet.render(facet.load_scene(str(path)), threads=1,
-                                               pass_seconds=0.0), cli)
+                                               pass_seconds=1e-9), cli)
 
 
 def test_options_override_the_scene_and_bad_options_raise(scene):
     a = facet.render(scene, spp=2, seed=3, max_depth=2, integrator="direct")
     b = facet.render(scene, spp=2, seed=4, max_depth=2, integrator="direct")
     assert not np.array_equal(a, b)
-    with pytest.raises(ValueError, match=r"^spp: "):
-        facet.render(scene, spp=0)
+    with pytest.raises(ValueError, match=r"^spp: must be >= 1"):
+        facet.render(scene, spp=-1)
+    with pytest.raises(ValueError, match=r"^samples: 3:2 must be a non-empty range"):
+        facet.render(scene, samples=(3, 2))
+    with pytest.raises(ValueError, match=r"^seed: expected an int >= 0, got -1"):
+        facet.render(scene, seed=-1)
     with pytest.raises(ValueError, match="integrator"):
         facet.render(scene, integrator="pth")
     with pytest.raises(TypeError, match=r"unexpected keyword argument 'sp' \(did you mean 'spp'"):
@@ -54,7 +61,7 @@ def test_options_override_the_scene_and_bad_options_raise(scene):
 
 def test_progress_callback_sees_every_pass(scene):
     infos = []
-    image = facet.render(scene, spp=8, pass_seconds=0.0, progress=lambda i: infos.append(i))
+    image = facet.render(scene, spp=8, pass_seconds=1e-9, progress=lambda i: infos.append(i))
     assert [i.pass_ for i in infos] == list(range(1, len(infos) + 1))
     assert infos[-1].samples_done == 8 and infos[-1].samples_target == 8
     assert all(a.samples_done < b.samples_done for a, b in zip(infos, infos[1:]))
@@ -62,7 +69,7 @@ def test_progress_callback_sees_every_pass(scene):
 
 
 def test_cancel_from_the_callback_then_continue(scene):
-    session = facet.RenderSession(scene, spp=8, pass_seconds=0.0)
+    session = facet.RenderSession(scene, spp=8, pass_seconds=1e-9)
     seen = []
 
     def on_pass(info):
@@ -91,7 +98,7 @@ def test_cancel_from_another_thread():
     timer.join()
     assert finished is False and session.stats.cancelled
     assert elapsed < 2.0
-    assert 0 < session.samples_done < 256
+    assert 0 < session.samples_done < SLOW_SPP
     assert np.all(np.isfinite(session.image()))
 
 
@@ -128,7 +135,7 @@ def test_ctrl_c_cancels_cleanly(with_callback):
     assert elapsed < 2.0
     # The render has stopped: the session is usable and holds a valid partial image.
     assert session.stats.cancelled
-    assert 0 < session.samples_done < 256
+    assert 0 < session.samples_done < SLOW_SPP
     assert np.all(np.isfinite(session.image()))
     # Ctrl-C inside facet.render, no callback.
     timer = threading.Timer(0.2, _thread.interrupt_main)
@@ -139,7 +146,7 @@ def test_ctrl_c_cancels_cleanly(with_callback):
 
 
 def test_callback_exception_cancels_and_propagates(scene):
-    session = facet.RenderSession(scene, spp=8, pass_seconds=0.0)
+    session = facet.RenderSession(scene, spp=8, pass_seconds=1e-9)
 
     def boom(info):
         raise ZeroDivisionError("from the callback")
@@ -159,7 +166,7 @@ def test_continue_to_equals_a_fresh_render_of_the_total(scene):
     np.testing.assert_array_equal(session.image(), facet.render(scene, spp=10))
     with pytest.raises(ValueError):
         session.continue_to(4)
-    assert session.settings.spp == 10
+    assert session.settings.spp == 3  # the options' spp; the target is now 10
 
 
 def test_images_round_trip_through_files(scene, tmp_path):

@@ -19,14 +19,14 @@ def mesh_arrays():
     return positions, indices, normals.astype(np.float32)
 
 
-def scene_dict(spp=8):
+def scene_dict(spp=8, width=WIDTH, height=HEIGHT):
     positions, indices, normals = mesh_arrays()
     return {
         "format": "facet-scene",
         "version": 1,
         "description": "python test scene",
         "camera": {"position": [0, 1, 3], "look_at": [0, 0.3, 0], "up": [0, 1, 0], "fov": 45,
-                   "width": WIDTH, "height": HEIGHT},
+                   "width": width, "height": height},
         "render": {"integrator": "path", "spp": spp, "max_depth": 4, "seed": 7},
         "materials": {
             "gold": {"model": "ggx", "alpha": 0.3, "fresnel": "conductor"},
@@ -48,8 +48,8 @@ def scene_dict(spp=8):
     }
 
 
-def scene_json(spp=8):
-    return json.dumps(scene_dict(spp), indent=1)
+def scene_json(spp=8, width=WIDTH, height=HEIGHT):
+    return json.dumps(scene_dict(spp, width, height), indent=1)
 
 
 def numpy_description(spp=8):

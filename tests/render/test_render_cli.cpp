@@ -136,3 +136,47 @@ TEST_F(CliTest, DiffSizeMismatchAndRequire) {
     EXPECT_NE(q.output.find("RMSE              1"), std::string::npos) << q.output;
     EXPECT_TRUE(std::filesystem::exists(path("h.png")));
 }
+
+TEST_F(CliTest, RegionAndSamplePartsMergeIntoTheSingleRender) {
+    std::string text = kScene;
+    text.replace(text.find("\"spp\": 1"), 8, "\"spp\": 4");
+    const std::string scene = write("s.json", text);
+    ASSERT_EQ(run("render " + scene + " -q -o " + path("whole.exr")).code, 0);
+    // Left half, and the right half in two sample ranges on different thread counts.
+    const std::string parts[] = {
+        "render " + scene + " -q --region 0,0,7,12 -o " + path("left.fpart"),
+        "render " + scene + " -q --region 7,0,16,12 --samples 0:1 --threads 1 -o " +
+            path("r0.fpart"),
+        "render " + scene + " -q --region 7,0,16,12 --samples 1:4 -o " + path("r1.fpart")};
+    for (const std::string& p : parts) {
+        const CmdResult r = run(p);
+        ASSERT_EQ(r.code, 0) << p << "\n" << r.output;
+    }
+    const CmdResult m = run("merge " + path("left.fpart") + " " + path("r0.fpart") + " " +
+                            path("r1.fpart") + " -o " + path("merged.exr"));
+    ASSERT_EQ(m.code, 0) << m.output;
+    const fr::Image a = fr::read_image(path("whole.exr")), b = fr::read_image(path("merged.exr"));
+    ASSERT_EQ(a.pixels().size(), b.pixels().size());
+    for (std::size_t i = 0; i < a.pixels().size(); ++i)
+        ASSERT_EQ(a.pixels()[i], b.pixels()[i]) << i;
+    // Errors name the part: a missing range, an overlap, a different seed, a bad flag.
+    const CmdResult gap =
+        run("merge " + path("left.fpart") + " " + path("r1.fpart") + " -o " + path("x.exr"));
+    EXPECT_NE(gap.code, 0);
+    EXPECT_NE(gap.output.find("pixel (7, 0) has 3 of samples [0, 4)"), std::string::npos)
+        << gap.output;
+    const CmdResult overlap =
+        run("merge " + path("left.fpart") + " " + path("left.fpart") + " -o " + path("x.exr"));
+    EXPECT_NE(overlap.output.find("left.fpart overlap"), std::string::npos) << overlap.output;
+    ASSERT_EQ(
+        run("render " + scene + " -q --seed 9 --region 7,0,16,12 -o " + path("s9.fpart")).code, 0);
+    const CmdResult seed =
+        run("merge " + path("left.fpart") + " " + path("s9.fpart") + " -o " + path("x.exr"));
+    EXPECT_NE(seed.output.find("s9.fpart: rendered with seed 9"), std::string::npos) << seed.output;
+    EXPECT_FALSE(std::filesystem::exists(path("x.exr")));
+    const CmdResult flag = run("render " + scene + " -q --region 0,0,7 -o " + path("y.fpart"));
+    EXPECT_NE(flag.output.find("--region: expected x0,y0,x1,y1"), std::string::npos) << flag.output;
+    const CmdResult range = run("render " + scene + " -q --samples 2:9 -o " + path("y.fpart"));
+    EXPECT_NE(range.output.find("--samples: 2:9 must be a non-empty range"), std::string::npos)
+        << range.output;
+}

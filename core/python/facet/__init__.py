@@ -8,6 +8,6 @@ RGB, row 0 at the top. See the README's Python section.
 """
 
 from ._facet import *  # noqa: F401,F403
-from ._facet import __doc__ as _native_doc  # noqa: F401
+from ._facet import __version__  # noqa: F401
 
 __all__ = [name for name in dir() if not name.startswith("_")]

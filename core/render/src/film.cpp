@@ -36,10 +36,10 @@ void Film::add(const Film& o) {
         throw std::logic_error("Film::add: region outside the film");
     for (int y = r.y0; y < r.y1; ++y) {
         for (int x = r.x0; x < r.x1; ++x) {
-            const std::size_t src = std::size_t(y - r.y0) * std::size_t(r.width()) +
-                                    std::size_t(x - r.x0);
-            const std::size_t dst = std::size_t(y - m_region.y0) * std::size_t(width()) +
-                                    std::size_t(x - m_region.x0);
+            const std::size_t src =
+                std::size_t(y - r.y0) * std::size_t(r.width()) + std::size_t(x - r.x0);
+            const std::size_t dst =
+                std::size_t(y - m_region.y0) * std::size_t(width()) + std::size_t(x - m_region.x0);
             m_sums[dst] += o.m_sums[src];
             m_counts[dst] += o.m_counts[src];
         }
@@ -142,8 +142,8 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
         const PartInfo& p = parts[i].info;
         if (p.width != first.width || p.height != first.height)
             throw std::runtime_error(name(i) + ": image size " + std::to_string(p.width) + "x" +
-                                     std::to_string(p.height) + " differs from " + name(0) +
-                                     "'s " + std::to_string(first.width) + "x" +
+                                     std::to_string(p.height) + " differs from " + name(0) + "'s " +
+                                     std::to_string(first.width) + "x" +
                                      std::to_string(first.height));
         if (p.seed != first.seed)
             throw std::runtime_error(name(i) + ": rendered with seed " + std::to_string(p.seed) +
@@ -164,8 +164,9 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
             const PartInfo& q = parts[j].info;
             if (p.region.intersects(q.region) && p.sample_begin < q.sample_end &&
                 q.sample_begin < p.sample_end) {
-                const Region ov{std::max(p.region.x0, q.region.x0), std::max(p.region.y0, q.region.y0),
-                                std::min(p.region.x1, q.region.x1), std::min(p.region.y1, q.region.y1)};
+                const Region ov{
+                    std::max(p.region.x0, q.region.x0), std::max(p.region.y0, q.region.y0),
+                    std::min(p.region.x1, q.region.x1), std::min(p.region.y1, q.region.y1)};
                 throw std::runtime_error(
                     name(i) + " and " + name(j) + " overlap: both cover samples [" +
                     std::to_string(std::max(p.sample_begin, q.sample_begin)) + ", " +
@@ -180,10 +181,10 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
     for (std::size_t i = 0; i < counts.size(); ++i) {
         if (counts[i] != std::uint32_t(end)) {
             const int x = int(i % std::size_t(first.width)), y = int(i / std::size_t(first.width));
-            throw std::runtime_error(
-                "merge: pixel (" + std::to_string(x) + ", " + std::to_string(y) + ") has " +
-                std::to_string(counts[i]) + " of samples [0, " + std::to_string(end) +
-                "): no part covers the rest");
+            throw std::runtime_error("merge: pixel (" + std::to_string(x) + ", " +
+                                     std::to_string(y) + ") has " + std::to_string(counts[i]) +
+                                     " of samples [0, " + std::to_string(end) +
+                                     "): no part covers the rest");
         }
     }
     return out;

@@ -4,6 +4,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -27,8 +28,8 @@ MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32
         std::vector<std::uint32_t> i;
         std::vector<float> n;
     };
-    auto a = std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
-                                             std::move(normals)});
+    auto a = std::make_shared<Arrays>(
+        Arrays{std::move(positions), std::move(indices), std::move(normals)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
@@ -54,6 +55,11 @@ bool SceneDescription::operator==(const SceneDescription& o) const {
 
 namespace {
 
+// Largest |component| of a vector, in double.
+double max_abs(const glm::dvec3& v) {
+    return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+}
+
 const char* const kShapeTypeNames[] = {"sphere", "plane", "box",       "quad",
                                        "disc",   "mesh",  "icosphere", "grid"};
 
@@ -64,6 +70,7 @@ class Builder {
         : m_desc(desc), m_name(std::move(name)), m_limits(limits), m_report(report) {}
 
     Scene build() {
+        const auto t0 = std::chrono::steady_clock::now();
         m_builder.name() = m_name;
         m_builder.fingerprint() = fingerprint(m_desc);
         build_camera();
@@ -79,14 +86,22 @@ class Builder {
                  "the scene has no light source (no entry in \"lights\" and no shape with "
                  "\"emission\")");
         }
+        // The ray offset's floor (scene.h): a fixed fraction of the scene's coordinate scale, so
+        // that the image does not depend on the unit of length.
+        m_builder.offset_floor() =
+            std::max(float(Scene::kOffsetFloorFraction * m_max_coordinate), 1e-30f);
         build_render();
+        const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);
+        const auto t2 = std::chrono::steady_clock::now();
         analyse();
         m_builder.light_distribution() =
             LightDistribution(m_builder.scene.lights(), m_builder.scene.radius());
         if (m_report) {
             m_report->degenerate_triangles = m_degenerate;
             m_report->warnings = m_builder.warnings();
+            m_report->seconds_before_bvh = std::chrono::duration<double>(t1 - t0).count();
+            m_report->seconds_bvh = std::chrono::duration<double>(t2 - t1).count();
         }
         return std::move(m_builder.scene);
     }
@@ -101,7 +116,8 @@ class Builder {
 
     void check_finite(const Vec3& v, const std::string& ptr) const {
         for (int i = 0; i < 3; ++i) {
-            if (!std::isfinite(v[i])) fail(ptr + "/" + std::to_string(i), "must be a finite number");
+            if (!std::isfinite(v[i]))
+                fail(ptr + "/" + std::to_string(i), "must be a finite number");
         }
     }
     void check_finite(double d, const std::string& ptr) const {
@@ -149,6 +165,15 @@ class Builder {
                                  "in [0.001, 179] degrees (full vertical angle)");
         int w = int(check_int(c.width, ptr + "/width", 1, detail::kMaxImageSide));
         int h = int(check_int(c.height, ptr + "/height", 1, detail::kMaxImageSide));
+        for (const char* key : {"position", "look_at"}) {
+            const Vec3& v = key[0] == 'p' ? c.position : c.look_at;
+            if (max_abs(glm::dvec3(v)) > Scene::kMaxCoordinate) {
+                std::ostringstream msg;
+                msg << "beyond the renderer's coordinate range of +-" << Scene::kMaxCoordinate;
+                fail(ptr + "/" + key, msg.str());
+            }
+        }
+        m_max_coordinate = max_abs(glm::dvec3(c.position));
         if (std::int64_t(w) * h > m_limits.max_pixels) {
             fail(ptr, "the image has too many pixels (limit " +
                           std::to_string(m_limits.max_pixels) + ")");
@@ -407,6 +432,8 @@ class Builder {
                 if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
                     fail(ptr, "the transformed plane is not finite");
                 }
+                check_coordinate_range(max_abs(pl.point), index);
+                m_max_coordinate = std::max(m_max_coordinate, max_abs(pl.point));
                 impl.planes.push_back(pl);
                 break;
             }
@@ -461,8 +488,7 @@ class Builder {
                 }
                 double amp =
                     check_range(s.amplitude, ptr + "/amplitude", -1e6, 1e6, "in [-1e6, 1e6]");
-                double freq =
-                    check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
+                double freq = check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
                 reserve_triangles(2ull * std::uint64_t(nx) * std::uint64_t(ny), ptr);
                 mesh = make_grid(int(nx), int(ny), float(amp), float(freq));
                 tangent = Vec3(1.f, 0.f, 0.f);
@@ -511,11 +537,25 @@ class Builder {
             impl.meshes.push_back(std::move(g));
         }
         if (!bounds.empty()) {
+            check_coordinate_range(std::max(max_abs(bounds.lo), max_abs(bounds.hi)), index);
             m_builder.bounds().lo = glm::min(m_builder.bounds().lo, bounds.lo);
             m_builder.bounds().hi = glm::max(m_builder.bounds().hi, bounds.hi);
         }
         m_shape_bounds.push_back(bounds);
         m_builder.shapes().push_back(info);
+    }
+
+    // Coordinates beyond Scene::kMaxCoordinate break Embree's float triangle test (scene.h).
+    void check_coordinate_range(double m, std::uint32_t index) {
+        if (m > Scene::kMaxCoordinate) {
+            std::ostringstream msg;
+            msg << "the shape reaches coordinate " << m << ", beyond the renderer's range of +-"
+                << Scene::kMaxCoordinate
+                << " (float ray-triangle tests overflow there); scale the scene down or move it "
+                   "nearer the origin";
+            fail(shape_place(index), msg.str());
+        }
+        m_max_coordinate = std::max(m_max_coordinate, m);
     }
 
     // Removes triangles whose world-space edge cross product is exactly zero (repeated or
@@ -636,9 +676,10 @@ class Builder {
                 if (!(outer > 0.0 && outer < 180.0)) {
                     fail(ptr + "/outer_angle", "must be in (0, 180) degrees (half-angle)");
                 }
-                double inner = l.inner_angle ? check_range(*l.inner_angle, ptr + "/inner_angle",
-                                                           0.0, outer, "in [0, outer_angle] degrees")
-                                             : outer;
+                double inner = l.inner_angle
+                                   ? check_range(*l.inner_angle, ptr + "/inner_angle", 0.0, outer,
+                                                 "in [0, outer_angle] degrees")
+                                   : outer;
                 lights.push_back(Light::spot(p, dir, phi, float(inner), float(outer)));
                 break;
             }
@@ -754,6 +795,7 @@ class Builder {
     SceneLimits m_limits;
     BuildReport* m_report;
     std::uint64_t m_triangles = 0, m_degenerate = 0;
+    double m_max_coordinate = 0.0;  // largest |coordinate| of the camera and the shapes
     Scene::Builder m_builder;
     std::map<std::string, const Material*> m_named;
     const Material* m_black = nullptr;
@@ -778,8 +820,8 @@ std::string SceneFeatures::describe() const {
     return s.str();
 }
 
-Scene build_scene(const SceneDescription& desc, const std::string& name,
-                  const SceneLimits& limits, BuildReport* report) {
+Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,
+                  BuildReport* report) {
     return Builder(desc, name, limits, report).build();
 }
 

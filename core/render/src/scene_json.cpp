@@ -314,7 +314,8 @@ class Reader {
     void read_render(const json& r, const std::string& ptr, RenderSettings& s) const {
         expect_object(r, ptr);
         check_keys(r, ptr, {"integrator", "spp", "time_budget", "max_depth", "seed"});
-        if (r.contains("integrator")) s.integrator = get_string(r["integrator"], ptr + "/integrator");
+        if (r.contains("integrator"))
+            s.integrator = get_string(r["integrator"], ptr + "/integrator");
         if (r.contains("spp")) s.spp = int(get_int(r["spp"], ptr + "/spp", 1, detail::kMaxSpp));
         if (r.contains("time_budget")) {
             s.time_budget_s = get_number(r["time_budget"], ptr + "/time_budget");
@@ -498,7 +499,8 @@ class Reader {
                          type_name(m));
             }
         }
-        if (s.contains("transform")) d.transform = read_transform(s["transform"], ptr + "/transform");
+        if (s.contains("transform"))
+            d.transform = read_transform(s["transform"], ptr + "/transform");
 
         switch (d.kind) {
             case ShapeKind::Sphere:
@@ -652,7 +654,9 @@ class Reader {
 
 // --- writer ------------------------------------------------------------------------------------
 
-json vec_json(const Vec3& v) { return json::array({double(v.x), double(v.y), double(v.z)}); }
+json vec_json(const Vec3& v) {
+    return json::array({double(v.x), double(v.y), double(v.z)});
+}
 
 json material_json(const MaterialDesc& m) {
     json j = json::object();
@@ -694,7 +698,8 @@ std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = 146959810
 
 template <class T>
 json array_json_impl(std::span<const T> a, bool hashed) {
-    if (hashed) return std::to_string(a.size()) + ":" + std::to_string(fnv1a(a.data(), a.size_bytes()));
+    if (hashed)
+        return std::to_string(a.size()) + ":" + std::to_string(fnv1a(a.data(), a.size_bytes()));
     json j = json::array();
     for (const T& x : a) {
         if constexpr (std::is_floating_point_v<T>)
@@ -704,7 +709,9 @@ json array_json_impl(std::span<const T> a, bool hashed) {
     }
     return j;
 }
-json array_json(std::span<const float> a, bool hashed) { return array_json_impl(a, hashed); }
+json array_json(std::span<const float> a, bool hashed) {
+    return array_json_impl(a, hashed);
+}
 json array_json(std::span<const std::uint32_t> a, bool hashed) {
     return array_json_impl(a, hashed);
 }
@@ -715,9 +722,12 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     root["version"] = 1;
     if (!d.description.empty()) root["description"] = d.description;
     const CameraDesc& c = d.camera;
-    root["camera"] = {{"position", vec_json(c.position)}, {"look_at", vec_json(c.look_at)},
-                      {"up", vec_json(c.up)},             {"fov", c.fov},
-                      {"width", c.width},                 {"height", c.height}};
+    root["camera"] = {{"position", vec_json(c.position)},
+                      {"look_at", vec_json(c.look_at)},
+                      {"up", vec_json(c.up)},
+                      {"fov", c.fov},
+                      {"width", c.width},
+                      {"height", c.height}};
     json mats = json::object();
     for (const auto& [name, m] : d.materials) mats[name] = material_json(m);
     root["materials"] = mats;

@@ -146,9 +146,10 @@ struct RenderSession::State {
                         const std::uint32_t added = std::uint32_t(end - tile.next);
                         std::uint32_t* counts = film.counts();
                         for (int y = tile.r.y0; y < tile.r.y1; ++y) {
-                            std::uint32_t* row = counts +
-                                                 std::size_t(y - rs.region.y0) * std::size_t(rs.region.width()) -
-                                                 std::size_t(rs.region.x0);
+                            std::uint32_t* row =
+                                counts +
+                                std::size_t(y - rs.region.y0) * std::size_t(rs.region.width()) -
+                                std::size_t(rs.region.x0);
                             for (int x = tile.r.x0; x < tile.r.x1; ++x) row[x] += added;
                         }
                         tile.next = end;
@@ -156,8 +157,8 @@ struct RenderSession::State {
                         rays.fetch_add(c.rays, std::memory_order_relaxed);
                         shadow_rays.fetch_add(c.shadow_rays, std::memory_order_relaxed);
                         nonfinite.fetch_add(c.nonfinite, std::memory_order_relaxed);
-                        progress.add(std::uint64_t(tile.r.width()) * std::uint64_t(tile.r.height()) *
-                                     added);
+                        progress.add(std::uint64_t(tile.r.width()) *
+                                     std::uint64_t(tile.r.height()) * added);
                     }
                 },
                 tbb::simple_partitioner());
@@ -195,7 +196,9 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
 
 RenderSession::~RenderSession() = default;
 
-void RenderSession::cancel() { m->cancel.store(true); }
+void RenderSession::cancel() {
+    m->cancel.store(true);
+}
 
 void RenderSession::continue_to(int spp) {
     if (m->rs.spp == 1) {
@@ -205,8 +208,8 @@ void RenderSession::continue_to(int spp) {
     }
     if (spp < m->target) {
         throw std::invalid_argument("continue_to: " + std::to_string(spp) +
-                                    " is below the current target of " +
-                                    std::to_string(m->target) + " samples");
+                                    " is below the current target of " + std::to_string(m->target) +
+                                    " samples");
     }
     if (spp > (1 << 20)) throw std::invalid_argument("continue_to: at most 2^20 samples");
     m->target = spp;
@@ -261,8 +264,7 @@ bool RenderSession::render(const PassCallback& on_pass) {
             info.samples_target = s.target - rs.sample_begin;
             info.elapsed_s = elapsed_before + t;
             const int taken_now = now_done - start_done;
-            info.eta_s =
-                taken_now > 0 ? t / double(taken_now) * double(s.target - now_done) : 0.0;
+            info.eta_s = taken_now > 0 ? t / double(taken_now) * double(s.target - now_done) : 0.0;
             s.stats.seconds = elapsed_before + t;
             if (!on_pass(info)) {
                 completed = false;
@@ -289,18 +291,28 @@ bool RenderSession::render(const PassCallback& on_pass) {
     char summary[256];
     std::snprintf(summary, sizeof summary,
                   "%d spp, %.3g M paths/s, %.3g M rays/s (+%.3g M shadow rays/s), kernel %s%s",
-                  st.spp, double(st.paths) / st.seconds * 1e-6,
-                  double(st.rays) / st.seconds * 1e-6, double(st.shadow_rays) / st.seconds * 1e-6,
-                  s.choice.name.c_str(), completed ? "" : " (cancelled)");
+                  st.spp, double(st.paths) / st.seconds * 1e-6, double(st.rays) / st.seconds * 1e-6,
+                  double(st.shadow_rays) / st.seconds * 1e-6, s.choice.name.c_str(),
+                  completed ? "" : " (cancelled)");
     progress.finish(summary);
     return completed;
 }
 
-Image RenderSession::image() const { return m->film.resolve(); }
-const Film& RenderSession::film() const { return m->film; }
-const RenderStats& RenderSession::stats() const { return m->stats; }
-const ResolvedSettings& RenderSession::settings() const { return m->rs; }
-int RenderSession::samples_done() const { return m->min_next() - m->rs.sample_begin; }
+Image RenderSession::image() const {
+    return m->film.resolve();
+}
+const Film& RenderSession::film() const {
+    return m->film;
+}
+const RenderStats& RenderSession::stats() const {
+    return m->stats;
+}
+const ResolvedSettings& RenderSession::settings() const {
+    return m->rs;
+}
+int RenderSession::samples_done() const {
+    return m->min_next() - m->rs.sample_begin;
+}
 
 RenderPart RenderSession::part() const {
     const State& s = *m;

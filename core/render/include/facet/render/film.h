@@ -111,10 +111,10 @@ class Film {
 
 // What a part covers and which render it belongs to; merge() checks these.
 struct PartInfo {
-    std::string scene;             // scene name (for messages only)
-    std::uint64_t fingerprint = 0; // scene description + image-changing render settings
-    int width = 0, height = 0;     // the full image
-    Region region;                 // pixels covered
+    std::string scene;                     // scene name (for messages only)
+    std::uint64_t fingerprint = 0;         // scene description + image-changing render settings
+    int width = 0, height = 0;             // the full image
+    Region region;                         // pixels covered
     int sample_begin = 0, sample_end = 0;  // samples [begin, end) of every pixel of the region
     std::uint64_t seed = 0;
 };

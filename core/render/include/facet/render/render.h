@@ -96,11 +96,11 @@ ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& optio
 
 // What a pass callback sees.
 struct PassInfo {
-    int pass = 0;               // passes completed (1 after the first)
-    int samples_done = 0;       // samples per pixel completed (within the sample range)
-    int samples_target = 0;     // samples per pixel the session is rendering toward
-    double elapsed_s = 0;       // session time so far (all render() calls)
-    double eta_s = 0;           // estimated seconds to the target (0 when done)
+    int pass = 0;            // passes completed (1 after the first)
+    int samples_done = 0;    // samples per pixel completed (within the sample range)
+    int samples_target = 0;  // samples per pixel the session is rendering toward
+    double elapsed_s = 0;    // session time so far (all render() calls)
+    double eta_s = 0;        // estimated seconds to the target (0 when done)
 };
 
 class RenderSession {

@@ -81,17 +81,17 @@ struct ShapeDesc {
     bool flip_normals = false;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
 
-    Vec3 center{0.f};                     // sphere, disc, icosphere
-    double radius = 1.0;                  // sphere, disc, icosphere
-    Vec3 point{0.f};                      // plane
-    Vec3 normal{0.f, 0.f, 1.f};           // plane, disc (need not be unit)
-    Vec3 min{-1.f}, max{1.f};             // box
-    std::array<Vec3, 4> vertices{};       // quad
-    MeshData mesh;                        // mesh from arrays
-    std::string file;                     // mesh from an .obj/.ply file (instead of arrays)
-    int subdivisions = 0;                 // icosphere
-    bool smooth = true;                   // icosphere
-    int nx = 1, ny = 1;                   // grid
+    Vec3 center{0.f};                         // sphere, disc, icosphere
+    double radius = 1.0;                      // sphere, disc, icosphere
+    Vec3 point{0.f};                          // plane
+    Vec3 normal{0.f, 0.f, 1.f};               // plane, disc (need not be unit)
+    Vec3 min{-1.f}, max{1.f};                 // box
+    std::array<Vec3, 4> vertices{};           // quad
+    MeshData mesh;                            // mesh from arrays
+    std::string file;                         // mesh from an .obj/.ply file (instead of arrays)
+    int subdivisions = 0;                     // icosphere
+    bool smooth = true;                       // icosphere
+    int nx = 1, ny = 1;                       // grid
     double amplitude = 0.0, frequency = 0.0;  // grid
 
     bool operator==(const ShapeDesc&) const = default;
@@ -102,14 +102,14 @@ enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment };
 // One element of "lights".
 struct LightDesc {
     LightKind kind = LightKind::Point;
-    Vec3 position{0.f};                // point, spot
-    std::optional<Vec3> direction;     // spot (or look_at), directional; need not be unit
-    std::optional<Vec3> look_at;       // spot
-    Rgb power{0.f};                    // point, spot: W
-    double outer_angle = 45.0;         // spot half-angle, degrees
-    std::optional<double> inner_angle; // spot; none = outer_angle
-    Rgb irradiance{0.f};               // directional: W/m^2
-    Rgb radiance{0.f};                 // environment: W sr^-1 m^-2
+    Vec3 position{0.f};                 // point, spot
+    std::optional<Vec3> direction;      // spot (or look_at), directional; need not be unit
+    std::optional<Vec3> look_at;        // spot
+    Rgb power{0.f};                     // point, spot: W
+    double outer_angle = 45.0;          // spot half-angle, degrees
+    std::optional<double> inner_angle;  // spot; none = outer_angle
+    Rgb irradiance{0.f};                // directional: W/m^2
+    Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
     bool operator==(const LightDesc&) const = default;
 };
 
@@ -132,6 +132,9 @@ struct SceneDescription {
 struct BuildReport {
     std::uint64_t degenerate_triangles = 0;  // zero-area triangles dropped (every mesh)
     std::vector<std::string> warnings;       // one line each, naming the shape
+    // Wall time of the build before the BVH (validation, generation, transforms, copies into
+    // Embree's buffers) and of the BVH build itself, for benchmarks.
+    double seconds_before_bvh = 0.0, seconds_bvh = 0.0;
 };
 
 // Builds the renderable scene. Validates the whole description (see conventions): NaN/Inf

@@ -1,0 +1,179 @@
+// The renderer as a library (issue 9), measured in one run. Prints a table of medians and
+// same-run ratios.
+//
+//   facet_library_bench [--reps R] [--threads N]
+//
+//  1. Session overhead: the Cornell box rendered by one render() call (passes of at most
+//     kMaxPassSpp samples) against a RenderSession forced to its smallest pass (1 sample per
+//     pass, a no-op callback after each), same scene, same spp, alternating repetitions; the
+//     ratio is the median of per-repetition ratios. Both give the same image bit for bit.
+//  2. Cancellation latency at 1920x1080 (Cornell box): cancel() from another thread after a
+//     varying delay; the time from cancel() to render() returning, median and maximum, for a
+//     plain render (no callback) and a watched one (callback, pass_seconds 0.25).
+//  3. build_scene of a 1M-triangle mesh given as flat arrays (a displaced 708 x 708 grid,
+//     1,002,528 triangles): time before the BVH build (validation, transforms, copies) and the
+//     BVH build itself (Embree, RTC_BUILD_QUALITY_HIGH).
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include "facet/render/render.h"
+#include "facet/render/scene_description.h"
+
+namespace fr = facet::render;
+using Clock = std::chrono::steady_clock;
+
+namespace {
+
+double median(std::vector<double> v) {
+    std::sort(v.begin(), v.end());
+    const std::size_t n = v.size();
+    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
+}
+
+double seconds_since(Clock::time_point t) {
+    return std::chrono::duration<double>(Clock::now() - t).count();
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+    int reps = 5, threads = 0;
+    for (int i = 1; i < argc; ++i) {
+        if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
+            reps = std::atoi(argv[++i]);
+        } else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
+            threads = std::atoi(argv[++i]);
+        } else {
+            std::fprintf(stderr, "usage: facet_library_bench [--reps R] [--threads N]\n");
+            return 2;
+        }
+    }
+    const std::string cornell = std::string(FACET_SCENES_DIR) + "/cornell_box.json";
+
+    // 1. Session overhead at the smallest pass size.
+    {
+        const fr::Scene scene = fr::load_scene(cornell);
+        fr::RenderOptions o;
+        o.spp = 32;
+        o.threads = threads;
+        std::vector<double> plain, watched, ratio;
+        int passes = 0;
+        for (int r = 0; r < reps; ++r) {
+            auto t = Clock::now();
+            const fr::Image a = fr::render(scene, o);
+            plain.push_back(seconds_since(t));
+            fr::RenderOptions w = o;
+            w.pass_seconds = 1e-9;  // every pass is 1 sample
+            fr::RenderSession session(scene, w);
+            t = Clock::now();
+            session.render([](const fr::PassInfo&) { return true; });
+            watched.push_back(seconds_since(t));
+            passes = session.stats().passes;
+            ratio.push_back(watched.back() / plain.back());
+            if (std::memcmp(a.pixels().data(), session.image().pixels().data(),
+                            a.pixels().size() * sizeof(facet::Rgb)) != 0) {
+                std::fprintf(stderr, "session image differs from render()'s\n");
+                return 1;
+            }
+        }
+        std::printf("1. session overhead, Cornell box 512x512, 32 spp, %d reps\n", reps);
+        std::printf("   %-36s %10s\n", "", "median s");
+        std::printf("   %-36s %10.3f\n", "render() (passes of <= 16 spp)", median(plain));
+        std::printf("   %-36s %10.3f\n",
+                    ("session, " + std::to_string(passes) + " passes of 1 spp").c_str(),
+                    median(watched));
+        std::printf("   session / render(): median per-rep ratio %.4f (range %.4f-%.4f)\n\n",
+                    median(ratio), *std::min_element(ratio.begin(), ratio.end()),
+                    *std::max_element(ratio.begin(), ratio.end()));
+    }
+
+    // 2. Cancellation latency at 1920x1080.
+    {
+        fr::SceneDescription d = fr::read_scene_description(cornell);
+        d.camera.width = 1920;
+        d.camera.height = 1080;
+        const fr::Scene scene = fr::build_scene(d, "cornell 1080p");
+        std::printf("2. cancellation latency, Cornell box 1920x1080 (cancel() -> render() returns)\n");
+        std::printf("   %-28s %12s %12s %8s\n", "", "median ms", "max ms", "trials");
+        for (int watched = 0; watched < 2; ++watched) {
+            std::vector<double> lat;
+            for (int r = 0; r < std::max(reps, 5); ++r) {
+                fr::RenderOptions o;
+                o.spp = 4096;
+                o.threads = threads;
+                fr::RenderSession session(scene, o);
+                Clock::time_point cancelled_at;
+                std::thread canceller([&] {
+                    std::this_thread::sleep_for(std::chrono::milliseconds(150 + 97 * r));
+                    cancelled_at = Clock::now();
+                    session.cancel();
+                });
+                if (watched)
+                    session.render([](const fr::PassInfo&) { return true; });
+                else
+                    session.render();
+                const auto returned = Clock::now();
+                canceller.join();
+                lat.push_back(std::chrono::duration<double>(returned - cancelled_at).count() * 1e3);
+            }
+            std::printf("   %-28s %12.2f %12.2f %8zu\n",
+                        watched ? "watched (callback)" : "plain render()", median(lat),
+                        *std::max_element(lat.begin(), lat.end()), lat.size());
+        }
+        std::printf("\n");
+    }
+
+    // 3. build_scene of a 1M-triangle mesh from arrays.
+    {
+        const int n = 708;
+        std::vector<float> pos;
+        std::vector<std::uint32_t> idx;
+        pos.reserve(std::size_t(n + 1) * (n + 1) * 3);
+        for (int j = 0; j <= n; ++j) {
+            for (int i = 0; i <= n; ++i) {
+                const float x = -1.f + 2.f * float(i) / n, y = -1.f + 2.f * float(j) / n;
+                pos.insert(pos.end(), {x, 0.05f * std::sin(9.f * x) * std::sin(9.f * y), y});
+            }
+        }
+        for (int j = 0; j < n; ++j) {
+            for (int i = 0; i < n; ++i) {
+                const std::uint32_t a = std::uint32_t(j * (n + 1) + i), b = a + 1,
+                                    c = a + std::uint32_t(n + 1), e = c + 1;
+                idx.insert(idx.end(), {a, c, b, b, c, e});
+            }
+        }
+        fr::SceneDescription d;
+        d.camera = {{0.f, 2.f, 3.f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 40.0, 64, 64};
+        d.materials.push_back({"white", {"lambert", {}}});
+        fr::ShapeDesc s;
+        s.kind = fr::ShapeKind::Mesh;
+        s.material_ref = "white";
+        s.mesh = fr::MeshData{pos, idx, {}, nullptr};
+        d.shapes.push_back(s);
+        fr::LightDesc l;
+        l.position = {0.f, 3.f, 0.f};
+        l.power = facet::Rgb(100.f);
+        d.lights.push_back(l);
+        std::vector<double> before, bvh;
+        for (int r = 0; r < std::max(3, reps / 2); ++r) {
+            fr::BuildReport rep;
+            const fr::Scene sc = fr::build_scene(d, "grid", {}, &rep);
+            before.push_back(rep.seconds_before_bvh);
+            bvh.push_back(rep.seconds_bvh);
+        }
+        std::printf("3. build_scene, %zu triangles from flat arrays, %zu reps\n", idx.size() / 3,
+                    before.size());
+        std::printf("   before the BVH (validate, transform, copy): median %.4f s (target <= 0.1)\n",
+                    median(before));
+        std::printf("   Embree buffers + BVH build:                median %.4f s\n", median(bvh));
+    }
+    return 0;
+}
