@@ -16,6 +16,10 @@ packages=(
   povray povray-examples povray-includes dpkg-dev patch xz-utils
   debhelper autoconf-archive libpng-dev zlib1g-dev libx11-dev libxt-dev libice-dev
   libjpeg-dev libtiff-dev libboost-thread-dev libsdl1.2-dev libxpm-dev autoconf automake
+  # the Blender addon and its tests: Debian's Blender 3.4.1 (embeds /usr/bin/python3 3.11 and
+  # loads the system Embree/TBB; ~32 s to install here) run headless (`blender -b`), and Xvfb
+  # for the viewport tests
+  blender xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do
