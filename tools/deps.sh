@@ -20,6 +20,8 @@ packages=(
   # loads the system Embree/TBB; ~32 s to install here) run headless (`blender -b`), and Xvfb
   # for the viewport tests
   blender xvfb xauth
+  # facet-farm, distributed rendering (facet.farm): Dask's scheduler, workers and LocalCluster
+  python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do
