@@ -10,6 +10,8 @@
    alternating runs of the same process tree. Target: <= 2 % slower.
 3. A session at its smallest pass size (1 spp per pass, a Python callback after each) against one
    render() call. Target: <= 3 % overhead.
+4. The cost of one pass beyond its samples, on a one-tile region (robust against the load of a
+   shared machine, which moves whole-image timings by 10-25 % between runs).
 
 Every figure is the median of --reps runs; ratios are of medians from the same run.
 """
@@ -106,7 +108,7 @@ def cli_render(cli, scene_path, spp, stats_path):
     return json.loads(pathlib.Path(stats_path).read_text())["seconds"]
 
 
-def bench_render(cli, reps, spp):
+def bench_render(cli, reps, spp, per_pass):
     scene_path = ROOT / "scenes" / "cornell_box.json"
     scene = facet.load_scene(str(scene_path))
     opts = {"spp": spp} if spp else {}
@@ -146,8 +148,41 @@ def bench_render(cli, reps, spp):
         ("  same, wall time", f"{m(sess_wall):.3f} s", f"{m(sess_wall) / c:.3f}"),
         ("1-spp-pass session / facet.render session (sample loop)", "",
          f"{m(sess_loop) / m(py_loop):.3f}"),
+        # Ratios of neighbouring runs, then their median: less sensitive to the load drifting
+        # across the whole benchmark than ratios of medians.
+        ("median per-rep ratio: facet.render / CLI", "",
+         f"{m([p / c for p, c in zip(py_loop, cli_s)]):.3f}"),
+        ("median per-rep ratio: 1-spp session / facet.render", "",
+         f"{m([q / p for q, p in zip(sess_loop, py_loop)]):.3f}"),
+        (f"implied by section 4: {passes[0]} passes x cost per pass / render", "",
+         f"{1 + passes[0] * per_pass / m(py_loop):.4f}"),
     ]
     return rows, {"cli": cli_s, "python": py_loop, "session_1spp": sess_loop}
+
+
+def bench_pass_cost(reps):
+    """Cost of one pass beyond its samples: a 16 x 16 region of the Cornell box (one tile) at
+    512 spp, in 1-spp passes with a Python callback against one call; the difference per pass is
+    what the pass structure (tile dispatch, the GIL round trip, the callback) costs. Small
+    renders are far less disturbed by a loaded machine than whole images."""
+    scene = facet.load_scene(str(ROOT / "scenes" / "cornell_box.json"))
+    opts = dict(region=(248, 248, 264, 264), spp=512, threads=2)
+    one, fine, passes = [], [], 0
+    for _ in range(reps):
+        s = facet.RenderSession(scene, **opts)
+        s.render()
+        one.append(s.stats.seconds)
+        s = facet.RenderSession(scene, pass_seconds=1e-9, **opts)
+        s.render(lambda info: True)
+        fine.append(s.stats.seconds)
+        passes = s.stats.passes
+    m = statistics.median
+    per_pass = (m(fine) - m(one)) / max(1, passes - 1)
+    return [
+        ("one tile, 512 spp: render() (few passes)", f"{m(one) * 1e3:.1f} ms", ""),
+        (f"one tile, 512 spp: {passes} 1-spp passes", f"{m(fine) * 1e3:.1f} ms", ""),
+        ("cost per pass (difference / passes)", f"{per_pass * 1e6:.0f} us", ""),
+    ], per_pass
 
 
 def table(title, rows):
@@ -168,8 +203,10 @@ def main():
           f"{os.cpu_count()} cores, load {os.getloadavg()[0]:.2f}, medians of {a.reps} runs")
     rows = bench_build(a.reps)
     table("1. 1M-triangle scene from numpy arrays", rows)
+    rows, per_pass = bench_pass_cost(a.reps)
+    table("4. What a pass costs beyond its samples", rows)
     if not a.skip_render:
-        rows, raw = bench_render(a.cli, a.reps, a.spp)
+        rows, raw = bench_render(a.cli, a.reps, a.spp, per_pass)
         table("2./3. Cornell box (scenes/cornell_box.json), alternating runs; ratio to the CLI",
               rows)
         print("  raw seconds:", {k: [round(x, 3) for x in v] for k, v in raw.items()})

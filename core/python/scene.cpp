@@ -195,6 +195,13 @@ E kind_from(py::handle v, const std::pair<const char*, E> (&table)[N], const cha
     }
 }
 
+template <class E, std::size_t N>
+std::string kind_name(E kind, const std::pair<const char*, E> (&table)[N]) {
+    for (const auto& [name, k] : table)
+        if (k == kind) return name;
+    return "?";
+}
+
 // Sets each keyword argument as an attribute of `self` (TypeError for unknown names).
 void set_fields(py::object self, const py::kwargs& kw, const char* type) {
     for (auto [key, value] : kw) {
@@ -438,10 +445,7 @@ void bind_scene(py::module_& m) {
         .def_readwrite("frequency", &ShapeDesc::frequency)
         .def(py::self == py::self)
         .def("__repr__", [](const ShapeDesc& s) {
-            std::string kind = "?";
-            for (const auto& [name, k] : kShapeKinds)
-                if (k == s.kind) kind = name;
-            return "facet.ShapeDesc('" + kind + "'" +
+            return "facet.ShapeDesc('" + kind_name(s.kind, kShapeKinds) + "'" +
                    (s.name.empty() ? "" : ", name='" + s.name + "'") +
                    (s.material_ref.empty() ? "" : ", material_ref='" + s.material_ref + "'") + ")";
         });
@@ -469,10 +473,7 @@ void bind_scene(py::module_& m) {
         .def_readwrite("radiance", &LightDesc::radiance)
         .def(py::self == py::self)
         .def("__repr__", [](const LightDesc& l) {
-            std::string kind = "?";
-            for (const auto& [name, k] : kLightKinds)
-                if (k == l.kind) kind = name;
-            return "facet.LightDesc('" + kind + "')";
+            return "facet.LightDesc('" + kind_name(l.kind, kLightKinds) + "')";
         });
 
     py::class_<PySceneDescription>(
