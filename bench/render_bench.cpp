@@ -103,7 +103,7 @@ RaySets make_rays(const fr::Scene& scene, std::size_t count) {
         const Vec3 n = glm::dot(hit.ng, -cam_ray.d) >= 0.f ? hit.ng : -hit.ng;
         const facet::Frame f = facet::Frame::from_z(n);
         const Vec3 d = f.from_local(facet::sample_cosine_hemisphere({rnd(state), rnd(state)}));
-        sets.bounce.push_back(fr::Scene::spawn_ray(hit.p, n, d));
+        sets.bounce.push_back(scene.spawn_ray(hit.p, n, d));
         if (lights.empty()) continue;
         float pmf = 0.f;
         const fr::Light& light = lights[scene.light_distribution().sample(rnd(state), pmf)];
@@ -112,8 +112,8 @@ RaySets make_rays(const fr::Scene& scene, std::size_t count) {
         // The ray the integrators trace (integrator.cpp: occluded_segment for lights at a finite
         // distance, occluded for directional/environment lights).
         fr::Ray r = std::isfinite(ls->dist)
-                        ? fr::Scene::shadow_ray(hit.p, hit.ng, ls->p_light, ls->n_light)
-                        : fr::Scene::spawn_ray(hit.p, hit.ng, ls->wi);
+                        ? scene.shadow_ray(hit.p, hit.ng, ls->p_light, ls->n_light)
+                        : scene.spawn_ray(hit.p, hit.ng, ls->wi);
         if (!(r.tmax > 0.f)) continue;
         sets.shadow_queries.push_back({hit.p, hit.ng, ls->wi, ls->dist, ls->p_light, ls->n_light});
         sets.shadow.push_back(r);

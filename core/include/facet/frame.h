@@ -77,7 +77,9 @@ struct Frame {
     static Frame from_z_x(const Vec3& n, const Vec3& tangent_hint) {
         Vec3 t = tangent_hint - glm::dot(tangent_hint, n) * n;
         float len2 = glm::dot(t, t);
-        if (!(len2 > 1e-12f)) return from_z(n);
+        // Relative to the hint's length: a hint of any scale (a scene in km or in nm) that is
+        // not within ~1e-6 rad of n gives a tangent; a zero or parallel hint falls back.
+        if (!(len2 > 1e-12f * glm::dot(tangent_hint, tangent_hint))) return from_z(n);
         Frame f;
         f.z = n;
         f.x = t / std::sqrt(len2);

@@ -300,9 +300,12 @@ void Scene::Impl::build(const std::string& name) {
                 const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
                 const Vec3& p1 = mesh.positions[mesh.indices[3 * t + 1]];
                 const Vec3& p2 = mesh.positions[mesh.indices[3 * t + 2]];
-                Vec3 n = glm::cross(p1 - p0, p2 - p0);
-                float len = glm::length(n);
-                n = len > 0.f ? n / len : Vec3(0.f, 0.f, 1.f);
+                // In double: the float cross product's squared length overflows for edges
+                // beyond ~4e9, which zeroed the walls' normals of a Cornell box scaled by 1e7.
+                const glm::dvec3 c =
+                    glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+                const double len = glm::length(c);
+                const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
                 planes[t] = glm::vec4(n, glm::dot(n, p0));
             }
             // Embree holds the data now (the scene keeps the geometry and its buffers alive).

@@ -106,9 +106,10 @@ inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSam
                                   : scene.occluded(hit.p, hit.ng, ls.wi, ls.dist);
 }
 // The ray shadowed() traces (tmax <= 0: nothing to test, not shadowed).
-[[gnu::always_inline]] inline Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
-    return std::isfinite(ls.dist) ? Scene::shadow_ray(hit.p, hit.ng, ls.p_light, ls.n_light)
-                                  : Scene::spawn_ray(hit.p, hit.ng, ls.wi);
+[[gnu::always_inline]] inline Ray shadow_ray(const Scene& scene, const SurfaceHit& hit,
+                                             const LightLiSample& ls) {
+    return std::isfinite(ls.dist) ? scene.shadow_ray(hit.p, hit.ng, ls.p_light, ls.n_light)
+                                  : scene.spawn_ray(hit.p, hit.ng, ls.wi);
 }
 
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
@@ -238,7 +239,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
-                    shadow.set(k, shadow_ray(hit, *ls));
+                    shadow.set(k, shadow_ray(scene, hit, *ls));
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
@@ -279,7 +280,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             p.beta /= 1.f - q;
         }
     }
-    rays.set(k, Scene::spawn_ray(hit.p, hit.ng, wi_w));
+    rays.set(k, scene.spawn_ray(hit.p, hit.ng, wi_w));
     ++c.rays;
     return true;
 }
@@ -407,7 +408,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                 if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
                 if (!(max3(beta) > 0.f)) break;
-                ray = Scene::spawn_ray(hit.p, hit.ng, wi_w);
+                ray = scene.spawn_ray(hit.p, hit.ng, wi_w);
                 ++c.rays;
                 continue;
             }

@@ -112,7 +112,10 @@ Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uin
     l.m_tri_n.resize(areas.size());
     for (std::size_t i = 0; i < areas.size(); ++i) {
         const Vec3 &p0 = l.m_tri[3 * i], &p1 = l.m_tri[3 * i + 1], &p2 = l.m_tri[3 * i + 2];
-        l.m_tri_n[i] = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+        // In double: the float cross product's squared length overflows for edges beyond ~4e9
+        // (a Cornell box scaled by 1e7 lost its light this way).
+        l.m_tri_n[i] = Vec3(glm::normalize(
+            glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0))));
     }
     if (!l.m_tri.empty()) {
         l.m_position = (l.m_tri[0] + l.m_tri[1] + l.m_tri[2]) / 3.f;
@@ -175,10 +178,10 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     l.m_position = center;
     l.m_e1 = e1;
     l.m_e2 = e2;
-    Vec3 c = glm::cross(e1, e2);
-    l.m_normal = glm::normalize(c);
+    const glm::dvec3 c = glm::cross(glm::dvec3(e1), glm::dvec3(e2));  // double: see area_triangles
+    l.m_normal = Vec3(glm::normalize(c));
     l.m_emission = radiance;
-    l.m_area = kPi * glm::length(c);  // an affine image of the unit disc
+    l.m_area = float(kPiD * glm::length(c));  // an affine image of the unit disc
     l.m_inv_area = 1.f / l.m_area;
     return l;
 }

@@ -55,6 +55,11 @@ bool SceneDescription::operator==(const SceneDescription& o) const {
 
 namespace {
 
+// Largest |component| of a vector, in double.
+double max_abs(const glm::dvec3& v) {
+    return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
+}
+
 const char* const kShapeTypeNames[] = {"sphere", "plane", "box",       "quad",
                                        "disc",   "mesh",  "icosphere", "grid"};
 
@@ -81,6 +86,10 @@ class Builder {
                  "the scene has no light source (no entry in \"lights\" and no shape with "
                  "\"emission\")");
         }
+        // The ray offset's floor (scene.h): a fixed fraction of the scene's coordinate scale, so
+        // that the image does not depend on the unit of length.
+        m_builder.offset_floor() =
+            std::max(float(Scene::kOffsetFloorFraction * m_max_coordinate), 1e-30f);
         build_render();
         const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);
@@ -156,6 +165,15 @@ class Builder {
                                  "in [0.001, 179] degrees (full vertical angle)");
         int w = int(check_int(c.width, ptr + "/width", 1, detail::kMaxImageSide));
         int h = int(check_int(c.height, ptr + "/height", 1, detail::kMaxImageSide));
+        for (const char* key : {"position", "look_at"}) {
+            const Vec3& v = key[0] == 'p' ? c.position : c.look_at;
+            if (max_abs(glm::dvec3(v)) > Scene::kMaxCoordinate) {
+                std::ostringstream msg;
+                msg << "beyond the renderer's coordinate range of +-" << Scene::kMaxCoordinate;
+                fail(ptr + "/" + key, msg.str());
+            }
+        }
+        m_max_coordinate = max_abs(glm::dvec3(c.position));
         if (std::int64_t(w) * h > m_limits.max_pixels) {
             fail(ptr, "the image has too many pixels (limit " +
                           std::to_string(m_limits.max_pixels) + ")");
@@ -414,6 +432,8 @@ class Builder {
                 if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
                     fail(ptr, "the transformed plane is not finite");
                 }
+                check_coordinate_range(max_abs(pl.point), index);
+                m_max_coordinate = std::max(m_max_coordinate, max_abs(pl.point));
                 impl.planes.push_back(pl);
                 break;
             }
@@ -517,11 +537,25 @@ class Builder {
             impl.meshes.push_back(std::move(g));
         }
         if (!bounds.empty()) {
+            check_coordinate_range(std::max(max_abs(bounds.lo), max_abs(bounds.hi)), index);
             m_builder.bounds().lo = glm::min(m_builder.bounds().lo, bounds.lo);
             m_builder.bounds().hi = glm::max(m_builder.bounds().hi, bounds.hi);
         }
         m_shape_bounds.push_back(bounds);
         m_builder.shapes().push_back(info);
+    }
+
+    // Coordinates beyond Scene::kMaxCoordinate break Embree's float triangle test (scene.h).
+    void check_coordinate_range(double m, std::uint32_t index) {
+        if (m > Scene::kMaxCoordinate) {
+            std::ostringstream msg;
+            msg << "the shape reaches coordinate " << m << ", beyond the renderer's range of +-"
+                << Scene::kMaxCoordinate
+                << " (float ray-triangle tests overflow there); scale the scene down or move it "
+                   "nearer the origin";
+            fail(shape_place(index), msg.str());
+        }
+        m_max_coordinate = std::max(m_max_coordinate, m);
     }
 
     // Removes triangles whose world-space edge cross product is exactly zero (repeated or
@@ -761,6 +795,7 @@ class Builder {
     SceneLimits m_limits;
     BuildReport* m_report;
     std::uint64_t m_triangles = 0, m_degenerate = 0;
+    double m_max_coordinate = 0.0;  // largest |coordinate| of the camera and the shapes
     Scene::Builder m_builder;
     std::map<std::string, const Material*> m_named;
     const Material* m_black = nullptr;

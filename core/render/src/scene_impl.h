@@ -68,6 +68,7 @@ struct Scene::Builder {
     Scene scene;
     std::string& name() { return scene.m_name; }
     std::uint64_t& fingerprint() { return scene.m_fingerprint; }
+    float& offset_floor() { return scene.m_offset_floor; }
     std::vector<std::string>& warnings() { return scene.m_warnings; }
     Camera& camera() { return scene.m_camera; }
     RenderSettings& settings() { return scene.m_settings; }
