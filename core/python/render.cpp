@@ -75,7 +75,7 @@ py::tuple region_tuple(const Region& r) {
             msg.substr(2, colon == std::string::npos ? std::string::npos : colon - 2);
         for (char& c : flag)
             if (c == '-') c = '_';
-        if (flag == "time_budget") flag = "time_budget";
+        if (flag == "time") flag = "time_budget";  // the CLI's --time
         msg = flag + (colon == std::string::npos ? "" : msg.substr(colon));
     }
     throw py::value_error(msg);
