@@ -98,3 +98,26 @@ def test_plan():
     assert samples == [(0, 4), (4, 8), (8, 10)]
     with pytest.raises(farm.FarmError, match="--tile-size"):
         farm.plan_still(10, 10, 4, 1, tile_size=0)
+
+
+def test_scene_travels_without_shared_files(client, tmp_path):
+    # An inline mesh (arrays travel as numpy buffers) and a mesh file (its bytes travel): the
+    # file is deleted before the tasks run, so the workers cannot read it from disk.
+    (tmp_path / "wedge.obj").write_text("v 100 0 100\nv 400 0 150\nv 250 300 300\n"
+                                        "v 250 0 400\nf 1 2 3\nf 1 3 4\n")
+
+    def edit(d):
+        d["shapes"].append({"type": "mesh", "name": "tri", "material": "white",
+                            "positions": [300, 50, 200, 500, 50, 250, 400, 250, 300],
+                            "indices": [0, 1, 2]})
+        d["shapes"].append({"type": "mesh", "name": "wedge", "material": "white",
+                            "file": "wedge.obj"})
+    scene = write_scene(tmp_path / "meshes.json", 64, 48, 6, edit=edit)
+    ref = cli_render(scene, tmp_path / "ref.exr")
+    payload = farm.load_payload(str(scene))
+    assert payload.meshes and payload.files
+    (tmp_path / "wedge.obj").unlink()
+    farm._scenes.clear()  # in-process: not the client's validated scene either
+    regions, samples = farm.plan_still(64, 48, 6, 2, tile_size=16, sample_chunk=4)
+    [image] = farm.run_jobs(client, [farm.Job(payload, regions, samples, [])])
+    assert_same(image, ref)
