@@ -9,4 +9,11 @@ cmake --build build -j"$(nproc)"
 mkdir -p out
 build/core/cli/facet render scenes/showcase.json -o out/showcase_facet.exr -o out/showcase_facet.png
 build/core/cli/facet brdf plot --model ggx --alpha 0.3 --theta 45 -o out/ggx_lobe.png
+# The same showcase inside headless Blender with the Facet addon (installed from the zip into a
+# user scripts directory in the build tree, not the user's own Blender configuration).
+if [ -f build/blender_addon/facet_blender.zip ] && command -v blender > /dev/null; then
+  BLENDER_USER_SCRIPTS="$PWD/build/blender_user/scripts" BLENDER_USER_CONFIG="$PWD/build/blender_user/config" \
+    blender -b --factory-startup -noaudio --python blender_addon/render_json.py -- \
+    build/blender_addon/facet_blender.zip scenes/showcase.json out/showcase_blender.exr out/showcase_blender.png
+fi
 echo "build.sh: done; images in out/"

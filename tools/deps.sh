@@ -9,6 +9,19 @@ packages=(
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
   # the facet Python module (built against Debian's /usr/bin/python3, the one Blender embeds)
   python3-dev pybind11-dev python3-numpy python3-pytest
+  # povray-facet (povray_patch/): the stock POV-Ray and its example scenes as the reference of
+  # the `povray` tests, dpkg-dev and patch for `apt-get source`, and POV-Ray's build-deps as
+  # Debian's debian/control lists them (libsdl-dev is provided by libsdl1.2-dev on bookworm;
+  # debhelper brings autoconf, automake and dh-autoreconf)
+  povray povray-examples povray-includes dpkg-dev patch xz-utils
+  debhelper autoconf-archive libpng-dev zlib1g-dev libx11-dev libxt-dev libice-dev
+  libjpeg-dev libtiff-dev libboost-thread-dev libsdl1.2-dev libxpm-dev autoconf automake
+  # the Blender addon and its tests: Debian's Blender 3.4.1 (embeds /usr/bin/python3 3.11 and
+  # loads the system Embree/TBB; ~32 s to install here) run headless (`blender -b`), and Xvfb
+  # for the viewport tests
+  blender xvfb xauth
+  # facet-farm, distributed rendering (facet.farm): Dask's scheduler, workers and LocalCluster
+  python3-distributed
 )
 missing=()
 for p in "${packages[@]}"; do

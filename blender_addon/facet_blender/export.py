@@ -1,0 +1,369 @@
+"""Blender scene (evaluated depsgraph) -> Facet scene data (native.py's vocabulary).
+
+Meshes go through foreach_get into numpy (never Blender's structs by pointer): the evaluated
+mesh (modifiers applied) of every visible object instance, triangulated by Blender's
+loop_triangles, split by material slot (one Facet mesh shape per slot used), with split
+normals when any face is smooth, in object space with the instance's world matrix as the
+shape's transform.
+
+Objects imported from a Facet JSON scene carry their original description as custom
+properties ("facet_shape", "facet_camera", "facet_light", "facet_environment") with a
+snapshot of their Blender state ("facet_state"). While the state is unchanged the original
+description is exported as it was read (exact analytic shapes, double-precision transforms,
+the exact camera), so a JSON scene renders in Blender exactly as with `facet render`; once the
+user moves or edits it, the Blender state is exported instead.
+"""
+import json
+import math
+
+import numpy as np
+
+from . import materials, units
+
+GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
+DEFAULT_MATERIAL_NAME = "facet_default"
+
+
+class ExportError(Exception):
+    pass
+
+
+# --- state snapshots of imported objects ----------------------------------------------------
+
+def _floats(vals):
+    return ",".join(repr(float(v)) for v in vals)
+
+
+def object_state(obj, matrix=None):
+    m = obj.matrix_world if matrix is None else matrix
+    parts = [_floats(v for row in m for v in row)]
+    if obj.type == 'CAMERA':
+        c = obj.data
+        parts.append(_floats((c.lens, c.sensor_width, c.sensor_height, c.shift_x, c.shift_y)))
+        parts.append(c.sensor_fit + c.type)
+    elif obj.type == 'LIGHT':
+        lt = obj.data
+        parts.append(lt.type + _floats(list(lt.color) + [lt.energy]))
+        if lt.type == 'SPOT':
+            parts.append(_floats((lt.spot_size, lt.spot_blend)))
+        if lt.type == 'SUN':
+            parts.append(_floats((lt.angle,)))
+    return ";".join(parts)
+
+
+def render_state(scene):
+    r = scene.render
+    return "%d,%d,%d,%s,%s" % (r.resolution_x, r.resolution_y, r.resolution_percentage,
+                              repr(float(r.pixel_aspect_x)), repr(float(r.pixel_aspect_y)))
+
+
+def world_state(world):
+    return _floats(world.color) + ";%s" % world.use_nodes
+
+
+def _stored(id_block, key, state):
+    """The original description stored at import, when the block is unchanged since."""
+    if key in id_block and id_block.get("facet_state") == state:
+        return json.loads(id_block[key])
+    return None
+
+
+# --- the scene -------------------------------------------------------------------------------
+
+def resolution(scene):
+    r = scene.render
+    return (int(r.resolution_x * r.resolution_percentage / 100),
+            int(r.resolution_y * r.resolution_percentage / 100))
+
+
+def export_camera(depsgraph, scene, problems):
+    cam = scene.camera
+    if cam is None:
+        raise ExportError("the scene has no camera (Scene properties > Camera)")
+    cam_eval = cam.evaluated_get(depsgraph)
+    width, height = resolution(scene)
+    stored = _stored(cam, "facet_camera", object_state(cam_eval) + "|" + render_state(scene))
+    if stored is not None:
+        return stored
+    c = cam_eval.data
+    if c.type != 'PERSP':
+        raise ExportError("camera '%s': only perspective cameras are supported (type is %s)"
+                          % (cam.name, c.type))
+    if c.shift_x != 0.0 or c.shift_y != 0.0:
+        problems.append("camera '%s': lens shift is not supported; ignored" % cam.name)
+    r = scene.render
+    if r.pixel_aspect_x != r.pixel_aspect_y:
+        problems.append("render: non-square pixel aspect is not supported; square pixels used")
+    proj = cam_eval.calc_matrix_camera(depsgraph, x=width, y=height, scale_x=1.0, scale_y=1.0)
+    fov = units.fov_from_projection(proj[1][1])
+    m = cam_eval.matrix_world
+    pos = [m[i][3] for i in range(3)]
+    fwd = [-m[i][2] for i in range(3)]
+    up = [m[i][1] for i in range(3)]
+    n = math.sqrt(sum(v * v for v in fwd))
+    return {"position": pos, "look_at": [p + f / n for p, f in zip(pos, fwd)], "up": up,
+            "fov": fov, "width": width, "height": height}
+
+
+def _matrix_rows(m):
+    return [[float(m[i][j]) for j in range(4)] for i in range(4)]
+
+
+def _is_identity(m):
+    return all(m[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
+
+
+def mesh_arrays(obj_eval):
+    """Evaluated object -> (positions (n,3) f32, indices (m,3) i32, normals (n,3) f32 | None,
+    material index per triangle (m,) i32), or None for a mesh without triangles."""
+    me = obj_eval.to_mesh()
+    try:
+        if me is None:
+            return None
+        me.calc_loop_triangles()
+        nt = len(me.loop_triangles)
+        if nt == 0:
+            return None
+        nv = len(me.vertices)
+        co = np.empty(nv * 3, np.float32)
+        me.vertices.foreach_get('co', co)
+        tri_v = np.empty(nt * 3, np.int32)
+        me.loop_triangles.foreach_get('vertices', tri_v)
+        # 3.4: the material_index attribute is absent when every index is 0; loop_triangles
+        # has it either way.
+        mat = np.empty(nt, np.int32)
+        me.loop_triangles.foreach_get('material_index', mat)
+        smooth = np.empty(len(me.polygons), bool)
+        me.polygons.foreach_get('use_smooth', smooth)
+        if not smooth.any():
+            return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat
+        if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
+            n = np.empty(nv * 3, np.float32)
+            me.vertices.foreach_get('normal', n)
+            return co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat
+        # Split normals (auto smooth, sharp edges, custom normals, flat faces among smooth
+        # ones): one vertex per loop.
+        me.calc_normals_split()
+        nl = len(me.loops)
+        loop_v = np.empty(nl, np.int32)
+        me.loops.foreach_get('vertex_index', loop_v)
+        ln = np.empty(nl * 3, np.float32)
+        me.loops.foreach_get('normal', ln)
+        tri_l = np.empty(nt * 3, np.int32)
+        me.loop_triangles.foreach_get('loops', tri_l)
+        return (co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln.reshape(-1, 3), mat)
+    finally:
+        obj_eval.to_mesh_clear()
+
+
+class _Materials:
+    """Blender materials -> named Facet materials, each converted once."""
+
+    def __init__(self, problems):
+        self.problems = problems
+        self.by_name = {}  # facet name -> materials.Converted
+        self.order = []
+
+    def get(self, mat):
+        name = DEFAULT_MATERIAL_NAME if mat is None else mat.name
+        if name not in self.by_name:
+            conv = materials.convert(mat)
+            self.problems.extend(conv.problems)
+            self.by_name[name] = conv
+            self.order.append(name)
+        return name, self.by_name[name]
+
+    def data(self):
+        return [(n, self.by_name[n].data) for n in self.order]
+
+
+def _light_data(obj, matrix, problems):
+    lt = obj.data
+    m = matrix
+    pos = [m[i][3] for i in range(3)]
+    axis = [-m[i][2] for i in range(3)]  # Blender lights point along local -Z
+    if lt.type == 'POINT':
+        return [{"type": "point", "position": pos,
+                 "power": units.point_power_from_blender(lt.color, lt.energy)}], []
+    if lt.type == 'SPOT':
+        outer, inner = units.spot_cone_from_blender(lt.spot_size, lt.spot_blend)
+        outer = min(outer, 179.9)
+        return [{"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
+                 "inner_angle": inner,
+                 "power": units.spot_power_from_blender(lt.color, lt.energy, outer, inner)}], []
+    if lt.type == 'SUN':
+        return [{"type": "directional", "direction": axis,
+                 "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}], []
+    if lt.type == 'AREA':
+        sx = lt.size
+        sy = lt.size_y if lt.shape in ('RECTANGLE', 'ELLIPSE') else lt.size
+        radiance = units.area_radiance_from_blender(
+            lt.color, lt.energy, units.area_light_area(lt.shape, sx, sy))
+        # Local geometry, emitting toward local -Z (Cycles); the world matrix places it.
+        if lt.shape in ('DISK', 'ELLIPSE'):
+            shape = {"type": "disc", "center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, -1.0],
+                     "radius": 0.5 * sx, "transform":
+                     _matrix_rows(m) if sx == sy else
+                     (np.asarray(_matrix_rows(m)) @ np.diag([1.0, sy / sx, 1.0, 1.0])).tolist()}
+        else:
+            hx, hy = 0.5 * sx, 0.5 * sy
+            shape = {"type": "quad", "vertices": [[-hx, -hy, 0.0], [-hx, hy, 0.0],
+                                                  [hx, hy, 0.0], [hx, -hy, 0.0]],
+                     "transform": _matrix_rows(m)}
+        shape.update({"name": obj.name, "emission": radiance, "two_sided": False})
+        return [], [shape]
+    problems.append("light '%s': type %s is not supported; skipped" % (obj.name, lt.type))
+    return [], []
+
+
+# Counters for tests: meshes converted by mesh_arrays (the viewport re-exports only changed ones).
+stats = {"meshes": 0}
+
+
+def export_scene(depsgraph, camera=None, mesh_cache=None):
+    """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
+    scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
+    scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
+    arrays of objects converted before (the viewport drops the entries of changed objects)."""
+    scene = depsgraph.scene
+    problems = []
+    mats = _Materials(problems)
+    data = {"description": "exported from Blender scene '%s'" % scene.name,
+            "camera": camera or export_camera(depsgraph, scene, problems),
+            "shapes": [], "lights": []}
+    area_shapes = []
+    mesh_cache = {} if mesh_cache is None else mesh_cache
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        matrix = inst.matrix_world.copy()
+        if obj.type == 'LIGHT':
+            orig = obj.original
+            stored = None if inst.is_instance else _stored(orig, "facet_light",
+                                                           object_state(obj, matrix))
+            if stored is not None:
+                data["lights"].append(stored)
+                continue
+            lights, shapes = _light_data(obj, matrix, problems)
+            data["lights"].extend(lights)
+            area_shapes.extend(shapes)
+            continue
+        if obj.type not in GEOMETRY_TYPES:
+            continue
+        if not (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
+                or obj.visible_shadow):
+            continue
+        orig = obj.original
+        name = orig.name if not inst.is_instance else "%s (instance)" % orig.name
+        if "facet_shape" in orig:
+            shape = json.loads(orig["facet_shape"])
+            if not inst.is_instance and orig.get("facet_state") == object_state(obj, matrix):
+                pass  # unchanged since import: the stored (double precision) transform
+            else:
+                shape["transform"] = None if _is_identity(matrix) else _matrix_rows(matrix)
+            if shape["type"] == "mesh" and "file" not in shape:
+                arrays = _imported_mesh_arrays(obj)
+                if arrays is None:
+                    problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)
+                    continue
+                shape["positions"], shape["indices"], shape["normals"] = arrays
+            slot_mat = obj.material_slots[0].material if obj.material_slots else None
+            _add_material(shape, slot_mat, mats)
+            data["shapes"].append(shape)
+            continue
+        key = obj.name if not inst.is_instance else (obj.name, "instance")
+        if key not in mesh_cache:
+            mesh_cache[key] = mesh_arrays(obj)
+            stats["meshes"] += 1
+        arrays = mesh_cache[key]
+        if arrays is None:
+            problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)
+            continue
+        pos, idx, nrm, mat_idx = arrays
+        transform = None if _is_identity(matrix) else _matrix_rows(matrix)
+        slots = [s.material for s in obj.material_slots] or [None]
+        used = np.unique(mat_idx)
+        for mi in used:
+            mi = int(mi)
+            slot_mat = slots[min(mi, len(slots) - 1)] if slots else None
+            tris = idx if len(used) == 1 else idx[mat_idx == mi]
+            shape = {"type": "mesh", "positions": pos, "indices": tris, "normals": nrm,
+                     "transform": transform,
+                     "name": name if len(used) == 1 else "%s [slot %d]" % (name, mi)}
+            _add_material(shape, slot_mat, mats)
+            data["shapes"].append(shape)
+    data["shapes"].extend(area_shapes)
+    env = export_environment(scene, problems)
+    if env is not None:
+        data["lights"].append(env)
+    data["materials"] = mats.data()
+    data["render"] = export_render_settings(scene)
+    return data, problems
+
+
+def _imported_mesh_arrays(obj_eval):
+    """A mesh imported from JSON: its vertices and triangles as they were read (Blender keeps
+    float32 positions exactly) and the exact normals from the "facet_normal" attribute."""
+    me = obj_eval.data
+    nv, nt = len(me.vertices), len(me.polygons)
+    if nt == 0:
+        return None
+    co = np.empty(nv * 3, np.float32)
+    me.vertices.foreach_get('co', co)
+    idx = np.empty(len(me.loops), np.int32)
+    me.loops.foreach_get('vertex_index', idx)
+    nrm = None
+    if "facet_normal" in me.attributes:
+        nrm = np.empty(nv * 3, np.float32)
+        me.attributes["facet_normal"].data.foreach_get('vector', nrm)
+        nrm = nrm.reshape(-1, 3)
+    return co.reshape(-1, 3), idx.reshape(-1, 3), nrm
+
+
+def _add_material(shape, mat, mats):
+    if mat is None and any(shape.get("emission") or []):
+        return  # an emitter without a material reflects nothing (FORMAT.md)
+    name, conv = mats.get(mat)
+    shape["material"] = name
+    if "emission" not in shape or not any(shape.get("emission") or []):
+        if any(c > 0.0 for c in conv.emission):
+            shape["emission"] = list(conv.emission)
+    if "two_sided" not in shape:
+        shape["two_sided"] = conv.two_sided
+
+
+def export_environment(scene, problems):
+    world = scene.world
+    if world is None:
+        return None
+    stored = _stored(world, "facet_environment", world_state(world))
+    if stored is not None:
+        return stored
+    if world.use_nodes and world.node_tree is not None:
+        out = next((n for n in world.node_tree.nodes
+                    if n.bl_idname == 'ShaderNodeOutputWorld' and n.is_active_output), None)
+        if out is None or not out.inputs['Surface'].links:
+            return None
+        node = out.inputs['Surface'].links[0].from_node
+        if node.bl_idname != 'ShaderNodeBackground':
+            problems.append("world '%s': node '%s' is not supported (only an unlinked "
+                            "Background); no environment" % (world.name, node.name))
+            return None
+        if node.inputs['Color'].is_linked or node.inputs['Strength'].is_linked:
+            problems.append("world '%s': Background inputs are linked (environment textures "
+                            "are not supported); using their values" % world.name)
+        rad = units.emission_from_blender(node.inputs['Color'].default_value,
+                                          node.inputs['Strength'].default_value)
+    else:
+        rad = units.emission_from_blender(world.color, 1.0)
+    if not any(c > 0.0 for c in rad):
+        return None
+    return {"type": "environment", "radiance": rad}
+
+
+def export_render_settings(scene, frame=None):
+    fs = scene.facet
+    seed = fs.seed + (scene.frame_current if fs.animated_seed else 0)
+    out = {"integrator": fs.integrator, "spp": fs.spp, "max_depth": fs.max_depth, "seed": seed}
+    if fs.time_budget > 0.0:
+        out["time_budget"] = fs.time_budget
+    return out

@@ -1,0 +1,232 @@
+"""Facet scene data (read by the core's JSON reader) -> Blender objects.
+
+Every shape becomes an object with a display mesh; the exact shape (analytic sphere, plane,
+disc, ...; or the mesh arrays) and its transform stay in the object's "facet_shape" property,
+and the camera, lights and environment keep their descriptions likewise (see export.py), so
+an imported scene renders with Facet in Blender exactly as with `facet render`. Facet
+materials become Blender materials of source 'Facet Model'. Quantities are converted to
+Blender's units by units.py.
+"""
+import json
+import math
+
+import bmesh
+import bpy
+import numpy as np
+from mathutils import Matrix, Vector
+
+from . import export, materials, properties, units
+
+PLANE_DISPLAY_HALF_SIZE = 50.0  # the infinite plane is drawn as a square of this half size
+MAX_DISPLAY_SUBDIVISIONS = 4    # icospheres are drawn at most this fine
+MAX_DISPLAY_GRID = 128
+CLIP_START, CLIP_END = 1e-3, 1e7  # the imported camera's clipping (Facet has none)          # grids are drawn with at most this many cells per side
+
+
+def _json(value):
+    def conv(v):
+        if isinstance(v, np.ndarray):
+            return v.tolist()
+        raise TypeError(type(v))
+    return json.dumps(value, default=conv)
+
+
+def _matrix(rows):
+    return Matrix(rows) if rows is not None else Matrix.Identity(4)
+
+
+def _display_mesh(name, s):
+    """A Blender mesh that looks like the shape (in the shape's local space)."""
+    me = bpy.data.meshes.new(name)
+    kind = s["type"]
+    if kind == "mesh" and "file" in s:
+        return me  # drawn empty: the file is read by the core at render time
+    if kind == "mesh":
+        pos = np.asarray(s["positions"], np.float32).reshape(-1, 3)
+        idx = np.asarray(s["indices"], np.int32).reshape(-1, 3)
+        me.vertices.add(len(pos))
+        me.vertices.foreach_set("co", pos.ravel())
+        me.loops.add(idx.size)
+        me.loops.foreach_set("vertex_index", idx.ravel())
+        me.polygons.add(len(idx))
+        me.polygons.foreach_set("loop_start", np.arange(0, idx.size, 3, dtype=np.int32))
+        me.polygons.foreach_set("loop_total", np.full(len(idx), 3, np.int32))
+        me.update(calc_edges=True)
+        if s.get("normals") is not None:
+            me.polygons.foreach_set("use_smooth", np.ones(len(idx), bool))
+            # The exact normals (Blender's custom normals are stored compressed).
+            nrm = np.asarray(s["normals"], np.float32).reshape(-1, 3)
+            me.attributes.new("facet_normal", 'FLOAT_VECTOR', 'POINT').data.foreach_set(
+                "vector", nrm.ravel())
+        return me
+    bm = bmesh.new()
+    try:
+        if kind in ("sphere", "icosphere"):
+            r, c = float(s["radius"]), Vector(s["center"])
+            if kind == "sphere":
+                bmesh.ops.create_uvsphere(bm, u_segments=32, v_segments=16, radius=r)
+            else:
+                bmesh.ops.create_icosphere(
+                    bm, subdivisions=min(int(s["subdivisions"]), MAX_DISPLAY_SUBDIVISIONS),
+                    radius=r)
+            bmesh.ops.translate(bm, vec=c, verts=bm.verts)
+        elif kind in ("plane", "disc"):
+            n = Vector(s["normal"]).normalized()
+            rot = n.to_track_quat('Z', 'Y').to_matrix().to_4x4()
+            if kind == "plane":
+                bmesh.ops.create_grid(bm, x_segments=1, y_segments=1,
+                                      size=PLANE_DISPLAY_HALF_SIZE, matrix=rot)
+                bmesh.ops.translate(bm, vec=Vector(s["point"]), verts=bm.verts)
+            else:
+                bmesh.ops.create_circle(bm, cap_ends=True, segments=48,
+                                        radius=float(s["radius"]), matrix=rot)
+                bmesh.ops.translate(bm, vec=Vector(s["center"]), verts=bm.verts)
+        elif kind == "box":
+            lo, hi = Vector(s["min"]), Vector(s["max"])
+            bmesh.ops.create_cube(bm, size=1.0)
+            for v in bm.verts:
+                v.co = Vector([lo[i] + (v.co[i] + 0.5) * (hi[i] - lo[i]) for i in range(3)])
+        elif kind == "quad":
+            verts = [bm.verts.new(Vector(p)) for p in s["vertices"]]
+            bm.faces.new(verts)
+        elif kind == "grid":
+            nx = min(int(s["nx"]), MAX_DISPLAY_GRID)
+            ny = min(int(s["ny"]), MAX_DISPLAY_GRID)
+            bmesh.ops.create_grid(bm, x_segments=nx + 1, y_segments=ny + 1, size=1.0)
+            a, f = float(s.get("amplitude", 0.0)), float(s.get("frequency", 0.0))
+            for v in bm.verts:
+                v.co.z = a * math.sin(f * v.co.x) * math.sin(f * v.co.y)
+        bm.to_mesh(me)
+    finally:
+        bm.free()
+    return me
+
+
+def _camera_matrix(position, look_at, up):
+    """Blender camera looks down local -Z with local +Y up: columns (r, u, -f)."""
+    f, r, u = units.camera_basis(position, look_at, up)
+    m = Matrix.Identity(4)
+    for i in range(3):
+        m[i][0], m[i][1], m[i][2], m[i][3] = r[i], u[i], -f[i], position[i]
+    return m
+
+
+def _direction_matrix(position, direction):
+    d = Vector(direction).normalized()
+    m = (-d).to_track_quat('Z', 'Y').to_matrix().to_4x4()
+    m.translation = Vector(position)
+    return m
+
+
+def _material(name, m):
+    mat = bpy.data.materials.new(name)
+    properties.set_material_params(mat.facet, m["model"],
+                                   {k: v for k, v in m.items() if k != "model"})
+    # A viewport colour that resembles the material.
+    for key in ("reflectance", "diffuse_reflectance"):
+        if key in m:
+            v = m[key]
+            v = [v] * 3 if isinstance(v, (int, float)) else v
+            mat.diffuse_color = (v[0], v[1], v[2], 1.0)
+            break
+    mat["facet_material"] = _json(m)
+    mat["facet_state"] = materials.material_state(mat)
+    return mat
+
+
+def import_scene(context, data, collection=None):
+    """Creates the scene's objects in `collection` (default: a new one named after the
+    description). Returns the collection."""
+    scene = context.scene
+    coll = collection or bpy.data.collections.new("Facet scene")
+    if collection is None:
+        scene.collection.children.link(coll)
+    mats = {name: _material(name, m) for name, m in data.get("materials", [])}
+
+    cam = data["camera"]
+    r = scene.render
+    r.resolution_x, r.resolution_y, r.resolution_percentage = cam["width"], cam["height"], 100
+    r.pixel_aspect_x = r.pixel_aspect_y = 1.0
+    cd = bpy.data.cameras.new("Camera")
+    cd.sensor_fit = 'VERTICAL'
+    cd.angle_y = math.radians(cam["fov"])
+    # Facet's camera does not clip; Blender's default clip_end (100) would cut scenes in mm.
+    cd.clip_start, cd.clip_end = CLIP_START, CLIP_END
+    co = bpy.data.objects.new("Camera", cd)
+    co.matrix_world = _camera_matrix(cam["position"], cam["look_at"], cam["up"])
+    coll.objects.link(co)
+    scene.camera = co
+    context.view_layer.update()
+    co["facet_camera"] = _json(cam)
+    co["facet_state"] = export.object_state(co) + "|" + export.render_state(scene)
+
+    for i, s in enumerate(data.get("shapes", [])):
+        name = s.get("name") or "%s %d" % (s["type"], i)
+        me = _display_mesh(name, s)
+        ob = bpy.data.objects.new(name, me)
+        ob.matrix_world = _matrix(s.get("transform"))
+        coll.objects.link(ob)
+        mat = s.get("material")
+        if isinstance(mat, dict):
+            bmat = _material("%s (inline)" % name, mat)
+        elif mat:
+            bmat = mats[mat]
+        else:
+            bmat = None
+        if bmat is not None:
+            me.materials.append(bmat)
+        # Mesh arrays stay in the Blender mesh (positions exactly; normals in "facet_normal").
+        stored = {k: v for k, v in s.items()
+                  if k not in ("material", "positions", "indices", "normals")}
+        ob["facet_shape"] = _json(stored)
+        context.view_layer.update()
+        ob["facet_state"] = export.object_state(ob)
+
+    for i, lt in enumerate(data.get("lights", [])):
+        kind = lt["type"]
+        if kind == "environment":
+            world = scene.world or bpy.data.worlds.new("World")
+            scene.world = world
+            world.use_nodes = False
+            rad = lt["radiance"]
+            world.color = rad if not isinstance(rad, (int, float)) else [rad] * 3
+            world["facet_environment"] = _json(lt)
+            world["facet_state"] = export.world_state(world)
+            continue
+        if kind == "point":
+            ld = bpy.data.lights.new("Point %d" % i, 'POINT')
+            ld.color, ld.energy = units.point_power_to_blender(lt["power"])
+            ld.shadow_soft_size = 0.0
+            m = Matrix.Translation(Vector(lt["position"]))
+        elif kind == "spot":
+            ld = bpy.data.lights.new("Spot %d" % i, 'SPOT')
+            outer = lt.get("outer_angle", 45.0)
+            inner = lt.get("inner_angle", outer)
+            ld.spot_size, ld.spot_blend = units.spot_cone_to_blender(outer, inner)
+            ld.color, ld.energy = units.spot_power_to_blender(lt["power"], outer, inner)
+            ld.shadow_soft_size = 0.0
+            d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
+            m = _direction_matrix(lt["position"], d)
+        elif kind == "directional":
+            ld = bpy.data.lights.new("Sun %d" % i, 'SUN')
+            ld.color, ld.energy = units.sun_irradiance_to_blender(lt["irradiance"])
+            ld.angle = 0.0
+            m = _direction_matrix([0.0, 0.0, 0.0], lt["direction"])
+        else:
+            continue
+        lo = bpy.data.objects.new(ld.name, ld)
+        lo.matrix_world = m
+        coll.objects.link(lo)
+        context.view_layer.update()
+        lo["facet_light"] = _json(lt)
+        lo["facet_state"] = export.object_state(lo)
+
+    rs = data.get("render", {})
+    fs = scene.facet
+    fs.integrator = rs.get("integrator", "path")
+    fs.spp = int(rs.get("spp", 16))
+    fs.time_budget = float(rs.get("time_budget", 0.0))
+    fs.max_depth = int(rs.get("max_depth", 8))
+    fs.seed = int(rs.get("seed", 0))
+    fs.animated_seed = False
+    return coll

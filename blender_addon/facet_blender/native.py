@@ -1,0 +1,286 @@
+"""The one place that talks to the native `facet` module (pybind11, core/python/).
+
+The rest of the addon works on *scene data*: plain Python dicts and numpy arrays in the
+vocabulary of scenes/FORMAT.md (keys and shape types as in the JSON format; mesh arrays as
+numpy: positions float32 (n, 3), indices int32 (m, 3), normals float32 (n, 3) or None;
+transforms as 4x4 row-major nested lists of floats acting on column vectors, or None).
+to_description() turns it into a facet.SceneDescription and from_description() back, so the
+binding's names appear only here.
+"""
+import os
+import sys
+
+import numpy as np
+
+_LIB_DIR = os.path.join(os.path.dirname(os.path.abspath(__file__)), "lib")
+
+
+class NativeImportError(ImportError):
+    pass
+
+
+def _import_facet():
+    if os.path.isdir(_LIB_DIR) and _LIB_DIR not in sys.path:
+        sys.path.insert(0, _LIB_DIR)
+    try:
+        import facet  # noqa: F401  (the native module shipped in lib/ by the zip target)
+    except ImportError as e:
+        raise NativeImportError(
+            "Facet: cannot import the native 'facet' module (%s). The addon zip built by the "
+            "CMake target 'blender_addon_zip' ships it in facet_blender/lib/; it is built for "
+            "Python %d.%d (Debian's /usr/bin/python3, which Debian's Blender 3.4.1 embeds) and "
+            "links the system Embree 3 and TBB; this Blender runs Python %d.%d."
+            % (e, 3, 11, sys.version_info[0], sys.version_info[1])) from e
+    return facet
+
+
+facet = _import_facet()
+
+
+# --- model table ---------------------------------------------------------------------------
+
+def models():
+    """The core's model table as [{'name', 'summary', 'params': [{'name', 'type', 'default',
+    'doc'}]}], type one of 'number', 'colour', 'string', 'bool'; default the table's text."""
+    out = []
+    for m in facet.models():
+        params = []
+        for p in m.params:
+            t = {"color": "colour"}.get(p.type, p.type)
+            params.append({"name": p.name, "type": t, "default": p.default, "doc": p.doc})
+        out.append({"name": m.name, "summary": m.summary, "params": params})
+    return out
+
+
+def check_material(model, params):
+    """Validates a material with the core's registry; raises ValueError naming the parameter."""
+    facet.make_material(model, **params)
+
+
+# --- scene data <-> SceneDescription --------------------------------------------------------
+
+_SHAPE_KEYS = {
+    "sphere": ("center", "radius"),
+    "plane": ("point", "normal"),
+    "disc": ("center", "normal", "radius"),
+    "box": ("min", "max"),
+    "quad": ("vertices",),
+    "icosphere": ("center", "radius", "subdivisions", "smooth"),
+    "grid": ("nx", "ny", "amplitude", "frequency"),
+    "mesh": (),
+}
+_LIGHT_KEYS = {
+    "point": ("position", "power"),
+    "spot": ("position", "direction", "look_at", "power", "outer_angle", "inner_angle"),
+    "directional": ("direction", "irradiance"),
+    "environment": ("radiance",),
+}
+
+
+def _rgb(v):
+    if isinstance(v, (int, float)):
+        return [float(v)] * 3
+    return [float(c) for c in v]
+
+
+def _shape_desc(s):
+    sd = facet.ShapeDesc()
+    sd.kind = s["type"]
+    sd.name = s.get("name", "")
+    mat = s.get("material")
+    if isinstance(mat, dict):
+        sd.material = facet.MaterialDesc(mat["model"], {k: v for k, v in mat.items()
+                                                        if k != "model"})
+    elif mat:
+        sd.material_ref = mat
+    if "emission" in s:
+        sd.emission = _rgb(s["emission"])
+    sd.two_sided = bool(s.get("two_sided", True))
+    sd.flip_normals = bool(s.get("flip_normals", False))
+    if s.get("transform") is not None:
+        sd.transform = np.asarray(s["transform"], dtype=np.float64)
+    for k in _SHAPE_KEYS[s["type"]]:
+        if k in s:
+            setattr(sd, k, s[k])
+    if s["type"] == "mesh":
+        if "file" in s:
+            sd.file = s["file"]
+        else:
+            sd.mesh = facet.MeshData(
+                np.ascontiguousarray(s["positions"], dtype=np.float32),
+                np.ascontiguousarray(s["indices"], dtype=np.int32),
+                None if s.get("normals") is None else
+                np.ascontiguousarray(s["normals"], dtype=np.float32))
+    return sd
+
+
+def to_description(data):
+    """Scene data -> facet.SceneDescription (no validation here: build_scene validates)."""
+    d = facet.SceneDescription()
+    d.description = data.get("description", "")
+    cam = data["camera"]
+    c = d.camera
+    c.position = list(cam["position"])
+    c.look_at = list(cam["look_at"])
+    c.up = list(cam["up"])
+    c.fov = float(cam["fov"])
+    c.width = int(cam["width"])
+    c.height = int(cam["height"])
+    d.camera = c
+    d.materials = {name: facet.MaterialDesc(m["model"], {k: v for k, v in m.items()
+                                                         if k != "model"})
+                   for name, m in data.get("materials", [])}
+    shapes = []
+    for i, s in enumerate(data.get("shapes", [])):
+        try:
+            shapes.append(_shape_desc(s))
+        except (ValueError, TypeError) as e:  # bad arrays: name the shape as build_scene does
+            raise ValueError("%s: /shapes/%d ('%s'): %s" % (data.get("name", "blender"), i,
+                                                           s.get("name", ""), e)) from e
+    d.shapes = shapes
+    lights = []
+    for lt in data.get("lights", []):
+        ld = facet.LightDesc()
+        ld.kind = lt["type"]
+        for k in _LIGHT_KEYS[lt["type"]]:
+            if k in lt:
+                setattr(ld, k, lt[k])
+        lights.append(ld)
+    d.lights = lights
+    r = d.render
+    rs = data.get("render", {})
+    if "integrator" in rs:
+        r.integrator = rs["integrator"]
+    if "spp" in rs:
+        r.spp = int(rs["spp"])
+    if "time_budget" in rs:
+        r.time_budget_s = float(rs["time_budget"])
+    if "max_depth" in rs:
+        r.max_depth = int(rs["max_depth"])
+    if "seed" in rs:
+        r.seed = int(rs["seed"])
+    d.render = r
+    return d
+
+
+def _vec(v):
+    return [float(x) for x in v]
+
+
+def _params(p):
+    out = {}
+    for k, v in dict(p).items():
+        out[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+    return out
+
+
+def _material_data(m):
+    out = {"model": m.model}
+    out.update(_params(m.params))
+    return out
+
+
+def from_description(d):
+    """facet.SceneDescription -> scene data (every field the format has)."""
+    c = d.camera
+    data = {
+        "description": d.description,
+        "camera": {"position": _vec(c.position), "look_at": _vec(c.look_at), "up": _vec(c.up),
+                   "fov": float(c.fov), "width": int(c.width), "height": int(c.height)},
+        "materials": [(name, _material_data(m)) for name, m in d.materials.items()],
+        "shapes": [],
+        "lights": [],
+    }
+    for sd in d.shapes:
+        kind = str(sd.kind).split(".")[-1].lower()
+        s = {"type": kind, "name": sd.name, "two_sided": bool(sd.two_sided),
+             "flip_normals": bool(sd.flip_normals), "emission": _vec(sd.emission)}
+        if sd.material is not None:
+            s["material"] = _material_data(sd.material)
+        elif sd.material_ref:
+            s["material"] = sd.material_ref
+        t = sd.transform
+        s["transform"] = None if t is None else np.asarray(t, dtype=np.float64).tolist()
+        for k in _SHAPE_KEYS[kind]:
+            v = getattr(sd, k)
+            if k == "vertices":
+                v = [_vec(p) for p in v]
+            elif isinstance(v, (list, tuple, np.ndarray)):
+                v = _vec(v)
+            s[k] = v
+        if kind == "mesh":
+            if sd.file:
+                s["file"] = os.path.join(d.base_dir, sd.file)
+            else:
+                mesh = sd.mesh
+                s["positions"] = np.array(mesh.positions, dtype=np.float32).reshape(-1, 3)
+                s["indices"] = np.array(mesh.indices, dtype=np.int32).reshape(-1, 3)
+                n = mesh.normals
+                s["normals"] = None if n is None or len(n) == 0 else np.array(
+                    n, dtype=np.float32).reshape(-1, 3)
+        data["shapes"].append(s)
+    for ld in d.lights:
+        kind = str(ld.kind).split(".")[-1].lower()
+        lt = {"type": kind}
+        for k in _LIGHT_KEYS[kind]:
+            v = getattr(ld, k)
+            if v is None:
+                continue
+            lt[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+        data["lights"].append(lt)
+    r = d.render
+    data["render"] = {"integrator": r.integrator, "spp": int(r.spp),
+                      "time_budget": float(r.time_budget_s), "max_depth": int(r.max_depth),
+                      "seed": int(r.seed)}
+    return data
+
+
+def read_scene(path):
+    """A JSON scene file -> scene data (the core's reader: its errors name file and pointer)."""
+    return from_description(facet.read_scene_description(path))
+
+
+def write_scene(data, path):
+    """Scene data -> JSON scene file (the core's writer)."""
+    facet.write_scene_file(to_description(data), path)
+
+
+def build(data, name="blender"):
+    """Scene data -> (renderable facet scene, [warning lines])."""
+    scene = facet.build_scene(to_description(data), name=name)
+    return scene, list(scene.warnings)
+
+
+class Session:
+    """A facet.RenderSession; render() releases the GIL (the binding does) and calls
+    on_pass(samples_done, samples_target, elapsed_s, eta_s) -> bool after each pass on the
+    calling thread."""
+
+    def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
+                 time_budget=None):
+        kw = {"threads": int(threads)}
+        if spp is not None:
+            kw["spp"] = int(spp)
+        if seed is not None:
+            kw["seed"] = int(seed)
+        if max_depth is not None:
+            kw["max_depth"] = int(max_depth)
+        if integrator:
+            kw["integrator"] = integrator
+        if time_budget is not None:
+            kw["time_budget"] = float(time_budget)
+        self._scene = scene  # the session needs the scene alive
+        self._s = facet.RenderSession(scene, **kw)
+
+    def render(self, on_pass):
+        def cb(info):
+            return bool(on_pass(int(info.samples_done), int(info.samples_target),
+                                float(info.elapsed_s), float(info.eta_s)))
+        return self._s.render(cb)
+
+    def cancel(self):
+        self._s.cancel()
+
+    def image(self):
+        """float32 (h, w, 3), top row first."""
+        return np.asarray(self._s.image(), dtype=np.float32)

@@ -1,0 +1,140 @@
+"""Facet's properties: Scene.facet (render settings) and Material.facet (a material of the
+core's model table, with the core's model and parameter names, built from facet.models() at
+register time: no hand copy of the table)."""
+import bpy
+from bpy.props import (BoolProperty, EnumProperty, FloatProperty, FloatVectorProperty,
+                       IntProperty, PointerProperty, StringProperty)
+
+from . import native
+
+
+class FacetRenderSettings(bpy.types.PropertyGroup):
+    integrator: EnumProperty(
+        name="Integrator", default="path",
+        items=[("path", "Path", "path tracing with next-event estimation and MIS"),
+               ("direct", "Direct", "direct light with shadow rays plus perfect mirror recursion")])
+    spp: IntProperty(name="Samples", default=16, min=1, max=1 << 20,
+                     description="samples per pixel (with a time budget: the cap)")
+    time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0, unit='TIME_ABSOLUTE',
+                               description="seconds; > 0 renders until the budget is spent")
+    max_depth: IntProperty(name="Max Bounces", default=8, min=0, max=1024)
+    seed: IntProperty(name="Seed", default=0, min=0, description="sampler seed")
+    viewport_spp: IntProperty(name="Viewport Samples", default=256, min=1, max=1 << 20,
+                              description="samples per pixel the viewport refines to")
+    animated_seed: BoolProperty(name="Animated Seed", default=False,
+                                description="add the frame number to the seed")
+
+
+# Material.facet is generated from the model table: for every model m and parameter p, a value
+# property "m__p" and a flag "m__p__set" (only parameters the user set are passed to the core:
+# the core rejects parameters that the chosen options make meaningless, e.g. ior with
+# fresnel = conductor, and applies its own defaults to the rest).
+MODELS = []
+
+
+def _parse_default(ptype, text):
+    """The table's default text ("0.5", "1.657 0.880 0.521", "none", "false", "-")."""
+    if text in ("-", ""):
+        return None
+    if ptype == "colour":
+        v = [float(x) for x in text.split()]
+        return v * 3 if len(v) == 1 else v
+    if ptype == "number":
+        return float(text)
+    if ptype == "bool":
+        return text == "true"
+    return text
+
+
+def prop_name(model, param):
+    return "%s__%s" % (model, param)
+
+
+def _make_material_props():
+    global MODELS
+    MODELS = native.models()
+    ann = {
+        "source": EnumProperty(
+            name="Source", default="NODES",
+            items=[("NODES", "Shader Nodes", "convert the Cycles node tree (Diffuse, Glossy, "
+                    "Principled BSDF, Emission) or the viewport colour"),
+                   ("FACET", "Facet Model", "a model of Facet's core, by its own parameters")]),
+        "model": EnumProperty(name="Model", items=[(m["name"], m["name"], m["summary"])
+                                                   for m in MODELS]),
+        "emission": FloatVectorProperty(name="Emission", subtype='COLOR', size=3, min=0.0,
+                                        default=(0.0, 0.0, 0.0),
+                                        description="emitted radiance (W sr^-1 m^-2)"),
+        "two_sided": BoolProperty(name="Two Sided", default=True,
+                                  description="the back reflects like the front; off: black"),
+    }
+    for m in MODELS:
+        for p in m["params"]:
+            name = prop_name(m["name"], p["name"])
+            d = _parse_default(p["type"], p["default"])
+            desc = p["doc"]
+            if p["type"] == "colour":
+                ann[name] = FloatVectorProperty(name=p["name"], subtype='COLOR', size=3,
+                                                default=d or (0.0, 0.0, 0.0), description=desc,
+                                                soft_min=0.0, soft_max=1.0)
+            elif p["type"] == "number":
+                ann[name] = FloatProperty(name=p["name"], default=d or 0.0, description=desc,
+                                          precision=4)
+            elif p["type"] == "bool":
+                ann[name] = BoolProperty(name=p["name"], default=bool(d), description=desc)
+            else:
+                ann[name] = StringProperty(name=p["name"], default=d or "", description=desc)
+            ann[name + "__set"] = BoolProperty(
+                name="Set %s" % p["name"], default=False,
+                description="pass %s to the core (unset: the core's default)" % p["name"])
+    return type("FacetMaterialSettings", (bpy.types.PropertyGroup,), {"__annotations__": ann})
+
+
+def material_params(mat_settings):
+    """Material.facet -> (model, {param: value}) with only the parameters that are set."""
+    model = mat_settings.model
+    params = {}
+    for m in MODELS:
+        if m["name"] != model:
+            continue
+        for p in m["params"]:
+            name = prop_name(model, p["name"])
+            if getattr(mat_settings, name + "__set"):
+                v = getattr(mat_settings, name)
+                params[p["name"]] = [float(c) for c in v] if p["type"] == "colour" else v
+    return model, params
+
+
+def set_material_params(mat_settings, model, params):
+    """The inverse of material_params (JSON import)."""
+    mat_settings.source = 'FACET'
+    mat_settings.model = model
+    for m in MODELS:
+        if m["name"] != model:
+            continue
+        for p in m["params"]:
+            if p["name"] in params:
+                v = params[p["name"]]
+                if p["type"] == "colour" and isinstance(v, (int, float)):
+                    v = [float(v)] * 3
+                setattr(mat_settings, prop_name(model, p["name"]), v)
+                setattr(mat_settings, prop_name(model, p["name"]) + "__set", True)
+
+
+_classes = []
+
+
+def register():
+    mat_cls = _make_material_props()
+    _classes[:] = [FacetRenderSettings, mat_cls]
+    for c in _classes:
+        bpy.utils.register_class(c)
+    bpy.types.Scene.facet = PointerProperty(type=FacetRenderSettings)
+    bpy.types.Material.facet = PointerProperty(type=mat_cls)
+
+
+def unregister():
+    del bpy.types.Material.facet
+    del bpy.types.Scene.facet
+    for c in reversed(_classes):
+        bpy.utils.unregister_class(c)
+    _classes.clear()

@@ -1,0 +1,133 @@
+"""Every unit conversion between Blender/Cycles and Facet, one function per quantity.
+
+Facet's units are scenes/FORMAT.md's: point and spot lights by radiant power (W), directional
+lights by irradiance (W m^-2), area lights and the environment by radiance (W sr^-1 m^-2),
+angles in degrees. Blender's are Cycles' (checked against Cycles 3.4's
+intern/cycles/scene/light.cpp and blender/light.cpp):
+
+- point light of Power P: intensity I = P / (4 pi) W/sr in every direction (Cycles divides by
+  4 pi, then by the area pi r^2 of its emitting disc). A Facet point light of power Phi has
+  I = Phi / (4 pi), so Phi = P. Cycles' radius (soft shadows) has no Facet equivalent: Facet's
+  point light is the r -> 0 limit, which has the same intensity.
+- spot light: Cycles gives the cone the point light's intensity P / (4 pi) (no normalisation by
+  the cone's solid angle) and fades it with smoothstep over cos theta in
+  [cos(size/2), cos(size/2) + blend (1 - cos(size/2))]. Facet's spot is set by its total power
+  and fades *linearly* in cos theta over [cos outer, cos inner]; Facet's I0 is matched to
+  P / (4 pi) and the fade range to Cycles' (linear instead of smoothstep: an approximation).
+- sun of Strength S: irradiance S W/m^2 on a surface facing it (Cycles' sun angle, for soft
+  shadows, is ignored).
+- area light of Power P and area A (rectangle: size_x size_y; square: size^2; disc and
+  ellipse: pi/4 of that): Cycles' radiance is L = P / (4 A) (eval_fac = 0.25 / area; for round
+  lights the area is multiplied by pi/4), one-sided, along the light's local -Z.
+- emission shader: radiance = Color x Strength (Cycles' emission closure is radiance).
+- world background: radiance = Color x Strength.
+"""
+import math
+
+# --- lights --------------------------------------------------------------------------------
+
+
+def point_power_from_blender(color, power_w):
+    """Blender/Cycles point light (colour, Power in W) -> Facet point light power (W, RGB)."""
+    return [float(c) * float(power_w) for c in color]
+
+
+def point_power_to_blender(power_rgb):
+    """Facet point light power (W, RGB) -> (colour, Power in W) for Blender."""
+    return _split_colour(power_rgb)
+
+
+def spot_cone_from_blender(spot_size_rad, spot_blend):
+    """Blender spot (full cone angle in radians, blend in [0, 1]) -> Facet (outer_angle,
+    inner_angle) half-angles in degrees; the fade range in cos theta is Cycles'."""
+    cos_outer = math.cos(0.5 * spot_size_rad)
+    cos_inner = min(1.0, cos_outer + float(spot_blend) * (1.0 - cos_outer))
+    return math.degrees(0.5 * spot_size_rad), math.degrees(math.acos(cos_inner))
+
+
+def spot_cone_to_blender(outer_deg, inner_deg):
+    """Facet (outer_angle, inner_angle) in degrees -> Blender (spot_size in radians, blend)."""
+    outer = math.radians(outer_deg)
+    cos_outer, cos_inner = math.cos(outer), math.cos(math.radians(inner_deg))
+    blend = 0.0 if cos_outer >= 1.0 else (cos_inner - cos_outer) / (1.0 - cos_outer)
+    return 2.0 * outer, max(0.0, min(1.0, blend))
+
+
+def _spot_power_factor(outer_deg, inner_deg):
+    """Facet spot: Phi = 2 pi I0 [(1 - cos inner) + (cos inner - cos outer) / 2] (FORMAT.md);
+    returns Phi / I0."""
+    ci, co = math.cos(math.radians(inner_deg)), math.cos(math.radians(outer_deg))
+    return 2.0 * math.pi * ((1.0 - ci) + 0.5 * (ci - co))
+
+
+def spot_power_from_blender(color, power_w, outer_deg, inner_deg):
+    """Blender spot (colour, Power) -> Facet spot power: I0 = P / (4 pi) in the cone."""
+    factor = _spot_power_factor(outer_deg, inner_deg) / (4.0 * math.pi)
+    return [float(c) * float(power_w) * factor for c in color]
+
+
+def spot_power_to_blender(power_rgb, outer_deg, inner_deg):
+    """Facet spot power (W, RGB) -> (colour, Power in W) for Blender."""
+    factor = _spot_power_factor(outer_deg, inner_deg) / (4.0 * math.pi)
+    return _split_colour([p / factor for p in power_rgb])
+
+
+def sun_irradiance_from_blender(color, strength):
+    """Blender sun (colour, Strength in W/m^2) -> Facet directional irradiance (W/m^2, RGB)."""
+    return [float(c) * float(strength) for c in color]
+
+
+def sun_irradiance_to_blender(irradiance_rgb):
+    return _split_colour(irradiance_rgb)
+
+
+def area_light_area(shape, size_x, size_y):
+    """Area (m^2) Cycles divides by: rectangle size_x size_y, round shapes pi/4 of that."""
+    area = float(size_x) * float(size_y)
+    return area * math.pi / 4.0 if shape in ('DISK', 'ELLIPSE') else area
+
+
+def area_radiance_from_blender(color, power_w, area):
+    """Blender area light (colour, Power, area) -> Facet emission radiance: L = P / (4 A)."""
+    if area <= 0.0:
+        return [0.0, 0.0, 0.0]
+    return [float(c) * float(power_w) / (4.0 * area) for c in color]
+
+
+def emission_from_blender(color, strength):
+    """Cycles emission shader (or world background) colour x strength -> radiance."""
+    return [float(c) * float(strength) for c in color[:3]]
+
+
+def _split_colour(rgb):
+    """RGB quantity -> (colour with max 1, scalar), as Blender stores lights."""
+    m = max(float(v) for v in rgb)
+    if m <= 0.0:
+        return [1.0, 1.0, 1.0], 0.0
+    return [float(v) / m for v in rgb], m
+
+
+# --- camera --------------------------------------------------------------------------------
+
+
+def fov_from_projection(projection_11):
+    """Full vertical field of view (degrees) from element [1][1] of Blender's camera projection
+    matrix (calc_matrix_camera), which is 1 / tan(fov_y / 2) whatever the sensor fit."""
+    return math.degrees(2.0 * math.atan(1.0 / float(projection_11)))
+
+
+def camera_basis(position, look_at, up):
+    """FORMAT.md's camera frame: forward f, right r, picture-up u (unit vectors)."""
+    f = _normalize([look_at[i] - position[i] for i in range(3)])
+    r = _normalize(_cross(f, up))
+    u = _cross(r, f)
+    return f, r, u
+
+
+def _cross(a, b):
+    return [a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]]
+
+
+def _normalize(v):
+    n = math.sqrt(sum(c * c for c in v))
+    return [c / n for c in v]

@@ -1,0 +1,164 @@
+"""Rendered shading in the 3D view: a worker thread renders progressively, view_draw only
+uploads the latest finished pass and draws it.
+
+- view_update (main thread) exports the evaluated depsgraph and posts it to the worker;
+  view_draw posts the same scene data with a new camera when the view or the region size
+  changed (Blender calls only view_draw for zoom, orbit and resize). A new post cancels the
+  running session within a pass; the worker builds the new scene (GIL released) and renders.
+- The worker never touches the engine or any bpy object: it publishes images under a lock.
+  view_draw asks for another redraw (tag_redraw) while the render is still refining. stop()
+  joins the worker; it is called from the engine's __del__ (which may run twice) and before
+  each restart.
+"""
+import threading
+import traceback
+
+import numpy as np
+
+from . import export, native
+
+
+def view_camera(context):
+    """The 3D view's camera as scene-data camera (FORMAT.md), from the region's matrices."""
+    region, rv3d = context.region, context.region_data
+    width, height = max(1, region.width), max(1, region.height)
+    m = rv3d.view_matrix.inverted()
+    pos = [m[i][3] for i in range(3)]
+    fwd = [-m[i][2] for i in range(3)]
+    up = [m[i][1] for i in range(3)]
+    w11 = rv3d.window_matrix[1][1]
+    fov = export.units.fov_from_projection(w11) if rv3d.is_perspective and w11 > 0 else 50.0
+    fov = min(max(fov, 1e-3), 179.0)
+    return {"position": pos, "look_at": [p + f for p, f in zip(pos, fwd)], "up": up,
+            "fov": fov, "width": width, "height": height}
+
+
+# Counters for tests: view_draw calls that drew an image, images published by the worker.
+stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
+
+
+def forget_changed(mesh_cache, depsgraph):
+    """Drops the cached mesh arrays of objects whose geometry changed (a moved object keeps its
+    arrays: only its matrix is exported again)."""
+    import bpy
+    for u in depsgraph.updates:
+        if not u.is_updated_geometry:
+            continue
+        idb = getattr(u.id, "original", u.id)
+        if isinstance(idb, bpy.types.Object):
+            mesh_cache.pop(idb.name, None)
+            mesh_cache.pop((idb.name, "instance"), None)
+        elif isinstance(idb, (bpy.types.Mesh, bpy.types.Curve, bpy.types.MetaBall,
+                              bpy.types.Collection, bpy.types.Scene)):
+            mesh_cache.clear()  # shared data, or objects added or removed
+
+
+class ViewportSession:
+    def __init__(self):
+        self._lock = threading.Lock()
+        self._wake = threading.Condition(self._lock)
+        self._pending = None   # scene data to render next
+        self._quit = False
+        self._image = None     # float32 (h, w, 4) rows bottom to top
+        self._version = 0
+        self._busy = False
+        self.data = None       # the last exported scene data (main thread)
+        self.mesh_cache = {}   # export.export_scene's arrays per object (main thread)
+        self.camera = None
+        self.errors = []
+        self._texture = None
+        self._tex_version = -1
+        self._thread = threading.Thread(target=self._run, name="facet-viewport", daemon=True)
+        self._thread.start()
+
+    # --- main thread -----------------------------------------------------------------------
+
+    def update(self, data):
+        self.data = data
+        self.post()
+
+    def post(self):
+        if self.data is None or self.camera is None:
+            return
+        data = dict(self.data)
+        data["camera"] = self.camera
+        with self._lock:
+            self._pending = data
+            self._busy = True
+            self._wake.notify()
+
+    def set_camera(self, camera):
+        """True when the camera changed (and a restart was posted)."""
+        if camera == self.camera:
+            return False
+        self.camera = camera
+        self.post()
+        return True
+
+    def latest(self):
+        with self._lock:
+            return self._image, self._version, self._busy
+
+    def stop(self):
+        with self._lock:
+            self._quit = True
+            self._wake.notify()
+        if self._thread is not None and self._thread is not threading.current_thread():
+            self._thread.join()
+        self._thread = None
+
+    def draw(self, engine, context, scene):
+        import gpu
+        from gpu_extras.presets import draw_texture_2d
+        img, version, busy = self.latest()
+        if img is not None:
+            if version != self._tex_version:
+                h, w = img.shape[:2]
+                buf = gpu.types.Buffer('FLOAT', w * h * 4, img.ravel())
+                self._texture = gpu.types.GPUTexture((w, h), format='RGBA16F', data=buf)
+                self._tex_version = version
+            gpu.state.blend_set('ALPHA_PREMULT')
+            engine.bind_display_space_shader(scene)
+            draw_texture_2d(self._texture, (0, 0), context.region.width, context.region.height)
+            stats["draws"] += 1
+            engine.unbind_display_space_shader()
+            gpu.state.blend_set('NONE')
+        if busy:
+            engine.tag_redraw()
+
+    # --- worker thread ---------------------------------------------------------------------
+
+    def _run(self):
+        from .engine import to_blender_rect
+        while True:
+            with self._lock:
+                while self._pending is None and not self._quit:
+                    self._wake.wait()
+                if self._quit:
+                    return
+                data, self._pending = self._pending, None
+            stats["restarts"] += 1
+            try:
+                scene, _ = native.build(data, name="viewport")
+                rs = data["render"]
+                session = native.Session(scene, spp=rs["spp"], threads=0, seed=rs["seed"],
+                                         max_depth=rs["max_depth"],
+                                         integrator=rs["integrator"])
+
+                def on_pass(done, target, elapsed, eta):
+                    rect = to_blender_rect(session.image())
+                    h, w = data["camera"]["height"], data["camera"]["width"]
+                    with self._lock:
+                        self._image = rect.reshape(h, w, 4)
+                        self._version += 1
+                        stats["images"] += 1
+                        stats["mean"] = float(rect[:, :3].mean())
+                        return self._pending is None and not self._quit
+
+                session.render(on_pass)
+            except Exception as e:  # shown by view_draw's engine as a report
+                traceback.print_exc()
+                self.errors.append(str(e))
+            with self._lock:
+                if self._pending is None:
+                    self._busy = False

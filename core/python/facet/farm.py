@@ -1,0 +1,609 @@
+"""facet-farm: distributed rendering of Facet scenes on Dask.
+
+A still is cut into tiles (``--tile-size``) and sample chunks (``--sample-chunk``); each piece is
+one Dask task that renders its region and sample range with a ``facet.RenderSession`` and
+returns the ``facet.RenderPart`` (fixed-point film sums). The parts merge into exactly the image
+``facet render`` gives for the same scene and seed (film.h: integer sums, fixed tile grid), so
+neither the split, the number of workers nor the order in which tasks finish or are retried
+changes a bit of the image. An animation (several scene files) is one task per frame, or per
+tile of each frame when there are fewer frames than task slots.
+
+Conventions:
+  - The scene travels with the tasks: the client reads each scene file, strips its mesh arrays
+    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes, and scatters
+    that ScenePayload once; Dask copies it to each worker that needs it (once per worker, not
+    per task) and the worker builds the Scene once and caches it (_worker_scene). Workers need
+    the facet module, no shared file system.
+  - Errors: everything the user can get wrong raises FarmError with one message (the scene
+    file and JSON pointer for a bad scene, the address for an unreachable scheduler); the CLI
+    prints it once, without a traceback, and exits 1. Ctrl-C cancels every task and shuts the
+    local cluster down (exit 130).
+  - Without a scheduler address a LocalCluster runs on this machine, listening on 127.0.0.1
+    only: by default 1 worker process x `cores` task threads, each task rendering on 1 thread
+    (measured on the 2-core development machine; see the README's farm section).
+"""
+
+from __future__ import annotations
+
+import argparse
+import collections
+import dataclasses
+import logging
+import os
+import pathlib
+import re
+import shutil
+import sys
+import tempfile
+import threading
+import time
+from typing import Callable, Iterable, Sequence
+
+import numpy as np
+
+import facet
+
+__all__ = ["FarmError", "ScenePayload", "Job", "load_payload", "plan_still", "run_jobs",
+           "local_cluster", "connect", "render_files", "main"]
+
+log = logging.getLogger("facet.farm")
+
+
+class FarmError(RuntimeError):
+    """A user-facing error of the farm (bad scene, unreachable scheduler, failed task)."""
+
+
+# ---------------------------------------------------------------------------------------------
+# The scene as it travels
+
+
+@dataclasses.dataclass
+class ScenePayload:
+    """One scene, self-contained: JSON text without mesh arrays, the arrays, mesh files' bytes."""
+
+    name: str                 # the scene file (error messages, part names)
+    json: str                 # description JSON; meshes from arrays hold a 1-triangle stand-in
+    meshes: list              # [(shape index, positions, indices, normals | None)]
+    files: dict               # {file name in the payload: bytes} for shapes with a mesh file
+    fingerprint: int          # of the original description: checked after rebuilding it
+    width: int
+    height: int
+    spp: int
+    seed: int
+
+    @property
+    def key(self) -> str:
+        return f"{self.fingerprint:016x}"
+
+    def nbytes(self) -> int:
+        return (len(self.json.encode()) + sum(len(b) for b in self.files.values()) +
+                sum(a.nbytes for m in self.meshes for a in m[1:] if a is not None))
+
+
+_STANDIN = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32),
+            np.array([[0, 1, 2]], dtype=np.int32))
+
+
+def _description(payload: ScenePayload, base_dir: str):
+    desc = facet.parse_scene_description(payload.json, payload.name, base_dir)
+    shapes = desc.shapes
+    for index, positions, indices, normals in payload.meshes:
+        shapes[index].mesh = facet.MeshData(positions, indices, normals)
+    return desc
+
+
+def load_payload(path: str, spp: int | None = None, seed: int | None = None,
+                 validate: bool = True) -> ScenePayload:
+    """Reads a scene file into a payload; with `validate`, builds it once here so that a bad
+    scene is one FarmError naming the file and JSON pointer before any task is sent."""
+    path = str(path)
+    try:
+        desc = facet.read_scene_description(path)
+    except (ValueError, RuntimeError, OSError) as e:
+        raise FarmError(str(e)) from None
+    if validate:
+        try:
+            scene = facet.build_scene(desc, name=path)
+        except (ValueError, RuntimeError, OSError) as e:
+            raise FarmError(str(e)) from None
+    fp = desc.fingerprint()
+    settings = desc.render
+    base = pathlib.Path(desc.base_dir or ".")
+    meshes, files = [], {}
+    for i, shape in enumerate(desc.shapes):
+        if str(shape.kind).rsplit(".", 1)[-1] != "mesh":
+            continue
+        if shape.file:
+            source = pathlib.Path(shape.file)
+            if not source.is_absolute():
+                source = base / source
+            try:
+                data = source.read_bytes()
+            except OSError as e:
+                raise FarmError(f"{path}: /shapes/{i}/file: cannot read {source}: {e.strerror}")
+            name = f"shape{i}{source.suffix}"
+            files[name] = data
+            shape.file = name
+            continue
+        mesh = shape.mesh
+        normals = mesh.normals
+        meshes.append((i, np.array(mesh.positions), np.array(mesh.indices),
+                       None if normals is None else np.array(normals)))
+        shape.mesh = facet.MeshData(*_STANDIN)
+    payload = ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
+                           fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
+                           spp=int(spp if spp is not None else settings.spp),
+                           seed=int(seed if seed is not None else settings.seed))
+    if validate:
+        _cache_scene(payload.key, scene)  # in-process workers use it as it is
+    return payload
+
+
+# ---------------------------------------------------------------------------------------------
+# Worker side: the scene cache and the task
+
+_cache_lock = threading.Lock()
+_scenes: "collections.OrderedDict[str, object]" = collections.OrderedDict()
+_CACHED_SCENES = 2  # animations: the frame being rendered and the next one
+
+
+def _cache_scene(key, scene):
+    with _cache_lock:
+        _scenes[key] = scene
+        _scenes.move_to_end(key)
+        while len(_scenes) > _CACHED_SCENES:
+            _scenes.popitem(last=False)
+
+
+# Set by the client on Ctrl-C: in-process workers' renders stop within a pass.
+_cancel = threading.Event()
+
+
+def _worker_scene(payload: ScenePayload):
+    """The built Scene of a payload, built once per worker process (LRU of _CACHED_SCENES)."""
+    with _cache_lock:
+        scene = _scenes.get(payload.key)
+        if scene is not None:
+            _scenes.move_to_end(payload.key)
+            return scene
+        tmp = None
+        try:
+            base = "."
+            if payload.files:
+                tmp = tempfile.mkdtemp(prefix="facet-farm-")
+                for name, data in payload.files.items():
+                    pathlib.Path(tmp, name).write_bytes(data)
+                base = tmp
+            desc = _description(payload, base)
+            if desc.fingerprint() != payload.fingerprint and not payload.files:
+                raise FarmError(f"{payload.name}: the scene changed on its way to the worker")
+            scene = facet.build_scene(desc, name=payload.name)
+        except (ValueError, RuntimeError, OSError) as e:
+            raise FarmError(str(e)) from None
+        finally:
+            if tmp:
+                shutil.rmtree(tmp, ignore_errors=True)
+        _scenes[payload.key] = scene
+        while len(_scenes) > _CACHED_SCENES:
+            _scenes.popitem(last=False)
+        return scene
+
+
+def _scene_data(payload: ScenePayload) -> ScenePayload:
+    return payload
+
+
+def render_piece(payload: ScenePayload, region, samples, threads: int):
+    """The Dask task: renders `region` x `samples` of the payload's scene; a facet.RenderPart."""
+    scene = _worker_scene(payload)
+    session = facet.RenderSession(scene, spp=payload.spp, seed=payload.seed, region=region,
+                                  samples=samples, threads=threads, time_budget=0)
+    if not session.render(lambda info: not _cancel.is_set()):
+        raise FarmError("cancelled")
+    part = session.part()
+    part.name = f"{payload.name} region {tuple(region)} samples {tuple(samples)}"
+    return part
+
+
+# ---------------------------------------------------------------------------------------------
+# Client side: plans, merging, the job loop
+
+
+def tiles(width: int, height: int, size: int):
+    """Regions (x0, y0, x1, y1) of a grid of size x size tiles covering the image, row-major."""
+    return [(x, y, min(x + size, width), min(y + size, height))
+            for y in range(0, height, size) for x in range(0, width, size)]
+
+
+def chunks(spp: int, chunk: int):
+    """Sample ranges [s0, s1) of at most `chunk` samples covering [0, spp)."""
+    chunk = max(1, min(chunk, spp))
+    return [(s, min(s + chunk, spp)) for s in range(0, spp, chunk)]
+
+
+def plan_still(width: int, height: int, spp: int, slots: int, tile_size: int | None = None,
+               sample_chunk: int | None = None):
+    """(regions, sample ranges) of a still, in the order the tasks are submitted (Dask runs
+    independent tasks roughly in that order). Default: the largest tile of 512, 256, 128 or 64
+    px giving at least 8 tiles per task slot, so a task is long against the scheduler's ~ms per
+    task; and the last 2 tiles per slot cut in 4 x 4, so the wait for the last task (slots idle
+    while it runs) is a sixteenth of a tile. Regions need not lie on one grid: any split merges
+    to the same image."""
+    if tile_size is not None and tile_size < 1:
+        raise FarmError(f"--tile-size: must be >= 1, got {tile_size}")
+    if sample_chunk is not None and sample_chunk < 1:
+        raise FarmError(f"--sample-chunk: must be >= 1, got {sample_chunk}")
+    samples = chunks(spp, sample_chunk or spp)
+    if tile_size is not None:
+        return tiles(width, height, tile_size), samples
+    size = 64
+    for candidate in (512, 256, 128):
+        if len(tiles(width, height, candidate)) >= 8 * slots:
+            size = candidate
+            break
+    regions = tiles(width, height, size)
+    tail = min(len(regions) // 4, 2 * slots)
+    if size >= 64 and tail > 0:
+        sub = size // 4
+        last = regions[-tail:]
+        regions = regions[:-tail]
+        for x0, y0, x1, y1 in last:
+            regions += [(x, y, min(x + sub, x1), min(y + sub, y1))
+                        for y in range(y0, y1, sub) for x in range(x0, x1, sub)]
+    return regions, samples
+
+
+def _part_state(part):
+    return part.__getstate__()
+
+
+def _sum_parts(parts):
+    """One part of the union of sample ranges of parts covering the same region: the 128-bit
+    fixed-point sums added exactly (two uint64 words with carry), counts added."""
+    if len(parts) == 1:
+        return parts[0]
+    states = sorted((_part_state(p) for p in parts), key=lambda s: s[5])
+    first = list(states[0])
+    sums = np.frombuffer(first[9], dtype=np.uint64).reshape(-1, 2).copy()
+    counts = np.frombuffer(first[10], dtype=np.uint32).copy()
+    end = first[6]
+    for s in states[1:]:
+        if s[5] != end or tuple(s[4]) != tuple(first[4]):
+            raise FarmError(f"internal: parts of {first[8]} do not chain ({end} vs {s[5]})")
+        end = s[6]
+        other = np.frombuffer(s[9], dtype=np.uint64).reshape(-1, 2)
+        lo = sums[:, 0] + other[:, 0]
+        carry = (lo < sums[:, 0]).astype(np.uint64)
+        sums[:, 1] += other[:, 1] + carry
+        sums[:, 0] = lo
+        counts += np.frombuffer(s[10], dtype=np.uint32)
+    first[6] = end
+    first[9] = sums.tobytes()
+    first[10] = counts.tobytes()
+    merged = facet.RenderPart.__new__(facet.RenderPart)
+    merged.__setstate__(tuple(first))
+    return merged
+
+
+def _place(job, part):
+    """Pastes a complete tile (samples [0, spp)) into the job's image. A pixel's value depends
+    only on its own sums (film.h), so the tile's resolved image is exactly that pixel of the
+    merged image: no full-image merge at the end. Checks what merge_parts would."""
+    p = job.payload
+    if job.fingerprint is None:
+        job.fingerprint = part.fingerprint
+    if part.fingerprint != job.fingerprint or part.seed != p.seed or \
+            (part.width, part.height) != (p.width, p.height) or part.samples != (0, p.spp):
+        raise FarmError(f"{p.name}: internal: part {part.name} does not belong to this render "
+                        f"(fingerprint, seed, size or samples {part.samples} differ)")
+    if job.image is None:
+        job.image = np.zeros((p.height, p.width, 3), dtype=np.float32)
+    x0, y0, x1, y1 = part.region
+    job.image[y0:y1, x0:x1] = part.image()
+
+
+@dataclasses.dataclass
+class Job:
+    """One image: a payload, its pieces and where the merged image goes."""
+
+    payload: ScenePayload
+    regions: list
+    samples: list
+    outputs: list                 # paths written when the image is complete
+    label: str = ""
+    image: np.ndarray | None = None
+    fingerprint: int | None = None  # of the first part (scene + render settings)
+
+    @property
+    def tasks(self) -> int:
+        return len(self.regions) * len(self.samples)
+
+
+class Progress:
+    """A one-line progress bar on a terminal (stderr), nothing otherwise."""
+
+    def __init__(self, total: int, unit: str, enabled: bool | None = None):
+        self.total, self.unit, self.done = total, unit, 0
+        self.enabled = sys.stderr.isatty() if enabled is None else enabled
+        self.start = time.monotonic()
+        self.last = 0.0
+
+    def step(self, n: int = 1):
+        self.done += n
+        now = time.monotonic()
+        if not self.enabled or (now - self.last < 0.1 and self.done < self.total):
+            return
+        self.last = now
+        elapsed = now - self.start
+        eta = elapsed / self.done * (self.total - self.done) if self.done else 0.0
+        width = 30
+        filled = int(width * self.done / max(self.total, 1))
+        sys.stderr.write(f"\r[{'#' * filled}{'.' * (width - filled)}] {self.done}/{self.total} "
+                         f"{self.unit}, {elapsed:.1f} s, ETA {eta:.1f} s ")
+        sys.stderr.flush()
+
+    def close(self):
+        if self.enabled and self.done:
+            sys.stderr.write("\n")
+            sys.stderr.flush()
+
+
+def _write(image, outputs):
+    for out in outputs:
+        pathlib.Path(out).parent.mkdir(parents=True, exist_ok=True)
+        facet.write_image(image, out)
+
+
+def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
+             progress: Progress | None = None, on_result: Callable | None = None) -> list:
+    """Renders every job's pieces on the client's cluster and writes each image as soon as it is
+    complete. Returns the images (None for jobs that wrote theirs and dropped it: animations).
+    Raises FarmError for a failed task (after cancelling the rest); KeyboardInterrupt cancels
+    every task and is re-raised."""
+    from distributed import as_completed
+    from distributed.scheduler import KilledWorker
+
+    futures = {}
+    pending = {}
+    _cancel.clear()
+    try:
+        for j, job in enumerate(jobs):
+            # The scene travels once per job to the scheduler, as the spec of a task returning
+            # it: Dask copies its result to each worker that runs one of the job's pieces (once
+            # per worker, from peers), and recomputes it if every worker holding it is lost
+            # (data scattered by the client would be gone with them).
+            scattered = client.submit(_scene_data, job.payload, pure=False)
+            pending[j] = {r: [] for r in job.regions}
+            for s in job.samples:
+                for r in job.regions:
+                    f = client.submit(render_piece, scattered, r, s, threads_per_task,
+                                      pure=False, retries=0)
+                    futures[f] = (j, r)
+        tiles_left = {j: len(job.regions) for j, job in enumerate(jobs)}
+        for future in as_completed(list(futures), loop=client.loop):
+            j, r = futures.pop(future)
+            try:
+                part = future.result()
+            except KilledWorker as e:
+                raise FarmError(f"{jobs[j].payload.name}: a task killed its worker "
+                                f"{e.args[1] if len(e.args) > 1 else ''} repeatedly: {e}") from None
+            except FarmError:
+                raise
+            except Exception as e:  # the task's own error, re-raised by Dask
+                raise FarmError(f"{jobs[j].payload.name}: {type(e).__name__}: {e}") from None
+            del future
+            if on_result:
+                on_result(part)
+            tile = pending[j][r]
+            tile.append(part)
+            if len(tile) == len(jobs[j].samples):
+                _place(jobs[j], _sum_parts(tile))
+                del pending[j][r]
+                tiles_left[j] -= 1
+            if progress:
+                progress.step()
+            if tiles_left[j] == 0:
+                job = jobs[j]
+                tiles_left[j] = -1
+                _write(job.image, job.outputs)
+                if len(jobs) > 1 and job.outputs:
+                    job.image = None  # animations: written, dropped
+    except KeyboardInterrupt:
+        _cancel.set()
+        raise
+    finally:
+        if futures:
+            client.cancel(list(futures))
+        if progress:
+            progress.close()
+    return [job.image for job in jobs]
+
+
+# ---------------------------------------------------------------------------------------------
+# Clusters
+
+
+def local_cluster(workers: int | None = None, threads: int | None = None,
+                  processes: bool | None = None):
+    """A LocalCluster on this machine, no dashboard. Default (workers None or 0): one worker in
+    this process with a task thread per core (inproc transport: no socket but the scheduler's
+    HTTP endpoint on 127.0.0.1); workers >= 1: that many worker processes listening on
+    127.0.0.1 only."""
+    from distributed import LocalCluster
+
+    cores = os.cpu_count() or 1
+    if processes is None:
+        processes = bool(workers)
+    # Quiet worker processes: they read Dask's logging levels from the environment at import.
+    os.environ.setdefault("DASK_LOGGING__DISTRIBUTED", "error")
+    return LocalCluster(n_workers=workers or 1, threads_per_worker=threads or cores,
+                        processes=processes, host="127.0.0.1" if processes else None, dashboard_address=None,
+                        preload=["facet.farm"] if processes else [],  # dask_setup: no SIGINT
+                        scheduler_port=0, silence_logs=logging.ERROR, memory_limit=0,
+                        # the scheduler's HTTP endpoint on loopback too, any free port
+                        scheduler_kwargs={"dashboard": False, "dashboard_address": "127.0.0.1:0"})
+
+
+def connect(address, timeout: float = 10.0):
+    """A Client of the scheduler at `address` (or of a LocalCluster); FarmError when it cannot be
+    reached within `timeout` seconds."""
+    from distributed import Client
+
+    try:
+        return Client(address, timeout=timeout, set_as_default=False)
+    except (OSError, TimeoutError, ValueError) as e:
+        raise FarmError(f"cannot reach the Dask scheduler at {address} within {timeout:g} s "
+                        f"({type(e).__name__}: {e})") from None
+
+
+def quiet_logs():
+    """Dask's and tornado's logs at ERROR (distributed sets its own levels when imported)."""
+    import distributed  # noqa: F401
+
+    for name in ("distributed", "tornado", "asyncio", "bokeh"):
+        logging.getLogger(name).setLevel(logging.ERROR)
+
+
+def dask_setup(worker):
+    """Preload of the local cluster's worker processes: they ignore SIGINT, which a terminal's
+    Ctrl-C sends to the whole process group; the client cancels the job and closes them."""
+    import signal
+
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+
+
+def _slots(client) -> int:
+    return max(1, sum(w.get("nthreads", 1)
+                      for w in client.scheduler_info().get("workers", {}).values()))
+
+
+# ---------------------------------------------------------------------------------------------
+# The command
+
+
+def frame_outputs(pattern: str, number: int) -> str:
+    """out/frame_####.exr -> out/frame_0007.exr (a run of #: the frame number, zero-padded)."""
+    return re.sub(r"#+", lambda m: f"{number:0{len(m.group(0))}d}", pattern, count=1)
+
+
+def frame_number(path: str, position: int) -> int:
+    """The number at the end of the scene file's stem (frames/f_0042.json -> 42), else position."""
+    m = re.search(r"(\d+)$", pathlib.Path(path).stem)
+    return int(m.group(1)) if m else position
+
+
+def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str | None = None,
+                 tile_size: int | None = None, sample_chunk: int | None = None,
+                 spp: int | None = None, seed: int | None = None, workers: int | None = None,
+                 threads: int | None = None, task_threads: int = 1, timeout: float = 10.0,
+                 progress: bool | None = None, client=None, stats: dict | None = None):
+    """Renders scene files (one still, or the frames of an animation) on Dask; see main()."""
+    if not scenes:
+        raise FarmError("no scene given")
+    if not outputs:
+        raise FarmError("-o: give at least one output (.exr or .png)")
+    animation = len(scenes) > 1
+    if animation and not all("#" in o for o in outputs):
+        raise FarmError("-o: an animation needs a frame pattern in every output "
+                        "(out/frame_####.exr)")
+    t0 = time.monotonic()
+    # Validate every scene here first: a bad one is one error, before any cluster starts.
+    payloads = [load_payload(s, spp=spp, seed=seed, validate=True) for s in scenes]
+    t_load = time.monotonic()
+    cluster = None
+    own_client = client is None
+    try:
+        if own_client:
+            if scheduler:
+                client = connect(scheduler, timeout)
+            else:
+                cluster = local_cluster(workers, threads)
+                client = connect(cluster, timeout)
+        slots = _slots(client)
+        # Render threads per task: 1 when each worker runs as many tasks at once as it has cores.
+        per_task = max(1, task_threads)
+        t_cluster = time.monotonic()
+        jobs = []
+        for k, payload in enumerate(payloads):
+            if animation and len(payloads) >= slots and tile_size is None and sample_chunk is None:
+                regions = [(0, 0, payload.width, payload.height)]
+                samples = [(0, payload.spp)]
+            else:
+                regions, samples = plan_still(payload.width, payload.height, payload.spp, slots,
+                                              tile_size, sample_chunk)
+            number = frame_number(payload.name, k + 1)
+            outs = [frame_outputs(o, number) for o in outputs] if animation else list(outputs)
+            jobs.append(Job(payload, regions, samples, outs, label=str(number)))
+        total = sum(j.tasks for j in jobs)
+        unit = "frames" if animation and total == len(jobs) else "tiles"
+        bar = Progress(total, unit, progress)
+        images = run_jobs(client, jobs, per_task, bar)
+        t_end = time.monotonic()
+        if stats is not None:
+            stats.update(load_s=t_load - t0, cluster_s=t_cluster - t_load,
+                         render_s=t_end - t_cluster, tasks=total, slots=slots)
+        return images
+    finally:
+        if own_client and client is not None:
+            client.close()
+        if cluster is not None:
+            cluster.close()
+
+
+def _parser():
+    p = argparse.ArgumentParser(
+        prog="facet-farm",
+        description="Distributed rendering of Facet scenes on Dask: bit-identical to "
+                    "`facet render`, whatever the split, the workers and lost workers.")
+    sub = p.add_subparsers(dest="command", required=True)
+    r = sub.add_parser("render", help="render a still or the frames of an animation")
+    r.add_argument("scenes", nargs="+", help="scene.json, or frames/*.json for an animation")
+    r.add_argument("-o", "--output", action="append", default=[], required=True,
+                   help=".exr/.png; repeatable; with #### (frame number) for animations")
+    r.add_argument("--scheduler", help="tcp://host:8786 or tls://host:8786 (default: a local "
+                   "cluster on 127.0.0.1)")
+    r.add_argument("--tile-size", type=int, help="tile edge in pixels (default: by image size "
+                   "and task slots)")
+    r.add_argument("--sample-chunk", type=int, help="samples per task (default: all)")
+    r.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
+    r.add_argument("--seed", type=int, help="sampler seed (default: the scene's)")
+    r.add_argument("--workers", type=int, default=0,
+                   help="local cluster: worker processes (default 0: one worker thread per core "
+                   "in this process)")
+    r.add_argument("--threads", type=int, help="local cluster: task threads per worker "
+                   "(default: the cores)")
+    r.add_argument("--task-threads", type=int, default=1,
+                   help="render threads of each task (default 1: one task per core)")
+    r.add_argument("--timeout", type=float, default=10.0,
+                   help="seconds to wait for the scheduler (default 10)")
+    r.add_argument("--progress", dest="progress", action="store_true", default=None,
+                   help="progress bar even when stderr is not a terminal")
+    r.add_argument("--no-progress", dest="progress", action="store_false")
+    return p
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    args = _parser().parse_args(argv)
+    quiet_logs()
+    try:
+        render_files(args.scenes, args.output, scheduler=args.scheduler,
+                     tile_size=args.tile_size, sample_chunk=args.sample_chunk, spp=args.spp,
+                     seed=args.seed, workers=args.workers, threads=args.threads,
+                     task_threads=args.task_threads,
+                     timeout=args.timeout, progress=args.progress)
+    except FarmError as e:
+        print(f"facet-farm: error: {e}", file=sys.stderr)
+        return 1
+    except KeyboardInterrupt:
+        print("facet-farm: cancelled", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    # `python3 -m facet.farm`: run the imported module's main, so that tasks pickle by reference
+    # to facet.farm (as on the workers), not by value from __main__.
+    from facet.farm import main as _main
+
+    sys.exit(_main())

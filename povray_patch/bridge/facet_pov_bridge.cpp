@@ -1,0 +1,303 @@
+// The bridge between POV-Ray and the Facet core (see facet_pov_bridge.h). This file includes
+// Facet core headers and no POV-Ray header. The BRDF math is the core's; this file only
+// translates parameters and frames.
+#include "facet_pov_bridge.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <memory>
+#include <mutex>
+#include <optional>
+#include <vector>
+
+#include "facet/frame.h"
+#include "facet/material.h"
+#include "facet/registry.h"
+#include "facet/types.h"
+
+namespace facet_pov {
+
+class Brdf {
+  public:
+    explicit Brdf(facet::Material m, int samples) : m_material(std::move(m)), m_samples(samples) {
+        const auto& g = m_material.glossy();
+        m_glossy = g && !facet::is_specular(g->flags());
+        m_mirror = m_material.mirror().has_value() || (g && !m_glossy);
+    }
+    const facet::Material& material() const { return m_material; }
+    bool glossy() const { return m_glossy; }  // a non-delta glossy lobe
+    bool mirror() const { return m_mirror; }  // a mirror lobe or a smooth glossy lobe
+    int samples() const { return m_samples; }
+
+  private:
+    facet::Material m_material;
+    int m_samples;
+    bool m_glossy = false;
+    bool m_mirror = false;
+};
+
+namespace {
+
+// Every Brdf lives until the process ends: FINISH structs (malloc'ed, struct-copied, freed by a
+// macro) hold plain pointers to them. A scene builds a handful, so nothing is reclaimed.
+std::mutex g_mutex;
+std::vector<std::unique_ptr<Brdf>>& all_brdfs() {
+    static std::vector<std::unique_ptr<Brdf>> brdfs;
+    return brdfs;
+}
+
+constexpr int kDefaultGlossySamples = 8;
+
+facet::Vec3 to_vec(const double v[3]) {
+    return {float(v[0]), float(v[1]), float(v[2])};
+}
+
+const facet::ParamInfo* find_param(const facet::ModelInfo& m, const char* name) {
+    for (const auto& p : m.params)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+std::string quoted_list(const std::vector<std::string>& names) {
+    std::string s;
+    for (std::size_t i = 0; i < names.size(); ++i) {
+        if (i) s += ", ";
+        s += "'" + names[i] + "'";
+    }
+    return s;
+}
+
+// 32-bit integer hash (Wang/Jenkins style mix, "lowbias32" constants).
+std::uint32_t mix(std::uint32_t x) {
+    x ^= x >> 16;
+    x *= 0x7feb352dU;
+    x ^= x >> 15;
+    x *= 0x846ca68bU;
+    x ^= x >> 16;
+    return x;
+}
+
+double to_unit(std::uint32_t h) {
+    return double(h >> 8) * (1.0 / 16777216.0);  // 24 bits: exactly representable, < 1
+}
+
+double radical_inverse(unsigned base, unsigned i) {
+    double inv = 1.0 / base, f = inv, r = 0.0;
+    while (i > 0) {
+        r += f * (i % base);
+        i /= base;
+        f *= inv;
+    }
+    return r;
+}
+
+}  // namespace
+
+std::string model_list() {
+    std::vector<std::string> names;
+    for (const auto& m : facet::model_table()) names.push_back(m.name);
+    return quoted_list(names);
+}
+
+bool is_model(const char* name) {
+    return facet::find_model(name) != nullptr;
+}
+
+ParamKind param_kind(const char* model, const char* param, std::string& message) {
+    const facet::ModelInfo* m = facet::find_model(model);
+    if (!m) {
+        message = "unknown model '" + std::string(model) + "'";
+        return ParamKind::Unknown;
+    }
+    if (const facet::ParamInfo* p = find_param(*m, param)) {
+        switch (p->type) {
+            case facet::ParamType::Number:
+                return ParamKind::Number;
+            case facet::ParamType::Color:
+                return ParamKind::Colour;
+            case facet::ParamType::String:
+                return ParamKind::Word;
+            case facet::ParamType::Bool:
+                return ParamKind::Bool;
+        }
+    }
+    std::vector<std::string> names;
+    for (const auto& p : m->params) names.push_back(p.name);
+    message = "unknown parameter '" + std::string(param) + "' for model '" + m->name + "'";
+    std::string guess = facet::closest_name(param, names);
+    if (!guess.empty()) message += " (did you mean '" + guess + "'?)";
+    message += "; its parameters are " + quoted_list(names);
+    return ParamKind::Unknown;
+}
+
+std::string word_choices(const char* model, const char* param) {
+    std::string p = param;
+    if (p == "fresnel") return "'none', 'dielectric', 'conductor', 'schlick'";
+    if (p == "distribution") return "'ggx', 'beckmann', 'blinn'";
+    return "";
+}
+
+struct BrdfBuilder::Impl {
+    std::string model;
+    facet::ParamSet params;
+    int samples = kDefaultGlossySamples;
+};
+
+BrdfBuilder::BrdfBuilder(const char* model) : m_impl(new Impl{model, {}, kDefaultGlossySamples}) {}
+BrdfBuilder::~BrdfBuilder() {
+    delete m_impl;
+}
+
+bool BrdfBuilder::set_number(const char* name, double v) {
+    if (m_impl->params.has(name)) return false;
+    m_impl->params.set(name, v);
+    return true;
+}
+bool BrdfBuilder::set_colour(const char* name, double r, double g, double b) {
+    if (m_impl->params.has(name)) return false;
+    m_impl->params.set(name, facet::Rgb(float(r), float(g), float(b)));
+    return true;
+}
+bool BrdfBuilder::set_word(const char* name, const char* word) {
+    if (m_impl->params.has(name)) return false;
+    m_impl->params.set(name, std::string(word));
+    return true;
+}
+bool BrdfBuilder::set_bool(const char* name, bool v) {
+    if (m_impl->params.has(name)) return false;
+    m_impl->params.set(name, v);
+    return true;
+}
+void BrdfBuilder::set_glossy_samples(int n) {
+    m_impl->samples = n;
+}
+
+const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
+    try {
+        facet::ParamSet params = m_impl->params;
+        // In POV-Ray the pigment is the diffuse reflectance (as with classic `diffuse`): the
+        // diffuse reflectance parameter is a factor on it, 1 unless given.
+        if (m_impl->model == "lambert" && !params.has("reflectance"))
+            params.set("reflectance", 1.0);
+        if (m_impl->model == "composite" && !params.has("diffuse_reflectance"))
+            params.set("diffuse_reflectance", 1.0);
+        facet::Material m = facet::make_material(m_impl->model, params);
+        auto b = std::make_unique<Brdf>(std::move(m), m_impl->samples);
+        std::lock_guard<std::mutex> lock(g_mutex);
+        all_brdfs().push_back(std::move(b));
+        return all_brdfs().back().get();
+    } catch (const facet::ParamError& e) {
+        message = e.what();
+        param = e.param();
+    } catch (const std::exception& e) {
+        message = e.what();
+        param.clear();
+    }
+    return nullptr;
+}
+
+bool lit_by_lights(const Brdf* b) {
+    return b->material().diffuse().has_value() || b->glossy();
+}
+bool has_glossy(const Brdf* b) {
+    return b->glossy();
+}
+bool has_mirror(const Brdf* b) {
+    return b->mirror();
+}
+
+void shade(const Brdf* b, const double n[3], const double wo[3], const double wi[3],
+           const float tint[3], bool glossy, float out[3]) {
+    out[0] = out[1] = out[2] = 0.f;
+    const facet::Frame frame = facet::Frame::from_z(to_vec(n));
+    const facet::Vec3 o = frame.to_local(to_vec(wo)), i = frame.to_local(to_vec(wi));
+    if (!(o.z > 0.f) || !(i.z > 0.f)) return;
+    const facet::Material& m = b->material();
+    facet::Rgb r(0.f);
+    if (m.diffuse()) r += m.diffuse_f(o, i) * facet::Rgb(tint[0], tint[1], tint[2]);
+    if (glossy && b->glossy()) r += m.glossy()->f(o, i);
+    r *= facet::kPi * i.z;
+    if (!facet::is_finite(r)) return;
+    out[0] = r.x;
+    out[1] = r.y;
+    out[2] = r.z;
+}
+
+void diffuse_albedo(const Brdf* b, const double n[3], const double wo[3], const float tint[3],
+                    float out[3]) {
+    out[0] = out[1] = out[2] = 0.f;
+    const facet::Material& m = b->material();
+    if (!m.diffuse()) return;
+    facet::Vec3 nn = to_vec(n), o = to_vec(wo);
+    float mu = std::clamp(glm::dot(nn, o), 0.f, 1.f);
+    // int f_d cos dwi = rho_d (1 - Es(wo)) (facet/material.h: 2 int (1 - Es) mu dmu = 1 - Es_avg).
+    facet::Rgb a = m.diffuse()->rho() * (facet::Rgb(1.f) - m.specular_albedo(mu));
+    for (int c = 0; c < 3; ++c) out[c] = std::max(0.f, a[c] * tint[c]);
+}
+
+void mirror_weight(const Brdf* b, const double n[3], const double wo[3], float out[3]) {
+    out[0] = out[1] = out[2] = 0.f;
+    const facet::Material& m = b->material();
+    float mu = std::clamp(glm::dot(to_vec(n), to_vec(wo)), 0.f, 1.f);
+    facet::Rgb w(0.f);
+    if (m.mirror()) w += m.mirror()->reflectance(mu);
+    if (m.glossy() && !b->glossy())  // a smooth glossy lobe is the mirror (facet/microfacet.h)
+        w += m.glossy()->scale() * m.glossy()->fresnel().eval(mu);
+    out[0] = w.x;
+    out[1] = w.y;
+    out[2] = w.z;
+}
+
+bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const double u[3],
+                   double wi[3], float weight[3]) {
+    if (!b->glossy()) return false;
+    const facet::Frame frame = facet::Frame::from_z(to_vec(n));
+    const facet::Vec3 o = frame.to_local(to_vec(wo));
+    if (!(o.z > 0.f)) return false;
+    auto s =
+        b->material().glossy()->sample_f(o, float(u[0]), facet::Vec2(float(u[1]), float(u[2])));
+    if (!s || !(s->pdf > 0.f) || !(s->wi.z > 0.f)) return false;
+    facet::Rgb w = s->f * (s->wi.z / s->pdf);
+    if (!facet::is_finite(w) || !(facet::max_component(w) > 0.f)) return false;
+    facet::Vec3 d = frame.from_local(s->wi);
+    wi[0] = d.x;
+    wi[1] = d.y;
+    wi[2] = d.z;
+    weight[0] = w.x;
+    weight[1] = w.y;
+    weight[2] = w.z;
+    return true;
+}
+
+int glossy_ray_count(const Brdf* b, unsigned trace_level) {
+    if (!b->glossy()) return 0;
+    if (b->samples() == 0) return 0;
+    return trace_level <= 1 ? b->samples() : 1;
+}
+
+void glossy_sample(unsigned seed, unsigned trace_level, int index, int count, double u[3]) {
+    std::uint32_t h = mix(seed ^ mix(trace_level + 0x9e3779b9U));
+    double shift[3] = {to_unit(mix(h + 1)), to_unit(mix(h + 2)), to_unit(mix(h + 3))};
+    // Hammersley-style point set (i/n, base-2, base-3 radical inverses), Cranley-Patterson
+    // rotated by the hashed shift.
+    double p[3] = {radical_inverse(3, unsigned(index)), (index + 0.5) / count,
+                   radical_inverse(2, unsigned(index))};
+    for (int k = 0; k < 3; ++k) {
+        double v = p[k] + shift[k];
+        v -= std::floor(v);
+        u[k] = std::min(v, 0.99999994);
+    }
+}
+
+unsigned pixel_seed(double x, double y, unsigned sample) {
+    std::uint64_t bx, by;
+    std::memcpy(&bx, &x, 8);
+    std::memcpy(&by, &y, 8);
+    std::uint32_t h = mix(std::uint32_t(bx) ^ mix(std::uint32_t(bx >> 32)));
+    h = mix(h ^ std::uint32_t(by) ^ mix(std::uint32_t(by >> 32) + 0x85ebca6bU));
+    return mix(h ^ (sample * 0xc2b2ae35U));
+}
+
+}  // namespace facet_pov

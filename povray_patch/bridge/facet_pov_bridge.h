@@ -1,0 +1,99 @@
+// The bridge between POV-Ray and the Facet core: the only Facet code POV-Ray's sources call.
+//
+// This header includes no Facet and no POV-Ray header (POV-Ray's frame.h defines the macros X,
+// Y, Z and EPSILON, which would break the core's headers), and it uses plain doubles and floats
+// only. The bridge owns every Brdf it builds for the life of the process: a FINISH (malloc'ed
+// and struct-copied by POV-Ray) just holds the pointer.
+//
+// Directions are world-space unit vectors. `n` is the shading normal on the side of the
+// viewer, `wo` points to the viewer, `wi` to the light; all point away from the surface.
+#pragma once
+
+#include <string>
+
+namespace facet_pov {
+
+class Brdf;
+
+// ---- parsing: `finish { brdf { MODEL PARAM VALUE ... } }` ----------------------------------
+
+enum class ParamKind { Number, Colour, Word, Bool, Unknown };
+
+// "'lambert', 'mirror', 'ggx', ..." (every model of the core's registry, in its order).
+std::string model_list();
+bool is_model(const char* name);
+// The kind of `param` of `model`; Unknown with `message` set ("unknown parameter 'x' for model
+// 'ggx' (did you mean 'alpha'?)") when the model has no such parameter.
+ParamKind param_kind(const char* model, const char* param, std::string& message);
+// The allowed bare words of a Word parameter ("'none', 'dielectric', ..."), or "" if open.
+std::string word_choices(const char* model, const char* param);
+
+// Collects the parameters of one block; build() validates them with the core's registry.
+class BrdfBuilder {
+  public:
+    explicit BrdfBuilder(const char* model);
+    ~BrdfBuilder();
+    BrdfBuilder(const BrdfBuilder&) = delete;
+    BrdfBuilder& operator=(const BrdfBuilder&) = delete;
+
+    // false if the parameter was given already (the parser reports it).
+    bool set_number(const char* name, double v);
+    bool set_colour(const char* name, double r, double g, double b);
+    bool set_word(const char* name, const char* word);
+    bool set_bool(const char* name, bool v);
+    // POV-Ray's own parameter of the block (not a core parameter): glossy rays per hit; 0
+    // turns the glossy reflection of other objects off (the lobe still shades the lights).
+    void set_glossy_samples(int n);
+    // The validated BRDF, or nullptr with `message` set to the registry's error
+    // ("parameter 'alpha' of model 'ggx': must be in [0, 10] (got 12)"); `param` names the
+    // offending parameter ("" for the model).
+    const Brdf* build(std::string& message, std::string& param);
+
+  private:
+    struct Impl;
+    Impl* m_impl;
+};
+
+// ---- shading -------------------------------------------------------------------------------
+
+// What a Brdf has: lobes that lights shade (diffuse/glossy), a glossy lobe, a mirror lobe.
+bool lit_by_lights(const Brdf* b);
+bool has_glossy(const Brdf* b);
+bool has_mirror(const Brdf* b);
+
+// The light reflected toward wo per unit light colour: pi * f(wo, wi) * cos(theta_i), with the
+// diffuse part tinted by `tint` (the pigment). POV-Ray's classic `diffuse d` gives d * cos per
+// unit light colour, so the factor pi makes a Lambert reflectance rho equal `diffuse rho`.
+// `glossy` false leaves the glossy lobe out (radiosity rays). Writes 0 when wo or wi is below.
+void shade(const Brdf* b, const double n[3], const double wo[3], const double wi[3],
+           const float tint[3], bool glossy, float out[3]);
+
+// Directional-hemispherical reflectance of the diffuse lobe at wo (with its energy-sharing
+// weight), tinted: what radiosity and photons multiply the incoming irradiance by.
+void diffuse_albedo(const Brdf* b, const double n[3], const double wo[3], const float tint[3],
+                    float out[3]);
+
+// Weight of the mirror lobe at wo (scale times the core's Fresnel at the angle of wo).
+void mirror_weight(const Brdf* b, const double n[3], const double wo[3], float out[3]);
+
+// One importance sample of the glossy lobe: writes wi and the weight f cos / pdf (glossy lobe
+// alone, so the weights of the glossy rays average to the lobe's albedo). false when the lobe
+// gives no sample (below the surface, zero albedo). u[0] picks a sub-lobe (energy
+// compensation), u[1], u[2] drive the warp; all in [0, 1).
+bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const double u[3],
+                   double wi[3], float weight[3]);
+
+// Glossy reflection rays traced at one hit: the block's `samples` (default 8) at the first
+// hit of a camera ray (trace level 1), 1 at deeper hits (so that the cost stays linear in
+// the trace depth); 0 for `samples 0` and for lobes that are a mirror or absent.
+int glossy_ray_count(const Brdf* b, unsigned trace_level);
+
+// Sample `index` of the `count` glossy samples of one hit: a stratified 3D point with a
+// random shift hashed from (seed, trace_level), deterministic in its arguments (no
+// per-thread state, so the image does not depend on the thread count).
+void glossy_sample(unsigned seed, unsigned trace_level, int index, int count, double u[3]);
+
+// A 32-bit hash of pixel coordinates and sample number, for TraceTicket::facetSeed.
+unsigned pixel_seed(double x, double y, unsigned sample);
+
+}  // namespace facet_pov

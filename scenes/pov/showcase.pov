@@ -1,0 +1,65 @@
+// scenes/showcase.json written by hand in POV-Ray SDL for povray-facet (until `facet
+// export-pov` exists): the same camera (explicit vectors, scenes/FORMAT.md "POV-Ray export"),
+// shapes and materials as `brdf` finishes. Approximations, since POV-Ray has no emitting
+// quad: the softbox is a 6x5 area light with physical_falloff whose colour L A / pi (quad
+// radiance L times area A, over pi for povray-facet's pi f cos scale) gives the quad's
+// irradiance below it (no emitter cosine), plus a visible emitting polygon; the environment is
+// a sky_sphere (seen in reflections; no radiosity). The brushed sphere's anisotropy axis is the
+// core's default tangent frame (POV-Ray has no surface tangents).
+//
+// Declare=Classic=1 renders the same scene with stock POV-Ray finishes (phong, specular,
+// reflection, metallic) for the side-by-side picture; that variant runs on the stock povray.
+#version 3.7;
+#ifndef (Classic) #declare Classic = 0; #end
+#ifndef (Glossy_Samples) #declare Glossy_Samples = 8; #end
+
+global_settings { assumed_gamma 1.0 max_trace_level 12 ambient_light 0 }
+
+// camera: position, look_at, up, fov 36 (vertical), 960x540, pixel centres as Facet's
+#declare P = <0, 1.8, 6.5>;
+#declare F = vnormalize(<0, 0.55, 0> - P);
+#declare R = vnormalize(vcross(F, <0, 1, 0>));
+#declare U = vcross(R, F);
+#declare Ty = tan(radians(36) / 2);
+#declare Tx = Ty * image_width / image_height;
+camera {
+  perspective
+  location P
+  right 2 * Tx * R
+  up 2 * Ty * U
+  direction F + (Tx / image_width) * R - (Ty / image_height) * U
+}
+
+sky_sphere { pigment { rgb <0.12, 0.15, 0.22> } }
+
+// softbox: quad (-1.5..1.5, 4, -1..1.5), radiance <9, 8.6, 8>, area 7.5
+light_source {
+  <0, 4, 0.25> color rgb <9, 8.6, 8> * 7.5 / pi
+  area_light <3, 0, 0>, <0, 0, 2.5>, 6, 5 adaptive 1
+  #if (Classic) fade_distance 1 fade_power 2 #else physical_falloff #end
+}
+polygon { 5, <-1.5, 4, -1>, <1.5, 4, -1>, <1.5, 4, 1.5>, <-1.5, 4, 1.5>, <-1.5, 4, -1>
+  pigment { rgb <9, 8.6, 8> } finish { ambient 0 diffuse 0 emission 1 } no_shadow }
+
+#if (Classic)
+  #declare Floor   = finish { ambient 0 diffuse 1 }
+  #declare Clay    = finish { ambient 0 diffuse 1 }
+  #declare Gold    = finish { ambient 0 diffuse 0.1 specular 0.8 roughness 0.01 metallic reflection { 0.6 metallic } }
+  #declare Chrome  = finish { ambient 0 diffuse 0 reflection 0.6 }
+  #declare Plastic = finish { ambient 0 diffuse 1 phong 0.6 phong_size 80 reflection { 0.02, 0.3 falloff 5 } }
+  #declare Brushed = finish { ambient 0 diffuse 0.2 specular 0.6 roughness 0.05 metallic reflection { 0.4 metallic } }
+#else
+  #declare Floor   = finish { ambient 0 brdf { lambert } }
+  #declare Clay    = finish { ambient 0 brdf { lambert } }
+  #declare Gold    = finish { ambient 0 brdf { ggx alpha 0.15 fresnel conductor eta rgb <0.143, 0.374, 1.442> k rgb <3.983, 2.385, 1.603> samples Glossy_Samples } }
+  #declare Chrome  = finish { ambient 0 brdf { mirror fresnel conductor eta rgb <3.1, 3.1, 2.3> k rgb <3.3, 3.3, 3.1> } }
+  #declare Plastic = finish { ambient 0 brdf { composite glossy_reflectance 1 distribution ggx alpha 0.08 fresnel dielectric ior 1.5 samples Glossy_Samples } }
+  #declare Brushed = finish { ambient 0 brdf { ggx alpha_u 0.05 alpha_v 0.35 fresnel conductor samples Glossy_Samples } }
+#end
+
+plane { y, 0 pigment { rgb 0.45 } finish { Floor } }
+sphere { <-2.3, 0.5, -0.6>, 0.5 pigment { rgb <0.7, 0.25, 0.15> } finish { Clay } }
+sphere { <-0.9, 0.6, 0.2>, 0.6 pigment { rgb <1, 0.78, 0.34> } finish { Gold } }
+sphere { <0.45, 0.7, -0.4>, 0.7 pigment { rgb 0.6 } finish { Chrome } }
+sphere { <1.65, 0.5, 0.3>, 0.5 pigment { rgb <0.1, 0.3, 0.7> } finish { Plastic } }
+sphere { 0, 0.45 rotate -90 * x translate <2.75, 0.45, -0.9> pigment { rgb 0.9 } finish { Brushed } }

@@ -1,0 +1,77 @@
+"""Helpers for the Blender tests: scripts run inside `blender -b --factory-startup --python`.
+A failed check raises, and --python-exit-code makes Blender exit 1. The tests check images and
+reports, never Blender's exit code alone (an exception inside a render engine exits 0)."""
+import os
+import sys
+import traceback
+
+import addon_utils
+import bpy
+import numpy as np
+
+ADDON = "facet_blender"
+
+
+def args():
+    """The arguments after Blender's `--`."""
+    return sys.argv[sys.argv.index("--") + 1:] if "--" in sys.argv else []
+
+
+def enable_addon():
+    """Enables the addon installed (from the zip) in BLENDER_USER_SCRIPTS by test_install."""
+    mod = addon_utils.enable(ADDON, default_set=True, handle_error=_raise)
+    if mod is None or not hasattr(bpy.types, "FacetRenderEngine") and "FACET" not in [
+            e.bl_idname for e in bpy.types.RenderEngine.__subclasses__()]:
+        raise RuntimeError("the Facet addon did not register")
+    import facet_blender.engine
+    return mod
+
+
+def _raise(e):
+    traceback.print_exception(e)
+    raise e
+
+
+def check(cond, msg):
+    if not cond:
+        raise AssertionError(msg)
+    print("ok:", msg)
+
+
+def render(scene=None, path=None):
+    """F12 on the scene; returns (image float32 (h, w, 3) top row first, problems). Raises
+    RuntimeError when the engine reported an error (Blender turns report ERROR into that)."""
+    import facet_blender.engine as eng
+    scene = scene or bpy.context.scene
+    eng.last_image = None
+    if path:
+        scene.render.filepath = path
+        scene.render.image_settings.file_format = 'OPEN_EXR'
+        scene.render.image_settings.color_depth = '32'
+        scene.render.image_settings.color_mode = 'RGB'
+        scene.render.image_settings.exr_codec = 'ZIP'
+    bpy.ops.render.render(write_still=bool(path))
+    return eng.last_image, list(eng.last_problems)
+
+
+def load_exr(path):
+    """An EXR through Blender's own loader -> float32 (h, w, 3), top row first."""
+    im = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = im.size
+        px = np.empty(w * h * im.channels, np.float32)
+        im.pixels.foreach_get(px)
+        return px.reshape(h, w, im.channels)[::-1, :, :3].copy()
+    finally:
+        bpy.data.images.remove(im)
+
+
+def run(main):
+    try:
+        main()
+    except Exception:
+        traceback.print_exc()
+        sys.stdout.flush()
+        os._exit(1)  # also from inside handlers; --python-exit-code covers the rest
+    print("PASS")
+    sys.stdout.flush()

@@ -1,0 +1,135 @@
+"""Cycles node materials -> Facet materials (materials.py): Diffuse, Glossy GGX / Beckmann /
+Sharp / Multiscatter GGX, Anisotropic, Principled (dielectric, metal, mixed), Emission; a
+linked input and an unsupported distribution are reported by material and input name; the
+Facet panel's model and parameters reach the core by the core's names (and the core validates
+them)."""
+import math
+import os
+import sys
+
+import bpy
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test as bt  # noqa: E402
+
+
+def node_material(name, idname, **inputs):
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        if n.bl_idname != 'ShaderNodeOutputMaterial':
+            nt.nodes.remove(n)
+    node = nt.nodes.new(idname)
+    for k, v in inputs.items():
+        if k.startswith("_"):
+            setattr(node, k[1:], v)
+        else:
+            node.inputs[k.replace("_", " ")].default_value = v
+    nt.links.new(node.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    return mat, node
+
+
+def close(a, b, tol=1e-6):
+    a = a if isinstance(a, (list, tuple)) else [a]
+    b = b if isinstance(b, (list, tuple)) else [b]
+    return len(a) == len(b) and all(abs(x - y) <= tol for x, y in zip(a, b))
+
+
+def main():
+    bt.enable_addon()
+    from facet_blender import materials, native
+
+    def conv(mat):
+        c = materials.convert(mat)
+        native.check_material(c.data["model"], {k: v for k, v in c.data.items()
+                                                if k != "model"})
+        return c
+
+    m, _ = node_material("D", "ShaderNodeBsdfDiffuse", Color=(0.2, 0.4, 0.6, 1.0))
+    c = conv(m)
+    bt.check(c.data["model"] == "lambert" and close(c.data["reflectance"], [0.2, 0.4, 0.6])
+             and not c.problems, "Diffuse -> lambert")
+
+    for dist, model in (("GGX", "ggx"), ("BECKMANN", "beckmann")):
+        m, _ = node_material("G" + dist, "ShaderNodeBsdfGlossy", _distribution=dist,
+                             Roughness=0.5, Color=(0.9, 0.8, 0.7, 1.0))
+        c = conv(m)
+        bt.check(c.data["model"] == model and close(c.data["alpha"], 0.25)
+                 and c.data["fresnel"] == "none" and close(c.data["reflectance"], [0.9, 0.8, 0.7]),
+                 "Glossy %s -> %s, alpha = roughness^2, F = 1" % (dist, model))
+    m, _ = node_material("GS", "ShaderNodeBsdfGlossy", _distribution='SHARP')
+    bt.check(conv(m).data["model"] == "mirror", "Glossy Sharp -> mirror")
+    m, _ = node_material("GM", "ShaderNodeBsdfGlossy", _distribution='MULTI_GGX', Roughness=0.7)
+    bt.check(conv(m).data.get("energy_compensation") is True, "Multiscatter GGX -> compensated")
+    m, _ = node_material("GA", "ShaderNodeBsdfGlossy", _distribution='ASHIKHMIN_SHIRLEY')
+    c = conv(m)
+    bt.check(c.data["model"] == "ggx" and any("GA" in p and "ASHIKHMIN" in p for p in c.problems),
+             "Ashikhmin-Shirley reported: %s" % c.problems)
+    m, _ = node_material("AN", "ShaderNodeBsdfAnisotropic", Roughness=0.5, Anisotropy=0.5)
+    c = conv(m)
+    aspect = math.sqrt(1 - 0.45)
+    bt.check(close(c.data["alpha_u"], 0.25 / aspect) and close(c.data["alpha_v"], 0.25 * aspect),
+             "Anisotropic -> alpha_u/alpha_v with Cycles' aspect")
+
+    m, _ = node_material("P", "ShaderNodeBsdfPrincipled", Base_Color=(0.8, 0.1, 0.1, 1.0),
+                         Roughness=0.4, Specular=0.5, Metallic=0.0, Specular_Tint=0.0)
+    c = conv(m)
+    bt.check(c.data["model"] == "composite" and close(c.data["diffuse_reflectance"], [0.8, 0.1, 0.1])
+             and close(c.data["f0"], [0.04] * 3) and close(c.data["alpha"], 0.16)
+             and c.data["fresnel"] == "schlick", "Principled dielectric: f0 = 0.08 Specular")
+    m, _ = node_material("PM", "ShaderNodeBsdfPrincipled", Base_Color=(0.9, 0.6, 0.2, 1.0),
+                         Metallic=1.0, Roughness=0.2)
+    c = conv(m)
+    bt.check(close(c.data["diffuse_reflectance"], [0, 0, 0]) and close(c.data["f0"], [0.9, 0.6, 0.2]),
+             "Principled metal: f0 = Base Color, no diffuse")
+    m, n = node_material("PX", "ShaderNodeBsdfPrincipled", Clearcoat=0.5)
+    tex = m.node_tree.nodes.new("ShaderNodeTexNoise")
+    m.node_tree.links.new(tex.outputs[1], n.inputs["Base Color"])
+    c = conv(m)
+    bt.check(any("PX" in p and "Clearcoat" in p for p in c.problems)
+             and any("PX" in p and "Base Color" in p and "linked" in p for p in c.problems),
+             "Principled: unsupported and linked inputs named: %s" % c.problems)
+    m, _ = node_material("E", "ShaderNodeEmission", Color=(1.0, 0.5, 0.25, 1.0), Strength=4.0)
+    c = conv(m)
+    bt.check(close(c.emission, [4.0, 2.0, 1.0]), "Emission: radiance = Color x Strength")
+
+    m = bpy.data.materials.new("F")
+    m.facet.source = 'FACET'
+    m.facet.model = 'ggx'
+    m.facet.ggx__alpha = 0.3
+    m.facet.ggx__alpha__set = True
+    m.facet.ggx__fresnel = "conductor"
+    m.facet.ggx__fresnel__set = True
+    c = conv(m)
+    bt.check(c.data == {"model": "ggx", "alpha": m.facet.ggx__alpha, "fresnel": "conductor"},
+             "Facet panel: only the parameters set, by the core's names: %s" % c.data)
+    m.facet.ggx__ior__set = True  # ior is meaningless with fresnel conductor
+    try:
+        conv(m)
+        rejected = False
+    except Exception as e:
+        rejected = "ior" in str(e)
+    bt.check(rejected, "the core rejects ior with fresnel conductor, naming it")
+
+    # The panel's lobe and albedo plot, from the core's f and albedo.
+    from facet_blender import plot
+    import numpy as np
+    img = plot.lobe_image({"model": "lambert", "reflectance": 0.5})
+    S = plot.SIZE
+    black = (img[..., :3].sum(axis=2) < 0.05)
+    # Lambert: f cos = rho/pi cos theta_o: the lobe's peak (scaled to r) straight up.
+    top = int(150 - 115)
+    bt.check(black[top - 2:top + 3, S // 2 - 2:S // 2 + 3].any(), "lambert lobe peaks at the normal")
+    # albedo 0.5 at every angle: a horizontal black line half way up the strip.
+    y_half = int(round((S - 12) - ((S - 12) - 172) * 0.5))
+    bt.check(black[y_half - 1:y_half + 2, S // 2].any(), "lambert albedo 0.5 drawn")
+    img = plot.lobe_image({"model": "ggx", "alpha": 0.1, "fresnel": "conductor",
+                           "eta": [0.2, 0.9, 1.1], "k": [3.9, 2.4, 2.2]})
+    red = (img[..., 0] > 0.7) & (img[..., 1] < 0.3)
+    ys, xs = np.nonzero(red[:150])
+    bt.check(xs.size > 0 and np.median(xs[ys < 100]) < S // 2,
+             "a coloured GGX lobe drawn per channel, toward the mirror direction (left)")
+
+
+bt.run(main)

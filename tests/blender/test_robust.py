@@ -1,0 +1,132 @@
+"""Scenes that must render or report clearly, never crash Blender: NaN vertices, zero-area
+faces, no lights, no camera, an unsupported node, an empty mesh; and cancellation (Esc) in the
+middle of a render: the session stops after the pass in flight, the image keeps what was
+rendered."""
+import math
+import os
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test as bt  # noqa: E402
+
+
+def fresh():
+    """The factory scene (cube, light, camera) at 160x90, 4 spp, with Facet."""
+    bpy.ops.wm.read_homefile(use_factory_startup=True)
+    scene = bpy.context.scene
+    scene.render.engine = 'FACET'
+    scene.render.resolution_x, scene.render.resolution_y = 160, 90
+    scene.render.resolution_percentage = 100
+    scene.facet.spp = 4
+    return scene
+
+
+def mesh_object(name, verts, faces):
+    me = bpy.data.meshes.new(name)
+    me.from_pydata(verts, [], faces)
+    ob = bpy.data.objects.new(name, me)
+    bpy.context.scene.collection.objects.link(ob)
+    return ob
+
+
+def render_error():
+    """Renders; returns the error message Blender raised (None when it rendered)."""
+    try:
+        bt.render()
+    except RuntimeError as e:
+        return str(e)
+    return None
+
+
+def case_nan_vertex():
+    fresh()
+    mesh_object("NaNMesh", [(0, 0, 2), (1, 0, 2), (float("nan"), 1, 2)], [(0, 1, 2)])
+    err = render_error()
+    bt.check(err is not None and "NaNMesh" in err, "NaN vertex: error names the object: %s" % err)
+
+
+def case_zero_area():
+    fresh()
+    mesh_object("Degenerate", [(0, 0, 1.5), (1, 0, 1.5), (2, 0, 1.5), (0, 1, 1.5)],
+                [(0, 1, 2), (0, 1, 3)])
+    err = render_error()
+    import facet_blender.engine as eng
+    bt.check(err is None and eng.last_image is not None and np.isfinite(eng.last_image).all(),
+             "zero-area face: renders (problems: %s)" % eng.last_problems)
+
+
+def case_no_lights():
+    scene = fresh()
+    bpy.data.objects.remove(bpy.data.objects["Light"])
+    scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
+    err = render_error()
+    bt.check(err is not None and "light" in err.lower(), "no lights: reported: %s" % err)
+
+
+def case_no_camera():
+    fresh()
+    bpy.data.objects.remove(bpy.data.objects["Camera"])
+    err = render_error()
+    bt.check(err is not None and "camera" in err.lower(), "no camera: reported: %s" % err)
+
+
+def case_unsupported_node():
+    fresh()
+    mat = bpy.data.materials["Material"]
+    nt = mat.node_tree
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    err = render_error()
+    import facet_blender.engine as eng
+    msgs = [p for p in eng.last_problems if "Material" in p and "Mix Shader" in p]
+    bt.check(err is None and eng.last_image is not None and msgs,
+             "unsupported node: renders and names material and node: %s" % msgs)
+
+
+def case_empty_mesh():
+    fresh()
+    mesh_object("Empty", [], [])
+    err = render_error()
+    import facet_blender.engine as eng
+    msgs = [p for p in eng.last_problems if "Empty" in p]
+    bt.check(err is None and eng.last_image is not None and msgs,
+             "empty mesh: renders and says so: %s" % msgs)
+
+
+def case_cancel():
+    scene = fresh()
+    scene.render.resolution_x, scene.render.resolution_y = 640, 360
+    scene.facet.spp = 1 << 16  # minutes of work
+    import facet_blender.engine as eng
+    calls = []
+
+    def hook():
+        calls.append(time.perf_counter())
+        return len(calls) >= 2  # Esc after the second pass
+    eng.test_break_hook = hook
+    t0 = time.perf_counter()
+    try:
+        err = render_error()
+    finally:
+        eng.test_break_hook = None
+    dt = time.perf_counter() - t0
+    img = eng.last_image
+    bt.check(err is None and eng.last_cancelled, "cancelled without an error")
+    bt.check(dt < 20.0, "stopped within a pass or so: %.2f s after the start" % dt)
+    bt.check(img is not None and np.isfinite(img).all() and img.max() > 0.0,
+             "the image keeps the passes rendered")
+
+
+def main():
+    bt.enable_addon()
+    for case in (case_nan_vertex, case_zero_area, case_no_lights, case_no_camera,
+                 case_unsupported_node, case_empty_mesh, case_cancel):
+        print("--", case.__name__)
+        case()
+
+
+bt.run(main)

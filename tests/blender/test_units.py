@@ -1,0 +1,60 @@
+"""units.py (no Blender needed): each conversion against its formula and its inverse."""
+import math
+import os
+import sys
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
+                                "blender_addon", "facet_blender"))
+import units  # noqa: E402
+
+
+def close(a, b, tol=1e-12):
+    return all(abs(x - y) <= tol * max(1.0, abs(y)) for x, y in zip(a, b))
+
+
+def test_point():
+    # Cycles: I = P / (4 pi); Facet: I = Phi / (4 pi)  =>  Phi = P.
+    assert close(units.point_power_from_blender([1.0, 0.5, 0.25], 1000.0), [1000, 500, 250])
+    col, p = units.point_power_to_blender([1000.0, 500.0, 250.0])
+    assert close(col, [1, 0.5, 0.25]) and p == 1000.0
+
+
+def test_spot():
+    outer, inner = units.spot_cone_from_blender(math.radians(90.0), 0.0)
+    assert close([outer, inner], [45.0, 45.0])
+    # Facet's I0 = Phi / (2 pi [(1 - cos i) + (cos i - cos o) / 2]) must be Cycles' P / (4 pi).
+    for size, blend in ((math.radians(60), 0.3), (math.radians(150), 1.0), (0.2, 0.0)):
+        o, i = units.spot_cone_from_blender(size, blend)
+        phi = units.spot_power_from_blender([1, 1, 1], 100.0, o, i)[0]
+        ci, co = math.cos(math.radians(i)), math.cos(math.radians(o))
+        i0 = phi / (2 * math.pi * ((1 - ci) + 0.5 * (ci - co)))
+        assert abs(i0 - 100.0 / (4 * math.pi)) < 1e-9
+        # the fade range in cos theta is Cycles' [cos o, cos o + blend (1 - cos o)]
+        assert abs(ci - (co + blend * (1 - co))) < 1e-12
+        s2, b2 = units.spot_cone_to_blender(o, i)
+        assert abs(s2 - size) < 1e-12 and abs(b2 - blend) < 1e-9
+        col, p = units.spot_power_to_blender([phi] * 3, o, i)
+        assert abs(p - 100.0) < 1e-9
+
+
+def test_sun_area_emission():
+    assert close(units.sun_irradiance_from_blender([1, 1, 0.5], 3.0), [3, 3, 1.5])
+    # Cycles area light: L = P / (4 A); round lights use pi/4 of the bounding rectangle.
+    assert units.area_light_area('SQUARE', 2.0, 2.0) == 4.0
+    assert abs(units.area_light_area('DISK', 2.0, 2.0) - math.pi) < 1e-15
+    assert close(units.area_radiance_from_blender([1, 1, 1], 16.0, 4.0), [1, 1, 1])
+    assert close(units.emission_from_blender([0.5, 1, 2, 1], 2.0), [1, 2, 4])
+
+
+def test_camera():
+    # [1][1] of the projection is 1 / tan(fov / 2)
+    assert abs(units.fov_from_projection(1.0 / math.tan(math.radians(20))) - 40.0) < 1e-12
+    f, r, u = units.camera_basis([0, 0, 0], [0, 0, -5], [0, 1, 0])
+    assert close(f, [0, 0, -1]) and close(r, [1, 0, 0]) and close(u, [0, 1, 0])
+
+
+if __name__ == "__main__":
+    for name, fn in list(globals().items()):
+        if name.startswith("test_"):
+            fn()
+            print("ok", name)

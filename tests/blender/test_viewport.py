@@ -1,0 +1,136 @@
+"""The 3D view's Rendered shading under Xvfb (Mesa software OpenGL): Facet's view_update /
+view_draw draw a non-empty image, and the image changes after the cube is moved (a screenshot
+test) without re-exporting the cube's mesh; then the material tab's previews are rendered by
+Facet. Runs with the UI: `xvfb-run blender --factory-startup --python test_viewport.py`."""
+import os
+import sys
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_test as bt  # noqa: E402
+
+OUT = bt.args()[0]
+steps = []
+
+
+def view3d():
+    for win in bpy.context.window_manager.windows:
+        for area in win.screen.areas:
+            if area.type == 'VIEW_3D':
+                return win, area
+    raise RuntimeError("no 3D view")
+
+
+def screenshot(name):
+    win, area = view3d()
+    path = os.path.join(OUT, name)
+    with bpy.context.temp_override(window=win, area=area):
+        bpy.ops.screen.screenshot_area(filepath=path)
+    im = bpy.data.images.load(path, check_existing=False)
+    w, h = im.size
+    px = np.empty(w * h * im.channels, np.float32)
+    im.pixels.foreach_get(px)
+    bpy.data.images.remove(im)
+    return px.reshape(h, w, -1)[:, :, :3]
+
+
+def wait_images(n_more, timeout=30.0):
+    from facet_blender import viewport
+    target = viewport.stats["images"] + n_more
+    t0 = time.time()
+
+    def poll():
+        if viewport.stats["images"] >= target and viewport.stats["draws"] > 0:
+            return None
+        if time.time() - t0 > timeout:
+            return None
+        return 0.2
+    return poll
+
+
+state = {}
+
+
+def step():
+    try:
+        from facet_blender import viewport
+        phase = state.get("phase", 0)
+        if phase == 0:
+            bt.enable_addon()
+            scene = bpy.context.scene
+            scene.render.engine = 'FACET'
+            scene.facet.viewport_spp = 16
+            win, area = view3d()
+            area.spaces[0].shading.type = 'RENDERED'
+            state["t"] = time.time()
+            state["phase"] = 1
+            return 0.5
+        if phase == 1:  # wait for a few passes to be drawn
+            if (viewport.stats["draws"] < 3 or viewport.stats["images"] < 2) and \
+                    time.time() - state["t"] < 40:
+                return 0.3
+            bt.check(viewport.stats["draws"] > 0, "view_draw drew Facet images: %s" % viewport.stats)
+            time.sleep(1.0)
+            state["a"] = screenshot("viewport_a.png")
+            a = state["a"]
+            bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f) %s" % (a.std(), viewport.stats))
+            state["restarts"] = viewport.stats["restarts"]
+            from facet_blender import export
+            state["meshes"] = export.stats["meshes"]
+            bpy.data.objects["Cube"].location.x += 1.5
+            state["t"] = time.time()
+            state["phase"] = 2
+            return 1.0
+        if phase == 2:
+            if viewport.stats["restarts"] <= state["restarts"] and time.time() - state["t"] < 30:
+                return 0.3
+            bt.check(viewport.stats["restarts"] > state["restarts"],
+                     "moving the cube restarted the render")
+            from facet_blender import export
+            bt.check(export.stats["meshes"] == state["meshes"],
+                     "moving the cube re-exported no mesh (%d before, %d after)"
+                     % (state["meshes"], export.stats["meshes"]))
+            time.sleep(3.0)
+            state["phase"] = 3
+            return 0.5
+        if phase == 3:
+            b = screenshot("viewport_b.png")
+            diff = np.abs(b - state["a"]).mean()
+            bt.check(diff > 1e-3, "the image changed after the move (mean diff %.4f)" % diff)
+            # Material previews (bl_use_preview): show the material tab.
+            for area in bpy.context.window.screen.areas:
+                if area.type == 'PROPERTIES':
+                    area.spaces[0].context = 'MATERIAL'
+                    area.tag_redraw()
+            state["t"] = time.time()
+            state["phase"] = 4
+            return 0.5
+        if phase == 4:
+            import facet_blender.engine as eng
+            if eng.preview_count[0] == 0 and time.time() - state["t"] < 30:
+                return 0.3
+            bt.check(eng.preview_count[0] > 0, "Facet rendered material previews (%d)"
+                     % eng.preview_count[0])
+            from facet_blender import ui
+            bt.check(bool(ui._plot) and "Material" in ui._plot[0].keys,
+                     "the Facet material panel drew the lobe plot of 'Material'")
+            for win in bpy.context.window_manager.windows:
+                for area in win.screen.areas:
+                    if area.type == 'PROPERTIES':
+                        with bpy.context.temp_override(window=win, area=area):
+                            bpy.ops.screen.screenshot_area(
+                                filepath=os.path.join(OUT, "material_panel.png"))
+            print("PASS")
+            sys.stdout.flush()
+            os._exit(0)
+    except Exception:
+        import traceback
+        traceback.print_exc()
+        sys.stdout.flush()
+        os._exit(1)
+
+
+bpy.app.timers.register(step, first_interval=1.0)
