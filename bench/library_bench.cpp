@@ -7,6 +7,8 @@
 //     kMaxPassSpp samples) against a RenderSession forced to its smallest pass (1 sample per
 //     pass, a no-op callback after each), same scene, same spp, alternating repetitions; the
 //     ratio is the median of per-repetition ratios. Both give the same image bit for bit.
+//     1b: the same on one 16x16 tile (minima of 9), giving the cost a pass adds beyond its
+//     samples, which whole-image timings on a loaded machine cannot resolve.
 //  2. Cancellation latency at 1920x1080 (Cornell box): cancel() from another thread after a
 //     varying delay; the time from cancel() to render() returning, median and maximum, for a
 //     plain render (no callback) and a watched one (callback, pass_seconds 0.25).
@@ -93,6 +95,37 @@ int main(int argc, char** argv) {
         std::printf("   session / render(): median per-rep ratio %.4f (range %.4f-%.4f)\n\n",
                     median(ratio), *std::min_element(ratio.begin(), ratio.end()),
                     *std::max_element(ratio.begin(), ratio.end()));
+    }
+
+    // 1b. The same on one tile, where a pass is short: the cost a pass adds beyond its samples,
+    // from minima over repetitions (robust to other load on the machine, unlike whole renders).
+    {
+        const fr::Scene scene = fr::load_scene(cornell);
+        fr::RenderOptions o;
+        o.spp = 512;
+        o.threads = threads;
+        o.region = fr::Region{240, 240, 256, 256};
+        double plain = 1e30, watched = 1e30;
+        int passes_plain = 0, passes_watched = 0;
+        for (int r = 0; r < 9; ++r) {
+            fr::RenderSession a(scene, o);
+            auto t = Clock::now();
+            a.render();
+            plain = std::min(plain, seconds_since(t));
+            passes_plain = a.stats().passes;
+            fr::RenderOptions w = o;
+            w.pass_seconds = 1e-9;
+            fr::RenderSession b(scene, w);
+            t = Clock::now();
+            b.render([](const fr::PassInfo&) { return true; });
+            watched = std::min(watched, seconds_since(t));
+            passes_watched = b.stats().passes;
+        }
+        std::printf("1b. one 16x16 tile of the Cornell box, 512 spp, minima of 9 reps\n");
+        std::printf("   render() %d passes: %.2f ms; session %d passes of 1 spp: %.2f ms\n",
+                    passes_plain, plain * 1e3, passes_watched, watched * 1e3);
+        std::printf("   cost of a pass beyond its samples: %.1f us\n\n",
+                    (watched - plain) / double(passes_watched - passes_plain) * 1e6);
     }
 
     // 2. Cancellation latency at 1920x1080.

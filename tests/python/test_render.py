@@ -98,7 +98,8 @@ def test_cancel_from_another_thread():
     timer.join()
     assert finished is False and session.stats.cancelled
     assert elapsed < 2.0
-    assert 0 < session.samples_done < SLOW_SPP
+    # 0 when the first pass had not completed everywhere (slow machines, sanitizers).
+    assert 0 <= session.samples_done < SLOW_SPP
     assert np.all(np.isfinite(session.image()))
 
 
