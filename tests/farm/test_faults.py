@@ -2,7 +2,6 @@
 # bit-identical), a bad scene (one clear error naming the file and JSON path, no processes left),
 # an unreachable scheduler (a clear error within the timeout), Ctrl-C (the whole job cancelled,
 # no processes left).
-import json
 import os
 import signal
 import subprocess

@@ -56,8 +56,7 @@ def test_animation_per_frame_or_per_tile(client, tmp_path):
               for k in range(1, 4)]
     refs = [cli_render(f, tmp_path / f"ref_{k}.exr") for k, f in enumerate(frames)]
     slots = farm._slots(client)
-    # 3 frames: one task per frame on 2 slots, per tile on 3 slots (fewer frames than slots...
-    # 3 == 3 is per frame; use 2 frames there).
+    # 3 frames on 2 slots: one task per frame; 2 frames on 3 slots: tiles of each frame.
     use = frames if slots == 2 else frames[:2]
     farm.render_files([str(f) for f in use], [str(tmp_path / "out" / "frame_####.exr")],
                       client=client)

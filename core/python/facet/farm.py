@@ -10,17 +10,19 @@ tile of each frame when there are fewer frames than task slots.
 
 Conventions:
   - The scene travels with the tasks: the client reads each scene file, strips its mesh arrays
-    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes, and scatters
-    that ScenePayload once; Dask copies it to each worker that needs it (once per worker, not
-    per task) and the worker builds the Scene once and caches it (_worker_scene). Workers need
-    the facet module, no shared file system.
+    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes, and submits
+    that ScenePayload once per job as a task returning it; Dask copies it to each worker that
+    needs it (once per worker, not per task; recomputed if lost) and the worker builds the Scene
+    once and caches it (_worker_scene). Workers need the facet module, no shared file system.
   - Errors: everything the user can get wrong raises FarmError with one message (the scene
     file and JSON pointer for a bad scene, the address for an unreachable scheduler); the CLI
     prints it once, without a traceback, and exits 1. Ctrl-C cancels every task and shuts the
     local cluster down (exit 130).
-  - Without a scheduler address a LocalCluster runs on this machine, listening on 127.0.0.1
-    only: by default 1 worker process x `cores` task threads, each task rendering on 1 thread
-    (measured on the 2-core development machine; see the README's farm section).
+  - Without a scheduler address a LocalCluster runs on this machine: by default one worker in
+    this process (in-process transport; only the scheduler's HTTP endpoint listens, on
+    127.0.0.1) with `cores` task threads, each task rendering on 1 thread; --workers N starts
+    N worker processes listening on 127.0.0.1 only (measured on the 2-core development
+    machine; see the README's farm section).
 """
 
 from __future__ import annotations
@@ -37,7 +39,7 @@ import sys
 import tempfile
 import threading
 import time
-from typing import Callable, Iterable, Sequence
+from typing import Callable, Sequence
 
 import numpy as np
 
@@ -45,9 +47,6 @@ import facet
 
 __all__ = ["FarmError", "ScenePayload", "Job", "load_payload", "plan_still", "run_jobs",
            "local_cluster", "connect", "render_files", "main"]
-
-log = logging.getLogger("facet.farm")
-
 
 class FarmError(RuntimeError):
     """A user-facing error of the farm (bad scene, unreachable scheduler, failed task)."""
@@ -478,7 +477,7 @@ def connect(address, timeout: float = 10.0):
 
 def quiet_logs():
     """Dask's and tornado's logs at ERROR (distributed sets its own levels when imported)."""
-    import distributed  # noqa: F401
+    import distributed  # noqa: F401  (sets its loggers' levels when first imported)
 
     for name in ("distributed", "tornado", "asyncio", "bokeh"):
         logging.getLogger(name).setLevel(logging.ERROR)
