@@ -9,4 +9,10 @@ cmake --build build -j"$(nproc)"
 mkdir -p out
 build/core/cli/facet render scenes/showcase.json -o out/showcase_facet.exr -o out/showcase_facet.png
 build/core/cli/facet brdf plot --model ggx --alpha 0.3 --theta 45 -o out/ggx_lobe.png
+# The showcase's POV-Ray equivalent (scenes/pov/showcase.pov, brdf finishes) with povray-facet.
+if [ -x build/povray_patch/bin/povray-facet ]; then
+  (cd out && ../build/povray_patch/bin/povray-facet +I../scenes/pov/showcase.pov \
+     +Oshowcase_povray.png +W960 +H540 +FN8 -D -V +A0.1 +AM2 +R2 2> showcase_povray.log) \
+    || { tail -n 20 out/showcase_povray.log; exit 1; }
+fi
 echo "build.sh: done; images in out/"
