@@ -12,7 +12,8 @@ build/core/cli/facet brdf plot --model ggx --alpha 0.3 --theta 45 -o out/ggx_lob
 # The showcase's POV-Ray equivalent (scenes/pov/showcase.pov, brdf finishes) with povray-facet.
 if [ -x build/povray_patch/bin/povray-facet ]; then
   (cd out && ../build/povray_patch/bin/povray-facet +I../scenes/pov/showcase.pov \
-     +Oshowcase_povray.png +W960 +H540 +FN8 -D -V +A0.1 +AM2 +R2 2> showcase_povray.log) \
+     +Oshowcase_povray.png +W960 +H540 +FN8 -D -V +A0.1 +AM2 +R2 Declare=Glossy_Samples=32 \
+     2> showcase_povray.log) \
     || { tail -n 20 out/showcase_povray.log; exit 1; }
 fi
 echo "build.sh: done; images in out/"
