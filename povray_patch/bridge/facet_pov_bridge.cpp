@@ -24,12 +24,18 @@ class Brdf {
   public:
     explicit Brdf(facet::Material m, int samples) : m_material(std::move(m)), m_samples(samples) {
         const auto& g = m_material.glossy();
-        m_glossy = g && !facet::is_specular(g->flags());
-        m_mirror = m_material.mirror().has_value() || (g && !m_glossy);
+        // Lobes of zero weight are left out (no light calls, no rays for them).
+        const bool g_on = g && facet::max_component(g->scale()) > 0.f;
+        m_glossy = g_on && !facet::is_specular(g->flags());
+        const auto& mi = m_material.mirror();
+        m_mirror = (mi && facet::max_component(mi->scale()) > 0.f) || (g_on && !m_glossy);
+        const auto& d = m_material.diffuse();
+        m_diffuse = d && facet::max_component(d->rho()) > 0.f;
     }
     const facet::Material& material() const { return m_material; }
     bool glossy() const { return m_glossy; }  // a non-delta glossy lobe
     bool mirror() const { return m_mirror; }  // a mirror lobe or a smooth glossy lobe
+    bool diffuse() const { return m_diffuse; }
     int samples() const { return m_samples; }
 
   private:
@@ -37,6 +43,7 @@ class Brdf {
     int m_samples;
     bool m_glossy = false;
     bool m_mirror = false;
+    bool m_diffuse = false;
 };
 
 namespace {
@@ -176,7 +183,7 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
 }
 
 bool lit_by_lights(const Brdf* b) {
-    return b->material().diffuse().has_value() || b->glossy();
+    return b->diffuse() || b->glossy();
 }
 bool has_glossy(const Brdf* b) {
     return b->glossy();
