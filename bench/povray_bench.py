@@ -76,6 +76,7 @@ def main():
             threads = int(args.pop(0))
         else:
             binary = a
+    binary = os.path.abspath(binary)
     times = {v[0]: [] for v in VARIANTS}
     with tempfile.TemporaryDirectory() as tmp:
         scenes = {}

@@ -56,7 +56,7 @@ cd "$src"
   fi
 done)
 if [ -d libraries ] && [ ! -d libraries.donotuse ]; then mv libraries libraries.donotuse; fi
-(cd unix && ./prebuild.sh > "$work/prebuild.log")
+(cd unix && ./prebuild.sh > "$work/prebuild.log" 2>&1) || { tail -n 40 "$work/prebuild.log"; exit 1; }
 autoreconf -f -i > "$work/autoreconf.log" 2>&1   # dh_autoreconf (debhelper compat 13)
 export DEB_BUILD_MAINT_OPTIONS="hardening=+all"
 cxxflags="$(dpkg-buildflags --get CXXFLAGS) -O3"

@@ -40,7 +40,7 @@ def render(binary, out, w, h, extra):
 
 
 def main():
-    facet, out = sys.argv[1], os.path.abspath(sys.argv[2])
+    facet, out = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     w, h = (int(sys.argv[3]), int(sys.argv[4])) if len(sys.argv) > 4 else (480, 270)
     stem = os.path.splitext(out)[0]
     with tempfile.TemporaryDirectory() as tmp:

@@ -38,6 +38,19 @@ def to_blender_rect(img):
     return rgba.reshape(h * w, 4)
 
 
+def border_rect(rd, width, height):
+    """Render > Region (border): (x, y, w, h) in Blender's pixel coordinates (y up); the whole
+    image without a border. Facet renders the region (bit for bit the pixels of the full
+    render, render.h)."""
+    if not rd.use_border:
+        return 0, 0, width, height
+    x0, x1 = round(rd.border_min_x * width), round(rd.border_max_x * width)
+    y0, y1 = round(rd.border_min_y * height), round(rd.border_max_y * height)
+    x0, y0 = max(0, min(x0, width - 1)), max(0, min(y0, height - 1))
+    x1, y1 = max(x0 + 1, min(x1, width)), max(y0 + 1, min(y1, height))
+    return x0, y0, x1 - x0, y1 - y0
+
+
 class FacetRenderEngine(bpy.types.RenderEngine):
     bl_idname = 'FACET'
     bl_label = 'Facet'
@@ -79,11 +92,15 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         if self.is_preview:
             rs["spp"] = min(rs["spp"], PREVIEW_SPP)
         threads = scene.render.threads if scene.render.threads_mode == 'FIXED' else 0
+        x, y, w, h = border_rect(scene.render, width, height)
+        region = None if (w, h) == (width, height) else (x, height - y - h, x + w, height - y)
         session = native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                  max_depth=rs["max_depth"], integrator=rs["integrator"],
-                                 time_budget=rs.get("time_budget", 0.0))
+                                 time_budget=rs.get("time_budget", 0.0), region=region)
         t_export = time.perf_counter() - t0
-        result = self.begin_result(0, 0, width, height)
+        # With a border, Blender's render rectangle is the border: result coordinates are
+        # relative to it.
+        result = self.begin_result(0, 0, w, h)
         layer = result.layers[0]
         combined = layer.passes["Combined"]
 

@@ -257,8 +257,10 @@ class Session:
     calling thread."""
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
-                 time_budget=None):
+                 time_budget=None, region=None):
         kw = {"threads": int(threads)}
+        if region is not None:
+            kw["region"] = tuple(int(v) for v in region)  # (x0, y0, x1, y1), y down
         if spp is not None:
             kw["spp"] = int(spp)
         if seed is not None:
@@ -282,5 +284,5 @@ class Session:
         self._s.cancel()
 
     def image(self):
-        """float32 (h, w, 3), top row first."""
+        """float32 (h, w, 3), top row first (the region's, for a region render)."""
         return np.asarray(self._s.image(), dtype=np.float32)

@@ -51,10 +51,17 @@ class FacetPanel:
     bl_space_type = 'PROPERTIES'
     bl_region_type = 'WINDOW'
     COMPAT_ENGINES = {ENGINE}
+    needs = None  # a context member that must be set ("material", "light", ...)
 
     @classmethod
     def poll(cls, context):
-        return context.engine in cls.COMPAT_ENGINES
+        return context.engine in cls.COMPAT_ENGINES and (
+            cls.needs is None or getattr(context, cls.needs, None) is not None)
+
+
+class FacetMaterialPanel(FacetPanel):
+    bl_context = "material"
+    needs = "material"
 
 
 class FACET_PT_render(FacetPanel, bpy.types.Panel):
@@ -113,14 +120,9 @@ class FACET_PT_context_material(FacetPanel, bpy.types.Panel):
             split.template_ID(space, "pin_id")
 
 
-class FACET_PT_material_preview(FacetPanel, bpy.types.Panel):
+class FACET_PT_material_preview(FacetMaterialPanel, bpy.types.Panel):
     bl_label = "Preview"
-    bl_context = "material"
     bl_options = {'DEFAULT_CLOSED'}
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.material is not None
 
     def draw(self, context):
         self.layout.template_preview(context.material)
@@ -141,13 +143,8 @@ def _node_panel(layout, id_data, output_type, input_name, fallback):
         layout.template_node_view(ntree, node, sock)
 
 
-class FACET_PT_material_surface(FacetPanel, bpy.types.Panel):
+class FACET_PT_material_surface(FacetMaterialPanel, bpy.types.Panel):
     bl_label = "Surface"
-    bl_context = "material"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.material is not None
 
     def draw(self, context):
         _node_panel(self.layout, context.material, 'OUTPUT_MATERIAL', 'Surface',
@@ -157,22 +154,14 @@ class FACET_PT_material_surface(FacetPanel, bpy.types.Panel):
 class FACET_PT_world_surface(FacetPanel, bpy.types.Panel):
     bl_label = "Surface"
     bl_context = "world"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.world is not None
+    needs = "world"
 
     def draw(self, context):
         _node_panel(self.layout, context.world, 'OUTPUT_WORLD', 'Surface', "color")
 
 
-class FACET_PT_material(FacetPanel, bpy.types.Panel):
+class FACET_PT_material(FacetMaterialPanel, bpy.types.Panel):
     bl_label = "Facet Material"
-    bl_context = "material"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.material is not None
 
     def draw(self, context):
         mat = context.material
@@ -212,10 +201,7 @@ class FACET_PT_material(FacetPanel, bpy.types.Panel):
 class FACET_PT_light(FacetPanel, bpy.types.Panel):
     bl_label = "Light"
     bl_context = "data"
-
-    @classmethod
-    def poll(cls, context):
-        return super().poll(context) and context.light is not None
+    needs = "light"
 
     def draw(self, context):
         lt = context.light

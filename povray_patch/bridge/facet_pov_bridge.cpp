@@ -15,6 +15,7 @@
 #include "facet/frame.h"
 #include "facet/material.h"
 #include "facet/registry.h"
+#include "facet/render/sampler.h"  // header-only part: the renderer's Owen-scrambled Sobol
 #include "facet/types.h"
 
 namespace facet_pov {
@@ -23,12 +24,18 @@ class Brdf {
   public:
     explicit Brdf(facet::Material m, int samples) : m_material(std::move(m)), m_samples(samples) {
         const auto& g = m_material.glossy();
-        m_glossy = g && !facet::is_specular(g->flags());
-        m_mirror = m_material.mirror().has_value() || (g && !m_glossy);
+        // Lobes of zero weight are left out (no light calls, no rays for them).
+        const bool g_on = g && facet::max_component(g->scale()) > 0.f;
+        m_glossy = g_on && !facet::is_specular(g->flags());
+        const auto& mi = m_material.mirror();
+        m_mirror = (mi && facet::max_component(mi->scale()) > 0.f) || (g_on && !m_glossy);
+        const auto& d = m_material.diffuse();
+        m_diffuse = d && facet::max_component(d->rho()) > 0.f;
     }
     const facet::Material& material() const { return m_material; }
     bool glossy() const { return m_glossy; }  // a non-delta glossy lobe
     bool mirror() const { return m_mirror; }  // a mirror lobe or a smooth glossy lobe
+    bool diffuse() const { return m_diffuse; }
     int samples() const { return m_samples; }
 
   private:
@@ -36,6 +43,7 @@ class Brdf {
     int m_samples;
     bool m_glossy = false;
     bool m_mirror = false;
+    bool m_diffuse = false;
 };
 
 namespace {
@@ -67,30 +75,6 @@ std::string quoted_list(const std::vector<std::string>& names) {
         s += "'" + names[i] + "'";
     }
     return s;
-}
-
-// 32-bit integer hash (Wang/Jenkins style mix, "lowbias32" constants).
-std::uint32_t mix(std::uint32_t x) {
-    x ^= x >> 16;
-    x *= 0x7feb352dU;
-    x ^= x >> 15;
-    x *= 0x846ca68bU;
-    x ^= x >> 16;
-    return x;
-}
-
-double to_unit(std::uint32_t h) {
-    return double(h >> 8) * (1.0 / 16777216.0);  // 24 bits: exactly representable, < 1
-}
-
-double radical_inverse(unsigned base, unsigned i) {
-    double inv = 1.0 / base, f = inv, r = 0.0;
-    while (i > 0) {
-        r += f * (i % base);
-        i /= base;
-        f *= inv;
-    }
-    return r;
 }
 
 }  // namespace
@@ -199,7 +183,7 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
 }
 
 bool lit_by_lights(const Brdf* b) {
-    return b->material().diffuse().has_value() || b->glossy();
+    return b->diffuse() || b->glossy();
 }
 bool has_glossy(const Brdf* b) {
     return b->glossy();
@@ -278,26 +262,25 @@ int glossy_ray_count(const Brdf* b, unsigned trace_level) {
 }
 
 void glossy_sample(unsigned seed, unsigned trace_level, int index, int count, double u[3]) {
-    std::uint32_t h = mix(seed ^ mix(trace_level + 0x9e3779b9U));
-    double shift[3] = {to_unit(mix(h + 1)), to_unit(mix(h + 2)), to_unit(mix(h + 3))};
-    // Hammersley-style point set (i/n, base-2, base-3 radical inverses), Cranley-Patterson
-    // rotated by the hashed shift.
-    double p[3] = {radical_inverse(3, unsigned(index)), (index + 0.5) / count,
-                   radical_inverse(2, unsigned(index))};
-    for (int k = 0; k < 3; ++k) {
-        double v = p[k] + shift[k];
-        v -= std::floor(v);
-        u[k] = std::min(v, 0.99999994);
-    }
+    // The renderer's sampler (facet/render/sampler.h): a pure function of (seed, index,
+    // dimension); the hit's sequence is seeded by the pixel seed and the trace level.
+    (void)count;  // any prefix of the sequence is well stratified
+    facet::render::Sampler sampler(facet::render::hash_combine(seed, trace_level),
+                                   std::uint32_t(index));
+    u[0] = sampler.get_1d();
+    const facet::Vec2 uv = sampler.get_2d();
+    u[1] = uv.x;
+    u[2] = uv.y;
 }
 
 unsigned pixel_seed(double x, double y, unsigned sample) {
     std::uint64_t bx, by;
     std::memcpy(&bx, &x, 8);
     std::memcpy(&by, &y, 8);
-    std::uint32_t h = mix(std::uint32_t(bx) ^ mix(std::uint32_t(bx >> 32)));
-    h = mix(h ^ std::uint32_t(by) ^ mix(std::uint32_t(by >> 32) + 0x85ebca6bU));
-    return mix(h ^ (sample * 0xc2b2ae35U));
+    std::uint32_t h = facet::render::hash_combine(std::uint32_t(bx), std::uint32_t(bx >> 32));
+    h = facet::render::hash_combine(h, std::uint32_t(by));
+    h = facet::render::hash_combine(h, std::uint32_t(by >> 32));
+    return facet::render::hash_combine(h, sample);
 }
 
 }  // namespace facet_pov

@@ -88,9 +88,9 @@ bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const d
 // the trace depth); 0 for `samples 0` and for lobes that are a mirror or absent.
 int glossy_ray_count(const Brdf* b, unsigned trace_level);
 
-// Sample `index` of the `count` glossy samples of one hit: a stratified 3D point with a
-// random shift hashed from (seed, trace_level), deterministic in its arguments (no
-// per-thread state, so the image does not depend on the thread count).
+// Sample `index` of the `count` glossy samples of one hit: the renderer's Owen-scrambled Sobol
+// point (facet/render/sampler.h) of the sequence seeded by (seed, trace_level), deterministic
+// in its arguments (no per-thread state, so the image does not depend on the thread count).
 void glossy_sample(unsigned seed, unsigned trace_level, int index, int count, double u[3]);
 
 // A 32-bit hash of pixel coordinates and sample number, for TraceTicket::facetSeed.

@@ -3,7 +3,8 @@
 // shapes and materials as `brdf` finishes. Approximations, since POV-Ray has no emitting
 // quad: the softbox is a 6x5 area light with physical_falloff whose colour L A / pi (quad
 // radiance L times area A, over pi for povray-facet's pi f cos scale) gives the quad's
-// irradiance below it (no emitter cosine), plus a visible emitting polygon; the environment is
+// irradiance below it (no emitter cosine), plus a visible emitting polygon (hidden from
+// reflections, see below); the environment is
 // a sky_sphere (seen in reflections; no radiosity). The brushed sphere's anisotropy axis is the
 // core's default tangent frame (POV-Ray has no surface tangents).
 //
@@ -33,13 +34,17 @@ camera {
 sky_sphere { pigment { rgb <0.12, 0.15, 0.22> } }
 
 // softbox: quad (-1.5..1.5, 4, -1..1.5), radiance <9, 8.6, 8>, area 7.5
+// (stock POV-Ray has no exact inverse square: fade_distance 1 fade_power 2 gives 2 / (1 + d^2),
+// about twice 1 / d^2 at these distances, so the classic variant halves the colour)
 light_source {
-  <0, 4, 0.25> color rgb <9, 8.6, 8> * 7.5 / pi
+  <0, 4, 0.25> color rgb <9, 8.6, 8> * 7.5 / pi #if (Classic) / 2 #end
   area_light <3, 0, 0>, <0, 0, 2.5>, 6, 5 adaptive 1
   #if (Classic) fade_distance 1 fade_power 2 #else physical_falloff #end
 }
+// The visible softbox. no_reflection: the light source already gives every glossy highlight
+// directly, so glossy rays must not see the emitter again (the mirror then does not show it).
 polygon { 5, <-1.5, 4, -1>, <1.5, 4, -1>, <1.5, 4, 1.5>, <-1.5, 4, 1.5>, <-1.5, 4, -1>
-  pigment { rgb <9, 8.6, 8> } finish { ambient 0 diffuse 0 emission 1 } no_shadow }
+  pigment { rgb <9, 8.6, 8> } finish { ambient 0 diffuse 0 emission 1 } no_shadow no_reflection }
 
 #if (Classic)
   #declare Floor   = finish { ambient 0 diffuse 1 }

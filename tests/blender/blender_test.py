@@ -32,6 +32,34 @@ def _raise(e):
     raise e
 
 
+def factory_scene(width, height, spp=4, reload=True):
+    """Blender's factory scene (cube, light, camera) rendered by Facet at width x height."""
+    if reload:
+        bpy.ops.wm.read_homefile(use_factory_startup=True)
+    scene = bpy.context.scene
+    scene.render.engine = 'FACET'
+    scene.render.resolution_x, scene.render.resolution_y = width, height
+    scene.render.resolution_percentage = 100
+    scene.facet.spp = spp
+    return scene
+
+
+def single_shader(mat, idname, inputs=None, props=None):
+    """Replaces the material's node tree by one shader node wired to the output."""
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    node = nt.nodes.new(idname)
+    for k, v in (props or {}).items():
+        setattr(node, k, v)
+    for k, v in (inputs or {}).items():
+        node.inputs[k].default_value = v
+    nt.links.new(node.outputs[0], out.inputs["Surface"])
+    return node
+
+
 def check(cond, msg):
     if not cond:
         raise AssertionError(msg)

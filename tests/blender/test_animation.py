@@ -15,11 +15,7 @@ import blender_test as bt  # noqa: E402
 def main():
     out = bt.args()[0]
     bt.enable_addon()
-    scene = bpy.context.scene
-    scene.render.engine = 'FACET'
-    scene.render.resolution_x, scene.render.resolution_y = 160, 90
-    scene.render.resolution_percentage = 100
-    scene.facet.spp = 4
+    scene = bt.factory_scene(160, 90, reload=False)
     cube = bpy.data.objects["Cube"]
     cube.location = (0, 0, 0)
     cube.keyframe_insert("location", frame=1)

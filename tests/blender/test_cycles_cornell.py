@@ -42,29 +42,15 @@ def cycles_materials():
     for mat in bpy.data.materials:
         fs = mat.facet
         rho = getattr(fs, "lambert__reflectance")
-        mat.use_nodes = True
-        nt = mat.node_tree
-        for n in list(nt.nodes):
-            nt.nodes.remove(n)
-        out = nt.nodes.new("ShaderNodeOutputMaterial")
-        d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-        d.inputs["Color"].default_value = (rho[0], rho[1], rho[2], 1.0)
-        d.inputs["Roughness"].default_value = 0.0
-        nt.links.new(d.outputs[0], out.inputs["Surface"])
+        bt.single_shader(mat, "ShaderNodeBsdfDiffuse",
+                         {"Color": (rho[0], rho[1], rho[2], 1.0), "Roughness": 0.0})
     import json
     light = next(o for o in bpy.data.objects if "facet_shape" in o
                  and any(json.loads(o["facet_shape"]).get("emission") or []))
     em = json.loads(light["facet_shape"])["emission"]
     mat = bpy.data.materials.new("light (Cycles)")
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    e = nt.nodes.new("ShaderNodeEmission")
-    e.inputs["Color"].default_value = (em[0], em[1], em[2], 1.0)
-    e.inputs["Strength"].default_value = 1.0
-    nt.links.new(e.outputs[0], out.inputs["Surface"])
+    bt.single_shader(mat, "ShaderNodeEmission",
+                     {"Color": (em[0], em[1], em[2], 1.0), "Strength": 1.0})
     light.data.materials.append(mat)
 
 

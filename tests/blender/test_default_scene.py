@@ -14,10 +14,7 @@ import blender_test as bt  # noqa: E402
 def main():
     out_dir = bt.args()[0]
     bt.enable_addon()
-    scene = bpy.context.scene
-    scene.render.engine = 'FACET'
-    scene.render.resolution_percentage = 25  # 480 x 270
-    scene.facet.spp = 8
+    scene = bt.factory_scene(480, 270, spp=8, reload=False)  # 25 % of 1920 x 1080
     path = os.path.join(out_dir, "default_scene.exr")
     img, problems = bt.render(scene, path)
     bt.check(img is not None and img.shape == (270, 480, 3), "rendered 480x270")

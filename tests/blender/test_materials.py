@@ -14,19 +14,11 @@ import blender_test as bt  # noqa: E402
 
 
 def node_material(name, idname, **inputs):
+    """inputs: "Base_Color" sets input "Base Color"; "_distribution" sets a node property."""
     mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        if n.bl_idname != 'ShaderNodeOutputMaterial':
-            nt.nodes.remove(n)
-    node = nt.nodes.new(idname)
-    for k, v in inputs.items():
-        if k.startswith("_"):
-            setattr(node, k[1:], v)
-        else:
-            node.inputs[k.replace("_", " ")].default_value = v
-    nt.links.new(node.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    node = bt.single_shader(
+        mat, idname, {k.replace("_", " "): v for k, v in inputs.items() if not k.startswith("_")},
+        {k[1:]: v for k, v in inputs.items() if k.startswith("_")})
     return mat, node
 
 

@@ -15,14 +15,7 @@ import blender_test as bt  # noqa: E402
 
 
 def fresh():
-    """The factory scene (cube, light, camera) at 160x90, 4 spp, with Facet."""
-    bpy.ops.wm.read_homefile(use_factory_startup=True)
-    scene = bpy.context.scene
-    scene.render.engine = 'FACET'
-    scene.render.resolution_x, scene.render.resolution_y = 160, 90
-    scene.render.resolution_percentage = 100
-    scene.facet.spp = 4
-    return scene
+    return bt.factory_scene(160, 90)
 
 
 def mesh_object(name, verts, faces):

@@ -15,12 +15,7 @@ import blender_test as bt  # noqa: E402
 
 
 def build_scene():
-    bpy.ops.wm.read_homefile(use_factory_startup=True)
-    scene = bpy.context.scene
-    scene.render.engine = 'FACET'
-    scene.render.resolution_x, scene.render.resolution_y = 200, 120
-    scene.render.resolution_percentage = 100
-    scene.facet.spp = 4
+    scene = bt.factory_scene(200, 120)
     scene.facet.seed = 5
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.7, location=(2.2, 0.5, 0.3))
     sph = bpy.context.object
