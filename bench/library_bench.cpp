@@ -134,7 +134,8 @@ int main(int argc, char** argv) {
         d.camera.width = 1920;
         d.camera.height = 1080;
         const fr::Scene scene = fr::build_scene(d, "cornell 1080p");
-        std::printf("2. cancellation latency, Cornell box 1920x1080 (cancel() -> render() returns)\n");
+        std::printf(
+            "2. cancellation latency, Cornell box 1920x1080 (cancel() -> render() returns)\n");
         std::printf("   %-28s %12s %12s %8s\n", "", "median ms", "max ms", "trials");
         for (int watched = 0; watched < 2; ++watched) {
             std::vector<double> lat;
@@ -204,8 +205,9 @@ int main(int argc, char** argv) {
         }
         std::printf("3. build_scene, %zu triangles from flat arrays, %zu reps\n", idx.size() / 3,
                     before.size());
-        std::printf("   before the BVH (validate, transform, copy): median %.4f s (target <= 0.1)\n",
-                    median(before));
+        std::printf(
+            "   before the BVH (validate, transform, copy): median %.4f s (target <= 0.1)\n",
+            median(before));
         std::printf("   Embree buffers + BVH build:                median %.4f s\n", median(bvh));
     }
     return 0;

@@ -60,9 +60,6 @@ double max_abs(const glm::dvec3& v) {
     return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
 }
 
-const char* const kShapeTypeNames[] = {"sphere", "plane", "box",       "quad",
-                                       "disc",   "mesh",  "icosphere", "grid"};
-
 class Builder {
   public:
     Builder(const SceneDescription& desc, std::string name, const SceneLimits& limits,
@@ -265,7 +262,7 @@ class Builder {
     void build_shape(const ShapeDesc& s, std::uint32_t index) {
         const std::string ptr = "/shapes/" + std::to_string(index);
         const ShapeKind kind = s.kind;
-        if (unsigned(kind) >= std::size(kShapeTypeNames)) fail(ptr + "/type", "unknown shape type");
+        if (kind > ShapeKind::Grid) fail(ptr + "/type", "unknown shape type");
 
         ShapeInfo info;
         info.kind = kind;

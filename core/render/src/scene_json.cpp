@@ -683,10 +683,6 @@ json matrix_json(const glm::dmat4& m) {
     return json{{"matrix", a}};
 }
 
-// Mesh arrays by value, or (for the fingerprint) by a hash of their bytes.
-json array_json(std::span<const float> a, bool hashed);
-json array_json(std::span<const std::uint32_t> a, bool hashed);
-
 std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = 1469598103934665603ull) {
     const auto* p = static_cast<const unsigned char*>(data);
     for (std::size_t i = 0; i < n; ++i) {
@@ -696,8 +692,9 @@ std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h = 146959810
     return h;
 }
 
+// Mesh arrays by value, or (for the fingerprint) by a hash of their bytes.
 template <class T>
-json array_json_impl(std::span<const T> a, bool hashed) {
+json array_json(std::span<const T> a, bool hashed) {
     if (hashed)
         return std::to_string(a.size()) + ":" + std::to_string(fnv1a(a.data(), a.size_bytes()));
     json j = json::array();
@@ -709,13 +706,6 @@ json array_json_impl(std::span<const T> a, bool hashed) {
     }
     return j;
 }
-json array_json(std::span<const float> a, bool hashed) {
-    return array_json_impl(a, hashed);
-}
-json array_json(std::span<const std::uint32_t> a, bool hashed) {
-    return array_json_impl(a, hashed);
-}
-
 json description_json(const SceneDescription& d, bool hashed_arrays) {
     json root = json::object();
     root["format"] = "facet-scene";
