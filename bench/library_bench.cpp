@@ -1,12 +1,14 @@
 // The renderer as a library (issue 9), measured in one run. Prints a table of medians and
 // same-run ratios.
 //
-//   facet_library_bench [--reps R] [--threads N]
+//   facet_library_bench [--reps R] [--threads N] [--only K]   (K in 1, 1b, 2, 3)
 //
 //  1. Session overhead: the Cornell box rendered by one render() call (passes of at most
 //     kMaxPassSpp samples) against a RenderSession forced to its smallest pass (1 sample per
 //     pass, a no-op callback after each), same scene, same spp, alternating repetitions; the
 //     ratio is the median of per-repetition ratios. Both give the same image bit for bit.
+//     Process CPU time (all threads) is reported beside wall time: on a shared machine other
+//     tenants' load stretches wall time run by run, CPU time much less.
 //     1b: the same on one 16x16 tile (minima of 9), giving the cost a pass adds beyond its
 //     samples, which whole-image timings on a loaded machine cannot resolve.
 //  2. Cancellation latency at 1920x1080 (Cornell box): cancel() from another thread after a
@@ -15,6 +17,7 @@
 //  3. build_scene of a 1M-triangle mesh given as flat arrays (a displaced 708 x 708 grid,
 //     1,002,528 triangles): time before the BVH build (validation, transforms, copies) and the
 //     BVH build itself (Embree, RTC_BUILD_QUALITY_HIGH).
+#include <time.h>
 #include <algorithm>
 #include <atomic>
 #include <chrono>
@@ -44,62 +47,92 @@ double seconds_since(Clock::time_point t) {
     return std::chrono::duration<double>(Clock::now() - t).count();
 }
 
+// CPU seconds used by this process so far (every thread).
+double cpu_seconds() {
+    timespec ts{};
+    clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+    return double(ts.tv_sec) + 1e-9 * double(ts.tv_nsec);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
     int reps = 5, threads = 0;
+    std::string only;
     for (int i = 1; i < argc; ++i) {
         if (!std::strcmp(argv[i], "--reps") && i + 1 < argc) {
             reps = std::atoi(argv[++i]);
         } else if (!std::strcmp(argv[i], "--threads") && i + 1 < argc) {
             threads = std::atoi(argv[++i]);
+        } else if (!std::strcmp(argv[i], "--only") && i + 1 < argc) {
+            only = argv[++i];
         } else {
-            std::fprintf(stderr, "usage: facet_library_bench [--reps R] [--threads N]\n");
+            std::fprintf(stderr,
+                         "usage: facet_library_bench [--reps R] [--threads N] [--only K]\n");
             return 2;
         }
     }
     const std::string cornell = std::string(FACET_SCENES_DIR) + "/cornell_box.json";
 
+    const auto want = [&](const char* k) { return only.empty() || only == k; };
+
     // 1. Session overhead at the smallest pass size.
-    {
+    if (want("1")) {
         const fr::Scene scene = fr::load_scene(cornell);
         fr::RenderOptions o;
         o.spp = 32;
         o.threads = threads;
-        std::vector<double> plain, watched, ratio;
+        std::vector<double> plain, watched, ratio, plain_cpu, watched_cpu, cpu_ratio;
         int passes = 0;
         for (int r = 0; r < reps; ++r) {
             auto t = Clock::now();
+            double c = cpu_seconds();
             const fr::Image a = fr::render(scene, o);
             plain.push_back(seconds_since(t));
+            plain_cpu.push_back(cpu_seconds() - c);
             fr::RenderOptions w = o;
             w.pass_seconds = 1e-9;  // every pass is 1 sample
             fr::RenderSession session(scene, w);
             t = Clock::now();
+            c = cpu_seconds();
             session.render([](const fr::PassInfo&) { return true; });
             watched.push_back(seconds_since(t));
+            watched_cpu.push_back(cpu_seconds() - c);
             passes = session.stats().passes;
             ratio.push_back(watched.back() / plain.back());
+            cpu_ratio.push_back(watched_cpu.back() / plain_cpu.back());
             if (std::memcmp(a.pixels().data(), session.image().pixels().data(),
                             a.pixels().size() * sizeof(facet::Rgb)) != 0) {
                 std::fprintf(stderr, "session image differs from render()'s\n");
                 return 1;
             }
         }
+        const auto range = [](const std::vector<double>& v) {
+            return std::make_pair(*std::min_element(v.begin(), v.end()),
+                                  *std::max_element(v.begin(), v.end()));
+        };
         std::printf("1. session overhead, Cornell box 512x512, 32 spp, %d reps\n", reps);
-        std::printf("   %-36s %10s\n", "", "median s");
-        std::printf("   %-36s %10.3f\n", "render() (passes of <= 16 spp)", median(plain));
-        std::printf("   %-36s %10.3f\n",
+        std::printf("   %-36s %10s %10s\n", "", "median s", "median CPU s");
+        std::printf("   %-36s %10.3f %10.3f\n", "render() (passes of <= 16 spp)", median(plain),
+                    median(plain_cpu));
+        std::printf("   %-36s %10.3f %10.3f\n",
                     ("session, " + std::to_string(passes) + " passes of 1 spp").c_str(),
-                    median(watched));
-        std::printf("   session / render(): median per-rep ratio %.4f (range %.4f-%.4f)\n\n",
-                    median(ratio), *std::min_element(ratio.begin(), ratio.end()),
-                    *std::max_element(ratio.begin(), ratio.end()));
+                    median(watched), median(watched_cpu));
+        std::printf(
+            "   session / render(), wall: median per-rep ratio %.4f (range %.4f-%.4f), "
+            "ratio of medians %.4f\n",
+            median(ratio), range(ratio).first, range(ratio).second,
+            median(watched) / median(plain));
+        std::printf(
+            "   session / render(), CPU:  median per-rep ratio %.4f (range %.4f-%.4f), "
+            "ratio of medians %.4f\n\n",
+            median(cpu_ratio), range(cpu_ratio).first, range(cpu_ratio).second,
+            median(watched_cpu) / median(plain_cpu));
     }
 
     // 1b. The same on one tile, where a pass is short: the cost a pass adds beyond its samples,
     // from minima over repetitions (robust to other load on the machine, unlike whole renders).
-    {
+    if (want("1b")) {
         const fr::Scene scene = fr::load_scene(cornell);
         fr::RenderOptions o;
         o.spp = 512;
@@ -129,7 +162,7 @@ int main(int argc, char** argv) {
     }
 
     // 2. Cancellation latency at 1920x1080.
-    {
+    if (want("2")) {
         fr::SceneDescription d = fr::read_scene_description(cornell);
         d.camera.width = 1920;
         d.camera.height = 1080;
@@ -166,7 +199,7 @@ int main(int argc, char** argv) {
     }
 
     // 3. build_scene of a 1M-triangle mesh from arrays.
-    {
+    if (want("3")) {
         const int n = 708;
         std::vector<float> pos;
         std::vector<std::uint32_t> idx;

@@ -110,6 +110,22 @@ struct RenderSession::State {
     State(const Scene& s, const RenderOptions& o)
         : scene(s), options(o), rs(resolve_settings(s, o)) {}
 
+    // The film's per-pixel counts, written from the tiles' sample positions when the film is
+    // read (every pixel of a tile holds samples [sample_begin, tile.next)), not per pass: at
+    // 1-sample passes a per-pixel count update is a measurable share of the pass.
+    void sync_counts() {
+        std::uint32_t* counts = film.counts();
+        const std::size_t w = std::size_t(rs.region.width());
+        for (const Tile& t : tiles) {
+            const std::uint32_t n = std::uint32_t(t.next - rs.sample_begin);
+            for (int y = t.r.y0; y < t.r.y1; ++y) {
+                std::uint32_t* row =
+                    counts + std::size_t(y - rs.region.y0) * w - std::size_t(rs.region.x0);
+                std::fill(row + t.r.x0, row + t.r.x1, n);
+            }
+        }
+    }
+
     int min_next() const {
         int m = target;
         for (const Tile& t : tiles) m = std::min(m, t.next);
@@ -144,14 +160,6 @@ struct RenderSession::State {
                         KernelCounters c;
                         kernel(scene, job, film.sums(), c);
                         const std::uint32_t added = std::uint32_t(end - tile.next);
-                        std::uint32_t* counts = film.counts();
-                        for (int y = tile.r.y0; y < tile.r.y1; ++y) {
-                            std::uint32_t* row =
-                                counts +
-                                std::size_t(y - rs.region.y0) * std::size_t(rs.region.width()) -
-                                std::size_t(rs.region.x0);
-                            for (int x = tile.r.x0; x < tile.r.x1; ++x) row[x] += added;
-                        }
                         tile.next = end;
                         camera_rays.fetch_add(c.camera_rays, std::memory_order_relaxed);
                         rays.fetch_add(c.rays, std::memory_order_relaxed);
@@ -299,9 +307,11 @@ bool RenderSession::render(const PassCallback& on_pass) {
 }
 
 Image RenderSession::image() const {
+    m->sync_counts();
     return m->film.resolve();
 }
 const Film& RenderSession::film() const {
+    m->sync_counts();
     return m->film;
 }
 const RenderStats& RenderSession::stats() const {
@@ -329,6 +339,7 @@ RenderPart RenderSession::part() const {
     p.info.sample_begin = s.rs.sample_begin;
     p.info.sample_end = s.target;
     p.info.seed = s.rs.seed;
+    m->sync_counts();
     p.film = s.film;
     return p;
 }
