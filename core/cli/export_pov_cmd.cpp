@@ -99,7 +99,7 @@ class PovWriter {
     std::string texture(const MaterialDesc& m, const std::string& pointer,
                         const glm::dvec3& emission = glm::dvec3(0.0));
     void materials();
-    std::string shape_texture(const ShapeDesc& s, const std::string& pointer);
+    std::string shape_texture(const ShapeDesc& s, const std::string& pointer, bool inside_front);
     void shape(const ShapeDesc& s, std::size_t index);
     void emitter_lights(const ShapeDesc& s, const std::string& pointer,
                         const TriangleMesh* world_mesh);
@@ -243,7 +243,9 @@ void PovWriter::materials() {
 // The texture of a shape (front side), and its interior_texture when the back differs: the
 // back of a one-sided shape is black, the back of an emitter does not emit (Facet's emission
 // is one-sided).
-std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& pointer) {
+// inside_front: the front is POV-Ray's inside (a flipped sphere or box), so the two are swapped.
+std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& pointer,
+                                     bool inside_front) {
     const MaterialDesc* m = s.material ? &*s.material : nullptr;
     std::string mpointer = pointer + "/material";
     if (!m && !s.material_ref.empty()) {
@@ -267,10 +269,12 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
         return "texture { pigment { rgb 1 } finish { ambient 0 diffuse 0" +
                emission_of(e, glm::dvec3(1.0), pointer, m_file) + " } }";
     };
-    std::string out = tex(le);
-    if (emits || !s.two_sided)
-        out += "\n  interior_texture { " + (s.two_sided ? tex(glm::dvec3(0.0)) : black) + " }";
-    return out;
+    std::string front = tex(le);
+    std::string back = s.two_sided ? tex(glm::dvec3(0.0)) : black;
+    if (inside_front) std::swap(front, back);
+    if (!emits && s.two_sided) return front;
+    // interior_texture takes the body of a texture: strip "texture { ... }".
+    return front + "\n  interior_texture { " + back.substr(10, back.size() - 12) + " }";
 }
 
 TriangleMesh PovWriter::mesh_of(const ShapeDesc& s, const std::string& pointer) const {
@@ -413,7 +417,12 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
     const std::string pointer = "/shapes/" + std::to_string(index);
     const std::string where = pointer + (s.name.empty() ? "" : " ('" + s.name + "')");
     const bool emits = std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f;
-    const std::string tex = shape_texture(s, pointer);
+    // The front side: outside of spheres and boxes, the normal side of planes and discs
+    // (POV-Ray's inside is the side opposite the normal); flip_normals reverses it.
+    const std::string tex = shape_texture(s, pointer, s.flip_normals &&
+                                                          (s.kind == render::ShapeKind::Sphere ||
+                                                           s.kind == render::ShapeKind::Box));
+    const double nsign = s.flip_normals ? -1.0 : 1.0;
     const std::string xf = s.transform ? "  " + pov_matrix(*s.transform) + "\n" : "";
     const std::string tail = std::string(emits ? "  no_shadow\n" : "") + xf + "}\n";
     m_out << "// " << where << "\n";
@@ -428,14 +437,15 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
                   << tail;
             return;
         case render::ShapeKind::Plane: {
-            const glm::dvec3 n = glm::normalize(d3(s.normal));
+            const glm::dvec3 n = nsign * glm::normalize(d3(s.normal));
             m_out << "plane { " << vec(n) << ", " << num(glm::dot(n, d3(s.point))) << "\n  " << tex
                   << "\n"
                   << tail;
             return;
         }
         case render::ShapeKind::Disc:
-            m_out << "disc { " << vec(d3(s.center)) << ", " << vec(glm::normalize(d3(s.normal)))
+            m_out << "disc { " << vec(d3(s.center)) << ", "
+                  << vec(nsign * glm::normalize(d3(s.normal)))
                   << ", " << num(s.radius) << "\n  " << tex << "\n"
                   << tail;
             if (emits) emitter_lights(s, pointer, nullptr);
@@ -451,8 +461,24 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
         default:
             break;
     }
-    // Triangle shapes as mesh2 (the renderer's own triangles).
+    // Triangle shapes as mesh2: the renderer's own triangles, in world space as build_scene
+    // makes them (positions transformed in double and stored as float, normals by the inverse
+    // transpose and normalised per vertex, then interpolated), so that smooth shading under a
+    // non-uniform scale agrees too (POV-Ray would interpolate object-space normals and transform
+    // the result). A mirroring transform keeps the authored front side, flip_normals reverses it.
     TriangleMesh m = mesh_of(s, pointer);
+    const glm::dmat4 x = s.transform.value_or(glm::dmat4(1.0));
+    const glm::dmat3 lin(x);
+    const glm::dmat3 nmat = glm::transpose(glm::inverse(lin));
+    for (Vec3& p : m.positions) p = Vec3(glm::dvec3(x * glm::dvec4(d3(p), 1.0)));
+    for (Vec3& nn : m.normals) {
+        const glm::dvec3 w = nmat * d3(nn);
+        const double l = glm::length(w);
+        nn = l > 0.0 ? Vec3(w / l) : Vec3(0.f, 0.f, 1.f);
+    }
+    if ((glm::determinant(lin) < 0.0) != s.flip_normals)
+        for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
+            std::swap(m.indices[i + 1], m.indices[i + 2]);
     m_out << "mesh2 {\n  vertex_vectors { " << m.positions.size();
     for (const Vec3& p : m.positions) m_out << ", " << vec(d3(p));
     m_out << " }\n";
@@ -461,21 +487,15 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
         for (const Vec3& nn : m.normals) m_out << ", " << vec(d3(nn));
         m_out << " }\n";
     }
+    // POV-Ray's triangle normal is (p0 - p1) x (p2 - p1) = -(p1 - p0) x (p2 - p0), the reverse
+    // of Facet's front (mesh.h), and its interior_texture is on the side that normal points
+    // away from: write each triangle as (p0, p2, p1) so that both agree.
     m_out << "  face_indices { " << m.num_triangles();
     for (std::size_t t = 0; t < m.num_triangles(); ++t)
-        m_out << ", <" << m.indices[3 * t] << ", " << m.indices[3 * t + 1] << ", "
-              << m.indices[3 * t + 2] << ">";
-    m_out << " }\n  " << tex << "\n" << tail;
-    if (emits) {
-        // World-space triangles with the authored front winding (a mirroring transform keeps
-        // the front side; flip_normals reverses it), as build_scene makes them.
-        const glm::dmat4 x = s.transform.value_or(glm::dmat4(1.0));
-        for (Vec3& p : m.positions) p = Vec3(glm::dvec3(x * glm::dvec4(d3(p), 1.0)));
-        if ((glm::determinant(glm::dmat3(x)) < 0.0) != s.flip_normals)
-            for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
-                std::swap(m.indices[i + 1], m.indices[i + 2]);
-        emitter_lights(s, pointer, &m);
-    }
+        m_out << ", <" << m.indices[3 * t] << ", " << m.indices[3 * t + 2] << ", "
+              << m.indices[3 * t + 1] << ">";
+    m_out << " }\n  " << tex << "\n" << (emits ? "  no_shadow\n" : "") << "}\n";
+    if (emits) emitter_lights(s, pointer, &m);
 }
 
 void PovWriter::light(const LightDesc& l, std::size_t index) {
