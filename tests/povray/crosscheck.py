@@ -1,0 +1,338 @@
+#!/usr/bin/python3
+"""Cross-check of `facet export-pov` + povray-facet against `facet render --integrator direct`.
+
+usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
+
+  scene NAME   scenes/NAME.json, exported and rendered by povray-facet at a small size, against
+               facet render --integrator direct of the same JSON (README, POV-Ray, "Cross-check")
+  coverage     tests/povray/export_coverage.json: every shape kind, model and delta light
+  scenes-errors  the scenes of scenes/ that POV-Ray cannot express fail to export, each with an
+               error naming the JSON path of the reason
+  errors       export-pov errors: each names the file and the JSON path (or the flag)
+
+Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
+half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
+Facet renders with 1 sample per pixel through the pixel centre (render.h), as POV-Ray does
+without antialiasing, so silhouettes coincide; delta lights make both renders deterministic.
+"""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+REL_TOL = 1e-3        # per channel, relative to the Facet value
+REQUIRED = 0.995      # fraction of pixels within REL_TOL
+BLACK = 1e-6          # both values below this (shadow, black back side) count as equal
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"PF":
+            raise RuntimeError(path + ": not a colour PFM")
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        a = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4").reshape(h, w, 3)
+    return a[::-1].astype(np.float64)
+
+
+class Env:
+    def __init__(self, pov, facet, tmp):
+        self.pov, self.facet, self.tmp = pov, facet, tmp
+        self.n = 0
+
+    def path(self, stem):
+        self.n += 1
+        return os.path.join(self.tmp, f"{self.n:03d}_{stem}")
+
+    def run(self, args, check=True):
+        p = subprocess.run(args, capture_output=True, text=True)
+        if check and p.returncode != 0:
+            raise RuntimeError(f"{' '.join(args)} failed ({p.returncode}):\n{p.stdout}{p.stderr}")
+        return p
+
+    def image(self, exr):
+        pfm = exr[:-4] + ".pfm"
+        self.run([self.facet, "convert", exr, "-o", pfm])
+        return read_pfm(pfm)
+
+    def write_scene(self, scene, stem):
+        js = self.path(stem + ".json")
+        with open(js, "w") as f:
+            json.dump(scene, f)
+        return js
+
+    def export(self, js, *extra):
+        pov = js[:-5] + ".pov"
+        self.run([self.facet, "export-pov", js, "-o", pov] + list(extra))
+        return pov
+
+    def povray(self, pov, w, h):
+        exr = pov[:-4] + "_pov.exr"
+        # -A: no antialiasing (one ray through each pixel centre); +WT2: the result does not
+        # depend on the thread count (no jitter, no radiosity).
+        p = self.run([self.pov, f"+I{pov}", f"+O{exr}", "+FE", f"+W{w}", f"+H{h}", "-A", "-UA",
+                      "-D", "-V", "+WT2"], check=False)
+        if p.returncode != 0 or not os.path.exists(exr):
+            raise RuntimeError(f"povray-facet failed on {pov} ({p.returncode}):\n{p.stderr[-3000:]}")
+        return self.image(exr)
+
+    def render(self, js, *extra):
+        exr = js[:-5] + "_facet.exr"
+        self.run([self.facet, "render", js, "-o", exr, "--integrator", "direct", "-q"] + list(extra))
+        return self.image(exr)
+
+
+def compare(name, test, ref, mask=None, rel=REL_TOL, required=REQUIRED):
+    """Fraction of pixels (within mask) whose every channel is within rel of ref (or both
+    black); prints the worst pixels; True when >= required."""
+    err = np.abs(test - ref) / np.maximum(np.abs(ref), 1e-30)
+    err[(np.abs(test) < BLACK) & (np.abs(ref) < BLACK)] = 0.0
+    # Below half's smallest normal (6.1e-5) EXR half floats have a fixed step of 2^-24: a
+    # difference within one step is the file format's rounding.
+    err[np.abs(test - ref) <= 2.0 ** -24] = 0.0
+    e = err.max(axis=2)
+    if mask is None:
+        mask = np.ones(e.shape, bool)
+    within = (e <= rel) & mask
+    frac = within.sum() / max(mask.sum(), 1)
+    ok = frac >= required
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: {100 * frac:.3f}% of {mask.sum()} pixels within "
+          f"{rel:g} (required {100 * required:g}%); median error {np.median(e[mask]):.2e}, "
+          f"max {e[mask].max():.2e}")
+    ys, xs = np.nonzero(mask & ~within)
+    order = np.argsort(-e[ys, xs])[:6]
+    for k in order:
+        y, x = ys[k], xs[k]
+        print(f"      pixel ({x}, {y}): povray {test[y, x]} facet {ref[y, x]} (error {e[y, x]:.2e})")
+    return ok
+
+
+def small(scene, max_width=96):
+    """The scene at a test size (same aspect ratio, width <= max_width)."""
+    cam = scene["camera"]
+    if cam["width"] > max_width:
+        cam["height"] = max(1, round(cam["height"] * max_width / cam["width"]))
+        cam["width"] = max_width
+    return scene
+
+
+def emitters(scene):
+    return [s for s in scene["shapes"] if s.get("emission") not in (None, 0, [0, 0, 0])]
+
+
+def rgb3(v):
+    return [float(v)] * 3 if not isinstance(v, list) else [float(c) for c in v]
+
+
+def quad_cells(quad, n):
+    """Midpoint cells of a flat parallelogram quad (no transform): centres, front normal, cell
+    area. Written here independently of the exporter's C++."""
+    p = [np.array(v, float) for v in quad["vertices"]]
+    e1, e2 = p[1] - p[0], p[3] - p[0]
+    if np.linalg.norm(p[0] + p[2] - p[1] - p[3]) > 1e-9 * (np.linalg.norm(e1) + np.linalg.norm(e2)):
+        raise RuntimeError("quad_cells: not a parallelogram")
+    nrm = np.cross(p[1] - p[0], p[2] - p[0])
+    area = np.linalg.norm(np.cross(e1, e2))
+    nrm = nrm / np.linalg.norm(nrm) * (-1.0 if quad.get("flip_normals") else 1.0)
+    centres = [p[0] + (i + 0.5) / n * e1 + (j + 0.5) / n * e2 for i in range(n) for j in range(n)]
+    return centres, nrm, area / (n * n)
+
+
+def quadrature_twin(scene, n):
+    """The scene with each emitter's light replaced by Facet spot lights at the centres of the
+    exporter's midpoint cells: inner angle 0, outer 90 makes Facet's falloff (linear in cos
+    between the cones) exactly cos(theta), a Lambertian patch; power Phi = pi I0 with
+    I0 = L * cell area (FORMAT.md: Phi = 2 pi I0 [(1 - cos 0) + (cos 0 - cos 90) / 2]). The
+    emitter shapes themselves are removed (povray-facet's glowing surface casts no shadow),
+    so the pixels that see an emitter are compared separately."""
+    twin = json.loads(json.dumps(scene))
+    twin["shapes"] = [s for s in twin["shapes"] if s not in emitters(twin)]
+    for q in emitters(scene):
+        if q["type"] != "quad" or "transform" in q:
+            raise RuntimeError("quadrature_twin handles untransformed quad emitters only")
+        centres, nrm, cell = quad_cells(q, n)
+        le = rgb3(q["emission"])
+        for c in centres:
+            twin.setdefault("lights", []).append({
+                "type": "spot", "position": c.tolist(), "direction": nrm.tolist(),
+                "power": [math.pi * l * cell for l in le], "outer_angle": 90.0, "inner_angle": 0.0})
+    return twin
+
+
+def cmd_scene(env, name):
+    scene = small(json.load(open(os.path.join(ROOT, "scenes", name + ".json"))))
+    w, h = scene["camera"]["width"], scene["camera"]["height"]
+    js = env.write_scene(scene, name)
+    ok = True
+    if not emitters(scene):
+        pov = env.povray(env.export(js), w, h)
+        ok &= compare(f"{name} {w}x{h}: povray-facet vs facet direct", pov, env.render(js, "--spp", "1"))
+        return ok
+    # Emitters: POV-Ray sees a midpoint quadrature of each emitter (export-pov --area-grid N).
+    # (1) Against Facet rendering the same quadrature (spot lights): deterministic, 1e-3.
+    n = 16
+    pov = env.povray(env.export(js, "--area-grid", str(n)), w, h)
+    twin = quadrature_twin(scene, n)
+    ref = env.render(env.write_scene(twin, name + "_twin"), "--spp", "1")
+    # The pixels whose centre ray hits an emitter: Facet at 1 spp through the pixel centre adds
+    # exactly the emission there (the emitters reflect nothing).
+    direct = env.render(js, "--spp", "1")
+    on_light = np.zeros((h, w), bool)
+    for q in emitters(scene):
+        le = np.array(rgb3(q["emission"]))
+        on_light |= np.all(np.abs(direct - le) <= 1e-6 * le, axis=2)
+    ok &= compare(f"{name} {w}x{h}: povray-facet (grid {n}) vs facet direct with the same "
+                  f"{n}x{n} cells as spot lights, off the emitter", pov, ref, ~on_light)
+    if on_light.any():
+        ok &= compare(f"{name}: pixels seeing the emitter = its emission", pov, direct, on_light,
+                      required=1.0)
+    # (2) Against the exact integral: Facet's area light, sampled (1024 spp, two seeds). The
+    # tolerance per pixel is derived, not chosen:
+    #   1e-3             what (1) allows for the export itself (half floats, float vs double),
+    #   + E_N            the midpoint grid's own error, estimated from its convergence: the
+    #                    midpoint rule's error falls as 1/N^2 for a smooth integrand, so
+    #                    E_N = |P_N - P_2N| * 4/3 (Richardson), from povray-facet at N and 2N,
+    #   + 4 sigma        Facet's sampling noise, sigma = |A - B| / 2 from two seeds.
+    # Only "smooth" pixels are compared: Facet's 1024 samples average over the pixel while
+    # POV-Ray samples its centre, which agrees to 2.5e-4 only where the image is smooth at the
+    # pixel scale: |discrete Laplacian| / 24 <= 2.5e-4 of the value (the box filter's
+    # second-order term) in the pixel-centre image (1), and not next to an emitter.
+    pov2 = env.povray(env.export(js, "--area-grid", str(2 * n)), w, h)
+    a = env.render(js, "--spp", "1024", "--seed", "1")
+    b = env.render(js, "--spp", "1024", "--seed", "2")
+    mean = 0.5 * (a + b)
+    lum = ref.mean(axis=2)
+    lap = np.full(lum.shape, np.inf)
+    lap[1:-1, 1:-1] = np.abs(lum[1:-1, :-2] + lum[1:-1, 2:] + lum[:-2, 1:-1] + lum[2:, 1:-1]
+                             - 4 * lum[1:-1, 1:-1])
+    near_light = on_light.copy()
+    near_light[1:, :] |= on_light[:-1, :]
+    near_light[:-1, :] |= on_light[1:, :]
+    near_light[:, 1:] |= on_light[:, :-1]
+    near_light[:, :-1] |= on_light[:, 1:]
+    smooth = (lap / 24 <= 2.5e-4 * lum) & ~near_light
+    floor = 1e-4  # relative errors of near-black pixels are noise
+    rel = lambda x, y: (np.abs(x - y) / np.maximum(np.abs(y), floor)).max(axis=2)
+    grid_err = rel(pov, pov2) * 4 / 3
+    sigma = rel(a, b) / 2
+    tol = 1e-3 + grid_err + 4 * sigma
+    err = rel(pov, mean)
+    frac = (err[smooth] <= tol[smooth]).mean()
+    good = frac >= 0.99
+    print(f"{'ok  ' if good else 'FAIL'} {name}: povray-facet (grid {n}) vs facet direct area "
+          f"light (1024 spp x 2 seeds) on {smooth.sum()} smooth pixels: {100 * frac:.2f}% within "
+          f"1e-3 + E_{n} + 4 sigma (required 99%); E_{n}: median {np.median(grid_err[smooth]):.1e}, "
+          f"p99 {np.percentile(grid_err[smooth], 99):.1e}; sigma median "
+          f"{np.median(sigma[smooth]):.1e}; error median {np.median(err[smooth]):.1e}, "
+          f"p99 {np.percentile(err[smooth], 99):.1e}")
+    return ok and good
+
+
+def cmd_coverage(env):
+    scene = json.load(open(os.path.join(HERE, "export_coverage.json")))
+    w, h = scene["camera"]["width"], scene["camera"]["height"]
+    js = env.write_scene(scene, "coverage")
+    pov = env.povray(env.export(js), w, h)
+    return compare(f"export_coverage {w}x{h}: povray-facet vs facet direct", pov, env.render(js, "--spp", "1"))
+
+
+# Scenes of scenes/ that POV-Ray cannot express, and the JSON path export-pov must name.
+INEXPRESSIBLE = {
+    "furnace": "/shapes/0/emission",            # an emissive sphere (a closed emitter)
+    "showcase": "/materials/brushed/alpha_u",   # anisotropic: POV-Ray has no tangents
+    "material_sweep": "/materials/beckmann_4/alpha_u",
+    "mirrors_fresnel": "/lights/0",             # the environment light
+    "big_mesh": "/lights/0",
+}
+
+
+def cmd_scenes_errors(env):
+    ok = True
+    names = sorted(f[:-5] for f in os.listdir(os.path.join(ROOT, "scenes")) if f.endswith(".json"))
+    for name in names:
+        src = os.path.join(ROOT, "scenes", name + ".json")
+        p = env.run([env.facet, "export-pov", src, "-o", env.path(name + ".pov")], check=False)
+        want = INEXPRESSIBLE.get(name)
+        if want is None:
+            good = p.returncode == 0
+            print(f"{'ok  ' if good else 'FAIL'} {name}: exports (cross-checked by povray_crosscheck_{name})"
+                  + ("" if good else "\n      " + p.stderr.strip()))
+        else:
+            good = p.returncode == 1 and f"{src}: {want}: " in p.stderr
+            print(f"{'ok  ' if good else 'FAIL'} {name}: not expressible: {p.stderr.strip()}")
+        ok &= good
+    missing = set(INEXPRESSIBLE) - set(names)
+    if missing:
+        print(f"FAIL listed but not in scenes/: {sorted(missing)}")
+        ok = False
+    return ok
+
+
+def cmd_errors(env):
+    base = json.load(open(os.path.join(ROOT, "scenes", "point_plane.json")))
+
+    def variant(edit):
+        s = json.loads(json.dumps(base))
+        edit(s)
+        return s
+
+    mat = {"model": "lambert", "reflectance": 0.5}
+    cases = [
+        ("environment light", lambda s: s["lights"].append({"type": "environment", "radiance": 0.1}),
+         [], "/lights/1: an environment light"),
+        ("anisotropic lobe", lambda s: s["shapes"][0].update(material={"model": "ggx", "alpha_u": 0.1, "alpha_v": 0.3}),
+         [], "/shapes/0/material/alpha_u: anisotropic"),
+        ("emissive sphere", lambda s: s["shapes"].append({"type": "sphere", "center": [0, 1, 0], "radius": 0.2, "emission": 1}),
+         [], "/shapes/1/emission: an emissive sphere"),
+        ("soft spot edge", lambda s: s["lights"].append({"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0],
+                                                         "power": 10, "outer_angle": 30, "inner_angle": 20}),
+         [], "/lights/1/inner_angle: "),
+        ("spot wider than 90", lambda s: s["lights"].append({"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0],
+                                                             "power": 10, "outer_angle": 120}),
+         [], "/lights/1/outer_angle: "),
+        ("mirror deeper than POV-Ray", lambda s: (s["shapes"][0].update(material={"model": "mirror"}),
+                                                  s["render"].update(max_depth=300)),
+         [], "/render/max_depth: 300 bounces"),
+        ("too many light cells", lambda s: s["shapes"].append({"type": "icosphere", "center": [0, 1, 0], "radius": 0.2,
+                                                               "subdivisions": 3, "emission": 1}),
+         ["--area-grid", "8"], "/shapes/1/emission: the emitters need more than 20000 light cells"),
+        ("bad scene (the loader's pointer)", lambda s: s["shapes"][0].update(radus=1),
+         [], "/shapes/0/radus: unknown key"),
+        ("bad material (build_scene's pointer)", lambda s: s["shapes"][0].update(material={"model": "ggx", "alpha": 12}),
+         [], "/shapes/0/material/alpha: "),
+    ]
+    ok = True
+    for title, edit, extra, want in cases:
+        js = env.write_scene(variant(edit), "err")
+        p = env.run([env.facet, "export-pov", js, "-o", env.path("err.pov")] + extra, check=False)
+        good = p.returncode == 1 and f"{js}: {want}" in p.stderr
+        print(f"{'ok  ' if good else 'FAIL'} {title}: rc {p.returncode}: {p.stderr.strip()}")
+        ok &= good
+    # A flag out of range: CLI11 names the flag.
+    js = env.write_scene(base, "flag")
+    p = env.run([env.facet, "export-pov", js, "-o", env.path("f.pov"), "--area-grid", "0"], check=False)
+    good = p.returncode != 0 and "--area-grid" in p.stderr
+    print(f"{'ok  ' if good else 'FAIL'} --area-grid 0: rc {p.returncode}: {p.stderr.strip()}")
+    return ok and good
+
+
+def main():
+    pov, facet, cmd, args = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3], sys.argv[4:]
+    with tempfile.TemporaryDirectory(prefix="facet-crosscheck-") as tmp:
+        env = Env(pov, facet, tmp)
+        ok = {"scene": lambda: cmd_scene(env, args[0]),
+              "coverage": lambda: cmd_coverage(env),
+              "scenes-errors": lambda: cmd_scenes_errors(env),
+              "errors": lambda: cmd_errors(env)}[cmd]()
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
