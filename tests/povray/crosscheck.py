@@ -9,6 +9,8 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
   scenes-errors  the scenes of scenes/ that POV-Ray cannot express fail to export, each with an
                error naming the JSON path of the reason
   errors       export-pov errors: each names the file and the JSON path (or the flag)
+  glossy       povray-facet's glossy reflection rays (export-pov --glossy-samples) against
+               `facet render --integrator path` at the matching depth, within noise (block t-test)
 
 Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
 half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
@@ -83,9 +85,9 @@ class Env:
             raise RuntimeError(f"povray-facet failed on {pov} ({p.returncode}):\n{p.stderr[-3000:]}")
         return self.image(exr)
 
-    def render(self, js, *extra):
+    def render(self, js, *extra, integrator="direct"):
         exr = js[:-5] + "_facet.exr"
-        self.run([self.facet, "render", js, "-o", exr, "--integrator", "direct", "-q"] + list(extra))
+        self.run([self.facet, "render", js, "-o", exr, "--integrator", integrator, "-q"] + list(extra))
         return self.image(exr)
 
 
@@ -323,14 +325,100 @@ def cmd_errors(env):
     return ok and good
 
 
+def cmd_glossy(env):
+    """A rough gold sphere reflecting a checkered Lambert floor and a coloured wall, lit by two
+    point lights, black background. On the sphere, povray-facet computes the lights' highlights
+    plus `samples` importance-sampled glossy rays, each seeing the floor or wall shaded by the
+    lights (Lambert: no further rays). Facet's path tracer with max_depth 2 computes exactly that
+    on the sphere: NEE at the sphere, one BSDF bounce to the floor or wall with NEE there, and at
+    depth 2 only emission (none: delta lights, black background). Elsewhere path also has light
+    reflected by the sphere onto the floor, which POV-Ray does not trace, so only pixels whose
+    centre ray hits the sphere (radius shrunk by 5% against silhouettes) are compared. Both
+    images are noisy: 4x4 blocks of per-pixel differences are t-tested (|mean| / (std / sqrt n)
+    below 5 for >= 97% of blocks, and the mean over the sphere within 3 standard errors plus
+    half-float rounding), which catches a wrong weight (f cos / pdf) or a wrong lobe."""
+    w, h = 64, 48
+    tiles = []
+    for i in range(-3, 3):
+        for j in range(-3, 2):
+            tiles.append({"type": "quad", "material": "a" if (i + j) % 2 == 0 else "b",
+                          "vertices": [[i, 0, j], [i, 0, j + 1], [i + 1, 0, j + 1], [i + 1, 0, j]]})
+    centre, radius = np.array([0.0, 0.7, 0.0]), 0.7
+    scene = {"format": "facet-scene", "version": 1,
+             "camera": {"position": [0, 1.2, 3.2], "look_at": [0, 0.6, 0], "fov": 38, "width": w, "height": h},
+             "materials": {"a": {"model": "lambert", "reflectance": 0.8},
+                           "b": {"model": "lambert", "reflectance": [0.1, 0.3, 0.6]},
+                           "wall": {"model": "lambert", "reflectance": [0.7, 0.2, 0.1]},
+                           "gold": {"model": "ggx", "alpha": 0.3, "fresnel": "conductor",
+                                    "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]}},
+             "shapes": tiles + [
+                 {"type": "quad", "material": "wall", "vertices": [[-3, 0, -3], [3, 0, -3], [3, 3, -3], [-3, 3, -3]]},
+                 {"type": "sphere", "center": centre.tolist(), "radius": radius, "material": "gold"}],
+             "lights": [{"type": "point", "position": [2, 3, 2], "power": 120},
+                        {"type": "point", "position": [-2.5, 2, 0.5], "power": [40, 60, 90]}],
+             "render": {"integrator": "path", "spp": 256, "max_depth": 2, "seed": 1}}
+    js = env.write_scene(scene, "glossy")
+    pov = env.povray(env.export(js, "--glossy-samples", "64"), w, h)
+    # POV-Ray samples each pixel's centre, Facet averages over the pixel, which differs where
+    # the reflection has sharp detail (measured: up to 4% in a 4x4 block on the checker's
+    # reflection). So Facet renders at 5x the resolution and the pixel in the middle of each
+    # 5x5 group is taken: its centre is the POV pixel's centre and its footprint is 1/5 as wide,
+    # which shrinks the box filter's (second-order) difference 25-fold.
+    fine = json.loads(json.dumps(scene))
+    fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
+    ref = env.render(env.write_scene(fine, "glossy_fine"), "--spp", "64", integrator="path")[2::5, 2::5]
+    # Pixels whose centre ray hits the sphere (FORMAT.md camera), shrunk by 5%.
+    cam = scene["camera"]
+    pos, look = np.array(cam["position"], float), np.array(cam["look_at"], float)
+    f = (look - pos) / np.linalg.norm(look - pos)
+    r = np.cross(f, [0, 1, 0]); r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    ty = math.tan(math.radians(cam["fov"]) / 2); tx = ty * w / h
+    xs, ys = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    d = f + ((2 * xs / w - 1) * tx)[..., None] * r + ((1 - 2 * ys / h) * ty)[..., None] * u
+    d /= np.linalg.norm(d, axis=2, keepdims=True)
+    oc = pos - centre
+    b = (d * oc).sum(axis=2)
+    on = b * b - (oc @ oc - (0.95 * radius) ** 2) > 0
+    diff = (pov - ref).mean(axis=2)
+    zs, n_blocks = [], 0
+    for y0 in range(0, h, 4):
+        for x0 in range(0, w, 4):
+            m = on[y0:y0 + 4, x0:x0 + 4]
+            if m.sum() < 12:
+                continue
+            v = diff[y0:y0 + 4, x0:x0 + 4][m]
+            se = v.std(ddof=1) / math.sqrt(v.size)
+            zs.append(abs(v.mean()) / max(se, 1e-9))
+            if zs[-1] > 4: print(f"      block at ({x0}, {y0}): t {zs[-1]:.2f}, mean difference {v.mean():.2e} over {v.size} pixels")
+    zs = np.array(zs)
+    frac = (zs < 5).mean()
+    v = diff[on]
+    mean_p, mean_f = pov.mean(axis=2)[on].mean(), ref.mean(axis=2)[on].mean()
+    se = v.std(ddof=1) / math.sqrt(v.size)
+    ok_blocks = frac >= 0.97
+    ok_mean = abs(v.mean()) <= 3 * se + 2.0 ** -11 * mean_f
+    print(f"{'ok  ' if ok_blocks else 'FAIL'} glossy rays vs path (max_depth 2): {100 * frac:.1f}% of "
+          f"{zs.size} 4x4 blocks on the sphere with |t| < 5 (required 97%); median |t| "
+          f"{np.median(zs):.2f}, max {zs.max():.2f}")
+    print(f"{'ok  ' if ok_mean else 'FAIL'} mean over {on.sum()} sphere pixels: povray-facet "
+          f"{mean_p:.5f}, facet path {mean_f:.5f} (ratio {mean_p / mean_f:.4f}; difference "
+          f"{v.mean():.2e}, standard error {se:.2e})")
+    return ok_blocks and ok_mean
+
+
 def main():
     pov, facet, cmd, args = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3], sys.argv[4:]
+    keep = os.environ.get("FACET_CROSSCHECK_KEEP")  # a directory: keep the files there
+    if keep:
+        os.makedirs(keep, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="facet-crosscheck-") as tmp:
-        env = Env(pov, facet, tmp)
+        env = Env(pov, facet, keep or tmp)
         ok = {"scene": lambda: cmd_scene(env, args[0]),
               "coverage": lambda: cmd_coverage(env),
               "scenes-errors": lambda: cmd_scenes_errors(env),
-              "errors": lambda: cmd_errors(env)}[cmd]()
+              "errors": lambda: cmd_errors(env),
+              "glossy": lambda: cmd_glossy(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 
