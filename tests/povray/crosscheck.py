@@ -71,7 +71,7 @@ class Env:
         return js
 
     def export(self, js, *extra):
-        pov = js[:-5] + ".pov"
+        pov = self.path(os.path.basename(js)[4:-5] + ".pov")  # a new name per export
         self.run([self.facet, "export-pov", js, "-o", pov] + list(extra))
         return pov
 
@@ -86,7 +86,7 @@ class Env:
         return self.image(exr)
 
     def render(self, js, *extra, integrator="direct"):
-        exr = js[:-5] + "_facet.exr"
+        exr = self.path(os.path.basename(js)[4:-5] + "_facet.exr")  # a new name per render
         self.run([self.facet, "render", js, "-o", exr, "--integrator", integrator, "-q"] + list(extra))
         return self.image(exr)
 
