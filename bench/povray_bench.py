@@ -109,21 +109,29 @@ def vs_facet(binary, facet, reps, size, threads):
                        "-UA", "-D", "-V", f"+WT{threads}"]
             facet_cmd = [facet, "render", js, "-o", f"{tmp}/f.exr", "--integrator", "direct",
                          "--spp", "1", "--threads", str(threads), "-q"]
-            tp, tf = [], []
+            # The fixed cost of each process (start-up, parsing / scene build and BVH): the same
+            # command for one pixel (POV-Ray: a 1x1 image; Facet: --region 0,0,1,1).
+            pov_one = [a for a in pov_cmd if a[:2] not in ("+W", "+H")] + ["+W1", "+H1"]
+            facet_one = facet_cmd + ["--region", "0,0,1,1"]
+            tp, tf, tp1, tf1 = [], [], [], []
             for r in range(reps):
-                pair = [(pov_cmd, tp), (facet_cmd, tf)]
-                for cmd, out in (pair if r % 2 == 0 else pair[::-1]):
+                runs = [(pov_cmd, tp), (facet_cmd, tf), (pov_one, tp1), (facet_one, tf1)]
+                for cmd, out in (runs if r % 2 == 0 else runs[::-1]):
                     out.append(timed(cmd, tmp))
-            cases.append((name, t_export, tp, tf))
+            cases.append((name, t_export, tp, tf, tp1, tf1))
     print(f"\nexport-pov + povray-facet vs facet render --integrator direct --spp 1, {w}x{h}, "
           f"{threads} threads, {reps} repetitions (median wall time of the process, s)")
     print(f"  {'scene':36s} {'export-pov':>10s} {'povray-facet':>12s} {'facet':>8s}  "
           "ratio pov/facet: of medians, median per rep (range)")
-    for name, te, tp, tf in cases:
+    med = statistics.median
+    for name, te, tp, tf, tp1, tf1 in cases:
         ratios = [a / b for a, b in zip(tp, tf)]
-        print(f"  {name:36s} {te:10.3f} {statistics.median(tp):12.3f} {statistics.median(tf):8.3f}"
-              f"  {statistics.median(tp) / statistics.median(tf):.2f}, "
-              f"{statistics.median(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f})")
+        print(f"  {name:36s} {te:10.3f} {med(tp):12.3f} {med(tf):8.3f}"
+              f"  {med(tp) / med(tf):.2f}, {med(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f})")
+        net = [(a - a1) / (b - b1) for a, b, a1, b1 in zip(tp, tf, tp1, tf1)]
+        print(f"  {'  one pixel (fixed cost)':36s} {'':10s} {med(tp1):12.3f} {med(tf1):8.3f}"
+              f"  rendering alone (total - one pixel): {med(tp) - med(tp1):.3f} s vs "
+              f"{med(tf) - med(tf1):.3f} s, ratio per rep {med(net):.2f} ({min(net):.2f}-{max(net):.2f})")
 
 
 def main():

@@ -419,9 +419,9 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
     const bool emits = std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f;
     // The front side: outside of spheres and boxes, the normal side of planes and discs
     // (POV-Ray's inside is the side opposite the normal); flip_normals reverses it.
-    const std::string tex = shape_texture(s, pointer, s.flip_normals &&
-                                                          (s.kind == render::ShapeKind::Sphere ||
-                                                           s.kind == render::ShapeKind::Box));
+    const std::string tex = shape_texture(s, pointer,
+                                          s.flip_normals && (s.kind == render::ShapeKind::Sphere ||
+                                                             s.kind == render::ShapeKind::Box));
     const double nsign = s.flip_normals ? -1.0 : 1.0;
     const std::string xf = s.transform ? "  " + pov_matrix(*s.transform) + "\n" : "";
     const std::string tail = std::string(emits ? "  no_shadow\n" : "") + xf + "}\n";
@@ -445,8 +445,8 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
         }
         case render::ShapeKind::Disc:
             m_out << "disc { " << vec(d3(s.center)) << ", "
-                  << vec(nsign * glm::normalize(d3(s.normal)))
-                  << ", " << num(s.radius) << "\n  " << tex << "\n"
+                  << vec(nsign * glm::normalize(d3(s.normal))) << ", " << num(s.radius) << "\n  "
+                  << tex << "\n"
                   << tail;
             if (emits) emitter_lights(s, pointer, nullptr);
             return;
