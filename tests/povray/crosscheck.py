@@ -3,7 +3,7 @@
 
 usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
 
-  scene NAME   scenes/NAME.json, exported and rendered by povray-facet at a small size, against
+  scene NAME [N]  scenes/NAME.json (or tests/povray/NAME.json), --area-grid N (16), exported and rendered by povray-facet at a small size, against
                facet render --integrator direct of the same JSON (README, POV-Ray, "Cross-check")
   coverage     tests/povray/export_coverage.json: every shape kind, model and delta light
   scenes-errors  the scenes of scenes/ that POV-Ray cannot express fail to export, each with an
@@ -133,18 +133,81 @@ def rgb3(v):
     return [float(v)] * 3 if not isinstance(v, list) else [float(c) for c in v]
 
 
-def quad_cells(quad, n):
-    """Midpoint cells of a flat parallelogram quad (no transform): centres, front normal, cell
-    area. Written here independently of the exporter's C++."""
-    p = [np.array(v, float) for v in quad["vertices"]]
+def transform_matrix(t):
+    """FORMAT.md "transform" (one object or a list, applied in order) -> 4x4 (column vectors)."""
+    m = np.eye(4)
+    for x in (t if isinstance(t, list) else [t]):
+        if "matrix" in x:
+            step = np.array(x["matrix"], float).reshape(4, 4)
+        else:
+            sc = x.get("scale", 1.0)
+            S = np.diag((sc if isinstance(sc, list) else [sc] * 3) + [1.0])
+            R = np.eye(4)
+            if "rotate" in x:
+                a = np.array(x["rotate"]["axis"], float)
+                a /= np.linalg.norm(a)
+                th = math.radians(x["rotate"]["angle"])
+                K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+                R[:3, :3] = np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * K @ K
+            T = np.eye(4)
+            T[:3, 3] = x.get("translate", [0, 0, 0])
+            step = T @ R @ S
+        m = step @ m
+    return m
+
+
+def emitter_cells(shape, n):
+    """The exporter's midpoint cells of an emitter, written here independently of its C++:
+    [(centre, unit front normal, cell area)]. Flat parallelogram quads: n x n cells; other quads:
+    their two triangles (p0 p1 p2), (p0 p2 p3), n^2 similar sub-triangles each, at their
+    centroids; discs: n equal-area rings x 4n sectors, through the shape's transform."""
+    m = transform_matrix(shape["transform"]) if "transform" in shape else np.eye(4)
+    lin = m[:3, :3]
+    world = lambda p: m[:3, :3] @ np.asarray(p, float) + m[:3, 3]
+    flip = -1.0 if shape.get("flip_normals") else 1.0
+    cells = []
+    if shape["type"] == "disc":
+        nrm = np.array(shape["normal"], float)
+        nrm /= np.linalg.norm(nrm)
+        # any orthonormal pair in the disc's plane (the cells' positions are symmetric)
+        ex = np.cross(nrm, [1.0, 0, 0] if abs(nrm[0]) < 0.9 else [0, 1.0, 0])
+        ex /= np.linalg.norm(ex)
+        ey = np.cross(nrm, ex)
+        nw = np.linalg.inv(lin).T @ nrm
+        area_scale = abs(np.linalg.det(lin)) * np.linalg.norm(nw)
+        nw = flip * nw / np.linalg.norm(nw)
+        R, sectors = float(shape["radius"]), 4 * n
+        cell = math.pi * R * R * area_scale / (n * sectors)
+        for i in range(n):
+            r = R * math.sqrt((i + 0.5) / n)
+            for j in range(sectors):
+                phi = 2 * math.pi * (j + 0.5) / sectors
+                local = np.array(shape["center"], float) + r * (math.cos(phi) * ex + math.sin(phi) * ey)
+                cells.append((world(local), nw, cell))
+        return cells
+    if shape["type"] != "quad":
+        raise RuntimeError("emitter_cells: quads and discs only")
+    p = [world(v) for v in shape["vertices"]]
+    if (np.linalg.det(lin) < 0) != bool(shape.get("flip_normals")):
+        p = [p[0], p[3], p[2], p[1]]  # reversed winding: the other side is the front
     e1, e2 = p[1] - p[0], p[3] - p[0]
-    if np.linalg.norm(p[0] + p[2] - p[1] - p[3]) > 1e-9 * (np.linalg.norm(e1) + np.linalg.norm(e2)):
-        raise RuntimeError("quad_cells: not a parallelogram")
-    nrm = np.cross(p[1] - p[0], p[2] - p[0])
-    area = np.linalg.norm(np.cross(e1, e2))
-    nrm = nrm / np.linalg.norm(nrm) * (-1.0 if quad.get("flip_normals") else 1.0)
-    centres = [p[0] + (i + 0.5) / n * e1 + (j + 0.5) / n * e2 for i in range(n) for j in range(n)]
-    return centres, nrm, area / (n * n)
+    if np.linalg.norm(p[0] + p[2] - p[1] - p[3]) <= 1e-9 * (np.linalg.norm(e1) + np.linalg.norm(e2)):
+        nrm = np.cross(p[1] - p[0], p[2] - p[0])
+        nrm /= np.linalg.norm(nrm)
+        area = np.linalg.norm(np.cross(e1, e2))
+        return [(p[0] + (i + 0.5) / n * e1 + (j + 0.5) / n * e2, nrm, area / (n * n))
+                for i in range(n) for j in range(n)]
+    for a, b, c in ((p[0], p[1], p[2]), (p[0], p[2], p[3])):
+        cr = np.cross(b - a, c - a)
+        area = 0.5 * np.linalg.norm(cr)
+        nrm = cr / (2 * area)
+        for i in range(n):
+            for j in range(n - i):
+                # sub-triangle (i, j): upright centroid (i + 1/3, j + 1/3) / n, inverted (i + 2/3, j + 2/3) / n
+                cells.append((a + (i + 1 / 3) / n * (b - a) + (j + 1 / 3) / n * (c - a), nrm, area / n ** 2))
+                if i + j + 2 <= n:
+                    cells.append((a + (i + 2 / 3) / n * (b - a) + (j + 2 / 3) / n * (c - a), nrm, area / n ** 2))
+    return cells
 
 
 def quadrature_twin(scene, n):
@@ -157,19 +220,19 @@ def quadrature_twin(scene, n):
     twin = json.loads(json.dumps(scene))
     twin["shapes"] = [s for s in twin["shapes"] if s not in emitters(twin)]
     for q in emitters(scene):
-        if q["type"] != "quad" or "transform" in q:
-            raise RuntimeError("quadrature_twin handles untransformed quad emitters only")
-        centres, nrm, cell = quad_cells(q, n)
         le = rgb3(q["emission"])
-        for c in centres:
+        for c, nrm, cell in emitter_cells(q, n):
             twin.setdefault("lights", []).append({
                 "type": "spot", "position": c.tolist(), "direction": nrm.tolist(),
                 "power": [math.pi * l * cell for l in le], "outer_angle": 90.0, "inner_angle": 0.0})
     return twin
 
 
-def cmd_scene(env, name):
-    scene = small(json.load(open(os.path.join(ROOT, "scenes", name + ".json"))))
+def cmd_scene(env, name, n=16):
+    path = os.path.join(ROOT, "scenes", name + ".json")
+    if not os.path.exists(path):
+        path = os.path.join(HERE, name + ".json")  # a scene of tests/povray
+    scene = small(json.load(open(path)))
     w, h = scene["camera"]["width"], scene["camera"]["height"]
     js = env.write_scene(scene, name)
     ok = True
@@ -179,7 +242,6 @@ def cmd_scene(env, name):
         return ok
     # Emitters: POV-Ray sees a midpoint quadrature of each emitter (export-pov --area-grid N).
     # (1) Against Facet rendering the same quadrature (spot lights): deterministic, 1e-3.
-    n = 16
     pov = env.povray(env.export(js, "--area-grid", str(n)), w, h)
     twin = quadrature_twin(scene, n)
     ref = env.render(env.write_scene(twin, name + "_twin"), "--spp", "1")
@@ -317,6 +379,13 @@ def cmd_errors(env):
         good = p.returncode == 1 and f"{js}: {want}" in p.stderr
         print(f"{'ok  ' if good else 'FAIL'} {title}: rc {p.returncode}: {p.stderr.strip()}")
         ok &= good
+    # --environment background: the approximation is written when asked for (and only then).
+    js = env.write_scene(variant(lambda s: s["lights"].append({"type": "environment", "radiance": [0.1, 0.2, 0.3]})), "bg")
+    out = env.path("bg.pov")
+    p = env.run([env.facet, "export-pov", js, "-o", out, "--environment", "background"], check=False)
+    good = p.returncode == 0 and "background { rgb <0.1" in open(out).read()
+    print(f"{'ok  ' if good else 'FAIL'} --environment background writes the background: rc {p.returncode}")
+    ok &= good
     # A flag out of range: CLI11 names the flag.
     js = env.write_scene(base, "flag")
     p = env.run([env.facet, "export-pov", js, "-o", env.path("f.pov"), "--area-grid", "0"], check=False)
@@ -414,7 +483,7 @@ def main():
         os.makedirs(keep, exist_ok=True)
     with tempfile.TemporaryDirectory(prefix="facet-crosscheck-") as tmp:
         env = Env(pov, facet, keep or tmp)
-        ok = {"scene": lambda: cmd_scene(env, args[0]),
+        ok = {"scene": lambda: cmd_scene(env, args[0], *(int(a) for a in args[1:])),
               "coverage": lambda: cmd_coverage(env),
               "scenes-errors": lambda: cmd_scenes_errors(env),
               "errors": lambda: cmd_errors(env),
