@@ -120,6 +120,14 @@ glm::dvec3 d3(const Vec3& v) {
     return glm::dvec3(v);
 }
 
+// Free text (shape and material names, the file name) for a `//` comment of the SDL: control
+// characters become spaces, so that a newline in a name cannot end the comment.
+std::string comment_text(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    return text;
+}
+
 void PovWriter::camera() {
     // scenes/FORMAT.md, "POV-Ray export": explicit vectors; POV-Ray 3.7 traces the pixel
     // centres itself (TracePixel::CreateCameraRay adds the half pixel).
@@ -233,7 +241,7 @@ void PovWriter::materials() {
     for (std::size_t i = 0; i < m_desc.materials.size(); ++i) {
         const auto& [name, m] = m_desc.materials[i];
         const std::string id = "Facet_material_" + std::to_string(i);
-        m_out << "#declare " << id << " =  // '" << name << "'\n  "
+        m_out << "#declare " << id << " =  // '" << comment_text(name) << "'\n  "
               << texture(m, "/materials/" + name) << ";\n";
         m_material_ids.push_back(id);
     }
@@ -345,7 +353,8 @@ void PovWriter::emitter_lights(const ShapeDesc& s, const std::string& pointer,
                                const TriangleMesh* world_mesh) {
     const int n = m_opt.area_grid;
     const glm::dvec3 le = d3(s.emission);
-    m_out << "// Light of the emitter " << pointer << (s.name.empty() ? "" : " ('" + s.name + "')")
+    m_out << "// Light of the emitter " << pointer
+          << (s.name.empty() ? "" : " ('" + comment_text(s.name) + "')")
           << ": midpoint cells, grid " << n << "\n";
     const glm::dmat4 xf = s.transform.value_or(glm::dmat4(1.0));
     if (!world_mesh) {  // disc
@@ -415,7 +424,7 @@ void PovWriter::emitter_lights(const ShapeDesc& s, const std::string& pointer,
 
 void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
     const std::string pointer = "/shapes/" + std::to_string(index);
-    const std::string where = pointer + (s.name.empty() ? "" : " ('" + s.name + "')");
+    const std::string where = pointer + (s.name.empty() ? "" : " ('" + comment_text(s.name) + "')");
     const bool emits = std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f;
     // The front side: outside of spheres and boxes, the normal side of planes and discs
     // (POV-Ray's inside is the side opposite the normal); flip_normals reverses it.
@@ -556,7 +565,7 @@ void PovWriter::light(const LightDesc& l, std::size_t index) {
 
 std::string PovWriter::write() {
     const render::CameraDesc& c = m_desc.camera;
-    m_out << "// Exported by `facet export-pov` from " << m_file
+    m_out << "// Exported by `facet export-pov` from " << comment_text(m_file)
           << " for povray-facet (povray_patch/).\n"
           << "// It renders what `facet render --integrator direct` renders of that scene.\n"
           << "// Render: povray-facet +I<this file> +O<out>.exr +FE +W" << c.width << " +H"

@@ -386,6 +386,13 @@ def cmd_errors(env):
     good = p.returncode == 0 and "background { rgb <0.1" in open(out).read()
     print(f"{'ok  ' if good else 'FAIL'} --environment background writes the background: rc {p.returncode}")
     ok &= good
+    # Free text cannot inject SDL: a shape name with a newline stays inside its comment.
+    js = env.write_scene(variant(lambda s: s["shapes"][0].update(name="x\nsphere { 0, 100 }")), "name")
+    out = env.path("name.pov")
+    p = env.run([env.facet, "export-pov", js, "-o", out], check=False)
+    good = p.returncode == 0 and not any(l.startswith("sphere { 0, 100 }") for l in open(out))
+    print(f"{'ok  ' if good else 'FAIL'} a newline in a shape name stays in the comment")
+    ok &= good
     # A flag out of range: CLI11 names the flag.
     js = env.write_scene(base, "flag")
     p = env.run([env.facet, "export-pov", js, "-o", env.path("f.pov"), "--area-grid", "0"], check=False)
