@@ -8,7 +8,8 @@ Use inside Blender (`blender -b --factory-startup --python your_script.py`), aft
     notes = cs.convert(bpy.context.scene, exact=True)   # materials, emitters, geometry, lights
     cs.cycles_settings(bpy.context.scene, samples=256, seed=1)
     img, seconds = cs.render(bpy.context.scene, 'CYCLES', "/tmp/c.exr")  # or 'FACET'
-    z = cs.block_z(facet_pair, cycles_pair, block=16)  # noise-derived comparison
+    z = cs.block_z(facet_pair, cycles_pair, block=16)[0]  # noise-derived comparison
+    # analytic references: cs.camera_rays(facet camera dict), cs.polygon_form_factor(p, n, quad)
 
 `convert` changes only what Cycles reads: every material gets an equivalent Cycles node tree,
 emissive shapes get an Emission shader, analytic shapes get a fine mesh. Facet keeps rendering
@@ -16,7 +17,14 @@ the imported description exactly (the exporter reads the stored shapes, the mate
 settings and the stored lights), so Facet and Cycles render the same Blender scene.
 It returns a list of notes, one per approximation (tessellated analytic shapes, and with
 exact=False the inexact models below); with exact=True a material or light without an exact
-Cycles 3.4 equivalent raises NoEquivalent naming it.
+Cycles 3.4 equivalent raises NoEquivalent naming it. one_sided_emission=False gives Cycles'
+emitters their default two-sided emission (for experiments; not Facet's semantics).
+
+Measured with it (tests/blender/test_cycles_*.py): light units and one-sided mesh emission
+agree with the analytic irradiance in both renderers to 1e-5; white furnaces agree; Cycles
+3.4's direct light from the Cornell box's ceiling quad is ~1% dark on the back wall against
+the analytic form factor (Facet: exact), see test_cycles_cornell.py; Cycles 3.4's spot light
+has an extra cos(angle from the axis) (units.py).
 
 Facet model -> Cycles 3.4 nodes (exact = the same function, up to floating point):
 - lambert -> Diffuse BSDF (Roughness 0, i.e. Lambert; Color = reflectance): exact.
@@ -40,8 +48,9 @@ Facet model -> Cycles 3.4 nodes (exact = the same function, up to floating point
   1 - Backfacing: Facet's emitters are one-sided, Cycles' mesh lights two-sided): exact.
 - two_sided false -> a black back (Mix Shader on Backfacing): exact.
 - point, directional: the imported Blender lights (radius/angle 0) in Cycles' units (units.py):
-  exact. spot: exact for inner = outer; otherwise Cycles fades with smoothstep, Facet linearly
-  in cos (note, or NoEquivalent with exact=True). environment: the world colour, as imported.
+  exact. spot: none (measured: Cycles 3.4's cone intensity is P/(4 pi) cos(angle from the
+  axis), Facet's constant; and for inner < outer Cycles fades with smoothstep, Facet linearly
+  in cos): a note, or NoEquivalent with exact=True. environment: the world colour, as imported.
 - shapes: mesh, quad and box are the imported meshes (exact; mesh normals from the file's
   normals as custom split normals); sphere, disc, plane, icosphere and grid get a fine mesh
   (a note each; the sphere is a smooth UV sphere of 256 x 128 segments).
@@ -308,10 +317,11 @@ def convert(scene=None, exact=True, one_sided_emission=True):
     for ob in list(scene.objects):
         if ob.type == 'LIGHT' and "facet_light" in ob:
             lt = json.loads(ob["facet_light"])
-            if lt["type"] == "spot" and lt.get("inner_angle", lt.get("outer_angle")) != \
-                    lt.get("outer_angle"):
-                why = ("light '%s': spot with inner < outer angle: Cycles fades with "
-                       "smoothstep, Facet linearly in cos" % ob.name)
+            if lt["type"] == "spot":
+                why = ("light '%s': spot: Cycles 3.4's intensity in the cone is P/(4 pi) "
+                       "cos(angle from the axis), Facet's constant (units.py)" % ob.name)
+                if lt.get("inner_angle", lt.get("outer_angle")) != lt.get("outer_angle"):
+                    why += "; its fade is smoothstep, Facet's linear in cos"
                 if exact:
                     raise NoEquivalent(why)
                 notes.append(why)
@@ -457,15 +467,64 @@ def facet_description(scene=None):
     return json.dumps(data, default=conv, sort_keys=True)
 
 
+# --- analytic references -----------------------------------------------------------------
+
+def camera_rays(cam, sub=4):
+    """FORMAT.md's pinhole: (origin (3,), directions (h, w, sub*sub, 3) unit) of sub x sub
+    stratified points per pixel, for a Facet camera description `cam` (dict)."""
+    pos = np.asarray(cam["position"], float)
+    f = np.asarray(cam["look_at"], float) - pos
+    f /= np.linalg.norm(f)
+    r = np.cross(f, np.asarray(cam.get("up", [0, 1, 0]), float))
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    w, h = int(cam["width"]), int(cam["height"])
+    tan_y = math.tan(math.radians(cam["fov"]) / 2)
+    tan_x = tan_y * w / h
+    t = (np.arange(sub) + 0.5) / sub
+    xs = (np.arange(w)[:, None] + t[None, :]).ravel()  # (w*sub,)
+    ys = (np.arange(h)[:, None] + t[None, :]).ravel()
+    sx = (2 * xs / w - 1) * tan_x
+    sy = (1 - 2 * ys / h) * tan_y
+    d = (f[None, None, :] + sx[None, :, None] * r[None, None, :]
+         + sy[:, None, None] * u[None, None, :])
+    d /= np.linalg.norm(d, axis=2, keepdims=True)
+    d = d.reshape(h, sub, w, sub, 3).transpose(0, 2, 1, 3, 4).reshape(h, w, sub * sub, 3)
+    return pos, d
+
+
+def polygon_form_factor(p, n, verts):
+    """Form factor from differential areas at points p (..., 3) with unit normals n (..., 3)
+    to the polygon `verts` (k, 3), when the whole polygon is above every point's tangent plane
+    and unoccluded (Lambert's contour formula: F = |sum_i beta_i n . g_i| / (2 pi), g_i the unit
+    normal of the plane through p and edge i, beta_i the angle the edge subtends). Irradiance
+    from a Lambertian emitter of radiance L is pi L F; a Lambertian surface of reflectance rho
+    then has radiance rho L F."""
+    total = 0.0
+    verts = np.asarray(verts, float)
+    for i in range(len(verts)):
+        a = verts[i] - p
+        b = verts[(i + 1) % len(verts)] - p
+        a = a / np.linalg.norm(a, axis=-1, keepdims=True)
+        b = b / np.linalg.norm(b, axis=-1, keepdims=True)
+        c = np.cross(a, b)
+        cn = np.linalg.norm(c, axis=-1, keepdims=True)
+        beta = np.arctan2(cn[..., 0], np.sum(a * b, axis=-1))
+        total = total + beta * np.sum(n * c / np.maximum(cn, 1e-300), axis=-1)
+    return np.abs(total) / (2 * math.pi)
+
+
 # --- comparison ------------------------------------------------------------------------------
 
-def block_z(pair_a, pair_b, block, keep=None, expected_diff=None):
+def block_z(pair_a, pair_b, block, keep=None, expected_diff=None, min_pixels=8):
     """Noise-derived comparison of two renderers, each rendered twice with different seeds
     (pair_x = (image seed 1, image seed 2), float (h, w, c)). The variance of one render per
     pixel is estimated as (x1 - x2)^2 / 2; the mean of each pair is compared over blocks of
     block x block pixels per channel: z = (mean_a - mean_b - expected) / sqrt(var_a + var_b),
-    var the block-mean variances. keep: optional (h, w) bool mask of the pixels to use (blocks
-    with no kept pixel get z = 0); expected_diff: optional (h, w, c) predicted a - b.
+    var the block-mean variances. keep: optional (h, w) bool mask of the pixels to use;
+    expected_diff: optional (h, w, c) predicted a - b. A block whose variance rests on fewer
+    than min_pixels kept non-black pixels gets z = 0 (a variance estimated from one or two
+    pixels' seed pairs can be arbitrarily small: chi-square with that many degrees of freedom).
     Returns (z (h/block, w/block, c), block means a, block means b, kept pixels per block)."""
     a1, a2 = pair_a
     b1, b2 = pair_b
@@ -477,6 +536,7 @@ def block_z(pair_a, pair_b, block, keep=None, expected_diff=None):
         return (x * k).reshape(h // block, block, w // block, block, c).sum(axis=(1, 3))
     n = bsum(np.ones((h, w, c)))
     nn = np.maximum(n, 1.0)
+    active = bsum(((a1 != 0) | (a2 != 0) | (b1 != 0) | (b2 != 0)).astype(np.float64))
     var = (bsum(0.25 * (a1 - a2) ** 2) + bsum(0.25 * (b1 - b2) ** 2)) / nn ** 2
     ma, mb = bsum(0.5 * (a1 + a2)) / nn, bsum(0.5 * (b1 + b2)) / nn
     # Floor: float32 rendering and storage (24-bit mantissa; 1e-6 relative is ~16 ulps), so
@@ -485,5 +545,5 @@ def block_z(pair_a, pair_b, block, keep=None, expected_diff=None):
     diff = ma - mb
     if expected_diff is not None:
         diff = diff - bsum(expected_diff) / nn
-    z = np.where(n > 0, diff / np.sqrt(np.maximum(var, 1e-30)), 0.0)
+    z = np.where(active >= min_pixels, diff / np.sqrt(np.maximum(var, 1e-30)), 0.0)
     return z, ma, mb, n
