@@ -234,18 +234,54 @@ def _surface(mat, d, emission, two_sided, exact, notes, one_sided_emission=True)
 
 # --- geometry --------------------------------------------------------------------------------
 
+def _uv_sphere(name, center, radius, nu, nv, flip):
+    """A smooth UV sphere mesh (outward faces unless flip) built with numpy (bmesh's
+    create_uvsphere takes seconds at this size)."""
+    th = np.pi * np.arange(1, nv) / nv
+    ph = 2 * np.pi * np.arange(nu) / nu
+    ring = np.stack([np.outer(np.sin(th), np.cos(ph)), np.outer(np.sin(th), np.sin(ph)),
+                     np.repeat(np.cos(th)[:, None], nu, axis=1)], axis=-1).reshape(-1, 3)
+    pos = np.concatenate([[[0, 0, 1]], ring, [[0, 0, -1]]]) * radius + np.asarray(center)
+    top, bottom = 0, len(pos) - 1
+
+    def v(i, j):  # ring i (0 .. nv-2), column j
+        return 1 + i * nu + (j % nu)
+    j = np.arange(nu)
+    tris_top = np.stack([np.full(nu, top), v(0, j), v(0, j + 1)], axis=1)
+    tris_bot = np.stack([v(nv - 2, j), np.full(nu, bottom), v(nv - 2, j + 1)], axis=1)
+    i, jj = np.meshgrid(np.arange(nv - 2), j, indexing='ij')
+    quads = np.stack([v(i, jj), v(i + 1, jj), v(i + 1, jj + 1), v(i, jj + 1)],
+                     axis=-1).reshape(-1, 4)
+    loops = np.concatenate([tris_top.ravel(), quads.ravel(), tris_bot.ravel()])
+    sizes = np.concatenate([np.full(nu, 3), np.full(len(quads), 4), np.full(nu, 3)])
+    starts = np.concatenate([[0], np.cumsum(sizes)[:-1]])
+    if flip:
+        loops = np.concatenate([loops[st:st + n][::-1] for st, n in zip(starts, sizes)])
+    me = bpy.data.meshes.new(name)
+    me.vertices.add(len(pos))
+    me.vertices.foreach_set("co", pos.astype(np.float32).ravel())
+    me.loops.add(len(loops))
+    me.loops.foreach_set("vertex_index", loops.astype(np.int32))
+    me.polygons.add(len(sizes))
+    me.polygons.foreach_set("loop_start", starts.astype(np.int32))
+    me.polygons.foreach_set("loop_total", sizes.astype(np.int32))
+    me.update(calc_edges=True)
+    return me
+
+
 def _fine_mesh(ob, s, scene, notes):
     """A Blender mesh (local space) for Cycles, or None to keep the imported one."""
     kind = s["type"]
+    if kind == "sphere":
+        u, v = SPHERE_SEGMENTS
+        me = _uv_sphere(ob.data.name + " (Cycles)", s["center"], float(s["radius"]), u, v,
+                        bool(s.get("flip_normals")))
+        me.polygons.foreach_set("use_smooth", np.ones(len(me.polygons), bool))
+        notes.append("shape '%s': sphere -> smooth UV sphere %d x %d" % (ob.name, u, v))
+        return me
     bm = bmesh.new()
     try:
-        if kind == "sphere":
-            u, v = SPHERE_SEGMENTS
-            bmesh.ops.create_uvsphere(bm, u_segments=u, v_segments=v, radius=float(s["radius"]))
-            bmesh.ops.translate(bm, vec=s["center"], verts=bm.verts)
-            notes.append("shape '%s': sphere -> smooth UV sphere %d x %d" % (ob.name, u, v))
-            smooth = True
-        elif kind == "icosphere":
+        if kind == "icosphere":
             bmesh.ops.create_icosphere(bm, subdivisions=int(s["subdivisions"]),
                                        radius=float(s["radius"]))
             bmesh.ops.translate(bm, vec=s["center"], verts=bm.verts)
@@ -469,9 +505,10 @@ def facet_description(scene=None):
 
 # --- analytic references -----------------------------------------------------------------
 
-def camera_rays(cam, sub=4):
+def camera_rays(cam, sub=4, region=None):
     """FORMAT.md's pinhole: (origin (3,), directions (h, w, sub*sub, 3) unit) of sub x sub
-    stratified points per pixel, for a Facet camera description `cam` (dict)."""
+    stratified points per pixel, for a Facet camera description `cam` (dict); region
+    (x0, y0, x1, y1) restricts it to those pixels (directions (y1-y0, x1-x0, sub*sub, 3))."""
     pos = np.asarray(cam["position"], float)
     f = np.asarray(cam["look_at"], float) - pos
     f /= np.linalg.norm(f)
@@ -481,15 +518,17 @@ def camera_rays(cam, sub=4):
     w, h = int(cam["width"]), int(cam["height"])
     tan_y = math.tan(math.radians(cam["fov"]) / 2)
     tan_x = tan_y * w / h
+    x0, y0, x1, y1 = region or (0, 0, w, h)
     t = (np.arange(sub) + 0.5) / sub
-    xs = (np.arange(w)[:, None] + t[None, :]).ravel()  # (w*sub,)
-    ys = (np.arange(h)[:, None] + t[None, :]).ravel()
+    xs = (np.arange(x0, x1)[:, None] + t[None, :]).ravel()  # ((x1-x0)*sub,)
+    ys = (np.arange(y0, y1)[:, None] + t[None, :]).ravel()
     sx = (2 * xs / w - 1) * tan_x
     sy = (1 - 2 * ys / h) * tan_y
     d = (f[None, None, :] + sx[None, :, None] * r[None, None, :]
          + sy[:, None, None] * u[None, None, :])
     d /= np.linalg.norm(d, axis=2, keepdims=True)
-    d = d.reshape(h, sub, w, sub, 3).transpose(0, 2, 1, 3, 4).reshape(h, w, sub * sub, 3)
+    d = d.reshape(y1 - y0, sub, x1 - x0, sub, 3).transpose(0, 2, 1, 3, 4).reshape(
+        y1 - y0, x1 - x0, sub * sub, 3)
     return pos, d
 
 
