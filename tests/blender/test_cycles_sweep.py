@@ -17,7 +17,9 @@ A. A sun (irradiance E, no environment): every lit pixel is exactly f(wi, wo) E 
    - Cycles 3.4: the separable G1(i) G1(o), G1 = 1 / (1 + L) for GGX and Walter et al.'s
      rational approximation for Beckmann ((3.535 c + 2.181 c^2) / (1 + 2.276 c + 2.577 c^2),
      1 for c >= 1.6);
-   and Facet against Cycles with the two models' difference subtracted.
+   and Facet against Cycles with the two models' difference subtracted. Then Facet renders
+   Cycles' node trees themselves (material source "Shader Nodes": the addon's conversion of
+   Diffuse and Glossy GGX / Beckmann nodes) and must match the same analytic image.
 B. A constant environment (radiance 1, no sun): lambert and the mirrors, whose models are the
    same in both renderers, Facet against Cycles; the mirrors also against the analytic
    L R F(cos theta) where the reflected ray escapes (pixels whose reflected ray hits another
@@ -238,7 +240,7 @@ def render_pairs(path, out, tag, spp):
                        s) for s in (1, 2)]
         imgs[e], secs[e] = (r[0][0], r[1][0]), r[0][1] + r[1][1]
     print("%s: 2 renders each: Facet %.1f s, Cycles %.1f s" % (tag, secs['FACET'], secs['CYCLES']))
-    return imgs
+    return imgs, scene
 
 
 def grey(x):
@@ -271,7 +273,7 @@ def main():
     bt.enable_addon()
 
     # A: the sun
-    imgs = render_pairs(scene_json(out, "sun"), out, "sun", 16)
+    imgs, scene = render_pairs(scene_json(out, "sun"), out, "sun", 16)
     t0 = time.perf_counter()
     ref_f, ref_c, keep, idx_px = analytic_sun()
     print("analytic sun image: %.1f s" % (time.perf_counter() - t0))
@@ -290,11 +292,31 @@ def main():
             mc = (0.5 * (imgs['CYCLES'][0] + imgs['CYCLES'][1]))[..., 0][sel].sum()
             print("  %-14s Facet/Cycles %.4f, predicted by the Smith terms %.4f" % (
                 name, mf / mc, ref_f[sel].sum() / ref_c[sel].sum()))
+    # A': Facet rendering Cycles' node trees (the addon's node conversion: Diffuse -> lambert,
+    # Glossy GGX / Beckmann -> ggx / beckmann with alpha = roughness^2) instead of the Facet
+    # materials: the same analytic image (Facet's Smith term).
+    for name, m in MATERIALS:
+        if m["model"] != "mirror":
+            bpy.data.materials[name].facet.source = 'NODES'
+    import facet_blender.engine as eng
+    from facet_blender import materials
+    conv = materials.convert(bpy.data.materials["ggx_0.3"]).data
+    bt.check(conv["model"] == "ggx" and conv["alpha"] != 0.3 and abs(conv["alpha"] - 0.3) < 1e-6,
+             "F12 now converts the Glossy node (alpha = float32 roughness^2 = %r)" % conv["alpha"])
+    a, b = (cs.render(scene, 'FACET', os.path.join(out, "sweep_sun_facet_nodes_%d.exr" % s),
+                      s)[0] for s in (1, 2))
+    bt.check(not [p for p in eng.last_problems if "material" in p],
+             "the Diffuse and Glossy nodes convert without a report (%s)" % eng.last_problems)
+    r = grey(ref_f)
+    mirrors = np.isin(idx_px, [k for k, (_, m) in enumerate(MATERIALS) if m["model"] == "mirror"])
+    z = cs.block_z((a, b), (r, r), BLOCK, keep=keep & ~mirrors)[0]
+    worst["Facet from Cycles nodes"] = report("sun, Facet from Cycles' nodes - Facet's model",
+                                              z, idx_px)
     for who, v in worst.items():
         bt.check(v < Z_MAX, "sun sweep: %s within the noise (|z| < %g)" % (who, Z_MAX))
 
     # B: the environment, lambert and mirrors
-    imgs = render_pairs(scene_json(out, "env"), out, "env", 64)
+    imgs = render_pairs(scene_json(out, "env"), out, "env", 64)[0]
     t0 = time.perf_counter()
     ref_m, keep_m = analytic_env_mirrors()
     print("analytic mirror image: %.1f s" % (time.perf_counter() - t0))
