@@ -1,17 +1,17 @@
 """The analytic multi-bounce check for Facet and Cycles: white furnaces.
 
-A closed enclosure whose inside emits Le and reflects rho (Lambert) has radiance
-Le (1 + rho + ... + rho^(n)) everywhere after n bounces, whatever its shape: Le / (1 - rho) in
-the limit. Two enclosures, imported from Facet scenes and converted by cycles_scene.convert:
-scenes/furnace.json (a sphere, Le 0.5, rho 0.8; Cycles renders a 256 x 128 UV sphere, which
-as a closed polyhedron has the same exact answer) and a box (12 triangles, exact for both).
-32 x 32, 64 spp, Facet max_depth 65 = Cycles 64 bounces (0.5 * 0.8^66 / 0.2 = 1.0e-6 short of
-2.5: the expected value includes it). Seeds 1 and 2; the noise of the image mean is estimated
-from the two seeds' per-pixel differences (pixels independent). Both renderers must agree with the analytic value within |z| < 5 (measured here: ratios
-1.0015 / 0.9994 (sphere) and 1.0019 / 0.9995 (box), Facet / Cycles, |z| <= 2.1; at 64 x 64,
-256 spp, 1.0001 / 0.9998 and 1.0002 / 0.9999). So multi-bounce diffuse transport and one-sided
-mesh emission agree in both renderers; the Cornell box's upper-half difference is direct
-light (test_cycles_cornell.py)."""
+A closed enclosure whose inside emits Le and reflects rho (Lambert) has radiance Le (1 + rho +
+... + rho^(n)) everywhere after n bounces, whatever its shape: Le / (1 - rho) in the limit. Two
+enclosures, imported from Facet scenes and converted by cycles_scene.convert:
+scenes/furnace.json (a sphere, Le 0.5, rho 0.8; Cycles renders a 256 x 128 UV sphere, which as a
+closed polyhedron has the same exact answer) and a box (12 triangles, exact for both). 32 x 32,
+64 spp, Facet max_depth 65 = Cycles 64 bounces (0.5 * 0.8^66 / 0.2 = 1.0e-6 short of 2.5: the
+expected value includes it). Seeds 1 and 2; the noise of the image mean is estimated from the
+two seeds' per-pixel differences (pixels independent). Both renderers must agree with the
+analytic value within |z| < 5 (measured here: ratios 1.0015 / 0.9994 (sphere) and 1.0019 /
+0.9995 (box), Facet / Cycles, |z| <= 2.1; at 64 x 64, 256 spp, 1.0001 / 0.9998 and 1.0002 /
+0.9999). So multi-bounce diffuse transport and one-sided mesh emission agree in both renderers;
+the Cornell box's upper-half difference is direct light (test_cycles_cornell.py)."""
 import json
 import os
 import sys

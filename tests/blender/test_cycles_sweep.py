@@ -27,8 +27,9 @@ B. A constant environment (radiance 1, no sun): lambert and the mirrors, whose m
 Pixels within one pixel of a discontinuity (sphere silhouettes, shadow edges, the edges of a
 mirror's reflections of the other spheres) and (A) with cos(theta_i) < 0.1 are left out: a
 discontinuity's sub-pixel position is nearly the same in both seeds of a stratified sampler,
-so the seed pair does not measure its error (and Cycles' spheres are polygons there). Tolerance from the measured
-noise (two seeds each, cycles_scene.block_z over 8 x 8 blocks): |z| < 5 everywhere."""
+so the seed pair does not measure its error (and Cycles' spheres are polygons there).
+Tolerance from the measured noise (two seeds each, cycles_scene.block_z over 8 x 8 blocks):
+|z| < 5 everywhere."""
 import json
 import math
 import os
