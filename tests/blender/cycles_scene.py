@@ -10,6 +10,7 @@ Use inside Blender (`blender -b --factory-startup --python your_script.py`), aft
     img, seconds = cs.render(bpy.context.scene, 'CYCLES', "/tmp/c.exr")  # or 'FACET'
     z = cs.block_z(facet_pair, cycles_pair, block=16)[0]  # noise-derived comparison
     # analytic references: cs.camera_rays(facet camera dict), cs.polygon_form_factor(p, n, quad)
+    # time-budget runs: scene.cycles.time_limit / scene.facet.time_budget after cycles_settings
 
 `convert` changes only what Cycles reads: every material gets an equivalent Cycles node tree,
 emissive shapes get an Emission shader, analytic shapes get a fine mesh. Facet keeps rendering
