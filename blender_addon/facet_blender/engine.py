@@ -21,6 +21,10 @@ from . import export, native, viewport
 last_image = None
 last_problems = []
 last_cancelled = False
+# Seconds of the last F12's phases (for tests/blender/bench_blender.py): export_build (export
+# + build_scene + session set-up), render (the session, incl. the pass callbacks), upload
+# (the callbacks' and the final image copy into Blender's result), total.
+last_timings = {}
 preview_count = [0]  # material preview renders so far (tests)
 PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
 
@@ -104,20 +108,31 @@ class FacetRenderEngine(bpy.types.RenderEngine):
         layer = result.layers[0]
         combined = layer.passes["Combined"]
 
+        upload = [0.0]
+
         def on_pass(done, target, elapsed, eta):
             if self.test_break() or (test_break_hook is not None and test_break_hook()):
                 return False
+            tu = time.perf_counter()
             combined.rect.foreach_set(to_blender_rect(session.image()))
             self.update_result(result)
+            upload[0] += time.perf_counter() - tu
             self.update_progress(done / max(1, target))
             self.update_stats("", "Facet | Sample %d/%d | Time %.1f s | Remaining %.1f s"
                               % (done, target, elapsed, eta))
             return True
 
+        tr = time.perf_counter()
         finished = session.render(on_pass)
+        t_render = time.perf_counter() - tr
+        tu = time.perf_counter()
         img = session.image()
         combined.rect.foreach_set(to_blender_rect(img))
         self.end_result(result)
+        upload[0] += time.perf_counter() - tu
+        last_timings.clear()
+        last_timings.update(export_build=t_export, render=t_render, upload=upload[0],
+                            total=time.perf_counter() - t0)
         last_image = img
         last_cancelled = not finished
         self.update_stats("", "Facet | %s in %.2f s (export and build %.2f s)"

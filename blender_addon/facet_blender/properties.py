@@ -50,21 +50,28 @@ def prop_name(model, param):
     return "%s__%s" % (model, param)
 
 
+def _tag_material(settings, context):
+    """Editing a Facet material setting tags its material: without it the evaluated copy the
+    viewport and export read kept the old settings (measured: Material.facet.source set from
+    Python stayed stale in evaluated_depsgraph_get())."""
+    settings.id_data.update_tag()
+
+
 def _make_material_props():
     global MODELS
     MODELS = native.models()
     ann = {
-        "source": EnumProperty(
+        "source": EnumProperty(update=_tag_material, 
             name="Source", default="NODES",
             items=[("NODES", "Shader Nodes", "convert the Cycles node tree (Diffuse, Glossy, "
                     "Principled BSDF, Emission) or the viewport colour"),
                    ("FACET", "Facet Model", "a model of Facet's core, by its own parameters")]),
-        "model": EnumProperty(name="Model", items=[(m["name"], m["name"], m["summary"])
+        "model": EnumProperty(update=_tag_material, name="Model", items=[(m["name"], m["name"], m["summary"])
                                                    for m in MODELS]),
-        "emission": FloatVectorProperty(name="Emission", subtype='COLOR', size=3, min=0.0,
+        "emission": FloatVectorProperty(update=_tag_material, name="Emission", subtype='COLOR', size=3, min=0.0,
                                         default=(0.0, 0.0, 0.0),
                                         description="emitted radiance (W sr^-1 m^-2)"),
-        "two_sided": BoolProperty(name="Two Sided", default=True,
+        "two_sided": BoolProperty(update=_tag_material, name="Two Sided", default=True,
                                   description="the back reflects like the front; off: black"),
     }
     for m in MODELS:
@@ -73,17 +80,17 @@ def _make_material_props():
             d = _parse_default(p["type"], p["default"])
             desc = p["doc"]
             if p["type"] == "colour":
-                ann[name] = FloatVectorProperty(name=p["name"], subtype='COLOR', size=3,
+                ann[name] = FloatVectorProperty(update=_tag_material, name=p["name"], subtype='COLOR', size=3,
                                                 default=d or (0.0, 0.0, 0.0), description=desc,
                                                 soft_min=0.0, soft_max=1.0)
             elif p["type"] == "number":
-                ann[name] = FloatProperty(name=p["name"], default=d or 0.0, description=desc,
+                ann[name] = FloatProperty(update=_tag_material, name=p["name"], default=d or 0.0, description=desc,
                                           precision=4)
             elif p["type"] == "bool":
-                ann[name] = BoolProperty(name=p["name"], default=bool(d), description=desc)
+                ann[name] = BoolProperty(update=_tag_material, name=p["name"], default=bool(d), description=desc)
             else:
-                ann[name] = StringProperty(name=p["name"], default=d or "", description=desc)
-            ann[name + "__set"] = BoolProperty(
+                ann[name] = StringProperty(update=_tag_material, name=p["name"], default=d or "", description=desc)
+            ann[name + "__set"] = BoolProperty(update=_tag_material, 
                 name="Set %s" % p["name"], default=False,
                 description="pass %s to the core (unset: the core's default)" % p["name"])
     return type("FacetMaterialSettings", (bpy.types.PropertyGroup,), {"__annotations__": ann})

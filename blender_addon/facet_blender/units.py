@@ -10,10 +10,14 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
   I = Phi / (4 pi), so Phi = P. Cycles' radius (soft shadows) has no Facet equivalent: Facet's
   point light is the r -> 0 limit, which has the same intensity.
 - spot light: Cycles gives the cone the point light's intensity P / (4 pi) (no normalisation by
-  the cone's solid angle) and fades it with smoothstep over cos theta in
-  [cos(size/2), cos(size/2) + blend (1 - cos(size/2))]. Facet's spot is set by its total power
-  and fades *linearly* in cos theta over [cos outer, cos inner]; Facet's I0 is matched to
-  P / (4 pi) and the fade range to Cycles' (linear instead of smoothstep: an approximation).
+  the cone's solid angle) times cos(angle from the axis) -- measured by render in
+  tests/blender/test_cycles_lights.py: Cycles / (P / (4 pi)) = cos to 1e-3 across the cone --
+  and fades it with smoothstep over cos theta in [cos(size/2), cos(size/2) + blend
+  (1 - cos(size/2))]. Facet's spot is set by its total power, constant inside the inner cone
+  and fading *linearly* in cos theta over [cos outer, cos inner]; it has no cos factor. Facet's
+  I0 is matched to Cycles' on the axis, P / (4 pi), and the fade range to Cycles'. An
+  approximation: off the axis Facet's spot is brighter by 1 / cos (1.07 at 20 degrees, 1.31 at
+  40), and linear instead of smoothstep in the blend range.
 - sun of Strength S: irradiance S W/m^2 on a surface facing it (Cycles' sun angle, for soft
   shadows, is ignored).
 - area light of Power P and area A (rectangle: size_x size_y; square: size^2; disc and
@@ -42,7 +46,9 @@ def spot_cone_from_blender(spot_size_rad, spot_blend):
     inner_angle) half-angles in degrees; the fade range in cos theta is Cycles'."""
     cos_outer = math.cos(0.5 * spot_size_rad)
     cos_inner = min(1.0, cos_outer + float(spot_blend) * (1.0 - cos_outer))
-    return math.degrees(0.5 * spot_size_rad), math.degrees(math.acos(cos_inner))
+    outer = math.degrees(0.5 * spot_size_rad)
+    # acos(cos(x)) can round above x: blend 0 must give inner == outer exactly.
+    return outer, min(outer, math.degrees(math.acos(cos_inner)))
 
 
 def spot_cone_to_blender(outer_deg, inner_deg):

@@ -1,11 +1,13 @@
 """README screenshots (not a test; run by hand under Xvfb):
   xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup <default.blend> \\
       --python tests/blender/screenshots.py -- <out dir>
-Writes engine_menu.png (Render Properties with Facet chosen), material_panel.png (the Facet
-material panel with its lobe plot) and viewport.png (Rendered shading)."""
+Writes render_properties.png (Render Properties with Facet chosen), engine_menu_full.png (the
+window with the Render Engine menu open, listing Facet; README: its top 500 rows as
+engine_menu.png),
+material_panel.png (the Facet material panel with its lobe plot) and viewport.png (Rendered
+shading)."""
 import os
 import sys
-import time
 
 import bpy
 
@@ -50,7 +52,7 @@ def step():
                 bpy.ops.screen.screen_full_area()
             return 1.5
         if ph == 1:
-            shot('PROPERTIES', "engine_menu.png")
+            shot('PROPERTIES', "render_properties.png")
             win, area = area_of('PROPERTIES')
             area.spaces[0].context = 'MATERIAL'
             # collapse Blender's own material panels so the Facet panel shows
@@ -58,16 +60,30 @@ def step():
         if ph == 2:
             shot('PROPERTIES', "material_panel.png")
             win, area = area_of('PROPERTIES')
+            area.spaces[0].context = 'RENDER'
+            return 1.0
+        if ph == 3:
+            # The Render Engine menu opened over its field (the menu opens at the cursor).
+            win, area = area_of('PROPERTIES')
+            win.cursor_warp(area.x + int(area.width * 0.7), area.y + area.height - 82)
+            with bpy.context.temp_override(window=win, area=area):
+                bpy.ops.wm.context_menu_enum(data_path="scene.render.engine")
+            return 1.0
+        if ph == 4:
+            win, area = area_of('PROPERTIES')
+            with bpy.context.temp_override(window=win):
+                bpy.ops.screen.screenshot(filepath=os.path.join(OUT, "engine_menu_full.png"))
+            win.cursor_warp(5, 5)  # far from the menu: it closes
             with bpy.context.temp_override(window=win, area=area):
                 bpy.ops.screen.back_to_previous()
             return 1.0
-        if ph == 3:
+        if ph == 5:
             win, area = area_of('VIEW_3D')
             area.spaces[0].shading.type = 'RENDERED'
             with bpy.context.temp_override(window=win, area=area):
                 bpy.ops.screen.screen_full_area()
             return 12.0
-        if ph == 4:
+        if ph == 6:
             shot('VIEW_3D', "viewport.png")
             os._exit(0)
     except Exception:

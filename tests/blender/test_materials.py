@@ -104,6 +104,20 @@ def main():
         rejected = "ior" in str(e)
     bt.check(rejected, "the core rejects ior with fresnel conductor, naming it")
 
+    # Editing a Facet setting reaches the evaluated material (what the viewport exports).
+    m = bpy.data.materials.new("tagged")
+    m.facet.source = 'FACET'
+    bpy.ops.mesh.primitive_cube_add()
+    bpy.context.object.data.materials.append(m)
+    dg = bpy.context.evaluated_depsgraph_get()
+    m.facet.source = 'NODES'
+    m.facet.lambert__reflectance = (0.25, 0.5, 0.75)
+    dg = bpy.context.evaluated_depsgraph_get()
+    ev = bpy.context.object.evaluated_get(dg).material_slots[0].material
+    bt.check(ev.facet.source == 'NODES' and close(list(ev.facet.lambert__reflectance),
+                                                   [0.25, 0.5, 0.75]),
+             "a Facet material edit reaches the evaluated depsgraph")
+
     # The panel's lobe and albedo plot, from the core's f and albedo.
     from facet_blender import plot
     import numpy as np

@@ -22,6 +22,11 @@ def test_point():
 def test_spot():
     outer, inner = units.spot_cone_from_blender(math.radians(90.0), 0.0)
     assert close([outer, inner], [45.0, 45.0])
+    # blend 0 must give inner == outer exactly: acos(cos(40 deg)) rounds above 40, and the core
+    # rejects inner > outer (found by tests/blender/test_cycles_lights.py).
+    for deg in (10.0, 40.0, 45.0, 80.0):
+        o, i = units.spot_cone_from_blender(math.radians(2 * deg), 0.0)
+        assert i <= o and abs(i - o) < 1e-9, (deg, o, i)
     # Facet's I0 = Phi / (2 pi [(1 - cos i) + (cos i - cos o) / 2]) must be Cycles' P / (4 pi).
     for size, blend in ((math.radians(60), 0.3), (math.radians(150), 1.0), (0.2, 0.0)):
         o, i = units.spot_cone_from_blender(size, blend)
