@@ -67,6 +67,8 @@ import bmesh
 import bpy
 import numpy as np
 
+import blender_test as _bt
+
 SPHERE_SEGMENTS = (256, 128)
 DISC_SEGMENTS = 1024
 PLANE_HALF_SIZE_FACTOR = 1000.0  # x the camera's distance to the plane
@@ -478,16 +480,9 @@ def render(scene, engine, path, seed=None):
     return load_exr(path).astype(np.float64), dt
 
 
-def load_exr(path):
-    """An EXR through Blender's own loader -> float32 (h, w, 3), top row first."""
-    im = bpy.data.images.load(path, check_existing=False)
-    try:
-        w, h = im.size
-        px = np.empty(w * h * im.channels, np.float32)
-        im.pixels.foreach_get(px)
-        return px.reshape(h, w, im.channels)[::-1, :, :3].copy()
-    finally:
-        bpy.data.images.remove(im)
+# One EXR loader for every Blender test and benchmark (blender_test.load_exr; this module is
+# imported from tests/blender, where blender_test lives).
+load_exr = _bt.load_exr
 
 
 def facet_description(scene=None):
