@@ -1,0 +1,518 @@
+#!/usr/bin/python3
+"""Time against error: Facet (standalone, each integrator/sampler/kernel, and inside Blender)
+against Blender Cycles, on the benchmark scenes, in one interleaved run (issue 12).
+
+  /usr/bin/python3 bench/time_error.py            # full run (~35 min on 2 cores) -> docs/perf/
+  /usr/bin/python3 bench/time_error.py --quick    # smoke run (~3 min) -> out/bench/quick/
+
+For every scene (a copy of scenes/<name>.json at the benchmark's image size) and every
+contender, renders with a ladder of budgets (spp, doubling) and records wall time and error
+against the scene's reference. The renders of all contenders are interleaved (for each budget,
+each contender in turn, the order rotating from budget to budget) so that machine drift falls
+on every contender alike.
+
+Contenders: `facet render` (path / direct integrator, Sobol / independent sampler, the kernel
+specialised to the scene or the general one), wall time of the whole command (process start,
+scene load, BVH build included); Facet inside headless Blender (the addon from the build's zip,
+File > Import > Facet scene, F12) and Blender Cycles on the same Blender scene built from Cycles
+nodes, both timed around bpy.ops.render.render() inside one long-lived Blender
+(time_error/blender_worker.py), so Blender's start-up is not counted.
+
+References (cached in out/bench/ref, keyed by a hash of what makes them; reruns reuse them):
+- point_plane: analytic, the pixel-area mean of rho/pi * Phi cos(theta) / (4 pi r^2)
+  (Gauss-Legendre 12 x 12 per pixel; the change from 6 x 6 is printed, < 1e-6 relative);
+- the others: the mean of two high-spp Facet renders with seeds 101 and 102 (seed 1 is the
+  contenders'), so the reference's own noise is known from the pair: Var(ref) per pixel =
+  (a - b)^2 / 4, and the error of a render x is reported with it subtracted,
+  MSE = mean((x - ref)^2) - mean(Var(ref)) (x is independent of the reference's seeds). That
+  reference is checked against the mean of two high-spp Cycles renders (seeds 101, 102) in
+  16 x 16-pixel blocks per channel with noise-derived z-scores (reference_check.md).
+
+Metrics (those of `facet diff`, computed here with numpy from the EXRs): RMSE over all pixels
+and channels, relative MSE = mean((x - r)^2 / (r^2 + 1e-2)). The error level of the summary is
+the RMSE of Cycles' top-budget (1024-spp) render, measured against Cycles' own reference (its
+noise, not the conversion differences between the two renderers, which reference_check.md
+states); each contender's time to that level is interpolated on its log-log curve of RMSE
+against seconds, and the summary gives its ratio to Cycles' time.
+"""
+import argparse
+import csv
+import hashlib
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+import numpy as np
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+HERE = os.path.join(ROOT, "bench", "time_error")
+REL_EPS = 1e-2            # facet diff's kRelMseEpsilon (core/render/include/facet/render/diff.h)
+REF_SEEDS = (101, 102)    # reference halves; the contenders render with seed 1
+SEED = 1
+BLOCK = 16                # reference check block size (pixels)
+
+# Scenes: image size, the Facet contenders' and Cycles' budgets (spp), reference spp per half.
+SCENES = {
+    "cornell_box": dict(size=(128, 128), ladder=[4, 8, 16, 32, 64, 128, 256, 512, 1024],
+                        ref_spp=4096, cycles_ref_spp=1024),
+    "glossy": dict(size=(128, 128), ladder=[4, 8, 16, 32, 64, 128, 256, 512, 1024],
+                   ref_spp=4096, cycles_ref_spp=1024),
+    "brushed": dict(size=(128, 128), ladder=[4, 8, 16, 32, 64, 128, 256, 512, 1024],
+                    ref_spp=4096, cycles_ref_spp=1024),
+    "point_plane": dict(size=(256, 192), ladder=[2, 4, 8, 16, 32, 64, 128, 256, 512, 1024],
+                        ref_spp=None, cycles_ref_spp=1024),
+    "big_mesh": dict(size=(128, 96), ladder=[4, 8, 16, 32, 64, 128, 256, 512, 1024],
+                     ref_spp=4096, cycles_ref_spp=1024),
+}
+QUICK = dict(size_div=2, ladder=[4, 8, 16, 32, 64], ref_spp=256, cycles_ref_spp=64)
+
+
+def contenders(scene):
+    """(name, kind, options): kind 'cli' = `facet render` with these flags; 'blender' = the
+    worker with this engine."""
+    if scene == "point_plane":   # direct is exact here: its integrators and samplers
+        cli = [("facet direct sobol", ["--integrator", "direct", "--sampler", "sobol"]),
+               ("facet direct sobol general", ["--integrator", "direct", "--kernel", "general"]),
+               ("facet direct independent", ["--integrator", "direct",
+                                             "--sampler", "independent"]),
+               ("facet path sobol", ["--integrator", "path"])]
+    else:
+        cli = [("facet path sobol", ["--integrator", "path", "--sampler", "sobol"]),
+               ("facet path sobol general", ["--integrator", "path", "--kernel", "general"]),
+               ("facet path independent", ["--integrator", "path", "--sampler", "independent"]),
+               ("facet direct sobol", ["--integrator", "direct"])]
+    return ([(n, "cli", o) for n, o in cli] +
+            [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
+
+
+# --- images and metrics -------------------------------------------------------------------------
+_facet = None
+
+
+def read(path):
+    global _facet
+    if _facet is None:
+        sys.path.insert(0, os.path.join(ARGS.build, "core", "python"))
+        import facet
+        _facet = facet
+    return _facet.read_image(path).astype(np.float64)
+
+
+def metrics(x, ref, ref_var):
+    """RMSE and relative MSE of x against ref, raw and with the reference's noise (per-pixel
+    variance ref_var) subtracted."""
+    d2 = (x - ref) ** 2
+    w = 1.0 / (ref * ref + REL_EPS)
+    mse, rel = d2.mean(), (d2 * w).mean()
+    mse_c, rel_c = mse - ref_var.mean(), rel - (ref_var * w).mean()
+    return dict(rmse_raw=math.sqrt(mse), relmse_raw=rel,
+                rmse=math.sqrt(max(mse_c, 0.0)), relmse=max(rel_c, 0.0))
+
+
+# --- scenes and references ----------------------------------------------------------------------
+def digest(*parts):
+    h = hashlib.sha256()
+    for p in parts:
+        h.update(p if isinstance(p, bytes) else str(p).encode())
+    return h.hexdigest()[:16]
+
+
+def file_digest(path):
+    with open(path, "rb") as f:
+        return digest(f.read())
+
+
+def bench_scene(name, cfg):
+    """scenes/<name>.json at the benchmark's size, written into the run's scene directory."""
+    with open(os.path.join(ROOT, "scenes", name + ".json")) as f:
+        data = json.load(f)
+    data["camera"]["width"], data["camera"]["height"] = cfg["size"]
+    path = os.path.join(ARGS.out, "scenes", name + ".json")
+    os.makedirs(os.path.dirname(path), exist_ok=True)
+    with open(path, "w") as f:
+        json.dump(data, f, indent=1)
+    return path, data
+
+
+def run_cli(scene_path, spp, seed, opts, out):
+    cmd = [ARGS.facet, "render", scene_path, "--spp", str(spp), "--seed", str(seed),
+           "--threads", str(ARGS.threads), "-q", "-o", out] + list(opts)
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True)
+    return time.perf_counter() - t0
+
+
+def point_plane_reference(data, order):
+    """Pixel-area means of the analytic radiance of point_plane.json (FORMAT.md's camera, the
+    plane y = 0, Lambert rho, one point light): L = rho/pi * Phi cos(theta) / (4 pi r^2)."""
+    cam = data["camera"]
+    w, h = cam["width"], cam["height"]
+    pos, look, up = (np.array(cam[k], float) for k in ("position", "look_at", "up"))
+    f = (look - pos) / np.linalg.norm(look - pos)
+    r = np.cross(f, up)
+    r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    tan_y = math.tan(math.radians(cam["fov"]) / 2)
+    tan_x = tan_y * w / h
+    (plane,), (light,) = data["shapes"], data["lights"]
+    assert plane["type"] == "plane" and plane["normal"] == [0, 1, 0] and plane["point"] == [0, 0, 0]
+    rho, phi, lp = plane["material"]["reflectance"], light["power"], np.array(light["position"])
+    g, gw = np.polynomial.legendre.leggauss(order)
+    g, gw = 0.5 * (g + 1), 0.5 * gw                       # on [0, 1]
+    xs = (np.arange(w)[:, None] + g[None, :]).ravel()     # film x of every node, per column
+    ys = (np.arange(h)[:, None] + g[None, :]).ravel()
+    sx = (2 * xs / w - 1) * tan_x
+    sy = (1 - 2 * ys / h) * tan_y
+    d = f[None, None, :] + sx[None, :, None] * r + sy[:, None, None] * u   # (H*o, W*o, 3)
+    t = -pos[1] / d[..., 1]                               # hit y = 0 (the camera looks down)
+    p = pos + t[..., None] * d
+    to_light = lp - p
+    dist2 = (to_light ** 2).sum(-1)
+    cos_t = to_light[..., 1] / np.sqrt(dist2)
+    L = rho / math.pi * phi * cos_t / (4 * math.pi * dist2)
+    L = L.reshape(h, order, w, order)
+    img = np.einsum("iajb,a,b->ij", L, gw, gw)
+    return np.repeat(img[..., None], 3, axis=2)
+
+
+def facet_reference(name, scene_path, cfg):
+    """The mean of two Facet path renders (seeds 101, 102) and its per-pixel variance."""
+    key = digest(file_digest(scene_path), file_digest(ARGS.facet), cfg["ref_spp"], REF_SEEDS)
+    paths = [os.path.join(ARGS.ref, "%s_facet_%s_%d.exr" % (name, key, s)) for s in REF_SEEDS]
+    for p, s in zip(paths, REF_SEEDS):
+        if not os.path.exists(p):
+            tmp = p + ".tmp.exr"
+            t = run_cli(scene_path, cfg["ref_spp"], s, ["--integrator", "path"], tmp)
+            os.replace(tmp, p)
+            log("  reference %s seed %d, %d spp: %.1f s" % (name, s, cfg["ref_spp"], t))
+        else:
+            log("  reference %s seed %d: cached %s" % (name, s, os.path.basename(p)))
+    a, b = read(paths[0]), read(paths[1])
+    return 0.5 * (a + b), 0.25 * (a - b) ** 2, (a, b)
+
+
+# --- Blender worker -----------------------------------------------------------------------------
+class Blender:
+    def __init__(self):
+        env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(ARGS.out_root, "blender_user"),
+                   BLENDER_USER_CONFIG=os.path.join(ARGS.out_root, "blender_config"),
+                   PYTHONNOUSERSITE="1")
+        self.log = open(os.path.join(ARGS.out, "blender.log"), "w")
+        self.p = subprocess.Popen(
+            [ARGS.blender, "-b", "--factory-startup", "-noaudio", "--python",
+             os.path.join(HERE, "blender_worker.py"), "--", ARGS.addon_zip],
+            stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=self.log, text=True, env=env)
+        self.info = self._reply()
+
+    def _reply(self):
+        for line in self.p.stdout:
+            if line.startswith("TE_REPLY "):
+                r = json.loads(line[len("TE_REPLY "):])
+                if "error" in r:
+                    raise RuntimeError("blender worker: " + r["error"])
+                return r
+            self.log.write(line)
+        raise RuntimeError("the Blender worker exited (see %s)" % self.log.name)
+
+    def call(self, **req):
+        self.p.stdin.write(json.dumps(req) + "\n")
+        self.p.stdin.flush()
+        return self._reply()
+
+    def close(self):
+        try:
+            self.call(cmd="quit")
+        except Exception:
+            pass
+        self.p.wait(timeout=60)
+
+
+def cycles_reference(name, scene_path, cfg, blender):
+    key = digest(file_digest(scene_path), file_digest(os.path.join(HERE, "cycles_scene.py")),
+                 blender.info.get("blender"), cfg["cycles_ref_spp"], REF_SEEDS)
+    paths = [os.path.join(ARGS.ref, "%s_cycles_%s_%d.exr" % (name, key, s)) for s in REF_SEEDS]
+    for p, s in zip(paths, REF_SEEDS):
+        if not os.path.exists(p):
+            tmp = p + ".tmp.exr"
+            r = blender.call(cmd="render", engine="CYCLES", spp=cfg["cycles_ref_spp"], seed=s,
+                             out=tmp)
+            os.replace(tmp, p)
+            log("  Cycles reference %s seed %d, %d spp: %.1f s"
+                % (name, s, cfg["cycles_ref_spp"], r["seconds"]))
+        else:
+            log("  Cycles reference %s seed %d: cached" % (name, s))
+    a, b = read(paths[0]), read(paths[1])
+    return 0.5 * (a + b), 0.25 * (a - b) ** 2
+
+
+def block_check(name, ref, ref_var, cref, cref_var):
+    """Facet's reference against Cycles' in BLOCK x BLOCK blocks per channel: z = difference of
+    the block means / sqrt(sum of both block means' variances from the seed pairs)."""
+    h, w, c = ref.shape
+    bh, bw = h // BLOCK, w // BLOCK
+    crop = (slice(0, bh * BLOCK), slice(0, bw * BLOCK))
+
+    def bmean(x):
+        return x[crop].reshape(bh, BLOCK, bw, BLOCK, c).mean(axis=(1, 3))
+    n = BLOCK * BLOCK
+    z = (bmean(ref) - bmean(cref)) / np.sqrt(np.maximum(
+        (bmean(ref_var) + bmean(cref_var)) / n, 1e-30))
+    rel = (bmean(ref) - bmean(cref)) / np.maximum(np.abs(bmean(cref)), 1e-6)
+    ratio = [float(ref[..., k].mean() / max(cref[..., k].mean(), 1e-30)) for k in range(c)]
+    lines = ["### %s" % name, "",
+             "Facet reference / Cycles reference, image mean per channel: %.4f %.4f %.4f"
+             % tuple(ratio),
+             "", "%d blocks of %d x %d px x %d channels: max |z| %.1f, %.0f%% with |z| < 3, "
+             "%d with |z| >= 5." % (bh * bw, BLOCK, BLOCK, c, np.abs(z).max(),
+                                    100.0 * (np.abs(z) < 3).mean(), int((np.abs(z) >= 5).sum())),
+             "", "Max |z| per block over the channels (row = block row from the top), and in "
+             "brackets the largest relative difference of the block means:", "", "```"]
+    zmax = np.abs(z).max(axis=2)
+    rmax = np.take_along_axis(rel, np.abs(z).argmax(axis=2)[..., None], axis=2)[..., 0]
+    for i in range(bh):
+        lines.append(" ".join("%5.1f(%+5.1f%%)" % (zmax[i, j], 100 * rmax[i, j])
+                              for j in range(bw)))
+    lines += ["```", ""]
+    return lines, dict(max_abs_z=float(np.abs(z).max()), blocks_z_ge_5=int((np.abs(z) >= 5).sum()),
+                       mean_ratio=ratio)
+
+
+# --- the run ------------------------------------------------------------------------------------
+def log(msg):
+    print(msg, flush=True)
+    with open(os.path.join(ARGS.out, "run.log"), "a") as f:
+        f.write(msg + "\n")
+
+
+def time_to_error(points, target):
+    """Seconds at which the log-log curve (seconds, rmse), in budget order, first reaches the
+    target RMSE; (seconds, flag): flag '' interpolated, '<=' reached at the first point,
+    '>' never reached (the last time)."""
+    pts = [(t, e) for t, e in points if e > 0]
+    if not pts:
+        return float("nan"), "?"
+    if pts[0][1] <= target:
+        return pts[0][0], "<="
+    for (t0, e0), (t1, e1) in zip(pts, pts[1:]):
+        if e1 <= target < e0:
+            a = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(t0) + a * (math.log(t1) - math.log(t0))), ""
+    return pts[-1][0], ">"
+
+
+def run_scene(name, cfg, blender, rows, summary, checks):
+    scene_path, data = bench_scene(name, cfg)
+    log("== %s (%dx%d)" % (name, cfg["size"][0], cfg["size"][1]))
+    if blender:
+        r = blender.call(cmd="load", scene=scene_path, threads=ARGS.threads)
+        for note in r.get("notes", []):
+            log("  cycles twin: " + note)
+    if cfg["ref_spp"] is None:
+        ref = point_plane_reference(data, 12)
+        coarse = point_plane_reference(data, 6)
+        log("  analytic reference: Gauss-Legendre 12x12 vs 6x6 per pixel, max relative change "
+            "%.2g" % (np.abs(ref - coarse) / ref).max())
+        ref_var = np.zeros_like(ref)
+    else:
+        ref, ref_var, _ = facet_reference(name, scene_path, cfg)
+    cref = None
+    if blender:
+        cref, cref_var = cycles_reference(name, scene_path, cfg, blender)
+        if cfg["ref_spp"] is not None:
+            lines, info = block_check(name, ref, ref_var, cref, cref_var)
+        else:
+            m = metrics(cref, ref, np.zeros_like(ref))
+            info = dict(mean_ratio=[float(ref[..., k].mean() / cref[..., k].mean())
+                                    for k in range(3)], max_abs_z=float("nan"))
+            lines = ["### %s" % name, "", "Analytic reference; Cycles' reference (2 x %d spp) "
+                     "against it: RMSE %.3g (raw, Cycles' noise included), analytic / Cycles "
+                     "image mean %.4f %.4f %.4f." % ((cfg["cycles_ref_spp"], m["rmse_raw"])
+                                                     + tuple(info["mean_ratio"])), ""]
+        checks.append(lines)
+        for line in lines[2:3]:
+            log("  " + line)
+    conts = [c for c in contenders(name) if blender or c[1] == "cli"]
+    imgdir = os.path.join(ARGS.out, "images", name)
+    os.makedirs(imgdir, exist_ok=True)
+    curves = {c[0]: [] for c in conts}
+    for k, spp in enumerate(cfg["ladder"]):
+        order = conts[k % len(conts):] + conts[:k % len(conts)]
+        for cname, kind, opt in order:
+            out = os.path.join(imgdir, "%s_%d.exr" % (cname.replace(" ", "_"), spp))
+            if kind == "cli":
+                sec = run_cli(scene_path, spp, SEED, opt, out)
+            else:
+                sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out)["seconds"]
+            x = read(out)
+            m = metrics(x, ref, ref_var)
+            row = dict(scene=name, contender=cname, spp=spp, seconds=round(sec, 4),
+                       rmse=m["rmse"], relmse=m["relmse"], rmse_raw=m["rmse_raw"],
+                       relmse_raw=m["relmse_raw"], rmse_self="")
+            if cname == "cycles" and cref is not None:
+                row["rmse_self"] = metrics(x, cref, cref_var)["rmse"]
+            rows.append(row)
+            curves[cname].append((sec, m["rmse"], row["rmse_self"]))
+            log("  %-28s %5d spp %8.2f s  RMSE %.4g  relMSE %.4g%s"
+                % (cname, spp, sec, m["rmse"], m["relmse"],
+                   "  (vs Cycles ref %.4g)" % row["rmse_self"] if row["rmse_self"] != "" else ""))
+        write_csv(rows)
+    # The error level: Cycles' top-budget render against Cycles' own reference (its noise);
+    # without Blender, the top budget of `facet path sobol` / `facet direct sobol`.
+    if blender:
+        target = curves["cycles"][-1][2]
+        base = "cycles"
+        base_time, _ = time_to_error([(t, s) for t, _, s in curves["cycles"]], target)
+    else:
+        base = conts[0][0]
+        target = curves[base][-1][1]
+        base_time = curves[base][-1][0]
+    for cname in curves:
+        pts = [(t, e) for t, e, _ in curves[cname]]
+        if cname == "cycles":
+            pts = [(t, s) for t, _, s in curves[cname]]
+        t, flag = time_to_error(pts, target)
+        summary.append(dict(scene=name, contender=cname, target_rmse=target, seconds=t, flag=flag,
+                            ratio=t / base_time, base=base))
+    return curves
+
+
+CSV_FIELDS = ["scene", "contender", "spp", "seconds", "rmse", "relmse", "rmse_raw", "relmse_raw",
+              "rmse_self"]
+
+
+def write_csv(rows):
+    with open(os.path.join(ARGS.publish, "time_error.csv"), "w", newline="") as f:
+        w = csv.DictWriter(f, CSV_FIELDS)
+        w.writeheader()
+        for r in rows:
+            w.writerow({k: ("%.6g" % r[k] if isinstance(r[k], float) else r[k])
+                        for k in CSV_FIELDS})
+
+
+def plot(all_curves, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    n = len(all_curves)
+    cols = min(n, 3)
+    rws = (n + cols - 1) // cols
+    fig, axes = plt.subplots(rws, cols, figsize=(4.2 * cols, 3.4 * rws), squeeze=False)
+    styles = {"facet path sobol": ("C0", "-"), "facet direct sobol": ("C0", ":"),
+              "facet path sobol general": ("C2", "--"), "facet direct sobol general": ("C2", "--"),
+              "facet path independent": ("C4", "-."), "facet direct independent": ("C4", "-."),
+              "facet path sobol ": ("C0", "-"), "facet in blender": ("C1", "-"),
+              "cycles": ("C3", "-")}
+    for ax, (name, curves) in zip(axes.ravel(), all_curves.items()):
+        for cname, pts in curves.items():
+            color, ls = styles.get(cname, ("C5", "-"))
+            if name == "point_plane" and cname == "facet path sobol":
+                color, ls = "C9", ":"
+            t = [p[0] for p in pts]
+            e = [p[2] if cname == "cycles" and p[2] != "" else p[1] for p in pts]
+            ax.loglog(t, e, color=color, ls=ls, marker=".", label=cname)
+            if cname == "cycles" and all(p[2] != "" for p in pts):
+                ax.loglog(t, [p[1] for p in pts], color=color, ls=":", lw=0.8,
+                          label="cycles vs Facet ref")
+        ax.set_title(name, fontsize=10)
+        ax.set_xlabel("seconds (2 threads)", fontsize=8)
+        ax.set_ylabel("RMSE", fontsize=8)
+        ax.tick_params(labelsize=7)
+        ax.grid(True, which="both", lw=0.3)
+    for ax in axes.ravel()[n:]:
+        ax.axis("off")
+    handles, labels = {}, {}
+    for ax in axes.ravel()[:n]:
+        for h, l in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(l, h)
+    fig.legend(list(handles.values()), list(handles.keys()), loc="lower right", fontsize=7,
+               ncol=1 if n % cols else 4, frameon=False)
+    fig.tight_layout()
+    fig.savefig(path, dpi=80)
+    plt.close(fig)
+
+
+def write_summary(summary, checks, path, meta):
+    lines = ["# Time against error (bench/time_error.py)", "", meta, "",
+             "| scene | contender | time to the error level | ratio to %s |"
+             % ("Cycles" if any(s["base"] == "cycles" for s in summary) else "the base"),
+             "|---|---|---:|---:|"]
+    for s in summary:
+        mark = {"": "", "<=": "≤ ", ">": "> ", "?": "? "}[s["flag"]]
+        ratio = "%s%.2f" % ({"": "", "<=": "≤ ", ">": "> ", "?": ""}[s["flag"]], s["ratio"])
+        lines.append("| %s (RMSE %.4g) | %s | %s%.2f s | %s |"
+                     % (s["scene"], s["target_rmse"], s["contender"], mark, s["seconds"], ratio))
+    lines += ["", "## Reference check: Facet's reference against Cycles'", ""]
+    for c in checks:
+        lines += c
+    with open(path, "w") as f:
+        f.write("\n".join(lines) + "\n")
+
+
+def main():
+    global ARGS
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--quick", action="store_true", help="smoke run: small images, short ladders")
+    ap.add_argument("--scenes", default=",".join(SCENES), help="comma-separated subset")
+    ap.add_argument("--no-blender", action="store_true", help="Facet standalone only")
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--blender", default=shutil.which("blender") or "blender")
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--out", default=None, help="run directory (default out/bench/time_error or "
+                    "out/bench/quick)")
+    ap.add_argument("--publish", default=None, help="where the CSV, summary and plot go "
+                    "(default docs/perf; --quick: the run directory)")
+    ARGS = ap.parse_args()
+    ARGS.out_root = os.path.join(ROOT, "out", "bench")
+    ARGS.out = ARGS.out or os.path.join(ARGS.out_root, "quick" if ARGS.quick else "time_error")
+    ARGS.ref = os.path.join(ARGS.out_root, "ref")
+    ARGS.publish = ARGS.publish or (ARGS.out if ARGS.quick else os.path.join(ROOT, "docs", "perf"))
+    ARGS.facet = os.path.join(ARGS.build, "core", "cli", "facet")
+    ARGS.addon_zip = os.path.join(ARGS.build, "blender_addon", "facet_blender.zip")
+    for d in (ARGS.out, ARGS.ref, ARGS.publish):
+        os.makedirs(d, exist_ok=True)
+    open(os.path.join(ARGS.out, "run.log"), "w").close()
+    names = [s for s in ARGS.scenes.split(",") if s]
+    for s in names:
+        if s not in SCENES:
+            sys.exit("time_error: unknown scene %r (have %s)" % (s, ", ".join(SCENES)))
+    blender = None
+    if not ARGS.no_blender:
+        if not os.path.exists(ARGS.addon_zip):
+            sys.exit("time_error: %s missing (configure with -DFACET_BUILD_BLENDER=ON and build)"
+                     % ARGS.addon_zip)
+        blender = Blender()
+    t_start = time.time()
+    load0 = os.getloadavg()
+    rows, summary, checks, all_curves = [], [], [], {}
+    try:
+        for name in names:
+            cfg = dict(SCENES[name])
+            if ARGS.quick:
+                cfg["size"] = tuple(v // QUICK["size_div"] for v in cfg["size"])
+                cfg["ladder"] = QUICK["ladder"]
+                cfg["ref_spp"] = cfg["ref_spp"] and QUICK["ref_spp"]
+                cfg["cycles_ref_spp"] = QUICK["cycles_ref_spp"]
+            all_curves[name] = run_scene(name, cfg, blender, rows, summary, checks)
+            plot(all_curves, os.path.join(ARGS.publish, "time_error.png"))
+    finally:
+        if blender:
+            blender.close()
+    meta = ("Run of %s: %.0f min, %d threads, load average %.1f at the start and %.1f at the end "
+            "(2-core machine shared with other work). Error level per scene: the RMSE of Cycles' "
+            "top-budget render against Cycles' own reference." %
+            (time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t_start)),
+             (time.time() - t_start) / 60, ARGS.threads, load0[0], os.getloadavg()[0]))
+    write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"), meta)
+    log(meta)
+    for s in summary:
+        log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
+                                                     s["seconds"], s["ratio"]))
+
+
+ARGS = None
+if __name__ == "__main__":
+    main()
