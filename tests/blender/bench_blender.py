@@ -50,15 +50,10 @@ def main():
     scene.facet.spp = 256
     scene.facet.max_depth = 64
     import facet_blender.engine as eng
+    import cycles_scene as cs
+    cs.convert(scene, exact=True)
+    cs.cycles_settings(scene, samples=256, max_depth=64)
     for engine in ('FACET', 'CYCLES'):
-        if engine == 'CYCLES':
-            path = os.path.join(os.path.dirname(os.path.abspath(__file__)),
-                                "test_cycles_cornell.py")
-            src = open(path).read().split("def render_with")[0]
-            ns = {"__file__": path}
-            exec(src.replace("bt.run(main)", ""), ns)
-            ns["cycles_materials"]()
-            ns["cycles_settings"](scene)
         scene.render.engine = engine
         t0 = time.perf_counter()
         bpy.ops.render.render()

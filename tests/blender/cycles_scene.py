@@ -1,0 +1,489 @@
+"""A Cycles version of a Facet scene imported into Blender, for comparisons against Cycles.
+
+Use inside Blender (`blender -b --factory-startup --python your_script.py`), after
+`bpy.ops.import_scene.facet(filepath=...)` (the addon's importer):
+
+    sys.path.insert(0, "<repo>/tests/blender")
+    import cycles_scene as cs
+    notes = cs.convert(bpy.context.scene, exact=True)   # materials, emitters, geometry, lights
+    cs.cycles_settings(bpy.context.scene, samples=256, seed=1)
+    img, seconds = cs.render(bpy.context.scene, 'CYCLES', "/tmp/c.exr")  # or 'FACET'
+    z = cs.block_z(facet_pair, cycles_pair, block=16)  # noise-derived comparison
+
+`convert` changes only what Cycles reads: every material gets an equivalent Cycles node tree,
+emissive shapes get an Emission shader, analytic shapes get a fine mesh. Facet keeps rendering
+the imported description exactly (the exporter reads the stored shapes, the materials' Facet
+settings and the stored lights), so Facet and Cycles render the same Blender scene.
+It returns a list of notes, one per approximation (tessellated analytic shapes, and with
+exact=False the inexact models below); with exact=True a material or light without an exact
+Cycles 3.4 equivalent raises NoEquivalent naming it.
+
+Facet model -> Cycles 3.4 nodes (exact = the same function, up to floating point):
+- lambert -> Diffuse BSDF (Roughness 0, i.e. Lambert; Color = reflectance): exact.
+- mirror, fresnel none -> Glossy BSDF Sharp, Color = reflectance: exact.
+- mirror, fresnel dielectric -> Glossy Sharp whose Color = reflectance x Fresnel node (IOR):
+  exact (a mirror's microfacet normal is the shading normal, where the Fresnel node evaluates
+  the unpolarised dielectric Fresnel).
+- mirror, fresnel schlick -> Glossy Sharp, Color = reflectance x (f0 + (1 - f0) Facing^5),
+  Facing = Layer Weight's 1 - |N.I| (blend 0.5): exact.
+- mirror, fresnel conductor: no equivalent (no conductor Fresnel node in 3.4).
+- ggx / beckmann, isotropic, fresnel none -> Glossy BSDF GGX / Beckmann, Roughness =
+  sqrt(alpha) (Cycles squares it), Color = reflectance: NOT exact. Cycles 3.4 uses the
+  separable Smith term G1(i) G1(o) (Beckmann's G1 with Walter et al.'s rational approximation),
+  Facet the exact height-correlated 1 / (1 + L(i) + L(o)); the difference is
+  L(i) L(o) / ((1 + L(i))(1 + L(o))(1 + L(i) + L(o))) relative, small at low alpha and away
+  from grazing. exact=False converts with a note. energy_compensation -> Multiscatter GGX
+  (a different compensation: note). alpha < 1e-4 is the mirror (exact, as in the core).
+- ggx / beckmann with a Fresnel term, anisotropic lobes, blinn (no Blinn D in Cycles),
+  composite (Principled's diffuse is Disney's and its Fresnel is not any of Facet's): none.
+- shape emission L -> Emission shader, Color L, Strength 1 on the front side only (Strength =
+  1 - Backfacing: Facet's emitters are one-sided, Cycles' mesh lights two-sided): exact.
+- two_sided false -> a black back (Mix Shader on Backfacing): exact.
+- point, directional: the imported Blender lights (radius/angle 0) in Cycles' units (units.py):
+  exact. spot: exact for inner = outer; otherwise Cycles fades with smoothstep, Facet linearly
+  in cos (note, or NoEquivalent with exact=True). environment: the world colour, as imported.
+- shapes: mesh, quad and box are the imported meshes (exact; mesh normals from the file's
+  normals as custom split normals); sphere, disc, plane, icosphere and grid get a fine mesh
+  (a note each; the sphere is a smooth UV sphere of 256 x 128 segments).
+- render: max bounces = Facet's max_depth - 1 (Facet's depth counts the camera ray's vertex:
+  max_depth 1 is direct lighting, Cycles' max_bounces 0); the "direct" integrator: none.
+"""
+import json
+import math
+import os
+import time
+
+import bmesh
+import bpy
+import numpy as np
+
+SPHERE_SEGMENTS = (256, 128)
+DISC_SEGMENTS = 1024
+PLANE_HALF_SIZE_FACTOR = 1000.0  # x the camera's distance to the plane
+CYCLES_ONLY = "facet_cycles_only"  # materials Facet's exporter ignores (export.py)
+FLOAT_FLOOR = 1e-6  # block_z's relative precision floor (float32)
+
+
+class NoEquivalent(RuntimeError):
+    """A material, shape, light or setting with no exact Cycles equivalent (names it)."""
+
+
+# --- materials -------------------------------------------------------------------------------
+
+def _rgb(v):
+    v = [float(v)] * 3 if isinstance(v, (int, float)) else [float(c) for c in v]
+    return (v[0], v[1], v[2], 1.0)
+
+
+def _facet_description(mat):
+    if "facet_material" in mat:
+        return json.loads(mat["facet_material"])
+    from facet_blender import materials
+    model, params = materials.material_params(mat.facet)
+    data = {"model": model}
+    data.update(params)
+    return data
+
+
+def _new_tree(mat):
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    out.target = 'ALL'
+    return nt, out
+
+
+def _colour_times(nt, colour, factor_socket):
+    """A Mix RGB node giving colour x factor (factor: a float socket)."""
+    mul = nt.nodes.new("ShaderNodeMixRGB")
+    mul.blend_type = 'MULTIPLY'
+    mul.inputs['Fac'].default_value = 1.0
+    mul.inputs['Color1'].default_value = colour
+    nt.links.new(factor_socket, mul.inputs['Color2'])
+    return mul.outputs['Color']
+
+
+def _bsdf(nt, name, d, exact, notes):
+    """The BSDF node output for Facet description d of material `name`."""
+    model = d["model"]
+    fresnel = d.get("fresnel", "none")
+    aniso = "alpha_u" in d or "alpha_v" in d
+    if model == "lambert":
+        n = nt.nodes.new("ShaderNodeBsdfDiffuse")
+        n.inputs['Color'].default_value = _rgb(d.get("reflectance", 0.5))
+        n.inputs['Roughness'].default_value = 0.0
+        return n.outputs[0]
+    alpha = float(d.get("alpha", 0.2))
+    if model == "mirror" or (model in ("ggx", "beckmann") and not aniso and alpha < 1e-4):
+        if fresnel == "conductor":
+            raise NoEquivalent("material '%s': mirror with fresnel conductor has no Cycles 3.4 "
+                               "equivalent (no conductor Fresnel node)" % name)
+        n = nt.nodes.new("ShaderNodeBsdfGlossy")
+        n.distribution = 'SHARP'
+        refl = _rgb(d.get("reflectance", 1.0))
+        if fresnel == "none":
+            n.inputs['Color'].default_value = refl
+        elif fresnel == "dielectric":
+            fr = nt.nodes.new("ShaderNodeFresnel")
+            fr.inputs['IOR'].default_value = float(d.get("ior", 1.5))
+            nt.links.new(_colour_times(nt, refl, fr.outputs['Fac']), n.inputs['Color'])
+        elif fresnel == "schlick":
+            lw = nt.nodes.new("ShaderNodeLayerWeight")
+            lw.inputs['Blend'].default_value = 0.5
+            pw = nt.nodes.new("ShaderNodeMath")
+            pw.operation = 'POWER'
+            nt.links.new(lw.outputs['Facing'], pw.inputs[0])
+            pw.inputs[1].default_value = 5.0
+            mix = nt.nodes.new("ShaderNodeMixRGB")
+            mix.blend_type = 'MIX'
+            nt.links.new(pw.outputs[0], mix.inputs['Fac'])
+            mix.inputs['Color1'].default_value = _rgb(d.get("f0", 0.04))
+            mix.inputs['Color2'].default_value = (1.0, 1.0, 1.0, 1.0)
+            mul = nt.nodes.new("ShaderNodeMixRGB")
+            mul.blend_type = 'MULTIPLY'
+            mul.inputs['Fac'].default_value = 1.0
+            mul.inputs['Color1'].default_value = refl
+            nt.links.new(mix.outputs['Color'], mul.inputs['Color2'])
+            nt.links.new(mul.outputs['Color'], n.inputs['Color'])
+        else:
+            raise NoEquivalent("material '%s': unknown fresnel '%s'" % (name, fresnel))
+        return n.outputs[0]
+    if model in ("ggx", "beckmann"):
+        if fresnel != "none":
+            raise NoEquivalent("material '%s': %s with fresnel %s has no Cycles 3.4 equivalent "
+                               "(Glossy BSDF has no Fresnel; Principled's is not Facet's)"
+                               % (name, model, fresnel))
+        if aniso:
+            raise NoEquivalent("material '%s': anisotropic %s has no exact Cycles equivalent "
+                               "(tangent conventions and Smith term differ)" % (name, model))
+        why = ("material '%s': %s alpha %g -> Glossy %s roughness %g: Cycles 3.4's Smith term "
+               "is separable G1(i) G1(o)%s, Facet's height-correlated"
+               % (name, model, alpha, model.upper(), math.sqrt(alpha),
+                  " (rational G1 approximation)" if model == "beckmann" else ""))
+        dist = 'GGX' if model == "ggx" else 'BECKMANN'
+        if d.get("energy_compensation", False):
+            if model != "ggx":
+                raise NoEquivalent("material '%s': beckmann with energy compensation has no "
+                                   "Cycles equivalent" % name)
+            dist = 'MULTI_GGX'
+            why += "; energy compensation -> Multiscatter GGX (a different method)"
+        if exact:
+            raise NoEquivalent(why + " (not exact; convert(exact=False) approximates)")
+        notes.append(why)
+        n = nt.nodes.new("ShaderNodeBsdfGlossy")
+        n.distribution = dist
+        n.inputs['Color'].default_value = _rgb(d.get("reflectance", 1.0))
+        n.inputs['Roughness'].default_value = math.sqrt(alpha)
+        return n.outputs[0]
+    raise NoEquivalent("material '%s': model '%s' has no Cycles 3.4 equivalent%s" % (
+        name, model, {"blinn": " (no Blinn distribution in Cycles)",
+                      "composite": " (Principled's diffuse is Disney's, its Fresnel not "
+                                   "Facet's)"}.get(model, "")))
+
+
+def _black(nt):
+    n = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    n.inputs['Color'].default_value = (0.0, 0.0, 0.0, 1.0)
+    return n.outputs[0]
+
+
+def _surface(mat, d, emission, two_sided, exact, notes, one_sided_emission=True):
+    """Builds mat's node tree: BSDF (or black) [front-only if not two_sided] + emission."""
+    nt, out = _new_tree(mat)
+    bsdf = _bsdf(nt, mat.name, d, exact, notes) if d is not None else None
+    geo = None
+    if bsdf is not None and not two_sided:
+        geo = nt.nodes.new("ShaderNodeNewGeometry")
+        mix = nt.nodes.new("ShaderNodeMixShader")
+        nt.links.new(geo.outputs['Backfacing'], mix.inputs['Fac'])
+        nt.links.new(bsdf, mix.inputs[1])
+        nt.links.new(_black(nt), mix.inputs[2])
+        bsdf = mix.outputs[0]
+    if emission is not None and any(c > 0.0 for c in emission):
+        geo = geo or nt.nodes.new("ShaderNodeNewGeometry")
+        front = nt.nodes.new("ShaderNodeMath")
+        front.operation = 'SUBTRACT'
+        front.inputs[0].default_value = 1.0
+        nt.links.new(geo.outputs['Backfacing'], front.inputs[1])
+        em = nt.nodes.new("ShaderNodeEmission")
+        em.inputs['Color'].default_value = _rgb(emission)
+        if one_sided_emission:
+            nt.links.new(front.outputs[0], em.inputs['Strength'])
+        else:
+            em.inputs['Strength'].default_value = 1.0
+        if bsdf is not None:
+            add = nt.nodes.new("ShaderNodeAddShader")
+            nt.links.new(em.outputs[0], add.inputs[0])
+            nt.links.new(bsdf, add.inputs[1])
+            bsdf = add.outputs[0]
+        else:
+            bsdf = em.outputs[0]
+    nt.links.new(bsdf if bsdf is not None else _black(nt), out.inputs['Surface'])
+
+
+# --- geometry --------------------------------------------------------------------------------
+
+def _fine_mesh(ob, s, scene, notes):
+    """A Blender mesh (local space) for Cycles, or None to keep the imported one."""
+    kind = s["type"]
+    bm = bmesh.new()
+    try:
+        if kind == "sphere":
+            u, v = SPHERE_SEGMENTS
+            bmesh.ops.create_uvsphere(bm, u_segments=u, v_segments=v, radius=float(s["radius"]))
+            bmesh.ops.translate(bm, vec=s["center"], verts=bm.verts)
+            notes.append("shape '%s': sphere -> smooth UV sphere %d x %d" % (ob.name, u, v))
+            smooth = True
+        elif kind == "icosphere":
+            bmesh.ops.create_icosphere(bm, subdivisions=int(s["subdivisions"]),
+                                       radius=float(s["radius"]))
+            bmesh.ops.translate(bm, vec=s["center"], verts=bm.verts)
+            smooth = bool(s.get("smooth", True))
+            notes.append("shape '%s': icosphere -> Blender's icosphere (vertices differ)"
+                         % ob.name)
+        elif kind in ("disc", "plane"):
+            from mathutils import Vector
+            n = Vector(s["normal"]).normalized()
+            rot = n.to_track_quat('Z', 'Y').to_matrix().to_4x4()
+            if kind == "disc":
+                bmesh.ops.create_circle(bm, cap_ends=True, segments=DISC_SEGMENTS,
+                                        radius=float(s["radius"]), matrix=rot)
+                bmesh.ops.translate(bm, vec=s["center"], verts=bm.verts)
+                notes.append("shape '%s': disc -> %d-gon" % (ob.name, DISC_SEGMENTS))
+            else:
+                cam = scene.camera.matrix_world.translation
+                half = PLANE_HALF_SIZE_FACTOR * max(1e-6, abs((cam - Vector(s["point"])).dot(n)))
+                bmesh.ops.create_grid(bm, x_segments=1, y_segments=1, size=half, matrix=rot)
+                bmesh.ops.translate(bm, vec=s["point"], verts=bm.verts)
+                notes.append("shape '%s': infinite plane -> square of half size %g" % (
+                    ob.name, half))
+            smooth = False
+        elif kind == "grid":
+            nx, ny = int(s["nx"]), int(s["ny"])
+            bmesh.ops.create_grid(bm, x_segments=nx + 1, y_segments=ny + 1, size=1.0)
+            a, f = float(s.get("amplitude", 0.0)), float(s.get("frequency", 0.0))
+            for vert in bm.verts:
+                vert.co.z = a * math.sin(f * vert.co.x) * math.sin(f * vert.co.y)
+            notes.append("shape '%s': grid -> Blender grid %d x %d (diagonals may differ)"
+                         % (ob.name, nx, ny))
+            smooth = False
+        else:
+            return None
+        if s.get("flip_normals"):
+            bmesh.ops.reverse_faces(bm, faces=bm.faces)
+        me = bpy.data.meshes.new(ob.data.name + " (Cycles)")
+        bm.to_mesh(me)
+    finally:
+        bm.free()
+    me.polygons.foreach_set("use_smooth", np.full(len(me.polygons), smooth))
+    return me
+
+
+def _exact_mesh_normals(ob, s):
+    """Imported triangle meshes: the file's normals as custom split normals; flip_normals."""
+    me = ob.data
+    if s.get("flip_normals"):
+        bm = bmesh.new()
+        bm.from_mesh(me)
+        bmesh.ops.reverse_faces(bm, faces=bm.faces)
+        bm.to_mesh(me)
+        bm.free()
+    if "facet_normal" in me.attributes:
+        nrm = np.empty(len(me.vertices) * 3, np.float32)
+        me.attributes["facet_normal"].data.foreach_get("vector", nrm)
+        me.use_auto_smooth = True
+        me.normals_split_custom_set_from_vertices(nrm.reshape(-1, 3).tolist())
+
+
+# --- the scene -------------------------------------------------------------------------------
+
+def convert(scene=None, exact=True, one_sided_emission=True):
+    """Makes the imported Facet scene renderable by Cycles (see the module's docstring).
+    Returns the notes (approximations); raises NoEquivalent naming what has no equivalent."""
+    scene = scene or bpy.context.scene
+    notes = []
+    done = {}
+    for ob in list(scene.objects):
+        if ob.type == 'LIGHT' and "facet_light" in ob:
+            lt = json.loads(ob["facet_light"])
+            if lt["type"] == "spot" and lt.get("inner_angle", lt.get("outer_angle")) != \
+                    lt.get("outer_angle"):
+                why = ("light '%s': spot with inner < outer angle: Cycles fades with "
+                       "smoothstep, Facet linearly in cos" % ob.name)
+                if exact:
+                    raise NoEquivalent(why)
+                notes.append(why)
+            continue
+        if ob.type != 'MESH' or "facet_shape" not in ob:
+            continue
+        s = json.loads(ob["facet_shape"])
+        if s["type"] == "mesh" and "file" in s:
+            raise NoEquivalent("shape '%s': mesh file '%s' is not loaded into Blender"
+                               % (ob.name, s["file"]))
+        fine = _fine_mesh(ob, s, scene, notes)
+        mats = list(ob.data.materials)
+        if fine is not None:
+            for m in mats:
+                fine.materials.append(m)
+            ob.data = fine
+        else:
+            _exact_mesh_normals(ob, s)
+        emission = s.get("emission")
+        emits = emission is not None and any(float(c) > 0.0 for c in (
+            [emission] * 3 if isinstance(emission, (int, float)) else emission))
+        two_sided = bool(s.get("two_sided", True))
+        mat = mats[0] if mats else None
+        key = (mat.name if mat else None, two_sided, json.dumps(emission) if emits else None)
+        if key in done:
+            target = done[key]
+        elif mat is not None and not emits and two_sided:
+            target = mat  # the shared material itself: only its node tree changes
+        elif mat is not None:
+            target = mat.copy()  # the same Facet settings, a per-shape Cycles tree
+            target.name = "%s (Cycles, %s)" % (mat.name, ob.name)
+        else:
+            target = bpy.data.materials.new("%s (Cycles emitter)" % ob.name)
+            target[CYCLES_ONLY] = True
+        if key not in done:
+            d = _facet_description(mat) if mat is not None else None
+            _surface(target, d, emission if emits else None, two_sided, exact, notes,
+                     one_sided_emission)
+            done[key] = target
+        if target is not mat:
+            if ob.data.materials:
+                ob.data.materials[0] = target
+            else:
+                ob.data.materials.append(target)
+    fs = scene.facet
+    if fs.integrator != "path":
+        raise NoEquivalent("render: integrator '%s' has no Cycles equivalent (path only)"
+                           % fs.integrator)
+    if fs.max_depth < 1:
+        raise NoEquivalent("render: max_depth 0 (emission only) has no Cycles equivalent")
+    return notes
+
+
+def cycles_settings(scene, samples=None, seed=None, max_depth=None):
+    """Cycles render settings for a comparison: box filter 1 px, no clamping, no denoising,
+    adaptive sampling off, light threshold 0, fixed seed, max bounces matched to Facet's
+    max_depth (Cycles bounces = max_depth - 1), 32-bit float EXR output."""
+    fs = scene.facet
+    c = scene.cycles
+    c.device = 'CPU'
+    c.samples = int(samples if samples is not None else fs.spp)
+    c.seed = int(seed if seed is not None else fs.seed) & 0x7fffffff
+    c.use_animated_seed = False
+    c.use_adaptive_sampling = False
+    c.use_denoising = False
+    c.use_preview_denoising = False
+    c.sample_clamp_direct = c.sample_clamp_indirect = 0.0
+    c.light_sampling_threshold = 0.0
+    c.time_limit = 0.0
+    bounces = int(max_depth if max_depth is not None else fs.max_depth) - 1
+    if bounces < 0:
+        raise NoEquivalent("render: max_depth 0 has no Cycles equivalent")
+    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = bounces
+    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = bounces
+    c.min_light_bounces = c.min_transparent_bounces = 0
+    c.caustics_reflective = c.caustics_refractive = True
+    c.blur_glossy = 0.0
+    c.use_fast_gi = False
+    c.auto_scrambling_distance = False
+    c.scrambling_distance = 1.0
+    c.pixel_filter_type = 'BOX'
+    c.filter_width = 1.0
+    c.film_exposure = 1.0
+    scene.render.film_transparent = False
+    scene.render.use_motion_blur = False
+    _exr(scene)
+
+
+def _exr(scene):
+    s = scene.render.image_settings
+    s.file_format = 'OPEN_EXR'
+    s.color_depth = '32'
+    s.color_mode = 'RGB'
+    s.exr_codec = 'ZIP'
+
+
+def render(scene, engine, path, seed=None):
+    """F12 with `engine` ('CYCLES' or 'FACET'), written to the EXR `path`; returns (image
+    float64 (h, w, 3) top row first, seconds). `seed` sets the engine's seed first."""
+    scene.render.engine = engine
+    if seed is not None:
+        if engine == 'CYCLES':
+            scene.cycles.seed = int(seed) & 0x7fffffff
+        else:
+            scene.facet.seed = int(seed)
+    scene.render.filepath = path
+    _exr(scene)
+    t0 = time.perf_counter()
+    bpy.ops.render.render(write_still=True)
+    dt = time.perf_counter() - t0
+    if engine == 'FACET':
+        import facet_blender.engine as eng
+        if eng.last_problems and any("error" in p.lower() for p in eng.last_problems):
+            raise RuntimeError("; ".join(eng.last_problems))
+    if not os.path.exists(path):
+        raise RuntimeError("%s wrote no image to %s" % (engine, path))
+    return load_exr(path).astype(np.float64), dt
+
+
+def load_exr(path):
+    """An EXR through Blender's own loader -> float32 (h, w, 3), top row first."""
+    im = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = im.size
+        px = np.empty(w * h * im.channels, np.float32)
+        im.pixels.foreach_get(px)
+        return px.reshape(h, w, im.channels)[::-1, :, :3].copy()
+    finally:
+        bpy.data.images.remove(im)
+
+
+def facet_description(scene=None):
+    """What Facet's exporter makes of the scene, as JSON text (to check that convert leaves
+    Facet's render unchanged)."""
+    from facet_blender import export
+    scene = scene or bpy.context.scene
+    data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={})
+
+    def conv(v):
+        if isinstance(v, np.ndarray):
+            return v.tolist()
+        raise TypeError(type(v))
+    return json.dumps(data, default=conv, sort_keys=True)
+
+
+# --- comparison ------------------------------------------------------------------------------
+
+def block_z(pair_a, pair_b, block, keep=None, expected_diff=None):
+    """Noise-derived comparison of two renderers, each rendered twice with different seeds
+    (pair_x = (image seed 1, image seed 2), float (h, w, c)). The variance of one render per
+    pixel is estimated as (x1 - x2)^2 / 2; the mean of each pair is compared over blocks of
+    block x block pixels per channel: z = (mean_a - mean_b - expected) / sqrt(var_a + var_b),
+    var the block-mean variances. keep: optional (h, w) bool mask of the pixels to use (blocks
+    with no kept pixel get z = 0); expected_diff: optional (h, w, c) predicted a - b.
+    Returns (z (h/block, w/block, c), block means a, block means b, kept pixels per block)."""
+    a1, a2 = pair_a
+    b1, b2 = pair_b
+    h, w, c = a1.shape
+    k = np.ones((h, w, 1)) if keep is None else keep[..., None].astype(np.float64)
+    k = np.broadcast_to(k, (h, w, c))
+
+    def bsum(x):
+        return (x * k).reshape(h // block, block, w // block, block, c).sum(axis=(1, 3))
+    n = bsum(np.ones((h, w, c)))
+    nn = np.maximum(n, 1.0)
+    var = (bsum(0.25 * (a1 - a2) ** 2) + bsum(0.25 * (b1 - b2) ** 2)) / nn ** 2
+    ma, mb = bsum(0.5 * (a1 + a2)) / nn, bsum(0.5 * (b1 + b2)) / nn
+    # Floor: float32 rendering and storage (24-bit mantissa; 1e-6 relative is ~16 ulps), so
+    # noiseless blocks (background, sun-lit Lambert) compare at float precision, not exactly.
+    var = var + (FLOAT_FLOOR * np.maximum(np.abs(ma), np.abs(mb))) ** 2
+    diff = ma - mb
+    if expected_diff is not None:
+        diff = diff - bsum(expected_diff) / nn
+    z = np.where(n > 0, diff / np.sqrt(np.maximum(var, 1e-30)), 0.0)
+    return z, ma, mb, n
