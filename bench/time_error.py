@@ -232,7 +232,8 @@ class Blender:
 
 
 def cycles_reference(name, scene_path, cfg, blender):
-    key = digest(file_digest(scene_path), file_digest(os.path.join(HERE, "cycles_scene.py")),
+    key = digest(file_digest(scene_path), file_digest(os.path.join(HERE, "cycles_twin.py")),
+                 file_digest(os.path.join(ROOT, "tests", "blender", "cycles_scene.py")),
                  blender.info.get("blender"), cfg["cycles_ref_spp"], REF_SEEDS)
     paths = [os.path.join(ARGS.ref, "%s_cycles_%s_%d.exr" % (name, key, s)) for s in REF_SEEDS]
     for p, s in zip(paths, REF_SEEDS):
@@ -346,7 +347,8 @@ def run_scene(name, cfg, blender, rows, summary, checks):
             if kind == "cli":
                 sec = run_cli(scene_path, spp, SEED, opt, out)
             else:
-                sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out)["seconds"]
+                sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
+                                   integrator=data.get("render", {}).get("integrator", "path"))["seconds"]
             x = read(out)
             m = metrics(x, ref, ref_var)
             row = dict(scene=name, contender=cname, spp=spp, seconds=round(sec, 4),

@@ -11,9 +11,10 @@ stdout (Blender's own output goes there too; the driver reads only the reply lin
       F12 with that engine; "seconds" is the time of bpy.ops.render.render() (scene
       export/sync, BVH build and sampling; not Blender's start-up, not the EXR write)
   {"cmd": "quit"}
-Cycles' settings are those the issue asks for: box filter 1 px, no clamping, no denoising,
-adaptive sampling off, light threshold 0, the given seed (not animated), bounces = the Facet
-scene's max_depth, 32-bit float EXR. Errors are answered as {"error": message}."""
+Cycles' settings are tests/blender/cycles_scene.py's (box filter 1 px, no clamping, no
+denoising, adaptive sampling off, light threshold 0, the given seed, not animated, bounces
+matched to Facet's max_depth, 32-bit float EXR); the Cycles materials are time_error/
+cycles_twin.py's. Errors are answered as {"error": message}."""
 import json
 import os
 import sys
@@ -25,7 +26,7 @@ import bpy
 
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
-import cycles_scene  # noqa: E402  (the JSON scene -> Cycles nodes conversion)
+import cycles_twin  # noqa: E402  (the JSON scene -> Cycles nodes conversion)
 
 STATE = {}
 
@@ -42,32 +43,6 @@ def install(zip_path):
         raise RuntimeError("the Facet addon did not enable")
 
 
-def cycles_settings(scene, max_depth, threads):
-    c = scene.cycles
-    c.device = 'CPU'
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.light_sampling_threshold = 0.0
-    c.max_bounces = c.diffuse_bounces = c.glossy_bounces = max_depth
-    c.transmission_bounces = c.volume_bounces = c.transparent_max_bounces = max_depth
-    c.caustics_reflective = c.caustics_refractive = True
-    c.blur_glossy = 0.0
-    c.pixel_filter_type = 'BOX'
-    c.filter_width = 1.0
-    c.use_animated_seed = False
-    c.film_exposure = 1.0
-    c.use_auto_tile = False
-    scene.render.film_transparent = False
-    scene.render.threads_mode = 'FIXED'
-    scene.render.threads = threads
-    scene.view_settings.view_transform = 'Standard'
-    scene.view_settings.look = 'None'
-    im = scene.render.image_settings
-    im.file_format, im.color_depth, im.color_mode, im.exr_codec = 'OPEN_EXR', '32', 'RGB', 'ZIP'
-
-
 def load(req):
     bpy.ops.wm.read_homefile(use_empty=True)
     path = os.path.abspath(req["scene"])
@@ -81,8 +56,9 @@ def load(req):
     depth = int(render.get("max_depth", 8))
     scene.facet.max_depth = depth
     scene.facet.integrator = render.get("integrator", "path")
-    notes = cycles_scene.build(scene, data)
-    cycles_settings(scene, depth, int(req.get("threads", 2)))
+    notes = cycles_twin.build(scene, data, int(req.get("threads", 2)))
+    im = scene.render.image_settings
+    im.file_format, im.color_depth, im.color_mode, im.exr_codec = 'OPEN_EXR', '32', 'RGB', 'ZIP'
     STATE["scene"] = scene
     return {"notes": notes}
 
@@ -96,6 +72,7 @@ def render(req):
         scene.cycles.seed = int(req["seed"])
     else:
         scene.facet.spp = int(req["spp"])
+        scene.facet.integrator = req.get("integrator", "path")
         scene.facet.seed = int(req["seed"])
     t0 = time.perf_counter()
     bpy.ops.render.render()
