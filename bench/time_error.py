@@ -91,8 +91,28 @@ def contenders(scene):
                ("facet path sobol general", ["--integrator", "path", "--kernel", "general"]),
                ("facet path independent", ["--integrator", "path", "--sampler", "independent"]),
                ("facet direct sobol", ["--integrator", "direct"])]
-    return ([(n, "cli", o) for n, o in cli] +
+    pov = [("povray brdf", "pov", None)] if ARGS.povray and scene in POV_SCENES else []
+    return ([(n, "cli", o) for n, o in cli] + pov +
             [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
+
+
+# POV-Ray (povray-facet, the `brdf` finish, the SDL of `facet export-pov`): only where the
+# exported SDL renders the same picture. export-pov writes what `facet render --integrator
+# direct` computes; that is the full solution only on point_plane (a point light over a plane
+# that cannot see itself). Its budgets: adaptive antialiasing (+AM2) with threshold 0, so every
+# pixel is subdivided to the full depth r (+R): (2^r + 1)^2 jittered samples per pixel, corners
+# shared with the neighbours, ~4^r new samples per pixel; spp = 4^r is used as its budget.
+POV_SCENES = ("point_plane",)
+
+
+def run_pov(pov_path, spp, out):
+    r = int(round(math.log(spp, 4)))
+    cmd = [ARGS.povray, "+I" + pov_path, "+O" + out, "+FE", "+W%d" % CUR["size"][0],
+           "+H%d" % CUR["size"][1], "+AM2", "+A0.0", "+R%d" % r, "+J", "-D", "+UA-",
+           "+WT%d" % ARGS.threads, "-GA"]
+    t0 = time.perf_counter()
+    subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+    return time.perf_counter() - t0
 
 
 # --- images and metrics -------------------------------------------------------------------------
@@ -324,6 +344,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
         log("  analytic reference: Gauss-Legendre 12x12 vs 6x6 per pixel, max relative change "
             "%.2g" % (np.abs(ref - coarse) / ref).max())
         ref_var = np.zeros_like(ref)
+        REF_MEAN[name] = float(ref.mean())
     else:
         ref, ref_var, _ = facet_reference(name, scene_path, cfg)
     cref = None
@@ -345,15 +366,24 @@ def run_scene(name, cfg, blender, rows, summary, checks):
     conts = [c for c in contenders(name) if blender or c[1] == "cli"]
     imgdir = os.path.join(ARGS.out, "images", name)
     os.makedirs(imgdir, exist_ok=True)
+    CUR["size"] = cfg["size"]
+    pov_path = None
+    if any(c[1] == "pov" for c in conts):
+        pov_path = os.path.join(imgdir, name + ".pov")
+        subprocess.run([ARGS.facet, "export-pov", scene_path, "-o", pov_path], check=True)
     curves = {c[0]: [] for c in conts}
     for k, spp in enumerate(cfg["ladder"]):
         order = conts[k % len(conts):] + conts[:k % len(conts)]
         for cname, kind, opt in order:
             if name != "point_plane" and spp > CAP.get(cname, spp) and not ARGS.quick:
                 continue
+            if kind == "pov" and abs(math.log(spp, 4) - round(math.log(spp, 4))) > 1e-9:
+                continue
             out = os.path.join(imgdir, "%s_%d.exr" % (cname.replace(" ", "_"), spp))
             if kind == "cli":
                 sec = run_cli(scene_path, spp, SEED, opt, out)
+            elif kind == "pov":
+                sec = run_pov(pov_path, spp, out)
             else:
                 sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
                                    integrator=data.get("render", {}).get("integrator", "path"))["seconds"]
@@ -380,6 +410,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
         base = conts[0][0]
         target = curves[base][-1][1]
         base_time = curves[base][-1][0]
+    TARGETS[name] = target
     for cname in curves:
         pts = [(t, e) for t, e, _ in curves[cname]]
         if cname == "cycles":
@@ -415,7 +446,7 @@ def plot(all_curves, path):
               "facet path sobol general": ("C2", "--"), "facet direct sobol general": ("C2", "--"),
               "facet path independent": ("C4", "-."), "facet direct independent": ("C4", "-."),
               "facet path sobol ": ("C0", "-"), "facet in blender": ("C1", "-"),
-              "cycles": ("C3", "-")}
+              "cycles": ("C3", "-"), "povray brdf": ("C8", "-")}
     for ax, (name, curves) in zip(axes.ravel(), all_curves.items()):
         for cname, pts in curves.items():
             color, ls = styles.get(cname, ("C5", "-"))
@@ -427,6 +458,8 @@ def plot(all_curves, path):
             if cname == "cycles" and all(p[2] != "" for p in pts):
                 ax.loglog(t, [p[1] for p in pts], color=color, ls=":", lw=0.8,
                           label="cycles vs Facet ref")
+        if name in TARGETS:
+            ax.axhline(TARGETS[name], color="0.5", lw=0.8, ls="--")
         ax.set_title(name, fontsize=10)
         ax.set_xlabel("seconds (2 threads)", fontsize=8)
         ax.set_ylabel("RMSE", fontsize=8)
@@ -434,15 +467,32 @@ def plot(all_curves, path):
         ax.grid(True, which="both", lw=0.3)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
-    handles, labels = {}, {}
+    handles = {}
     for ax in axes.ravel()[:n]:
-        for h, l in zip(*ax.get_legend_handles_labels()):
-            handles.setdefault(l, h)
-    fig.legend(list(handles.values()), list(handles.keys()), loc="lower right", fontsize=7,
-               ncol=1 if n % cols else 4, frameon=False)
+        for h, lab in zip(*ax.get_legend_handles_labels()):
+            handles.setdefault(lab, h)
+    if n < rws * cols:
+        axes.ravel()[-1].legend(list(handles.values()), list(handles.keys()), loc="center",
+                                fontsize=8, frameon=False)
+    else:
+        fig.legend(list(handles.values()), list(handles.keys()), loc="upper center",
+                   bbox_to_anchor=(0.5, 0.0), fontsize=7, ncol=4, frameon=False)
     fig.tight_layout()
-    fig.savefig(path, dpi=80)
+    fig.savefig(path, dpi=80, bbox_inches="tight")
     plt.close(fig)
+
+
+def replot():
+    curves = {}
+    with open(os.path.join(ARGS.publish, "time_error.csv")) as f:
+        for r in csv.DictReader(f):
+            self_e = float(r["rmse_self"]) if r["rmse_self"] else ""
+            curves.setdefault(r["scene"], {}).setdefault(r["contender"], []).append(
+                (float(r["seconds"]), float(r["rmse"]), self_e))
+    for name, c in curves.items():
+        if "cycles" in c and c["cycles"][-1][2] != "":
+            TARGETS[name] = c["cycles"][-1][2]
+    plot(curves, os.path.join(ARGS.publish, "time_error.png"))
 
 
 def write_summary(summary, checks, path, meta):
@@ -478,20 +528,31 @@ def main():
     ap.add_argument("--no-blender", action="store_true", help="Facet standalone only")
     ap.add_argument("--build", default=os.path.join(ROOT, "build"))
     ap.add_argument("--blender", default=shutil.which("blender") or "blender")
+    ap.add_argument("--facet", default=None, help="the facet CLI (default <build>/core/cli/facet)")
+    ap.add_argument("--povray", default=None, help="povray-facet binary: adds POV-Ray (brdf "
+                    "finish, facet export-pov) where the SDL can express the scene")
+    ap.add_argument("--replot", action="store_true", help="only redraw the plot from the "
+                    "published CSV (no rendering)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--check", action="store_true", help="smoke test (CTest): exit 1 unless "
+                    "every Sobol Facet contender's error falls with the budget and point_plane's "
+                    "converges to the analytic reference")
     ap.add_argument("--out", default=None, help="run directory (default out/bench/time_error or "
                     "out/bench/quick)")
     ap.add_argument("--publish", default=None, help="where the CSV, summary and plot go "
                     "(default docs/perf; --quick: the run directory)")
     ARGS = ap.parse_args()
-    ARGS.out_root = os.path.join(ROOT, "out", "bench")
+    ARGS.out_root = (os.path.dirname(os.path.abspath(ARGS.out)) if ARGS.out
+                     else os.path.join(ROOT, "out", "bench"))
     ARGS.out = ARGS.out or os.path.join(ARGS.out_root, "quick" if ARGS.quick else "time_error")
     ARGS.ref = os.path.join(ARGS.out_root, "ref")
     ARGS.publish = ARGS.publish or (ARGS.out if ARGS.quick else os.path.join(ROOT, "docs", "perf"))
-    ARGS.facet = os.path.join(ARGS.build, "core", "cli", "facet")
+    ARGS.facet = ARGS.facet or os.path.join(ARGS.build, "core", "cli", "facet")
     ARGS.addon_zip = os.path.join(ARGS.build, "blender_addon", "facet_blender.zip")
     for d in (ARGS.out, ARGS.ref, ARGS.publish):
         os.makedirs(d, exist_ok=True)
+    if ARGS.replot:
+        return replot()
     open(os.path.join(ARGS.out, "run.log"), "w").close()
     names = [s for s in ARGS.scenes.split(",") if s]
     for s in names:
@@ -529,8 +590,41 @@ def main():
     for s in summary:
         log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
                                                      s["seconds"], s["ratio"]))
+    if ARGS.check:
+        sys.exit(check(rows))
+
+
+def check(rows):
+    """The smoke test's conditions; returns the exit code. Sobol Facet renders must lose at
+    least 3/4 of their RMSE from the first budget to the last (4 -> 64 spp in --quick; measured
+    ~1/40 on point_plane, ~1/8 on the Cornell box), and point_plane's direct renders must reach
+    1e-4 of the image mean against the analytic reference (measured ~1e-5 at 64 spp; a reference
+    off by a fraction of a pixel or by a radiometric factor stays far above it)."""
+    bad = []
+    for name in sorted({r["scene"] for r in rows}):
+        for cname in ("facet path sobol", "facet direct sobol"):
+            rs = [r for r in rows if r["scene"] == name and r["contender"] == cname]
+            if not rs or (name != "point_plane" and cname == "facet direct sobol"):
+                continue
+            first, last = rs[0]["rmse"], rs[-1]["rmse"]
+            ok = last < 0.25 * first
+            print("check: %s %s RMSE %.3g at %d spp -> %.3g at %d spp: %s"
+                  % (name, cname, first, rs[0]["spp"], last, rs[-1]["spp"], "ok" if ok else "FAIL"))
+            if not ok:
+                bad.append((name, cname))
+            if name == "point_plane":
+                mean = REF_MEAN[name]
+                ok = last < 1e-4 * mean
+                print("check: point_plane %s RMSE %.3g < 1e-4 x image mean %.3g: %s"
+                      % (cname, last, mean, "ok" if ok else "FAIL"))
+                if not ok:
+                    bad.append((name, cname + " vs analytic"))
+    return 1 if bad else 0
 
 
 ARGS = None
+REF_MEAN = {}
+CUR = {}
+TARGETS = {}
 if __name__ == "__main__":
     main()

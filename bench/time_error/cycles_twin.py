@@ -26,7 +26,6 @@ import math
 import os
 import sys
 
-import bpy
 from mathutils import Vector
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
