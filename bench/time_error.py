@@ -495,6 +495,131 @@ def replot():
     plot(curves, os.path.join(ARGS.publish, "time_error.png"))
 
 
+# --- repeated timings at the budget that reaches the error level --------------------------------
+MAX_EXTRAPOLATION = 8.0  # x the top budget: the timing rounds measure the error there again
+
+
+def spp_to_error(pts, target):
+    """The budget (spp) at which the log-log curve [(spp, rmse)] first reaches target; beyond
+    the ladder, the last segment's slope extended up to MAX_EXTRAPOLATION x the top budget
+    (the timing rounds then measure the error at that budget). None if out of reach."""
+    pts = [(n, e) for n, e in pts if e > 0]
+    if pts and pts[0][1] <= target:
+        return float(pts[0][0])
+    for (n0, e0), (n1, e1) in zip(pts, pts[1:]):
+        if e1 <= target < e0:
+            a = (math.log(target) - math.log(e0)) / (math.log(e1) - math.log(e0))
+            return math.exp(math.log(n0) + a * (math.log(n1) - math.log(n0)))
+    if len(pts) >= 2:
+        (n0, e0), (n1, e1) = pts[-2], pts[-1]
+        slope = (math.log(e1) - math.log(e0)) / (math.log(n1) - math.log(n0))
+        if slope < 0:
+            n = n1 * math.exp((math.log(target) - math.log(e1)) / slope)
+            if n <= MAX_EXTRAPOLATION * n1:
+                return n
+    return None
+
+
+def timing_phase(names, rows, blender, reps):
+    """Timing noise on a shared machine is tens of percent per render, and the error against
+    spp is deterministic (fixed seeds): so each contender that reaches the error level is
+    rendered `reps` more times at the budget that reaches it (spp rounded up; Cycles at its top
+    budget), interleaved round by round with Cycles, and the ratio is taken of the medians (and
+    the median of the per-round ratios). The error of these renders is measured again."""
+    out_rows, lines = [], []
+    for name in names:
+        cfg = CFG[name]
+        scene_path, data = bench_scene(name, cfg)
+        srows = [r for r in rows if r["scene"] == name]
+        cyc = [r for r in srows if r["contender"] == "cycles"]
+        if not cyc or cyc[-1]["rmse_self"] == "":
+            continue
+        target = float(cyc[-1]["rmse_self"])
+        if cfg["ref_spp"] is None:
+            ref, ref_var = point_plane_reference(data, 12), None
+            ref_var = np.zeros_like(ref)
+        else:
+            ref, ref_var, _ = facet_reference(name, scene_path, cfg)
+        cref, cref_var = cycles_reference(name, scene_path, cfg, blender)
+        blender.call(cmd="load", scene=scene_path, threads=ARGS.threads)
+        jobs = []
+        for cname, kind, opt in contenders(name):
+            pts = [(int(r["spp"]), float(r["rmse"])) for r in srows if r["contender"] == cname]
+            if cname == "cycles":
+                jobs.append((cname, kind, opt, int(cyc[-1]["spp"])))
+                continue
+            if kind == "pov" or "independent" in cname or \
+                    (cname == "facet direct sobol" and name != "point_plane") or \
+                    (ARGS.reps_contenders and cname not in ARGS.reps_contenders.split(",")):
+                continue
+            n = spp_to_error(pts, target)
+            if n is not None:
+                jobs.append((cname, kind, opt, int(math.ceil(n))))
+        times = {j[0]: [] for j in jobs}
+        errs = {}
+        log("== %s: %d timing rounds at the error level RMSE %.4g: %s" % (
+            name, reps, target, ", ".join("%s %d spp" % (j[0], j[3]) for j in jobs)))
+        imgdir = os.path.join(ARGS.out, "images", name)
+        os.makedirs(imgdir, exist_ok=True)
+        rounds = []
+        for k in range(reps):
+            order = jobs[k % len(jobs):] + jobs[:k % len(jobs)]
+            this = {}
+            for cname, kind, opt, spp in order:
+                out = os.path.join(imgdir, "rep_%s.exr" % cname.replace(" ", "_"))
+                if kind == "cli":
+                    sec = run_cli(scene_path, spp, SEED, opt, out)
+                else:
+                    sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
+                                       integrator=data.get("render", {}).get(
+                                           "integrator", "path"))["seconds"]
+                x = read(out)
+                e = metrics(x, cref, cref_var)["rmse"] if cname == "cycles" else \
+                    metrics(x, ref, ref_var)["rmse"]
+                errs[cname] = e
+                times[cname].append(sec)
+                this[cname] = sec
+                out_rows.append(dict(scene=name, contender=cname, round=k, spp=spp,
+                                     seconds=round(sec, 4), rmse=e))
+                log("  round %d %-28s %5d spp %8.2f s  RMSE %.4g" % (k, cname, spp, sec, e))
+            rounds.append(this)
+        tc = float(np.median(times["cycles"]))
+        goal = 1 / 3 if name == "cornell_box" else 1 / 2
+        main = "facet direct sobol" if name == "point_plane" else "facet path sobol"
+        for cname, kind, opt, spp in jobs:
+            t = float(np.median(times[cname]))
+            per_round = float(np.median([r[cname] / r["cycles"] for r in rounds]))
+            verdict = ""
+            if cname == main:
+                verdict = "≤ %s: %s" % ("1/3" if goal < 0.4 else "1/2",
+                                        "met" if per_round <= goal else "**not met**")
+            lines.append("| %s | %s | %d | %.4g | %s | %.2f s | %.3f | %.3f | %s |" % (
+                name, cname, spp, errs[cname], " ".join("%.2f" % v for v in times[cname]), t,
+                t / tc, per_round, verdict))
+    mode = "a" if ARGS.reps_append else "w"
+    with open(os.path.join(ARGS.publish, "time_error_reps.csv"), mode, newline="") as f:
+        w = csv.DictWriter(f, ["scene", "contender", "round", "spp", "seconds", "rmse"])
+        if mode == "w":
+            w.writeheader()
+        for r in out_rows:
+            w.writerow({k: ("%.6g" % v if isinstance(v, float) else v) for k, v in r.items()})
+    head = ["| scene | contender | spp reaching the level | RMSE there | seconds per round | "
+            "median | ratio of medians to Cycles | median per-round ratio | target |",
+            "|---|---|---:|---:|---|---:|---:|---:|---|"]
+    text = "\n".join(["## Time to Cycles' top-budget error, %d interleaved rounds (%s)"
+                       % (reps, ", ".join(names)), "", "Run of %s UTC, load average at the end "
+                       "%.1f." % (time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
+                                  os.getloadavg()[0]), ""] + head + lines)
+    with open(os.path.join(ARGS.publish, "time_error_ratios.md"), mode) as f:
+        f.write(("\n" if mode == "a" else "") + text + "\n")
+    log(text)
+
+
+def read_rows():
+    with open(os.path.join(ARGS.publish, "time_error.csv")) as f:
+        return list(csv.DictReader(f))
+
+
 def write_summary(summary, checks, path, meta):
     lines = ["# Time against error (bench/time_error.py)", "", meta, "",
              "| scene | contender | time to the error level | ratio to %s | target |"
@@ -531,6 +656,13 @@ def main():
     ap.add_argument("--facet", default=None, help="the facet CLI (default <build>/core/cli/facet)")
     ap.add_argument("--povray", default=None, help="povray-facet binary: adds POV-Ray (brdf "
                     "finish, facet export-pov) where the SDL can express the scene")
+    ap.add_argument("--reps", type=int, default=3, help="timing rounds at the error level "
+                    "after the ladders (0: none)")
+    ap.add_argument("--reps-only", action="store_true", help="only the timing rounds, from the "
+                    "published CSV of an earlier run")
+    ap.add_argument("--reps-contenders", default="", help="comma-separated: only these Facet "
+                    "contenders in the timing rounds (Cycles always)")
+    ap.add_argument("--reps-append", action="store_true", help="append to the timing tables")
     ap.add_argument("--replot", action="store_true", help="only redraw the plot from the "
                     "published CSV (no rendering)")
     ap.add_argument("--threads", type=int, default=2)
@@ -575,11 +707,17 @@ def main():
                 cfg["ladder"] = QUICK["ladder"]
                 cfg["ref_spp"] = cfg["ref_spp"] and QUICK["ref_spp"]
                 cfg["cycles_ref_spp"] = QUICK["cycles_ref_spp"]
-            all_curves[name] = run_scene(name, cfg, blender, rows, summary, checks)
-            plot(all_curves, os.path.join(ARGS.publish, "time_error.png"))
+            CFG[name] = cfg
+            if not ARGS.reps_only:
+                all_curves[name] = run_scene(name, cfg, blender, rows, summary, checks)
+                plot(all_curves, os.path.join(ARGS.publish, "time_error.png"))
+        if blender and ARGS.reps > 0 and not ARGS.quick:
+            timing_phase(names, read_rows(), blender, ARGS.reps)
     finally:
         if blender:
             blender.close()
+    if ARGS.reps_only:
+        return
     meta = ("Run of %s: %.0f min, %d threads, load average %.1f at the start and %.1f at the end "
             "(2-core machine shared with other work). Error level per scene: the RMSE of Cycles' "
             "top-budget render against Cycles' own reference." %
@@ -623,6 +761,7 @@ def check(rows):
 
 
 ARGS = None
+CFG = {}
 REF_MEAN = {}
 CUR = {}
 TARGETS = {}
