@@ -4,6 +4,16 @@ with POV-Ray's classic phong/specular finishes, in the same run and with the sam
 (povray-facet renders classic finishes with POV-Ray's own code: no core call).
 
 Usage: bench/povray_bench.py [POVRAY_FACET] [--reps N] [--size WxH] [--threads T]
+                             [--facet FACET_CLI] [--vs-size WxH]
+
+With --facet, a second table: the same JSON scene rendered by `facet export-pov` + povray-facet
+and by the standalone renderer `facet render --integrator direct --spp 1` at matched settings
+(one ray through each pixel centre, the same lights, the same threads; the cross-check tests show
+the two images equal within 1e-3): tests/povray/export_coverage.json (3 delta lights, every
+shape kind and model, mirrors) and the Cornell box with its light as 16 x 16 cells (povray-facet:
+export-pov --area-grid 16; Facet: the same cells as spot lights, crosscheck.quadrature_twin).
+Wall time of each whole process (parse/build included), interleaved, medians and the median of
+the per-repetition ratios povray-facet / facet.
 
 Each repetition renders every variant once, in alternating order, so that a drift of the
 machine's speed hits all variants alike; the table shows the median wall time per variant and
@@ -11,6 +21,7 @@ the median of the per-repetition ratios brdf / classic (target <= 1.10 for the l
 case). Glossy reflection rays (`samples N`) do work that classic finishes do not do at all;
 their rows are reported against classic `reflection`, for scale, with no target.
 """
+import json
 import os
 import statistics
 import subprocess
@@ -62,10 +73,72 @@ def render(binary, scene, out, size, threads):
     return t
 
 
+def timed(args, cwd):
+    t0 = time.perf_counter()
+    proc = subprocess.run(args, cwd=cwd, env=dict(os.environ, HOME=cwd),
+                          stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
+    t = time.perf_counter() - t0
+    if proc.returncode != 0:
+        sys.exit(f"{args[0]} failed:\n{proc.stderr.decode()[-2000:]}")
+    return t
+
+
+def vs_facet(binary, facet, reps, size, threads):
+    """povray-facet (exported scene) against the standalone renderer, same run, interleaved."""
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    sys.path.insert(0, os.path.join(root, "tests", "povray"))
+    import crosscheck  # the quadrature twin of an emitter (spot lights at the cell centres)
+    w, h = size
+    cases = []
+    with tempfile.TemporaryDirectory() as tmp:
+        cov = json.load(open(os.path.join(root, "tests", "povray", "export_coverage.json")))
+        cb = json.load(open(os.path.join(root, "scenes", "cornell_box.json")))
+        for name, scene, pov_scene, grid in (
+                ("export_coverage (3 delta lights)", cov, cov, None),
+                ("cornell_box, light as 16x16 cells", crosscheck.quadrature_twin(cb, 16), cb, 16)):
+            for sc in (scene, pov_scene):
+                sc["camera"]["width"], sc["camera"]["height"] = w, h
+            js = os.path.join(tmp, f"c{len(cases)}.json")
+            pjs = os.path.join(tmp, f"p{len(cases)}.json")
+            json.dump(scene, open(js, "w"))
+            json.dump(pov_scene, open(pjs, "w"))
+            pov = pjs[:-5] + ".pov"
+            t_export = timed([facet, "export-pov", pjs, "-o", pov]
+                             + (["--area-grid", str(grid)] if grid else []), tmp)
+            pov_cmd = [binary, f"+I{pov}", f"+O{tmp}/o.exr", "+FE", f"+W{w}", f"+H{h}", "-A",
+                       "-UA", "-D", "-V", f"+WT{threads}"]
+            facet_cmd = [facet, "render", js, "-o", f"{tmp}/f.exr", "--integrator", "direct",
+                         "--spp", "1", "--threads", str(threads), "-q"]
+            # The fixed cost of each process (start-up, parsing / scene build and BVH): the same
+            # command for one pixel (POV-Ray: a 1x1 image; Facet: --region 0,0,1,1).
+            pov_one = [a for a in pov_cmd if a[:2] not in ("+W", "+H")] + ["+W1", "+H1"]
+            facet_one = facet_cmd + ["--region", "0,0,1,1"]
+            tp, tf, tp1, tf1 = [], [], [], []
+            for r in range(reps):
+                runs = [(pov_cmd, tp), (facet_cmd, tf), (pov_one, tp1), (facet_one, tf1)]
+                for cmd, out in (runs if r % 2 == 0 else runs[::-1]):
+                    out.append(timed(cmd, tmp))
+            cases.append((name, t_export, tp, tf, tp1, tf1))
+    print(f"\nexport-pov + povray-facet vs facet render --integrator direct --spp 1, {w}x{h}, "
+          f"{threads} threads, {reps} repetitions (median wall time of the process, s)")
+    print(f"  {'scene':36s} {'export-pov':>10s} {'povray-facet':>12s} {'facet':>8s}  "
+          "ratio pov/facet: of medians, median per rep (range)")
+    med = statistics.median
+    for name, te, tp, tf, tp1, tf1 in cases:
+        ratios = [a / b for a, b in zip(tp, tf)]
+        print(f"  {name:36s} {te:10.3f} {med(tp):12.3f} {med(tf):8.3f}"
+              f"  {med(tp) / med(tf):.2f}, {med(ratios):.2f} ({min(ratios):.2f}-{max(ratios):.2f})")
+        net = [(a - a1) / (b - b1) for a, b, a1, b1 in zip(tp, tf, tp1, tf1)]
+        print(f"  {'  one pixel (fixed cost)':36s} {'':10s} {med(tp1):12.3f} {med(tf1):8.3f}"
+              f"  rendering alone (total - one pixel): {med(tp) - med(tp1):.3f} s vs "
+              f"{med(tf) - med(tf1):.3f} s, ratio per rep {med(net):.2f} ({min(net):.2f}-{max(net):.2f})")
+
+
 def main():
     args = sys.argv[1:]
     binary = "build/povray_patch/bin/povray-facet"
     reps, size, threads = 5, (320, 240), 2
+    facet, vs_size = None, (640, 480)
     while args:
         a = args.pop(0)
         if a == "--reps":
@@ -74,6 +147,10 @@ def main():
             size = tuple(int(v) for v in args.pop(0).split("x"))
         elif a == "--threads":
             threads = int(args.pop(0))
+        elif a == "--facet":
+            facet = os.path.abspath(args.pop(0))
+        elif a == "--vs-size":
+            vs_size = tuple(int(v) for v in args.pop(0).split("x"))
         else:
             binary = a
     binary = os.path.abspath(binary)
@@ -100,6 +177,8 @@ def main():
         ratios = [x / y for x, y in zip(times[a], times[b])]
         print(f"  ratio {a} / {b}: median {statistics.median(ratios):.3f} "
               f"(range {min(ratios):.3f}-{max(ratios):.3f})")
+    if facet:
+        vs_facet(binary, facet, reps, vs_size, threads)
 
 
 if __name__ == "__main__":

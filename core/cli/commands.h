@@ -12,6 +12,7 @@ namespace facet::cli {
 void add_brdf_commands(CLI::App& app);        // brdf_cmd.cpp: brdf eval | sample | plot
 void add_reflectance_command(CLI::App& app);  // reflectance_cmd.cpp
 void add_render_command(CLI::App& app);       // render_cmd.cpp (renderer, issue 3)
-void add_diff_command(CLI::App& app);         // diff_cmd.cpp (image comparison)
+void add_diff_command(CLI::App& app);         // diff_cmd.cpp (image comparison, convert)
+void add_export_pov_command(CLI::App& app);   // export_pov_cmd.cpp (POV-Ray SDL)
 
 }  // namespace facet::cli

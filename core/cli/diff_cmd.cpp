@@ -1,3 +1,6 @@
+// `facet convert in.exr -o out.pfm`: re-encode an image (.exr/.png in; .exr/.png/.pfm out) —
+// PFM (float32, exact) is for scripts that read pixels without an EXR library (the POV-Ray
+// cross-check).
 // `facet diff a.exr b.exr`: compare a test image with a reference (metrics in
 // facet/render/diff.h). Exit code 0 when the comparison ran (and, with --require, when enough
 // pixels are within tolerance), 2 when --require is not met, 1 on errors (unreadable files,
@@ -6,6 +9,7 @@
 #include <CLI/CLI.hpp>
 #include <nlohmann/json.hpp>
 
+#include <cctype>
 #include <cstdio>
 #include <memory>
 #include <stdexcept>
@@ -77,9 +81,44 @@ void run_diff(const DiffOptions& o) {
     }
 }
 
+// Portable Float Map: "PF", width height, -1 (little endian), rows bottom to top, RGB float32.
+void write_pfm(const render::Image& image, const std::string& path) {
+    std::FILE* f = std::fopen(path.c_str(), "wb");
+    if (!f) throw std::runtime_error("convert: -o " + path + ": cannot write");
+    std::fprintf(f, "PF\n%d %d\n-1.0\n", image.width(), image.height());
+    bool ok = true;
+    for (int y = image.height() - 1; y >= 0; --y)
+        for (int x = 0; x < image.width(); ++x) {
+            const Rgb& p = image.at(x, y);
+            const float v[3] = {p.r, p.g, p.b};  // x86/ARM: little endian, as "-1.0" says
+            ok = ok && std::fwrite(v, sizeof(float), 3, f) == 3;
+        }
+    ok = (std::fclose(f) == 0) && ok;
+    if (!ok) throw std::runtime_error("convert: -o " + path + ": cannot write");
+}
+
+void run_convert(const std::string& in, const std::string& out) {
+    const render::Image image = render::read_image(in);
+    const auto dot = out.find_last_of('.');
+    std::string ext = dot == std::string::npos ? "" : out.substr(dot);
+    for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+    if (ext == ".pfm")
+        write_pfm(image, out);
+    else
+        render::write_image(image, out);
+}
+
 }  // namespace
 
 void add_diff_command(CLI::App& app) {
+    auto conv_in = std::make_shared<std::string>();
+    auto conv_out = std::make_shared<std::string>();
+    CLI::App* conv = app.add_subcommand(
+        "convert", "Re-encode an image: .exr/.png in; .exr (float), .png (sRGB) or .pfm out");
+    conv->add_option("input", *conv_in, "input image (.exr or .png)")->required();
+    conv->add_option("-o,--output", *conv_out, "output image (.exr, .png or .pfm)")->required();
+    conv->callback([conv_in, conv_out] { run_convert(*conv_in, *conv_out); });
+
     auto o = std::make_shared<DiffOptions>();
     CLI::App* cmd =
         app.add_subcommand("diff",

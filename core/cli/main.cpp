@@ -13,6 +13,7 @@ int main(int argc, char** argv) {
     facet::cli::add_reflectance_command(app);
     facet::cli::add_render_command(app);
     facet::cli::add_diff_command(app);
+    facet::cli::add_export_pov_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

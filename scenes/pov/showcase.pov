@@ -28,7 +28,7 @@ camera {
   location P
   right 2 * Tx * R
   up 2 * Ty * U
-  direction F + (Tx / image_width) * R - (Ty / image_height) * U
+  direction F  // POV-Ray 3.7 traces pixel centres itself (scenes/FORMAT.md)
 }
 
 sky_sphere { pigment { rgb <0.12, 0.15, 0.22> } }

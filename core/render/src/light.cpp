@@ -1,5 +1,6 @@
 // Light sampling (conventions in facet/render/light.h).
 #include "facet/render/light.h"
+#include "facet/render/light_units.h"
 
 #include <algorithm>
 
@@ -54,14 +55,9 @@ Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
     double co = std::cos(double(outer_half_angle_deg) * kPiD / 180.0);
     l.m_cos_inner = float(ci);
     l.m_cos_outer = float(co);
-    // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu = 2 pi I0 [(1 - ci) + (ci - co) / 2].
-    // 1 - ci written as 2 sin^2(theta/2) to keep precision for narrow cones.
-    double half_in = 0.5 * double(inner_half_angle_deg) * kPiD / 180.0;
-    double half_out = 0.5 * double(outer_half_angle_deg) * kPiD / 180.0;
-    double one_minus_ci = 2.0 * sqr(std::sin(half_in));
-    double one_minus_co = 2.0 * sqr(std::sin(half_out));
-    double solid = 2.0 * kPiD * 0.5 * (one_minus_ci + one_minus_co);
-    l.m_intensity = solid > 0.0 ? Rgb(glm::dvec3(power) / solid) : Rgb(0.f);
+    // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu (light_units.h, shared with the exporters).
+    l.m_intensity = Rgb(spot_intensity(glm::dvec3(power), double(inner_half_angle_deg),
+                                       double(outer_half_angle_deg)));
     return l;
 }
 

@@ -1,0 +1,58 @@
+// Light unit conversions: one function per quantity, used by the renderer's lights (light.cpp)
+// and by every exporter (`facet export-pov`), so that a unit is converted in exactly one place.
+//
+// Conventions:
+//  - Facet's units are scenes/FORMAT.md's: point and spot lights by radiant power Phi (W),
+//    directional lights by irradiance E (W m^-2), emitters by radiance L (W sr^-1 m^-2), angles
+//    in degrees. Everything here is per RGB channel and in double precision.
+//  - POV-Ray colours are those of povray-facet (the POV-Ray patch): a light of colour c with
+//    `physical_falloff` gives a surface of BRDF f the radiance pi f cos(theta_i) c / d^2 (the
+//    patch's scale, chosen so that Lambert rho/pi equals classic `diffuse rho`), so c is the
+//    radiant intensity divided by pi; a `parallel` light (no falloff) gives pi f cos c, so c is
+//    the irradiance divided by pi.
+#pragma once
+
+#include <cmath>
+
+#include "facet/types.h"
+
+namespace facet::render {
+
+// Radiant intensity (W/sr) of an isotropic point light of power Phi: I = Phi / (4 pi)
+// (Cohen & Wallace eq. 2.40).
+inline glm::dvec3 point_intensity(const glm::dvec3& power) {
+    return power / (4.0 * kPiD);
+}
+
+// On-axis intensity I0 (W/sr) of a spot light of power Phi whose intensity is I0 inside the
+// inner cone, 0 outside the outer cone and linear in cos(theta) between them (half-angles in
+// degrees): Phi = 2 pi I0 [(1 - cos inner) + (cos inner - cos outer) / 2]. 1 - cos is written
+// as 2 sin^2(theta / 2) to keep precision for narrow cones. A zero-width cone gives 0.
+inline glm::dvec3 spot_intensity(const glm::dvec3& power, double inner_deg, double outer_deg) {
+    const double half_in = 0.5 * inner_deg * kPiD / 180.0;
+    const double half_out = 0.5 * outer_deg * kPiD / 180.0;
+    const double one_minus_ci = 2.0 * std::sin(half_in) * std::sin(half_in);
+    const double one_minus_co = 2.0 * std::sin(half_out) * std::sin(half_out);
+    const double solid = 2.0 * kPiD * 0.5 * (one_minus_ci + one_minus_co);
+    return solid > 0.0 ? power / solid : glm::dvec3(0.0);
+}
+
+// On-axis intensity (W/sr) of a flat Lambertian emitter of radiance L and area A:
+// I(theta) = L A cos(theta), so I0 = L A.
+inline glm::dvec3 emitter_intensity(const glm::dvec3& radiance, double area) {
+    return radiance * area;
+}
+
+// povray-facet light colour of a `physical_falloff` light of radiant intensity I (W/sr):
+// c = I / pi (see conventions).
+inline glm::dvec3 pov_light_colour(const glm::dvec3& intensity) {
+    return intensity / kPiD;
+}
+
+// povray-facet colour of a `parallel` light giving irradiance E (W m^-2) on a surface facing
+// it: c = E / pi (see conventions).
+inline glm::dvec3 pov_parallel_colour(const glm::dvec3& irradiance) {
+    return irradiance / kPiD;
+}
+
+}  // namespace facet::render

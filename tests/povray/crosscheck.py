@@ -1,0 +1,502 @@
+#!/usr/bin/python3
+"""Cross-check of `facet export-pov` + povray-facet against `facet render --integrator direct`.
+
+usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
+
+  scene NAME [N]  scenes/NAME.json (or tests/povray/NAME.json), --area-grid N (16), exported and rendered by povray-facet at a small size, against
+               facet render --integrator direct of the same JSON (README, POV-Ray, "Cross-check")
+  coverage     tests/povray/export_coverage.json: every shape kind, model and delta light
+  scenes-errors  the scenes of scenes/ that POV-Ray cannot express fail to export, each with an
+               error naming the JSON path of the reason
+  errors       export-pov errors: each names the file and the JSON path (or the flag)
+  glossy       povray-facet's glossy reflection rays (export-pov --glossy-samples) against
+               `facet render --integrator path` at the matching depth, within noise (block t-test)
+
+Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
+half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
+Facet renders with 1 sample per pixel through the pixel centre (render.h), as POV-Ray does
+without antialiasing, so silhouettes coincide; delta lights make both renders deterministic.
+"""
+import json
+import math
+import os
+import re
+import subprocess
+import sys
+import tempfile
+
+import numpy as np
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+ROOT = os.path.dirname(os.path.dirname(HERE))
+REL_TOL = 1e-3        # per channel, relative to the Facet value
+REQUIRED = 0.995      # fraction of pixels within REL_TOL
+BLACK = 1e-6          # both values below this (shadow, black back side) count as equal
+
+
+def read_pfm(path):
+    with open(path, "rb") as f:
+        if f.readline().strip() != b"PF":
+            raise RuntimeError(path + ": not a colour PFM")
+        w, h = map(int, f.readline().split())
+        scale = float(f.readline())
+        a = np.frombuffer(f.read(), dtype="<f4" if scale < 0 else ">f4").reshape(h, w, 3)
+    return a[::-1].astype(np.float64)
+
+
+class Env:
+    def __init__(self, pov, facet, tmp):
+        self.pov, self.facet, self.tmp = pov, facet, tmp
+        self.n = 0
+
+    def path(self, stem):
+        self.n += 1
+        return os.path.join(self.tmp, f"{self.n:03d}_{stem}")
+
+    def run(self, args, check=True):
+        p = subprocess.run(args, capture_output=True, text=True)
+        if check and p.returncode != 0:
+            raise RuntimeError(f"{' '.join(args)} failed ({p.returncode}):\n{p.stdout}{p.stderr}")
+        return p
+
+    def image(self, exr):
+        pfm = exr[:-4] + ".pfm"
+        self.run([self.facet, "convert", exr, "-o", pfm])
+        return read_pfm(pfm)
+
+    def write_scene(self, scene, stem):
+        js = self.path(stem + ".json")
+        with open(js, "w") as f:
+            json.dump(scene, f)
+        return js
+
+    def export(self, js, *extra):
+        pov = self.path(os.path.basename(js)[4:-5] + ".pov")  # a new name per export
+        self.run([self.facet, "export-pov", js, "-o", pov] + list(extra))
+        return pov
+
+    def povray(self, pov, w, h):
+        exr = pov[:-4] + "_pov.exr"
+        # -A: no antialiasing (one ray through each pixel centre); +WT2: the result does not
+        # depend on the thread count (no jitter, no radiosity).
+        p = self.run([self.pov, f"+I{pov}", f"+O{exr}", "+FE", f"+W{w}", f"+H{h}", "-A", "-UA",
+                      "-D", "-V", "+WT2"], check=False)
+        if p.returncode != 0 or not os.path.exists(exr):
+            raise RuntimeError(f"povray-facet failed on {pov} ({p.returncode}):\n{p.stderr[-3000:]}")
+        return self.image(exr)
+
+    def render(self, js, *extra, integrator="direct"):
+        exr = self.path(os.path.basename(js)[4:-5] + "_facet.exr")  # a new name per render
+        self.run([self.facet, "render", js, "-o", exr, "--integrator", integrator, "-q"] + list(extra))
+        return self.image(exr)
+
+
+def compare(name, test, ref, mask=None, rel=REL_TOL, required=REQUIRED):
+    """Fraction of pixels (within mask) whose every channel is within rel of ref (or both
+    black); prints the worst pixels; True when >= required."""
+    err = np.abs(test - ref) / np.maximum(np.abs(ref), 1e-30)
+    err[(np.abs(test) < BLACK) & (np.abs(ref) < BLACK)] = 0.0
+    # Below half's smallest normal (6.1e-5) EXR half floats have a fixed step of 2^-24: a
+    # difference within one step is the file format's rounding.
+    err[np.abs(test - ref) <= 2.0 ** -24] = 0.0
+    e = err.max(axis=2)
+    if mask is None:
+        mask = np.ones(e.shape, bool)
+    within = (e <= rel) & mask
+    frac = within.sum() / max(mask.sum(), 1)
+    ok = frac >= required
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: {100 * frac:.3f}% of {mask.sum()} pixels within "
+          f"{rel:g} (required {100 * required:g}%); median error {np.median(e[mask]):.2e}, "
+          f"max {e[mask].max():.2e}")
+    ys, xs = np.nonzero(mask & ~within)
+    order = np.argsort(-e[ys, xs])[:6]
+    for k in order:
+        y, x = ys[k], xs[k]
+        print(f"      pixel ({x}, {y}): povray {test[y, x]} facet {ref[y, x]} (error {e[y, x]:.2e})")
+    return ok
+
+
+def small(scene, max_width=96):
+    """The scene at a test size (same aspect ratio, width <= max_width)."""
+    cam = scene["camera"]
+    if cam["width"] > max_width:
+        cam["height"] = max(1, round(cam["height"] * max_width / cam["width"]))
+        cam["width"] = max_width
+    return scene
+
+
+def emitters(scene):
+    return [s for s in scene["shapes"] if s.get("emission") not in (None, 0, [0, 0, 0])]
+
+
+def rgb3(v):
+    return [float(v)] * 3 if not isinstance(v, list) else [float(c) for c in v]
+
+
+def transform_matrix(t):
+    """FORMAT.md "transform" (one object or a list, applied in order) -> 4x4 (column vectors)."""
+    m = np.eye(4)
+    for x in (t if isinstance(t, list) else [t]):
+        if "matrix" in x:
+            step = np.array(x["matrix"], float).reshape(4, 4)
+        else:
+            sc = x.get("scale", 1.0)
+            S = np.diag((sc if isinstance(sc, list) else [sc] * 3) + [1.0])
+            R = np.eye(4)
+            if "rotate" in x:
+                a = np.array(x["rotate"]["axis"], float)
+                a /= np.linalg.norm(a)
+                th = math.radians(x["rotate"]["angle"])
+                K = np.array([[0, -a[2], a[1]], [a[2], 0, -a[0]], [-a[1], a[0], 0]])
+                R[:3, :3] = np.eye(3) + math.sin(th) * K + (1 - math.cos(th)) * K @ K
+            T = np.eye(4)
+            T[:3, 3] = x.get("translate", [0, 0, 0])
+            step = T @ R @ S
+        m = step @ m
+    return m
+
+
+def emitter_cells(shape, n):
+    """The exporter's midpoint cells of an emitter, written here independently of its C++:
+    [(centre, unit front normal, cell area)]. Flat parallelogram quads: n x n cells; other quads:
+    their two triangles (p0 p1 p2), (p0 p2 p3), n^2 similar sub-triangles each, at their
+    centroids; discs: n equal-area rings x 4n sectors, through the shape's transform."""
+    m = transform_matrix(shape["transform"]) if "transform" in shape else np.eye(4)
+    lin = m[:3, :3]
+    world = lambda p: m[:3, :3] @ np.asarray(p, float) + m[:3, 3]
+    flip = -1.0 if shape.get("flip_normals") else 1.0
+    cells = []
+    if shape["type"] == "disc":
+        nrm = np.array(shape["normal"], float)
+        nrm /= np.linalg.norm(nrm)
+        # any orthonormal pair in the disc's plane (the cells' positions are symmetric)
+        ex = np.cross(nrm, [1.0, 0, 0] if abs(nrm[0]) < 0.9 else [0, 1.0, 0])
+        ex /= np.linalg.norm(ex)
+        ey = np.cross(nrm, ex)
+        nw = np.linalg.inv(lin).T @ nrm
+        area_scale = abs(np.linalg.det(lin)) * np.linalg.norm(nw)
+        nw = flip * nw / np.linalg.norm(nw)
+        R, sectors = float(shape["radius"]), 4 * n
+        cell = math.pi * R * R * area_scale / (n * sectors)
+        for i in range(n):
+            r = R * math.sqrt((i + 0.5) / n)
+            for j in range(sectors):
+                phi = 2 * math.pi * (j + 0.5) / sectors
+                local = np.array(shape["center"], float) + r * (math.cos(phi) * ex + math.sin(phi) * ey)
+                cells.append((world(local), nw, cell))
+        return cells
+    if shape["type"] != "quad":
+        raise RuntimeError("emitter_cells: quads and discs only")
+    p = [world(v) for v in shape["vertices"]]
+    if (np.linalg.det(lin) < 0) != bool(shape.get("flip_normals")):
+        p = [p[0], p[3], p[2], p[1]]  # reversed winding: the other side is the front
+    e1, e2 = p[1] - p[0], p[3] - p[0]
+    if np.linalg.norm(p[0] + p[2] - p[1] - p[3]) <= 1e-9 * (np.linalg.norm(e1) + np.linalg.norm(e2)):
+        nrm = np.cross(p[1] - p[0], p[2] - p[0])
+        nrm /= np.linalg.norm(nrm)
+        area = np.linalg.norm(np.cross(e1, e2))
+        return [(p[0] + (i + 0.5) / n * e1 + (j + 0.5) / n * e2, nrm, area / (n * n))
+                for i in range(n) for j in range(n)]
+    for a, b, c in ((p[0], p[1], p[2]), (p[0], p[2], p[3])):
+        cr = np.cross(b - a, c - a)
+        area = 0.5 * np.linalg.norm(cr)
+        nrm = cr / (2 * area)
+        for i in range(n):
+            for j in range(n - i):
+                # sub-triangle (i, j): upright centroid (i + 1/3, j + 1/3) / n, inverted (i + 2/3, j + 2/3) / n
+                cells.append((a + (i + 1 / 3) / n * (b - a) + (j + 1 / 3) / n * (c - a), nrm, area / n ** 2))
+                if i + j + 2 <= n:
+                    cells.append((a + (i + 2 / 3) / n * (b - a) + (j + 2 / 3) / n * (c - a), nrm, area / n ** 2))
+    return cells
+
+
+def quadrature_twin(scene, n):
+    """The scene with each emitter's light replaced by Facet spot lights at the centres of the
+    exporter's midpoint cells: inner angle 0, outer 90 makes Facet's falloff (linear in cos
+    between the cones) exactly cos(theta), a Lambertian patch; power Phi = pi I0 with
+    I0 = L * cell area (FORMAT.md: Phi = 2 pi I0 [(1 - cos 0) + (cos 0 - cos 90) / 2]). The
+    emitter shapes themselves are removed (povray-facet's glowing surface casts no shadow),
+    so the pixels that see an emitter are compared separately."""
+    twin = json.loads(json.dumps(scene))
+    twin["shapes"] = [s for s in twin["shapes"] if s not in emitters(twin)]
+    for q in emitters(scene):
+        le = rgb3(q["emission"])
+        for c, nrm, cell in emitter_cells(q, n):
+            twin.setdefault("lights", []).append({
+                "type": "spot", "position": c.tolist(), "direction": nrm.tolist(),
+                "power": [math.pi * l * cell for l in le], "outer_angle": 90.0, "inner_angle": 0.0})
+    return twin
+
+
+def cmd_scene(env, name, n=16):
+    path = os.path.join(ROOT, "scenes", name + ".json")
+    if not os.path.exists(path):
+        path = os.path.join(HERE, name + ".json")  # a scene of tests/povray
+    scene = small(json.load(open(path)))
+    w, h = scene["camera"]["width"], scene["camera"]["height"]
+    js = env.write_scene(scene, name)
+    ok = True
+    if not emitters(scene):
+        pov = env.povray(env.export(js), w, h)
+        ok &= compare(f"{name} {w}x{h}: povray-facet vs facet direct", pov, env.render(js, "--spp", "1"))
+        return ok
+    # Emitters: POV-Ray sees a midpoint quadrature of each emitter (export-pov --area-grid N).
+    # (1) Against Facet rendering the same quadrature (spot lights): deterministic, 1e-3.
+    pov = env.povray(env.export(js, "--area-grid", str(n)), w, h)
+    twin = quadrature_twin(scene, n)
+    ref = env.render(env.write_scene(twin, name + "_twin"), "--spp", "1")
+    # The pixels whose centre ray hits an emitter: Facet at 1 spp through the pixel centre adds
+    # exactly the emission there (the emitters reflect nothing).
+    direct = env.render(js, "--spp", "1")
+    on_light = np.zeros((h, w), bool)
+    for q in emitters(scene):
+        le = np.array(rgb3(q["emission"]))
+        on_light |= np.all(np.abs(direct - le) <= 1e-6 * le, axis=2)
+    ok &= compare(f"{name} {w}x{h}: povray-facet (grid {n}) vs facet direct with the same "
+                  f"{n}x{n} cells as spot lights, off the emitter", pov, ref, ~on_light)
+    if on_light.any():
+        ok &= compare(f"{name}: pixels seeing the emitter = its emission", pov, direct, on_light,
+                      required=1.0)
+    # (2) Against the exact integral: Facet's area light, sampled (1024 spp, two seeds). The
+    # tolerance per pixel is derived, not chosen:
+    #   1e-3             what (1) allows for the export itself (half floats, float vs double),
+    #   + E_N            the midpoint grid's own error, estimated from its convergence: the
+    #                    midpoint rule's error falls as 1/N^2 for a smooth integrand, so
+    #                    E_N = |P_N - P_2N| * 4/3 (Richardson), from povray-facet at N and 2N,
+    #   + 4 sigma        Facet's sampling noise, sigma = |A - B| / 2 from two seeds.
+    # Only "smooth" pixels are compared: Facet's 1024 samples average over the pixel while
+    # POV-Ray samples its centre, which agrees to 2.5e-4 only where the image is smooth at the
+    # pixel scale: |discrete Laplacian| / 24 <= 2.5e-4 of the value (the box filter's
+    # second-order term) in the pixel-centre image (1), and not next to an emitter.
+    pov2 = env.povray(env.export(js, "--area-grid", str(2 * n)), w, h)
+    a = env.render(js, "--spp", "1024", "--seed", "1")
+    b = env.render(js, "--spp", "1024", "--seed", "2")
+    mean = 0.5 * (a + b)
+    lum = ref.mean(axis=2)
+    lap = np.full(lum.shape, np.inf)
+    lap[1:-1, 1:-1] = np.abs(lum[1:-1, :-2] + lum[1:-1, 2:] + lum[:-2, 1:-1] + lum[2:, 1:-1]
+                             - 4 * lum[1:-1, 1:-1])
+    near_light = on_light.copy()
+    near_light[1:, :] |= on_light[:-1, :]
+    near_light[:-1, :] |= on_light[1:, :]
+    near_light[:, 1:] |= on_light[:, :-1]
+    near_light[:, :-1] |= on_light[:, 1:]
+    smooth = (lap / 24 <= 2.5e-4 * lum) & ~near_light
+    floor = 1e-4  # relative errors of near-black pixels are noise
+    rel = lambda x, y: (np.abs(x - y) / np.maximum(np.abs(y), floor)).max(axis=2)
+    grid_err = rel(pov, pov2) * 4 / 3
+    sigma = rel(a, b) / 2
+    tol = 1e-3 + grid_err + 4 * sigma
+    err = rel(pov, mean)
+    frac = (err[smooth] <= tol[smooth]).mean()
+    good = frac >= 0.99
+    print(f"{'ok  ' if good else 'FAIL'} {name}: povray-facet (grid {n}) vs facet direct area "
+          f"light (1024 spp x 2 seeds) on {smooth.sum()} smooth pixels: {100 * frac:.2f}% within "
+          f"1e-3 + E_{n} + 4 sigma (required 99%); E_{n}: median {np.median(grid_err[smooth]):.1e}, "
+          f"p99 {np.percentile(grid_err[smooth], 99):.1e}; sigma median "
+          f"{np.median(sigma[smooth]):.1e}; error median {np.median(err[smooth]):.1e}, "
+          f"p99 {np.percentile(err[smooth], 99):.1e}")
+    return ok and good
+
+
+def cmd_coverage(env):
+    scene = json.load(open(os.path.join(HERE, "export_coverage.json")))
+    w, h = scene["camera"]["width"], scene["camera"]["height"]
+    js = env.write_scene(scene, "coverage")
+    pov = env.povray(env.export(js), w, h)
+    return compare(f"export_coverage {w}x{h}: povray-facet vs facet direct", pov, env.render(js, "--spp", "1"))
+
+
+# Scenes of scenes/ that POV-Ray cannot express, and the JSON path export-pov must name.
+INEXPRESSIBLE = {
+    "furnace": "/shapes/0/emission",            # an emissive sphere (a closed emitter)
+    "showcase": "/materials/brushed/alpha_u",   # anisotropic: POV-Ray has no tangents
+    "material_sweep": "/materials/beckmann_4/alpha_u",
+    "mirrors_fresnel": "/lights/0",             # the environment light
+    "big_mesh": "/lights/0",
+}
+
+
+def cmd_scenes_errors(env):
+    ok = True
+    names = sorted(f[:-5] for f in os.listdir(os.path.join(ROOT, "scenes")) if f.endswith(".json"))
+    for name in names:
+        src = os.path.join(ROOT, "scenes", name + ".json")
+        p = env.run([env.facet, "export-pov", src, "-o", env.path(name + ".pov")], check=False)
+        want = INEXPRESSIBLE.get(name)
+        if want is None:
+            good = p.returncode == 0
+            print(f"{'ok  ' if good else 'FAIL'} {name}: exports (cross-checked by povray_crosscheck_{name})"
+                  + ("" if good else "\n      " + p.stderr.strip()))
+        else:
+            good = p.returncode == 1 and f"{src}: {want}: " in p.stderr
+            print(f"{'ok  ' if good else 'FAIL'} {name}: not expressible: {p.stderr.strip()}")
+        ok &= good
+    missing = set(INEXPRESSIBLE) - set(names)
+    if missing:
+        print(f"FAIL listed but not in scenes/: {sorted(missing)}")
+        ok = False
+    return ok
+
+
+def cmd_errors(env):
+    base = json.load(open(os.path.join(ROOT, "scenes", "point_plane.json")))
+
+    def variant(edit):
+        s = json.loads(json.dumps(base))
+        edit(s)
+        return s
+
+    mat = {"model": "lambert", "reflectance": 0.5}
+    cases = [
+        ("environment light", lambda s: s["lights"].append({"type": "environment", "radiance": 0.1}),
+         [], "/lights/1: an environment light"),
+        ("anisotropic lobe", lambda s: s["shapes"][0].update(material={"model": "ggx", "alpha_u": 0.1, "alpha_v": 0.3}),
+         [], "/shapes/0/material/alpha_u: anisotropic"),
+        ("emissive sphere", lambda s: s["shapes"].append({"type": "sphere", "center": [0, 1, 0], "radius": 0.2, "emission": 1}),
+         [], "/shapes/1/emission: an emissive sphere"),
+        ("soft spot edge", lambda s: s["lights"].append({"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0],
+                                                         "power": 10, "outer_angle": 30, "inner_angle": 20}),
+         [], "/lights/1/inner_angle: "),
+        ("spot wider than 90", lambda s: s["lights"].append({"type": "spot", "position": [0, 3, 0], "direction": [0, -1, 0],
+                                                             "power": 10, "outer_angle": 120}),
+         [], "/lights/1/outer_angle: "),
+        ("mirror deeper than POV-Ray", lambda s: (s["shapes"][0].update(material={"model": "mirror"}),
+                                                  s["render"].update(max_depth=300)),
+         [], "/render/max_depth: 300 bounces"),
+        ("too many light cells", lambda s: s["shapes"].append({"type": "icosphere", "center": [0, 1, 0], "radius": 0.2,
+                                                               "subdivisions": 3, "emission": 1}),
+         ["--area-grid", "8"], "/shapes/1/emission: the emitters need more than 20000 light cells"),
+        ("bad scene (the loader's pointer)", lambda s: s["shapes"][0].update(radus=1),
+         [], "/shapes/0/radus: unknown key"),
+        ("bad material (build_scene's pointer)", lambda s: s["shapes"][0].update(material={"model": "ggx", "alpha": 12}),
+         [], "/shapes/0/material/alpha: "),
+    ]
+    ok = True
+    for title, edit, extra, want in cases:
+        js = env.write_scene(variant(edit), "err")
+        p = env.run([env.facet, "export-pov", js, "-o", env.path("err.pov")] + extra, check=False)
+        good = p.returncode == 1 and f"{js}: {want}" in p.stderr
+        print(f"{'ok  ' if good else 'FAIL'} {title}: rc {p.returncode}: {p.stderr.strip()}")
+        ok &= good
+    # --environment background: the approximation is written when asked for (and only then).
+    js = env.write_scene(variant(lambda s: s["lights"].append({"type": "environment", "radiance": [0.1, 0.2, 0.3]})), "bg")
+    out = env.path("bg.pov")
+    p = env.run([env.facet, "export-pov", js, "-o", out, "--environment", "background"], check=False)
+    good = p.returncode == 0 and "background { rgb <0.1" in open(out).read()
+    print(f"{'ok  ' if good else 'FAIL'} --environment background writes the background: rc {p.returncode}")
+    ok &= good
+    # Free text cannot inject SDL: a shape name with a newline stays inside its comment.
+    js = env.write_scene(variant(lambda s: s["shapes"][0].update(name="x\nsphere { 0, 100 }")), "name")
+    out = env.path("name.pov")
+    p = env.run([env.facet, "export-pov", js, "-o", out], check=False)
+    good = p.returncode == 0 and not any(l.startswith("sphere { 0, 100 }") for l in open(out))
+    print(f"{'ok  ' if good else 'FAIL'} a newline in a shape name stays in the comment")
+    ok &= good
+    # A flag out of range: CLI11 names the flag.
+    js = env.write_scene(base, "flag")
+    p = env.run([env.facet, "export-pov", js, "-o", env.path("f.pov"), "--area-grid", "0"], check=False)
+    good = p.returncode != 0 and "--area-grid" in p.stderr
+    print(f"{'ok  ' if good else 'FAIL'} --area-grid 0: rc {p.returncode}: {p.stderr.strip()}")
+    return ok and good
+
+
+def cmd_glossy(env):
+    """A rough gold sphere reflecting a checkered Lambert floor and a coloured wall, lit by two
+    point lights, black background. On the sphere, povray-facet computes the lights' highlights
+    plus `samples` importance-sampled glossy rays, each seeing the floor or wall shaded by the
+    lights (Lambert: no further rays). Facet's path tracer with max_depth 2 computes exactly that
+    on the sphere: NEE at the sphere, one BSDF bounce to the floor or wall with NEE there, and at
+    depth 2 only emission (none: delta lights, black background). Elsewhere path also has light
+    reflected by the sphere onto the floor, which POV-Ray does not trace, so only pixels whose
+    centre ray hits the sphere (radius shrunk by 5% against silhouettes) are compared. Both
+    images are noisy: 4x4 blocks of per-pixel differences are t-tested (|mean| / (std / sqrt n)
+    below 5 for >= 97% of blocks, and the mean over the sphere within 3 standard errors plus
+    half-float rounding), which catches a wrong weight (f cos / pdf) or a wrong lobe."""
+    w, h = 64, 48
+    tiles = []
+    for i in range(-3, 3):
+        for j in range(-3, 2):
+            tiles.append({"type": "quad", "material": "a" if (i + j) % 2 == 0 else "b",
+                          "vertices": [[i, 0, j], [i, 0, j + 1], [i + 1, 0, j + 1], [i + 1, 0, j]]})
+    centre, radius = np.array([0.0, 0.7, 0.0]), 0.7
+    scene = {"format": "facet-scene", "version": 1,
+             "camera": {"position": [0, 1.2, 3.2], "look_at": [0, 0.6, 0], "fov": 38, "width": w, "height": h},
+             "materials": {"a": {"model": "lambert", "reflectance": 0.8},
+                           "b": {"model": "lambert", "reflectance": [0.1, 0.3, 0.6]},
+                           "wall": {"model": "lambert", "reflectance": [0.7, 0.2, 0.1]},
+                           "gold": {"model": "ggx", "alpha": 0.3, "fresnel": "conductor",
+                                    "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]}},
+             "shapes": tiles + [
+                 {"type": "quad", "material": "wall", "vertices": [[-3, 0, -3], [3, 0, -3], [3, 3, -3], [-3, 3, -3]]},
+                 {"type": "sphere", "center": centre.tolist(), "radius": radius, "material": "gold"}],
+             "lights": [{"type": "point", "position": [2, 3, 2], "power": 120},
+                        {"type": "point", "position": [-2.5, 2, 0.5], "power": [40, 60, 90]}],
+             "render": {"integrator": "path", "spp": 256, "max_depth": 2, "seed": 1}}
+    js = env.write_scene(scene, "glossy")
+    pov = env.povray(env.export(js, "--glossy-samples", "64"), w, h)
+    # POV-Ray samples each pixel's centre, Facet averages over the pixel, which differs where
+    # the reflection has sharp detail (measured: up to 4% in a 4x4 block on the checker's
+    # reflection). So Facet renders at 5x the resolution and the pixel in the middle of each
+    # 5x5 group is taken: its centre is the POV pixel's centre and its footprint is 1/5 as wide,
+    # which shrinks the box filter's (second-order) difference 25-fold.
+    fine = json.loads(json.dumps(scene))
+    fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
+    ref = env.render(env.write_scene(fine, "glossy_fine"), "--spp", "64", integrator="path")[2::5, 2::5]
+    # Pixels whose centre ray hits the sphere (FORMAT.md camera), shrunk by 5%.
+    cam = scene["camera"]
+    pos, look = np.array(cam["position"], float), np.array(cam["look_at"], float)
+    f = (look - pos) / np.linalg.norm(look - pos)
+    r = np.cross(f, [0, 1, 0]); r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    ty = math.tan(math.radians(cam["fov"]) / 2); tx = ty * w / h
+    xs, ys = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    d = f + ((2 * xs / w - 1) * tx)[..., None] * r + ((1 - 2 * ys / h) * ty)[..., None] * u
+    d /= np.linalg.norm(d, axis=2, keepdims=True)
+    oc = pos - centre
+    b = (d * oc).sum(axis=2)
+    on = b * b - (oc @ oc - (0.95 * radius) ** 2) > 0
+    diff = (pov - ref).mean(axis=2)
+    zs, n_blocks = [], 0
+    for y0 in range(0, h, 4):
+        for x0 in range(0, w, 4):
+            m = on[y0:y0 + 4, x0:x0 + 4]
+            if m.sum() < 12:
+                continue
+            v = diff[y0:y0 + 4, x0:x0 + 4][m]
+            se = v.std(ddof=1) / math.sqrt(v.size)
+            zs.append(abs(v.mean()) / max(se, 1e-9))
+            if zs[-1] > 4: print(f"      block at ({x0}, {y0}): t {zs[-1]:.2f}, mean difference {v.mean():.2e} over {v.size} pixels")
+    zs = np.array(zs)
+    frac = (zs < 5).mean()
+    v = diff[on]
+    mean_p, mean_f = pov.mean(axis=2)[on].mean(), ref.mean(axis=2)[on].mean()
+    se = v.std(ddof=1) / math.sqrt(v.size)
+    ok_blocks = frac >= 0.97
+    ok_mean = abs(v.mean()) <= 3 * se + 2.0 ** -11 * mean_f
+    print(f"{'ok  ' if ok_blocks else 'FAIL'} glossy rays vs path (max_depth 2): {100 * frac:.1f}% of "
+          f"{zs.size} 4x4 blocks on the sphere with |t| < 5 (required 97%); median |t| "
+          f"{np.median(zs):.2f}, max {zs.max():.2f}")
+    print(f"{'ok  ' if ok_mean else 'FAIL'} mean over {on.sum()} sphere pixels: povray-facet "
+          f"{mean_p:.5f}, facet path {mean_f:.5f} (ratio {mean_p / mean_f:.4f}; difference "
+          f"{v.mean():.2e}, standard error {se:.2e})")
+    return ok_blocks and ok_mean
+
+
+def main():
+    pov, facet, cmd, args = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3], sys.argv[4:]
+    keep = os.environ.get("FACET_CROSSCHECK_KEEP")  # a directory: keep the files there
+    if keep:
+        os.makedirs(keep, exist_ok=True)
+    with tempfile.TemporaryDirectory(prefix="facet-crosscheck-") as tmp:
+        env = Env(pov, facet, keep or tmp)
+        ok = {"scene": lambda: cmd_scene(env, args[0], *(int(a) for a in args[1:])),
+              "coverage": lambda: cmd_coverage(env),
+              "scenes-errors": lambda: cmd_scenes_errors(env),
+              "errors": lambda: cmd_errors(env),
+              "glossy": lambda: cmd_glossy(env)}[cmd]()
+    sys.exit(0 if ok else 1)
+
+
+if __name__ == "__main__":
+    main()
