@@ -108,7 +108,7 @@ POV_SCENES = ("point_plane",)
 def run_pov(pov_path, spp, out):
     r = int(round(math.log(spp, 4)))
     cmd = [ARGS.povray, "+I" + pov_path, "+O" + out, "+FE", "+W%d" % CUR["size"][0],
-           "+H%d" % CUR["size"][1], "+AM2", "+A0.0", "+R%d" % r, "+J", "-D", "+UA-",
+           "+H%d" % CUR["size"][1], "+AM2", "+A0.0", "+R%d" % r, "+J", "-D", "-UA",
            "+WT%d" % ARGS.threads, "-GA"]
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
