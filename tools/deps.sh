@@ -22,6 +22,8 @@ packages=(
   blender xvfb xauth
   # facet-farm, distributed rendering (facet.farm): Dask's scheduler, workers and LocalCluster
   python3-distributed
+  # bench/time_error.py: the log-log plots of error against time
+  python3-matplotlib
 )
 missing=()
 for p in "${packages[@]}"; do

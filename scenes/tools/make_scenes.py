@@ -220,6 +220,77 @@ def big_mesh():
     write("big_mesh.json", s)
 
 
+# --- Benchmark scenes of bench/time_error.py: glossy and brushed metal under area lights -------
+def _stage(floor, wall):
+    """A floor and a back wall as quads (finite, so every renderer has the same geometry)."""
+    return [
+        {"type": "quad", "name": "floor", "material": floor,
+         "vertices": [[-3, 0, 3], [3, 0, 3], [3, 0, -3], [-3, 0, -3]]},
+        {"type": "quad", "name": "back wall", "material": wall,
+         "vertices": [[-3, 0, -3], [3, 0, -3], [3, 4, -3], [-3, 4, -3]]},
+    ]
+
+
+def glossy():
+    s = header("Rough conductors (GGX gold alpha 0.3, Beckmann copper alpha 0.15) and a "
+               "dielectric-coated sphere (composite: red Lambert under a GGX alpha 0.1 coat, "
+               "IOR 1.5) on a grey floor before a wall, under one area light (time_error "
+               "benchmark).",
+               {"position": [0, 1.6, 5.5], "look_at": [0, 0.6, 0], "up": [0, 1, 0], "fov": 36,
+                "width": 256, "height": 256},
+               {"integrator": "path", "spp": 64, "max_depth": 8, "seed": 1})
+    s["materials"] = {
+        "grey": {"model": "lambert", "reflectance": 0.5},
+        "gold": {"model": "ggx", "alpha": 0.3, "fresnel": "conductor",
+                 "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]},
+        "copper": {"model": "beckmann", "alpha": 0.15, "fresnel": "conductor",
+                   "eta": [0.200, 0.924, 1.102], "k": [3.912, 2.452, 2.142]},
+        "coated": {"model": "composite", "diffuse_reflectance": [0.6, 0.08, 0.05],
+                   "glossy_reflectance": 1, "distribution": "ggx", "alpha": 0.1,
+                   "fresnel": "dielectric", "ior": 1.5},
+    }
+    s["shapes"] = _stage("grey", "grey") + [
+        {"type": "sphere", "name": "gold", "center": [-1.25, 0.55, 0], "radius": 0.55,
+         "material": "gold"},
+        {"type": "sphere", "name": "coated", "center": [0, 0.55, 0.3], "radius": 0.55,
+         "material": "coated"},
+        {"type": "sphere", "name": "copper", "center": [1.25, 0.55, 0], "radius": 0.55,
+         "material": "copper"},
+        {"type": "quad", "name": "light", "emission": 12,
+         "vertices": [[-0.6, 3.2, -0.4], [0.6, 3.2, -0.4], [0.6, 3.2, 0.8], [-0.6, 3.2, 0.8]]},
+    ]
+    s["lights"] = []
+    write("glossy.json", s)
+
+
+def brushed():
+    s = header("Brushed metal: an anisotropic GGX aluminium floor (alpha_u 0.05 along x, "
+               "alpha_v 0.3) and an anisotropic sphere brushed around its vertical axis "
+               "(alpha_u 0.3 along the longitude, alpha_v 0.05) before a Lambert wall, under a "
+               "long thin area light and a dim environment (time_error benchmark).",
+               {"position": [0, 1.4, 5.0], "look_at": [0, 0.5, 0], "up": [0, 1, 0], "fov": 38,
+                "width": 256, "height": 256},
+               {"integrator": "path", "spp": 64, "max_depth": 8, "seed": 1})
+    s["materials"] = {
+        "wall": {"model": "lambert", "reflectance": [0.6, 0.6, 0.55]},
+        "brushed floor": {"model": "ggx", "alpha_u": 0.05, "alpha_v": 0.3,
+                          "fresnel": "conductor"},
+        "brushed sphere": {"model": "ggx", "alpha_u": 0.3, "alpha_v": 0.05,
+                           "fresnel": "conductor"},
+    }
+    s["shapes"] = _stage("brushed floor", "wall") + [
+        # Local z turned to world +y: the longitude (the tangent) runs around the vertical.
+        {"type": "sphere", "name": "brushed sphere", "center": [0, 0, 0], "radius": 0.6,
+         "material": "brushed sphere",
+         "transform": [{"rotate": {"axis": [1, 0, 0], "angle": -90}},
+                       {"translate": [0.2, 0.6, 0]}]},
+        {"type": "quad", "name": "light", "emission": 15,
+         "vertices": [[-1.8, 3.0, -1.0], [1.8, 3.0, -1.0], [1.8, 3.0, -0.6], [-1.8, 3.0, -0.6]]},
+    ]
+    s["lights"] = [{"type": "environment", "radiance": 0.1}]
+    write("brushed.json", s)
+
+
 # --- The README's showcase ----------------------------------------------------------------------
 def showcase():
     s = header("Glossy, mirror and diffuse spheres on a plane under an area light: the README's "
@@ -269,3 +340,5 @@ if __name__ == "__main__":
     mirrors_fresnel()
     big_mesh()
     showcase()
+    glossy()
+    brushed()

@@ -314,6 +314,7 @@ INEXPRESSIBLE = {
     "material_sweep": "/materials/beckmann_4/alpha_u",
     "mirrors_fresnel": "/lights/0",             # the environment light
     "big_mesh": "/lights/0",
+    "brushed": "/materials/brushed floor/alpha_u",  # anisotropic (bench/time_error.py's scene)
 }
 
 
