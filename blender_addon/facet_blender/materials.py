@@ -11,9 +11,12 @@ difference from Cycles 3.4 that the user may see):
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
   instead of Cycles' random walk: same energy, slightly different lobe shape).
   Ashikhmin-Shirley has no Facet equivalent: reported, converted as GGX.
-- Anisotropic BSDF (and Principled Anisotropic): alpha_u = alpha / aspect, alpha_v = alpha *
-  aspect, aspect = sqrt(1 - 0.9 anisotropy) (Cycles' formula); rotation and tangents are
-  ignored (Facet meshes have no tangent field).
+- Anisotropic BSDF: anisotropy a (clamped to [-0.99, 0.99] as Cycles does) gives
+  alpha_u = alpha (1 - a), alpha_v = alpha / (1 - a) for a >= 0 and alpha_u = alpha / (1 + a),
+  alpha_v = alpha (1 + a) for a < 0 (Cycles 3.4's SVM closure setup for this node).
+  Principled Anisotropic uses Disney's aspect instead: alpha_u = alpha / aspect, alpha_v =
+  alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are ignored
+  (Facet meshes have no tangent field).
 - Principled BSDF (3.4's Disney-based model) -> composite: diffuse_reflectance =
   Base Color (1 - Metallic); a GGX glossy lobe with alpha = Roughness^2 and Schlick Fresnel with
   f0 = mix(0.08 Specular mix(1, tint, Specular Tint), Base Color, Metallic) (Disney's Cspec0).
@@ -127,8 +130,18 @@ def _alpha(roughness):
     return r * r
 
 
+def _aniso_bsdf(alpha, anisotropy):
+    """Cycles' Anisotropic BSDF node: a >= 0 stretches alpha_x by (1 - a) and alpha_y by
+    1 / (1 - a); a < 0 the other way round (a clamped to [-0.99, 0.99])."""
+    a = max(-0.99, min(0.99, float(anisotropy)))
+    if a >= 0.0:
+        return alpha * (1.0 - a), alpha / (1.0 - a)
+    return alpha / (1.0 + a), alpha * (1.0 + a)
+
+
 def _aniso(alpha, anisotropy):
-    """Cycles: aspect = sqrt(1 - 0.9 anisotropy), alpha_x = alpha / aspect, alpha_y = alpha aspect."""
+    """Principled (Disney): aspect = sqrt(1 - 0.9 anisotropy), alpha_x = alpha / aspect,
+    alpha_y = alpha aspect."""
     a = max(-1.0, min(1.0, float(anisotropy)))
     aspect = math.sqrt(1.0 - 0.9 * a) if a >= 0.0 else 1.0 / math.sqrt(1.0 + 0.9 * a)
     return alpha / aspect, alpha * aspect
@@ -165,7 +178,7 @@ def _glossy(mat, node, problems):
         if node.bl_idname == 'ShaderNodeBsdfAnisotropic':
             aniso = _value(mat, node, 'Anisotropy', problems)
             if aniso != 0.0:
-                data["alpha_u"], data["alpha_v"] = _aniso(alpha, aniso)
+                data["alpha_u"], data["alpha_v"] = _aniso_bsdf(alpha, aniso)
             else:
                 data["alpha"] = alpha
         else:

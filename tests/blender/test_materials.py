@@ -3,7 +3,6 @@ Sharp / Multiscatter GGX, Anisotropic, Principled (dielectric, metal, mixed), Em
 linked input and an unsupported distribution are reported by material and input name; the
 Facet panel's model and parameters reach the core by the core's names (and the core validates
 them)."""
-import math
 import os
 import sys
 
@@ -58,11 +57,14 @@ def main():
     c = conv(m)
     bt.check(c.data["model"] == "ggx" and any("GA" in p and "ASHIKHMIN" in p for p in c.problems),
              "Ashikhmin-Shirley reported: %s" % c.problems)
-    m, _ = node_material("AN", "ShaderNodeBsdfAnisotropic", Roughness=0.5, Anisotropy=0.5)
-    c = conv(m)
-    aspect = math.sqrt(1 - 0.45)
-    bt.check(close(c.data["alpha_u"], 0.25 / aspect) and close(c.data["alpha_v"], 0.25 * aspect),
-             "Anisotropic -> alpha_u/alpha_v with Cycles' aspect")
+    # Cycles 3.4's Anisotropic BSDF (SVM closure setup, not Principled's aspect): alpha 0.25,
+    # anisotropy 0.5 -> alpha_x 0.125, alpha_y 0.5; -0.5 swaps them.
+    for aniso, want in ((0.5, (0.125, 0.5)), (-0.5, (0.5, 0.125))):
+        m, _ = node_material("AN", "ShaderNodeBsdfAnisotropic", Roughness=0.5, Anisotropy=aniso)
+        c = conv(m)
+        bt.check(close(c.data["alpha_u"], want[0]) and close(c.data["alpha_v"], want[1]),
+                 "Anisotropic %g -> alpha_u/alpha_v %s: got %s/%s" % (
+                     aniso, want, c.data["alpha_u"], c.data["alpha_v"]))
 
     m, _ = node_material("P", "ShaderNodeBsdfPrincipled", Base_Color=(0.8, 0.1, 0.1, 1.0),
                          Roughness=0.4, Specular=0.5, Metallic=0.0, Specular_Tint=0.0)
