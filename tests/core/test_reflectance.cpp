@@ -110,9 +110,13 @@ TEST(Reflectance, CompositeAlbedoMatchesItsConstruction) {
 }
 
 // Debug / ASan builds run with FACET_STRESS_SCALE = 0.1: fewer incidence angles there.
-std::vector<double> test_angles() {
+bool reduced_run() {
     const char* s = std::getenv("FACET_STRESS_SCALE");
-    if (s && std::atof(s) < 1.0) return {0.0, 70.0, 89.9};
+    return s && std::atof(s) < 1.0;
+}
+
+std::vector<double> test_angles() {
+    if (reduced_run()) return {0.0, 70.0, 89.9};
     return {0.0, 30.0, 70.0, 85.0, 89.0, 89.9};
 }
 
@@ -241,6 +245,7 @@ TEST(Reflectance, AdaptiveDefaultOverTheOtherModels) {
             EXPECT_LE(e, 1e-6 + floor) << c.label << " theta " << deg;
             EXPECT_LE(e, r.error.g + floor) << c.label << " theta " << deg;
             tally.add(e, r.error.g);
+            if (reduced_run()) continue;  // the order-256 rule costs 344k evaluations
             const Reflectance q = directional_hemispherical(m, wi, 256);
             if (q.error.g < 1e-6) {
                 EXPECT_LE(std::fabs(r.value.g - q.value.g), r.error.g + q.error.g + kFloatFloor)
