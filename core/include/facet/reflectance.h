@@ -32,6 +32,9 @@
 // until the sum is below `tolerance`. Maps, weights and sums are in double; the BxDFs
 // evaluate in float, which limits the answer to ~1e-7 relative (see the tests).
 // Delta lobes are added in closed form.
+// Limits: sharp lobes (alpha < ~0.01, Blinn kappa > ~1e4) at incidence >= 85 degrees are the
+// hardest case: GGX alpha = 1e-3 at 85 degrees read 1.1e-6 off with an estimate of 9.7e-7.
+// Tolerances below ~1e-7 meet the float noise of the BxDFs and spend max_evaluations.
 // Fixed order (int overloads, the CLI's --order): the older n x n Gauss-Legendre product rule
 // through the lobe's own half-vector sampler, value Q(2n), error 2 max(|Q(n/2) - Q(n)|,
 // |Q(n) - Q(2n)|); it converges slowly at grazing angles (kink at the horizon).
