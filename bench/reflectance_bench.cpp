@@ -1,9 +1,12 @@
-// Time against error for rho(wi -> 2pi): the deterministic quadrature of facet/reflectance.h
-// against plain Monte Carlo with the material's own importance sampling (the peer), measured in
-// the same run. For each model and incidence angle the table gives, per method and effort, the
-// median time of 5 runs and the absolute error against an order-256 reference, and the ratio of
-// the Monte Carlo time needed to reach the quadrature's error (extrapolated by 1/sqrt(N) from
-// the largest MC run) to the quadrature's time.
+// Time against error for rho(wi -> 2pi), two tables from the same run.
+// 1. The adaptive default (tolerance 1e-6) against the older fixed order-32 path (Q(16), Q(32),
+//    Q(64)), interleaved repetitions (median of 7 each): time, error against a tight reference
+//    (the adaptive quadrature at tolerance 1e-8, itself checked against double references in
+//    tests/core/test_reflectance.cpp), the printed error estimate, and the time ratio
+//    adaptive / order-32.
+// 2. The fixed-order quadrature against plain Monte Carlo with the material's own importance
+//    sampling: the ratio of the Monte Carlo time needed to reach the quadrature's error
+//    (extrapolated by 1/sqrt(N) from the largest MC run) to the quadrature's time.
 #include <fmt/format.h>
 #include <pcg_random.hpp>
 
@@ -46,6 +49,34 @@ double monte_carlo(const Material& m, const Vec3& wi, int n, std::uint64_t seed)
 
 }  // namespace
 
+// Table 1 (see the header comment).
+double adaptive_against_fixed(const Material& m, const char* label, float deg) {
+    Vec3 wi = spherical_direction(deg * kPi / 180.f, 0.f);
+    QuadratureSettings tight;
+    tight.tolerance = 1e-8;
+    const double ref = directional_hemispherical(m, wi, tight).value.g;
+    std::vector<double> ta, tf;
+    Reflectance a, f;
+    for (int rep = 0; rep < 7; ++rep) {  // interleaved: drift of the machine cancels
+        auto t0 = std::chrono::steady_clock::now();
+        a = directional_hemispherical(m, wi);
+        auto t1 = std::chrono::steady_clock::now();
+        f = directional_hemispherical(m, wi, 32);
+        auto t2 = std::chrono::steady_clock::now();
+        ta.push_back(std::chrono::duration<double>(t1 - t0).count());
+        tf.push_back(std::chrono::duration<double>(t2 - t1).count());
+    }
+    std::sort(ta.begin(), ta.end());
+    std::sort(tf.begin(), tf.end());
+    const double ma = ta[ta.size() / 2], mf = tf[tf.size() / 2];
+    fmt::print(
+        "{:<24} {:>6.1f} {:>12.9f} {:>9.3f}ms {:>10.2e} {:>10.2e} {:>8} {:>9.3f}ms {:>10.2e} "
+        "{:>10.2e} {:>8.2f}\n",
+        label, deg, ref, ma * 1e3, std::fabs(a.value.g - ref), a.error.g, a.evaluations, mf * 1e3,
+        std::fabs(f.value.g - ref), f.error.g, ma / mf);
+    return ma / mf;
+}
+
 int main() {
     struct Case {
         const char* label;
@@ -65,6 +96,35 @@ int main() {
         {"composite ggx a=0.2", "composite", p({{"alpha", 0.2}})},
     };
     fmt::print(
+        "rho(wi -> 2pi), green channel: adaptive default (tolerance 1e-6) vs fixed order 32, same "
+        "run, interleaved, medians of 7; reference = adaptive at tolerance 1e-8\n");
+    fmt::print("{:<24} {:>6} {:>12} {:>11} {:>10} {:>10} {:>8} {:>11} {:>10} {:>10} {:>8}\n",
+               "case", "theta", "reference", "adapt time", "adapt err", "adapt est", "evals",
+               "Q32 time", "Q32 err", "Q32 est", "time a/Q");
+    std::vector<double> ratios;
+    {
+        std::vector<Case> table1 = cases;
+        table1.push_back({"ggx a=0.2", "ggx", p({{"alpha", 0.2}})});
+        table1.push_back({"ggx a=1", "ggx", p({{"alpha", 1.0}})});
+        table1.push_back({"ggx aniso 0.05/0.5", "ggx", p({{"alpha_u", 0.05}, {"alpha_v", 0.5}})});
+        table1.push_back({"beckmann a=0.8 conductor", "beckmann",
+                          p({{"alpha", 0.8}, {"fresnel", std::string("conductor")}})});
+        table1.push_back({"blinn k=50", "blinn", p({})});
+        table1.push_back(
+            {"ggx a=0.5 compensated", "ggx", p({{"alpha", 0.5}, {"energy_compensation", true}})});
+        table1.push_back({"lambert", "lambert", p({})});
+        for (const auto& c : table1) {
+            Material m = make_material(c.model, c.params);
+            for (float deg : {0.f, 30.f, 70.f, 85.f, 89.f, 89.9f})
+                ratios.push_back(adaptive_against_fixed(m, c.label, deg));
+        }
+    }
+    std::sort(ratios.begin(), ratios.end());
+    fmt::print(
+        "time ratio adaptive / order-32 over the {} cases: median {:.2f}, min {:.2f}, max {:.2f}\n",
+        ratios.size(), ratios[ratios.size() / 2], ratios.front(), ratios.back());
+    fmt::print("\n");
+    fmt::print(
         "rho(wi -> 2pi), luminance: quadrature (Q) vs Monte Carlo with importance sampling "
         "(MC), same run, medians of 5\n");
     fmt::print("{:<22} {:>6} {:>10} {:>11} {:>11} {:>12} {:>11} {:>11} {:>14}\n", "case", "theta",
@@ -74,10 +134,10 @@ int main() {
         Material m = make_material(c.model, c.params);
         for (float deg : {0.f, 60.f, 85.f}) {
             Vec3 wi = spherical_direction(deg * kPi / 180.f, 0.f);
-            double ref = luminance(directional_hemispherical(m, wi, 128).value);
+            double ref = luminance(Rgb(directional_hemispherical(m, wi, 128).value));
             double q = 0.0;
-            double tq =
-                median_seconds([&] { q = luminance(directional_hemispherical(m, wi, 16).value); });
+            double tq = median_seconds(
+                [&] { q = luminance(Rgb(directional_hemispherical(m, wi, 16).value)); });
             const int n = 100000;
             double mc = 0.0;
             double tmc = median_seconds([&] { mc = monte_carlo(m, wi, n, 7); }, 3);

@@ -182,7 +182,7 @@ void run_plot(const BrdfOptions& o, const std::vector<std::string>& extras) {
     std::vector<Rgb> rho(m_pts);
     for (int k = 0; k < m_pts; ++k) {
         float t = 89.f * k / (m_pts - 1);
-        rho[k] = directional_hemispherical(m, spherical_direction(t * deg, 0.f), 16).value;
+        rho[k] = Rgb(directional_hemispherical(m, spherical_direction(t * deg, 0.f), 16).value);
     }
     for (int ch = 0; ch < 3; ++ch)
         for (int k = 1; k < m_pts; ++k)

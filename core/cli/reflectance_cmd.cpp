@@ -21,11 +21,16 @@ struct ReflectanceOptions {
     std::string thetas = "0,15,30,45,60,75,85,89";
     std::string sweep;  // "alpha=0.05,0.1,0.2" : a roughness (or any number) parameter sweep
     std::string cone_in, cone_out;  // "theta,phi,half_angle" in degrees
-    int order = 32;
+    int order = 0;                  // 0: adaptive to --tolerance; > 0: fixed Gauss-Legendre order
+    double tolerance = 1e-6;        // absolute, per channel
 };
 
-nlohmann::json rgb_json(const Rgb& c) {
+nlohmann::json rgb_json(const DVec3& c) {
     return {c.r, c.g, c.b};
+}
+
+double max_error(const Reflectance& r) {
+    return std::max(r.error.r, std::max(r.error.g, r.error.b));
 }
 
 Cone parse_cone(const std::string& text, const std::string& flag) {
@@ -39,35 +44,60 @@ Cone parse_cone(const std::string& text, const std::string& flag) {
 }
 
 void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
-    if (o.order < 2 || o.order > 512) throw std::runtime_error("--order: must be in [2, 512]");
+    if (o.order != 0 && (o.order < 2 || o.order > 512))
+        throw std::runtime_error("--order: must be in [2, 512]");
+    if (!(o.tolerance >= 1e-9 && o.tolerance <= 1e-1))
+        throw std::runtime_error(
+            "--tolerance: must be in [1e-9, 0.1] (the BxDFs evaluate in float: below ~1e-7 "
+            "round-off dominates)");
+    QuadratureSettings settings;
+    settings.tolerance = o.tolerance;
+    const bool fixed = o.order != 0;
+    auto directional = [&](const Material& m, const Vec3& wi) {
+        return fixed ? directional_hemispherical(m, wi, o.order)
+                     : directional_hemispherical(m, wi, settings);
+    };
+    // Warn on stderr when refinement stopped before reaching the tolerance.
+    auto check = [&](const Reflectance& r) {
+        if (!fixed && max_error(r) > o.tolerance)
+            fmt::print(stderr,
+                       "warning: error estimate {:.1e} above --tolerance {:.1e} (evaluation "
+                       "budget spent)\n",
+                       max_error(r), o.tolerance);
+    };
     const double deg = kPiD / 180.0;
     if (o.bihemispherical) {
         Material m = material_from_args(o.model, extras);
-        Reflectance r = bihemispherical(m, std::min(o.order, 32));
+        Reflectance r =
+            fixed ? bihemispherical(m, std::min(o.order, 32)) : bihemispherical(m, settings);
+        check(r);
         if (o.json)
             std::puts(
                 nlohmann::json{{"bihemispherical", rgb_json(r.value)}, {"error", rgb_json(r.error)}}
                     .dump(2)
                     .c_str());
         else
-            fmt::print("rho(2pi->2pi) = {:.6f} {:.6f} {:.6f}   (quadrature error <= {:.1e})\n",
-                       r.value.r, r.value.g, r.value.b, max_component(r.error));
+            fmt::print(
+                "rho(2pi->2pi) = {:.8f} {:.8f} {:.8f}   (estimated quadrature error {:.1e})\n",
+                r.value.r, r.value.g, r.value.b, max_error(r));
         return;
     }
     if (!o.cone_in.empty() || !o.cone_out.empty()) {
         if (o.cone_in.empty() || o.cone_out.empty())
             throw std::runtime_error("--cone-in and --cone-out go together");
         Material m = material_from_args(o.model, extras);
-        Reflectance r = biconical(m, parse_cone(o.cone_in, "--cone-in"),
-                                  parse_cone(o.cone_out, "--cone-out"), std::min(o.order, 24));
+        Reflectance r =
+            biconical(m, parse_cone(o.cone_in, "--cone-in"), parse_cone(o.cone_out, "--cone-out"),
+                      fixed ? std::min(o.order, 24) : 24);
         if (o.json)
             std::puts(nlohmann::json{{"biconical", rgb_json(r.value)}, {"error", rgb_json(r.error)}}
                           .dump(2)
                           .c_str());
         else
             fmt::print(
-                "rho(cone_in->cone_out) = {:.6f} {:.6f} {:.6f}   (quadrature error <= {:.1e})\n",
-                r.value.r, r.value.g, r.value.b, max_component(r.error));
+                "rho(cone_in->cone_out) = {:.8f} {:.8f} {:.8f}   (estimated quadrature error "
+                "{:.1e}, fixed order 24)\n",
+                r.value.r, r.value.g, r.value.b, max_error(r));
         return;
     }
     if (!o.table) {
@@ -75,7 +105,8 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
             throw std::runtime_error("--theta-i: must be in [0, 90] degrees");
         Material m = material_from_args(o.model, extras);
         Vec3 wi = spherical_direction(float(o.theta_i * deg), float(o.phi_i * deg));
-        Reflectance r = directional_hemispherical(m, wi, o.order);
+        Reflectance r = directional(m, wi);
+        check(r);
         if (o.json)
             std::puts(nlohmann::json{
                 {"theta_i", o.theta_i}, {"rho", rgb_json(r.value)}, {"error", rgb_json(r.error)}}
@@ -83,9 +114,9 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
                           .c_str());
         else
             fmt::print(
-                "rho(wi->2pi) at theta_i = {} deg: {:.6f} {:.6f} {:.6f}   (quadrature error <= "
-                "{:.1e})\n",
-                o.theta_i, r.value.r, r.value.g, r.value.b, max_component(r.error));
+                "rho(wi->2pi) at theta_i = {} deg: {:.8f} {:.8f} {:.8f}   (estimated quadrature "
+                "error {:.1e})\n",
+                o.theta_i, r.value.r, r.value.g, r.value.b, max_error(r));
         return;
     }
     // Table over theta_i (rows) and a parameter sweep (columns), luminance of rho.
@@ -124,9 +155,11 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
         nlohmann::json row{{"theta_i", t}};
         if (!o.json) fmt::print("{:8.2f}", t);
         for (size_t k = 0; k < materials.size(); ++k) {
-            Reflectance r = directional_hemispherical(materials[k], wi, o.order);
+            Reflectance r = directional(materials[k], wi);
+            check(r);
             row[column_names[k]] = rgb_json(r.value);
-            if (!o.json) fmt::print(" {:14.6f}", luminance(r.value));
+            row[column_names[k] + " error"] = rgb_json(r.error);
+            if (!o.json) fmt::print(" {:14.8f}", luminance(Rgb(r.value)));
         }
         if (!o.json) fmt::print("\n");
         rows.push_back(row);
@@ -151,9 +184,12 @@ void add_reflectance_command(CLI::App& app) {
     cmd->add_option("--cone-in", o->cone_in, "biconical: incident cone theta,phi,half_angle (deg)");
     cmd->add_option("--cone-out", o->cone_out,
                     "biconical: reflected cone theta,phi,half_angle (deg)");
-    cmd->add_option("--order", o->order,
-                    "Gauss-Legendre order per dimension (error from order vs 2x order)")
+    cmd->add_option("--tolerance", o->tolerance,
+                    "target absolute quadrature error per channel (adaptive cubature)")
         ->capture_default_str();
+    cmd->add_option("--order", o->order,
+                    "fixed Gauss-Legendre order per dimension instead of --tolerance (error from "
+                    "order vs 2x order); biconical always uses a fixed order (24)");
     cmd->add_flag("--json", o->json, "JSON output");
     cmd->allow_extras();
     cmd->footer("Model parameters are passed as --name value (see `facet brdf models`).");

@@ -118,20 +118,39 @@ Vec3 row(const float* p, py::ssize_t i, py::ssize_t n) {
     return {q[0], q[1], q[2]};
 }
 
-ReflectanceResult reflectance_over(const Material& m, py::handle dirs, const char* what, int order,
-                                   Reflectance (*fn)(const Material&, const Vec3&, int)) {
-    if (order < 1) bad_argument("order", "must be >= 1");
+py::array_t<double> rgb_array_d(py::ssize_t n, bool single) {
+    if (single) return py::array_t<double>(std::vector<py::ssize_t>{3});
+    return py::array_t<double>(std::vector<py::ssize_t>{n, 3});
+}
+
+// order: a fixed Gauss-Legendre order, or none for the adaptive quadrature to tolerance.
+QuadratureSettings quadrature_settings(std::optional<int> order, double tolerance) {
+    if (order && *order < 1) bad_argument("order", "must be >= 1");
+    if (!(tolerance >= 1e-9 && tolerance <= 0.1))
+        bad_argument("tolerance", "must be in [1e-9, 0.1]");
+    QuadratureSettings s;
+    s.tolerance = tolerance;
+    return s;
+}
+
+ReflectanceResult reflectance_over(const Material& m, py::handle dirs, const char* what,
+                                   std::optional<int> order, double tolerance,
+                                   Reflectance (*fixed)(const Material&, const Vec3&, int),
+                                   Reflectance (*adaptive)(const Material&, const Vec3&,
+                                                           const QuadratureSettings&)) {
+    const QuadratureSettings settings = quadrature_settings(order, tolerance);
     bool single = false;
     auto d = directions(dirs, what, single);
     const py::ssize_t n = d.size() / 3;
-    auto value = rgb_array(n, single), error = rgb_array(n, single);
-    float* pv = value.mutable_data();
-    float* pe = error.mutable_data();
+    auto value = rgb_array_d(n, single), error = rgb_array_d(n, single);
+    double* pv = value.mutable_data();
+    double* pe = error.mutable_data();
     const float* pd = d.data();
     {
         py::gil_scoped_release release;
         for (py::ssize_t i = 0; i < n; ++i) {
-            Reflectance r = fn(m, row(pd, i, n), order);
+            Reflectance r =
+                order ? fixed(m, row(pd, i, n), *order) : adaptive(m, row(pd, i, n), settings);
             for (int c = 0; c < 3; ++c) pv[3 * i + c] = r.value[c], pe[3 * i + c] = r.error[c];
         }
     }
@@ -139,10 +158,16 @@ ReflectanceResult reflectance_over(const Material& m, py::handle dirs, const cha
 }
 
 ReflectanceResult reflectance_one(const Reflectance& r) {
-    auto value = rgb_array(1, true), error = rgb_array(1, true);
+    auto value = rgb_array_d(1, true), error = rgb_array_d(1, true);
     for (int c = 0; c < 3; ++c)
         value.mutable_data()[c] = r.value[c], error.mutable_data()[c] = r.error[c];
     return {value, error};
+}
+
+Reflectance bihemispherical_either(const Material& m, std::optional<int> order, double tolerance) {
+    const QuadratureSettings settings = quadrature_settings(order, tolerance);
+    py::gil_scoped_release release;
+    return order ? bihemispherical(m, *order) : bihemispherical(m, settings);
 }
 
 Cone make_cone(const Vec3& axis, float half_angle, const char* what) {
@@ -340,30 +365,29 @@ void bind_brdf(py::module_& m) {
             "its warp, both in [0, 1). Returns BSDFSamples.")
         .def(
             "hemispherical_directional",
-            [](const PyMaterial& p, py::handle wo, int order) {
-                return reflectance_over(p.material, wo, "wo", order, &hemispherical_directional);
+            [](const PyMaterial& p, py::handle wo, std::optional<int> order, double tolerance) {
+                return reflectance_over(p.material, wo, "wo", order, tolerance,
+                                        &hemispherical_directional, &hemispherical_directional);
             },
-            py::arg("wo"), py::arg("order") = 32,
-            "rho(2pi -> wo) = int f(wo, wi) cos(theta_i) dwi per row (reflectance.h)")
+            py::arg("wo"), py::arg("order") = py::none(), py::arg("tolerance") = 1e-6,
+            "rho(2pi -> wo) = int f(wo, wi) cos(theta_i) dwi per row (reflectance.h): adaptive "
+            "to tolerance, or a fixed Gauss-Legendre order")
         .def(
             "directional_hemispherical",
-            [](const PyMaterial& p, py::handle wi, int order) {
-                return reflectance_over(p.material, wi, "wi", order, &directional_hemispherical);
+            [](const PyMaterial& p, py::handle wi, std::optional<int> order, double tolerance) {
+                return reflectance_over(p.material, wi, "wi", order, tolerance,
+                                        &directional_hemispherical, &directional_hemispherical);
             },
-            py::arg("wi"), py::arg("order") = 32,
-            "rho(wi -> 2pi) = int f(wo, wi) cos(theta_o) dwo per row (reflectance.h)")
+            py::arg("wi"), py::arg("order") = py::none(), py::arg("tolerance") = 1e-6,
+            "rho(wi -> 2pi) = int f(wo, wi) cos(theta_o) dwo per row (reflectance.h): adaptive "
+            "to tolerance, or a fixed Gauss-Legendre order")
         .def(
             "bihemispherical",
-            [](const PyMaterial& p, int order) {
-                if (order < 1) bad_argument("order", "must be >= 1");
-                Reflectance r;
-                {
-                    py::gil_scoped_release release;
-                    r = bihemispherical(p.material, order);
-                }
-                return reflectance_one(r);
+            [](const PyMaterial& p, std::optional<int> order, double tolerance) {
+                return reflectance_one(bihemispherical_either(p.material, order, tolerance));
             },
-            py::arg("order") = 16, "rho(2pi -> 2pi) (reflectance.h)")
+            py::arg("order") = py::none(), py::arg("tolerance") = 1e-6,
+            "rho(2pi -> 2pi) (reflectance.h)")
         .def(
             "biconical",
             [](const PyMaterial& p, const Vec3& in_axis, float in_half_angle, const Vec3& out_axis,
@@ -384,23 +408,16 @@ void bind_brdf(py::module_& m) {
             "radians, reflectance.h)")
         .def(
             "reflectance",
-            [](const PyMaterial& p, py::object wo, std::optional<int> order) -> ReflectanceResult {
-                if (wo.is_none()) {
-                    const int o = order.value_or(16);
-                    if (o < 1) bad_argument("order", "must be >= 1");
-                    Reflectance r;
-                    {
-                        py::gil_scoped_release release;
-                        r = bihemispherical(p.material, o);
-                    }
-                    return reflectance_one(r);
-                }
-                return reflectance_over(p.material, wo, "wo", order.value_or(32),
-                                        &hemispherical_directional);
+            [](const PyMaterial& p, py::object wo, std::optional<int> order,
+               double tolerance) -> ReflectanceResult {
+                if (wo.is_none())
+                    return reflectance_one(bihemispherical_either(p.material, order, tolerance));
+                return reflectance_over(p.material, wo, "wo", order, tolerance,
+                                        &hemispherical_directional, &hemispherical_directional);
             },
-            py::arg("wo") = py::none(), py::arg("order") = py::none(),
+            py::arg("wo") = py::none(), py::arg("order") = py::none(), py::arg("tolerance") = 1e-6,
             "The albedo rho(2pi -> wo) per row of wo, or with no wo the bihemispherical "
-            "reflectance (Cohen & Wallace table 2.2)")
+            "reflectance (Cohen & Wallace table 2.2); adaptive to tolerance unless order is given")
         .def("__repr__", &repr);
 
     m.def(

@@ -575,14 +575,15 @@ float MicrofacetReflection::ms_probability(const Vec3& wo) const {
     return ws + wm > 0.f ? wm / (ws + wm) : 0.f;
 }
 
-void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
-                                    float* pdf_out) const {
+void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
+                                    bool with_ms) const {
     if (f_out) *f_out = Rgb(0.f);
     if (pdf_out) *pdf_out = 0.f;
     if (m_smooth) return;
     float cos_o = wo.z, cos_i = wi.z;
     if (!(cos_o > 0.f && cos_i > 0.f)) return;
-    if (m_distribution.kind() == DistributionKind::GGX) return evaluate_ggx(wo, wi, f_out, pdf_out);
+    if (m_distribution.kind() == DistributionKind::GGX)
+        return evaluate_ggx(wo, wi, f_out, pdf_out, with_ms);
     Vec3 h = wo + wi;
     float len2 = glm::dot(h, h);
     if (!(len2 > 0.f)) return;
@@ -601,7 +602,8 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
         // Constant Fresnel stores its value in eta(): skip the evaluation.
         Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
         Rgb result = m_scale * fr * s;
-        if (m_has_ms) result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+        if (m_has_ms && with_ms)
+            result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
         *f_out = result;
     }
     if (pdf_out) {
@@ -631,8 +633,8 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out,
 // sums of positive terms: no cancellation, finite at grazing angles). D is evaluated from the
 // unnormalised half vector h: D = 1 / (pi ax ay) |h|^4 / Q^2, Q = hz^2 + (hx/ax)^2 + (hy/ay)^2.
 // The visible-normal pdf G1(wo) D / (4 cos_o) becomes D / (2 (A_o + cos_o)).
-void MicrofacetReflection::evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out,
-                                        float* pdf_out) const {
+void MicrofacetReflection::evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
+                                        bool with_ms) const {
     const MicrofacetDistribution& d = m_distribution;
     float cos_o = wo.z, cos_i = wi.z;
     Vec3 h = wo + wi;  // h.z > 0: both directions are above the surface
@@ -652,7 +654,8 @@ void MicrofacetReflection::evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_o
             fr = m_fresnel.eval(c);
         }
         Rgb result = m_scale * fr * s;
-        if (m_has_ms) result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+        if (m_has_ms && with_ms)
+            result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
         *f_out = result;
     }
     if (pdf_out) {
@@ -669,6 +672,17 @@ Rgb MicrofacetReflection::f(const Vec3& wo, const Vec3& wi) const {
     Rgb result;
     evaluate(wo, wi, &result, nullptr);
     return result;
+}
+
+Rgb MicrofacetReflection::f_single(const Vec3& wo, const Vec3& wi) const {
+    Rgb result;
+    evaluate(wo, wi, &result, nullptr, false);
+    return result;
+}
+
+Rgb MicrofacetReflection::f_multiple(const Vec3& wo, const Vec3& wi) const {
+    if (!m_has_ms || m_smooth || !(wo.z > 0.f && wi.z > 0.f)) return Rgb(0.f);
+    return m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
 }
 
 float MicrofacetReflection::pdf(const Vec3& wo, const Vec3& wi) const {

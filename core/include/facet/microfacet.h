@@ -170,6 +170,16 @@ class MicrofacetReflection {
     std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const;
     BxDFFlags flags() const { return m_smooth ? BxDFFlags::Specular : BxDFFlags::Glossy; }
 
+    // The two terms of f separately (f = f_single + f_multiple): the single-scattering
+    // D G F / (4 cos_i cos_o), and the compensation lobe f_ms (0 without compensation). The
+    // reflectance quadrature integrates them through different maps: f_single is peaked,
+    // f_ms is cosine-like with kinks at the table nodes.
+    Rgb f_single(const Vec3& wo, const Vec3& wi) const;
+    Rgb f_multiple(const Vec3& wo, const Vec3& wi) const;
+    bool has_multiple_scattering() const { return m_has_ms; }
+    // Anisotropic compensation tables depend on the azimuth too (see albedo_table).
+    bool multiple_scattering_is_isotropic() const { return m_phi_count == 1; }
+
     const MicrofacetDistribution& distribution() const { return m_distribution; }
     const Fresnel& fresnel() const { return m_fresnel; }
     const Rgb& scale() const { return m_scale; }
@@ -188,8 +198,11 @@ class MicrofacetReflection {
 
   private:
     // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
-    void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
-    void evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out) const;
+    // with_ms = false leaves out f_ms from f (f_single); pdf is unaffected.
+    void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
+                  bool with_ms = true) const;
+    void evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
+                      bool with_ms) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;
