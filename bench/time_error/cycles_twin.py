@@ -46,27 +46,6 @@ def _conductor_f0(d):
     return [((n - 1) ** 2 + kk ** 2) / ((n + 1) ** 2 + kk ** 2) for n, kk in zip(eta, k)]
 
 
-def _schlick_colour(nt, f0, refl):
-    """A colour socket: refl x (f0 + (1 - f0) (1 - |N.I|)^5)."""
-    lw = nt.nodes.new("ShaderNodeLayerWeight")
-    lw.inputs['Blend'].default_value = 0.5
-    pw = nt.nodes.new("ShaderNodeMath")
-    pw.operation = 'POWER'
-    nt.links.new(lw.outputs['Facing'], pw.inputs[0])
-    pw.inputs[1].default_value = 5.0
-    mix = nt.nodes.new("ShaderNodeMixRGB")
-    mix.blend_type = 'MIX'
-    nt.links.new(pw.outputs[0], mix.inputs['Fac'])
-    mix.inputs['Color1'].default_value = (f0[0], f0[1], f0[2], 1.0)
-    mix.inputs['Color2'].default_value = (1.0, 1.0, 1.0, 1.0)
-    mul = nt.nodes.new("ShaderNodeMixRGB")
-    mul.blend_type = 'MULTIPLY'
-    mul.inputs['Fac'].default_value = 1.0
-    mul.inputs['Color1'].default_value = (refl[0], refl[1], refl[2], 1.0)
-    nt.links.new(mix.outputs['Color'], mul.inputs['Color2'])
-    return mul.outputs['Color']
-
-
 def _approx_bsdf(nt, name, d, exact, notes):
     model = d["model"]
     fresnel = d.get("fresnel", "none" if model != "composite" else "dielectric")
@@ -99,7 +78,7 @@ def _approx_bsdf(nt, name, d, exact, notes):
         n.inputs['Roughness'].default_value = math.sqrt(alpha)
         if fresnel == "conductor":
             f0 = _conductor_f0(d)
-            nt.links.new(_schlick_colour(nt, f0, refl), n.inputs['Color'])
+            nt.links.new(cs.schlick_colour(nt, f0, refl), n.inputs['Color'])
             what += ", Schlick Fresnel from the conductor's F0 (%.3f %.3f %.3f) at the view angle" \
                 % tuple(f0)
         else:

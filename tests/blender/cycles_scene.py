@@ -107,6 +107,28 @@ def _new_tree(mat):
     return nt, out
 
 
+def schlick_colour(nt, f0, refl):
+    """A colour socket of node tree `nt`: refl x (f0 + (1 - f0) (1 - |N.I|)^5), Schlick's
+    Fresnel from Layer Weight's Facing output (f0, refl: RGB or RGBA sequences)."""
+    lw = nt.nodes.new("ShaderNodeLayerWeight")
+    lw.inputs['Blend'].default_value = 0.5
+    pw = nt.nodes.new("ShaderNodeMath")
+    pw.operation = 'POWER'
+    nt.links.new(lw.outputs['Facing'], pw.inputs[0])
+    pw.inputs[1].default_value = 5.0
+    mix = nt.nodes.new("ShaderNodeMixRGB")
+    mix.blend_type = 'MIX'
+    nt.links.new(pw.outputs[0], mix.inputs['Fac'])
+    mix.inputs['Color1'].default_value = (f0[0], f0[1], f0[2], 1.0)
+    mix.inputs['Color2'].default_value = (1.0, 1.0, 1.0, 1.0)
+    mul = nt.nodes.new("ShaderNodeMixRGB")
+    mul.blend_type = 'MULTIPLY'
+    mul.inputs['Fac'].default_value = 1.0
+    mul.inputs['Color1'].default_value = (refl[0], refl[1], refl[2], 1.0)
+    nt.links.new(mix.outputs['Color'], mul.inputs['Color2'])
+    return mul.outputs['Color']
+
+
 def _colour_times(nt, colour, factor_socket):
     """A Mix RGB node giving colour x factor (factor: a float socket)."""
     mul = nt.nodes.new("ShaderNodeMixRGB")
@@ -142,23 +164,7 @@ def _bsdf(nt, name, d, exact, notes):
             fr.inputs['IOR'].default_value = float(d.get("ior", 1.5))
             nt.links.new(_colour_times(nt, refl, fr.outputs['Fac']), n.inputs['Color'])
         elif fresnel == "schlick":
-            lw = nt.nodes.new("ShaderNodeLayerWeight")
-            lw.inputs['Blend'].default_value = 0.5
-            pw = nt.nodes.new("ShaderNodeMath")
-            pw.operation = 'POWER'
-            nt.links.new(lw.outputs['Facing'], pw.inputs[0])
-            pw.inputs[1].default_value = 5.0
-            mix = nt.nodes.new("ShaderNodeMixRGB")
-            mix.blend_type = 'MIX'
-            nt.links.new(pw.outputs[0], mix.inputs['Fac'])
-            mix.inputs['Color1'].default_value = _rgb(d.get("f0", 0.04))
-            mix.inputs['Color2'].default_value = (1.0, 1.0, 1.0, 1.0)
-            mul = nt.nodes.new("ShaderNodeMixRGB")
-            mul.blend_type = 'MULTIPLY'
-            mul.inputs['Fac'].default_value = 1.0
-            mul.inputs['Color1'].default_value = refl
-            nt.links.new(mix.outputs['Color'], mul.inputs['Color2'])
-            nt.links.new(mul.outputs['Color'], n.inputs['Color'])
+            nt.links.new(schlick_colour(nt, _rgb(d.get("f0", 0.04)), refl), n.inputs['Color'])
         else:
             raise NoEquivalent("material '%s': unknown fresnel '%s'" % (name, fresnel))
         return n.outputs[0]
