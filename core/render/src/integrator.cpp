@@ -437,13 +437,14 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
     // (render.h); lanes outside the tile are traced and not written.
     const int gx_begin = job.x0 - job.x0 % int(kLanes);
+    const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
     for (int y = job.y0; y < job.y1; ++y) {
         // The camera rays of a packet for one sample index are traced together (coherent), and
         // the path integrator traces the rest of their paths together too.
         for (int x0 = gx_begin; x0 < job.x1; x0 += int(kLanes)) {
             const std::size_t n = std::min(kLanes, std::size_t(width - x0));
             for (std::size_t k = 0; k < n; ++k) {
-                seeds[k] = Sampler::pixel_seed(x0 + int(k), y, job.seed);
+                seeds[k] = Sampler::pixel_seed_hashed(x0 + int(k), y, seed_hash);
                 acc[k] = FixedRgb{};
             }
             // The packet's film sums (48 B a pixel) are read and written once, after its

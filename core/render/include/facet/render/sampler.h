@@ -152,10 +152,16 @@ class Sampler {
 
     // Seed of pixel (x, y) for a render seed: every pixel gets an independent randomisation.
     static std::uint32_t pixel_seed(int x, int y, std::uint64_t seed) {
-        std::uint32_t h = hash_u32(std::uint32_t(seed) ^ 0x5bd1e995u);
-        h = hash_combine(h, std::uint32_t(seed >> 32));
-        h = hash_combine(h, std::uint32_t(x));
-        return hash_combine(h, std::uint32_t(y));
+        return pixel_seed_hashed(x, y, render_seed_hash(seed));
+    }
+    // The same in two steps, for loops over many pixels of one render: the render seed's part
+    // of the hash once, then pixel_seed_hashed(x, y, render_seed_hash(seed)) per pixel (the
+    // same value as pixel_seed(x, y, seed)).
+    static std::uint32_t render_seed_hash(std::uint64_t seed) {
+        return hash_combine(hash_u32(std::uint32_t(seed) ^ 0x5bd1e995u), std::uint32_t(seed >> 32));
+    }
+    static std::uint32_t pixel_seed_hashed(int x, int y, std::uint32_t render_seed_hash) {
+        return hash_combine(hash_combine(render_seed_hash, std::uint32_t(x)), std::uint32_t(y));
     }
 
     // One value in [0,1) (sample_1d).
