@@ -84,9 +84,7 @@ int main() {
         ParamSet params;
     };
     auto p = [](std::initializer_list<std::pair<std::string, ParamValue>> l) {
-        ParamSet s;
-        for (const auto& [k, v] : l) s.set(k, v);
-        return s;
+        return ParamSet(l);
     };
     std::vector<Case> cases = {
         {"ggx a=0.3 dielectric", "ggx",

@@ -575,6 +575,11 @@ float MicrofacetReflection::ms_probability(const Vec3& wo) const {
     return ws + wm > 0.f ? wm / (ws + wm) : 0.f;
 }
 
+// f_ms = factor (1 - E(mu_o)) (1 - E(mu_i)) (Kulla & Conty 2017), E the albedo table.
+inline Rgb MicrofacetReflection::ms_lobe(const Vec3& wo, const Vec3& wi) const {
+    return m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+}
+
 void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
                                     bool with_ms) const {
     if (f_out) *f_out = Rgb(0.f);
@@ -602,8 +607,7 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, 
         // Constant Fresnel stores its value in eta(): skip the evaluation.
         Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
         Rgb result = m_scale * fr * s;
-        if (m_has_ms && with_ms)
-            result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+        if (m_has_ms && with_ms) result += ms_lobe(wo, wi);
         *f_out = result;
     }
     if (pdf_out) {
@@ -654,8 +658,7 @@ void MicrofacetReflection::evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_o
             fr = m_fresnel.eval(c);
         }
         Rgb result = m_scale * fr * s;
-        if (m_has_ms && with_ms)
-            result += m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+        if (m_has_ms && with_ms) result += ms_lobe(wo, wi);
         *f_out = result;
     }
     if (pdf_out) {
@@ -682,7 +685,7 @@ Rgb MicrofacetReflection::f_single(const Vec3& wo, const Vec3& wi) const {
 
 Rgb MicrofacetReflection::f_multiple(const Vec3& wo, const Vec3& wi) const {
     if (!m_has_ms || m_smooth || !(wo.z > 0.f && wi.z > 0.f)) return Rgb(0.f);
-    return m_ms_factor * ((1.f - albedo_table(wo)) * (1.f - albedo_table(wi)));
+    return ms_lobe(wo, wi);
 }
 
 float MicrofacetReflection::pdf(const Vec3& wo, const Vec3& wi) const {

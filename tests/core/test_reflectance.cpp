@@ -16,9 +16,7 @@ namespace {
 
 Material model(const std::string& name,
                std::initializer_list<std::pair<std::string, ParamValue>> list) {
-    ParamSet p;
-    for (const auto& [k, v] : list) p.set(k, v);
-    return make_material(name, p);
+    return make_material(name, ParamSet(list));
 }
 
 // Lambert: rho(wi -> 2pi) = rho exactly; the cosine map integrates it with zero error up to
@@ -212,9 +210,7 @@ TEST(Reflectance, AdaptiveDefaultOverTheOtherModels) {
         ParamSet params;
     };
     auto p = [](std::initializer_list<std::pair<std::string, ParamValue>> l) {
-        ParamSet s;
-        for (const auto& [k, v] : l) s.set(k, v);
-        return s;
+        return ParamSet(l);
     };
     const std::vector<Case> cases = {
         {"blinn 50", "blinn", p({})},

@@ -18,9 +18,7 @@ ParamError expect_error(const std::string& model, const ParamSet& p) {
 }
 
 ParamSet params(std::initializer_list<std::pair<std::string, ParamValue>> list) {
-    ParamSet p;
-    for (const auto& [k, v] : list) p.set(k, v);
-    return p;
+    return ParamSet(list);
 }
 
 TEST(Registry, EveryModelBuildsWithDefaults) {

@@ -203,6 +203,8 @@ class MicrofacetReflection {
                   bool with_ms = true) const;
     void evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
                       bool with_ms) const;
+    // The compensation lobe's value f_ms(wo, wi) (both above the horizon, m_has_ms).
+    Rgb ms_lobe(const Vec3& wo, const Vec3& wi) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;

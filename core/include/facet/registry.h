@@ -10,10 +10,12 @@
 //  - Colours are linear RGB; a number given where a colour is expected means grey.
 #pragma once
 
+#include <initializer_list>
 #include <map>
 #include <stdexcept>
 #include <string>
 #include <string_view>
+#include <utility>
 #include <variant>
 #include <vector>
 
@@ -36,6 +38,11 @@ class ParamError : public std::runtime_error {
 
 class ParamSet {
   public:
+    ParamSet() = default;
+    // ParamSet{{"alpha", 0.3f}, {"fresnel", std::string("dielectric")}}: set() per entry.
+    ParamSet(std::initializer_list<std::pair<std::string, ParamValue>> list) {
+        for (const auto& [name, value] : list) set(name, value);
+    }
     void set(const std::string& name, ParamValue value) { m_values[name] = std::move(value); }
     bool has(const std::string& name) const { return m_values.count(name) != 0; }
     const std::map<std::string, ParamValue>& values() const { return m_values; }
