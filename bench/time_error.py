@@ -41,6 +41,7 @@ import hashlib
 import json
 import math
 import os
+import resource
 import shutil
 import subprocess
 import sys
@@ -92,8 +93,12 @@ def contenders(scene):
                ("facet path independent", ["--integrator", "path", "--sampler", "independent"]),
                ("facet direct sobol", ["--integrator", "direct"])]
     pov = [("povray brdf", "pov", None)] if ARGS.povray and scene in POV_SCENES else []
-    return ([(n, "cli", o) for n, o in cli] + pov +
-            [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
+    every = ([(n, "cli", o) for n, o in cli] + pov +
+             [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
+    if not ARGS.contenders:
+        return every
+    keep = set(ARGS.contenders.split(",")) | {"cycles"}  # Cycles sets the error level
+    return [c for c in every if c[0] in keep]
 
 
 # POV-Ray (povray-facet, the `brdf` finish, the SDL of `facet export-pov`): only where the
@@ -164,12 +169,26 @@ def bench_scene(name, cfg):
     return path, data
 
 
+# CPU seconds (user + system, all threads) of the last render that run_cli or the Blender worker
+# timed. On a machine shared with other work, wall time moves tens of percent between
+# neighbouring renders while CPU time moves a few percent: the timing rounds report both.
+LAST_CPU = [0.0]
+
+
+def children_cpu():
+    r = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return r.ru_utime + r.ru_stime
+
+
 def run_cli(scene_path, spp, seed, opts, out):
     cmd = [ARGS.facet, "render", scene_path, "--spp", str(spp), "--seed", str(seed),
            "--threads", str(ARGS.threads), "-q", "-o", out] + list(opts)
+    c0 = children_cpu()
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True)
-    return time.perf_counter() - t0
+    sec = time.perf_counter() - t0
+    LAST_CPU[0] = children_cpu() - c0
+    return sec
 
 
 def point_plane_reference(data, order):
@@ -573,6 +592,7 @@ def timing_phase(names, rows, blender, reps):
                 jobs.append((cname, kind, opt, int(math.ceil(n))))
                 extrapolated = extrapolated or n > 2 * pts[-1][0]
         times = {j[0]: [] for j in jobs}
+        cpus = {}
         errs = {}
         if extrapolated:
             jobs = [j for j in jobs if j[0] in (main, "cycles")]
@@ -589,42 +609,50 @@ def timing_phase(names, rows, blender, reps):
                 out = os.path.join(imgdir, "rep_%s.exr" % cname.replace(" ", "_"))
                 if kind == "cli":
                     sec = run_cli(scene_path, spp, SEED, opt, out)
+                    cpu = LAST_CPU[0]
                 else:
-                    sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
-                                       integrator=data.get("render", {}).get(
-                                           "integrator", "path"))["seconds"]
+                    r = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
+                                     integrator=data.get("render", {}).get("integrator", "path"))
+                    sec, cpu = r["seconds"], r.get("cpu_seconds", float("nan"))
                 x = read(out)
                 e = metrics(x, cref, cref_var)["rmse"] if cname == "cycles" else \
                     metrics(x, ref, ref_var)["rmse"]
                 errs[cname] = e
                 times[cname].append(sec)
+                cpus.setdefault(cname, []).append(cpu)
                 this[cname] = sec
+                this[cname + " cpu"] = cpu
                 out_rows.append(dict(scene=name, contender=cname, round=k, spp=spp,
-                                     seconds=round(sec, 4), rmse=e))
-                log("  round %d %-28s %5d spp %8.2f s  RMSE %.4g" % (k, cname, spp, sec, e))
+                                     seconds=round(sec, 4), cpu_seconds=round(cpu, 4), rmse=e))
+                log("  round %d %-28s %5d spp %8.2f s (CPU %8.2f s)  RMSE %.4g"
+                    % (k, cname, spp, sec, cpu, e))
             rounds.append(this)
         tc = float(np.median(times["cycles"]))
         goal = 1 / 3 if name == "cornell_box" else 1 / 2
         for cname, kind, opt, spp in jobs:
             t = float(np.median(times[cname]))
             per_round = float(np.median([r[cname] / r["cycles"] for r in rounds]))
+            cpu_ratio = float(np.median(cpus[cname])) / float(np.median(cpus["cycles"]))
             verdict = ""
             if cname == main:
                 verdict = "≤ %s: %s" % ("1/3" if goal < 0.4 else "1/2",
                                         "met" if per_round <= goal else "**not met**")
-            lines.append("| %s | %s | %d | %.4g | %s | %.2f s | %.3f | %.3f | %s |" % (
+            lines.append("| %s | %s | %d | %.4g | %s | %.2f s | %.3f | %.3f | %s | %.3f | %s |" % (
                 name, cname, spp, errs[cname], " ".join("%.2f" % v for v in times[cname]), t,
-                t / tc, per_round, verdict))
+                t / tc, per_round, " ".join("%.2f" % v for v in cpus[cname]), cpu_ratio,
+                verdict))
     mode = "a" if ARGS.reps_append else "w"
     with open(os.path.join(ARGS.publish, "time_error_reps.csv"), mode, newline="") as f:
-        w = csv.DictWriter(f, ["scene", "contender", "round", "spp", "seconds", "rmse"])
+        w = csv.DictWriter(f, ["scene", "contender", "round", "spp", "seconds", "cpu_seconds",
+                               "rmse"])
         if mode == "w":
             w.writeheader()
         for r in out_rows:
             w.writerow({k: ("%.6g" % v if isinstance(v, float) else v) for k, v in r.items()})
     head = ["| scene | contender | spp reaching the level | RMSE there | seconds per round | "
-            "median | ratio of medians to Cycles | median per-round ratio | target |",
-            "|---|---|---:|---:|---|---:|---:|---:|---|"]
+            "median | ratio of medians to Cycles | median per-round ratio | CPU seconds per "
+            "round | ratio of CPU medians | target (wall, per round) |",
+            "|---|---|---:|---:|---|---:|---:|---:|---|---:|---|"]
     text = "\n".join(["## Time to Cycles' top-budget error, %d interleaved rounds (%s)"
                        % (reps, ", ".join(names)), "", "Run of %s UTC, load average at the end "
                        "%.1f." % (time.strftime("%Y-%m-%d %H:%M", time.gmtime()),
@@ -723,6 +751,8 @@ def main():
     ap.add_argument("--facet", default=None, help="the facet CLI (default <build>/core/cli/facet)")
     ap.add_argument("--povray", default=None, help="povray-facet binary: adds POV-Ray (brdf "
                     "finish, facet export-pov) where the SDL can express the scene")
+    ap.add_argument("--contenders", default="", help="comma-separated: only these contenders "
+                    "(Cycles always: it sets the error level); default all")
     ap.add_argument("--reps", type=int, default=3, help="timing rounds at the error level "
                     "after the ladders (0: none)")
     ap.add_argument("--reps-only", action="store_true", help="only the timing rounds, from the "
@@ -759,6 +789,14 @@ def main():
     for s in names:
         if s not in SCENES:
             sys.exit("time_error: unknown scene %r (have %s)" % (s, ", ".join(SCENES)))
+    if ARGS.contenders:
+        wanted, ARGS.contenders = ARGS.contenders, ""
+        known = sorted({c[0] for s in SCENES for c in contenders(s)})
+        for c in wanted.split(","):
+            if c not in known:
+                sys.exit("time_error: --contenders: unknown contender %r (have %s)"
+                         % (c, ", ".join(known)))
+        ARGS.contenders = wanted
     blender = None
     if not ARGS.no_blender:
         if not os.path.exists(ARGS.addon_zip):

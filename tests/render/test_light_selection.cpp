@@ -45,8 +45,8 @@ std::vector<double> selection_frequencies(const fr::LightDistribution& d, int n)
 }  // namespace
 
 // The pmf of each light is its power over the total, for every kind of light (power formulas of
-// light.h: Phi for point/spot, pi A L for area lights, E pi r^2 for directional, 4 pi^2 r^2 L
-// for the environment); zero-power lights are never chosen. Tolerance 1e-6 relative: the pmf is
+// light.h: Phi for point/spot, pi A L for area lights, E pi r^2 for directional); zero-power
+// lights and the environment (left to BSDF sampling, light.h nee_samples) are never chosen. Tolerance 1e-6 relative: the pmf is
 // a float difference of a float CDF (a few ulps); a uniform choice would be off by O(1).
 TEST(LightSelection, PmfIsProportionalToPower) {
     const float r = 3.f;  // scene radius
@@ -61,7 +61,8 @@ TEST(LightSelection, PmfIsProportionalToPower) {
     lights.push_back(fr::Light::environment(Rgb(0.01f)));
     lights.push_back(fr::Light::point({0, 1, 0}, Rgb(0.f)));  // trailing zero
     const double want_w[] = {
-        90.0, 0.0, 20.0, kPiD * 2.0 * 5.0, 0.5 * kPiD * r * r, 0.01 * 4.0 * kPiD * kPiD * r * r,
+        90.0, 0.0, 20.0, kPiD * 2.0 * 5.0, 0.5 * kPiD * r * r,
+        0.0,  // the environment: left to BSDF sampling (light.h, nee_samples)
         0.0};
     double total = 0.0;
     for (double w : want_w) total += w;
@@ -81,15 +82,23 @@ TEST(LightSelection, PmfIsProportionalToPower) {
     // Largest u: still a valid light with non-zero probability.
     float pmf = 0.f;
     const std::uint32_t last = d.sample(0x1.fffffep-1f, pmf);
-    EXPECT_EQ(last, 5u);
+    EXPECT_EQ(last, 4u);
     EXPECT_GT(pmf, 0.f);
 
     // Uniform and all-zero distributions.
-    const fr::LightDistribution u = fr::LightDistribution::uniform(4);
-    for (std::size_t i = 0; i < 4; ++i) EXPECT_FLOAT_EQ(u.pmf(i), 0.25f);
+    std::vector<fr::Light> four(4, fr::Light::point({0, 0, 0}, Rgb(1.f)));
+    four[2] = fr::Light::environment(Rgb(1.f));
+    const fr::LightDistribution u = fr::LightDistribution::uniform(four);
+    EXPECT_FALSE(u.empty());
+    for (std::size_t i = 0; i < 4; ++i) EXPECT_FLOAT_EQ(u.pmf(i), i == 2 ? 0.f : 1.f / 3.f);
     std::vector<fr::Light> dark(3, fr::Light::point({0, 0, 0}, Rgb(0.f)));
     const fr::LightDistribution z(dark, r);
     for (std::size_t i = 0; i < 3; ++i) EXPECT_FLOAT_EQ(z.pmf(i), 1.f / 3.f);
+    // Only an environment: nothing for next-event estimation to choose.
+    const std::vector<fr::Light> env_only{fr::Light::environment(Rgb(1.f))};
+    EXPECT_TRUE(fr::LightDistribution(env_only, r).empty());
+    EXPECT_TRUE(fr::LightDistribution::uniform(env_only).empty());
+    EXPECT_FALSE(d.empty());
     // The binary-search branch (more than 8 lights) agrees with the linear one.
     std::vector<fr::Light> many;
     for (int i = 0; i < 20; ++i) many.push_back(fr::Light::point({0, 0, 0}, Rgb(float(i % 3))));
@@ -260,4 +269,67 @@ TEST(LightSelection, QuadLightIrradianceIsNotClippedByShadowRays) {
         const fr::Image img = render(scene, 16384, false, 5, integrator);
         EXPECT_NEAR(img.at(0, 0).r, want, 1e-3 * want) << integrator;
     }
+}
+
+// The path integrator finds the constant environment by BSDF sampling alone (light.h,
+// nee_samples); the direct integrator only by light samples (cosine-weighted about the normal).
+// Two independent estimators of the same one-bounce image: a near-specular anisotropic GGX
+// conductor plane (alpha 0.05 / 0.3, as the brushed benchmark's floor) and a Lambertian one
+// under an environment and a quad light, max_depth 1 (an infinite plane cannot see itself). The
+// image means must agree within 4 standard errors of their difference (pixels are independent
+// estimates). An environment counted twice (by a light sample and, at full weight, by the BSDF
+// ray) or not at all moves the mean by its share of the image, here ~30-60%, hundreds of SE.
+TEST(LightSelection, EnvironmentByBsdfSamplingMatchesLightSampling) {
+    for (const char* material :
+         {R"({"model": "ggx", "alpha_u": 0.05, "alpha_v": 0.3, "fresnel": "conductor"})",
+          R"({"model": "lambert", "reflectance": 0.6})"}) {
+        const fr::Scene scene = scene_from(std::string(R"(
+            "camera": {"position": [0, 1.2, 3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 60,
+                       "width": 40, "height": 30},
+            "materials": {"floor": )") + material + R"(},
+            "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0],
+                        "material": "floor"},
+                       {"type": "quad", "emission": 15,
+                        "vertices": [[-1.8, 2, -1], [1.8, 2, -1], [1.8, 2, -0.6], [-1.8, 2, -0.6]]}],
+            "lights": [{"type": "environment", "radiance": 0.3}],
+            "render": {"spp": 64, "max_depth": 1})");
+        ASSERT_EQ(scene.lights().size(), 2u);
+        const fr::LightDistribution& d = scene.light_distribution();
+        const std::size_t env = scene.lights()[0].kind() == fr::Light::Kind::Environment ? 0 : 1;
+        EXPECT_EQ(d.pmf(env), 0.f);
+        EXPECT_EQ(d.pmf(1 - env), 1.f);
+        const fr::Image path = render(scene, 64, false, 31);
+        const fr::Image direct = render(scene, 64, false, 32, "direct");
+        double s = 0.0, s2 = 0.0, mean_path = 0.0;
+        const double n = double(path.pixels().size());
+        for (std::size_t i = 0; i < path.pixels().size(); ++i) {
+            const double dv = double(path.pixels()[i].g) - double(direct.pixels()[i].g);
+            s += dv;
+            s2 += dv * dv;
+            mean_path += path.pixels()[i].g / n;
+        }
+        const double mean = s / n;
+        const double se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / (n - 1));
+        EXPECT_LT(std::fabs(mean), 4.0 * se)
+            << material << ": mean difference " << mean << ", SE " << se << ", mean " << mean_path;
+        EXPECT_GT(mean_path, 0.05) << material;
+    }
+}
+
+// Only an environment (radiance L) over a Lambertian plane (rho): nothing for next-event
+// estimation to choose, and BSDF sampling alone is exact here (f cos / pdf = rho for a
+// cosine-sampled Lambertian lobe, L constant, nothing occludes): every pixel of a 1-spp path
+// render is rho L to float round-off (1e-6 relative).
+TEST(LightSelection, EnvironmentOnlyIsExactByBsdfSampling) {
+    const fr::Scene scene = scene_from(R"(
+        "camera": {"position": [0, 1.2, 3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 40,
+                   "width": 24, "height": 16},
+        "materials": {"white": {"model": "lambert", "reflectance": 0.7}},
+        "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0],
+                    "material": "white"}],
+        "lights": [{"type": "environment", "radiance": 0.5}],
+        "render": {"spp": 1, "max_depth": 1})");
+    EXPECT_TRUE(scene.light_distribution().empty());
+    const fr::Image img = render(scene, 1, false, 5);
+    for (const Rgb& p : img.pixels()) ASSERT_NEAR(p.g, 0.35, 0.35e-6);
 }

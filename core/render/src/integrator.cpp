@@ -217,8 +217,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
 
-    // Next-event estimation: one light, chosen in proportion to power (light.h).
-    if (num_lights > 0 && has_non_specular<F>(m)) {
+    // Next-event estimation: one light, chosen in proportion to power among the lights it
+    // samples (light.h: not the environment, which the BSDF sample below finds).
+    if (!light_dist.empty() && has_non_specular<F>(m)) {
         // The light choice needs a sample only when there is a choice; every draw has a fixed
         // dimension, so skipping one does not shift the others.
         float select_pmf = 1.f;

@@ -367,6 +367,10 @@ Rgb Light::power(float scene_radius) const {
 LightDistribution::LightDistribution(std::span<const Light> lights, float scene_radius) {
     std::vector<double> w(lights.size());
     for (std::size_t i = 0; i < lights.size(); ++i) {
+        if (!nee_samples(lights[i])) {
+            w[i] = -1.0;
+            continue;
+        }
         const Rgb phi = lights[i].power(scene_radius);
         const double avg = (double(phi.r) + double(phi.g) + double(phi.b)) / 3.0;
         w[i] = std::isfinite(avg) && avg > 0.0 ? avg : 0.0;
@@ -374,9 +378,11 @@ LightDistribution::LightDistribution(std::span<const Light> lights, float scene_
     build(w);
 }
 
-LightDistribution LightDistribution::uniform(std::size_t n) {
+LightDistribution LightDistribution::uniform(std::span<const Light> lights) {
     LightDistribution d;
-    d.build(std::vector<double>(n, 1.0));
+    std::vector<double> w(lights.size());
+    for (std::size_t i = 0; i < lights.size(); ++i) w[i] = nee_samples(lights[i]) ? 1.0 : -1.0;
+    d.build(w);
     return d;
 }
 
@@ -384,14 +390,20 @@ void LightDistribution::build(const std::vector<double>& weights) {
     const std::size_t n = weights.size();
     m_cdf.assign(n, 0.f);
     m_pmf.assign(n, 0.f);
-    if (n == 0) return;
+    std::size_t candidates = 0;
     double total = 0.0;
-    for (double w : weights) total += w;
+    for (double w : weights) {
+        if (w < 0.0) continue;
+        ++candidates;
+        total += w;
+    }
+    m_empty = candidates == 0;
+    if (m_empty) return;
     const bool uniform = !(total > 0.0) || !std::isfinite(total);
     double run = 0.0;
     for (std::size_t i = 0; i < n; ++i) {
-        run += uniform ? 1.0 : weights[i];
-        m_cdf[i] = float(run / (uniform ? double(n) : total));
+        if (weights[i] >= 0.0) run += uniform ? 1.0 : weights[i];
+        m_cdf[i] = float(run / (uniform ? double(candidates) : total));
     }
     // The last entry is exactly 1 so that every u in [0,1) selects some light; the trailing
     // zero-weight lights keep their zero probability.

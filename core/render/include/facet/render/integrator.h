@@ -14,7 +14,8 @@
 //    sample per light per camera sample. Glossy lobes receive direct light only.
 //  - `path` (the rendering equation, §2.6.2): unidirectional path tracing with next-event
 //    estimation (one light per vertex, chosen in proportion to power: LightDistribution,
-//    light.h), multiple importance sampling of light
+//    light.h; the constant environment is left to BSDF sampling, which importance-samples its
+//    integrand exactly up to visibility: nee_samples()), multiple importance sampling of light
 //    and BSDF samples with the power heuristic (Veach eq. 9.13), delta lobes and delta lights
 //    handled exactly (no MIS for them), Russian roulette from kRouletteDepth on, and at most
 //    max_depth bounces (max_depth = 0: only what camera rays see).

@@ -191,19 +191,35 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
     return finish_area_sample(ctx, s);
 }
 
+// Whether next-event estimation samples this light. Every light but the environment: its
+// radiance is constant, so the BSDF sample that continues a path already draws wi in
+// proportion to f cos L up to visibility (the best a light sample could do), while a light
+// sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
+// scene's near-specular floor almost every such shadow ray fell outside the lobe) and takes the
+// shadow ray from the lights that need it (56% of the brushed scene's, by power). The path
+// integrator therefore finds the environment by BSDF sampling alone: its selection pmf is 0, so
+// the MIS weight of an escaping BSDF ray is 1 (power heuristic with a zero light pdf). The
+// `direct` integrator, which has no BSDF rays, still samples it (Light::sample_li).
+inline bool nee_samples(const Light& light) {
+    return light.kind() != Light::Kind::Environment;
+}
+
 // The discrete distribution next-event estimation chooses lights from: probability in
-// proportion to each light's power (Light::power, averaged over the RGB channels; the
-// environment and directional lights by their estimate over the scene's bounding sphere), so a
-// strong light gets most shadow rays and a weak one few (pbrt-v4's PowerLightSampler). Built
-// once at load time. Lights of zero power are never chosen; if every light has zero power the
-// choice is uniform. `uniform(n)` builds the uniform choice (for comparisons and tests).
+// proportion to each light's power (Light::power, averaged over the RGB channels; directional
+// lights by their estimate over the scene's bounding sphere), so a strong light gets most
+// shadow rays and a weak one few (pbrt-v4's PowerLightSampler). Built once at load time. Only
+// lights with nee_samples() are candidates; candidates of zero power are never chosen; if every
+// candidate has zero power the choice is uniform over the candidates. `uniform(lights)` builds
+// the uniform choice over the candidates (for comparisons and tests). empty(): no candidate
+// (e.g. only an environment): next-event estimation is skipped.
 class LightDistribution {
   public:
     LightDistribution() = default;
     LightDistribution(std::span<const Light> lights, float scene_radius);
-    static LightDistribution uniform(std::size_t n);
+    static LightDistribution uniform(std::span<const Light> lights);
 
     std::size_t size() const { return m_pmf.size(); }
+    bool empty() const { return m_empty; }
     // Index of the light chosen by u in [0,1) (the first i with u < cdf_i), and its probability.
     // Call only when size() > 0.
     std::uint32_t sample(float u, float& pmf) const {
@@ -221,7 +237,9 @@ class LightDistribution {
     float pmf(std::size_t i) const { return m_pmf[i]; }
 
   private:
+    // weights[i] < 0 marks a light that is not a candidate (pmf 0 even in the uniform case).
     void build(const std::vector<double>& weights);
+    bool m_empty = true;
     std::vector<float> m_cdf;  // running probability, last = 1
     std::vector<float> m_pmf;  // m_cdf[i] - m_cdf[i - 1], exactly as sample() selects
 };
