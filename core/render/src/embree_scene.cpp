@@ -294,8 +294,7 @@ void Scene::Impl::build(const std::string& name) {
             std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
             meshes[m].vertices = v;
             meshes[m].triangles = idx;
-            std::vector<glm::vec4>& planes = meshes[m].planes;
-            planes.resize(mesh.num_triangles());
+            std::vector<glm::vec4> planes(mesh.num_triangles());
             for (std::size_t t = 0; t < planes.size(); ++t) {
                 const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
                 const Vec3& p1 = mesh.positions[mesh.indices[3 * t + 1]];
@@ -307,6 +306,18 @@ void Scene::Impl::build(const std::string& name) {
                 const double len = glm::length(c);
                 const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
                 planes[t] = glm::vec4(n, glm::dot(n, p0));
+            }
+            if (mesh.normals.empty()) {
+                meshes[m].planes = std::move(planes);
+            } else {
+                std::vector<MeshGeom::SmoothRecord>& rec = meshes[m].records;
+                rec.resize(planes.size());
+                for (std::size_t t = 0; t < planes.size(); ++t) {
+                    rec[t].plane = planes[t];
+                    for (int j = 0; j < 3; ++j)
+                        rec[t].n[j] = mesh.normals[mesh.indices[3 * t + std::size_t(j)]];
+                }
+                meshes[m].mesh.normals = {};
             }
             // Embree holds the data now (the scene keeps the geometry and its buffers alive).
             meshes[m].mesh.positions = {};
@@ -333,7 +344,9 @@ void Scene::Impl::build(const std::string& name) {
         }
     }
     std::size_t record_bytes = 0;
-    for (const MeshGeom& mg : meshes) record_bytes += mg.planes.size() * sizeof(glm::vec4);
+    for (const MeshGeom& mg : meshes)
+        record_bytes += mg.planes.size() * sizeof(glm::vec4) +
+                        mg.records.size() * sizeof(MeshGeom::SmoothRecord);
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
     rtcCommitScene(be.scene.get());
     std::lock_guard<std::mutex> lock(be.error_mutex);
@@ -370,7 +383,7 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
 // Inline: called once per closest hit, only from Scene::intersect below.
 inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, const Ray& ray,
                                        float u, float v, float t, SurfaceHit& hit) const {
-    const glm::vec4& plane = mg.planes[tri];
+    const glm::vec4& plane = mg.plane(tri);
     hit.t = t;
     hit.ng = Vec3(plane);
     // o + t d, then projected back onto the triangle's plane: the error left is along the
@@ -379,10 +392,9 @@ inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, co
     Vec3 p = ray.o + t * ray.d;
     hit.p = p - (glm::dot(p, hit.ng) - plane.w) * hit.ng;
     hit.ns = hit.ng;
-    if (!mg.mesh.normals.empty()) {
-        const std::uint32_t* tv = mg.triangles + 3 * std::size_t(tri);
-        const std::vector<Vec3>& n = mg.mesh.normals;
-        Vec3 ns = (1.f - u - v) * n[tv[0]] + u * n[tv[1]] + v * n[tv[2]];
+    if (!mg.records.empty()) {
+        const Vec3* n = mg.records[tri].n;
+        Vec3 ns = (1.f - u - v) * n[0] + u * n[1] + v * n[2];
         float l = glm::length(ns);
         if (l > 0.f && std::isfinite(l)) {
             ns /= l;
@@ -477,9 +489,7 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
         if (!valid[k] || geom == RTC_INVALID_GEOMETRY_ID || geom == impl.backend->analytic_geom)
             continue;
         const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
-        const std::size_t tri = rh.hit.primID[k];
-        __builtin_prefetch(&mg.planes[tri]);
-        if (!mg.mesh.normals.empty()) __builtin_prefetch(mg.triangles + 3 * tri);
+        __builtin_prefetch(&mg.plane(rh.hit.primID[k]));
     }
     for (std::size_t k = 0; k < n; ++k) {
         if (!valid[k]) continue;

@@ -23,6 +23,19 @@ struct MeshGeom {
     // 16-byte record instead of an index triple and three vertices (Embree's BVH leaves hold
     // their own vertex copies, so the mesh arrays are cold when a hit is filled).
     std::vector<glm::vec4> planes;
+    // Meshes with vertex normals: the plane and the triangle's three vertex normals in one
+    // 64-byte line (`records`, `planes` then empty), so that a hit on a large smooth mesh costs
+    // one cache miss instead of four dependent ones (plane, index triple, then three normals):
+    // on big_mesh (1.08 M smooth triangles) those misses were a quarter of the render's time.
+    struct alignas(64) SmoothRecord {
+        glm::vec4 plane;
+        Vec3 n[3];
+    };
+    std::vector<SmoothRecord> records;
+    const glm::vec4& plane(std::size_t tri) const {
+        return records.empty() ? planes[tri] : records[tri].plane;
+    }
+    std::size_t num_triangles() const { return records.empty() ? planes.size() : records.size(); }
 };
 
 // An exact analytic primitive defined in object space: the unit sphere at the origin, or the
