@@ -198,6 +198,52 @@ TEST(Reflectance, AdaptiveDefaultAgainstDoubleReference) {
     EXPECT_GE(tally.within_10x, int(0.8 * tally.cases));
 }
 
+// The estimate's tightness where the true error is far above the float floor: the refinement is
+// stopped after the initial cells (max_evaluations = 1), so the error is the initial partition's
+// (1e-6 .. 1e-2), and the estimate must bound it (never below) and be at most 10x above it.
+// Measured: 4.3-7.4x in all but one case (GGX alpha = 0.05 at 89.9 degrees: 12x, where the
+// cells' Gauss - Kronrod differences partly cancel and sqrt(sum d^2) dominates); at least 90% of
+// the cases within 10x is required. Checked to fail for an estimator 3x more pessimistic (0 of
+// 23 within 10x); one without the factor 3 passes here (1.4-2.5x) but fails
+// AdaptiveDefaultAgainstDoubleReference and AdaptiveDefaultOverTheOtherModels (estimate below the
+// error). Cases whose capped error is below 10 kFloatFloor are skipped (their error is
+// round-off, not quadrature).
+TEST(Reflectance, EstimateBoundsAndTracksALargeError) {
+    struct Case {
+        ref::Dist dist;
+        double alpha;
+    };
+    const std::vector<Case> cases = {{ref::Dist::GGX, 0.05},      {ref::Dist::GGX, 0.2},
+                                     {ref::Dist::GGX, 0.3},       {ref::Dist::GGX, 1.0},
+                                     {ref::Dist::Beckmann, 0.05}, {ref::Dist::Beckmann, 0.8}};
+    QuadratureSettings capped;
+    capped.max_evaluations = 1;
+    int counted = 0, within_10x = 0;
+    for (const Case& c : cases) {
+        ParamSet p;
+        p.set("alpha", c.alpha);
+        Material m = make_material(c.dist == ref::Dist::GGX ? "ggx" : "beckmann", p);
+        ref::Distribution d{c.dist, c.alpha, c.alpha};
+        for (double deg : test_angles()) {
+            const Vec3 wi = spherical_direction(float(deg * kPiD / 180.0), 0.3f);
+            const DVec3 v(wi);
+            const double reference = ref::directional_albedo(
+                [&](const DVec3& w) { return ref::microfacet_f(d, {}, DVec3(1.0), w, v).g * w.z; },
+                v, c.alpha, 1e-10, 10);
+            const Reflectance r = directional_hemispherical(m, wi, capped);
+            const double e = std::fabs(r.value.g - reference);
+            if (e < 10.0 * kFloatFloor) continue;
+            ++counted;
+            EXPECT_LE(e, r.error.g) << c.alpha << " theta " << deg;
+            if (r.error.g <= 10.0 * e) ++within_10x;
+        }
+    }
+    std::printf("capped: estimate within [1, 10]x of the true error in %d of %d cases\n",
+                within_10x, counted);
+    EXPECT_GE(counted, reduced_run() ? 3 : 10);
+    EXPECT_GE(within_10x, int(0.9 * counted));
+}
+
 // The models without an independent double oracle for their integrals (Blinn, whose oracle
 // Lambda is itself a quadrature; the compensation and composite lobes, which read tables):
 // against the adaptive quadrature at tolerance 1e-8 (its estimate checked against the oracle
