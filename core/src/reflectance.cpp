@@ -376,6 +376,38 @@ SlopeMap slope_map(const MicrofacetDistribution& d, const DVec3& v) {
     return s;
 }
 
+// f at a node is evaluated at the float direction w_f = float(w), and the BxDF forms the half
+// vector h = fixed + w_f: at grazing incidence near the mirror direction a difference of nearly
+// opposite vectors, so rounding w by half an ulp (3e-8) moves h by up to ~1e-3 of a sharp lobe's
+// width (GGX alpha = 1e-3 at 85 degrees: one ulp of w.x changes f by 5e-4, measured). Those
+// errors do not average out (they are coherent along the tensor grid) and they made the
+// refinement chase them. Only D varies on that scale (G, F and the cosines change by ~1e-7
+// relative), so the value at the node is f(w_f) D(h) / D(h_f), the ratio in double from the
+// distribution's slope law: log D = log P22(r) + 2 log(1 + t^2) (D = P22 / cos^4), r the
+// stretched and t the plain slope of h (GGX P22 ~ (1 + r^2)^-2, Beckmann exp(-r^2), Blinn's
+// Student-t (1 + r^2)^-(nu + 2)/2; see facet/microfacet.h).
+double rounding_correction(const SlopeMap& m, const DVec3& h, const DVec3& hf) {
+    auto slopes = [&](const DVec3& v, double& r2, double& t2) {
+        const double iz2 = 1.0 / (v.z * v.z);
+        r2 = (sqr(v.x / m.ax) + sqr(v.y / m.ay)) * iz2;
+        t2 = (v.x * v.x + v.y * v.y) * iz2;
+    };
+    double r2, t2, r2f, t2f;
+    slopes(h, r2, t2);
+    slopes(hf, r2f, t2f);
+    const double cos4 = sqr((1.0 + t2) / (1.0 + t2f));  // (cos_f / cos)^4
+    const double dr = (r2f - r2) / (1.0 + r2);          // (1 + r_f^2) / (1 + r^2) - 1
+    switch (m.kind) {
+        case DistributionKind::GGX:
+            return sqr(1.0 + dr) * cos4;
+        case DistributionKind::Beckmann:
+            return std::exp(r2f - r2) * cos4;
+        case DistributionKind::Blinn:
+            return std::exp(0.5 * (m.nu + 2.0) * std::log1p(dr)) * cos4;
+    }
+    return 1.0;
+}
+
 // Mu knots of the piecewise-linear albedo tables the integrand reads: the material's Es table
 // (uniform in mu) for a composite diffuse lobe, the compensation table (uniform in sqrt(mu)).
 std::vector<double> mu_knots(bool material_table, bool ms_table) {
@@ -427,6 +459,7 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                                                          ? std::optional(MicrofacetBatch(*lobe))
                                                          : std::nullopt;
         const Vec3 fixed_f(fixed);
+        const DVec3 fixed_d(fixed);  // the direction the BxDF sees (not renormalised)
         auto g = [&](const double* ts, int nt, const double* psis, int np, Sample* out) {
             constexpr int kMax = NestedRule::kSize * NestedRule::kSize;
             std::array<float, kMax> wx, wy, wz, cx, cy, cz, fr, fg, fb;
@@ -439,7 +472,12 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                     auto [w, jac] = map.map(row, ts[i]);
                     Vec3 wf(w);
                     weight[k] = jac != 0.0 && wf.z > 0.f ? double(wf.z) * jac : 0.0;
-                    if (weight[k] == 0.0) wf = Vec3(0.f, 0.f, 1.f);  // any valid direction
+                    if (weight[k] == 0.0) {
+                        wf = Vec3(0.f, 0.f, 1.f);  // any valid direction
+                    } else {
+                        const double c = rounding_correction(map, fixed_d + w, fixed_d + DVec3(wf));
+                        weight[k] *= std::isfinite(c) ? c : 1.0;
+                    }
                     wx[k] = wf.x, wy[k] = wf.y, wz[k] = wf.z;
                     cx[k] = fixed_f.x, cy[k] = fixed_f.y, cz[k] = fixed_f.z;
                 }
