@@ -338,6 +338,7 @@ struct SlopeMap {
     DVec3 v;
     double phi0;
     double scale;  // slope scale of the unit distribution: 1, or sqrt(2 / nu) for Blinn
+    double iax2 = 1.0, iay2 = 1.0;  // 1 / ax^2, 1 / ay^2
 
     // The terms of the map that depend on psi only (shared by a row of nodes).
     struct Row {
@@ -373,6 +374,8 @@ SlopeMap slope_map(const MicrofacetDistribution& d, const DVec3& v) {
         throw std::logic_error("reflectance: Blinn distribution without nu");
     s.phi0 = std::atan2(v.y * s.ay, v.x * s.ax);
     if (s.kind == DistributionKind::Blinn) s.scale = std::sqrt(2.0 / s.nu);
+    s.iax2 = 1.0 / (s.ax * s.ax);
+    s.iay2 = 1.0 / (s.ay * s.ay);
     return s;
 }
 
@@ -386,24 +389,23 @@ SlopeMap slope_map(const MicrofacetDistribution& d, const DVec3& v) {
 // distribution's slope law: log D = log P22(r) + 2 log(1 + t^2) (D = P22 / cos^4), r the
 // stretched and t the plain slope of h (GGX P22 ~ (1 + r^2)^-2, Beckmann exp(-r^2), Blinn's
 // Student-t (1 + r^2)^-(nu + 2)/2; see facet/microfacet.h).
+// With z2 = h.z^2, q = z2 + (h.x / ax)^2 + (h.y / ay)^2 = z2 (1 + r^2) and p = z2 + h.x^2 + h.y^2
+// = z2 (1 + t^2): GGX D ~ (p / q)^2 (one division per node: this runs for every node).
 double rounding_correction(const SlopeMap& m, const DVec3& h, const DVec3& hf) {
-    auto slopes = [&](const DVec3& v, double& r2, double& t2) {
-        const double iz2 = 1.0 / (v.z * v.z);
-        r2 = (sqr(v.x / m.ax) + sqr(v.y / m.ay)) * iz2;
-        t2 = (v.x * v.x + v.y * v.y) * iz2;
-    };
-    double r2, t2, r2f, t2f;
-    slopes(h, r2, t2);
-    slopes(hf, r2f, t2f);
-    const double cos4 = sqr((1.0 + t2) / (1.0 + t2f));  // (cos_f / cos)^4
-    const double dr = (r2f - r2) / (1.0 + r2);          // (1 + r_f^2) / (1 + r^2) - 1
+    const double z2 = h.z * h.z, x2 = h.x * h.x, y2 = h.y * h.y;
+    const double z2f = hf.z * hf.z, x2f = hf.x * hf.x, y2f = hf.y * hf.y;
+    const double q = z2 + x2 * m.iax2 + y2 * m.iay2, p = z2 + x2 + y2;
+    const double qf = z2f + x2f * m.iax2 + y2f * m.iay2, pf = z2f + x2f + y2f;
     switch (m.kind) {
         case DistributionKind::GGX:
-            return sqr(1.0 + dr) * cos4;
+            return sqr(p * qf / (q * pf));
         case DistributionKind::Beckmann:
-            return std::exp(r2f - r2) * cos4;
+            // exp(-r^2) (1 + t^2)^2: r^2 = q / z2 - 1.
+            return std::exp(qf / z2f - q / z2) * sqr(p * z2f / (pf * z2));
         case DistributionKind::Blinn:
-            return std::exp(0.5 * (m.nu + 2.0) * std::log1p(dr)) * cos4;
+            // (1 + r^2)^(-(nu + 2) / 2) (1 + t^2)^2.
+            return std::exp(0.5 * (m.nu + 2.0) * std::log(qf * z2 / (q * z2f))) *
+                   sqr(p * z2f / (pf * z2));
     }
     return 1.0;
 }
