@@ -12,6 +12,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <string>
 #include <vector>
 
 #include "facet/reflectance.h"
@@ -50,7 +51,7 @@ double monte_carlo(const Material& m, const Vec3& wi, int n, std::uint64_t seed)
 }  // namespace
 
 // Table 1 (see the header comment).
-double adaptive_against_fixed(const Material& m, const char* label, float deg) {
+double adaptive_against_fixed(const Material& m, const char* label, float deg, long& evals) {
     Vec3 wi = spherical_direction(deg * kPi / 180.f, 0.f);
     QuadratureSettings tight;
     tight.tolerance = 1e-8;
@@ -74,6 +75,7 @@ double adaptive_against_fixed(const Material& m, const char* label, float deg) {
         "{:>10.2e} {:>8.2f}\n",
         label, deg, ref, ma * 1e3, std::fabs(a.value.g - ref), a.error.g, a.evaluations, mf * 1e3,
         std::fabs(f.value.g - ref), f.error.g, ma / mf);
+    evals = a.evaluations;
     return ma / mf;
 }
 
@@ -99,7 +101,10 @@ int main() {
     fmt::print("{:<24} {:>6} {:>12} {:>11} {:>10} {:>10} {:>8} {:>11} {:>10} {:>10} {:>8}\n",
                "case", "theta", "reference", "adapt time", "adapt err", "adapt est", "evals",
                "Q32 time", "Q32 err", "Q32 est", "time a/Q");
-    std::vector<double> ratios;
+    std::vector<double> ratios, low, grazing;  // all; incidence <= 70; >= 85 degrees
+    double worst = 0.0;
+    std::string worst_label;
+    long total_evals = 0;
     {
         std::vector<Case> table1 = cases;
         table1.push_back({"ggx a=0.2", "ggx", p({{"alpha", 0.2}})});
@@ -113,14 +118,27 @@ int main() {
         table1.push_back({"lambert", "lambert", p({})});
         for (const auto& c : table1) {
             Material m = make_material(c.model, c.params);
-            for (float deg : {0.f, 30.f, 70.f, 85.f, 89.f, 89.9f})
-                ratios.push_back(adaptive_against_fixed(m, c.label, deg));
+            for (float deg : {0.f, 30.f, 70.f, 85.f, 89.f, 89.9f}) {
+                long evals = 0;
+                const double r = adaptive_against_fixed(m, c.label, deg, evals);
+                ratios.push_back(r);
+                (deg <= 70.f ? low : grazing).push_back(r);
+                total_evals += evals;
+                if (r > worst) worst = r, worst_label = fmt::format("{} at {}", c.label, deg);
+            }
         }
     }
+    auto median = [](std::vector<double> v) {
+        std::sort(v.begin(), v.end());
+        return v[v.size() / 2];
+    };
     std::sort(ratios.begin(), ratios.end());
     fmt::print(
-        "time ratio adaptive / order-32 over the {} cases: median {:.2f}, min {:.2f}, max {:.2f}\n",
-        ratios.size(), ratios[ratios.size() / 2], ratios.front(), ratios.back());
+        "time ratio adaptive / order-32 over the {} cases: median {:.2f}, min {:.2f}, max {:.2f} "
+        "({}); median at <= 70 degrees {:.2f} ({} cases), at >= 85 degrees {:.2f} ({} cases); "
+        "adaptive evaluations {} in all\n",
+        ratios.size(), median(ratios), ratios.front(), ratios.back(), worst_label, median(low),
+        low.size(), median(grazing), grazing.size(), total_evals);
     fmt::print("\n");
     fmt::print(
         "rho(wi -> 2pi), luminance: quadrature (Q) vs Monte Carlo with importance sampling "

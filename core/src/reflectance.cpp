@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <array>
+#include <optional>
 #include <queue>
 #include <stdexcept>
 #include <vector>
 
+#include "facet/microfacet_batch.h"
 #include "facet/quadrature.h"
 
 namespace facet {
@@ -192,22 +194,39 @@ double max_of(const DVec3& v) {
     return std::max(v.x, std::max(v.y, v.z));
 }
 
+// The integrand of a cell is evaluated on the whole tensor grid at once:
+// f(xs, nx, ys, ny, out) fills out[j * nx + i] with the sample at (xs[i], ys[j]), so that an
+// integrand can share the work of a row (the slope map's azimuthal terms) and evaluate a cell's
+// BxDF values in one batch. pointwise() adapts a function of one point.
+template <class G>
+auto pointwise(const G& g) {
+    return [&g](const double* xs, int nx, const double* ys, int ny, Sample* out) {
+        for (int j = 0; j < ny; ++j)
+            for (int i = 0; i < nx; ++i) out[j * nx + i] = g(xs[i], ys[j]);
+    };
+}
+
 // one_d: the integrand does not depend on y; one node at the midpoint, weight 1.
 template <class F>
 void evaluate_cell(const F& f, Cell& c, bool one_d, long& evaluations) {
     const NestedRule& r = nested_rule();
-    const int ny = one_d ? 1 : NestedRule::kSize;
+    constexpr int n = NestedRule::kSize;
+    const int ny = one_d ? 1 : n;
     const double hx = c.x1 - c.x0, hy = c.y1 - c.y0;
+    std::array<double, n> xs, ys;
+    for (int i = 0; i < n; ++i) xs[i] = c.x0 + hx * r.x[i];
+    for (int j = 0; j < ny; ++j) ys[j] = one_d ? 0.5 * (c.y0 + c.y1) : c.y0 + hy * r.x[j];
+    std::array<Sample, n * n> s;
+    f(xs.data(), n, ys.data(), ny, s.data());
     DVec3 kk(0.0), gg(0.0), gk(0.0), kg(0.0), carried(0.0);
     for (int j = 0; j < ny; ++j) {
-        const double y = one_d ? 0.5 * (c.y0 + c.y1) : c.y0 + hy * r.x[j];
         const double wky = one_d ? 1.0 : r.wk[j], wgy = one_d ? 1.0 : r.wg[j];
         DVec3 row_k(0.0), row_g(0.0), row_e(0.0);
-        for (int i = 0; i < NestedRule::kSize; ++i) {
-            const Sample s = f(c.x0 + hx * r.x[i], y);
-            row_k += r.wk[i] * s.v;
-            row_g += r.wg[i] * s.v;
-            row_e += r.wg[i] * s.e;
+        for (int i = 0; i < n; ++i) {
+            const Sample& v = s[j * n + i];
+            row_k += r.wk[i] * v.v;
+            row_g += r.wg[i] * v.v;
+            row_e += r.wg[i] * v.e;
         }
         kk += wky * row_k;
         gk += wky * row_g;  // Gauss in x, Kronrod in y
@@ -215,7 +234,7 @@ void evaluate_cell(const F& f, Cell& c, bool one_d, long& evaluations) {
         gg += wgy * row_g;
         carried += wgy * row_e;
     }
-    evaluations += long(NestedRule::kSize) * ny;
+    evaluations += long(n) * ny;
     const double area = hx * hy;
     c.gauss = area * gg;
     c.diff = area * (gg - kk);
@@ -319,18 +338,26 @@ struct SlopeMap {
     DVec3 v;
     double phi0;
     double scale;  // slope scale of the unit distribution: 1, or sqrt(2 / nu) for Blinn
+    double iax2 = 1.0, iay2 = 1.0;  // 1 / ax^2, 1 / ay^2
 
-    // The reflected direction at (t, psi) and the Jacobian dw / (dt dpsi); jacobian = 0 when
-    // the point is outside the visible domain.
-    std::pair<DVec3, double> map(double t, double psi) const {
+    // The terms of the map that depend on psi only (shared by a row of nodes).
+    struct Row {
+        double cp, sp, a_star;
+    };
+    Row row(double psi) const {
         const double phi = phi0 + psi, cp = std::cos(phi), sp = std::sin(phi);
         const double b = v.x * ax * cp + v.y * ay * sp, a = ax * ax * cp * cp + ay * ay * sp * sp;
         const double rho_star = v.z / (b + std::sqrt(b * b + v.z * v.z * a));
+        return {cp, sp, std::atan(rho_star / scale)};
+    }
+
+    // The reflected direction at (t, psi) and the Jacobian dw / (dt dpsi); jacobian = 0 when
+    // the point is outside the visible domain.
+    std::pair<DVec3, double> map(const Row& r, double t) const {
         // rho = s tan(t A), A = atan(rho* / s): radial = rho drho / dt = A s rho (1 + (rho/s)^2).
-        const double a_star = std::atan(rho_star / scale);
-        const double rho = scale * std::tan(t * a_star), r2 = rho * rho;
-        const double radial = a_star * scale * rho * (1.0 + r2 / (scale * scale));
-        const double sx = ax * rho * cp, sy = ay * rho * sp;
+        const double rho = scale * std::tan(t * r.a_star), r2 = rho * rho;
+        const double radial = r.a_star * scale * rho * (1.0 + r2 / (scale * scale));
+        const double sx = ax * rho * r.cp, sy = ay * rho * r.sp;
         const double l2 = 1.0 + sx * sx + sy * sy, l = std::sqrt(l2);
         const DVec3 h(-sx / l, -sy / l, 1.0 / l);
         const double vh = glm::dot(v, h);
@@ -347,7 +374,40 @@ SlopeMap slope_map(const MicrofacetDistribution& d, const DVec3& v) {
         throw std::logic_error("reflectance: Blinn distribution without nu");
     s.phi0 = std::atan2(v.y * s.ay, v.x * s.ax);
     if (s.kind == DistributionKind::Blinn) s.scale = std::sqrt(2.0 / s.nu);
+    s.iax2 = 1.0 / (s.ax * s.ax);
+    s.iay2 = 1.0 / (s.ay * s.ay);
     return s;
+}
+
+// f at a node is evaluated at the float direction w_f = float(w), and the BxDF forms the half
+// vector h = fixed + w_f: at grazing incidence near the mirror direction a difference of nearly
+// opposite vectors, so rounding w by half an ulp (3e-8) moves h by up to ~1e-3 of a sharp lobe's
+// width (GGX alpha = 1e-3 at 85 degrees: one ulp of w.x changes f by 5e-4, measured). Those
+// errors do not average out (they are coherent along the tensor grid) and they made the
+// refinement chase them. Only D varies on that scale (G, F and the cosines change by ~1e-7
+// relative), so the value at the node is f(w_f) D(h) / D(h_f), the ratio in double from the
+// distribution's slope law: log D = log P22(r) + 2 log(1 + t^2) (D = P22 / cos^4), r the
+// stretched and t the plain slope of h (GGX P22 ~ (1 + r^2)^-2, Beckmann exp(-r^2), Blinn's
+// Student-t (1 + r^2)^-(nu + 2)/2; see facet/microfacet.h).
+// With z2 = h.z^2, q = z2 + (h.x / ax)^2 + (h.y / ay)^2 = z2 (1 + r^2) and p = z2 + h.x^2 + h.y^2
+// = z2 (1 + t^2): GGX D ~ (p / q)^2 (one division per node: this runs for every node).
+double rounding_correction(const SlopeMap& m, const DVec3& h, const DVec3& hf) {
+    const double z2 = h.z * h.z, x2 = h.x * h.x, y2 = h.y * h.y;
+    const double z2f = hf.z * hf.z, x2f = hf.x * hf.x, y2f = hf.y * hf.y;
+    const double q = z2 + x2 * m.iax2 + y2 * m.iay2, p = z2 + x2 + y2;
+    const double qf = z2f + x2f * m.iax2 + y2f * m.iay2, pf = z2f + x2f + y2f;
+    switch (m.kind) {
+        case DistributionKind::GGX:
+            return sqr(p * qf / (q * pf));
+        case DistributionKind::Beckmann:
+            // exp(-r^2) (1 + t^2)^2: r^2 = q / z2 - 1.
+            return std::exp(qf / z2f - q / z2) * sqr(p * z2f / (pf * z2));
+        case DistributionKind::Blinn:
+            // (1 + r^2)^(-(nu + 2) / 2) (1 + t^2)^2.
+            return std::exp(0.5 * (m.nu + 2.0) * std::log(qf * z2 / (q * z2f))) *
+                   sqr(p * z2f / (pf * z2));
+    }
+    return 1.0;
 }
 
 // Mu knots of the piecewise-linear albedo tables the integrand reads: the material's Es table
@@ -395,14 +455,53 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
     };
     if (dist) {
         const SlopeMap map = slope_map(*dist, v);
-        auto g = [&](double t, double psi) {
-            auto [w, jac] = map.map(t, psi);
-            if (jac == 0.0) return Sample{};
-            const Vec3 wf(w);
-            if (!(wf.z > 0.f)) return Sample{};
-            const Rgb f =
-                eval([&](const Vec3& a, const Vec3& b) { return lobe->f_single(a, b); }, wf);
-            return Sample{DVec3(f) * (double(wf.z) * jac), DVec3(0.0)};
+        // Uncompensated GGX lobes evaluate a cell's 225 values through the vectorised batch
+        // (bit for bit the scalar f, which equals f_single without compensation).
+        const std::optional<MicrofacetBatch> batch = MicrofacetBatch(*lobe).vectorised()
+                                                         ? std::optional(MicrofacetBatch(*lobe))
+                                                         : std::nullopt;
+        const Vec3 fixed_f(fixed);
+        const DVec3 fixed_d(fixed);  // the direction the BxDF sees (not renormalised)
+        auto g = [&](const double* ts, int nt, const double* psis, int np, Sample* out) {
+            constexpr int kMax = NestedRule::kSize * NestedRule::kSize;
+            std::array<float, kMax> wx, wy, wz, cx, cy, cz, fr, fg, fb;
+            std::array<double, kMax> weight;
+            const int n = nt * np;
+            for (int j = 0; j < np; ++j) {
+                const SlopeMap::Row row = map.row(psis[j]);
+                for (int i = 0; i < nt; ++i) {
+                    const int k = j * nt + i;
+                    auto [w, jac] = map.map(row, ts[i]);
+                    Vec3 wf(w);
+                    weight[k] = jac != 0.0 && wf.z > 0.f ? double(wf.z) * jac : 0.0;
+                    if (weight[k] == 0.0) {
+                        wf = Vec3(0.f, 0.f, 1.f);  // any valid direction
+                    } else {
+                        const double c = rounding_correction(map, fixed_d + w, fixed_d + DVec3(wf));
+                        weight[k] *= std::isfinite(c) ? c : 1.0;
+                    }
+                    wx[k] = wf.x, wy[k] = wf.y, wz[k] = wf.z;
+                    cx[k] = fixed_f.x, cy[k] = fixed_f.y, cz[k] = fixed_f.z;
+                }
+            }
+            if (batch) {
+                const Vec3Soa w{wx.data(), wy.data(), wz.data()},
+                    c{cx.data(), cy.data(), cz.data()};
+                batch->f(n, fixed_is_wo ? c : w, fixed_is_wo ? w : c,
+                         RgbSoa{fr.data(), fg.data(), fb.data()});
+            } else {
+                for (int k = 0; k < n; ++k) {
+                    if (weight[k] == 0.0) continue;
+                    const Rgb f =
+                        eval([&](const Vec3& a, const Vec3& b) { return lobe->f_single(a, b); },
+                             Vec3(wx[k], wy[k], wz[k]));
+                    fr[k] = f.r, fg[k] = f.g, fb[k] = f.b;
+                }
+            }
+            for (int k = 0; k < n; ++k)
+                out[k] = weight[k] == 0.0
+                             ? Sample{}
+                             : Sample{DVec3(fr[k], fg[k], fb[k]) * weight[k], DVec3(0.0)};
         };
         std::vector<Cell> cells;
         // Cells in u graded toward the horizon end u = 1 (the tan map's heavy tail, where at
@@ -449,7 +548,7 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                 cells.push_back(c);
             }
         const long budget = std::max(1L, settings.max_evaluations - out.evaluations);
-        AdaptiveResult r = adaptive_cubature(g, cells, one_d, tol_cosine, budget);
+        AdaptiveResult r = adaptive_cubature(pointwise(g), cells, one_d, tol_cosine, budget);
         out.value += r.value;
         out.error += r.error;
         out.evaluations += r.evaluations;
@@ -501,7 +600,7 @@ Reflectance bihemispherical(const Material& m, const QuadratureSettings& setting
         c.x1 = knots[i + 1];
         cells.push_back(c);
     }
-    AdaptiveResult r = adaptive_cubature(g, cells, one_d, settings.tolerance, 1L << 40);
+    AdaptiveResult r = adaptive_cubature(pointwise(g), cells, one_d, settings.tolerance, 1L << 40);
     return {r.value, r.error, evaluations};
 }
 

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cmath>
 #include <cstdlib>
 #include <vector>
 
@@ -196,6 +197,108 @@ TEST(Reflectance, AdaptiveDefaultAgainstDoubleReference) {
     std::printf("estimate within 10x of the true error in %d of %d cases\n", tally.within_10x,
                 tally.cases);
     EXPECT_GE(tally.within_10x, int(0.8 * tally.cases));
+}
+
+// The estimate's tightness where the true error is far above the float floor: the refinement is
+// stopped after the initial cells (max_evaluations = 1), so the error is the initial partition's
+// (1e-6 .. 1e-2), and the estimate must bound it (never below) and be at most 10x above it.
+// Measured: 4.3-7.4x in all but one case (GGX alpha = 0.05 at 89.9 degrees: 12x, where the
+// cells' Gauss - Kronrod differences partly cancel and sqrt(sum d^2) dominates); at least 90% of
+// the cases within 10x is required. Checked to fail for an estimator 3x more pessimistic (0 of
+// 23 within 10x); one without the factor 3 passes here (1.4-2.5x) but fails
+// AdaptiveDefaultAgainstDoubleReference and AdaptiveDefaultOverTheOtherModels (estimate below the
+// error). Cases whose capped error is below 10 kFloatFloor are skipped (their error is
+// round-off, not quadrature).
+TEST(Reflectance, EstimateBoundsAndTracksALargeError) {
+    struct Case {
+        ref::Dist dist;
+        double alpha;
+    };
+    const std::vector<Case> cases = {{ref::Dist::GGX, 0.05},      {ref::Dist::GGX, 0.2},
+                                     {ref::Dist::GGX, 0.3},       {ref::Dist::GGX, 1.0},
+                                     {ref::Dist::Beckmann, 0.05}, {ref::Dist::Beckmann, 0.8}};
+    QuadratureSettings capped;
+    capped.max_evaluations = 1;
+    int counted = 0, within_10x = 0;
+    for (const Case& c : cases) {
+        ParamSet p;
+        p.set("alpha", c.alpha);
+        Material m = make_material(c.dist == ref::Dist::GGX ? "ggx" : "beckmann", p);
+        ref::Distribution d{c.dist, c.alpha, c.alpha};
+        for (double deg : test_angles()) {
+            const Vec3 wi = spherical_direction(float(deg * kPiD / 180.0), 0.3f);
+            const DVec3 v(wi);
+            const double reference = ref::directional_albedo(
+                [&](const DVec3& w) { return ref::microfacet_f(d, {}, DVec3(1.0), w, v).g * w.z; },
+                v, c.alpha, 1e-10, 10);
+            const Reflectance r = directional_hemispherical(m, wi, capped);
+            const double e = std::fabs(r.value.g - reference);
+            if (e < 10.0 * kFloatFloor) continue;
+            ++counted;
+            EXPECT_LE(e, r.error.g) << c.alpha << " theta " << deg;
+            if (r.error.g <= 10.0 * e) ++within_10x;
+        }
+    }
+    std::printf("capped: estimate within [1, 10]x of the true error in %d of %d cases\n",
+                within_10x, counted);
+    EXPECT_GE(counted, reduced_run() ? 3 : 10);
+    EXPECT_GE(within_10x, int(0.9 * counted));
+}
+
+// Sharp GGX lobes at grazing incidence, the hardest case: within 1e-6 of the double reference
+// and the estimate never below the error (no float floor allowed: the rounding correction of the
+// nodes' directions removes the float noise that used to put it there; without it alpha = 1e-3
+// at 85 degrees, phi = 0 read 2.3e-6 off with an estimate of 1.0e-6, and this test fails).
+// Up to 88 degrees: beyond, the model's albedo of a sharp lobe depends on the float rounding of
+// the incident direction itself (see the header comment), so no reference is exact.
+TEST(Reflectance, SharpLobesAtGrazingIncidence) {
+    struct Case {
+        double alpha, deg;
+        float phi;
+    };
+    std::vector<Case> cases = {{1e-3, 85.0, 0.f},
+                               {1e-3, 85.0, 0.3f},
+                               {2e-3, 88.0, 0.f},
+                               {5e-3, 80.0, 0.3f},
+                               {1e-2, 88.0, 0.3f}};
+    if (reduced_run()) cases.resize(2);
+    for (const Case& c : cases) {
+        ParamSet p;
+        p.set("alpha", c.alpha);
+        Material m = make_material("ggx", p);
+        const Vec3 wi = spherical_direction(float(c.deg * kPiD / 180.0), c.phi);
+        const DVec3 v(wi);
+        ref::Distribution d{ref::Dist::GGX, c.alpha, c.alpha};
+        const double reference = ref::directional_albedo(
+            [&](const DVec3& w) { return ref::microfacet_f(d, {}, DVec3(1.0), w, v).g * w.z; }, v,
+            c.alpha, 1e-10, 10);
+        const Reflectance r = directional_hemispherical(m, wi);
+        const double e = std::fabs(r.value.g - reference);
+        EXPECT_LE(e, 1e-6) << c.alpha << " theta " << c.deg << " phi " << c.phi;
+        EXPECT_LE(e, r.error.g) << c.alpha << " theta " << c.deg << " phi " << c.phi;
+        EXPECT_LE(r.error.g, 1e-6);
+        EXPECT_LT(r.evaluations, 50'000);  // it took 210,600 with the float noise
+    }
+}
+
+// The limit stated in reflectance.h: beyond ~88 degrees a sharp lobe's albedo depends on the
+// float rounding of the incident direction itself. The double reference (no quadrature of
+// ours) for GGX alpha = 0.01 at 89.5 degrees and the same direction with one ulp less in x
+// (|wi| - 1: -1.0e-8, -7.0e-8) differ by ~1.2e-4, far above the tolerance: no estimate of the
+// quadrature can cover that, and the README says so.
+TEST(Reflectance, SharpLobeAlbedoAtGrazingDependsOnTheInputRounding) {
+    if (reduced_run()) GTEST_SKIP() << "slow reference";
+    ref::Distribution d{ref::Dist::GGX, 0.01, 0.01};
+    const Vec3 wi = spherical_direction(float(89.5 * kPiD / 180.0), 0.f);
+    Vec3 nudged = wi;
+    nudged.x = std::nextafter(nudged.x, 0.f);
+    auto reference = [&](const Vec3& w_in) {
+        const DVec3 v(w_in);
+        return ref::directional_albedo(
+            [&](const DVec3& w) { return ref::microfacet_f(d, {}, DVec3(1.0), w, v).g * w.z; }, v,
+            0.01, 1e-10, 10);
+    };
+    EXPECT_GT(std::fabs(reference(wi) - reference(nudged)), 1e-5);
 }
 
 // The models without an independent double oracle for their integrals (Blinn, whose oracle
