@@ -515,13 +515,14 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 }
                 for (std::size_t k = 0; k < n; ++k) {
                     // A NaN/inf (or absurdly large) estimate would poison the pixel forever:
-                    // drop it and count it.
+                    // drop it (a zero adds nothing to the sum) and count it.
                     if (!film_accepts(L[k])) {
                         ++c.nonfinite;
-                        continue;
+                        L[k] = Rgb(0.f);
                     }
-                    // Lanes outside the tile were traced (packet alignment), not written.
-                    if (k < k0 || k >= k1) continue;
+                }
+                // Lanes outside the tile were traced (packet alignment) and are not written.
+                for (std::size_t k = k0; k < k1; ++k) {
                     FixedRgb& px = film_px[k - k0];
                     px.c[0] += to_fixed(L[k].x);
                     px.c[1] += to_fixed(L[k].y);
