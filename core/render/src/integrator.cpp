@@ -437,10 +437,12 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // (render.h); lanes outside the tile are traced and not written.
     const int gx_begin = job.x0 - job.x0 % int(kLanes);
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
-    // The column half of the pixel-seed hash, hash_combine(seed_hash, x), is the same in every
-    // row: it is computed once per tile for the packets' first kSeedColumns pixels (a 16-pixel
-    // tile's packets span 24 at most) and per packet beyond them (wider tiles). At 1-sample
-    // passes every packet of every pass rehashed both halves (callgrind: ~70 instructions).
+    // The column half of the pixel-seed hash, hash_combine(seed_hash, x) (the first of the two
+    // steps of Sampler::pixel_seed_hashed, which this mirrors; the images test it), is the same
+    // in every row: it is computed once per tile for the packets' first kSeedColumns pixels (a
+    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles). At
+    // 1-sample passes every packet of every pass rehashed both halves (callgrind: ~70
+    // instructions).
     constexpr int kSeedColumns = 64;
     std::array<std::uint32_t, kSeedColumns> column_hash;
     const int gx_end = std::min(width, job.x1 + (int(kLanes) - job.x1 % int(kLanes)) % int(kLanes));
