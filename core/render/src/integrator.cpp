@@ -432,36 +432,53 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // zero seeds, and their values are never read.
     std::array<std::uint32_t, kLanes> seeds{}, sample_seeds{};
     alignas(32) std::array<float, kLanes> film_x, film_y;
-    std::array<FixedRgb, kLanes> acc;
     std::array<Rgb, kLanes> L;
     // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
     // (render.h); lanes outside the tile are traced and not written.
     const int gx_begin = job.x0 - job.x0 % int(kLanes);
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
+    // The column half of the pixel-seed hash, hash_combine(seed_hash, x) (the first of the two
+    // steps of Sampler::pixel_seed_hashed, which this mirrors; the images test it), is the same
+    // in every row: it is computed once per tile for the packets' first kSeedColumns pixels (a
+    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles). At
+    // 1-sample passes every packet of every pass rehashed both halves (callgrind: ~70
+    // instructions).
+    constexpr int kSeedColumns = 64;
+    std::array<std::uint32_t, kSeedColumns> column_hash;
+    const int gx_end = std::min(width, job.x1 + (int(kLanes) - job.x1 % int(kLanes)) % int(kLanes));
+    const int hashed_columns = std::min(kSeedColumns, gx_end - gx_begin);
+    for (int i = 0; i < hashed_columns; ++i)
+        column_hash[std::size_t(i)] = hash_combine(seed_hash, std::uint32_t(gx_begin + i));
     for (int y = job.y0; y < job.y1; ++y) {
+        FixedRgb* const film_row =
+            sums + std::size_t(y - job.film_y0) * std::size_t(job.film_width);
         // The camera rays of a packet for one sample index are traced together (coherent), and
         // the path integrator traces the rest of their paths together too.
         for (int x0 = gx_begin; x0 < job.x1; x0 += int(kLanes)) {
             const std::size_t n = std::min(kLanes, std::size_t(width - x0));
-            for (std::size_t k = 0; k < n; ++k) {
-                seeds[k] = Sampler::pixel_seed_hashed(x0 + int(k), y, seed_hash);
-                acc[k] = FixedRgb{};
+            const int col = x0 - gx_begin;
+            if (col + int(n) <= hashed_columns) {
+                for (std::size_t k = 0; k < n; ++k)
+                    seeds[k] = hash_combine(column_hash[std::size_t(col) + k], std::uint32_t(y));
+            } else {
+                for (std::size_t k = 0; k < n; ++k)
+                    seeds[k] = Sampler::pixel_seed_hashed(x0 + int(k), y, seed_hash);
             }
-            // The packet's film sums (48 B a pixel) are read and written once, after its
-            // samples: fetch them now, so that the miss overlaps the tracing. At 1-sample
-            // passes of a large film every pass sweeps the whole film, and the misses were a
-            // measurable share of the pass.
-            {
-                const int px0 = std::max(x0, job.x0), px1 = std::min(x0 + int(n), job.x1);
-                if (px0 < px1) {
-                    const char* b = reinterpret_cast<const char*>(
-                        sums + std::size_t(y - job.film_y0) * std::size_t(job.film_width) +
-                        std::size_t(px0 - job.film_x0));
-                    const std::size_t bytes = std::size_t(px1 - px0) * sizeof(FixedRgb);
-                    for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(b + o, 1, 3);
-                    __builtin_prefetch(b + bytes - 1, 1, 3);
-                }
+            // The lanes [k0, k1) of the packet that lie in the tile, and their film sums.
+            const std::size_t k0 = std::size_t(std::max(job.x0 - x0, 0));
+            const std::size_t k1 = std::size_t(std::min(job.x1 - x0, int(n)));
+            FixedRgb* const film_px = film_row + std::size_t(x0 + int(k0) - job.film_x0);
+            // Each sample is added to the packet's film sums (48 B a pixel) directly (integer
+            // sums: the same bits as summing the packet's samples first, without the zeroing
+            // and the second pass over the lanes that cost ~170 instructions per packet at
+            // 1-sample passes). Fetch the sums now, so that the miss overlaps the tracing: at
+            // 1-sample passes of a large film every pass sweeps the whole film.
+            if (k0 < k1) {
+                const char* b = reinterpret_cast<const char*>(film_px);
+                const std::size_t bytes = (k1 - k0) * sizeof(FixedRgb);
+                for (std::size_t o = 0; o < bytes; o += 64) __builtin_prefetch(b + o, 1, 3);
+                __builtin_prefetch(b + bytes - 1, 1, 3);
             }
             for (int i = job.first_sample; i < job.end_sample; ++i) {
                 // Independent samples (RenderOptions::independent_samples): a fresh seed per
@@ -501,21 +518,19 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 }
                 for (std::size_t k = 0; k < n; ++k) {
                     // A NaN/inf (or absurdly large) estimate would poison the pixel forever:
-                    // drop it and count it.
+                    // drop it (a zero adds nothing to the sum) and count it.
                     if (!film_accepts(L[k])) {
                         ++c.nonfinite;
-                        continue;
+                        L[k] = Rgb(0.f);
                     }
-                    acc[k].c[0] += to_fixed(L[k].x);
-                    acc[k].c[1] += to_fixed(L[k].y);
-                    acc[k].c[2] += to_fixed(L[k].z);
                 }
-            }
-            for (std::size_t k = 0; k < n; ++k) {
-                const int x = x0 + int(k);
-                if (x < job.x0 || x >= job.x1) continue;
-                sums[std::size_t(y - job.film_y0) * std::size_t(job.film_width) +
-                     std::size_t(x - job.film_x0)] += acc[k];
+                // Lanes outside the tile were traced (packet alignment) and are not written.
+                for (std::size_t k = k0; k < k1; ++k) {
+                    FixedRgb& px = film_px[k - k0];
+                    px.c[0] += to_fixed(L[k].x);
+                    px.c[1] += to_fixed(L[k].y);
+                    px.c[2] += to_fixed(L[k].z);
+                }
             }
         }
     }
