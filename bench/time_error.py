@@ -93,12 +93,13 @@ def contenders(scene):
                ("facet path independent", ["--integrator", "path", "--sampler", "independent"]),
                ("facet direct sobol", ["--integrator", "direct"])]
     pov = [("povray brdf", "pov", None)] if ARGS.povray and scene in POV_SCENES else []
+    if ARGS.povray and scene in POV_RAD_SCENES:
+        pov.append(("povray radiosity", "povrad", None))
     every = ([(n, "cli", o) for n, o in cli] + pov +
              [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
-    if not ARGS.contenders:
-        return every
-    keep = set(ARGS.contenders.split(",")) | {"cycles"}  # Cycles sets the error level
-    return [c for c in every if c[0] in keep]
+    if ARGS.contenders:
+        every = [c for c in every if c[0] in ARGS.contenders]
+    return every
 
 
 # POV-Ray (povray-facet, the `brdf` finish, the SDL of `facet export-pov`): only where the
@@ -109,15 +110,60 @@ def contenders(scene):
 # shared with the neighbours, ~4^r new samples per pixel; spp = 4^r is used as its budget.
 POV_SCENES = ("point_plane",)
 
+# POV-Ray's radiosity (`facet export-pov --radiosity C,E,R`) where the exported emitters and
+# Lambert finishes are exact and only the indirect light is approximated: the Cornell box. Its
+# budget is a quality ladder, one rung per ladder step: (radiosity count, error_bound,
+# recursion_limit, antialiasing n (1: none, one ray through the pixel centre; else +AM1 +A0.0
+# +R n +J: an n x n jittered grid inside the pixel plus its centre, spp = n^2 + 1, which is a
+# box filter as Facet's; +AM2's corner samples are shared with the neighbours and put the
+# emitter's 17-unit edge into the wrong pixels), export-pov --area-grid N (N x N light cells)).
+# Radiosity interpolates a cache of irradiance samples, so its error does not fall as a Monte
+# Carlo estimate's would: each rung tightens every source of bias together (sample density,
+# rays per sample, bounces, pixel-centre vs pixel-area, the light quadrature). Cost grows
+# steeply with count and 1/error_bound (measured with the machine's load average near 11, at
+# 128 x 128: 50,1.0,4 no AA 3.6 s; 200,0.4,8 with +R4 45 s; 400,0.25,12 without AA 208 s), so
+# the ladder stops where one render takes a few minutes.
+POV_RAD_SCENES = ("cornell_box",)
+POV_RAD_LADDER = [
+    (50, 1.0, 4, 1, 8),
+    (100, 0.6, 6, 2, 8),
+    (200, 0.4, 8, 3, 8),
+    (200, 0.4, 12, 4, 8),
+    (300, 0.3, 16, 5, 8),
+]
 
-def run_pov(pov_path, spp, out):
-    r = int(round(math.log(spp, 4)))
-    cmd = [ARGS.povray, "+I" + pov_path, "+O" + out, "+FE", "+W%d" % CUR["size"][0],
-           "+H%d" % CUR["size"][1], "+AM2", "+A0.0", "+R%d" % r, "+J", "-D", "-UA",
-           "+WT%d" % ARGS.threads, "-GA"]
+
+def run_pov(pov_path, spp, out, aa_grid=None):
+    """povray-facet on an exported scene; 32-bit float EXR (+FE32, povray-facet's patch: stock
+    3.7 writes half floats, which floors the error at the half rounding). Antialiasing: +AM2
+    to depth log4(spp), or with aa_grid n, +AM1 with an n x n grid (1: none)."""
+    if aa_grid is None:
+        aa = ["+AM2", "+A0.0", "+R%d" % int(round(math.log(spp, 4))), "+J"]
+    else:
+        aa = ["+AM1", "+A0.0", "+R%d" % aa_grid, "+J"] if aa_grid > 1 else ["-A"]
+    cmd = [ARGS.povray, "+I" + pov_path, "+O" + out, "+FE32", "+W%d" % CUR["size"][0],
+           "+H%d" % CUR["size"][1]] + aa + ["-D", "-UA", "+WT%d" % ARGS.threads, "-GA"]
     t0 = time.perf_counter()
     subprocess.run(cmd, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
     return time.perf_counter() - t0
+
+
+def rad_budget(rung):
+    count, eb, rl, n, grid = rung
+    return "count %d, error_bound %g, recursion_limit %d, %s, area-grid %d" % (
+        count, eb, rl, "AA +AM1 +R%d" % n if n > 1 else "no AA", grid)
+
+
+def run_pov_rad(scene_path, rung, out):
+    """One rung of POV-Ray's radiosity ladder: export (timed: it is part of the contender's
+    cost, ~0.01 s) and render."""
+    count, eb, rl, n, grid = rung
+    pov = out[:-4] + ".pov"
+    t0 = time.perf_counter()
+    subprocess.run([ARGS.facet, "export-pov", scene_path, "-o", pov, "--area-grid", str(grid),
+                    "--radiosity", "%d,%g,%d" % (count, eb, rl)], check=True)
+    t = time.perf_counter() - t0
+    return t + run_pov(pov, 0, out, aa_grid=n)
 
 
 # --- images and metrics -------------------------------------------------------------------------
@@ -385,7 +431,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
         checks.append(lines)
         for line in lines[2:3]:
             log("  " + line)
-    conts = [c for c in contenders(name) if blender or c[1] == "cli"]
+    conts = [c for c in contenders(name) if blender or c[1] != "blender"]
     imgdir = os.path.join(ARGS.out, "images", name)
     os.makedirs(imgdir, exist_ok=True)
     CUR["size"] = cfg["size"]
@@ -401,30 +447,58 @@ def run_scene(name, cfg, blender, rows, summary, checks):
                 continue
             if kind == "pov" and abs(math.log(spp, 4) - round(math.log(spp, 4))) > 1e-9:
                 continue
+            if kind == "povrad" and k >= len(POV_RAD_LADDER[:ARGS.pov_rungs]):
+                continue
             out = os.path.join(imgdir, "%s_%d.exr" % (cname.replace(" ", "_"), spp))
+            budget, row_spp = "", spp
             if kind == "cli":
                 sec = run_cli(scene_path, spp, SEED, opt, out)
             elif kind == "pov":
                 sec = run_pov(pov_path, spp, out)
+            elif kind == "povrad":
+                rung = POV_RAD_LADDER[k]
+                out = os.path.join(imgdir, "%s_rung%d.exr" % (cname.replace(" ", "_"), k))
+                sec = run_pov_rad(scene_path, rung, out)
+                row_spp = rung[3] ** 2 + 1 if rung[3] > 1 else 1
+                budget = rad_budget(rung)
             else:
                 sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
                                    integrator=data.get("render", {}).get("integrator", "path"))["seconds"]
             x = read(out)
             m = metrics(x, ref, ref_var)
-            row = dict(scene=name, contender=cname, spp=spp, seconds=round(sec, 4),
+            row = dict(scene=name, contender=cname, spp=row_spp, seconds=round(sec, 4),
                        rmse=m["rmse"], relmse=m["relmse"], rmse_raw=m["rmse_raw"],
-                       relmse_raw=m["relmse_raw"], rmse_self="")
+                       relmse_raw=m["relmse_raw"], rmse_self="", budget=budget)
             if cname == "cycles" and cref is not None:
                 row["rmse_self"] = metrics(x, cref, cref_var)["rmse"]
             rows.append(row)
             curves[cname].append((sec, m["rmse"], row["rmse_self"]))
-            log("  %-28s %5d spp %8.2f s  RMSE %.4g  relMSE %.4g%s"
-                % (cname, spp, sec, m["rmse"], m["relmse"],
-                   "  (vs Cycles ref %.4g)" % row["rmse_self"] if row["rmse_self"] != "" else ""))
+            log("  %-28s %5d spp %8.2f s  RMSE %.4g  relMSE %.4g%s%s"
+                % (cname, row_spp, sec, m["rmse"], m["relmse"],
+                   "  (vs Cycles ref %.4g)" % row["rmse_self"] if row["rmse_self"] != "" else "",
+                   "  (%s; image mean / reference %.4f)" % (budget, x.mean() / ref.mean())
+                   if budget else ""))
         write_csv(rows)
     # The error level: Cycles' top-budget render against Cycles' own reference (its noise);
     # without Blender, the top budget of `facet path sobol` / `facet direct sobol`.
-    if blender:
+    if not blender and ARGS.level_csv:
+        # Cycles' curve of an earlier run (--level-csv): its top budget's noise is the level,
+        # its times the base (measured in that run, under that run's load).
+        with open(ARGS.level_csv) as f:
+            cyc = [r for r in csv.DictReader(f)
+                   if r["scene"] == name and r["contender"] == "cycles" and r["rmse_self"]]
+        if not cyc:
+            sys.exit("time_error: --level-csv %s has no Cycles rows for %s" % (ARGS.level_csv,
+                                                                             name))
+        curves["cycles"] = [(float(r["seconds"]), float(r["rmse"]), float(r["rmse_self"]))
+                            for r in cyc]
+        for r in cyc:
+            rows.append(dict({k: r.get(k, "") for k in CSV_FIELDS},
+                             budget="from %s" % os.path.relpath(ARGS.level_csv, ROOT)))
+        write_csv(rows)
+        log("  error level from %s: Cycles %s spp RMSE %s" % (ARGS.level_csv, cyc[-1]["spp"],
+                                                             cyc[-1]["rmse_self"]))
+    if "cycles" in curves and curves["cycles"] and curves["cycles"][-1][2] != "":
         target = curves["cycles"][-1][2]
         base = "cycles"
         base_time, _ = time_to_error([(t, s) for t, _, s in curves["cycles"]], target)
@@ -444,7 +518,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
 
 
 CSV_FIELDS = ["scene", "contender", "spp", "seconds", "rmse", "relmse", "rmse_raw", "relmse_raw",
-              "rmse_self"]
+              "rmse_self", "budget"]
 
 
 def write_csv(rows):
@@ -452,8 +526,8 @@ def write_csv(rows):
         w = csv.DictWriter(f, CSV_FIELDS)
         w.writeheader()
         for r in rows:
-            w.writerow({k: ("%.6g" % r[k] if isinstance(r[k], float) else r[k])
-                        for k in CSV_FIELDS})
+            w.writerow({k: ("%.6g" % r.get(k, "") if isinstance(r.get(k, ""), float)
+                            else r.get(k, "")) for k in CSV_FIELDS})
 
 
 def plot(all_curves, path):
@@ -468,7 +542,8 @@ def plot(all_curves, path):
               "facet path sobol general": ("C2", "--"), "facet direct sobol general": ("C2", "--"),
               "facet path independent": ("C4", "-."), "facet direct independent": ("C4", "-."),
               "facet path sobol ": ("C0", "-"), "facet in blender": ("C1", "-"),
-              "cycles": ("C3", "-"), "povray brdf": ("C8", "-")}
+              "cycles": ("C3", "-"), "povray brdf": ("C8", "-"),
+              "povray radiosity": ("C6", "-")}
     for ax, (name, curves) in zip(axes.ravel(), all_curves.items()):
         for cname, pts in curves.items():
             color, ls = styles.get(cname, ("C5", "-"))
@@ -573,7 +648,7 @@ def timing_phase(names, rows, blender, reps):
             if cname == "cycles":
                 jobs.append((cname, kind, opt, int(cyc[-1]["spp"])))
                 continue
-            if kind == "pov" or "independent" in cname or \
+            if kind in ("pov", "povrad") or "independent" in cname or \
                     (cname == "facet direct sobol" and name != "point_plane") or \
                     (ARGS.reps_contenders and cname not in ARGS.reps_contenders.split(",")):
                 continue
@@ -751,8 +826,14 @@ def main():
     ap.add_argument("--facet", default=None, help="the facet CLI (default <build>/core/cli/facet)")
     ap.add_argument("--povray", default=None, help="povray-facet binary: adds POV-Ray (brdf "
                     "finish, facet export-pov) where the SDL can express the scene")
-    ap.add_argument("--contenders", default="", help="comma-separated: only these contenders "
-                    "(Cycles always: it sets the error level); default all")
+    ap.add_argument("--contenders", default="", help="comma-separated: run only these "
+                    "contenders (e.g. 'facet path sobol,povray radiosity')")
+    ap.add_argument("--level-csv", default=None, help="with --no-blender: take Cycles' curve "
+                    "and error level from this CSV of an earlier run (e.g. docs/perf/"
+                    "time_error.csv) instead of rendering Cycles")
+    ap.add_argument("--pov-rungs", type=int, default=len(POV_RAD_LADDER), help="POV-Ray "
+                    "radiosity: run only the first N rungs of its quality ladder (1-%d)"
+                    % len(POV_RAD_LADDER))
     ap.add_argument("--reps", type=int, default=3, help="timing rounds at the error level "
                     "after the ladders (0: none)")
     ap.add_argument("--reps-only", action="store_true", help="only the timing rounds, from the "
@@ -773,6 +854,23 @@ def main():
     ap.add_argument("--publish", default=None, help="where the CSV, summary and plot go "
                     "(default docs/perf; --quick: the run directory)")
     ARGS = ap.parse_args()
+    known = {c for s in SCENES for c in ("facet path sobol", "facet path sobol general",
+                                          "facet path independent", "facet direct sobol",
+                                          "facet direct sobol general",
+                                          "facet direct independent", "povray brdf",
+                                          "povray radiosity", "facet in blender", "cycles")}
+    ARGS.contenders = [c.strip() for c in ARGS.contenders.split(",") if c.strip()]
+    for c in ARGS.contenders:
+        if c not in known:
+            ap.error("--contenders: unknown contender %r (have %s)" % (c, ", ".join(sorted(known))))
+    if not 1 <= ARGS.pov_rungs <= len(POV_RAD_LADDER):
+        ap.error("--pov-rungs: must be in [1, %d] (got %d)" % (len(POV_RAD_LADDER), ARGS.pov_rungs))
+    if ARGS.level_csv and not ARGS.no_blender:
+        ap.error("--level-csv: only with --no-blender (with Blender, Cycles is rendered)")
+    if ARGS.level_csv and not os.path.exists(ARGS.level_csv):
+        ap.error("--level-csv: no such file: %s" % ARGS.level_csv)
+    if any(c.startswith("povray") for c in ARGS.contenders) and not ARGS.povray:
+        ap.error("--contenders: POV-Ray contenders need --povray <povray-facet>")
     ARGS.out_root = (os.path.dirname(os.path.abspath(ARGS.out)) if ARGS.out
                      else os.path.join(ROOT, "out", "bench"))
     ARGS.out = ARGS.out or os.path.join(ARGS.out_root, "quick" if ARGS.quick else "time_error")
@@ -789,14 +887,6 @@ def main():
     for s in names:
         if s not in SCENES:
             sys.exit("time_error: unknown scene %r (have %s)" % (s, ", ".join(SCENES)))
-    if ARGS.contenders:
-        wanted, ARGS.contenders = ARGS.contenders, ""
-        known = sorted({c[0] for s in SCENES for c in contenders(s)})
-        for c in wanted.split(","):
-            if c not in known:
-                sys.exit("time_error: --contenders: unknown contender %r (have %s)"
-                         % (c, ", ".join(known)))
-        ARGS.contenders = wanted
     blender = None
     if not ARGS.no_blender:
         if not os.path.exists(ARGS.addon_zip):
@@ -835,6 +925,11 @@ def main():
             "top-budget render against Cycles' own reference." %
             (time.strftime("%Y-%m-%d %H:%M UTC", time.gmtime(t_start)),
              (time.time() - t_start) / 60, ARGS.threads, load0[0], os.getloadavg()[0]))
+    if ARGS.level_csv:
+        meta += (" Cycles was not rendered in this run: its curve and level are those of %s "
+                 "(another run, another machine load), so ratios to Cycles' time compare "
+                 "across runs; ratios between this run's contenders are same-run."
+                 % os.path.relpath(os.path.abspath(ARGS.level_csv), ROOT))
     write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"), meta)
     log(meta)
     for s in summary:

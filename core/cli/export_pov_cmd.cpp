@@ -1,8 +1,10 @@
 // `facet export-pov scene.json -o scene.pov [--area-grid N] [--glossy-samples N]
-//  [--environment error|background] [--ini scene.ini]`
+//  [--environment error|background] [--radiosity off|low|medium|high|C,E,R] [--ini scene.ini]`
 //
 // Writes POV-Ray 3.7 SDL for povray-facet (the patched POV-Ray of povray_patch/) that renders
 // the picture `facet render --integrator direct` renders of the same JSON (README, "POV-Ray").
+// With --radiosity it adds POV-Ray's radiosity (an interpolated, biased estimate of the indirect
+// light that `--integrator path` computes).
 // Everything the SDL cannot express exactly is an error naming the JSON pointer, except what
 // an option asks to approximate. Decisions (the why is in the README):
 //  - camera: explicit location/right/up/direction vectors in Facet's world coordinates, with
@@ -22,7 +24,12 @@
 //  - materials: `finish { brdf { ... } }` with the core's model and parameter names; the pigment
 //    carries the diffuse reflectance (the patch's tinting rule), `samples` (glossy reflection
 //    rays) is 0 unless --glossy-samples says otherwise, since the direct integrator traces
-//    none.
+//    none;
+//  - --radiosity: a `radiosity {}` block (count, error_bound, recursion_limit from the option,
+//    the rest fixed below); emitters are then `no_radiosity` with a black twin that only
+//    radiosity rays see, because their light is already counted by the cell lights (a
+//    radiosity ray that saw the emission would count it twice), as the path tracer's light
+//    sampling with MIS counts it once.
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -60,7 +67,46 @@ struct ExportPovOptions {
     int area_grid = 8;
     int glossy_samples = 0;
     std::string environment = "error";
+    std::string radiosity = "off";
 };
+
+// POV-Ray radiosity settings of --radiosity (README, "facet export-pov").
+struct RadiosityPreset {
+    int count = 0;  // 0: off
+    double error_bound = 0.0;
+    int recursion_limit = 0;
+};
+
+// --radiosity: "off", a preset, or "COUNT,ERROR_BOUND,RECURSION_LIMIT". Ranges: POV-Ray's
+// (recursion_limit 1-20, RadiosityFunction::DEPTH_MAX; count at most the 1600 precomputed
+// directions, RADIOSITY_MAX_SAMPLE_DIRECTIONS) and an error_bound in (0, 10].
+RadiosityPreset parse_radiosity(const std::string& text) {
+    if (text == "off") return {};
+    if (text == "low") return {50, 1.0, 4};
+    if (text == "medium") return {200, 0.4, 8};
+    if (text == "high") return {800, 0.15, 16};
+    const std::string usage =
+        "--radiosity: expected off, low, medium, high or COUNT,ERROR_BOUND,RECURSION_LIMIT "
+        "(e.g. 200,0.4,8), got '" +
+        text + "'";
+    RadiosityPreset r;
+    char c1 = 0, c2 = 0, extra = 0;
+    std::istringstream in(text);
+    if (!(in >> r.count >> c1 >> r.error_bound >> c2 >> r.recursion_limit) || c1 != ',' ||
+        c2 != ',' || (in >> extra))
+        throw std::runtime_error("export-pov: " + usage);
+    if (r.count < 1 || r.count > 1600)
+        throw std::runtime_error(
+            fmt::format("export-pov: --radiosity: count must be in [1, 1600] (got {})", r.count));
+    if (!(r.error_bound > 0.0 && r.error_bound <= 10.0))
+        throw std::runtime_error(fmt::format(
+            "export-pov: --radiosity: error_bound must be in (0, 10] (got {})", r.error_bound));
+    if (r.recursion_limit < 1 || r.recursion_limit > 20)
+        throw std::runtime_error(
+            fmt::format("export-pov: --radiosity: recursion_limit must be in [1, 20] (got {})",
+                        r.recursion_limit));
+    return r;
+}
 
 // Light cells beyond this make a scene POV-Ray shades very slowly (every cell is a light with a
 // shadow ray at every shaded point): an error that names the emitter and the option.
@@ -86,7 +132,10 @@ std::string rgb(const glm::dvec3& c) {
 class PovWriter {
   public:
     PovWriter(const SceneDescription& desc, std::string file, const ExportPovOptions& opt)
-        : m_desc(desc), m_file(std::move(file)), m_opt(opt) {}
+        : m_desc(desc),
+          m_file(std::move(file)),
+          m_opt(opt),
+          m_rad(parse_radiosity(opt.radiosity)) {}
 
     std::string write();
 
@@ -111,6 +160,7 @@ class PovWriter {
     const SceneDescription& m_desc;
     std::string m_file;
     const ExportPovOptions& m_opt;
+    RadiosityPreset m_rad;
     std::ostringstream m_out;
     std::vector<std::string> m_material_ids;  // POV identifier of m_desc.materials[i]
     long long m_cells = 0;
@@ -161,12 +211,39 @@ void PovWriter::global_settings() {
         fail("/render/max_depth", fmt::format("{} bounces: POV-Ray traces at most 255 (its "
                                               "max_trace_level is at most 256)",
                                               depth));
+    // Radiosity sample rays of recursion depth d (0-based) are traced at trace level
+    // int(1.5 (d + 1)) (lighting/radiosity.cpp GetRecursionSettings): the limit must let the
+    // deepest through, or the last bounces are cut.
+    const int rad_level = m_rad.count > 0 ? int(1.5 * m_rad.recursion_limit) + 1 : 0;
+    const int level = std::max(depth + 1, rad_level);
     m_out << "global_settings {\n"
           << "  assumed_gamma 1.0\n"
-          << "  max_trace_level " << depth + 1 << "  // camera ray + max_depth " << depth
-          << " mirror bounces\n"
+          << "  max_trace_level " << level << "  // camera ray + max_depth " << depth
+          << " mirror bounces" << (level > depth + 1 ? "; radiosity recursion needs more" : "")
+          << "\n"
           << "  adc_bailout 0\n"
-          << "  ambient_light 0\n}\n\n";
+          << "  ambient_light 0\n";
+    if (m_rad.count > 0) {
+        // count/error_bound/recursion_limit from --radiosity; the rest fixed: nearest_count
+        // 10 (POV-Ray's default 5 is blotchier), POV-Ray's pretrace defaults, no brightness
+        // or gray change, and an adc_bailout far below the weight POV-Ray assumes for the
+        // deepest bounce (0.5^20 ~ 1e-6), so that no recursion level is dropped for weight.
+        m_out << "  radiosity {  // --radiosity " << m_opt.radiosity << "\n"
+              << "    count " << m_rad.count << "\n"
+              << "    error_bound " << num(m_rad.error_bound) << "\n"
+              << "    recursion_limit " << m_rad.recursion_limit << "\n"
+              << "    nearest_count 10\n"
+              << "    low_error_factor 0.5\n"
+              << "    pretrace_start 0.08\n"
+              << "    pretrace_end 0.04\n"
+              << "    brightness 1\n"
+              << "    gray_threshold 0\n"
+              << "    adc_bailout 1e-7\n"
+              << "    normal off\n"
+              << "    media off\n"
+              << "  }\n";
+    }
+    m_out << "}\n\n";
 }
 
 // " emission rgb <...>" giving the radiance `emission` on a surface of that pigment: POV-Ray
@@ -433,7 +510,14 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
                                                              s.kind == render::ShapeKind::Box));
     const double nsign = s.flip_normals ? -1.0 : 1.0;
     const std::string xf = s.transform ? "  " + pov_matrix(*s.transform) + "\n" : "";
-    const std::string tail = std::string(emits ? "  no_shadow\n" : "") + xf + "}\n";
+    const bool twin = emits && m_rad.count > 0;
+    const std::string tail =
+        std::string(emits ? "  no_shadow\n" : "") + (twin ? "  no_radiosity\n" : "") + xf + "}\n";
+    // With radiosity, an emitter's black twin: seen by radiosity rays only (its light is
+    // counted by the cell lights), blocking them as the emitter would.
+    const std::string twin_texture =
+        "  texture { pigment { rgb 0 } finish { ambient 0 diffuse 0 } }\n  no_image "
+        "no_reflection no_shadow\n";
     m_out << "// " << where << "\n";
     switch (s.kind) {
         case render::ShapeKind::Sphere:
@@ -452,13 +536,15 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
                   << tail;
             return;
         }
-        case render::ShapeKind::Disc:
-            m_out << "disc { " << vec(d3(s.center)) << ", "
-                  << vec(nsign * glm::normalize(d3(s.normal))) << ", " << num(s.radius) << "\n  "
-                  << tex << "\n"
-                  << tail;
+        case render::ShapeKind::Disc: {
+            const std::string disc = "disc { " + vec(d3(s.center)) + ", " +
+                                     vec(nsign * glm::normalize(d3(s.normal))) + ", " +
+                                     num(s.radius) + "\n";
+            m_out << disc << "  " << tex << "\n" << tail;
+            if (twin) m_out << disc << twin_texture << xf << "}\n";
             if (emits) emitter_lights(s, pointer, nullptr);
             return;
+        }
         case render::ShapeKind::Box:
             if (!emits) {
                 m_out << "box { " << vec(d3(s.min)) << ", " << vec(d3(s.max)) << "\n  " << tex
@@ -488,22 +574,26 @@ void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
     if ((glm::determinant(lin) < 0.0) != s.flip_normals)
         for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
             std::swap(m.indices[i + 1], m.indices[i + 2]);
-    m_out << "mesh2 {\n  vertex_vectors { " << m.positions.size();
-    for (const Vec3& p : m.positions) m_out << ", " << vec(d3(p));
-    m_out << " }\n";
+    std::ostringstream body;
+    body << "mesh2 {\n  vertex_vectors { " << m.positions.size();
+    for (const Vec3& p : m.positions) body << ", " << vec(d3(p));
+    body << " }\n";
     if (!m.normals.empty()) {
-        m_out << "  normal_vectors { " << m.normals.size();
-        for (const Vec3& nn : m.normals) m_out << ", " << vec(d3(nn));
-        m_out << " }\n";
+        body << "  normal_vectors { " << m.normals.size();
+        for (const Vec3& nn : m.normals) body << ", " << vec(d3(nn));
+        body << " }\n";
     }
     // POV-Ray's triangle normal is (p0 - p1) x (p2 - p1) = -(p1 - p0) x (p2 - p0), the reverse
     // of Facet's front (mesh.h), and its interior_texture is on the side that normal points
     // away from: write each triangle as (p0, p2, p1) so that both agree.
-    m_out << "  face_indices { " << m.num_triangles();
+    body << "  face_indices { " << m.num_triangles();
     for (std::size_t t = 0; t < m.num_triangles(); ++t)
-        m_out << ", <" << m.indices[3 * t] << ", " << m.indices[3 * t + 2] << ", "
-              << m.indices[3 * t + 1] << ">";
-    m_out << " }\n  " << tex << "\n" << (emits ? "  no_shadow\n" : "") << "}\n";
+        body << ", <" << m.indices[3 * t] << ", " << m.indices[3 * t + 2] << ", "
+             << m.indices[3 * t + 1] << ">";
+    body << " }\n";
+    m_out << body.str() << "  " << tex << "\n"
+          << (emits ? "  no_shadow\n" : "") << (twin ? "  no_radiosity\n" : "") << "}\n";
+    if (twin) m_out << body.str() << twin_texture << "}\n";
     if (emits) emitter_lights(s, pointer, &m);
 }
 
@@ -567,11 +657,15 @@ std::string PovWriter::write() {
     const render::CameraDesc& c = m_desc.camera;
     m_out << "// Exported by `facet export-pov` from " << comment_text(m_file)
           << " for povray-facet (povray_patch/).\n"
-          << "// It renders what `facet render --integrator direct` renders of that scene.\n"
-          << "// Render: povray-facet +I<this file> +O<out>.exr +FE +W" << c.width << " +H"
+          << (m_rad.count > 0
+                  ? "// With POV-Ray radiosity (--radiosity): an approximation of `facet render "
+                    "--integrator path`.\n"
+                  : "// It renders what `facet render --integrator direct` renders of that "
+                    "scene.\n")
+          << "// Render: povray-facet +I<this file> +O<out>.exr +FE32 +W" << c.width << " +H"
           << c.height << " -A +UA- -D\n"
-          << "// (no antialiasing: one ray through each pixel centre; EXR is linear, half "
-             "float).\n"
+          << "// (no antialiasing: one ray through each pixel centre; +FE32: linear 32-bit "
+             "float EXR, +FE: half float).\n"
           << "#version 3.7;\n\n";
     global_settings();
     camera();
@@ -591,6 +685,7 @@ std::string PovWriter::write() {
 
 void run_export_pov(const ExportPovOptions& o) {
     if (o.output.empty()) throw std::runtime_error("export-pov: no output: give -o scene.pov");
+    (void)parse_radiosity(o.radiosity);  // a bad --radiosity fails before the scene is read
     const SceneDescription desc = render::read_scene_description(o.scene);
     // Validate everything the renderer would (ranges, names, meshes) before writing: the SDL is
     // only written for scenes that `facet render` accepts.
@@ -609,7 +704,8 @@ void run_export_pov(const ExportPovOptions& o) {
         if (!(ini << "; povray-facet settings for " << o.output << " (facet export-pov)\n"
                   << "Input_File_Name=" << o.output << "\n"
                   << "Width=" << desc.camera.width << "\nHeight=" << desc.camera.height << "\n"
-                  << "Antialias=Off\nOutput_File_Type=E\nOutput_Alpha=Off\nDisplay=Off\n"))
+                  << "Antialias=Off\nOutput_File_Type=E\nBits_Per_Color=32\nOutput_Alpha=Off\n"
+                  << "Display=Off\n"))
             throw std::runtime_error("export-pov: --ini " + o.ini + ": cannot write");
     }
 }
@@ -625,8 +721,9 @@ void add_export_pov_command(CLI::App& app) {
         "JSON path");
     cmd->add_option("scene", o->scene, "scene file (.json)")->required();
     cmd->add_option("-o,--output", o->output, "output SDL file (.pov)")->required();
-    cmd->add_option("--ini", o->ini,
-                    "also write a POV-Ray .ini with the size, no antialiasing and EXR output");
+    cmd->add_option(
+        "--ini", o->ini,
+        "also write a POV-Ray .ini with the size, no antialiasing and 32-bit float EXR output");
     cmd->add_option("--area-grid", o->area_grid,
                     "emitter quadrature: N x N cells per parallelogram quad, N^2 per triangle, "
                     "N rings x 4N sectors per disc; each cell is one light")
@@ -641,6 +738,11 @@ void add_export_pov_command(CLI::App& app) {
                     "error: an environment light is an error; background: export it as the "
                     "background only (it then lights no surface: an approximation)")
         ->check(CLI::IsMember({"error", "background"}))
+        ->capture_default_str();
+    cmd->add_option("--radiosity", o->radiosity,
+                    "POV-Ray radiosity for the indirect light (approximates `--integrator path`): "
+                    "off, low (50,1.0,4), medium (200,0.4,8), high (800,0.15,16) or "
+                    "COUNT,ERROR_BOUND,RECURSION_LIMIT")
         ->capture_default_str();
     cmd->callback([o] { run_export_pov(*o); });
 }
