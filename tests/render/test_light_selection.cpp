@@ -42,12 +42,32 @@ std::vector<double> selection_frequencies(const fr::LightDistribution& d, int n)
     return f;
 }
 
+// The green channel's per-pixel differences a - b: their mean, its standard error (pixels are
+// independent estimates: SE = stddev / sqrt(pixels)), their RMS, and the mean of a.
+struct GreenDifference {
+    double mean, se, rms, mean_a;
+};
+GreenDifference green_difference(const fr::Image& a, const fr::Image& b) {
+    double s = 0.0, s2 = 0.0, mean_a = 0.0;
+    const double n = double(a.pixels().size());
+    for (std::size_t i = 0; i < a.pixels().size(); ++i) {
+        const double d = double(a.pixels()[i].g) - double(b.pixels()[i].g);
+        s += d;
+        s2 += d * d;
+        mean_a += a.pixels()[i].g / n;
+    }
+    const double mean = s / n;
+    return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / (n - 1)), std::sqrt(s2 / n),
+            mean_a};
+}
+
 }  // namespace
 
 // The pmf of each light is its power over the total, for every kind of light (power formulas of
 // light.h: Phi for point/spot, pi A L for area lights, E pi r^2 for directional); zero-power
-// lights and the environment (left to BSDF sampling, light.h nee_samples) are never chosen. Tolerance 1e-6 relative: the pmf is
-// a float difference of a float CDF (a few ulps); a uniform choice would be off by O(1).
+// lights and the environment (left to BSDF sampling, light.h nee_samples) are never chosen.
+// Tolerance 1e-6 relative: the pmf is a float difference of a float CDF (a few ulps); a uniform
+// choice would be off by O(1).
 TEST(LightSelection, PmfIsProportionalToPower) {
     const float r = 3.f;  // scene radius
     std::vector<fr::Light> lights;
@@ -60,10 +80,9 @@ TEST(LightSelection, PmfIsProportionalToPower) {
     lights.push_back(fr::Light::directional({0, -1, 0}, Rgb(0.5f)));
     lights.push_back(fr::Light::environment(Rgb(0.01f)));
     lights.push_back(fr::Light::point({0, 1, 0}, Rgb(0.f)));  // trailing zero
-    const double want_w[] = {
-        90.0, 0.0, 20.0, kPiD * 2.0 * 5.0, 0.5 * kPiD * r * r,
-        0.0,  // the environment: left to BSDF sampling (light.h, nee_samples)
-        0.0};
+    const double want_w[] = {90.0, 0.0, 20.0, kPiD * 2.0 * 5.0, 0.5 * kPiD * r * r,
+                             0.0,  // the environment: left to BSDF sampling (light.h, nee_samples)
+                             0.0};
     double total = 0.0;
     for (double w : want_w) total += w;
     const fr::LightDistribution d(lights, r);
@@ -175,20 +194,11 @@ TEST(LightSelection, PowerAndUniformSelectionConvergeToTheSameImage) {
     const fr::Image direct = render(scene, spp, false, 13, "direct");
 
     auto compare = [](const fr::Image& a, const fr::Image& b, const char* what) {
-        double s = 0.0, s2 = 0.0, mean_a = 0.0;
-        const double n = double(a.pixels().size());
-        for (std::size_t i = 0; i < a.pixels().size(); ++i) {
-            const double d = double(a.pixels()[i].g) - double(b.pixels()[i].g);
-            s += d;
-            s2 += d * d;
-            mean_a += a.pixels()[i].g / n;
-        }
-        const double mean = s / n;
-        const double se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / (n - 1));
-        EXPECT_LT(std::fabs(mean), 4.0 * se)
-            << what << ": mean difference " << mean << ", SE " << se << ", image mean " << mean_a;
-        EXPECT_GT(mean_a, 0.01) << what;  // the lights do reach the plane
-        return std::sqrt(s2 / n);
+        const GreenDifference d = green_difference(a, b);
+        EXPECT_LT(std::fabs(d.mean), 4.0 * d.se) << what << ": mean difference " << d.mean
+                                                 << ", SE " << d.se << ", image mean " << d.mean_a;
+        EXPECT_GT(d.mean_a, 0.01) << what;  // the lights do reach the plane
+        return d.rms;
     };
     compare(power, uniform, "power vs uniform");
     compare(power, direct, "power vs direct");
@@ -286,7 +296,8 @@ TEST(LightSelection, EnvironmentByBsdfSamplingMatchesLightSampling) {
         const fr::Scene scene = scene_from(std::string(R"(
             "camera": {"position": [0, 1.2, 3], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 60,
                        "width": 40, "height": 30},
-            "materials": {"floor": )") + material + R"(},
+            "materials": {"floor": )") + material +
+                                           R"(},
             "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0],
                         "material": "floor"},
                        {"type": "quad", "emission": 15,
@@ -300,19 +311,11 @@ TEST(LightSelection, EnvironmentByBsdfSamplingMatchesLightSampling) {
         EXPECT_EQ(d.pmf(1 - env), 1.f);
         const fr::Image path = render(scene, 64, false, 31);
         const fr::Image direct = render(scene, 64, false, 32, "direct");
-        double s = 0.0, s2 = 0.0, mean_path = 0.0;
-        const double n = double(path.pixels().size());
-        for (std::size_t i = 0; i < path.pixels().size(); ++i) {
-            const double dv = double(path.pixels()[i].g) - double(direct.pixels()[i].g);
-            s += dv;
-            s2 += dv * dv;
-            mean_path += path.pixels()[i].g / n;
-        }
-        const double mean = s / n;
-        const double se = std::sqrt(std::max(0.0, s2 / n - mean * mean) / (n - 1));
-        EXPECT_LT(std::fabs(mean), 4.0 * se)
-            << material << ": mean difference " << mean << ", SE " << se << ", mean " << mean_path;
-        EXPECT_GT(mean_path, 0.05) << material;
+        const GreenDifference diff = green_difference(path, direct);
+        EXPECT_LT(std::fabs(diff.mean), 4.0 * diff.se)
+            << material << ": mean difference " << diff.mean << ", SE " << diff.se << ", mean "
+            << diff.mean_a;
+        EXPECT_GT(diff.mean_a, 0.05) << material;
     }
 }
 

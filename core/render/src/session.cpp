@@ -184,9 +184,8 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
     s.choice = choose_kernel(scene.features(), s.rs.integrator, s.rs.max_depth,
                              options.force_general_kernel);
     s.kernel = kernel_function(s.choice);
-    s.light_dist = options.uniform_light_selection
-                       ? LightDistribution::uniform(scene.lights())
-                       : scene.light_distribution();
+    s.light_dist = options.uniform_light_selection ? LightDistribution::uniform(scene.lights())
+                                                   : scene.light_distribution();
     if (!(options.pass_seconds > 0.0)) throw std::invalid_argument("pass_seconds must be > 0");
     const Region& reg = s.rs.region;
     const int ts = s.rs.tile_size;
