@@ -438,9 +438,8 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // (render.h); lanes outside the tile are traced and not written.
     const int gx_begin = job.x0 - job.x0 % int(kLanes);
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
-    // The column half of the pixel-seed hash, hash_combine(seed_hash, x) (the first of the two
-    // steps of Sampler::pixel_seed_hashed, which this mirrors; the images test it), is the same
-    // in every row: it is computed once per tile for the packets' first kSeedColumns pixels (a
+    // The column half of the pixel-seed hash (Sampler::column_seed_hash) is the same in every
+    // row: it is computed once per tile for the packets' first kSeedColumns pixels (a
     // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles). At
     // 1-sample passes every packet of every pass rehashed both halves (callgrind: ~70
     // instructions).
@@ -449,7 +448,7 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     const int gx_end = std::min(width, job.x1 + (int(kLanes) - job.x1 % int(kLanes)) % int(kLanes));
     const int hashed_columns = std::min(kSeedColumns, gx_end - gx_begin);
     for (int i = 0; i < hashed_columns; ++i)
-        column_hash[std::size_t(i)] = hash_combine(seed_hash, std::uint32_t(gx_begin + i));
+        column_hash[std::size_t(i)] = Sampler::column_seed_hash(gx_begin + i, seed_hash);
     for (int y = job.y0; y < job.y1; ++y) {
         FixedRgb* const film_row =
             sums + std::size_t(y - job.film_y0) * std::size_t(job.film_width);
@@ -460,7 +459,7 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
             const int col = x0 - gx_begin;
             if (col + int(n) <= hashed_columns) {
                 for (std::size_t k = 0; k < n; ++k)
-                    seeds[k] = hash_combine(column_hash[std::size_t(col) + k], std::uint32_t(y));
+                    seeds[k] = Sampler::pixel_seed_of_column(column_hash[std::size_t(col) + k], y);
             } else {
                 for (std::size_t k = 0; k < n; ++k)
                     seeds[k] = Sampler::pixel_seed_hashed(x0 + int(k), y, seed_hash);

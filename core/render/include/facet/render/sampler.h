@@ -161,7 +161,15 @@ class Sampler {
         return hash_combine(hash_u32(std::uint32_t(seed) ^ 0x5bd1e995u), std::uint32_t(seed >> 32));
     }
     static std::uint32_t pixel_seed_hashed(int x, int y, std::uint32_t render_seed_hash) {
-        return hash_combine(hash_combine(render_seed_hash, std::uint32_t(x)), std::uint32_t(y));
+        return pixel_seed_of_column(column_seed_hash(x, render_seed_hash), y);
+    }
+    // pixel_seed_hashed's two steps, for loops that reuse a column's part over many rows (the
+    // tile loop): pixel_seed_of_column(column_seed_hash(x, h), y) == pixel_seed_hashed(x, y, h).
+    static std::uint32_t column_seed_hash(int x, std::uint32_t render_seed_hash) {
+        return hash_combine(render_seed_hash, std::uint32_t(x));
+    }
+    static std::uint32_t pixel_seed_of_column(std::uint32_t column_seed_hash, int y) {
+        return hash_combine(column_seed_hash, std::uint32_t(y));
     }
 
     // One value in [0,1) (sample_1d).
