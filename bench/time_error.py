@@ -825,7 +825,10 @@ def main():
     ap.add_argument("--blender", default=shutil.which("blender") or "blender")
     ap.add_argument("--facet", default=None, help="the facet CLI (default <build>/core/cli/facet)")
     ap.add_argument("--povray", default=None, help="povray-facet binary: adds POV-Ray (brdf "
-                    "finish, facet export-pov) where the SDL can express the scene")
+                    "finish, facet export-pov) where the SDL can express the scene (default: "
+                    "<build>/povray_patch/bin/povray-facet when it is built, except with --quick)")
+    ap.add_argument("--no-povray", action="store_true", help="leave POV-Ray out even where it "
+                    "is built")
     ap.add_argument("--contenders", default="", help="comma-separated: run only these "
                     "contenders (e.g. 'facet path sobol,povray radiosity')")
     ap.add_argument("--level-csv", default=None, help="with --no-blender: take Cycles' curve "
@@ -860,6 +863,13 @@ def main():
                                           "facet direct independent", "povray brdf",
                                           "povray radiosity", "facet in blender", "cycles")}
     ARGS.contenders = [c.strip() for c in ARGS.contenders.split(",") if c.strip()]
+    if ARGS.no_povray:
+        ARGS.povray = None
+    elif ARGS.povray is None and not ARGS.quick:
+        # The full run is the one command that reproduces every table: POV-Ray joins whenever
+        # the patched binary is built (build.sh builds it).
+        built = os.path.join(ARGS.build, "povray_patch", "bin", "povray-facet")
+        ARGS.povray = built if os.access(built, os.X_OK) else None
     for c in ARGS.contenders:
         if c not in known:
             ap.error("--contenders: unknown contender %r (have %s)" % (c, ", ".join(sorted(known))))
