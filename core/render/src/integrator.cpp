@@ -273,9 +273,10 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     p.prev_bsdf_pdf = bs->pdf;
     p.prev_ctx = ctx;
 
-    // Russian roulette (unbiased): survive with probability max(beta), reweight survivors.
+    // Russian roulette (unbiased): survive with probability sqrt(max(beta)) (integrator.h),
+    // reweight survivors.
     if (depth + 1 >= kRouletteDepth) {
-        const float q = std::max(0.f, 1.f - max3(p.beta));
+        const float q = std::max(0.f, 1.f - std::sqrt(max3(p.beta)));
         if (q > 0.f) {
             if (s.roulette < q) return false;
             p.beta /= 1.f - q;
