@@ -255,10 +255,12 @@ struct AdaptiveResult {
 // integrand, which adds up like that (random signs); plus the carried errors.
 struct ErrorSums {
     DVec3 diff{0.0}, diff2{0.0}, carried{0.0};
-    void add(const Cell& c, double sign) {
-        diff += sign * c.diff;
-        diff2 += sign * c.diff * c.diff;
-        carried += sign * c.carried;
+    // count: how many times the cell enters the sum (negative to remove it; 2 for a cell that
+    // stands for itself and its mirror image, see adaptive_cubature).
+    void add(const Cell& c, double count) {
+        diff += count * c.diff;
+        diff2 += count * c.diff * c.diff;
+        carried += count * c.carried;
     }
     // Factor 3: the Gauss value's error is diff plus the (smaller) Kronrod error; the factor
     // covers a Kronrod error up to twice the size of diff. Calibrated on the cases of
@@ -273,9 +275,14 @@ struct ErrorSums {
 // |diff| + carried until the error estimate is below tol (every channel) or the budget is
 // spent. A cell is split along x, y or both, by which nested-rule difference dominates
 // (factor 4 either way).
+// copies = 2 when the integrand is mirror-symmetric and the cells cover half of the domain:
+// each cell then stands for itself and its mirror image, which has the same value and the same
+// nested-rule difference, so it enters the value and the error sums twice, exactly as the two
+// cells of the whole domain would (the error estimate is the whole domain's), at half the
+// evaluations.
 template <class F>
 AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, bool one_d,
-                                 double tol, long max_evaluations) {
+                                 double tol, long max_evaluations, double copies = 1.0) {
     auto lower = [](const Cell& a, const Cell& b) { return a.key < b.key; };
     std::priority_queue<Cell, std::vector<Cell>, decltype(lower)> queue(lower);
     std::vector<Cell> done;  // cells too small to split further
@@ -283,7 +290,7 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
     ErrorSums sums;
     for (Cell c : initial) {
         evaluate_cell(f, c, one_d, out.evaluations);
-        sums.add(c, 1.0);
+        sums.add(c, copies);
         queue.push(c);
     }
     while (!queue.empty() && max_of(sums.estimate()) > tol && out.evaluations < max_evaluations) {
@@ -297,7 +304,7 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
             done.push_back(c);
             continue;
         }
-        sums.add(c, -1.0);
+        sums.add(c, -copies);
         const double xm = 0.5 * (c.x0 + c.x1), ym = 0.5 * (c.y0 + c.y1);
         for (int a = 0; a < (sx ? 2 : 1); ++a)
             for (int b = 0; b < (sy ? 2 : 1); ++b) {
@@ -305,14 +312,14 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
                 if (sx) (a == 0 ? k.x1 : k.x0) = xm;
                 if (sy) (b == 0 ? k.y1 : k.y0) = ym;
                 evaluate_cell(f, k, one_d, out.evaluations);
-                sums.add(k, 1.0);
+                sums.add(k, copies);
                 queue.push(k);
             }
     }
     // Exact sums (the running sums accumulate round-off from the subtractions).
     for (; !queue.empty(); queue.pop()) done.push_back(queue.top());
     ErrorSums exact;
-    for (const Cell& c : done) out.value += c.gauss, exact.add(c, 1.0);
+    for (const Cell& c : done) out.value += copies * c.gauss, exact.add(c, copies);
     out.error = exact.estimate();
     return out;
 }
@@ -508,8 +515,16 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
         // grazing incidence the integrand turns from ~1/rho^3 to ~1/rho^2 near rho = v.z / |b|,
         // close to u = 1): a nested pair on one wide cell can miss that.
         const std::vector<double> u_cuts{0.0, 0.9, 0.99, 1.0};
+        // Mirror symmetry psi -> -psi (phi0 + psi -> phi0 - psi): D(h) depends on the slopes
+        // only through (sx / ax)^2 + (sy / ay)^2, G on the directions' stretched slopes, F on
+        // v.h, so the integrand is symmetric when that reflection maps the stretched slope plane
+        // onto itself: isotropic lobes (any azimuth), or v in a symmetry plane of an anisotropic
+        // one (v.x = 0 or v.y = 0). Then only psi in [0, pi] is integrated, each cell counting
+        // twice (half the evaluations; the float rounding of the mirrored nodes differs by an
+        // ulp, which the rounding correction below makes immaterial).
+        const bool mirror = map.ax == map.ay || fixed.x == 0.f || fixed.y == 0.f;
         for (size_t i = 0; i + 1 < u_cuts.size(); ++i)
-            for (int q = 0; q < 4; ++q) {
+            for (int q = mirror ? 1 : 0; q < (mirror ? 3 : 4); ++q) {
                 Cell c;
                 c.x0 = u_cuts[i];
                 c.x1 = u_cuts[i + 1];
@@ -517,7 +532,8 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                 c.y1 = q * 0.5 * kPiD;
                 cells.push_back(c);
             }
-        AdaptiveResult r = adaptive_cubature(g, cells, false, tol_glossy, settings.max_evaluations);
+        AdaptiveResult r = adaptive_cubature(g, cells, false, tol_glossy, settings.max_evaluations,
+                                             mirror ? 2.0 : 1.0);
         out.value += r.value;
         out.error += r.error;
         out.evaluations += r.evaluations;
