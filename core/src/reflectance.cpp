@@ -475,16 +475,14 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
     };
     if (dist) {
         const SlopeMap map = slope_map(*dist, v);
-        // Uncompensated GGX lobes evaluate a cell's 225 values through the vectorised batch
-        // (bit for bit the scalar f, which equals f_single without compensation).
-        const std::optional<MicrofacetBatch> batch = MicrofacetBatch(*lobe).vectorised()
-                                                         ? std::optional(MicrofacetBatch(*lobe))
-                                                         : std::nullopt;
+        // A cell's 225 values of f_single in one batch against the fixed direction
+        // (facet/microfacet_batch.h: GGX and Blinn vectorised, Beckmann with Lambda(fixed) once).
+        const MicrofacetBatch batch(*lobe);
         const Vec3 fixed_f(fixed);
         const DVec3 fixed_d(fixed);  // the direction the BxDF sees (not renormalised)
         auto g = [&](const double* ts, int nt, const double* psis, int np, Sample* out) {
             constexpr int kMax = NestedRule::kSize * NestedRule::kSize;
-            std::array<float, kMax> wx, wy, wz, cx, cy, cz, fr, fg, fb;
+            std::array<float, kMax> wx, wy, wz, fr, fg, fb;
             std::array<double, kMax> weight;
             const int n = nt * np;
             for (int j = 0; j < np; ++j) {
@@ -501,23 +499,11 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                         weight[k] *= std::isfinite(c) ? c : 1.0;
                     }
                     wx[k] = wf.x, wy[k] = wf.y, wz[k] = wf.z;
-                    cx[k] = fixed_f.x, cy[k] = fixed_f.y, cz[k] = fixed_f.z;
                 }
             }
-            if (batch) {
-                const Vec3Soa w{wx.data(), wy.data(), wz.data()},
-                    c{cx.data(), cy.data(), cz.data()};
-                batch->f(n, fixed_is_wo ? c : w, fixed_is_wo ? w : c,
-                         RgbSoa{fr.data(), fg.data(), fb.data()});
-            } else {
-                for (int k = 0; k < n; ++k) {
-                    if (weight[k] == 0.0) continue;
-                    const Rgb f =
-                        eval([&](const Vec3& a, const Vec3& b) { return lobe->f_single(a, b); },
-                             Vec3(wx[k], wy[k], wz[k]));
-                    fr[k] = f.r, fg[k] = f.g, fb[k] = f.b;
-                }
-            }
+            batch.f_single_fixed(size_t(n), fixed_f, fixed_is_wo,
+                                 Vec3Soa{wx.data(), wy.data(), wz.data()},
+                                 RgbSoa{fr.data(), fg.data(), fb.data()});
             for (int k = 0; k < n; ++k)
                 out[k] = weight[k] == 0.0
                              ? Sample{}
