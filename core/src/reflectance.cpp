@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <stdexcept>
@@ -20,6 +21,8 @@ namespace {
 // Directions with cos(theta) below this are treated as the horizon: the lobe samplers are
 // not asked for wo exactly at the horizon, where their densities are undefined.
 constexpr float kMinCos = 1e-6f;
+
+constexpr double kMaxDouble = std::numeric_limits<double>::max();
 
 // Cosine-weighted polar warp (smooth in u, unlike the concentric map whose kinks slow
 // Gauss-Legendre down): r = sqrt(u0), phi = 2 pi u1; density cos(theta)/pi.
@@ -358,20 +361,30 @@ struct SlopeMap {
         return {cp, sp, std::atan(rho_star / scale)};
     }
 
-    // The reflected direction at (t, psi) and the Jacobian dw / (dt dpsi); jacobian = 0 when
-    // the point is outside the visible domain.
-    std::pair<DVec3, double> map(const Row& r, double t) const {
-        // rho = s tan(t A), A = atan(rho* / s): radial = rho drho / dt = A s rho (1 + (rho/s)^2).
-        const double rho = scale * std::tan(t * r.a_star), r2 = rho * rho;
-        const double radial = r.a_star * scale * rho * (1.0 + r2 / (scale * scale));
-        const double sx = ax * rho * r.cp, sy = ay * rho * r.sp;
-        const double l2 = 1.0 + sx * sx + sy * sy, l = std::sqrt(l2);
-        const DVec3 h(-sx / l, -sy / l, 1.0 / l);
-        const double vh = glm::dot(v, h);
-        const DVec3 w = 2.0 * vh * h - v;
-        if (!(w.z > 0.0 && vh > 0.0)) return {w, 0.0};
-        const double jac = 4.0 * vh * ax * ay * radial / (l2 * l);
-        return {w, std::isfinite(jac) ? jac : 0.0};
+    // The reflected directions w at the n <= 15 nodes ts of a row and the Jacobians
+    // dw / (dt dpsi), 0 outside the visible domain (and where not finite). rho = s tan(t A),
+    // A = atan(rho* / s): radial = rho drho / dt = A s rho (1 + (rho / s)^2). No branch after
+    // the tangents, so that loop vectorises (node by node, with branches, the map was most of a
+    // GGX reflectance's time).
+    void map_row(const Row& r, const double* ts, int n, double* wx, double* wy, double* wz,
+                 double* jac) const {
+        std::array<double, 16> rho;
+        for (int i = 0; i < n; ++i) rho[size_t(i)] = scale * std::tan(ts[i] * r.a_star);
+        const double k_radial = r.a_star * scale, inv_s2 = 1.0 / (scale * scale);
+        for (int i = 0; i < n; ++i) {
+            const double rh = rho[size_t(i)], r2 = rh * rh;
+            const double radial = k_radial * rh * (1.0 + r2 * inv_s2);
+            const double sx = ax * rh * r.cp, sy = ay * rh * r.sp;
+            const double l2 = 1.0 + sx * sx + sy * sy, l = std::sqrt(l2), il = 1.0 / l;
+            const double hx = -sx * il, hy = -sy * il, hz = il;
+            const double vh = v.x * hx + v.y * hy + v.z * hz;
+            const double x = 2.0 * vh * hx - v.x, y = 2.0 * vh * hy - v.y, z = 2.0 * vh * hz - v.z;
+            const double j = 4.0 * vh * ax * ay * radial / (l2 * l);
+            // Finite and positive only inside the visible domain (the test does not branch).
+            const bool ok = (z > 0.0) & (vh > 0.0) & (std::fabs(j) <= kMaxDouble);
+            wx[i] = x, wy[i] = y, wz[i] = z;
+            jac[i] = ok ? j : 0.0;
+        }
     }
 };
 
@@ -485,11 +498,14 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
             std::array<float, kMax> wx, wy, wz, fr, fg, fb;
             std::array<double, kMax> weight;
             const int n = nt * np;
+            std::array<double, NestedRule::kSize> mx, my, mz, mjac;
             for (int j = 0; j < np; ++j) {
                 const SlopeMap::Row row = map.row(psis[j]);
+                map.map_row(row, ts, nt, mx.data(), my.data(), mz.data(), mjac.data());
                 for (int i = 0; i < nt; ++i) {
                     const int k = j * nt + i;
-                    auto [w, jac] = map.map(row, ts[i]);
+                    const DVec3 w(mx[size_t(i)], my[size_t(i)], mz[size_t(i)]);
+                    const double jac = mjac[size_t(i)];
                     Vec3 wf(w);
                     weight[k] = jac != 0.0 && wf.z > 0.f ? double(wf.z) * jac : 0.0;
                     if (weight[k] == 0.0) {
