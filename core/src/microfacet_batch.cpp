@@ -111,7 +111,7 @@ struct FastMath {
     static float exp(float x) {
         const bool under = !(x > -104.f);  // and NaN: below the smallest denormal
         const bool over = x > 88.7228f;
-        x = under | over ? 0.f : x;
+        x = (under | over) ? 0.f : x;
         const float n = std::floor(x * 1.44269504f + 0.5f);  // x = n ln2 + r, |r| <= ln2 / 2
         float r = x - n * 0.693359375f;                      // ln2 in two parts: exact product
         r = r - n * -2.12194440e-4f;
