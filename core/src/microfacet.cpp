@@ -9,6 +9,7 @@
 
 #include "facet/quadrature.h"
 #include "facet/sampling.h"
+#include "microfacet_formulas.h"
 
 namespace facet {
 
@@ -31,10 +32,6 @@ constexpr float kGgxLargeT = 1e30f;
 // Beckmann Lambda: for a = cot / alpha >= 9 the exact value is below 1e-37 (exp(-81) / a^3),
 // which is 0 next to the 1 in 1 + Lambda; returning 0 avoids computing two denormals.
 constexpr double kBeckmannZeroLambdaA = 9.0;
-
-// Blinn Lambda: when (nu - 1) / 2 log(1 + mu^2) exceeds this, both terms of Lambda are below
-// exp(-110) ~ 2e-48 times c / ((nu - 1) mu) <= 1 for every mu reaching it: 0 in float.
-constexpr double kBlinnZeroLambdaExponent = 110.0;
 
 // Beckmann visible-slope inversion: slopes of the unit distribution beyond +-9 have
 // probability below erfc(9) ~ 4e-37, far below the 2^-24 resolution of a float sample.
@@ -133,15 +130,7 @@ MicrofacetDistribution MicrofacetDistribution::blinn(float exponent_u, float exp
 }
 
 float MicrofacetDistribution::blinn_rho(float v) const {
-    // Catmull-Rom on the uniform v grid (ghost nodes at both ends).
-    const float* t = m_blinn_rho->data();
-    float x = v * float(kBlinnTableSize - 1);
-    int i = std::min(int(x), kBlinnTableSize - 2);
-    float u = x - float(i);
-    float p0 = t[i], p1 = t[i + 1], p2 = t[i + 2], p3 = t[i + 3];
-    return p1 + 0.5f * u *
-                    ((p2 - p0) +
-                     u * ((2.f * p0 - 5.f * p1 + 4.f * p2 - p3) + u * (3.f * (p1 - p2) + p3 - p0)));
+    return formulas::blinn_rho(m_blinn_rho->data(), v);
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -170,8 +159,8 @@ float MicrofacetDistribution::D(const Vec3& wm) const {
             // (log1p keeps kappa = 1e7 exact near the peak).
             float t = s / cos2;
             if (!(t < kInfinity)) return 0.f;
-            float e = m_log_norm - float(0.5 * (m_nu + 2.0)) * std::log1p(t) - 2.f * std::log(cos2);
-            return std::exp(e);
+            return formulas::blinn_d<formulas::StdMath>(m_log_norm, float(0.5 * (m_nu + 2.0)), t,
+                                                        cos2);
         }
     }
     return 0.f;
@@ -226,10 +215,10 @@ float MicrofacetDistribution::lambda(const Vec3& w) const {
         float r = std::sqrt(x * x + y * y);
         if (r == 0.f) return 0.f;  // mu = inf
         float mu = z / r;
-        float e = m_blinn_half_nu_m1 * std::log1p(mu * mu);
-        if (!(e < float(kBlinnZeroLambdaExponent))) return 0.f;
-        float l = m_blinn_kf * std::exp(-e) / mu * blinn_rho(z / (z + m_blinn_s * r));
-        return l < kInfinity ? std::fmax(l, 0.f) : kInfinity;
+        float e = formulas::blinn_lambda_exponent<formulas::StdMath>(m_blinn_half_nu_m1, mu);
+        if (!(e < blinn_zero_lambda_exponent())) return 0.f;
+        return formulas::blinn_lambda<formulas::StdMath>(
+            m_blinn_kf, e, mu, blinn_rho(formulas::blinn_lambda_v(m_blinn_s, z, r)));
     }
     return float(lambda_of_mu(mu(w)));
 }
@@ -589,24 +578,14 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, 
     if (!(cos_o > 0.f && cos_i > 0.f)) return;
     if (m_distribution.kind() == DistributionKind::GGX)
         return evaluate_ggx(wo, wi, f_out, pdf_out, with_ms);
-    Vec3 h = wo + wi;
-    float len2 = glm::dot(h, h);
-    if (!(len2 > 0.f)) return;
-    Vec3 wm = h / std::sqrt(len2);
-    float c = glm::dot(wo, wm);
-    float d = m_distribution.D(wm);
+    Vec3 wm;
+    float c, d;
+    if (!half_vector_terms(wo, wi, wm, c, d)) return;
     bool blinn = m_distribution.kind() == DistributionKind::Blinn;
     // Lambda(wo) serves both G and the visible-normal pdf (Blinn's pdf does not need it).
     float lam_o = f_out || !blinn ? m_distribution.lambda(wo) : 0.f;
     if (f_out) {
-        // f = D G F / (4 cos_o cos_i) (eq. 2.37), height-correlated G (Heitz 2014, eq. 99);
-        // divide one cosine at a time (no underflow of the product at grazing angles; G ~ cos
-        // there keeps the quotient finite).
-        float g = 1.f / (1.f + lam_o + m_distribution.lambda(wi));
-        float s = d * g / (4.f * cos_o) / cos_i;
-        // Constant Fresnel stores its value in eta(): skip the evaluation.
-        Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
-        Rgb result = m_scale * fr * s;
+        Rgb result = single_from(c, d, lam_o, m_distribution.lambda(wi), cos_o, cos_i);
         if (m_has_ms && with_ms) result += ms_lobe(wo, wi);
         *f_out = result;
     }
@@ -628,6 +607,31 @@ void MicrofacetReflection::evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, 
         }
         *pdf_out = p;
     }
+}
+
+// The half vector's terms of the general path: the unit microfacet normal wm = normalize(wo +
+// wi), c = <wo, wm> and D(wm); false when wo + wi = 0.
+bool MicrofacetReflection::half_vector_terms(const Vec3& wo, const Vec3& wi, Vec3& wm, float& c,
+                                             float& d) const {
+    Vec3 h = wo + wi;
+    float len2 = glm::dot(h, h);
+    if (!(len2 > 0.f)) return false;
+    wm = h / std::sqrt(len2);
+    c = glm::dot(wo, wm);
+    d = m_distribution.D(wm);
+    return true;
+}
+
+// f_single of the general path from those terms and the two Lambdas: f = D G F / (4 cos_o
+// cos_i) (eq. 2.37), height-correlated G (Heitz 2014, eq. 99); one cosine divided at a time (no
+// underflow of the product at grazing angles; G ~ cos there keeps the quotient finite).
+Rgb MicrofacetReflection::single_from(float c, float d, float lam_o, float lam_i, float cos_o,
+                                      float cos_i) const {
+    float g = 1.f / (1.f + lam_o + lam_i);
+    float s = d * g / (4.f * cos_o) / cos_i;
+    // Constant Fresnel stores its value in eta(): skip the evaluation.
+    Rgb fr = m_fresnel.is_constant() ? m_fresnel.eta() : m_fresnel.eval(c);
+    return m_scale * fr * s;
 }
 
 // GGX fast path, algebraically equal to the general one with fewer divisions and roots.

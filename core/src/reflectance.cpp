@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <limits>
 #include <optional>
 #include <queue>
 #include <stdexcept>
@@ -20,6 +21,8 @@ namespace {
 // Directions with cos(theta) below this are treated as the horizon: the lobe samplers are
 // not asked for wo exactly at the horizon, where their densities are undefined.
 constexpr float kMinCos = 1e-6f;
+
+constexpr double kMaxDouble = std::numeric_limits<double>::max();
 
 // Cosine-weighted polar warp (smooth in u, unlike the concentric map whose kinks slow
 // Gauss-Legendre down): r = sqrt(u0), phi = 2 pi u1; density cos(theta)/pi.
@@ -255,10 +258,12 @@ struct AdaptiveResult {
 // integrand, which adds up like that (random signs); plus the carried errors.
 struct ErrorSums {
     DVec3 diff{0.0}, diff2{0.0}, carried{0.0};
-    void add(const Cell& c, double sign) {
-        diff += sign * c.diff;
-        diff2 += sign * c.diff * c.diff;
-        carried += sign * c.carried;
+    // count: how many times the cell enters the sum (negative to remove it; 2 for a cell that
+    // stands for itself and its mirror image, see adaptive_cubature).
+    void add(const Cell& c, double count) {
+        diff += count * c.diff;
+        diff2 += count * c.diff * c.diff;
+        carried += count * c.carried;
     }
     // Factor 3: the Gauss value's error is diff plus the (smaller) Kronrod error; the factor
     // covers a Kronrod error up to twice the size of diff. Calibrated on the cases of
@@ -273,9 +278,14 @@ struct ErrorSums {
 // |diff| + carried until the error estimate is below tol (every channel) or the budget is
 // spent. A cell is split along x, y or both, by which nested-rule difference dominates
 // (factor 4 either way).
+// copies = 2 when the integrand is mirror-symmetric and the cells cover half of the domain:
+// each cell then stands for itself and its mirror image, which has the same value and the same
+// nested-rule difference, so it enters the value and the error sums twice, exactly as the two
+// cells of the whole domain would (the error estimate is the whole domain's), at half the
+// evaluations.
 template <class F>
 AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, bool one_d,
-                                 double tol, long max_evaluations) {
+                                 double tol, long max_evaluations, double copies = 1.0) {
     auto lower = [](const Cell& a, const Cell& b) { return a.key < b.key; };
     std::priority_queue<Cell, std::vector<Cell>, decltype(lower)> queue(lower);
     std::vector<Cell> done;  // cells too small to split further
@@ -283,7 +293,7 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
     ErrorSums sums;
     for (Cell c : initial) {
         evaluate_cell(f, c, one_d, out.evaluations);
-        sums.add(c, 1.0);
+        sums.add(c, copies);
         queue.push(c);
     }
     while (!queue.empty() && max_of(sums.estimate()) > tol && out.evaluations < max_evaluations) {
@@ -297,7 +307,7 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
             done.push_back(c);
             continue;
         }
-        sums.add(c, -1.0);
+        sums.add(c, -copies);
         const double xm = 0.5 * (c.x0 + c.x1), ym = 0.5 * (c.y0 + c.y1);
         for (int a = 0; a < (sx ? 2 : 1); ++a)
             for (int b = 0; b < (sy ? 2 : 1); ++b) {
@@ -305,14 +315,14 @@ AdaptiveResult adaptive_cubature(const F& f, const std::vector<Cell>& initial, b
                 if (sx) (a == 0 ? k.x1 : k.x0) = xm;
                 if (sy) (b == 0 ? k.y1 : k.y0) = ym;
                 evaluate_cell(f, k, one_d, out.evaluations);
-                sums.add(k, 1.0);
+                sums.add(k, copies);
                 queue.push(k);
             }
     }
     // Exact sums (the running sums accumulate round-off from the subtractions).
     for (; !queue.empty(); queue.pop()) done.push_back(queue.top());
     ErrorSums exact;
-    for (const Cell& c : done) out.value += c.gauss, exact.add(c, 1.0);
+    for (const Cell& c : done) out.value += copies * c.gauss, exact.add(c, copies);
     out.error = exact.estimate();
     return out;
 }
@@ -351,20 +361,30 @@ struct SlopeMap {
         return {cp, sp, std::atan(rho_star / scale)};
     }
 
-    // The reflected direction at (t, psi) and the Jacobian dw / (dt dpsi); jacobian = 0 when
-    // the point is outside the visible domain.
-    std::pair<DVec3, double> map(const Row& r, double t) const {
-        // rho = s tan(t A), A = atan(rho* / s): radial = rho drho / dt = A s rho (1 + (rho/s)^2).
-        const double rho = scale * std::tan(t * r.a_star), r2 = rho * rho;
-        const double radial = r.a_star * scale * rho * (1.0 + r2 / (scale * scale));
-        const double sx = ax * rho * r.cp, sy = ay * rho * r.sp;
-        const double l2 = 1.0 + sx * sx + sy * sy, l = std::sqrt(l2);
-        const DVec3 h(-sx / l, -sy / l, 1.0 / l);
-        const double vh = glm::dot(v, h);
-        const DVec3 w = 2.0 * vh * h - v;
-        if (!(w.z > 0.0 && vh > 0.0)) return {w, 0.0};
-        const double jac = 4.0 * vh * ax * ay * radial / (l2 * l);
-        return {w, std::isfinite(jac) ? jac : 0.0};
+    // The reflected directions w at the n <= 15 nodes ts of a row and the Jacobians
+    // dw / (dt dpsi), 0 outside the visible domain (and where not finite). rho = s tan(t A),
+    // A = atan(rho* / s): radial = rho drho / dt = A s rho (1 + (rho / s)^2). No branch after
+    // the tangents, so that loop vectorises (node by node, with branches, the map was most of a
+    // GGX reflectance's time).
+    void map_row(const Row& r, const double* ts, int n, double* wx, double* wy, double* wz,
+                 double* jac) const {
+        std::array<double, 16> rho;
+        for (int i = 0; i < n; ++i) rho[size_t(i)] = scale * std::tan(ts[i] * r.a_star);
+        const double k_radial = r.a_star * scale, inv_s2 = 1.0 / (scale * scale);
+        for (int i = 0; i < n; ++i) {
+            const double rh = rho[size_t(i)], r2 = rh * rh;
+            const double radial = k_radial * rh * (1.0 + r2 * inv_s2);
+            const double sx = ax * rh * r.cp, sy = ay * rh * r.sp;
+            const double l2 = 1.0 + sx * sx + sy * sy, l = std::sqrt(l2), il = 1.0 / l;
+            const double hx = -sx * il, hy = -sy * il, hz = il;
+            const double vh = v.x * hx + v.y * hy + v.z * hz;
+            const double x = 2.0 * vh * hx - v.x, y = 2.0 * vh * hy - v.y, z = 2.0 * vh * hz - v.z;
+            const double j = 4.0 * vh * ax * ay * radial / (l2 * l);
+            // Finite and positive only inside the visible domain (the test does not branch).
+            const bool ok = (z > 0.0) & (vh > 0.0) & (std::fabs(j) <= kMaxDouble);
+            wx[i] = x, wy[i] = y, wz[i] = z;
+            jac[i] = ok ? j : 0.0;
+        }
     }
 };
 
@@ -377,6 +397,19 @@ SlopeMap slope_map(const MicrofacetDistribution& d, const DVec3& v) {
     s.iax2 = 1.0 / (s.ax * s.ax);
     s.iay2 = 1.0 / (s.ay * s.ay);
     return s;
+}
+
+// exp(x), by its Taylor series where |x| < 1e-4 (relative error below x^4 / 24 < 5e-18): the
+// corrections below are mostly within 1e-6 of 1, and std::exp / std::log in double cost as much
+// as a Blinn or Beckmann BxDF evaluation.
+double exp_near_zero(double x) {
+    return std::fabs(x) < 1e-4 ? 1.0 + x * (1.0 + x * (0.5 + x * (1.0 / 6.0))) : std::exp(x);
+}
+
+// log(r), by its Taylor series in d = r - 1 where |d| < 1e-5 (error below d^4 / 4 < 3e-21).
+double log_near_one(double r) {
+    const double d = r - 1.0;
+    return std::fabs(d) < 1e-5 ? d * (1.0 - d * (0.5 - d * (1.0 / 3.0))) : std::log(r);
 }
 
 // f at a node is evaluated at the float direction w_f = float(w), and the BxDF forms the half
@@ -401,10 +434,10 @@ double rounding_correction(const SlopeMap& m, const DVec3& h, const DVec3& hf) {
             return sqr(p * qf / (q * pf));
         case DistributionKind::Beckmann:
             // exp(-r^2) (1 + t^2)^2: r^2 = q / z2 - 1.
-            return std::exp(qf / z2f - q / z2) * sqr(p * z2f / (pf * z2));
+            return exp_near_zero(qf / z2f - q / z2) * sqr(p * z2f / (pf * z2));
         case DistributionKind::Blinn:
             // (1 + r^2)^(-(nu + 2) / 2) (1 + t^2)^2.
-            return std::exp(0.5 * (m.nu + 2.0) * std::log(qf * z2 / (q * z2f))) *
+            return exp_near_zero(0.5 * (m.nu + 2.0) * log_near_one(qf * z2 / (q * z2f))) *
                    sqr(p * z2f / (pf * z2));
     }
     return 1.0;
@@ -455,23 +488,24 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
     };
     if (dist) {
         const SlopeMap map = slope_map(*dist, v);
-        // Uncompensated GGX lobes evaluate a cell's 225 values through the vectorised batch
-        // (bit for bit the scalar f, which equals f_single without compensation).
-        const std::optional<MicrofacetBatch> batch = MicrofacetBatch(*lobe).vectorised()
-                                                         ? std::optional(MicrofacetBatch(*lobe))
-                                                         : std::nullopt;
+        // A cell's 225 values of f_single in one batch against the fixed direction
+        // (facet/microfacet_batch.h: GGX and Blinn vectorised, Beckmann with Lambda(fixed) once).
+        const MicrofacetBatch batch(*lobe);
         const Vec3 fixed_f(fixed);
         const DVec3 fixed_d(fixed);  // the direction the BxDF sees (not renormalised)
         auto g = [&](const double* ts, int nt, const double* psis, int np, Sample* out) {
             constexpr int kMax = NestedRule::kSize * NestedRule::kSize;
-            std::array<float, kMax> wx, wy, wz, cx, cy, cz, fr, fg, fb;
+            std::array<float, kMax> wx, wy, wz, fr, fg, fb;
             std::array<double, kMax> weight;
             const int n = nt * np;
+            std::array<double, NestedRule::kSize> mx, my, mz, mjac;
             for (int j = 0; j < np; ++j) {
                 const SlopeMap::Row row = map.row(psis[j]);
+                map.map_row(row, ts, nt, mx.data(), my.data(), mz.data(), mjac.data());
                 for (int i = 0; i < nt; ++i) {
                     const int k = j * nt + i;
-                    auto [w, jac] = map.map(row, ts[i]);
+                    const DVec3 w(mx[size_t(i)], my[size_t(i)], mz[size_t(i)]);
+                    const double jac = mjac[size_t(i)];
                     Vec3 wf(w);
                     weight[k] = jac != 0.0 && wf.z > 0.f ? double(wf.z) * jac : 0.0;
                     if (weight[k] == 0.0) {
@@ -481,23 +515,11 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                         weight[k] *= std::isfinite(c) ? c : 1.0;
                     }
                     wx[k] = wf.x, wy[k] = wf.y, wz[k] = wf.z;
-                    cx[k] = fixed_f.x, cy[k] = fixed_f.y, cz[k] = fixed_f.z;
                 }
             }
-            if (batch) {
-                const Vec3Soa w{wx.data(), wy.data(), wz.data()},
-                    c{cx.data(), cy.data(), cz.data()};
-                batch->f(n, fixed_is_wo ? c : w, fixed_is_wo ? w : c,
-                         RgbSoa{fr.data(), fg.data(), fb.data()});
-            } else {
-                for (int k = 0; k < n; ++k) {
-                    if (weight[k] == 0.0) continue;
-                    const Rgb f =
-                        eval([&](const Vec3& a, const Vec3& b) { return lobe->f_single(a, b); },
-                             Vec3(wx[k], wy[k], wz[k]));
-                    fr[k] = f.r, fg[k] = f.g, fb[k] = f.b;
-                }
-            }
+            batch.f_single_fixed(size_t(n), fixed_f, fixed_is_wo,
+                                 Vec3Soa{wx.data(), wy.data(), wz.data()},
+                                 RgbSoa{fr.data(), fg.data(), fb.data()});
             for (int k = 0; k < n; ++k)
                 out[k] = weight[k] == 0.0
                              ? Sample{}
@@ -508,8 +530,16 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
         // grazing incidence the integrand turns from ~1/rho^3 to ~1/rho^2 near rho = v.z / |b|,
         // close to u = 1): a nested pair on one wide cell can miss that.
         const std::vector<double> u_cuts{0.0, 0.9, 0.99, 1.0};
+        // Mirror symmetry psi -> -psi (phi0 + psi -> phi0 - psi): D(h) depends on the slopes
+        // only through (sx / ax)^2 + (sy / ay)^2, G on the directions' stretched slopes, F on
+        // v.h, so the integrand is symmetric when that reflection maps the stretched slope plane
+        // onto itself: isotropic lobes (any azimuth), or v in a symmetry plane of an anisotropic
+        // one (v.x = 0 or v.y = 0). Then only psi in [0, pi] is integrated, each cell counting
+        // twice (half the evaluations; the float rounding of the mirrored nodes differs by an
+        // ulp, which the rounding correction below makes immaterial).
+        const bool mirror = map.ax == map.ay || fixed.x == 0.f || fixed.y == 0.f;
         for (size_t i = 0; i + 1 < u_cuts.size(); ++i)
-            for (int q = 0; q < 4; ++q) {
+            for (int q = mirror ? 1 : 0; q < (mirror ? 3 : 4); ++q) {
                 Cell c;
                 c.x0 = u_cuts[i];
                 c.x1 = u_cuts[i + 1];
@@ -517,7 +547,8 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
                 c.y1 = q * 0.5 * kPiD;
                 cells.push_back(c);
             }
-        AdaptiveResult r = adaptive_cubature(g, cells, false, tol_glossy, settings.max_evaluations);
+        AdaptiveResult r = adaptive_cubature(g, cells, false, tol_glossy, settings.max_evaluations,
+                                             mirror ? 2.0 : 1.0);
         out.value += r.value;
         out.error += r.error;
         out.evaluations += r.evaluations;

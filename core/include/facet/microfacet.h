@@ -108,7 +108,12 @@ class MicrofacetDistribution {
 
   private:
     friend class MicrofacetReflection;
+    friend class MicrofacetBatch;  // reads the Blinn constants for its vectorised kernel
     MicrofacetDistribution() = default;
+
+    // Blinn Lambda: when (nu - 1) / 2 log(1 + mu^2) reaches this, Lambda is 0 in float (both
+    // of its terms are below exp(-110) ~ 2e-48 times c / ((nu - 1) mu) <= 1).
+    static constexpr float blinn_zero_lambda_exponent() { return 110.f; }
 
     // mu = cot(theta) / alpha_phi = |w.z| / |(alpha_x w.x, alpha_y w.y)| (stretched cotangent).
     double mu(const Vec3& w) const;
@@ -197,12 +202,17 @@ class MicrofacetReflection {
     static constexpr int kPhiTableSize = 9;  // nodes in phi over [0, pi/2], anisotropic only
 
   private:
+    friend class MicrofacetBatch;  // the batch's non-vectorised path shares the helpers below
     // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
     // with_ms = false leaves out f_ms from f (f_single); pdf is unaffected.
     void evaluate(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
                   bool with_ms = true) const;
     void evaluate_ggx(const Vec3& wo, const Vec3& wi, Rgb* f_out, float* pdf_out,
                       bool with_ms) const;
+    // The general (Blinn, Beckmann) path's pieces: the half vector's terms (false when wo + wi
+    // = 0) and f_single from them and the two Lambdas.
+    bool half_vector_terms(const Vec3& wo, const Vec3& wi, Vec3& wm, float& c, float& d) const;
+    Rgb single_from(float c, float d, float lam_o, float lam_i, float cos_o, float cos_i) const;
     // The compensation lobe's value f_ms(wo, wi) (both above the horizon, m_has_ms).
     Rgb ms_lobe(const Vec3& wo, const Vec3& wi) const;
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.

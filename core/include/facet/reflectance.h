@@ -21,6 +21,9 @@
 //  - the diffuse lobe and the compensation lobe f_ms through (mu, phi) with dw = dmu dphi, the
 //    mu panels starting at the nodes of the albedo tables (piecewise linear in mu or sqrt(mu)),
 //    one-dimensional when the integrand does not depend on phi.
+// Where the glossy integrand is mirror-symmetric about the plane of incidence (isotropic lobes;
+// anisotropic ones with the fixed direction in a symmetry plane, x = 0 or y = 0) only half of
+// the azimuths is integrated, each cell counting twice in the value and in the error sums.
 // Each cell carries a nested product rule: Gauss 7 (x) Gauss 7 inside Kronrod 15 (x) Kronrod 15.
 // `value` is the sum of the Gauss values; with d the cells' signed differences Gauss - Kronrod
 // (Kronrod being far more accurate, d is the Gauss value's error), `error` =
