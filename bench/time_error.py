@@ -617,11 +617,32 @@ def spp_to_error(pts, target):
     return None
 
 
+def render_measured(name, cname, kind, opt, spp, data, ref, ref_var, cref, cref_var, blender,
+                    tag):
+    """One render of a contender at spp for the timing phase: (wall seconds, CPU seconds, RMSE
+    against the contender's reference; Cycles against its own)."""
+    imgdir = os.path.join(ARGS.out, "images", name)
+    os.makedirs(imgdir, exist_ok=True)
+    out = os.path.join(imgdir, "%s_%s.exr" % (tag, cname.replace(" ", "_")))
+    if kind == "cli":
+        sec = run_cli(bench_scene(name, CFG[name])[0], spp, SEED, opt, out)
+        cpu = LAST_CPU[0]
+    else:
+        r = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
+                         integrator=data.get("render", {}).get("integrator", "path"))
+        sec, cpu = r["seconds"], r.get("cpu_seconds", float("nan"))
+    x = read(out)
+    e = metrics(x, cref, cref_var)["rmse"] if cname == "cycles" else \
+        metrics(x, ref, ref_var)["rmse"]
+    return sec, cpu, e
+
+
 def timing_phase(names, rows, blender, reps):
     """Timing noise on a shared machine is tens of percent per render, and the error against
     spp is deterministic (fixed seeds): so each contender that reaches the error level is
-    rendered `reps` more times at the budget that reaches it (spp rounded up; Cycles at its top
-    budget), interleaved round by round with Cycles, and the ratio is taken of the medians (and
+    rendered `reps` more times at the budget that reaches it (the log-log interpolation rounded
+    up when one trial render there, measured, reaches the level, else the first ladder budget
+    that did; Cycles at its top budget), interleaved round by round with Cycles, and the ratio is taken of the medians (and
     the median of the per-round ratios). The error of these renders is measured again (the
     ladder's time to the level interpolates on the log-log curve; these rounds measure)."""
     out_rows, lines = [], []
@@ -657,10 +678,22 @@ def timing_phase(names, rows, blender, reps):
                 continue
             reached = [b for b, e in pts if e <= target]
             if reached:
-                # Within the ladder: the first budget that reached the level, as measured.
-                # (Sobol points are stratified at powers of two; between them the error is not
-                # on the log-log line: point_plane 2.3e-6 at 48 spp, 6.3e-7 at 64.)
-                jobs.append((cname, kind, opt, min(reached)))
+                # Within the ladder: the budget interpolated on the log-log curve when one
+                # render there, measured, reaches the level; otherwise the first ladder budget
+                # that reached it. (Sobol points are stratified at powers of two; between them
+                # the error need not be on the log-log line: point_plane 2.3e-6 at 48 spp,
+                # 6.3e-7 at 64 — such a trial fails and the ladder budget is used.)
+                budget = min(reached)
+                trial = int(math.ceil(n))
+                if trial < budget:
+                    _, _, e = render_measured(name, cname, kind, opt, trial, data, ref, ref_var,
+                                              cref, cref_var, blender, "trial")
+                    log("  trial %-28s %5d spp  RMSE %.4g (level %.4g): %s" % (
+                        cname, trial, e, target, "used" if e <= target else
+                        "not reached, %d spp from the ladder" % budget))
+                    if e <= target:
+                        budget = trial
+                jobs.append((cname, kind, opt, budget))
             elif n <= 2 * pts[-1][0] or cname == main:
                 # Beyond it: the extrapolated budget (its error is measured and shown); beyond
                 # twice the top budget only for the main contender, in one round (long renders).
@@ -674,24 +707,13 @@ def timing_phase(names, rows, blender, reps):
         nrounds = 1 if extrapolated else reps
         log("== %s: %d timing rounds at the error level RMSE %.4g: %s" % (
             name, nrounds, target, ", ".join("%s %d spp" % (j[0], j[3]) for j in jobs)))
-        imgdir = os.path.join(ARGS.out, "images", name)
-        os.makedirs(imgdir, exist_ok=True)
         rounds = []
         for k in range(nrounds):
             order = jobs[k % len(jobs):] + jobs[:k % len(jobs)]
             this = {}
             for cname, kind, opt, spp in order:
-                out = os.path.join(imgdir, "rep_%s.exr" % cname.replace(" ", "_"))
-                if kind == "cli":
-                    sec = run_cli(scene_path, spp, SEED, opt, out)
-                    cpu = LAST_CPU[0]
-                else:
-                    r = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
-                                     integrator=data.get("render", {}).get("integrator", "path"))
-                    sec, cpu = r["seconds"], r.get("cpu_seconds", float("nan"))
-                x = read(out)
-                e = metrics(x, cref, cref_var)["rmse"] if cname == "cycles" else \
-                    metrics(x, ref, ref_var)["rmse"]
+                sec, cpu, e = render_measured(name, cname, kind, opt, spp, data, ref, ref_var,
+                                              cref, cref_var, blender, "rep")
                 errs[cname] = e
                 times[cname].append(sec)
                 cpus.setdefault(cname, []).append(cpu)
@@ -924,12 +946,29 @@ def main():
                           RUN_META_KEEP())
             return
         if blender and ARGS.reps > 0 and not ARGS.quick:
+            if not ARGS.reps_only:
+                # The ladders' summary now, so that it exists even if the rounds are cut short.
+                write_summary(summary, checks,
+                              os.path.join(ARGS.publish, "time_error_summary.md"),
+                              run_meta(t_start, load0) + " (Written before the timing rounds.)")
             timing_phase(names, read_rows(), blender, ARGS.reps)
     finally:
         if blender:
             blender.close()
     if ARGS.reps_only:
         return
+    meta = run_meta(t_start, load0)
+    write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"), meta)
+    log(meta)
+    for s in summary:
+        log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
+                                                     s["seconds"], s["ratio"]))
+    if ARGS.check:
+        sys.exit(check(rows))
+
+
+def run_meta(t_start, load0):
+    """The summary's first paragraph: when, how long, the machine's load."""
     meta = ("Run of %s: %.0f min, %d threads, load average %.1f at the start and %.1f at the end "
             "(2-core machine shared with other work). Error level per scene: the RMSE of Cycles' "
             "top-budget render against Cycles' own reference." %
@@ -940,13 +979,7 @@ def main():
                  "(another run, another machine load), so ratios to Cycles' time compare "
                  "across runs; ratios between this run's contenders are same-run."
                  % os.path.relpath(os.path.abspath(ARGS.level_csv), ROOT))
-    write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"), meta)
-    log(meta)
-    for s in summary:
-        log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
-                                                     s["seconds"], s["ratio"]))
-    if ARGS.check:
-        sys.exit(check(rows))
+    return meta
 
 
 def check(rows):
