@@ -814,7 +814,10 @@ def read_rows():
 
 def write_summary(summary, checks, path, meta):
     lines = ["# Time against error (bench/time_error.py)", "", meta, "",
-             "| scene | contender | time to the error level | ratio to %s | target |"
+             "Ladder: one render per budget, the time to the level interpolated on the log-log "
+             "curve; the timing rounds (time_error_ratios.md) measure it again, repeated, and "
+             "decide the targets.", "",
+             "| scene | contender | time to the error level | ratio to %s | target (ladder) |"
              % ("Cycles" if any(s["base"] == "cycles" for s in summary) else "the base"),
              "|---|---|---:|---:|---|"]
     for s in summary:
