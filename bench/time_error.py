@@ -617,15 +617,15 @@ def spp_to_error(pts, target):
     return None
 
 
-def render_measured(name, cname, kind, opt, spp, data, ref, ref_var, cref, cref_var, blender,
-                    tag):
+def render_measured(name, scene_path, cname, kind, opt, spp, data, ref, ref_var, cref, cref_var,
+                    blender, tag):
     """One render of a contender at spp for the timing phase: (wall seconds, CPU seconds, RMSE
     against the contender's reference; Cycles against its own)."""
     imgdir = os.path.join(ARGS.out, "images", name)
     os.makedirs(imgdir, exist_ok=True)
     out = os.path.join(imgdir, "%s_%s.exr" % (tag, cname.replace(" ", "_")))
     if kind == "cli":
-        sec = run_cli(bench_scene(name, CFG[name])[0], spp, SEED, opt, out)
+        sec = run_cli(scene_path, spp, SEED, opt, out)
         cpu = LAST_CPU[0]
     else:
         r = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
@@ -686,8 +686,8 @@ def timing_phase(names, rows, blender, reps):
                 budget = min(reached)
                 trial = int(math.ceil(n))
                 if trial < budget:
-                    _, _, e = render_measured(name, cname, kind, opt, trial, data, ref, ref_var,
-                                              cref, cref_var, blender, "trial")
+                    _, _, e = render_measured(name, scene_path, cname, kind, opt, trial, data,
+                                              ref, ref_var, cref, cref_var, blender, "trial")
                     log("  trial %-28s %5d spp  RMSE %.4g (level %.4g): %s" % (
                         cname, trial, e, target, "used" if e <= target else
                         "not reached, %d spp from the ladder" % budget))
@@ -712,8 +712,8 @@ def timing_phase(names, rows, blender, reps):
             order = jobs[k % len(jobs):] + jobs[:k % len(jobs)]
             this = {}
             for cname, kind, opt, spp in order:
-                sec, cpu, e = render_measured(name, cname, kind, opt, spp, data, ref, ref_var,
-                                              cref, cref_var, blender, "rep")
+                sec, cpu, e = render_measured(name, scene_path, cname, kind, opt, spp, data, ref,
+                                              ref_var, cref, cref_var, blender, "rep")
                 errs[cname] = e
                 times[cname].append(sec)
                 cpus.setdefault(cname, []).append(cpu)

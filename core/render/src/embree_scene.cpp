@@ -292,8 +292,6 @@ void Scene::Impl::build(const std::string& name) {
                 std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
             }
             std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
-            meshes[m].vertices = v;
-            meshes[m].triangles = idx;
             std::vector<glm::vec4> planes(mesh.num_triangles());
             for (std::size_t t = 0; t < planes.size(); ++t) {
                 const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];

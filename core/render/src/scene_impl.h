@@ -15,10 +15,6 @@ struct MeshGeom {
     std::uint32_t shape = 0;
     TriangleMesh mesh;  // positions and indices are moved into Embree's buffers by build()
     Vec3 tangent{0.f};  // dpdu hint for every hit (0 = none)
-    // Embree's own vertex (3 floats each) and index (3 per triangle) buffers, read back when
-    // filling a hit: the memory the traversal just touched, so no second copy to miss in cache.
-    const float* vertices = nullptr;
-    const std::uint32_t* triangles = nullptr;
     // Per triangle: unit geometric normal (xyz) and plane offset w = dot(n, p0). A hit reads one
     // 16-byte record instead of an index triple and three vertices (Embree's BVH leaves hold
     // their own vertex copies, so the mesh arrays are cold when a hit is filled).
@@ -35,7 +31,6 @@ struct MeshGeom {
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
     }
-    std::size_t num_triangles() const { return records.empty() ? planes.size() : records.size(); }
 };
 
 // An exact analytic primitive defined in object space: the unit sphere at the origin, or the

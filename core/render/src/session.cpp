@@ -163,10 +163,7 @@ struct RenderSession::State {
                         job.end_sample = end;
                         KernelCounters c;  // on this thread's stack while the kernel runs
                         kernel(scene, job, film.sums(), c);
-                        tile.counters.camera_rays += c.camera_rays;
-                        tile.counters.rays += c.rays;
-                        tile.counters.shadow_rays += c.shadow_rays;
-                        tile.counters.nonfinite += c.nonfinite;
+                        tile.counters += c;
                         const std::uint32_t added = std::uint32_t(end - tile.next);
                         tile.next = end;
                         progress.add(std::uint64_t(tile.r.width()) *
@@ -294,13 +291,12 @@ bool RenderSession::render(const PassCallback& on_pass) {
     RenderStats& st = s.stats;
     st.seconds = elapsed_before + seconds;
     st.spp = s.min_next() - rs.sample_begin;
-    st.paths = st.rays = st.shadow_rays = st.nonfinite = 0;
-    for (const Tile& t : s.tiles) {
-        st.paths += t.counters.camera_rays;
-        st.rays += t.counters.rays;
-        st.shadow_rays += t.counters.shadow_rays;
-        st.nonfinite += t.counters.nonfinite;
-    }
+    KernelCounters total;
+    for (const Tile& t : s.tiles) total += t.counters;
+    st.paths = total.camera_rays;
+    st.rays = total.rays;
+    st.shadow_rays = total.shadow_rays;
+    st.nonfinite = total.nonfinite;
     st.cancelled = !completed;
     char summary[256];
     std::snprintf(summary, sizeof summary,

@@ -83,6 +83,13 @@ KernelChoice choose_kernel(const SceneFeatures& features, IntegratorKind integra
 struct KernelCounters {
     std::uint64_t camera_rays = 0, rays = 0, shadow_rays = 0;
     std::uint64_t nonfinite = 0;  // samples not accepted by the film (NaN/inf/huge; dropped)
+    KernelCounters& operator+=(const KernelCounters& o) {
+        camera_rays += o.camera_rays;
+        rays += o.rays;
+        shadow_rays += o.shadow_rays;
+        nonfinite += o.nonfinite;
+        return *this;
+    }
 };
 
 // Renders samples [first_sample, end_sample) of every pixel in the tile [x0, x1) x [y0, y1)
