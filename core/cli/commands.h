@@ -14,5 +14,6 @@ void add_reflectance_command(CLI::App& app);  // reflectance_cmd.cpp
 void add_render_command(CLI::App& app);       // render_cmd.cpp (renderer, issue 3)
 void add_diff_command(CLI::App& app);         // diff_cmd.cpp (image comparison, convert)
 void add_export_pov_command(CLI::App& app);   // export_pov_cmd.cpp (POV-Ray SDL)
+void add_scene_format_command(CLI::App& app);  // scene_format_cmd.cpp (kind tables)
 
 }  // namespace facet::cli

@@ -14,6 +14,7 @@ int main(int argc, char** argv) {
     facet::cli::add_render_command(app);
     facet::cli::add_diff_command(app);
     facet::cli::add_export_pov_command(app);
+    facet::cli::add_scene_format_command(app);
     try {
         app.parse(argc, argv);
     } catch (const CLI::ParseError& e) {

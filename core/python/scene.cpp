@@ -19,10 +19,15 @@
 //    the JSON writer would give: "python: /shapes/3 ('Suzanne'): ...").
 //  - Enum values use the scene format's words: ShapeKind.sphere, LightKind.spot; strings
 //    ("sphere") are accepted wherever a kind is set.
+#include <deque>
 #include <limits>
+#include <map>
+#include <set>
 #include <sstream>
 
 #include "bindings.h"
+#include "facet/render/kinds.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
 
@@ -165,26 +170,19 @@ py::array mesh_view(std::span<const T> s, const MeshData& mesh) {
 // ---------------------------------------------------------------------------------------------
 // Kinds <-> strings
 
-const std::pair<const char*, ShapeKind> kShapeKinds[] = {
-    {"sphere", ShapeKind::Sphere},       {"plane", ShapeKind::Plane}, {"box", ShapeKind::Box},
-    {"quad", ShapeKind::Quad},           {"disc", ShapeKind::Disc},   {"mesh", ShapeKind::Mesh},
-    {"icosphere", ShapeKind::Icosphere}, {"grid", ShapeKind::Grid}};
-const std::pair<const char*, LightKind> kLightKinds[] = {{"point", LightKind::Point},
-                                                         {"spot", LightKind::Spot},
-                                                         {"directional", LightKind::Directional},
-                                                         {"environment", LightKind::Environment}};
-
-template <class E, std::size_t N>
-E kind_from(py::handle v, const std::pair<const char*, E> (&table)[N], const char* what) {
+// Kind names come from the kind table (facet/render/kinds.h).
+template <class E>
+E kind_from(py::handle v, const char* what) {
+    constexpr bool shape = std::is_same_v<E, ShapeKind>;
     if (py::isinstance<py::str>(v)) {
         const std::string s = v.cast<std::string>();
-        std::vector<std::string> names;
-        for (const auto& [name, kind] : table) {
-            if (s == name) return kind;
-            names.push_back(name);
+        if constexpr (shape) {
+            if (const ShapeKindDef* k = find_shape_kind(s)) return k->kind;
+        } else {
+            if (const LightKindDef* k = find_light_kind(s)) return k->kind;
         }
         std::string msg = "unknown " + std::string(what) + " '" + s + "'";
-        const std::string guess = closest_name(s, names);
+        const std::string guess = closest_name(s, shape ? shape_kind_names() : light_kind_names());
         if (!guess.empty()) msg += " (did you mean '" + guess + "'?)";
         throw py::value_error(msg);
     }
@@ -195,11 +193,72 @@ E kind_from(py::handle v, const std::pair<const char*, E> (&table)[N], const cha
     }
 }
 
-template <class E, std::size_t N>
-std::string kind_name(E kind, const std::pair<const char*, E> (&table)[N]) {
-    for (const auto& [name, k] : table)
-        if (k == kind) return name;
-    return "?";
+std::string kind_name(ShapeKind kind) {
+    const ShapeKindDef* k = find_shape_kind(kind);
+    return k ? std::string(k->name) : "?";
+}
+std::string kind_name(LightKind kind) {
+    const LightKindDef* k = find_light_kind(kind);
+    return k ? std::string(k->name) : "?";
+}
+
+// The Python attribute of a kind's field: its JSON key, except the mesh arrays ("mesh", a
+// MeshData).
+template <class Desc>
+std::string attribute_name(const Field<Desc>& f) {
+    return f.type == FieldType::MeshArrays ? "mesh" : std::string(f.key);
+}
+
+// One read-write property per field key of every kind (fields shared by several kinds, such as
+// "center", once), documented with the kinds that read it.
+template <class Desc, class Kinds>
+void def_kind_fields(py::class_<Desc>& cls, const Kinds& kinds) {
+    static std::deque<std::string> docs;  // pybind keeps the pointer
+    std::map<std::string, std::string> users;
+    for (const auto* k : kinds)
+        for (const auto& f : k->fields) {
+            std::string& u = users[attribute_name(f)];
+            u += (u.empty() ? "" : ", ") + std::string(k->name);
+        }
+    std::set<std::string> done;
+    for (const auto* k : kinds) {
+        for (const auto& f : k->fields) {
+            const std::string name = attribute_name(f);
+            if (!done.insert(name).second) continue;
+            docs.push_back(std::string(f.doc) + " (kinds: " + users[name] + ")");
+            const char* doc = docs.back().c_str();
+            std::visit(
+                [&](auto member) {
+                    using T = std::remove_cvref_t<decltype(std::declval<Desc&>().*member)>;
+                    cls.def_property(
+                        name.c_str(), [member](const Desc& d) -> T { return d.*member; },
+                        [member](Desc& d, T v) { d.*member = std::move(v); }, doc);
+                },
+                f.member);
+        }
+    }
+}
+
+// Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
+const std::set<std::string> kCommonShapeAttributes = {
+    "name", "material_ref", "material", "emission", "two_sided", "flip_normals", "transform"};
+
+// TypeError for a keyword that is no field of the kind (a typo, or another kind's key).
+template <class Def>
+void check_kind_keywords(const py::kwargs& kw, const Def& kind, const std::set<std::string>& common,
+                         const char* type) {
+    std::set<std::string> allowed = common;
+    std::string list;
+    for (const auto& f : kind.fields) {
+        allowed.insert(attribute_name(f));
+        list += (list.empty() ? "" : ", ") + attribute_name(f);
+    }
+    for (auto [key, value] : kw) {
+        const std::string k = py::cast<std::string>(key);
+        if (!allowed.count(k))
+            throw py::type_error(std::string(type) + " has no field '" + k + "' for kind '" +
+                                 std::string(kind.name) + "' (its fields: " + list + ")");
+    }
 }
 
 // Sets each keyword argument as an attribute of `self` (TypeError for unknown names).
@@ -295,10 +354,12 @@ SceneHandle make_handle(Scene&& scene, const BuildReport& report = {}) {
 }  // namespace
 
 void bind_scene(py::module_& m) {
-    py::enum_<ShapeKind> shape_kind(m, "ShapeKind", "Shape types (the scene format's \"type\")");
-    for (const auto& [name, kind] : kShapeKinds) shape_kind.value(name, kind);
-    py::enum_<LightKind> light_kind(m, "LightKind", "Light types (the scene format's \"type\")");
-    for (const auto& [name, kind] : kLightKinds) light_kind.value(name, kind);
+    py::enum_<ShapeKind> shape_kind_enum(m, "ShapeKind",
+                                         "Shape types (the scene format's \"type\")");
+    for (const ShapeKindDef* k : shape_kinds()) shape_kind_enum.value(k->name.data(), k->kind);
+    py::enum_<LightKind> light_kind_enum(m, "LightKind",
+                                         "Light types (the scene format's \"type\")");
+    for (const LightKindDef* k : light_kinds()) light_kind_enum.value(k->name.data(), k->kind);
 
     py::class_<CameraDesc>(m, "CameraDesc",
                            "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "
@@ -385,11 +446,12 @@ void bind_scene(py::module_& m) {
                    (d.normals.empty() ? "" : ", normals") + ")";
         });
 
-    py::class_<ShapeDesc>(m, "ShapeDesc",
-                          "One shape (scenes/FORMAT.md): kind ('sphere', 'plane', 'box', 'quad', "
-                          "'disc', 'mesh', 'icosphere', 'grid') and the fields of that kind. "
-                          "ShapeDesc('mesh', positions=P, indices=I, material_ref='white') builds "
-                          "the MeshData from arrays.")
+    py::class_<ShapeDesc> shape_desc(
+        m, "ShapeDesc",
+        "One shape (scenes/FORMAT.md; `facet scene-format` lists the kinds and their fields): "
+        "kind and the fields of that kind. ShapeDesc('mesh', positions=P, indices=I, "
+        "material_ref='white') builds the MeshData from arrays.");
+    shape_desc
         .def(py::init([](py::object kind, py::kwargs kw) {
                  py::object self = py::cast(ShapeDesc{});
                  if (!kind.is_none()) self.attr("kind") = kind;
@@ -414,13 +476,16 @@ void bind_scene(py::module_& m) {
                  } else if (!normals.is_none()) {
                      throw py::value_error("ShapeDesc: normals need positions and indices");
                  }
+                 if (!kind.is_none())
+                     check_kind_keywords(rest, shape_kind(self.cast<const ShapeDesc&>().kind),
+                                         kCommonShapeAttributes, "ShapeDesc");
                  set_fields(self, rest, "ShapeDesc");
                  return self.cast<ShapeDesc>();
              }),
              py::arg("kind") = py::none())
         .def_property(
             "kind", [](const ShapeDesc& s) { return s.kind; },
-            [](ShapeDesc& s, py::handle v) { s.kind = kind_from(v, kShapeKinds, "shape kind"); })
+            [](ShapeDesc& s, py::handle v) { s.kind = kind_from<ShapeKind>(v, "shape kind"); })
         .def_readwrite("name", &ShapeDesc::name)
         .def_readwrite("material_ref", &ShapeDesc::material_ref)
         .def_readwrite("material", &ShapeDesc::material)
@@ -428,53 +493,37 @@ void bind_scene(py::module_& m) {
         .def_readwrite("two_sided", &ShapeDesc::two_sided)
         .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
         .def_readwrite("transform", &ShapeDesc::transform)
-        .def_readwrite("center", &ShapeDesc::center)
-        .def_readwrite("radius", &ShapeDesc::radius)
-        .def_readwrite("point", &ShapeDesc::point)
-        .def_readwrite("normal", &ShapeDesc::normal)
-        .def_readwrite("min", &ShapeDesc::min)
-        .def_readwrite("max", &ShapeDesc::max)
-        .def_readwrite("vertices", &ShapeDesc::vertices)
-        .def_readwrite("mesh", &ShapeDesc::mesh)
-        .def_readwrite("file", &ShapeDesc::file)
-        .def_readwrite("subdivisions", &ShapeDesc::subdivisions)
-        .def_readwrite("smooth", &ShapeDesc::smooth)
-        .def_readwrite("nx", &ShapeDesc::nx)
-        .def_readwrite("ny", &ShapeDesc::ny)
-        .def_readwrite("amplitude", &ShapeDesc::amplitude)
-        .def_readwrite("frequency", &ShapeDesc::frequency)
         .def(py::self == py::self)
         .def("__repr__", [](const ShapeDesc& s) {
-            return "facet.ShapeDesc('" + kind_name(s.kind, kShapeKinds) + "'" +
+            return "facet.ShapeDesc('" + kind_name(s.kind) + "'" +
                    (s.name.empty() ? "" : ", name='" + s.name + "'") +
                    (s.material_ref.empty() ? "" : ", material_ref='" + s.material_ref + "'") + ")";
         });
+    def_kind_fields(shape_desc, shape_kinds());
 
-    py::class_<LightDesc>(m, "LightDesc",
-                          "One light (scenes/FORMAT.md): kind ('point', 'spot', 'directional', "
-                          "'environment') and its fields")
+    py::class_<LightDesc> light_desc(
+        m, "LightDesc",
+        "One light (scenes/FORMAT.md; `facet scene-format` lists the kinds and their fields): "
+        "kind and its fields");
+    light_desc
         .def(py::init([](py::object kind, py::kwargs kw) {
                  py::object self = py::cast(LightDesc{});
-                 if (!kind.is_none()) self.attr("kind") = kind;
+                 if (!kind.is_none()) {
+                     self.attr("kind") = kind;
+                     check_kind_keywords(kw, light_kind(self.cast<const LightDesc&>().kind), {},
+                                         "LightDesc");
+                 }
                  set_fields(self, kw, "LightDesc");
                  return self.cast<LightDesc>();
              }),
              py::arg("kind") = py::none())
         .def_property(
             "kind", [](const LightDesc& l) { return l.kind; },
-            [](LightDesc& l, py::handle v) { l.kind = kind_from(v, kLightKinds, "light kind"); })
-        .def_readwrite("position", &LightDesc::position)
-        .def_readwrite("direction", &LightDesc::direction)
-        .def_readwrite("look_at", &LightDesc::look_at)
-        .def_readwrite("power", &LightDesc::power)
-        .def_readwrite("outer_angle", &LightDesc::outer_angle)
-        .def_readwrite("inner_angle", &LightDesc::inner_angle)
-        .def_readwrite("irradiance", &LightDesc::irradiance)
-        .def_readwrite("radiance", &LightDesc::radiance)
+            [](LightDesc& l, py::handle v) { l.kind = kind_from<LightKind>(v, "light kind"); })
         .def(py::self == py::self)
-        .def("__repr__", [](const LightDesc& l) {
-            return "facet.LightDesc('" + kind_name(l.kind, kLightKinds) + "')";
-        });
+        .def("__repr__",
+             [](const LightDesc& l) { return "facet.LightDesc('" + kind_name(l.kind) + "')"; });
+    def_kind_fields(light_desc, light_kinds());
 
     py::class_<PySceneDescription>(
         m, "SceneDescription",
@@ -562,6 +611,26 @@ void bind_scene(py::module_& m) {
             write_scene_file(description_arg(desc), path);
         },
         py::arg("desc"), py::arg("path"), "Writes the description as a JSON scene file.");
+    m.def(
+        "export_pov",
+        [](py::handle desc, const std::string& path, int area_grid, int glossy_samples,
+           const std::string& environment, const std::string& radiosity, const std::string& ini,
+           const std::string& name) {
+            const SceneDescription d = description_arg(desc);
+            PovExportOptions o;
+            o.area_grid = area_grid;
+            o.glossy_samples = glossy_samples;
+            o.environment = environment;
+            o.radiosity = radiosity;
+            py::gil_scoped_release release;
+            export_pov_file(d, name, path, o, ini);
+        },
+        py::arg("desc"), py::arg("path"), py::arg("area_grid") = 8, py::arg("glossy_samples") = 0,
+        py::arg("environment") = "error", py::arg("radiosity") = "off", py::arg("ini") = "",
+        py::arg("name") = "python",
+        "Writes the description as POV-Ray SDL for povray-facet (facet export-pov; "
+        "docs/povray.md). What POV-Ray cannot express raises ValueError naming the JSON path; a "
+        "bad option raises ValueError naming it.");
     m.def(
         "fingerprint", [](py::handle desc) { return fingerprint(description_arg(desc)); },
         py::arg("desc"),

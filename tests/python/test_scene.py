@@ -1,6 +1,7 @@
 # SceneDescription from Python: JSON read/write round trips, a numpy-built scene against its
 # JSON twin (bit for bit), zero-copy meshes kept alive, and clear errors for bad arrays.
 import gc
+import subprocess
 import pickle
 
 import numpy as np
@@ -137,3 +138,33 @@ def test_description_pickles():
     again = pickle.loads(pickle.dumps(d))
     assert again == d
     assert isinstance(again.shapes[2].mesh, facet.MeshData)
+
+
+def test_kind_fields_come_from_the_kind_table(tmp_path):
+    # Attributes are the kinds' keys (kinds.h); a key of another kind is refused by name.
+    s = facet.ShapeDesc("grid", nx=3, ny=2, amplitude=0.5)
+    assert (s.nx, s.ny, s.amplitude) == (3, 2, 0.5)
+    with pytest.raises(TypeError, match=r"ShapeDesc has no field 'nx' for kind 'sphere' \(its fields: center, radius\)"):
+        facet.ShapeDesc("sphere", nx=2)
+    with pytest.raises(TypeError, match=r"LightDesc has no field 'radius' for kind 'point'"):
+        facet.LightDesc("point", radius=1)
+    assert "kinds: sphere, disc, icosphere" in facet.ShapeDesc.radius.__doc__
+
+
+def test_export_pov_from_python(tmp_path, scenes_dir, facet_cli):
+    # facet.export_pov is the library's exporter: the same SDL as `facet export-pov`.
+    src = str(scenes_dir / "cornell_box.json")
+    d = facet.read_scene_description(src)
+    out = tmp_path / "cornell.pov"
+    facet.export_pov(d, str(out), area_grid=2, name="cornell")
+    text = out.read_text()
+    assert "#version 3.7;" in text and "midpoint cells, grid 2" in text
+    cli = tmp_path / "cli.pov"
+    subprocess.run([str(facet_cli), "export-pov", src, "-o", str(cli), "--area-grid", "2"], check=True)
+    # Identical but for the first comment line, which names the source.
+    assert text.splitlines()[1:] == cli.read_text().splitlines()[1:]
+    with pytest.raises(ValueError, match="--radiosity"):
+        facet.export_pov(d, str(out), radiosity="medum")
+    d.lights.append(facet.LightDesc("environment", radiance=0.1))
+    with pytest.raises(ValueError, match=r"^cornell: /lights/0: an environment light"):
+        facet.export_pov(d, str(out), name="cornell")

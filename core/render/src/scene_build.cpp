@@ -13,7 +13,9 @@
 #include <sstream>
 
 #include "facet/frame.h"
+#include "facet/render/kinds.h"
 #include "facet/render/scene_description.h"
+#include "kind_build.h"
 #include "scene_checks.h"
 #include "scene_impl.h"
 
@@ -60,7 +62,7 @@ double max_abs(const glm::dvec3& v) {
     return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
 }
 
-class Builder {
+class Builder final : public BuildChecks {
   public:
     Builder(const SceneDescription& desc, std::string name, const SceneLimits& limits,
             BuildReport* report)
@@ -76,7 +78,7 @@ class Builder {
             build_shape(m_desc.shapes[i], std::uint32_t(i));
         }
         for (std::size_t i = 0; i < m_desc.lights.size(); ++i) {
-            build_light(m_desc.lights[i], "/lights/" + std::to_string(i));
+            build_light(m_desc.lights[i], i);
         }
         if (m_builder.lights().empty()) {
             fail("/lights",
@@ -103,47 +105,12 @@ class Builder {
         return std::move(m_builder.scene);
     }
 
-  private:
-    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const override {
         throw SceneError(m_name + ": " + (pointer.empty() ? std::string("/") : pointer) + ": " +
                          message);
     }
 
-    // --- value checks --------------------------------------------------------------------------
-
-    void check_finite(const Vec3& v, const std::string& ptr) const {
-        for (int i = 0; i < 3; ++i) {
-            if (!std::isfinite(v[i]))
-                fail(ptr + "/" + std::to_string(i), "must be a finite number");
-        }
-    }
-    void check_finite(double d, const std::string& ptr) const {
-        if (!std::isfinite(d)) fail(ptr, "must be a finite number");
-    }
-    double check_range(double d, const std::string& ptr, double lo, double hi,
-                       const char* range_text) const {
-        check_finite(d, ptr);
-        if (!(d >= lo && d <= hi)) fail(ptr, detail::number_range_message(d, range_text));
-        return d;
-    }
-    std::int64_t check_int(std::int64_t i, const std::string& ptr, std::int64_t lo,
-                           std::int64_t hi) const {
-        if (i < lo || i > hi) fail(ptr, detail::int_range_message(i, lo, hi));
-        return i;
-    }
-    Vec3 unit_direction(const Vec3& d, const std::string& ptr) const {
-        check_finite(d, ptr);
-        float len = glm::length(d);
-        if (!(len > 0.f) || !std::isfinite(len)) fail(ptr, "must be a non-zero direction");
-        return d / len;
-    }
-    Rgb check_color(const Rgb& c, const std::string& ptr, const char* what) const {
-        if (!is_finite(c)) fail(ptr, std::string(what) + " must be finite");
-        for (int i = 0; i < 3; ++i) {
-            if (c[i] < 0.f) fail(ptr, std::string(what) + " must be >= 0");
-        }
-        return c;
-    }
+  private:
     // "/shapes/3" or "/shapes/3 ('Suzanne')" for messages about a shape as a whole.
     std::string shape_place(std::uint32_t index) const {
         const std::string& n = m_desc.shapes[index].name;
@@ -261,13 +228,11 @@ class Builder {
 
     void build_shape(const ShapeDesc& s, std::uint32_t index) {
         const std::string ptr = "/shapes/" + std::to_string(index);
-        const ShapeKind kind = s.kind;
-        if (kind > ShapeKind::Grid) fail(ptr + "/type", "unknown shape type");
+        if (!find_shape_kind(s.kind)) fail(ptr + "/type", "unknown shape type");
 
         ShapeInfo info;
-        info.kind = kind;
+        info.kind = s.kind;
         info.two_sided = s.two_sided;
-        const bool flip_normals = s.flip_normals;
         info.emission = check_color(s.emission, ptr + "/emission", "an emitted radiance");
         const bool emissive = max_component(info.emission) > 0.f;
         if (s.material) {
@@ -317,196 +282,85 @@ class Builder {
                 fail(tp, "the transform is singular (zero scale?) or not finite");
             }
         }
-        glm::dmat3 lin(xf);
-        glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
-        auto to_world = [&](const glm::dvec3& p) { return glm::dvec3(xf * glm::dvec4(p, 1.0)); };
+        ShapeContext ctx(*this, s, index, info);
+        ctx.emission = info.emission;
+        ctx.emissive = emissive;
+        ctx.xf = xf;
+        shape_kind(s.kind).build(ctx);
+        if (!ctx.bounds.empty()) {
+            check_coordinate_range(std::max(max_abs(ctx.bounds.lo), max_abs(ctx.bounds.hi)), index);
+            m_builder.bounds().lo = glm::min(m_builder.bounds().lo, ctx.bounds.lo);
+            m_builder.bounds().hi = glm::max(m_builder.bounds().hi, ctx.bounds.hi);
+        }
+        m_shape_bounds.push_back(ctx.bounds);
+        m_builder.shapes().push_back(info);
+    }
 
-        Scene::Impl& impl = m_builder.impl();
-        std::vector<Light>& lights = m_builder.lights();
-        Bounds3 bounds;
-        auto grow = [&](const glm::dvec3& p) {
-            bounds.lo = glm::min(bounds.lo, Vec3(p));
-            bounds.hi = glm::max(bounds.hi, Vec3(p));
-        };
-        auto add_prim = [&](AnalyticPrim::Kind k, const glm::dmat4& local) {
+    // What a shape kind's builder adds to the scene (kind_build.h).
+    class ShapeContext final : public ShapeBuild {
+      public:
+        ShapeContext(Builder& b, const ShapeDesc& s, std::uint32_t i, ShapeInfo& info)
+            : ShapeBuild(s, i), m_b(b), m_info(info) {}
+        Bounds3 bounds;  // world extent of what was added
+
+        [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+            m_b.fail(p, m);
+        }
+        std::string place() const override { return m_b.shape_place(index); }
+        void reserve_triangles(std::uint64_t n, const std::string& p) override {
+            m_b.reserve_triangles(n, p);
+        }
+        bool files_allowed() const override { return m_b.m_limits.allow_files; }
+        const std::string& base_dir() const override { return m_b.m_desc.base_dir; }
+
+        const AnalyticPrim& add_prim(AnalyticPrim::Kind k, const glm::dmat4& local) override {
             AnalyticPrim prim;
             prim.kind = k;
             prim.shape = index;
-            prim.flip = flip_normals;
+            prim.flip = shape.flip_normals;
             prim.to_world = xf * local;
             prim.to_object = glm::inverse(prim.to_world);
             prim.normal_to_world = glm::transpose(glm::inverse(glm::dmat3(prim.to_world)));
-            double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
+            const double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
                 grow(glm::dvec3(prim.to_world * glm::dvec4(c, 1.0)));
             }
-            impl.prims.push_back(prim);
-            return impl.prims.back();
-        };
-        auto check_finite_bounds = [&]() {
-            if (!is_finite(bounds.lo) || !is_finite(bounds.hi)) {
-                fail(ptr, "the shape's extent overflows float (transform or size too large)");
-            }
-        };
-        auto radius = [&]() {
-            double r = check_range(s.radius, ptr + "/radius", 0.0,
-                                   std::numeric_limits<float>::max(), "> 0");
-            if (!(r > 0.0)) fail(ptr + "/radius", "must be > 0");
-            return r;
-        };
-
-        TriangleMesh mesh;
-        bool is_mesh = false;
-        Vec3 tangent(0.f);
-        switch (kind) {
-            case ShapeKind::Sphere:
-            case ShapeKind::Disc: {
-                check_finite(s.center, ptr + "/center");
-                const Vec3 c = s.center;
-                const double r = radius();
-                glm::dmat4 local = glm::translate(glm::dmat4(1.0), glm::dvec3(c));
-                if (kind == ShapeKind::Disc) {
-                    Vec3 n = unit_direction(s.normal, ptr + "/normal");
-                    Frame f = Frame::from_z(n);
-                    glm::dmat4 rot(1.0);
-                    rot[0] = glm::dvec4(glm::dvec3(f.x), 0.0);
-                    rot[1] = glm::dvec4(glm::dvec3(f.y), 0.0);
-                    rot[2] = glm::dvec4(glm::dvec3(f.z), 0.0);
-                    local = local * rot;
-                }
-                local = glm::scale(local, glm::dvec3(r));
-                const AnalyticPrim& prim =
-                    add_prim(kind == ShapeKind::Sphere ? AnalyticPrim::Kind::Sphere
-                                                       : AnalyticPrim::Kind::Disc,
-                             local);
-                check_finite_bounds();
-                if (emissive) {
-                    glm::dmat3 L(prim.to_world);
-                    Vec3 center(glm::dvec3(prim.to_world[3]));
-                    if (kind == ShapeKind::Disc) {
-                        info.light = std::int32_t(lights.size());
-                        // cross(L e1, L e2) = det(L) L^-T z: swap the axes when that disagrees
-                        // with the hit normal (mirroring transform XOR flip_normals).
-                        bool swap = (glm::determinant(L) < 0.0) != flip_normals;
-                        Vec3 e1(L[0]), e2(L[1]);
-                        if (swap) std::swap(e1, e2);
-                        lights.push_back(Light::area_disc(center, e1, e2, info.emission, index));
-                    } else {
-                        // Light sampling needs a true sphere: the transform must be a similarity.
-                        double s2 = glm::dot(L[0], L[0]);
-                        glm::dmat3 g = glm::transpose(L) * L;
-                        for (int a = 0; a < 3; ++a) {
-                            for (int b = 0; b < 3; ++b) {
-                                if (std::fabs(g[a][b] - (a == b ? s2 : 0.0)) > 1e-6 * s2) {
-                                    fail(ptr + "/emission",
-                                         "an emissive sphere cannot be non-uniformly scaled or "
-                                         "sheared (use an icosphere for an emissive ellipsoid)");
-                                }
-                            }
-                        }
-                        info.light = std::int32_t(lights.size());
-                        lights.push_back(Light::area_sphere(center, float(std::sqrt(s2)),
-                                                            info.emission, index, flip_normals));
-                    }
-                }
-                break;
-            }
-            case ShapeKind::Plane: {
-                if (emissive) {
-                    fail(ptr + "/emission",
-                         "an infinite plane cannot emit (infinite power); use "
-                         "a quad or a disc");
-                }
-                check_finite(s.point, ptr + "/point");
-                Vec3 n = unit_direction(s.normal, ptr + "/normal");
-                PlaneGeom pl;
-                pl.shape = index;
-                pl.point = to_world(glm::dvec3(s.point));
-                pl.normal = glm::normalize(normal_mat * glm::dvec3(n));
-                if (flip_normals) pl.normal = -pl.normal;
-                pl.tangent = Vec3(glm::normalize(lin * glm::dvec3(Frame::from_z(n).x)));
-                if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
-                    fail(ptr, "the transformed plane is not finite");
-                }
-                check_coordinate_range(max_abs(pl.point), index);
-                m_max_coordinate = std::max(m_max_coordinate, max_abs(pl.point));
-                impl.planes.push_back(pl);
-                break;
-            }
-            case ShapeKind::Box: {
-                check_finite(s.min, ptr + "/min");
-                check_finite(s.max, ptr + "/max");
-                const Vec3 lo = s.min, hi = s.max;
-                if (!(lo.x < hi.x && lo.y < hi.y && lo.z < hi.z)) {
-                    fail(ptr + "/max", "must be greater than \"min\" on every axis");
-                }
-                mesh = make_box(lo, hi);
-                tangent = Vec3(1.f, 0.f, 0.f);
-                is_mesh = true;
-                break;
-            }
-            case ShapeKind::Quad: {
-                const std::array<Vec3, 4>& p = s.vertices;
-                for (std::size_t i = 0; i < 4; ++i) {
-                    check_finite(p[i], ptr + "/vertices/" + std::to_string(i));
-                }
-                mesh = make_quad(p);
-                if (glm::length(glm::cross(p[1] - p[0], p[2] - p[0])) == 0.f ||
-                    glm::length(glm::cross(p[2] - p[0], p[3] - p[0])) == 0.f) {
-                    fail(ptr + "/vertices", "the quad is degenerate (collinear vertices)");
-                }
-                tangent = p[1] - p[0];
-                is_mesh = true;
-                break;
-            }
-            case ShapeKind::Mesh:
-                mesh = mesh_of(s, index, ptr);
-                reserve_triangles(mesh.num_triangles(), ptr);
-                is_mesh = true;
-                break;
-            case ShapeKind::Icosphere: {
-                check_finite(s.center, ptr + "/center");
-                const double r = radius();
-                int sub = int(check_int(s.subdivisions, ptr + "/subdivisions", 0,
-                                        detail::kMaxIcosphereSubdivisions));
-                reserve_triangles(20ull << (2 * sub), ptr + "/subdivisions");
-                mesh = make_icosphere(sub, s.smooth);
-                for (Vec3& p : mesh.positions) p = s.center + float(r) * p;
-                is_mesh = true;
-                break;
-            }
-            case ShapeKind::Grid: {
-                std::int64_t nx = check_int(s.nx, ptr + "/nx", 1, detail::kMaxGridSide);
-                std::int64_t ny = check_int(s.ny, ptr + "/ny", 1, detail::kMaxGridSide);
-                if (nx * ny > detail::kMaxGridCells) {
-                    fail(ptr, "grid too large: nx * ny must be <= " +
-                                  std::to_string(detail::kMaxGridCells));
-                }
-                double amp =
-                    check_range(s.amplitude, ptr + "/amplitude", -1e6, 1e6, "in [-1e6, 1e6]");
-                double freq = check_range(s.frequency, ptr + "/frequency", 0.0, 1e6, "in [0, 1e6]");
-                reserve_triangles(2ull * std::uint64_t(nx) * std::uint64_t(ny), ptr);
-                mesh = make_grid(int(nx), int(ny), float(amp), float(freq));
-                tangent = Vec3(1.f, 0.f, 0.f);
-                is_mesh = true;
-                break;
-            }
+            std::vector<AnalyticPrim>& prims = m_b.m_builder.impl().prims;
+            prims.push_back(prim);
+            return prims.back();
         }
 
-        if (is_mesh) {
+        void add_plane(const glm::dvec3& point, const Vec3& n) override {
+            const glm::dmat3 lin(xf);
+            PlaneGeom pl;
+            pl.shape = index;
+            pl.point = glm::dvec3(xf * glm::dvec4(point, 1.0));
+            pl.normal = glm::normalize(glm::transpose(glm::inverse(lin)) * glm::dvec3(n));
+            if (shape.flip_normals) pl.normal = -pl.normal;
+            pl.tangent = Vec3(glm::normalize(lin * glm::dvec3(Frame::from_z(n).x)));
+            if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
+                fail(ptr, "the transformed plane is not finite");
+            }
+            m_b.check_coordinate_range(max_abs(pl.point), index);
+            m_b.m_builder.impl().planes.push_back(pl);
+        }
+
+        void add_triangles(TriangleMesh mesh, const Vec3& tangent) override {
+            const glm::dmat3 lin(xf);
+            const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
             // A mirroring transform reverses the winding: undo it so the authored front stays
             // the front; "flip_normals" reverses it on purpose.
-            bool flip = (glm::determinant(lin) < 0.0) != flip_normals;
+            const bool flip = (glm::determinant(lin) < 0.0) != shape.flip_normals;
             // Also without a transform: the identity leaves positions exact, and normals get
             // their double-precision renormalisation either way.
             for (Vec3& p : mesh.positions) {
-                p = Vec3(to_world(glm::dvec3(p)));
+                p = Vec3(glm::dvec3(xf * glm::dvec4(glm::dvec3(p), 1.0)));
                 grow(glm::dvec3(p));
             }
             for (Vec3& n : mesh.normals) {
-                glm::dvec3 w = normal_mat * glm::dvec3(n);
-                double l = glm::length(w);
+                const glm::dvec3 w = normal_mat * glm::dvec3(n);
+                const double l = glm::length(w);
                 n = l > 0.0 ? Vec3(w / l) : Vec3(0.f, 0.f, 1.f);
             }
             if (flip) {
@@ -515,32 +369,44 @@ class Builder {
                 }
             }
             check_finite_bounds();
-            if (std::string err = validate_mesh(mesh); !err.empty()) fail(shape_place(index), err);
-            drop_degenerate(mesh, index);
-            info.triangles = mesh.num_triangles();
+            if (std::string err = validate_mesh(mesh); !err.empty()) fail(place(), err);
+            m_b.drop_degenerate(mesh, index);
+            m_info.triangles = mesh.num_triangles();
             if (emissive) {
                 std::vector<Vec3> tri;
                 tri.reserve(mesh.indices.size());
                 for (std::uint32_t i : mesh.indices) tri.push_back(mesh.positions[i]);
-                Light l = Light::area_triangles(std::move(tri), info.emission, index);
+                Light l = Light::area_triangles(std::move(tri), emission, index);
                 if (!(l.area() > 0.f)) fail(ptr + "/emission", "the emitting shape has no area");
-                info.light = std::int32_t(lights.size());
-                lights.push_back(std::move(l));
+                add_light(std::move(l));
             }
             MeshGeom g;
             g.shape = index;
             g.mesh = std::move(mesh);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
-            impl.meshes.push_back(std::move(g));
+            m_b.m_builder.impl().meshes.push_back(std::move(g));
         }
-        if (!bounds.empty()) {
-            check_coordinate_range(std::max(max_abs(bounds.lo), max_abs(bounds.hi)), index);
-            m_builder.bounds().lo = glm::min(m_builder.bounds().lo, bounds.lo);
-            m_builder.bounds().hi = glm::max(m_builder.bounds().hi, bounds.hi);
+
+        void add_light(Light light) override {
+            std::vector<Light>& lights = m_b.m_builder.lights();
+            m_info.light = std::int32_t(lights.size());
+            lights.push_back(std::move(light));
         }
-        m_shape_bounds.push_back(bounds);
-        m_builder.shapes().push_back(info);
-    }
+
+        void check_finite_bounds() override {
+            if (!is_finite(bounds.lo) || !is_finite(bounds.hi)) {
+                fail(ptr, "the shape's extent overflows float (transform or size too large)");
+            }
+        }
+
+      private:
+        void grow(const glm::dvec3& p) {
+            bounds.lo = glm::min(bounds.lo, Vec3(p));
+            bounds.hi = glm::max(bounds.hi, Vec3(p));
+        }
+        Builder& m_b;
+        ShapeInfo& m_info;
+    };
 
     // Coordinates beyond Scene::kMaxCoordinate break Embree's float triangle test (scene.h).
     void check_coordinate_range(double m, std::uint32_t index) {
@@ -580,126 +446,34 @@ class Builder {
         m_builder.warnings().push_back(std::move(w));
     }
 
-    TriangleMesh mesh_of(const ShapeDesc& s, std::uint32_t index, const std::string& ptr) {
-        const MeshData& md = s.mesh;
-        if (!s.file.empty()) {
-            if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty()) {
-                fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
-            }
-            if (!m_limits.allow_files) fail(ptr + "/file", "mesh files are disabled here");
-            std::filesystem::path p(s.file);
-            if (p.is_relative()) p = std::filesystem::path(m_desc.base_dir) / p;
-            std::string ext = p.extension().string();
-            std::transform(ext.begin(), ext.end(), ext.begin(),
-                           [](unsigned char c) { return char(std::tolower(c)); });
-            try {
-                if (ext == ".obj") return load_obj(p.string());
-                if (ext == ".ply") return load_ply(p.string());
-            } catch (const std::exception& e) {
-                fail(ptr + "/file", e.what());
-            }
-            fail(ptr + "/file", "unsupported mesh file extension '" + ext + "' (use .obj or .ply)");
-        }
-        const std::string place = shape_place(index);
-        if (md.positions.empty() || md.positions.size() % 3 != 0) {
-            fail(ptr + "/positions", "expected a flat array of 3n numbers (x0, y0, z0, x1, ...)");
-        }
-        if (md.indices.empty() || md.indices.size() % 3 != 0) {
-            fail(ptr + "/indices", "expected a flat array of 3n vertex indices");
-        }
-        TriangleMesh m;
-        const std::size_t n = md.num_vertices();
-        m.positions.resize(n);
-        std::memcpy(m.positions.data(), md.positions.data(), md.positions.size_bytes());
-        for (std::size_t i = 0; i < n; ++i) {
-            if (!is_finite(m.positions[i])) {
-                fail(place, "position " + std::to_string(i) + " is not finite");
-            }
-        }
-        m.indices.assign(md.indices.begin(), md.indices.end());
-        for (std::size_t i = 0; i < m.indices.size(); ++i) {
-            if (m.indices[i] >= n) {
-                fail(ptr + "/indices/" + std::to_string(i),
-                     detail::int_range_message(m.indices[i], 0, std::int64_t(n) - 1));
-            }
-        }
-        if (!md.normals.empty()) {
-            if (md.normals.size() != md.positions.size()) {
-                fail(ptr + "/normals", "expected one normal per position (" + std::to_string(n) +
-                                           "), got " + std::to_string(md.normals.size() / 3));
-            }
-            m.normals.resize(n);
-            std::memcpy(m.normals.data(), md.normals.data(), md.normals.size_bytes());
-            for (std::size_t i = 0; i < n; ++i) {
-                Vec3& v = m.normals[i];
-                if (!is_finite(v)) fail(place, "normal " + std::to_string(i) + " is not finite");
-                float l = glm::length(v);
-                if (!(l > 0.f)) fail(ptr + "/normals", "contains a zero normal");
-                v /= l;
-            }
-        }
-        return m;
-    }
-
     // --- lights --------------------------------------------------------------------------------
 
-    void build_light(const LightDesc& l, const std::string& ptr) {
-        std::vector<Light>& lights = m_builder.lights();
-        switch (l.kind) {
-            case LightKind::Point: {
-                check_finite(l.position, ptr + "/position");
-                Rgb phi = check_color(l.power, ptr + "/power", "a power (W)");
-                lights.push_back(Light::point(l.position, phi));
-                break;
-            }
-            case LightKind::Spot: {
-                check_finite(l.position, ptr + "/position");
-                const Vec3 p = l.position;
-                if (l.direction.has_value() == l.look_at.has_value()) {
-                    fail(ptr, "give exactly one of \"direction\" and \"look_at\"");
-                }
-                Vec3 dir;
-                if (l.direction) {
-                    dir = unit_direction(*l.direction, ptr + "/direction");
-                } else {
-                    check_finite(*l.look_at, ptr + "/look_at");
-                    float len = glm::length(*l.look_at - p);
-                    if (!(len > 0.f)) fail(ptr + "/look_at", "must differ from the position");
-                    dir = (*l.look_at - p) / len;
-                }
-                Rgb phi = check_color(l.power, ptr + "/power", "a power (W)");
-                double outer = check_range(l.outer_angle, ptr + "/outer_angle", 0.0, 180.0,
-                                           "in (0, 180) degrees (half-angle)");
-                if (!(outer > 0.0 && outer < 180.0)) {
-                    fail(ptr + "/outer_angle", "must be in (0, 180) degrees (half-angle)");
-                }
-                double inner = l.inner_angle
-                                   ? check_range(*l.inner_angle, ptr + "/inner_angle", 0.0, outer,
-                                                 "in [0, outer_angle] degrees")
-                                   : outer;
-                lights.push_back(Light::spot(p, dir, phi, float(inner), float(outer)));
-                break;
-            }
-            case LightKind::Directional: {
-                if (!l.direction) fail(ptr, "missing required key 'direction'");
-                Vec3 dir = unit_direction(*l.direction, ptr + "/direction");
-                Rgb e = check_color(l.irradiance, ptr + "/irradiance", "an irradiance (W/m^2)");
-                lights.push_back(Light::directional(dir, e));
-                break;
-            }
-            case LightKind::Environment: {
-                if (m_builder.environment() >= 0) {
-                    fail(ptr, "only one environment light is allowed");
-                }
-                Rgb le = check_color(l.radiance, ptr + "/radiance", "a radiance");
-                m_builder.environment() = std::int32_t(lights.size());
-                lights.push_back(Light::environment(le));
-                break;
-            }
-            default:
-                fail(ptr + "/type", "unknown light type");
-        }
+    void build_light(const LightDesc& l, std::size_t index) {
+        LightContext ctx(*this, l, "/lights/" + std::to_string(index));
+        const LightKindDef* k = find_light_kind(l.kind);
+        if (!k) fail(ctx.ptr + "/type", "unknown light type");
+        k->build(ctx);
     }
+
+    // What a light kind's builder adds to the scene (kind_build.h).
+    class LightContext final : public LightBuild {
+      public:
+        LightContext(Builder& b, const LightDesc& l, std::string p)
+            : LightBuild(l, std::move(p)), m_b(b) {}
+        [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+            m_b.fail(p, m);
+        }
+        void add_light(Light light) override { m_b.m_builder.lights().push_back(std::move(light)); }
+        void add_environment(Light light) override {
+            if (m_b.m_builder.environment() >= 0)
+                fail(ptr, "only one environment light is allowed");
+            m_b.m_builder.environment() = std::int32_t(m_b.m_builder.lights().size());
+            add_light(std::move(light));
+        }
+
+      private:
+        Builder& m_b;
+    };
 
     // --- analysis ------------------------------------------------------------------------------
 

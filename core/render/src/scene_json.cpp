@@ -13,6 +13,7 @@
 #include <set>
 #include <sstream>
 
+#include "facet/render/kinds.h"
 #include "facet/render/scene_description.h"
 #include "scene_checks.h"
 
@@ -22,10 +23,6 @@ namespace {
 
 using json = nlohmann::json;
 using detail::escape_pointer_token;
-
-const std::vector<std::string> kShapeTypes = {"sphere", "plane", "box",       "quad",
-                                              "disc",   "mesh",  "icosphere", "grid"};
-const std::vector<std::string> kLightTypes = {"point", "spot", "directional", "environment"};
 
 std::string type_name(const json& v) {
     switch (v.type()) {
@@ -431,53 +428,85 @@ class Reader {
         return m;
     }
 
-    // --- shapes --------------------------------------------------------------------------------
+    // --- shapes and lights: read by their kind's fields (kinds.h) -------------------------------
+
+    template <class Desc>
+    void read_field(const json& obj, const std::string& ptr, const Field<Desc>& f, Desc& d) const {
+        const std::string key(f.key);
+        const std::string p = ptr + "/" + key;
+        if (f.type == FieldType::MeshArrays)
+            return read_mesh(obj, ptr, d.*std::get<MeshData Desc::*>(f.member));
+        if (!obj.contains(key)) {
+            if (f.required) require(obj, ptr, key.c_str());
+            return;
+        }
+        const json& v = obj[key];
+        std::visit(
+            [&](auto member) {
+                using T = std::remove_reference_t<decltype(d.*member)>;
+                T& out = d.*member;
+                if constexpr (std::is_same_v<T, Vec3> || std::is_same_v<T, std::optional<Vec3>>) {
+                    out =
+                        f.type == FieldType::Color ? get_color(v, p, f.doc.data()) : get_vec3(v, p);
+                } else if constexpr (std::is_same_v<T, double> ||
+                                     std::is_same_v<T, std::optional<double>>) {
+                    out = get_number(v, p);
+                } else if constexpr (std::is_same_v<T, int>) {
+                    out = int(get_int(v, p, f.lo, f.hi));
+                } else if constexpr (std::is_same_v<T, bool>) {
+                    out = get_bool(v, p);
+                } else if constexpr (std::is_same_v<T, std::array<Vec3, 4>>) {
+                    if (!v.is_array() || v.size() != 4) {
+                        fail(p, "expected an array of 4 points, got " +
+                                    (v.is_array() ? std::to_string(v.size()) + " elements"
+                                                  : type_name(v)));
+                    }
+                    for (std::size_t i = 0; i < 4; ++i)
+                        out[i] = get_vec3(v[i], p + "/" + std::to_string(i));
+                } else if constexpr (std::is_same_v<T, std::string>) {
+                    out = get_string(v, p);
+                    if (out.empty()) fail(p, "must not be empty");
+                } else {
+                    fail(p, "internal: no reader for this field");
+                }
+            },
+            f.member);
+    }
+
+    // Keys of an element: the common ones, then the kind's (mesh arrays are three keys).
+    template <class Def>
+    static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
+        for (const auto& f : k.fields) {
+            if (f.type == FieldType::MeshArrays) {
+                keys.insert(keys.end(), {"positions", "indices", "normals"});
+            } else {
+                keys.push_back(f.key.data());
+            }
+        }
+        return keys;
+    }
 
     ShapeDesc read_shape(const json& s, const std::string& ptr) const {
         expect_object(s, ptr);
         std::string type = get_string(require(s, ptr, "type"), ptr + "/type");
-        auto it = std::find(kShapeTypes.begin(), kShapeTypes.end(), type);
-        if (it == kShapeTypes.end()) {
+        const ShapeKindDef* k = find_shape_kind(type);
+        if (!k) {
             std::string msg = "unknown shape type '" + type + "'";
-            std::string g = closest_name(type, kShapeTypes);
+            std::string g = closest_name(type, shape_kind_names());
             if (!g.empty()) {
                 msg += " (did you mean '" + g + "'?)";
             } else {
-                msg += " (expected one of: sphere plane box quad disc mesh icosphere grid)";
+                msg += " (expected one of:";
+                for (const std::string& n : shape_kind_names()) msg += " " + n;
+                msg += ")";
             }
             fail(ptr + "/type", msg);
         }
         ShapeDesc d;
-        d.kind = ShapeKind(it - kShapeTypes.begin());
-        std::vector<const char*> keys = {"type",      "name",      "material",    "emission",
-                                         "two_sided", "transform", "flip_normals"};
-        switch (d.kind) {
-            case ShapeKind::Sphere:
-                keys.insert(keys.end(), {"center", "radius"});
-                break;
-            case ShapeKind::Plane:
-                keys.insert(keys.end(), {"point", "normal"});
-                break;
-            case ShapeKind::Box:
-                keys.insert(keys.end(), {"min", "max"});
-                break;
-            case ShapeKind::Quad:
-                keys.insert(keys.end(), {"vertices"});
-                break;
-            case ShapeKind::Disc:
-                keys.insert(keys.end(), {"center", "normal", "radius"});
-                break;
-            case ShapeKind::Mesh:
-                keys.insert(keys.end(), {"positions", "indices", "normals", "file"});
-                break;
-            case ShapeKind::Icosphere:
-                keys.insert(keys.end(), {"center", "radius", "subdivisions", "smooth"});
-                break;
-            case ShapeKind::Grid:
-                keys.insert(keys.end(), {"nx", "ny", "amplitude", "frequency"});
-                break;
-        }
-        check_keys_v(s, ptr, keys);
+        d.kind = k->kind;
+        std::vector<const char*> keys;
+        for (std::string_view c : common_shape_keys()) keys.push_back(c.data());
+        check_keys_v(s, ptr, kind_keys(*k, keys));
         if (s.contains("name")) d.name = get_string(s["name"], ptr + "/name");
         if (s.contains("two_sided")) d.two_sided = get_bool(s["two_sided"], ptr + "/two_sided");
         if (s.contains("flip_normals")) {
@@ -501,70 +530,18 @@ class Reader {
         }
         if (s.contains("transform"))
             d.transform = read_transform(s["transform"], ptr + "/transform");
-
-        switch (d.kind) {
-            case ShapeKind::Sphere:
-            case ShapeKind::Disc:
-                d.center = get_vec3(require(s, ptr, "center"), ptr + "/center");
-                d.radius = get_number(require(s, ptr, "radius"), ptr + "/radius");
-                if (d.kind == ShapeKind::Disc) {
-                    d.normal = get_vec3(require(s, ptr, "normal"), ptr + "/normal");
-                }
-                break;
-            case ShapeKind::Plane:
-                d.point = get_vec3(require(s, ptr, "point"), ptr + "/point");
-                d.normal = get_vec3(require(s, ptr, "normal"), ptr + "/normal");
-                break;
-            case ShapeKind::Box:
-                d.min = get_vec3(require(s, ptr, "min"), ptr + "/min");
-                d.max = get_vec3(require(s, ptr, "max"), ptr + "/max");
-                break;
-            case ShapeKind::Quad: {
-                const json& v = require(s, ptr, "vertices");
-                if (!v.is_array() || v.size() != 4) {
-                    fail(
-                        ptr + "/vertices",
-                        "expected an array of 4 points, got " +
-                            (v.is_array() ? std::to_string(v.size()) + " elements" : type_name(v)));
-                }
-                for (std::size_t i = 0; i < 4; ++i) {
-                    d.vertices[i] = get_vec3(v[i], ptr + "/vertices/" + std::to_string(i));
-                }
-                break;
-            }
-            case ShapeKind::Mesh:
-                read_mesh(s, ptr, d);
-                break;
-            case ShapeKind::Icosphere:
-                d.center = get_vec3(require(s, ptr, "center"), ptr + "/center");
-                d.radius = get_number(require(s, ptr, "radius"), ptr + "/radius");
-                d.subdivisions = int(get_int(require(s, ptr, "subdivisions"), ptr + "/subdivisions",
-                                             0, detail::kMaxIcosphereSubdivisions));
-                if (s.contains("smooth")) d.smooth = get_bool(s["smooth"], ptr + "/smooth");
-                break;
-            case ShapeKind::Grid:
-                d.nx = int(get_int(require(s, ptr, "nx"), ptr + "/nx", 1, detail::kMaxGridSide));
-                d.ny = int(get_int(require(s, ptr, "ny"), ptr + "/ny", 1, detail::kMaxGridSide));
-                if (s.contains("amplitude")) {
-                    d.amplitude = get_number(s["amplitude"], ptr + "/amplitude");
-                }
-                if (s.contains("frequency")) {
-                    d.frequency = get_number(s["frequency"], ptr + "/frequency");
-                }
-                break;
-        }
+        for (const Field<ShapeDesc>& f : k->fields) read_field(s, ptr, f, d);
         return d;
     }
 
-    void read_mesh(const json& s, const std::string& ptr, ShapeDesc& d) const {
+    // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
+    void read_mesh(const json& s, const std::string& ptr, MeshData& out) const {
         if (s.contains("file")) {
             for (const char* k : {"positions", "indices", "normals"}) {
                 if (s.contains(k)) {
                     fail(ptr + "/" + k, "cannot be combined with \"file\" (give one or the other)");
                 }
             }
-            d.file = get_string(s["file"], ptr + "/file");
-            if (d.file.empty()) fail(ptr + "/file", "must not be empty");
             return;
         }
         const json& pos = require(s, ptr, "positions");
@@ -591,61 +568,37 @@ class Reader {
         }
         std::vector<float> normals;
         if (s.contains("normals")) normals = read_floats(s["normals"], ptr + "/normals");
-        d.mesh = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals));
+        out = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals));
     }
-
-    // --- lights --------------------------------------------------------------------------------
 
     LightDesc read_light(const json& l, const std::string& ptr) const {
         expect_object(l, ptr);
         std::string type = get_string(require(l, ptr, "type"), ptr + "/type");
-        LightDesc d;
-        if (type == "point") {
-            d.kind = LightKind::Point;
-            check_keys(l, ptr, {"type", "position", "power"});
-            d.position = get_vec3(require(l, ptr, "position"), ptr + "/position");
-            d.power = get_color(require(l, ptr, "power"), ptr + "/power", "a power (W)");
-        } else if (type == "spot") {
-            d.kind = LightKind::Spot;
-            check_keys(l, ptr,
-                       {"type", "position", "direction", "look_at", "power", "inner_angle",
-                        "outer_angle"});
-            d.position = get_vec3(require(l, ptr, "position"), ptr + "/position");
-            if (l.contains("direction") == l.contains("look_at")) {
-                fail(ptr, "give exactly one of \"direction\" and \"look_at\"");
-            }
-            if (l.contains("direction")) {
-                d.direction = get_vec3(l["direction"], ptr + "/direction");
-            } else {
-                d.look_at = get_vec3(l["look_at"], ptr + "/look_at");
-            }
-            d.power = get_color(require(l, ptr, "power"), ptr + "/power", "a power (W)");
-            d.outer_angle = get_number(require(l, ptr, "outer_angle"), ptr + "/outer_angle");
-            if (l.contains("inner_angle")) {
-                d.inner_angle = get_number(l["inner_angle"], ptr + "/inner_angle");
-            }
-        } else if (type == "directional") {
-            d.kind = LightKind::Directional;
-            check_keys(l, ptr, {"type", "direction", "irradiance"});
-            d.direction = get_vec3(require(l, ptr, "direction"), ptr + "/direction");
-            d.irradiance = get_color(require(l, ptr, "irradiance"), ptr + "/irradiance",
-                                     "an irradiance (W/m^2)");
-        } else if (type == "environment") {
-            d.kind = LightKind::Environment;
-            check_keys(l, ptr, {"type", "radiance"});
-            d.radiance = get_color(require(l, ptr, "radiance"), ptr + "/radiance", "a radiance");
-        } else {
+        const LightKindDef* k = find_light_kind(type);
+        if (!k) {
             std::string msg = "unknown light type '" + type + "'";
-            std::string g = closest_name(type, kLightTypes);
+            std::string g = closest_name(type, light_kind_names());
             if (!g.empty()) {
                 msg += " (did you mean '" + g + "'?)";
             } else {
-                msg +=
-                    " (expected point, spot, directional or environment; area lights are "
-                    "shapes with \"emission\")";
+                msg += " (expected";
+                const auto names = light_kind_names();
+                for (std::size_t i = 0; i < names.size(); ++i)
+                    msg += (i == 0 ? " " : i + 1 == names.size() ? " or " : ", ") + names[i];
+                msg += "; area lights are shapes with \"emission\")";
             }
             fail(ptr + "/type", msg);
         }
+        LightDesc d;
+        d.kind = k->kind;
+        check_keys_v(l, ptr, kind_keys(*k, {"type"}));
+        for (const auto& [a, b] : k->exactly_one_of) {
+            if (l.contains(std::string(a)) == l.contains(std::string(b))) {
+                fail(ptr, "give exactly one of \"" + std::string(a) + "\" and \"" + std::string(b) +
+                              "\"");
+            }
+        }
+        for (const Field<LightDesc>& f : k->fields) read_field(l, ptr, f, d);
         return d;
     }
 
@@ -706,6 +659,40 @@ json array_json(std::span<const T> a, bool hashed) {
     }
     return j;
 }
+// One field of a shape or light: required and set-by-default values always, optional ones
+// (std::optional, a mesh file or arrays) when present.
+template <class Desc>
+void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
+    const std::string key(f.key);
+    std::visit(
+        [&](auto member) {
+            using T = std::remove_cvref_t<decltype(d.*member)>;
+            const T& v = d.*member;
+            if constexpr (std::is_same_v<T, Vec3>) {
+                j[key] = vec_json(v);
+            } else if constexpr (std::is_same_v<T, std::optional<Vec3>>) {
+                if (v) j[key] = vec_json(*v);
+            } else if constexpr (std::is_same_v<T, std::optional<double>>) {
+                if (v) j[key] = *v;
+            } else if constexpr (std::is_same_v<T, std::array<Vec3, 4>>) {
+                json a = json::array();
+                for (const Vec3& p : v) a.push_back(vec_json(p));
+                j[key] = a;
+            } else if constexpr (std::is_same_v<T, std::string>) {
+                if (!v.empty()) j[key] = v;
+            } else if constexpr (std::is_same_v<T, MeshData>) {
+                if (!v.positions.empty() || !v.indices.empty()) {
+                    j["positions"] = array_json(v.positions, hashed);
+                    j["indices"] = array_json(v.indices, hashed);
+                    if (!v.normals.empty()) j["normals"] = array_json(v.normals, hashed);
+                }
+            } else {
+                j[key] = v;
+            }
+        },
+        f.member);
+}
+
 json description_json(const SceneDescription& d, bool hashed_arrays) {
     json root = json::object();
     root["format"] = "facet-scene";
@@ -724,7 +711,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     json shapes = json::array();
     for (const ShapeDesc& s : d.shapes) {
         json j = json::object();
-        j["type"] = kShapeTypes[std::size_t(s.kind)];
+        j["type"] = shape_kind(s.kind).name;
         if (!s.name.empty()) j["name"] = s.name;
         if (s.material)
             j["material"] = material_json(*s.material);
@@ -734,81 +721,17 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.transform) j["transform"] = matrix_json(*s.transform);
-        switch (s.kind) {
-            case ShapeKind::Sphere:
-                j["center"] = vec_json(s.center);
-                j["radius"] = s.radius;
-                break;
-            case ShapeKind::Disc:
-                j["center"] = vec_json(s.center);
-                j["normal"] = vec_json(s.normal);
-                j["radius"] = s.radius;
-                break;
-            case ShapeKind::Plane:
-                j["point"] = vec_json(s.point);
-                j["normal"] = vec_json(s.normal);
-                break;
-            case ShapeKind::Box:
-                j["min"] = vec_json(s.min);
-                j["max"] = vec_json(s.max);
-                break;
-            case ShapeKind::Quad: {
-                json v = json::array();
-                for (const Vec3& p : s.vertices) v.push_back(vec_json(p));
-                j["vertices"] = v;
-                break;
-            }
-            case ShapeKind::Mesh:
-                if (!s.file.empty()) {
-                    j["file"] = s.file;
-                } else {
-                    j["positions"] = array_json(s.mesh.positions, hashed_arrays);
-                    j["indices"] = array_json(s.mesh.indices, hashed_arrays);
-                    if (!s.mesh.normals.empty())
-                        j["normals"] = array_json(s.mesh.normals, hashed_arrays);
-                }
-                break;
-            case ShapeKind::Icosphere:
-                j["center"] = vec_json(s.center);
-                j["radius"] = s.radius;
-                j["subdivisions"] = s.subdivisions;
-                j["smooth"] = s.smooth;
-                break;
-            case ShapeKind::Grid:
-                j["nx"] = s.nx;
-                j["ny"] = s.ny;
-                j["amplitude"] = s.amplitude;
-                j["frequency"] = s.frequency;
-                break;
-        }
+        for (const Field<ShapeDesc>& f : shape_kind(s.kind).fields)
+            write_field(j, f, s, hashed_arrays);
         shapes.push_back(j);
     }
     root["shapes"] = shapes;
     json lights = json::array();
     for (const LightDesc& l : d.lights) {
         json j = json::object();
-        j["type"] = kLightTypes[std::size_t(l.kind)];
-        switch (l.kind) {
-            case LightKind::Point:
-                j["position"] = vec_json(l.position);
-                j["power"] = vec_json(l.power);
-                break;
-            case LightKind::Spot:
-                j["position"] = vec_json(l.position);
-                if (l.direction) j["direction"] = vec_json(*l.direction);
-                if (l.look_at) j["look_at"] = vec_json(*l.look_at);
-                j["power"] = vec_json(l.power);
-                j["outer_angle"] = l.outer_angle;
-                if (l.inner_angle) j["inner_angle"] = *l.inner_angle;
-                break;
-            case LightKind::Directional:
-                if (l.direction) j["direction"] = vec_json(*l.direction);
-                j["irradiance"] = vec_json(l.irradiance);
-                break;
-            case LightKind::Environment:
-                j["radiance"] = vec_json(l.radiance);
-                break;
-        }
+        const LightKindDef& k = light_kind(l.kind);
+        j["type"] = k.name;
+        for (const Field<LightDesc>& f : k.fields) write_field(j, f, l, hashed_arrays);
         lights.push_back(j);
     }
     root["lights"] = lights;

@@ -1,0 +1,64 @@
+// POV-Ray 3.7 SDL export of a SceneDescription, for povray-facet (the patched POV-Ray of
+// povray_patch/): the picture `facet render --integrator direct` renders of the same scene
+// (docs/povray.md). `facet export-pov` and the Python module's facet.export_pov call it.
+//
+// Conventions: everything the SDL cannot express exactly is an error (SceneError
+// "<name>: <JSON pointer>: <message>"), except what an option asks to approximate. The scene
+// is validated by build_scene first: the SDL is only written for scenes `facet render`
+// accepts. Each shape and light kind writes itself (kinds.h, `pov`).
+//  - camera: explicit location/right/up/direction vectors in Facet's world coordinates, with
+//    pixel centres as Facet's (scenes/FORMAT.md);
+//  - `assumed_gamma 1.0`, `max_trace_level` = max_depth + 1 (the camera ray is level 0, so
+//    max_depth mirror bounces are traced as Facet's direct integrator does), `adc_bailout 0`
+//    (no ray dropped for low weight), no ambient; render with antialiasing off, EXR output;
+//  - lights in povray-facet's `physical_falloff` (exact 1/d^2), colours from light_units.h;
+//  - emitters (quads, meshes, discs with `emission`): the visible surface glows with
+//    `emission` and casts no shadow, and its light is a set of cos-weighted spotlights, one
+//    per cell of a midpoint (centroid) quadrature of the emitter, each with its own shadow
+//    ray. Not POV-Ray's `area_light`: that shades with the average visibility of the grid
+//    times the average unshadowed shading (trace.cpp ComputeFullAreaDiffuseLight), puts its
+//    points on the light's edges, and its points are isotropic, where a Lambertian emitter's
+//    intensity falls off as cos(theta);
+//  - materials: `finish { brdf { ... } }` with the core's model and parameter names; the
+//    pigment carries the diffuse reflectance (the patch's tinting rule); `samples` (glossy
+//    reflection rays) is 0 unless glossy_samples says otherwise, since the direct integrator
+//    traces none;
+//  - radiosity: a `radiosity {}` block; emitters are then `no_radiosity` with a black twin that
+//    only radiosity rays see, because the cell lights already count their light.
+#pragma once
+
+#include <string>
+
+#include "facet/render/scene_description.h"
+
+namespace facet::render {
+
+struct PovExportOptions {
+    // Emitter quadrature: N x N cells per parallelogram quad, N^2 per triangle, N rings x 4N
+    // sectors per disc; each cell is one POV-Ray light. In [1, 64].
+    int area_grid = 8;
+    // Glossy reflection rays per hit of brdf finishes (POV `samples`), in [0, 10000].
+    int glossy_samples = 0;
+    // "error": an environment light is an error; "background": exported as the background
+    // only (it then lights no surface: an approximation).
+    std::string environment = "error";
+    // POV-Ray radiosity for the indirect light (approximates `--integrator path`): "off",
+    // "low" (50,1.0,4), "medium" (200,0.4,8), "high" (800,0.15,16) or
+    // "COUNT,ERROR_BOUND,RECURSION_LIMIT".
+    std::string radiosity = "off";
+};
+
+// Checks the options alone (throws std::invalid_argument naming the option).
+void check_pov_options(const PovExportOptions& options);
+
+// The SDL text. `name` prefixes errors (a file name, "python", ...).
+std::string export_pov(const SceneDescription& desc, const std::string& name,
+                       const PovExportOptions& options = {});
+
+// Writes the SDL to `path`, and with a non-empty `ini_path` a POV-Ray .ini (size, no
+// antialiasing, 32-bit float EXR output). Throws SceneError (scene) or std::runtime_error
+// (files).
+void export_pov_file(const SceneDescription& desc, const std::string& name, const std::string& path,
+                     const PovExportOptions& options = {}, const std::string& ini_path = "");
+
+}  // namespace facet::render

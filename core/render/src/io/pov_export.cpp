@@ -1,0 +1,559 @@
+// POV-Ray 3.7 SDL export (facet/render/pov_export.h): the writer of the camera, global
+// settings and materials, and the PovShapeOut / PovLightOut that each kind's `pov` writes
+// through (kinds.h).
+#include "facet/render/pov_export.h"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+#include <stdexcept>
+
+#include "facet/frame.h"
+#include "facet/registry.h"
+#include "facet/render/kinds.h"
+#include "facet/render/light_units.h"
+#include "pov_writer.h"
+
+namespace facet::render {
+
+std::string pov_num(double v) {
+    if (v == 0.0) return "0";
+    return fmt::format("{}", v);
+}
+std::string pov_vec(const glm::dvec3& v) {
+    return "<" + pov_num(v.x) + ", " + pov_num(v.y) + ", " + pov_num(v.z) + ">";
+}
+std::string pov_rgb(const glm::dvec3& c) {
+    return "rgb " + pov_vec(c);
+}
+
+namespace {
+
+// POV-Ray radiosity settings of the `radiosity` option (docs/povray.md).
+struct RadiosityPreset {
+    int count = 0;  // 0: off
+    double error_bound = 0.0;
+    int recursion_limit = 0;
+};
+
+// "off", a preset, or "COUNT,ERROR_BOUND,RECURSION_LIMIT". Ranges: POV-Ray's (recursion_limit
+// 1-20, RadiosityFunction::DEPTH_MAX; count at most the 1600 precomputed directions,
+// RADIOSITY_MAX_SAMPLE_DIRECTIONS) and an error_bound in (0, 10].
+RadiosityPreset parse_radiosity(const std::string& text) {
+    if (text == "off") return {};
+    if (text == "low") return {50, 1.0, 4};
+    if (text == "medium") return {200, 0.4, 8};
+    if (text == "high") return {800, 0.15, 16};
+    const std::string usage =
+        "--radiosity: expected off, low, medium, high or COUNT,ERROR_BOUND,RECURSION_LIMIT "
+        "(e.g. 200,0.4,8), got '" +
+        text + "'";
+    RadiosityPreset r;
+    char c1 = 0, c2 = 0, extra = 0;
+    std::istringstream in(text);
+    if (!(in >> r.count >> c1 >> r.error_bound >> c2 >> r.recursion_limit) || c1 != ',' ||
+        c2 != ',' || (in >> extra))
+        throw std::invalid_argument(usage);
+    if (r.count < 1 || r.count > 1600)
+        throw std::invalid_argument(
+            fmt::format("--radiosity: count must be in [1, 1600] (got {})", r.count));
+    if (!(r.error_bound > 0.0 && r.error_bound <= 10.0))
+        throw std::invalid_argument(
+            fmt::format("--radiosity: error_bound must be in (0, 10] (got {})", r.error_bound));
+    if (r.recursion_limit < 1 || r.recursion_limit > 20)
+        throw std::invalid_argument(fmt::format(
+            "--radiosity: recursion_limit must be in [1, 20] (got {})", r.recursion_limit));
+    return r;
+}
+
+// Light cells beyond this make a scene POV-Ray shades very slowly (every cell is a light with a
+// shadow ray at every shaded point): an error that names the emitter and the option.
+constexpr long long kMaxLightCells = 20000;
+
+// Free text (shape and material names, the file name) for a `//` comment of the SDL: control
+// characters become spaces, so that a newline in a name cannot end the comment.
+std::string comment_text(std::string text) {
+    for (char& c : text)
+        if (static_cast<unsigned char>(c) < 0x20 || c == 0x7f) c = ' ';
+    return text;
+}
+
+// POV-Ray `matrix`: rows are the images of x, y, z and the translation (row vectors).
+std::string pov_matrix(const glm::dmat4& m) {
+    std::string s = "matrix <";
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) s += pov_num(m[c][r]) + (c == 3 && r == 2 ? ">" : ", ");
+    return s;
+}
+
+class PovWriter {
+  public:
+    PovWriter(const SceneDescription& desc, std::string name, const PovExportOptions& opt)
+        : m_desc(desc),
+          m_name(std::move(name)),
+          m_opt(opt),
+          m_rad(parse_radiosity(opt.radiosity)) {}
+
+    std::string write();
+
+    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+        throw SceneError(m_name + ": " + pointer + ": " + message);
+    }
+
+  private:
+    friend class ShapeOut;
+    friend class LightOut;
+    void camera();
+    void global_settings();
+    std::string texture(const MaterialDesc& m, const std::string& pointer,
+                        const glm::dvec3& emission = glm::dvec3(0.0));
+    void materials();
+    std::string shape_texture(const ShapeDesc& s, const std::string& pointer, bool inside_front);
+    void shape(const ShapeDesc& s, std::size_t index);
+    std::string emission_of(const glm::dvec3& emission, const glm::dvec3& pigment,
+                            const std::string& pointer) const;
+
+    const SceneDescription& m_desc;
+    std::string m_name;
+    const PovExportOptions& m_opt;
+    RadiosityPreset m_rad;
+    std::ostringstream m_out;
+    std::vector<std::string> m_material_ids;  // POV identifier of m_desc.materials[i]
+    long long m_cells = 0;
+};
+
+// A shape kind's view of the writer.
+class ShapeOut final : public PovShapeOut {
+  public:
+    ShapeOut(PovWriter& w, const ShapeDesc& s, std::size_t index)
+        : PovShapeOut(s, "/shapes/" + std::to_string(index),
+                      std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f),
+          m_w(w) {}
+    [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+        m_w.fail(p, m);
+    }
+    void object(const std::string& head, bool inside_front) override;
+    void triangles(bool parallelogram_cells) override;
+    void begin_cells() override;
+    void cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
+                    double area) override;
+    int area_grid() const override { return m_w.m_opt.area_grid; }
+
+  private:
+    bool twin() const { return emits && m_w.m_rad.count > 0; }
+    std::string xf() const {
+        return shape.transform ? "  " + pov_matrix(*shape.transform) + "\n" : "";
+    }
+    PovWriter& m_w;
+};
+
+class LightOut final : public PovLightOut {
+  public:
+    LightOut(PovWriter& w, const LightDesc& l, std::size_t index)
+        : PovLightOut(l, "/lights/" + std::to_string(index), w.m_opt), m_w(w) {}
+    [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+        m_w.fail(p, m);
+    }
+    std::ostream& out() override { return m_w.m_out; }
+
+  private:
+    PovWriter& m_w;
+};
+
+// With radiosity, an emitter's black twin: seen by radiosity rays only (its light is counted
+// by the cell lights), blocking them as the emitter would.
+constexpr const char* kTwinTexture =
+    "  texture { pigment { rgb 0 } finish { ambient 0 diffuse 0 } }\n  no_image "
+    "no_reflection no_shadow\n";
+
+void ShapeOut::object(const std::string& head, bool inside_front) {
+    std::ostringstream& out = m_w.m_out;
+    out << head << "\n  " << m_w.shape_texture(shape, pointer, inside_front) << "\n"
+        << (emits ? "  no_shadow\n" : "") << (twin() ? "  no_radiosity\n" : "") << xf() << "}\n";
+    if (twin()) out << head << "\n" << kTwinTexture << xf() << "}\n";
+}
+
+// Triangle shapes as mesh2: the renderer's own triangles, in world space as build_scene makes
+// them (positions transformed in double and stored as float, normals by the inverse transpose
+// and normalised per vertex, then interpolated), so that smooth shading under a non-uniform
+// scale agrees too (POV-Ray would interpolate object-space normals and transform the result).
+// A mirroring transform keeps the authored front side, flip_normals reverses it.
+void ShapeOut::triangles(bool parallelogram_cells) {
+    const ShapeKindDef& kind = shape_kind(shape.kind);
+    if (!kind.triangles) fail(pointer + "/type", "this shape kind has no triangles");
+    TriangleMesh m;
+    try {
+        m = kind.triangles(shape, m_w.m_desc.base_dir);
+    } catch (const std::exception& e) {
+        fail(pointer + "/file", e.what());
+    }
+    const glm::dmat4 x = shape.transform.value_or(glm::dmat4(1.0));
+    const glm::dmat3 lin(x);
+    const glm::dmat3 nmat = glm::transpose(glm::inverse(lin));
+    for (Vec3& p : m.positions) p = Vec3(glm::dvec3(x * glm::dvec4(glm::dvec3(p), 1.0)));
+    for (Vec3& nn : m.normals) {
+        const glm::dvec3 w = nmat * glm::dvec3(nn);
+        const double l = glm::length(w);
+        nn = l > 0.0 ? Vec3(w / l) : Vec3(0.f, 0.f, 1.f);
+    }
+    if ((glm::determinant(lin) < 0.0) != shape.flip_normals)
+        for (std::size_t i = 0; i + 2 < m.indices.size(); i += 3)
+            std::swap(m.indices[i + 1], m.indices[i + 2]);
+    std::ostringstream body;
+    body << "mesh2 {\n  vertex_vectors { " << m.positions.size();
+    for (const Vec3& p : m.positions) body << ", " << pov_vec(glm::dvec3(p));
+    body << " }\n";
+    if (!m.normals.empty()) {
+        body << "  normal_vectors { " << m.normals.size();
+        for (const Vec3& nn : m.normals) body << ", " << pov_vec(glm::dvec3(nn));
+        body << " }\n";
+    }
+    // POV-Ray's triangle normal is (p0 - p1) x (p2 - p1) = -(p1 - p0) x (p2 - p0), the reverse
+    // of Facet's front (mesh.h), and its interior_texture is on the side that normal points
+    // away from: write each triangle as (p0, p2, p1) so that both agree.
+    body << "  face_indices { " << m.num_triangles();
+    for (std::size_t t = 0; t < m.num_triangles(); ++t)
+        body << ", <" << m.indices[3 * t] << ", " << m.indices[3 * t + 2] << ", "
+             << m.indices[3 * t + 1] << ">";
+    body << " }\n";
+    std::ostringstream& out = m_w.m_out;
+    out << body.str() << "  " << m_w.shape_texture(shape, pointer, false) << "\n"
+        << (emits ? "  no_shadow\n" : "") << (twin() ? "  no_radiosity\n" : "") << "}\n";
+    if (twin()) out << body.str() << kTwinTexture << "}\n";
+    if (!emits) return;
+
+    // The emitter's light: a midpoint quadrature of its surface, N = area_grid.
+    begin_cells();
+    const int n = area_grid();
+    const glm::dvec3 le(shape.emission);
+    auto P = [&](std::uint32_t i) { return glm::dvec3(m.positions[i]); };
+    // A flat parallelogram: one N x N grid over it.
+    if (parallelogram_cells && m.num_triangles() == 2) {
+        const glm::dvec3 p0 = P(m.indices[0]), p1 = P(m.indices[1]), p2 = P(m.indices[2]);
+        const glm::dvec3 p3 = P(m.indices[5]);
+        const glm::dvec3 e1 = p1 - p0, e2 = p3 - p0;
+        const glm::dvec3 cr = glm::cross(p1 - p0, p2 - p0);
+        const double scale = glm::length(e1) + glm::length(e2);
+        if (glm::length(p0 + p2 - p1 - p3) <= 1e-9 * scale) {
+            const double area = glm::length(glm::cross(e1, e2));
+            const glm::dvec3 nw = glm::normalize(cr);
+            for (int i = 0; i < n; ++i)
+                for (int j = 0; j < n; ++j)
+                    cell_light(p0 + ((i + 0.5) / n) * e1 + ((j + 0.5) / n) * e2, nw, le,
+                               area / double(n * n));
+            return;
+        }
+    }
+    // Other triangles: N^2 similar sub-triangles, at their centroids.
+    for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+        const glm::dvec3 p0 = P(m.indices[3 * t]), p1 = P(m.indices[3 * t + 1]),
+                         p2 = P(m.indices[3 * t + 2]);
+        const glm::dvec3 cr = glm::cross(p1 - p0, p2 - p0);
+        const double area = 0.5 * glm::length(cr);
+        if (!(area > 0.0)) continue;  // dropped by the renderer too
+        const glm::dvec3 nw = cr / (2.0 * area);
+        const glm::dvec3 e1 = p1 - p0, e2 = p2 - p0;
+        const double cell = area / double(n * n);
+        for (int i = 0; i < n; ++i) {
+            for (int j = 0; i + j < n; ++j) {
+                // Upright sub-triangle (i, j), (i+1, j), (i, j+1): centroid (3i+1, 3j+1)/3N.
+                cell_light(p0 + ((3 * i + 1) / (3.0 * n)) * e1 + ((3 * j + 1) / (3.0 * n)) * e2, nw,
+                           le, cell);
+                // Inverted one (i+1, j), (i, j+1), (i+1, j+1): centroid (3i+2, 3j+2)/3N.
+                if (i + j + 2 <= n)
+                    cell_light(p0 + ((3 * i + 2) / (3.0 * n)) * e1 + ((3 * j + 2) / (3.0 * n)) * e2,
+                               nw, le, cell);
+            }
+        }
+    }
+}
+
+void ShapeOut::begin_cells() {
+    m_w.m_out << "// Light of the emitter " << pointer
+              << (shape.name.empty() ? "" : " ('" + comment_text(shape.name) + "')")
+              << ": midpoint cells, grid " << area_grid() << "\n";
+}
+
+// One light cell of an emitter: a spotlight at p aimed along the front normal n whose intensity
+// falls off as cos(theta) (tightness 1, hard edge at 90 degrees: Attenuate_Light in POV-Ray's
+// lighting/point.cpp gives pow(cos, tightness) for cos > 0 and 0 behind), with the on-axis
+// intensity of a Lambertian patch of the cell's area.
+void ShapeOut::cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
+                          double area) {
+    const glm::dvec3 c = pov_light_colour(emitter_intensity(radiance, area));
+    m_w.m_out << "light_source { " << pov_vec(p) << " " << pov_rgb(c) << " spotlight point_at "
+              << pov_vec(p + n) << " radius 90 falloff 90 tightness 1 physical_falloff }\n";
+    ++m_w.m_cells;
+}
+
+void PovWriter::camera() {
+    // scenes/FORMAT.md, "POV-Ray export": explicit vectors; POV-Ray 3.7 traces the pixel
+    // centres itself (TracePixel::CreateCameraRay adds the half pixel).
+    const CameraDesc& c = m_desc.camera;
+    const glm::dvec3 pos(c.position);
+    const glm::dvec3 f = glm::normalize(glm::dvec3(c.look_at) - pos);
+    const glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
+    const glm::dvec3 u = glm::cross(r, f);
+    const double tan_y = std::tan(0.5 * c.fov * kPiD / 180.0);
+    const double tan_x = tan_y * double(c.width) / double(c.height);
+    m_out << "// Facet pinhole camera (scenes/FORMAT.md): explicit vectors, pixel centres.\n"
+          << "camera {\n  perspective\n"
+          << "  location  " << pov_vec(pos) << "\n"
+          << "  right     " << pov_vec(2.0 * tan_x * r) << "\n"
+          << "  up        " << pov_vec(2.0 * tan_y * u) << "\n"
+          << "  direction " << pov_vec(f) << "\n}\n\n";
+}
+void PovWriter::global_settings() {
+    // Mirror bounces are the only recursion of the direct integrator: without a mirror lobe
+    // the depth changes nothing, and a deeper limit than POV-Ray's is no error.
+    bool mirrors = false;
+    auto has_mirror = [](const MaterialDesc& m) {
+        return make_material(m.model, m.params).mirror().has_value();
+    };
+    for (const auto& [name, m] : m_desc.materials) mirrors = mirrors || has_mirror(m);
+    for (const ShapeDesc& s : m_desc.shapes)
+        if (s.material) mirrors = mirrors || has_mirror(*s.material);
+    const int depth = mirrors ? m_desc.render.max_depth : std::min(m_desc.render.max_depth, 255);
+    if (depth + 1 > 256)
+        fail("/render/max_depth", fmt::format("{} bounces: POV-Ray traces at most 255 (its "
+                                              "max_trace_level is at most 256)",
+                                              depth));
+    // Radiosity sample rays of recursion depth d (0-based) are traced at trace level
+    // int(1.5 (d + 1)) (lighting/radiosity.cpp GetRecursionSettings): the limit must let the
+    // deepest through, or the last bounces are cut.
+    const int rad_level = m_rad.count > 0 ? int(1.5 * m_rad.recursion_limit) + 1 : 0;
+    const int level = std::max(depth + 1, rad_level);
+    m_out << "global_settings {\n"
+          << "  assumed_gamma 1.0\n"
+          << "  max_trace_level " << level << "  // camera ray + max_depth " << depth
+          << " mirror bounces" << (level > depth + 1 ? "; radiosity recursion needs more" : "")
+          << "\n"
+          << "  adc_bailout 0\n"
+          << "  ambient_light 0\n";
+    if (m_rad.count > 0) {
+        // count/error_bound/recursion_limit from --radiosity; the rest fixed: nearest_count
+        // 10 (POV-Ray's default 5 is blotchier), POV-Ray's pretrace defaults, no brightness
+        // or gray change, and an adc_bailout far below the weight POV-Ray assumes for the
+        // deepest bounce (0.5^20 ~ 1e-6), so that no recursion level is dropped for weight.
+        m_out << "  radiosity {  // --radiosity " << m_opt.radiosity << "\n"
+              << "    count " << m_rad.count << "\n"
+              << "    error_bound " << pov_num(m_rad.error_bound) << "\n"
+              << "    recursion_limit " << m_rad.recursion_limit << "\n"
+              << "    nearest_count 10\n"
+              << "    low_error_factor 0.5\n"
+              << "    pretrace_start 0.08\n"
+              << "    pretrace_end 0.04\n"
+              << "    brightness 1\n"
+              << "    gray_threshold 0\n"
+              << "    adc_bailout 1e-7\n"
+              << "    normal off\n"
+              << "    media off\n"
+              << "  }\n";
+    }
+    m_out << "}\n\n";
+}
+
+// " emission rgb <...>" giving the radiance `emission` on a surface of that pigment: POV-Ray
+// multiplies `emission` by the pigment (trace.cpp ComputeLightedTexture), so it is divided
+// here. "" when there is no emission.
+std::string PovWriter::emission_of(const glm::dvec3& emission, const glm::dvec3& pigment,
+                                   const std::string& pointer) const {
+    if (!(std::max({emission.x, emission.y, emission.z}) > 0.0)) return "";
+    glm::dvec3 e(0.0);
+    for (int c = 0; c < 3; ++c) {
+        if (emission[c] == 0.0) continue;
+        if (!(pigment[c] > 0.0))
+            fail(pointer,
+                 "an emitter whose diffuse reflectance is 0 in a channel it emits cannot be "
+                 "written (POV-Ray tints emission by the pigment)");
+        e[c] = emission[c] / pigment[c];
+    }
+    return " emission " + pov_rgb(e);
+}
+
+// `texture { pigment {...} finish { ambient 0 brdf { ... } } }` for a material. The pigment is
+// the diffuse reflectance (lambert's reflectance, composite's diffuse_reflectance, with the
+// core's default when not given), which povray-facet multiplies into the diffuse lobe; the
+// other parameters go into the brdf block under their core names.
+std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer,
+                               const glm::dvec3& emission) {
+    const ModelInfo* info = find_model(m.model);
+    if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
+                                      : m.model == "composite" ? "diffuse_reflectance"
+                                                               : "";
+    glm::dvec3 pigment(1.0);
+    if (!diffuse_param.empty()) {
+        auto it = m.params.values().find(diffuse_param);
+        if (it != m.params.values().end()) {
+            if (const double* d = std::get_if<double>(&it->second))
+                pigment = glm::dvec3(*d);
+            else if (const Rgb* c = std::get_if<Rgb>(&it->second))
+                pigment = glm::dvec3(*c);
+        } else {
+            for (const ParamInfo& p : info->params)
+                if (p.name == diffuse_param) pigment = glm::dvec3(std::stod(p.default_value));
+        }
+    }
+    std::string brdf = m.model;
+    for (const auto& [name, value] : m.params.values()) {
+        if (name == diffuse_param) continue;
+        if (name == "alpha_u" || name == "alpha_v" || name == "exponent_u" || name == "exponent_v")
+            fail(pointer + "/" + name,
+                 "anisotropic lobes need a surface tangent, which POV-Ray does not provide "
+                 "(povray-facet would orient the lobe by an arbitrary frame)");
+        brdf += " " + name + " ";
+        if (const double* d = std::get_if<double>(&value))
+            brdf += pov_num(*d);
+        else if (const Rgb* c = std::get_if<Rgb>(&value))
+            brdf += pov_rgb(glm::dvec3(*c));
+        else if (const std::string* s = std::get_if<std::string>(&value))
+            brdf += *s;
+        else
+            brdf += std::get<bool>(value) ? "on" : "off";
+    }
+    const bool glossy =
+        m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" || m.model == "composite";
+    if (glossy) brdf += " samples " + std::to_string(m_opt.glossy_samples);
+    return "texture { pigment { " + pov_rgb(pigment) + " } finish { ambient 0" +
+           emission_of(emission, pigment, pointer) + " brdf { " + brdf + " } } }";
+}
+
+void PovWriter::materials() {
+    if (m_desc.materials.empty()) return;
+    m_out << "// Materials (\"materials\" of the JSON), as povray-facet brdf finishes.\n";
+    for (std::size_t i = 0; i < m_desc.materials.size(); ++i) {
+        const auto& [name, m] = m_desc.materials[i];
+        const std::string id = "Facet_material_" + std::to_string(i);
+        m_out << "#declare " << id << " =  // '" << comment_text(name) << "'\n  "
+              << texture(m, "/materials/" + name) << ";\n";
+        m_material_ids.push_back(id);
+    }
+    m_out << "\n";
+}
+
+// The texture of a shape (front side), and its interior_texture when the back differs: the
+// back of a one-sided shape is black, the back of an emitter does not emit (Facet's emission
+// is one-sided).
+// inside_front: the front is POV-Ray's inside (a flipped sphere or box), so the two are swapped.
+std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& pointer,
+                                     bool inside_front) {
+    const MaterialDesc* m = s.material ? &*s.material : nullptr;
+    std::string mpointer = pointer + "/material";
+    if (!m && !s.material_ref.empty()) {
+        for (std::size_t i = 0; i < m_desc.materials.size(); ++i)
+            if (m_desc.materials[i].first == s.material_ref) {
+                m = &m_desc.materials[i].second;
+                mpointer = "/materials/" + s.material_ref;
+            }
+        if (!m) fail(pointer + "/material", "unknown material '" + s.material_ref + "'");
+    }
+    const glm::dvec3 le = glm::dvec3(s.emission);
+    const bool emits = std::max({le.x, le.y, le.z}) > 0.0;
+    const std::string black = "texture { pigment { rgb 0 } finish { ambient 0 diffuse 0 } }";
+    auto tex = [&](const glm::dvec3& e) {
+        if (m && e == glm::dvec3(0.0) && !s.material)
+            for (std::size_t i = 0; i < m_desc.materials.size(); ++i)
+                if (m_desc.materials[i].first == s.material_ref)
+                    return "texture { " + m_material_ids[i] + " }";
+        if (m) return texture(*m, mpointer, e);
+        if (!emits || e == glm::dvec3(0.0)) return black;
+        return "texture { pigment { rgb 1 } finish { ambient 0 diffuse 0" +
+               emission_of(e, glm::dvec3(1.0), pointer) + " } }";
+    };
+    std::string front = tex(le);
+    std::string back = s.two_sided ? tex(glm::dvec3(0.0)) : black;
+    if (inside_front) std::swap(front, back);
+    if (!emits && s.two_sided) return front;
+    // interior_texture takes the body of a texture: strip "texture { ... }".
+    return front + "\n  interior_texture { " + back.substr(10, back.size() - 12) + " }";
+}
+
+void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
+    ShapeOut out(*this, s, index);
+    m_out << "// " << out.pointer << (s.name.empty() ? "" : " ('" + comment_text(s.name) + "')")
+          << "\n";
+    const ShapeKindDef& kind = shape_kind(s.kind);
+    if (kind.pov) {
+        kind.pov(out);
+    } else {
+        out.triangles(false);
+    }
+}
+
+std::string PovWriter::write() {
+    const CameraDesc& c = m_desc.camera;
+    m_out << "// Exported by `facet export-pov` from " << comment_text(m_name)
+          << " for povray-facet (povray_patch/).\n"
+          << (m_rad.count > 0
+                  ? "// With POV-Ray radiosity (--radiosity): an approximation of `facet render "
+                    "--integrator path`.\n"
+                  : "// It renders what `facet render --integrator direct` renders of that "
+                    "scene.\n")
+          << "// Render: povray-facet +I<this file> +O<out>.exr +FE32 +W" << c.width << " +H"
+          << c.height << " -A +UA- -D\n"
+          << "// (no antialiasing: one ray through each pixel centre; +FE32: linear 32-bit "
+             "float EXR, +FE: half float).\n"
+          << "#version 3.7;\n\n";
+    global_settings();
+    camera();
+    materials();
+    for (std::size_t i = 0; i < m_desc.lights.size(); ++i) {
+        LightOut out(*this, m_desc.lights[i], i);
+        light_kind(m_desc.lights[i].kind).pov(out);
+    }
+    m_out << "\n";
+    for (std::size_t i = 0; i < m_desc.shapes.size(); ++i) {
+        shape(m_desc.shapes[i], i);
+        if (m_cells > kMaxLightCells)
+            fail("/shapes/" + std::to_string(i) + "/emission",
+                 fmt::format("the emitters need more than {} light cells at --area-grid {} "
+                             "(every cell is a light with a shadow ray); lower --area-grid",
+                             kMaxLightCells, m_opt.area_grid));
+    }
+    return m_out.str();
+}
+
+}  // namespace
+
+void check_pov_options(const PovExportOptions& o) {
+    (void)parse_radiosity(o.radiosity);
+    if (o.area_grid < 1 || o.area_grid > 64)
+        throw std::invalid_argument(
+            fmt::format("--area-grid: must be in [1, 64] (got {})", o.area_grid));
+    if (o.glossy_samples < 0 || o.glossy_samples > 10000)
+        throw std::invalid_argument(
+            fmt::format("--glossy-samples: must be in [0, 10000] (got {})", o.glossy_samples));
+    if (o.environment != "error" && o.environment != "background")
+        throw std::invalid_argument("--environment: expected error or background, got '" +
+                                    o.environment + "'");
+}
+
+std::string export_pov(const SceneDescription& desc, const std::string& name,
+                       const PovExportOptions& options) {
+    check_pov_options(options);
+    // Validate everything the renderer would (ranges, names, meshes) before writing: the SDL is
+    // only written for scenes that `facet render` accepts.
+    (void)build_scene(desc, name);
+    return PovWriter(desc, name, options).write();
+}
+
+void export_pov_file(const SceneDescription& desc, const std::string& name, const std::string& path,
+                     const PovExportOptions& options, const std::string& ini_path) {
+    const std::string text = export_pov(desc, name, options);
+    std::ofstream f(path);
+    if (!(f << text)) throw std::runtime_error(path + ": cannot write");
+    if (ini_path.empty()) return;
+    std::ofstream ini(ini_path);
+    if (!(ini << "; povray-facet settings for " << path << " (facet export-pov)\n"
+              << "Input_File_Name=" << path << "\n"
+              << "Width=" << desc.camera.width << "\nHeight=" << desc.camera.height << "\n"
+              << "Antialias=Off\nOutput_File_Type=E\nBits_Per_Color=32\nOutput_Alpha=Off\n"
+              << "Display=Off\n"))
+        throw std::runtime_error(ini_path + ": cannot write");
+}
+
+}  // namespace facet::render

@@ -1,0 +1,61 @@
+// Private to facet_render: what a shape or light kind's POV-Ray exporter (kinds.h `pov`) gets
+// from the SDL writer (pov_export.cpp), and the SDL number format they share.
+#pragma once
+
+#include <glm/vec3.hpp>
+
+#include <ostream>
+#include <string>
+
+#include "facet/render/kinds.h"
+#include "facet/render/pov_export.h"
+
+namespace facet::render {
+
+// Shortest text that reads back as the same double; "<x, y, z>"; "rgb <r, g, b>".
+std::string pov_num(double v);
+std::string pov_vec(const glm::dvec3& v);
+std::string pov_rgb(const glm::dvec3& c);
+
+class PovShapeOut {
+  public:
+    PovShapeOut(const ShapeDesc& s, std::string p, bool e)
+        : shape(s), pointer(std::move(p)), emits(e) {}
+    virtual ~PovShapeOut() = default;
+    const ShapeDesc& shape;
+    const std::string pointer;  // "/shapes/<index>"
+    const bool emits;
+
+    [[noreturn]] virtual void fail(const std::string& pointer,
+                                   const std::string& message) const = 0;
+    // Writes `head` (an SDL object without its closing brace, e.g. "sphere { <0, 0, 0>, 1"),
+    // the shape's texture, no_shadow / no_radiosity for emitters, its transform and "}", and an
+    // emitter's black radiosity twin. inside_front: the shape's front is POV-Ray's inside
+    // (a sphere or box with flip_normals).
+    virtual void object(const std::string& head, bool inside_front) = 0;
+    // Writes the shape as a mesh2 of its kind's `triangles` in world space, and an emitter's
+    // light cells (N^2 per triangle; N x N over a flat parallelogram when
+    // `parallelogram_cells` and the shape is two triangles).
+    virtual void triangles(bool parallelogram_cells) = 0;
+    // An emitter's light as cells: begin_cells() writes the comment, then one cell_light per
+    // cell (a cos-weighted spotlight of a Lambertian patch of `area`, world space).
+    virtual void begin_cells() = 0;
+    virtual void cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
+                            double area) = 0;
+    virtual int area_grid() const = 0;
+};
+
+class PovLightOut {
+  public:
+    PovLightOut(const LightDesc& l, std::string p, const PovExportOptions& o)
+        : light(l), pointer(std::move(p)), options(o) {}
+    virtual ~PovLightOut() = default;
+    const LightDesc& light;
+    const std::string pointer;  // "/lights/<index>"
+    const PovExportOptions& options;
+    [[noreturn]] virtual void fail(const std::string& pointer,
+                                   const std::string& message) const = 0;
+    virtual std::ostream& out() = 0;
+};
+
+}  // namespace facet::render

@@ -1,0 +1,119 @@
+// Private to facet_render: what a shape or light kind's builder (kinds.h) gets from
+// build_scene. The builder (scene_build.cpp) implements it; the kind units
+// (shapes/*.cpp, lights/*.cpp) call it.
+//
+// Conventions: every check fails with a SceneError naming the JSON pointer (`ptr` + "/key"),
+// as build_scene's other errors do. The common keys (material, emission, two_sided,
+// transform, flip_normals) are already checked when a kind's build runs.
+#pragma once
+
+#include <glm/mat3x3.hpp>
+#include <glm/mat4x4.hpp>
+
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <string>
+
+#include "facet/render/kinds.h"
+#include "facet/render/light.h"
+#include "facet/render/mesh.h"
+#include "scene_checks.h"
+#include "scene_impl.h"
+
+namespace facet::render {
+
+// Value checks shared by build_scene and the kinds' builders: each fails through fail().
+class BuildChecks {
+  public:
+    virtual ~BuildChecks() = default;
+    [[noreturn]] virtual void fail(const std::string& pointer,
+                                   const std::string& message) const = 0;
+
+    void check_finite(const Vec3& v, const std::string& ptr) const {
+        for (int i = 0; i < 3; ++i) {
+            if (!std::isfinite(v[i]))
+                fail(ptr + "/" + std::to_string(i), "must be a finite number");
+        }
+    }
+    void check_finite(double d, const std::string& ptr) const {
+        if (!std::isfinite(d)) fail(ptr, "must be a finite number");
+    }
+    double check_range(double d, const std::string& ptr, double lo, double hi,
+                       const char* range_text) const {
+        check_finite(d, ptr);
+        if (!(d >= lo && d <= hi)) fail(ptr, detail::number_range_message(d, range_text));
+        return d;
+    }
+    std::int64_t check_int(std::int64_t i, const std::string& ptr, std::int64_t lo,
+                           std::int64_t hi) const {
+        if (i < lo || i > hi) fail(ptr, detail::int_range_message(i, lo, hi));
+        return i;
+    }
+    // Finite and non-zero; returns the unit vector.
+    Vec3 unit_direction(const Vec3& d, const std::string& ptr) const {
+        check_finite(d, ptr);
+        const float len = glm::length(d);
+        if (!(len > 0.f) || !std::isfinite(len)) fail(ptr, "must be a non-zero direction");
+        return d / len;
+    }
+    // Finite and >= 0 in every channel.
+    Rgb check_color(const Rgb& c, const std::string& ptr, const char* what) const {
+        if (!is_finite(c)) fail(ptr, std::string(what) + " must be finite");
+        for (int i = 0; i < 3; ++i) {
+            if (c[i] < 0.f) fail(ptr, std::string(what) + " must be >= 0");
+        }
+        return c;
+    }
+    // A length in (0, float max].
+    double positive_length(double r, const std::string& ptr) const {
+        const double v = check_range(r, ptr, 0.0, double(std::numeric_limits<float>::max()), "> 0");
+        if (!(v > 0.0)) fail(ptr, "must be > 0");
+        return v;
+    }
+};
+
+class ShapeBuild : public BuildChecks {
+  public:
+    ShapeBuild(const ShapeDesc& s, std::uint32_t i)
+        : shape(s), index(i), ptr("/shapes/" + std::to_string(i)) {}
+    const ShapeDesc& shape;
+    const std::uint32_t index;  // in the description's "shapes"
+    const std::string ptr;      // "/shapes/<index>"
+    Rgb emission{0.f};          // checked
+    bool emissive = false;
+    glm::dmat4 xf{1.0};  // object to world (checked: finite, affine, not singular)
+
+    // "/shapes/3" or "/shapes/3 ('Suzanne')".
+    virtual std::string place() const = 0;
+    // Counts triangles against the scene's limit before they are generated.
+    virtual void reserve_triangles(std::uint64_t n, const std::string& ptr) = 0;
+    virtual bool files_allowed() const = 0;
+    virtual const std::string& base_dir() const = 0;
+
+    // An exact analytic primitive (unit sphere / unit disc in object space) placed by
+    // xf * local; returns it with its world transforms filled.
+    virtual const AnalyticPrim& add_prim(AnalyticPrim::Kind kind, const glm::dmat4& local) = 0;
+    // An infinite plane through a point with a unit normal, in object space.
+    virtual void add_plane(const glm::dvec3& point, const Vec3& unit_normal) = 0;
+    // Object-space triangles: the builder transforms them, keeps the authored front side,
+    // validates them, drops zero-area triangles and makes an emitter of them when the shape
+    // emits. `tangent` (object space, 0 = none) orients anisotropic lobes.
+    virtual void add_triangles(TriangleMesh mesh, const Vec3& tangent) = 0;
+    // The shape's area light (emissive analytic shapes).
+    virtual void add_light(Light light) = 0;
+    // Checks the shape's world extent (after its geometry is added).
+    virtual void check_finite_bounds() = 0;
+};
+
+class LightBuild : public BuildChecks {
+  public:
+    LightBuild(const LightDesc& l, std::string p) : light(l), ptr(std::move(p)) {}
+    const LightDesc& light;
+    const std::string ptr;  // "/lights/<index>"
+    virtual void add_light(Light light) = 0;
+    // The scene's environment light (at most one).
+    virtual void add_environment(Light light) = 0;
+};
+
+}  // namespace facet::render

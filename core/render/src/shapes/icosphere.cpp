@@ -1,0 +1,42 @@
+// Shape kind "icosphere": a subdivided icosahedron (a triangle-mesh sphere).
+#include "../io/pov_writer.h"
+#include "../kind_build.h"
+#include "../scene_checks.h"
+
+namespace facet::render {
+
+namespace {
+
+TriangleMesh triangles(const ShapeDesc& s, const std::string&) {
+    TriangleMesh m = make_icosphere(s.subdivisions, s.smooth);
+    for (Vec3& p : m.positions) p = s.center + float(s.radius) * p;
+    return m;
+}
+
+void build(ShapeBuild& b) {
+    const ShapeDesc& s = b.shape;
+    b.check_finite(s.center, b.ptr + "/center");
+    (void)b.positive_length(s.radius, b.ptr + "/radius");
+    const auto sub =
+        b.check_int(s.subdivisions, b.ptr + "/subdivisions", 0, detail::kMaxIcosphereSubdivisions);
+    b.reserve_triangles(20ull << (2 * sub), b.ptr + "/subdivisions");
+    b.add_triangles(triangles(s, b.base_dir()), Vec3(0.f));
+}
+
+}  // namespace
+
+extern const ShapeKindDef kIcosphereKind{
+    ShapeKind::Icosphere,
+    "icosphere",
+    "icosahedron subdivided n times: 20·4ⁿ triangles, for big procedural meshes",
+    {{"center", FieldType::Point, true, &ShapeDesc::center, "-", "centre"},
+     {"radius", FieldType::Number, true, &ShapeDesc::radius, "-", "radius, > 0"},
+     {"subdivisions", FieldType::Integer, true, &ShapeDesc::subdivisions, "-", "n", 0,
+      detail::kMaxIcosphereSubdivisions},
+     {"smooth", FieldType::Bool, false, &ShapeDesc::smooth, "true",
+      "vertex normals (smooth shading)"}},
+    build,
+    triangles,
+    nullptr};
+
+}  // namespace facet::render

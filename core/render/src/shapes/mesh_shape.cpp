@@ -1,0 +1,109 @@
+// Shape kind "mesh": a triangle mesh from arrays (positions, indices, optional normals) or
+// from a file (.obj, .ply; load_mesh_file).
+#include <cstring>
+#include <filesystem>
+
+#include "../io/pov_writer.h"
+#include "../kind_build.h"
+#include "../scene_checks.h"
+
+namespace facet::render {
+
+namespace {
+
+std::string resolve(const std::string& file, const std::string& base_dir) {
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    return p.string();
+}
+
+// The mesh as given (arrays copied; normals as given, not normalised).
+TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
+    if (!s.file.empty()) return load_mesh_file(resolve(s.file, base_dir));
+    const MeshData& md = s.mesh;
+    TriangleMesh m;
+    const std::size_t n = md.num_vertices();
+    m.positions.resize(n);
+    std::memcpy(m.positions.data(), md.positions.data(), n * sizeof(Vec3));
+    m.indices.assign(md.indices.begin(), md.indices.end());
+    if (md.normals.size() == md.positions.size() && !md.normals.empty()) {
+        m.normals.resize(n);
+        std::memcpy(m.normals.data(), md.normals.data(), n * sizeof(Vec3));
+    }
+    return m;
+}
+
+TriangleMesh checked_mesh(ShapeBuild& b) {
+    const ShapeDesc& s = b.shape;
+    const std::string& ptr = b.ptr;
+    const MeshData& md = s.mesh;
+    if (!s.file.empty()) {
+        if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty()) {
+            b.fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
+        }
+        if (!b.files_allowed()) b.fail(ptr + "/file", "mesh files are disabled here");
+        try {
+            return triangles(s, b.base_dir());
+        } catch (const std::exception& e) {
+            b.fail(ptr + "/file", e.what());
+        }
+    }
+    const std::string place = b.place();
+    if (md.positions.empty() || md.positions.size() % 3 != 0) {
+        b.fail(ptr + "/positions", "expected a flat array of 3n numbers (x0, y0, z0, x1, ...)");
+    }
+    if (md.indices.empty() || md.indices.size() % 3 != 0) {
+        b.fail(ptr + "/indices", "expected a flat array of 3n vertex indices");
+    }
+    const std::size_t n = md.num_vertices();
+    TriangleMesh m = triangles(s, b.base_dir());
+    for (std::size_t i = 0; i < n; ++i) {
+        if (!is_finite(m.positions[i])) {
+            b.fail(place, "position " + std::to_string(i) + " is not finite");
+        }
+    }
+    for (std::size_t i = 0; i < m.indices.size(); ++i) {
+        if (m.indices[i] >= n) {
+            b.fail(ptr + "/indices/" + std::to_string(i),
+                   detail::int_range_message(m.indices[i], 0, std::int64_t(n) - 1));
+        }
+    }
+    if (!md.normals.empty() && md.normals.size() != md.positions.size()) {
+        b.fail(ptr + "/normals", "expected one normal per position (" + std::to_string(n) +
+                                     "), got " + std::to_string(md.normals.size() / 3));
+    }
+    for (std::size_t i = 0; i < m.normals.size(); ++i) {
+        Vec3& v = m.normals[i];
+        if (!is_finite(v)) b.fail(place, "normal " + std::to_string(i) + " is not finite");
+        const float l = glm::length(v);
+        if (!(l > 0.f)) b.fail(ptr + "/normals", "contains a zero normal");
+        v /= l;
+    }
+    return m;
+}
+
+void build(ShapeBuild& b) {
+    TriangleMesh m = checked_mesh(b);
+    b.reserve_triangles(m.num_triangles(), b.ptr);
+    b.add_triangles(std::move(m), Vec3(0.f));
+}
+
+}  // namespace
+
+extern const ShapeKindDef kMeshKind{
+    ShapeKind::Mesh,
+    "mesh",
+    "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`) or from a "
+    "`file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals kept when every "
+    "corner has one) or `.ply` (ascii or binary_little_endian; vertex x y z [nx ny nz], face "
+    "vertex_indices lists, fan-triangulated)",
+    {{"positions", FieldType::MeshArrays, false, &ShapeDesc::mesh, "-",
+      "flat arrays: `positions` [x0, y0, z0, x1, ...], `indices` (3 per triangle), optional "
+      "`normals` (one per position: smooth shading)"},
+     {"file", FieldType::Path, false, &ShapeDesc::file, "-",
+      "a mesh file (instead of the arrays), relative to the scene file"}},
+    build,
+    triangles,
+    nullptr};
+
+}  // namespace facet::render
