@@ -28,7 +28,7 @@ else:
     _all = (hooks, native, units, pixels, properties, materials, export, importer, final,
             viewport, engine, plot, ui, operators)
 
-import bpy  # noqa: E402
+import bpy  # noqa: E402,F401  (the marker the reload test above looks for)
 
 # Registered in this order, unregistered in reverse.
 _modules = (properties, engine, operators, ui)
