@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import materials, units
+from . import hooks, materials, units
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
 DEFAULT_MATERIAL_NAME = "facet_default"
@@ -216,10 +216,6 @@ def _light_data(obj, matrix, problems):
     return [], []
 
 
-# Counters for tests: meshes converted by mesh_arrays (the viewport re-exports only changed ones).
-stats = {"meshes": 0}
-
-
 def export_scene(depsgraph, camera=None, mesh_cache=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
@@ -273,7 +269,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
         key = obj.name if not inst.is_instance else (obj.name, "instance")
         if key not in mesh_cache:
             mesh_cache[key] = mesh_arrays(obj)
-            stats["meshes"] += 1
+            hooks.export_stats["meshes"] += 1
         arrays = mesh_cache[key]
         if arrays is None:
             problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)

@@ -19,8 +19,8 @@ from . import export, materials, properties, units
 
 PLANE_DISPLAY_HALF_SIZE = 50.0  # the infinite plane is drawn as a square of this half size
 MAX_DISPLAY_SUBDIVISIONS = 4    # icospheres are drawn at most this fine
-MAX_DISPLAY_GRID = 128
-CLIP_START, CLIP_END = 1e-3, 1e7  # the imported camera's clipping (Facet has none)          # grids are drawn with at most this many cells per side
+MAX_DISPLAY_GRID = 128          # grids are drawn with at most this many cells per side
+CLIP_START, CLIP_END = 1e-3, 1e7  # the imported camera's clipping (Facet has none)
 
 
 def _json(value):

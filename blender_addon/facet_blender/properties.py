@@ -51,9 +51,9 @@ def prop_name(model, param):
 
 
 def _tag_material(settings, context):
-    """Editing a Facet material setting tags its material: without it the evaluated copy the
-    viewport and export read kept the old settings (measured: Material.facet.source set from
-    Python stayed stale in evaluated_depsgraph_get())."""
+    """Editing a Facet material setting tags its material: without the tag, the evaluated copy
+    that the viewport and the exporter read keeps the old settings (evaluated_depsgraph_get()
+    does not see a Material.facet value set from Python; tests/blender/test_materials.py)."""
     settings.id_data.update_tag()
 
 
@@ -61,15 +61,15 @@ def _make_material_props():
     global MODELS
     MODELS = native.models()
     ann = {
-        "source": EnumProperty(update=_tag_material, 
-            name="Source", default="NODES",
+        "source": EnumProperty(
+            update=_tag_material, name="Source", default="NODES",
             items=[("NODES", "Shader Nodes", "convert the Cycles node tree (Diffuse, Glossy, "
                     "Principled BSDF, Emission) or the viewport colour"),
                    ("FACET", "Facet Model", "a model of Facet's core, by its own parameters")]),
-        "model": EnumProperty(update=_tag_material, name="Model", items=[(m["name"], m["name"], m["summary"])
-                                                   for m in MODELS]),
-        "emission": FloatVectorProperty(update=_tag_material, name="Emission", subtype='COLOR', size=3, min=0.0,
-                                        default=(0.0, 0.0, 0.0),
+        "model": EnumProperty(update=_tag_material, name="Model",
+                              items=[(m["name"], m["name"], m["summary"]) for m in MODELS]),
+        "emission": FloatVectorProperty(update=_tag_material, name="Emission", subtype='COLOR',
+                                        size=3, min=0.0, default=(0.0, 0.0, 0.0),
                                         description="emitted radiance (W sr^-1 m^-2)"),
         "two_sided": BoolProperty(update=_tag_material, name="Two Sided", default=True,
                                   description="the back reflects like the front; off: black"),
@@ -79,19 +79,19 @@ def _make_material_props():
             name = prop_name(m["name"], p["name"])
             d = _parse_default(p["type"], p["default"])
             desc = p["doc"]
+            common = dict(update=_tag_material, name=p["name"], description=desc)
             if p["type"] == "colour":
-                ann[name] = FloatVectorProperty(update=_tag_material, name=p["name"], subtype='COLOR', size=3,
-                                                default=d or (0.0, 0.0, 0.0), description=desc,
-                                                soft_min=0.0, soft_max=1.0)
+                ann[name] = FloatVectorProperty(subtype='COLOR', size=3,
+                                                default=d or (0.0, 0.0, 0.0), soft_min=0.0,
+                                                soft_max=1.0, **common)
             elif p["type"] == "number":
-                ann[name] = FloatProperty(update=_tag_material, name=p["name"], default=d or 0.0, description=desc,
-                                          precision=4)
+                ann[name] = FloatProperty(default=d or 0.0, precision=4, **common)
             elif p["type"] == "bool":
-                ann[name] = BoolProperty(update=_tag_material, name=p["name"], default=bool(d), description=desc)
+                ann[name] = BoolProperty(default=bool(d), **common)
             else:
-                ann[name] = StringProperty(update=_tag_material, name=p["name"], default=d or "", description=desc)
-            ann[name + "__set"] = BoolProperty(update=_tag_material, 
-                name="Set %s" % p["name"], default=False,
+                ann[name] = StringProperty(default=d or "", **common)
+            ann[name + "__set"] = BoolProperty(
+                update=_tag_material, name="Set %s" % p["name"], default=False,
                 description="pass %s to the core (unset: the core's default)" % p["name"])
     return type("FacetMaterialSettings", (bpy.types.PropertyGroup,), {"__annotations__": ann})
 

@@ -1,10 +1,12 @@
 """Rendered shading in the 3D view: a worker thread renders progressively, view_draw only
 uploads the latest finished pass and draws it.
 
-- view_update (main thread) exports the evaluated depsgraph and posts it to the worker;
-  view_draw posts the same scene data with a new camera when the view or the region size
-  changed (Blender calls only view_draw for zoom, orbit and resize). A new post cancels the
-  running session within a pass; the worker builds the new scene (GIL released) and renders.
+- The engine keeps one ViewportSession while the 3D view shows Facet and forwards its
+  view_update and view_draw to it. view_update (main thread) exports the evaluated depsgraph
+  and posts it to the worker; view_draw posts the same scene data with a new camera when the
+  view or the region size changed (Blender calls only view_draw for zoom, orbit and resize).
+  A new post cancels the running session within a pass; the worker builds the new scene (GIL
+  released) and renders.
 - The worker never touches the engine or any bpy object: it publishes images under a lock.
   view_draw asks for another redraw (tag_redraw) while the render is still refining. stop()
   joins the worker; it is called from the engine's __del__ (which may run twice) and before
@@ -13,9 +15,7 @@ uploads the latest finished pass and draws it.
 import threading
 import traceback
 
-import numpy as np
-
-from . import export, native
+from . import export, hooks, native, pixels, units
 
 
 def view_camera(context):
@@ -27,14 +27,10 @@ def view_camera(context):
     fwd = [-m[i][2] for i in range(3)]
     up = [m[i][1] for i in range(3)]
     w11 = rv3d.window_matrix[1][1]
-    fov = export.units.fov_from_projection(w11) if rv3d.is_perspective and w11 > 0 else 50.0
+    fov = units.fov_from_projection(w11) if rv3d.is_perspective and w11 > 0 else 50.0
     fov = min(max(fov, 1e-3), 179.0)
     return {"position": pos, "look_at": [p + f for p, f in zip(pos, fwd)], "up": up,
             "fov": fov, "width": width, "height": height}
-
-
-# Counters for tests: view_draw calls that drew an image, images published by the worker.
-stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
 
 
 def forget_changed(mesh_cache, depsgraph):
@@ -72,6 +68,23 @@ class ViewportSession:
         self._thread.start()
 
     # --- main thread -----------------------------------------------------------------------
+
+    def view_update(self, engine, context, depsgraph):
+        """The engine's view_update: exports the changed scene and restarts the render."""
+        try:
+            forget_changed(self.mesh_cache, depsgraph)
+            data, problems = export.export_scene(depsgraph, camera=view_camera(context),
+                                                 mesh_cache=self.mesh_cache)
+            data["render"]["spp"] = depsgraph.scene.facet.viewport_spp
+            self.update(data)
+        except Exception as e:
+            traceback.print_exc()
+            engine.update_stats("", "Facet: %s" % e)
+
+    def view_draw(self, engine, context, depsgraph):
+        """The engine's view_draw: restarts when the view changed, draws the latest image."""
+        self.set_camera(view_camera(context))
+        self.draw(engine, context, depsgraph.scene)
 
     def update(self, data):
         self.data = data
@@ -120,7 +133,7 @@ class ViewportSession:
             gpu.state.blend_set('ALPHA_PREMULT')
             engine.bind_display_space_shader(scene)
             draw_texture_2d(self._texture, (0, 0), context.region.width, context.region.height)
-            stats["draws"] += 1
+            hooks.viewport_stats["draws"] += 1
             engine.unbind_display_space_shader()
             gpu.state.blend_set('NONE')
         if busy:
@@ -129,7 +142,6 @@ class ViewportSession:
     # --- worker thread ---------------------------------------------------------------------
 
     def _run(self):
-        from .engine import to_blender_rect
         while True:
             with self._lock:
                 while self._pending is None and not self._quit:
@@ -137,7 +149,7 @@ class ViewportSession:
                 if self._quit:
                     return
                 data, self._pending = self._pending, None
-            stats["restarts"] += 1
+            hooks.viewport_stats["restarts"] += 1
             try:
                 scene, _ = native.build(data, name="viewport")
                 rs = data["render"]
@@ -146,13 +158,13 @@ class ViewportSession:
                                          integrator=rs["integrator"])
 
                 def on_pass(done, target, elapsed, eta):
-                    rect = to_blender_rect(session.image())
+                    rect = pixels.to_blender_rect(session.image())
                     h, w = data["camera"]["height"], data["camera"]["width"]
                     with self._lock:
                         self._image = rect.reshape(h, w, 4)
                         self._version += 1
-                        stats["images"] += 1
-                        stats["mean"] = float(rect[:, :3].mean())
+                        hooks.viewport_stats["images"] += 1
+                        hooks.viewport_stats["mean"] = float(rect[:, :3].mean())
                         return self._pending is None and not self._quit
 
                 session.render(on_pass)

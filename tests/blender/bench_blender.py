@@ -9,7 +9,7 @@
    bounces, tests/blender/cycles_scene.py's exact conversion and settings), Facet and Cycles
    on the same Blender scene in the same run, interleaved, `reps` repetitions (default 3):
    median wall time of bpy.ops.render.render and the ratio; Facet's Blender-side overhead
-   (export + build + pixel upload into the render result, engine.last_timings) as a share of
+   (export + build + pixel upload into the render result, hooks.last_timings) as a share of
    its F12 time.
 3. Time to equal error: relative RMSE against a 4096-spp Facet reference over the lower half
    of the image (where the two renderers agree within the noise: test_cycles_cornell.py; the
@@ -59,7 +59,7 @@ def export_bench():
 
 def f12(scene, engine, spp, path=None):
     """One F12: (wall seconds, image or None, Facet's phase timings)."""
-    import facet_blender.engine as eng
+    from facet_blender import hooks
     scene.render.engine = engine
     scene.facet.spp = spp
     scene.cycles.samples = spp
@@ -69,7 +69,7 @@ def f12(scene, engine, spp, path=None):
     bpy.ops.render.render(write_still=bool(path))
     dt = time.perf_counter() - t0
     img = cs.load_exr(path).astype(np.float64) if path else None
-    return dt, img, dict(eng.last_timings) if engine == 'FACET' else {}
+    return dt, img, dict(hooks.last_timings) if engine == 'FACET' else {}
 
 
 def main():

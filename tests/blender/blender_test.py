@@ -23,7 +23,6 @@ def enable_addon():
     if mod is None or not hasattr(bpy.types, "FacetRenderEngine") and "FACET" not in [
             e.bl_idname for e in bpy.types.RenderEngine.__subclasses__()]:
         raise RuntimeError("the Facet addon did not register")
-    import facet_blender.engine
     return mod
 
 
@@ -69,9 +68,9 @@ def check(cond, msg):
 def render(scene=None, path=None):
     """F12 on the scene; returns (image float32 (h, w, 3) top row first, problems). Raises
     RuntimeError when the engine reported an error (Blender turns report ERROR into that)."""
-    import facet_blender.engine as eng
+    from facet_blender import hooks
     scene = scene or bpy.context.scene
-    eng.last_image = None
+    hooks.last_image = None
     if path:
         scene.render.filepath = path
         scene.render.image_settings.file_format = 'OPEN_EXR'
@@ -79,7 +78,7 @@ def render(scene=None, path=None):
         scene.render.image_settings.color_mode = 'RGB'
         scene.render.image_settings.exr_codec = 'ZIP'
     bpy.ops.render.render(write_still=bool(path))
-    return eng.last_image, list(eng.last_problems)
+    return hooks.last_image, list(hooks.last_problems)
 
 
 def load_exr(path):

@@ -478,9 +478,9 @@ def render(scene, engine, path, seed=None):
     bpy.ops.render.render(write_still=True)
     dt = time.perf_counter() - t0
     if engine == 'FACET':
-        import facet_blender.engine as eng
-        if eng.last_problems and any("error" in p.lower() for p in eng.last_problems):
-            raise RuntimeError("; ".join(eng.last_problems))
+        from facet_blender import hooks
+        if hooks.last_problems and any("error" in p.lower() for p in hooks.last_problems):
+            raise RuntimeError("; ".join(hooks.last_problems))
     if not os.path.exists(path):
         raise RuntimeError("%s wrote no image to %s" % (engine, path))
     return load_exr(path).astype(np.float64), dt

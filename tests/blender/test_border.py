@@ -23,7 +23,7 @@ def main():
     rd.border_min_y, rd.border_max_y = 0.3, 0.8
     path = os.path.join(out, "border.exr")
     part, problems = bt.render(scene, path)
-    from facet_blender.engine import border_rect
+    from facet_blender.pixels import border_rect
     x, y, w, h = border_rect(rd, 160, 90)
     bt.check(part is not None and part.shape == (h, w, 3),
              "rendered the %dx%d region at (%d, %d) (%s)" % (w, h, x, y, problems))

@@ -299,15 +299,15 @@ def main():
     for name, m in MATERIALS:
         if m["model"] != "mirror":
             bpy.data.materials[name].facet.source = 'NODES'
-    import facet_blender.engine as eng
+    from facet_blender import hooks
     from facet_blender import materials
     conv = materials.convert(bpy.data.materials["ggx_0.3"]).data
     bt.check(conv["model"] == "ggx" and conv["alpha"] != 0.3 and abs(conv["alpha"] - 0.3) < 1e-6,
              "F12 now converts the Glossy node (alpha = float32 roughness^2 = %r)" % conv["alpha"])
     a, b = (cs.render(scene, 'FACET', os.path.join(out, "sweep_sun_facet_nodes_%d.exr" % s),
                       s)[0] for s in (1, 2))
-    bt.check(not [p for p in eng.last_problems if "material" in p],
-             "the Diffuse and Glossy nodes convert without a report (%s)" % eng.last_problems)
+    bt.check(not [p for p in hooks.last_problems if "material" in p],
+             "the Diffuse and Glossy nodes convert without a report (%s)" % hooks.last_problems)
     r = grey(ref_f)
     mirrors = np.isin(idx_px, [k for k, (_, m) in enumerate(MATERIALS) if m["model"] == "mirror"])
     z = cs.block_z((a, b), (r, r), BLOCK, keep=keep & ~mirrors)[0]

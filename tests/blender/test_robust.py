@@ -47,9 +47,9 @@ def case_zero_area():
     mesh_object("Degenerate", [(0, 0, 1.5), (1, 0, 1.5), (2, 0, 1.5), (0, 1, 1.5)],
                 [(0, 1, 2), (0, 1, 3)])
     err = render_error()
-    import facet_blender.engine as eng
-    bt.check(err is None and eng.last_image is not None and np.isfinite(eng.last_image).all(),
-             "zero-area face: renders (problems: %s)" % eng.last_problems)
+    from facet_blender import hooks
+    bt.check(err is None and hooks.last_image is not None and np.isfinite(hooks.last_image).all(),
+             "zero-area face: renders (problems: %s)" % hooks.last_problems)
 
 
 def case_no_lights():
@@ -74,9 +74,9 @@ def case_unsupported_node():
     mix = nt.nodes.new("ShaderNodeMixShader")
     nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     err = render_error()
-    import facet_blender.engine as eng
-    msgs = [p for p in eng.last_problems if "Material" in p and "Mix Shader" in p]
-    bt.check(err is None and eng.last_image is not None and msgs,
+    from facet_blender import hooks
+    msgs = [p for p in hooks.last_problems if "Material" in p and "Mix Shader" in p]
+    bt.check(err is None and hooks.last_image is not None and msgs,
              "unsupported node: renders and names material and node: %s" % msgs)
 
 
@@ -84,9 +84,9 @@ def case_empty_mesh():
     fresh()
     mesh_object("Empty", [], [])
     err = render_error()
-    import facet_blender.engine as eng
-    msgs = [p for p in eng.last_problems if "Empty" in p]
-    bt.check(err is None and eng.last_image is not None and msgs,
+    from facet_blender import hooks
+    msgs = [p for p in hooks.last_problems if "Empty" in p]
+    bt.check(err is None and hooks.last_image is not None and msgs,
              "empty mesh: renders and says so: %s" % msgs)
 
 
@@ -94,21 +94,21 @@ def case_cancel():
     scene = fresh()
     scene.render.resolution_x, scene.render.resolution_y = 640, 360
     scene.facet.spp = 1 << 16  # minutes of work
-    import facet_blender.engine as eng
+    from facet_blender import hooks
     calls = []
 
     def hook():
         calls.append(time.perf_counter())
         return len(calls) >= 2  # Esc after the second pass
-    eng.test_break_hook = hook
+    hooks.test_break = hook
     t0 = time.perf_counter()
     try:
         err = render_error()
     finally:
-        eng.test_break_hook = None
+        hooks.test_break = None
     dt = time.perf_counter() - t0
-    img = eng.last_image
-    bt.check(err is None and eng.last_cancelled, "cancelled without an error")
+    img = hooks.last_image
+    bt.check(err is None and hooks.last_cancelled, "cancelled without an error")
     bt.check(dt < 20.0, "stopped within a pass or so: %.2f s after the start" % dt)
     bt.check(img is not None and np.isfinite(img).all() and img.max() > 0.0,
              "the image keeps the passes rendered")

@@ -38,12 +38,12 @@ def screenshot(name):
 
 
 def wait_images(n_more, timeout=30.0):
-    from facet_blender import viewport
-    target = viewport.stats["images"] + n_more
+    from facet_blender import hooks
+    target = hooks.viewport_stats["images"] + n_more
     t0 = time.time()
 
     def poll():
-        if viewport.stats["images"] >= target and viewport.stats["draws"] > 0:
+        if hooks.viewport_stats["images"] >= target and hooks.viewport_stats["draws"] > 0:
             return None
         if time.time() - t0 > timeout:
             return None
@@ -56,7 +56,7 @@ state = {}
 
 def step():
     try:
-        from facet_blender import viewport
+        from facet_blender import hooks
         phase = state.get("phase", 0)
         if phase == 0:
             bt.enable_addon()
@@ -69,30 +69,30 @@ def step():
             state["phase"] = 1
             return 0.5
         if phase == 1:  # wait for a few passes to be drawn
-            if (viewport.stats["draws"] < 3 or viewport.stats["images"] < 2) and \
-                    time.time() - state["t"] < 40:
+            vstats = hooks.viewport_stats
+            if (vstats["draws"] < 3 or vstats["images"] < 2) and time.time() - state["t"] < 40:
                 return 0.3
-            bt.check(viewport.stats["draws"] > 0, "view_draw drew Facet images: %s" % viewport.stats)
+            bt.check(vstats["draws"] > 0, "view_draw drew Facet images: %s" % vstats)
             time.sleep(1.0)
             state["a"] = screenshot("viewport_a.png")
             a = state["a"]
-            bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f) %s" % (a.std(), viewport.stats))
-            state["restarts"] = viewport.stats["restarts"]
-            from facet_blender import export
-            state["meshes"] = export.stats["meshes"]
+            bt.check(a.std() > 0.01, "the screenshot is not empty (std %.3f) %s"
+                     % (a.std(), hooks.viewport_stats))
+            state["restarts"] = hooks.viewport_stats["restarts"]
+            state["meshes"] = hooks.export_stats["meshes"]
             bpy.data.objects["Cube"].location.x += 1.5
             state["t"] = time.time()
             state["phase"] = 2
             return 1.0
         if phase == 2:
-            if viewport.stats["restarts"] <= state["restarts"] and time.time() - state["t"] < 30:
+            if (hooks.viewport_stats["restarts"] <= state["restarts"]
+                    and time.time() - state["t"] < 30):
                 return 0.3
-            bt.check(viewport.stats["restarts"] > state["restarts"],
+            bt.check(hooks.viewport_stats["restarts"] > state["restarts"],
                      "moving the cube restarted the render")
-            from facet_blender import export
-            bt.check(export.stats["meshes"] == state["meshes"],
+            bt.check(hooks.export_stats["meshes"] == state["meshes"],
                      "moving the cube re-exported no mesh (%d before, %d after)"
-                     % (state["meshes"], export.stats["meshes"]))
+                     % (state["meshes"], hooks.export_stats["meshes"]))
             time.sleep(3.0)
             state["phase"] = 3
             return 0.5
@@ -109,11 +109,11 @@ def step():
             state["phase"] = 4
             return 0.5
         if phase == 4:
-            import facet_blender.engine as eng
-            if eng.preview_count[0] == 0 and time.time() - state["t"] < 30:
+            from facet_blender import hooks
+            if hooks.preview_renders == 0 and time.time() - state["t"] < 30:
                 return 0.3
-            bt.check(eng.preview_count[0] > 0, "Facet rendered material previews (%d)"
-                     % eng.preview_count[0])
+            bt.check(hooks.preview_renders > 0, "Facet rendered material previews (%d)"
+                     % hooks.preview_renders)
             from facet_blender import ui
             bt.check(bool(ui._plot) and "Material" in ui._plot[0].keys,
                      "the Facet material panel drew the lobe plot of 'Material'")

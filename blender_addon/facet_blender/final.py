@@ -1,0 +1,98 @@
+"""The final render: F12 stills, animation frames and material previews.
+
+FinalSession.render() exports the evaluated depsgraph (export.py), builds the scene with the
+core and runs a facet RenderSession on the calling thread; the binding releases the GIL while
+the core renders, and calls back (GIL held, on this thread) after each pass of about 0.25 s,
+where the session polls the engine's test_break() (Esc: the callback returns False and the
+session stops within that pass), pushes the image with update_result and updates progress and
+stats. No native thread ever holds the engine object. Errors go to report({'ERROR'}) and
+error_set(): an exception escaping RenderEngine.render() would print a traceback, save a blank
+image and still exit 0 in `blender -b`.
+"""
+import time
+import traceback
+
+from . import export, hooks, native, pixels
+
+PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
+
+
+class FinalSession:
+    """One final render of `engine` (a bpy.types.RenderEngine), for one render() call."""
+
+    def __init__(self, engine):
+        self.engine = engine
+        self.problems = []
+
+    def render(self, depsgraph):
+        hooks.final_started(self.problems)
+        try:
+            self._render(depsgraph)
+        except Exception as e:  # every error reaches the user (and makes `blender -b` fail)
+            traceback.print_exc()
+            msg = "Facet: %s" % e
+            self.problems.append(msg)
+            self.engine.report({'ERROR'}, msg)
+            self.engine.error_set(msg)
+
+    def _render(self, depsgraph):
+        engine = self.engine
+        scene = depsgraph.scene
+        t0 = time.perf_counter()
+        engine.update_stats("", "Facet | Exporting scene")
+        data, problems = export.export_scene(depsgraph)
+        if engine.is_preview:
+            hooks.preview_started()
+        for p in problems:
+            self.problems.append(p)
+            if not engine.is_preview:  # the preview scene's own materials are not the user's
+                engine.report({'WARNING'}, "Facet: " + p)
+        width, height = data["camera"]["width"], data["camera"]["height"]
+        engine.update_stats("", "Facet | Building scene")
+        fscene, warnings = native.build(data, name="blender")
+        for w in warnings:
+            self.problems.append(w)
+            engine.report({'WARNING'}, "Facet: " + w)
+        rs = data["render"]
+        if engine.is_preview:
+            rs["spp"] = min(rs["spp"], PREVIEW_SPP)
+        threads = scene.render.threads if scene.render.threads_mode == 'FIXED' else 0
+        x, y, w, h = pixels.border_rect(scene.render, width, height)
+        region = None if (w, h) == (width, height) else pixels.core_region(x, y, w, h, height)
+        session = native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
+                                 max_depth=rs["max_depth"], integrator=rs["integrator"],
+                                 time_budget=rs.get("time_budget", 0.0), region=region)
+        t_export = time.perf_counter() - t0
+        # With a border, Blender's render rectangle is the border: result coordinates are
+        # relative to it.
+        result = engine.begin_result(0, 0, w, h)
+        combined = result.layers[0].passes["Combined"]
+
+        upload = [0.0]
+
+        def on_pass(done, target, elapsed, eta):
+            if engine.test_break() or (hooks.test_break is not None and hooks.test_break()):
+                return False
+            tu = time.perf_counter()
+            combined.rect.foreach_set(pixels.to_blender_rect(session.image()))
+            engine.update_result(result)
+            upload[0] += time.perf_counter() - tu
+            engine.update_progress(done / max(1, target))
+            engine.update_stats("", "Facet | Sample %d/%d | Time %.1f s | Remaining %.1f s"
+                                % (done, target, elapsed, eta))
+            return True
+
+        tr = time.perf_counter()
+        finished = session.render(on_pass)
+        t_render = time.perf_counter() - tr
+        tu = time.perf_counter()
+        img = session.image()
+        combined.rect.foreach_set(pixels.to_blender_rect(img))
+        engine.end_result(result)
+        upload[0] += time.perf_counter() - tu
+        hooks.final_finished(img, not finished,
+                             dict(export_build=t_export, render=t_render, upload=upload[0],
+                                  total=time.perf_counter() - t0))
+        engine.update_stats("", "Facet | %s in %.2f s (export and build %.2f s)"
+                            % ("Done" if finished else "Cancelled",
+                               time.perf_counter() - t0, t_export))
