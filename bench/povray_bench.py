@@ -9,9 +9,10 @@ Usage: bench/povray_bench.py [POVRAY_FACET] [--reps N] [--size WxH] [--threads T
 With --facet, a second table: the same JSON scene rendered by `facet export-pov` + povray-facet
 and by the standalone renderer `facet render --integrator direct --spp 1` at matched settings
 (one ray through each pixel centre, the same lights, the same threads; the cross-check tests show
-the two images equal within 1e-3): tests/povray/export_coverage.json (3 delta lights, every
-shape kind and model, mirrors) and the Cornell box with its light as 16 x 16 cells (povray-facet:
-export-pov --area-grid 16; Facet: the same cells as spot lights, crosscheck.quadrature_twin).
+the two images equal within 1e-3): tests/support/scenes/export_coverage.json (3 delta lights,
+every shape kind and model, mirrors) and the Cornell box with its light as 16 x 16 cells
+(povray-facet: export-pov --area-grid 16; Facet: the same cells as spot lights,
+facet_testsupport.quadrature.quadrature_twin).
 Wall time of each whole process (parse/build included), interleaved, medians and the median of
 the per-repetition ratios povray-facet / facet.
 
@@ -86,16 +87,17 @@ def timed(args, cwd):
 def vs_facet(binary, facet, reps, size, threads):
     """povray-facet (exported scene) against the standalone renderer, same run, interleaved."""
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-    sys.path.insert(0, os.path.join(root, "tests", "povray"))
-    import crosscheck  # the quadrature twin of an emitter (spot lights at the cell centres)
+    sys.path.insert(0, os.path.join(root, "tests", "support", "python"))
+    from facet_testsupport.quadrature import quadrature_twin  # spot lights at the cell centres
     w, h = size
     cases = []
     with tempfile.TemporaryDirectory() as tmp:
-        cov = json.load(open(os.path.join(root, "tests", "povray", "export_coverage.json")))
+        cov = json.load(open(os.path.join(root, "tests", "support", "scenes",
+                                          "export_coverage.json")))
         cb = json.load(open(os.path.join(root, "scenes", "cornell_box.json")))
         for name, scene, pov_scene, grid in (
                 ("export_coverage (3 delta lights)", cov, cov, None),
-                ("cornell_box, light as 16x16 cells", crosscheck.quadrature_twin(cb, 16), cb, 16)):
+                ("cornell_box, light as 16x16 cells", quadrature_twin(cb, 16), cb, 16)):
             for sc in (scene, pov_scene):
                 sc["camera"]["width"], sc["camera"]["height"] = w, h
             js = os.path.join(tmp, f"c{len(cases)}.json")

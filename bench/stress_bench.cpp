@@ -16,7 +16,7 @@
 #include <string>
 #include <vector>
 
-#include "stress_scenes.h"
+#include "facet/testsupport/stress_scenes.h"
 
 namespace fs = facet::stress;
 using facet::Vec3;

@@ -2,11 +2,12 @@
 # Gets Debian's POV-Ray 3.7.0.10 source with `apt-get source` through a private apt
 # configuration (a deb-src entry for the mirror of /etc/apt/sources.list.d/debian.sources, with
 # its own lists and cache under WORK; the system's apt state is never written), unpacks it with
-# Debian's patch series applied (dpkg-source), applies Facet's patch, and configures it the way
-# debian/rules does. Usage: prepare_source.sh WORK PATCH BRIDGE_DIR
+# Debian's patch series applied (dpkg-source), applies Facet's series (PATCH_DIR/*.patch, in
+# name order, by apply_series.sh), and configures it the way debian/rules does.
+# Usage: prepare_source.sh WORK PATCH_DIR BRIDGE_DIR
 # Re-running starts from a fresh unpack (the download is kept).
 set -euo pipefail
-work="$1" patch_file="$2" bridge_dir="$3"
+work="$1" patch_dir="$2" bridge_dir="$3"
 version="1:3.7.0.10-2"
 mkdir -p "$work"
 work="$(cd "$work" && pwd)"
@@ -44,8 +45,10 @@ fi
 src="$work/src"
 rm -rf "$src"
 dpkg-source -x "$dl/povray_3.7.0.10-2.dsc" "$src" > "$work/unpack.log"
-echo "povray-facet: applying $(basename "$patch_file")"
-patch -p1 -s -d "$src" < "$patch_file"
+patches=()
+while IFS= read -r p; do patches+=("$p"); done < <(find "$patch_dir" -maxdepth 1 -name '*.patch' | LC_ALL=C sort)
+[ "${#patches[@]}" -gt 0 ] || { echo "povray-facet: no *.patch in $patch_dir" >&2; exit 1; }
+"$(dirname "$0")/apply_series.sh" "$src" "${patches[@]}"
 
 # --- configure as debian/rules does ----------------------------------------------------------
 cd "$src"

@@ -13,8 +13,8 @@ import tempfile
 import zlib
 
 HERE = os.path.dirname(os.path.abspath(__file__))
-sys.path.insert(0, os.path.join(HERE, "..", "tests", "povray"))
-from povtest import read_png  # noqa: E402
+sys.path.insert(0, os.path.join(HERE, "..", "tests", "support", "python"))
+from facet_testsupport.png import read_png  # noqa: E402
 
 SCENE = os.path.join(HERE, "..", "scenes", "pov", "showcase.pov")
 

@@ -10,7 +10,7 @@
 #include "facet/render/light.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
-#include "render_test_util.h"
+#include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
 using facet::kPi;

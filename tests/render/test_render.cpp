@@ -7,7 +7,7 @@
 
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
-#include "render_test_util.h"
+#include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
 using facet::Rgb;

@@ -8,7 +8,7 @@
 
 #include <cstdlib>
 
-#include "stress_scenes.h"
+#include "facet/testsupport/stress_scenes.h"
 
 namespace fs = facet::stress;
 

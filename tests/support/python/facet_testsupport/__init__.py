@@ -1,0 +1,1 @@
+"""Helpers shared by tests/, bench/ and povray_patch/ (see tests/support/CMakeLists.txt)."""
