@@ -1,4 +1,4 @@
-// The only file that talks to Embree (shared/STYLE.md): RAII owners for the device and the
+// The only file that talks to Embree (docs/architecture.md): RAII owners for the device and the
 // scene, the error callback installed right after the device is created, triangle meshes as
 // Embree triangle geometry, exact spheres and discs as one Embree user geometry solved in
 // double precision, and infinite planes tested analytically beside Embree (an infinite plane has
@@ -223,9 +223,9 @@ void packet_valid(int (&valid)[8], std::size_t n, const bool* active) {
 }
 
 // Embree's copy of a packet: the rays' arrays, and the fields Facet never varies (tnear 0, time
-// 0, every mask bit, no flags). Field by field in one loop, which GCC turns into 16-byte moves
-// (a memcpy of the 384 bytes became `rep movsq`, whose start-up cost was 9-19% of the samples of
-// the packet queries).
+// 0, every mask bit, no flags). Field by field in one loop, which GCC turns into 16-byte moves;
+// a memcpy of the 384 bytes compiles to `rep movsq`, whose start-up cost is high at this size
+// (profile in docs/performance.md, "Renderer").
 void copy_rays(RTCRay8& r, const RayPacket& rays) {
     for (std::size_t k = 0; k < 8; ++k) {
         r.org_x[k] = rays.ox[k];
