@@ -270,10 +270,10 @@ void Scene::Impl::build(const std::string& name) {
     }
     rtcSetDeviceErrorFunction(be.device.get(), embree_error, &be);
     be.scene.reset(rtcNewScene(be.device.get()));
-    // Robust: no accuracy-reducing shortcuts in the triangle test (no cracks between the
-    // Cornell box's walls). Measured: RTC_SCENE_FLAG_NONE renders the Cornell box 11% faster
-    // but 35 of 170k rays aimed at its edges escape (test Geometry.CornellBoxIsWatertight). High
-    // build quality: static scenes are traced far more than built.
+    // Robust: no accuracy-reducing shortcuts in the triangle test. Without it rays aimed at the
+    // Cornell box's edges escape between its walls (test Geometry.CornellBoxIsWatertight); its
+    // speed cost is in docs/performance.md, "Renderer". High build quality: static scenes are
+    // traced far more than built.
     rtcSetSceneFlags(be.scene.get(), RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(be.scene.get(), RTC_BUILD_QUALITY_HIGH);
 

@@ -441,9 +441,9 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
     // The column half of the pixel-seed hash (Sampler::column_seed_hash) is the same in every
     // row: it is computed once per tile for the packets' first kSeedColumns pixels (a
-    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles). At
-    // 1-sample passes every packet of every pass rehashed both halves (callgrind: ~70
-    // instructions).
+    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles), so that
+    // 1-sample passes do not hash both halves for every packet of every pass (instruction
+    // counts: docs/performance.md, "Library").
     constexpr int kSeedColumns = 64;
     std::array<std::uint32_t, kSeedColumns> column_hash;
     const int gx_end = std::min(width, job.x1 + (int(kLanes) - job.x1 % int(kLanes)) % int(kLanes));
