@@ -1,6 +1,6 @@
 #!/usr/bin/python3
 """facet-farm against `facet render` on the same scene in the same run, per-task costs, and the
-scaling model of the README's farm section.
+scaling model of docs/performance.md ("Farm").
 
   PYTHONPATH=build/core/python /usr/bin/python3 bench/farm_bench.py [--spp 16] [--reps 3]
 

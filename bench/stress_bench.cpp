@@ -1,7 +1,7 @@
 // The longer scene-level stress run of issue 12 (the CTest test is
-// tests/render/test_scene_stress.cpp; both draw their scenes from tests/render/stress_scenes.h).
-// Over the stated ranges — scene scale 1e-8 .. 1e9, coordinates up to |1e12| (README, "Scene
-// scale"), offsets up to 1e4 scene sizes from the origin (the README's quantisation limit) —
+// tests/render/test_scene_stress.cpp; both draw their scenes from tests/support/include/facet/testsupport/stress_scenes.h).
+// Over the stated ranges — scene scale 1e-8 .. 1e9, coordinates up to |1e12| (docs/architecture.md,
+// "Scene scale"), offsets up to 1e4 scene sizes from the origin (its quantisation limit) —
 // it renders every furnace material of stress_scenes.h and the grazing-light scene (coincident
 // floors, sliver and degenerate triangles — the slivers at the origin only: offset, float
 // quantises them to zero area) with lights 1e-7 .. 1e-2 rad above grazing, with the
@@ -43,7 +43,8 @@ int main(int argc, char** argv) {
     std::vector<Placement> placements;
     for (float scale : {1e-8f, 1e-4f, 1.f, 1e4f, 1e9f}) {
         placements.push_back({scale, Vec3(0.f)});
-        // 1e4 scene sizes away (the README's limit for float quantisation), within |1e12|.
+        // 1e4 scene sizes away (the limit for float quantisation in docs/architecture.md), within
+        // |1e12|.
         const float off = std::min(1e4f * scale, 0.9e12f);
         placements.push_back({scale, Vec3(off, -0.5f * off, 0.25f * off)});
     }
@@ -74,8 +75,8 @@ int main(int argc, char** argv) {
                     s = fs::render_stats(d, std::max(1, spp / 4));
                 } catch (const facet::render::SceneError& e) {
                     // Away from the origin float coordinates quantise the slivers to zero
-                    // area; build_scene then rejects the mesh naming it (README, "Scene
-                    // scale": features below 1e-4 of their distance from the origin).
+                    // area; build_scene then rejects the mesh naming it (docs/architecture.md,
+                    // "Scene scale": features below 1e-4 of their distance from the origin).
                     ++rejected;
                     fmt::print("{:<46} {:>8.0e} {:>10.1e} rejected: {}\n",
                                fmt::format("grazing {:.0e} rad, {}", angle, integrator), pl.scale,

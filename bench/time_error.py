@@ -120,9 +120,8 @@ POV_SCENES = ("point_plane",)
 # Radiosity interpolates a cache of irradiance samples, so its error does not fall as a Monte
 # Carlo estimate's would: each rung tightens every source of bias together (sample density,
 # rays per sample, bounces, pixel-centre vs pixel-area, the light quadrature). Cost grows
-# steeply with count and 1/error_bound (measured with the machine's load average near 11, at
-# 128 x 128: 50,1.0,4 no AA 3.6 s; 200,0.4,8 with +R4 45 s; 400,0.25,12 without AA 208 s), so
-# the ladder stops where one render takes a few minutes.
+# steeply with count and 1/error_bound (timings in docs/performance.md, "POV-Ray as a
+# contender"), so the ladder stops where one render takes a few minutes.
 POV_RAD_SCENES = ("cornell_box",)
 POV_RAD_LADDER = [
     (50, 1.0, 4, 1, 8),

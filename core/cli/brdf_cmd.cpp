@@ -258,7 +258,7 @@ void add_brdf_commands(CLI::App& app) {
 
     CLI::App* models = brdf->add_subcommand("models", "list the models and their parameters");
     auto markdown = std::make_shared<bool>(false);
-    models->add_flag("--markdown", *markdown, "print Markdown tables (for the README)");
+    models->add_flag("--markdown", *markdown, "print Markdown tables (docs/models.md)");
     models->callback([markdown] { print_models(*markdown); });
 }
 

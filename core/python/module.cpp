@@ -61,7 +61,7 @@ PYBIND11_MODULE(_facet, m) {
     namespace py = pybind11;
     m.doc() =
         "Facet: physically based reflection models (Cohen & Wallace ch. 2) and the Facet "
-        "renderer. See the README's Python section.";
+        "renderer. See docs/python.md.";
     m.attr("__version__") = FACET_VERSION;
 
     // C++ errors -> Python exceptions with the C++ message. ParamError and SceneError (bad

@@ -1,5 +1,6 @@
 // The model table: names, parameters, defaults, ranges and the builders. This table is the
-// documentation of the models too (README tables are printed from it by `facet brdf models`).
+// documentation of the models too (docs/models.md is printed from it by
+// `facet brdf models --markdown`).
 #include "facet/registry.h"
 
 #include <algorithm>

@@ -1,4 +1,4 @@
-"""Benchmarks of the Blender side (not a test; run by hand, numbers in the README):
+"""Benchmarks of the Blender side (not a test; run by hand, numbers in docs/performance.md, "Blender"):
   blender -b --factory-startup --python tests/blender/bench_blender.py -- <cornell json> [reps]
 (with the addon installed, e.g. BLENDER_USER_SCRIPTS=build/tests/blender/user_scripts after
 `ctest -R blender.install`).

@@ -1,8 +1,8 @@
-"""README screenshots (not a test; run by hand under Xvfb):
+"""Screenshots for docs/blender.md (not a test; run by hand under Xvfb):
   xvfb-run -a -s "-screen 0 1280x800x24" blender --factory-startup <default.blend> \\
       --python tests/blender/screenshots.py -- <out dir>
 Writes render_properties.png (Render Properties with Facet chosen), engine_menu_full.png (the
-window with the Render Engine menu open, listing Facet; README: its top 500 rows as
+window with the Render Engine menu open, listing Facet; docs/blender.md shows its top 500 rows as
 engine_menu.png),
 material_panel.png (the Facet material panel with its lobe plot) and viewport.png (Rendered
 shading)."""

@@ -14,9 +14,8 @@
 // own sampler (5e4 samples) and require mean - 5 standard errors <= 1 + 2e-3.
 // Lobes with Kulla-Conty compensation get 5e-3 instead of 2e-3: their extra lobe is built from
 // a 64-node table of E (over mu, or over the stretched direction when anisotropic) with linear
-// interpolation, which over-compensates by up to ~3e-3 (measured this session: max rho 1.0032,
-// GGX 1e-3 x 10 at 89.9 degrees; with the earlier 32-node table 1.0029 for GGX alpha 0.1 at
-// normal incidence).
+// interpolation, which over-compensates by up to ~3e-3 (measured: max rho 1.0032, GGX
+// 1e-3 x 10 at 89.9 degrees).
 // Delta lobes add their reflected fraction f cos of the specular sample (found by scanning uc).
 #include <gtest/gtest.h>
 

@@ -247,8 +247,9 @@ TEST(Reflectance, EstimateBoundsAndTracksALargeError) {
 
 // Sharp GGX lobes at grazing incidence, the hardest case: within 1e-6 of the double reference
 // and the estimate never below the error (no float floor allowed: the rounding correction of the
-// nodes' directions removes the float noise that used to put it there; without it alpha = 1e-3
-// at 85 degrees, phi = 0 read 2.3e-6 off with an estimate of 1.0e-6, and this test fails).
+// nodes' directions removes the float noise that would put it there; without the correction
+// alpha = 1e-3 at 85 degrees, phi = 0 reads 2.3e-6 off with an estimate of 1.0e-6, and this
+// test fails).
 // Up to 88 degrees: beyond, the model's albedo of a sharp lobe depends on the float rounding of
 // the incident direction itself (see the header comment), so no reference is exact.
 TEST(Reflectance, SharpLobesAtGrazingIncidence) {
@@ -320,7 +321,7 @@ TEST(Reflectance, AnisotropicLobeInItsSymmetryPlanesIsFolded) {
 // float rounding of the incident direction itself. The double reference (no quadrature of
 // ours) for GGX alpha = 0.01 at 89.5 degrees and the same direction with one ulp less in x
 // (|wi| - 1: -1.0e-8, -7.0e-8) differ by ~1.2e-4, far above the tolerance: no estimate of the
-// quadrature can cover that, and the README says so.
+// quadrature can cover that, and docs/cli.md ("Limits") says so.
 TEST(Reflectance, SharpLobeAlbedoAtGrazingDependsOnTheInputRounding) {
     if (reduced_run()) GTEST_SKIP() << "slow reference";
     ref::Distribution d{ref::Dist::GGX, 0.01, 0.01};
@@ -424,8 +425,7 @@ TEST(Reflectance, AdaptiveBihemispherical) {
     EXPECT_NEAR(a.value.g, f.value.g, a.error.g + f.error.g + kFloatFloor);
 }
 
-// The default meets 1e-6 at the case (GGX alpha = 0.2, 70 degrees), where the old
-// order-32 default was 3.5e-4 off while printing 1.2e-2.
+// The default meets 1e-6 at the case (GGX alpha = 0.2, 70 degrees).
 TEST(Reflectance, GgxAt70DegreesTo1e6) {
     Material m = make_material("ggx", ParamSet{});
     const Vec3 wi = spherical_direction(float(70.0 * kPiD / 180.0), 0.f);

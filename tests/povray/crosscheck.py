@@ -4,7 +4,7 @@
 usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
 
   scene NAME [N]  scenes/NAME.json (or tests/povray/NAME.json), --area-grid N (16), exported and rendered by povray-facet at a small size, against
-               facet render --integrator direct of the same JSON (README, POV-Ray, "Cross-check")
+               facet render --integrator direct of the same JSON (docs/povray.md, "Cross-check")
   coverage     tests/support/scenes/export_coverage.json: every shape kind, model and delta light
   scenes-errors  the scenes of scenes/ that POV-Ray cannot express fail to export, each with an
                error naming the JSON path of the reason

@@ -1,7 +1,8 @@
 // The BxDF interface shared by every reflection model of the core.
 //
-// Conventions (pbrt-v4, shared/STYLE.md; they differ from Mitsuba, whose eval includes the cosine
-// and names the directions the other way round):
+// Conventions (pbrt-v4's, summarised in docs/architecture.md, "Conventions (every BxDF)"; they
+// differ from Mitsuba, whose eval includes the cosine and names the directions the other way
+// round):
 //  - All directions are in the local shading frame (facet/frame.h): z = shading normal, `wo`
 //    toward the viewer, `wi` toward the light, both unit and pointing away from the surface.
 //  - `f(wo, wi)` is the BRDF value f_r (Cohen & Wallace eq. 2.22), in 1/sr, *without* the

@@ -1,6 +1,6 @@
 // Local shading frame and the angle helpers every BxDF uses.
 //
-// Conventions (pbrt-v4 style, see shared/STYLE.md):
+// Conventions (pbrt-v4 style; docs/architecture.md, "Conventions (every BxDF)"):
 //  - In the local frame z is the shading normal n, x and y are the tangents (x = "u" direction
 //    of anisotropic models, e.g. the brushing direction of brushed aluminium).
 //  - Directions are unit vectors pointing *away* from the surface: `wo` toward the viewer,

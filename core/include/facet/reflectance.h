@@ -17,7 +17,7 @@
 //    stretched slope plane (rho, phi), rho = s tan(t A) (a Cauchy-like radial law at the lobe's
 //    slope scale s), and the domain cut exactly at the horizon of the reflected direction:
 //    rho <= rho*(phi), the positive root of (w.z = 0) (a quadratic in rho). The integrand is
-//    then smooth up to the boundary, where the old map had a kink;
+//    then smooth up to the boundary (a map over the whole hemisphere of h has a kink there);
 //  - the diffuse lobe and the compensation lobe f_ms through (mu, phi) with dw = dmu dphi, the
 //    mu panels starting at the nodes of the albedo tables (piecewise linear in mu or sqrt(mu)),
 //    one-dimensional when the integrand does not depend on phi.

@@ -22,7 +22,7 @@ Conventions:
     this process (in-process transport; only the scheduler's HTTP endpoint listens, on
     127.0.0.1) with `cores` task threads, each task rendering on 1 thread; --workers N starts
     N worker processes listening on 127.0.0.1 only (measured on the 2-core development
-    machine; see the README's farm section).
+    machine; see docs/farm.md and docs/performance.md).
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-// The only file that talks to Embree (shared/STYLE.md): RAII owners for the device and the
+// The only file that talks to Embree (docs/architecture.md): RAII owners for the device and the
 // scene, the error callback installed right after the device is created, triangle meshes as
 // Embree triangle geometry, exact spheres and discs as one Embree user geometry solved in
 // double precision, and infinite planes tested analytically beside Embree (an infinite plane has
@@ -223,9 +223,9 @@ void packet_valid(int (&valid)[8], std::size_t n, const bool* active) {
 }
 
 // Embree's copy of a packet: the rays' arrays, and the fields Facet never varies (tnear 0, time
-// 0, every mask bit, no flags). Field by field in one loop, which GCC turns into 16-byte moves
-// (a memcpy of the 384 bytes became `rep movsq`, whose start-up cost was 9-19% of the samples of
-// the packet queries).
+// 0, every mask bit, no flags). Field by field in one loop, which GCC turns into 16-byte moves;
+// a memcpy of the 384 bytes compiles to `rep movsq`, whose start-up cost is high at this size
+// (profile in docs/performance.md, "Renderer").
 void copy_rays(RTCRay8& r, const RayPacket& rays) {
     for (std::size_t k = 0; k < 8; ++k) {
         r.org_x[k] = rays.ox[k];
@@ -270,10 +270,10 @@ void Scene::Impl::build(const std::string& name) {
     }
     rtcSetDeviceErrorFunction(be.device.get(), embree_error, &be);
     be.scene.reset(rtcNewScene(be.device.get()));
-    // Robust: no accuracy-reducing shortcuts in the triangle test (no cracks between the
-    // Cornell box's walls). Measured: RTC_SCENE_FLAG_NONE renders the Cornell box 11% faster
-    // but 35 of 170k rays aimed at its edges escape (test Geometry.CornellBoxIsWatertight). High
-    // build quality: static scenes are traced far more than built.
+    // Robust: no accuracy-reducing shortcuts in the triangle test. Without it rays aimed at the
+    // Cornell box's edges escape between its walls (test Geometry.CornellBoxIsWatertight); its
+    // speed cost is in docs/performance.md, "Renderer". High build quality: static scenes are
+    // traced far more than built.
     rtcSetSceneFlags(be.scene.get(), RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(be.scene.get(), RTC_BUILD_QUALITY_HIGH);
 

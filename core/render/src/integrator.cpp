@@ -288,8 +288,8 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
 }
 
 // Fewer live paths than this trace their closest-hit rays one by one: a packet query costs
-// nearly as much with few active lanes as with eight. (2, 3 and 5 measured alike on the Cornell
-// box, within the noise of a shared machine.)
+// nearly as much with few active lanes as with eight (thresholds 2, 3 and 5 time alike:
+// docs/performance.md, "Renderer").
 constexpr int kMinPacketLanes = 3;
 
 // The paths of n <= kLanes camera rays `rays` (closest hits `hits` / `found`, traced by the
@@ -441,9 +441,9 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
     // The column half of the pixel-seed hash (Sampler::column_seed_hash) is the same in every
     // row: it is computed once per tile for the packets' first kSeedColumns pixels (a
-    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles). At
-    // 1-sample passes every packet of every pass rehashed both halves (callgrind: ~70
-    // instructions).
+    // 16-pixel tile's packets span 24 at most) and per packet beyond them (wider tiles), so that
+    // 1-sample passes do not hash both halves for every packet of every pass (instruction
+    // counts: docs/performance.md, "Library").
     constexpr int kSeedColumns = 64;
     std::array<std::uint32_t, kSeedColumns> column_hash;
     const int gx_end = std::min(width, job.x1 + (int(kLanes) - job.x1 % int(kLanes)) % int(kLanes));
@@ -470,9 +470,9 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
             const std::size_t k1 = std::size_t(std::min(job.x1 - x0, int(n)));
             FixedRgb* const film_px = film_row + std::size_t(x0 + int(k0) - job.film_x0);
             // Each sample is added to the packet's film sums (48 B a pixel) directly (integer
-            // sums: the same bits as summing the packet's samples first, without the zeroing
-            // and the second pass over the lanes that cost ~170 instructions per packet at
-            // 1-sample passes). Fetch the sums now, so that the miss overlaps the tracing: at
+            // sums: the same bits as summing the packet's samples first, with no accumulator to
+            // zero and no second pass over the lanes, which matter at 1-sample passes). Fetch
+            // the sums now, so that the miss overlaps the tracing: at
             // 1-sample passes of a large film every pass sweeps the whole film.
             if (k0 < k1) {
                 const char* b = reinterpret_cast<const char*>(film_px);

@@ -40,12 +40,8 @@ inline constexpr int kDimsPerVertex = 7;
 // Russian roulette starts after this many bounces; earlier vertices carry most of the image.
 // A path then survives each bounce with probability sqrt(max beta) (survivors reweighted by its
 // inverse), as Cycles does, instead of max beta: the roulette's kill-or-double decisions are
-// noise that stratification does not remove, so at high sample counts they dominate. Measured
-// (session 8, 128 x 128, noise from two seeds, CPU time in 5 interleaved runs): Cornell box at
-// 1024 spp, MSE x0.65 for CPU x1.12 (noise^2 x CPU x0.72); big_mesh x0.85 for rays x1.06;
-// glossy x0.87 for CPU x1.07; brushed x0.95 for x1.02. Cornell box, noise^2 x rays against the
-// old rule (max beta from 3 bounces): sqrt from 4 bounces x0.78, from 3 x0.82, from 5 x0.79,
-// max beta from 5 x0.88; no roulette: noise^2 x CPU x1.33 (noise x0.73, CPU x2.5).
+// noise that stratification does not remove, so at high sample counts they dominate. The rules
+// compared (start depth, sqrt or not, no roulette) are in docs/performance.md, "Russian roulette".
 inline constexpr int kRouletteDepth = 4;
 
 // Compile-time features of a kernel. The general kernel has every feature except LambertOnly.

@@ -99,7 +99,7 @@ struct FurnaceCase {
 // composites. Every material reflects at most 80% (its reflectance scale 0.8 on a lobe of
 // albedo <= 1), so L <= Le / (1 - 0.8) = 2.5 Le; lobes whose albedo is exactly 0.8 (Lambert,
 // mirror, compensated microfacets) must reach it. A composite's albedo is Es + rho_d (1 - Es)
-// (README, "Composite energy"): with glossy and diffuse scales 0.8 it is at most
+// (docs/models.md, "Composite energy"): with glossy and diffuse scales 0.8 it is at most
 // 0.8 + 0.2 * 0.8 = 0.96, exactly 0.96 when the glossy lobe is compensated (Es = 0.8 at every
 // angle), so L <= Le / 0.04 = 12.5 Le there.
 inline std::vector<FurnaceCase> furnace_cases() {
