@@ -7,6 +7,7 @@
 // transform, flip_normals) are already checked when a kind's build runs.
 #pragma once
 
+#include <glm/gtc/matrix_transform.hpp>
 #include <glm/mat3x3.hpp>
 #include <glm/mat4x4.hpp>
 
@@ -104,6 +105,18 @@ class ShapeBuild : public BuildChecks {
     virtual void add_light(Light light) = 0;
     // Checks the shape's world extent (after its geometry is added).
     virtual void check_finite_bounds() = 0;
+
+    // An analytic primitive at the shape's "center", scaled by its "radius" (both checked) and
+    // oriented by `rotation` (its columns: the object axes), with its extent checked.
+    const AnalyticPrim& add_centred_prim(AnalyticPrim::Kind kind,
+                                         const glm::dmat4& rotation = glm::dmat4(1.0)) {
+        check_finite(shape.center, ptr + "/center");
+        const double r = positive_length(shape.radius, ptr + "/radius");
+        const glm::dmat4 at = glm::translate(glm::dmat4(1.0), glm::dvec3(shape.center));
+        const AnalyticPrim& prim = add_prim(kind, glm::scale(at * rotation, glm::dvec3(r)));
+        check_finite_bounds();
+        return prim;
+    }
 };
 
 class LightBuild : public BuildChecks {

@@ -13,17 +13,12 @@ namespace {
 
 void build(ShapeBuild& b) {
     const ShapeDesc& s = b.shape;
-    b.check_finite(s.center, b.ptr + "/center");
-    const double r = b.positive_length(s.radius, b.ptr + "/radius");
-    glm::dmat4 local = glm::translate(glm::dmat4(1.0), glm::dvec3(s.center));
     const Frame f = Frame::from_z(b.unit_direction(s.normal, b.ptr + "/normal"));
     glm::dmat4 rot(1.0);
     rot[0] = glm::dvec4(glm::dvec3(f.x), 0.0);
     rot[1] = glm::dvec4(glm::dvec3(f.y), 0.0);
     rot[2] = glm::dvec4(glm::dvec3(f.z), 0.0);
-    local = glm::scale(local * rot, glm::dvec3(r));
-    const AnalyticPrim& prim = b.add_prim(AnalyticPrim::Kind::Disc, local);
-    b.check_finite_bounds();
+    const AnalyticPrim& prim = b.add_centred_prim(AnalyticPrim::Kind::Disc, rot);
     if (!b.emissive) return;
     const glm::dmat3 L(prim.to_world);
     const Vec3 center(glm::dvec3(prim.to_world[3]));

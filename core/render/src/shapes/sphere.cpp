@@ -12,12 +12,7 @@ namespace {
 
 void build(ShapeBuild& b) {
     const ShapeDesc& s = b.shape;
-    b.check_finite(s.center, b.ptr + "/center");
-    const double r = b.positive_length(s.radius, b.ptr + "/radius");
-    glm::dmat4 local = glm::translate(glm::dmat4(1.0), glm::dvec3(s.center));
-    local = glm::scale(local, glm::dvec3(r));
-    const AnalyticPrim& prim = b.add_prim(AnalyticPrim::Kind::Sphere, local);
-    b.check_finite_bounds();
+    const AnalyticPrim& prim = b.add_centred_prim(AnalyticPrim::Kind::Sphere);
     if (!b.emissive) return;
     // Light sampling needs a true sphere: the transform must be a similarity.
     const glm::dmat3 L(prim.to_world);
