@@ -65,10 +65,10 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The light sample a surface point tests (Scene::occluded(hit, sample), as the integrators do).
 struct ShadowQuery {
-    Vec3 p, ng, wi;
-    float dist;
-    Vec3 p_light, n_light;  // finite dist: the segment the renderer tests (occluded_segment)
+    fr::SurfaceHit hit;
+    fr::LightLiSample sample;
 };
 
 struct RaySets {
@@ -103,19 +103,16 @@ RaySets make_rays(const fr::Scene& scene, std::size_t count) {
         const Vec3 n = glm::dot(hit.ng, -cam_ray.d) >= 0.f ? hit.ng : -hit.ng;
         const facet::Frame f = facet::Frame::from_z(n);
         const Vec3 d = f.from_local(facet::sample_cosine_hemisphere({rnd(state), rnd(state)}));
-        sets.bounce.push_back(scene.spawn_ray(hit.p, n, d));
+        sets.bounce.push_back(fr::Scene::spawn_ray(hit, d));
         if (lights.empty()) continue;
         float pmf = 0.f;
         const fr::Light& light = lights[scene.light_distribution().sample(rnd(state), pmf)];
         const auto ls = light.sample_li({hit.p, n}, {rnd(state), rnd(state)});
         if (!ls || !(glm::dot(ls->wi, n) > 0.f)) continue;
-        // The ray the integrators trace (integrator.cpp: occluded_segment for lights at a finite
-        // distance, occluded for directional/environment lights).
-        fr::Ray r = std::isfinite(ls->dist)
-                        ? scene.shadow_ray(hit.p, hit.ng, ls->p_light, ls->n_light)
-                        : scene.spawn_ray(hit.p, hit.ng, ls->wi);
+        // The ray the integrators trace (Scene::shadow_ray(hit, sample)).
+        fr::Ray r = fr::Scene::shadow_ray(hit, *ls);
         if (!(r.tmax > 0.f)) continue;
-        sets.shadow_queries.push_back({hit.p, hit.ng, ls->wi, ls->dist, ls->p_light, ls->n_light});
+        sets.shadow_queries.push_back({hit, *ls});
         sets.shadow.push_back(r);
     }
     return sets;
@@ -257,9 +254,7 @@ int main(int argc, char** argv) {
                 std::uint64_t h = 0;
                 for (std::size_t k = b; k < e; ++k) {
                     const ShadowQuery& q = sets.shadow_queries[k];
-                    h += std::isfinite(q.dist)
-                             ? scene.occluded_segment(q.p, q.ng, q.p_light, q.n_light)
-                             : scene.occluded(q.p, q.ng, q.wi, q.dist);
+                    h += scene.occluded(q.hit, q.sample);
                 }
                 sink += h;
             }));

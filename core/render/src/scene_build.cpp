@@ -15,6 +15,7 @@
 #include "facet/frame.h"
 #include "facet/render/scene_description.h"
 #include "scene_checks.h"
+#include "scene_precision.h"
 #include "scene_impl.h"
 
 namespace facet::render {
@@ -83,10 +84,7 @@ class Builder {
                  "the scene has no light source (no entry in \"lights\" and no shape with "
                  "\"emission\")");
         }
-        // The ray offset's floor (scene.h): a fixed fraction of the scene's coordinate scale, so
-        // that the image does not depend on the unit of length.
-        m_builder.offset_floor() =
-            std::max(float(Scene::kOffsetFloorFraction * m_max_coordinate), 1e-30f);
+        check_precision(m_builder, m_desc, m_name);  // scene_precision.h
         build_render();
         const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);
