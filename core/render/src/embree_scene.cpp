@@ -421,8 +421,9 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
 }
 
 // Inline: called once per closest hit, only from Scene::intersect below.
-inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, const Ray& ray,
-                                       float u, float v, float t, SurfaceHit& hit) const {
+[[gnu::always_inline]] inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri,
+                                                              const Ray& ray, float u, float v,
+                                                              float t, SurfaceHit& hit) const {
     const glm::vec4& plane = mg.plane(tri);
     hit.t = t;
     hit.ng = Vec3(plane);
@@ -475,8 +476,9 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
 // then the hit record of whatever is nearest. `geom` is Embree's geomID (invalid: no hit).
-inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v,
-                                float t, SurfaceHit& hit) const {
+[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim,
+                                                       float u, float v, float t,
+                                                       SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
     const EmbreeBackend& be = *impl.backend;
     const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;

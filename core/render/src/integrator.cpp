@@ -203,6 +203,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     Shading sh;
     if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
+    // The origin of both rays that leave this vertex, the shadow ray and the continuation:
+    // both go to the viewer's side of the surface (checked below), so one offset serves both.
+    const Vec3 origin = offset_ray_origin(hit.p, hit.p_err, sh.ng, sh.ng);
 
     // Next-event estimation: one light, chosen in proportion to power among the lights it
     // samples (light.h: not the environment, which the BSDF sample below finds).
@@ -227,7 +230,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
-                    shadow.set(k, Scene::shadow_ray(hit, *ls));
+                    shadow.set(k, Scene::shadow_ray_from(origin, *ls));
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
@@ -269,7 +272,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             p.beta /= 1.f - q;
         }
     }
-    rays.set(k, Scene::spawn_ray(hit, wi_w));
+    rays.set(k, Ray{origin, wi_w, kInfinity});
     ++c.rays;
     return true;
 }

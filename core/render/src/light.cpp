@@ -153,7 +153,12 @@ void Light::detect_parallelogram() {
     // error box is measured along m_normal, within 2.6 degrees of the second triangle's normal.
     const glm::dvec3 n1 = glm::normalize(
         glm::cross(glm::dvec3(t1[1]) - glm::dvec3(t1[0]), glm::dvec3(t1[2]) - glm::dvec3(t1[0])));
-    m_plane_dev = float(1.01 * std::fabs(glm::dot(n1, gap)));
+    const float plane_dev = float(1.01 * std::fabs(glm::dot(n1, gap)));
+    // Every sample o0 + u.x e1 + u.y e2 (u in [0, 1)^2): the edges' rounding (differences of
+    // vertices), two products and two sums (gamma(5) of the terms' magnitudes, at most |o0|,
+    // |e1|, |e2|), and the second half's distance from its traced triangle along the normal.
+    m_sample_err = gamma_bound(5) * (glm::abs(m_corner) + glm::abs(m_e1) + glm::abs(m_e2)) +
+                   plane_dev * glm::abs(m_normal);
 }
 
 Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, std::uint32_t shape,
@@ -184,6 +189,9 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     l.m_normal = Vec3(glm::normalize(c));
     l.m_emission = radiance;
     l.m_area = float(kPiD * glm::length(c));  // an affine image of the unit disc
+    // Every sample c + d.x e1 + d.y e2 (|d| <= 1): centre and axes are roundings of the traced
+    // disc's double transform, then two products and two sums.
+    l.m_sample_err = gamma_bound(5) * (glm::abs(center) + glm::abs(e1) + glm::abs(e2));
     l.m_inv_area = 1.f / l.m_area;
     return l;
 }
@@ -270,17 +278,13 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
         case AreaShape::Parallelogram:
             s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
             s.n_light = m_normal;
-            s.p_light_err = parallelogram_error(u);
+            s.p_light_err = m_sample_err;
             break;
         case AreaShape::Disc: {
             Vec2 d = sample_uniform_disk_concentric(u);
             s.p_light = m_position + d.x * m_e1 + d.y * m_e2;
             s.n_light = m_normal;
-            // Centre and axes are roundings of the traced disc's double transform; then two
-            // products and two sums.
-            s.p_light_err =
-                gamma_bound(5) * (glm::abs(m_position) + std::fabs(d.x) * glm::abs(m_e1) +
-                                  std::fabs(d.y) * glm::abs(m_e2));
+            s.p_light_err = m_sample_err;
             break;
         }
         case AreaShape::Sphere: {

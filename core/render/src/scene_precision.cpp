@@ -10,11 +10,6 @@
 
 namespace facet::render {
 
-double float_spacing(double m) {
-    const float f = float(std::fabs(m));
-    return double(std::nextafter(f, std::numeric_limits<float>::infinity())) - double(f);
-}
-
 namespace {
 
 struct Feature {

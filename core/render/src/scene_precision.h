@@ -19,9 +19,6 @@ inline constexpr double kMinFeatureUlps = 4.0;
 // 3e6, where the spacing is 0.25).
 inline constexpr double kSpacingWarnFraction = 1e-4;
 
-// The float spacing (ulp) at magnitude m: the gap from float(m) to the next float up.
-double float_spacing(double m);
-
 // Checks the scene being built (before Scene::Impl::build moves the meshes into Embree): throws
 // SceneError("<name>: /shapes/<i> ('<shape name>'): ...") for a shape too small for float at its
 // coordinates, and appends one warning to the scene's warnings when the float spacing at the

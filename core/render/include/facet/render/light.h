@@ -125,12 +125,6 @@ class Light {
   private:
     // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
     void detect_parallelogram();
-    // Error box of the parallelogram sample at u: the edges' rounding (e1, e2 are rounded
-    // differences of vertices), two products and two sums, and m_plane_dev along the normal.
-    Vec3 parallelogram_error(Vec2 u) const {
-        return gamma_bound(5) * (glm::abs(m_corner) + u.x * glm::abs(m_e1) + u.y * glm::abs(m_e2)) +
-               m_plane_dev * glm::abs(m_normal);
-    }
     Vec3 sphere_sample_error(const Vec3& p) const;
     // sample_li for every light but the parallelogram (quad) light, which is inline below.
     std::optional<LightLiSample> sample_li_other(const LightSampleContext& ctx, Vec2 u) const;
@@ -159,9 +153,9 @@ class Light {
     Vec3 m_e1{0.f}, m_e2{0.f};
     Vec3 m_normal{0.f};  // disc and parallelogram: unit front normal
     Vec3 m_corner{0.f};  // parallelogram
-    // Parallelogram: how far its second half lies off the second traced triangle's plane
-    // (detect_parallelogram's tolerance), added to the samples' error boxes along m_normal.
-    float m_plane_dev = 0.f;
+    // Parallelogram and disc: the error box of every sample (a constant, set by
+    // detect_parallelogram and area_disc; light.cpp).
+    Vec3 m_sample_err{0.f};
     float m_area = 0.f;
     float m_inv_area = 0.f;
     std::vector<Vec3> m_tri;       // 3 vertices per triangle
@@ -171,8 +165,9 @@ class Light {
 
 // Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
 // angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
-inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light,
-                                     const Vec3& n_light, float inv_area) {
+[[gnu::always_inline]] inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi,
+                                                            const Vec3& p_light,
+                                                            const Vec3& n_light, float inv_area) {
     float cos_l = -glm::dot(n_light, wi);
     if (!(cos_l > 0.f)) return 0.f;
     Vec3 v = p_light - p;
@@ -202,7 +197,7 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
     LightLiSample s;
     s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
     s.n_light = m_normal;
-    s.p_light_err = parallelogram_error(u);
+    s.p_light_err = m_sample_err;
     return finish_area_sample(ctx, s);
 }
 

@@ -37,19 +37,23 @@ constexpr float gamma_bound(int n) {
 inline constexpr double kDoubleSlack = 0x1p-44;
 
 // The next float above / below v (v finite; +-0 both step to the smallest subnormal).
-inline float next_float_up(float v) {
-    if (std::isinf(v) && v > 0.f) return v;
-    if (v == -0.f) v = 0.f;
+[[gnu::always_inline]] inline float next_float_up(float v) {
+    if (v == 0.f) v = 0.f;  // -0 -> +0
     std::uint32_t b = std::bit_cast<std::uint32_t>(v);
     b = v >= 0.f ? b + 1 : b - 1;
     return std::bit_cast<float>(b);
 }
-inline float next_float_down(float v) {
-    if (std::isinf(v) && v < 0.f) return v;
+[[gnu::always_inline]] inline float next_float_down(float v) {
     if (v == 0.f) v = -0.f;
     std::uint32_t b = std::bit_cast<std::uint32_t>(v);
     b = v > 0.f ? b - 1 : b + 1;
     return std::bit_cast<float>(b);
+}
+
+// The float spacing (ulp) at magnitude m: the gap from float(|m|) to the next float up.
+inline double float_spacing(double m) {
+    const float f = float(std::fabs(m));
+    return double(next_float_up(f)) - double(f);
 }
 
 // Largest |component| of a vector.
@@ -72,11 +76,17 @@ inline double largest_magnitude(const glm::dvec3& v) {
     Vec3 offset = d * n;
     if (glm::dot(w, n) < 0.f) offset = -offset;
     Vec3 po = p + offset;
+    // One float further from p in each component the offset moves (pbrt's NextFloatUp/Down),
+    // without branches: the offset's sign is data, and mispredicted branches cost more than
+    // the selects. A zero takes the offset's sign first, so that it steps to the subnormal on
+    // the offset's side.
     for (int i = 0; i < 3; ++i) {
-        if (offset[i] > 0.f)
-            po[i] = next_float_up(po[i]);
-        else if (offset[i] < 0.f)
-            po[i] = next_float_down(po[i]);
+        const float o = offset[i];
+        const float v = po[i] == 0.f ? std::copysign(0.f, o) : po[i];
+        const std::uint32_t b = std::bit_cast<std::uint32_t>(v);
+        const bool same_sign = ((b ^ std::bit_cast<std::uint32_t>(o)) >> 31) == 0u;
+        const std::uint32_t step = o != 0.f ? (same_sign ? 1u : ~0u) : 0u;  // +1, -1 or 0
+        po[i] = std::bit_cast<float>(b + step);
     }
     return po;
 }

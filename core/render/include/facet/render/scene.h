@@ -175,33 +175,24 @@ class Scene {
     // A ray leaving surface point p (error box p_err, geometric normal ng of either orientation)
     // in unit direction d: origin offset_ray_origin(p, p_err, ng, d) (precision.h), tmax = inf.
     static Ray spawn_ray(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& d);
-    static Ray spawn_ray(const SurfaceHit& hit, const Vec3& d) {
+    [[gnu::always_inline]] static Ray spawn_ray(const SurfaceHit& hit, const Vec3& d) {
         return spawn_ray(hit.p, hit.p_err, hit.ng, d);
     }
-    // The shadow ray between surface point p (error box p_err, geometric normal ng) and a point
-    // on a light p_light (error box light_err, unit normal n_light; 0 for a point light). Both
-    // ends are offset off their surfaces toward each other (pbrt-v4's SpawnRayTo): the ray
-    // starts off p's surface and ends off the light's, at any angle, so the light's own surface
-    // never shadows its sample; it stops kShadowEpsilon of its length short of the offset end.
-    // Unit direction, tmax = that length (tmax <= 0: nothing to test).
-    static Ray shadow_ray(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& p_light,
-                          const Vec3& light_err, const Vec3& n_light);
-    // The shadow ray of light sample `ls` seen from `hit`: shadow_ray above for lights at a
-    // finite distance, spawn_ray toward ls.wi for directional and environment lights.
-    static Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
-        return std::isfinite(ls.dist)
-                   ? shadow_ray(hit.p, hit.p_err, hit.ng, ls.p_light, ls.p_light_err, ls.n_light)
-                   : spawn_ray(hit, ls.wi);
+    // The shadow ray of light sample `ls` from ray origin o, a point already offset off its
+    // surface toward the light (offset_ray_origin). For a light at a finite distance the ray
+    // ends off the light's surface too, offset by the sample's own error box toward o
+    // (pbrt-v4's SpawnRayTo), so the light's own surface never shadows its sample at any angle;
+    // it stops kShadowEpsilon of its length short of that end (a point light, n_light = 0 and
+    // no error box, is its own end). Directional and environment lights: a ray toward ls.wi.
+    // Unit direction; tmax <= 0: nothing to test.
+    static Ray shadow_ray_from(const Vec3& o, const LightLiSample& ls);
+    // The same from surface hit `hit`: the origin offset off hit's surface toward ls.wi.
+    [[gnu::always_inline]] static Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
+        return shadow_ray_from(offset_ray_origin(hit.p, hit.p_err, hit.ng, ls.wi), ls);
     }
     // Whether something blocks shadow_ray(hit, ls).
-    bool occluded(const SurfaceHit& hit, const LightLiSample& ls) const {
+    [[gnu::always_inline]] bool occluded(const SurfaceHit& hit, const LightLiSample& ls) const {
         const Ray r = shadow_ray(hit, ls);
-        return r.tmax > 0.f && occluded_ray(r);
-    }
-    // Whether something blocks the segment of shadow_ray(p, p_err, ng, p_light, ...).
-    bool occluded_segment(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& p_light,
-                          const Vec3& light_err, const Vec3& n_light) const {
-        const Ray r = shadow_ray(p, p_err, ng, p_light, light_err, n_light);
         return r.tmax > 0.f && occluded_ray(r);
     }
     // Shadow ray from an exactly known point p (error box: its own rounding) with geometric
@@ -280,17 +271,17 @@ class Scene {
     return r;
 }
 
-[[gnu::always_inline]] inline Ray Scene::shadow_ray(const Vec3& p, const Vec3& p_err,
-                                                    const Vec3& ng, const Vec3& p_light,
-                                                    const Vec3& light_err, const Vec3& n_light) {
-    // Origin: off the surface on the light's side; end: off the light on the origin's side (a
-    // point light, n_light = 0 and light_err = 0, is its own end).
-    const Vec3 o = offset_ray_origin(p, p_err, ng, p_light - p);
-    const Vec3 q = offset_ray_origin(p_light, light_err, n_light, o - p_light);
-    const Vec3 d = q - o;
-    const float len = std::sqrt(glm::dot(d, d));
+[[gnu::always_inline]] inline Ray Scene::shadow_ray_from(const Vec3& o, const LightLiSample& ls) {
     Ray r;
     r.o = o;
+    if (!std::isfinite(ls.dist)) {
+        r.d = ls.wi;
+        r.tmax = kInfinity;
+        return r;
+    }
+    const Vec3 q = offset_ray_origin(ls.p_light, ls.p_light_err, ls.n_light, o - ls.p_light);
+    const Vec3 d = q - o;
+    const float len = std::sqrt(glm::dot(d, d));
     r.d = len > 0.f ? d / len : Vec3(0.f, 0.f, 1.f);
     r.tmax = len * (1.f - kShadowEpsilon);
     return r;
