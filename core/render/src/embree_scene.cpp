@@ -431,11 +431,16 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     // the normal is that plane's distance from the triangle (MeshGeom::normal_err) and the
     // rounding to float; the error along the surface (Embree's t) cannot cause
     // self-intersection.
+    // No division by |n|^2 (a float-rounded unit vector: 1 within 3u): the projection then
+    // misses the plane by at most gamma(3) |s|, added to the bound (a division on every hit's
+    // critical path cost more).
     const glm::dvec3 n(hit.ng);
     glm::dvec3 p = glm::dvec3(ray.o) + double(t) * glm::dvec3(ray.d);
-    p -= ((glm::dot(p, n) - double(plane.w)) / glm::dot(n, n)) * n;
+    const double s = glm::dot(p, n) - double(plane.w);
+    p -= s * n;
     hit.p = Vec3(p);
-    hit.p_err = rounding_error(hit.p) + mg.normal_err * glm::abs(hit.ng);
+    hit.p_err = rounding_error(hit.p) +
+                (mg.normal_err + gamma_bound(3) * float(std::fabs(s))) * glm::abs(hit.ng);
     hit.ns = hit.ng;
     if (!mg.records.empty()) {
         const Vec3* n = mg.records[tri].n;

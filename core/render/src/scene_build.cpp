@@ -15,8 +15,8 @@
 #include "facet/frame.h"
 #include "facet/render/scene_description.h"
 #include "scene_checks.h"
-#include "scene_precision.h"
 #include "scene_impl.h"
+#include "scene_precision.h"
 
 namespace facet::render {
 
