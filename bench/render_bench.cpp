@@ -86,7 +86,7 @@ float rnd(std::uint32_t& state) {
 // The rays of the first vertex of a path tracer: camera rays, cosine-distributed bounce rays
 // from the surfaces they hit (closest-hit set), and shadow rays from those points toward a
 // sample on a light chosen like the path tracer does, in proportion to power (occlusion set:
-// the rays Scene::occluded_segment traces).
+// the rays Scene::occluded(hit, sample) traces).
 RaySets make_rays(const fr::Scene& scene, std::size_t count) {
     RaySets sets;
     const fr::Camera& cam = scene.camera();
@@ -308,7 +308,7 @@ int main(int argc, char** argv) {
         std::snprintf(buf, sizeof buf, "%.2f x rtcOccluded1", pk_o / raw_o);
         row("raw Embree rtcOccluded8 packets, same rays", pk_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "%.2f of raw", ren_o / raw_o);
-        row("Scene::occluded_segment, same rays", ren_o * 1e-6, "M rays/s", buf);
+        row("Scene::occluded, same rays", ren_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "kernel %s, %d spp", st_spec.kernel.name.c_str(),
                       render_spp);
         row((integ + ", specialised: paths").c_str(), paths_s * 1e-6, "M paths/s", buf);
