@@ -65,10 +65,10 @@ double median(std::vector<double> v) {
     return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
 }
 
+// The light sample a surface point tests (Scene::occluded(hit, sample), as the integrators do).
 struct ShadowQuery {
-    Vec3 p, ng, wi;
-    float dist;
-    Vec3 p_light, n_light;  // finite dist: the segment the renderer tests (occluded_segment)
+    fr::SurfaceHit hit;
+    fr::LightLiSample sample;
 };
 
 struct RaySets {
@@ -86,7 +86,7 @@ float rnd(std::uint32_t& state) {
 // The rays of the first vertex of a path tracer: camera rays, cosine-distributed bounce rays
 // from the surfaces they hit (closest-hit set), and shadow rays from those points toward a
 // sample on a light chosen like the path tracer does, in proportion to power (occlusion set:
-// the rays Scene::occluded_segment traces).
+// the rays Scene::occluded(hit, sample) traces).
 RaySets make_rays(const fr::Scene& scene, std::size_t count) {
     RaySets sets;
     const fr::Camera& cam = scene.camera();
@@ -103,19 +103,16 @@ RaySets make_rays(const fr::Scene& scene, std::size_t count) {
         const Vec3 n = glm::dot(hit.ng, -cam_ray.d) >= 0.f ? hit.ng : -hit.ng;
         const facet::Frame f = facet::Frame::from_z(n);
         const Vec3 d = f.from_local(facet::sample_cosine_hemisphere({rnd(state), rnd(state)}));
-        sets.bounce.push_back(scene.spawn_ray(hit.p, n, d));
+        sets.bounce.push_back(fr::Scene::spawn_ray(hit, d));
         if (lights.empty()) continue;
         float pmf = 0.f;
         const fr::Light& light = lights[scene.light_distribution().sample(rnd(state), pmf)];
         const auto ls = light.sample_li({hit.p, n}, {rnd(state), rnd(state)});
         if (!ls || !(glm::dot(ls->wi, n) > 0.f)) continue;
-        // The ray the integrators trace (integrator.cpp: occluded_segment for lights at a finite
-        // distance, occluded for directional/environment lights).
-        fr::Ray r = std::isfinite(ls->dist)
-                        ? scene.shadow_ray(hit.p, hit.ng, ls->p_light, ls->n_light)
-                        : scene.spawn_ray(hit.p, hit.ng, ls->wi);
+        // The ray the integrators trace (Scene::shadow_ray(hit, sample)).
+        fr::Ray r = fr::Scene::shadow_ray(hit, *ls);
         if (!(r.tmax > 0.f)) continue;
-        sets.shadow_queries.push_back({hit.p, hit.ng, ls->wi, ls->dist, ls->p_light, ls->n_light});
+        sets.shadow_queries.push_back({hit, *ls});
         sets.shadow.push_back(r);
     }
     return sets;
@@ -257,9 +254,7 @@ int main(int argc, char** argv) {
                 std::uint64_t h = 0;
                 for (std::size_t k = b; k < e; ++k) {
                     const ShadowQuery& q = sets.shadow_queries[k];
-                    h += std::isfinite(q.dist)
-                             ? scene.occluded_segment(q.p, q.ng, q.p_light, q.n_light)
-                             : scene.occluded(q.p, q.ng, q.wi, q.dist);
+                    h += scene.occluded(q.hit, q.sample);
                 }
                 sink += h;
             }));
@@ -313,7 +308,7 @@ int main(int argc, char** argv) {
         std::snprintf(buf, sizeof buf, "%.2f x rtcOccluded1", pk_o / raw_o);
         row("raw Embree rtcOccluded8 packets, same rays", pk_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "%.2f of raw", ren_o / raw_o);
-        row("Scene::occluded_segment, same rays", ren_o * 1e-6, "M rays/s", buf);
+        row("Scene::occluded, same rays", ren_o * 1e-6, "M rays/s", buf);
         std::snprintf(buf, sizeof buf, "kernel %s, %d spp", st_spec.kernel.name.c_str(),
                       render_spp);
         row((integ + ", specialised: paths").c_str(), paths_s * 1e-6, "M paths/s", buf);

@@ -112,6 +112,8 @@ void run_render(const RenderCmdOptions& o) {
                                  o.kernel + "'");
 
     const render::Scene scene = render::load_scene(o.scene);  // SceneError names file + path
+    for (const std::string& w : scene.warnings())
+        std::fprintf(stderr, "facet: render: warning: %s: %s\n", o.scene.c_str(), w.c_str());
 
     render::RenderOptions ro;
     ro.integrator = o.integrator;

@@ -228,8 +228,11 @@ TEST(Geometry, RobustOffsetsNoSelfIntersection) {
             if (glm::dot(d, h.ng) < 1e-3f) continue;  // grazing tangent rays may legally re-hit
             SurfaceHit h2;
             ++n;
-            if (s.intersect(s.spawn_ray(h.p, h.ng, d), h2)) ++self_hits;
-            if (s.occluded(h.p, h.ng, d, kInfinity)) ++self_hits;
+            if (s.intersect(Scene::spawn_ray(h, d), h2)) ++self_hits;
+            LightLiSample toward;  // a directional light's sample: a ray to infinity
+            toward.wi = d;
+            toward.dist = kInfinity;
+            if (s.occluded(h, toward)) ++self_hits;
         }
     }
     EXPECT_GT(n, 3000);

@@ -253,6 +253,32 @@ void init_rayhit8(RTCRayHit8& rh, const RayPacket& rays) {
     }
 }
 
+// The error bound along the normal of a triangle hit point (MeshGeom::normal_err), from the
+// mesh's largest vertex distance from a triangle's float plane (`plane_dev`, measured in double),
+// its longest edge and its largest coordinate magnitude:
+//  - plane_dev: the projection puts the point on the float plane, this far from the triangle;
+//  - gamma(8) of the longest edge: Embree's float test of a ray leaving the triangle works on
+//    vertex coordinates relative to the ray origin, rounded to u of the triangle's size, so it
+//    can see the triangle that much off its place (pbrt's own intersector bounds its t error
+//    instead; Embree's cannot be asked);
+//  - kDoubleSlack of the coordinates: the projection's double arithmetic.
+float triangle_normal_error(double plane_dev, double max_edge, double max_coord) {
+    const double e = plane_dev + double(gamma_bound(8)) * max_edge + kDoubleSlack * max_coord;
+    return next_float_up(float(e));
+}
+
+// The error of an analytic prim's double hit point before its rounding to float: kDoubleSlack
+// of the largest coordinate magnitude of its bounds (solved and projected in object space, then
+// transformed: a few dozen double roundings of such magnitudes).
+float analytic_error_floor(const AnalyticPrim& prim) {
+    double m = 0.0;
+    for (int i = 0; i < 8; ++i) {
+        glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? 1.0 : -1.0);
+        m = std::max(m, largest_magnitude(glm::dvec3(prim.to_world * glm::dvec4(c, 1.0))));
+    }
+    return next_float_up(float(kDoubleSlack * m));
+}
+
 }  // namespace
 
 // --- Scene::Impl ------------------------------------------------------------------------------
@@ -293,18 +319,30 @@ void Scene::Impl::build(const std::string& name) {
             }
             std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
             std::vector<glm::vec4> planes(mesh.num_triangles());
+            // The hit points' error along the normal (MeshGeom::normal_err): the largest
+            // distance of a triangle's vertices from its float plane, and the longest edge.
+            double plane_dev = 0.0, max_edge = 0.0, max_coord = 0.0;
             for (std::size_t t = 0; t < planes.size(); ++t) {
-                const Vec3& p0 = mesh.positions[mesh.indices[3 * t]];
-                const Vec3& p1 = mesh.positions[mesh.indices[3 * t + 1]];
-                const Vec3& p2 = mesh.positions[mesh.indices[3 * t + 2]];
+                const glm::dvec3 v[3] = {glm::dvec3(mesh.positions[mesh.indices[3 * t]]),
+                                         glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]),
+                                         glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]])};
                 // In double: the float cross product's squared length overflows for edges
                 // beyond ~4e9, which zeroed the walls' normals of a Cornell box scaled by 1e7.
-                const glm::dvec3 c =
-                    glm::cross(glm::dvec3(p1) - glm::dvec3(p0), glm::dvec3(p2) - glm::dvec3(p0));
+                const glm::dvec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
                 const double len = glm::length(c);
                 const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
-                planes[t] = glm::vec4(n, glm::dot(n, p0));
+                const glm::dvec3 nd(n);
+                const float w = float(glm::dot(nd, v[0]));
+                planes[t] = glm::vec4(n, w);
+                const double inv_len = 1.0 / glm::length(nd);
+                for (int j = 0; j < 3; ++j) {
+                    plane_dev =
+                        std::max(plane_dev, std::fabs(glm::dot(nd, v[j]) - double(w)) * inv_len);
+                    max_edge = std::max(max_edge, glm::length(v[(j + 1) % 3] - v[j]));
+                    max_coord = std::max(max_coord, largest_magnitude(v[j]));
+                }
             }
+            meshes[m].normal_err = triangle_normal_error(plane_dev, max_edge, max_coord);
             if (mesh.normals.empty()) {
                 meshes[m].planes = std::move(planes);
             } else {
@@ -327,6 +365,7 @@ void Scene::Impl::build(const std::string& name) {
         if (be.geom_to_mesh.size() <= id) be.geom_to_mesh.resize(id + 1, -1);
         be.geom_to_mesh[id] = std::int32_t(m);
     }
+    for (AnalyticPrim& prim : prims) prim.err_floor = analytic_error_floor(prim);
     if (!prims.empty()) {
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_USER);
         rtcSetGeometryUserPrimitiveCount(g, unsigned(prims.size()));
@@ -371,6 +410,9 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.t = t;
     hit.p = Vec3(glm::dvec3(prim.to_world * glm::dvec4(po, 1.0)));
+    // The double point lies on the exact surface to kDoubleSlack of the prim's coordinates
+    // (err_floor); then one rounding to float.
+    hit.p_err = rounding_error(hit.p) + Vec3(prim.err_floor);
     hit.ng = Vec3(glm::normalize(prim.normal_to_world * n_obj));
     if (prim.flip) hit.ng = -hit.ng;
     hit.ns = hit.ng;
@@ -379,16 +421,26 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
 }
 
 // Inline: called once per closest hit, only from Scene::intersect below.
-inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri, const Ray& ray,
-                                       float u, float v, float t, SurfaceHit& hit) const {
+[[gnu::always_inline]] inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri,
+                                                              const Ray& ray, float u, float v,
+                                                              float t, SurfaceHit& hit) const {
     const glm::vec4& plane = mg.plane(tri);
     hit.t = t;
     hit.ng = Vec3(plane);
-    // o + t d, then projected back onto the triangle's plane: the error left is along the
-    // surface, where it cannot cause self-intersection (the offset of spawn_ray covers the
-    // plane equation's own round-off, a few ulps of |p|).
-    Vec3 p = ray.o + t * ray.d;
-    hit.p = p - (glm::dot(p, hit.ng) - plane.w) * hit.ng;
+    // o + t d, then projected onto the triangle's float plane, in double: the error left along
+    // the normal is that plane's distance from the triangle (MeshGeom::normal_err) and the
+    // rounding to float; the error along the surface (Embree's t) cannot cause
+    // self-intersection.
+    // No division by |n|^2 (a float-rounded unit vector: 1 within 3u): the projection then
+    // misses the plane by at most gamma(3) |s|, added to the bound (a division on every hit's
+    // critical path cost more).
+    const glm::dvec3 n(hit.ng);
+    glm::dvec3 p = glm::dvec3(ray.o) + double(t) * glm::dvec3(ray.d);
+    const double s = glm::dot(p, n) - double(plane.w);
+    p -= s * n;
+    hit.p = Vec3(p);
+    hit.p_err = rounding_error(hit.p) +
+                (mg.normal_err + gamma_bound(3) * float(std::fabs(s))) * glm::abs(hit.ng);
     hit.ns = hit.ng;
     if (!mg.records.empty()) {
         const Vec3* n = mg.records[tri].n;
@@ -429,8 +481,9 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
 // then the hit record of whatever is nearest. `geom` is Embree's geomID (invalid: no hit).
-inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v,
-                                float t, SurfaceHit& hit) const {
+[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim,
+                                                       float u, float v, float t,
+                                                       SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
     const EmbreeBackend& be = *impl.backend;
     const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;
@@ -442,6 +495,10 @@ inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim, fl
         p -= glm::dot(p - pl.point, pl.normal) * pl.normal;  // back onto the plane
         hit.t = float(tp);
         hit.p = Vec3(p);
+        // On the double plane to kDoubleSlack of the coordinates, then rounded to float.
+        hit.p_err =
+            rounding_error(hit.p) +
+            Vec3(float(kDoubleSlack * (largest_magnitude(p) + largest_magnitude(pl.point))));
         hit.ng = Vec3(pl.normal);
         hit.ns = hit.ng;
         hit.dpdu = pl.tangent;
@@ -527,20 +584,12 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
 }
 
 bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const {
-    Ray r = spawn_ray(p, ng, wi);
+    Ray r = spawn_ray(p, rounding_error(p), ng, wi);
     if (std::isfinite(dist)) {
-        // Stop short of the end point by its own offset too (it may lie on an emitter).
-        float tmax = dist - ray_offset(p) - ray_offset(p + dist * wi);
+        const float tmax = dist * (1.f - kShadowEpsilon);
         if (!(tmax > 0.f)) return false;
         r.tmax = tmax;
     }
-    return occluded_ray(r);
-}
-
-bool Scene::occluded_segment(const Vec3& p, const Vec3& ng, const Vec3& p_light,
-                             const Vec3& n_light) const {
-    const Ray r = shadow_ray(p, ng, p_light, n_light);
-    if (!(r.tmax > 0.f)) return false;
     return occluded_ray(r);
 }
 

@@ -99,19 +99,6 @@ template <std::uint32_t F>
     return true;
 }
 
-// Shadow ray for a light sample: the segment to the sampled point (offset at both ends along
-// their normals, scene.h) for lights at a finite distance, a ray for directional/environment.
-inline bool shadowed(const Scene& scene, const SurfaceHit& hit, const LightLiSample& ls) {
-    return std::isfinite(ls.dist) ? scene.occluded_segment(hit.p, hit.ng, ls.p_light, ls.n_light)
-                                  : scene.occluded(hit.p, hit.ng, ls.wi, ls.dist);
-}
-// The ray shadowed() traces (tmax <= 0: nothing to test, not shadowed).
-[[gnu::always_inline]] inline Ray shadow_ray(const Scene& scene, const SurfaceHit& hit,
-                                             const LightLiSample& ls) {
-    return std::isfinite(ls.dist) ? scene.shadow_ray(hit.p, hit.ng, ls.p_light, ls.n_light)
-                                  : scene.spawn_ray(hit.p, hit.ng, ls.wi);
-}
-
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
 
 constexpr std::size_t kLanes = Scene::kPacketSize;
@@ -216,6 +203,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     Shading sh;
     if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
+    // The origin of both rays that leave this vertex, the shadow ray and the continuation:
+    // both go to the viewer's side of the surface (checked below), so one offset serves both.
+    const Vec3 origin = offset_ray_origin(hit.p, hit.p_err, sh.ng, sh.ng);
 
     // Next-event estimation: one light, chosen in proportion to power among the lights it
     // samples (light.h: not the environment, which the BSDF sample below finds).
@@ -240,7 +230,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
-                    shadow.set(k, shadow_ray(scene, hit, *ls));
+                    shadow.set(k, Scene::shadow_ray_from(origin, *ls));
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
@@ -282,7 +272,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             p.beta /= 1.f - q;
         }
     }
-    rays.set(k, scene.spawn_ray(hit.p, hit.ng, wi_w));
+    rays.set(k, Ray{origin, wi_w, kInfinity});
     ++c.rays;
     return true;
 }
@@ -398,7 +388,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                 const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
                 if (!(max3(contrib) > 0.f)) continue;
                 ++c.shadow_rays;
-                if (!shadowed(scene, hit, *ls)) L += beta * contrib / ls->pdf;
+                if (!scene.occluded(hit, *ls)) L += beta * contrib / ls->pdf;
             }
         }
         // Perfect mirror recursion through the delta lobe.
@@ -410,7 +400,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                 if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
                 if (!(max3(beta) > 0.f)) break;
-                ray = scene.spawn_ray(hit.p, hit.ng, wi_w);
+                ray = Scene::spawn_ray(hit, wi_w);
                 ++c.rays;
                 continue;
             }

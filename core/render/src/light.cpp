@@ -148,6 +148,17 @@ void Light::detect_parallelogram() {
     m_e1 = s0 - o0;
     m_e2 = s1 - o0;
     m_normal = m_tri_n[0];
+    // The half beyond the diagonal spans (s0, s1, s0 + s1 - o0) instead of the traced (s0, s1,
+    // o1): its distance from that triangle's plane is largest at the fourth corner. Margin: the
+    // error box is measured along m_normal, within 2.6 degrees of the second triangle's normal.
+    const glm::dvec3 n1 = glm::normalize(
+        glm::cross(glm::dvec3(t1[1]) - glm::dvec3(t1[0]), glm::dvec3(t1[2]) - glm::dvec3(t1[0])));
+    const float plane_dev = float(1.01 * std::fabs(glm::dot(n1, gap)));
+    // Every sample o0 + u.x e1 + u.y e2 (u in [0, 1)^2): the edges' rounding (differences of
+    // vertices), two products and two sums (gamma(5) of the terms' magnitudes, at most |o0|,
+    // |e1|, |e2|), and the second half's distance from its traced triangle along the normal.
+    m_sample_err = gamma_bound(5) * (glm::abs(m_corner) + glm::abs(m_e1) + glm::abs(m_e2)) +
+                   plane_dev * glm::abs(m_normal);
 }
 
 Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, std::uint32_t shape,
@@ -178,8 +189,18 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     l.m_normal = Vec3(glm::normalize(c));
     l.m_emission = radiance;
     l.m_area = float(kPiD * glm::length(c));  // an affine image of the unit disc
+    // Every sample c + d.x e1 + d.y e2 (|d| <= 1): centre and axes are roundings of the traced
+    // disc's double transform, then two products and two sums.
+    l.m_sample_err = gamma_bound(5) * (glm::abs(center) + glm::abs(e1) + glm::abs(e2));
     l.m_inv_area = 1.f / l.m_area;
     return l;
+}
+
+// Error box of a point sampled on the sphere: centre and radius are float roundings of the
+// traced (double) sphere's, each off by u of its magnitude; the point itself is one rounding of
+// a double value (outward samples) or two products and two sums of floats (inward samples).
+Vec3 Light::sphere_sample_error(const Vec3& p) const {
+    return gamma_bound(4) * (glm::abs(p) + glm::abs(m_position) + Vec3(m_radius));
 }
 
 std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ctx, Vec2 u) const {
@@ -244,18 +265,26 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             const Vec3& p0 = m_tri[3 * i];
             const Vec3& p1 = m_tri[3 * i + 1];
             const Vec3& p2 = m_tri[3 * i + 2];
-            s.p_light = b.x * p0 + b.y * p1 + (1.f - b.x - b.y) * p2;
+            const float b2 = 1.f - b.x - b.y;
+            s.p_light = b.x * p0 + b.y * p1 + b2 * p2;
             s.n_light = m_tri_n[i];
+            // Interpolation (pbrt's bound), and b2's own rounding (the weights may not sum to
+            // exactly 1), which moves the point by up to gamma(2) |p2|.
+            s.p_light_err =
+                gamma_bound(6) * (glm::abs(b.x * p0) + glm::abs(b.y * p1) + glm::abs(b2 * p2)) +
+                gamma_bound(2) * glm::abs(p2);
             break;
         }
         case AreaShape::Parallelogram:
             s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
             s.n_light = m_normal;
+            s.p_light_err = m_sample_err;
             break;
         case AreaShape::Disc: {
             Vec2 d = sample_uniform_disk_concentric(u);
             s.p_light = m_position + d.x * m_e1 + d.y * m_e2;
             s.n_light = m_normal;
+            s.p_light_err = m_sample_err;
             break;
         }
         case AreaShape::Sphere: {
@@ -267,6 +296,7 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
                 Vec3 n = sample_uniform_sphere(u);
                 s.p_light = m_position + m_radius * n;
                 s.n_light = -n;
+                s.p_light_err = sphere_sample_error(s.p_light);
                 break;
             }
             // Sample the cone of directions the sphere subtends (uniform in solid angle).
@@ -295,6 +325,7 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             glm::dvec3 pl = c + double(m_radius) * n;
             s.p_light = Vec3(pl);
             s.n_light = Vec3(n);
+            s.p_light_err = sphere_sample_error(s.p_light);
             s.wi = Vec3(wi);
             s.dist = float(glm::length(pl - p));
             s.pdf = float(1.0 / (2.0 * kPiD * omc));

@@ -18,6 +18,7 @@
 #include "kind_build.h"
 #include "scene_checks.h"
 #include "scene_impl.h"
+#include "scene_precision.h"
 
 namespace facet::render {
 
@@ -85,10 +86,7 @@ class Builder final : public BuildChecks {
                  "the scene has no light source (no entry in \"lights\" and no shape with "
                  "\"emission\")");
         }
-        // The ray offset's floor (scene.h): a fixed fraction of the scene's coordinate scale, so
-        // that the image does not depend on the unit of length.
-        m_builder.offset_floor() =
-            std::max(float(Scene::kOffsetFloorFraction * m_max_coordinate), 1e-30f);
+        check_precision(m_builder, m_desc, m_name);  // scene_precision.h
         build_render();
         const auto t1 = std::chrono::steady_clock::now();
         m_builder.impl().build(m_name);

@@ -15,6 +15,9 @@ struct MeshGeom {
     std::uint32_t shape = 0;
     TriangleMesh mesh;  // positions and indices are moved into Embree's buffers by build()
     Vec3 tangent{0.f};  // dpdu hint for every hit (0 = none)
+    // Error bound of the hit points along the normal (embree_scene.cpp: triangle_normal_error);
+    // SurfaceHit::p_err = rounding_error(p) + normal_err |ng|.
+    float normal_err = 0.f;
     // Per triangle: unit geometric normal (xyz) and plane offset w = dot(n, p0). A hit reads one
     // 16-byte record instead of an index triple and three vertices (Embree's BVH leaves hold
     // their own vertex copies, so the mesh arrays are cold when a hit is filled).
@@ -43,6 +46,8 @@ struct AnalyticPrim {
     glm::dmat4 to_world{1.0};
     glm::dmat4 to_object{1.0};
     glm::dmat3 normal_to_world{1.0};  // inverse transpose of to_world's linear part
+    // Error of the double hit point, added to its rounding in SurfaceHit::p_err (set by build).
+    float err_floor = 0.f;
 };
 
 // An infinite plane through `point` with unit normal `normal` (world space).
@@ -76,7 +81,6 @@ struct Scene::Builder {
     Scene scene;
     std::string& name() { return scene.m_name; }
     std::uint64_t& fingerprint() { return scene.m_fingerprint; }
-    float& offset_floor() { return scene.m_offset_floor; }
     std::vector<std::string>& warnings() { return scene.m_warnings; }
     Camera& camera() { return scene.m_camera; }
     RenderSettings& settings() { return scene.m_settings; }

@@ -23,7 +23,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
         if (scene.intersect(ray, hit)) {
             for (const Light& light : scene.lights()) {
                 auto ls = light.sample_li({hit.p, hit.ns}, {0.25f, 0.75f});
-                if (ls) (void)scene.occluded(hit.p, hit.ng, ls->wi, ls->dist);
+                if (ls) (void)scene.occluded(hit, *ls);
             }
         }
         (void)scene.features().describe();

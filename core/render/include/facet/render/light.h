@@ -18,7 +18,7 @@
 //      directional: E (the irradiance on a surface facing the light), dist = +inf.
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
-//    use Scene::occluded(p, ng, wi, dist) (which shortens the ray to avoid the emitter itself).
+//    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
 //  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
 //    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
 //    multiple importance sampling of BSDF-sampled rays. 0 for delta lights.
@@ -42,6 +42,7 @@
 #include <span>
 #include <vector>
 
+#include "facet/render/precision.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -52,12 +53,15 @@ struct LightSampleContext {
 };
 
 struct LightLiSample {
-    Rgb li{0.f};         // see conventions: radiance, or the delta lights' equivalent
-    Vec3 wi{0.f};        // unit, from p toward the light
-    float pdf = 0.f;     // per unit solid angle; 1 for delta lights
-    float dist = 0.f;    // distance from p to the sampled point; +inf for directional/environment
-    Vec3 p_light{0.f};   // sampled point on the light (area lights; position for point/spot)
-    Vec3 n_light{0.f};   // unit geometric normal there (area lights), else 0
+    Rgb li{0.f};        // see conventions: radiance, or the delta lights' equivalent
+    Vec3 wi{0.f};       // unit, from p toward the light
+    float pdf = 0.f;    // per unit solid angle; 1 for delta lights
+    float dist = 0.f;   // distance from p to the sampled point; +inf for directional/environment
+    Vec3 p_light{0.f};  // sampled point on the light (area lights; position for point/spot)
+    Vec3 n_light{0.f};  // unit geometric normal there (area lights), else 0
+    // Error box of p_light (precision.h): p_light +- p_light_err contains a point of the
+    // light's surface as the scene traces it. 0 for point and spot lights (not on a surface).
+    Vec3 p_light_err{0.f};
     bool delta = false;  // true for point, spot and directional lights
 };
 
@@ -121,6 +125,7 @@ class Light {
   private:
     // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
     void detect_parallelogram();
+    Vec3 sphere_sample_error(const Vec3& p) const;
     // sample_li for every light but the parallelogram (quad) light, which is inline below.
     std::optional<LightLiSample> sample_li_other(const LightSampleContext& ctx, Vec2 u) const;
     // The end of sample_li for lights sampled uniformly by area (triangles, parallelograms,
@@ -148,6 +153,9 @@ class Light {
     Vec3 m_e1{0.f}, m_e2{0.f};
     Vec3 m_normal{0.f};  // disc and parallelogram: unit front normal
     Vec3 m_corner{0.f};  // parallelogram
+    // Parallelogram and disc: the error box of every sample (a constant, set by
+    // detect_parallelogram and area_disc; light.cpp).
+    Vec3 m_sample_err{0.f};
     float m_area = 0.f;
     float m_inv_area = 0.f;
     std::vector<Vec3> m_tri;       // 3 vertices per triangle
@@ -157,8 +165,9 @@ class Light {
 
 // Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
 // angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
-inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& p_light,
-                                     const Vec3& n_light, float inv_area) {
+[[gnu::always_inline]] inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi,
+                                                            const Vec3& p_light,
+                                                            const Vec3& n_light, float inv_area) {
     float cos_l = -glm::dot(n_light, wi);
     if (!(cos_l > 0.f)) return 0.f;
     Vec3 v = p_light - p;
@@ -188,6 +197,7 @@ inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi, const Vec3& 
     LightLiSample s;
     s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
     s.n_light = m_normal;
+    s.p_light_err = m_sample_err;
     return finish_area_sample(ctx, s);
 }
 

@@ -20,10 +20,10 @@
 //  - `emitted_radiance` is the radiance the surface emits toward the ray origin (0 for
 //    non-emitters and for the back of an emitter); `light` is the index of the area light in
 //    lights() (or -1). Scene::lights() holds every light: area lights too.
-//  - Shadow and continuation rays must be spawned with spawn_ray()/occluded()/
-//    occluded_segment(): they offset the origin along ng by an amount scaled with the hit
-//    position's magnitude, so that float round-off of the hit point never re-hits the surface
-//    it leaves; shadow rays to a point on a light use occluded_segment().
+//  - Shadow and continuation rays must be spawned with spawn_ray()/shadow_ray()/occluded():
+//    they start at offset_ray_origin (precision.h), off the surface along ng by the hit point's
+//    error bound `p_err`, so that rounding error never re-hits the surface it leaves; shadow
+//    rays to a point on an area light end off the light by the sample's own bound.
 //  - After load_scene() the Scene is immutable; every const member is thread-safe.
 //  - Errors: load_scene* throw SceneError whose what() is "<file>: <JSON pointer>: <message>"
 //    (e.g. "scene.json: /shapes/3/material: unknown material 'glosy' (did you mean 'glossy'?)").
@@ -40,6 +40,7 @@
 #include "facet/material.h"
 #include "facet/render/camera.h"
 #include "facet/render/light.h"
+#include "facet/render/precision.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -50,12 +51,13 @@ class SceneError : public std::runtime_error {
 };
 
 struct SurfaceHit {
-    float t = kInfinity;                 // ray parameter of the hit
-    Vec3 p{0.f};                         // hit point (world space)
-    Vec3 ng{0.f};                        // unit geometric normal (see conventions: not flipped)
-    Vec3 ns{0.f};                        // unit shading normal, same hemisphere as ng
-    Vec3 dpdu{0.f};                      // tangent hint, may be 0
-    std::uint32_t shape = 0;             // index into Scene::shapes()
+    float t = kInfinity;      // ray parameter of the hit
+    Vec3 p{0.f};              // hit point (world space)
+    Vec3 p_err{0.f};          // error box of p (precision.h): p +- p_err meets the surface
+    Vec3 ng{0.f};             // unit geometric normal (see conventions: not flipped)
+    Vec3 ns{0.f};             // unit shading normal, same hemisphere as ng
+    Vec3 dpdu{0.f};           // tangent hint, may be 0
+    std::uint32_t shape = 0;  // index into Scene::shapes()
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
@@ -170,33 +172,33 @@ class Scene {
     void occluded_packet(const RayPacket& rays, std::size_t n, const bool* active,
                          bool* blocked) const;
     static constexpr std::size_t kPacketSize = RayPacket::kSize;
-    // Shadow ray from surface point p (geometric normal ng, either orientation) toward unit
-    // direction wi, over distance dist (may be +inf). True when something blocks it. The origin
-    // is offset to the side of ng that wi is on, and the ray stops short of the end point by the
-    // same kind of offset, so an area light's own surface never shadows its sample.
+    // A ray leaving surface point p (error box p_err, geometric normal ng of either orientation)
+    // in unit direction d: origin offset_ray_origin(p, p_err, ng, d) (precision.h), tmax = inf.
+    static Ray spawn_ray(const Vec3& p, const Vec3& p_err, const Vec3& ng, const Vec3& d);
+    [[gnu::always_inline]] static Ray spawn_ray(const SurfaceHit& hit, const Vec3& d) {
+        return spawn_ray(hit.p, hit.p_err, hit.ng, d);
+    }
+    // The shadow ray of light sample `ls` from ray origin o, a point already offset off its
+    // surface toward the light (offset_ray_origin). For a light at a finite distance the ray
+    // ends off the light's surface too, offset by the sample's own error box toward o
+    // (pbrt-v4's SpawnRayTo), so the light's own surface never shadows its sample at any angle;
+    // it stops kShadowEpsilon of its length short of that end (a point light, n_light = 0 and
+    // no error box, is its own end). Directional and environment lights: a ray toward ls.wi.
+    // Unit direction; tmax <= 0: nothing to test.
+    static Ray shadow_ray_from(const Vec3& o, const LightLiSample& ls);
+    // The same from surface hit `hit`: the origin offset off hit's surface toward ls.wi.
+    [[gnu::always_inline]] static Ray shadow_ray(const SurfaceHit& hit, const LightLiSample& ls) {
+        return shadow_ray_from(offset_ray_origin(hit.p, hit.p_err, hit.ng, ls.wi), ls);
+    }
+    // Whether something blocks shadow_ray(hit, ls).
+    [[gnu::always_inline]] bool occluded(const SurfaceHit& hit, const LightLiSample& ls) const {
+        const Ray r = shadow_ray(hit, ls);
+        return r.tmax > 0.f && occluded_ray(r);
+    }
+    // Shadow ray from an exactly known point p (error box: its own rounding) with geometric
+    // normal ng toward unit direction wi over distance dist (may be +inf; a finite ray stops
+    // kShadowEpsilon of dist short of its end). True when something blocks it.
     bool occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const;
-    // Shadow ray between surface point p (geometric normal ng) and a sampled light point p_light
-    // with unit normal n_light (0 for a point light). True when something blocks the segment.
-    // Both ends are offset along their own normals (pbrt-v4's SpawnRayTo), so the ray stops
-    // ray_offset(p_light) short of the light's surface measured perpendicular to it, at any
-    // angle. (Stopping short along the ray, as occluded(p, ng, wi, dist) does, is not enough at
-    // grazing angles: the origin's offset along ng moves the light's plane closer by
-    // offset / cos, and the light's own surface then blocked ~7% of the samples of a quad light
-    // seen at 25-65 degrees, darkening its pixels by 0.7%.)
-    bool occluded_segment(const Vec3& p, const Vec3& ng, const Vec3& p_light,
-                          const Vec3& n_light) const;
-    // The ray occluded_segment traces (unit direction, tmax = the segment's length; tmax <= 0
-    // means there is nothing to test).
-    Ray shadow_ray(const Vec3& p, const Vec3& ng, const Vec3& p_light, const Vec3& n_light) const;
-    // A ray leaving surface point p (geometric normal ng) in unit direction d, origin offset.
-    Ray spawn_ray(const Vec3& p, const Vec3& ng, const Vec3& d) const;
-    // The offset spawn_ray uses at p: kRayOffsetScale * (max |p_i| + offset_floor()). Relative
-    // to the coordinates' magnitude, so the image does not depend on the scene's scale.
-    float ray_offset(const Vec3& p) const;
-    // kOffsetFloorFraction times the largest coordinate magnitude of the scene (finite shapes'
-    // bounds, plane points, the camera): the offset's floor near the origin, where the
-    // intersection error is still that of the ray's origin and the triangle's vertices.
-    float offset_floor() const { return m_offset_floor; }
 
     const Camera& camera() const { return m_camera; }
     std::span<const Light> lights() const { return m_lights; }
@@ -226,11 +228,6 @@ class Scene {
     // groups of 8 rays, for comparison: what packet tracing would gain on the same rays.
     std::uint64_t trace_raw_packet(std::span<const Ray> rays, bool shadow) const;
 
-    // Relative scale of the ray origin offset (see ray_offset): a few hundred float ulps of the
-    // hit point's magnitude, well above the intersection error of Embree's triangle test and of
-    // the double-precision sphere/plane/disc tests, well below any feature size of the scenes.
-    static constexpr float kRayOffsetScale = 1e-5f;
-    static constexpr float kOffsetFloorFraction = 1e-3f;
     // Largest coordinate magnitude build_scene accepts (shapes' extents and the camera). Embree's
     // float triangle test forms products of three coordinate differences, which overflow float
     // beyond ~7e12 (a Cornell box scaled by 1e10, coordinates 5.5e12, got hits at t = inf);
@@ -251,7 +248,6 @@ class Scene {
                       SurfaceHit& hit) const;
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
-    float m_offset_floor = 1.f;
     std::vector<std::string> m_warnings;
     Camera m_camera;
     RenderSettings m_settings;
@@ -266,41 +262,28 @@ class Scene {
 };
 
 // Inline: these run for every continuation and shadow ray.
-[[gnu::always_inline]] inline float Scene::ray_offset(const Vec3& p) const {
-    // Comparisons instead of std::fmax, which GCC does not inline without -ffinite-math-only
-    // (a libm call per ray). Hit points are finite, so fmax's NaN rule is not needed.
-    const float ax = std::fabs(p.x), ay = std::fabs(p.y), az = std::fabs(p.z);
-    const float m = ax > ay ? (ax > az ? ax : az) : (ay > az ? ay : az);
-    return kRayOffsetScale * (m_offset_floor + m);
-}
-
-[[gnu::always_inline]] inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& ng,
-                                                   const Vec3& d) const {
-    const float off = ray_offset(p);
+[[gnu::always_inline]] inline Ray Scene::spawn_ray(const Vec3& p, const Vec3& p_err, const Vec3& ng,
+                                                   const Vec3& d) {
     Ray r;
-    r.o = p + (glm::dot(ng, d) >= 0.f ? off : -off) * ng;
+    r.o = offset_ray_origin(p, p_err, ng, d);
     r.d = d;
     r.tmax = kInfinity;
     return r;
 }
 
-[[gnu::always_inline]] inline Ray Scene::shadow_ray(const Vec3& p, const Vec3& ng,
-                                                    const Vec3& p_light,
-                                                    const Vec3& n_light) const {
-    const float off_p = ray_offset(p), off_q = ray_offset(p_light);
-    // Origin: off the surface on the light's side; end: off the light on the origin's side.
-    const Vec3 o = p + (glm::dot(ng, p_light - p) >= 0.f ? off_p : -off_p) * ng;
-    const bool on_surface = n_light != Vec3(0.f);
-    const Vec3 q =
-        on_surface ? p_light + (glm::dot(n_light, o - p_light) >= 0.f ? off_q : -off_q) * n_light
-                   : p_light;
-    const Vec3 d = q - o;
-    const float len = std::sqrt(glm::dot(d, d));
+[[gnu::always_inline]] inline Ray Scene::shadow_ray_from(const Vec3& o, const LightLiSample& ls) {
     Ray r;
     r.o = o;
+    if (!std::isfinite(ls.dist)) {
+        r.d = ls.wi;
+        r.tmax = kInfinity;
+        return r;
+    }
+    const Vec3 q = offset_ray_origin(ls.p_light, ls.p_light_err, ls.n_light, o - ls.p_light);
+    const Vec3 d = q - o;
+    const float len = std::sqrt(glm::dot(d, d));
     r.d = len > 0.f ? d / len : Vec3(0.f, 0.f, 1.f);
-    // A point light is not on a surface: stop short of it along the ray instead.
-    r.tmax = on_surface ? len : len - off_q;
+    r.tmax = len * (1.f - kShadowEpsilon);
     return r;
 }
 
