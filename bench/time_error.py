@@ -323,7 +323,8 @@ class Blender:
 
 def cycles_reference(name, scene_path, cfg, blender):
     key = digest(file_digest(scene_path), file_digest(os.path.join(HERE, "cycles_twin.py")),
-                 file_digest(os.path.join(ROOT, "tests", "blender", "cycles_scene.py")),
+                 file_digest(os.path.join(ROOT, "tests", "support", "python", "facet_testsupport",
+                                          "cycles_scene.py")),
                  blender.info.get("blender"), cfg["cycles_ref_spp"], REF_SEEDS)
     paths = [os.path.join(ARGS.ref, "%s_cycles_%s_%d.exr" % (name, key, s)) for s in REF_SEEDS]
     for p, s in zip(paths, REF_SEEDS):
@@ -351,7 +352,7 @@ def block_check(name, ref, ref_var, cref, cref_var):
         return x[crop].reshape(bh, BLOCK, bw, BLOCK, c).mean(axis=(1, 3))
     n = BLOCK * BLOCK
     # Noiseless blocks (the environment seen directly) differ by float rounding only: a floor
-    # of 1e-6 relative (float32 storage, as tests/blender/cycles_scene.py's block_z).
+    # of 1e-6 relative (float32 storage, as facet_testsupport.cycles_scene's block_z).
     floor = (1e-6 * np.maximum(np.abs(bmean(ref)), np.abs(bmean(cref)))) ** 2
     z = (bmean(ref) - bmean(cref)) / np.sqrt(np.maximum(
         (bmean(ref_var) + bmean(cref_var)) / n + floor, 1e-30))

@@ -11,7 +11,7 @@ stdout (Blender's own output goes there too; the driver reads only the reply lin
       F12 with that engine; "seconds" is the time of bpy.ops.render.render() (scene
       export/sync, BVH build and sampling; not Blender's start-up, not the EXR write)
   {"cmd": "quit"}
-Cycles' settings are tests/blender/cycles_scene.py's (box filter 1 px, no clamping, no
+Cycles' settings are facet_testsupport.cycles_scene's (box filter 1 px, no clamping, no
 denoising, adaptive sampling off, light threshold 0, the given seed, not animated, bounces
 matched to Facet's max_depth, 32-bit float EXR); the Cycles materials are time_error/
 cycles_twin.py's. Errors are answered as {"error": message}."""

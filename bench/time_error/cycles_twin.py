@@ -1,6 +1,6 @@
 """Cycles twins of the benchmark scenes (used by blender_worker.py; named apart from the module it builds on), on top of
-tests/blender/cycles_scene.py (the exact conversions: Lambert, emission, point lights, fine
-meshes for analytic shapes, Cycles settings).
+facet_testsupport.cycles_scene (tests/support/python; the exact conversions: Lambert,
+emission, point lights, fine meshes for analytic shapes, Cycles settings).
 
 The benchmark also needs materials that Cycles 3.4 cannot express exactly. They get the node
 setup a Blender user would build for them, each listed as a note (and the reference check in
@@ -29,8 +29,8 @@ import sys
 from mathutils import Vector
 
 ROOT = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
-sys.path.insert(0, os.path.join(ROOT, "tests", "blender"))
-import cycles_scene as cs  # noqa: E402
+sys.path.insert(0, os.path.join(ROOT, "tests", "support", "python"))
+from facet_testsupport import cycles_scene as cs  # noqa: E402
 
 ANISO_LABEL = "facet anisotropic"
 _exact_bsdf = cs._bsdf
@@ -151,7 +151,7 @@ def _tangents(scene, notes):
 
 
 def build(scene, data, threads):
-    """Converts the imported scene for Cycles (exact where tests/blender/cycles_scene.py is,
+    """Converts the imported scene for Cycles (exact where facet_testsupport.cycles_scene is,
     approximated as above otherwise) and applies the comparison settings. Returns the notes."""
     integrator = scene.facet.integrator
     scene.facet.integrator = "path"   # Cycles is a path tracer; point_plane's path = direct

@@ -317,7 +317,8 @@ def _imported_mesh_arrays(obj_eval):
 
 def _add_material(shape, mat, mats):
     if mat is not None and mat.get("facet_cycles_only"):
-        mat = None  # an emitter's Cycles-only material (tests/blender/cycles_scene.py)
+        # an emitter's Cycles-only material (tests/support/python/facet_testsupport/cycles_scene.py)
+        mat = None
     if mat is None and any(shape.get("emission") or []):
         return  # an emitter without a material reflects nothing (FORMAT.md)
     name, conv = mats.get(mat)

@@ -6,7 +6,7 @@
    indices only) and smooth with auto smooth (split normals, one vertex per loop); the core's
    build_scene (Embree BVH) on the result.
 2. F12 on the imported Cornell box (128 x 128, 256 spp, Facet max_depth 64 = Cycles 63
-   bounces, tests/blender/cycles_scene.py's exact conversion and settings), Facet and Cycles
+   bounces, facet_testsupport.cycles_scene's exact conversion and settings), Facet and Cycles
    on the same Blender scene in the same run, interleaved, `reps` repetitions (default 3):
    median wall time of bpy.ops.render.render and the ratio; Facet's Blender-side overhead
    (export + build + pixel upload into the render result, hooks.last_timings) as a share of
@@ -26,9 +26,10 @@ import time
 import bpy
 import numpy as np
 
-sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
-import blender_test as bt  # noqa: E402
-import cycles_scene as cs  # noqa: E402
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support",
+                                "python"))
+from facet_testsupport import blender_harness as bt  # noqa: E402
+from facet_testsupport import cycles_scene as cs  # noqa: E402
 
 RES = 128
 F12_SPP = 256

@@ -1,4 +1,5 @@
-"""Helpers for the Blender tests: scripts run inside `blender -b --factory-startup --python`.
+"""Helpers for the Blender tests (tests/blender) and the Cycles comparisons built on them
+(cycles_scene.py): scripts run inside `blender -b --factory-startup --python`.
 A failed check raises, and --python-exit-code makes Blender exit 1. The tests check images and
 reports, never Blender's exit code alone (an exception inside a render engine exits 0)."""
 import os

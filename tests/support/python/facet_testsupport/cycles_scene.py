@@ -3,8 +3,8 @@
 Use inside Blender (`blender -b --factory-startup --python your_script.py`), after
 `bpy.ops.import_scene.facet(filepath=...)` (the addon's importer):
 
-    sys.path.insert(0, "<repo>/tests/blender")
-    import cycles_scene as cs
+    sys.path.insert(0, "<repo>/tests/support/python")
+    from facet_testsupport import cycles_scene as cs
     notes = cs.convert(bpy.context.scene, exact=True)   # materials, emitters, geometry, lights
     cs.cycles_settings(bpy.context.scene, samples=256, seed=1)
     img, seconds = cs.render(bpy.context.scene, 'CYCLES', "/tmp/c.exr")  # or 'FACET'
@@ -67,7 +67,7 @@ import bmesh
 import bpy
 import numpy as np
 
-import blender_test as _bt
+from facet_testsupport import blender_harness as _bt
 
 SPHERE_SEGMENTS = (256, 128)
 DISC_SEGMENTS = 1024
@@ -486,8 +486,7 @@ def render(scene, engine, path, seed=None):
     return load_exr(path).astype(np.float64), dt
 
 
-# One EXR loader for every Blender test and benchmark (blender_test.load_exr; this module is
-# imported from tests/blender, where blender_test lives).
+# One EXR loader for every Blender test and benchmark (blender_harness.load_exr).
 load_exr = _bt.load_exr
 
 
