@@ -16,7 +16,7 @@
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
 #include "facet/sampling.h"
-#include "render_test_util.h"
+#include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
 using facet::Rgb;

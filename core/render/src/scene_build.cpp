@@ -135,7 +135,6 @@ class Builder final : public BuildChecks {
                 fail(ptr + "/" + key, msg.str());
             }
         }
-        m_max_coordinate = max_abs(glm::dvec3(c.position));
         if (std::int64_t(w) * h > m_limits.max_pixels) {
             fail(ptr, "the image has too many pixels (limit " +
                           std::to_string(m_limits.max_pixels) + ")");
@@ -416,7 +415,6 @@ class Builder final : public BuildChecks {
                    "nearer the origin";
             fail(shape_place(index), msg.str());
         }
-        m_max_coordinate = std::max(m_max_coordinate, m);
     }
 
     // Removes triangles whose world-space edge cross product is exactly zero (repeated or
@@ -564,7 +562,6 @@ class Builder final : public BuildChecks {
     SceneLimits m_limits;
     BuildReport* m_report;
     std::uint64_t m_triangles = 0, m_degenerate = 0;
-    double m_max_coordinate = 0.0;  // largest |coordinate| of the camera and the shapes
     Scene::Builder m_builder;
     std::map<std::string, const Material*> m_named;
     const Material* m_black = nullptr;
