@@ -90,6 +90,15 @@ Vec3 random_unit(std::mt19937& rng) {
 // Magnitudes of the coordinates the bound tests place shapes at.
 const double kMagnitudes[] = {0.0, 1.0, 1e3, 1e5, 1e7, 1e8, 1e10};
 
+// A ray spawned from `h` into the cosine-weighted hemisphere about `n` (direction from `u`)
+// hits the shape it left.
+bool spawned_ray_rehits(const fr::Scene& scene, const fr::SurfaceHit& h, const Vec3& n,
+                        const Vec2& u) {
+    const Vec3 dir = facet::Frame::from_z(n).from_local(facet::sample_cosine_hemisphere(u));
+    fr::SurfaceHit h2;
+    return scene.intersect(fr::Scene::spawn_ray(h, dir), h2) && h2.shape == h.shape;
+}
+
 }  // namespace
 
 // For random triangles (one mesh shape each) at coordinates up to 1e10 and random rays aimed
@@ -148,13 +157,8 @@ TEST(Precision, TriangleHitBoundsContainTheSurface) {
                     const long double dist =
                         plane_distance(LV3(o), v0, n) * (LV3(h.ng).dot(n) > 0.0L ? 1.0L : -1.0L);
                     ASSERT_GT(side * dist, 0.0L) << "offset origin on the wrong side";
-                    const facet::Frame f = facet::Frame::from_z(side * h.ng);
-                    const Vec3 dir =
-                        f.from_local(facet::sample_cosine_hemisphere({u(rng), u(rng)}));
-                    fr::SurfaceHit h2;
-                    if (scene.intersect(fr::Scene::spawn_ray(h, dir), h2)) {
-                        ASSERT_NE(h2.shape, t) << "the spawned ray re-hit its triangle";
-                    }
+                    ASSERT_FALSE(spawned_ray_rehits(scene, h, side * h.ng, {u(rng), u(rng)}))
+                        << "the spawned ray re-hit its triangle";
                 }
             }
         }
@@ -221,12 +225,8 @@ TEST(Precision, AnalyticHitBoundsContainTheSurface) {
                 const Vec3 p0 = shape == 1 ? disc.center : plane.point;
                 ASSERT_TRUE(box_meets_plane(h.p, h.p_err, LV3(p0), LV3(n))) << shape;
             }
-            const facet::Frame f = facet::Frame::from_z(h.ng);
-            const Vec3 dir = f.from_local(facet::sample_cosine_hemisphere({u(rng), u(rng)}));
-            fr::SurfaceHit h2;
-            if (scene.intersect(fr::Scene::spawn_ray(h, dir), h2)) {
-                ASSERT_NE(h2.shape, shape) << "the spawned ray re-hit its surface";
-            }
+            ASSERT_FALSE(spawned_ray_rehits(scene, h, h.ng, {u(rng), u(rng)}))
+                << "the spawned ray re-hit its surface " << shape;
         }
     }
     EXPECT_GT(checked, 12000);
