@@ -440,7 +440,7 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     p -= s * n;
     hit.p = Vec3(p);
     hit.p_err = rounding_error(hit.p) +
-                (mg.normal_err + gamma_bound(3) * float(std::fabs(s))) * glm::abs(hit.ng);
+                (mg.normal_err + gamma_bound(3) * float(std::fabs(s))) * abs_components(hit.ng);
     hit.ns = hit.ng;
     if (!mg.records.empty()) {
         const Vec3* n = mg.records[tri].n;

@@ -5,11 +5,11 @@
 // component a half-width e_i such that the box p +- e contains a point of the exact surface
 // (the surface as the scene's float or double data define it). A ray leaving p is started at
 // offset_ray_origin(p, e, n, w): p moved along the geometric normal n, to w's side, by
-// dot(|n|, e) (the box's extent along n), then rounded one more float away from the surface per
-// component. That origin lies strictly on w's side of the surface's tangent plane through any
-// point of the box, so the ray cannot re-hit the surface it leaves through rounding error, and
-// the offset is as small as the error itself: a scene whose features the float spacing resolves
-// renders the same at any distance from the origin.
+// dot(|n|, e) (the box's extent along n), enlarged to cover the rounding of the move itself and
+// a few roundings of |p| more. That origin lies strictly on w's side of the surface's tangent plane
+// through any point of the box, so the ray cannot re-hit the surface it leaves through rounding
+// error, and the offset is as small as the error itself: a scene whose features the float spacing
+// resolves renders the same at any distance from the origin.
 //
 // The bounds use the unit roundoff u = 2^-24 of float and gamma(n) = n u / (1 - n u), the bound
 // of n successive roundings (Higham, "Accuracy and Stability of Numerical Algorithms", 3.1).
@@ -61,34 +61,36 @@ inline double largest_magnitude(const glm::dvec3& v) {
     return std::max({std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)});
 }
 
+// |v| per component with std::fabs (one mask instruction each; glm::abs compiles to a compare
+// and a conditional negation per component).
+[[gnu::always_inline]] inline Vec3 abs_components(const Vec3& v) {
+    return {std::fabs(v.x), std::fabs(v.y), std::fabs(v.z)};
+}
+
 // Error box of a float p obtained by one rounding of an exact (or double) value: |p_i| gamma(1)
 // per component (|fl(x) - x| <= u |x| <= gamma(1) |fl(x)|).
 [[gnu::always_inline]] inline Vec3 rounding_error(const Vec3& p) {
-    return gamma_bound(1) * glm::abs(p);
+    return gamma_bound(1) * abs_components(p);
 }
 
 // The origin of a ray leaving surface point p (error box p_err, geometric normal n of either
-// orientation) toward w: see the header comment. With p_err = 0 (an exact point) the origin is
-// p itself.
+// orientation, unit within a few u) toward w: see the header comment. Instead of pbrt's step
+// of one float per component after the rounding (a dozen instructions a component), the
+// offset's length D is enlarged in advance to cover the rounding of D n and of p + D n: with
+// offset_i = fl(D n_i) and origin_i = fl(p_i + offset_i), the origin's displacement along n is
+// at least D |n|^2 (1 - gamma(2)) - u dot(|n|, |p|), which exceeds the box's extent
+// dot(|n|, p_err) when D >= (dot(|n|, p_err) + u dot(|n|, |p|)) / ((1 - gamma(2)) (1 - gamma(4)))
+// (|n|^2 >= 1 - gamma(4)). D below is computed with 5 roundings (relative gamma(5)), so factors
+// 1 + gamma(12) on p_err and gamma(4) (four times u) on |p| meet that with margin; the |p| term
+// makes the inequality strict for every p != 0. With p = 0 and p_err = 0 (an exact point at
+// the origin) the origin is p itself.
 [[gnu::always_inline]] inline Vec3 offset_ray_origin(const Vec3& p, const Vec3& p_err,
                                                      const Vec3& n, const Vec3& w) {
-    const float d = glm::dot(glm::abs(n), p_err);
-    Vec3 offset = d * n;
-    if (glm::dot(w, n) < 0.f) offset = -offset;
-    Vec3 po = p + offset;
-    // One float further from p in each component the offset moves (pbrt's NextFloatUp/Down),
-    // without branches: the offset's sign is data, and mispredicted branches cost more than
-    // the selects. A zero takes the offset's sign first, so that it steps to the subnormal on
-    // the offset's side.
-    for (int i = 0; i < 3; ++i) {
-        const float o = offset[i];
-        const float v = po[i] == 0.f ? std::copysign(0.f, o) : po[i];
-        const std::uint32_t b = std::bit_cast<std::uint32_t>(v);
-        const bool same_sign = ((b ^ std::bit_cast<std::uint32_t>(o)) >> 31) == 0u;
-        const std::uint32_t step = o != 0.f ? (same_sign ? 1u : ~0u) : 0u;  // +1, -1 or 0
-        po[i] = std::bit_cast<float>(b + step);
-    }
-    return po;
+    constexpr float kErrScale = 1.f + gamma_bound(12);
+    constexpr float kPointScale = gamma_bound(4);
+    const Vec3 reach = kErrScale * p_err + kPointScale * abs_components(p);
+    const float d = glm::dot(abs_components(n), reach);
+    return p + (glm::dot(w, n) < 0.f ? -d : d) * n;
 }
 
 // Relative amount by which a shadow ray toward a point stops short of it (pbrt's
