@@ -439,8 +439,18 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     const double s = glm::dot(p, n) - double(plane.w);
     p -= s * n;
     hit.p = Vec3(p);
-    hit.p_err = rounding_error(hit.p) +
-                (mg.normal_err + gamma_bound(3) * float(std::fabs(s))) * abs_components(hit.ng);
+    // p_err = gamma(1) |p| + (normal_err + gamma(3) |s|) |ng| (rounding_error plus the bound
+    // along the normal), four lanes at once: per component it costs as many instructions as
+    // the projection itself. The same operations in the same order as the scalar form.
+    using F4 = float __attribute__((vector_size(16)));
+    using U4 = std::uint32_t __attribute__((vector_size(16)));
+    const float k = mg.normal_err + gamma_bound(3) * float(std::fabs(s));
+    const F4 p4 = {hit.p.x, hit.p.y, hit.p.z, 0.f};
+    F4 n4;  // (ng, w): the plane record; the w lane is not used
+    std::memcpy(&n4, &plane, sizeof n4);
+    const U4 abs_mask = U4{} + 0x7fffffffu;
+    const F4 e = gamma_bound(1) * F4(U4(p4) & abs_mask) + k * F4(U4(n4) & abs_mask);
+    hit.p_err = Vec3(e[0], e[1], e[2]);
     hit.ns = hit.ng;
     if (!mg.records.empty()) {
         const Vec3* n = mg.records[tri].n;
