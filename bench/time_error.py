@@ -962,6 +962,11 @@ def main():
         return
     meta = run_meta(t_start, load0)
     write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"), meta)
+    # The equal-error ratios from noise^2 x time fits (issue 25): from the published tables.
+    import time_error_fit
+    time_error_fit.write_fit(os.path.join(ARGS.publish, "time_error.csv"),
+                             os.path.join(ARGS.publish, "time_error_reps.csv"),
+                             os.path.join(ARGS.publish, "time_error_fit.md"))
     log(meta)
     for s in summary:
         log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
