@@ -8,18 +8,12 @@
 
 #include <cstdlib>
 
+#include "facet/testsupport/render_test_util.h"
 #include "facet/testsupport/stress_scenes.h"
 
 namespace fs = facet::stress;
 
-namespace {
-
-double stress_scale() {
-    const char* s = std::getenv("FACET_STRESS_SCALE");
-    return s ? std::max(0.05, std::atof(s)) : 1.0;
-}
-
-}  // namespace
+using facet::render::testing::stress_scale;
 
 TEST(SceneStress, ExtremeMaterialsInAFurnaceNeitherGainEnergyNorProduceNaN) {
     // Bounds: fs::furnace_cases(). Tolerances: 5 standard errors of the image mean (pixels are

@@ -3,6 +3,9 @@
 // under a point light.
 #pragma once
 
+#include <algorithm>
+#include <cstdlib>
+
 #include <cmath>
 #include <cstdint>
 #include <optional>
@@ -33,6 +36,13 @@ inline const char* const kQuadLightOverPlane = R"(
 
 // Options of a test render: integrator, samples per pixel, seed and thread count; everything
 // else as RenderOptions defaults it (the scene's max_depth, power light selection, no progress).
+// Scale of the Monte Carlo work of slow render tests: FACET_STRESS_SCALE (test.sh sets 0.1 for
+// the Debug + ASan/UBSan tree), at least 0.05; 1 when unset.
+inline double stress_scale() {
+    const char* s = std::getenv("FACET_STRESS_SCALE");
+    return s ? std::max(0.05, std::atof(s)) : 1.0;
+}
+
 inline RenderOptions test_options(const std::string& integrator, int spp, std::uint64_t seed,
                                   int threads = 2) {
     RenderOptions o;
