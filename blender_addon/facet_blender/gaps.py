@@ -1,0 +1,115 @@
+"""What the addon does not convert exactly yet, in one place: every entry is a report line the
+user sees (never a silent drop), and the entry to delete when Facet's core gains the feature.
+
+- NODES: shader nodes the node-graph walker meets that are not converted, by bl_idname, with
+  why (node_reason() adds the families: any other texture, any other shader).
+- INPUTS: inputs of converted BSDF nodes that are converted only at one value, by (bl_idname,
+  input name): (the value converted exactly, what Facet does otherwise). Inputs a converter
+  does not read at all (Normal, Tangent, ...) are reported when linked (materials.py).
+- LIGHTS: lamp settings the exporter ignores or approximates, by lamp type: (attribute, the
+  value converted exactly, what Facet does otherwise).
+"""
+
+_NO_TEXTURES = "textures are not in Facet's core yet"
+
+NODES = {
+    'ShaderNodeTexImage': "image textures are not in Facet's core yet",
+    'ShaderNodeTexEnvironment': "environment textures are not in Facet's core yet",
+    'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
+    'ShaderNodeNormalMap': "normal mapping is not in Facet's core yet; the mesh's shading "
+                           "normal is used",
+    'ShaderNodeBump': "bump mapping is not in Facet's core yet; the mesh's shading normal is "
+                      "used",
+    'ShaderNodeDisplacement': "displacement is not converted; the mesh is rendered undisplaced",
+    'ShaderNodeVectorDisplacement': "displacement is not converted; the mesh is rendered "
+                                    "undisplaced",
+    'ShaderNodeMixShader': "mixing shaders is not in Facet's core yet",
+    'ShaderNodeAddShader': "adding shaders is not in Facet's core yet",
+    'ShaderNodeBsdfGlass': "glass (refraction) is not in Facet's core yet",
+    'ShaderNodeBsdfRefraction': "refraction is not in Facet's core yet",
+    'ShaderNodeBsdfTransparent': "transparency is not in Facet's core yet",
+    'ShaderNodeBsdfTranslucent': "translucency is not in Facet's core yet",
+    'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
+    'ShaderNodeBsdfVelvet': "the velvet (sheen) BSDF is not in Facet's core yet",
+    'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
+    'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
+    'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
+    'ShaderNodeHoldout': "holdout is not in Facet's core",
+    'ShaderNodeVolumeAbsorption': "volumes are not in Facet's core",
+    'ShaderNodeVolumeScatter': "volumes are not in Facet's core",
+    'ShaderNodeVolumePrincipled': "volumes are not in Facet's core",
+    'ShaderNodeValToRGB': "ColorRamp is not converted yet (constant folding covers the "
+                          "nodes listed in nodevalues.py)",
+    'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
+    'ShaderNodeMapping': "Mapping (texture coordinates) is not converted yet",
+    'ShaderNodeTexCoord': "texture coordinates are not converted yet",
+    'ShaderNodeUVMap': "UV maps are not converted yet",
+    'ShaderNodeVertexColor': "colour attributes are not converted yet",
+    'ShaderNodeAttribute': "attributes are not converted yet",
+    'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
+                         "parameter)",
+    'ShaderNodeLayerWeight': "Layer Weight is not converted",
+    'ShaderNodeLightPath': "Light Path is not converted (Facet has no ray-type switches)",
+}
+
+INPUTS = {
+    ('ShaderNodeBsdfDiffuse', 'Roughness'): (0.0, "Oren-Nayar is not in Facet's core yet; "
+                                                  "converted as Lambert"),
+    ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
+                                                      "Facet's core yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Sheen'): (0.0, "sheen is not in Facet's core yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Clearcoat'): (0.0, "clearcoat is not in Facet's core yet; "
+                                                     "ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Transmission'): (0.0, "transmission is not in Facet's core "
+                                                        "yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Alpha'): (1.0, "alpha (transparency) is not in Facet's core "
+                                                 "yet; opaque"),
+    ('ShaderNodeBsdfPrincipled', 'Anisotropic Rotation'): (0.0, "tangent rotation is not "
+                                                                "converted; ignored"),
+    ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
+                                                     "ignored"),
+}
+
+LIGHTS = {
+    'POINT': (("shadow_soft_size", 0.0, "the radius (soft shadows) is ignored: a point light "
+                                        "of the same power"),),
+    'SPOT': (("shadow_soft_size", 0.0, "the radius (soft shadows) is ignored: a point-like "
+                                       "spot of the same power"),
+             ("spot_blend", 0.0, "the blend fades linearly in cos, not with Cycles' "
+                                 "smoothstep")),
+    'SUN': (("angle", 0.0, "the angular diameter (soft shadows) is ignored: a directional "
+                           "light of the same irradiance"),),
+    'AREA': (("spread", 3.141592653589793, "the spread is ignored: the light emits into the "
+                                           "full hemisphere (180 degrees)"),),
+}
+# Every lamp type: a setting the exporter ignores.
+LIGHTS_ALL = (("use_shadow", True, "casting no shadow is not in Facet's core; the light casts "
+                                   "shadows"),
+              ("use_nodes", False, "light node trees are not converted; the light's Color and "
+                                   "Power are used"))
+
+
+def node_reason(node):
+    """Why a node met by the walker is not converted (None: it has no entry)."""
+    idname = node.bl_idname
+    if idname in NODES:
+        return NODES[idname]
+    if idname.startswith('ShaderNodeTex'):
+        return "procedural textures are not in Facet's core yet"
+    if idname.startswith(('ShaderNodeBsdf', 'ShaderNodeVolume')) or idname.startswith(
+            'ShaderNodeEeveeSpecular'):
+        return "this shader is not in Facet's core"
+    return None
+
+
+def light_gaps(light):
+    """[(setting, value, what Facet does)] for a Blender light's settings that are not
+    converted exactly."""
+    out = []
+    for attr, exact, what in LIGHTS.get(light.type, ()) + LIGHTS_ALL:
+        v = getattr(light, attr, exact)
+        if isinstance(exact, float) and abs(float(v) - exact) > 1e-6 * max(1.0, exact):
+            out.append((attr, float(v), what))
+        elif not isinstance(exact, float) and bool(v) != exact:
+            out.append((attr, v, what))
+    return out

@@ -1,0 +1,390 @@
+"""Blender shader nodes evaluated on constant inputs, each exactly as Cycles 3.4 evaluates it
+(its SVM kernel, intern/cycles/kernel/svm/*.h and util/color.h, read in Debian's 3.4.1 copy
+under /usr/share/blender/scripts/addons/cycles/source). No bpy: a node is read only through its
+properties (operation, blend_type, ...); `values` maps input identifiers to floats or 3-tuples.
+
+Cycles computes in float32 from the float32 socket values; these functions compute in double
+from the same values, so results agree to float32 rounding (about 1e-7 relative), except where
+an operation is discontinuous (floor, compare, ...) at a value within that rounding of its
+step. Checked against Cycles renders in tests/blender/test_nodegraph.py.
+
+Formulas (t: factor, a, b: inputs, per colour channel unless stated):
+- Math: Cycles' svm_math: safe divide (b = 0 -> 0), safe power (a < 0 with a non-integer b
+  -> 0), safe log (a <= 0 or b <= 0 -> 0), sqrt of max(a, 0), inverse sqrt (a <= 0 -> 0),
+  round = floor(a + 0.5), modulo = fmod (b = 0 -> 0), wrap, ping-pong, smooth min/max
+  (h = max(c - |a - b|, 0)/c; min(a, b) - h^3 c/6), compare (|a - b| <= max(c, FLT_EPSILON)),
+  sign (0 -> 0); Clamp ticked: the result clamped to [0, 1].
+- Mix RGB (legacy): t clamped to [0, 1], then svm_mix: Mix a + t(b - a), Add a + t b,
+  Multiply a + t(ab - a), Subtract a - t b, Screen 1 - (1 - t + t(1 - b))(1 - a), Divide
+  (1 - t) a + t a/b (b = 0 channels keep a), Difference a + t(|a - b| - a), Darken/Lighten
+  a + t(min/max(a, b) - a), Overlay, Dodge, Burn, Soft Light, Linear Light a + t(2b - 1), and
+  Hue/Saturation/Value/Color through HSV; Clamp ticked: the result clamped to [0, 1].
+- Mix (3.4): Float and Vector a(1 - t) + b t (Vector: t per component when Non-Uniform);
+  Color: svm_mix with t clamped only when Clamp Factor is ticked, the result clamped when
+  Clamp Result is.
+- Invert: t(1 - c) + (1 - t)c.  Gamma: c^g for c > 0 (other channels unchanged); g = 0 -> 1.
+- Hue/Saturation/Value: to HSV; h = fmod(h + hue + 0.5, 1), s = clamp(s sat, 0, 1), v *= val;
+  back to RGB; t mix with the input; max(., 0).
+- Combine / Separate RGB, XYZ, HSV and Color (RGB, HSV, HSL): the components (Cycles'
+  rgb_to_hsv / hsv_to_rgb / rgb_to_hsl / hsl_to_rgb).
+- Clamp: Min Max clamp(v, min, max); Range the same with min and max swapped when min > max.
+- RGB, Value: the output's value.
+"""
+import math
+
+FLT_EPSILON = 1.1920928955078125e-07
+
+
+def _interp(a, b, t):
+    return a + t * (b - a)
+
+
+def _sat(x):
+    return min(max(x, 0.0), 1.0)
+
+
+def _fmod(a, b):
+    return math.fmod(a, b)
+
+
+# --- Math ---------------------------------------------------------------------------------------
+
+def _safe_div(a, b):
+    return a / b if b != 0.0 else 0.0
+
+
+def _safe_pow(a, b):
+    if a < 0.0 and b != float(int(b)):
+        return 0.0
+    try:
+        return math.pow(a, b)
+    except (OverflowError, ZeroDivisionError, ValueError):
+        return math.inf if a == 0.0 or abs(a) > 1.0 else 0.0
+
+
+def _safe_log(a, b):
+    if a <= 0.0 or b <= 0.0:
+        return 0.0
+    return _safe_div(math.log(a), math.log(b))
+
+
+def _wrap(v, mx, mn):
+    r = mx - mn
+    return v - r * math.floor((v - mn) / r) if r != 0.0 else mn
+
+
+def _fract(x):
+    return x - math.floor(x)
+
+
+def _pingpong(a, b):
+    return abs(_fract((a - b) / (b * 2.0)) * b * 2.0 - b) if b != 0.0 else 0.0
+
+
+def _smoothmin(a, b, k):
+    if k != 0.0:
+        h = max(k - abs(a - b), 0.0) / k
+        return min(a, b) - h * h * h * k * (1.0 / 6.0)
+    return min(a, b)
+
+
+def _sign(a):
+    return 0.0 if a == 0.0 else (-1.0 if a < 0.0 else 1.0)
+
+
+def _exp(a):
+    try:
+        return math.exp(a)
+    except OverflowError:
+        return math.inf
+
+
+MATH = {
+    'ADD': lambda a, b, c: a + b,
+    'SUBTRACT': lambda a, b, c: a - b,
+    'MULTIPLY': lambda a, b, c: a * b,
+    'DIVIDE': lambda a, b, c: _safe_div(a, b),
+    'MULTIPLY_ADD': lambda a, b, c: a * b + c,
+    'POWER': lambda a, b, c: _safe_pow(a, b),
+    'LOGARITHM': lambda a, b, c: _safe_log(a, b),
+    'SQRT': lambda a, b, c: math.sqrt(max(a, 0.0)),
+    'INVERSE_SQRT': lambda a, b, c: 1.0 / math.sqrt(a) if a > 0.0 else 0.0,
+    'ABSOLUTE': lambda a, b, c: abs(a),
+    'EXPONENT': lambda a, b, c: _exp(a),
+    'MINIMUM': lambda a, b, c: min(a, b),
+    'MAXIMUM': lambda a, b, c: max(a, b),
+    'LESS_THAN': lambda a, b, c: 1.0 if a < b else 0.0,
+    'GREATER_THAN': lambda a, b, c: 1.0 if a > b else 0.0,
+    'SIGN': lambda a, b, c: _sign(a),
+    'COMPARE': lambda a, b, c: 1.0 if a == b or abs(a - b) <= max(c, FLT_EPSILON) else 0.0,
+    'SMOOTH_MIN': lambda a, b, c: _smoothmin(a, b, c),
+    'SMOOTH_MAX': lambda a, b, c: -_smoothmin(-a, -b, c),
+    'ROUND': lambda a, b, c: float(math.floor(a + 0.5)),
+    'FLOOR': lambda a, b, c: float(math.floor(a)),
+    'CEIL': lambda a, b, c: float(math.ceil(a)),
+    'TRUNC': lambda a, b, c: float(math.floor(a) if a >= 0.0 else math.ceil(a)),
+    'FRACT': lambda a, b, c: _fract(a),
+    'MODULO': lambda a, b, c: _fmod(a, b) if b != 0.0 else 0.0,
+    'WRAP': lambda a, b, c: _wrap(a, b, c),
+    'SNAP': lambda a, b, c: math.floor(_safe_div(a, b)) * b,
+    'PINGPONG': lambda a, b, c: _pingpong(a, b),
+    'SINE': lambda a, b, c: math.sin(a),
+    'COSINE': lambda a, b, c: math.cos(a),
+    'TANGENT': lambda a, b, c: math.tan(a),
+    'SINH': lambda a, b, c: math.sinh(a),
+    'COSH': lambda a, b, c: math.cosh(a),
+    'TANH': lambda a, b, c: math.tanh(a),
+    'ARCSINE': lambda a, b, c: math.asin(min(max(a, -1.0), 1.0)),
+    'ARCCOSINE': lambda a, b, c: math.acos(min(max(a, -1.0), 1.0)),
+    'ARCTANGENT': lambda a, b, c: math.atan(a),
+    'ARCTAN2': lambda a, b, c: math.atan2(a, b),
+    'RADIANS': lambda a, b, c: a * (math.pi / 180.0),
+    'DEGREES': lambda a, b, c: a * (180.0 / math.pi),
+}
+
+
+def _math(node, v, out):
+    r = MATH[node.operation](v["Value"], v.get("Value_001", 0.0), v.get("Value_002", 0.0))
+    return _sat(r) if node.use_clamp else r
+
+
+def _clamp(node, v, out):
+    x, lo, hi = v["Value"], v["Min"], v["Max"]
+    if node.clamp_type == 'RANGE' and lo > hi:
+        lo, hi = hi, lo
+    return min(max(x, lo), hi)
+
+
+# --- colour -------------------------------------------------------------------------------------
+
+def rgb_to_hsv(rgb):
+    r, g, b = rgb
+    cmax, cmin = max(r, g, b), min(r, g, b)
+    cdelta = cmax - cmin
+    v = cmax
+    s = cdelta / cmax if cmax != 0.0 else 0.0
+    h = 0.0
+    if s != 0.0:
+        cr, cg, cb = ((cmax - x) / cdelta for x in rgb)
+        if r == cmax:
+            h = cb - cg
+        elif g == cmax:
+            h = 2.0 + cr - cb
+        else:
+            h = 4.0 + cg - cr
+        h /= 6.0
+        if h < 0.0:
+            h += 1.0
+    return (h, s, v)
+
+
+def hsv_to_rgb(hsv):
+    h, s, v = hsv
+    if s == 0.0:
+        return (v, v, v)
+    if h == 1.0:
+        h = 0.0
+    h *= 6.0
+    i = math.floor(h)
+    f = h - i
+    p, q, t = v * (1.0 - s), v * (1.0 - s * f), v * (1.0 - s * (1.0 - f))
+    return {0: (v, t, p), 1: (q, v, p), 2: (p, v, t), 3: (p, q, v), 4: (t, p, v)}.get(
+        int(i), (v, p, q))
+
+
+def rgb_to_hsl(rgb):
+    r, g, b = rgb
+    cmax, cmin = max(r, g, b), min(r, g, b)
+    l = min(1.0, (cmax + cmin) / 2.0)
+    if cmax == cmin:
+        return (0.0, 0.0, l)
+    d = cmax - cmin
+    s = d / (2.0 - cmax - cmin) if l > 0.5 else d / (cmax + cmin)
+    if cmax == r:
+        h = (g - b) / d + (6.0 if g < b else 0.0)
+    elif cmax == g:
+        h = (b - r) / d + 2.0
+    else:
+        h = (r - g) / d + 4.0
+    return (h / 6.0, s, l)
+
+
+def hsl_to_rgb(hsl):
+    h, s, l = hsl
+    nr = _sat(abs(h * 6.0 - 3.0) - 1.0)
+    ng = _sat(2.0 - abs(h * 6.0 - 2.0))
+    nb = _sat(2.0 - abs(h * 6.0 - 4.0))
+    chroma = (1.0 - abs(2.0 * l - 1.0)) * s
+    return tuple((n - 0.5) * chroma + l for n in (nr, ng, nb))
+
+
+def _each(f, *cols):
+    return tuple(f(*xs) for xs in zip(*cols))
+
+
+def _overlay(t, a, b):
+    tm = 1.0 - t
+    return a * (tm + 2.0 * t * b) if a < 0.5 else 1.0 - (tm + 2.0 * t * (1.0 - b)) * (1.0 - a)
+
+
+def _dodge(t, a, b):
+    if a == 0.0:
+        return a
+    tmp = 1.0 - t * b
+    if tmp <= 0.0:
+        return 1.0
+    return min(a / tmp, 1.0)
+
+
+def _burn(t, a, b):
+    tmp = (1.0 - t) + t * b
+    if tmp <= 0.0:
+        return 0.0
+    return _sat(1.0 - (1.0 - a) / tmp)
+
+
+def _mix_hue(t, a, b, keep_s):
+    hsv2 = rgb_to_hsv(b)
+    if hsv2[1] == 0.0:
+        return a
+    hsv = rgb_to_hsv(a)
+    tmp = hsv_to_rgb((hsv2[0], hsv2[1] if keep_s else hsv[1], hsv[2]))
+    return _each(lambda x, y: _interp(x, y, t), a, tmp)
+
+
+def _mix_sat(t, a, b):
+    hsv = rgb_to_hsv(a)
+    if hsv[1] == 0.0:
+        return a
+    return hsv_to_rgb((hsv[0], (1.0 - t) * hsv[1] + t * rgb_to_hsv(b)[1], hsv[2]))
+
+
+def _mix_val(t, a, b):
+    hsv = rgb_to_hsv(a)
+    return hsv_to_rgb((hsv[0], hsv[1], (1.0 - t) * hsv[2] + t * rgb_to_hsv(b)[2]))
+
+
+def _mix_soft(t, a, b):
+    def f(x, y):
+        scr = 1.0 - (1.0 - y) * (1.0 - x)
+        return (1.0 - t) * x + t * ((1.0 - x) * y * x + x * scr)
+    return _each(f, a, b)
+
+
+MIX = {
+    'MIX': lambda t, a, b: _each(lambda x, y: _interp(x, y, t), a, b),
+    'ADD': lambda t, a, b: _each(lambda x, y: _interp(x, x + y, t), a, b),
+    'MULTIPLY': lambda t, a, b: _each(lambda x, y: _interp(x, x * y, t), a, b),
+    'SUBTRACT': lambda t, a, b: _each(lambda x, y: _interp(x, x - y, t), a, b),
+    'SCREEN': lambda t, a, b: _each(lambda x, y: 1.0 - ((1.0 - t) + t * (1.0 - y)) * (1.0 - x),
+                                    a, b),
+    'DIVIDE': lambda t, a, b: _each(lambda x, y: (1.0 - t) * x + t * x / y if y != 0.0 else x,
+                                    a, b),
+    'DIFFERENCE': lambda t, a, b: _each(lambda x, y: _interp(x, abs(x - y), t), a, b),
+    'DARKEN': lambda t, a, b: _each(lambda x, y: _interp(x, min(x, y), t), a, b),
+    'LIGHTEN': lambda t, a, b: _each(lambda x, y: _interp(x, max(x, y), t), a, b),
+    'OVERLAY': lambda t, a, b: _each(lambda x, y: _overlay(t, x, y), a, b),
+    'DODGE': lambda t, a, b: _each(lambda x, y: _dodge(t, x, y), a, b),
+    'BURN': lambda t, a, b: _each(lambda x, y: _burn(t, x, y), a, b),
+    'HUE': lambda t, a, b: _mix_hue(t, a, b, False),
+    'SATURATION': _mix_sat,
+    'VALUE': _mix_val,
+    'COLOR': lambda t, a, b: _mix_hue(t, a, b, True),
+    'SOFT_LIGHT': _mix_soft,
+    'LINEAR_LIGHT': lambda t, a, b: _each(lambda x, y: x + t * (2.0 * y - 1.0), a, b),
+}
+
+
+def _mix_rgb(node, v, out):
+    r = MIX[node.blend_type](_sat(v["Fac"]), v["Color1"], v["Color2"])
+    return tuple(_sat(c) for c in r) if node.use_clamp else r
+
+
+def _mix(node, v, out):
+    dt = node.data_type
+    if dt == 'RGBA':
+        t = v["Factor_Float"]
+        t = _sat(t) if node.clamp_factor else t
+        r = MIX[node.blend_type](t, v["A_Color"], v["B_Color"])
+        return tuple(_sat(c) for c in r) if node.clamp_result else r
+    if dt == 'FLOAT':
+        t = v["Factor_Float"]
+        t = _sat(t) if node.clamp_factor else t
+        return v["A_Float"] * (1.0 - t) + v["B_Float"] * t
+    if dt == 'VECTOR':
+        if node.factor_mode == 'NON_UNIFORM':
+            t = v["Factor_Vector"]
+        else:
+            t = (v["Factor_Float"],) * 3
+        if node.clamp_factor:
+            t = tuple(_sat(x) for x in t)
+        return tuple(x * (1.0 - s) + y * s for x, y, s in zip(v["A_Vector"], v["B_Vector"], t))
+    raise KeyError(dt)
+
+
+def _invert(node, v, out):
+    t = v["Fac"]
+    return tuple(t * (1.0 - c) + (1.0 - t) * c for c in v["Color"])
+
+
+def _gamma(node, v, out):
+    g = v["Gamma"]
+    if g == 0.0:
+        return (1.0, 1.0, 1.0)
+    return tuple(math.pow(c, g) if c > 0.0 else c for c in v["Color"])
+
+
+def _hsv(node, v, out):
+    t, c_in = v["Fac"], v["Color"]
+    h, s, val = rgb_to_hsv(c_in)
+    h = _fmod(h + v["Hue"] + 0.5, 1.0)
+    s = _sat(s * v["Saturation"])
+    val *= v["Value"]
+    c = hsv_to_rgb((h, s, val))
+    return tuple(max(t * x + (1.0 - t) * y, 0.0) for x, y in zip(c, c_in))
+
+
+_COMBINE = {'RGB': lambda c: c, 'HSV': hsv_to_rgb, 'HSL': hsl_to_rgb}
+_SEPARATE = {'RGB': lambda c: c, 'HSV': rgb_to_hsv, 'HSL': rgb_to_hsl}
+
+
+def _combine(keys, mode=None):
+    def f(node, v, out):
+        return _COMBINE[mode or node.mode](tuple(v[k] for k in keys))
+    return f
+
+
+def _separate(key, outs, mode=None):
+    def f(node, v, out):
+        return _SEPARATE[mode or node.mode](v[key])[outs.index(out)]
+    return f
+
+
+def _own_output(node, v, out):
+    c = node.outputs[out].default_value
+    try:
+        return tuple(float(x) for x in c)[:3]
+    except TypeError:
+        return float(c)
+
+
+# bl_idname -> f(node, {input identifier: value}, output identifier) -> value.
+EVALUATORS = {
+    'ShaderNodeMath': _math,
+    'ShaderNodeClamp': _clamp,
+    'ShaderNodeMixRGB': _mix_rgb,
+    'ShaderNodeMix': _mix,
+    'ShaderNodeInvert': _invert,
+    'ShaderNodeGamma': _gamma,
+    'ShaderNodeHueSaturation': _hsv,
+    'ShaderNodeCombineRGB': _combine(("R", "G", "B"), 'RGB'),
+    'ShaderNodeSeparateRGB': _separate("Image", ("R", "G", "B"), 'RGB'),
+    'ShaderNodeCombineXYZ': _combine(("X", "Y", "Z"), 'RGB'),
+    'ShaderNodeSeparateXYZ': _separate("Vector", ("X", "Y", "Z"), 'RGB'),
+    'ShaderNodeCombineHSV': _combine(("H", "S", "V"), 'HSV'),
+    'ShaderNodeSeparateHSV': _separate("Color", ("H", "S", "V"), 'HSV'),
+    'ShaderNodeCombineColor': _combine(("Red", "Green", "Blue")),
+    'ShaderNodeSeparateColor': _separate("Color", ("Red", "Green", "Blue")),
+    'ShaderNodeRGB': _own_output,
+    'ShaderNodeValue': _own_output,
+}
