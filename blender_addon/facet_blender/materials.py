@@ -5,7 +5,17 @@ A material's Facet panel chooses the source: a Facet model by its own parameters
 conversion of the Cycles node tree below. Conversions and their approximations (each one a
 difference from Cycles 3.4 that the user may see):
 
-- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar in Cycles) is ignored.
+The node tree is read through nodegraph.py (the tree as Cycles flattens it: reroutes, nested
+groups, muted nodes, link conversions) from the active Material Output (target All or Cycles).
+Every BSDF input is folded to a constant when its subgraph is made of nodes nodevalues.py
+evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, RGB, Value, ...);
+that is exact. Anything else is reported through gaps.py, one line per material and node,
+naming the input it feeds and what Facet used instead (the input's own value, grey lambert,
+...). Inherent model differences of the conversions below are documented here and in
+docs/blender.md, not reported per material (they would fire on every default material).
+
+- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
+  converted as Lambert.
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -15,8 +25,8 @@ difference from Cycles 3.4 that the user may see):
   alpha_u = alpha (1 - a), alpha_v = alpha / (1 - a) for a >= 0 and alpha_u = alpha / (1 + a),
   alpha_v = alpha (1 + a) for a < 0 (Cycles 3.4's SVM closure setup for this node).
   Principled Anisotropic uses Disney's aspect instead: alpha_u = alpha / aspect, alpha_v =
-  alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are ignored
-  (Facet meshes have no tangent field).
+  alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are not converted
+  (Facet meshes have no tangent field): a non-zero Rotation is reported.
 - Principled BSDF (3.4's Disney-based model) -> composite: diffuse_reflectance =
   Base Color (1 - Metallic); a GGX glossy lobe with alpha = Roughness^2 and Schlick Fresnel with
   f0 = mix(0.08 Specular mix(1, tint, Specular Tint), Base Color, Metallic) (Disney's Cspec0).
@@ -24,10 +34,13 @@ difference from Cycles 3.4 that the user may see):
   Lambert; Facet's composite weights the diffuse lobe by what the specular lobe leaves
   (energy conserving) where Principled adds them; Subsurface, Sheen, Clearcoat, Transmission
   and Alpha are not converted (reported when not at their defaults); Emission is converted.
-- Emission: the shape's emission = Color x Strength (radiance), black material.
-- Any linked input (a texture or another node) is reported and its default value used; a Mix
-  or Add Shader or any other node at the output is reported and the material becomes grey
-  lambert (reflectance 0.8).
+- Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
+  value linked straight into a shader socket is an Emission (Cycles' conversion).
+- Mix Shader: Fac (clamped to [0, 1]) 0 or 1 is exactly one of its shaders; otherwise the
+  heavier shader is used and the node reported. Add Shader: an Emission plus one BSDF is exact
+  (emissions add); two BSDFs: the first is used and the node reported.
+- Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
+  Output's Volume and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
 """
 import json
