@@ -10,7 +10,9 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
   value converted exactly, what Facet does otherwise).
 """
 
-_NO_TEXTURES = "textures are not in Facet's core yet"
+# Any other node, or a node nodevalues.py could not evaluate (an unknown mode, a math domain
+# error).
+UNKNOWN = "Facet does not convert this node yet"
 
 NODES = {
     'ShaderNodeTexImage': "image textures are not in Facet's core yet",

@@ -8,8 +8,8 @@ difference from Cycles 3.4 that the user may see):
 The node tree is read through nodegraph.py (the tree as Cycles flattens it: reroutes, nested
 groups, muted nodes, link conversions) from the active Material Output (target All or Cycles).
 Every BSDF input is folded to a constant when its subgraph is made of nodes nodevalues.py
-evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, RGB, Value, ...);
-that is exact. Anything else is reported through gaps.py, one line per material and node,
+evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range,
+Vector Math, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one line per material and node,
 naming the input it feeds and what Facet used instead (the input's own value, grey lambert,
 ...). Inherent model differences of the conversions below are documented here and in
 docs/blender.md, not reported per material (they would fire on every default material).
@@ -152,7 +152,7 @@ class NodeContext:
             return v
         own = nodegraph.socket_value(sock)
         for b in blockers:
-            self.gap(b, gaps.node_reason(b.node) or "no conversion",
+            self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN,
                      "feeds %s '%s' input '%s'; using the input's value %s"
                      % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
         return own
@@ -200,7 +200,7 @@ class NodeContext:
             if v is not None:
                 return dict(BLACK), units.emission_from_blender(v[1], v[2])
             for b in blockers:
-                self.gap(b, gaps.node_reason(b.node) or "no conversion",
+                self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN,
                          "feeds %s as an emission; no emission" % feeds)
             return dict(BLACK), None
         conv = _NODE_CONVERTERS.get(node.bl_idname)
@@ -213,7 +213,7 @@ class NodeContext:
             return self._mix_shader(src, feeds)
         if node.bl_idname == 'ShaderNodeAddShader':
             return self._add_shader(src, feeds)
-        self.gap(src, gaps.node_reason(node) or "no conversion",
+        self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
                  "feeds %s; using grey lambert" % feeds)
         return dict(DEFAULT_MATERIAL), None
 

@@ -241,7 +241,10 @@ class Walker:
             blockers.extend(x for x in b if x.key not in {y.key for y in blockers})
         if blockers:
             return None, blockers
-        return fn(node, values, src.socket.identifier), []
+        try:
+            return fn(node, values, src.socket.identifier), []
+        except (KeyError, ValueError, ArithmeticError):  # an unknown mode, a math domain error
+            return None, [src]
 
 
 def _const(value, vtype, convs):

@@ -28,6 +28,15 @@ Formulas (t: factor, a, b: inputs, per colour channel unless stated):
 - Combine / Separate RGB, XYZ, HSV and Color (RGB, HSV, HSL): the components (Cycles'
   rgb_to_hsv / hsv_to_rgb / rgb_to_hsl / hsl_to_rgb).
 - Clamp: Min Max clamp(v, min, max); Range the same with min and max swapped when min > max.
+- Map Range (Float and Vector): t = (v - from_min)/(from_max - from_min) (Float: from_max =
+  from_min -> 0; Vector: per component, safe divide); Stepped floor(t (steps + 1))/steps;
+  Smooth Step (3 - 2t)t^2 and Smoother Step t^3(t(6t - 15) + 10) of t clamped (Float:
+  Cycles' smoothstep(from_min, from_max, v), mirrored when from_min > from_max); result
+  to_min + t (to_max - to_min), clamped to [to_min, to_max] (either order) when Clamp is ticked.
+- Bright/Contrast: max((1 + contrast) c + bright - contrast/2, 0).
+- Vector Math: Cycles' svm_vector_math (safe divide, project, reflect about the normalised
+  b, refract with the normalised b and Scale as eta, faceforward, snap, wrap, ...); Dot
+  Product, Distance and Length on the Value output.
 - RGB, Value: the output's value.
 """
 import math
@@ -368,6 +377,165 @@ def _own_output(node, v, out):
         return float(c)
 
 
+# --- Map Range, Bright/Contrast, Vector Math ----------------------------------------------------
+
+def _smoothstep(e0, e1, x):
+    if x < e0:
+        return 0.0
+    if x >= e1:
+        return 1.0
+    t = (x - e0) / (e1 - e0)
+    return (3.0 - 2.0 * t) * (t * t)
+
+
+def _smootherstep(e0, e1, x):
+    x = _sat(_safe_div(x - e0, e1 - e0))
+    return x * x * x * (x * (x * 6.0 - 15.0) + 10.0)
+
+
+def _map_range_float(node, v):
+    x, f0, f1, t0, t1 = (v[k] for k in ("Value", "From Min", "From Max", "To Min", "To Max"))
+    if f1 == f0:
+        return 0.0
+    kind = node.interpolation_type
+    if kind == 'STEPPED':
+        steps = v.get("Steps", 4.0)
+        f = (x - f0) / (f1 - f0)
+        f = math.floor(f * (steps + 1.0)) / steps if steps > 0.0 else 0.0
+    elif kind == 'SMOOTHSTEP':
+        f = 1.0 - _smoothstep(f1, f0, x) if f0 > f1 else _smoothstep(f0, f1, x)
+    elif kind == 'SMOOTHERSTEP':
+        f = 1.0 - _smootherstep(f1, f0, x) if f0 > f1 else _smootherstep(f0, f1, x)
+    else:
+        f = (x - f0) / (f1 - f0)
+    r = t0 + f * (t1 - t0)
+    if node.clamp:  # Cycles adds a Clamp node of type Range (To Min, To Max)
+        lo, hi = (t1, t0) if t0 > t1 else (t0, t1)
+        r = min(max(r, lo), hi)
+    return r
+
+
+def _map_range_vector(node, v):
+    x, f0, f1, t0, t1 = (v[k] for k in ("Vector", "From_Min_FLOAT3", "From_Max_FLOAT3",
+                                        "To_Min_FLOAT3", "To_Max_FLOAT3"))
+    steps = v.get("Steps_FLOAT3", (4.0, 4.0, 4.0))
+    kind = node.interpolation_type
+    out = []
+    for i in range(3):
+        f = _safe_div(x[i] - f0[i], f1[i] - f0[i])
+        if kind == 'STEPPED':
+            f = math.floor(f * (steps[i] + 1.0)) / steps[i] if steps[i] > 0.0 else 0.0
+        elif kind == 'SMOOTHSTEP':
+            f = _sat(f)
+            f = (3.0 - 2.0 * f) * (f * f)
+        elif kind == 'SMOOTHERSTEP':
+            f = _sat(f)
+            f = f * f * f * (f * (f * 6.0 - 15.0) + 10.0)
+        r = t0[i] + f * (t1[i] - t0[i])
+        if node.clamp and kind in ('LINEAR', 'STEPPED'):
+            lo, hi = (t1[i], t0[i]) if t0[i] > t1[i] else (t0[i], t1[i])
+            r = min(max(r, lo), hi)
+        out.append(r)
+    return tuple(out)
+
+
+def _map_range(node, v, out):
+    if node.data_type == 'FLOAT':
+        return _map_range_float(node, v)
+    return _map_range_vector(node, v)
+
+
+def _bright_contrast(node, v, out):
+    a = 1.0 + v["Contrast"]
+    b = v["Bright"] - v["Contrast"] * 0.5
+    return tuple(max(a * c + b, 0.0) for c in v["Color"])
+
+
+def _dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def _scale(a, s):
+    return tuple(x * s for x in a)
+
+
+def _sub(a, b):
+    return tuple(x - y for x, y in zip(a, b))
+
+
+def _length(a):
+    return math.sqrt(_dot(a, a))
+
+
+def _normalize(a):
+    n = _length(a)
+    return _scale(a, 1.0 / n) if n != 0.0 else a
+
+
+def _refract(i, n, eta):
+    d = _dot(n, i)
+    k = 1.0 - eta * eta * (1.0 - d * d)
+    if k < 0.0:
+        return (0.0, 0.0, 0.0)
+    return _sub(_scale(i, eta), _scale(n, eta * d + math.sqrt(k)))
+
+
+def _project(a, b):
+    l2 = _dot(b, b)
+    return _scale(b, _dot(a, b) / l2) if l2 != 0.0 else (0.0, 0.0, 0.0)
+
+
+def _reflect(a, b):
+    n = _scale(b, 1.0 / _length(b)) if _length(b) != 0.0 else b
+    return _sub(a, _scale(n, 2.0 * _dot(a, n)))
+
+
+def _cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+_VEC = {  # (a, b, c, scale) -> vector; Cycles' svm_vector_math
+    'ADD': lambda a, b, c, s: _each(lambda x, y: x + y, a, b),
+    'SUBTRACT': lambda a, b, c, s: _sub(a, b),
+    'MULTIPLY': lambda a, b, c, s: _each(lambda x, y: x * y, a, b),
+    'DIVIDE': lambda a, b, c, s: _each(_safe_div, a, b),
+    'CROSS_PRODUCT': lambda a, b, c, s: _cross(a, b),
+    'PROJECT': lambda a, b, c, s: _project(a, b),
+    'REFLECT': lambda a, b, c, s: _reflect(a, b),
+    'REFRACT': lambda a, b, c, s: _refract(a, _normalize(b) if _length(b) != 0.0 else b, s),
+    'FACEFORWARD': lambda a, b, c, s: a if _dot(c, b) < 0.0 else _scale(a, -1.0),
+    'MULTIPLY_ADD': lambda a, b, c, s: _each(lambda x, y, z: x * y + z, a, b, c),
+    'SCALE': lambda a, b, c, s: _scale(a, s),
+    'NORMALIZE': lambda a, b, c, s: _normalize(a),
+    'SNAP': lambda a, b, c, s: _each(lambda x, y: math.floor(_safe_div(x, y)) * y, a, b),
+    'FLOOR': lambda a, b, c, s: tuple(float(math.floor(x)) for x in a),
+    'CEIL': lambda a, b, c, s: tuple(float(math.ceil(x)) for x in a),
+    'MODULO': lambda a, b, c, s: _each(lambda x, y: _fmod(x, y) if y != 0.0 else 0.0, a, b),
+    'WRAP': lambda a, b, c, s: _each(_wrap, a, b, c),
+    'FRACTION': lambda a, b, c, s: tuple(_fract(x) for x in a),
+    'ABSOLUTE': lambda a, b, c, s: tuple(abs(x) for x in a),
+    'MINIMUM': lambda a, b, c, s: _each(min, a, b),
+    'MAXIMUM': lambda a, b, c, s: _each(max, a, b),
+    'SINE': lambda a, b, c, s: tuple(math.sin(x) for x in a),
+    'COSINE': lambda a, b, c, s: tuple(math.cos(x) for x in a),
+    'TANGENT': lambda a, b, c, s: tuple(math.tan(x) for x in a),
+}
+_VEC_VALUE = {  # (a, b) -> value
+    'DOT_PRODUCT': lambda a, b: _dot(a, b),
+    'DISTANCE': lambda a, b: _length(_sub(a, b)),
+    'LENGTH': lambda a, b: _length(a),
+}
+
+
+def _vector_math(node, v, out):
+    zero = (0.0, 0.0, 0.0)
+    a, b, c = v["Vector"], v.get("Vector_001", zero), v.get("Vector_002", zero)
+    op = node.operation
+    if op in _VEC_VALUE:
+        return _VEC_VALUE[op](a, b) if out == "Value" else zero
+    return _VEC[op](a, b, c, v.get("Scale", 1.0)) if out == "Vector" else 0.0
+
+
 # bl_idname -> f(node, {input identifier: value}, output identifier) -> value.
 EVALUATORS = {
     'ShaderNodeMath': _math,
@@ -385,6 +553,9 @@ EVALUATORS = {
     'ShaderNodeSeparateHSV': _separate("Color", ("H", "S", "V"), 'HSV'),
     'ShaderNodeCombineColor': _combine(("Red", "Green", "Blue")),
     'ShaderNodeSeparateColor': _separate("Color", ("Red", "Green", "Blue")),
+    'ShaderNodeMapRange': _map_range,
+    'ShaderNodeBrightContrast': _bright_contrast,
+    'ShaderNodeVectorMath': _vector_math,
     'ShaderNodeRGB': _own_output,
     'ShaderNodeValue': _own_output,
 }
