@@ -23,7 +23,8 @@ tree to Cycles):
   Strength f (Color 1).
 - Values are floats or 3-tuples of floats (a colour's alpha is dropped, as Cycles does).
 
-Walker.input() gives, for an input socket, either a Const (its value) or an Out (the output
+The output is the one Cycles renders (active_output: target Cycles before All, then the active
+one). Walker.input() gives, for an input socket, either a Const (its value) or an Out (the output
 socket feeding it, with the conversions on the way); Walker.fold() evaluates an Out to a
 constant when every node of its subgraph is one nodevalues.py evaluates, and otherwise lists
 the nodes that stop it.
@@ -130,11 +131,25 @@ def _live_link(sock):
 
 
 def active_output(tree, idname):
-    """The output node Cycles uses: the active one of type `idname` whose target is All or
-    Cycles, else the first such; None when there is none."""
-    outs = [n for n in tree.nodes if n.bl_idname == idname
-            and getattr(n, "target", 'ALL') in ('ALL', 'CYCLES')]
-    return next((n for n in outs if n.is_active_output), outs[0] if outs else None)
+    """The output node Cycles renders (Blender's ntreeShaderOutputNode for target Cycles): among
+    the nodes of type `idname` with target All or Cycles, a Cycles one before an All one, then
+    the active one, then the first; None when there is none."""
+    best = None
+    for n in tree.nodes:
+        if n.bl_idname != idname:
+            continue
+        target = getattr(n, "target", 'ALL')
+        if target not in ('ALL', 'CYCLES'):
+            continue
+        if best is None:
+            best = n
+            continue
+        best_target = getattr(best, "target", 'ALL')
+        if target == 'CYCLES' and best_target == 'ALL':
+            best = n
+        elif target == best_target and n.is_active_output and not best.is_active_output:
+            best = n
+    return best
 
 
 class Walker:

@@ -212,6 +212,24 @@ def reports():
              "Mix Shader Fac 1 + Add Shader(Emission, Diffuse): exact, nothing reported: "
              "%s %s %s" % (c.data, c.emission, c.problems))
 
+    # The output Cycles renders: target Cycles before All (even when All is active: measured,
+    # a Cycles render of Emission red on an active All output and green on an inactive Cycles
+    # output is green), never Eevee.
+    mat4, nt4, out_all = new_material("outputs")
+    for target, color, active in (('ALL', (0.25, 0.0, 0.0, 1.0), True),
+                                  ('CYCLES', (0.0, 0.5, 0.0, 1.0), False),
+                                  ('EEVEE', (0.0, 0.0, 0.75, 1.0), False)):
+        o = out_all if target == 'ALL' else nt4.nodes.new("ShaderNodeOutputMaterial")
+        o.target = target
+        d = nt4.nodes.new("ShaderNodeBsdfDiffuse")
+        d.inputs["Color"].default_value = color
+        nt4.links.new(d.outputs[0], o.inputs["Surface"])
+    nt4.nodes.active = out_all
+    out_all.is_active_output = True
+    c = materials.convert(mat4)
+    bt.check(c.data["reflectance"] == [0.0, 0.5, 0.0] and out_all.is_active_output,
+             "the Cycles-target output wins over an active All one: %s" % c.data)
+
     # Diffuse roughness > 0 (Oren-Nayar): reported, Lambert used.
     mat3, nt3, out3 = new_material("oren")
     d = nt3.nodes.new("ShaderNodeBsdfDiffuse")
