@@ -352,27 +352,16 @@ def export_environment(scene, problems):
 
 
 def _world_radiance(world, problems):
-    """The world's node tree through the node-graph walker: a Background (or Emission, or a
-    colour linked into the Surface) with constant Color and Strength is converted exactly;
-    anything else is reported (gaps.py) and what Facet used is said."""
+    """The world's node tree through the node-graph walker (materials.NodeContext): a
+    Background or Emission with constant Color and Strength, a colour linked into the Surface,
+    Add Shaders and Mix Shaders of them convert exactly; anything else is reported (gaps.py)
+    with what Facet used."""
     ctx = materials.NodeContext("world", world.name, world.node_tree)
     out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
     if out is None:
         return None
     ctx.ignored_input(out, 'Volume', (), "the World Output")
-    src = ctx.walker.input(out, 'Surface')
-    rad = None
-    if isinstance(src, nodegraph.Out) and not src.convs and src.node.bl_idname in (
-            'ShaderNodeBackground', 'ShaderNodeEmission'):
-        node, path = src.node, src.path
-        rad = units.emission_from_blender(ctx.value(node, 'Color', path),
-                                          ctx.value(node, 'Strength', path))
-        ctx.check_inputs(node, path, ('Color', 'Strength'))
-    elif isinstance(src, nodegraph.Const) or src.convs:
-        _, rad = ctx.shader(src, "the World Output's Surface")  # a colour: its emission
-    else:
-        ctx.gap(src, gaps.node_reason(src.node) or "only a Background is converted",
-                "feeds the World Output's Surface; no environment")
+    _, rad = ctx.shader(ctx.walker.input(out, 'Surface'), "the World Output's Surface")
     problems.extend(ctx.finish())
     return rad
 

@@ -36,12 +36,14 @@ docs/blender.md, not reported per material (they would fire on every default mat
   and Alpha are not converted (reported when not at their defaults); Emission is converted.
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
-- Mix Shader: Fac (clamped to [0, 1]) 0 or 1 is exactly one of its shaders; otherwise the
-  heavier shader is used and the node reported. Add Shader: an Emission plus one BSDF is exact
+- Mix Shader: Fac (clamped to [0, 1]) 0 or 1 is exactly one of its shaders, and any Fac
+  mixing two emitters (no BSDF) is their mixed emission; otherwise the heavier shader is used
+  and the node reported. Add Shader: an Emission plus one BSDF is exact
   (emissions add); two BSDFs: the first is used and the node reported.
 - Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
   Output's Volume and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
+- Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """
 import json
 import math
@@ -121,6 +123,7 @@ class NodeContext:
 
     def __init__(self, kind, name, tree):
         self.what = "%s '%s'" % (kind, name)
+        self.world = kind == "world"
         self.walker = nodegraph.Walker(tree)
         self.problems = []
         self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
@@ -204,8 +207,10 @@ class NodeContext:
                          "feeds %s as an emission; no emission" % feeds)
             return dict(BLACK), None
         conv = _NODE_CONVERTERS.get(node.bl_idname)
+        if conv is None and self.world and node.bl_idname == 'ShaderNodeBackground':
+            conv = _emission  # the world's radiance: Color x Strength, as an Emission's
         if conv is not None:
-            read = _READS.get(node.bl_idname, ())
+            read = _READS.get(node.bl_idname, ('Color', 'Strength'))
             data, emission = conv(self, node, path)
             self.check_inputs(node, path, read)
             return data, emission
@@ -213,22 +218,34 @@ class NodeContext:
             return self._mix_shader(src, feeds)
         if node.bl_idname == 'ShaderNodeAddShader':
             return self._add_shader(src, feeds)
+        if self.world:
+            self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
+                     "feeds %s; no light from it" % feeds)
+            return dict(BLACK), None
         self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
                  "feeds %s; using grey lambert" % feeds)
         return dict(DEFAULT_MATERIAL), None
 
     def _mix_shader(self, src, feeds):
         """Cycles mixes with weights (1 - t, t), t = Fac clamped to [0, 1]: t = 0 or 1 is one
-        of the shaders exactly; otherwise the heavier one is used, and reported."""
+        of the shaders exactly, and so is any t when both sides only emit (the emissions mix
+        linearly: worlds, emitters); otherwise the heavier side is used, and reported."""
         node, path = src.node, src.path
         t = min(max(self.value(node, 'Fac', path), 0.0), 1.0)
         ins = [s for s in node.inputs if s.type == 'SHADER']
+        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
         pick = 1 if t >= 0.5 else 0
         if t not in (0.0, 1.0):
+            saved = (list(self.problems), {k: [a, b, list(c)] for k, (a, b, c)
+                                           in self._lines.items()})
+            sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+            if all(d == BLACK for d, _ in sides):
+                e = [[0.0] * 3 if e is None else e for _, e in sides]
+                return dict(BLACK), [(1.0 - t) * a + t * b for a, b in zip(e[0], e[1])]
+            self.problems, self._lines = saved  # only the side used is reported
             self.gap(src, gaps.node_reason(node),
                      "feeds %s; using its shader input %d (Fac %s)" % (feeds, pick + 1,
                                                                      _fmt(t)))
-        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
         return self.shader(self.walker.input(node, ins[pick], path), label)
 
     def _add_shader(self, src, feeds):

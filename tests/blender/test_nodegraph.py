@@ -270,6 +270,38 @@ def scene_reports():
              "the world still converts with the Background's own colour: %s" % env_light)
 
 
+def world_mix():
+    """A world Mix Shader of two Backgrounds (a Fac of 0.25 through a reroute) is the exact
+    mix of their radiances; an Add Shader adds an Emission."""
+    from facet_blender import export
+    bt.factory_scene(8, 8)
+    world = bpy.context.scene.world
+    nt = world.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputWorld")
+    a = nt.nodes.new("ShaderNodeBackground")
+    a.inputs["Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    a.inputs["Strength"].default_value = 2.0
+    b = nt.nodes.new("ShaderNodeBackground")
+    b.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    mix = nt.nodes.new("ShaderNodeMixShader")
+    nt.links.new(reroute(nt, value_node(nt, 0.25)), mix.inputs["Fac"])
+    nt.links.new(a.outputs[0], mix.inputs[1])
+    nt.links.new(b.outputs[0], mix.inputs[2])
+    e = nt.nodes.new("ShaderNodeEmission")
+    e.inputs["Color"].default_value = (0.0, 0.0, 0.5, 1.0)
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(mix.outputs[0], add.inputs[0])
+    nt.links.new(e.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Surface"])
+    problems = []
+    env = export.export_environment(bpy.context.scene, problems)
+    # 0.75 (2, 1, 0.5) + 0.25 (0.5, 0.5, 0.5) + (0, 0, 0.5)
+    bt.check(env["radiance"] == [1.625, 0.875, 1.0] and problems == [],
+             "world Mix Shader of Backgrounds + Emission: exact: %s %s" % (env, problems))
+
+
 # --- against Cycles ------------------------------------------------------------------------
 
 def cases():
@@ -524,6 +556,7 @@ def main():
     structure()
     reports()
     scene_reports()
+    world_mix()
     against_cycles(outdir)
 
 
