@@ -36,10 +36,12 @@ docs/blender.md, not reported per material (they would fire on every default mat
   and Alpha are not converted (reported when not at their defaults); Emission is converted.
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
-- Mix Shader: Fac (clamped to [0, 1]) 0 or 1 is exactly one of its shaders, and any Fac
-  mixing two emitters (no BSDF) is their mixed emission; otherwise the heavier shader is used
-  and the node reported. Add Shader: an Emission plus one BSDF is exact
-  (emissions add); two BSDFs: the first is used and the node reported.
+- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
+  exact when combine() expresses the weighted sum: t = 0 or 1 (one side); emissions (any
+  weights); a BSDF linear in its reflectance (lambert, mirror, ggx, beckmann without energy
+  compensation) weighted, or two of the same model and parameters but reflectance, summed
+  while the reflectance stays <= 1. Otherwise the Mix uses its heavier side, the Add its first
+  BSDF (emissions added), and the node is reported. Principled (composite) does not combine.
 - Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
   Output's Volume and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
@@ -228,8 +230,9 @@ class NodeContext:
 
     def _mix_shader(self, src, feeds):
         """Cycles mixes with weights (1 - t, t), t = Fac clamped to [0, 1]: t = 0 or 1 is one
-        of the shaders exactly, and so is any t when both sides only emit (the emissions mix
-        linearly: worlds, emitters); otherwise the heavier side is used, and reported."""
+        of the shaders exactly; any other t is exact when combine() can weight the two sides
+        (emitters, and BSDFs linear in their reflectance); otherwise the heavier side is used,
+        and reported."""
         node, path = src.node, src.path
         t = min(max(self.value(node, 'Fac', path), 0.0), 1.0)
         ins = [s for s in node.inputs if s.type == 'SHADER']
@@ -239,9 +242,9 @@ class NodeContext:
             saved = (list(self.problems), {k: [a, b, list(c)] for k, (a, b, c)
                                            in self._lines.items()})
             sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
-            if all(d == BLACK for d, _ in sides):
-                e = [[0.0] * 3 if e is None else e for _, e in sides]
-                return dict(BLACK), [(1.0 - t) * a + t * b for a, b in zip(e[0], e[1])]
+            mixed = combine(sides, (1.0 - t, t))
+            if mixed is not None:
+                return mixed
             self.problems, self._lines = saved  # only the side used is reported
             self.gap(src, gaps.node_reason(node),
                      "feeds %s; using its shader input %d (Fac %s)" % (feeds, pick + 1,
@@ -249,21 +252,63 @@ class NodeContext:
         return self.shader(self.walker.input(node, ins[pick], path), label)
 
     def _add_shader(self, src, feeds):
-        """Emission + a BSDF is exact (the BSDF with the emission); two BSDFs are not (the
-        first is used, and reported); emissions add."""
+        """The sum of both sides when combine() can express it (emissions add; an Emission and
+        a BSDF; two BSDFs linear in their reflectance with a sum <= 1); otherwise the first
+        BSDF with both emissions, reported."""
         node, path = src.node, src.path
         label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
         ins = [s for s in node.inputs if s.type == 'SHADER']
         parts = [self.shader(self.walker.input(node, s, path), label) for s in ins]
-        emission = None
-        for _, e in parts:
-            if e is not None:
-                emission = e if emission is None else [a + b for a, b in zip(emission, e)]
-        bsdfs = [d for d, _ in parts if d != BLACK]
-        if len(bsdfs) > 1:
-            self.gap(src, gaps.node_reason(node),
-                     "feeds %s; using its first shader's BSDF (emissions added)" % feeds)
-        return (bsdfs[0] if bsdfs else dict(BLACK)), emission
+        summed = combine(parts, (1.0, 1.0))
+        if summed is not None:
+            return summed
+        self.gap(src, gaps.node_reason(node),
+                 "feeds %s; using its first shader's BSDF (emissions added)" % feeds)
+        return parts[0][0], _add_emission(parts[0][1], parts[1][1], 1.0, 1.0)
+
+
+# Facet models whose BSDF is linear in "reflectance" (f = reflectance x a lobe independent of
+# it): a weighted sum of two of them that differ only in reflectance is one of them, and a
+# weight scales the reflectance. Energy compensation (Kulla-Conty) is left out.
+_LINEAR_MODELS = ("lambert", "mirror", "ggx", "beckmann")
+
+
+def _rgb3(v):
+    return [float(v)] * 3 if not isinstance(v, (list, tuple)) else [float(c) for c in v]
+
+
+def _add_emission(e1, e2, w1, w2):
+    if e1 is None and e2 is None:
+        return None
+    e1, e2 = e1 or [0.0] * 3, e2 or [0.0] * 3
+    return [w1 * a + w2 * b for a, b in zip(e1, e2)]
+
+
+def combine(parts, weights):
+    """w1 (data1, emission1) + w2 (data2, emission2) as one converted shader, when Facet can
+    express it exactly; None otherwise. Black sides (emission only, or nothing) only weight the
+    other; two BSDFs combine when they are the same linear model with the same parameters but
+    reflectance, and the weighted reflectance stays <= 1."""
+    (d1, e1), (d2, e2) = parts
+    w1, w2 = weights
+    emission = _add_emission(e1, e2, w1, w2)
+    bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
+    if not bsdfs:
+        return dict(BLACK), emission
+    model = bsdfs[0][0].get("model")
+    if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
+        return None
+    rest = [{k: v for k, v in d.items() if k != "reflectance"} for d, _ in bsdfs]
+    if any(r != rest[0] for r in rest):
+        return None
+    refl = [0.0] * 3
+    for d, w in bsdfs:
+        refl = [a + w * b for a, b in zip(refl, _rgb3(d.get("reflectance", 1.0)))]
+    if max(refl) > 1.0:
+        return None
+    data = dict(rest[0])
+    data["reflectance"] = refl
+    return data, emission
 
 
 def _input(node, name):

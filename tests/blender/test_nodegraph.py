@@ -212,6 +212,46 @@ def reports():
              "Mix Shader Fac 1 + Add Shader(Emission, Diffuse): exact, nothing reported: "
              "%s %s %s" % (c.data, c.emission, c.problems))
 
+    # Linear combinations: Mix(Diffuse a, Diffuse b, 0.25) + Emission and Mix(Glossy,
+    # nothing, 0.5) are exact; Add of two Diffuse summing above 1 is not (reported).
+    mat5, nt5, out5 = new_material("linear_mix")
+    d1 = nt5.nodes.new("ShaderNodeBsdfDiffuse")
+    d1.inputs["Color"].default_value = (0.5, 0.25, 1.0, 1.0)
+    d2 = nt5.nodes.new("ShaderNodeBsdfDiffuse")
+    d2.inputs["Color"].default_value = (1.0, 0.5, 0.0, 1.0)
+    m5 = nt5.nodes.new("ShaderNodeMixShader")
+    m5.inputs["Fac"].default_value = 0.25
+    nt5.links.new(d1.outputs[0], m5.inputs[1])
+    nt5.links.new(d2.outputs[0], m5.inputs[2])
+    e5 = nt5.nodes.new("ShaderNodeEmission")
+    e5.inputs["Strength"].default_value = 0.5
+    a5 = nt5.nodes.new("ShaderNodeAddShader")
+    nt5.links.new(m5.outputs[0], a5.inputs[0])
+    nt5.links.new(e5.outputs[0], a5.inputs[1])
+    nt5.links.new(a5.outputs[0], out5.inputs["Surface"])
+    c = materials.convert(mat5)
+    bt.check(c.data == {"model": "lambert", "reflectance": [0.625, 0.3125, 0.75]}
+             and c.emission == [0.5, 0.5, 0.5] and c.problems == [],
+             "Mix of two Diffuse + Emission: exact: %s %s %s" % (c.data, c.emission,
+                                                                 c.problems))
+    g5 = nt5.nodes.new("ShaderNodeBsdfGlossy")
+    g5.inputs["Roughness"].default_value = 0.5
+    g5.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1.0)
+    nt5.links.new(g5.outputs[0], m5.inputs[1])
+    nt5.links.remove(m5.inputs[2].links[0])
+    m5.inputs["Fac"].default_value = 0.5
+    c = materials.convert(mat5)
+    bt.check(c.data == {"model": "ggx", "reflectance": [0.25, 0.25, 0.25], "fresnel": "none",
+                        "alpha": 0.25} and c.problems == [],
+             "Mix of a Glossy and nothing at 0.5: reflectance halved: %s %s" % (c.data,
+                                                                                c.problems))
+    nt5.links.new(d1.outputs[0], a5.inputs[0])
+    nt5.links.new(d2.outputs[0], a5.inputs[1])
+    c = materials.convert(mat5)
+    bt.check(c.data == {"model": "lambert", "reflectance": [0.5, 0.25, 1.0]}
+             and len(c.problems) == 1 and "Add Shader" in c.problems[0],
+             "Add of two Diffuse above 1: the first, reported: %s %s" % (c.data, c.problems))
+
     # The output Cycles renders: target Cycles before All (even when All is active: measured,
     # a Cycles render of Emission red on an active All output and green on an inactive Cycles
     # output is green), never Eevee.
