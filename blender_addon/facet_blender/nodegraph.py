@@ -72,10 +72,13 @@ class Out:
         return tuple(g.name for g in self.path) + (self.node.name,)
 
     def label(self):
-        """"Image Texture 'Tex'" or "Bump 'Bump' in group 'Outer' > 'Inner'"."""
+        """"Image Texture 'Tex'" or "Bump 'Bump' in node group 'Outer' > 'Inner'" (the groups'
+        node trees, outermost first)."""
         s = "%s '%s'" % (node_type_label(self.node), self.node.name)
         if self.path:
-            s += " in group " + " > ".join("'%s'" % g.name for g in self.path)
+            s += " in node group " + " > ".join(
+                "'%s'" % (g.node_tree.name if g.node_tree is not None else g.name)
+                for g in self.path)
         return s
 
     def __repr__(self):
@@ -221,6 +224,28 @@ class Walker:
         return self._resolve_output(link.from_socket, link.from_node, path, proxy_type,
                                     (convert(own[0], own[1], proxy_type), proxy_type), convs,
                                     depth + 1)
+
+    def inputs(self, node, path=()):
+        """{input name: Const or Out} for every enabled input of `node` (a BSDF's inputs, each
+        a constant or the subgraph feeding it)."""
+        return {s.name: self.input(node, s, path) for s in node.inputs if s.enabled}
+
+    def subgraph(self, src):
+        """The nodes upstream of `src` (an Out, itself first) in the flattened tree, each once,
+        as Outs: what a conversion of the input it feeds depends on."""
+        seen, order, todo = set(), [], [src] if isinstance(src, Out) else []
+        while todo:
+            o = todo.pop()
+            if o.key in seen:
+                continue
+            seen.add(o.key)
+            order.append(o)
+            for sock in o.node.inputs:
+                if sock.enabled:
+                    up = self._resolve_input(sock, o.path, sock.type, ())
+                    if isinstance(up, Out):
+                        todo.append(up)
+        return order
 
     # --- values ---------------------------------------------------------------------------------
 

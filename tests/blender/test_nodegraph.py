@@ -156,6 +156,26 @@ def structure():
     bt.check(c.emission == [2.5, 2.0, 4.0], "Mix RGB Screen x Math Power emission: %s"
              % c.emission)
     bt.check(c.problems == [], "nothing reported: %s" % c.problems)
+
+    # The walker's view of the Principled BSDF's inputs: Base Color is the Mix RGB inside the
+    # inner group (reached through the outer group and three reroutes), whose subgraph is the
+    # Mix RGB and the RGB node outside both groups (the walk leaves the shader's group through
+    # its Group Input); Specular Tint is a constant.
+    from facet_blender import nodegraph
+    w = nodegraph.Walker(nt)
+    ins = w.inputs(p, (sg,))
+    b = ins["Base Color"]
+    bt.check(isinstance(b, nodegraph.Out) and b.node.bl_idname == 'ShaderNodeMixRGB'
+             and [g.node_tree.name for g in b.path] == ["outer", "inner"]
+             and isinstance(ins["Specular Tint"], nodegraph.Const)
+             and ins["Specular Tint"].value == 0.0,
+             "Walker.inputs: Base Color fed from %r, Specular Tint %r" % (b, ins["Specular Tint"]))
+    sub = w.subgraph(b)
+    bt.check(b.label() == "Mix (Legacy) 'Mix (Legacy)' in node group 'outer' > 'inner'",
+             "a node's label names its groups: %s" % b.label())
+    bt.check(sorted(o.node.bl_idname for o in sub) == ['ShaderNodeMixRGB', 'ShaderNodeRGB']
+             and next(o for o in sub if o.node.bl_idname == 'ShaderNodeRGB').path == (),
+             "Walker.subgraph: %s" % sub)
     return c
 
 
