@@ -179,9 +179,9 @@ class _Materials:
 
 def _light_data(obj, matrix, problems):
     lt = obj.data
-    for attr, value, what in gaps.light_gaps(lt):
-        problems.append("light '%s': %s %s = %s: %s" % (obj.name, lt.type.lower(), attr,
-                                                       value, what))
+    for label, value, what in gaps.light_gaps(lt):
+        problems.append("light '%s': %s light %s = %s: %s" % (obj.name, lt.type.lower(), label,
+                                                             value, what))
     m = matrix
     pos = [m[i][3] for i in range(3)]
     axis = [-m[i][2] for i in range(3)]  # Blender lights point along local -Z

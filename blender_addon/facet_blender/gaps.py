@@ -6,8 +6,8 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
 - INPUTS: inputs of converted BSDF nodes that are converted only at one value, by (bl_idname,
   input name): (the value converted exactly, what Facet does otherwise). Inputs a converter
   does not read at all (Normal, Tangent, ...) are reported when linked (materials.py).
-- LIGHTS: lamp settings the exporter ignores or approximates, by lamp type: (attribute, the
-  value converted exactly, what Facet does otherwise).
+- LIGHTS: lamp settings the exporter ignores or approximates, by lamp type (LIGHTS_ALL: every
+  type): (attribute, Blender's label, the value converted exactly, what Facet does otherwise).
 """
 
 # Any other node, or a node nodevalues.py could not evaluate (an unknown mode, a math domain
@@ -72,23 +72,29 @@ INPUTS = {
                                                      "ignored"),
 }
 
+# (attribute path, Blender's UI label, the value converted exactly, shown in degrees, what
+# Facet does otherwise); Cycles' own light settings are under light.cycles.
 LIGHTS = {
-    'POINT': (("shadow_soft_size", 0.0, "the radius (soft shadows) is ignored: a point light "
-                                        "of the same power"),),
-    'SPOT': (("shadow_soft_size", 0.0, "the radius (soft shadows) is ignored: a point-like "
-                                       "spot of the same power"),
-             ("spot_blend", 0.0, "the blend fades linearly in cos, not with Cycles' "
-                                 "smoothstep")),
-    'SUN': (("angle", 0.0, "the angular diameter (soft shadows) is ignored: a directional "
-                           "light of the same irradiance"),),
-    'AREA': (("spread", 3.141592653589793, "the spread is ignored: the light emits into the "
-                                           "full hemisphere (180 degrees)"),),
+    'POINT': (("shadow_soft_size", "Radius", 0.0, False,
+               "ignored (soft shadows): a point light of the same power"),),
+    'SPOT': (("shadow_soft_size", "Radius", 0.0, False,
+              "ignored (soft shadows): a point-like spot of the same power"),
+             ("spot_blend", "Blend", 0.0, False,
+              "Cycles' blend range, faded linearly in cos instead of smoothstep")),
+    'SUN': (("angle", "Angle", 0.0, True,
+             "ignored (soft shadows): a directional light of the same irradiance"),),
+    'AREA': (("spread", "Spread", 3.141592653589793, True,
+              "ignored: the light emits into the full hemisphere (180 degrees)"),
+             ("cycles.is_portal", "Portal", False, False,
+              "portals are not in Facet's core: the lamp is exported as an emitter")),
 }
-# Every lamp type: a setting the exporter ignores.
-LIGHTS_ALL = (("use_shadow", True, "casting no shadow is not in Facet's core; the light casts "
-                                   "shadows"),
-              ("use_nodes", False, "light node trees are not converted; the light's Color and "
-                                   "Power are used"))
+# Every lamp type.
+LIGHTS_ALL = (("cycles.cast_shadow", "Cast Shadow", True, False,
+               "not in Facet's core: the light casts shadows"),
+              ("cycles.max_bounces", "Max Bounces", 1024, False,
+               "not in Facet's core: the scene's max depth applies"),
+              ("use_nodes", "Use Nodes", False, False,
+               "light node trees are not converted: Color x Power is used"))
 
 
 def node_reason(node):
@@ -105,13 +111,19 @@ def node_reason(node):
 
 
 def light_gaps(light):
-    """[(setting, value, what Facet does)] for a Blender light's settings that are not
-    converted exactly."""
+    """[(Blender's label, the value as shown, what Facet does)] for a Blender light's settings
+    that are not converted exactly."""
     out = []
-    for attr, exact, what in LIGHTS.get(light.type, ()) + LIGHTS_ALL:
-        v = getattr(light, attr, exact)
-        if isinstance(exact, float) and abs(float(v) - exact) > 1e-6 * max(1.0, exact):
-            out.append((attr, float(v), what))
-        elif not isinstance(exact, float) and bool(v) != exact:
-            out.append((attr, v, what))
+    for attr, label, exact, degrees, what in LIGHTS.get(light.type, ()) + LIGHTS_ALL:
+        obj = light
+        for part in attr.split(".")[:-1]:
+            obj = getattr(obj, part, None)
+        v = getattr(obj, attr.split(".")[-1], exact) if obj is not None else exact
+        if isinstance(exact, bool) or isinstance(exact, int):
+            if v != exact:
+                out.append((label, str(v), what))
+        elif abs(float(v) - exact) > 1e-6 * max(1.0, exact):
+            shown = ("%.4g deg" % (float(v) * 57.29577951308232) if degrees
+                     else "%.4g" % float(v))
+            out.append((label, shown, what))
     return out

@@ -317,10 +317,12 @@ def scene_reports():
             setattr(lt, k, v)
         ob = bpy.data.objects.new(kind.lower(), lt)
         scene.collection.objects.link(ob)
+    bpy.data.lights["spot"].cycles.cast_shadow = False
     bpy.context.view_layer.update()
     data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
-    for who, what in (("light 'Light'", "shadow_soft_size"), ("light 'sun'", "angle"),
-                      ("light 'spot'", "spot_blend"), ("light 'area'", "spread"),
+    for who, what in (("light 'Light'", "Radius = 0.1:"), ("light 'sun'", "Angle = 5.73 deg"),
+                      ("light 'spot'", "Blend = 0.3:"), ("light 'spot'", "Cast Shadow = False"),
+                      ("light 'area'", "Spread = 57.3 deg"),
                       ("world 'World'", "Environment Texture")):
         bt.check(any(who in p and what in p for p in problems),
                  "%s: %s reported: %s" % (who, what, problems))
