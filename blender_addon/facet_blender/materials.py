@@ -6,13 +6,14 @@ conversion of the Cycles node tree below. Conversions and their approximations (
 difference from Cycles 3.4 that the user may see):
 
 The node tree is read through nodegraph.py (the tree as Cycles flattens it: reroutes, nested
-groups, muted nodes, link conversions) from the active Material Output (target All or Cycles).
+groups, muted nodes, link conversions) from the Material Output Cycles renders (target Cycles
+before All, then the active one).
 Every BSDF input is folded to a constant when its subgraph is made of nodes nodevalues.py
-evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range,
-Vector Math, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one line per material and node,
-naming the input it feeds and what Facet used instead (the input's own value, grey lambert,
-...). Inherent model differences of the conversions below are documented here and in
-docs/blender.md, not reported per material (they would fire on every default material).
+evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range, Vector
+Math, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one line per
+material and node, naming the input it feeds and what Facet used instead (the input's own value,
+grey lambert, ...). Inherent model differences of the conversions below are documented here and
+in docs/blender.md, not reported per material (they would fire on every default material).
 
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
   converted as Lambert.

@@ -10,8 +10,9 @@ the report of what is not converted (gaps.py), in headless Blender:
    the exporter ignores and a world texture are reported.
 3. Against Cycles' own evaluation: a row of emission quads, each driven by one node chain
    (Math operations, Mix RGB / Mix blend modes, Invert, Gamma, Hue/Saturation/Value,
-   Separate/Combine, Map Range, Bright/Contrast, Vector Math, link conversions colour -> float and vector -> float, a muted node with an
-   unlinked input, an unconnected reroute, a muted group), rendered by Cycles at 1 spp with a
+   Separate/Combine, Map Range, Bright/Contrast, Vector Math, link conversions colour -> float
+   and vector -> float, a muted node with an unlinked input, an unconnected reroute, a muted
+   group), rendered by Cycles at 1 spp with a
    1-px box filter: each pixel is the chain's value as Cycles evaluates it, and must equal the
    addon's folded value to 1e-6 relative (float32 evaluation; see the check).
 """
