@@ -40,8 +40,6 @@ NODES = {
     'ShaderNodeVolumeAbsorption': "volumes are not in Facet's core",
     'ShaderNodeVolumeScatter': "volumes are not in Facet's core",
     'ShaderNodeVolumePrincipled': "volumes are not in Facet's core",
-    'ShaderNodeValToRGB': "ColorRamp is not converted yet (constant folding covers the "
-                          "nodes listed in nodevalues.py)",
     'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
     'ShaderNodeMapping': "Mapping (texture coordinates) is not converted yet",
     'ShaderNodeTexCoord': "texture coordinates are not converted yet",

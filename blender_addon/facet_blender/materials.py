@@ -10,10 +10,11 @@ groups, muted nodes, link conversions) from the Material Output Cycles renders (
 before All, then the active one).
 Every BSDF input is folded to a constant when its subgraph is made of nodes nodevalues.py
 evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range, Vector
-Math, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one line per
-material and node, naming the input it feeds and what Facet used instead (the input's own value,
-grey lambert, ...). Inherent model differences of the conversions below are documented here and
-in docs/blender.md, not reported per material (they would fire on every default material).
+Math, ColorRamp, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one
+line per material and node, naming the input it feeds and what Facet used instead (the input's
+own value, grey lambert, ...). Inherent model differences of the conversions below are
+documented here and in docs/blender.md, not reported per material (they would fire on every
+default material).
 
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
   converted as Lambert.

@@ -1,7 +1,8 @@
 """Blender shader nodes evaluated on constant inputs, each exactly as Cycles 3.4 evaluates it
 (its SVM kernel, intern/cycles/kernel/svm/*.h and util/color.h, read in Debian's 3.4.1 copy
-under /usr/share/blender/scripts/addons/cycles/source). No bpy: a node is read only through its
-properties (operation, blend_type, ...); `values` maps input identifiers to floats or 3-tuples.
+under /usr/share/blender/scripts/addons/cycles/source). No bpy import: a node is read only
+through its properties (operation, blend_type, ...; a ColorRamp through its own evaluate());
+`values` maps input identifiers to floats or 3-tuples.
 
 Cycles computes in float32 from the float32 socket values; these functions compute in double
 from the same values, so results agree to float32 rounding (about 1e-7 relative), except where
@@ -37,6 +38,8 @@ Formulas (t: factor, a, b: inputs, per colour channel unless stated):
 - Vector Math: Cycles' svm_vector_math (safe divide, project, reflect about the normalised
   b, refract with the normalised b and Scale as eta, faceforward, snap, wrap, ...); Dot
   Product, Distance and Length on the Value output.
+- ColorRamp: Cycles' 256-entry table of the ramp (ColorRamp.evaluate at i/255), read at
+  Fac clamped to [0, 1] times 255 with linear interpolation between entries (none for Constant).
 - RGB, Value: the output's value.
 """
 import math
@@ -536,6 +539,27 @@ def _vector_math(node, v, out):
     return _VEC[op](a, b, c, v.get("Scale", 1.0)) if out == "Vector" else 0.0
 
 
+# --- ColorRamp ------------------------------------------------------------------------------
+
+RAMP_TABLE_SIZE = 256  # Cycles' kernel/types.h
+
+
+def _color_ramp(node, v, out):
+    """Cycles samples the ramp into a 256-entry table (Blender's ColorRamp.evaluate at
+    i / 255) and interpolates that table linearly (rgb_ramp_lookup; no interpolation when the
+    ramp is Constant): the same two table entries, read through the same evaluate()."""
+    ramp = node.color_ramp
+    n = RAMP_TABLE_SIZE - 1
+    f = min(max(v["Fac"], 0.0), 1.0) * n
+    i = min(max(int(f), 0), n)
+    t = f - i
+    c = list(ramp.evaluate(i / n))
+    if ramp.interpolation != 'CONSTANT' and t > 0.0:
+        c1 = list(ramp.evaluate((i + 1) / n))
+        c = [(1.0 - t) * a + t * b for a, b in zip(c, c1)]
+    return c[3] if out == "Alpha" else tuple(c[:3])
+
+
 # bl_idname -> f(node, {input identifier: value}, output identifier) -> value.
 EVALUATORS = {
     'ShaderNodeMath': _math,
@@ -556,6 +580,7 @@ EVALUATORS = {
     'ShaderNodeMapRange': _map_range,
     'ShaderNodeBrightContrast': _bright_contrast,
     'ShaderNodeVectorMath': _vector_math,
+    'ShaderNodeValToRGB': _color_ramp,
     'ShaderNodeRGB': _own_output,
     'ShaderNodeValue': _own_output,
 }

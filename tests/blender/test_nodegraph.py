@@ -517,6 +517,21 @@ def cases():
             return next(s for s in n2.outputs if s.identifier == "Result_Color")
         add("vector math %s" % op)(f)
 
+    for interp, fac, alpha in (('LINEAR', 0.37, False), ('B_SPLINE', 0.6123, False),
+                               ('EASE', 0.6, True), ('CONSTANT', 0.52, False)):
+        def f(nt, interp=interp, fac=fac, alpha=alpha):
+            n = nt.nodes.new("ShaderNodeValToRGB")
+            r = n.color_ramp
+            r.interpolation = interp
+            r.elements[0].color = (0.9, 0.2, 0.1, 1.0)
+            r.elements[1].position = 0.8
+            r.elements[1].color = (0.1, 0.4, 0.9, 0.3)
+            mid = r.elements.new(0.45)
+            mid.color = (0.3, 0.9, 0.2, 0.6)
+            nt.links.new(value_node(nt, fac), n.inputs["Fac"])
+            return n.outputs["Alpha" if alpha else "Color"]
+        add("color ramp %s%s" % (interp, " alpha" if alpha else ""))(f)
+
     @add("muted node, unlinked input -> 0")
     def _(nt):
         m = math_node(nt, 'ADD', 0.6, 0.2)
