@@ -33,8 +33,8 @@ from . import nodevalues
 
 # Scene-linear RGB -> luminance, Cycles' rgb_to_y in Blender 3.4.1's default OCIO config,
 # measured by render (tests/blender/test_nodegraph.py: pure red, green and blue linked into a
-# float): Cycles derives it through the config's ACES interchange space, so it differs from the
-# config's srgb_to_xyz row (0.2126729, 0.7151522, 0.0721750) in the 7th digit.
+# float). It differs from the Y row of the config's srgb_to_xyz.spimtx (0.2126729, 0.7151522,
+# 0.0721750) in the 7th digit; how Cycles derives it from the config was not traced.
 RGB_TO_Y = (0.21267297863960266, 0.7151526212692261, 0.07217544317245483)
 
 _PASS_THROUGH = ('NodeReroute',)
