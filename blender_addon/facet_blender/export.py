@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import hooks, materials, units
+from . import gaps, hooks, materials, nodegraph, units
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
 DEFAULT_MATERIAL_NAME = "facet_default"
@@ -179,6 +179,9 @@ class _Materials:
 
 def _light_data(obj, matrix, problems):
     lt = obj.data
+    for label, value, what in gaps.light_gaps(lt):
+        problems.append("light '%s': %s light %s = %s: %s" % (obj.name, lt.type.lower(), label,
+                                                             value, what))
     m = matrix
     pos = [m[i][3] for i in range(3)]
     axis = [-m[i][2] for i in range(3)]  # Blender lights point along local -Z
@@ -338,25 +341,29 @@ def export_environment(scene, problems):
     if stored is not None:
         return stored
     if world.use_nodes and world.node_tree is not None:
-        out = next((n for n in world.node_tree.nodes
-                    if n.bl_idname == 'ShaderNodeOutputWorld' and n.is_active_output), None)
-        if out is None or not out.inputs['Surface'].links:
+        rad = _world_radiance(world, problems)
+        if rad is None:
             return None
-        node = out.inputs['Surface'].links[0].from_node
-        if node.bl_idname != 'ShaderNodeBackground':
-            problems.append("world '%s': node '%s' is not supported (only an unlinked "
-                            "Background); no environment" % (world.name, node.name))
-            return None
-        if node.inputs['Color'].is_linked or node.inputs['Strength'].is_linked:
-            problems.append("world '%s': Background inputs are linked (environment textures "
-                            "are not supported); using their values" % world.name)
-        rad = units.emission_from_blender(node.inputs['Color'].default_value,
-                                          node.inputs['Strength'].default_value)
     else:
         rad = units.emission_from_blender(world.color, 1.0)
     if not any(c > 0.0 for c in rad):
         return None
     return {"type": "environment", "radiance": rad}
+
+
+def _world_radiance(world, problems):
+    """The world's node tree through the node-graph walker (materials.NodeContext): a
+    Background or Emission with constant Color and Strength, a colour linked into the Surface,
+    Add Shaders and Mix Shaders of them convert exactly; anything else is reported (gaps.py)
+    with what Facet used."""
+    ctx = materials.NodeContext("world", world.name, world.node_tree)
+    out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
+    if out is None:
+        return None
+    ctx.ignored_input(out, 'Volume', (), "the World Output")
+    _, rad = ctx.shader(ctx.walker.input(out, 'Surface'), "the World Output's Surface")
+    problems.extend(ctx.finish())
+    return rad
 
 
 def export_render_settings(scene, frame=None):

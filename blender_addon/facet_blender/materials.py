@@ -5,7 +5,19 @@ A material's Facet panel chooses the source: a Facet model by its own parameters
 conversion of the Cycles node tree below. Conversions and their approximations (each one a
 difference from Cycles 3.4 that the user may see):
 
-- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar in Cycles) is ignored.
+The node tree is read through nodegraph.py (the tree as Cycles flattens it: reroutes, nested
+groups, muted nodes, link conversions) from the Material Output Cycles renders (target Cycles
+before All, then the active one).
+Every BSDF input is folded to a constant when its subgraph is made of nodes nodevalues.py
+evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range, Vector
+Math, ColorRamp, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one
+line per material and node, naming the input it feeds and what Facet used instead (the input's
+own value, grey lambert, ...). Inherent model differences of the conversions below are
+documented here and in docs/blender.md, not reported per material (they would fire on every
+default material).
+
+- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
+  converted as Lambert.
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -15,8 +27,8 @@ difference from Cycles 3.4 that the user may see):
   alpha_u = alpha (1 - a), alpha_v = alpha / (1 - a) for a >= 0 and alpha_u = alpha / (1 + a),
   alpha_v = alpha (1 + a) for a < 0 (Cycles 3.4's SVM closure setup for this node).
   Principled Anisotropic uses Disney's aspect instead: alpha_u = alpha / aspect, alpha_v =
-  alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are ignored
-  (Facet meshes have no tangent field).
+  alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are not converted
+  (Facet meshes have no tangent field): a non-zero Rotation is reported.
 - Principled BSDF (3.4's Disney-based model) -> composite: diffuse_reflectance =
   Base Color (1 - Metallic); a GGX glossy lobe with alpha = Roughness^2 and Schlick Fresnel with
   f0 = mix(0.08 Specular mix(1, tint, Specular Tint), Base Color, Metallic) (Disney's Cspec0).
@@ -24,16 +36,23 @@ difference from Cycles 3.4 that the user may see):
   Lambert; Facet's composite weights the diffuse lobe by what the specular lobe leaves
   (energy conserving) where Principled adds them; Subsurface, Sheen, Clearcoat, Transmission
   and Alpha are not converted (reported when not at their defaults); Emission is converted.
-- Emission: the shape's emission = Color x Strength (radiance), black material.
-- Any linked input (a texture or another node) is reported and its default value used; a Mix
-  or Add Shader or any other node at the output is reported and the material becomes grey
-  lambert (reflectance 0.8).
+- Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
+  value linked straight into a shader socket is an Emission (Cycles' conversion).
+- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
+  exact when combine() expresses the weighted sum: t = 0 or 1 (one side); emissions (any
+  weights); a BSDF linear in its reflectance (lambert, mirror, ggx, beckmann without energy
+  compensation) weighted, or two of the same model and parameters but reflectance, summed
+  while the reflectance stays <= 1. Otherwise the Mix uses its heavier side, the Add its first
+  BSDF (emissions added), and the node is reported. Principled (composite) does not combine.
+- Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
+  Output's Volume and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
+- Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """
 import json
 import math
 
-from . import units
+from . import gaps, nodegraph, units
 from .properties import material_params
 
 DEFAULT_MATERIAL = {"model": "lambert", "reflectance": 0.8}
@@ -68,17 +87,22 @@ def convert(mat):
     if not mat.use_nodes or mat.node_tree is None:
         return Converted({"model": "lambert", "reflectance": list(mat.diffuse_color)[:3]},
                          two_sided=two_sided)
-    problems = []
-    node = _output_surface(mat, problems)
-    if node is None:
-        return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=problems)
-    conv = _NODE_CONVERTERS.get(node.bl_idname)
-    if conv is None:
-        problems.append("material '%s': node '%s' (%s) is not supported by Facet; using grey "
-                        "lambert" % (mat.name, node.name, node.bl_idname))
-        return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=problems)
-    data, emission = conv(mat, node, problems)
-    return Converted(data, emission, two_sided, problems)
+    ctx = NodeContext("material", mat.name, mat.node_tree)
+    out = nodegraph.active_output(mat.node_tree, 'ShaderNodeOutputMaterial')
+    if out is None:
+        ctx.problems.append("material '%s': no Material Output node; using grey lambert"
+                            % mat.name)
+        return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
+    feeds = "the Material Output"
+    for name in ('Volume', 'Displacement'):
+        ctx.ignored_input(out, name, (), feeds)
+    src = ctx.walker.input(out, 'Surface')
+    if isinstance(src, nodegraph.Const) and src.value is None:
+        ctx.problems.append("material '%s': nothing connected to the output's Surface; using "
+                            "grey lambert" % mat.name)
+        return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
+    data, emission = ctx.shader(src, "the Material Output's Surface")
+    return Converted(data, emission, two_sided, ctx.finish())
 
 
 def material_state(mat):
@@ -87,37 +111,213 @@ def material_state(mat):
     return repr((fs.source, material_params(fs), tuple(fs.emission), fs.two_sided))
 
 
-def _output_surface(mat, problems):
-    nodes = mat.node_tree.nodes
-    outs = [n for n in nodes if n.bl_idname == 'ShaderNodeOutputMaterial']
-    out = next((n for n in outs if n.is_active_output and n.target in ('ALL', 'CYCLES')), None)
-    out = out or next((n for n in outs if n.target in ('ALL', 'CYCLES')), None)
-    if out is None:
-        problems.append("material '%s': no Material Output node; using grey lambert" % mat.name)
-        return None
-    links = out.inputs['Surface'].links
-    if not links:
-        problems.append("material '%s': nothing connected to the output's Surface; using grey "
-                        "lambert" % mat.name)
-        return None
-    node = links[0].from_node
-    while node.bl_idname == 'NodeReroute' and node.inputs[0].links:
-        node = node.inputs[0].links[0].from_node
-    return node
+def _fmt(v):
+    if isinstance(v, tuple):
+        return "(%s)" % ", ".join("%.4g" % c for c in v)
+    return "%.4g" % v
 
 
-def _value(mat, node, name, problems, default_ok=None):
-    """The unlinked value of an input; a linked input is reported (its default is used)."""
-    sock = node.inputs[name]
-    if sock.is_linked:
-        problems.append("material '%s': node '%s' input '%s' is linked (textures and node "
-                        "networks are not converted); using its value" % (mat.name, node.name,
-                                                                          name))
-    v = sock.default_value
-    try:
-        return [float(c) for c in v]
-    except TypeError:
-        return float(v)
+BLACK = {"model": "lambert", "reflectance": 0.0}
+
+
+class NodeContext:
+    """One node tree's conversion (a material's or a world's): the walker, the inputs read,
+    and the report, one line per node that is not converted exactly (gaps.py), naming the
+    tree, the node (and its group), the input it feeds and what Facet used instead."""
+
+    def __init__(self, kind, name, tree):
+        self.what = "%s '%s'" % (kind, name)
+        self.world = kind == "world"
+        self.walker = nodegraph.Walker(tree)
+        self.problems = []
+        self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
+
+    def gap(self, src, reason, feeds):
+        """Reports the node of `src` (an Out), once per node; `feeds` says which input it
+        feeds and what was used."""
+        line = self._lines.get(src.key)
+        if line is None:
+            self._lines[src.key] = [src.label(), reason, [feeds]]
+        elif feeds not in line[2]:
+            line[2].append(feeds)
+
+    def finish(self):
+        """The problem lines: the direct ones, then one per node not converted."""
+        for label, reason, feeds in self._lines.values():
+            self.problems.append("%s: %s is not converted (%s): %s"
+                                 % (self.what, label, reason, "; ".join(feeds)))
+        self._lines = {}
+        return self.problems
+
+    def value(self, node, name, path=()):
+        """The value of a BSDF input: folded to a constant when its subgraph allows (exact),
+        else the input's own value, and each node stopping the folding is reported."""
+        sock = _input(node, name)
+        src = self.walker.input(node, sock, path)
+        v, blockers = self.walker.fold(src)
+        if v is not None:
+            return v
+        own = nodegraph.socket_value(sock)
+        for b in blockers:
+            self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN,
+                     "feeds %s '%s' input '%s'; using the input's value %s"
+                     % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
+        return own
+
+    def ignored_input(self, node, name, path, feeds_what):
+        """An input the conversion does not read: a live link into it is reported (the node
+        feeding it, or the nodes stopping its folding)."""
+        sock = next((s for s in node.inputs if s.name == name and s.enabled), None)
+        if sock is None:
+            return
+        src = self.walker.input(node, sock, path)
+        if isinstance(src, nodegraph.Const):
+            return
+        v, blockers = self.walker.fold(src)
+        for b in (blockers or [src]):
+            self.gap(b, gaps.node_reason(b.node) or "input '%s' is not converted" % name,
+                     "feeds %s input '%s'; ignored" % (feeds_what, name))
+
+    def check_inputs(self, node, path, read):
+        """After a BSDF's conversion: inputs converted only at one value (gaps.INPUTS) and
+        linked inputs the conversion did not read are reported."""
+        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+        for sock in node.inputs:
+            if not sock.enabled or sock.type == 'SHADER':
+                continue
+            entry = gaps.INPUTS.get((node.bl_idname, sock.name))
+            if entry is not None:
+                v = self.value(node, sock.identifier, path)
+                if isinstance(v, float) and v != entry[0]:
+                    self.problems.append("%s: %s input '%s' = %s: %s"
+                                         % (self.what, label, sock.name, _fmt(v), entry[1]))
+            elif sock.name not in read:
+                self.ignored_input(node, sock.name, path, label)
+
+    def shader(self, src, feeds):
+        """A shader socket's value -> (Facet material data, emission or None)."""
+        if isinstance(src, nodegraph.Const):
+            if isinstance(src.value, tuple) and src.value and src.value[0] == "EMISSION":
+                # A colour or value linked into a shader socket: Cycles' Emission.
+                return dict(BLACK), units.emission_from_blender(src.value[1], src.value[2])
+            return dict(BLACK), None  # no closure: black
+        node, path = src.node, src.path
+        if src.convs:  # a colour or value output into a shader socket: an Emission
+            v, blockers = self.walker.fold(src)
+            if v is not None:
+                return dict(BLACK), units.emission_from_blender(v[1], v[2])
+            for b in blockers:
+                self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN,
+                         "feeds %s as an emission; no emission" % feeds)
+            return dict(BLACK), None
+        conv = _NODE_CONVERTERS.get(node.bl_idname)
+        if conv is None and self.world and node.bl_idname == 'ShaderNodeBackground':
+            conv = _emission  # the world's radiance: Color x Strength, as an Emission's
+        if conv is not None:
+            read = _READS.get(node.bl_idname, ('Color', 'Strength'))
+            data, emission = conv(self, node, path)
+            self.check_inputs(node, path, read)
+            return data, emission
+        if node.bl_idname == 'ShaderNodeMixShader':
+            return self._mix_shader(src, feeds)
+        if node.bl_idname == 'ShaderNodeAddShader':
+            return self._add_shader(src, feeds)
+        if self.world:
+            self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
+                     "feeds %s; no light from it" % feeds)
+            return dict(BLACK), None
+        self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
+                 "feeds %s; using grey lambert" % feeds)
+        return dict(DEFAULT_MATERIAL), None
+
+    def _mix_shader(self, src, feeds):
+        """Cycles mixes with weights (1 - t, t), t = Fac clamped to [0, 1]: t = 0 or 1 is one
+        of the shaders exactly; any other t is exact when combine() can weight the two sides
+        (emitters, and BSDFs linear in their reflectance); otherwise the heavier side is used,
+        and reported."""
+        node, path = src.node, src.path
+        t = min(max(self.value(node, 'Fac', path), 0.0), 1.0)
+        ins = [s for s in node.inputs if s.type == 'SHADER']
+        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+        pick = 1 if t >= 0.5 else 0
+        if t not in (0.0, 1.0):
+            saved = (list(self.problems), {k: [a, b, list(c)] for k, (a, b, c)
+                                           in self._lines.items()})
+            sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+            mixed = combine(sides, (1.0 - t, t))
+            if mixed is not None:
+                return mixed
+            self.problems, self._lines = saved  # only the side used is reported
+            self.gap(src, gaps.node_reason(node),
+                     "feeds %s; using its shader input %d (Fac %s)" % (feeds, pick + 1,
+                                                                     _fmt(t)))
+        return self.shader(self.walker.input(node, ins[pick], path), label)
+
+    def _add_shader(self, src, feeds):
+        """The sum of both sides when combine() can express it (emissions add; an Emission and
+        a BSDF; two BSDFs linear in their reflectance with a sum <= 1); otherwise the first
+        BSDF with both emissions, reported."""
+        node, path = src.node, src.path
+        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+        ins = [s for s in node.inputs if s.type == 'SHADER']
+        parts = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+        summed = combine(parts, (1.0, 1.0))
+        if summed is not None:
+            return summed
+        self.gap(src, gaps.node_reason(node),
+                 "feeds %s; using its first shader's BSDF (emissions added)" % feeds)
+        return parts[0][0], _add_emission(parts[0][1], parts[1][1], 1.0, 1.0)
+
+
+# Facet models whose BSDF is linear in "reflectance" (f = reflectance x a lobe independent of
+# it): a weighted sum of two of them that differ only in reflectance is one of them, and a
+# weight scales the reflectance. Energy compensation (Kulla-Conty) is left out.
+_LINEAR_MODELS = ("lambert", "mirror", "ggx", "beckmann")
+
+
+def _rgb3(v):
+    return [float(v)] * 3 if not isinstance(v, (list, tuple)) else [float(c) for c in v]
+
+
+def _add_emission(e1, e2, w1, w2):
+    if e1 is None and e2 is None:
+        return None
+    e1, e2 = e1 or [0.0] * 3, e2 or [0.0] * 3
+    return [w1 * a + w2 * b for a, b in zip(e1, e2)]
+
+
+def combine(parts, weights):
+    """w1 (data1, emission1) + w2 (data2, emission2) as one converted shader, when Facet can
+    express it exactly; None otherwise. Black sides (emission only, or nothing) only weight the
+    other; two BSDFs combine when they are the same linear model with the same parameters but
+    reflectance, and the weighted reflectance stays <= 1."""
+    (d1, e1), (d2, e2) = parts
+    w1, w2 = weights
+    emission = _add_emission(e1, e2, w1, w2)
+    bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
+    if not bsdfs:
+        return dict(BLACK), emission
+    model = bsdfs[0][0].get("model")
+    if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
+        return None
+    rest = [{k: v for k, v in d.items() if k != "reflectance"} for d, _ in bsdfs]
+    if any(r != rest[0] for r in rest):
+        return None
+    refl = [0.0] * 3
+    for d, w in bsdfs:
+        refl = [a + w * b for a, b in zip(refl, _rgb3(d.get("reflectance", 1.0)))]
+    if max(refl) > 1.0:
+        return None
+    data = dict(rest[0])
+    data["reflectance"] = refl
+    return data, emission
+
+
+def _input(node, name):
+    for s in node.inputs:
+        if s.identifier == name:
+            return s
+    return next(s for s in node.inputs if s.name == name and s.enabled)
 
 
 def _rgb(v):
@@ -147,15 +347,11 @@ def _aniso(alpha, anisotropy):
     return alpha / aspect, alpha * aspect
 
 
-def _diffuse(mat, node, problems):
-    color = _rgb(_value(mat, node, 'Color', problems))
-    if _value(mat, node, 'Roughness', problems) > 0.0:
-        problems.append("material '%s': Diffuse BSDF Roughness (Oren-Nayar) is not supported; "
-                        "converted as Lambert" % mat.name)
-    return {"model": "lambert", "reflectance": color}, None
+def _diffuse(ctx, node, path):
+    return {"model": "lambert", "reflectance": _rgb(ctx.value(node, 'Color', path))}, None
 
 
-def _glossy_model(mat, node, problems):
+def _glossy_model(ctx, node):
     dist = node.distribution
     if dist == 'SHARP':
         return "mirror", False
@@ -164,19 +360,19 @@ def _glossy_model(mat, node, problems):
     if dist == 'MULTI_GGX':
         return "ggx", True
     if dist != 'GGX':
-        problems.append("material '%s': %s distribution '%s' is not supported; converted as "
-                        "GGX" % (mat.name, node.name, dist))
+        ctx.problems.append("%s: %s distribution '%s' is not supported; converted as GGX"
+                            % (ctx.what, node.name, dist))
     return "ggx", False
 
 
-def _glossy(mat, node, problems):
-    color = _rgb(_value(mat, node, 'Color', problems))
-    model, compensate = _glossy_model(mat, node, problems)
+def _glossy(ctx, node, path):
+    color = _rgb(ctx.value(node, 'Color', path))
+    model, compensate = _glossy_model(ctx, node)
     data = {"model": model, "reflectance": color, "fresnel": "none"}
     if model != "mirror":
-        alpha = _alpha(_value(mat, node, 'Roughness', problems))
+        alpha = _alpha(ctx.value(node, 'Roughness', path))
         if node.bl_idname == 'ShaderNodeBsdfAnisotropic':
-            aniso = _value(mat, node, 'Anisotropy', problems)
+            aniso = ctx.value(node, 'Anisotropy', path)
             if aniso != 0.0:
                 data["alpha_u"], data["alpha_v"] = _aniso_bsdf(alpha, aniso)
             else:
@@ -188,22 +384,15 @@ def _glossy(mat, node, problems):
     return data, None
 
 
-_PRINCIPLED_UNSUPPORTED = (("Subsurface", 0.0), ("Sheen", 0.0), ("Clearcoat", 0.0),
-                           ("Transmission", 0.0), ("Alpha", 1.0))
-
-
-def _principled(mat, node, problems):
-    base = _rgb(_value(mat, node, 'Base Color', problems))
-    metallic = max(0.0, min(1.0, _value(mat, node, 'Metallic', problems)))
-    specular = max(0.0, _value(mat, node, 'Specular', problems))
-    tint = max(0.0, min(1.0, _value(mat, node, 'Specular Tint', problems)))
-    alpha = _alpha(_value(mat, node, 'Roughness', problems))
-    aniso = _value(mat, node, 'Anisotropic', problems)
-    for name, default in _PRINCIPLED_UNSUPPORTED:
-        if name in node.inputs and (node.inputs[name].is_linked
-                                    or abs(node.inputs[name].default_value - default) > 0.0):
-            problems.append("material '%s': Principled BSDF input '%s' is not supported by "
-                            "Facet; ignored" % (mat.name, name))
+def _principled(ctx, node, path):
+    def val(name):
+        return ctx.value(node, name, path)
+    base = _rgb(val('Base Color'))
+    metallic = max(0.0, min(1.0, val('Metallic')))
+    specular = max(0.0, val('Specular'))
+    tint = max(0.0, min(1.0, val('Specular Tint')))
+    alpha = _alpha(val('Roughness'))
+    aniso = val('Anisotropic')
     # Disney's tint: the base colour's hue at luminance 1.
     lum = 0.2126 * base[0] + 0.7152 * base[1] + 0.0722 * base[2]
     ctint = [c / lum for c in base] if lum > 0.0 else [1.0, 1.0, 1.0]
@@ -215,21 +404,31 @@ def _principled(mat, node, problems):
         data["alpha_u"], data["alpha_v"] = _aniso(alpha, aniso)
     else:
         data["alpha"] = alpha
-    emission = units.emission_from_blender(_value(mat, node, 'Emission', problems),
-                                           _value(mat, node, 'Emission Strength', problems))
+    emission = units.emission_from_blender(val('Emission'), val('Emission Strength'))
     return data, emission
 
 
-def _emission(mat, node, problems):
-    emission = units.emission_from_blender(_value(mat, node, 'Color', problems),
-                                           _value(mat, node, 'Strength', problems))
-    return {"model": "lambert", "reflectance": 0.0}, emission
+def _emission(ctx, node, path):
+    emission = units.emission_from_blender(ctx.value(node, 'Color', path),
+                                           ctx.value(node, 'Strength', path))
+    return dict(BLACK), emission
 
 
+# bl_idname -> conversion(ctx, node, path) -> (data, emission or None); _READS: the inputs it
+# reads (every other input is checked by NodeContext.check_inputs: gaps.INPUTS or reported
+# when linked).
 _NODE_CONVERTERS = {
     'ShaderNodeBsdfDiffuse': _diffuse,
     'ShaderNodeBsdfGlossy': _glossy,
     'ShaderNodeBsdfAnisotropic': _glossy,
     'ShaderNodeBsdfPrincipled': _principled,
     'ShaderNodeEmission': _emission,
+}
+_READS = {
+    'ShaderNodeBsdfDiffuse': ('Color',),
+    'ShaderNodeBsdfGlossy': ('Color', 'Roughness'),
+    'ShaderNodeBsdfAnisotropic': ('Color', 'Roughness', 'Anisotropy'),
+    'ShaderNodeBsdfPrincipled': ('Base Color', 'Metallic', 'Specular', 'Specular Tint',
+                                 'Roughness', 'Anisotropic', 'Emission', 'Emission Strength'),
+    'ShaderNodeEmission': ('Color', 'Strength'),
 }

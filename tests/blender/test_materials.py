@@ -1,6 +1,7 @@
 """Cycles node materials -> Facet materials (materials.py): Diffuse, Glossy GGX / Beckmann /
 Sharp / Multiscatter GGX, Anisotropic, Principled (dielectric, metal, mixed), Emission; a
-linked input and an unsupported distribution are reported by material and input name; the
+texture feeding an input and an unsupported distribution are reported by material, node and
+input name (the node graph itself: tests/blender/test_nodegraph.py); the
 Facet panel's model and parameters reach the core by the core's names (and the core validates
 them)."""
 import os
@@ -83,7 +84,8 @@ def main():
     m.node_tree.links.new(tex.outputs[1], n.inputs["Base Color"])
     c = conv(m)
     bt.check(any("PX" in p and "Clearcoat" in p for p in c.problems)
-             and any("PX" in p and "Base Color" in p and "linked" in p for p in c.problems),
+             and any("PX" in p and "Base Color" in p and "Noise Texture" in p
+                     for p in c.problems),
              "Principled: unsupported and linked inputs named: %s" % c.problems)
     m, _ = node_material("E", "ShaderNodeEmission", Color=(1.0, 0.5, 0.25, 1.0), Strength=4.0)
     c = conv(m)

@@ -72,7 +72,9 @@ def case_unsupported_node():
     fresh()
     mat = bpy.data.materials["Material"]
     nt = mat.node_tree
-    mix = nt.nodes.new("ShaderNodeMixShader")
+    mix = nt.nodes.new("ShaderNodeMixShader")  # of two BSDFs at Fac 0.5: not converted
+    nt.links.new(nt.nodes["Principled BSDF"].outputs[0], mix.inputs[1])
+    nt.links.new(nt.nodes.new("ShaderNodeBsdfGlossy").outputs[0], mix.inputs[2])
     nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     err = render_error()
     from facet_blender import hooks

@@ -1,0 +1,127 @@
+"""What the addon does not convert exactly yet, in one place: every entry is a report line the
+user sees (never a silent drop), and the entry to delete when Facet's core gains the feature.
+
+- NODES: shader nodes the node-graph walker meets that are not converted, by bl_idname, with
+  why (node_reason() adds the families: any other texture, any other shader).
+- INPUTS: inputs of converted BSDF nodes that are converted only at one value, by (bl_idname,
+  input name): (the value converted exactly, what Facet does otherwise). Inputs a converter
+  does not read at all (Normal, Tangent, ...) are reported when linked (materials.py).
+- LIGHTS: lamp settings the exporter ignores or approximates, by lamp type (LIGHTS_ALL: every
+  type): (attribute, Blender's label, the value converted exactly, what Facet does otherwise).
+"""
+
+# Any other node, or a node nodevalues.py could not evaluate (an unknown mode, a math domain
+# error).
+UNKNOWN = "Facet does not convert this node yet"
+
+NODES = {
+    'ShaderNodeTexImage': "image textures are not in Facet's core yet",
+    'ShaderNodeTexEnvironment': "environment textures are not in Facet's core yet",
+    'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
+    'ShaderNodeNormalMap': "normal mapping is not in Facet's core yet; the mesh's shading "
+                           "normal is used",
+    'ShaderNodeBump': "bump mapping is not in Facet's core yet; the mesh's shading normal is "
+                      "used",
+    'ShaderNodeDisplacement': "displacement is not converted; the mesh is rendered undisplaced",
+    'ShaderNodeVectorDisplacement': "displacement is not converted; the mesh is rendered "
+                                    "undisplaced",
+    'ShaderNodeMixShader': "mixing shaders is not in Facet's core yet",
+    'ShaderNodeAddShader': "adding shaders is not in Facet's core yet",
+    'ShaderNodeBsdfGlass': "glass (refraction) is not in Facet's core yet",
+    'ShaderNodeBsdfRefraction': "refraction is not in Facet's core yet",
+    'ShaderNodeBsdfTransparent': "transparency is not in Facet's core yet",
+    'ShaderNodeBsdfTranslucent': "translucency is not in Facet's core yet",
+    'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
+    'ShaderNodeBsdfVelvet': "the velvet (sheen) BSDF is not in Facet's core yet",
+    'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
+    'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
+    'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
+    'ShaderNodeHoldout': "holdout is not in Facet's core",
+    'ShaderNodeVolumeAbsorption': "volumes are not in Facet's core",
+    'ShaderNodeVolumeScatter': "volumes are not in Facet's core",
+    'ShaderNodeVolumePrincipled': "volumes are not in Facet's core",
+    'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
+    'ShaderNodeMapping': "Mapping (texture coordinates) is not converted yet",
+    'ShaderNodeTexCoord': "texture coordinates are not converted yet",
+    'ShaderNodeUVMap': "UV maps are not converted yet",
+    'ShaderNodeVertexColor': "colour attributes are not converted yet",
+    'ShaderNodeAttribute': "attributes are not converted yet",
+    'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
+                         "parameter)",
+    'ShaderNodeLayerWeight': "Layer Weight is not converted",
+    'ShaderNodeLightPath': "Light Path is not converted (Facet has no ray-type switches)",
+}
+
+INPUTS = {
+    ('ShaderNodeBsdfDiffuse', 'Roughness'): (0.0, "Oren-Nayar is not in Facet's core yet; "
+                                                  "converted as Lambert"),
+    ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
+                                                      "Facet's core yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Sheen'): (0.0, "sheen is not in Facet's core yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Clearcoat'): (0.0, "clearcoat is not in Facet's core yet; "
+                                                     "ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Transmission'): (0.0, "transmission is not in Facet's core "
+                                                        "yet; ignored"),
+    ('ShaderNodeBsdfPrincipled', 'Alpha'): (1.0, "alpha (transparency) is not in Facet's core "
+                                                 "yet; opaque"),
+    ('ShaderNodeBsdfPrincipled', 'Anisotropic Rotation'): (0.0, "tangent rotation is not "
+                                                                "converted; ignored"),
+    ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
+                                                     "ignored"),
+}
+
+# (attribute path, Blender's UI label, the value converted exactly, shown in degrees, what
+# Facet does otherwise); Cycles' own light settings are under light.cycles.
+LIGHTS = {
+    'POINT': (("shadow_soft_size", "Radius", 0.0, False,
+               "ignored (soft shadows): a point light of the same power"),),
+    'SPOT': (("shadow_soft_size", "Radius", 0.0, False,
+              "ignored (soft shadows): a point-like spot of the same power"),
+             ("spot_blend", "Blend", 0.0, False,
+              "Cycles' blend range, faded linearly in cos instead of smoothstep")),
+    'SUN': (("angle", "Angle", 0.0, True,
+             "ignored (soft shadows): a directional light of the same irradiance"),),
+    'AREA': (("spread", "Spread", 3.141592653589793, True,
+              "ignored: the light emits into the full hemisphere (180 degrees)"),
+             ("cycles.is_portal", "Portal", False, False,
+              "portals are not in Facet's core: the lamp is exported as an emitter")),
+}
+# Every lamp type.
+LIGHTS_ALL = (("cycles.cast_shadow", "Cast Shadow", True, False,
+               "not in Facet's core: the light casts shadows"),
+              ("cycles.max_bounces", "Max Bounces", 1024, False,
+               "not in Facet's core: the scene's max depth applies"),
+              ("use_nodes", "Use Nodes", False, False,
+               "light node trees are not converted: Color x Power is used"))
+
+
+def node_reason(node):
+    """Why a node met by the walker is not converted (None: it has no entry)."""
+    idname = node.bl_idname
+    if idname in NODES:
+        return NODES[idname]
+    if idname.startswith('ShaderNodeTex'):
+        return "procedural textures are not in Facet's core yet"
+    if idname.startswith(('ShaderNodeBsdf', 'ShaderNodeVolume')) or idname.startswith(
+            'ShaderNodeEeveeSpecular'):
+        return "this shader is not in Facet's core"
+    return None
+
+
+def light_gaps(light):
+    """[(Blender's label, the value as shown, what Facet does)] for a Blender light's settings
+    that are not converted exactly."""
+    out = []
+    for attr, label, exact, degrees, what in LIGHTS.get(light.type, ()) + LIGHTS_ALL:
+        obj = light
+        for part in attr.split(".")[:-1]:
+            obj = getattr(obj, part, None)
+        v = getattr(obj, attr.split(".")[-1], exact) if obj is not None else exact
+        if isinstance(exact, bool) or isinstance(exact, int):
+            if v != exact:
+                out.append((label, str(v), what))
+        elif abs(float(v) - exact) > 1e-6 * max(1.0, exact):
+            shown = ("%.4g deg" % (float(v) * 57.29577951308232) if degrees
+                     else "%.4g" % float(v))
+            out.append((label, shown, what))
+    return out
