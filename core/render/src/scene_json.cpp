@@ -307,8 +307,10 @@ class Reader {
         if (c.contains("type")) d.type = get_string(c["type"], ptr + "/type");
         // fov frames a perspective camera, scale an orthographic one: each is required by its
         // type and an error with the other (an unknown type is build_scene's error).
-        const bool ortho = d.type == "orthographic";
-        if (ortho) {
+        if (d.type != "perspective" && d.type != "orthographic") {
+            if (c.contains("fov")) d.fov = get_number(c["fov"], ptr + "/fov");
+            if (c.contains("scale")) d.scale = get_number(c["scale"], ptr + "/scale");
+        } else if (d.type == "orthographic") {
             if (c.contains("fov"))
                 fail(ptr + "/fov", "an orthographic camera has no fov (its framing is 'scale')");
             d.scale = get_number(require(c, ptr, "scale"), ptr + "/scale");
