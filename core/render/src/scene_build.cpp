@@ -144,7 +144,7 @@ class Builder final : public BuildChecks {
         }
         o.shift_x = float(check_range(c.shift_x, ptr + "/shift_x", -1e3, 1e3, "in [-1000, 1000]"));
         o.shift_y = float(check_range(c.shift_y, ptr + "/shift_y", -1e3, 1e3, "in [-1000, 1000]"));
-        o.aperture_radius = float(aperture_radius(c, ptr, o.projection));
+        o.aperture_radius = float(checked_aperture_radius(c, ptr, o.projection));
         if (c.focus_distance || o.aperture_radius > 0.f) {
             if (!c.focus_distance)
                 fail(ptr + "/focus_distance",
@@ -184,7 +184,8 @@ class Builder final : public BuildChecks {
     // The thin lens's radius (scene units) from aperture_radius, or fstop and focal_length
     // (mm) as Cycles computes it (blender/camera.cpp): focal_length 1e-3 / (2 fstop), i.e.
     // scene units taken as metres. 0 = pinhole.
-    double aperture_radius(const CameraDesc& c, const std::string& ptr, Projection proj) const {
+    double checked_aperture_radius(const CameraDesc& c, const std::string& ptr,
+                                   Projection proj) const {
         if (c.aperture_radius && c.fstop)
             fail(ptr + "/fstop", "give aperture_radius or fstop (with focal_length), not both");
         if (c.focal_length && !c.fstop)
@@ -199,10 +200,13 @@ class Builder final : public BuildChecks {
                  "an orthographic camera has no focal length: give "
                  "aperture_radius (Cycles uses 1 / (2 fstop))");
         }
-        const double fstop = positive_length(*c.fstop, ptr + "/fstop");
+        positive_length(*c.fstop, ptr + "/fstop");
         if (!c.focal_length) fail(ptr + "/focal_length", "required with fstop (millimetres)");
-        const double flen = positive_length(*c.focal_length, ptr + "/focal_length");
-        return flen * 1e-3 / (2.0 * fstop);
+        positive_length(*c.focal_length, ptr + "/focal_length");
+        const double radius = aperture_radius(c);
+        if (!(radius <= Scene::kMaxCoordinate))
+            fail(ptr + "/fstop", "the aperture focal_length / 1000 / (2 fstop) is too large");
+        return radius;
     }
 
     void build_render() {
@@ -646,6 +650,12 @@ std::string SceneFeatures::describe() const {
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     return s.str();
+}
+
+double aperture_radius(const CameraDesc& c) {
+    if (c.aperture_radius) return *c.aperture_radius;
+    if (c.fstop && c.focal_length) return *c.focal_length * 1e-3 / (2.0 * *c.fstop);
+    return 0.0;
 }
 
 Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,

@@ -152,6 +152,11 @@ struct BuildReport {
 // material names, model parameters (the core's registry), a scene without lights, the limits.
 // Zero-area triangles are dropped and counted (a warning per shape, also in Scene::warnings()).
 // `name` prefixes every message (a file name, "blender", ...).
+// The thin lens's radius in scene units of a camera (not validated: build_scene checks it):
+// aperture_radius, or Cycles' focal_length (mm) 1e-3 / (2 fstop) (blender/camera.cpp: scene
+// units taken as metres), or 0 (pinhole).
+double aperture_radius(const CameraDesc& camera);
+
 Scene build_scene(const SceneDescription& desc, const std::string& name,
                   const SceneLimits& limits = {}, BuildReport* report = nullptr);
 
