@@ -286,53 +286,83 @@ TEST(Camera, LensShiftMovesTheWindowByFractionsOfTheLargerSide) {
     }
 }
 
+// The scene analysis decides from the camera's frustum whether emitters are visible (and the
+// kernel then adds emission on camera rays): the frustum must be the camera's, shifted and
+// orthographic. An emissive disc only an orthographic window (or a shifted one) sees, at the
+// image centre: its pixel must show the emission, 2, exactly (direct, 1 spp, pixel centre).
+TEST(Camera, EmittersSeenThroughShiftedAndOrthographicWindowsAreRendered) {
+    const std::string shapes = R"(, "width": 9, "height": 9},
+        "shapes": [{"type": "disc", "center": [3, 0, -0.5], "normal": [0, 0, 1], "radius": 0.5,
+                    "emission": 2}])";
+    // Orthographic, scale 1 around x = 3: the disc is 0.5 in front of the camera plane, where
+    // a perspective frustum of half-width 0.5 would reach x = 0.25 only.
+    const Scene ortho = scene_from(
+        R"("camera": {"position": [3, 0, 0], "look_at": [3, 0, -1], "type": "orthographic",
+                      "scale": 1)" +
+        shapes);
+    // Perspective from the origin, fov 10, shifted right by 6 / (2 tan 5 deg) larger sides:
+    // the window centre is at x/z = 6, the disc's direction, far outside the unshifted
+    // frustum (|x/z| <= tan 5 deg).
+    const double shift = 6.0 / (2.0 * std::tan(5.0 * kPiD / 180.0));
+    const Scene shifted = scene_from(
+        R"("camera": {"position": [0, 0, 0], "look_at": [0, 0, -1], "fov": 10, "shift_x": )" +
+        std::to_string(shift) + shapes);
+    for (const Scene* s : {&ortho, &shifted}) {
+        const Image img = facet::render::render(*s, test_options("direct", 1, 1));
+        EXPECT_EQ(img.at(4, 4).x, 2.f);
+    }
+}
+
 // --- scene format -----------------------------------------------------------------------------
 
 TEST(Camera, BadInputNamesTheJsonPointer) {
     const std::string base = R"({"position": [0, 0, 5], "look_at": [0, 0, 0], "width": 8,
                                  "height": 8, )";
     auto err = [&](const std::string& keys) { return error_of(base + keys + "}"); };
-    EXPECT_EQ(err(R"("fov": 40, "aperture_radius": 0.1, "focus_distance": 0)"),
-              "test.json: /camera/focus_distance: must be > 0");
-    EXPECT_EQ(err(R"("fov": 40, "aperture_radius": 0.1)"),
-              "test.json: /camera/focus_distance: required with an aperture (aperture_radius or "
-              "fstop)");
-    EXPECT_EQ(err(R"("fov": 40, "aperture_radius": -0.1, "focus_distance": 2)"),
-              "test.json: /camera/aperture_radius: value -0.1 is out of range: must be >= 0 "
-              "(scene units)");
-    EXPECT_EQ(err(R"("fov": 40, "fstop": -2, "focal_length": 50, "focus_distance": 2)"),
-              "test.json: /camera/fstop: value -2 is out of range: must be > 0");
-    EXPECT_EQ(err(R"("fov": 40, "fstop": 2, "focus_distance": 2)"),
-              "test.json: /camera/focal_length: required with fstop (millimetres)");
-    EXPECT_EQ(err(R"("fov": 40, "fstop": 2, "focal_length": 50, "aperture_radius": 1,
-                     "focus_distance": 2)"),
-              "test.json: /camera/fstop: give aperture_radius or fstop (with focal_length), not "
-              "both");
-    EXPECT_EQ(err(R"("fov": 40, "blades": 2)"),
-              "test.json: /camera/blades: must be 0 (round aperture) or at least 3, got 2");
-    EXPECT_EQ(err(R"("fov": 40, "blades": 1)"),
-              "test.json: /camera/blades: must be 0 (round aperture) or at least 3, got 1");
-    EXPECT_EQ(err(R"("fov": 40, "shift_x": 1e300)"),
-              "test.json: /camera/shift_x: value 1e+300 is out of range: must be in [-1000, "
-              "1000]");
-    EXPECT_EQ(err(R"("type": "orthographic", "scale": 0)"),
-              "test.json: /camera/scale: must be > 0");
-    EXPECT_EQ(err(R"("type": "orthographic", "scale": -3)"),
-              "test.json: /camera/scale: value -3 is out of range: must be > 0");
-    EXPECT_EQ(err(R"("type": "orthographic")"), "test.json: /camera: missing required key 'scale'");
-    EXPECT_EQ(err(R"("type": "orthographic", "scale": 2, "fov": 40)"),
-              "test.json: /camera/fov: an orthographic camera has no fov (its framing is "
-              "'scale')");
-    EXPECT_EQ(err(R"("fov": 40, "scale": 2)"),
-              "test.json: /camera/scale: 'scale' is for orthographic cameras (\"type\": "
-              "\"orthographic\")");
-    EXPECT_EQ(err(R"("type": "orthographc", "scale": 2)"),
-              "test.json: /camera/type: unknown camera type 'orthographc' (did you mean "
-              "'orthographic'?)");
-    EXPECT_EQ(err(R"("type": "orthographic", "scale": 2, "fstop": 2, "focal_length": 50,
-                     "focus_distance": 2)"),
-              "test.json: /camera/fstop: an orthographic camera has no focal length: give "
-              "aperture_radius (Cycles uses 1 / (2 fstop))");
+    // {camera keys, the error}
+    const std::pair<const char*, const char*> cases[] = {
+        {R"("fov": 40, "aperture_radius": 0.1, "focus_distance": 0)",
+         "test.json: /camera/focus_distance: must be > 0"},
+        {R"("fov": 40, "aperture_radius": 0.1)",
+         "test.json: /camera/focus_distance: required with an aperture (aperture_radius or "
+         "fstop)"},
+        {R"("fov": 40, "aperture_radius": -0.1, "focus_distance": 2)",
+         "test.json: /camera/aperture_radius: value -0.1 is out of range: must be >= 0 "
+         "(scene units)"},
+        {R"("fov": 40, "fstop": -2, "focal_length": 50, "focus_distance": 2)",
+         "test.json: /camera/fstop: value -2 is out of range: must be > 0"},
+        {R"("fov": 40, "fstop": 2, "focus_distance": 2)",
+         "test.json: /camera/focal_length: required with fstop (millimetres)"},
+        {R"("fov": 40, "fstop": 2, "focal_length": 50, "aperture_radius": 1,
+                     "focus_distance": 2)",
+         "test.json: /camera/fstop: give aperture_radius or fstop (with focal_length), not "
+         "both"},
+        {R"("fov": 40, "blades": 2)",
+         "test.json: /camera/blades: must be 0 (round aperture) or at least 3, got 2"},
+        {R"("fov": 40, "blades": 1)",
+         "test.json: /camera/blades: must be 0 (round aperture) or at least 3, got 1"},
+        {R"("fov": 40, "shift_x": 1e300)",
+         "test.json: /camera/shift_x: value 1e+300 is out of range: must be in [-1000, "
+         "1000]"},
+        {R"("type": "orthographic", "scale": 0)", "test.json: /camera/scale: must be > 0"},
+        {R"("type": "orthographic", "scale": -3)",
+         "test.json: /camera/scale: value -3 is out of range: must be > 0"},
+        {R"("type": "orthographic")", "test.json: /camera: missing required key 'scale'"},
+        {R"("type": "orthographic", "scale": 2, "fov": 40)",
+         "test.json: /camera/fov: an orthographic camera has no fov (its framing is "
+         "'scale')"},
+        {R"("fov": 40, "scale": 2)",
+         "test.json: /camera/scale: 'scale' is for orthographic cameras (\"type\": "
+         "\"orthographic\")"},
+        {R"("type": "orthographc", "scale": 2)",
+         "test.json: /camera/type: unknown camera type 'orthographc' (did you mean "
+         "'orthographic'?)"},
+        {R"("type": "orthographic", "scale": 2, "fstop": 2, "focal_length": 50,
+                     "focus_distance": 2)",
+         "test.json: /camera/fstop: an orthographic camera has no focal length: give "
+         "aperture_radius (Cycles uses 1 / (2 fstop))"},
+    };
+    for (const auto& [keys, message] : cases) EXPECT_EQ(err(keys), message);
     // fstop and focal_length give Cycles' radius focal_length 1e-3 / (2 fstop).
     EXPECT_EQ(err(R"("fov": 40, "fstop": 2.8, "focal_length": 50, "focus_distance": 2)"), "");
     const Scene s = scene_from(

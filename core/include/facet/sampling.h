@@ -1,4 +1,5 @@
-// Warping functions from [0,1)^2 to directions, with their densities.
+// Warping functions from [0,1)^2 to directions (and to points of the disc and of regular
+// polygons, for apertures), with their densities.
 //
 // Conventions: returned directions are unit vectors in the local frame (z up, facet/frame.h);
 // every pdf is per unit solid angle unless its name says otherwise. Inputs u are in [0,1)^2.
