@@ -557,7 +557,7 @@ class Builder final : public BuildChecks {
             // (orthographic), widened by a lens of radius R: a lens ray's offset from its
             // lens-centre ray is l (1 - z / focus_distance), at most R (1 + z / focus_distance).
             const float k = persp ? z : 1.f;
-            const float m = c.lens_radius * (1.f + z / c.focus_distance);
+            const float m = c.has_lens() ? c.lens_radius * (1.f + z / c.focus_distance) : 0.f;
             all_behind &= z <= 0.f;
             all_left &= x < k * (c.center_x - tx) - m;
             all_right &= x > k * (c.center_x + tx) + m;
