@@ -39,8 +39,13 @@ def object_state(obj, matrix=None):
     parts = [_floats(v for row in m for v in row)]
     if obj.type == 'CAMERA':
         c = obj.data
-        parts.append(_floats((c.lens, c.sensor_width, c.sensor_height, c.shift_x, c.shift_y)))
+        parts.append(_floats((c.lens, c.sensor_width, c.sensor_height, c.shift_x, c.shift_y,
+                              c.ortho_scale)))
         parts.append(c.sensor_fit + c.type)
+        d = c.dof
+        parts.append("%s%s" % (d.use_dof, d.focus_object.name if d.focus_object else "")
+                     + _floats((d.focus_distance, d.aperture_fstop, d.aperture_blades,
+                                d.aperture_rotation, d.aperture_ratio)))
     elif obj.type == 'LIGHT':
         lt = obj.data
         parts.append(lt.type + _floats(list(lt.color) + [lt.energy]))
@@ -86,23 +91,74 @@ def export_camera(depsgraph, scene, problems):
     if stored is not None:
         return stored
     c = cam_eval.data
-    if c.type != 'PERSP':
-        raise ExportError("camera '%s': only perspective cameras are supported (type is %s)"
-                          % (cam.name, c.type))
-    if c.shift_x != 0.0 or c.shift_y != 0.0:
-        problems.append("camera '%s': lens shift is not supported; ignored" % cam.name)
+    if c.type not in ('PERSP', 'ORTHO'):
+        raise ExportError("camera '%s': only perspective and orthographic cameras are "
+                          "supported (type is %s)" % (cam.name, c.type))
     r = scene.render
     if r.pixel_aspect_x != r.pixel_aspect_y:
         problems.append("render: non-square pixel aspect is not supported; square pixels used")
     proj = cam_eval.calc_matrix_camera(depsgraph, x=width, y=height, scale_x=1.0, scale_y=1.0)
-    fov = units.fov_from_projection(proj[1][1])
     m = cam_eval.matrix_world
     pos = [m[i][3] for i in range(3)]
     fwd = [-m[i][2] for i in range(3)]
     up = [m[i][1] for i in range(3)]
     n = math.sqrt(sum(v * v for v in fwd))
-    return {"position": pos, "look_at": [p + f / n for p, f in zip(pos, fwd)], "up": up,
-            "fov": fov, "width": width, "height": height}
+    out = {"position": pos, "look_at": [p + f / n for p, f in zip(pos, fwd)], "up": up,
+           "width": width, "height": height}
+    # The projection matrix has the framing whatever the sensor fit: the window's half-extents
+    # and centre (lens shift), FORMAT.md's h and c; Facet's shift is in fractions of the larger
+    # side, Blender's of the fitted side, so it is converted through c.
+    ortho = c.type == 'ORTHO'
+    window = units.camera_window(proj, ortho)
+    larger = 2.0 * max(window[0], window[1])
+    if ortho:
+        out["type"] = "orthographic"
+        out["scale"] = larger
+    else:
+        out["fov"] = units.fov_from_projection(proj[1][1])
+    if window[2] != 0.0:
+        out["shift_x"] = window[2] / larger
+    if window[3] != 0.0:
+        out["shift_y"] = window[3] / larger
+    out.update(export_dof(cam_eval, c, ortho, problems))
+    return out
+
+
+def export_dof(cam_eval, c, ortho, problems):
+    """Blender's depth of field as Cycles renders it (blender/camera.cpp): the aperture radius
+    lens 1e-3 / (2 fstop) (perspective; 1 / (2 fstop) orthographic), blades (fewer than 3:
+    round) and rotation, the focus distance or the focus object's distance along the view
+    direction."""
+    dof = c.dof
+    if not dof.use_dof:
+        return {}
+    name = cam_eval.name
+    fstop = max(float(dof.aperture_fstop), 1e-5)
+    out = {}
+    if ortho:
+        out["aperture_radius"] = 1.0 / (2.0 * fstop)
+    else:
+        out["fstop"] = fstop
+        out["focal_length"] = float(c.lens)
+    target = dof.focus_object
+    if target is not None:
+        if getattr(dof, "focus_subtarget", ""):
+            problems.append("camera '%s': focus on a bone is not supported; the object's "
+                            "origin is used" % name)
+        cm, tm = cam_eval.matrix_world, target.matrix_world
+        z = [cm[i][2] for i in range(3)]
+        zn = math.sqrt(sum(v * v for v in z))
+        out["focus_distance"] = abs(sum((cm[i][3] - tm[i][3]) * z[i] for i in range(3))) / zn
+    else:
+        out["focus_distance"] = float(dof.focus_distance)
+    if dof.aperture_blades >= 3:
+        out["blades"] = int(dof.aperture_blades)
+        if dof.aperture_rotation != 0.0:
+            out["rotation"] = math.degrees(dof.aperture_rotation)
+    if dof.aperture_ratio != 1.0:
+        problems.append("camera '%s': anamorphic aperture (ratio %g) is not supported; ratio 1 "
+                        "used" % (name, dof.aperture_ratio))
+    return out
 
 
 def _matrix_rows(m):

@@ -134,6 +134,34 @@ def _material(name, m):
     return mat
 
 
+def _camera_settings(cd, cam):
+    """Blender camera data as Cycles renders the Facet camera `cam` (FORMAT.md "camera")."""
+    w, h = cam["width"], cam["height"]
+    if cam.get("type", "perspective") == "orthographic":
+        # Sensor fit AUTO: Ortho Scale and shift are both of the larger side, as Facet's.
+        cd.type, cd.sensor_fit, cd.ortho_scale = 'ORTHO', 'AUTO', cam["scale"]
+        to_fitted = 1.0
+    else:
+        # Sensor fit VERTICAL: the fov is angle_y; shift is in fractions of the height.
+        cd.sensor_fit = 'VERTICAL'
+        cd.angle_y = math.radians(cam["fov"])
+        to_fitted = max(w, h) / h
+    cd.shift_x = cam.get("shift_x", 0.0) * to_fitted
+    cd.shift_y = cam.get("shift_y", 0.0) * to_fitted
+    radius = cam.get("aperture_radius")
+    if radius is None and cam.get("fstop") and cam.get("focal_length"):
+        radius = cam["focal_length"] * 1e-3 / (2.0 * cam["fstop"])
+    if radius:
+        # Cycles' radius is lens 1e-3 / (2 fstop) (orthographic: 1 / (2 fstop)) with Blender's
+        # own lens, which the fov set: the f-stop that gives Facet's radius.
+        cd.dof.use_dof = True
+        lens = 1.0 if cd.type == 'ORTHO' else cd.lens * 1e-3
+        cd.dof.aperture_fstop = lens / (2.0 * radius)
+        cd.dof.focus_distance = cam["focus_distance"]
+        cd.dof.aperture_blades = cam.get("blades", 0)
+        cd.dof.aperture_rotation = math.radians(cam.get("rotation", 0.0))
+
+
 def import_scene(context, data, collection=None):
     """Creates the scene's objects in `collection` (default: a new one named after the
     description). Returns the collection."""
@@ -148,8 +176,7 @@ def import_scene(context, data, collection=None):
     r.resolution_x, r.resolution_y, r.resolution_percentage = cam["width"], cam["height"], 100
     r.pixel_aspect_x = r.pixel_aspect_y = 1.0
     cd = bpy.data.cameras.new("Camera")
-    cd.sensor_fit = 'VERTICAL'
-    cd.angle_y = math.radians(cam["fov"])
+    _camera_settings(cd, cam)
     # Facet's camera does not clip; Blender's default clip_end (100) would cut scenes in mm.
     cd.clip_start, cd.clip_end = CLIP_START, CLIP_END
     co = bpy.data.objects.new("Camera", cd)

@@ -114,6 +114,13 @@ def _shape_desc(s):
     return sd
 
 
+# The camera's optional keys (FORMAT.md "camera"), absent from scene data when at the default.
+CAMERA_OPTIONAL = ("type", "scale", "shift_x", "shift_y", "aperture_radius", "fstop",
+                   "focal_length", "focus_distance", "blades", "rotation")
+_CAMERA_DEFAULTS = {"type": "perspective", "shift_x": 0.0, "shift_y": 0.0, "blades": 0,
+                    "rotation": 0.0}
+
+
 def to_description(data):
     """Scene data -> facet.SceneDescription (no validation here: build_scene validates)."""
     d = facet.SceneDescription()
@@ -123,9 +130,13 @@ def to_description(data):
     c.position = list(cam["position"])
     c.look_at = list(cam["look_at"])
     c.up = list(cam["up"])
-    c.fov = float(cam["fov"])
+    if "fov" in cam:
+        c.fov = float(cam["fov"])
     c.width = int(cam["width"])
     c.height = int(cam["height"])
+    for key in CAMERA_OPTIONAL:
+        if key in cam:
+            setattr(c, key, cam[key])
     d.camera = c
     d.materials = {name: facet.MaterialDesc(m["model"], {k: v for k, v in m.items()
                                                          if k != "model"})
@@ -186,11 +197,18 @@ def from_description(d):
     data = {
         "description": d.description,
         "camera": {"position": _vec(c.position), "look_at": _vec(c.look_at), "up": _vec(c.up),
-                   "fov": float(c.fov), "width": int(c.width), "height": int(c.height)},
+                   "width": int(c.width), "height": int(c.height)},
         "materials": [(name, _material_data(m)) for name, m in d.materials.items()],
         "shapes": [],
         "lights": [],
     }
+    cam = data["camera"]
+    if c.type == "perspective":
+        cam["fov"] = float(c.fov)
+    for key in CAMERA_OPTIONAL:
+        v = getattr(c, key)
+        if v is not None and v != _CAMERA_DEFAULTS.get(key):
+            cam[key] = v
     for sd in d.shapes:
         kind = str(sd.kind).split(".")[-1].lower()
         s = {"type": kind, "name": sd.name, "two_sided": bool(sd.two_sided),

@@ -122,6 +122,19 @@ def fov_from_projection(projection_11):
     return math.degrees(2.0 * math.atan(1.0 / float(projection_11)))
 
 
+def camera_window(projection, orthographic):
+    """(h_x, h_y, c_x, c_y): the image window's half-extents and centre (FORMAT.md "camera";
+    perspective: on the plane at distance 1, orthographic: in scene units) from Blender's
+    camera projection matrix (calc_matrix_camera, rows): a frustum has [0][0] = 2n / (r - l)
+    and [0][2] = (r + l) / (r - l), so h_x = 1 / [0][0] and c_x = [0][2] / [0][0]; an
+    orthographic box has [0][0] = 2 / (r - l) and [0][3] = -(r + l) / (r - l). Likewise y."""
+    p = projection
+    hx, hy = 1.0 / float(p[0][0]), 1.0 / float(p[1][1])
+    col = 3 if orthographic else 2
+    sign = -1.0 if orthographic else 1.0
+    return hx, hy, sign * float(p[0][col]) * hx, sign * float(p[1][col]) * hy
+
+
 def camera_basis(position, look_at, up):
     """FORMAT.md's camera frame: forward f, right r, picture-up u (unit vectors)."""
     f = _normalize([look_at[i] - position[i] for i in range(3)])

@@ -66,6 +66,11 @@ void add_export_pov_command(CLI::App& app) {
                     "only, as the direct integrator)")
         ->check(CLI::Range(0, 10000))
         ->capture_default_str();
+    cmd->add_option("--blur-samples", o->pov.blur_samples,
+                    "camera rays per pixel of a thin-lens camera's focal_blur (POV "
+                    "`blur_samples`; POV-Ray's own aperture sampling)")
+        ->check(CLI::Range(1, 4096))
+        ->capture_default_str();
     cmd->add_option("--environment", o->pov.environment,
                     "error: an environment light is an error; background: export it as the "
                     "background only (it then lights no surface: an approximation)")

@@ -363,7 +363,11 @@ void bind_scene(py::module_& m) {
 
     py::class_<CameraDesc>(m, "CameraDesc",
                            "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "
-                           "vertical, degrees), width, height")
+                           "vertical, degrees), width, height; type ('perspective' | "
+                           "'orthographic'), scale (orthographic: extent of the larger side), "
+                           "shift_x, shift_y (fractions of the larger side); thin lens: "
+                           "aperture_radius, or fstop with focal_length (mm), focus_distance, "
+                           "blades, rotation (degrees). Unset optional keys are None.")
         .def(py::init([](py::kwargs kw) { return from_kwargs<CameraDesc>(kw, "CameraDesc"); }))
         .def_readwrite("position", &CameraDesc::position)
         .def_readwrite("look_at", &CameraDesc::look_at)
@@ -371,10 +375,23 @@ void bind_scene(py::module_& m) {
         .def_readwrite("fov", &CameraDesc::fov)
         .def_readwrite("width", &CameraDesc::width)
         .def_readwrite("height", &CameraDesc::height)
+        .def_readwrite("type", &CameraDesc::type)
+        .def_readwrite("scale", &CameraDesc::scale)
+        .def_readwrite("shift_x", &CameraDesc::shift_x)
+        .def_readwrite("shift_y", &CameraDesc::shift_y)
+        .def_readwrite("aperture_radius", &CameraDesc::aperture_radius)
+        .def_readwrite("fstop", &CameraDesc::fstop)
+        .def_readwrite("focal_length", &CameraDesc::focal_length)
+        .def_readwrite("focus_distance", &CameraDesc::focus_distance)
+        .def_readwrite("blades", &CameraDesc::blades)
+        .def_readwrite("rotation", &CameraDesc::rotation)
         .def(py::self == py::self)
         .def("__repr__", [](const CameraDesc& c) {
             return "facet.CameraDesc(position=" + vec_str(c.position) +
-                   ", look_at=" + vec_str(c.look_at) + ", fov=" + std::to_string(c.fov) +
+                   ", look_at=" + vec_str(c.look_at) +
+                   (c.type == "perspective" ? ", fov=" + std::to_string(c.fov)
+                                            : ", type='" + c.type + "', scale=" +
+                                                  std::to_string(c.scale.value_or(0.0))) +
                    ", width=" + std::to_string(c.width) + ", height=" + std::to_string(c.height) +
                    ")";
         });

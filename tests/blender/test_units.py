@@ -58,6 +58,28 @@ def test_camera():
     assert close(f, [0, 0, -1]) and close(r, [1, 0, 0]) and close(u, [0, 1, 0])
 
 
+
+def test_camera_window():
+    # Blender's frustum (perspective_m4) and box (orthographic_m4) matrices, rows as
+    # mathutils indexes them, for a window [l, r] x [b, t] at the near distance n.
+    def frustum(l, r, b, t, n, f=100.0):
+        return [[2 * n / (r - l), 0, (r + l) / (r - l), 0], [0, 2 * n / (t - b), (t + b) / (t - b), 0],
+                [0, 0, -(f + n) / (f - n), -2 * f * n / (f - n)], [0, 0, -1, 0]]
+
+    def box(l, r, b, t, n=0.1, f=100.0):
+        return [[2 / (r - l), 0, 0, -(r + l) / (r - l)], [0, 2 / (t - b), 0, -(t + b) / (t - b)],
+                [0, 0, -2 / (f - n), -(f + n) / (f - n)], [0, 0, 0, 1]]
+
+    # Window at distance 1: x in [0.1, 0.9] (h_x 0.4, c_x 0.5), y in [-0.5, 0.1]; n = 0.25.
+    n = 0.25
+    w = units.camera_window(frustum(0.1 * n, 0.9 * n, -0.5 * n, 0.1 * n, n), False)
+    assert close(w, [0.4, 0.3, 0.5, -0.2])
+    w = units.camera_window(box(-1.0, 3.0, -2.5, 0.5), True)
+    assert close(w, [2.0, 1.5, 1.0, -1.0])
+    # No shift: the centre is exactly 0.
+    assert units.camera_window(frustum(-0.3, 0.3, -0.2, 0.2, 1.0), False)[2:] == (0.0, 0.0)
+
+
 if __name__ == "__main__":
     for name, fn in list(globals().items()):
         if name.startswith("test_"):

@@ -274,6 +274,13 @@ def cmd_errors(env):
         ("too many light cells", lambda s: s["shapes"].append({"type": "icosphere", "center": [0, 1, 0], "radius": 0.2,
                                                                "subdivisions": 3, "emission": 1}),
          ["--area-grid", "8"], "/shapes/1/emission: the emitters need more than 20000 light cells"),
+        ("polygonal aperture", lambda s: s["camera"].update(aperture_radius=0.1, focus_distance=5, blades=6),
+         [], "/camera/blades: POV-Ray's focal_blur aperture is round"),
+        ("orthographic focal blur", lambda s: (s["camera"].pop("fov"), s["camera"].update(
+            type="orthographic", scale=4, aperture_radius=0.1, focus_distance=5)),
+         [], "/camera/aperture_radius: POV-Ray 3.7's orthographic focal_blur"),
+        ("shift with focal blur", lambda s: s["camera"].update(fstop=2, focal_length=50, focus_distance=5, shift_y=0.1),
+         [], "/camera/shift_y: with focal_blur"),
         ("bad scene (the loader's pointer)", lambda s: s["shapes"][0].update(radus=1),
          [], "/shapes/0/radus: unknown key"),
         ("bad material (build_scene's pointer)", lambda s: s["shapes"][0].update(material={"model": "ggx", "alpha": 12}),

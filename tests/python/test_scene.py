@@ -168,3 +168,28 @@ def test_export_pov_from_python(tmp_path, scenes_dir, facet_cli):
     d.lights.append(facet.LightDesc("environment", radiance=0.1))
     with pytest.raises(ValueError, match=r"^cornell: /lights/0: an environment light"):
         facet.export_pov(d, str(out), name="cornell")
+
+
+def test_camera_lens_and_projection_attributes():
+    """The thin-lens, orthographic and shift keys are CameraDesc attributes: None when unset,
+    written to JSON when set, and equal after a round trip."""
+    d = facet.parse_scene_description(ts.scene_json(), name="twin")
+    c = d.camera
+    assert c.type == "perspective" and c.scale is None and c.aperture_radius is None
+    assert (c.shift_x, c.shift_y, c.blades, c.rotation) == (0, 0, 0, 0)
+    c.fstop, c.focal_length, c.focus_distance, c.blades, c.rotation = 2.8, 50, 2.5, 6, 15
+    c.shift_x = 0.1
+    d.camera = c
+    text = facet.write_scene_json(d)
+    for key in ('"fstop": 2.8', '"focal_length": 50', '"blades": 6', '"shift_x": 0.1'):
+        assert key in text
+    again = facet.parse_scene_description(text, name="lens")
+    assert again == d and again.camera.focus_distance == pytest.approx(2.5)
+    o = facet.CameraDesc(position=(0, 0, 5), look_at=(0, 0, 0), width=8, height=6,
+                         type="orthographic", scale=3.0)
+    assert o.scale == 3.0 and "orthographic" in repr(o)
+    d.camera = o
+    assert '"scale": 3' in facet.write_scene_json(d)
+    d.camera.scale = -1.0
+    with pytest.raises(ValueError, match="/camera/scale"):
+        facet.build_scene(d, name="bad")

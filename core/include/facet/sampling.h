@@ -1,4 +1,5 @@
-// Warping functions from [0,1)^2 to directions, with their densities.
+// Warping functions from [0,1)^2 to directions (and to points of the disc and of regular
+// polygons, for apertures), with their densities.
 //
 // Conventions: returned directions are unit vectors in the local frame (z up, facet/frame.h);
 // every pdf is per unit solid angle unless its name says otherwise. Inputs u are in [0,1)^2.
@@ -34,6 +35,23 @@ inline Vec2 sample_uniform_disk_concentric(Vec2 u) {
     }
     const Vec2 cs = cos_sin_quarter((kPi / 4.f) * (o.x / o.y));
     return o.y * Vec2(cs.y, cs.x);
+}
+
+// Uniform sample of the regular polygon with `corners` >= 3 corners on the unit circle, whose
+// edge midpoints lie at angles rotation + 2 pi k / corners (radians, from +x toward +y) and
+// corners half-way between (Cycles' polygonal aperture). u.x picks one of the `corners` equal
+// triangles (centre, two adjacent corners) and is reused; in the triangle of half-angle
+// a = pi / corners around the +x axis, the point s (cos a, sin a (1 - 2 v)) with s = sqrt(u')
+// (density proportional to s: the triangle's width grows linearly) is uniform.
+inline Vec2 sample_regular_polygon(Vec2 u, int corners, float rotation) {
+    const float n = float(corners);
+    const float k = std::fmin(std::floor(u.x * n), n - 1.f);
+    const float s = std::sqrt(u.x * n - k);
+    const float a = kPi / n;
+    const Vec2 p(s * std::cos(a), s * std::sin(a) * (1.f - 2.f * u.y));
+    const float t = rotation + 2.f * a * k;
+    const float c = std::cos(t), sn = std::sin(t);
+    return {c * p.x - sn * p.y, sn * p.x + c * p.y};
 }
 
 // Cosine-weighted hemisphere (Malley's method): pdf = cos(theta) / pi.

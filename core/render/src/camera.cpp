@@ -1,10 +1,13 @@
-// Perspective pinhole camera (conventions in facet/render/camera.h).
+// Perspective and orthographic cameras with lens shift and a thin lens (conventions in
+// facet/render/camera.h).
 #include "facet/render/camera.h"
+
+#include "facet/sampling.h"
 
 namespace facet::render {
 
 Camera Camera::make(const Vec3& position, const Vec3& look_at, const Vec3& up, float fov_y_deg,
-                    int width, int height) {
+                    int width, int height, const CameraOptions& o) {
     Camera c;
     c.position = position;
     c.look_at = look_at;
@@ -12,6 +15,7 @@ Camera Camera::make(const Vec3& position, const Vec3& look_at, const Vec3& up, f
     c.fov_y_deg = fov_y_deg;
     c.width = width;
     c.height = height;
+    c.projection = o.projection;
     // Basis in double: look-at targets far away (or tiny fovs) lose nothing to float here.
     glm::dvec3 f = glm::normalize(glm::dvec3(look_at) - glm::dvec3(position));
     glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(up)));
@@ -19,21 +23,66 @@ Camera Camera::make(const Vec3& position, const Vec3& look_at, const Vec3& up, f
     c.forward = Vec3(f);
     c.right = Vec3(r);
     c.true_up = Vec3(u);
-    double tan_y = std::tan(0.5 * double(fov_y_deg) * kPiD / 180.0);
-    c.tan_half_y = float(tan_y);
-    c.tan_half_x = float(tan_y * double(width) / double(height));
+    const double aspect = double(width) / double(height);
+    if (o.projection == Projection::Perspective) {
+        double tan_y = std::tan(0.5 * double(fov_y_deg) * kPiD / 180.0);
+        c.tan_half_y = float(tan_y);
+        c.tan_half_x = float(tan_y * aspect);
+    } else {
+        // Blender's Ortho Scale is the extent of the larger image side (sensor fit AUTO).
+        const double half = 0.5 * double(o.ortho_scale);
+        c.tan_half_x = float(width >= height ? half : half * aspect);
+        c.tan_half_y = float(width >= height ? half / aspect : half);
+    }
+    // Shift: fractions of the full extent of the larger side, 2 max(h_x, h_y).
+    const double larger = 2.0 * std::max(double(c.tan_half_x), double(c.tan_half_y));
+    c.center_x = float(larger * double(o.shift_x));
+    c.center_y = float(larger * double(o.shift_y));
+    if (o.aperture_radius > 0.f) {
+        c.lens_radius = o.aperture_radius;
+        c.focus_distance = o.focus_distance;
+        c.blades = o.blades;
+        c.blade_rotation = float(double(o.rotation_deg) * kPiD / 180.0);
+    }
     return c;
+}
+
+Vec2 Camera::sample_aperture(Vec2 u) const {
+    const Vec2 p = blades == 0 ? sample_uniform_disk_concentric(u)
+                               : sample_regular_polygon(u, blades, blade_rotation);
+    return lens_radius * p;
 }
 
 std::optional<Vec2> Camera::project(const Vec3& p) const {
     Vec3 v = p - position;
     float z = glm::dot(v, forward);
     if (!(z > 0.f)) return std::nullopt;
-    float sx = glm::dot(v, right) / z;
-    float sy = glm::dot(v, true_up) / z;
-    float x = 0.5f * (sx / tan_half_x + 1.f) * float(width);
-    float y = 0.5f * (1.f - sy / tan_half_y) * float(height);
+    float sx = glm::dot(v, right), sy = glm::dot(v, true_up);
+    if (projection == Projection::Perspective) {
+        sx /= z;
+        sy /= z;
+    }
+    float x = 0.5f * ((sx - center_x) / tan_half_x + 1.f) * float(width);
+    float y = 0.5f * (1.f - (sy - center_y) / tan_half_y) * float(height);
     return Vec2(x, y);
+}
+
+std::optional<Vec2> Camera::project(const Vec3& p, Vec2 u_lens) const {
+    if (!has_lens()) return project(p);
+    Vec3 v = p - position;
+    float z = glm::dot(v, forward);
+    if (!(z > 0.f)) return std::nullopt;
+    // The ray from lens point l through p crosses the plane of focus at q; the lens-centre ray
+    // through q starts at the same film position (generate_ray aims every lens point of a film
+    // position at one point of that plane).
+    const Vec2 l = sample_aperture(u_lens);
+    const Vec2 pxy(glm::dot(v, right), glm::dot(v, true_up));
+    // Perspective: the line from l (depth 0) through q (depth focus_distance) meets p at depth
+    // z when q = l + (p - l) focus_distance / z. Orthographic: the lens-centre ray starts at q
+    // and the lens point is q + l, so p = q + l (1 - z / focus_distance).
+    const Vec2 q = projection == Projection::Perspective ? l + (pxy - l) * (focus_distance / z)
+                                                         : pxy - l * (1.f - z / focus_distance);
+    return project(position + q.x * right + q.y * true_up + focus_distance * forward);
 }
 
 }  // namespace facet::render

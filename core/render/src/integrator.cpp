@@ -422,7 +422,7 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // The lane sampler draws all kLanes lanes; past the end of a short row they hold stale or
     // zero seeds, and their values are never read.
     std::array<std::uint32_t, kLanes> seeds{}, sample_seeds{};
-    alignas(32) std::array<float, kLanes> film_x, film_y;
+    alignas(32) std::array<float, kLanes> film_x, film_y, lens_x, lens_y;
     std::array<Rgb, kLanes> L;
     // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
@@ -488,9 +488,18 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 } else {
                     sample_2d_lanes(ss, index, 0u, film_x.data(), film_y.data());
                 }
-                for (std::size_t k = 0; k < n; ++k) {
-                    const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
-                    rays.set(k, cam.generate_ray(film));
+                if (cam.has_lens()) {
+                    // The lens point: its own dimension pair (integrator.h), only with a lens.
+                    sample_2d_lanes(ss, index, kLensDimension, lens_x.data(), lens_y.data());
+                    for (std::size_t k = 0; k < n; ++k) {
+                        const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
+                        rays.set(k, cam.generate_ray(film, Vec2(lens_x[k], lens_y[k])));
+                    }
+                } else {
+                    for (std::size_t k = 0; k < n; ++k) {
+                        const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
+                        rays.set(k, cam.generate_ray(film));
+                    }
                 }
                 scene.intersect_packet(rays, n, hits.data(), found.data());
                 c.camera_rays += n;

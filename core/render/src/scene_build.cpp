@@ -123,8 +123,40 @@ class Builder final : public BuildChecks {
         check_finite(c.position, ptr + "/position");
         check_finite(c.look_at, ptr + "/look_at");
         check_finite(c.up, ptr + "/up");
-        double fov = check_range(c.fov, ptr + "/fov", 1e-3, 179.0,
-                                 "in [0.001, 179] degrees (full vertical angle)");
+        const std::vector<std::string> types = {"perspective", "orthographic"};
+        if (std::find(types.begin(), types.end(), c.type) == types.end()) {
+            std::string msg = "unknown camera type '" + c.type + "'";
+            std::string g = closest_name(c.type, types);
+            msg += g.empty() ? " (expected perspective or orthographic)"
+                             : " (did you mean '" + g + "'?)";
+            fail(ptr + "/type", msg);
+        }
+        CameraOptions o;
+        double fov = 40.0;
+        if (c.type == "perspective") {
+            fov = check_range(c.fov, ptr + "/fov", 1e-3, 179.0,
+                              "in [0.001, 179] degrees (full vertical angle)");
+            if (c.scale) fail(ptr + "/scale", "'scale' is for orthographic cameras");
+        } else {
+            o.projection = Projection::Orthographic;
+            if (!c.scale) fail(ptr + "/scale", "required for an orthographic camera");
+            o.ortho_scale = float(positive_length(*c.scale, ptr + "/scale"));
+        }
+        o.shift_x = float(check_range(c.shift_x, ptr + "/shift_x", -1e3, 1e3, "in [-1000, 1000]"));
+        o.shift_y = float(check_range(c.shift_y, ptr + "/shift_y", -1e3, 1e3, "in [-1000, 1000]"));
+        o.aperture_radius = float(checked_aperture_radius(c, ptr, o.projection));
+        if (c.focus_distance || o.aperture_radius > 0.f) {
+            if (!c.focus_distance)
+                fail(ptr + "/focus_distance",
+                     "required with an aperture (aperture_radius or fstop)");
+            o.focus_distance = float(positive_length(*c.focus_distance, ptr + "/focus_distance"));
+        }
+        if (c.blades == 1 || c.blades == 2)
+            fail(ptr + "/blades",
+                 "must be 0 (round aperture) or at least 3, got " + std::to_string(c.blades));
+        o.blades = int(check_int(c.blades, ptr + "/blades", 0, 1024));
+        o.rotation_deg = float(
+            check_range(c.rotation, ptr + "/rotation", -1e6, 1e6, "a finite angle in degrees"));
         int w = int(check_int(c.width, ptr + "/width", 1, detail::kMaxImageSide));
         int h = int(check_int(c.height, ptr + "/height", 1, detail::kMaxImageSide));
         for (const char* key : {"position", "look_at"}) {
@@ -146,7 +178,35 @@ class Builder final : public BuildChecks {
         if (!(glm::length(cr) > 1e-6 * glm::length(glm::dvec3(c.up)))) {
             fail(ptr + "/up", "must not be zero or parallel to the view direction");
         }
-        m_builder.camera() = Camera::make(c.position, c.look_at, c.up, float(fov), w, h);
+        m_builder.camera() = Camera::make(c.position, c.look_at, c.up, float(fov), w, h, o);
+    }
+
+    // The thin lens's radius (scene units) from aperture_radius, or fstop and focal_length
+    // (mm) as Cycles computes it (blender/camera.cpp): focal_length 1e-3 / (2 fstop), i.e.
+    // scene units taken as metres. 0 = pinhole.
+    double checked_aperture_radius(const CameraDesc& c, const std::string& ptr,
+                                   Projection proj) const {
+        if (c.aperture_radius && c.fstop)
+            fail(ptr + "/fstop", "give aperture_radius or fstop (with focal_length), not both");
+        if (c.focal_length && !c.fstop)
+            fail(ptr + "/focal_length", "only used with fstop (the aperture from an f-number)");
+        if (c.aperture_radius) {
+            return check_range(*c.aperture_radius, ptr + "/aperture_radius", 0.0,
+                               Scene::kMaxCoordinate, ">= 0 (scene units)");
+        }
+        if (!c.fstop) return 0.0;
+        if (proj == Projection::Orthographic) {
+            fail(ptr + "/fstop",
+                 "an orthographic camera has no focal length: give "
+                 "aperture_radius (Cycles uses 1 / (2 fstop))");
+        }
+        positive_length(*c.fstop, ptr + "/fstop");
+        if (!c.focal_length) fail(ptr + "/focal_length", "required with fstop (millimetres)");
+        positive_length(*c.focal_length, ptr + "/focal_length");
+        const double radius = aperture_radius(c);
+        if (!(radius <= Scene::kMaxCoordinate))
+            fail(ptr + "/fstop", "the aperture focal_length / 1000 / (2 fstop) is too large");
+        return radius;
     }
 
     void build_render() {
@@ -488,15 +548,21 @@ class Builder final : public BuildChecks {
         bool all_behind = true, all_left = true, all_right = true, all_below = true,
              all_above = true;
         float tx = 1.01f * c.tan_half_x, ty = 1.01f * c.tan_half_y;
+        const bool persp = c.projection == Projection::Perspective;
         for (int i = 0; i < 8; ++i) {
             Vec3 p(i & 1 ? b.hi.x : b.lo.x, i & 2 ? b.hi.y : b.lo.y, i & 4 ? b.hi.z : b.lo.z);
             Vec3 v = p - c.position;
             float z = glm::dot(v, c.forward), x = glm::dot(v, c.right), y = glm::dot(v, c.true_up);
+            // The window at depth z: k (centre +- half-extent), k = z (perspective) or 1
+            // (orthographic), widened by a lens of radius R: a lens ray's offset from its
+            // lens-centre ray is l (1 - z / focus_distance), at most R (1 + z / focus_distance).
+            const float k = persp ? z : 1.f;
+            const float m = c.has_lens() ? c.lens_radius * (1.f + z / c.focus_distance) : 0.f;
             all_behind &= z <= 0.f;
-            all_left &= x < -z * tx;
-            all_right &= x > z * tx;
-            all_below &= y < -z * ty;
-            all_above &= y > z * ty;
+            all_left &= x < k * (c.center_x - tx) - m;
+            all_right &= x > k * (c.center_x + tx) + m;
+            all_below &= y < k * (c.center_y - ty) - m;
+            all_above &= y > k * (c.center_y + ty) + m;
         }
         return !(all_behind || all_left || all_right || all_below || all_above);
     }
@@ -584,6 +650,12 @@ std::string SceneFeatures::describe() const {
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     return s.str();
+}
+
+double aperture_radius(const CameraDesc& c) {
+    if (c.aperture_radius) return *c.aperture_radius;
+    if (c.fstop && c.focal_length) return *c.focal_length * 1e-3 / (2.0 * *c.fstop);
+    return 0.0;
 }
 
 Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,

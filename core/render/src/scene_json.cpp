@@ -296,12 +296,42 @@ class Reader {
 
     CameraDesc read_camera(const json& c, const std::string& ptr) const {
         expect_object(c, ptr);
-        check_keys(c, ptr, {"position", "look_at", "up", "fov", "width", "height"});
+        check_keys(c, ptr,
+                   {"position", "look_at", "up", "fov", "width", "height", "type", "scale",
+                    "shift_x", "shift_y", "aperture_radius", "fstop", "focal_length",
+                    "focus_distance", "blades", "rotation"});
         CameraDesc d;
         d.position = get_vec3(require(c, ptr, "position"), ptr + "/position");
         d.look_at = get_vec3(require(c, ptr, "look_at"), ptr + "/look_at");
         if (c.contains("up")) d.up = get_vec3(c["up"], ptr + "/up");
-        d.fov = get_number(require(c, ptr, "fov"), ptr + "/fov");
+        if (c.contains("type")) d.type = get_string(c["type"], ptr + "/type");
+        // fov frames a perspective camera, scale an orthographic one: each is required by its
+        // type and an error with the other (an unknown type is build_scene's error).
+        if (d.type != "perspective" && d.type != "orthographic") {
+            if (c.contains("fov")) d.fov = get_number(c["fov"], ptr + "/fov");
+            if (c.contains("scale")) d.scale = get_number(c["scale"], ptr + "/scale");
+        } else if (d.type == "orthographic") {
+            if (c.contains("fov"))
+                fail(ptr + "/fov", "an orthographic camera has no fov (its framing is 'scale')");
+            d.scale = get_number(require(c, ptr, "scale"), ptr + "/scale");
+        } else {
+            if (c.contains("scale"))
+                fail(ptr + "/scale",
+                     "'scale' is for orthographic cameras (\"type\": "
+                     "\"orthographic\")");
+            d.fov = get_number(require(c, ptr, "fov"), ptr + "/fov");
+        }
+        auto opt_number = [&](const char* key, std::optional<double>& out) {
+            if (c.contains(key)) out = get_number(c[key], ptr + "/" + key);
+        };
+        if (c.contains("shift_x")) d.shift_x = get_number(c["shift_x"], ptr + "/shift_x");
+        if (c.contains("shift_y")) d.shift_y = get_number(c["shift_y"], ptr + "/shift_y");
+        opt_number("aperture_radius", d.aperture_radius);
+        opt_number("fstop", d.fstop);
+        opt_number("focal_length", d.focal_length);
+        opt_number("focus_distance", d.focus_distance);
+        if (c.contains("blades")) d.blades = int(get_int(c["blades"], ptr + "/blades", 0, 1024));
+        if (c.contains("rotation")) d.rotation = get_number(c["rotation"], ptr + "/rotation");
         d.width = int(get_int(require(c, ptr, "width"), ptr + "/width", 1, detail::kMaxImageSide));
         d.height =
             int(get_int(require(c, ptr, "height"), ptr + "/height", 1, detail::kMaxImageSide));
@@ -699,12 +729,31 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     root["version"] = 1;
     if (!d.description.empty()) root["description"] = d.description;
     const CameraDesc& c = d.camera;
-    root["camera"] = {{"position", vec_json(c.position)},
-                      {"look_at", vec_json(c.look_at)},
-                      {"up", vec_json(c.up)},
-                      {"fov", c.fov},
-                      {"width", c.width},
-                      {"height", c.height}};
+    json cam = {{"position", vec_json(c.position)},
+                {"look_at", vec_json(c.look_at)},
+                {"up", vec_json(c.up)},
+                {"width", c.width},
+                {"height", c.height}};
+    // Only what differs from the pinhole perspective camera, so that existing scenes (and
+    // their fingerprints) are unchanged.
+    if (c.type != "perspective") cam["type"] = c.type;
+    if (c.type == "orthographic") {
+        cam["scale"] = c.scale.value_or(0.0);
+    } else {
+        cam["fov"] = c.fov;
+    }
+    if (c.shift_x != 0.0) cam["shift_x"] = c.shift_x;
+    if (c.shift_y != 0.0) cam["shift_y"] = c.shift_y;
+    const std::pair<const char*, const std::optional<double>*> lens[] = {
+        {"aperture_radius", &c.aperture_radius},
+        {"fstop", &c.fstop},
+        {"focal_length", &c.focal_length},
+        {"focus_distance", &c.focus_distance}};
+    for (const auto& [key, v] : lens)
+        if (v->has_value()) cam[key] = **v;
+    if (c.blades != 0) cam["blades"] = c.blades;
+    if (c.rotation != 0.0) cam["rotation"] = c.rotation;
+    root["camera"] = cam;
     json mats = json::object();
     for (const auto& [name, m] : d.materials) mats[name] = material_json(m);
     root["materials"] = mats;

@@ -291,20 +291,79 @@ void ShapeOut::cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::d
 
 void PovWriter::camera() {
     // scenes/FORMAT.md, "POV-Ray export": explicit vectors; POV-Ray 3.7 traces the pixel
-    // centres itself (TracePixel::CreateCameraRay adds the half pixel).
+    // centres itself (TracePixel::CreateCameraRay adds the half pixel). In double, from the
+    // description (the renderer's Camera is float).
     const CameraDesc& c = m_desc.camera;
     const glm::dvec3 pos(c.position);
     const glm::dvec3 f = glm::normalize(glm::dvec3(c.look_at) - pos);
     const glm::dvec3 r = glm::normalize(glm::cross(f, glm::dvec3(c.up)));
     const glm::dvec3 u = glm::cross(r, f);
-    const double tan_y = std::tan(0.5 * c.fov * kPiD / 180.0);
-    const double tan_x = tan_y * double(c.width) / double(c.height);
-    m_out << "// Facet pinhole camera (scenes/FORMAT.md): explicit vectors, pixel centres.\n"
-          << "camera {\n  perspective\n"
-          << "  location  " << pov_vec(pos) << "\n"
+    const bool ortho = c.type == "orthographic";
+    const double aspect = double(c.width) / double(c.height);
+    double tan_x, tan_y;  // the window's half-extents (camera.h)
+    if (!ortho) {
+        tan_y = std::tan(0.5 * c.fov * kPiD / 180.0);
+        tan_x = tan_y * aspect;
+    } else {
+        const double half = 0.5 * c.scale.value_or(0.0);
+        tan_x = c.width >= c.height ? half : half * aspect;
+        tan_y = c.width >= c.height ? half / aspect : half;
+    }
+    const double larger = 2.0 * std::max(tan_x, tan_y);
+    const glm::dvec3 shift = larger * (c.shift_x * r + c.shift_y * u);
+    const double radius = aperture_radius(c);
+    if (radius > 0.0) {
+        // POV-Ray's focal_blur (tracepixel.cpp JitterCameraRay) moves the origin by a point of
+        // the round aperture in the plane normal to `direction`, and aims at the point
+        // direction * Focal_Distance of the unnormalised pixel direction: with a unit
+        // `direction` along f that is the plane of focus at Focal_Distance = |focal_point -
+        // location|, as Facet's. Anything else is not the same camera.
+        const std::string what = c.aperture_radius ? "/camera/aperture_radius" : "/camera/fstop";
+        if (ortho)
+            fail(what,
+                 "POV-Ray 3.7's orthographic focal_blur drops the pixel's origin offset "
+                 "(JitterCameraRay sets origin = location + deflection): not exported");
+        if (c.blades != 0)
+            fail("/camera/blades",
+                 "POV-Ray's focal_blur aperture is round (a polygonal "
+                 "aperture needs a bokeh pigment, which weights samples "
+                 "differently): not exported");
+        if (c.shift_x != 0.0 || c.shift_y != 0.0)
+            fail(c.shift_x != 0.0 ? "/camera/shift_x" : "/camera/shift_y",
+                 "with focal_blur POV-Ray's lens plane is normal to the shifted `direction` "
+                 "(Facet's is normal to the view direction): not exported");
+    }
+    if (!ortho && shift == glm::dvec3(0.0) && !(radius > 0.0)) {
+        m_out << "// Facet pinhole camera (scenes/FORMAT.md): explicit vectors, pixel centres.\n"
+              << "camera {\n  perspective\n"
+              << "  location  " << pov_vec(pos) << "\n"
+              << "  right     " << pov_vec(2.0 * tan_x * r) << "\n"
+              << "  up        " << pov_vec(2.0 * tan_y * u) << "\n"
+              << "  direction " << pov_vec(f) << "\n}\n\n";
+        return;
+    }
+    // Orthographic: rays from location + x0 right + y0 up along `direction`, so the shift
+    // moves the location. Perspective: direction + x0 right + y0 up, so the shift moves the
+    // direction off axis (exact; POV-Ray warns that the vectors are not perpendicular).
+    m_out << "// Facet " << c.type << " camera (scenes/FORMAT.md): explicit vectors, pixel "
+          << "centres" << (shift != glm::dvec3(0.0) ? ", lens shift" : "")
+          << (radius > 0.0 ? ", thin lens as focal_blur" : "") << ".\n"
+          << "camera {\n  " << c.type << "\n"
+          << "  location  " << pov_vec(ortho ? pos + shift : pos) << "\n"
           << "  right     " << pov_vec(2.0 * tan_x * r) << "\n"
           << "  up        " << pov_vec(2.0 * tan_y * u) << "\n"
-          << "  direction " << pov_vec(f) << "\n}\n\n";
+          << "  direction " << pov_vec(ortho ? f : f + shift) << "\n";
+    if (radius > 0.0) {
+        // aperture is the diameter (JitterCameraRay: radius = Aperture / 2). The geometry is
+        // exact; the lens samples are POV-Ray's (hex grids of 7/19/37 points, jittered, then
+        // random points of the disc, up to blur_samples, stopping by confidence/variance): a
+        // different estimator of the same aperture average, equal up to its noise and the
+        // grid's non-uniformity (docs/povray.md).
+        m_out << "  focal_point " << pov_vec(pos + *c.focus_distance * f) << "\n"
+              << "  aperture " << pov_num(2.0 * radius) << "\n"
+              << "  blur_samples " << m_opt.blur_samples << "\n";
+    }
+    m_out << "}\n\n";
 }
 void PovWriter::global_settings() {
     // Mirror bounces are the only recursion of the direct integrator: without a mirror lobe
@@ -527,6 +586,9 @@ void check_pov_options(const PovExportOptions& o) {
     if (o.glossy_samples < 0 || o.glossy_samples > 10000)
         throw std::invalid_argument(
             fmt::format("--glossy-samples: must be in [0, 10000] (got {})", o.glossy_samples));
+    if (o.blur_samples < 1 || o.blur_samples > 4096)
+        throw std::invalid_argument(
+            fmt::format("--blur-samples: must be in [1, 4096] (got {})", o.blur_samples));
     if (o.environment != "error" && o.environment != "background")
         throw std::invalid_argument("--environment: expected error or background, got '" +
                                     o.environment + "'");

@@ -1,23 +1,43 @@
-// The perspective pinhole camera of the renderer.
+// The camera of the renderer: perspective or orthographic, with lens shift and an optional thin
+// lens (depth of field) with a round or polygonal aperture, as Blender/Cycles define them.
 //
-// Conventions (these are the scene format's; POV-Ray and Blender exports must match them):
+// Conventions (these are the scene format's, scenes/FORMAT.md "camera"; POV-Ray and Blender
+// exports must match them):
 //  - World space is right-handed. The camera sits at `position` and looks at `look_at`;
 //    forward f = normalize(look_at - position), right r = normalize(cross(f, up)),
 //    true up u = cross(r, f). `up` only needs to be non-parallel to f.
-//  - `fov_y_deg` is the FULL vertical field of view in degrees: the angle between the rays
-//    through the top edge and the bottom edge of the image (not through pixel centres).
-//    The horizontal field of view follows from the aspect ratio:
-//      tan(fov_x / 2) = (width / height) * tan(fov_y / 2)
-//    (POV-Ray's `angle` is this fov_x; Blender's camera with sensor_fit = VERTICAL has
-//    angle_y = fov_y.) Pixels are square.
 //  - Film coordinates are in pixels: (0, 0) is the top-left corner of the image, x grows to the
 //    right, y grows downward; pixel (i, j) covers [i, i+1) x [j, j+1) and its centre is
-//    (i + 0.5, j + 0.5). The ray through film position (x, y) has direction
-//      d = normalize(f + s_x r + s_y u),
-//      s_x = (2 x / width - 1) tan(fov_x / 2),   s_y = (1 - 2 y / height) tan(fov_y / 2).
-//  - Rays start exactly at `position` (no near plane) and have unit direction.
+//    (i + 0.5, j + 0.5). Pixels are square.
+//  - The image window: film position (x, y) maps to window coordinates
+//      s_x = c_x + (2 x / width - 1) h_x,   s_y = c_y + (1 - 2 y / height) h_y
+//    (h = half-extents, c = the lens-shift offset of the window centre).
+//    Perspective: the window lies on the plane at distance 1 in front of `position`;
+//      h_y = tan(fov_y / 2), h_x = (width / height) h_y, where `fov_y_deg` is the FULL vertical
+//      field of view (rays through the top and bottom edges, not pixel centres). POV-Ray's
+//      `angle` is fov_x = 2 atan(h_x); Blender's camera with sensor_fit = VERTICAL has
+//      angle_y = fov_y. Lens-centre ray: origin `position`, direction
+//      normalize(f + s_x r + s_y u).
+//    Orthographic: the window lies in the plane through `position` perpendicular to f, in scene
+//      units; the larger image side spans `ortho_scale` (Blender's Ortho Scale under sensor fit
+//      AUTO): h = ortho_scale / 2 on the larger side, h = (ortho_scale / 2) (smaller / larger)
+//      on the other. Lens-centre ray: origin position + s_x r + s_y u, direction f.
+//    Lens shift (Blender's shift_x / shift_y, sensor fit AUTO): the window moves by the shift
+//      times the FULL extent of the larger image side, c = 2 max(h_x, h_y) (shift_x, shift_y),
+//      for both projections (Cycles, blender/camera.cpp: viewplane offset 2 aspectratio shift).
+//  - Thin lens (aperture_radius > 0; Cycles' model): the lens is the disc (blades = 0) or the
+//    regular polygon with `blades` corners on the circle of radius aperture_radius (scene
+//    units) in the plane through `position` perpendicular to f (orthographic: through the
+//    lens-centre ray's origin); polygon edge midpoints lie at angles rotation + 2 pi k / blades
+//    from r toward u, corners half-way between. The lens sample u in [0,1)^2 maps uniformly
+//    onto that area (sample_aperture). The ray from lens point o + l_x r + l_y u goes to the
+//    point where the lens-centre ray crosses the plane of focus, at distance focus_distance
+//    along f (a plane, not a sphere). aperture_radius = 0 is the pinhole: no lens sample is
+//    drawn and rays are exactly the lens-centre rays.
+//  - Rays start exactly at their origin (no near plane) and have unit direction.
 #pragma once
 
+#include <cstdint>
 #include <optional>
 
 #include "facet/types.h"
@@ -31,6 +51,20 @@ struct Ray {
     float tmax = kInfinity;
 };
 
+enum class Projection : std::uint8_t { Perspective, Orthographic };
+
+// What a camera has besides the pinhole perspective's position, orientation, fov and size;
+// the defaults are the pinhole perspective camera.
+struct CameraOptions {
+    Projection projection = Projection::Perspective;
+    float ortho_scale = 1.f;             // orthographic: extent of the larger image side
+    float shift_x = 0.f, shift_y = 0.f;  // fractions of the larger image side
+    float aperture_radius = 0.f;         // scene units; 0 = pinhole
+    float focus_distance = 1.f;          // along f, > 0 (read only when aperture_radius > 0)
+    int blades = 0;                      // 0 = round aperture, else >= 3
+    float rotation_deg = 0.f;            // polygon rotation, degrees from r toward u
+};
+
 struct Camera {
     Vec3 position{0.f};
     Vec3 look_at{0.f, 0.f, -1.f};
@@ -38,36 +72,75 @@ struct Camera {
     float fov_y_deg = 40.f;
     int width = 0;
     int height = 0;
+    Projection projection = Projection::Perspective;
 
-    // Orthonormal camera basis and half-extents of the image plane at distance 1; filled by
-    // make(). Do not set by hand.
+    // Orthonormal camera basis, the image window's half-extents (tan_half_*: perspective, on
+    // the plane at distance 1; orthographic, in scene units) and centre (lens shift), and the
+    // thin lens; filled by make(). Do not set by hand.
     Vec3 forward{0.f, 0.f, -1.f}, right{1.f, 0.f, 0.f}, true_up{0.f, 1.f, 0.f};
     float tan_half_x = 0.f, tan_half_y = 0.f;
+    float center_x = 0.f, center_y = 0.f;
+    float lens_radius = 0.f, focus_distance = 1.f;
+    int blades = 0;
+    float blade_rotation = 0.f;  // radians
 
     // Builds a camera and its basis. Preconditions (validated by the scene loader, which names
     // the JSON path on failure): position != look_at, up not parallel to the view direction,
-    // 0 < fov_y_deg < 180, width and height >= 1.
+    // 0 < fov_y_deg < 180, width and height >= 1, ortho_scale > 0, finite shifts,
+    // aperture_radius >= 0, focus_distance > 0 when aperture_radius > 0, blades 0 or >= 3.
     static Camera make(const Vec3& position, const Vec3& look_at, const Vec3& up, float fov_y_deg,
-                       int width, int height);
+                       int width, int height, const CameraOptions& options = {});
 
-    // The primary ray through film position `film_pos` (pixels, see conventions above).
+    // True when rays need a lens sample (aperture_radius > 0).
+    bool has_lens() const { return lens_radius > 0.f; }
+
+    // The lens-centre ray through film position `film_pos` (pixels, see conventions above):
+    // the pinhole's ray, and the whole camera when !has_lens().
     Ray generate_ray(Vec2 film_pos) const;
+    // The ray through film position `film_pos` from the lens point of sample `u_lens` in
+    // [0,1)^2 (a random-number argument; ignored without a lens).
+    Ray generate_ray(Vec2 film_pos, Vec2 u_lens) const;
 
-    // Film position (pixels) where world point p projects, or nullopt when p is not in front of
-    // the camera. The inverse of generate_ray (for tests and exporters).
+    // The lens point (r, u coordinates, scene units) of lens sample u: uniform on the aperture.
+    Vec2 sample_aperture(Vec2 u) const;
+
+    // Film position (pixels) where world point p projects through the lens centre, or nullopt
+    // when p is not in front of the camera (the lens plane). The inverse of generate_ray(film)
+    // (for tests and exporters).
     std::optional<Vec2> project(const Vec3& p) const;
+    // Film position from which the ray of lens sample u_lens passes through p: the inverse of
+    // generate_ray(film, u_lens). Over all u_lens, the image of a point (its circle of
+    // confusion); a point on the plane of focus projects to one film position for every u.
+    std::optional<Vec2> project(const Vec3& p, Vec2 u_lens) const;
 };
 
 // Inline: runs for every camera sample.
 inline Ray Camera::generate_ray(Vec2 film_pos) const {
-    // Image-plane coordinates at distance 1: x in [-tan_half_x, tan_half_x] from left to right,
-    // y in [-tan_half_y, tan_half_y] from bottom to top (film y grows downward).
-    float sx = (2.f * film_pos.x / float(width) - 1.f) * tan_half_x;
-    float sy = (1.f - 2.f * film_pos.y / float(height)) * tan_half_y;
+    // Window coordinates: x from left to right, y from bottom to top (film y grows downward).
+    // The centre offsets are 0 without lens shift, which leaves every value unchanged.
+    float sx = (2.f * film_pos.x / float(width) - 1.f) * tan_half_x + center_x;
+    float sy = (1.f - 2.f * film_pos.y / float(height)) * tan_half_y + center_y;
     Ray ray;
-    ray.o = position;
-    ray.d = glm::normalize(forward + sx * right + sy * true_up);
+    if (projection == Projection::Perspective) {
+        ray.o = position;
+        ray.d = glm::normalize(forward + sx * right + sy * true_up);
+    } else {
+        ray.o = position + sx * right + sy * true_up;
+        ray.d = forward;
+    }
     ray.tmax = kInfinity;
+    return ray;
+}
+
+inline Ray Camera::generate_ray(Vec2 film_pos, Vec2 u_lens) const {
+    Ray ray = generate_ray(film_pos);
+    if (!has_lens()) return ray;
+    // Where the lens-centre ray crosses the plane of focus (dot(d, f) > 0 for every window
+    // position of a perspective camera with fov < 180 degrees, and 1 for orthographic).
+    const Vec3 focus = ray.o + (focus_distance / glm::dot(ray.d, forward)) * ray.d;
+    const Vec2 l = sample_aperture(u_lens);
+    ray.o += l.x * right + l.y * true_up;
+    ray.d = glm::normalize(focus - ray.o);
     return ray;
 }
 

@@ -22,7 +22,12 @@
 //  - Sample dimensions (sampler.h): 0 is the film position; path vertex k uses the fixed block
 //    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D), light position (2D),
 //    lobe choice (1D), BSDF direction (2D), roulette (1D). Fixed blocks keep every kernel
-//    variant on the same sample values, so specialised and general kernels agree.
+//    variant on the same sample values, so specialised and general kernels agree. The lens
+//    sample of a thin-lens camera (camera.h) is the 2D dimension kLensDimension, a reserved
+//    index far beyond any vertex block (which end below 1 + kDimsPerVertex (kMaxDepth + 1) in
+//    `path`, and (1 + lights) (max_depth + 1) in `direct`), drawn only when the camera has a
+//    lens: pinhole renders draw exactly the same samples as before lenses existed, and the
+//    other dimensions do not move when the aperture opens.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
@@ -37,6 +42,8 @@
 namespace facet::render {
 
 inline constexpr int kDimsPerVertex = 7;
+// The thin lens's 2D sample (see conventions).
+inline constexpr std::uint32_t kLensDimension = 0xFFFFFFF0u;
 // Russian roulette starts after this many bounces; earlier vertices carry most of the image.
 // A path then survives each bounce with probability sqrt(max beta) (survivors reweighted by its
 // inverse), as Cycles does, instead of max beta: the roulette's kill-or-double decisions are

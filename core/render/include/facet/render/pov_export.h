@@ -7,7 +7,12 @@
 // is validated by build_scene first: the SDL is only written for scenes `facet render`
 // accepts. Each shape and light kind writes itself (kinds.h, `pov`).
 //  - camera: explicit location/right/up/direction vectors in Facet's world coordinates, with
-//    pixel centres as Facet's (scenes/FORMAT.md);
+//    pixel centres as Facet's (scenes/FORMAT.md); `orthographic` with the window as right/up;
+//    lens shift moves the location (orthographic) or the direction off axis (perspective),
+//    exactly; a round thin lens of a perspective camera without shift becomes focal_blur
+//    (aperture = 2 aperture_radius, focal_point on the axis at focus_distance: the same plane
+//    of focus; POV-Ray's own aperture samples, blur_samples of them). Polygonal apertures,
+//    orthographic focal blur and shift with focal blur are errors;
 //  - `assumed_gamma 1.0`, `max_trace_level` = max_depth + 1 (the camera ray is level 0, so
 //    max_depth mirror bounces are traced as Facet's direct integrator does), `adc_bailout 0`
 //    (no ray dropped for low weight), no ambient; render with antialiasing off, EXR output;
@@ -39,6 +44,9 @@ struct PovExportOptions {
     int area_grid = 8;
     // Glossy reflection rays per hit of brdf finishes (POV `samples`), in [0, 10000].
     int glossy_samples = 0;
+    // Camera rays per pixel of a thin-lens camera's focal_blur (POV `blur_samples`), in
+    // [1, 4096]: POV-Ray's own aperture sampling, an approximation of the lens average.
+    int blur_samples = 64;
     // "error": an environment light is an error; "background": exported as the background
     // only (it then lights no surface: an approximation).
     std::string environment = "error";

@@ -41,8 +41,18 @@ struct CameraDesc {
     Vec3 position{0.f};
     Vec3 look_at{0.f, 0.f, -1.f};
     Vec3 up{0.f, 1.f, 0.f};
-    double fov = 40.0;  // full vertical field of view, degrees
+    double fov = 40.0;  // full vertical field of view, degrees (perspective only)
     int width = 0, height = 0;
+    std::string type = "perspective";     // or "orthographic"
+    std::optional<double> scale;          // orthographic: extent of the larger image side
+    double shift_x = 0.0, shift_y = 0.0;  // lens shift, fractions of the larger image side
+    // Thin lens (scenes/FORMAT.md): aperture_radius (scene units), or fstop with focal_length
+    // (mm): radius = focal_length / 1000 / (2 fstop), scene units taken as metres (Cycles).
+    // None of them, or a zero radius, is the pinhole.
+    std::optional<double> aperture_radius, fstop, focal_length;
+    std::optional<double> focus_distance;  // along the view direction; required with a lens
+    int blades = 0;                        // 0 = round, else >= 3 (polygonal aperture)
+    double rotation = 0.0;                 // polygon rotation, degrees
     bool operator==(const CameraDesc&) const = default;
 };
 
@@ -142,6 +152,11 @@ struct BuildReport {
 // material names, model parameters (the core's registry), a scene without lights, the limits.
 // Zero-area triangles are dropped and counted (a warning per shape, also in Scene::warnings()).
 // `name` prefixes every message (a file name, "blender", ...).
+// The thin lens's radius in scene units of a camera (not validated: build_scene checks it):
+// aperture_radius, or Cycles' focal_length (mm) 1e-3 / (2 fstop) (blender/camera.cpp: scene
+// units taken as metres), or 0 (pinhole).
+double aperture_radius(const CameraDesc& camera);
+
 Scene build_scene(const SceneDescription& desc, const std::string& name,
                   const SceneLimits& limits = {}, BuildReport* report = nullptr);
 
