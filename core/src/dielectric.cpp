@@ -56,46 +56,58 @@ std::optional<BSDFSample> DielectricBxDF::sample_smooth(const Vec3& wo, float uc
 }
 
 namespace {
-// The generalised half vector of (wo, wi) turned to z > 0, and etap (1 for reflection); false
-// for degenerate configurations and microfacets that face away from wo or wi (f = pdf = 0).
-bool half_vector(const Vec3& wo, const Vec3& wi, float eta, Vec3& wm, float& etap) {
-    const float cos_o = cos_theta(wo), cos_i = cos_theta(wi);
-    if (cos_o == 0.f || cos_i == 0.f) return false;
-    const bool reflect = cos_o * cos_i > 0.f;
-    etap = reflect ? 1.f : (cos_o > 0.f ? eta : 1.f / eta);
-    wm = wi * etap + wo;
-    const float len2 = glm::dot(wm, wm);
-    if (!(len2 > 0.f)) return false;
+// The generalised half vector of (wo, wi) turned to z > 0, the cosines wo.wm and wi.wm, and etap
+// (1 for reflection); false for degenerate configurations and for microfacets that face away
+// from wo or wi (f = pdf = 0). In double: the transmission Jacobian's wi.wm + wo.wm / etap adds
+// terms of opposite signs, and in float the two orders (wo, wi) and (wi, wo) differed by up to
+// 1e-3 relative (generalised reciprocity, tests/core/test_dielectric.cpp).
+struct HalfVector {
+    Vec3 wm;
+    double dot_o, dot_i, etap;
+};
+bool half_vector(const Vec3& wo, const Vec3& wi, float eta, HalfVector& h) {
+    const double cos_o = cos_theta(wo), cos_i = cos_theta(wi);
+    if (cos_o == 0.0 || cos_i == 0.0) return false;
+    const bool reflect = cos_o * cos_i > 0.0;
+    h.etap = reflect ? 1.0 : (cos_o > 0.0 ? double(eta) : 1.0 / double(eta));
+    DVec3 wm = DVec3(wi) * h.etap + DVec3(wo);
+    const double len2 = glm::dot(wm, wm);
+    if (!(len2 > 0.0)) return false;
     wm /= std::sqrt(len2);
-    if (wm.z < 0.f) wm = -wm;
-    if (wm.z == 0.f) return false;
-    return glm::dot(wm, wi) * cos_i > 0.f && glm::dot(wm, wo) * cos_o > 0.f;
+    if (wm.z < 0.0) wm = -wm;
+    if (!(float(wm.z) > 0.f)) return false;
+    h.dot_o = glm::dot(DVec3(wo), wm);
+    h.dot_i = glm::dot(DVec3(wi), wm);
+    h.wm = Vec3(wm);
+    return h.dot_i * cos_i > 0.0 && h.dot_o * cos_o > 0.0;
 }
 }  // namespace
 
 BSDFEval DielectricBxDF::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     if (m_smooth) return {};
-    Vec3 wm;
-    float etap;
-    if (!half_vector(wo, wi, m_eta, wm, etap)) return {};
-    const float dot_o = glm::dot(wo, wm), dot_i = glm::dot(wi, wm);
-    const float fr = fresnel_dielectric_signed(dot_o, m_eta);
-    const float d = m_distribution.D(wm);
+    HalfVector h;
+    if (!half_vector(wo, wi, m_eta, h)) return {};
+    // F from the outside direction's side for transmission (equal to F(wo.wm) by Stokes'
+    // relations, and the same in both orders: F near the inside's critical angle is
+    // ill-conditioned in the cosine).
+    const double cos_fresnel = h.etap == 1.0 || wo.z > 0.f ? h.dot_o : h.dot_i;
+    const float fr = fresnel_dielectric_signed(float(cos_fresnel), m_eta);
+    const float d = m_distribution.D(h.wm);
     const float g = m_distribution.G(wo, wi);
     // Visible normals are sampled from wo turned to z > 0 (the distribution's convention).
     const Vec3 wo_up = wo.z > 0.f ? wo : -wo;
-    const float pdf_wm = m_distribution.pdf(wo_up, wm);
-    const float cos_io = std::fabs(cos_theta(wi) * cos_theta(wo));
+    const float pdf_wm = m_distribution.pdf(wo_up, h.wm);
+    const double cos_io = std::fabs(double(cos_theta(wi)) * double(cos_theta(wo)));
     BSDFEval e;
-    if (etap == 1.f) {  // reflection (Walter eq. 20; the Jacobian 1 / (4 |wo.wm|), eq. 14)
-        e.f = Rgb(d * g * fr / (4.f * cos_io));
-        e.pdf = pdf_wm / (4.f * std::fabs(dot_o)) * fr;
+    if (h.etap == 1.0) {  // reflection (Walter eq. 20; the Jacobian 1 / (4 |wo.wm|), eq. 14)
+        e.f = Rgb(float(d * g * fr / (4.0 * cos_io)));
+        e.pdf = float(pdf_wm / (4.0 * std::fabs(h.dot_o)) * fr);
     } else {  // transmission (Walter eq. 21; the Jacobian |wi.wm| / (wi.wm + wo.wm / etap)^2)
-        const float denom = sqr(dot_i + dot_o / etap);
-        float ft = d * g * (1.f - fr) * std::fabs(dot_i * dot_o / (cos_io * denom));
-        if (mode == TransportMode::Radiance) ft /= etap * etap;
-        e.f = m_transmittance * ft;
-        e.pdf = pdf_wm * std::fabs(dot_i) / denom * (1.f - fr);
+        const double denom = sqr(h.dot_i + h.dot_o / h.etap);
+        double ft = d * g * (1.0 - fr) * std::fabs(h.dot_i * h.dot_o / (cos_io * denom));
+        if (mode == TransportMode::Radiance) ft /= h.etap * h.etap;
+        e.f = m_transmittance * float(ft);
+        e.pdf = float(pdf_wm * std::fabs(h.dot_i) / denom * (1.0 - fr));
     }
     if (!std::isfinite(e.pdf) || !is_finite(e.f)) return {};
     return e;
