@@ -7,8 +7,10 @@
 #include <string>
 
 #include "facet/fresnel.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -175,6 +177,30 @@ TEST(DielectricRender, TransmissionKernelOnlyWhenNeeded) {
     fr::RenderStats st;
     render(scene, "path", 1, &st);
     EXPECT_EQ(st.kernel.features & fr::kFeatTransmission, 0u) << st.kernel.name;
+}
+
+// `facet export-pov` cannot express transmission exactly: an error naming the material's JSON
+// pointer, for named and inline materials alike.
+TEST(DielectricRender, PovExportRejectsTransmissionNamingThePointer) {
+    const std::string head = R"({"format": "facet-scene", "version": 1,
+        "camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 40, "width": 8, "height": 8},
+        "lights": [{"type": "point", "position": [0, 3, 3], "power": 10}], )";
+    const std::string named = head + R"("materials": {"pane": {"model": "thin_dielectric"}},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "pane"}]})";
+    const std::string inline_ = head + R"("shapes": [{"type": "sphere", "center": [0, 0, 0],
+        "radius": 1, "material": {"model": "dielectric", "alpha": 0.2}}]})";
+    for (const auto& [json, pointer] :
+         {std::pair{named, std::string("/materials/pane/model")},
+          std::pair{inline_, std::string("/shapes/0/material/model")}}) {
+        const fr::SceneDescription d = fr::parse_scene_description(json, "t.json");
+        try {
+            (void)fr::export_pov(d, "t.json");
+            ADD_FAILURE() << pointer << ": exported";
+        } catch (const fr::SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find(pointer), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("transmits"), std::string::npos) << e.what();
+        }
+    }
 }
 
 }  // namespace
