@@ -277,5 +277,47 @@ TEST(Dielectric, RoughWhiteFurnaceEnergyLoss) {
     }
 }
 
+// Extremes (ior 1e-3 .. 100, alpha 1e-7 .. 10, directions on both sides down to grazing): no
+// NaN/Inf or negative f / pdf, samples unit and finite, and no energy gain per sample: with
+// visible-normal sampling the importance-mode weight f |cos_i| / pdf is F G / G1(wo) resp.
+// (1 - F) G / G1(wo), at most 1 (smooth: exactly 1); allowed 1 + 1e-4 for float rounding.
+TEST(Dielectric, ExtremesStayFiniteWithoutEnergyGain) {
+    const int n = std::max(2000, int(20000 * stress_scale()));
+    int samples = 0;
+    for (double ior : {1e-3, 0.5, 1.0, 1.0001, 1.5, 4.0, 100.0}) {
+        for (double alpha : {0.0, 1e-7, 1e-3, 0.05, 0.5, 10.0}) {
+            const Material m = glass(ior, alpha);
+            pcg32 rng(5);
+            for (int i = 0; i < n; ++i) {
+                // cos theta uniform in [-1, 1], with a share of nearly grazing directions.
+                auto random_dir = [&] {
+                    double c = 2.0 * test::uniform_float(rng) - 1.0;
+                    if (i % 4 == 0) c = std::copysign(1e-6 * test::uniform_float(rng), c);
+                    return dir(std::acos(c) / kDeg, 360.0 * test::uniform_float(rng));
+                };
+                const Vec3 wo = random_dir(), wi = random_dir();
+                for (auto mode : {TransportMode::Radiance, TransportMode::Importance}) {
+                    const BSDFEval e = m.eval(wo, wi, mode);
+                    ASSERT_TRUE(is_finite(e.f) && e.f.r >= 0.f && std::isfinite(e.pdf) &&
+                                e.pdf >= 0.f)
+                        << ior << " " << alpha << " " << i;
+                }
+                const float uc = test::uniform_float(rng);
+                const Vec2 u(test::uniform_float(rng), test::uniform_float(rng));
+                auto smp = m.sample_f(wo, uc, u, TransportMode::Importance);
+                if (!smp) continue;
+                ++samples;
+                ASSERT_TRUE(is_finite(smp->f) && std::isfinite(smp->pdf) && smp->pdf > 0.f &&
+                            is_finite(smp->wi))
+                    << ior << " " << alpha << " " << i;
+                EXPECT_NEAR(glm::length(smp->wi), 1.f, 1e-5f);
+                const float w = smp->f.r * std::fabs(smp->wi.z) / smp->pdf;
+                EXPECT_LE(w, 1.f + 1e-4f) << ior << " " << alpha << " " << i;
+            }
+        }
+    }
+    EXPECT_GT(samples, n * 30);  // most draws give a sample
+}
+
 }  // namespace
 }  // namespace facet
