@@ -36,6 +36,7 @@ std::string flags_name(BxDFFlags f) {
     if (any(f & BxDFFlags::Diffuse)) s += "diffuse";
     if (any(f & BxDFFlags::Glossy)) s += s.empty() ? "glossy" : "|glossy";
     if (any(f & BxDFFlags::Specular)) s += s.empty() ? "specular" : "|specular";
+    if (any(f & BxDFFlags::Transmission)) s += s.empty() ? "transmission" : "|transmission";
     return s.empty() ? "none" : s;
 }
 

@@ -8,6 +8,7 @@
 
 #include "commands.h"
 #include "facet/reflectance.h"
+#include "facet/registry.h"
 #include "model_args.h"
 
 namespace facet::cli {
@@ -50,6 +51,12 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
         throw std::runtime_error(
             "--tolerance: must be in [1e-9, 0.1] (the BxDFs evaluate in float: below ~1e-7 "
             "round-off dominates)");
+    // The reflectance quadrature integrates over the upper hemisphere: for a model that
+    // transmits, reflectance and transmittance must be reported apart (not done yet).
+    if (find_model(o.model) && make_material(o.model, {}).transmissive())
+        throw std::runtime_error("--model " + o.model +
+                                 ": reflectance is not available for transmissive models yet "
+                                 "(it would need reflectance and transmittance separately)");
     QuadratureSettings settings;
     settings.tolerance = o.tolerance;
     const bool fixed = o.order != 0;

@@ -207,7 +207,8 @@ void bind_brdf(py::module_& m) {
         .value("none", BxDFFlags::None)
         .value("diffuse", BxDFFlags::Diffuse)
         .value("glossy", BxDFFlags::Glossy)
-        .value("specular", BxDFFlags::Specular);
+        .value("specular", BxDFFlags::Specular)
+        .value("transmission", BxDFFlags::Transmission);
 
     py::class_<ParamInfo>(m, "ParamInfo", "A model parameter of the model table (registry.h)")
         .def_readonly("name", &ParamInfo::name)

@@ -59,6 +59,11 @@ Material::Material(std::optional<LambertReflection> diffuse,
     }
 }
 
+Material::Material(const DielectricBxDF& dielectric)
+    : m_dielectric(dielectric), m_flags(dielectric.flags()) {}
+
+Material::Material(const ThinDielectricBxDF& thin) : m_thin(thin), m_flags(thin.flags()) {}
+
 Rgb Material::glossy_albedo(float mu) const {
     if (!m_has_table) return Rgb(0.f);
     float x = clamp_unit(mu) * float(kTableSize - 1);
@@ -96,14 +101,19 @@ std::array<float, 3> Material::lobe_probabilities(const Vec3& wo) const {
     return {w[0] / sum, w[1] / sum, w[2] / sum};
 }
 
-Rgb Material::f(const Vec3& wo, const Vec3& wi) const {
+Rgb Material::f(const Vec3& wo, const Vec3& wi, Mode mode) const {
+    // Transmissive materials are one dielectric lobe (the thin pane has only deltas: f = 0).
+    if (m_dielectric) [[unlikely]]
+        return m_dielectric->f(wo, wi, mode);
     Rgb result(0.f);
     if (m_diffuse) result += diffuse_f(wo, wi);
     if (m_glossy) result += m_glossy->f(wo, wi);
     return result;  // the mirror is a delta: f = 0 (facet/bxdf.h)
 }
 
-float Material::pdf(const Vec3& wo, const Vec3& wi) const {
+float Material::pdf(const Vec3& wo, const Vec3& wi, Mode mode) const {
+    if (m_dielectric) [[unlikely]]
+        return m_dielectric->pdf(wo, wi, mode);
     // A single-lobe material is that lobe (probability 1: the same bits as the sum below).
     if (!m_has_table) {
         if (m_diffuse) return m_diffuse->pdf(wo, wi);
@@ -117,7 +127,9 @@ float Material::pdf(const Vec3& wo, const Vec3& wi) const {
     return result;
 }
 
-BSDFEval Material::eval(const Vec3& wo, const Vec3& wi) const {
+BSDFEval Material::eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
+    if (m_dielectric) [[unlikely]]
+        return m_dielectric->eval(wo, wi, mode);
     // f() and pdf() in one pass: the glossy lobe's D and Lambda and the lobe probabilities are
     // computed once (same arithmetic, so the results equal f() and pdf() bit for bit).
     if (!m_has_table) {  // single lobe, as in pdf()
@@ -139,7 +151,11 @@ BSDFEval Material::eval(const Vec3& wo, const Vec3& wi) const {
     return e;
 }
 
-std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u) const {
+std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u, Mode mode) const {
+    if (transmissive()) [[unlikely]] {
+        if (m_dielectric) return m_dielectric->sample_f(wo, uc, u, mode);
+        return m_thin->sample_f(wo, uc, u, mode);
+    }
     if (!(wo.z > 0.f)) return std::nullopt;
     if (!m_has_table) {
         // A single-lobe material is that lobe: it gets uc as the general path below would

@@ -119,6 +119,29 @@ std::vector<ModelInfo> build_table() {
                  exponent_params(),
                  fresnel_params("dielectric"),
                  {kEnergyCompensation}})});
+    // Transmissive models (facet/dielectric.h): inside is the side opposite the shape's normal.
+    const ParamInfo ior = number("ior", "1.5",
+                                 "relative index of refraction eta = n_inside / n_outside (the "
+                                 "outside is the side the shape's normal points to), in "
+                                 "[0.001, 100]");
+    const ParamInfo transmittance =
+        color("transmittance", "1", "scale on the transmitted light (tint), in [0, 1]");
+    t.push_back(
+        {"dielectric",
+         "interface between two media (glass, water): exact Fresnel reflection + refraction, "
+         "radiance scaled by 1/eta'^2 across it; smooth (alpha = 0: two delta lobes) or rough "
+         "(Walter et al. 2007, Smith G, visible-normal sampling)",
+         {ior, transmittance,
+          number("alpha", "0",
+                 "isotropic roughness alpha, in [0, 10]; below 1e-4 the interface is smooth"),
+          number("alpha_u", "-", "roughness along the tangent u (anisotropic; give with alpha_v)"),
+          number("alpha_v", "-",
+                 "roughness along the bitangent v (anisotropic; give with alpha_u)"),
+          text("distribution", "ggx", "microfacet D of a rough interface: ggx or beckmann")}});
+    t.push_back({"thin_dielectric",
+                 "thin pane (window glass): both interfaces' reflections summed, R' = R + "
+                 "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
+                 {ior, transmittance}});
     return t;
 }
 
@@ -285,6 +308,16 @@ Material build(const ModelInfo& info, const ParamSet& params) {
         Fresnel fr = read_fresnel(r, "none");
         bool ec = r.boolean("energy_compensation", false);
         return Material(std::nullopt, MicrofacetReflection(d, fr, scale, ec), std::nullopt);
+    }
+    if (name == "dielectric" || name == "thin_dielectric") {
+        const float eta = float(r.number("ior", 1.5, 1e-3, kMaxIor));
+        const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
+        if (name == "thin_dielectric") return Material(ThinDielectricBxDF(eta, tr));
+        std::string kind = r.choice("distribution", "ggx", {"ggx", "beckmann"});
+        auto [au, av] = read_roughness_pair(r, "alpha", 0.0, kMaxAlpha);
+        return Material(DielectricBxDF(eta, tr,
+                                       kind == "ggx" ? MicrofacetDistribution::ggx(au, av)
+                                                     : MicrofacetDistribution::beckmann(au, av)));
     }
     // composite
     Rgb kd = r.color("diffuse_reflectance", Rgb(0.5f), 0.0, 1.0);

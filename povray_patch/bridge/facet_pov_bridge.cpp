@@ -168,6 +168,12 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
         if (m_impl->model == "composite" && !params.has("diffuse_reflectance"))
             params.set("diffuse_reflectance", 1.0);
         facet::Material m = facet::make_material(m_impl->model, params);
+        // The brdf finish is reflection only; transmission in POV-Ray stays with its own
+        // interior (docs/povray.md).
+        if (m.transmissive())
+            throw facet::ParamError("", "model '" + m_impl->model +
+                                            "' transmits light: the brdf finish is reflection "
+                                            "only (use POV-Ray's interior and refraction)");
         auto b = std::make_unique<Brdf>(std::move(m), m_impl->samples);
         std::lock_guard<std::mutex> lock(g_mutex);
         all_brdfs().push_back(std::move(b));

@@ -5,6 +5,7 @@
 // names (with a "did you mean" suggestion) and unknown model names.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 
@@ -24,7 +25,10 @@ bool is_roughness(const std::string& name) {
 // rejects it as "has no effect", which would not test the value check).
 ParamSet context_for(const ModelInfo& model, const std::string& name) {
     ParamSet p;
-    if (name == "ior") p.set("fresnel", std::string("dielectric"));
+    // Dielectrics take ior directly (they have no fresnel parameter).
+    const bool has_fresnel = std::any_of(model.params.begin(), model.params.end(),
+                                         [](const ParamInfo& q) { return q.name == "fresnel"; });
+    if (name == "ior" && has_fresnel) p.set("fresnel", std::string("dielectric"));
     if (name == "eta" || name == "k") p.set("fresnel", std::string("conductor"));
     if (name == "f0") p.set("fresnel", std::string("schlick"));
     if (name == "alpha_u") p.set("alpha_v", 0.3);

@@ -102,6 +102,23 @@ def test_mirror_sample_is_a_delta():
     assert np.all(m.eval(wo, s.wi) == 0)  # delta lobes: f = pdf = 0
 
 
+def test_dielectric_transmits_through_python():
+    # The registry's glass models reach Python: a smooth interface at normal incidence refracts
+    # straight through with probability 1 - R, R = ((1.5 - 1) / (1.5 + 1))^2 = 0.04, and its
+    # radiance-mode weight f |cos| / pdf is 1 / 1.5^2 (facet/dielectric.h).
+    assert facet.find_model("dielectric") and facet.find_model("thin_dielectric")
+    m = facet.make_material("dielectric", ior=1.5)
+    s = m.sample(np.array([0.0, 0.0, 1.0]), 0.9, [0.5, 0.5])
+    assert bool(s.valid)
+    np.testing.assert_allclose(s.wi, [0.0, 0.0, -1.0], atol=1e-6)
+    np.testing.assert_allclose(s.pdf, 0.96, rtol=1e-6)
+    np.testing.assert_allclose(s.f[0] / s.pdf, 1.0 / 2.25, rtol=1e-5)
+    transmission = int(facet.BxDFFlags.transmission)
+    assert s.flags == int(facet.BxDFFlags.specular) | transmission
+    with pytest.raises(ValueError, match="parameter 'ior' of model 'dielectric'"):
+        facet.make_material("dielectric", ior=0.0)
+
+
 def test_reciprocity_of_reflectances():
     m = facet.make_material("ggx", alpha=0.3)
     w = random_directions(np.random.default_rng(4), 5)

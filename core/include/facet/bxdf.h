@@ -6,7 +6,9 @@
 //  - All directions are in the local shading frame (facet/frame.h): z = shading normal, `wo`
 //    toward the viewer, `wi` toward the light, both unit and pointing away from the surface.
 //  - `f(wo, wi)` is the BRDF value f_r (Cohen & Wallace eq. 2.22), in 1/sr, *without* the
-//    cosine factor. It is 0 when wo and wi are not both above the surface (reflection only).
+//    cosine factor. It is 0 when wo and wi are not both above the surface (reflection only),
+//    except for models flagged Transmission (facet/dielectric.h states their conventions:
+//    wo on either side, z not flipped toward the viewer).
 //  - `pdf(wo, wi)` is the density of `sample_f` per unit solid angle of wi.
 //  - `sample_f(wo, uc, u)` draws wi. `uc` in [0,1) selects a lobe, `u` in [0,1)^2 drives the
 //    lobe's warp. Random numbers are arguments: models hold no RNG and are deterministic.
@@ -31,6 +33,9 @@ enum class BxDFFlags : std::uint8_t {
     Diffuse = 1 << 0,   // Lambertian: constant f
     Glossy = 1 << 1,    // microfacet lobe: smooth, non-delta, directional
     Specular = 1 << 2,  // delta lobe: f = pdf = 0 except via sample_f
+    // The model (or a sample) transmits: wi may lie on the other side of the surface than wo
+    // (dielectrics, facet/dielectric.h). Without it, f = 0 across the surface.
+    Transmission = 1 << 3,
 };
 
 constexpr BxDFFlags operator|(BxDFFlags a, BxDFFlags b) {
@@ -44,6 +49,9 @@ constexpr bool any(BxDFFlags f) {
 }
 constexpr bool is_specular(BxDFFlags f) {
     return any(f & BxDFFlags::Specular);
+}
+constexpr bool is_transmissive(BxDFFlags f) {
+    return any(f & BxDFFlags::Transmission);
 }
 constexpr bool is_non_specular(BxDFFlags f) {
     return any(f & (BxDFFlags::Diffuse | BxDFFlags::Glossy));

@@ -12,6 +12,11 @@
 //    Es is tabulated per channel at construction by Gauss-Legendre quadrature over mu.
 //  - sample_f picks a lobe with probability proportional to its albedo at wo (luminance), and
 //    pdf() is the matching mixture density of the non-delta lobes.
+//  - A transmissive material (flags() has Transmission) is one dielectric BxDF and nothing else
+//    (facet/dielectric.h: `dielectric`, `thin_dielectric`): its frame's z is the shape's
+//    outward shading normal, not the viewer's side, and wo may lie on either side. The
+//    TransportMode argument matters only to these (radiance by default: camera paths); the
+//    reflection lobes are symmetric and ignore it.
 #pragma once
 
 #include <array>
@@ -19,6 +24,7 @@
 #include <string>
 
 #include "facet/bxdf.h"
+#include "facet/dielectric.h"
 #include "facet/lambert.h"
 #include "facet/microfacet.h"
 #include "facet/mirror.h"
@@ -29,12 +35,22 @@ class Material {
   public:
     Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
              std::optional<MirrorReflection> mirror);
+    // A transmissive material: the dielectric interface or the thin pane alone.
+    explicit Material(const DielectricBxDF& dielectric);
+    explicit Material(const ThinDielectricBxDF& thin);
 
-    Rgb f(const Vec3& wo, const Vec3& wi) const;
-    float pdf(const Vec3& wo, const Vec3& wi) const;
-    BSDFEval eval(const Vec3& wo, const Vec3& wi) const;  // f and pdf together
-    std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const;
+    using Mode = TransportMode;
+    Rgb f(const Vec3& wo, const Vec3& wi, Mode mode = Mode::Radiance) const;
+    float pdf(const Vec3& wo, const Vec3& wi, Mode mode = Mode::Radiance) const;
+    // f and pdf together
+    BSDFEval eval(const Vec3& wo, const Vec3& wi, Mode mode = Mode::Radiance) const;
+    std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u,
+                                       Mode mode = Mode::Radiance) const;
     BxDFFlags flags() const { return m_flags; }
+    bool transmissive() const { return is_transmissive(m_flags); }
+
+    const std::optional<DielectricBxDF>& dielectric() const { return m_dielectric; }
+    const std::optional<ThinDielectricBxDF>& thin_dielectric() const { return m_thin; }
 
     const std::optional<LambertReflection>& diffuse() const { return m_diffuse; }
     const std::optional<MicrofacetReflection>& glossy() const { return m_glossy; }
@@ -60,6 +76,8 @@ class Material {
     std::optional<LambertReflection> m_diffuse;
     std::optional<MicrofacetReflection> m_glossy;
     std::optional<MirrorReflection> m_mirror;
+    std::optional<DielectricBxDF> m_dielectric;
+    std::optional<ThinDielectricBxDF> m_thin;
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_has_table = false;            // false for single-lobe materials
     std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)

@@ -99,6 +99,31 @@ template <std::uint32_t F>
     return true;
 }
 
+// Shading geometry of a transmissive material (facet/dielectric.h): the frame's z is the
+// shape's own shading normal, NOT turned toward the viewer, because the side it points to is
+// the outside of the dielectric; wo may then lie below the frame (a ray inside the glass).
+// Two-sidedness does not apply: both sides of an interface transmit and reflect.
+[[gnu::always_inline]] inline void make_transmissive_shading(const SurfaceHit& hit,
+                                                             const Material& m, const Vec3& ray_d,
+                                                             Shading& sh) {
+    sh.ng = hit.ng;
+    sh.ns = hit.ns;
+    const bool aniso = m.dielectric() && m.dielectric()->distribution().alpha_x() !=
+                                             m.dielectric()->distribution().alpha_y();
+    sh.frame = aniso ? Frame::from_z_x(sh.ns, hit.dpdu) : Frame::from_z(sh.ns);
+    sh.wo = sh.frame.to_local(-ray_d);
+}
+
+// Whether world direction w (local z = w_local_z) leaves the surface on a side where the
+// material can send it: for reflection models the viewer's side of the geometric normal (sh.ng
+// is turned toward the viewer), for transmissive ones either side, but the geometric and the
+// shading normal must agree on which (otherwise a shading normal would leak light through).
+[[gnu::always_inline]] inline bool valid_side(const Shading& sh, bool transmissive, const Vec3& w,
+                                              float w_local_z) {
+    const float g = glm::dot(w, sh.ng);
+    return transmissive ? g * w_local_z > 0.f : g > 0.f;
+}
+
 // ---- path: rendering equation by path tracing, NEE + MIS (power heuristic) ----
 
 constexpr std::size_t kLanes = Scene::kPacketSize;
@@ -165,6 +190,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    constexpr bool kTransmission = (F & kFeatTransmission) != 0;
     const std::span<const Light> lights = scene.lights();
     const int num_lights = int(lights.size());
 
@@ -201,11 +227,23 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     }
     const Material& m = *hit.material;
     Shading sh;
-    if (!make_shading<F>(hit, m, ray_d, sh)) return false;
-    const LightSampleContext ctx{hit.p, sh.ns};
+    // Transmissive materials exist only in the transmission kernel (kFeatTransmission).
+    bool transmissive = false;
+    if constexpr (kTransmission) transmissive = m.transmissive();
+    if (transmissive)
+        make_transmissive_shading(hit, m, ray_d, sh);
+    else if (!make_shading<F>(hit, m, ray_d, sh))
+        return false;
+    // A transmissive surface is lit from both sides: no hemisphere for the environment's
+    // cosine sampling (light.h, ctx.n = 0).
+    const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
     // The origin of both rays that leave this vertex, the shadow ray and the continuation:
-    // both go to the viewer's side of the surface (checked below), so one offset serves both.
+    // both go to the viewer's side of a reflecting surface (checked below), so one offset
+    // serves both. Rays leaving a transmissive surface start on their own side (origin_to).
     const Vec3 origin = offset_ray_origin(hit.p, hit.p_err, sh.ng, sh.ng);
+    auto origin_to = [&](const Vec3& w) {
+        return transmissive ? offset_ray_origin(hit.p, hit.p_err, sh.ng, w) : origin;
+    };
 
     // Next-event estimation: one light, chosen in proportion to power among the lights it
     // samples (light.h: not the environment, which the BSDF sample below finds).
@@ -217,9 +255,10 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
         if (num_lights > 1) light_index = light_dist.sample(s.light_choice, select_pmf);
         const Light& light = lights[light_index];
         if (auto ls = light.sample_li(ctx, s.light)) {
-            // Reflection only: the light must be on the viewer's side of the surface.
-            if (glm::dot(ls->wi, sh.ng) > 0.f && ls->pdf > 0.f) {
-                const Vec3 wi = sh.frame.to_local(ls->wi);
+            // Reflection: the light must be on the viewer's side of the surface; transmission:
+            // on either side (valid_side).
+            const Vec3 wi = sh.frame.to_local(ls->wi);
+            if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
                 // With MIS the BSDF pdf is needed too: one evaluation for both.
                 BSDFEval e;
                 if constexpr (kMis)
@@ -230,7 +269,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                 if (max3(contrib) > 0.f) {
                     ++c.shadow_rays;
                     has_shadow = true;
-                    shadow.set(k, Scene::shadow_ray_from(origin, *ls));
+                    shadow.set(k, Scene::shadow_ray_from(origin_to(ls->wi), *ls));
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
@@ -256,7 +295,8 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, uc, s.bsdf);
     if (!bs || !(bs->pdf > 0.f)) return false;
     const Vec3 wi_w = sh.frame.from_local(bs->wi);
-    if (!(glm::dot(wi_w, sh.ng) > 0.f)) return false;  // below the geometric surface
+    // Below the geometric surface (reflection), or on the side the shading frame disagrees with.
+    if (!valid_side(sh, transmissive, wi_w, bs->wi.z)) return false;
     p.beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
     if (!(max3(p.beta) > 0.f)) return false;
     if constexpr (kSpecular) p.specular_bounce = bs->is_specular();
@@ -272,7 +312,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
             p.beta /= 1.f - q;
         }
     }
-    rays.set(k, Ray{origin, wi_w, kInfinity});
+    rays.set(k, Ray{origin_to(wi_w), wi_w, kInfinity});
     ++c.rays;
     return true;
 }
@@ -349,7 +389,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kArea = (F & kFeatAreaSampling) != 0;
+    constexpr bool kTransmission = (F & kFeatTransmission) != 0;
     const std::span<const Light> lights = scene.lights();
+    // Dimensions of one depth: one per light, then one for the lobe choice of a smooth
+    // dielectric (transmission kernel only).
     const std::uint32_t block = 1u + std::uint32_t(lights.size());
 
     Rgb L(0.f), beta(1.f);
@@ -365,12 +408,17 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
         const Material& m = *hit.material;
         Shading sh;
-        if (!make_shading<F>(hit, m, ray.d, sh)) break;
-        const LightSampleContext ctx{hit.p, sh.ns};
+        bool transmissive = false;
+        if constexpr (kTransmission) transmissive = m.transmissive();
+        if (transmissive)
+            make_transmissive_shading(hit, m, ray.d, sh);
+        else if (!make_shading<F>(hit, m, ray.d, sh))
+            break;
+        const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
+        const std::uint32_t base = 1u + block * std::uint32_t(depth);
 
         // Sum over every light of f Li |cos theta_i| (delta lights exactly, others one sample).
         if (has_non_specular<F>(m)) {
-            const std::uint32_t base = 1u + block * std::uint32_t(depth);
             for (std::size_t j = 0; j < lights.size(); ++j) {
                 const Light& light = lights[j];
                 Vec2 u(0.5f);
@@ -379,25 +427,35 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                         s.set_dimension(base + std::uint32_t(j));
                         u = s.get_2d();
                     }
-                } else {
-                    (void)base;
                 }
                 auto ls = light.sample_li(ctx, u);
-                if (!ls || !(ls->pdf > 0.f) || !(glm::dot(ls->wi, sh.ng) > 0.f)) continue;
+                if (!ls || !(ls->pdf > 0.f)) continue;
                 const Vec3 wi = sh.frame.to_local(ls->wi);
+                if (!valid_side(sh, transmissive, ls->wi, wi.z)) continue;
                 const Rgb contrib = bsdf_f<F>(m, sh.wo, wi) * std::fabs(wi.z) * ls->li;
                 if (!(max3(contrib) > 0.f)) continue;
                 ++c.shadow_rays;
+                // occluded() starts the shadow ray on the light's side of the surface.
                 if (!scene.occluded(hit, *ls)) L += beta * contrib / ls->pdf;
             }
         }
         // Perfect mirror recursion through the delta lobe.
         if constexpr (kSpecular) {
-            if (depth < max_depth && m.mirror()) {
-                const std::optional<BSDFSample> ms = m.mirror()->sample_f(sh.wo, 0.f, Vec2(0.f));
+            std::optional<BSDFSample> ms;
+            if (depth < max_depth) {
+                if (transmissive && is_specular(m.flags())) {
+                    // A smooth dielectric or thin pane: one of its two delta lobes, chosen by
+                    // Fresnel with the block's last dimension (the estimate stays unbiased).
+                    s.set_dimension(base + std::uint32_t(lights.size()));
+                    ms = m.sample_f(sh.wo, s.get_1d(), Vec2(0.f));
+                } else if (m.mirror()) {
+                    ms = m.mirror()->sample_f(sh.wo, 0.f, Vec2(0.f));
+                } else {
+                    break;
+                }
                 if (!ms) break;
                 const Vec3 wi_w = sh.frame.from_local(ms->wi);
-                if (!(glm::dot(wi_w, sh.ng) > 0.f)) break;
+                if (!valid_side(sh, transmissive, wi_w, ms->wi.z)) break;
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
                 if (!(max3(beta) > 0.f)) break;
                 ray = Scene::spawn_ray(hit, wi_w);
@@ -560,6 +618,7 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
         s += w;
     };
     add(f & kFeatLambertOnly, "lambert-only", "");
+    add(f & kFeatTransmission, "transmission", "");
     add(f & kFeatSpecular, "specular", "no-specular");
     if (kind == IntegratorKind::Path) {
         add(f & kFeatMis, "mis", "no-mis");
@@ -663,12 +722,29 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.features = f;
     }
     k.features &= path ? kPathMask : kDirectMask;
+    if (sf.has_transmission) {
+        // The transmission kernel is the general one plus two-sided shading (kernel_function).
+        k.features = (path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
+                           : (kFeatSpecular | kFeatEmission | kFeatAreaSampling)) |
+                     kFeatTransmission;
+        k.chosen.push_back(
+            "transmission (dielectric materials): the general kernel with two-sided shading "
+            "frames and rays spawned on the side they leave to");
+    }
     k.name = std::string(integrator_name(integrator)) + "<" + feature_list(integrator, k.features) +
              ">" + (force_general ? " (general)" : "");
     return k;
 }
 
 TileKernel kernel_function(const KernelChoice& choice) {
+    // Transmission: one kernel per integrator, every other feature on (choose_kernel).
+    constexpr std::uint32_t kPathTransmission = kPathMask | kFeatTransmission;
+    constexpr std::uint32_t kDirectTransmission = kDirectMask | kFeatTransmission;
+    if ((choice.features & kFeatTransmission) != 0) {
+        return choice.integrator == IntegratorKind::Path
+                   ? &render_tile<IntegratorKind::Path, kPathTransmission & ~kFeatLambertOnly>
+                   : &render_tile<IntegratorKind::Direct, kDirectTransmission & ~kFeatLambertOnly>;
+    }
     static constexpr std::array<TileKernel, kTableSize> kPath =
         make_table<IntegratorKind::Path, kPathMask>(std::make_index_sequence<kTableSize>{});
     static constexpr std::array<TileKernel, kTableSize> kDirect =

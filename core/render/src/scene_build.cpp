@@ -534,6 +534,7 @@ class Builder final : public BuildChecks {
     // --- analysis ------------------------------------------------------------------------------
 
     static bool reflects(const Material& m) {
+        if (m.transmissive()) return true;  // a dielectric reflects at least its Fresnel part
         if (m.diffuse() && max_component(m.diffuse()->rho()) > 0.f) return true;
         if (m.glossy()) return true;
         if (m.mirror() && max_component(m.mirror()->scale()) > 0.f) return true;
@@ -590,6 +591,7 @@ class Builder final : public BuildChecks {
         f.has_diffuse = any(f.lobes & BxDFFlags::Diffuse);
         f.has_glossy = any(f.lobes & BxDFFlags::Glossy);
         f.has_specular = any(f.lobes & BxDFFlags::Specular);
+        f.has_transmission = is_transmissive(f.lobes);
         for (const Light& l : scene.lights()) {
             switch (l.kind()) {
                 case Light::Kind::Point:
@@ -643,7 +645,8 @@ std::string SceneFeatures::describe() const {
       << " exact spheres, " << num_discs << " discs, " << num_planes << " infinite planes), "
       << num_materials << " materials\n";
     s << "lobes: diffuse " << yn(has_diffuse) << ", glossy " << yn(has_glossy) << ", specular "
-      << yn(has_specular) << (lambert_only ? " (Lambert only)" : "") << "\n";
+      << yn(has_specular) << ", transmission " << yn(has_transmission)
+      << (lambert_only ? " (Lambert only)" : "") << "\n";
     s << "lights: " << num_lights << " (point " << yn(has_point) << ", spot " << yn(has_spot)
       << ", directional " << yn(has_directional) << ", area " << yn(has_area) << ", environment "
       << yn(has_environment) << "); all delta: " << yn(all_lights_delta) << "\n";

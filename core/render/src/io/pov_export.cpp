@@ -441,6 +441,13 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                                const glm::dvec3& emission) {
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
+    // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
+    if (make_material(m.model, m.params).transmissive())
+        fail(pointer + "/model",
+             fmt::format("'{}' transmits light, which POV-Ray cannot express exactly (the brdf "
+                         "finish is reflection only; POV-Ray's interior/refraction differs)",
+                         m.model));
     const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
                                       : m.model == "composite" ? "diffuse_reflectance"
                                                                : "";

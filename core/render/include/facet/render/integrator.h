@@ -28,6 +28,17 @@
 //    `path`, and (1 + lights) (max_depth + 1) in `direct`), drawn only when the camera has a
 //    lens: pinhole renders draw exactly the same samples as before lenses existed, and the
 //    other dimensions do not move when the aperture opens.
+//  - Transmission (kFeatTransmission; facet/dielectric.h): at a transmissive material the frame
+//    is the shape's own (z = outward shading normal, not flipped toward the viewer), light and
+//    BSDF directions may lie on either side (the geometric and the shading normal must agree on
+//    the side), and each ray starts off the surface on its own side. Shadow rays stop at
+//    glass: light through a dielectric arrives by BSDF sampling only (caustics from small lights
+//    are noisy, as in any unidirectional path tracer). Transport mode: radiance. Inside and
+//    outside are the shape's back and front (its normal points outside). `direct` follows one
+//    of a smooth dielectric's two delta lobes, chosen by Fresnel with the depth block's last
+//    dimension (1 + number of lights); `path` with the lobe dimension. Russian roulette, NEE
+//    and MIS are unchanged: delta lobes skip NEE and MIS (specular bounce), rough dielectrics
+//    are non-delta lobes like any other.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
@@ -53,12 +64,15 @@ inline constexpr int kRouletteDepth = 4;
 
 // Compile-time features of a kernel. The general kernel has every feature except LambertOnly.
 enum KernelFeature : std::uint32_t {
-    kFeatLambertOnly = 1u << 0,  // every material is a single Lambertian lobe: call it directly
-    kFeatSpecular = 1u << 1,     // some material has a delta (mirror) lobe
-    kFeatMis = 1u << 2,          // some light is non-delta: MIS of light and BSDF samples
-    kFeatEmission = 1u << 3,     // rays can hit emitters / escape to an environment
-    kFeatIndirect = 1u << 4,     // paths longer than one bounce (path) / mirror recursion
-    kFeatAreaSampling = 1u << 5  // direct: stochastic light samples (area lights, environment)
+    kFeatLambertOnly = 1u << 0,   // every material is a single Lambertian lobe: call it directly
+    kFeatSpecular = 1u << 1,      // some material has a delta (mirror) lobe
+    kFeatMis = 1u << 2,           // some light is non-delta: MIS of light and BSDF samples
+    kFeatEmission = 1u << 3,      // rays can hit emitters / escape to an environment
+    kFeatIndirect = 1u << 4,      // paths longer than one bounce (path) / mirror recursion
+    kFeatAreaSampling = 1u << 5,  // direct: stochastic light samples (area lights, environment)
+    // Some material transmits (dielectrics): two-sided shading frames, rays spawned on the side
+    // they leave to. Only the general kernel of each integrator is instantiated with it.
+    kFeatTransmission = 1u << 6
 };
 
 enum class IntegratorKind { Direct, Path };

@@ -92,7 +92,8 @@ struct ShapeInfo {
 struct SceneFeatures {
     BxDFFlags lobes = BxDFFlags::None;  // union of every material's Material::flags()
     bool has_diffuse = false, has_glossy = false, has_specular = false;
-    bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
+    bool has_transmission = false;  // some material transmits (facet/dielectric.h)
+    bool lambert_only = false;      // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
     bool all_lights_delta = true;      // no area light and no environment: no MIS needed
