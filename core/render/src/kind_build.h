@@ -127,6 +127,17 @@ class LightBuild : public BuildChecks {
     virtual void add_light(Light light) = 0;
     // The scene's environment light (at most one).
     virtual void add_environment(Light light) = 0;
+    // A point or spot light's "radius" (kLightRadiusField), checked: finite, >= 0; 0 if absent.
+    float light_radius() const {
+        if (!light.radius) return 0.f;
+        return float(check_range(*light.radius, ptr + "/radius", 0.0,
+                                 double(std::numeric_limits<float>::max()), ">= 0"));
+    }
 };
+
+// The "radius" key of the point and spot kinds (the sphere light, light.h).
+inline const Field<LightDesc> kLightRadiusField{
+    "radius", FieldType::Number, false, &LightDesc::radius, "0",
+    "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
 
 }  // namespace facet::render

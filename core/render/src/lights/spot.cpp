@@ -34,11 +34,12 @@ void build(LightBuild& b) {
     const double inner = l.inner_angle ? b.check_range(*l.inner_angle, ptr + "/inner_angle", 0.0,
                                                        outer, "in [0, outer_angle] degrees")
                                        : outer;
-    b.add_light(Light::spot(p, dir, phi, float(inner), float(outer)));
+    b.add_light(Light::spot(p, dir, phi, float(inner), float(outer), b.light_radius()));
 }
 
 void pov(PovLightOut& o) {
     const LightDesc& l = o.light;
+    o.check_no_radius();
     const double outer = l.outer_angle;
     const double inner = l.inner_angle.value_or(outer);
     if (inner != outer)
@@ -63,7 +64,10 @@ extern const LightKindDef kSpotLightKind{
     "spot",
     "half-angles from the axis in degrees, 0 ≤ inner ≤ outer < 180. Intensity I(θ) = I₀ inside "
     "the inner cone, 0 outside the outer cone, **linear in cos θ** in between; I₀ is set so "
-    "that the total power is exactly Φ: Φ = 2π I₀ [(1 − cos inner) + (cos inner − cos outer)/2]",
+    "that the total power is exactly Φ: Φ = 2π I₀ [(1 − cos inner) + (cos inner − cos outer)/2]. "
+    "With `radius` R > 0 it is a sphere of radiance L(ω) = I₀ falloff(ω) / (π R²) toward ω "
+    "(the intensity and power of the point spot; the cone fall-off is evaluated per sampled "
+    "direction from the sphere to the lit point, as Cycles does); otherwise as `point`'s radius",
     {{"position", FieldType::Point, true, &LightDesc::position, "-", "position"},
      {"direction", FieldType::Direction, false, &LightDesc::direction, "-",
       "cone axis (give this or look_at)"},
@@ -73,7 +77,8 @@ extern const LightKindDef kSpotLightKind{
      {"inner_angle", FieldType::Number, false, &LightDesc::inner_angle, "outer_angle",
       "half-angle of full intensity, degrees, in [0, outer_angle]"},
      {"outer_angle", FieldType::Number, true, &LightDesc::outer_angle, "-",
-      "half-angle of the cone, degrees, in (0, 180)"}},
+      "half-angle of the cone, degrees, in (0, 180)"},
+     kLightRadiusField},
     {{"direction", "look_at"}},
     build,
     pov};

@@ -110,6 +110,8 @@ struct LightDesc {
     std::optional<double> inner_angle;  // spot; none = outer_angle
     Rgb irradiance{0.f};                // directional: W/m^2
     Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
+    std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
+    std::optional<double> angle;        // directional: full angular diameter, degrees; none = 0
     bool operator==(const LightDesc&) const = default;
 };
 
