@@ -137,7 +137,8 @@ class LightBuild : public BuildChecks {
 
 // The "radius" key of the point and spot kinds (the sphere light, light.h).
 inline const Field<LightDesc> kLightRadiusField{
-    "radius", FieldType::Number, false, &LightDesc::radius, "0",
-    "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
+    "radius", FieldType::Number,
+    false,    &LightDesc::radius,
+    "0",      "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
 
 }  // namespace facet::render

@@ -141,7 +141,7 @@ class Light {
     const Rgb& emission() const { return m_emission; }     // Phi, E or L depending on kind
     float cos_inner() const { return m_cos_inner; }
     float cos_outer() const { return m_cos_outer; }
-    float area() const { return m_area; }  // area lights: total area
+    float area() const { return m_area; }      // area lights: total area
     float radius() const { return m_radius; }  // sphere area lights, point and spot spheres
 
   private:

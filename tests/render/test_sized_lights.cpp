@@ -1,0 +1,367 @@
+// Lights with size (light.h, "Lights with size"): point and spot lights with a radius (sphere
+// lights) and a directional light with an angle (the sun). Analytic irradiance, the sampling
+// density (E[1/pdf] = solid angle, a chi-square test of the directions), penumbra, the scene
+// loader's checks and the POV-Ray exporter's refusals.
+//
+// Monte Carlo tolerances are 4 standard errors of the estimate, computed from the samples
+// (a false failure has probability ~6e-5 per check), plus 1e-6 relative for float round-off.
+// Sample counts scale with FACET_STRESS_SCALE.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <random>
+#include <string>
+#include <vector>
+
+#include "facet/render/pov_export.h"
+#include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
+#include "facet/sampling.h"
+
+using namespace facet;
+using namespace facet::render;
+
+namespace {
+
+int scaled(int n) {
+    const char* s = std::getenv("FACET_STRESS_SCALE");
+    const double f = s ? std::max(0.05, std::atof(s)) : 1.0;
+    return std::max(2000, int(n * f));
+}
+
+struct Mc {
+    double mean = 0.0, err = 0.0;  // mean and its standard error
+};
+
+template <class F>
+Mc mc(int n, F f) {
+    std::mt19937 rng(12345);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    double s = 0.0, s2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double v = f(Vec2(u(rng), u(rng)));
+        s += v;
+        s2 += v * v;
+    }
+    Mc r;
+    r.mean = s / n;
+    r.err = std::sqrt(std::max(0.0, s2 / n - r.mean * r.mean) / n);
+    return r;
+}
+
+void expect_mc(const Mc& m, double expected) {
+    EXPECT_NEAR(m.mean, expected, 4.0 * m.err + 1e-6 * std::fabs(expected))
+        << "mean " << m.mean << " +- " << m.err;
+}
+
+// Irradiance estimate of one light sample on a surface of normal ctx.n (red channel).
+double irradiance(const Light& l, const LightSampleContext& ctx, Vec2 u) {
+    const auto s = l.sample_li(ctx, u);
+    if (!s) return 0.0;
+    const double c = glm::dot(s->wi, ctx.n);
+    return c > 0.0 ? double(s->li.r) * c / double(s->pdf) : 0.0;
+}
+
+std::string scene_text(const std::string& lights, const std::string& shapes = "[]") {
+    return R"({"format": "facet-scene", "version": 1,
+      "camera": {"position": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40, "width": 8, "height": 6},
+      "materials": {"white": {"model": "lambert", "reflectance": 0.5}},
+      "shapes": )" +
+           shapes + R"(, "lights": [)" + lights + "]}";
+}
+
+// The message of the SceneError that building (or exporting) the scene throws; "" if none.
+std::string error_of(const std::string& lights, bool pov = false) {
+    try {
+        const SceneDescription d = parse_scene_description(scene_text(lights), "t.json");
+        if (pov)
+            (void)export_pov(d, "t.json");
+        else
+            (void)build_scene(d, "t.json");
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+// --- sphere lights ----------------------------------------------------------------------------
+
+TEST(SizedLights, SphereLightKeepsPowerAndIsNotDeltaNorHittable) {
+    const Light p = Light::point({0, 0, 0}, Rgb(100.f), 0.5f);
+    EXPECT_FALSE(p.is_delta());
+    EXPECT_FALSE(p.hittable());
+    EXPECT_EQ(p.power(1.f), Rgb(100.f));  // the same Phi as the point light
+    const Light p0 = Light::point({0, 0, 0}, Rgb(100.f), 0.f);
+    EXPECT_TRUE(p0.is_delta());
+    const auto s = p.sample_li({{0, 3, 0}, {0, -1, 0}}, {0.3f, 0.8f});
+    ASSERT_TRUE(s);
+    EXPECT_FALSE(s->delta);
+    EXPECT_FALSE(s->hittable);
+    // Radiance L = Phi / (4 pi^2 r^2) (Cycles 3.4's point lamp); float round-off.
+    EXPECT_NEAR(s->li.r, 100.0 / (4.0 * kPiD * kPiD * 0.25), 1e-4);
+    EXPECT_EQ(p.pdf_li({{0, 3, 0}, {0, -1, 0}}, s->wi, s->p_light, s->n_light), 0.f);
+}
+
+// E = pi L (r/d)^2 = Phi / (4 pi d^2) on a surface facing the centre, for r small and r
+// comparable to d; the mean of 1/pdf is the cone's solid angle 2 pi (1 - cos theta_max); every
+// sampled point lies on the sphere.
+TEST(SizedLights, SphereIrradianceOnAFacingSurfaceIsExact) {
+    const double phi = 100.0, d = 2.0;
+    for (double r : {0.02, 0.5, 1.5, 1.99}) {
+        SCOPED_TRACE(r);
+        const Light l = Light::point({0, float(d), 0}, Rgb(float(phi)), float(r));
+        const LightSampleContext ctx{{0, 0, 0}, {0, 1, 0}};
+        const int n = scaled(40000);
+        expect_mc(mc(n, [&](Vec2 u) { return irradiance(l, ctx, u); }), phi / (4.0 * kPiD * d * d));
+        const double omega = 2.0 * kPiD * (1.0 - std::sqrt(1.0 - r * r / (d * d)));
+        expect_mc(mc(n,
+                     [&](Vec2 u) {
+                         const auto s = l.sample_li(ctx, u);
+                         if (!s) return 0.0;
+                         const Vec3 q = ctx.p + s->dist * s->wi;
+                         EXPECT_NEAR(glm::length(q - Vec3(0, float(d), 0)), r, 1e-5 * d);
+                         EXPECT_NEAR(glm::length(q - s->p_light), 0.f, 1e-5f);
+                         return 1.0 / double(s->pdf);
+                     }),
+                  omega);
+    }
+}
+
+// A surface tilted by tau whose horizon does not cut the cone (tau <= 90 - theta_max): the
+// irradiance is the vector irradiance's projection, E cos tau (the cone is symmetric about its
+// axis, so int_cone w dw is along the axis). The point light gives the same, exactly.
+TEST(SizedLights, SphereIrradianceOnATiltedSurfaceIsEcosTau) {
+    const double phi = 10.0, d = 3.0, r = 1.0;  // theta_max = 19.5 degrees
+    const Light l = Light::point({0, float(d), 0}, Rgb(float(phi)), float(r));
+    for (double tau_deg : {30.0, 60.0, 70.0}) {
+        SCOPED_TRACE(tau_deg);
+        const double tau = tau_deg * kPiD / 180.0;
+        const LightSampleContext ctx{{0, 0, 0}, {float(std::sin(tau)), float(std::cos(tau)), 0}};
+        expect_mc(mc(scaled(40000), [&](Vec2 u) { return irradiance(l, ctx, u); }),
+                  phi / (4.0 * kPiD * d * d) * std::cos(tau));
+    }
+}
+
+// Chi-square test of the cone sampling: in the cone's coordinates ((1 - cos theta) / (1 - cos
+// theta_max), phi / 2 pi) the directions must be uniform on the unit square. 8 x 8 cells,
+// 63 degrees of freedom: the 1e-4 quantile of chi2(63) is ~117.
+TEST(SizedLights, SphereConeSamplingIsUniformChiSquare) {
+    const Vec3 c(1.f, 2.f, -0.5f);
+    const float r = 0.8f;
+    const LightSampleContext ctx{{0, 0, 0}, {0, 0, 0}};
+    const Light l = Light::point(c, Rgb(1.f), r);
+    const glm::dvec3 axis = glm::normalize(glm::dvec3(c));
+    const double dc2 = glm::dot(glm::dvec3(c), glm::dvec3(c));
+    const double cos_max = std::sqrt(1.0 - double(r) * r / dc2);
+    // A frame about the axis: phi measured from any fixed perpendicular (uniformity in phi
+    // does not depend on its origin).
+    const glm::dvec3 t = glm::normalize(glm::cross(axis, glm::dvec3(0, 0, 1)));
+    const glm::dvec3 b = glm::cross(axis, t);
+    const int cells = 8, n = scaled(64000);
+    std::vector<int> count(cells * cells, 0);
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (int i = 0; i < n; ++i) {
+        const auto s = l.sample_li(ctx, {u(rng), u(rng)});
+        ASSERT_TRUE(s);
+        const glm::dvec3 w(s->wi);
+        const double x = (1.0 - glm::dot(w, axis)) / (1.0 - cos_max);
+        double ph = std::atan2(glm::dot(w, b), glm::dot(w, t)) / (2.0 * kPiD);
+        if (ph < 0.0) ph += 1.0;
+        ASSERT_LE(x, 1.0 + 1e-4);  // inside the cone (float round-off of wi)
+        const int ix = std::min(cells - 1, std::max(0, int(x * cells)));
+        const int iy = std::min(cells - 1, int(ph * cells));
+        ++count[ix * cells + iy];
+        // The density is the uniform one of the cone.
+        ASSERT_NEAR(s->pdf, 1.0 / (2.0 * kPiD * (1.0 - cos_max)), 1e-4 * s->pdf);
+    }
+    const double expected = double(n) / (cells * cells);
+    double chi2 = 0.0;
+    for (int k : count) chi2 += (k - expected) * (k - expected) / expected;
+    EXPECT_LT(chi2, 117.0);
+}
+
+// Inside the sphere a point sees L from every direction: E = pi L exactly, per sample (cosine
+// sampling makes L cos / pdf = pi L). The light point is on the sphere (the far intersection).
+TEST(SizedLights, InsideTheSphereEachSampleGivesPiL) {
+    const Light l = Light::point({0, 0, 0}, Rgb(50.f), 2.f);
+    const double big_l = 50.0 / (4.0 * kPiD * kPiD * 4.0);
+    const LightSampleContext ctx{{0.5f, 1.f, 0.f}, glm::normalize(Vec3(1, 1, 0))};
+    std::mt19937 rng(3);
+    std::uniform_real_distribution<float> u(0.f, 1.f);
+    for (int i = 0; i < 200; ++i) {
+        const auto s = l.sample_li(ctx, {u(rng), u(rng)});
+        if (!s) continue;
+        EXPECT_NEAR(double(s->li.r) * glm::dot(s->wi, ctx.n) / s->pdf, kPiD * big_l,
+                    1e-5 * kPiD * big_l);
+        EXPECT_NEAR(glm::length(s->p_light), 2.f, 1e-5f);
+    }
+}
+
+// A spot sphere on its axis, well inside the inner cone (every direction from the sphere to the
+// point is within it): the irradiance of the point spot, I0 / d^2. Outside the outer cone
+// (every direction beyond it) nothing arrives.
+TEST(SizedLights, SpotSphereOnAxisMatchesThePointSpot) {
+    const double d = 4.0, r = 0.5;  // theta_max = 7.2 degrees < inner 20
+    const Light point = Light::spot({0, float(d), 0}, {0, -1, 0}, Rgb(30.f), 20.f, 40.f);
+    const Light sphere = Light::spot({0, float(d), 0}, {0, -1, 0}, Rgb(30.f), 20.f, 40.f, float(r));
+    const LightSampleContext ctx{{0, 0, 0}, {0, 1, 0}};
+    const double e_point = irradiance(point, ctx, {0.5f, 0.5f});
+    EXPECT_GT(e_point, 0.0);
+    expect_mc(mc(scaled(20000), [&](Vec2 u) { return irradiance(sphere, ctx, u); }), e_point);
+    const LightSampleContext side{{float(d), float(d), 0}, {-1, 0, 0}};  // 90 degrees off axis
+    for (Vec2 u : {Vec2(0.1f, 0.2f), Vec2(0.9f, 0.7f)})
+        EXPECT_FALSE(sphere.sample_li(side, u).has_value());
+}
+
+// --- the sun ----------------------------------------------------------------------------------
+
+TEST(SizedLights, SunIrradianceFacingAndTilted) {
+    const double e = 3.0;
+    for (double angle : {0.53, 10.0, 60.0}) {
+        SCOPED_TRACE(angle);
+        const Light sun = Light::directional({0, -1, 0}, Rgb(float(e)), float(angle));
+        EXPECT_FALSE(sun.is_delta());
+        EXPECT_FALSE(sun.hittable());
+        const double delta = 0.5 * angle * kPiD / 180.0;
+        // Radiance L = E / (pi sin^2 delta).
+        const auto s = sun.sample_li({{0, 0, 0}, {0, 1, 0}}, {0.4f, 0.4f});
+        ASSERT_TRUE(s);
+        EXPECT_NEAR(s->li.r / (e / (kPiD * std::sin(delta) * std::sin(delta))), 1.0, 1e-5);
+        EXPECT_TRUE(std::isinf(s->dist));
+        EXPECT_FALSE(s->hittable);
+        for (double tau_deg : {0.0, 40.0, 89.0 - 0.5 * angle}) {
+            SCOPED_TRACE(tau_deg);
+            const double tau = tau_deg * kPiD / 180.0;
+            const LightSampleContext ctx{{0, 0, 0},
+                                         {0, float(std::cos(tau)), float(std::sin(tau))}};
+            const Mc m = mc(scaled(20000), [&](Vec2 u) { return irradiance(sun, ctx, u); });
+            expect_mc(m, e * std::cos(tau));
+        }
+        // Every direction within delta of the axis; E[1/pdf] = 2 pi (1 - cos delta).
+        expect_mc(mc(scaled(20000),
+                     [&](Vec2 u) {
+                         const auto t = sun.sample_li({{0, 0, 0}, {0, 1, 0}}, u);
+                         EXPECT_GE(double(t->wi.y), std::cos(delta) - 1e-6);
+                         return 1.0 / double(t->pdf);
+                     }),
+                  2.0 * kPiD * (1.0 - std::cos(delta)));
+    }
+    // Angle 0 is today's parallel light, bit for bit.
+    const Light flat = Light::directional({0, -1, 0}, Rgb(3.f), 0.f);
+    EXPECT_TRUE(flat.is_delta());
+    const auto f = flat.sample_li({{0, 0, 0}, {0, 1, 0}}, {0.4f, 0.4f});
+    EXPECT_EQ(f->wi, Vec3(0, 1, 0));
+    EXPECT_EQ(f->li, Rgb(3.f));
+}
+
+// Penumbra: an opaque half-plane (x < 0) at height h above a point; the sun straight down.
+// Directly under the edge exactly half of the (symmetric) cone is blocked: E / 2. Beyond
+// h tan delta from the edge the point is fully lit or fully in shadow.
+TEST(SizedLights, SunPenumbraUnderAnEdge) {
+    const std::string occluder =
+        R"([{"type": "quad", "vertices": [[-100, 1, -100], [-100, 1, 100], [0, 1, 100], [0, 1, -100]], "material": "white"}])";
+    const SceneDescription d = parse_scene_description(
+        scene_text(
+            R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 2, "angle": 20})",
+            occluder),
+        "t.json");
+    const Scene scene = build_scene(d, "t.json");
+    const Light& sun = scene.lights()[0];
+    const double half = std::tan(10.0 * kPiD / 180.0);  // h tan delta, h = 1
+    auto lit = [&](float x) {
+        const LightSampleContext ctx{{x, 0, 0}, {0, 1, 0}};
+        return mc(scaled(20000), [&](Vec2 u) {
+            const auto s = sun.sample_li(ctx, u);
+            if (!s || scene.occluded(ctx.p, ctx.n, s->wi, s->dist)) return 0.0;
+            return double(s->li.r) * glm::dot(s->wi, ctx.n) / s->pdf;
+        });
+    };
+    expect_mc(lit(0.f), 1.0);
+    EXPECT_EQ(lit(float(-1.01 * half)).mean, 0.0);
+    expect_mc(lit(float(1.01 * half)), 2.0);
+}
+
+// --- scene format -------------------------------------------------------------------------------
+
+TEST(SizedLights, LoaderChecksNameTheKey) {
+    EXPECT_EQ(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.2})"),
+              "");
+    EXPECT_NE(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": -1})")
+                  .find("t.json: /lights/0/radius: "),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "radius": -0.1})")
+                  .find("/lights/0/radius"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": 180})")
+                  .find("t.json: /lights/0/angle: must be in [0, 180) degrees"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": -2})")
+                  .find("/lights/0/angle"),
+              std::string::npos);
+    // A key of another kind is unknown ("angle" is the sun's, "radius" the point's).
+    EXPECT_NE(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "angle": 2})")
+                  .find("/lights/0/angle: unknown key"),
+              std::string::npos);
+    // Non-finite values (not expressible in JSON) through the description.
+    SceneDescription d = parse_scene_description(
+        scene_text(R"({"type": "point", "position": [0, 5, 0], "power": 1})"), "t.json");
+    d.lights[0].radius = std::nan("");
+    try {
+        (void)build_scene(d, "t.json");
+        FAIL() << "no error";
+    } catch (const SceneError& e) {
+        EXPECT_NE(std::string(e.what()).find("/lights/0/radius: must be a finite number"),
+                  std::string::npos)
+            << e.what();
+    }
+}
+
+TEST(SizedLights, JsonRoundTripWritesTheKeysOnlyWhenGiven) {
+    const SceneDescription d = parse_scene_description(
+        scene_text(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.25},
+                      {"type": "directional", "direction": [0, -1, 0], "irradiance": 1, "angle": 0.5},
+                      {"type": "point", "position": [0, 5, 0], "power": 1})"),
+        "t.json");
+    const std::string text = write_scene_json(d);
+    EXPECT_EQ(parse_scene_description(text, "back.json"), d);
+    EXPECT_EQ(d.lights[0].radius, 0.25);
+    EXPECT_EQ(d.lights[1].angle, 0.5);
+    EXPECT_FALSE(d.lights[2].radius.has_value());
+    // Only the two given keys are written.
+    std::size_t n = 0;
+    for (std::size_t p = text.find("\"radius\""); p != std::string::npos;
+         p = text.find("\"radius\"", p + 1))
+        ++n;
+    EXPECT_EQ(n, 1u);
+}
+
+// POV-Ray has no sphere light or sun disc of uniform radiance: an error naming the key, never
+// a silent drop; radius 0 / angle 0 export as today.
+TEST(SizedLights, PovExportRefusesSizesItCannotExpress) {
+    EXPECT_NE(
+        error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.2})", true)
+            .find("/lights/0/radius"),
+        std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "radius": 0.2})",
+                       true)
+                  .find("/lights/0/radius"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": 0.5})",
+                       true)
+                  .find("/lights/0/angle"),
+              std::string::npos);
+    EXPECT_EQ(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0},
+                          {"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": 0})",
+                       true),
+              "");
+}
