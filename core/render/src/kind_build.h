@@ -136,7 +136,7 @@ class LightBuild : public BuildChecks {
 };
 
 // The "radius" key of the point and spot kinds (the sphere light, light.h).
-inline const Field<LightDesc> kLightRadiusField{
+inline const Field<LightDesc> kLightRadiusField = {
     "radius", FieldType::Number,
     false,    &LightDesc::radius,
     "0",      "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
