@@ -99,7 +99,6 @@ TEST(SizedLights, SphereLightKeepsPowerAndIsNotDeltaNorHittable) {
     const auto s = p.sample_li({{0, 3, 0}, {0, -1, 0}}, {0.3f, 0.8f});
     ASSERT_TRUE(s);
     EXPECT_FALSE(s->delta);
-    EXPECT_FALSE(s->hittable);
     // Radiance L = Phi / (4 pi^2 r^2) (Cycles 3.4's point lamp); float round-off.
     EXPECT_NEAR(s->li.r, 100.0 / (4.0 * kPiD * kPiD * 0.25), 1e-4);
     EXPECT_EQ(p.pdf_li({{0, 3, 0}, {0, -1, 0}}, s->wi, s->p_light, s->n_light), 0.f);
@@ -232,7 +231,6 @@ TEST(SizedLights, SunIrradianceFacingAndTilted) {
         ASSERT_TRUE(s);
         EXPECT_NEAR(s->li.r / (e / (kPiD * std::sin(delta) * std::sin(delta))), 1.0, 1e-5);
         EXPECT_TRUE(std::isinf(s->dist));
-        EXPECT_FALSE(s->hittable);
         for (double tau_deg : {0.0, 40.0, 89.0 - 0.5 * angle}) {
             SCOPED_TRACE(tau_deg);
             const double tau = tau_deg * kPiD / 180.0;
@@ -364,4 +362,99 @@ TEST(SizedLights, PovExportRefusesSizesItCannotExpress) {
                           "angle": 0})",
                        true),
               "");
+}
+
+// --- area lamps -------------------------------------------------------------------------------
+
+namespace {
+
+// The one light of a scene holding `light`.
+Light lamp(const std::string& light) {
+    const Scene s = build_scene(parse_scene_description(scene_text(light), "t.json"), "t.json");
+    return s.lights()[0];
+}
+
+}  // namespace
+
+// On the axis of a disc lamp (diameter 2R, power P, emitting down from height d) facing it:
+// L = P / (4 pi R^2) (Cycles 3.4), E = pi L R^2 / (R^2 + d^2) (unit-sphere method). Emitted flux
+// pi L A = pi P / 4. Behind the lamp nothing arrives.
+TEST(SizedLights, AreaDiscOnAxis) {
+    const double p = 40.0, r = 0.75, d = 1.5;
+    const Light l = lamp(R"({"type": "area", "shape": "disc", "size": 1.5, "power": 40,
+                             "position": [0, 1.5, 0], "direction": [0, -1, 0]})");
+    EXPECT_FALSE(l.is_delta());
+    EXPECT_FALSE(l.hittable());
+    const double big_l = p / (4.0 * kPiD * r * r);
+    EXPECT_NEAR(l.emission().r / big_l, 1.0, 1e-6);
+    EXPECT_NEAR(l.power(1.f).r / (kPiD * p / 4.0), 1.0, 1e-6);
+    const LightSampleContext ctx{{0, 0, 0}, {0, 1, 0}};
+    expect_mc(mc(scaled(40000), [&](Vec2 u) { return irradiance(l, ctx, u); }),
+              kPiD * big_l * r * r / (r * r + d * d));
+    EXPECT_FALSE(l.sample_li({{0, 3, 0}, {0, -1, 0}}, {0.3f, 0.3f}).has_value());
+}
+
+// On the axis of a rectangle lamp of half-sides a, b at distance d: E = 2 L [a / sqrt(a^2 + d^2)
+// atan(b / sqrt(a^2 + d^2)) + b / sqrt(b^2 + d^2) atan(a / sqrt(b^2 + d^2))] (four corner
+// rectangles, Howell's catalogue C-11), L = P / (4 A). `up` orients it: size along local x.
+TEST(SizedLights, AreaRectangleOnAxisAndOrientation) {
+    const double p = 10.0, a = 0.5 * 2.0, b = 0.5 * 0.5, d = 1.0;
+    // Emitting down; up = +x: local y = world x, local x = y x z = x x y = world z.
+    const Light l = lamp(R"({"type": "area", "shape": "rectangle", "size": 2, "size_y": 0.5,
+                             "power": 10, "position": [0, 1, 0], "look_at": [0, 0, 0],
+                             "up": [1, 0, 0]})");
+    const double big_l = p / (4.0 * 2.0 * 0.5);
+    EXPECT_NEAR(l.emission().r / big_l, 1.0, 1e-6);
+    const LightSampleContext ctx{{0, 0, 0}, {0, 1, 0}};
+    const double ra = std::sqrt(a * a + d * d), rb = std::sqrt(b * b + d * d);
+    const double e = 2.0 * big_l * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
+    expect_mc(mc(scaled(40000),
+                 [&](Vec2 u) {
+                     const auto s = l.sample_li(ctx, u);
+                     // size 2 along world z, size_y 0.5 along world x.
+                     EXPECT_LE(std::fabs(s->p_light.z), 1.f + 1e-6f);
+                     EXPECT_LE(std::fabs(s->p_light.x), 0.25f + 1e-6f);
+                     return irradiance(l, ctx, u);
+                 }),
+              e);
+    // A square and an ellipse build (defaults: shape square, up [0, 0, 1] for a vertical lamp).
+    EXPECT_NEAR(lamp(R"({"type": "area", "size": 2, "power": 8, "position": [0, 1, 0],
+                         "direction": [0, -1, 0]})")
+                    .emission()
+                    .r,
+                1.f / 2.f, 1e-6f);
+    EXPECT_NEAR(lamp(R"({"type": "area", "shape": "ellipse", "size": 2, "size_y": 1, "power": 8,
+                         "position": [0, 1, 0], "direction": [0, -1, 0]})")
+                    .emission()
+                    .r,
+                8.0 / (4.0 * kPiD / 4.0 * 2.0), 1e-6);
+}
+
+TEST(SizedLights, AreaLoaderChecksAndPovRefusal) {
+    const std::string at = R"("position": [0, 1, 0], "direction": [0, -1, 0], "power": 1)";
+    auto err = [&](const std::string& keys, bool pov = false) {
+        return error_of(R"({"type": "area", )" + keys + ", " + at + "}", pov);
+    };
+    EXPECT_EQ(err(R"("size": 1)"), "");
+    EXPECT_NE(err(R"("size": 1, "shape": "circle")").find("/lights/0/shape: unknown area light"),
+              std::string::npos);
+    EXPECT_NE(err(R"("size": 0)").find("/lights/0/size: must be > 0"), std::string::npos);
+    EXPECT_NE(err(R"("size": 1, "size_y": 2)").find("/lights/0/size_y: only the rectangle"),
+              std::string::npos);
+    EXPECT_NE(err(R"("size": 1, "shape": "rectangle")").find("/lights/0: missing required key"),
+              std::string::npos);
+    EXPECT_NE(err(R"("size": 1, "shape": "rectangle", "size_y": -1)").find("/lights/0/size_y"),
+              std::string::npos);
+    EXPECT_NE(err(R"("size": 1, "up": [0, 2, 0])").find("/lights/0/up: must not be parallel"),
+              std::string::npos);
+    EXPECT_NE(err(R"("size": 1)", true).find("t.json: /lights/0: POV-Ray has no flat emitter"),
+              std::string::npos);
+    // The JSON round trip keeps every key.
+    const SceneDescription d = parse_scene_description(
+        scene_text(R"({"type": "area", "shape": "ellipse", "size": 1, "size_y": 0.5,
+                       "up": [1, 0, 0], )" +
+                   at + "}"),
+        "t.json");
+    EXPECT_EQ(parse_scene_description(write_scene_json(d), "back.json"), d);
+    EXPECT_EQ(d.lights[0].shape, "ellipse");
 }

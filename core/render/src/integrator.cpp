@@ -234,7 +234,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
-                        if (!ls->delta && ls->hittable) w = power_heuristic(lp, e.pdf);
+                        if (!ls->delta && light.hittable()) w = power_heuristic(lp, e.pdf);
                     }
                     p.nee = p.beta * contrib * (w / lp);
                 }

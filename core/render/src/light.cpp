@@ -263,7 +263,6 @@ Vec3 Light::sphere_sample_error(const Vec3& p) const {
 std::optional<LightLiSample> Light::sample_sphere_light(const LightSampleContext& ctx,
                                                         Vec2 u) const {
     LightLiSample s;
-    s.hittable = false;
     const glm::dvec3 p(ctx.p);
     const glm::dvec3 to_c = glm::dvec3(m_position) - p;
     const double dc2 = glm::dot(to_c, to_c);
@@ -334,7 +333,6 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
                 s.li = m_size_radiance;
                 s.pdf = float(1.0 / (2.0 * kPiD * m_sun_one_minus_cos));
                 s.dist = kInfinity;
-                s.hittable = false;
                 return s;
             }
             s.wi = -m_direction;

@@ -13,18 +13,7 @@ void build(LightBuild& b) {
     const std::string& ptr = b.ptr;
     b.check_finite(l.position, ptr + "/position");
     const Vec3 p = l.position;
-    if (l.direction.has_value() == l.look_at.has_value()) {
-        b.fail(ptr, "give exactly one of \"direction\" and \"look_at\"");
-    }
-    Vec3 dir;
-    if (l.direction) {
-        dir = b.unit_direction(*l.direction, ptr + "/direction");
-    } else {
-        b.check_finite(*l.look_at, ptr + "/look_at");
-        const float len = glm::length(*l.look_at - p);
-        if (!(len > 0.f)) b.fail(ptr + "/look_at", "must differ from the position");
-        dir = (*l.look_at - p) / len;
-    }
+    const Vec3 dir = b.aim(p);
     const Rgb phi = b.check_color(l.power, ptr + "/power", "a power (W)");
     const double outer = b.check_range(l.outer_angle, ptr + "/outer_angle", 0.0, 180.0,
                                        "in (0, 180) degrees (half-angle)");

@@ -30,7 +30,7 @@
 //    E = int_cone L cos = pi L sin^2 delta exactly; wi is uniform in the cone, li = L. These
 //    lights are NOT in the ray-traced geometry: no camera or BSDF ray finds them (Blender 3.4
 //    shows no lamp to camera rays), so their samples are not delta (a random u is drawn) but
-//    take no MIS weight (LightLiSample::hittable = false); pdf_li is 0 for them.
+//    take no MIS weight (Light::hittable() is false); pdf_li is 0 for them.
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
 //    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
@@ -78,9 +78,6 @@ struct LightLiSample {
     // light's surface as the scene traces it. 0 for point and spot lights (not on a surface).
     Vec3 p_light_err{0.f};
     bool delta = false;  // true for point, spot and directional lights without size
-    // False when no BSDF-sampled ray can find the light (every light but the area lights and
-    // the environment): a light sample is then the only estimate and takes MIS weight 1.
-    bool hittable = true;
 };
 
 class Light {
@@ -116,9 +113,14 @@ class Light {
     Kind kind() const { return m_kind; }
     // A delta light: sample_li ignores u (point, spot and directional lights without size).
     bool is_delta() const { return m_delta; }
-    // Whether rays can hit the light (area lights, the environment): only then MIS applies.
-    bool hittable() const { return m_kind == Kind::Area || m_kind == Kind::Environment; }
-    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise.
+    // Whether rays can hit the light (emissive shapes, the environment): only then does MIS
+    // weigh its samples against BSDF samples; a sample of any other light (including an
+    // "area" lamp, which is no shape) is the only estimate of its light and takes weight 1.
+    bool hittable() const {
+        return (m_kind == Kind::Area && m_shape != UINT32_MAX) || m_kind == Kind::Environment;
+    }
+    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise
+    // (also for the "area" light kind, a lamp that is no shape).
     std::uint32_t shape() const { return m_shape; }
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;

@@ -97,7 +97,7 @@ struct ShapeDesc {
     bool operator==(const ShapeDesc&) const = default;
 };
 
-enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment };
+enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment, Area };
 
 // One element of "lights".
 struct LightDesc {
@@ -112,6 +112,12 @@ struct LightDesc {
     Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
     std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
     std::optional<double> angle;        // directional: full angular diameter, degrees; none = 0
+    // Area lamp: shape, size (x), size_y (rectangle, ellipse), up (its local +y); position,
+    // direction | look_at (the way it emits, its local -z) and power as above.
+    std::string shape = "square";
+    double size = 0.0;
+    std::optional<double> size_y;
+    std::optional<Vec3> up;
     bool operator==(const LightDesc&) const = default;
 };
 
