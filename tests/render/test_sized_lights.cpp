@@ -18,6 +18,7 @@
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
 #include "facet/sampling.h"
+#include "facet/testsupport/render_test_util.h"
 
 using namespace facet;
 using namespace facet::render;
@@ -30,29 +31,19 @@ int scaled(int n) {
     return std::max(2000, int(n * f));
 }
 
-struct Mc {
-    double mean = 0.0, err = 0.0;  // mean and its standard error
-};
+using Mc = facet::render::testing::McResult;
 
+// The mean of f(u) over n independent uniform points u of [0, 1)^2, and its standard error.
 template <class F>
 Mc mc(int n, F f) {
     std::mt19937 rng(12345);
     std::uniform_real_distribution<float> u(0.f, 1.f);
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const double v = f(Vec2(u(rng), u(rng)));
-        s += v;
-        s2 += v * v;
-    }
-    Mc r;
-    r.mean = s / n;
-    r.err = std::sqrt(std::max(0.0, s2 / n - r.mean * r.mean) / n);
-    return r;
+    return facet::render::testing::mc(n, [&](int) { return f(Vec2(u(rng), u(rng))); });
 }
 
 void expect_mc(const Mc& m, double expected) {
-    EXPECT_NEAR(m.mean, expected, 4.0 * m.err + 1e-6 * std::fabs(expected))
-        << "mean " << m.mean << " +- " << m.err;
+    EXPECT_NEAR(m.mean, expected, 4.0 * m.stderr_ + 1e-6 * std::fabs(expected))
+        << "mean " << m.mean << " +- " << m.stderr_;
 }
 
 // Irradiance estimate of one light sample on a surface of normal ctx.n (red channel).
