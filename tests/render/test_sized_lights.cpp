@@ -449,3 +449,76 @@ TEST(SizedLights, AreaLoaderChecksAndPovRefusal) {
     EXPECT_EQ(parse_scene_description(write_scene_json(d), "back.json"), d);
     EXPECT_EQ(d.lights[0].shape, "ellipse");
 }
+
+// --- Blender's spot form ------------------------------------------------------------------------
+
+namespace {
+
+// Cycles 3.4's spot_light_attenuation, written out here independently of light_units.h.
+double cycles_attenuation(double mu, double spot_angle_cos, double spot_smooth) {
+    double attenuation = mu;
+    if (attenuation <= spot_angle_cos) return 0.0;
+    const double t = attenuation - spot_angle_cos;
+    if (t < spot_smooth && spot_smooth != 0.0) {
+        const double x = t / spot_smooth;
+        attenuation *= x * x * (3.0 - 2.0 * x);
+    }
+    return attenuation;
+}
+
+}  // namespace
+
+// A spot in Blender's form (outer_angle = spot_size / 2, spot_blend): the intensity at distance
+// 1 follows Cycles' attenuation g(mu) (relative 1e-5: float round-off of cos and li), and the
+// total power, integrated numerically over mu (midpoint rule, 2e5 cells), is Phi to 1e-4. The
+// on-axis K of a Blender lamp of power P, K = P / (4 pi), gives Phi = P / 2 int g.
+TEST(SizedLights, SpotBlenderFormFollowsCycles) {
+    for (double blend : {0.0, 0.15, 1.0}) {
+        SCOPED_TRACE(blend);
+        const double outer = 40.0, phi = 10.0;
+        const Light l = lamp(R"({"type": "spot", "position": [0, 0, 0], "direction": [0, 0, -1],
+                                 "power": 10, "outer_angle": 40, "spot_blend": )" +
+                             std::to_string(blend) + "}");
+        const double c = std::cos(outer * kPiD / 180.0), s = (1.0 - c) * blend;
+        const int n = 200000;
+        double total = 0.0, g_integral = 0.0, k = 0.0;
+        for (int i = 0; i < n; ++i) {
+            const double mu = -1.0 + 2.0 * (i + 0.5) / n;
+            const Vec3 p(float(std::sqrt(1 - mu * mu)), 0.f, float(-mu));
+            const auto smp = l.sample_li({p, {0, 0, 0}}, {0.5f, 0.5f});
+            const double intensity = smp ? double(smp->li.r) : 0.0;
+            total += intensity * 2.0 * kPiD * (2.0 / n);
+            g_integral += cycles_attenuation(mu, c, s) * (2.0 / n);
+            if (mu > 0.9 && mu < 0.9 + 2.0 / n) k = intensity / cycles_attenuation(mu, c, s);
+        }
+        ASSERT_GT(k, 0.0);  // the cell at mu = 0.9 was found
+        EXPECT_NEAR(total / phi, 1.0, 1e-4);
+        for (double mu : {0.99, c + 0.5 * s, c + 0.9 * s, 0.8, c + 1e-3}) {
+            const Vec3 p(float(std::sqrt(1 - mu * mu)), 0.f, float(-mu));
+            const auto smp = l.sample_li({p, {0, 0, 0}}, {0.5f, 0.5f});
+            const double want = k * cycles_attenuation(mu, c, s);
+            EXPECT_NEAR(smp ? smp->li.r : 0.0, want, 1e-5 * k + 1e-4 * want) << mu;
+        }
+        EXPECT_FALSE(l.sample_li({{1, 0, -0.5f}, {0, 0, 0}}, {0.5f, 0.5f}).has_value());
+        // Blender's lamp of power P: K = P / (4 pi) when Phi = P / 2 int g.
+        const double p_blender = 2.0 * phi / g_integral;
+        EXPECT_NEAR(k / (p_blender / (4.0 * kPiD)), 1.0, 1e-4);
+    }
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "spot_blend": 1.5})")
+                  .find("/lights/0/spot_blend"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "inner_angle": 10, "spot_blend": 0.5})")
+                  .find("/lights/0/spot_blend: give inner_angle or spot_blend"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 100, "spot_blend": 0.5})")
+                  .find("/lights/0/outer_angle: must be <= 90"),
+              std::string::npos);
+    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "spot_blend": 0.5})",
+                       true)
+                  .find("/lights/0/spot_blend"),
+              std::string::npos);
+}

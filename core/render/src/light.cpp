@@ -12,7 +12,7 @@ namespace facet::render {
 namespace {
 
 // Spot falloff, linear in cos theta between the outer and the inner cone (light.h).
-float spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
+float linear_spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
     if (cos_theta >= cos_inner) return 1.f;
     if (cos_theta <= cos_outer) return 0.f;
     return (cos_theta - cos_outer) / (cos_inner - cos_outer);
@@ -100,6 +100,24 @@ Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
     // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu (light_units.h, shared with the exporters).
     l.m_intensity = Rgb(spot_intensity(glm::dvec3(power), double(inner_half_angle_deg),
                                        double(outer_half_angle_deg)));
+    l.set_sphere(radius);
+    return l;
+}
+
+float Light::spot_falloff(float cos_theta) const {
+    if (m_spot_smooth < 0.f) return linear_spot_falloff(cos_theta, m_cos_inner, m_cos_outer);
+    return float(
+        cycles_spot_attenuation(double(cos_theta), double(m_cos_outer), double(m_spot_smooth)));
+}
+
+Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
+                        float outer_half_angle_deg, float blend, float radius) {
+    Light l = spot(position, direction, power, outer_half_angle_deg, outer_half_angle_deg);
+    const double c = std::cos(double(outer_half_angle_deg) * kPiD / 180.0);
+    l.m_cos_inner = l.m_cos_outer = float(c);
+    l.m_spot_smooth = float((1.0 - c) * double(blend));
+    l.m_intensity =
+        Rgb(cycles_spot_intensity(glm::dvec3(power), double(outer_half_angle_deg), double(blend)));
     l.set_sphere(radius);
     return l;
 }
@@ -294,7 +312,7 @@ std::optional<LightLiSample> Light::sample_sphere_light(const LightSampleContext
     s.li = m_size_radiance;
     if (m_kind == Kind::Spot) {
         // The radiance leaving the sphere toward p, along -wi: L falloff(-wi . axis).
-        const float f = spot_falloff(-glm::dot(s.wi, m_direction), m_cos_inner, m_cos_outer);
+        const float f = spot_falloff(-glm::dot(s.wi, m_direction));
         if (f == 0.f) return std::nullopt;
         s.li *= f;
     }
@@ -315,7 +333,7 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             s.wi = v / r;
             Rgb intensity = m_intensity;
             if (m_kind == Kind::Spot) {
-                float f = spot_falloff(-glm::dot(s.wi, m_direction), m_cos_inner, m_cos_outer);
+                float f = spot_falloff(-glm::dot(s.wi, m_direction));
                 if (f == 0.f) return std::nullopt;
                 intensity *= f;
             }

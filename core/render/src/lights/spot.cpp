@@ -20,6 +20,19 @@ void build(LightBuild& b) {
     if (!(outer > 0.0 && outer < 180.0)) {
         b.fail(ptr + "/outer_angle", "must be in (0, 180) degrees (half-angle)");
     }
+    if (l.spot_blend) {
+        // Blender's form (Cycles 3.4's fall-off): instead of inner_angle, a cone of at most 90
+        // degrees (Blender's spot_size <= 180).
+        const std::string bp = ptr + "/spot_blend";
+        if (l.inner_angle) b.fail(bp, "give inner_angle or spot_blend, not both");
+        const double blend = b.check_range(*l.spot_blend, bp, 0.0, 1.0, "in [0, 1]");
+        if (outer > 90.0)
+            b.fail(ptr + "/outer_angle",
+                   "must be <= 90 degrees with spot_blend (Blender's "
+                   "spot_size <= 180)");
+        b.add_light(Light::spot_blend(p, dir, phi, float(outer), float(blend), b.light_radius()));
+        return;
+    }
     const double inner = l.inner_angle ? b.check_range(*l.inner_angle, ptr + "/inner_angle", 0.0,
                                                        outer, "in [0, outer_angle] degrees")
                                        : outer;
@@ -29,6 +42,9 @@ void build(LightBuild& b) {
 void pov(PovLightOut& o) {
     const LightDesc& l = o.light;
     o.check_no_radius();
+    if (l.spot_blend)
+        o.fail(o.pointer + "/spot_blend",
+               "Blender's spot fall-off (Cycles' mu * smoothstep) has no POV-Ray equivalent");
     const double outer = l.outer_angle;
     const double inner = l.inner_angle.value_or(outer);
     if (inner != outer)
@@ -56,7 +72,12 @@ extern const LightKindDef kSpotLightKind{
     "that the total power is exactly Φ: Φ = 2π I₀ [(1 − cos inner) + (cos inner − cos outer)/2]. "
     "With `radius` R > 0 it is a sphere of radiance L(ω) = I₀ falloff(ω) / (π R²) toward ω "
     "(the intensity and power of the point spot; the cone fall-off is evaluated per sampled "
-    "direction from the sphere to the lit point, as Cycles does); otherwise as `point`'s radius",
+    "direction from the sphere to the lit point, as Cycles does); otherwise as `point`'s radius. "
+    "**Blender's form**: `outer_angle` = spot_size/2 (≤ 90) and `spot_blend` b instead of "
+    "`inner_angle`: I(θ) = K g(cos θ) with Cycles 3.4's fall-off g(μ) = 0 for μ ≤ c, "
+    "μ·smoothstep((μ − c)/s) for c < μ < c + s, μ beyond (c = cos outer, s = (1 − c) b, "
+    "smoothstep(x) = 3x² − 2x³); K is set so that the power is Φ: "
+    "Φ = 2π K [(1 − (c + s)²)/2 + s (c/2 + 0.35 s)]. A Blender spot of power P has K = P/(4π)",
     {{"position", FieldType::Point, true, &LightDesc::position, "-", "position"},
      {"direction", FieldType::Direction, false, &LightDesc::direction, "-",
       "cone axis (give this or look_at)"},
@@ -67,6 +88,8 @@ extern const LightKindDef kSpotLightKind{
       "half-angle of full intensity, degrees, in [0, outer_angle]"},
      {"outer_angle", FieldType::Number, true, &LightDesc::outer_angle, "-",
       "half-angle of the cone, degrees, in (0, 180)"},
+     {"spot_blend", FieldType::Number, false, &LightDesc::spot_blend, "-",
+      "Blender's spot_blend in [0, 1], instead of inner_angle (Blender's form, see above)"},
      kLightRadiusField},
     {{"direction", "look_at"}},
     build,

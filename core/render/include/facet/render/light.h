@@ -91,6 +91,11 @@ class Light {
     // `direction` is the cone axis (unit, the way the light shines); angles are half-angles.
     static Light spot(const Vec3& position, const Vec3& direction, const Rgb& power,
                       float inner_half_angle_deg, float outer_half_angle_deg, float radius = 0.f);
+    // A spot with Blender's (Cycles 3.4) fall-off: I(theta) = K g(cos theta) with
+    // g = cycles_spot_attenuation (light_units.h) for the cone of half-angle outer (<= 90
+    // degrees) and blend in [0, 1]; K set so that the total power is Phi (cycles_spot_intensity).
+    static Light spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
+                            float outer_half_angle_deg, float blend, float radius = 0.f);
     // `direction` is the way the light TRAVELS (unit); wi = -direction. `angle_deg` in [0, 180)
     // is the full angular diameter of the light's disc of directions (Blender's sun angle).
     static Light directional(const Vec3& direction, const Rgb& irradiance, float angle_deg = 0.f);
@@ -157,6 +162,8 @@ class Light {
     std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
                                                     LightLiSample& s) const;
 
+    // The spot's intensity relative to K (linear or Cycles' form) at cos theta from the axis.
+    float spot_falloff(float cos_theta) const;
     // Point and spot factories: radius > 0 (and L = I0 / (pi r^2) finite) makes the sphere.
     void set_sphere(float radius);
     // The sphere of a point or spot light with a radius (conventions): sample_li from p.
@@ -170,6 +177,8 @@ class Light {
     Rgb m_emission{0.f};   // Phi (point/spot), E (directional), L (area/environment)
     Rgb m_intensity{0.f};  // I0 = radiant intensity on the axis (point, spot)
     float m_cos_inner = 1.f, m_cos_outer = 1.f;
+    // Spot with Blender's fall-off (spot_blend): (1 - cos outer) blend; < 0: the linear form.
+    float m_spot_smooth = -1.f;
     // Sized point/spot (sphere, radius m_radius) and directional lights: their radiance L, and
     // the sun's 1 - cos delta (delta its half-angle), in double for narrow cones.
     Rgb m_size_radiance{0.f};

@@ -108,6 +108,7 @@ struct LightDesc {
     Rgb power{0.f};                     // point, spot: W
     double outer_angle = 45.0;          // spot half-angle, degrees
     std::optional<double> inner_angle;  // spot; none = outer_angle
+    std::optional<double> spot_blend;   // spot: Blender's blend (instead of inner_angle)
     Rgb irradiance{0.f};                // directional: W/m^2
     Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
     std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
