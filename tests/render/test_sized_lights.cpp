@@ -76,6 +76,13 @@ std::string error_of(const std::string& lights, bool pov = false) {
     return "";
 }
 
+// Expects building (with `pov`: exporting) a scene with `lights` to fail with a message that
+// contains `what` (the JSON pointer and the start of the message).
+void expect_error(const std::string& lights, const std::string& what, bool pov = false) {
+    const std::string e = error_of(lights, pov);
+    EXPECT_NE(e.find(what), std::string::npos) << "error: '" << e << "'";
+}
+
 }  // namespace
 
 // --- sphere lights ----------------------------------------------------------------------------
@@ -279,25 +286,20 @@ TEST(SizedLights, SunPenumbraUnderAnEdge) {
 TEST(SizedLights, LoaderChecksNameTheKey) {
     EXPECT_EQ(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.2})"),
               "");
-    EXPECT_NE(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": -1})")
-                  .find("t.json: /lights/0/radius: "),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
-                          "power": 1, "outer_angle": 30, "radius": -0.1})")
-                  .find("/lights/0/radius"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
-                          "angle": 180})")
-                  .find("t.json: /lights/0/angle: must be in [0, 180) degrees"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
-                          "angle": -2})")
-                  .find("/lights/0/angle"),
-              std::string::npos);
+    expect_error(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": -1})",
+                 "t.json: /lights/0/radius: ");
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "radius": -0.1})",
+                 "/lights/0/radius");
+    expect_error(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": 180})",
+                 "t.json: /lights/0/angle: must be in [0, 180) degrees");
+    expect_error(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                          "angle": -2})",
+                 "/lights/0/angle");
     // A key of another kind is unknown ("angle" is the sun's, "radius" the point's).
-    EXPECT_NE(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "angle": 2})")
-                  .find("/lights/0/angle: unknown key"),
-              std::string::npos);
+    expect_error(R"({"type": "point", "position": [0, 5, 0], "power": 1, "angle": 2})",
+                 "/lights/0/angle: unknown key");
     // Non-finite values (not expressible in JSON) through the description.
     SceneDescription d = parse_scene_description(
         scene_text(R"({"type": "point", "position": [0, 5, 0], "power": 1})"), "t.json");
@@ -334,20 +336,14 @@ TEST(SizedLights, JsonRoundTripWritesTheKeysOnlyWhenGiven) {
 // POV-Ray has no sphere light or sun disc of uniform radiance: an error naming the key, never
 // a silent drop; radius 0 / angle 0 export as today.
 TEST(SizedLights, PovExportRefusesSizesItCannotExpress) {
-    EXPECT_NE(
-        error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.2})", true)
-            .find("/lights/0/radius"),
-        std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+    expect_error(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0.2})",
+                 "/lights/0/radius", true);
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
                           "power": 1, "outer_angle": 30, "radius": 0.2})",
-                       true)
-                  .find("/lights/0/radius"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
+                 "/lights/0/radius", true);
+    expect_error(R"({"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
                           "angle": 0.5})",
-                       true)
-                  .find("/lights/0/angle"),
-              std::string::npos);
+                 "/lights/0/angle", true);
     EXPECT_EQ(error_of(R"({"type": "point", "position": [0, 5, 0], "power": 1, "radius": 0},
                           {"type": "directional", "direction": [0, -1, 0], "irradiance": 1,
                           "angle": 0})",
@@ -504,21 +500,16 @@ TEST(SizedLights, SpotBlenderFormFollowsCycles) {
         const double p_blender = 2.0 * phi / g_integral;
         EXPECT_NEAR(k / (p_blender / (4.0 * kPiD)), 1.0, 1e-4);
     }
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
-                          "power": 1, "outer_angle": 30, "spot_blend": 1.5})")
-                  .find("/lights/0/spot_blend"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
-                          "power": 1, "outer_angle": 30, "inner_angle": 10, "spot_blend": 0.5})")
-                  .find("/lights/0/spot_blend: give inner_angle or spot_blend"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
-                          "power": 1, "outer_angle": 100, "spot_blend": 0.5})")
-                  .find("/lights/0/outer_angle: must be <= 90"),
-              std::string::npos);
-    EXPECT_NE(error_of(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "spot_blend": 1.5})",
+                 "/lights/0/spot_blend");
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 30, "inner_angle": 10, "spot_blend": 0.5})",
+                 "/lights/0/spot_blend: give inner_angle or spot_blend");
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
+                          "power": 1, "outer_angle": 100, "spot_blend": 0.5})",
+                 "/lights/0/outer_angle: must be <= 90");
+    expect_error(R"({"type": "spot", "position": [0, 5, 0], "direction": [0, -1, 0],
                           "power": 1, "outer_angle": 30, "spot_blend": 0.5})",
-                       true)
-                  .find("/lights/0/spot_blend"),
-              std::string::npos);
+                 "/lights/0/spot_blend", true);
 }
