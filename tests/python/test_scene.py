@@ -146,8 +146,14 @@ def test_kind_fields_come_from_the_kind_table(tmp_path):
     assert (s.nx, s.ny, s.amplitude) == (3, 2, 0.5)
     with pytest.raises(TypeError, match=r"ShapeDesc has no field 'nx' for kind 'sphere' \(its fields: center, radius\)"):
         facet.ShapeDesc("sphere", nx=2)
-    with pytest.raises(TypeError, match=r"LightDesc has no field 'radius' for kind 'point'"):
-        facet.LightDesc("point", radius=1)
+    with pytest.raises(TypeError, match=r"LightDesc has no field 'angle' for kind 'point'"):
+        facet.LightDesc("point", angle=1)
+    # Lights with size (FORMAT.md): the sphere's radius, the sun's angle, the area lamp.
+    assert facet.LightDesc("point", radius=0.5).radius == 0.5
+    assert facet.LightDesc("directional", angle=0.53).angle == 0.53
+    lamp = facet.LightDesc("area", shape="rectangle", size=2, size_y=0.5, power=10,
+                           position=[0, 2, 0], direction=[0, -1, 0])
+    assert (lamp.shape, lamp.size, lamp.size_y) == ("rectangle", 2, 0.5)
     assert "kinds: sphere, disc, icosphere" in facet.ShapeDesc.radius.__doc__
 
 

@@ -64,8 +64,8 @@ TEST(Kinds, EveryEnumValueHasExactlyOneKindWithUniqueKeys) {
         for (const auto& f : k->fields)
             EXPECT_TRUE(keys.insert(f.key).second) << k->name << " " << f.key;
     }
-    EXPECT_EQ(names.size(), 4u);
-    for (int e = 0; e < 4; ++e) EXPECT_NE(find_light_kind(LightKind(e)), nullptr) << e;
+    EXPECT_EQ(names.size(), 5u);  // LightKind has 5 values
+    for (int e = 0; e < 5; ++e) EXPECT_NE(find_light_kind(LightKind(e)), nullptr) << e;
 }
 
 // The docs read the table: scenes/FORMAT.md holds exactly what `facet scene-format --markdown`
@@ -96,6 +96,7 @@ TEST(Kinds, JsonRoundTripOfEveryKind) {
       {"type": "point", "position": [0, 5, 0], "power": 100},
       {"type": "spot", "position": [0, 5, 0], "look_at": [0, 0, 0], "power": 10, "outer_angle": 30, "inner_angle": 20},
       {"type": "directional", "direction": [0, -1, 0], "irradiance": [1, 2, 3]},
+      {"type": "area", "position": [0, 2, 0], "direction": [0, -1, 0], "size": 1, "power": 5},
       {"type": "environment", "radiance": 0.1})";
     const SceneDescription d = scene_with(shapes, lights);
     ASSERT_EQ(d.shapes.size(), shape_kinds().size());

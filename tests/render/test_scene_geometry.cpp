@@ -12,6 +12,7 @@
 #include "facet/render/mesh.h"
 #include "facet/render/scene.h"
 #include "facet/sampling.h"
+#include "facet/testsupport/render_test_util.h"
 
 using namespace facet;
 using namespace facet::render;
@@ -338,23 +339,7 @@ TEST(Lights, DirectionalAndEnvironment) {
 // values. Tolerances: 4 standard errors of the MC estimate (computed from the samples).
 namespace {
 
-struct McResult {
-    double mean = 0.0, stderr_ = 0.0;
-};
-
-template <class F>
-McResult mc(int n, F f) {
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        double v = f(i);
-        s += v;
-        s2 += v * v;
-    }
-    McResult r;
-    r.mean = s / n;
-    r.stderr_ = std::sqrt(std::max(0.0, s2 / n - r.mean * r.mean) / n);
-    return r;
-}
+using facet::render::testing::mc;
 
 Vec2 halton2(int i) {
     auto radical = [](int n, int base) {

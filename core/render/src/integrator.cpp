@@ -273,7 +273,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
-                        if (!ls->delta) w = power_heuristic(lp, e.pdf);
+                        if (!ls->delta && light.hittable()) w = power_heuristic(lp, e.pdf);
                     }
                     p.nee = p.beta * contrib * (w / lp);
                 }
@@ -679,17 +679,17 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
             k.skipped.push_back("all shading: no surface reflects light (only emitters are seen)");
         }
         if (path) {
-            if (sf.any_non_delta_light) {
+            if (sf.any_hittable_light) {
                 f |= kFeatMis;
                 k.chosen.push_back(
                     "MIS of light and BSDF samples (power heuristic): area or "
                     "environment lights present");
             } else {
                 k.skipped.push_back(
-                    "MIS and emitter look-ups on BSDF rays: every light is a "
-                    "delta light; last-vertex BSDF rays are not traced");
+                    "MIS and emitter look-ups on BSDF rays: no light can be hit by a ray "
+                    "(point, spot, directional); last-vertex BSDF rays are not traced");
             }
-            if (sf.any_non_delta_light && sf.emitter_visible) {
+            if (sf.any_hittable_light && sf.emitter_visible) {
                 f |= kFeatEmission;
                 k.chosen.push_back("emission on camera rays: an emitter is visible");
             } else {

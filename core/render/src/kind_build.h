@@ -127,6 +127,29 @@ class LightBuild : public BuildChecks {
     virtual void add_light(Light light) = 0;
     // The scene's environment light (at most one).
     virtual void add_environment(Light light) = 0;
+    // The unit direction a spot or area light points along: its "direction", or toward its
+    // "look_at" from `position` (exactly one is given: the reader checks).
+    Vec3 aim(const Vec3& position) const {
+        if (light.direction.has_value() == light.look_at.has_value())
+            fail(ptr, "give exactly one of \"direction\" and \"look_at\"");
+        if (light.direction) return unit_direction(*light.direction, ptr + "/direction");
+        check_finite(*light.look_at, ptr + "/look_at");
+        const float len = glm::length(*light.look_at - position);
+        if (!(len > 0.f)) fail(ptr + "/look_at", "must differ from the position");
+        return (*light.look_at - position) / len;
+    }
+    // A point or spot light's "radius" (kLightRadiusField), checked: finite, >= 0; 0 if absent.
+    float light_radius() const {
+        if (!light.radius) return 0.f;
+        return float(check_range(*light.radius, ptr + "/radius", 0.0,
+                                 double(std::numeric_limits<float>::max()), ">= 0"));
+    }
 };
+
+// The "radius" key of the point and spot kinds (the sphere light, light.h).
+inline const Field<LightDesc> kLightRadiusField = {
+    "radius", FieldType::Number,
+    false,    &LightDesc::radius,
+    "0",      "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
 
 }  // namespace facet::render

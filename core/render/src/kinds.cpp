@@ -14,7 +14,7 @@ namespace facet::render {
 
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
     kIcosphereKind, kGridKind;
-extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind,
+extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
 
 namespace {
@@ -22,8 +22,9 @@ namespace {
 const std::array<const ShapeKindDef*, 8> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
                                                         &kQuadKind,      &kDiscKind,  &kMeshKind,
                                                         &kIcosphereKind, &kGridKind};
-const std::array<const LightKindDef*, 4> kLightKinds = {
-    &kPointLightKind, &kSpotLightKind, &kDirectionalLightKind, &kEnvironmentLightKind};
+const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
+                                                        &kDirectionalLightKind, &kAreaLightKind,
+                                                        &kEnvironmentLightKind};
 const std::array<std::string_view, 7> kCommonShapeKeys = {
     "type", "name", "material", "emission", "two_sided", "transform", "flip_normals"};
 
@@ -72,6 +73,8 @@ const char* type_text(FieldType t) {
             return "4 points";
         case FieldType::Path:
             return "string (path)";
+        case FieldType::Text:
+            return "string";
         case FieldType::MeshArrays:
             return "arrays";
     }

@@ -12,7 +12,7 @@ namespace facet::render {
 namespace {
 
 // Spot falloff, linear in cos theta between the outer and the inner cone (light.h).
-float spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
+float linear_spot_falloff(float cos_theta, float cos_inner, float cos_outer) {
     if (cos_theta >= cos_inner) return 1.f;
     if (cos_theta <= cos_outer) return 0.f;
     return (cos_theta - cos_outer) / (cos_inner - cos_outer);
@@ -33,19 +33,61 @@ double sphere_cone_one_minus_cos(double dc2, double r2) {
     return sin2 / (1.0 + cos_max);
 }
 
+// A direction uniform in solid angle in the cone about the unit `axis` with 1 - cos theta_max =
+// omc (pbrt-v4's SampleUniformCone, in double and in the 1 - cos form so that narrow cones keep
+// their precision): 1 - cos theta = u.x omc, phi = 2 pi u.y. Density 1 / (2 pi omc).
+glm::dvec3 sample_cone(const Vec3& axis, double omc, Vec2 u) {
+    double one_minus_cos = double(u.x) * omc;
+    double cos_t = 1.0 - one_minus_cos;
+    double sin_t = safe_sqrt(one_minus_cos * (2.0 - one_minus_cos));
+    double phi = 2.0 * kPiD * double(u.y);
+    Frame f = Frame::from_z(axis);
+    return glm::normalize(glm::dvec3(f.x) * (sin_t * std::cos(phi)) +
+                          glm::dvec3(f.y) * (sin_t * std::sin(phi)) + glm::dvec3(f.z) * cos_t);
+}
+
+// Distance t along the unit wi from p to the sphere of squared radius r2 whose centre is p +
+// to_c: the nearer intersection, or with `far` the farther one (from inside) (Ray Tracing Gems
+// ch. 7 form, q = the closest approach). At grazing angles round-off may miss: the distance of
+// the closest approach then.
+double sphere_hit_distance(const glm::dvec3& to_c, const glm::dvec3& wi, double r2, bool far) {
+    double b = glm::dot(to_c, wi);
+    glm::dvec3 q = to_c - b * wi;
+    double disc = r2 - glm::dot(q, q);
+    if (!(disc > 0.0)) return b;
+    return far ? b + std::sqrt(disc) : b - std::sqrt(disc);
+}
+
+// Radiance of a sphere light of on-axis intensity I0 and radius r: L = I0 / (pi r^2) (light.h).
+// Zero when r is so small that L overflows a float: the caller keeps the point light.
+Rgb sphere_light_radiance(const Rgb& intensity, float radius) {
+    const glm::dvec3 l = glm::dvec3(intensity) / (kPiD * double(radius) * double(radius));
+    const Rgb lf(l);
+    return radius > 0.f && is_finite(lf) ? lf : Rgb(0.f);
+}
+
 }  // namespace
 
-Light Light::point(const Vec3& position, const Rgb& power) {
+Light Light::point(const Vec3& position, const Rgb& power, float radius) {
     Light l;
     l.m_kind = Kind::Point;
     l.m_position = position;
     l.m_emission = power;
     l.m_intensity = power * kInv4Pi;  // isotropic: I = Phi / (4 pi)
+    l.set_sphere(radius);
     return l;
 }
 
+void Light::set_sphere(float radius) {
+    m_size_radiance = sphere_light_radiance(m_intensity, radius);
+    if (m_size_radiance == Rgb(0.f) && m_intensity != Rgb(0.f)) return;  // a point to float
+    if (!(radius > 0.f)) return;
+    m_radius = radius;
+    m_delta = false;
+}
+
 Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
-                  float inner_half_angle_deg, float outer_half_angle_deg) {
+                  float inner_half_angle_deg, float outer_half_angle_deg, float radius) {
     Light l;
     l.m_kind = Kind::Spot;
     l.m_position = position;
@@ -58,20 +100,50 @@ Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
     // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu (light_units.h, shared with the exporters).
     l.m_intensity = Rgb(spot_intensity(glm::dvec3(power), double(inner_half_angle_deg),
                                        double(outer_half_angle_deg)));
+    l.set_sphere(radius);
     return l;
 }
 
-Light Light::directional(const Vec3& direction, const Rgb& irradiance) {
+float Light::spot_falloff(float cos_theta) const {
+    if (m_spot_smooth < 0.f) return linear_spot_falloff(cos_theta, m_cos_inner, m_cos_outer);
+    return float(
+        cycles_spot_attenuation(double(cos_theta), double(m_cos_outer), double(m_spot_smooth)));
+}
+
+Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
+                        float outer_half_angle_deg, float blend, float radius) {
+    Light l = spot(position, direction, power, outer_half_angle_deg, outer_half_angle_deg);
+    const double c = std::cos(double(outer_half_angle_deg) * kPiD / 180.0);
+    l.m_cos_inner = l.m_cos_outer = float(c);
+    l.m_spot_smooth = float((1.0 - c) * double(blend));
+    l.m_intensity =
+        Rgb(cycles_spot_intensity(glm::dvec3(power), double(outer_half_angle_deg), double(blend)));
+    l.set_sphere(radius);
+    return l;
+}
+
+Light Light::directional(const Vec3& direction, const Rgb& irradiance, float angle_deg) {
     Light l;
     l.m_kind = Kind::Directional;
     l.m_direction = glm::normalize(direction);
     l.m_emission = irradiance;
+    // 1 - cos delta = 2 sin^2(delta / 2) and sin^2 delta = omc (2 - omc), delta = angle / 2.
+    // Below omc = 1e-30 (angles under ~1e-13 degrees) the cone's pdf and L would overflow a
+    // float: such a sun is the parallel light it equals to float precision.
+    const double quarter = 0.25 * double(angle_deg) * kPiD / 180.0;
+    const double omc = 2.0 * std::sin(quarter) * std::sin(quarter);
+    if (omc > 1e-30) {
+        l.m_sun_one_minus_cos = omc;
+        l.m_size_radiance = Rgb(glm::dvec3(irradiance) / (kPiD * omc * (2.0 - omc)));
+        l.m_delta = false;
+    }
     return l;
 }
 
 Light Light::environment(const Rgb& radiance) {
     Light l;
     l.m_kind = Kind::Environment;
+    l.m_delta = false;
     l.m_emission = radiance;
     return l;
 }
@@ -79,6 +151,7 @@ Light Light::environment(const Rgb& radiance) {
 Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uint32_t shape) {
     Light l;
     l.m_kind = Kind::Area;
+    l.m_delta = false;
     l.m_area_shape = AreaShape::Triangles;
     l.m_shape = shape;
     l.m_emission = radiance;
@@ -165,6 +238,7 @@ Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, 
                          bool inward) {
     Light l;
     l.m_kind = Kind::Area;
+    l.m_delta = false;
     l.m_area_shape = AreaShape::Sphere;
     l.m_shape = shape;
     l.m_position = center;
@@ -180,6 +254,7 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
                        std::uint32_t shape) {
     Light l;
     l.m_kind = Kind::Area;
+    l.m_delta = false;
     l.m_area_shape = AreaShape::Disc;
     l.m_shape = shape;
     l.m_position = center;
@@ -203,11 +278,54 @@ Vec3 Light::sphere_sample_error(const Vec3& p) const {
     return gamma_bound(4) * (glm::abs(p) + glm::abs(m_position) + Vec3(m_radius));
 }
 
+std::optional<LightLiSample> Light::sample_sphere_light(const LightSampleContext& ctx,
+                                                        Vec2 u) const {
+    LightLiSample s;
+    const glm::dvec3 p(ctx.p);
+    const glm::dvec3 to_c = glm::dvec3(m_position) - p;
+    const double dc2 = glm::dot(to_c, to_c);
+    const double r2 = double(m_radius) * double(m_radius);
+    glm::dvec3 wi;
+    double t;
+    if (dc2 > r2) {
+        // Outside: uniform in the subtended cone, sin theta_max = r / d.
+        const double omc = sphere_cone_one_minus_cos(dc2, r2);
+        wi = sample_cone(Vec3(to_c / std::sqrt(dc2)), omc, u);
+        t = sphere_hit_distance(to_c, wi, r2, false);
+        s.pdf = float(1.0 / (2.0 * kPiD * omc));
+    } else {
+        // Inside (or on) the sphere: radiance L from every direction (Cycles does the same),
+        // so the best density is the cosine's; the light point is the far intersection.
+        if (ctx.n != Vec3(0.f)) {
+            const Vec3 local = sample_cosine_hemisphere(u);
+            s.pdf = cosine_hemisphere_pdf(local.z);
+            wi = glm::dvec3(Frame::from_z(ctx.n).from_local(local));
+        } else {
+            wi = glm::dvec3(sample_uniform_sphere(u));
+            s.pdf = uniform_sphere_pdf();
+        }
+        t = sphere_hit_distance(to_c, wi, r2, true);
+    }
+    s.wi = Vec3(wi);
+    s.dist = float(t);
+    s.p_light = Vec3(p + t * wi);  // not on traced geometry: no error box, no normal
+    s.li = m_size_radiance;
+    if (m_kind == Kind::Spot) {
+        // The radiance leaving the sphere toward p, along -wi: L falloff(-wi . axis).
+        const float f = spot_falloff(-glm::dot(s.wi, m_direction));
+        if (f == 0.f) return std::nullopt;
+        s.li *= f;
+    }
+    if (!(s.pdf > 0.f) || !std::isfinite(s.pdf) || !(s.dist > 0.f)) return std::nullopt;
+    return s;
+}
+
 std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ctx, Vec2 u) const {
     LightLiSample s;
     switch (m_kind) {
         case Kind::Point:
         case Kind::Spot: {
+            if (!m_delta) return sample_sphere_light(ctx, u);
             Vec3 v = m_position - ctx.p;
             float r2 = glm::dot(v, v);
             if (!(r2 > 0.f)) return std::nullopt;
@@ -215,7 +333,7 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             s.wi = v / r;
             Rgb intensity = m_intensity;
             if (m_kind == Kind::Spot) {
-                float f = spot_falloff(-glm::dot(s.wi, m_direction), m_cos_inner, m_cos_outer);
+                float f = spot_falloff(-glm::dot(s.wi, m_direction));
                 if (f == 0.f) return std::nullopt;
                 intensity *= f;
             }
@@ -227,6 +345,14 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             return s;
         }
         case Kind::Directional:
+            if (!m_delta) {
+                // The sun's disc: uniform in the cone of half-angle delta about -direction.
+                s.wi = Vec3(sample_cone(-m_direction, m_sun_one_minus_cos, u));
+                s.li = m_size_radiance;
+                s.pdf = float(1.0 / (2.0 * kPiD * m_sun_one_minus_cos));
+                s.dist = kInfinity;
+                return s;
+            }
             s.wi = -m_direction;
             s.li = m_emission;
             s.pdf = 1.f;
@@ -307,20 +433,8 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             if (!(dc2 > r2 * kSphereOutside2)) return std::nullopt;  // inside or on it: unseen
             double dc = std::sqrt(dc2);
             double omc = sphere_cone_one_minus_cos(dc2, r2);
-            double one_minus_cos = double(u.x) * omc;
-            double cos_t = 1.0 - one_minus_cos;
-            double sin_t = safe_sqrt(one_minus_cos * (2.0 - one_minus_cos));
-            double phi = 2.0 * kPiD * double(u.y);
-            Frame f = Frame::from_z(Vec3(to_c / dc));
-            glm::dvec3 wi =
-                glm::normalize(glm::dvec3(f.x) * (sin_t * std::cos(phi)) +
-                               glm::dvec3(f.y) * (sin_t * std::sin(phi)) + glm::dvec3(f.z) * cos_t);
-            // Nearest intersection of p + t wi with the sphere (Ray Tracing Gems ch. 7 form);
-            // at grazing angles round-off may miss: take the point of closest approach.
-            double b = glm::dot(to_c, wi);
-            glm::dvec3 q = to_c - b * wi;
-            double disc = r2 - glm::dot(q, q);
-            double t = disc > 0.0 ? b - std::sqrt(disc) : b;
+            glm::dvec3 wi = sample_cone(Vec3(to_c / dc), omc, u);
+            double t = sphere_hit_distance(to_c, wi, r2, false);
             glm::dvec3 n = glm::normalize(p + t * wi - c);
             glm::dvec3 pl = c + double(m_radius) * n;
             s.p_light = Vec3(pl);

@@ -612,6 +612,7 @@ class Builder final : public BuildChecks {
                     break;
             }
             if (!l.is_delta()) f.any_non_delta_light = true;
+            if (l.hittable()) f.any_hittable_light = true;
         }
         f.all_lights_delta = !f.any_non_delta_light;
     }

@@ -56,6 +56,13 @@ class PovLightOut {
     [[noreturn]] virtual void fail(const std::string& pointer,
                                    const std::string& message) const = 0;
     virtual std::ostream& out() = 0;
+    // Point and spot lights: a sphere light (radius > 0) has no exact POV-Ray equivalent.
+    void check_no_radius() const {
+        if (light.radius && *light.radius > 0.0)
+            fail(pointer + "/radius",
+                 "POV-Ray has no sphere light of uniform radiance (its area_light is a grid of "
+                 "point lights): only radius 0 is exported exactly");
+    }
 };
 
 }  // namespace facet::render

@@ -42,6 +42,7 @@ enum class FieldType : std::uint8_t {
     Bool,       // true | false
     Quad,       // 4 points [[x, y, z] x 4]
     Path,       // a non-empty string (a file, relative to the scene file)
+    Text,       // a non-empty string (a name from a list)
     MeshArrays  // "positions" (required unless "file"), "indices", "normals": flat arrays
 };
 

@@ -16,6 +16,21 @@
 //                   between them, so Phi = 2 pi I0 [(1 - cos_in) + (cos_in - cos_out) / 2]
 //                   holds exactly;
 //      directional: E (the irradiance on a surface facing the light), dist = +inf.
+//  - Lights with size (Blender's lamp radius and sun angle). A point or spot light of radius
+//    r > 0 is a SPHERE of uniform radiance L = I0 / (pi r^2) (I0 its on-axis intensity as
+//    above: Phi / (4 pi) for a point), so its intensity pi r^2 L = I0 and its power Phi are
+//    those of the point light (Cycles 3.4's point lamp: radiance Phi / (4 pi^2 r^2)); a spot
+//    sphere's radiance along w (from the sphere toward the receiver) is L falloff(w . axis).
+//    From outside, sample_li draws wi uniformly in the cone the sphere subtends (pdf per solid
+//    angle 1 / (2 pi (1 - cos theta_max)), sin theta_max = r / d; pbrt-v4's SampleSphere, Cycles'
+//    sphere light) and li = L; from inside (d <= r) the point sees L from every direction and
+//    wi is cosine-weighted about ctx.n (uniform over the sphere when n = 0). A directional
+//    light of angular diameter 2 delta > 0 (the sun) is a cone of directions of uniform
+//    radiance L = E / (pi sin^2 delta) about -direction, so that a surface facing it receives
+//    E = int_cone L cos = pi L sin^2 delta exactly; wi is uniform in the cone, li = L. These
+//    lights are NOT in the ray-traced geometry: no camera or BSDF ray finds them (Blender 3.4
+//    shows no lamp to camera rays), so their samples are not delta (a random u is drawn) but
+//    take no MIS weight (Light::hittable() is false); pdf_li is 0 for them.
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
 //    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
@@ -62,7 +77,7 @@ struct LightLiSample {
     // Error box of p_light (precision.h): p_light +- p_light_err contains a point of the
     // light's surface as the scene traces it. 0 for point and spot lights (not on a surface).
     Vec3 p_light_err{0.f};
-    bool delta = false;  // true for point, spot and directional lights
+    bool delta = false;  // true for point, spot and directional lights without size
 };
 
 class Light {
@@ -71,12 +86,19 @@ class Light {
 
     // Factories. Arguments are validated by the scene loader (finite, non-negative power,
     // unit directions, 0 <= inner <= outer < 180 degrees...), not here.
-    static Light point(const Vec3& position, const Rgb& power);
+    // `radius` > 0 makes a sphere light of the same power (see conventions); 0 = a point.
+    static Light point(const Vec3& position, const Rgb& power, float radius = 0.f);
     // `direction` is the cone axis (unit, the way the light shines); angles are half-angles.
     static Light spot(const Vec3& position, const Vec3& direction, const Rgb& power,
-                      float inner_half_angle_deg, float outer_half_angle_deg);
-    // `direction` is the way the light TRAVELS (unit); wi = -direction.
-    static Light directional(const Vec3& direction, const Rgb& irradiance);
+                      float inner_half_angle_deg, float outer_half_angle_deg, float radius = 0.f);
+    // A spot with Blender's (Cycles 3.4) fall-off: I(theta) = K g(cos theta) with
+    // g = cycles_spot_attenuation (light_units.h) for the cone of half-angle outer (<= 90
+    // degrees) and blend in [0, 1]; K set so that the total power is Phi (cycles_spot_intensity).
+    static Light spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
+                            float outer_half_angle_deg, float blend, float radius = 0.f);
+    // `direction` is the way the light TRAVELS (unit); wi = -direction. `angle_deg` in [0, 180)
+    // is the full angular diameter of the light's disc of directions (Blender's sun angle).
+    static Light directional(const Vec3& direction, const Rgb& irradiance, float angle_deg = 0.f);
     static Light environment(const Rgb& radiance);
     // Area light over world-space triangles (p0, p1, p2 per triangle, front side by the
     // counter-clockwise winding: n = normalize(cross(p1 - p0, p2 - p0))). Degenerate triangles
@@ -94,10 +116,16 @@ class Light {
                            std::uint32_t shape);
 
     Kind kind() const { return m_kind; }
-    bool is_delta() const {
-        return m_kind == Kind::Point || m_kind == Kind::Spot || m_kind == Kind::Directional;
+    // A delta light: sample_li ignores u (point, spot and directional lights without size).
+    bool is_delta() const { return m_delta; }
+    // Whether rays can hit the light (emissive shapes, the environment): only then does MIS
+    // weigh its samples against BSDF samples; a sample of any other light (including an
+    // "area" lamp, which is no shape) is the only estimate of its light and takes weight 1.
+    bool hittable() const {
+        return (m_kind == Kind::Area && m_shape != UINT32_MAX) || m_kind == Kind::Environment;
     }
-    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise.
+    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise
+    // (also for the "area" light kind, a lamp that is no shape).
     std::uint32_t shape() const { return m_shape; }
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;
@@ -120,7 +148,8 @@ class Light {
     const Rgb& emission() const { return m_emission; }     // Phi, E or L depending on kind
     float cos_inner() const { return m_cos_inner; }
     float cos_outer() const { return m_cos_outer; }
-    float area() const { return m_area; }  // area lights: total area
+    float area() const { return m_area; }      // area lights: total area
+    float radius() const { return m_radius; }  // sphere area lights, point and spot spheres
 
   private:
     // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
@@ -133,13 +162,27 @@ class Light {
     std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
                                                     LightLiSample& s) const;
 
+    // The spot's intensity relative to K (linear or Cycles' form) at cos theta from the axis.
+    float spot_falloff(float cos_theta) const;
+    // Point and spot factories: radius > 0 (and L = I0 / (pi r^2) finite) makes the sphere.
+    void set_sphere(float radius);
+    // The sphere of a point or spot light with a radius (conventions): sample_li from p.
+    std::optional<LightLiSample> sample_sphere_light(const LightSampleContext& ctx, Vec2 u) const;
+
     Kind m_kind = Kind::Point;
+    bool m_delta = true;
     std::uint32_t m_shape = UINT32_MAX;
     Vec3 m_position{0.f};
     Vec3 m_direction{0.f, 0.f, -1.f};
     Rgb m_emission{0.f};   // Phi (point/spot), E (directional), L (area/environment)
     Rgb m_intensity{0.f};  // I0 = radiant intensity on the axis (point, spot)
     float m_cos_inner = 1.f, m_cos_outer = 1.f;
+    // Spot with Blender's fall-off (spot_blend): (1 - cos outer) blend; < 0: the linear form.
+    float m_spot_smooth = -1.f;
+    // Sized point/spot (sphere, radius m_radius) and directional lights: their radiance L, and
+    // the sun's 1 - cos delta (delta its half-angle), in double for narrow cones.
+    Rgb m_size_radiance{0.f};
+    double m_sun_one_minus_cos = 0.0;
     // Area lights.
     enum class AreaShape : std::uint8_t {
         Triangles,
@@ -147,7 +190,7 @@ class Light {
         Sphere,
         Disc
     } m_area_shape = AreaShape::Triangles;
-    float m_radius = 0.f;   // sphere
+    float m_radius = 0.f;   // sphere (area light, or a point/spot light with a radius)
     bool m_inward = false;  // sphere turned inside out
     // Disc: the ellipse's axes; parallelogram: its edges from the corner m_corner.
     Vec3 m_e1{0.f}, m_e2{0.f};

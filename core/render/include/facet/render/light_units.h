@@ -37,6 +37,33 @@ inline glm::dvec3 spot_intensity(const glm::dvec3& power, double inner_deg, doub
     return solid > 0.0 ? power / solid : glm::dvec3(0.0);
 }
 
+// Blender's spot fall-off, as Cycles 3.4 computes it (spot_light_attenuation): with mu = cos
+// theta from the axis, c = cos(spot_size / 2) and smooth = (1 - c) spot_blend,
+//   g(mu) = 0 for mu <= c, mu * smoothstep((mu - c) / smooth) for c < mu < c + smooth,
+//   mu otherwise, smoothstep(x) = 3x^2 - 2x^3.
+// (The factor mu is Cycles': its spot intensity is P / (4 pi) g(mu) for a lamp of power P.)
+inline double cycles_spot_attenuation(double mu, double c, double smooth) {
+    if (mu <= c) return 0.0;
+    const double t = mu - c;
+    if (t < smooth && smooth != 0.0) {
+        const double x = t / smooth;
+        return mu * x * x * (3.0 - 2.0 * x);
+    }
+    return mu;
+}
+
+// K (W/sr) of a spot of power Phi with intensity I = K g(mu) (cycles_spot_attenuation) for the
+// half-angle outer (degrees, <= 90) and blend: Phi = 2 pi K int_c^1 g, where
+//   int_c^1 g dmu = (1 - (c + s)^2) / 2 + s (c / 2 + 0.35 s), s = (1 - c) blend
+// (int_0^1 smoothstep = 1/2, int_0^1 x smoothstep = 3/4 - 2/5). A Blender spot of power P has
+// K = P / (4 pi), so Phi = P / 2 int_c^1 g. A zero-width cone gives 0.
+inline glm::dvec3 cycles_spot_intensity(const glm::dvec3& power, double outer_deg, double blend) {
+    const double c = std::cos(outer_deg * kPiD / 180.0);
+    const double s = (1.0 - c) * blend;
+    const double integral = 0.5 * (1.0 - (c + s) * (c + s)) + s * (0.5 * c + 0.35 * s);
+    return integral > 0.0 ? power / (2.0 * kPiD * integral) : glm::dvec3(0.0);
+}
+
 // On-axis intensity (W/sr) of a flat Lambertian emitter of radiance L and area A:
 // I(theta) = L A cos(theta), so I0 = L A.
 inline glm::dvec3 emitter_intensity(const glm::dvec3& radiance, double area) {

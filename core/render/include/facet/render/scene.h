@@ -96,8 +96,11 @@ struct SceneFeatures {
     bool lambert_only = false;      // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
-    bool all_lights_delta = true;      // no area light and no environment: no MIS needed
+    bool all_lights_delta = true;  // every light is a point, spot or directional light without size
     bool any_non_delta_light = false;  // == !all_lights_delta (when there is any light)
+    // An area light or the environment: BSDF-sampled rays can find an emitter (MIS). Lights
+    // with size (sphere, sun) are not delta but no ray finds them (light.h).
+    bool any_hittable_light = false;
     // Conservative: true unless no emitter (area light, environment) can appear in a primary
     // ray (every emitter's bounds lie outside the view frustum, and no environment).
     bool emitter_visible = false;

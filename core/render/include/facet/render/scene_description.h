@@ -107,7 +107,7 @@ struct ShapeDesc {
     bool operator==(const ShapeDesc&) const = default;
 };
 
-enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment };
+enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment, Area };
 
 // One element of "lights".
 struct LightDesc {
@@ -118,8 +118,17 @@ struct LightDesc {
     Rgb power{0.f};                     // point, spot: W
     double outer_angle = 45.0;          // spot half-angle, degrees
     std::optional<double> inner_angle;  // spot; none = outer_angle
+    std::optional<double> spot_blend;   // spot: Blender's blend (instead of inner_angle)
     Rgb irradiance{0.f};                // directional: W/m^2
     Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
+    std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
+    std::optional<double> angle;        // directional: full angular diameter, degrees; none = 0
+    // Area lamp: shape, size (x), size_y (rectangle, ellipse), up (its local +y); position,
+    // direction | look_at (the way it emits, its local -z) and power as above.
+    std::string shape = "square";
+    double size = 0.0;
+    std::optional<double> size_y;
+    std::optional<Vec3> up;
     bool operator==(const LightDesc&) const = default;
 };
 

@@ -4,10 +4,9 @@
 #pragma once
 
 #include <algorithm>
-#include <cstdlib>
-
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <optional>
 #include <string>
 
@@ -67,6 +66,25 @@ inline std::optional<double> point_light_on_plane(const Camera& cam, int x, int 
     const double r2 = glm::dot(to_light, to_light);
     const double cos_t = to_light.y / std::sqrt(r2);
     return rho / kPiD * phi * cos_t / (4.0 * kPiD * r2);
+}
+
+// The mean of f(0), ..., f(n - 1) and its standard error (the samples' standard deviation over
+// sqrt(n)), for Monte Carlo tests that allow a few standard errors.
+struct McResult {
+    double mean = 0.0, stderr_ = 0.0;
+};
+template <class F>
+McResult mc(int n, F f) {
+    double s = 0.0, s2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const double v = f(i);
+        s += v;
+        s2 += v * v;
+    }
+    McResult r;
+    r.mean = s / n;
+    r.stderr_ = std::sqrt(std::max(0.0, s2 / n - r.mean * r.mean) / n);
+    return r;
 }
 
 }  // namespace facet::render::testing
