@@ -72,6 +72,8 @@ const char* type_text(FieldType t) {
             return "4 points";
         case FieldType::Path:
             return "string (path)";
+        case FieldType::Rotation:
+            return "rotation {\"axis\": [x, y, z], \"angle\": degrees}";
         case FieldType::MeshArrays:
             return "arrays";
     }

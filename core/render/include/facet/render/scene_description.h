@@ -99,6 +99,14 @@ struct ShapeDesc {
 
 enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment };
 
+// A rotation by `angle` degrees about `axis` (need not be unit; right-handed: counter-clockwise
+// seen from the axis' tip). JSON: {"axis": [x, y, z], "angle": degrees}.
+struct AxisAngle {
+    Vec3 axis{0.f, 0.f, 1.f};
+    double angle = 0.0;
+    bool operator==(const AxisAngle&) const = default;
+};
+
 // One element of "lights".
 struct LightDesc {
     LightKind kind = LightKind::Point;
@@ -109,7 +117,12 @@ struct LightDesc {
     double outer_angle = 45.0;          // spot half-angle, degrees
     std::optional<double> inner_angle;  // spot; none = outer_angle
     Rgb irradiance{0.f};                // directional: W/m^2
-    Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
+    // Environment: W sr^-1 m^-2 (required without a file); with a file, the map's multiplier
+    // (none = 1).
+    std::optional<Rgb> radiance;
+    std::string file;               // environment map image ("" = a constant environment)
+    std::optional<AxisAngle> rotate;  // environment map orientation (environment_map.h)
+    std::optional<Vec3> up;           // environment map's up (none = [0, 0, 1])
     bool operator==(const LightDesc&) const = default;
 };
 
