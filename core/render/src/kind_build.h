@@ -123,8 +123,8 @@ class LightBuild : public BuildChecks {
   public:
     LightBuild(const LightDesc& l, std::string p) : light(l), ptr(std::move(p)) {}
     const LightDesc& light;
-    const std::string ptr;  // "/lights/<index>"
-    virtual bool files_allowed() const = 0;            // SceneLimits::allow_files
+    const std::string ptr;                            // "/lights/<index>"
+    virtual bool files_allowed() const = 0;           // SceneLimits::allow_files
     virtual const std::string& base_dir() const = 0;  // resolves relative image files
     virtual void add_light(Light light) = 0;
     // The scene's environment light (at most one).

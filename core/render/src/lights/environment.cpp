@@ -22,8 +22,9 @@ glm::dmat3 up_rotation(const glm::dvec3& up) {
     const double s = glm::length(axis);
     if (!(s > 1e-12)) {
         // +Z: the identity; -Z: a half turn about X (keeps +X, flips Y and Z).
-        return c > 0.0 ? glm::dmat3(1.0) : glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0),
-                                                      glm::dvec3(0, 0, -1));
+        return c > 0.0
+                   ? glm::dmat3(1.0)
+                   : glm::dmat3(glm::dvec3(1, 0, 0), glm::dvec3(0, -1, 0), glm::dvec3(0, 0, -1));
     }
     return glm::dmat3(glm::rotate(glm::dmat4(1.0), std::atan2(s, c), axis / s));
 }
@@ -32,8 +33,8 @@ void build(LightBuild& b) {
     const LightDesc& l = b.light;
     const std::string& ptr = b.ptr;
     if (l.file.empty()) {
-        for (const auto& [given, key] : {std::pair{l.rotate.has_value(), "rotate"},
-                                         std::pair{l.up.has_value(), "up"}}) {
+        for (const auto& [given, key] :
+             {std::pair{l.rotate.has_value(), "rotate"}, std::pair{l.up.has_value(), "up"}}) {
             if (given)
                 b.fail(ptr + "/" + key,
                        "orients an environment map: give \"file\" (a constant environment "
@@ -52,8 +53,8 @@ void build(LightBuild& b) {
     if (l.rotate) {
         const Vec3 axis = b.unit_direction(l.rotate->axis, ptr + "/rotate/axis");
         b.check_finite(l.rotate->angle, ptr + "/rotate/angle");
-        frame = glm::dmat3(glm::rotate(glm::dmat4(1.0), glm::radians(l.rotate->angle),
-                                       glm::dvec3(axis))) *
+        frame = glm::dmat3(
+                    glm::rotate(glm::dmat4(1.0), glm::radians(l.rotate->angle), glm::dvec3(axis))) *
                 frame;
     }
     if (!b.files_allowed()) b.fail(ptr + "/file", "image files are disabled here");
@@ -99,8 +100,7 @@ extern const LightKindDef kEnvironmentLightKind{
     "environment",
     "radiance arriving from every direction that escapes the scene (at most one): a constant, "
     "or an equirectangular map (see [Environment maps](#environment-maps))",
-    {{"radiance", FieldType::Color, false, &LightDesc::radiance,
-      "- without `file`; 1 with `file`",
+    {{"radiance", FieldType::Color, false, &LightDesc::radiance, "- without `file`; 1 with `file`",
       "the radiance L (W sr^-1 m^-2), required without `file`; with `file`, the multiplier of "
       "the map's texels"},
      {"file", FieldType::Path, false, &LightDesc::file, "-",

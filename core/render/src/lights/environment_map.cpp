@@ -18,8 +18,7 @@ constexpr double kCellTent[3] = {0.125, 0.75, 0.125};
 // Index of the interval of u in a cdf (the first i with u < cdf[i], the last one at most),
 // and u's position within it, in [0, 1).
 std::size_t sample_cdf(const float* cdf, std::size_t n, float u, float& offset) {
-    const std::size_t i =
-        std::min(std::size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
+    const std::size_t i = std::min(std::size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
     const float lo = i == 0 ? 0.f : cdf[i - 1];
     const float w = cdf[i] - lo;
     offset = w > 0.f ? std::clamp((u - lo) / w, 0.f, kOneMinusEpsilon) : 0.5f;

@@ -168,9 +168,9 @@ class Light {
     Vec3 m_sample_err{0.f};
     float m_area = 0.f;
     float m_inv_area = 0.f;
-    std::vector<Vec3> m_tri;       // 3 vertices per triangle
-    std::vector<Vec3> m_tri_n;     // unit front normal per triangle
-    std::vector<float> m_tri_cdf;  // running area fraction, last = 1
+    std::vector<Vec3> m_tri;                      // 3 vertices per triangle
+    std::vector<Vec3> m_tri_n;                    // unit front normal per triangle
+    std::vector<float> m_tri_cdf;                 // running area fraction, last = 1
     std::shared_ptr<const EnvironmentMap> m_map;  // environment map (shared by copies)
 };
 
@@ -215,9 +215,9 @@ class Light {
 // Whether next-event estimation samples this light. Every light but the constant environment
 // (an environment map is sampled by its importance density, combined with the BSDF sample by
 // MIS: a small bright sun is found by the light sample, the BSDF sample would rarely hit it).
-// The constant environment's radiance is constant, so the BSDF sample that continues a path already draws wi in
-// proportion to f cos L up to visibility (the best a light sample could do), while a light
-// sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
+// The constant environment's radiance is constant, so the BSDF sample that continues a path already
+// draws wi in proportion to f cos L up to visibility (the best a light sample could do), while a
+// light sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
 // scene's near-specular floor almost every such shadow ray fell outside the lobe) and takes the
 // shadow ray from the lights that need it (56% of the brushed scene's, by power). The path
 // integrator therefore finds the environment by BSDF sampling alone: its selection pmf is 0, so

@@ -120,7 +120,7 @@ struct LightDesc {
     // Environment: W sr^-1 m^-2 (required without a file); with a file, the map's multiplier
     // (none = 1).
     std::optional<Rgb> radiance;
-    std::string file;               // environment map image ("" = a constant environment)
+    std::string file;                 // environment map image ("" = a constant environment)
     std::optional<AxisAngle> rotate;  // environment map orientation (environment_map.h)
     std::optional<Vec3> up;           // environment map's up (none = [0, 0, 1])
     bool operator==(const LightDesc&) const = default;
