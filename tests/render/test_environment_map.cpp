@@ -13,6 +13,7 @@
 #include <fstream>
 #include <functional>
 #include <limits>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -21,6 +22,7 @@
 #include "../core/chi2.h"
 #include "facet/render/environment_map.h"
 #include "facet/render/light.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene_description.h"
 #include "facet/testsupport/render_test_util.h"
@@ -563,4 +565,82 @@ TEST(EnvironmentMap, ConstantEnvironmentBuildsNoTableAndRoundTrips) {
     const float r = 3.f;
     EXPECT_NEAR(m.environment()->power(r).r, mean.r * 4.f * float(kPi * kPi) * r * r,
                 1e-5f * mean.r * 4.f * float(kPi * kPi) * r * r);
+}
+
+namespace {
+
+// The SDL of a scene with the environment light `light` (export-pov --environment background).
+std::string export_sdl(const std::string& light, const std::string& environment = "background") {
+    const fr::SceneDescription d = fr::parse_scene_description(
+        R"({"format": "facet-scene", "version": 1, )" + env_scene(light) + "}", "t.json");
+    fr::PovExportOptions o;
+    o.environment = environment;
+    return fr::export_pov(d, "t.json", o);
+}
+
+std::string export_error(const std::string& light, const std::string& environment = "background") {
+    try {
+        (void)export_sdl(light, environment);
+    } catch (const std::exception& e) {
+        return e.what();
+    }
+    return "";
+}
+
+}  // namespace
+
+TEST(EnvironmentMap, PovExportIsASkySphereWithBlendersOrientation) {
+    const std::string path = write_map("pov.exr", 8, 4, mapping_texel);
+    const std::string light = file_key(path) + R"(, "up": [0.2, 0.3, 1],
+                                                  "rotate": {"axis": [0, 0.5, 1], "angle": 40})";
+    const std::string sdl = export_sdl(light);
+    ASSERT_NE(sdl.find("sky_sphere"), std::string::npos) << sdl;
+    ASSERT_NE(sdl.find("image_map { exr \"" + path + "\" map_type 1 interpolate 2 }"),
+              std::string::npos)
+        << sdl;
+    // POV-Ray's matrix <a, b, c, d, e, f, g, h, i, 0, 0, 0> maps a pattern point q (a row
+    // vector) to q * [[a, b, c], [d, e, f], [g, h, i]] in the world; a direction d is looked
+    // up at q = d * inverse. POV-Ray's spherical map (map_type 1, its spherical_image_map):
+    // u = angle from +x toward +z in the x-z plane / 2pi, v from the top = polar angle from +y /
+    // pi. That must be Facet's (Blender's) (u, v) of d.
+    const std::size_t at = sdl.find("matrix <");
+    ASSERT_NE(at, std::string::npos);
+    double m[12];
+    std::istringstream in(sdl.substr(at + 8));
+    for (double& x : m) {
+        in >> x;
+        in.ignore(1);  // the comma or '>'
+    }
+    // Column-vector form: world = T q, T's columns the rows (a, b, c), (d, e, f), (g, h, i).
+    const glm::dmat3 t(glm::dvec3(m[0], m[1], m[2]), glm::dvec3(m[3], m[4], m[5]),
+                       glm::dvec3(m[6], m[7], m[8]));
+    const glm::dmat3 inverse = glm::inverse(t);
+    const fr::Scene scene = scene_from(env_scene(light));
+    const fr::EnvironmentMap& map = *scene.environment()->map();
+    pcg32 rng(5);
+    for (int i = 0; i < 1000; ++i) {
+        const Vec3 d = facet::sample_uniform_sphere(
+            {facet::test::uniform_float(rng), facet::test::uniform_float(rng)});
+        const glm::dvec3 q = glm::normalize(inverse * glm::dvec3(d));
+        double u = std::atan2(q.z, q.x) / (2.0 * kPi);
+        if (u < 0.0) u += 1.0;
+        const double v = std::acos(std::clamp(q.y, -1.0, 1.0)) / kPi;
+        const Vec2 want = map.direction_to_uv(d);
+        // Float round-off of Facet's lookup (1e-5), across the seam modulo 1.
+        const double du = std::fabs(u - want.x);
+        EXPECT_LT(std::min(du, 1.0 - du), 1e-5) << d.x << " " << d.y << " " << d.z;
+        EXPECT_NEAR(v, want.y, 1e-5);
+    }
+}
+
+TEST(EnvironmentMap, PovExportErrorsNameThePointer) {
+    const std::string path = write_map("pov2.exr", 8, 4, mapping_texel);
+    std::string e = export_error(file_key(path), "error");
+    EXPECT_NE(e.find("/lights/0: an environment light"), std::string::npos) << e;
+    e = export_error(file_key(path) + R"(, "radiance": 2)");
+    EXPECT_NE(e.find("/lights/0/radiance"), std::string::npos) << e;
+    e = export_error(file_key(temp_path("sky.png")));
+    EXPECT_NE(e.find("/lights/0/file"), std::string::npos) << e;
+    e = export_error(file_key(path) + R"(, "up": [0, 0, 0])");
+    EXPECT_NE(e.find("/lights/0/up"), std::string::npos) << e;
 }
