@@ -153,6 +153,13 @@ void check_sampling_world_bins(const fr::Scene& scene, const char* what) {
     check_sample_consistency(*env, what);
 }
 
+// Mean over the pixels of the channels' mean.
+double mean_grey(const fr::Image& img) {
+    double sum = 0.0;
+    for (const Rgb& p : img.pixels()) sum += (double(p.r) + p.g + p.b) / 3.0;
+    return sum / double(img.pixels().size());
+}
+
 // Chi-square of sample_li against pdf_li with bins of bx x by texels in the map's (u, v): each
 // sample's direction is binned by `to_uv`, and a bin's expected probability is exact, the sum
 // over its texels of pdf_li at the texel centre times the solid angle Jacobian
@@ -317,9 +324,7 @@ TEST(EnvironmentMap, FurnaceLambertSphereInConstantMapFileRendersRho) {
         file_key(path) + "}]");
     const int spp = std::max(4, int(64 * stress_scale()));
     const fr::Image img = fr::render(scene, fr::testing::test_options("path", spp, 5));
-    double sum = 0.0;
-    for (const Rgb& p : img.pixels()) sum += (double(p.r) + p.g + p.b) / 3.0;
-    const double mean = sum / double(img.pixels().size());
+    const double mean = mean_grey(img);
     // Noise: the map is sampled uniformly over the sphere (constant texels) with MIS against
     // the cosine-sampled BSDF; 64 pixels x 64 spp give a standard error of about 0.2% (measured
     // spread of the pixel means), so 1.5% is > 5 sigma.
@@ -327,9 +332,7 @@ TEST(EnvironmentMap, FurnaceLambertSphereInConstantMapFileRendersRho) {
     // The same through the direct integrator (light sampling only: the sampler alone must be
     // unbiased).
     const fr::Image d = fr::render(scene, fr::testing::test_options("direct", spp, 5));
-    sum = 0.0;
-    for (const Rgb& p : d.pixels()) sum += (double(p.r) + p.g + p.b) / 3.0;
-    EXPECT_NEAR(sum / double(d.pixels().size()), rho, 0.03 * rho);
+    EXPECT_NEAR(mean_grey(d), rho, 0.03 * rho);
 }
 
 TEST(EnvironmentMap, HalfSkyOverLambertPlaneGivesRho) {
@@ -350,13 +353,11 @@ TEST(EnvironmentMap, HalfSkyOverLambertPlaneGivesRho) {
         file_key(path) + "}]");
     const int spp = std::max(4, int(64 * stress_scale()));
     const fr::Image img = fr::render(scene, fr::testing::test_options("path", spp, 9));
-    double sum = 0.0;
-    for (const Rgb& p : img.pixels()) sum += (double(p.r) + p.g + p.b) / 3.0;
     const double delta = kPi / (2.0 * H);
     const double expected = rho * (1.0 - delta * delta / 6.0);
     // Noise as in the furnace test (standard error about 0.2%): 1.5% is > 5 sigma, and 150
     // times the horizon blend, so a missing sin(theta) or a wrong hemisphere still fails.
-    EXPECT_NEAR(sum / double(img.pixels().size()), expected, 0.015 * rho);
+    EXPECT_NEAR(mean_grey(img), expected, 0.015 * rho);
 }
 
 namespace {

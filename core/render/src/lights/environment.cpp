@@ -77,13 +77,12 @@ void build(LightBuild& b) {
     const glm::dmat3 frame =
         map_frame(l, ptr, [&](const std::string& p, const std::string& m) { b.fail(p, m); });
     if (!b.files_allowed()) b.fail(ptr + "/file", "image files are disabled here");
-    std::filesystem::path path(l.file);
-    if (path.is_relative()) path = std::filesystem::path(b.base_dir()) / path;
+    const std::string path = resolve_scene_path(l.file, b.base_dir());
     TexelImage image;
     const std::string where = ptr + "/file";
     try {
         // Auto colour space: float files linear, 8/16-bit files sRGB-decoded (texel_image.h).
-        image = load_texel_image(path.string(), {ColorSpace::Auto, true}, where);
+        image = load_texel_image(path, {ColorSpace::Auto, true}, where);
     } catch (const TexelImageError& e) {
         // "<where>: <file>: <what>"; fail() names the pointer itself.
         std::string m = e.what();
@@ -109,8 +108,7 @@ void write_map(PovLightOut& o) {
         o.fail(o.pointer + "/radiance",
                "POV-Ray's sky_sphere cannot scale an image map's colours: only a multiplier of 1 "
                "is exported exactly");
-    std::filesystem::path path(l.file);
-    if (path.is_relative()) path = std::filesystem::path(o.base_dir) / path;
+    const std::filesystem::path path(resolve_scene_path(l.file, o.base_dir));
     std::string ext = path.extension().string();
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
     const char* type = ext == ".exr" ? "exr" : ext == ".hdr" ? "hdr" : nullptr;
