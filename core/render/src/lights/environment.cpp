@@ -137,8 +137,10 @@ void write_map(PovLightOut& o) {
 void pov(PovLightOut& o) {
     if (o.options.environment == "background") {
         if (!o.light.file.empty()) return write_map(o);
-        o.out() << "background { " << pov_rgb(glm::dvec3(o.light.radiance.value_or(Rgb(0.f))))
-                << " }  // " << o.pointer
+        if (!o.light.radiance)
+            o.fail(o.pointer + "/radiance", "is required (or give a map as \"file\")");
+        o.out() << "background { " << pov_rgb(glm::dvec3(*o.light.radiance)) << " }  // "
+                << o.pointer
                 << ": environment, seen by camera and mirror rays only (approximation: it lights "
                    "no surface)\n";
         return;
