@@ -561,6 +561,10 @@ TEST(EnvironmentMap, ConstantEnvironmentBuildsNoTableAndRoundTrips) {
     EXPECT_EQ(d.lights[0].rotate->angle, 30.0);
     const fr::Scene m = fr::build_scene(d, "rt");
     EXPECT_TRUE(fr::nee_samples(*m.environment()));
+    // A NaN direction (never traced, but cheap to make safe) reads finite values.
+    const float nan = std::numeric_limits<float>::quiet_NaN();
+    EXPECT_TRUE(facet::is_finite(m.environment()->le_escape(Vec3(nan))));
+    EXPECT_TRUE(std::isfinite(m.environment()->pdf_li({}, Vec3(nan), Vec3(0.f), Vec3(0.f))));
     const Rgb mean = m.environment()->map()->mean_radiance();
     EXPECT_GT(mean.r, 0.f);
     const float r = 3.f;

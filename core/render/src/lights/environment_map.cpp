@@ -102,8 +102,10 @@ Vec2 EnvironmentMap::direction_to_uv(const Vec3& d) const {
     const Vec3 l = m_inverse * d;
     // atan2 for theta too: acos(z) loses half its digits near the poles.
     const float theta = std::atan2(std::sqrt(l.x * l.x + l.y * l.y), l.z);
-    const float u = 0.5f - std::atan2(l.y, l.x) * kInv2Pi;
-    return {std::clamp(u, 0.f, 1.f), std::clamp(theta * kInvPi, 0.f, 1.f)};
+    const float u = 0.5f - std::atan2(l.y, l.x) * kInv2Pi, v = theta * kInvPi;
+    // Clamped into [0, 1] with NaN (a NaN direction) to 0: the lookups convert to int.
+    auto unit = [](float t) { return t > 0.f ? (t < 1.f ? t : 1.f) : 0.f; };
+    return {unit(u), unit(v)};
 }
 
 Vec3 EnvironmentMap::uv_to_direction(Vec2 uv) const {
