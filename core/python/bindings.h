@@ -28,6 +28,7 @@
 
 #include "facet/registry.h"
 #include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
 #include "facet/types.h"
 
 namespace pybind11::detail {
@@ -97,6 +98,32 @@ struct type_caster<glm::dmat4> {
         for (int row = 0; row < 4; ++row)
             for (int col = 0; col < 4; ++col) w(row, col) = m[col][row];
         return a.release();
+    }
+};
+
+// A rotation ("rotate" of the environment light): the dict {"axis": (x, y, z), "angle": deg},
+// as in the JSON scene format.
+template <>
+struct type_caster<facet::render::AxisAngle> {
+    PYBIND11_TYPE_CASTER(facet::render::AxisAngle,
+                         const_name("dict[str, tuple[float, float, float] | float]"));
+
+    bool load(handle src, bool convert) {
+        if (!src || !PyDict_Check(src.ptr())) return false;
+        dict d = reinterpret_borrow<dict>(src);
+        if (d.size() != 2 || !d.contains("axis") || !d.contains("angle")) return false;
+        make_caster<glm::vec3> axis;
+        make_caster<double> angle;
+        if (!axis.load(d["axis"], convert) || !angle.load(d["angle"], convert)) return false;
+        value = {cast_op<glm::vec3>(axis), cast_op<double>(angle)};
+        return true;
+    }
+
+    static handle cast(const facet::render::AxisAngle& r, return_value_policy, handle) {
+        dict d;
+        d["axis"] = make_tuple(double(r.axis.x), double(r.axis.y), double(r.axis.z));
+        d["angle"] = r.angle;
+        return d.release();
     }
 };
 

@@ -17,6 +17,8 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
                is exactly rho e sum_{k=0..R} rho^k (R = recursion_limit)
   radiosity-cornell  export-pov --radiosity on the Cornell box against facet render --integrator
                path (POV-Ray's radiosity is interpolated and biased: stated tolerances)
+  envmap       an environment map (export-pov --environment background: a sky_sphere image_map)
+               seen by the camera across the seam, tilted and rotated, against facet render
 
 Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
 half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
@@ -469,6 +471,64 @@ def cmd_float(env):
     return ok and good
 
 
+def write_exr(path, rgb):
+    """A float RGB OpenEXR file, scanlines uncompressed (OpenEXR file layout 2.0): the map of
+    cmd_envmap, written here so that the test needs no image library."""
+    import struct
+    h, w, _ = rgb.shape
+
+    def attr(name, kind, data):
+        return name.encode() + b"\0" + kind.encode() + b"\0" + struct.pack("<i", len(data)) + data
+
+    chlist = b"".join(c.encode() + b"\0" + struct.pack("<iB3xii", 2, 0, 1, 1) for c in "BGR") + b"\0"
+    box = struct.pack("<iiii", 0, 0, w - 1, h - 1)
+    header = (struct.pack("<ii", 20000630, 2) + attr("channels", "chlist", chlist)
+              + attr("compression", "compression", b"\0") + attr("dataWindow", "box2i", box)
+              + attr("displayWindow", "box2i", box) + attr("lineOrder", "lineOrder", b"\0")
+              + attr("pixelAspectRatio", "float", struct.pack("<f", 1.0))
+              + attr("screenWindowCenter", "v2f", struct.pack("<ff", 0.0, 0.0))
+              + attr("screenWindowWidth", "float", struct.pack("<f", 1.0)) + b"\0")
+    line = 3 * 4 * w
+    first = len(header) + 8 * h
+    offsets = b"".join(struct.pack("<Q", first + y * (8 + line)) for y in range(h))
+    body = b"".join(struct.pack("<ii", y, line)
+                    + b"".join(rgb[y, :, c].astype("<f4").tobytes() for c in (2, 1, 0))
+                    for y in range(h))
+    with open(path, "wb") as f:
+        f.write(header + offsets + body)
+
+
+def cmd_envmap(env):
+    """An environment map exported as POV-Ray's sky_sphere (map_type 1, interpolate 2, the pigment
+    matrix of docs/povray.md) looks the same as in facet render: a 16 x 8 map of distinct texels,
+    up [0.2, 0.3, 1] and rotate 40 degrees about [0, 0.5, 1], seen by a 64 x 48 camera looking
+    across the seam and away from the map's poles (near the poles POV-Ray's lookup wraps where
+    Facet's clamps: stated in the SDL). Tolerance: REL_TOL, every pixel (measured with Debian's
+    stock povray 3.7, whose +FE32 still writes half floats: 4.8e-4 at most, the half rounding).
+    Then the same with the map un-rotated must differ (the check can fail)."""
+    w, h = 16, 8
+    ys, xs = np.mgrid[0:h, 0:w].astype(np.float32)
+    rgb = np.stack([(xs + 1) / 4, (xs + 1) ** 2 / 64, 0.25 + ys / 8], axis=2).astype(np.float32)
+    exr = env.path("map.exr")
+    write_exr(exr, rgb)
+    ok = True
+    scene = {"format": "facet-scene", "version": 1,
+             "camera": {"position": [0, 0, 0], "look_at": [-1, 0.3, -0.1], "up": [0, 0, 1],
+                        "fov": 70, "width": 64, "height": 48},
+             "materials": {}, "shapes": [],
+             "lights": [{"type": "environment", "file": exr, "up": [0.2, 0.3, 1],
+                         "rotate": {"axis": [0, 0.5, 1], "angle": 40}}]}
+    js = env.write_scene(scene, "envmap")
+    ref = env.render(js, "--spp", "1")
+    test = env.povray(env.export(js, "--environment", "background"), 64, 48, "+FE32")
+    ok &= compare("envmap, tilted and rotated", test, ref, required=1.0)
+    del scene["lights"][0]["up"], scene["lights"][0]["rotate"]
+    other = env.render(env.write_scene(scene, "envmap_plain"), "--spp", "1")
+    differs = not compare("envmap against the un-rotated map (must fail)", test, other, required=1.0)
+    print(f"{'ok  ' if differs else 'FAIL'} the un-rotated map's render differs")
+    return ok and differs
+
+
 def cmd_radiosity_furnace(env):
     """Radiosity on a brdf { lambert } surface: the camera inside a sphere of reflectance rho
     that glows with e (POV-Ray emission is tinted by the pigment: exitance rho e), no lights.
@@ -560,7 +620,8 @@ def main():
               "glossy": lambda: cmd_glossy(env),
               "float": lambda: cmd_float(env),
               "radiosity-furnace": lambda: cmd_radiosity_furnace(env),
-              "radiosity-cornell": lambda: cmd_radiosity_cornell(env)}[cmd]()
+              "radiosity-cornell": lambda: cmd_radiosity_cornell(env),
+              "envmap": lambda: cmd_envmap(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 

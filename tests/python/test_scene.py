@@ -199,3 +199,30 @@ def test_camera_lens_and_projection_attributes():
     d.camera.scale = -1.0
     with pytest.raises(ValueError, match="/camera/scale"):
         facet.build_scene(d, name="bad")
+
+
+def test_environment_map_keys_through_the_kind_table(tmp_path):
+    # "file", "up" and "rotate" (a dict, as in JSON) are LightDesc keywords of the environment
+    # kind only; the map renders: a camera along +X sees the map's centre column (u = 0.5).
+    sky = np.zeros((4, 8, 3), np.float32)
+    sky[:, :, 0] = np.arange(8, dtype=np.float32)[None, :] + 1.0  # red = column + 1
+    sky[:, :, 1] = 0.5
+    path = tmp_path / "sky.exr"
+    facet.write_image(sky, str(path))
+    light = facet.LightDesc("environment", file=str(path), up=(0, 0, 1),
+                            rotate={"axis": (0, 0, 1), "angle": 90.0}, radiance=2)
+    assert light.rotate == {"axis": (0.0, 0.0, 1.0), "angle": 90.0}
+    assert light.file == str(path) and light.up == (0.0, 0.0, 1.0)
+    with pytest.raises(TypeError, match=r"LightDesc has no field 'file' for kind 'point'"):
+        facet.LightDesc("point", file="sky.exr")
+    d = facet.SceneDescription()
+    d.camera = facet.CameraDesc(position=(0, 0, 0), look_at=(0, 1, 0), up=(0, 0, 1), fov=1,
+                                width=1, height=1)
+    d.lights.append(light)
+    # Rotated 90 degrees about +Z, the map's +X (u = 0.5: columns 3 and 4, red 4.5) is world +Y.
+    img = facet.render(facet.build_scene(d), spp=1)
+    np.testing.assert_allclose(img[0, 0], [2 * 4.5, 2 * 0.5, 0.0], rtol=1e-4)
+    light.rotate = {"axis": (0, 0, 0), "angle": 1.0}
+    d.lights[0] = light
+    with pytest.raises(ValueError, match=r"/lights/0/rotate/axis"):
+        facet.build_scene(d)

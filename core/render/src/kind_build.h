@@ -13,6 +13,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <filesystem>
 #include <limits>
 #include <string>
 
@@ -23,6 +24,14 @@
 #include "scene_impl.h"
 
 namespace facet::render {
+
+// A file named in the scene (mesh, image), relative to the scene file's directory `base_dir`
+// unless absolute.
+inline std::string resolve_scene_path(const std::string& file, const std::string& base_dir) {
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    return p.string();
+}
 
 // Value checks shared by build_scene and the kinds' builders: each fails through fail().
 class BuildChecks {
@@ -123,7 +132,9 @@ class LightBuild : public BuildChecks {
   public:
     LightBuild(const LightDesc& l, std::string p) : light(l), ptr(std::move(p)) {}
     const LightDesc& light;
-    const std::string ptr;  // "/lights/<index>"
+    const std::string ptr;                            // "/lights/<index>"
+    virtual bool files_allowed() const = 0;           // SceneLimits::allow_files
+    virtual const std::string& base_dir() const = 0;  // resolves relative image files
     virtual void add_light(Light light) = 0;
     // The scene's environment light (at most one).
     virtual void add_environment(Light light) = 0;

@@ -75,6 +75,8 @@ const char* type_text(FieldType t) {
             return "string (path)";
         case FieldType::Text:
             return "string";
+        case FieldType::Rotation:
+            return "rotation {\"axis\": [x, y, z], \"angle\": degrees}";
         case FieldType::MeshArrays:
             return "arrays";
     }

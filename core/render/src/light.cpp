@@ -148,6 +148,14 @@ Light Light::environment(const Rgb& radiance) {
     return l;
 }
 
+Light Light::environment_map(std::shared_ptr<const EnvironmentMap> map) {
+    Light l;
+    l.m_kind = Kind::Environment;
+    l.m_emission = map->mean_radiance();
+    l.m_map = std::move(map);
+    return l;
+}
+
 Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uint32_t shape) {
     Light l;
     l.m_kind = Kind::Area;
@@ -360,6 +368,15 @@ std::optional<LightLiSample> Light::sample_li_other(const LightSampleContext& ct
             s.delta = true;
             return s;
         case Kind::Environment: {
+            if (m_map) {
+                const EnvironmentMap::Sample m = m_map->sample(u);
+                if (!(m.pdf > 0.f)) return std::nullopt;
+                s.wi = m.wi;
+                s.pdf = m.pdf;
+                s.li = m.radiance;
+                s.dist = kInfinity;
+                return s;
+            }
             if (ctx.n != Vec3(0.f)) {
                 Vec3 local = sample_cosine_hemisphere(u);
                 s.pdf = cosine_hemisphere_pdf(local.z);
@@ -460,6 +477,7 @@ float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p
         case Kind::Directional:
             return 0.f;
         case Kind::Environment:
+            if (m_map) return m_map->pdf(wi);
             if (ctx.n != Vec3(0.f)) return cosine_hemisphere_pdf(glm::dot(ctx.n, wi));
             return uniform_sphere_pdf();
         case Kind::Area:
@@ -487,8 +505,9 @@ Rgb Light::le(const Vec3& n_light, const Vec3& w) const {
     return glm::dot(n_light, w) > 0.f ? m_emission : Rgb(0.f);
 }
 
-Rgb Light::le_escape(const Vec3& /*d*/) const {
-    return m_kind == Kind::Environment ? m_emission : Rgb(0.f);
+Rgb Light::le_escape(const Vec3& d) const {
+    if (m_kind != Kind::Environment) return Rgb(0.f);
+    return m_map ? m_map->eval(d) : m_emission;
 }
 
 Rgb Light::power(float scene_radius) const {
@@ -499,7 +518,8 @@ Rgb Light::power(float scene_radius) const {
         case Kind::Directional:
             return m_emission * (kPi * scene_radius * scene_radius);
         case Kind::Environment:
-            // Radiance L from every direction through a disc of the scene's cross-section.
+            // Radiance L from every direction through a disc of the scene's cross-section
+            // (an environment map: its mean radiance over the sphere, m_emission).
             return m_emission * (4.f * kPi * kPi * scene_radius * scene_radius);
         case Kind::Area:
             return m_emission * (kPi * m_area);  // one-sided Lambertian emitter: Phi = pi A L

@@ -519,6 +519,8 @@ class Builder final : public BuildChecks {
         [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
             m_b.fail(p, m);
         }
+        bool files_allowed() const override { return m_b.m_limits.allow_files; }
+        const std::string& base_dir() const override { return m_b.m_desc.base_dir; }
         void add_light(Light light) override { m_b.m_builder.lights().push_back(std::move(light)); }
         void add_environment(Light light) override {
             if (m_b.m_builder.environment() >= 0)

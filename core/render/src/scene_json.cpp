@@ -496,6 +496,12 @@ class Reader {
                 } else if constexpr (std::is_same_v<T, std::string>) {
                     out = get_string(v, p);
                     if (out.empty()) fail(p, "must not be empty");
+                } else if constexpr (std::is_same_v<T, std::optional<AxisAngle>>) {
+                    // Values (a zero axis, the angle's range) are build_scene's to check.
+                    expect_object(v, p);
+                    check_keys(v, p, {"axis", "angle"});
+                    out = AxisAngle{get_vec3(require(v, p, "axis"), p + "/axis"),
+                                    get_number(require(v, p, "angle"), p + "/angle")};
                 } else {
                     fail(p, "internal: no reader for this field");
                 }
@@ -710,6 +716,8 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                 j[key] = a;
             } else if constexpr (std::is_same_v<T, std::string>) {
                 if (!v.empty()) j[key] = v;
+            } else if constexpr (std::is_same_v<T, std::optional<AxisAngle>>) {
+                if (v) j[key] = json{{"axis", vec_json(v->axis)}, {"angle", v->angle}};
             } else if constexpr (std::is_same_v<T, MeshData>) {
                 if (!v.positions.empty() || !v.indices.empty()) {
                     j["positions"] = array_json(v.positions, hashed);

@@ -153,7 +153,7 @@ class ShapeOut final : public PovShapeOut {
 class LightOut final : public PovLightOut {
   public:
     LightOut(PovWriter& w, const LightDesc& l, std::size_t index)
-        : PovLightOut(l, "/lights/" + std::to_string(index), w.m_opt), m_w(w) {}
+        : PovLightOut(l, "/lights/" + std::to_string(index), w.m_opt, w.m_desc.base_dir), m_w(w) {}
     [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
         m_w.fail(p, m);
     }

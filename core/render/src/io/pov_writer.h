@@ -47,12 +47,13 @@ class PovShapeOut {
 
 class PovLightOut {
   public:
-    PovLightOut(const LightDesc& l, std::string p, const PovExportOptions& o)
-        : light(l), pointer(std::move(p)), options(o) {}
+    PovLightOut(const LightDesc& l, std::string p, const PovExportOptions& o, std::string dir)
+        : light(l), pointer(std::move(p)), options(o), base_dir(std::move(dir)) {}
     virtual ~PovLightOut() = default;
     const LightDesc& light;
     const std::string pointer;  // "/lights/<index>"
     const PovExportOptions& options;
+    const std::string base_dir;  // resolves relative image files (SceneDescription::base_dir)
     [[noreturn]] virtual void fail(const std::string& pointer,
                                    const std::string& message) const = 0;
     virtual std::ostream& out() = 0;

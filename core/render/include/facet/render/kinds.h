@@ -43,6 +43,7 @@ enum class FieldType : std::uint8_t {
     Quad,       // 4 points [[x, y, z] x 4]
     Path,       // a non-empty string (a file, relative to the scene file)
     Text,       // a non-empty string (a name from a list)
+    Rotation,   // {"axis": [x, y, z], "angle": degrees} (AxisAngle)
     MeshArrays  // "positions" (required unless "file"), "indices", "normals": flat arrays
 };
 
@@ -50,7 +51,8 @@ template <class Desc>
 struct Field {
     using Member = std::variant<Vec3 Desc::*, std::optional<Vec3> Desc::*, double Desc::*,
                                 std::optional<double> Desc::*, int Desc::*, bool Desc::*,
-                                std::array<Vec3, 4> Desc::*, std::string Desc::*, MeshData Desc::*>;
+                                std::array<Vec3, 4> Desc::*, std::string Desc::*, MeshData Desc::*,
+                                std::optional<AxisAngle> Desc::*>;
     std::string_view key;
     FieldType type;
     bool required;

@@ -39,9 +39,11 @@
 //    multiple importance sampling of BSDF-sampled rays. 0 for delta lights.
 //  - Area lights emit only from the FRONT side of their shape (the side the geometric normal of
 //    the shape points to, see scene.h); `le(n_light, w)` is the radiance leaving toward w.
-//  - `ctx.n` is the (unit) shading normal on the side being lit, used by the environment to
-//    sample the cosine-weighted hemisphere; pass n = 0 for a point not on a surface (then the
-//    environment is sampled uniformly over the sphere). Spheres are sampled in the cone they
+//  - `ctx.n` is the (unit) shading normal on the side being lit, used by the constant
+//    environment to sample the cosine-weighted hemisphere; pass n = 0 for a point not on a
+//    surface (then the constant environment is sampled uniformly over the sphere). An
+//    environment map ignores ctx and samples its own importance density over the whole sphere
+//    (environment_map.h). Spheres are sampled in the cone they
 //    subtend (pdf per solid angle), triangles, quads, boxes, meshes and discs uniformly by area
 //    (converted to solid angle: pdf = r^2 / (A |cos theta_l|)). A light of exactly two triangles
 //    that form a parallelogram (a quad light) maps u straight onto the parallelogram,
@@ -53,10 +55,12 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
+#include <memory>
 #include <optional>
 #include <span>
 #include <vector>
 
+#include "facet/render/environment_map.h"
 #include "facet/render/precision.h"
 #include "facet/types.h"
 
@@ -100,6 +104,9 @@ class Light {
     // is the full angular diameter of the light's disc of directions (Blender's sun angle).
     static Light directional(const Vec3& direction, const Rgb& irradiance, float angle_deg = 0.f);
     static Light environment(const Rgb& radiance);
+    // Environment map (environment_map.h): le_escape looks the map up, sample_li and pdf_li use
+    // its importance density; emission() is its mean radiance.
+    static Light environment_map(std::shared_ptr<const EnvironmentMap> map);
     // Area light over world-space triangles (p0, p1, p2 per triangle, front side by the
     // counter-clockwise winding: n = normalize(cross(p1 - p0, p2 - p0))). Degenerate triangles
     // are dropped; at least one must remain.
@@ -141,6 +148,9 @@ class Light {
     // Total emitted power (W per channel) for choosing lights in proportion to power.
     // Directional and environment lights need the radius of the scene's bounding sphere.
     Rgb power(float scene_radius) const;
+
+    // The environment's map, or null (a constant environment or another kind).
+    const EnvironmentMap* map() const { return m_map.get(); }
 
     // Parameters, for exporters, tests and --explain.
     const Vec3& position() const { return m_position; }    // point, spot; sphere/disc centre
@@ -201,9 +211,10 @@ class Light {
     Vec3 m_sample_err{0.f};
     float m_area = 0.f;
     float m_inv_area = 0.f;
-    std::vector<Vec3> m_tri;       // 3 vertices per triangle
-    std::vector<Vec3> m_tri_n;     // unit front normal per triangle
-    std::vector<float> m_tri_cdf;  // running area fraction, last = 1
+    std::vector<Vec3> m_tri;                      // 3 vertices per triangle
+    std::vector<Vec3> m_tri_n;                    // unit front normal per triangle
+    std::vector<float> m_tri_cdf;                 // running area fraction, last = 1
+    std::shared_ptr<const EnvironmentMap> m_map;  // environment map (shared by copies)
 };
 
 // Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
@@ -244,17 +255,19 @@ class Light {
     return finish_area_sample(ctx, s);
 }
 
-// Whether next-event estimation samples this light. Every light but the environment: its
-// radiance is constant, so the BSDF sample that continues a path already draws wi in
-// proportion to f cos L up to visibility (the best a light sample could do), while a light
-// sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
+// Whether next-event estimation samples this light. Every light but the constant environment
+// (an environment map is sampled by its importance density, combined with the BSDF sample by
+// MIS: a small bright sun is found by the light sample, the BSDF sample would rarely hit it).
+// The constant environment's radiance is constant, so the BSDF sample that continues a path already
+// draws wi in proportion to f cos L up to visibility (the best a light sample could do), while a
+// light sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
 // scene's near-specular floor almost every such shadow ray fell outside the lobe) and takes the
 // shadow ray from the lights that need it (56% of the brushed scene's, by power). The path
 // integrator therefore finds the environment by BSDF sampling alone: its selection pmf is 0, so
 // the MIS weight of an escaping BSDF ray is 1 (power heuristic with a zero light pdf). The
 // `direct` integrator, which has no BSDF rays, still samples it (Light::sample_li).
 inline bool nee_samples(const Light& light) {
-    return light.kind() != Light::Kind::Environment;
+    return light.kind() != Light::Kind::Environment || light.map() != nullptr;
 }
 
 // The discrete distribution next-event estimation chooses lights from: probability in

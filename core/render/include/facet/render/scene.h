@@ -296,7 +296,7 @@ class Scene {
 struct SceneLimits {
     std::uint64_t max_triangles = std::uint64_t(1) << 26;  // 67M triangles in the whole scene
     std::int64_t max_pixels = std::int64_t(1) << 28;
-    bool allow_files = true;  // mesh "file" entries
+    bool allow_files = true;  // mesh "file" entries and environment map images
 };
 
 // Loads a scene file (JSON, scenes/FORMAT.md): read_scene_description() then build_scene()

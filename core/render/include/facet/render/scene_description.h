@@ -109,6 +109,14 @@ struct ShapeDesc {
 
 enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment, Area };
 
+// A rotation by `angle` degrees about `axis` (need not be unit; right-handed: counter-clockwise
+// seen from the axis' tip). JSON: {"axis": [x, y, z], "angle": degrees}.
+struct AxisAngle {
+    Vec3 axis{0.f, 0.f, 1.f};
+    double angle = 0.0;
+    bool operator==(const AxisAngle&) const = default;
+};
+
 // One element of "lights".
 struct LightDesc {
     LightKind kind = LightKind::Point;
@@ -120,7 +128,6 @@ struct LightDesc {
     std::optional<double> inner_angle;  // spot; none = outer_angle
     std::optional<double> spot_blend;   // spot: Blender's blend (instead of inner_angle)
     Rgb irradiance{0.f};                // directional: W/m^2
-    Rgb radiance{0.f};                  // environment: W sr^-1 m^-2
     std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
     std::optional<double> angle;        // directional: full angular diameter, degrees; none = 0
     // Area lamp: shape, size (x), size_y (rectangle, ellipse), up (its local +y); position,
@@ -128,6 +135,12 @@ struct LightDesc {
     std::string shape = "square";
     double size = 0.0;
     std::optional<double> size_y;
+    // Environment: W sr^-1 m^-2 (required without a file); with a file, the map's multiplier
+    // (none = 1).
+    std::optional<Rgb> radiance;
+    std::string file;                 // environment map image ("" = a constant environment)
+    std::optional<AxisAngle> rotate;  // environment map orientation (environment_map.h)
+    // Area lamp: its local +y (none: see the kind); environment map: its up (none = [0, 0, 1]).
     std::optional<Vec3> up;
     bool operator==(const LightDesc&) const = default;
 };

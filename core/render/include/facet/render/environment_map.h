@@ -1,0 +1,93 @@
+// An environment map: radiance arriving from every direction, read from an equirectangular
+// (latitude-longitude) image, and its importance sampling.
+//
+// Conventions:
+//  - Mapping (Blender's Environment Texture, equirectangular, Z up; checked in Blender 3.4).
+//    A direction d is first taken into the map's frame, l = M^T d (M below), then
+//        u = 0.5 - atan2(l.y, l.x) / (2 pi)   in [0, 1], from the image's LEFT edge,
+//        v = acos(l.z) / pi                   in [0, 1], from the image's TOP row,
+//    so the centre column looks toward +X, u = 0.25 toward +Y, u = 0.75 toward -Y, the seam
+//    (u = 0 and 1) toward -X, the top row straight up (+Z) and the middle row the horizon.
+//    Inversely, with phi = pi - 2 pi u and theta = pi v: l = (sin theta cos phi,
+//    sin theta sin phi, cos theta).
+//  - Orientation M (world = M l, a rotation): M = R_rotate * R_up. R_up is the smallest rotation
+//    taking +Z to the unit `up` (the identity for up = +Z; a half turn about X for up = -Z),
+//    R_rotate the right-handed rotation by `angle` about `axis` (counter-clockwise seen from the
+//    axis' tip, as a shape's "rotate"), applied in world space after R_up. Blender's Mapping
+//    node rotating the lookup vector by a corresponds to angle -a.
+//  - Texel lookup: bilinear (Blender's default "Linear" interpolation), texel (x, y) centred at
+//    ((x + 0.5) / W, (y + 0.5) / H); wrapping around in u (the seam is continuous), clamped to
+//    the first and last row in v. Radiance = multiplier * lookup (RGB; a grey image is grey,
+//    alpha is ignored).
+//  - Importance sampling (pbrt-v4's ImageInfiniteLight, Pharr, Jakob & Humphreys 4th ed.
+//    §12.5.2): a piecewise-constant density over (u, v) with one cell per texel, marginal over
+//    rows and conditional within a row. Cell (x, y) has weight
+//        w(x, y) = Ybar(x, y) * sin(theta_y),   theta_y = pi (y + 0.5) / H,
+//    where Ybar is the mean of the bilinear lookup's Rec. 709 luminance over the texel's cell
+//    (the 3x3 neighbourhood weighted by the tent-filter cell means [1/8, 3/4, 1/8] in each
+//    axis), so a cell gets a non-zero weight wherever the bilinear lookup is non-zero there:
+//    every direction with radiance has a non-zero density (an unbiased sampler on its own, as the
+//    `direct` integrator uses it). The density is at full resolution (no coarser table): a
+//    1-texel sun keeps its own cell. Per solid angle (d omega = 2 pi^2 sin theta du dv):
+//        pdf(d) = p(u, v) / (2 pi^2 sin theta),  p(u, v) = W H w(x, y) / sum w,
+//    and 0 at the poles (sin theta = 0) and where the lookup is black everywhere in the cell.
+//    sample() and pdf() agree exactly up to float round-off at cell edges.
+#pragma once
+
+#include <memory>
+#include <vector>
+
+#include "facet/types.h"
+
+namespace facet::render {
+
+struct TexelImage;
+
+class EnvironmentMap {
+  public:
+    // `image` as read by load_texel_image (row 0 at the top, >= 1 channel, validated finite and
+    // non-negative); `multiplier` >= 0 per channel; `frame` = M (columns: the map's X, Y, Z
+    // axes in world space, orthonormal, right-handed).
+    EnvironmentMap(const TexelImage& image, const Rgb& multiplier, const glm::mat3& frame);
+
+    int width() const { return m_width; }
+    int height() const { return m_height; }
+
+    // Radiance arriving along world direction d (unit), i.e. seen when looking toward d.
+    Rgb eval(const Vec3& d) const;
+    // Solid-angle density with which sample() returns the unit world direction d.
+    float pdf(const Vec3& d) const;
+    struct Sample {
+        Vec3 wi{0.f};  // unit, world space
+        float pdf = 0.f;
+        Rgb radiance{0.f};
+    };
+    // Direction by the importance density from u in [0, 1)^2; pdf 0 (to be discarded) when the
+    // map is black or the sample lands on a pole.
+    Sample sample(Vec2 u) const;
+    // Radiance averaged over the sphere: (1 / 4 pi) * integral of eval over all directions,
+    // per texel (the bilinear lookup's cell means weighted by the cells' solid angles).
+    Rgb mean_radiance() const { return m_mean; }
+
+    // (u, v) of a world direction and back (see conventions); exposed for tests and exporters.
+    Vec2 direction_to_uv(const Vec3& d) const;
+    Vec3 uv_to_direction(Vec2 uv) const;
+
+  private:
+    Rgb texel(int x, int y) const { return m_texels[std::size_t(y) * m_width + x]; }
+    Rgb lookup(Vec2 uv) const;  // bilinear, without the multiplier
+    float cell_pdf(int x, int y) const;
+
+    int m_width = 0, m_height = 0;
+    std::vector<Rgb> m_texels;  // RGB per texel, multiplier applied
+    glm::mat3 m_frame{1.f};     // M: map -> world
+    glm::mat3 m_inverse{1.f};   // M^T: world -> map
+    Rgb m_mean{0.f};
+    // Piecewise-constant 2D distribution: m_row_cdf[y] = sum of row weights before row y + 1
+    // over the total (m_row_cdf[H - 1] = 1); m_col_cdf[y * W + x] likewise within row y; the
+    // cell density p(u, v) = W H w(x, y) / sum w is stored in m_cell_pdf.
+    std::vector<float> m_row_cdf, m_col_cdf, m_cell_pdf;
+    bool m_black = true;  // every weight is 0: sample() fails, pdf() is 0
+};
+
+}  // namespace facet::render
