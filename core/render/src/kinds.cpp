@@ -13,15 +13,15 @@
 namespace facet::render {
 
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
-    kIcosphereKind, kGridKind;
+    kIcosphereKind, kGridKind, kGltfKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind,
     kEnvironmentLightKind;
 
 namespace {
 
-const std::array<const ShapeKindDef*, 8> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
+const std::array<const ShapeKindDef*, 9> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
                                                         &kQuadKind,      &kDiscKind,  &kMeshKind,
-                                                        &kIcosphereKind, &kGridKind};
+                                                        &kIcosphereKind, &kGridKind,  &kGltfKind};
 const std::array<const LightKindDef*, 4> kLightKinds = {
     &kPointLightKind, &kSpotLightKind, &kDirectionalLightKind, &kEnvironmentLightKind};
 const std::array<std::string_view, 7> kCommonShapeKeys = {

@@ -77,6 +77,9 @@ struct ShapeKindDef {
     TriangleMesh (*triangles)(const ShapeDesc&, const std::string& base_dir);
     // Writes the shape as POV-Ray SDL (null: as the triangles of `triangles`).
     void (*pov)(PovShapeOut&);
+    // The kind brings its own materials (a glTF file's): "material" is optional, and when given
+    // replaces all of them.
+    bool own_materials = false;
 };
 
 struct LightKindDef {
