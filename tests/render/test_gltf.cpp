@@ -12,6 +12,7 @@
 #include <vector>
 
 #include "facet/render/gltf.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/scene_description.h"
 
 using namespace facet;
@@ -272,4 +273,28 @@ TEST(Gltf, BareFileSceneUsesTheFilesCameraOrFramesTheModel) {
     EXPECT_EQ(d.camera.look_at, Vec3(0.f));
     EXPECT_GT(glm::length(d.camera.position), 1.2f);
     EXPECT_NO_THROW(build_scene(d, "box.gltf"));
+}
+
+// export-pov: a gltf shape with a "material" exports as a mesh; the file's own materials are
+// an error naming the shape's file key (never silently dropped).
+TEST(Gltf, PovExportWritesAMeshOrNamesTheKey) {
+    // POV-Ray has no exact environment light: a point light instead.
+    auto pov_scene = [](std::string json) {
+        const std::string env = R"({"type": "environment", "radiance": 1})";
+        json.replace(json.find(env), env.size(),
+                     R"({"type": "point", "position": [0, -5, 0], "power": 100})");
+        return parse_scene_description(json, "t.json", kDir);
+    };
+    const SceneDescription own = pov_scene(scene_json("modes.gltf"));
+    try {
+        (void)export_pov(own, "t.json");
+        ADD_FAILURE() << "no error";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("/shapes/0/file"), std::string::npos) << e.what();
+    }
+    const SceneDescription one = pov_scene(
+        scene_json("modes.gltf", R"(, "material": {"model": "lambert", "reflectance": 0.3})"));
+    const std::string sdl = export_pov(one, "t.json");
+    EXPECT_NE(sdl.find("mesh2"), std::string::npos);
+    EXPECT_NE(sdl.find("face_indices { 6,"), std::string::npos) << sdl;
 }
