@@ -1,6 +1,7 @@
 # SceneDescription from Python: JSON read/write round trips, a numpy-built scene against its
 # JSON twin (bit for bit), zero-copy meshes kept alive, and clear errors for bad arrays.
 import gc
+import pathlib
 import subprocess
 import pickle
 
@@ -168,3 +169,24 @@ def test_export_pov_from_python(tmp_path, scenes_dir, facet_cli):
     d.lights.append(facet.LightDesc("environment", radiance=0.1))
     with pytest.raises(ValueError, match=r"^cornell: /lights/0: an environment light"):
         facet.export_pov(d, str(out), name="cornell")
+
+
+def test_gltf_shape_through_the_kind_table():
+    # The gltf kind's keys come from the kind table like every other kind's; its parts keep
+    # their own materials, and what is not converted is in Scene.warnings.
+    gltf_dir = pathlib.Path(__file__).resolve().parent.parent / "render" / "gltf"
+    s = facet.ShapeDesc("gltf", file=str(gltf_dir / "modes.gltf"))
+    assert s.file.endswith("modes.gltf")
+    with pytest.raises(TypeError, match=r"ShapeDesc has no field 'radius' for kind 'gltf'"):
+        facet.ShapeDesc("gltf", radius=1)
+    d = ts.numpy_description()
+    d.shapes = [s]
+    d.lights = [facet.LightDesc("environment", radiance=1.0)]
+    scene = facet.build_scene(d)
+    assert any("modes.gltf#/meshes/0/primitives/3/mode" in w for w in scene.warnings), \
+        scene.warnings
+    img = facet.render(scene, spp=1)
+    assert np.isfinite(img).all()
+    d.shapes = [facet.ShapeDesc("gltf", file=str(gltf_dir / "bad_index.gltf"))]
+    with pytest.raises(ValueError, match=r"/shapes/0/file: bad_index.gltf#/accessors/1: index 2"):
+        facet.build_scene(d)
