@@ -36,8 +36,7 @@ Vec3 tri_normal(const TriangleMesh& m, std::size_t t) {
 }
 
 // A scene of one gltf shape (plus `extra` keys) under a constant environment.
-std::string scene_json(const std::string& file, const std::string& extra = "",
-                       bool light = true) {
+std::string scene_json(const std::string& file, const std::string& extra = "", bool light = true) {
     return R"({"format": "facet-scene", "version": 1,
       "camera": {"position": [0, -8, 0], "look_at": [0, 0, 0], "up": [0, 0, 1],
                  "fov": 40, "width": 8, "height": 8},
@@ -185,13 +184,13 @@ TEST(Gltf, EmissivePartsAreLightsAndMaterialReplacesTheFiles) {
     EXPECT_EQ(s.shapes()[0].parts[0].emission, Rgb(3.f, 1.5f, 0.f));
     EXPECT_TRUE(s.shapes()[0].parts[0].two_sided);
 
-    const Scene o = build(scene_json(
-        "modes.gltf", R"(, "material": {"model": "lambert", "reflectance": 0.3})"));
+    const Scene o = build(
+        scene_json("modes.gltf", R"(, "material": {"model": "lambert", "reflectance": 0.3})"));
     EXPECT_TRUE(o.shapes()[0].parts.empty());
     EXPECT_EQ(o.shapes()[0].triangles, 6u);
-    EXPECT_NE(build_error(scene_json("modes.gltf", R"(, "emission": 1)"))
-                  .find("/shapes/0/emission"),
-              std::string::npos);
+    EXPECT_NE(
+        build_error(scene_json("modes.gltf", R"(, "emission": 1)")).find("/shapes/0/emission"),
+        std::string::npos);
 }
 
 // Bad data: each error names the file and the glTF pointer.
@@ -213,16 +212,15 @@ TEST(Gltf, BadFilesNameTheGltfPointer) {
 
 // Real assets: the right triangle counts, their textures reported (not silently dropped).
 TEST(Gltf, RealAssetsLoadAndReportTheirTextures) {
-    for (const char* f : {"BoxTextured-glTF/BoxTextured.gltf",
-                          "BoxTextured-glTF-Binary/BoxTextured.glb"}) {
+    for (const char* f :
+         {"BoxTextured-glTF/BoxTextured.gltf", "BoxTextured-glTF-Binary/BoxTextured.glb"}) {
         if (!std::filesystem::exists(kAssimp + f)) GTEST_SKIP() << "assimp-testmodels absent";
         const GltfImport g = import_gltf(kAssimp + f);
         std::uint64_t n = 0;
         for (const GltfPart& p : g.parts) n += p.mesh.num_triangles();
         EXPECT_EQ(n, 12u) << f;
         const std::string r = joined(g.reports);
-        EXPECT_NE(r.find("#/materials/0/pbrMetallicRoughness/baseColorTexture"),
-                  std::string::npos)
+        EXPECT_NE(r.find("#/materials/0/pbrMetallicRoughness/baseColorTexture"), std::string::npos)
             << r;
         EXPECT_NE(r.find("TEXCOORD_0"), std::string::npos) << r;
     }
@@ -238,8 +236,7 @@ TEST(Gltf, MalformedAssetsGiveClearErrors) {
         {"BoxWithInfinites-glTF-Binary/BoxWithInfinites.glb", "#/accessors/2: position 0 is not"},
         {"IncorrectVertexArrays/Cube.gltf", "#/meshes/1/primitives/0: TRIANGLES with 35"},
         {"SchemaFailures/sceneWrongType.gltf", "sceneWrongType.gltf: not a readable glTF"},
-        {"draco/2CylinderEngine.gltf",
-         "#/extensionsRequired/0: 'KHR_draco_mesh_compression'"},
+        {"draco/2CylinderEngine.gltf", "#/extensionsRequired/0: 'KHR_draco_mesh_compression'"},
         {"MissingBin/BoxTextured.gltf", "BoxTextured.gltf: not a readable glTF"},
         {"RecursiveNodes/RecursiveNodes.gltf", "#/nodes/1/children/0: node 0 is reached twice"},
         {"TestNoRootNode/NoScene.gltf", "#/scene: scene 0 does not exist"},

@@ -131,6 +131,12 @@ std::span<const std::string_view> common_shape_keys() {
     return kCommonShapeKeys;
 }
 
+std::string resolve_path(const std::string& file, const std::string& base_dir) {
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    return p.string();
+}
+
 TriangleMesh load_mesh_file(const std::string& path) {
     std::string ext = std::filesystem::path(path).extension().string();
     std::transform(ext.begin(), ext.end(), ext.begin(),

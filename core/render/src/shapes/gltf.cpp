@@ -53,12 +53,6 @@ constexpr double kDielectricF0 = 0.04;
 // almost certainly broken, and the traversal keeps a stack of this size at most).
 constexpr std::size_t kMaxNodeDepth = 1024;
 
-std::string resolve(const std::string& file, const std::string& base_dir) {
-    std::filesystem::path p(file);
-    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    return p.string();
-}
-
 std::string idx(std::size_t i) {
     return std::to_string(i);
 }
@@ -129,6 +123,16 @@ class Importer {
   private:
     [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
         throw std::runtime_error(m_file + "#" + pointer + ": " + message);
+    }
+    // The file's `array[index]`, or an error at `ptr` naming the missing element.
+    template <class T>
+    const T& element(const std::vector<T>& array, int index, const std::string& ptr,
+                     const char* what) const {
+        if (index < 0 || std::size_t(index) >= array.size()) {
+            fail(ptr, std::string(what) + " " + std::to_string(index) +
+                          " does not exist (the file has " + idx(array.size()) + ")");
+        }
+        return array[std::size_t(index)];
     }
     // Reported once per `key` (an extension, a material's texture slot, an attribute name).
     void report(const std::string& key, const std::string& pointer, const std::string& message) {
@@ -347,24 +351,11 @@ class Importer {
                                " does not exist (the file has no scenes)");
         }
         if (!m_model.scenes.empty()) {
-            std::size_t s = 0;
-            std::string sp = "/scenes/0";
-            if (m_model.defaultScene >= 0) {
-                if (std::size_t(m_model.defaultScene) >= m_model.scenes.size()) {
-                    fail("/scene", "scene " + std::to_string(m_model.defaultScene) +
-                                       " does not exist (the file has " +
-                                       idx(m_model.scenes.size()) + ")");
-                }
-                s = std::size_t(m_model.defaultScene);
-                sp = "/scenes/" + idx(s);
-            }
-            const std::vector<int>& r = m_model.scenes[s].nodes;
+            const int s = std::max(m_model.defaultScene, 0);
+            const std::string sp = "/scenes/" + std::to_string(s);
+            const std::vector<int>& r = element(m_model.scenes, s, "/scene", "scene").nodes;
             for (std::size_t j = 0; j < r.size(); ++j) {
-                if (r[j] < 0 || std::size_t(r[j]) >= n) {
-                    fail(sp + "/nodes/" + idx(j), "node " + std::to_string(r[j]) +
-                                                      " does not exist (the file has " + idx(n) +
-                                                      ")");
-                }
+                element(m_model.nodes, r[j], sp + "/nodes/" + idx(j), "node");
             }
             return r;
         }
@@ -445,22 +436,14 @@ class Importer {
             for (std::size_t j = nd.children.size(); j-- > 0;) {
                 const int c = nd.children[j];
                 const std::string cp = np + "/children/" + idx(j);
-                if (c < 0 || std::size_t(c) >= m_model.nodes.size()) {
-                    fail(cp, "node " + std::to_string(c) + " does not exist (the file has " +
-                                 idx(m_model.nodes.size()) + ")");
-                }
+                element(m_model.nodes, c, cp, "node");
                 stack.push_back({c, world, cp, it.depth + 1});
             }
         }
     }
 
     void camera(const tinygltf::Node& nd, const glm::dmat4& world, const std::string& np) {
-        const std::size_t n = m_model.cameras.size();
-        if (std::size_t(nd.camera) >= n) {
-            fail(np + "/camera", "camera " + std::to_string(nd.camera) +
-                                     " does not exist (the file has " + idx(n) + ")");
-        }
-        const tinygltf::Camera& c = m_model.cameras[std::size_t(nd.camera)];
+        const tinygltf::Camera& c = element(m_model.cameras, nd.camera, np + "/camera", "camera");
         const std::string cp = "/cameras/" + std::to_string(nd.camera);
         if (m_out.camera) return;  // the first camera in traversal order is the one used
         if (c.type != "perspective") {
@@ -496,12 +479,7 @@ class Importer {
 
     Elements accessor(int index, const std::string& user, std::initializer_list<int> types,
                       std::initializer_list<int> components) const {
-        const std::size_t na = m_model.accessors.size();
-        if (index < 0 || std::size_t(index) >= na) {
-            fail(user, "accessor " + std::to_string(index) + " does not exist (the file has " +
-                           idx(na) + ")");
-        }
-        const tinygltf::Accessor& a = m_model.accessors[std::size_t(index)];
+        const tinygltf::Accessor& a = element(m_model.accessors, index, user, "accessor");
         const std::string ap = "/accessors/" + std::to_string(index);
         const std::string used = " (used by " + user + ")";
         if (std::find(types.begin(), types.end(), a.type) == types.end()) {
@@ -522,19 +500,10 @@ class Importer {
             fail(ap,
                  "has no bufferView (Draco-compressed or all-zero data are not supported)" + used);
         }
-        const std::size_t nv = m_model.bufferViews.size();
-        if (std::size_t(a.bufferView) >= nv) {
-            fail(ap + "/bufferView", "buffer view " + std::to_string(a.bufferView) +
-                                         " does not exist (the file has " + idx(nv) + ")");
-        }
-        const tinygltf::BufferView& v = m_model.bufferViews[std::size_t(a.bufferView)];
+        const tinygltf::BufferView& v =
+            element(m_model.bufferViews, a.bufferView, ap + "/bufferView", "buffer view");
         const std::string vp = "/bufferViews/" + std::to_string(a.bufferView);
-        const std::size_t nb = m_model.buffers.size();
-        if (v.buffer < 0 || std::size_t(v.buffer) >= nb) {
-            fail(vp + "/buffer", "buffer " + std::to_string(v.buffer) +
-                                     " does not exist (the file has " + idx(nb) + ")");
-        }
-        const tinygltf::Buffer& b = m_model.buffers[std::size_t(v.buffer)];
+        const tinygltf::Buffer& b = element(m_model.buffers, v.buffer, vp + "/buffer", "buffer");
         const std::string bp = "/buffers/" + std::to_string(v.buffer);
         if (b.data.empty()) fail(bp, "the buffer is missing or empty" + used);
         // Sizes from the file may be anything: compare without overflow.
@@ -633,11 +602,7 @@ class Importer {
     }
 
     void mesh(int mesh_index, const glm::dmat4& world, const std::string& np) {
-        const std::size_t nm = m_model.meshes.size();
-        if (std::size_t(mesh_index) >= nm) {
-            fail(np + "/mesh", "mesh " + std::to_string(mesh_index) +
-                                   " does not exist (the file has " + idx(nm) + ")");
-        }
+        const tinygltf::Mesh& me = element(m_model.meshes, mesh_index, np + "/mesh", "mesh");
         const glm::dmat3 lin(world);
         const double det = glm::determinant(lin);
         if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) {
@@ -647,7 +612,6 @@ class Importer {
             return;
         }
         const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
-        const tinygltf::Mesh& me = m_model.meshes[std::size_t(mesh_index)];
         const std::string mp = "/meshes/" + std::to_string(mesh_index);
         for (std::size_t pi = 0; pi < me.primitives.size(); ++pi) {
             const tinygltf::Primitive& pr = me.primitives[pi];
@@ -726,11 +690,7 @@ class Importer {
             part.pointer = pp;
             part.mesh = std::move(m);
             if (pr.material >= 0) {
-                if (std::size_t(pr.material) >= m_model.materials.size()) {
-                    fail(pp + "/material", "material " + std::to_string(pr.material) +
-                                               " does not exist (the file has " +
-                                               idx(m_model.materials.size()) + ")");
-                }
+                element(m_model.materials, pr.material, pp + "/material", "material");
                 part.material = pr.material;
             } else {
                 part.material = default_material(pp);
@@ -768,7 +728,7 @@ TriangleMesh merged(const GltfImport& g) {
 }
 
 TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
-    return merged(import_gltf(resolve(s.file, base_dir)));
+    return merged(import_gltf(resolve_path(s.file, base_dir)));
 }
 
 bool replaces_materials(const ShapeDesc& s) {
@@ -781,7 +741,7 @@ void build(ShapeBuild& b) {
     if (!b.files_allowed()) b.fail(fp, "files are disabled here");
     GltfImport g;
     try {
-        g = import_gltf(resolve(s.file, b.base_dir()));
+        g = import_gltf(resolve_path(s.file, b.base_dir()));
     } catch (const std::exception& e) {
         b.fail(fp, e.what());
     }

@@ -11,15 +11,9 @@ namespace facet::render {
 
 namespace {
 
-std::string resolve(const std::string& file, const std::string& base_dir) {
-    std::filesystem::path p(file);
-    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    return p.string();
-}
-
 // The mesh as given (arrays copied; normals as given, not normalised).
 TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
-    if (!s.file.empty()) return load_mesh_file(resolve(s.file, base_dir));
+    if (!s.file.empty()) return load_mesh_file(resolve_path(s.file, base_dir));
     const MeshData& md = s.mesh;
     TriangleMesh m;
     const std::size_t n = md.num_vertices();

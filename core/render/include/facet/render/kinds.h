@@ -110,6 +110,9 @@ std::vector<std::string> light_kind_names();
 // Keys every shape accepts besides its kind's fields.
 std::span<const std::string_view> common_shape_keys();
 
+// A shape's file path: relative paths are relative to `base_dir` (the scene file's folder).
+std::string resolve_path(const std::string& file, const std::string& base_dir);
+
 // Loads a triangle mesh file, chosen by its extension (.obj, .ply; case-insensitive); throws
 // std::runtime_error naming the file for any other extension or a malformed file. The one
 // mesh-file loader of the scene builder and every exporter.
