@@ -7,6 +7,8 @@
 #include <glm/glm.hpp>
 
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <stdexcept>
 #include <string>
 #include <vector>
@@ -294,4 +296,24 @@ TEST(Gltf, PovExportWritesAMeshOrNamesTheKey) {
     const std::string sdl = export_pov(one, "t.json");
     EXPECT_NE(sdl.find("mesh2"), std::string::npos);
     EXPECT_NE(sdl.find("face_indices { 6,"), std::string::npos) << sdl;
+}
+
+// The binary container (.glb) of the same box gives the same triangles, and bytes in memory
+// (parse_gltf, the fuzzer's entry) give what the file gives.
+TEST(Gltf, GlbAndMemoryGiveTheSameTriangles) {
+    const GltfImport a = import_gltf(kDir + "/box.gltf");
+    const GltfImport b = import_gltf(kDir + "/box.glb");
+    ASSERT_EQ(a.parts.size(), 1u);
+    ASSERT_EQ(b.parts.size(), 1u);
+    EXPECT_EQ(a.parts[0].mesh.positions, b.parts[0].mesh.positions);
+    EXPECT_EQ(a.parts[0].mesh.indices, b.parts[0].mesh.indices);
+    std::ifstream in(kDir + "/box.glb", std::ios::binary);
+    const std::string bytes((std::istreambuf_iterator<char>(in)), {});
+    const GltfImport c = parse_gltf(bytes, "box.glb");
+    ASSERT_EQ(c.parts.size(), 1u);
+    EXPECT_EQ(c.parts[0].mesh.positions, a.parts[0].mesh.positions);
+    // From memory, an external buffer is refused, not read.
+    const std::string ext = R"({"asset": {"version": "2.0"}, "buffers": [{"byteLength": 4,
+        "uri": "/etc/passwd"}]})";
+    EXPECT_THROW(parse_gltf(ext, "ext.gltf"), std::runtime_error);
 }

@@ -48,6 +48,7 @@ def box():
     m = w.mesh([{"positions": pos, "normals": nrm, "indices": idx, "material": mat}])
     w.node(mesh=m)
     w.write(os.path.join(HERE, "box.gltf"))
+    w.write(os.path.join(HERE, "box.glb"))  # the same box as a binary glTF
 
 
 TRI = [(0.0, 0.0, 0.0), (1.0, 0.0, 0.0), (0.0, 1.0, 0.0)]

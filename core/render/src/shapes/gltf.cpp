@@ -106,6 +106,9 @@ class Importer {
   public:
     explicit Importer(std::string path)
         : m_path(std::move(path)), m_file(std::filesystem::path(m_path).filename().string()) {}
+    // From bytes in memory (the fuzzer), named `name`; external files are refused.
+    Importer(std::string_view bytes, std::string name)
+        : m_file(std::move(name)), m_memory(bytes), m_in_memory(true) {}
 
     GltfImport run() {
         load();
@@ -145,6 +148,7 @@ class Importer {
         tinygltf::TinyGLTF loader;
         loader.SetImageLoader(skip_image, nullptr);
         std::string err, warn;
+        if (m_in_memory) return load_memory(loader);
         std::string ext = std::filesystem::path(m_path).extension().string();
         for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
         if (ext != ".gltf" && ext != ".glb") {
@@ -156,10 +160,43 @@ class Importer {
         }
         const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&m_model, &err, &warn, m_path)
                                       : loader.LoadASCIIFromFile(&m_model, &err, &warn, m_path);
-        if (!ok) {
+        if (!ok && ext == ".gltf") {
             // tinygltf fails on Draco-only accessors before its caller sees the required
             // extensions: name them first when the JSON of a .gltf lists them.
-            if (ext == ".gltf") check_required_in_json();
+            std::ifstream in(m_path);
+            check_required_in_json(std::string(std::istreambuf_iterator<char>(in), {}));
+        }
+        loaded(ok, err, warn);
+    }
+
+    // tinygltf's filesystem for bytes in memory: no file exists, none can be read.
+    static bool no_file(const std::string&, void*) { return false; }
+    static std::string same_path(const std::string& p, void*) { return p; }
+    static bool no_read(std::vector<unsigned char>*, std::string* err, const std::string& p,
+                        void*) {
+        if (err) *err += "external file '" + p + "' refused (reading from memory)\n";
+        return false;
+    }
+    static bool no_write(std::string*, const std::string&, const std::vector<unsigned char>&,
+                         void*) {
+        return false;
+    }
+
+    void load_memory(tinygltf::TinyGLTF& loader) {
+        loader.SetFsCallbacks({no_file, same_path, no_read, no_write, nullptr});
+        std::string err, warn;
+        const auto* bytes = reinterpret_cast<const unsigned char*>(m_memory.data());
+        const auto n = unsigned(std::min<std::size_t>(m_memory.size(), 1u << 30));
+        const bool binary = m_memory.substr(0, 4) == "glTF";
+        const bool ok =
+            binary ? loader.LoadBinaryFromMemory(&m_model, &err, &warn, bytes, n, "")
+                   : loader.LoadASCIIFromString(&m_model, &err, &warn, m_memory.data(), n, "");
+        if (!ok && !binary) check_required_in_json(std::string(m_memory));
+        loaded(ok, err, warn);
+    }
+
+    void loaded(bool ok, std::string& err, const std::string& warn) {
+        if (!ok) {
             while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
             throw std::runtime_error(m_file + ": not a readable glTF 2.0 file: " +
                                      (err.empty() ? std::string("tinygltf failed") : err));
@@ -178,9 +215,8 @@ class Importer {
 
     // The top-level "extensionsRequired" of a .gltf that tinygltf could not load (nlohmann's
     // JSON reader; any failure leaves tinygltf's own message to be reported).
-    void check_required_in_json() {
-        std::ifstream in(m_path);
-        const nlohmann::json j = nlohmann::json::parse(in, nullptr, false);
+    void check_required_in_json(const std::string& text) {
+        const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
         if (!j.is_object() || !j.contains("extensionsRequired")) return;
         const nlohmann::json& r = j["extensionsRequired"];
         if (!r.is_array()) return;
@@ -700,6 +736,8 @@ class Importer {
     }
 
     std::string m_path, m_file;
+    std::string_view m_memory;
+    bool m_in_memory = false;
     tinygltf::Model m_model;
     GltfImport m_out;
     std::set<std::string> m_reported;
@@ -797,6 +835,10 @@ void pov(PovShapeOut& o) {
 
 GltfImport import_gltf(const std::string& path) {
     return Importer(path).run();
+}
+
+GltfImport parse_gltf(std::string_view bytes, const std::string& name) {
+    return Importer(bytes, name).run();
 }
 
 SceneDescription gltf_scene_description(const std::string& path, int width, int height,

@@ -94,9 +94,25 @@ class GltfWriter:
         return i
 
     def write(self, path):
-        uri = "data:application/octet-stream;base64," + base64.b64encode(bytes(self.data)).decode()
-        self.doc["buffers"] = [{"byteLength": len(self.data), "uri": uri}]
+        """A .gltf with a base64 data-URI buffer, or (path ending .glb) a binary glTF: a
+        12-byte header, a JSON chunk and a BIN chunk, each padded to 4 bytes (spec 4.4)."""
+        glb = path.endswith(".glb")
+        if glb:
+            self.doc["buffers"] = [{"byteLength": len(self.data)}]
+        else:
+            uri = ("data:application/octet-stream;base64," +
+                   base64.b64encode(bytes(self.data)).decode())
+            self.doc["buffers"] = [{"byteLength": len(self.data), "uri": uri}]
         doc = {k: v for k, v in self.doc.items() if v != []}
-        with open(path, "w") as f:
-            json.dump(doc, f, indent=1)
-            f.write("\n")
+        if not glb:
+            with open(path, "w") as f:
+                json.dump(doc, f, indent=1)
+                f.write("\n")
+            return
+        text = json.dumps(doc).encode()
+        text += b" " * (-len(text) % 4)
+        binary = bytes(self.data) + b"\0" * (-len(self.data) % 4)
+        chunks = (struct.pack("<I4s", len(text), b"JSON") + text +
+                  struct.pack("<I4s", len(binary), b"BIN\0") + binary)
+        with open(path, "wb") as f:
+            f.write(struct.pack("<4sII", b"glTF", 2, 12 + len(chunks)) + chunks)

@@ -12,6 +12,7 @@
 
 #include <optional>
 #include <string>
+#include <string_view>
 #include <vector>
 
 #include "facet/render/mesh.h"
@@ -54,6 +55,9 @@ struct GltfImport {
 
 // Reads a .gltf or .glb file (tinygltf; images are not decoded).
 GltfImport import_gltf(const std::string& path);
+// The same from bytes in memory (a .glb when they start with "glTF", else .gltf JSON), named
+// `name` in messages; external buffers and images are refused (data: URIs work). For fuzzing.
+GltfImport parse_gltf(std::string_view bytes, const std::string& name);
 
 // The scene `facet render model.glb` renders: the file as one `gltf` shape, its first
 // perspective camera (the image width then follows the camera's aspect ratio when it has one)
