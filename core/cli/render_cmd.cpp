@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "facet/render/gltf.h"
 #include "facet/render/image.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
@@ -98,6 +99,21 @@ void print_explain(const render::Scene& scene, const render::KernelChoice& k,
     std::fflush(stdout);
 }
 
+// A scene file, or a bare glTF file (.gltf, .glb) with its camera or one framing it and a
+// constant environment (render::gltf_scene_description); the choices made go to stderr.
+render::Scene load_scene_or_gltf(const std::string& path) {
+    const std::string e = extension_of(path);
+    if (e != ".gltf" && e != ".glb") return render::load_scene(path);
+    // The image size of a bare glTF render; the file's camera aspect ratio sets the width.
+    constexpr int kWidth = 640, kHeight = 480;
+    std::vector<std::string> notes;
+    const render::SceneDescription desc =
+        render::gltf_scene_description(path, kWidth, kHeight, notes);
+    for (const std::string& n : notes)
+        std::fprintf(stderr, "facet: render: %s: %s\n", path.c_str(), n.c_str());
+    return render::build_scene(desc, path);
+}
+
 void run_render(const RenderCmdOptions& o) {
     if (o.outputs.empty() && !o.explain)
         throw std::runtime_error("render: no output: give -o out.exr and/or -o out.png");
@@ -111,7 +127,7 @@ void run_render(const RenderCmdOptions& o) {
         throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
                                  o.kernel + "'");
 
-    const render::Scene scene = render::load_scene(o.scene);  // SceneError names file + path
+    const render::Scene scene = load_scene_or_gltf(o.scene);  // SceneError names file + path
     for (const std::string& w : scene.warnings())
         std::fprintf(stderr, "facet: render: warning: %s: %s\n", o.scene.c_str(), w.c_str());
 

@@ -1,6 +1,7 @@
 # SceneDescription from Python: JSON read/write round trips, a numpy-built scene against its
 # JSON twin (bit for bit), zero-copy meshes kept alive, and clear errors for bad arrays.
 import gc
+import pathlib
 import subprocess
 import pickle
 
@@ -225,4 +226,25 @@ def test_environment_map_keys_through_the_kind_table(tmp_path):
     light.rotate = {"axis": (0, 0, 0), "angle": 1.0}
     d.lights[0] = light
     with pytest.raises(ValueError, match=r"/lights/0/rotate/axis"):
+        facet.build_scene(d)
+
+
+def test_gltf_shape_through_the_kind_table():
+    # The gltf kind's keys come from the kind table like every other kind's; its parts keep
+    # their own materials, and what is not converted is in Scene.warnings.
+    gltf_dir = pathlib.Path(__file__).resolve().parent.parent / "render" / "gltf"
+    s = facet.ShapeDesc("gltf", file=str(gltf_dir / "modes.gltf"))
+    assert s.file.endswith("modes.gltf")
+    with pytest.raises(TypeError, match=r"ShapeDesc has no field 'radius' for kind 'gltf'"):
+        facet.ShapeDesc("gltf", radius=1)
+    d = ts.numpy_description()
+    d.shapes = [s]
+    d.lights = [facet.LightDesc("environment", radiance=1.0)]
+    scene = facet.build_scene(d)
+    assert any("modes.gltf#/meshes/0/primitives/3/mode" in w for w in scene.warnings), \
+        scene.warnings
+    img = facet.render(scene, spp=1)
+    assert np.isfinite(img).all()
+    d.shapes = [facet.ShapeDesc("gltf", file=str(gltf_dir / "bad_index.gltf"))]
+    with pytest.raises(ValueError, match=r"/shapes/0/file: bad_index.gltf#/accessors/1: index 2"):
         facet.build_scene(d)

@@ -49,8 +49,8 @@ TEST(Kinds, EveryEnumValueHasExactlyOneKindWithUniqueKeys) {
         for (const auto& f : k->fields)
             EXPECT_TRUE(keys.insert(f.key).second) << k->name << " " << f.key;
     }
-    EXPECT_EQ(names.size(), 8u);  // ShapeKind has 8 values: each one is in the table
-    for (int e = 0; e < 8; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
+    EXPECT_EQ(names.size(), 9u);  // ShapeKind has 9 values: each one is in the table
+    for (int e = 0; e < 9; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
     EXPECT_EQ(find_shape_kind(ShapeKind(200)), nullptr);
     EXPECT_THROW(shape_kind(ShapeKind(200)), std::logic_error);
 
@@ -91,7 +91,8 @@ TEST(Kinds, JsonRoundTripOfEveryKind) {
       {"type": "disc", "center": [0, 2, 0], "normal": [0, -1, 0], "radius": 0.5, "emission": 1},
       {"type": "mesh", "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "material": "white"},
       {"type": "icosphere", "center": [2, 0, 0], "radius": 0.5, "subdivisions": 1, "material": "white"},
-      {"type": "grid", "nx": 2, "ny": 3, "amplitude": 0.1, "frequency": 2, "material": "white"})";
+      {"type": "grid", "nx": 2, "ny": 3, "amplitude": 0.1, "frequency": 2, "material": "white"},
+      {"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR R"(/modes.gltf"})";
     const std::string lights = R"(
       {"type": "point", "position": [0, 5, 0], "power": 100},
       {"type": "spot", "position": [0, 5, 0], "look_at": [0, 0, 0], "power": 10, "outer_angle": 30, "inner_angle": 20},

@@ -180,3 +180,28 @@ TEST_F(CliTest, RegionAndSamplePartsMergeIntoTheSingleRender) {
     EXPECT_NE(range.output.find("--samples: 2:9 must be a non-empty range"), std::string::npos)
         << range.output;
 }
+
+// `facet render model.gltf` on a bare glTF file: it frames the model and lights it with a
+// constant environment, and says both on stderr; a broken file names its glTF pointer.
+TEST_F(CliTest, RendersABareGltfFileAndSaysHow) {
+    const std::string dir = FACET_GLTF_TEST_DIR;
+    const CmdResult r = run("render " + dir + "/box.gltf -o " + path("g.exr") + " --spp 1 -q");
+    ASSERT_EQ(r.code, 0) << r.output;
+    EXPECT_NE(r.output.find("box.gltf: the file has no camera: framing its bounding box"),
+              std::string::npos)
+        << r.output;
+    EXPECT_NE(r.output.find("box.gltf: lit by a constant white environment"), std::string::npos)
+        << r.output;
+    const fr::Image img = fr::read_image(path("g.exr"));
+    EXPECT_EQ(img.width(), 640);
+    EXPECT_EQ(img.height(), 480);
+    // The centre pixel sees the box: it emits (3, 1.5, 0) on top of what it reflects, so its
+    // red exceeds the environment's 1 seen around it.
+    EXPECT_GT(img.at(320, 240).r, 2.f);
+    EXPECT_NEAR(img.at(2, 2).r, 1.f, 1e-6f);
+
+    const CmdResult bad = run("render " + dir + "/bad_index.gltf -o " + path("b.png") + " -q");
+    EXPECT_NE(bad.code, 0);
+    EXPECT_NE(bad.output.find("bad_index.gltf#/accessors/1: index 2 is 3"), std::string::npos)
+        << bad.output;
+}

@@ -498,6 +498,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     const EmbreeBackend& be = *impl.backend;
     const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;
     std::size_t plane = 0;
+    std::int32_t part = -1;  // the hit mesh's part of its shape (ShapeInfo::parts)
     double tp = impl.planes.empty() ? -1.0 : intersect_planes(impl.planes, ray, tfar, plane);
     if (tp > 0.0 && float(tp) <= tfar) {
         const PlaneGeom& pl = impl.planes[plane];
@@ -518,10 +519,12 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     } else if (geom == be.analytic_geom) {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
-        impl.fill_triangle(impl.meshes[std::size_t(be.geom_to_mesh[geom])], prim, ray, u, v, t,
-                           hit);
+        const MeshGeom& mg = impl.meshes[std::size_t(be.geom_to_mesh[geom])];
+        impl.fill_triangle(mg, prim, ray, u, v, t, hit);
+        part = mg.part;
     }
-    const ShapeInfo& s = m_shapes[hit.shape];
+    const ShapeInfo& shape = m_shapes[hit.shape];
+    const ShapeSurface& s = part < 0 ? shape : shape.parts[std::size_t(part)];
     hit.material = s.material;
     hit.two_sided = s.two_sided;
     hit.light = s.light;

@@ -25,14 +25,6 @@
 
 namespace facet::render {
 
-// A file named in the scene (mesh, image), relative to the scene file's directory `base_dir`
-// unless absolute.
-inline std::string resolve_scene_path(const std::string& file, const std::string& base_dir) {
-    std::filesystem::path p(file);
-    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    return p.string();
-}
-
 // Value checks shared by build_scene and the kinds' builders: each fails through fail().
 class BuildChecks {
   public:
@@ -110,6 +102,15 @@ class ShapeBuild : public BuildChecks {
     // validates them, drops zero-area triangles and makes an emitter of them when the shape
     // emits. `tangent` (object space, 0 = none) orients anisotropic lobes.
     virtual void add_triangles(TriangleMesh mesh, const Vec3& tangent) = 0;
+    // Kinds with their own materials (ShapeKindDef::own_materials, e.g. gltf): builds one of
+    // them through the core's registry (errors name `ptr`, e.g. "/shapes/2/file"), once per
+    // material however many parts use it.
+    virtual const Material* add_material(const MaterialDesc& material, const std::string& ptr) = 0;
+    // Object-space triangles as one part of the shape with its own surface (material, emission,
+    // sidedness; `surface.light` is filled here): as add_triangles otherwise.
+    virtual void add_part(TriangleMesh mesh, ShapeSurface surface) = 0;
+    // A warning for BuildReport::warnings and Scene::warnings() (what the kind approximates).
+    virtual void warn(std::string message) = 0;
     // The shape's area light (emissive analytic shapes).
     virtual void add_light(Light light) = 0;
     // Checks the shape's world extent (after its geometry is added).

@@ -13,15 +13,15 @@
 namespace facet::render {
 
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
-    kIcosphereKind, kGridKind;
+    kIcosphereKind, kGridKind, kGltfKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
 
 namespace {
 
-const std::array<const ShapeKindDef*, 8> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
+const std::array<const ShapeKindDef*, 9> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
                                                         &kQuadKind,      &kDiscKind,  &kMeshKind,
-                                                        &kIcosphereKind, &kGridKind};
+                                                        &kIcosphereKind, &kGridKind,  &kGltfKind};
 const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};
@@ -134,6 +134,12 @@ std::vector<std::string> light_kind_names() {
 }
 std::span<const std::string_view> common_shape_keys() {
     return kCommonShapeKeys;
+}
+
+std::string resolve_scene_path(const std::string& file, const std::string& base_dir) {
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    return p.string();
 }
 
 TriangleMesh load_mesh_file(const std::string& path) {

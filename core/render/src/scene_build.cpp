@@ -316,7 +316,8 @@ class Builder final : public BuildChecks {
             }
             info.material = found->second;
             info.material_name = name;
-        } else if (emissive) {
+        } else if (emissive || shape_kind(s.kind).own_materials) {
+            // Emitters reflect nothing; kinds with their own materials add them as parts.
             info.material = black_material();
             info.material_name = "<black>";
         } else {
@@ -404,6 +405,30 @@ class Builder final : public BuildChecks {
         }
 
         void add_triangles(TriangleMesh mesh, const Vec3& tangent) override {
+            add_mesh(std::move(mesh), tangent, -1, emissive, emission);
+        }
+
+        const Material* add_material(const MaterialDesc& m, const std::string& p) override {
+            return m_b.build_material(m, p);
+        }
+
+        void add_part(TriangleMesh mesh, ShapeSurface surface) override {
+            const bool emits = max_component(surface.emission) > 0.f;
+            const Rgb radiance = surface.emission;
+            m_info.parts.push_back(std::move(surface));
+            add_mesh(std::move(mesh), Vec3(0.f), std::int32_t(m_info.parts.size() - 1), emits,
+                     radiance);
+        }
+
+        void warn(std::string message) override {
+            m_b.m_builder.warnings().push_back(std::move(message));
+        }
+
+      private:
+        // The shape's own triangles (part -1) or one of its parts: transformed, validated,
+        // degenerate triangles dropped, an area light when it emits.
+        void add_mesh(TriangleMesh mesh, const Vec3& tangent, std::int32_t part, bool emits,
+                      const Rgb& radiance) {
             const glm::dmat3 lin(xf);
             const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
             // A mirroring transform reverses the winding: undo it so the authored front stays
@@ -428,22 +453,30 @@ class Builder final : public BuildChecks {
             check_finite_bounds();
             if (std::string err = validate_mesh(mesh); !err.empty()) fail(place(), err);
             m_b.drop_degenerate(mesh, index);
-            m_info.triangles = mesh.num_triangles();
-            if (emissive) {
+            m_info.triangles += mesh.num_triangles();
+            if (emits) {
                 std::vector<Vec3> tri;
                 tri.reserve(mesh.indices.size());
                 for (std::uint32_t i : mesh.indices) tri.push_back(mesh.positions[i]);
-                Light l = Light::area_triangles(std::move(tri), emission, index);
+                Light l = Light::area_triangles(std::move(tri), radiance, index);
                 if (!(l.area() > 0.f)) fail(ptr + "/emission", "the emitting shape has no area");
-                add_light(std::move(l));
+                if (part < 0) {
+                    add_light(std::move(l));
+                } else {
+                    std::vector<Light>& lights = m_b.m_builder.lights();
+                    m_info.parts[std::size_t(part)].light = std::int32_t(lights.size());
+                    lights.push_back(std::move(l));
+                }
             }
             MeshGeom g;
             g.shape = index;
+            g.part = part;
             g.mesh = std::move(mesh);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
             m_b.m_builder.impl().meshes.push_back(std::move(g));
         }
 
+      public:
         void add_light(Light light) override {
             std::vector<Light>& lights = m_b.m_builder.lights();
             m_info.light = std::int32_t(lights.size());
@@ -580,15 +613,20 @@ class Builder final : public BuildChecks {
         f.lambert_only = !scene.shapes().empty();
         for (std::size_t i = 0; i < scene.shapes().size(); ++i) {
             const ShapeInfo& s = scene.shapes()[i];
-            BxDFFlags fl = s.material->flags();
-            f.lobes = f.lobes | fl;
-            if (fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) f.lambert_only = false;
-            if (reflects(*s.material)) f.can_reflect = true;
+            // The shape's own surface, then its parts' (a glTF file's materials).
+            auto surface = [&](const ShapeSurface& su) {
+                BxDFFlags fl = su.material->flags();
+                f.lobes = f.lobes | fl;
+                if (fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) f.lambert_only = false;
+                if (reflects(*su.material)) f.can_reflect = true;
+                if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
+            };
+            if (s.parts.empty()) surface(s);
+            for (const ShapeSurface& p : s.parts) surface(p);
             f.num_triangles += s.triangles;
             if (s.kind == ShapeKind::Sphere) ++f.num_spheres;
             if (s.kind == ShapeKind::Plane) ++f.num_planes;
             if (s.kind == ShapeKind::Disc) ++f.num_discs;
-            if (s.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
         }
         f.has_diffuse = any(f.lobes & BxDFFlags::Diffuse);
         f.has_glossy = any(f.lobes & BxDFFlags::Glossy);

@@ -13,8 +13,9 @@ namespace facet::render {
 // A triangle mesh in world space (transform already applied).
 struct MeshGeom {
     std::uint32_t shape = 0;
-    TriangleMesh mesh;  // positions and indices are moved into Embree's buffers by build()
-    Vec3 tangent{0.f};  // dpdu hint for every hit (0 = none)
+    std::int32_t part = -1;  // index into the shape's ShapeInfo::parts (-1: the shape itself)
+    TriangleMesh mesh;       // positions and indices are moved into Embree's buffers by build()
+    Vec3 tangent{0.f};       // dpdu hint for every hit (0 = none)
     // Error bound of the hit points along the normal (embree_scene.cpp: triangle_normal_error);
     // SurfaceHit::p_err = rounding_error(p) + normal_err |ng|.
     float normal_err = 0.f;

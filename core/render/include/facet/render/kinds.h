@@ -80,6 +80,9 @@ struct ShapeKindDef {
     TriangleMesh (*triangles)(const ShapeDesc&, const std::string& base_dir);
     // Writes the shape as POV-Ray SDL (null: as the triangles of `triangles`).
     void (*pov)(PovShapeOut&);
+    // The kind brings its own materials (a glTF file's): "material" is optional, and when given
+    // replaces all of them.
+    bool own_materials = false;
 };
 
 struct LightKindDef {
@@ -109,6 +112,10 @@ std::vector<std::string> light_kind_names();
 
 // Keys every shape accepts besides its kind's fields.
 std::span<const std::string_view> common_shape_keys();
+
+// A file named in the scene (mesh, glTF, image): relative paths are relative to `base_dir` (the
+// scene file's folder).
+std::string resolve_scene_path(const std::string& file, const std::string& base_dir);
 
 // Loads a triangle mesh file, chosen by its extension (.obj, .ply; case-insensitive); throws
 // std::runtime_error naming the file for any other extension or a malformed file. The one

@@ -74,17 +74,24 @@ struct RenderSettings {
     bool operator==(const RenderSettings&) const = default;
 };
 
-enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid };
+enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid, Gltf };
 
-// One entry per element of the scene file's "shapes" array, in file order.
-struct ShapeInfo {
-    ShapeKind kind = ShapeKind::Mesh;
-    std::string material_name;  // the "materials" key, or "<inline>"
+// What a hit on a surface reads: its material, emission and sidedness.
+struct ShapeSurface {
+    std::string material_name;  // the "materials" key, "<inline>", or the part's source
     const Material* material = nullptr;
-    Rgb emission{0.f};        // radiance; non-zero makes the shape an area light
+    Rgb emission{0.f};        // radiance; non-zero makes the surface an area light
     std::int32_t light = -1;  // index into lights() when emissive
     bool two_sided = true;
+};
+
+// One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
+// brings its own materials (gltf: one per primitive) has `parts`, each a surface of its own;
+// its triangles name their part (the shape's own surface fields then are unused: black).
+struct ShapeInfo : ShapeSurface {
+    ShapeKind kind = ShapeKind::Mesh;
     std::uint64_t triangles = 0;  // 0 for the analytic shapes (sphere, plane, disc)
+    std::vector<ShapeSurface> parts;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel

@@ -1,0 +1,69 @@
+// glTF 2.0 import (the `gltf` shape kind, core/render/src/shapes/gltf.cpp; docs/gltf.md).
+//
+// Conventions:
+//  - Everything is in the shape's object space: glTF's right-handed Y-up metres turned Z-up,
+//    (x, y, z)_glTF -> (x, -z, y), with every node transform applied (parent * child; a node's
+//    "matrix" or T * R * S). The `gltf` shape's "transform" applies after.
+//  - Errors are std::runtime_error "<file>#<glTF JSON pointer>: <message>" (e.g.
+//    "box.gltf#/accessors/2: index 7 is 9, out of range [0, 7] (used by
+//    /meshes/0/primitives/0/indices)"); what is read but not converted is listed in `reports`
+//    in the same form, once per material slot, attribute kind or extension.
+#pragma once
+
+#include <optional>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "facet/render/mesh.h"
+#include "facet/render/scene_description.h"
+
+namespace facet::render {
+
+// One triangle primitive of the file.
+struct GltfPart {
+    TriangleMesh mesh;    // object space (see conventions); normals unit or absent
+    int material = -1;    // index into GltfImport::materials
+    std::string pointer;  // "/meshes/<m>/primitives/<p>"
+};
+
+// A metallic-roughness material as a core model (docs/gltf.md gives the mapping).
+struct GltfMaterial {
+    MaterialDesc desc;
+    Rgb emission{0.f};  // emissiveFactor x KHR_materials_emissive_strength, radiance
+    bool double_sided = false;
+    std::string pointer;  // "/materials/<i>"
+    std::string name;
+};
+
+// The first perspective camera met in the node traversal, in object space.
+struct GltfCamera {
+    glm::dvec3 position{0.0}, forward{0.0, 0.0, -1.0}, up{0.0, 1.0, 0.0};
+    double yfov_deg = 40.0;        // full vertical field of view
+    std::optional<double> aspect;  // width / height, when the file gives it
+    std::string pointer;           // "/cameras/<i>"
+};
+
+struct GltfImport {
+    std::vector<GltfPart> parts;
+    // The file's materials in file order, then glTF's default material if a primitive has none.
+    std::vector<GltfMaterial> materials;
+    std::vector<std::string> reports;  // "<file>#<pointer>: <what is not converted>"
+    std::optional<GltfCamera> camera;
+    std::size_t num_cameras = 0;  // in the file's "cameras"
+};
+
+// Reads a .gltf or .glb file (tinygltf; images are not decoded).
+GltfImport import_gltf(const std::string& path);
+// The same from bytes in memory (a .glb when they start with "glTF", else .gltf JSON), named
+// `name` in messages; external buffers and images are refused (data: URIs work). For fuzzing.
+GltfImport parse_gltf(std::string_view bytes, const std::string& name);
+
+// The scene `facet render model.glb` renders: the file as one `gltf` shape, its first
+// perspective camera (the image width then follows the camera's aspect ratio when it has one)
+// or else a camera framing the model's bounding box, lit by a constant environment of radiance
+// 1. `notes` receives one line per such choice, for the user.
+SceneDescription gltf_scene_description(const std::string& path, int width, int height,
+                                        std::vector<std::string>& notes);
+
+}  // namespace facet::render

@@ -1,0 +1,914 @@
+// Shape kind "gltf": every triangle primitive of a glTF 2.0 file (.gltf or .glb, read by
+// tinygltf), with its node transforms and its metallic-roughness material; and the scene that
+// `facet render model.glb` renders (facet/render/gltf.h).
+//
+// Conventions (docs/gltf.md):
+//  - Axes: glTF is right-handed, Y up, metres. The import turns it Z-up as Blender's glTF
+//    importer does, (x, y, z)_glTF -> (x, -z, y) (a rotation of +90 degrees about x, so no
+//    winding changes), then applies the shape's "transform".
+//  - Which nodes: the default scene's ("scene"), else scene 0, else (a file without scenes)
+//    every root node, with a warning. Node transforms compose parent * child; a node's local
+//    transform is its "matrix" or T * R * S.
+//  - Materials: base colour b, metallic m, roughness r -> composite with
+//    diffuse_reflectance = b (1 - m), a GGX lobe of alpha = r^2, Schlick Fresnel with
+//    f0 = 0.04 (1 - m) + b m (the Blender addon's Principled conversion with Specular 0.5);
+//    emission = emissiveFactor x KHR_materials_emissive_strength (radiance);
+//    two_sided = doubleSided (and the shape's "two_sided").
+//  - Nothing is dropped silently: what is not converted (textures, UV sets, vertex colours,
+//    alpha modes, skins, morph targets, animations, cameras, lights, extensions) is reported
+//    once per material or extension as "<file>#<glTF JSON pointer>: ...", a warning of the
+//    build; bad data and unknown required extensions are errors of the same form.
+#define TINYGLTF_NO_STB_IMAGE
+#define TINYGLTF_NO_STB_IMAGE_WRITE
+#include <tiny_gltf.h>
+
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <set>
+#include <stdexcept>
+
+#include "../io/pov_writer.h"
+#include "../kind_build.h"
+#include "facet/render/gltf.h"
+
+namespace facet::render {
+
+namespace {
+
+// glTF Y-up -> Facet Z-up: (x, y, z) -> (x, -z, y). Columns of the matrix (glm layout).
+const glm::dmat4 kYUpToZUp(glm::dvec4(1, 0, 0, 0), glm::dvec4(0, 0, 1, 0), glm::dvec4(0, -1, 0, 0),
+                           glm::dvec4(0, 0, 0, 1));
+
+// The dielectric reflectance at normal incidence of glTF's reference BRDF (IOR 1.5).
+constexpr double kDielectricF0 = 0.04;
+
+// Node hierarchies deeper than this are rejected (glTF nodes form trees; a deeper one is
+// almost certainly broken, and the traversal keeps a stack of this size at most).
+constexpr std::size_t kMaxNodeDepth = 1024;
+
+std::string idx(std::size_t i) {
+    return std::to_string(i);
+}
+
+// tinygltf decodes no image for us: Facet's own image reader (texel_image.h) reads textures.
+bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
+                const unsigned char*, int, void*) {
+    return true;
+}
+
+const char* type_name(int type) {
+    switch (type) {
+        case TINYGLTF_TYPE_SCALAR:
+            return "SCALAR";
+        case TINYGLTF_TYPE_VEC2:
+            return "VEC2";
+        case TINYGLTF_TYPE_VEC3:
+            return "VEC3";
+        case TINYGLTF_TYPE_VEC4:
+            return "VEC4";
+        case TINYGLTF_TYPE_MAT2:
+            return "MAT2";
+        case TINYGLTF_TYPE_MAT3:
+            return "MAT3";
+        case TINYGLTF_TYPE_MAT4:
+            return "MAT4";
+    }
+    return "unknown";
+}
+
+const char* component_name(int c) {
+    switch (c) {
+        case TINYGLTF_COMPONENT_TYPE_BYTE:
+            return "BYTE (5120)";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+            return "UNSIGNED_BYTE (5121)";
+        case TINYGLTF_COMPONENT_TYPE_SHORT:
+            return "SHORT (5122)";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+            return "UNSIGNED_SHORT (5123)";
+        case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+            return "UNSIGNED_INT (5125)";
+        case TINYGLTF_COMPONENT_TYPE_FLOAT:
+            return "FLOAT (5126)";
+    }
+    return "an unknown component type";
+}
+
+// Reads one glTF file into object-space parts, materials and reports.
+class Importer {
+  public:
+    explicit Importer(std::string path)
+        : m_path(std::move(path)), m_file(std::filesystem::path(m_path).filename().string()) {}
+    // From bytes in memory (the fuzzer), named `name`; external files are refused.
+    Importer(std::string_view bytes, std::string name)
+        : m_file(std::move(name)), m_memory(bytes), m_in_memory(true) {}
+
+    GltfImport run() {
+        load();
+        check_extensions();
+        report_unconverted_file_features();
+        m_out.num_cameras = m_model.cameras.size();
+        m_out.materials.resize(m_model.materials.size());
+        for (std::size_t i = 0; i < m_model.materials.size(); ++i) {
+            m_out.materials[i] = convert_material(m_model.materials[i], "/materials/" + idx(i));
+        }
+        for (int root : roots()) traverse(root);
+        return std::move(m_out);
+    }
+
+  private:
+    [[noreturn]] void fail(const std::string& pointer, const std::string& message) const {
+        throw std::runtime_error(m_file + "#" + pointer + ": " + message);
+    }
+    // The file's `array[index]`, or an error at `ptr` naming the missing element.
+    template <class T>
+    const T& element(const std::vector<T>& array, int index, const std::string& ptr,
+                     const char* what) const {
+        if (index < 0 || std::size_t(index) >= array.size()) {
+            fail(ptr, std::string(what) + " " + std::to_string(index) +
+                          " does not exist (the file has " + idx(array.size()) + ")");
+        }
+        return array[std::size_t(index)];
+    }
+    // Reported once per `key` (an extension, a material's texture slot, an attribute name).
+    void report(const std::string& key, const std::string& pointer, const std::string& message) {
+        if (m_reported.insert(key).second) {
+            m_out.reports.push_back(m_file + "#" + pointer + ": " + message);
+        }
+    }
+
+    void load() {
+        tinygltf::TinyGLTF loader;
+        loader.SetImageLoader(skip_image, nullptr);
+        std::string err, warn;
+        if (m_in_memory) return load_memory(loader);
+        std::string ext = std::filesystem::path(m_path).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        if (ext != ".gltf" && ext != ".glb") {
+            throw std::runtime_error(m_file + ": unsupported glTF file extension '" + ext +
+                                     "' (use .gltf or .glb)");
+        }
+        if (!std::filesystem::is_regular_file(m_path)) {
+            throw std::runtime_error(m_file + ": cannot open '" + m_path + "'");
+        }
+        const bool ok = ext == ".glb" ? loader.LoadBinaryFromFile(&m_model, &err, &warn, m_path)
+                                      : loader.LoadASCIIFromFile(&m_model, &err, &warn, m_path);
+        if (!ok && ext == ".gltf") {
+            // tinygltf fails on Draco-only accessors before its caller sees the required
+            // extensions: name them first when the JSON of a .gltf lists them.
+            std::ifstream in(m_path);
+            check_required_in_json(std::string(std::istreambuf_iterator<char>(in), {}));
+        }
+        loaded(ok, err, warn);
+    }
+
+    // tinygltf's filesystem for bytes in memory: no file exists, none can be read.
+    static bool no_file(const std::string&, void*) { return false; }
+    static std::string same_path(const std::string& p, void*) { return p; }
+    static bool no_read(std::vector<unsigned char>*, std::string* err, const std::string& p,
+                        void*) {
+        if (err) *err += "external file '" + p + "' refused (reading from memory)\n";
+        return false;
+    }
+    static bool no_write(std::string*, const std::string&, const std::vector<unsigned char>&,
+                         void*) {
+        return false;
+    }
+
+    void load_memory(tinygltf::TinyGLTF& loader) {
+        loader.SetFsCallbacks({no_file, same_path, no_read, no_write, nullptr});
+        std::string err, warn;
+        const auto* bytes = reinterpret_cast<const unsigned char*>(m_memory.data());
+        const auto n = unsigned(std::min<std::size_t>(m_memory.size(), 1u << 30));
+        const bool binary = m_memory.substr(0, 4) == "glTF";
+        const bool ok =
+            binary ? loader.LoadBinaryFromMemory(&m_model, &err, &warn, bytes, n, "")
+                   : loader.LoadASCIIFromString(&m_model, &err, &warn, m_memory.data(), n, "");
+        if (!ok && !binary) check_required_in_json(std::string(m_memory));
+        loaded(ok, err, warn);
+    }
+
+    void loaded(bool ok, std::string& err, const std::string& warn) {
+        if (!ok) {
+            while (!err.empty() && (err.back() == '\n' || err.back() == ' ')) err.pop_back();
+            throw std::runtime_error(m_file + ": not a readable glTF 2.0 file: " +
+                                     (err.empty() ? std::string("tinygltf failed") : err));
+        }
+        // tinygltf's warnings (e.g. a missing image file) are not errors for geometry: pass them
+        // on.
+        std::size_t start = 0;
+        while (start < warn.size()) {
+            std::size_t end = warn.find('\n', start);
+            if (end == std::string::npos) end = warn.size();
+            if (end > start)
+                m_out.reports.push_back(m_file + ": " + warn.substr(start, end - start));
+            start = end + 1;
+        }
+    }
+
+    // The top-level "extensionsRequired" of a .gltf that tinygltf could not load (nlohmann's
+    // JSON reader; any failure leaves tinygltf's own message to be reported).
+    void check_required_in_json(const std::string& text) {
+        const nlohmann::json j = nlohmann::json::parse(text, nullptr, false);
+        if (!j.is_object() || !j.contains("extensionsRequired")) return;
+        const nlohmann::json& r = j["extensionsRequired"];
+        if (!r.is_array()) return;
+        for (const nlohmann::json& e : r) {
+            if (e.is_string()) m_model.extensionsRequired.push_back(e.get<std::string>());
+        }
+        check_required();
+    }
+
+    // Required extensions Facet cannot honour are errors; used ones it does not convert are
+    // reported.
+    void check_extensions() {
+        check_required();
+        for (std::size_t i = 0; i < m_model.extensionsUsed.size(); ++i) {
+            const std::string& e = m_model.extensionsUsed[i];
+            if (e == "KHR_materials_emissive_strength") continue;
+            report("ext:" + e, "/extensionsUsed/" + idx(i),
+                   "extension '" + e + "' is not converted (the data it extends is used as is)");
+        }
+    }
+
+    void check_required() const {
+        for (std::size_t i = 0; i < m_model.extensionsRequired.size(); ++i) {
+            const std::string& e = m_model.extensionsRequired[i];
+            if (e == "KHR_materials_emissive_strength") continue;
+            std::string why = e == "KHR_draco_mesh_compression"
+                                  ? "Draco-compressed meshes cannot be read (tinygltf is built "
+                                    "without Draco); re-export the file uncompressed"
+                                  : "the extension is required by the file and Facet does not "
+                                    "support it";
+            fail("/extensionsRequired/" + idx(i), "'" + e + "': " + why);
+        }
+    }
+
+    void report_unconverted_file_features() {
+        if (!m_model.skins.empty()) {
+            report("skins", "/skins", "skins are not applied (the meshes are imported unposed)");
+        }
+        if (!m_model.animations.empty()) {
+            report("animations", "/animations",
+                   "animations are not played (the file's static pose is imported)");
+        }
+        if (!m_model.lights.empty()) {
+            report("lights", "/extensions/KHR_lights_punctual/lights",
+                   std::to_string(m_model.lights.size()) +
+                       " KHR_lights_punctual light(s) are not converted");
+        }
+    }
+
+    // --- materials ---------------------------------------------------------------------------
+
+    double unit_number(double v, const std::string& ptr) const {
+        if (!std::isfinite(v) || v < 0.0 || v > 1.0) fail(ptr, "must be a number in [0, 1]");
+        return v;
+    }
+
+    void texture_slot(const std::string& ptr, int index, int tex_coord,
+                      const tinygltf::ExtensionMap& ext, const std::string& what) {
+        if (index < 0) return;
+        report(ptr, ptr,
+               "texture " + std::to_string(index) + " (" + what +
+                   ") is not imported yet (Facet meshes have no UVs in this build); the "
+                   "material's constant factor is used");
+        if (tex_coord != 0) {
+            report(ptr + "/texCoord", ptr + "/texCoord",
+                   "TEXCOORD_" + std::to_string(tex_coord) + " is not imported");
+        }
+        if (ext.count("KHR_texture_transform")) {
+            report(ptr + "/ext", ptr + "/extensions/KHR_texture_transform",
+                   "KHR_texture_transform is not converted (the texture itself is not imported)");
+        }
+    }
+
+    GltfMaterial convert_material(const tinygltf::Material& m, const std::string& ptr) {
+        const tinygltf::PbrMetallicRoughness& pbr = m.pbrMetallicRoughness;
+        const std::string pp = ptr + "/pbrMetallicRoughness";
+        if (pbr.baseColorFactor.size() != 4) {
+            fail(pp + "/baseColorFactor", "expected 4 numbers (r, g, b, a)");
+        }
+        Rgb base;
+        for (int c = 0; c < 3; ++c) {
+            base[c] = float(unit_number(pbr.baseColorFactor[std::size_t(c)],
+                                        pp + "/baseColorFactor/" + idx(std::size_t(c))));
+        }
+        unit_number(pbr.baseColorFactor[3], pp + "/baseColorFactor/3");
+        const double metal = unit_number(pbr.metallicFactor, pp + "/metallicFactor");
+        const double rough = unit_number(pbr.roughnessFactor, pp + "/roughnessFactor");
+        GltfMaterial out;
+        out.pointer = ptr;
+        out.name = m.name;
+        out.double_sided = m.doubleSided;
+        const Rgb diffuse = base * float(1.0 - metal);
+        Rgb f0;
+        for (int c = 0; c < 3; ++c) f0[c] = float(kDielectricF0 * (1.0 - metal) + base[c] * metal);
+        out.desc.model = "composite";
+        out.desc.params.set("diffuse_reflectance", diffuse);
+        out.desc.params.set("distribution", std::string("ggx"));
+        out.desc.params.set("alpha", rough * rough);
+        out.desc.params.set("fresnel", std::string("schlick"));
+        out.desc.params.set("f0", f0);
+
+        // tinygltf leaves the array empty when the file omits it (default [0, 0, 0]).
+        std::vector<double> emissive = m.emissiveFactor;
+        if (emissive.empty()) emissive.assign(3, 0.0);
+        if (emissive.size() != 3) fail(ptr + "/emissiveFactor", "expected 3 numbers");
+        double strength = 1.0;
+        if (auto e = m.extensions.find("KHR_materials_emissive_strength");
+            e != m.extensions.end()) {
+            const std::string sp = ptr + "/extensions/KHR_materials_emissive_strength";
+            const tinygltf::Value& s = e->second.Get("emissiveStrength");
+            if (s.IsNumber() || s.IsInt()) {
+                strength = s.GetNumberAsDouble();
+                if (!std::isfinite(strength) || strength < 0.0) {
+                    fail(sp + "/emissiveStrength", "must be a finite number >= 0");
+                }
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            out.emission[c] =
+                float(unit_number(emissive[std::size_t(c)], ptr + "/emissiveFactor/" + idx(c)) *
+                      strength);
+        }
+        if (!is_finite(out.emission)) fail(ptr + "/emissiveFactor", "emission overflows float");
+
+        texture_slot(pp + "/baseColorTexture", pbr.baseColorTexture.index,
+                     pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, "base colour");
+        texture_slot(pp + "/metallicRoughnessTexture", pbr.metallicRoughnessTexture.index,
+                     pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions,
+                     "metallic-roughness");
+        texture_slot(ptr + "/normalTexture", m.normalTexture.index, m.normalTexture.texCoord,
+                     m.normalTexture.extensions, "normal map");
+        texture_slot(ptr + "/occlusionTexture", m.occlusionTexture.index,
+                     m.occlusionTexture.texCoord, m.occlusionTexture.extensions,
+                     "ambient occlusion: Facet computes occlusion itself");
+        texture_slot(ptr + "/emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
+                     m.emissiveTexture.extensions, "emission");
+        if (m.alphaMode != "OPAQUE") {
+            report(ptr + "/alphaMode", ptr + "/alphaMode",
+                   "alphaMode '" + m.alphaMode + "' is not converted (rendered opaque)");
+        }
+        for (const auto& [name, _] : m.extensions) {
+            if (name == "KHR_materials_emissive_strength") continue;
+            report(ptr + "/extensions/" + name, ptr + "/extensions/" + name,
+                   "extension '" + name + "' is not converted");
+        }
+        return out;
+    }
+
+    // The glTF default material (spec 3.9.6: white, metallic 1, roughness 1), for primitives
+    // without one.
+    int default_material(const std::string& prim_ptr) {
+        report("default-material", prim_ptr + "/material",
+               "no material: glTF's default (base colour 1, metallic 1, roughness 1) is used");
+        if (m_default < 0) {
+            m_default = int(m_out.materials.size());
+            m_out.materials.push_back(convert_material(tinygltf::Material(), prim_ptr));
+            m_out.materials.back().pointer = "(glTF default material)";
+        }
+        return m_default;
+    }
+
+    // --- nodes -------------------------------------------------------------------------------
+
+    std::vector<int> roots() {
+        const std::size_t n = m_model.nodes.size();
+        if (m_model.scenes.empty() && m_model.defaultScene >= 0) {
+            fail("/scene", "scene " + std::to_string(m_model.defaultScene) +
+                               " does not exist (the file has no scenes)");
+        }
+        if (!m_model.scenes.empty()) {
+            const int s = std::max(m_model.defaultScene, 0);
+            const std::string sp = "/scenes/" + std::to_string(s);
+            const std::vector<int>& r = element(m_model.scenes, s, "/scene", "scene").nodes;
+            for (std::size_t j = 0; j < r.size(); ++j) {
+                element(m_model.nodes, r[j], sp + "/nodes/" + idx(j), "node");
+            }
+            return r;
+        }
+        // No scene: every node that is no other node's child.
+        std::vector<bool> child(n, false);
+        for (const tinygltf::Node& nd : m_model.nodes) {
+            for (int c : nd.children) {
+                if (c >= 0 && std::size_t(c) < n) child[std::size_t(c)] = true;
+            }
+        }
+        std::vector<int> r;
+        for (std::size_t i = 0; i < n; ++i) {
+            if (!child[i]) r.push_back(int(i));
+        }
+        report("no-scene", "/scenes",
+               "the file has no scene: importing all " + idx(r.size()) + " root node(s)");
+        return r;
+    }
+
+    glm::dmat4 local_matrix(const tinygltf::Node& nd, const std::string& ptr) const {
+        auto finite = [&](const std::vector<double>& v, std::size_t size, const char* key) {
+            if (v.empty()) return false;
+            if (v.size() != size) fail(ptr + "/" + key, "expected " + idx(size) + " numbers");
+            for (std::size_t i = 0; i < size; ++i) {
+                if (!std::isfinite(v[i])) fail(ptr + "/" + key + "/" + idx(i), "must be finite");
+            }
+            return true;
+        };
+        if (finite(nd.matrix, 16, "matrix")) return glm::make_mat4(nd.matrix.data());
+        glm::dmat4 m(1.0);
+        if (finite(nd.translation, 3, "translation")) {
+            m = glm::translate(m,
+                               glm::dvec3(nd.translation[0], nd.translation[1], nd.translation[2]));
+        }
+        if (finite(nd.rotation, 4, "rotation")) {
+            // glTF stores (x, y, z, w); glm's constructor takes (w, x, y, z).
+            glm::dquat q(nd.rotation[3], nd.rotation[0], nd.rotation[1], nd.rotation[2]);
+            const double len = glm::length(q);
+            if (!(len > 0.0)) fail(ptr + "/rotation", "must be a unit quaternion, got length 0");
+            m = m * glm::mat4_cast(q / len);
+        }
+        if (finite(nd.scale, 3, "scale")) {
+            m = glm::scale(m, glm::dvec3(nd.scale[0], nd.scale[1], nd.scale[2]));
+        }
+        return m;
+    }
+
+    // Depth-first over the tree under `root`, with an explicit stack (no recursion), refusing
+    // cycles and shared children (glTF's nodes form disjoint trees).
+    void traverse(int root) {
+        struct Item {
+            int node;
+            glm::dmat4 parent;
+            std::string ptr;  // the reference to this node ("/nodes/3/children/0")
+            std::size_t depth;
+        };
+        std::vector<Item> stack{{root, kYUpToZUp, "/nodes/" + std::to_string(root), 0}};
+        m_seen.resize(m_model.nodes.size(), false);
+        while (!stack.empty()) {
+            Item it = std::move(stack.back());
+            stack.pop_back();
+            const std::size_t ni = std::size_t(it.node);
+            const std::string np = "/nodes/" + idx(ni);
+            if (m_seen[ni]) {
+                fail(it.ptr, "node " + idx(ni) +
+                                 " is reached twice (a cycle or a shared child: glTF nodes must "
+                                 "form trees)");
+            }
+            if (it.depth > kMaxNodeDepth) {
+                fail(it.ptr, "the node hierarchy is deeper than " + idx(kMaxNodeDepth));
+            }
+            m_seen[ni] = true;
+            const tinygltf::Node& nd = m_model.nodes[ni];
+            const glm::dmat4 world = it.parent * local_matrix(nd, np);
+            if (nd.camera >= 0) camera(nd, world, np);
+            if (nd.skin >= 0) report("skins", np + "/skin", "skins are not applied");
+            if (nd.mesh >= 0) mesh(nd.mesh, world, np);
+            for (std::size_t j = nd.children.size(); j-- > 0;) {
+                const int c = nd.children[j];
+                const std::string cp = np + "/children/" + idx(j);
+                element(m_model.nodes, c, cp, "node");
+                stack.push_back({c, world, cp, it.depth + 1});
+            }
+        }
+    }
+
+    void camera(const tinygltf::Node& nd, const glm::dmat4& world, const std::string& np) {
+        const tinygltf::Camera& c = element(m_model.cameras, nd.camera, np + "/camera", "camera");
+        const std::string cp = "/cameras/" + std::to_string(nd.camera);
+        if (m_out.camera) return;  // the first camera in traversal order is the one used
+        if (c.type != "perspective") {
+            report("camera-type", cp,
+                   "camera type '" + c.type + "' is not converted (only perspective)");
+            return;
+        }
+        GltfCamera cam;
+        cam.pointer = cp;
+        // The camera looks down its local -z with +y up (glTF 3.10.1), in the node's frame.
+        const glm::dvec3 o(world * glm::dvec4(0, 0, 0, 1));
+        cam.position = o;
+        cam.forward = glm::dvec3(world * glm::dvec4(0, 0, -1, 0));
+        cam.up = glm::dvec3(world * glm::dvec4(0, 1, 0, 0));
+        const double yfov = c.perspective.yfov;
+        if (!(yfov > 0.0 && yfov < M_PI) || !std::isfinite(yfov)) {
+            fail(cp + "/perspective/yfov", "must be in (0, pi) radians");
+        }
+        cam.yfov_deg = yfov * 180.0 / M_PI;
+        const double a = c.perspective.aspectRatio;
+        if (a > 0.0 && std::isfinite(a)) cam.aspect = a;
+        m_out.camera = cam;
+    }
+
+    // --- meshes ------------------------------------------------------------------------------
+
+    // A checked view of an accessor's elements.
+    struct Elements {
+        const unsigned char* data = nullptr;
+        std::size_t stride = 0, count = 0;
+        int component = 0;
+    };
+
+    Elements accessor(int index, const std::string& user, std::initializer_list<int> types,
+                      std::initializer_list<int> components) const {
+        const tinygltf::Accessor& a = element(m_model.accessors, index, user, "accessor");
+        const std::string ap = "/accessors/" + std::to_string(index);
+        const std::string used = " (used by " + user + ")";
+        if (std::find(types.begin(), types.end(), a.type) == types.end()) {
+            std::string want;
+            for (int t : types) want += std::string(want.empty() ? "" : " or ") + type_name(t);
+            fail(ap + "/type", "expected " + want + ", got " + type_name(a.type) + used);
+        }
+        if (std::find(components.begin(), components.end(), a.componentType) == components.end()) {
+            std::string want;
+            for (int c : components) {
+                want += std::string(want.empty() ? "" : " or ") + component_name(c);
+            }
+            fail(ap + "/componentType",
+                 "expected " + want + ", got " + component_name(a.componentType) + used);
+        }
+        if (a.sparse.isSparse) fail(ap + "/sparse", "sparse accessors are not supported" + used);
+        if (a.bufferView < 0) {
+            fail(ap,
+                 "has no bufferView (Draco-compressed or all-zero data are not supported)" + used);
+        }
+        const tinygltf::BufferView& v =
+            element(m_model.bufferViews, a.bufferView, ap + "/bufferView", "buffer view");
+        const std::string vp = "/bufferViews/" + std::to_string(a.bufferView);
+        const tinygltf::Buffer& b = element(m_model.buffers, v.buffer, vp + "/buffer", "buffer");
+        const std::string bp = "/buffers/" + std::to_string(v.buffer);
+        if (b.data.empty()) fail(bp, "the buffer is missing or empty" + used);
+        // Sizes from the file may be anything: compare without overflow.
+        if (v.byteOffset > b.data.size() || v.byteLength > b.data.size() - v.byteOffset) {
+            fail(vp, "byte offset " + idx(v.byteOffset) + " + length " + idx(v.byteLength) +
+                         " lies beyond the buffer's " + idx(b.data.size()) + " bytes");
+        }
+        const std::size_t elem =
+            std::size_t(tinygltf::GetComponentSizeInBytes(std::uint32_t(a.componentType))) *
+            std::size_t(tinygltf::GetNumComponentsInType(std::uint32_t(a.type)));
+        const std::size_t stride = v.byteStride ? v.byteStride : elem;
+        if (stride < elem) {
+            fail(vp + "/byteStride", "stride " + idx(stride) + " is smaller than the element (" +
+                                         idx(elem) + " bytes)" + used);
+        }
+        Elements e;
+        e.count = a.count;
+        e.stride = stride;
+        e.component = a.componentType;
+        if (a.count == 0) return e;
+        // byteOffset + stride (count - 1) + elem <= byteLength, without overflow.
+        if (a.byteOffset > v.byteLength || elem > v.byteLength - a.byteOffset ||
+            (a.count - 1) > (v.byteLength - a.byteOffset - elem) / stride) {
+            fail(ap, idx(a.count) + " elements of stride " + idx(stride) + " from offset " +
+                         idx(a.byteOffset) + " do not fit the buffer view's " + idx(v.byteLength) +
+                         " bytes" + used);
+        }
+        e.data = b.data.data() + v.byteOffset + a.byteOffset;
+        return e;
+    }
+
+    std::vector<Vec3> vec3s(int index, const std::string& user, const char* what) const {
+        const Elements e =
+            accessor(index, user, {TINYGLTF_TYPE_VEC3}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        std::vector<Vec3> out(e.count);
+        for (std::size_t i = 0; i < e.count; ++i) {
+            std::memcpy(&out[i], e.data + i * e.stride, sizeof(Vec3));
+            if (!is_finite(out[i])) {
+                fail("/accessors/" + std::to_string(index),
+                     std::string(what) + " " + idx(i) + " is not finite (used by " + user + ")");
+            }
+        }
+        return out;
+    }
+
+    std::vector<std::uint32_t> indices(int index, const std::string& user,
+                                       std::size_t num_vertices) const {
+        const Elements e =
+            accessor(index, user, {TINYGLTF_TYPE_SCALAR},
+                     {TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE, TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT,
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT});
+        std::vector<std::uint32_t> out(e.count);
+        for (std::size_t i = 0; i < e.count; ++i) {
+            const unsigned char* p = e.data + i * e.stride;
+            std::uint32_t v = 0;
+            if (e.component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                v = *p;
+            } else if (e.component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+                std::uint16_t s;
+                std::memcpy(&s, p, 2);
+                v = s;
+            } else {
+                std::memcpy(&v, p, 4);
+            }
+            if (v >= num_vertices) {
+                fail("/accessors/" + std::to_string(index),
+                     "index " + idx(i) + " is " + std::to_string(v) + ", out of range [0, " +
+                         std::to_string(std::int64_t(num_vertices) - 1) + "] (used by " + user +
+                         ")");
+            }
+            out[i] = v;
+        }
+        return out;
+    }
+
+    // Triangle lists from the primitive's mode (glTF 3.7.2.1: strips and fans).
+    std::vector<std::uint32_t> triangle_list(std::vector<std::uint32_t> ix, int mode,
+                                             const std::string& pp) const {
+        std::vector<std::uint32_t> t;
+        if (mode == TINYGLTF_MODE_TRIANGLES) {
+            if (ix.size() % 3 != 0) {
+                fail(pp, "TRIANGLES with " + idx(ix.size()) + " vertices (not a multiple of 3)");
+            }
+            return ix;
+        }
+        for (std::size_t i = 0; i + 2 < ix.size(); ++i) {
+            if (mode == TINYGLTF_MODE_TRIANGLE_STRIP) {
+                // Triangle i: {v_i, v_(i+1+i%2), v_(i+2-i%2)}: every triangle keeps the winding.
+                t.insert(t.end(), {ix[i], ix[i + 1 + i % 2], ix[i + 2 - i % 2]});
+            } else {
+                // Fan triangle i: {v_(i+1), v_(i+2), v_0}.
+                t.insert(t.end(), {ix[i + 1], ix[i + 2], ix[0]});
+            }
+        }
+        return t;
+    }
+
+    void mesh(int mesh_index, const glm::dmat4& world, const std::string& np) {
+        const tinygltf::Mesh& me = element(m_model.meshes, mesh_index, np + "/mesh", "mesh");
+        const glm::dmat3 lin(world);
+        const double det = glm::determinant(lin);
+        if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) {
+            report(np + "/singular", np,
+                   "the node's transform is singular (zero scale) or not finite: its mesh is "
+                   "skipped");
+            return;
+        }
+        const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
+        const std::string mp = "/meshes/" + std::to_string(mesh_index);
+        for (std::size_t pi = 0; pi < me.primitives.size(); ++pi) {
+            const tinygltf::Primitive& pr = me.primitives[pi];
+            const std::string pp = mp + "/primitives/" + idx(pi);
+            const int mode = pr.mode < 0 ? TINYGLTF_MODE_TRIANGLES : pr.mode;
+            if (mode != TINYGLTF_MODE_TRIANGLES && mode != TINYGLTF_MODE_TRIANGLE_STRIP &&
+                mode != TINYGLTF_MODE_TRIANGLE_FAN) {
+                report("mode" + std::to_string(mode), pp + "/mode",
+                       "points and lines (mode " + std::to_string(mode) +
+                           ") are not imported: Facet renders surfaces");
+                continue;
+            }
+            if (pr.extensions.count("KHR_draco_mesh_compression")) {
+                report("draco", pp + "/extensions/KHR_draco_mesh_compression",
+                       "Draco compression is not decoded: the primitive's uncompressed "
+                       "accessors are read");
+            }
+            if (!pr.targets.empty()) {
+                report("targets", pp + "/targets",
+                       "morph targets are not applied (the base shape is imported)");
+            }
+            for (const auto& [name, _] : pr.attributes) {
+                if (name == "POSITION" || name == "NORMAL") continue;
+                const std::string key = name.rfind("TEXCOORD_", 0) == 0 ? "uv"
+                                        : name.rfind("COLOR_", 0) == 0  ? "color"
+                                                                        : name;
+                const char* what = key == "uv"      ? "UVs are not imported yet"
+                                   : key == "color" ? "vertex colours are not imported"
+                                                    : "this attribute is not imported";
+                report("attr:" + key, pp + "/attributes/" + name, what);
+            }
+            auto pos = pr.attributes.find("POSITION");
+            if (pos == pr.attributes.end()) fail(pp + "/attributes", "has no POSITION");
+            TriangleMesh m;
+            m.positions = vec3s(pos->second, pp + "/attributes/POSITION", "position");
+            const std::size_t nvert = m.positions.size();
+            if (auto n = pr.attributes.find("NORMAL"); n != pr.attributes.end()) {
+                m.normals = vec3s(n->second, pp + "/attributes/NORMAL", "normal");
+                if (m.normals.size() != nvert) {
+                    fail(pp + "/attributes/NORMAL",
+                         idx(m.normals.size()) + " normals for " + idx(nvert) + " positions");
+                }
+            }
+            std::vector<std::uint32_t> ix;
+            if (pr.indices >= 0) {
+                ix = indices(pr.indices, pp + "/indices", nvert);
+            } else {
+                ix.resize(nvert);
+                for (std::size_t i = 0; i < nvert; ++i) ix[i] = std::uint32_t(i);
+            }
+            m.indices = triangle_list(std::move(ix), mode, pp);
+            if (m.indices.empty()) {
+                report(pp + "/empty", pp, "the primitive has no triangles; skipped");
+                continue;
+            }
+            for (Vec3& p : m.positions)
+                p = Vec3(glm::dvec3(world * glm::dvec4(glm::dvec3(p), 1.0)));
+            for (Vec3& n : m.normals) {
+                const glm::dvec3 w = normal_mat * glm::dvec3(n);
+                const double l = glm::length(w);
+                if (!(l > 0.0)) {
+                    report(pp + "/zero-normal", pp + "/attributes/NORMAL",
+                           "contains zero-length normals: the primitive is shaded flat");
+                    m.normals.clear();
+                    break;
+                }
+                n = Vec3(w / l);
+            }
+            // A mirroring node transform reverses the winding (glTF 3.7.4): undo it.
+            if (det < 0.0) {
+                for (std::size_t t = 0; t + 2 < m.indices.size(); t += 3) {
+                    std::swap(m.indices[t + 1], m.indices[t + 2]);
+                }
+            }
+            GltfPart part;
+            part.pointer = pp;
+            part.mesh = std::move(m);
+            if (pr.material >= 0) {
+                element(m_model.materials, pr.material, pp + "/material", "material");
+                part.material = pr.material;
+            } else {
+                part.material = default_material(pp);
+            }
+            m_out.parts.push_back(std::move(part));
+        }
+    }
+
+    std::string m_path, m_file;
+    std::string_view m_memory;
+    bool m_in_memory = false;
+    tinygltf::Model m_model;
+    GltfImport m_out;
+    std::set<std::string> m_reported;
+    std::vector<bool> m_seen;
+    int m_default = -1;
+};
+
+// All parts as one mesh (the exporters' `triangles`, and a shape whose "material" replaces the
+// file's).
+TriangleMesh merged(const GltfImport& g) {
+    TriangleMesh out;
+    for (const GltfPart& p : g.parts) {
+        const std::uint32_t base = std::uint32_t(out.positions.size());
+        out.positions.insert(out.positions.end(), p.mesh.positions.begin(), p.mesh.positions.end());
+        for (std::uint32_t i : p.mesh.indices) out.indices.push_back(base + i);
+    }
+    // Normals only when every part has them (a mesh has one normal per position or none).
+    bool all = !g.parts.empty();
+    for (const GltfPart& p : g.parts) all = all && !p.mesh.normals.empty();
+    if (all) {
+        for (const GltfPart& p : g.parts) {
+            out.normals.insert(out.normals.end(), p.mesh.normals.begin(), p.mesh.normals.end());
+        }
+    }
+    return out;
+}
+
+TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
+    return merged(import_gltf(resolve_scene_path(s.file, base_dir)));
+}
+
+bool replaces_materials(const ShapeDesc& s) {
+    return s.material || !s.material_ref.empty();
+}
+
+void build(ShapeBuild& b) {
+    const ShapeDesc& s = b.shape;
+    const std::string fp = b.ptr + "/file";
+    if (!b.files_allowed()) b.fail(fp, "files are disabled here");
+    GltfImport g;
+    try {
+        g = import_gltf(resolve_scene_path(s.file, b.base_dir()));
+    } catch (const std::exception& e) {
+        b.fail(fp, e.what());
+    }
+    for (const std::string& r : g.reports) b.warn(b.place() + ": " + r);
+    if (g.num_cameras > 0) {
+        b.warn(b.place() + ": " + std::filesystem::path(s.file).filename().string() +
+               "#/cameras: " + std::to_string(g.num_cameras) +
+               " camera(s) not used by a gltf shape (`facet render` on the bare file uses the "
+               "first perspective one)");
+    }
+    if (g.parts.empty()) {
+        b.fail(fp,
+               "the file's scene has no triangle primitives (nothing to render; see the "
+               "warnings for what was skipped)");
+    }
+    std::uint64_t n = 0;
+    for (const GltfPart& p : g.parts) n += p.mesh.num_triangles();
+    b.reserve_triangles(n, fp);
+    if (replaces_materials(s)) {
+        // The shape's own material (and emission) for every primitive.
+        b.add_triangles(merged(g), Vec3(0.f));
+        return;
+    }
+    if (b.emissive) {
+        b.fail(b.ptr + "/emission",
+               "a gltf shape emits what its file's materials emit (emissiveFactor); give the "
+               "shape a \"material\" to replace the file's materials and emit this instead");
+    }
+    std::vector<const Material*> built(g.materials.size(), nullptr);
+    for (GltfPart& p : g.parts) {
+        const GltfMaterial& gm = g.materials[std::size_t(p.material)];
+        const Material*& mat = built[std::size_t(p.material)];
+        if (!mat) mat = b.add_material(gm.desc, fp);
+        ShapeSurface su;
+        su.material_name = s.file + "#" + gm.pointer;
+        su.material = mat;
+        su.emission = gm.emission;
+        su.two_sided = gm.double_sided && s.two_sided;
+        b.add_part(std::move(p.mesh), std::move(su));
+    }
+}
+
+// POV-Ray: one mesh with the shape's material when it replaces the file's; a file's several
+// materials have no export yet.
+void pov(PovShapeOut& o) {
+    if (replaces_materials(o.shape)) return o.triangles(false);
+    o.fail(o.pointer + "/file",
+           "export-pov cannot write a glTF file's own materials yet; give the shape a "
+           "\"material\" to export its triangles with that one");
+}
+
+}  // namespace
+
+GltfImport import_gltf(const std::string& path) {
+    return Importer(path).run();
+}
+
+GltfImport parse_gltf(std::string_view bytes, const std::string& name) {
+    return Importer(bytes, name).run();
+}
+
+SceneDescription gltf_scene_description(const std::string& path, int width, int height,
+                                        std::vector<std::string>& notes) {
+    const GltfImport g = import_gltf(path);
+    SceneDescription d;
+    d.description = "the glTF file " + path;
+    const std::filesystem::path p(path);
+    d.base_dir = p.has_parent_path() ? p.parent_path().string() : ".";
+    ShapeDesc s;
+    s.kind = ShapeKind::Gltf;
+    s.name = p.filename().string();
+    s.file = p.filename().string();
+    d.shapes.push_back(s);
+    LightDesc env;
+    env.kind = LightKind::Environment;
+    env.radiance = Rgb(1.f);
+    d.lights.push_back(env);
+    notes.push_back("lit by a constant white environment of radiance 1");
+    CameraDesc& c = d.camera;
+    c.width = width;
+    c.height = height;
+    if (g.camera) {
+        const GltfCamera& gc = *g.camera;
+        c.position = Vec3(gc.position);
+        c.look_at = Vec3(gc.position + glm::normalize(gc.forward));
+        c.up = Vec3(glm::normalize(gc.up));
+        c.fov = gc.yfov_deg;
+        if (gc.aspect) c.width = std::max(1, int(std::lround(height * *gc.aspect)));
+        notes.push_back("using the file's camera " + gc.pointer);
+        return d;
+    }
+    // No camera: look at the bounding sphere of every part from the front-right, above
+    // (glTF's +z front is -y after the Z-up turn), at the distance where the sphere fills
+    // the smaller field of view.
+    glm::dvec3 lo(std::numeric_limits<double>::max()), hi(-std::numeric_limits<double>::max());
+    for (const GltfPart& pt : g.parts) {
+        for (const Vec3& v : pt.mesh.positions) {
+            lo = glm::min(lo, glm::dvec3(v));
+            hi = glm::max(hi, glm::dvec3(v));
+        }
+    }
+    if (g.parts.empty()) lo = hi = glm::dvec3(0.0);
+    const glm::dvec3 centre = 0.5 * (lo + hi);
+    const double radius = std::max(0.5 * glm::length(hi - lo), 1e-6);
+    c.fov = 40.0;
+    const double half = 0.5 * c.fov * M_PI / 180.0 * std::min(1.0, double(width) / height);
+    const double dist = 1.1 * radius / std::sin(half);
+    const glm::dvec3 dir = glm::normalize(glm::dvec3(0.6, -1.0, 0.5));
+    c.position = Vec3(centre + dist * dir);
+    c.look_at = Vec3(centre);
+    c.up = Vec3(0.f, 0.f, 1.f);
+    notes.push_back("the file has no camera: framing its bounding box from the front (fov 40)");
+    return d;
+}
+
+extern const ShapeKindDef kGltfKind{
+    ShapeKind::Gltf,
+    "gltf",
+    "every triangle primitive of a glTF 2.0 file (`.gltf` or `.glb`, tinygltf) with its node "
+    "transforms, turned Z-up ((x, y, z) -> (x, -z, y)) before `transform`, and its "
+    "metallic-roughness materials as `composite` (docs/gltf.md); `material`, when given, "
+    "replaces the file's materials; what is not converted is reported",
+    {{"file", FieldType::Path, true, &ShapeDesc::file, "-",
+      "the glTF file, relative to the scene file; per material: diffuse_reflectance = b (1 - m), "
+      "ggx alpha = r^2, schlick f0 = 0.04 (1 - m) + b m, emission = emissiveFactor x "
+      "emissiveStrength, two_sided = doubleSided and `two_sided`"}},
+    build,
+    triangles,
+    pov,
+    true};
+
+}  // namespace facet::render
