@@ -199,7 +199,11 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     if constexpr (!kIndirect && !kSpecular) {
         if (depth >= 1) return false;
     }
-    const Material& m = *hit.material;
+    // A textured material is built for this hit (scene.h); every other takes the fast path.
+    std::optional<Material> textured;
+    if (hit.textured >= 0) [[unlikely]]
+        textured.emplace(scene.material_at(hit));
+    const Material& m = textured ? *textured : *hit.material;
     Shading sh;
     if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
@@ -363,7 +367,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
             break;
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
-        const Material& m = *hit.material;
+        std::optional<Material> textured;  // as in path_vertex
+        if (hit.textured >= 0) [[unlikely]]
+            textured.emplace(scene.material_at(hit));
+        const Material& m = textured ? *textured : *hit.material;
         Shading sh;
         if (!make_shading<F>(hit, m, ray.d, sh)) break;
         const LightSampleContext ctx{hit.p, sh.ns};
@@ -373,6 +380,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
             const std::uint32_t base = 1u + block * std::uint32_t(depth);
             for (std::size_t j = 0; j < lights.size(); ++j) {
                 const Light& light = lights[j];
+                // A textured emitter is not light-sampled (light.h): direct sees it only
+                // through camera and mirror rays.
+                if (light.textured_emission()) [[unlikely]]
+                    continue;
                 Vec2 u(0.5f);
                 if constexpr (kArea) {
                     if (!light.is_delta()) {

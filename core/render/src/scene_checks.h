@@ -5,6 +5,7 @@
 #pragma once
 
 #include <cstdint>
+#include <filesystem>
 #include <sstream>
 #include <string>
 
@@ -27,6 +28,13 @@ inline std::string number_range_message(double value, const char* range_text) {
     std::ostringstream s;
     s << "value " << value << " is out of range: must be " << range_text;
     return s.str();
+}
+
+// A file named in a scene (mesh, texture): relative paths are relative to the scene's directory.
+inline std::string resolve_path(const std::string& file, const std::string& base_dir) {
+    std::filesystem::path p(file);
+    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
+    return p.string();
 }
 
 // RFC 6901 escaping of one reference token.

@@ -11,15 +11,9 @@ namespace facet::render {
 
 namespace {
 
-std::string resolve(const std::string& file, const std::string& base_dir) {
-    std::filesystem::path p(file);
-    if (p.is_relative()) p = std::filesystem::path(base_dir) / p;
-    return p.string();
-}
-
 // The mesh as given (arrays copied; normals as given, not normalised).
 TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
-    if (!s.file.empty()) return load_mesh_file(resolve(s.file, base_dir));
+    if (!s.file.empty()) return load_mesh_file(detail::resolve_path(s.file, base_dir));
     const MeshData& md = s.mesh;
     TriangleMesh m;
     const std::size_t n = md.num_vertices();
@@ -30,6 +24,10 @@ TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
         m.normals.resize(n);
         std::memcpy(m.normals.data(), md.normals.data(), n * sizeof(Vec3));
     }
+    if (md.uvs.size() == 2 * n && n > 0) {
+        m.uvs.resize(n);
+        std::memcpy(m.uvs.data(), md.uvs.data(), n * sizeof(Vec2));
+    }
     return m;
 }
 
@@ -38,7 +36,8 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
     const std::string& ptr = b.ptr;
     const MeshData& md = s.mesh;
     if (!s.file.empty()) {
-        if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty()) {
+        if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty() ||
+            !md.uvs.empty()) {
             b.fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
         }
         if (!b.files_allowed()) b.fail(ptr + "/file", "mesh files are disabled here");
@@ -71,6 +70,14 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
     if (!md.normals.empty() && md.normals.size() != md.positions.size()) {
         b.fail(ptr + "/normals", "expected one normal per position (" + std::to_string(n) +
                                      "), got " + std::to_string(md.normals.size() / 3));
+    }
+    if (!md.uvs.empty() && md.uvs.size() != 2 * n) {
+        b.fail(ptr + "/uvs", "expected one (u, v) pair per position (" + std::to_string(2 * n) +
+                                 " numbers), got " + std::to_string(md.uvs.size()));
+    }
+    for (std::size_t i = 0; i < md.uvs.size(); ++i) {
+        if (!std::isfinite(md.uvs[i]))
+            b.fail(ptr + "/uvs/" + std::to_string(i), "must be a finite number");
     }
     for (std::size_t i = 0; i < m.normals.size(); ++i) {
         Vec3& v = m.normals[i];
