@@ -249,6 +249,8 @@ class Scene {
     // model built from them (never throws: build_scene checked every texture's range against
     // the model's). Hits with textured < 0 use *hit.material.
     Material material_at(const SurfaceHit& hit) const;
+    // The textured materials (ShapeInfo::textured indexes them).
+    std::span<const TexturedMaterial> textured_materials() const { return m_textured; }
 
     // Warnings build_scene() reported (dropped zero-area triangles, ...), one line each.
     std::span<const std::string> warnings() const { return m_warnings; }

@@ -63,8 +63,8 @@ struct MeshData {
     std::span<const float> positions;
     std::span<const std::uint32_t> indices;
     std::span<const float> normals;
-    std::span<const float> uvs;
     std::shared_ptr<const void> owner;  // keeps the arrays alive (may be null: see conventions)
+    std::span<const float> uvs;         // after `owner`: MeshData{p, i, n, owner} still works
 
     // A mesh that owns copies of (or takes) the given arrays.
     static MeshData copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
