@@ -17,6 +17,7 @@
 
 #include <unistd.h>
 
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
@@ -470,4 +471,34 @@ TEST(Textures, BadInputNamesThePointerAndTheFile) {
                     "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}],
         "lights": [])");
     EXPECT_NE(neg.find("/shapes/0/emission/texture"), std::string::npos) << neg;
+}
+
+// POV-Ray cannot express a texture exactly: export-pov names the textured parameter.
+TEST(Textures, PovExportOfATextureIsAnErrorNamingThePointer) {
+    const std::string head = R"({"format": "facet-scene", "version": 1,
+        "camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40, "width": 4,
+                   "height": 4},
+        "lights": [{"type": "point", "position": [0, 0, 5], "power": 10}],)";
+    auto error_of_export = [&](const std::string& rest) {
+        try {
+            (void)fr::export_pov(fr::parse_scene_description(head + rest + "}", "p.json"),
+                                 "p.json");
+        } catch (const fr::SceneError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    const std::string named = error_of_export(R"(
+        "materials": {"m": {"model": "lambert", "reflectance": {"checker": {"colors": [0, 1]}}}},
+        "shapes": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1}])");
+    EXPECT_NE(named.find("p.json: /materials/m/reflectance:"), std::string::npos) << named;
+    const std::string emission = error_of_export(R"(
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                    "emission": {"checker": {"colors": [0, 1]}}}])");
+    EXPECT_NE(emission.find("p.json: /shapes/0/emission:"), std::string::npos) << emission;
+    // The same scene without the texture exports.
+    EXPECT_EQ(error_of_export(R"(
+        "materials": {"m": {"model": "lambert", "reflectance": 0.5}},
+        "shapes": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1}])"),
+              "");
 }

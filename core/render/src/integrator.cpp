@@ -151,59 +151,19 @@ struct VertexSampleLanes {
     }
 };
 
-// The vertex at `depth` of path `p`, lane k of the packets: reached by the ray rays[k] (closest
-// hit `hit` when `found`), with the vertex's samples `s`: emission found by the ray, the light
-// sample (shadow ray shadow[k] and p.nee, `has_shadow` set), and the BSDF sample that continues
-// the path (rays[k] becomes the next ray). False when the path ends here.
+// The rest of path_vertex once the hit's material `m` is known: light sample and BSDF sample.
 template <std::uint32_t F>
-bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p,
-                 RayPacket& rays, std::size_t k, bool found, const SurfaceHit& hit,
-                 const VertexSamples& s, bool& has_shadow, RayPacket& shadow, int depth,
-                 int max_depth, KernelCounters& c) {
-    const Vec3 ray_d = rays.direction(k);
+[[gnu::always_inline]] inline bool path_scatter(const Scene& scene,
+                                                const LightDistribution& light_dist, PathState& p,
+                                                RayPacket& rays, std::size_t k,
+                                                const SurfaceHit& hit, const VertexSamples& s,
+                                                bool& has_shadow, RayPacket& shadow, int depth,
+                                                int max_depth, KernelCounters& c, const Vec3& ray_d,
+                                                const Material& m) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
-    constexpr bool kEmission = (F & kFeatEmission) != 0;
-    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     const std::span<const Light> lights = scene.lights();
     const int num_lights = int(lights.size());
-
-    // Emission reached by this ray: full weight from the camera or after a delta lobe (light
-    // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
-    if constexpr (kMis) {
-        if (depth > 0 || kEmission) {
-            if (!found) {
-                if (const Light* env = scene.environment()) {
-                    const Rgb le = env->le_escape(ray_d);
-                    if (depth == 0 || p.specular_bounce) {
-                        p.L += p.beta * le;
-                    } else {
-                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
-                        p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
-                    }
-                }
-            } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
-                if (depth == 0 || p.specular_bounce) {
-                    p.L += p.beta * hit.emitted_radiance;
-                } else {
-                    const std::size_t li = std::size_t(hit.light);
-                    const float lp =
-                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
-                    p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
-                }
-            }
-        }
-    }
-    if (!found || depth >= max_depth) return false;
-    if constexpr (!kIndirect && !kSpecular) {
-        if (depth >= 1) return false;
-    }
-    // A textured material is built for this hit (scene.h); every other takes the fast path.
-    std::optional<Material> textured;
-    if (hit.textured >= 0) [[unlikely]]
-        textured.emplace(scene.material_at(hit));
-    const Material& m = textured ? *textured : *hit.material;
     Shading sh;
     if (!make_shading<F>(hit, m, ray_d, sh)) return false;
     const LightSampleContext ctx{hit.p, sh.ns};
@@ -279,6 +239,74 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     rays.set(k, Ray{origin, wi_w, kInfinity});
     ++c.rays;
     return true;
+}
+
+// A hit on a textured material: the material built for it (Scene::material_at), out of line so
+// that the untextured path keeps its code and its stack frame as before.
+template <std::uint32_t F>
+[[gnu::noinline]] bool path_scatter_textured(const Scene& scene,
+                                             const LightDistribution& light_dist, PathState& p,
+                                             RayPacket& rays, std::size_t k, const SurfaceHit& hit,
+                                             const VertexSamples& s, bool& has_shadow,
+                                             RayPacket& shadow, int depth, int max_depth,
+                                             KernelCounters& c, const Vec3& ray_d) {
+    const Material m = scene.material_at(hit);
+    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+                           max_depth, c, ray_d, m);
+}
+
+// The vertex at `depth` of path `p`, lane k of the packets: reached by the ray rays[k] (closest
+// hit `hit` when `found`), with the vertex's samples `s`: emission found by the ray, the light
+// sample (shadow ray shadow[k] and p.nee, `has_shadow` set), and the BSDF sample that continues
+// the path (rays[k] becomes the next ray). False when the path ends here.
+template <std::uint32_t F>
+bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p,
+                 RayPacket& rays, std::size_t k, bool found, const SurfaceHit& hit,
+                 const VertexSamples& s, bool& has_shadow, RayPacket& shadow, int depth,
+                 int max_depth, KernelCounters& c) {
+    const Vec3 ray_d = rays.direction(k);
+    constexpr bool kMis = (F & kFeatMis) != 0;
+    constexpr bool kSpecular = (F & kFeatSpecular) != 0;
+    constexpr bool kEmission = (F & kFeatEmission) != 0;
+    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    const std::span<const Light> lights = scene.lights();
+
+    // Emission reached by this ray: full weight from the camera or after a delta lobe (light
+    // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
+    if constexpr (kMis) {
+        if (depth > 0 || kEmission) {
+            if (!found) {
+                if (const Light* env = scene.environment()) {
+                    const Rgb le = env->le_escape(ray_d);
+                    if (depth == 0 || p.specular_bounce) {
+                        p.L += p.beta * le;
+                    } else {
+                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
+                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
+                        p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
+                    }
+                }
+            } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
+                if (depth == 0 || p.specular_bounce) {
+                    p.L += p.beta * hit.emitted_radiance;
+                } else {
+                    const std::size_t li = std::size_t(hit.light);
+                    const float lp =
+                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
+                    p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
+                }
+            }
+        }
+    }
+    if (!found || depth >= max_depth) return false;
+    if constexpr (!kIndirect && !kSpecular) {
+        if (depth >= 1) return false;
+    }
+    if (hit.textured >= 0) [[unlikely]]
+        return path_scatter_textured<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow,
+                                        depth, max_depth, c, ray_d);
+    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+                           max_depth, c, ray_d, *hit.material);
 }
 
 // Fewer live paths than this trace their closest-hit rays one by one: a packet query costs

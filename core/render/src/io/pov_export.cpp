@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../scene_checks.h"
 #include "facet/frame.h"
 #include "facet/registry.h"
 #include "facet/render/kinds.h"
@@ -382,6 +383,13 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                                const glm::dvec3& emission) {
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    // Textured parameters are not exported: povray-facet's brdf block takes constants, and
+    // POV-Ray's image_map (its UV mapping per object, its interpolation, its sRGB handling)
+    // matches Facet's texture exactly for no parameter yet. An error, never a silent constant.
+    if (!m.textures.empty()) {
+        fail(pointer + "/" + detail::escape_pointer_token(m.textures.begin()->first),
+             "a texture cannot be exported to POV-Ray exactly (only constant parameters are)");
+    }
     const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
                                       : m.model == "composite" ? "diffuse_reflectance"
                                                                : "";
@@ -450,6 +458,10 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
                 mpointer = "/materials/" + s.material_ref;
             }
         if (!m) fail(pointer + "/material", "unknown material '" + s.material_ref + "'");
+    }
+    if (s.emission_texture) {
+        fail(pointer + "/emission",
+             "a texture cannot be exported to POV-Ray exactly (only constant emission is)");
     }
     const glm::dvec3 le = glm::dvec3(s.emission);
     const bool emits = std::max({le.x, le.y, le.z}) > 0.0;
