@@ -100,13 +100,15 @@ void build(ShapeBuild& b) {
 extern const ShapeKindDef kMeshKind{
     ShapeKind::Mesh,
     "mesh",
-    "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`) or from a "
-    "`file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals kept when every "
-    "corner has one) or `.ply` (ascii or binary_little_endian; vertex x y z [nx ny nz], face "
+    "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`, optional "
+    "`uvs`) or from a `file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals and "
+    "texture coordinates `vt` kept when every corner has one) or `.ply` (ascii or "
+    "binary_little_endian; vertex x y z [nx ny nz] [u v | s t | texture_u texture_v], face "
     "vertex_indices lists, fan-triangulated)",
     {{"positions", FieldType::MeshArrays, false, &ShapeDesc::mesh, "-",
       "flat arrays: `positions` [x0, y0, z0, x1, ...], `indices` (3 per triangle), optional "
-      "`normals` (one per position: smooth shading)"},
+      "`normals` (one per position: smooth shading), optional `uvs` [u0, v0, u1, ...] (one pair "
+      "per position; needed when the material or emission is textured)"},
      {"file", FieldType::Path, false, &ShapeDesc::file, "-",
       "a mesh file (instead of the arrays), relative to the scene file"}},
     build,
