@@ -23,6 +23,7 @@
 #include "facet/render/scene_description.h"
 #include "facet/render/texture.h"
 #include "facet/testsupport/render_test_util.h"
+#include "oiio_test_image.h"
 
 namespace fr = facet::render;
 using facet::Rgb;
@@ -38,16 +39,7 @@ std::string temp_dir() {
     return d.string();
 }
 
-template <typename T>
-void write_image(const std::string& path, int w, int h, int c, const std::vector<T>& data,
-                 OIIO::TypeDesc type) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << OIIO::geterror();
-    OIIO::ImageSpec spec(w, h, c, type);
-    ASSERT_TRUE(out->open(path, spec));
-    ASSERT_TRUE(out->write_image(type, data.data()));
-    out->close();
-}
+using fr::testing::write_test_image;
 
 // IEC 61966-2-1 decoding in double, rounded once (the reader's documented exact decoding).
 float srgb(std::uint8_t code) {
@@ -117,7 +109,7 @@ fr::Texture image_texture(const fr::TexelImage& img, fr::TextureFilter f, fr::Te
 TEST(Textures, LambertQuadRendersEachTexelsLinearReflectance) {
     const std::string dir = temp_dir();
     const std::vector<std::uint8_t> codes = test_codes();
-    write_image(dir + "/rho.png", 4, 3, 3, codes, OIIO::TypeDesc::UINT8);
+    write_test_image(dir + "/rho.png", 4, 3, 3, codes, OIIO::TypeDesc::UINT8);
     const fr::Scene scene = scene_in(dir, std::string(kTexelCamera) + R"(
         "shapes": [{"type": "quad", "vertices": )" +
                                               kTexelQuadVertices + R"(,
@@ -140,7 +132,7 @@ TEST(Textures, EmissionTextureSeenDirectlyEqualsItsTexels) {
     const std::string dir = temp_dir();
     std::vector<float> le(4 * 3 * 3);
     for (std::size_t i = 0; i < le.size(); ++i) le[i] = 0.25f + 0.5f * float(i);
-    write_image(dir + "/le.exr", 4, 3, 3, le, OIIO::TypeDesc::FLOAT);
+    write_test_image(dir + "/le.exr", 4, 3, 3, le, OIIO::TypeDesc::FLOAT);
     const fr::Scene scene = scene_in(dir, std::string(kTexelCamera) + R"(
         "shapes": [{"type": "quad", "vertices": )" +
                                               kTexelQuadVertices + R"(,
@@ -163,8 +155,8 @@ TEST(Textures, EmissionTextureSeenDirectlyEqualsItsTexels) {
 // (light-sampled with MIS), within 4 standard errors of the difference of two independent means.
 TEST(Textures, TexturedEmitterLightsTheSceneUnbiased) {
     const std::string dir = temp_dir();
-    write_image(dir + "/two.exr", 1, 1, 3, std::vector<float>{2.f, 2.f, 2.f},
-                OIIO::TypeDesc::FLOAT);
+    write_test_image(dir + "/two.exr", 1, 1, 3, std::vector<float>{2.f, 2.f, 2.f},
+                     OIIO::TypeDesc::FLOAT);
     auto scene_with = [&](const std::string& emission) {
         return scene_in(dir, R"("camera": {"position": [0, 2, 3], "look_at": [0, 0, 0],
                                           "fov": 40, "width": 16, "height": 16},
@@ -368,8 +360,8 @@ TEST(TextureUvs, UntexturedHitsAreNotTextured) {
 
 TEST(Textures, OneImageUsedTwiceIsLoadedOnce) {
     const std::string dir = temp_dir();
-    write_image(dir + "/g.png", 2, 2, 1, std::vector<std::uint8_t>{10, 20, 30, 40},
-                OIIO::TypeDesc::UINT8);
+    write_test_image(dir + "/g.png", 2, 2, 1, std::vector<std::uint8_t>{10, 20, 30, 40},
+                     OIIO::TypeDesc::UINT8);
     fr::SceneDescription d = fr::parse_scene_description(
         R"({"format": "facet-scene", "version": 1,
             "camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40, "width": 4, "height": 4},
@@ -402,12 +394,12 @@ TEST(Textures, OneImageUsedTwiceIsLoadedOnce) {
 
 TEST(Textures, BadInputNamesThePointerAndTheFile) {
     const std::string dir = temp_dir();
-    write_image(dir + "/grey.png", 2, 1, 1, std::vector<std::uint8_t>{10, 200},
-                OIIO::TypeDesc::UINT8);
-    write_image(dir + "/rgb.png", 1, 1, 3, std::vector<std::uint8_t>{10, 20, 30},
-                OIIO::TypeDesc::UINT8);
-    write_image(dir + "/nan.exr", 2, 1, 1, std::vector<float>{0.5f, std::nanf("")},
-                OIIO::TypeDesc::FLOAT);
+    write_test_image(dir + "/grey.png", 2, 1, 1, std::vector<std::uint8_t>{10, 200},
+                     OIIO::TypeDesc::UINT8);
+    write_test_image(dir + "/rgb.png", 1, 1, 3, std::vector<std::uint8_t>{10, 20, 30},
+                     OIIO::TypeDesc::UINT8);
+    write_test_image(dir + "/nan.exr", 2, 1, 1, std::vector<float>{0.5f, std::nanf("")},
+                     OIIO::TypeDesc::FLOAT);
     std::ofstream(dir + "/corrupt.png") << "not a png at all";
     auto with_reflectance = [&](const std::string& value, const std::string& extra = "") {
         return error_of(dir, R"("camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40,
@@ -463,7 +455,7 @@ TEST(Textures, BadInputNamesThePointerAndTheFile) {
     EXPECT_NE(none.find("/shapes/0/uvs"), std::string::npos) << none;
     EXPECT_NE(none.find("no UVs"), std::string::npos) << none;
     // A negative emission texel (float image) is an error: radiance cannot be negative.
-    write_image(dir + "/neg.exr", 1, 1, 1, std::vector<float>{-1.f}, OIIO::TypeDesc::FLOAT);
+    write_test_image(dir + "/neg.exr", 1, 1, 1, std::vector<float>{-1.f}, OIIO::TypeDesc::FLOAT);
     const std::string neg =
         error_of(dir, R"("camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40,
                                                        "width": 4, "height": 4},
