@@ -415,15 +415,72 @@ void bind_scene(py::module_& m) {
                    ", seed=" + std::to_string(r.seed) + ")";
         });
 
+    py::class_<TextureDesc>(
+        m, "Texture",
+        "A texture as a parameter value (scenes/FORMAT.md, Textures): Texture('wood.png', "
+        "colorspace='srgb', filter='closest', wrap='repeat', uv_scale=(1, 1), uv_offset=(0, 0), "
+        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1). Values are "
+        "checked by build_scene (errors name the JSON pointer and the file).")
+        .def(py::init([](std::string file, std::string colorspace, std::string filter,
+                         std::string wrap, std::array<float, 2> uv_scale,
+                         std::array<float, 2> uv_offset, double uv_rotation, double scale,
+                         std::string channel) {
+                 TextureDesc d;
+                 d.file = std::move(file);
+                 d.colorspace = std::move(colorspace);
+                 d.filter = std::move(filter);
+                 d.wrap = std::move(wrap);
+                 d.uv_scale = {uv_scale[0], uv_scale[1]};
+                 d.uv_offset = {uv_offset[0], uv_offset[1]};
+                 d.uv_rotation = uv_rotation;
+                 d.scale = scale;
+                 d.channel = std::move(channel);
+                 return d;
+             }),
+             py::arg("file"), py::arg("colorspace") = "", py::arg("filter") = "",
+             py::arg("wrap") = "", py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
+             py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
+             py::arg("scale") = 1.0, py::arg("channel") = "")
+        .def_static(
+            "checker",
+            [](Vec3 c0, Vec3 c1, double cells) {
+                TextureDesc d;
+                d.checker = true;
+                d.colors = {Rgb(c0), Rgb(c1)};
+                d.checker_scale = cells;
+                return d;
+            },
+            py::arg("c0"), py::arg("c1"), py::arg("scale") = 1.0)
+        .def_readonly("file", &TextureDesc::file)
+        .def_readonly("is_checker", &TextureDesc::checker)
+        .def(py::self == py::self)
+        .def("__repr__", [](const TextureDesc& d) {
+            return d.checker ? std::string("facet.Texture.checker(...)")
+                             : "facet.Texture('" + d.file + "')";
+        });
+
     py::class_<MaterialDesc>(m, "MaterialDesc",
                              "A named material: model name (facet.models()) and parameters, "
-                             "e.g. MaterialDesc('ggx', alpha=0.3)")
+                             "e.g. MaterialDesc('ggx', alpha=0.3); a facet.Texture may stand "
+                             "for any colour or number parameter")
         .def(py::init([](std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
                  d.model = std::move(model);
-                 d.params = params_from_dict(params, "params");
-                 const ParamSet extra = params_from_dict(kw, "params");
-                 for (const auto& [k, v] : extra.values()) d.params.set(k, v);
+                 // Textures go to `textures`, every other value to the ParamSet.
+                 for (py::handle src : {py::handle(params), py::handle(kw)}) {
+                     if (src.is_none()) continue;
+                     if (!py::isinstance<py::dict>(src))
+                         bad_argument("params", "expected a dict of parameters");
+                     py::dict constants;
+                     for (auto [k, v] : py::reinterpret_borrow<py::dict>(src)) {
+                         if (py::isinstance<TextureDesc>(v))
+                             d.textures[k.cast<std::string>()] = v.cast<TextureDesc>();
+                         else
+                             constants[k] = v;
+                     }
+                     const ParamSet set = params_from_dict(constants, "params");
+                     for (const auto& [k, v] : set.values()) d.params.set(k, v);
+                 }
                  return d;
              }),
              py::arg("model") = "", py::arg("params") = py::none())
@@ -431,6 +488,12 @@ void bind_scene(py::module_& m) {
         .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })
+        .def_property_readonly("textures",
+                               [](const MaterialDesc& d) {
+                                   py::dict out;
+                                   for (const auto& [k, t] : d.textures) out[py::str(k)] = t;
+                                   return out;
+                               })
         .def(py::self == py::self)
         .def("__repr__", [](const MaterialDesc& d) {
             return "facet.MaterialDesc('" + d.model + "', " +
