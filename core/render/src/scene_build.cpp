@@ -309,7 +309,8 @@ class Builder final : public BuildChecks {
         TexturedMaterial tm;
         tm.model = m.model;
         tm.params = m.params;
-        for (const auto& [key, td] : m.textures) {
+        for (const auto& [name, td] : m.textures) {
+            const std::string& key = name;  // (clang 14 cannot capture a structured binding)
             const std::string p = ptr + "/" + escape_pointer_token(key);
             if (m.params.has(key)) fail(p, "given both as a constant and as a texture");
             const auto pi = std::find_if(info.params.begin(), info.params.end(),
