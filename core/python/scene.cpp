@@ -67,22 +67,28 @@ py::array as_array(py::handle obj, const char* what, const char* expected) {
 }
 
 // Float rows (n, 3): float32 C-contiguous in place, else converted. Checks finiteness.
-py::array_t<float, py::array::c_style> float_rows(py::handle obj, const char* what) {
-    py::array a = as_array(obj, what, "of float32, shape (n, 3)");
+py::array_t<float, py::array::c_style> float_rows(py::handle obj, const char* what,
+                                                  py::ssize_t cols = 3) {
+    const std::string shape = "(n, " + std::to_string(cols) + ")";
+    py::array a = as_array(obj, what, ("of float32, shape " + shape).c_str());
     if (a.dtype().kind() != 'f')
         bad_argument(what, "dtype " + dtype_str(a) + ", expected float32 (or another float dtype)");
-    if (a.ndim() != 2 || a.shape(1) != 3)
-        bad_argument(what, "shape " + shape_str(a) + ", expected (n, 3)");
+    if (a.ndim() != 2 || a.shape(1) != cols)
+        bad_argument(what, "shape " + shape_str(a) + ", expected " + shape);
     auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
     if (!f) throw py::error_already_set();
     const float* p = f.data();
     const py::ssize_t n = f.shape(0);
-    for (py::ssize_t i = 0; i < n; ++i)
-        if (!(std::isfinite(p[3 * i]) && std::isfinite(p[3 * i + 1]) &&
-              std::isfinite(p[3 * i + 2])))
-            bad_argument(what, "row " + std::to_string(i) + " is not finite (" +
-                                   std::to_string(p[3 * i]) + ", " + std::to_string(p[3 * i + 1]) +
-                                   ", " + std::to_string(p[3 * i + 2]) + ")");
+    for (py::ssize_t i = 0; i < n; ++i) {
+        bool finite = true;
+        std::string row;
+        for (py::ssize_t j = 0; j < cols; ++j) {
+            finite = finite && std::isfinite(p[cols * i + j]);
+            row += (j ? ", " : "") + std::to_string(p[cols * i + j]);
+        }
+        if (!finite)
+            bad_argument(what, "row " + std::to_string(i) + " is not finite (" + row + ")");
+    }
     return f;
 }
 
@@ -130,7 +136,8 @@ py::array index_rows(py::handle obj, const char* what, std::size_t num_vertices)
     return out;
 }
 
-MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals) {
+MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals,
+                          py::handle uvs) {
     auto pos = float_rows(positions, "positions");
     const std::size_t n = std::size_t(pos.shape(0));
     py::array idx = index_rows(indices, "indices", n);
@@ -147,17 +154,26 @@ MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle n
         mesh.normals = {nr.data(), std::size_t(nr.size())};
         nrm = nr;
     }
-    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm));
+    py::object uv = py::none();
+    if (!uvs.is_none()) {
+        auto u = float_rows(uvs, "uvs", 2);
+        if (std::size_t(u.shape(0)) != n)
+            bad_argument("uvs", std::to_string(u.shape(0)) + " rows, expected one per position (" +
+                                    std::to_string(n) + ")");
+        mesh.uvs = {u.data(), std::size_t(u.size())};
+        uv = u;
+    }
+    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv));
     return mesh;
 }
 
 // A read-only (rows, 3) numpy view of a mesh span, kept alive by the mesh's owner (copied when
 // the mesh has no owner).
 template <class T>
-py::array mesh_view(std::span<const T> s, const MeshData& mesh) {
+py::array mesh_view(std::span<const T> s, const MeshData& mesh, py::ssize_t cols = 3) {
     using Out = std::conditional_t<std::is_same_v<T, float>, float, std::int32_t>;
-    const std::vector<py::ssize_t> shape{py::ssize_t(s.size() / 3), 3};
-    const std::vector<py::ssize_t> strides{py::ssize_t(3 * sizeof(T)), py::ssize_t(sizeof(T))};
+    const std::vector<py::ssize_t> shape{py::ssize_t(s.size()) / cols, cols};
+    const std::vector<py::ssize_t> strides{py::ssize_t(cols * sizeof(T)), py::ssize_t(sizeof(T))};
     const auto* data = reinterpret_cast<const Out*>(s.data());
     if (!mesh.owner || s.empty()) return py::array_t<Out>(shape, strides, data);  // a copy
     auto* keep = new std::shared_ptr<const void>(mesh.owner);
@@ -416,15 +432,72 @@ void bind_scene(py::module_& m) {
                    ", seed=" + std::to_string(r.seed) + ")";
         });
 
+    py::class_<TextureDesc>(
+        m, "Texture",
+        "A texture as a parameter value (scenes/FORMAT.md, Textures): Texture('wood.png', "
+        "colorspace='srgb', filter='closest', wrap='repeat', uv_scale=(1, 1), uv_offset=(0, 0), "
+        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1). Values are "
+        "checked by build_scene (errors name the JSON pointer and the file).")
+        .def(py::init([](std::string file, std::string colorspace, std::string filter,
+                         std::string wrap, std::array<float, 2> uv_scale,
+                         std::array<float, 2> uv_offset, double uv_rotation, double scale,
+                         std::string channel) {
+                 TextureDesc d;
+                 d.file = std::move(file);
+                 d.colorspace = std::move(colorspace);
+                 d.filter = std::move(filter);
+                 d.wrap = std::move(wrap);
+                 d.uv_scale = {uv_scale[0], uv_scale[1]};
+                 d.uv_offset = {uv_offset[0], uv_offset[1]};
+                 d.uv_rotation = uv_rotation;
+                 d.scale = scale;
+                 d.channel = std::move(channel);
+                 return d;
+             }),
+             py::arg("file"), py::arg("colorspace") = "", py::arg("filter") = "",
+             py::arg("wrap") = "", py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
+             py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
+             py::arg("scale") = 1.0, py::arg("channel") = "")
+        .def_static(
+            "checker",
+            [](Vec3 c0, Vec3 c1, double cells) {
+                TextureDesc d;
+                d.checker = true;
+                d.colors = {Rgb(c0), Rgb(c1)};
+                d.checker_scale = cells;
+                return d;
+            },
+            py::arg("c0"), py::arg("c1"), py::arg("scale") = 1.0)
+        .def_readonly("file", &TextureDesc::file)
+        .def_readonly("is_checker", &TextureDesc::checker)
+        .def(py::self == py::self)
+        .def("__repr__", [](const TextureDesc& d) {
+            return d.checker ? std::string("facet.Texture.checker(...)")
+                             : "facet.Texture('" + d.file + "')";
+        });
+
     py::class_<MaterialDesc>(m, "MaterialDesc",
                              "A named material: model name (facet.models()) and parameters, "
-                             "e.g. MaterialDesc('ggx', alpha=0.3)")
+                             "e.g. MaterialDesc('ggx', alpha=0.3); a facet.Texture may stand "
+                             "for any colour or number parameter")
         .def(py::init([](std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
                  d.model = std::move(model);
-                 d.params = params_from_dict(params, "params");
-                 const ParamSet extra = params_from_dict(kw, "params");
-                 for (const auto& [k, v] : extra.values()) d.params.set(k, v);
+                 // Textures go to `textures`, every other value to the ParamSet.
+                 for (py::handle src : {py::handle(params), py::handle(kw)}) {
+                     if (src.is_none()) continue;
+                     if (!py::isinstance<py::dict>(src))
+                         bad_argument("params", "expected a dict of parameters");
+                     py::dict constants;
+                     for (auto [k, v] : py::reinterpret_borrow<py::dict>(src)) {
+                         if (py::isinstance<TextureDesc>(v))
+                             d.textures[k.cast<std::string>()] = v.cast<TextureDesc>();
+                         else
+                             constants[k] = v;
+                     }
+                     const ParamSet set = params_from_dict(constants, "params");
+                     for (const auto& [k, v] : set.values()) d.params.set(k, v);
+                 }
                  return d;
              }),
              py::arg("model") = "", py::arg("params") = py::none())
@@ -432,20 +505,30 @@ void bind_scene(py::module_& m) {
         .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })
+        .def_property_readonly("textures",
+                               [](const MaterialDesc& d) {
+                                   py::dict out;
+                                   for (const auto& [k, t] : d.textures) out[py::str(k)] = t;
+                                   return out;
+                               })
         .def(py::self == py::self)
         .def("__repr__", [](const MaterialDesc& d) {
             return "facet.MaterialDesc('" + d.model + "', " +
                    std::string(py::repr(params_to_dict(d.params))) + ")";
         });
 
-    py::class_<MeshData>(m, "MeshData",
-                         "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
-                         "normals float32 (n, 3) or None. Used in place when of exactly these "
-                         "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
-        .def(py::init([](py::handle positions, py::handle indices, py::handle normals) {
-                 return mesh_from_arrays(positions, indices, normals);
-             }),
-             py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none())
+    py::class_<MeshData>(
+        m, "MeshData",
+        "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
+        "normals float32 (n, 3) or None, uvs float32 (n, 2) or None (texture coordinates, "
+        "(0, 0) the bottom-left of an image). Used in place when of exactly these "
+        "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
+        .def(py::init(
+                 [](py::handle positions, py::handle indices, py::handle normals, py::handle uvs) {
+                     return mesh_from_arrays(positions, indices, normals, uvs);
+                 }),
+             py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none(),
+             py::arg("uvs") = py::none())
         .def_property_readonly("positions",
                                [](const MeshData& d) { return mesh_view(d.positions, d); })
         .def_property_readonly("indices", [](const MeshData& d) { return mesh_view(d.indices, d); })
@@ -453,6 +536,11 @@ void bind_scene(py::module_& m) {
                                [](const MeshData& d) -> py::object {
                                    if (d.normals.empty()) return py::none();
                                    return mesh_view(d.normals, d);
+                               })
+        .def_property_readonly("uvs",
+                               [](const MeshData& d) -> py::object {
+                                   if (d.uvs.empty()) return py::none();
+                                   return mesh_view(d.uvs, d, 2);
                                })
         .def_property_readonly("num_vertices", &MeshData::num_vertices)
         .def_property_readonly("num_triangles", &MeshData::num_triangles)
@@ -473,7 +561,8 @@ void bind_scene(py::module_& m) {
                  py::object self = py::cast(ShapeDesc{});
                  if (!kind.is_none()) self.attr("kind") = kind;
                  py::kwargs rest;
-                 py::object positions = py::none(), indices = py::none(), normals = py::none();
+                 py::object positions = py::none(), indices = py::none(), normals = py::none(),
+                            uvs = py::none();
                  for (auto [key, value] : kw) {
                      const std::string k = key.cast<std::string>();
                      if (k == "positions")
@@ -482,16 +571,19 @@ void bind_scene(py::module_& m) {
                          indices = py::reinterpret_borrow<py::object>(value);
                      else if (k == "normals")
                          normals = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "uvs")
+                         uvs = py::reinterpret_borrow<py::object>(value);
                      else
                          rest[key] = value;
                  }
                  if (!positions.is_none() || !indices.is_none()) {
                      if (positions.is_none() || indices.is_none())
                          throw py::value_error("ShapeDesc: give positions and indices together");
-                     self.attr("mesh") = py::cast(mesh_from_arrays(positions, indices, normals));
+                     self.attr("mesh") =
+                         py::cast(mesh_from_arrays(positions, indices, normals, uvs));
                      if (kind.is_none()) self.attr("kind") = py::str("mesh");
-                 } else if (!normals.is_none()) {
-                     throw py::value_error("ShapeDesc: normals need positions and indices");
+                 } else if (!normals.is_none() || !uvs.is_none()) {
+                     throw py::value_error("ShapeDesc: normals and uvs need positions and indices");
                  }
                  if (!kind.is_none())
                      check_kind_keywords(rest, shape_kind(self.cast<const ShapeDesc&>().kind),

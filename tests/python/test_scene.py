@@ -98,6 +98,50 @@ def test_bad_mesh_arrays_raise_clear_errors():
         facet.ShapeDesc(positions=p)
 
 
+def test_mesh_uvs_from_numpy_match_json():
+    """Mesh `uvs` (n, 2) are zero copy and round-trip through JSON; wrong shapes raise naming
+    `uvs`."""
+    p, i, n = ts.mesh_arrays()
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    mesh = facet.MeshData(p, i, n, uvs)
+    assert np.shares_memory(mesh.uvs, uvs)
+    assert facet.MeshData(p, i).uvs is None
+    d = ts.numpy_description()
+    d.shapes[2].mesh = mesh
+    d.shapes[2].material_ref = ""
+    d.shapes[2].material = facet.MaterialDesc("lambert")
+    twin = facet.parse_scene_description(d.to_json(), name="twin")
+    assert twin == d
+    assert twin.shapes[2].mesh.uvs.tolist() == uvs.tolist()
+    with pytest.raises(ValueError, match=r"uvs: shape \(4, 3\), expected \(n, 2\)"):
+        facet.MeshData(p, i, None, np.zeros((4, 3), dtype=np.float32))
+    with pytest.raises(ValueError, match=r"uvs: 3 rows, expected one per position \(4\)"):
+        facet.MeshData(p, i, None, uvs[:3])
+    with pytest.raises(ValueError, match="normals and uvs need positions and indices"):
+        facet.ShapeDesc("mesh", uvs=uvs)
+
+
+def test_texture_parameters_from_python(tmp_path):
+    """facet.Texture stands for a parameter value: it round-trips through JSON, renders, and a
+    bad texture names its JSON pointer and the file."""
+    p, i, n = ts.mesh_arrays()
+    uvs = np.array([[0, 0], [1, 0], [1, 1], [0, 1]], dtype=np.float32)
+    checker = facet.Texture.checker([0.2, 0.2, 0.2], [0.8, 0.8, 0.8], scale=2)
+    d = ts.numpy_description()
+    d.shapes[2].mesh = facet.MeshData(p, i, n, uvs)
+    d.shapes[2].material_ref = ""
+    d.shapes[2].material = facet.MaterialDesc("lambert", reflectance=checker)
+    assert d.shapes[2].material.textures["reflectance"] == checker
+    assert "reflectance" not in d.shapes[2].material.params
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    image = facet.render(facet.build_scene(d, name="py"), spp=2)
+    assert np.all(np.isfinite(image)) and image.max() > 0
+    missing = str(tmp_path / "missing.png")
+    d.shapes[2].material = facet.MaterialDesc("lambert", reflectance=facet.Texture(missing))
+    with pytest.raises(ValueError, match=r"^py: /shapes/2/material/reflectance/texture: .*missing\.png"):
+        facet.build_scene(d, name="py")
+
+
 def test_build_errors_name_the_place():
     d = ts.numpy_description()
     d.materials["gold"] = facet.MaterialDesc("ggx", alpha=-1.0)

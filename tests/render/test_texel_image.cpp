@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "facet/render/texel_image.h"
+#include "oiio_test_image.h"
 
 namespace fr = facet::render;
 
@@ -26,17 +27,7 @@ std::string temp_path(const std::string& name) {
         .string();
 }
 
-template <typename T>
-void write_file(const std::string& path, int w, int h, int c, const std::vector<T>& data,
-                OIIO::TypeDesc type) {
-    auto out = OIIO::ImageOutput::create(path);
-    ASSERT_TRUE(out) << OIIO::geterror();
-    OIIO::ImageSpec spec(w, h, c, type);
-    if (c == 4) spec.alpha_channel = 3;
-    ASSERT_TRUE(out->open(path, spec));
-    ASSERT_TRUE(out->write_image(type, data.data()));
-    out->close();
-}
+using facet::render::testing::write_test_image;
 
 // IEC 61966-2-1 decoding in double: the reference the float decoder must meet.
 double srgb_reference(double e) {
@@ -59,7 +50,7 @@ TEST(TexelImage, EightBitPngDecodesEveryCodeWithTheSrgbCurve) {
     const std::string path = temp_path("ramp.png");
     std::vector<std::uint8_t> ramp(256);
     for (int k = 0; k < 256; ++k) ramp[k] = std::uint8_t(k);
-    write_file(path, 256, 1, 1, ramp, OIIO::TypeDesc::UINT8);
+    write_test_image(path, 256, 1, 1, ramp, OIIO::TypeDesc::UINT8);
     const fr::TexelImage img = fr::load_texel_image(path, {}, "test");
     ASSERT_EQ(img.width, 256);
     ASSERT_EQ(img.channels, 1);
@@ -80,7 +71,7 @@ TEST(TexelImage, RowZeroIsTheTopAndAlphaIsNotDecoded) {
     // 1 x 2 RGBA: top row red with alpha 128, bottom row green with alpha 255.
     const std::string path = temp_path("rows.png");
     std::vector<std::uint8_t> px = {255, 0, 0, 128, 0, 255, 0, 255};
-    write_file(path, 1, 2, 4, px, OIIO::TypeDesc::UINT8);
+    write_test_image(path, 1, 2, 4, px, OIIO::TypeDesc::UINT8);
     const fr::TexelImage img = fr::load_texel_image(path, {}, "test");
     ASSERT_EQ(img.channels, 4);
     EXPECT_EQ(img.alpha_channel, 3);
@@ -94,7 +85,7 @@ TEST(TexelImage, RowZeroIsTheTopAndAlphaIsNotDecoded) {
 TEST(TexelImage, FloatFilesAreLinearAndKeepTheirValues) {
     const std::string path = temp_path("hdr.exr");
     std::vector<float> px = {0.f, 0.5f, 1.f, 1000.f, 1e-6f, 3.25f};
-    write_file(path, 2, 1, 3, px, OIIO::TypeDesc::FLOAT);
+    write_test_image(path, 2, 1, 3, px, OIIO::TypeDesc::FLOAT);
     const fr::TexelImage img = fr::load_texel_image(path, {}, "test");
     EXPECT_TRUE(img.float_format);
     EXPECT_EQ(img.color_space, fr::ColorSpace::Linear);
@@ -116,14 +107,15 @@ TEST(TexelImage, BadFilesAreErrorsNamingThePlaceAndTheFile) {
     std::filesystem::remove(corrupt);
 
     const std::string nan = temp_path("nan.exr");
-    write_file(nan, 2, 2, 3, std::vector<float>{0, 0, 0, 0, 0, 0, 0, 0, 0, 1, std::nanf(""), 1},
-               OIIO::TypeDesc::FLOAT);
+    write_test_image(nan, 2, 2, 3,
+                     std::vector<float>{0, 0, 0, 0, 0, 0, 0, 0, 0, 1, std::nanf(""), 1},
+                     OIIO::TypeDesc::FLOAT);
     e = error_of(nan);
     EXPECT_NE(e.find("texel (1, 1) channel 1 is nan"), std::string::npos) << e;
     std::filesystem::remove(nan);
 
     const std::string neg = temp_path("neg.exr");
-    write_file(neg, 1, 1, 3, std::vector<float>{1.f, -0.5f, 1.f}, OIIO::TypeDesc::FLOAT);
+    write_test_image(neg, 1, 1, 3, std::vector<float>{1.f, -0.5f, 1.f}, OIIO::TypeDesc::FLOAT);
     EXPECT_EQ(error_of(neg), "");  // signed data is allowed unless asked
     e = error_of(neg, {fr::ColorSpace::Auto, true});
     EXPECT_NE(e.find("texel (0, 0) channel 1 is negative: -0.5"), std::string::npos) << e;
@@ -134,7 +126,7 @@ TEST(TexelImageCache, TheSameImageIsReadOnce) {
     const std::string dir = temp_path("cache");
     std::filesystem::create_directories(dir + "/sub");
     const std::string path = dir + "/a.png";
-    write_file(path, 2, 2, 3, std::vector<std::uint8_t>(12, 200), OIIO::TypeDesc::UINT8);
+    write_test_image(path, 2, 2, 3, std::vector<std::uint8_t>(12, 200), OIIO::TypeDesc::UINT8);
     fr::TexelImageCache cache;
     auto a = cache.get(path, {}, "x");
     auto b = cache.get(dir + "/sub/../a.png", {}, "y");

@@ -418,6 +418,12 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.ns = hit.ng;
     hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
     hit.shape = prim.shape;
+    if (prim.uv) {
+        // Sphere: longitude/latitude; disc: its bounding square [-1, 1]^2 onto [0, 1]^2.
+        hit.uv = prim.kind == AnalyticPrim::Kind::Sphere
+                     ? sphere_uv(po)
+                     : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
+    }
 }
 
 // Inline: called once per closest hit, only from Scene::intersect below.
@@ -463,6 +469,12 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
+    if (!mg.tri_uvs.empty()) {
+        const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
+        hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
+    } else if (mg.spherical) {
+        hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
+    }
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -514,6 +526,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         hit.ns = hit.ng;
         hit.dpdu = pl.tangent;
         hit.shape = pl.shape;
+        if (pl.uv) {
+            const glm::dvec3 d = p - pl.point;
+            hit.uv = Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
+        }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
     } else if (geom == be.analytic_geom) {
@@ -528,7 +544,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.material = s.material;
     hit.two_sided = s.two_sided;
     hit.light = s.light;
+    hit.textured = s.textured;
     hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
+    if (s.emission_texture && glm::dot(hit.ng, ray.d) < 0.f) [[unlikely]]
+        hit.emitted_radiance = s.emission_texture->eval(hit.uv);
     return true;
 }
 

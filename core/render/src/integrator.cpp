@@ -176,56 +176,20 @@ struct VertexSampleLanes {
     }
 };
 
-// The vertex at `depth` of path `p`, lane k of the packets: reached by the ray rays[k] (closest
-// hit `hit` when `found`), with the vertex's samples `s`: emission found by the ray, the light
-// sample (shadow ray shadow[k] and p.nee, `has_shadow` set), and the BSDF sample that continues
-// the path (rays[k] becomes the next ray). False when the path ends here.
+// The rest of path_vertex once the hit's material `m` is known: light sample and BSDF sample.
 template <std::uint32_t F>
-bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p,
-                 RayPacket& rays, std::size_t k, bool found, const SurfaceHit& hit,
-                 const VertexSamples& s, bool& has_shadow, RayPacket& shadow, int depth,
-                 int max_depth, KernelCounters& c) {
-    const Vec3 ray_d = rays.direction(k);
+[[gnu::always_inline]] inline bool path_scatter(const Scene& scene,
+                                                const LightDistribution& light_dist, PathState& p,
+                                                RayPacket& rays, std::size_t k,
+                                                const SurfaceHit& hit, const VertexSamples& s,
+                                                bool& has_shadow, RayPacket& shadow, int depth,
+                                                int max_depth, KernelCounters& c, const Vec3& ray_d,
+                                                const Material& m) {
     constexpr bool kMis = (F & kFeatMis) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
-    constexpr bool kEmission = (F & kFeatEmission) != 0;
-    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     constexpr bool kTransmission = (F & kFeatTransmission) != 0;
     const std::span<const Light> lights = scene.lights();
     const int num_lights = int(lights.size());
-
-    // Emission reached by this ray: full weight from the camera or after a delta lobe (light
-    // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
-    if constexpr (kMis) {
-        if (depth > 0 || kEmission) {
-            if (!found) {
-                if (const Light* env = scene.environment()) {
-                    const Rgb le = env->le_escape(ray_d);
-                    if (depth == 0 || p.specular_bounce) {
-                        p.L += p.beta * le;
-                    } else {
-                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
-                        p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
-                    }
-                }
-            } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
-                if (depth == 0 || p.specular_bounce) {
-                    p.L += p.beta * hit.emitted_radiance;
-                } else {
-                    const std::size_t li = std::size_t(hit.light);
-                    const float lp =
-                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
-                    p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
-                }
-            }
-        }
-    }
-    if (!found || depth >= max_depth) return false;
-    if constexpr (!kIndirect && !kSpecular) {
-        if (depth >= 1) return false;
-    }
-    const Material& m = *hit.material;
     Shading sh;
     // Transmissive materials exist only in the transmission kernel (kFeatTransmission).
     bool transmissive = false;
@@ -317,6 +281,74 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     return true;
 }
 
+// A hit on a textured material: the material built for it (Scene::material_at), out of line so
+// that the untextured path keeps its code and its stack frame as before.
+template <std::uint32_t F>
+[[gnu::noinline]] bool path_scatter_textured(const Scene& scene,
+                                             const LightDistribution& light_dist, PathState& p,
+                                             RayPacket& rays, std::size_t k, const SurfaceHit& hit,
+                                             const VertexSamples& s, bool& has_shadow,
+                                             RayPacket& shadow, int depth, int max_depth,
+                                             KernelCounters& c, const Vec3& ray_d) {
+    const Material m = scene.material_at(hit);
+    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+                           max_depth, c, ray_d, m);
+}
+
+// The vertex at `depth` of path `p`, lane k of the packets: reached by the ray rays[k] (closest
+// hit `hit` when `found`), with the vertex's samples `s`: emission found by the ray, the light
+// sample (shadow ray shadow[k] and p.nee, `has_shadow` set), and the BSDF sample that continues
+// the path (rays[k] becomes the next ray). False when the path ends here.
+template <std::uint32_t F>
+bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathState& p,
+                 RayPacket& rays, std::size_t k, bool found, const SurfaceHit& hit,
+                 const VertexSamples& s, bool& has_shadow, RayPacket& shadow, int depth,
+                 int max_depth, KernelCounters& c) {
+    const Vec3 ray_d = rays.direction(k);
+    constexpr bool kMis = (F & kFeatMis) != 0;
+    constexpr bool kSpecular = (F & kFeatSpecular) != 0;
+    constexpr bool kEmission = (F & kFeatEmission) != 0;
+    constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    const std::span<const Light> lights = scene.lights();
+
+    // Emission reached by this ray: full weight from the camera or after a delta lobe (light
+    // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
+    if constexpr (kMis) {
+        if (depth > 0 || kEmission) {
+            if (!found) {
+                if (const Light* env = scene.environment()) {
+                    const Rgb le = env->le_escape(ray_d);
+                    if (depth == 0 || p.specular_bounce) {
+                        p.L += p.beta * le;
+                    } else {
+                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
+                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
+                        p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
+                    }
+                }
+            } else if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
+                if (depth == 0 || p.specular_bounce) {
+                    p.L += p.beta * hit.emitted_radiance;
+                } else {
+                    const std::size_t li = std::size_t(hit.light);
+                    const float lp =
+                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
+                    p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
+                }
+            }
+        }
+    }
+    if (!found || depth >= max_depth) return false;
+    if constexpr (!kIndirect && !kSpecular) {
+        if (depth >= 1) return false;
+    }
+    if (hit.textured >= 0) [[unlikely]]
+        return path_scatter_textured<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow,
+                                        depth, max_depth, c, ray_d);
+    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+                           max_depth, c, ray_d, *hit.material);
+}
+
 // Fewer live paths than this trace their closest-hit rays one by one: a packet query costs
 // nearly as much with few active lanes as with eight (thresholds 2, 3 and 5 time alike:
 // docs/performance.md, "Renderer").
@@ -406,7 +438,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
             break;
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
-        const Material& m = *hit.material;
+        std::optional<Material> textured;  // as in path_vertex
+        if (hit.textured >= 0) [[unlikely]]
+            textured.emplace(scene.material_at(hit));
+        const Material& m = textured ? *textured : *hit.material;
         Shading sh;
         bool transmissive = false;
         if constexpr (kTransmission) transmissive = m.transmissive();
@@ -421,6 +456,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         if (has_non_specular<F>(m)) {
             for (std::size_t j = 0; j < lights.size(); ++j) {
                 const Light& light = lights[j];
+                // A textured emitter is not light-sampled (light.h): direct sees it only
+                // through camera and mirror rays.
+                if (light.textured_emission()) [[unlikely]]
+                    continue;
                 Vec2 u(0.5f);
                 if constexpr (kArea) {
                     if (!light.is_delta()) {

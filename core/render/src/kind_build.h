@@ -100,8 +100,11 @@ class ShapeBuild : public BuildChecks {
     virtual void add_plane(const glm::dvec3& point, const Vec3& unit_normal) = 0;
     // Object-space triangles: the builder transforms them, keeps the authored front side,
     // validates them, drops zero-area triangles and makes an emitter of them when the shape
-    // emits. `tangent` (object space, 0 = none) orients anisotropic lobes.
-    virtual void add_triangles(TriangleMesh mesh, const Vec3& tangent) = 0;
+    // emits. `tangent` (object space, 0 = none) orients anisotropic lobes. UVs, when the shape
+    // needs them, come from the mesh's `uvs`, or with `sphere` (the unit sphere's placement in
+    // object space) from the hit point's direction as on an analytic sphere.
+    virtual void add_triangles(TriangleMesh mesh, const Vec3& tangent,
+                               const glm::dmat4* sphere = nullptr) = 0;
     // Kinds with their own materials (ShapeKindDef::own_materials, e.g. gltf): builds one of
     // them through the core's registry (errors name `ptr`, e.g. "/shapes/2/file"), once per
     // material however many parts use it.

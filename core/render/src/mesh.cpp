@@ -9,6 +9,7 @@
 #include <map>
 #include <sstream>
 #include <stdexcept>
+#include <tuple>
 #include <unordered_map>
 
 namespace facet::render {
@@ -24,21 +25,35 @@ void push_tri(TriangleMesh& m, std::uint32_t a, std::uint32_t b, std::uint32_t c
 TriangleMesh make_box(const Vec3& lo, const Vec3& hi) {
     TriangleMesh m;
     // Corner i has x from bit 0, y from bit 1, z from bit 2.
-    for (int i = 0; i < 8; ++i) {
-        m.positions.emplace_back(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
-    }
-    // Faces as quads, counter-clockwise seen from outside.
-    const std::uint32_t quads[6][4] = {
-        {0, 4, 6, 2},  // -x
-        {1, 3, 7, 5},  // +x
-        {0, 1, 5, 4},  // -y
-        {2, 6, 7, 3},  // +y
-        {0, 2, 3, 1},  // -z
-        {4, 5, 7, 6},  // +z
+    auto corner = [&](std::uint32_t i) {
+        return Vec3(i & 1 ? hi.x : lo.x, i & 2 ? hi.y : lo.y, i & 4 ? hi.z : lo.z);
     };
-    for (const auto& q : quads) {
-        push_tri(m, q[0], q[1], q[2]);
-        push_tri(m, q[0], q[2], q[3]);
+    // Faces as quads q0 q1 q2 q3, counter-clockwise seen from outside, triangulated as
+    // (q0 q1 q2), (q0 q2 q3); `up` is the corner of the quad that gets uv (0, 1): the UV square
+    // is turned (never mirrored: both run counter-clockwise) so that v points along +y on the
+    // side faces, -z on the top and +z on the bottom (mesh.h).
+    struct Face {
+        std::uint32_t q[4];
+        int up;
+    };
+    const Face faces[6] = {
+        {{0, 4, 6, 2}, 3},  // -x: u along +z, v along +y; (0, 0) at (lo.x, lo.y, lo.z)
+        {{1, 3, 7, 5}, 2},  // +x: u along -z, v along +y; (0, 0) at (hi.x, lo.y, hi.z)
+        {{0, 1, 5, 4}, 3},  // -y: u along +x, v along +z; (0, 0) at (lo.x, lo.y, lo.z)
+        {{2, 6, 7, 3}, 0},  // +y: u along +x, v along -z; (0, 0) at (lo.x, hi.y, hi.z)
+        {{0, 2, 3, 1}, 2},  // -z: u along -x, v along +y; (0, 0) at (hi.x, lo.y, lo.z)
+        {{4, 5, 7, 6}, 3},  // +z: u along +x, v along +y; (0, 0) at (lo.x, lo.y, hi.z)
+    };
+    const Vec2 square[4] = {{0.f, 0.f}, {1.f, 0.f}, {1.f, 1.f}, {0.f, 1.f}};
+    for (const Face& f : faces) {
+        const std::uint32_t base = std::uint32_t(m.positions.size());
+        for (int k = 0; k < 4; ++k) {
+            m.positions.push_back(corner(f.q[k]));
+            // Corner `up` gets (0, 1); the others follow counter-clockwise.
+            m.uvs.push_back(square[(k - f.up + 3 + 4) % 4]);
+        }
+        push_tri(m, base, base + 1, base + 2);
+        push_tri(m, base, base + 2, base + 3);
     }
     return m;
 }
@@ -46,6 +61,7 @@ TriangleMesh make_box(const Vec3& lo, const Vec3& hi) {
 TriangleMesh make_quad(const std::array<Vec3, 4>& p) {
     TriangleMesh m;
     m.positions.assign(p.begin(), p.end());
+    m.uvs = {{0.f, 0.f}, {1.f, 0.f}, {1.f, 1.f}, {0.f, 1.f}};
     push_tri(m, 0, 1, 2);
     push_tri(m, 0, 2, 3);
     return m;
@@ -98,6 +114,7 @@ TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency) {
     TriangleMesh m;
     std::size_t nvx = std::size_t(nx) + 1, nvy = std::size_t(ny) + 1;
     m.positions.reserve(nvx * nvy);
+    m.uvs.reserve(nvx * nvy);
     bool displaced = amplitude != 0.f;
     if (displaced) m.normals.reserve(nvx * nvy);
     for (std::size_t j = 0; j < nvy; ++j) {
@@ -106,6 +123,7 @@ TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency) {
             float y = -1.f + 2.f * float(j) / float(ny);
             float sx = std::sin(frequency * x), sy = std::sin(frequency * y);
             m.positions.emplace_back(x, y, amplitude * sx * sy);
+            m.uvs.emplace_back(float(i) / float(nx), float(j) / float(ny));
             if (displaced) {
                 // n = (-dz/dx, -dz/dy, 1) normalised.
                 float dzdx = amplitude * frequency * std::cos(frequency * x) * sy;
@@ -138,15 +156,17 @@ TriangleMesh load_obj(const std::string& path) {
     }
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     TriangleMesh m;
-    bool all_normals = true;
+    bool all_normals = true, all_uvs = true;
     for (const auto& shape : reader.GetShapes()) {
         for (const auto& idx : shape.mesh.indices) {
             if (idx.normal_index < 0) all_normals = false;
+            if (idx.texcoord_index < 0) all_uvs = false;
         }
     }
-    // One output vertex per distinct (position, normal) pair.
-    std::map<std::pair<int, int>, std::uint32_t> remap;
-    std::size_t nverts = attrib.vertices.size() / 3, nnormals = attrib.normals.size() / 3;
+    // One output vertex per distinct (position, normal, texture coordinate).
+    std::map<std::tuple<int, int, int>, std::uint32_t> remap;
+    std::size_t nverts = attrib.vertices.size() / 3, nnormals = attrib.normals.size() / 3,
+                nuvs = attrib.texcoords.size() / 2;
     for (const auto& shape : reader.GetShapes()) {
         std::size_t offset = 0;
         for (std::size_t f = 0; f < shape.mesh.num_face_vertices.size(); ++f) {
@@ -158,13 +178,15 @@ TriangleMesh load_obj(const std::string& path) {
             for (std::size_t k = 0; k < 3; ++k) {
                 const auto& idx = shape.mesh.indices[offset + k];
                 int ni = all_normals ? idx.normal_index : -1;
+                int ti = all_uvs ? idx.texcoord_index : -1;
                 if (idx.vertex_index < 0 || std::size_t(idx.vertex_index) >= nverts ||
-                    (ni >= 0 && std::size_t(ni) >= nnormals)) {
+                    (ni >= 0 && std::size_t(ni) >= nnormals) ||
+                    (ti >= 0 && std::size_t(ti) >= nuvs)) {
                     throw std::runtime_error("OBJ file '" + path + "': face " +
                                              std::to_string(f + 1) + " has an index out of range");
                 }
-                auto [it, inserted] =
-                    remap.try_emplace({idx.vertex_index, ni}, std::uint32_t(m.positions.size()));
+                auto [it, inserted] = remap.try_emplace({idx.vertex_index, ni, ti},
+                                                        std::uint32_t(m.positions.size()));
                 if (inserted) {
                     const float* p = &attrib.vertices[3 * std::size_t(idx.vertex_index)];
                     m.positions.emplace_back(p[0], p[1], p[2]);
@@ -173,6 +195,10 @@ TriangleMesh load_obj(const std::string& path) {
                         Vec3 nn(n[0], n[1], n[2]);
                         float len = glm::length(nn);
                         m.normals.push_back(len > 0.f ? nn / len : Vec3(0.f, 0.f, 1.f));
+                    }
+                    if (ti >= 0) {
+                        const float* t = &attrib.texcoords[2 * std::size_t(ti)];
+                        m.uvs.emplace_back(t[0], t[1]);
                     }
                 }
                 m.indices.push_back(it->second);
@@ -401,22 +427,26 @@ TriangleMesh parse_ply(std::string_view data) {
                      " entries, more than the file holds");
         }
         if (e.name == "vertex") {
-            int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1;
+            int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1;
             for (std::size_t k = 0; k < e.props.size(); ++k) {
                 const std::string& n = e.props[k].name;
-                int* slot = n == "x"    ? &ix
-                            : n == "y"  ? &iy
-                            : n == "z"  ? &iz
-                            : n == "nx" ? &inx
-                            : n == "ny" ? &iny
-                            : n == "nz" ? &inz
-                                        : nullptr;
+                int* slot = n == "x"                                     ? &ix
+                            : n == "y"                                   ? &iy
+                            : n == "z"                                   ? &iz
+                            : n == "nx"                                  ? &inx
+                            : n == "ny"                                  ? &iny
+                            : n == "nz"                                  ? &inz
+                            : (n == "u" || n == "s" || n == "texture_u") ? &iu
+                            : (n == "v" || n == "t" || n == "texture_v") ? &iv
+                                                                         : nullptr;
                 if (slot && !e.props[k].is_list) *slot = int(k);
             }
             if (ix < 0 || iy < 0 || iz < 0) ply_fail("vertex element lacks x, y or z");
             bool normals = inx >= 0 && iny >= 0 && inz >= 0;
             m.positions.reserve(e.count);
             if (normals) m.normals.reserve(e.count);
+            const bool uvs = iu >= 0 && iv >= 0;
+            if (uvs) m.uvs.reserve(e.count);
             std::vector<double> vals(e.props.size());
             for (std::size_t i = 0; i < e.count; ++i) {
                 for (std::size_t k = 0; k < e.props.size(); ++k) {
@@ -437,6 +467,7 @@ TriangleMesh parse_ply(std::string_view data) {
                     m.normals.push_back(len > 0.f && std::isfinite(len) ? n / len
                                                                         : Vec3(0.f, 0.f, 1.f));
                 }
+                if (uvs) m.uvs.emplace_back(float(vals[iu]), float(vals[iv]));
             }
             have_vertices = true;
         } else if (e.name == "face") {
@@ -517,6 +548,14 @@ std::string validate_mesh(const TriangleMesh& m) {
     if (!m.normals.empty() && m.normals.size() != m.positions.size()) {
         return "normals must be given once per position (" + std::to_string(m.positions.size()) +
                "), got " + std::to_string(m.normals.size());
+    }
+    if (!m.uvs.empty() && m.uvs.size() != m.positions.size()) {
+        return "uvs must be given once per position (" + std::to_string(m.positions.size()) +
+               "), got " + std::to_string(m.uvs.size());
+    }
+    for (std::size_t i = 0; i < m.uvs.size(); ++i) {
+        if (!std::isfinite(m.uvs[i].x) || !std::isfinite(m.uvs[i].y))
+            return "uv " + std::to_string(i) + " is not finite";
     }
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         if (!is_finite(m.positions[i])) return "position " + std::to_string(i) + " is not finite";

@@ -25,18 +25,19 @@ namespace facet::render {
 using detail::escape_pointer_token;
 
 MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
-                           std::vector<float> normals) {
+                           std::vector<float> normals, std::vector<float> uvs) {
     struct Arrays {
         std::vector<float> p;
         std::vector<std::uint32_t> i;
-        std::vector<float> n;
+        std::vector<float> n, uv;
     };
     auto a = std::make_shared<Arrays>(
-        Arrays{std::move(positions), std::move(indices), std::move(normals)});
+        Arrays{std::move(positions), std::move(indices), std::move(normals), std::move(uvs)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
     m.normals = a->n;
+    m.uvs = a->uv;
     m.owner = a;
     return m;
 }
@@ -46,7 +47,8 @@ bool MeshData::operator==(const MeshData& o) const {
         return a.size() == b.size() &&
                (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
     };
-    return same(positions, o.positions) && same(indices, o.indices) && same(normals, o.normals);
+    return same(positions, o.positions) && same(indices, o.indices) && same(normals, o.normals) &&
+           same(uvs, o.uvs);
 }
 
 bool SceneDescription::operator==(const SceneDescription& o) const {
@@ -232,9 +234,107 @@ class Builder final : public BuildChecks {
 
     // --- materials -----------------------------------------------------------------------------
 
+    // A built material: the Material (for textured ones, built from every texture's largest
+    // value: the scene analysis reads its lobes) and the index of its TexturedMaterial or -1.
+    struct BuiltMaterial {
+        const Material* material = nullptr;
+        std::int32_t textured = -1;
+    };
+
+    // A texture parameter value (texture.h), validated with JSON pointers under `ptr`. `color`:
+    // the parameter is a colour (sRGB decoding by default for integer images) or a number
+    // (linear by default, one channel). `radiance`: negative texels are errors.
+    const Texture* build_texture(const TextureDesc& d, const std::string& ptr, bool color,
+                                 bool radiance) {
+        check_finite(d.scale, ptr + "/scale");
+        check_finite(double(d.uv_rotation), ptr + "/uv_rotation");
+        for (int i = 0; i < 2; ++i) {
+            check_finite(double(d.uv_scale[i]), ptr + "/uv_scale/" + std::to_string(i));
+            check_finite(double(d.uv_offset[i]), ptr + "/uv_offset/" + std::to_string(i));
+        }
+        if (d.scale < 0.0) fail(ptr + "/scale", "must be >= 0");
+        auto& textures = m_builder.textures();
+        if (d.checker) {
+            const std::string cp = ptr + "/checker";
+            for (int i = 0; i < 2; ++i)
+                check_color(d.colors[std::size_t(i)], cp + "/colors/" + std::to_string(i),
+                            "a checker colour");
+            if (!color && (d.colors[0].r != d.colors[0].g || d.colors[0].r != d.colors[0].b ||
+                           d.colors[1].r != d.colors[1].g || d.colors[1].r != d.colors[1].b))
+                fail(cp + "/colors", "a number parameter needs grey (single-number) colours");
+            check_range(d.checker_scale, cp + "/scale", 1e-30, 1e30, "> 0");
+            textures.push_back(std::make_unique<Texture>(Texture::checker(d)));
+            return textures.back().get();
+        }
+        auto choose = [&](const std::string& key, const std::string& value,
+                          const std::vector<std::string>& allowed) {
+            const auto it = std::find(allowed.begin(), allowed.end(), value);
+            if (it != allowed.end()) return int(it - allowed.begin());
+            std::string msg = "unknown value '" + value + "' (expected one of";
+            for (const auto& a : allowed) msg += " " + a;
+            msg += ")";
+            const std::string g = closest_name(value, allowed);
+            if (!g.empty()) msg += " (did you mean '" + g + "'?)";
+            fail(ptr + "/" + key, msg);
+        };
+        if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
+        if (!m_limits.allow_files) fail(ptr + "/texture", "image files are disabled here");
+        const int filter =
+            d.filter.empty() ? 1 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
+        if (filter == 2) {
+            fail(ptr + "/filter",
+                 "\"mipmap\" filtering is not implemented yet; use \"closest\" or \"linear\" "
+                 "(bilinear)");
+        }
+        const int wrap = d.wrap.empty() ? 0 : choose("wrap", d.wrap, {"repeat", "clamp", "mirror"});
+        TexelImageOptions opt;
+        opt.reject_negative = radiance;
+        if (!d.colorspace.empty())
+            opt.color_space = choose("colorspace", d.colorspace, {"srgb", "linear"}) == 0
+                                  ? ColorSpace::Srgb
+                                  : ColorSpace::Linear;
+        else if (!color)
+            opt.color_space = ColorSpace::Linear;
+        std::shared_ptr<const TexelImage> img;
+        try {
+            img =
+                m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt, ptr + "/texture");
+        } catch (const TexelImageError& e) {
+            throw SceneError(m_name + ": " + e.what());
+        }
+        int channel = Texture::kAllChannels;
+        if (!d.channel.empty()) {
+            channel = choose("channel", d.channel, {"r", "g", "b", "a", "luminance"});
+            const bool has = channel == 4 ? true
+                             : channel == 3
+                                 ? img->alpha_channel >= 0
+                                 : channel < img->channels && !(channel == img->alpha_channel);
+            if (!has) {
+                fail(ptr + "/channel", "the image '" + d.file + "' has no channel '" + d.channel +
+                                           "' (" + std::to_string(img->channels) + " channel" +
+                                           (img->channels == 1 ? "" : "s") + ")");
+            }
+            if (channel == 3) channel = img->alpha_channel;
+        } else if (!color && img->channels - (img->alpha_channel >= 0 ? 1 : 0) > 1) {
+            fail(ptr + "/channel",
+                 "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
+                 "luminance) for the colour image '" +
+                     d.file + "'");
+        }
+        textures.push_back(std::make_unique<Texture>(Texture::image(
+            std::move(img), filter == 0 ? TextureFilter::Closest : TextureFilter::Linear,
+            wrap == 0   ? TextureWrap::Repeat
+            : wrap == 1 ? TextureWrap::Clamp
+                        : TextureWrap::Mirror,
+            channel, d)));
+        return textures.back().get();
+    }
+
     // Builds a material; parameter errors from the registry name the parameter, which becomes
-    // part of the pointer.
-    const Material* build_material(const MaterialDesc& m, const std::string& ptr) {
+    // part of the pointer. A material with textured parameters also gets its TexturedMaterial:
+    // the registry validates it with every texture at its smallest and at its largest value
+    // (a value between them, as bilinear filtering gives, is then valid too).
+    BuiltMaterial build_material(const MaterialDesc& m, const std::string& ptr) {
         if (!find_model(m.model)) {
             std::vector<std::string> names;
             for (const auto& mi : model_table()) names.push_back(mi.name);
@@ -254,14 +354,64 @@ class Builder final : public BuildChecks {
             if (const double* d = std::get_if<double>(&v)) check_finite(*d, p);
             if (const Rgb* c = std::get_if<Rgb>(&v)) check_finite(*c, p);
         }
-        try {
-            m_builder.materials().push_back(
-                std::make_unique<Material>(make_material(m.model, m.params)));
-        } catch (const ParamError& e) {
-            fail(e.param().empty() ? ptr + "/model" : ptr + "/" + escape_pointer_token(e.param()),
-                 e.what());
+        if (m.textures.empty()) {
+            try {
+                m_builder.materials().push_back(
+                    std::make_unique<Material>(make_material(m.model, m.params)));
+            } catch (const ParamError& e) {
+                fail(e.param().empty() ? ptr + "/model"
+                                       : ptr + "/" + escape_pointer_token(e.param()),
+                     e.what());
+            }
+            return {m_builder.materials().back().get(), -1};
         }
-        return m_builder.materials().back().get();
+        const ModelInfo& info = *find_model(m.model);
+        TexturedMaterial tm;
+        tm.model = m.model;
+        tm.params = m.params;
+        for (const auto& [name, td] : m.textures) {
+            const std::string& key = name;  // (clang 14 cannot capture a structured binding)
+            const std::string p = ptr + "/" + escape_pointer_token(key);
+            if (m.params.has(key)) fail(p, "given both as a constant and as a texture");
+            const auto pi = std::find_if(info.params.begin(), info.params.end(),
+                                         [&](const ParamInfo& x) { return x.name == key; });
+            if (pi == info.params.end()) {
+                std::vector<std::string> names;
+                for (const auto& x : info.params) names.push_back(x.name);
+                std::string msg = "unknown parameter '" + key + "' for model '" + m.model + "'";
+                const std::string g = closest_name(key, names);
+                if (!g.empty()) msg += " (did you mean '" + g + "'?)";
+                fail(p, msg);
+            }
+            if (pi->type != ParamType::Color && pi->type != ParamType::Number)
+                fail(p, "only colour and number parameters can be textures");
+            const bool color = pi->type == ParamType::Color;
+            tm.slots.push_back({key, build_texture(td, p, color, false), color});
+        }
+        // Validate at both extremes; keep the material of the largest values for the analysis.
+        auto with = [&](bool largest) {
+            ParamSet ps = tm.params;
+            for (const auto& s : tm.slots) {
+                const Rgb v = largest ? s.texture->max_value() : s.texture->min_value();
+                ps.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
+            }
+            return ps;
+        };
+        for (bool largest : {false, true}) {
+            try {
+                Material mat = make_material(m.model, with(largest));
+                if (largest) m_builder.materials().push_back(std::make_unique<Material>(mat));
+            } catch (const ParamError& e) {
+                fail(e.param().empty() ? ptr + "/model"
+                                       : ptr + "/" + escape_pointer_token(e.param()),
+                     std::string(e.what()) + " (a texture's " + (largest ? "largest" : "smallest") +
+                         " value)");
+            }
+        }
+        for (const auto& s : tm.slots)
+            tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
+        m_builder.textured().push_back(std::move(tm));
+        return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1)};
     }
 
     void build_materials() {
@@ -291,13 +441,24 @@ class Builder final : public BuildChecks {
         info.kind = s.kind;
         info.two_sided = s.two_sided;
         info.emission = check_color(s.emission, ptr + "/emission", "an emitted radiance");
+        if (s.emission_texture) {
+            if (info.emission != Rgb(0.f))
+                fail(ptr + "/emission", "give either a constant or a texture, not both");
+            info.emission_texture =
+                build_texture(*s.emission_texture, ptr + "/emission", true, true);
+            // The largest value makes the shape an emitter and sets its light's power (light.h).
+            info.emission = info.emission_texture->max_value();
+            info.needs_uv = true;
+        }
         const bool emissive = max_component(info.emission) > 0.f;
         if (s.material) {
             if (!s.material_ref.empty()) {
                 fail(ptr + "/material",
                      "give either a material name or an inline material, not both");
             }
-            info.material = build_material(*s.material, ptr + "/material");
+            const BuiltMaterial bm = build_material(*s.material, ptr + "/material");
+            info.material = bm.material;
+            info.textured = bm.textured;
             info.material_name = "<inline>";
         } else if (!s.material_ref.empty()) {
             const std::string& name = s.material_ref;
@@ -314,7 +475,8 @@ class Builder final : public BuildChecks {
                 }
                 fail(ptr + "/material", msg);
             }
-            info.material = found->second;
+            info.material = found->second.material;
+            info.textured = found->second.textured;
             info.material_name = name;
         } else if (emissive || shape_kind(s.kind).own_materials) {
             // Emitters reflect nothing; kinds with their own materials add them as parts.
@@ -324,6 +486,7 @@ class Builder final : public BuildChecks {
             fail(ptr, "missing required key 'material' (only emissive shapes may omit it)");
         }
 
+        info.needs_uv = info.needs_uv || info.textured >= 0;
         glm::dmat4 xf(1.0);
         if (s.transform) {
             xf = *s.transform;
@@ -379,6 +542,7 @@ class Builder final : public BuildChecks {
             prim.to_world = xf * local;
             prim.to_object = glm::inverse(prim.to_world);
             prim.normal_to_world = glm::transpose(glm::inverse(glm::dmat3(prim.to_world)));
+            prim.uv = m_info.needs_uv;
             const double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
@@ -396,7 +560,15 @@ class Builder final : public BuildChecks {
             pl.point = glm::dvec3(xf * glm::dvec4(point, 1.0));
             pl.normal = glm::normalize(glm::transpose(glm::inverse(lin)) * glm::dvec3(n));
             if (shape.flip_normals) pl.normal = -pl.normal;
-            pl.tangent = Vec3(glm::normalize(lin * glm::dvec3(Frame::from_z(n).x)));
+            const Frame local = Frame::from_z(n);
+            pl.tangent = Vec3(glm::normalize(lin * glm::dvec3(local.x)));
+            // UV axes: the local frame's x and y through the transform, in world units; y is
+            // made orthogonal to x in the plane (the unflipped normal, so flip_normals does not
+            // mirror the texture).
+            pl.uv = m_info.needs_uv;
+            pl.ex = glm::normalize(lin * glm::dvec3(local.x));
+            pl.ey = glm::cross(glm::normalize(glm::transpose(glm::inverse(lin)) * glm::dvec3(n)),
+                               pl.ex);
             if (!is_finite(Vec3(pl.point)) || !is_finite(Vec3(pl.normal))) {
                 fail(ptr, "the transformed plane is not finite");
             }
@@ -404,8 +576,9 @@ class Builder final : public BuildChecks {
             m_b.m_builder.impl().planes.push_back(pl);
         }
 
-        void add_triangles(TriangleMesh mesh, const Vec3& tangent) override {
-            add_mesh(std::move(mesh), tangent, -1, emissive, emission);
+        void add_triangles(TriangleMesh mesh, const Vec3& tangent,
+                           const glm::dmat4* sphere) override {
+            add_mesh(std::move(mesh), tangent, -1, emissive, emission, sphere);
         }
 
         const Material* add_material(const MaterialDesc& m, const std::string& p) override {
@@ -417,7 +590,7 @@ class Builder final : public BuildChecks {
             const Rgb radiance = surface.emission;
             m_info.parts.push_back(std::move(surface));
             add_mesh(std::move(mesh), Vec3(0.f), std::int32_t(m_info.parts.size() - 1), emits,
-                     radiance);
+                     radiance, nullptr);
         }
 
         void warn(std::string message) override {
@@ -426,9 +599,9 @@ class Builder final : public BuildChecks {
 
       private:
         // The shape's own triangles (part -1) or one of its parts: transformed, validated,
-        // degenerate triangles dropped, an area light when it emits.
+        // degenerate triangles dropped, an area light when it emits; UVs as add_triangles says.
         void add_mesh(TriangleMesh mesh, const Vec3& tangent, std::int32_t part, bool emits,
-                      const Rgb& radiance) {
+                      const Rgb& radiance, const glm::dmat4* sphere) {
             const glm::dmat3 lin(xf);
             const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
             // A mirroring transform reverses the winding: undo it so the authored front stays
@@ -471,6 +644,21 @@ class Builder final : public BuildChecks {
             MeshGeom g;
             g.shape = index;
             g.part = part;
+            if (m_info.needs_uv) {
+                if (sphere) {
+                    g.spherical = true;
+                    g.to_object = glm::inverse(xf * *sphere);
+                } else if (mesh.uvs.empty()) {
+                    fail(ptr + (shape.file.empty() ? "/uvs" : "/file"),
+                         "the shape's material or emission is textured but the mesh has no UVs");
+                } else {
+                    g.tri_uvs.resize(mesh.num_triangles());
+                    for (std::size_t t = 0; t < g.tri_uvs.size(); ++t)
+                        for (std::size_t j = 0; j < 3; ++j)
+                            g.tri_uvs[t][j] = mesh.uvs[mesh.indices[3 * t + j]];
+                }
+            }
+            mesh.uvs = {};
             g.mesh = std::move(mesh);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
             m_b.m_builder.impl().meshes.push_back(std::move(g));
@@ -478,6 +666,7 @@ class Builder final : public BuildChecks {
 
       public:
         void add_light(Light light) override {
+            if (m_info.emission_texture) light.set_textured_emission();
             std::vector<Light>& lights = m_b.m_builder.lights();
             m_info.light = std::int32_t(lights.size());
             lights.push_back(std::move(light));
@@ -672,7 +861,8 @@ class Builder final : public BuildChecks {
     BuildReport* m_report;
     std::uint64_t m_triangles = 0, m_degenerate = 0;
     Scene::Builder m_builder;
-    std::map<std::string, const Material*> m_named;
+    std::map<std::string, BuiltMaterial> m_named;
+    TexelImageCache m_images;  // an image used twice is read once
     const Material* m_black = nullptr;
     std::vector<Bounds3> m_shape_bounds;
 };

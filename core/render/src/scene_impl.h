@@ -2,6 +2,9 @@
 // and embree_scene.cpp (which hands it to Embree). No Embree type here: the backend is opaque.
 #pragma once
 
+#include <algorithm>
+#include <array>
+#include <cmath>
 #include <memory>
 #include <vector>
 
@@ -32,6 +35,13 @@ struct MeshGeom {
         Vec3 n[3];
     };
     std::vector<SmoothRecord> records;
+    // Texture coordinates, only for shapes that need them (ShapeInfo::needs_uv): per triangle
+    // the uv of its three vertices (hit uv = (1 - u - v) uv0 + u uv1 + v uv2 with Embree's
+    // barycentrics), or, for the icosphere, from the direction of the hit point in the shape's
+    // object space (`spherical`, `to_object`: world -> the unit sphere's frame).
+    std::vector<std::array<Vec2, 3>> tri_uvs;
+    bool spherical = false;
+    glm::dmat4 to_object{1.0};
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
     }
@@ -49,7 +59,18 @@ struct AnalyticPrim {
     glm::dmat3 normal_to_world{1.0};  // inverse transpose of to_world's linear part
     // Error of the double hit point, added to its rounding in SurfaceHit::p_err (set by build).
     float err_floor = 0.f;
+    bool uv = false;  // compute SurfaceHit::uv (ShapeInfo::needs_uv)
 };
+
+// Texture coordinates of a point on the unit sphere (object space): u = longitude / 2 pi
+// counter-clockwise about +z from +x, in [0, 1); v = 0 at the -z pole, 1 at the +z pole.
+inline Vec2 sphere_uv(const glm::dvec3& p) {
+    constexpr double kPi = 3.14159265358979323846;
+    double u = std::atan2(p.y, p.x) / (2.0 * kPi);
+    if (u < 0.0) u += 1.0;
+    const double z = std::clamp(p.z / glm::length(p), -1.0, 1.0);
+    return {float(u), float(std::acos(-z) / kPi)};
+}
 
 // An infinite plane through `point` with unit normal `normal` (world space).
 struct PlaneGeom {
@@ -57,6 +78,9 @@ struct PlaneGeom {
     glm::dvec3 point{0.0};
     glm::dvec3 normal{0.0, 0.0, 1.0};
     Vec3 tangent{1.f, 0.f, 0.f};
+    // Texture coordinates (only when `uv`): u = dot(p - point, ex), v = dot(p - point, ey).
+    bool uv = false;
+    glm::dvec3 ex{1.0, 0.0, 0.0}, ey{0.0, 1.0, 0.0};
 };
 
 struct EmbreeBackend;  // embree_scene.cpp
@@ -87,6 +111,8 @@ struct Scene::Builder {
     RenderSettings& settings() { return scene.m_settings; }
     SceneFeatures& features() { return scene.m_features; }
     std::vector<std::unique_ptr<Material>>& materials() { return scene.m_materials; }
+    std::vector<std::unique_ptr<Texture>>& textures() { return scene.m_textures; }
+    std::vector<TexturedMaterial>& textured() { return scene.m_textured; }
     std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }
     std::vector<Light>& lights() { return scene.m_lights; }
     LightDistribution& light_distribution() { return scene.m_light_distribution; }

@@ -144,7 +144,8 @@ class Reader {
         }
         // build_scene says the same, at /lights; a file without the key gets the root pointer.
         bool emitter = !d.lights.empty();
-        for (const ShapeDesc& s : d.shapes) emitter |= s.emission != Rgb(0.f);
+        for (const ShapeDesc& s : d.shapes)
+            emitter |= s.emission != Rgb(0.f) || s.emission_texture.has_value();
         if (!emitter && !root.contains("lights")) {
             fail("",
                  "the scene has no light source (no entry in \"lights\" and no shape with "
@@ -360,6 +361,48 @@ class Reader {
         }
     }
 
+    // A texture value (texture.h): {"texture": file, ...options} or {"checker": {...}}. Value
+    // checks (ranges, names of filters...) are build_scene's; here types and keys.
+    TextureDesc read_texture(const json& t, const std::string& ptr) const {
+        TextureDesc d;
+        auto vec2 = [&](const json& v, const std::string& p) {
+            if (!v.is_array() || v.size() != 2) fail(p, "expected [x, y], got " + type_name(v));
+            return Vec2(float(get_number(v[0], p + "/0")), float(get_number(v[1], p + "/1")));
+        };
+        if (t.contains("checker")) {
+            check_keys(t, ptr, {"checker", "uv_scale", "uv_offset", "uv_rotation", "scale"});
+            const json& c = t["checker"];
+            const std::string cp = ptr + "/checker";
+            expect_object(c, cp);
+            check_keys(c, cp, {"colors", "scale"});
+            d.checker = true;
+            const json& cols = require(c, cp, "colors");
+            if (!cols.is_array() || cols.size() != 2)
+                fail(cp + "/colors", "expected two colours [c0, c1], got " + type_name(cols));
+            for (std::size_t i = 0; i < 2; ++i)
+                d.colors[i] =
+                    get_color(cols[i], cp + "/colors/" + std::to_string(i), "a checker colour");
+            if (c.contains("scale")) d.checker_scale = get_number(c["scale"], cp + "/scale");
+        } else {
+            check_keys(t, ptr,
+                       {"texture", "colorspace", "filter", "wrap", "uv_scale", "uv_offset",
+                        "uv_rotation", "scale", "channel"});
+            d.file = get_string(require(t, ptr, "texture"), ptr + "/texture");
+            if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
+            if (t.contains("colorspace"))
+                d.colorspace = get_string(t["colorspace"], ptr + "/colorspace");
+            if (t.contains("filter")) d.filter = get_string(t["filter"], ptr + "/filter");
+            if (t.contains("wrap")) d.wrap = get_string(t["wrap"], ptr + "/wrap");
+            if (t.contains("channel")) d.channel = get_string(t["channel"], ptr + "/channel");
+        }
+        if (t.contains("uv_scale")) d.uv_scale = vec2(t["uv_scale"], ptr + "/uv_scale");
+        if (t.contains("uv_offset")) d.uv_offset = vec2(t["uv_offset"], ptr + "/uv_offset");
+        if (t.contains("uv_rotation"))
+            d.uv_rotation = get_number(t["uv_rotation"], ptr + "/uv_rotation");
+        if (t.contains("scale")) d.scale = get_number(t["scale"], ptr + "/scale");
+        return d;
+    }
+
     MaterialDesc read_material(const json& m, const std::string& ptr) const {
         expect_object(m, ptr);
         MaterialDesc d;
@@ -375,9 +418,13 @@ class Reader {
                 d.params.set(key, v.get<std::string>());
             } else if (v.is_array() && v.size() == 3) {
                 d.params.set(key, Rgb(get_vec3(v, p)));
+            } else if (v.is_object()) {
+                d.textures[key] = read_texture(v, p);
             } else {
-                fail(p, "expected a number, a colour [r, g, b], a string or a boolean, got " +
-                            type_name(v));
+                fail(p,
+                     "expected a number, a colour [r, g, b], a string, a boolean or a texture "
+                     "{\"texture\": ...} / {\"checker\": ...}, got " +
+                         type_name(v));
             }
         }
         return d;
@@ -514,7 +561,7 @@ class Reader {
     static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
         for (const auto& f : k.fields) {
             if (f.type == FieldType::MeshArrays) {
-                keys.insert(keys.end(), {"positions", "indices", "normals"});
+                keys.insert(keys.end(), {"positions", "indices", "normals", "uvs"});
             } else {
                 keys.push_back(f.key.data());
             }
@@ -549,7 +596,10 @@ class Reader {
             d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
         }
         if (s.contains("emission")) {
-            d.emission = get_color(s["emission"], ptr + "/emission", "an emitted radiance");
+            if (s["emission"].is_object())
+                d.emission_texture = read_texture(s["emission"], ptr + "/emission");
+            else
+                d.emission = get_color(s["emission"], ptr + "/emission", "an emitted radiance");
         }
         if (s.contains("material")) {
             const json& m = s["material"];
@@ -573,7 +623,7 @@ class Reader {
     // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
     void read_mesh(const json& s, const std::string& ptr, MeshData& out) const {
         if (s.contains("file")) {
-            for (const char* k : {"positions", "indices", "normals"}) {
+            for (const char* k : {"positions", "indices", "normals", "uvs"}) {
                 if (s.contains(k)) {
                     fail(ptr + "/" + k, "cannot be combined with \"file\" (give one or the other)");
                 }
@@ -604,7 +654,21 @@ class Reader {
         }
         std::vector<float> normals;
         if (s.contains("normals")) normals = read_floats(s["normals"], ptr + "/normals");
-        out = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals));
+        std::vector<float> uvs;
+        if (s.contains("uvs")) {
+            const json& a = s["uvs"];
+            if (!a.is_array() || a.size() != 2 * (positions.size() / 3)) {
+                fail(ptr + "/uvs", "expected a flat array of one (u, v) pair per position (" +
+                                       std::to_string(2 * (positions.size() / 3)) +
+                                       " numbers), got " +
+                                       (a.is_array() ? std::to_string(a.size()) : type_name(a)));
+            }
+            uvs.resize(a.size());
+            for (std::size_t i = 0; i < a.size(); ++i)
+                uvs[i] = float(get_number(a[i], ptr + "/uvs/" + std::to_string(i)));
+        }
+        out = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals),
+                                std::move(uvs));
     }
 
     LightDesc read_light(const json& l, const std::string& ptr) const {
@@ -647,9 +711,31 @@ json vec_json(const Vec3& v) {
     return json::array({double(v.x), double(v.y), double(v.z)});
 }
 
+json texture_json(const TextureDesc& d) {
+    json j = json::object();
+    if (d.checker) {
+        j["checker"] = {{"colors", json::array({vec_json(d.colors[0]), vec_json(d.colors[1])})},
+                        {"scale", d.checker_scale}};
+    } else {
+        j["texture"] = d.file;
+        if (!d.colorspace.empty()) j["colorspace"] = d.colorspace;
+        if (!d.filter.empty()) j["filter"] = d.filter;
+        if (!d.wrap.empty()) j["wrap"] = d.wrap;
+        if (!d.channel.empty()) j["channel"] = d.channel;
+    }
+    if (d.uv_scale != Vec2(1.f))
+        j["uv_scale"] = json::array({double(d.uv_scale.x), double(d.uv_scale.y)});
+    if (d.uv_offset != Vec2(0.f))
+        j["uv_offset"] = json::array({double(d.uv_offset.x), double(d.uv_offset.y)});
+    if (d.uv_rotation != 0.0) j["uv_rotation"] = d.uv_rotation;
+    if (d.scale != 1.0) j["scale"] = d.scale;
+    return j;
+}
+
 json material_json(const MaterialDesc& m) {
     json j = json::object();
     j["model"] = m.model;
+    for (const auto& [name, t] : m.textures) j[name] = texture_json(t);
     for (const auto& [name, v] : m.params.values()) {
         const std::string& key = name;  // (clang 14 cannot capture a structured binding)
         std::visit(
@@ -723,6 +809,7 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                     j["positions"] = array_json(v.positions, hashed);
                     j["indices"] = array_json(v.indices, hashed);
                     if (!v.normals.empty()) j["normals"] = array_json(v.normals, hashed);
+                    if (!v.uvs.empty()) j["uvs"] = array_json(v.uvs, hashed);
                 }
             } else {
                 j[key] = v;
@@ -775,6 +862,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         else if (!s.material_ref.empty())
             j["material"] = s.material_ref;
         if (s.emission != Rgb(0.f)) j["emission"] = vec_json(s.emission);
+        if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture);
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.transform) j["transform"] = matrix_json(*s.transform);

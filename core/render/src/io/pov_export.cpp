@@ -11,6 +11,7 @@
 #include <sstream>
 #include <stdexcept>
 
+#include "../scene_checks.h"
 #include "facet/frame.h"
 #include "facet/registry.h"
 #include "facet/render/kinds.h"
@@ -441,6 +442,13 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                                const glm::dvec3& emission) {
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    // Textured parameters are not exported: povray-facet's brdf block takes constants, and
+    // POV-Ray's image_map (its UV mapping per object, its interpolation, its sRGB handling)
+    // matches Facet's texture exactly for no parameter yet. An error, never a silent constant.
+    if (!m.textures.empty()) {
+        fail(pointer + "/" + detail::escape_pointer_token(m.textures.begin()->first),
+             "a texture cannot be exported to POV-Ray exactly (only constant parameters are)");
+    }
     // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
     // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
     if (make_material(m.model, m.params).transmissive())
@@ -516,6 +524,10 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
                 mpointer = "/materials/" + s.material_ref;
             }
         if (!m) fail(pointer + "/material", "unknown material '" + s.material_ref + "'");
+    }
+    if (s.emission_texture) {
+        fail(pointer + "/emission",
+             "a texture cannot be exported to POV-Ray exactly (only constant emission is)");
     }
     const glm::dvec3 le = glm::dvec3(s.emission);
     const bool emits = std::max({le.x, le.y, le.z}) > 0.0;

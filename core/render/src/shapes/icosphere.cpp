@@ -20,7 +20,10 @@ void build(ShapeBuild& b) {
     const auto sub =
         b.check_int(s.subdivisions, b.ptr + "/subdivisions", 0, detail::kMaxIcosphereSubdivisions);
     b.reserve_triangles(20ull << (2 * sub), b.ptr + "/subdivisions");
-    b.add_triangles(triangles(s, b.base_dir()), Vec3(0.f));
+    // UVs as the analytic sphere's: longitude and latitude of the unit sphere at the centre.
+    const glm::dmat4 sphere =
+        glm::scale(glm::translate(glm::dmat4(1.0), glm::dvec3(s.center)), glm::dvec3(s.radius));
+    b.add_triangles(triangles(s, b.base_dir()), Vec3(0.f), &sphere);
 }
 
 }  // namespace

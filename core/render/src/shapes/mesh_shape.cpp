@@ -24,6 +24,10 @@ TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
         m.normals.resize(n);
         std::memcpy(m.normals.data(), md.normals.data(), n * sizeof(Vec3));
     }
+    if (md.uvs.size() == 2 * n && n > 0) {
+        m.uvs.resize(n);
+        std::memcpy(m.uvs.data(), md.uvs.data(), n * sizeof(Vec2));
+    }
     return m;
 }
 
@@ -32,7 +36,8 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
     const std::string& ptr = b.ptr;
     const MeshData& md = s.mesh;
     if (!s.file.empty()) {
-        if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty()) {
+        if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty() ||
+            !md.uvs.empty()) {
             b.fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
         }
         if (!b.files_allowed()) b.fail(ptr + "/file", "mesh files are disabled here");
@@ -66,6 +71,14 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
         b.fail(ptr + "/normals", "expected one normal per position (" + std::to_string(n) +
                                      "), got " + std::to_string(md.normals.size() / 3));
     }
+    if (!md.uvs.empty() && md.uvs.size() != 2 * n) {
+        b.fail(ptr + "/uvs", "expected one (u, v) pair per position (" + std::to_string(2 * n) +
+                                 " numbers), got " + std::to_string(md.uvs.size()));
+    }
+    for (std::size_t i = 0; i < md.uvs.size(); ++i) {
+        if (!std::isfinite(md.uvs[i]))
+            b.fail(ptr + "/uvs/" + std::to_string(i), "must be a finite number");
+    }
     for (std::size_t i = 0; i < m.normals.size(); ++i) {
         Vec3& v = m.normals[i];
         if (!is_finite(v)) b.fail(place, "normal " + std::to_string(i) + " is not finite");
@@ -87,13 +100,15 @@ void build(ShapeBuild& b) {
 extern const ShapeKindDef kMeshKind{
     ShapeKind::Mesh,
     "mesh",
-    "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`) or from a "
-    "`file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals kept when every "
-    "corner has one) or `.ply` (ascii or binary_little_endian; vertex x y z [nx ny nz], face "
+    "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`, optional "
+    "`uvs`) or from a `file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals and "
+    "texture coordinates `vt` kept when every corner has one) or `.ply` (ascii or "
+    "binary_little_endian; vertex x y z [nx ny nz] [u v | s t | texture_u texture_v], face "
     "vertex_indices lists, fan-triangulated)",
     {{"positions", FieldType::MeshArrays, false, &ShapeDesc::mesh, "-",
       "flat arrays: `positions` [x0, y0, z0, x1, ...], `indices` (3 per triangle), optional "
-      "`normals` (one per position: smooth shading)"},
+      "`normals` (one per position: smooth shading), optional `uvs` [u0, v0, u1, ...] (one pair "
+      "per position; needed when the material or emission is textured)"},
      {"file", FieldType::Path, false, &ShapeDesc::file, "-",
       "a mesh file (instead of the arrays), relative to the scene file"}},
     build,

@@ -131,6 +131,12 @@ class Light {
     bool hittable() const {
         return (m_kind == Kind::Area && m_shape != UINT32_MAX) || m_kind == Kind::Environment;
     }
+    // An area light whose radiance is a texture (a shape's textured "emission"): next-event
+    // estimation does not sample it (nee_samples), BSDF rays find it with MIS weight 1, and
+    // the radiance at a hit comes from the texture (SurfaceHit::emitted_radiance); emission()
+    // is the texture's largest value, which only sets power() for --explain.
+    void set_textured_emission() { m_textured = true; }
+    bool textured_emission() const { return m_textured; }
     // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise
     // (also for the "area" light kind, a lamp that is no shape).
     std::uint32_t shape() const { return m_shape; }
@@ -181,6 +187,7 @@ class Light {
 
     Kind m_kind = Kind::Point;
     bool m_delta = true;
+    bool m_textured = false;
     std::uint32_t m_shape = UINT32_MAX;
     Vec3 m_position{0.f};
     Vec3 m_direction{0.f, 0.f, -1.f};
@@ -266,8 +273,11 @@ class Light {
 // integrator therefore finds the environment by BSDF sampling alone: its selection pmf is 0, so
 // the MIS weight of an escaping BSDF ray is 1 (power heuristic with a zero light pdf). The
 // `direct` integrator, which has no BSDF rays, still samples it (Light::sample_li).
+// A textured emitter is not sampled either (Light::set_textured_emission): its light samples
+// would need the texture at the sampled point; BSDF sampling finds it unbiasedly.
 inline bool nee_samples(const Light& light) {
-    return light.kind() != Light::Kind::Environment || light.map() != nullptr;
+    return (light.kind() != Light::Kind::Environment || light.map() != nullptr) &&
+           !light.textured_emission();
 }
 
 // The discrete distribution next-event estimation chooses lights from: probability in

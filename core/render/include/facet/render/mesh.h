@@ -3,7 +3,9 @@
 // Conventions:
 //  - Triangles are index triples into `positions`; the front side is the counter-clockwise one,
 //    n = cross(p1 - p0, p2 - p0) (scene.h). `normals` is empty or holds one unit vertex normal
-//    per position (used for smooth shading only; geometry stays flat).
+//    per position (used for smooth shading only; geometry stays flat). `uvs` is empty or holds
+//    one texture coordinate per position: (0, 0) the bottom-left corner of an image, v up
+//    (scenes/FORMAT.md, "UV coordinates"); the generators below give each kind's documented UVs.
 //  - Readers throw std::runtime_error with a message naming the line / element at fault (the
 //    scene loader prefixes the file and JSON path); they never crash on malformed input.
 #pragma once
@@ -21,32 +23,38 @@ namespace facet::render {
 struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;           // empty, or one per position
+    std::vector<Vec2> uvs;               // empty, or one per position
     std::vector<std::uint32_t> indices;  // 3 per triangle
     std::size_t num_triangles() const { return indices.size() / 3; }
 };
 
-// Axis-aligned box [lo, hi], outward facing, 12 triangles, flat.
+// Axis-aligned box [lo, hi], outward facing, 12 triangles, flat; 4 vertices per face so that
+// each face has its own UVs: [0, 1]^2, v toward +y on the side faces (+-x, +-z), toward -z on
+// the top (+y) and toward +z on the bottom (-y), each read unmirrored from outside.
 TriangleMesh make_box(const Vec3& lo, const Vec3& hi);
-// Quad p0 p1 p2 p3 (counter-clockwise seen from the front) as triangles (p0 p1 p2), (p0 p2 p3).
+// Quad p0 p1 p2 p3 (counter-clockwise seen from the front) as triangles (p0 p1 p2), (p0 p2 p3);
+// UVs p0 (0, 0), p1 (1, 0), p2 (1, 1), p3 (0, 1).
 TriangleMesh make_quad(const std::array<Vec3, 4>& p);
 // Unit sphere at the origin: an icosahedron subdivided `subdivisions` times (20 * 4^s
 // triangles), outward facing; smooth = vertex normals = positions.
 TriangleMesh make_icosphere(int subdivisions, bool smooth);
 // nx x ny cells over [-1, 1]^2 in the z = 0 plane, 2 nx ny triangles facing +z; optionally
-// displaced by z = amplitude * sin(frequency x) * sin(frequency y) (with matching normals).
+// displaced by z = amplitude * sin(frequency x) * sin(frequency y) (with matching normals);
+// UVs ((x + 1) / 2, (y + 1) / 2) of the undisplaced grid.
 TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency);
 
 // Wavefront OBJ (tinyobjloader; polygons are triangulated, vertex normals kept when every
-// corner has one).
+// corner has one, texture coordinates `vt` likewise).
 TriangleMesh load_obj(const std::string& path);
 // PLY, ascii or binary_little_endian: element vertex with float/double x y z (optional nx ny
-// nz), element face with a list of vertex indices (polygons are fan-triangulated). Other
-// elements and properties are skipped. Written here: Debian ships no small PLY library.
+// nz; optional u v, or s t, or texture_u texture_v), element face with a list of vertex indices
+// (polygons are fan-triangulated). Other elements and properties are skipped. Written here: Debian
+// ships no small PLY library.
 TriangleMesh load_ply(const std::string& path);
 TriangleMesh parse_ply(std::string_view data);
 
 // "" when the mesh is usable, else a message: index out of range, non-finite position, wrong
-// normal count, no triangles.
+// normal or UV count, non-finite UV, no triangles.
 std::string validate_mesh(const TriangleMesh& mesh);
 
 }  // namespace facet::render

@@ -14,6 +14,11 @@
 //    them, else ns = ng), always in ng's hemisphere. `dpdu` is a tangent hint for anisotropic
 //    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
 //    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent).
+//  - `uv` holds the shape's texture coordinates (scenes/FORMAT.md, "UV coordinates") only on
+//    shapes whose material or emission is textured (ShapeInfo::needs_uv); elsewhere it is not
+//    computed (skip what the scene does not need) and must not be read. `textured` >= 0 means
+//    the material's parameters depend on uv: build the hit's material with
+//    Scene::material_at(hit) instead of using `material` (the untextured fast path).
 //  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
 //    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
 //    is always one-sided: only the front side emits (light.h).
@@ -38,9 +43,11 @@
 
 #include "facet/bxdf.h"
 #include "facet/material.h"
+#include "facet/registry.h"
 #include "facet/render/camera.h"
 #include "facet/render/light.h"
 #include "facet/render/precision.h"
+#include "facet/render/texture.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -62,6 +69,8 @@ struct SurfaceHit {
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
     std::int32_t light = -1;             // index into Scene::lights() when the shape emits, else -1
+    Vec2 uv{0.f};                        // texture coordinates (see conventions)
+    std::int32_t textured = -1;          // index of the textured material, or -1
 };
 
 struct RenderSettings {
@@ -83,6 +92,8 @@ struct ShapeSurface {
     Rgb emission{0.f};        // radiance; non-zero makes the surface an area light
     std::int32_t light = -1;  // index into lights() when emissive
     bool two_sided = true;
+    std::int32_t textured = -1;  // index of its textured material (Scene::material_at), or -1
+    const Texture* emission_texture = nullptr;  // textured emission (times nothing), or null
 };
 
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
@@ -92,6 +103,22 @@ struct ShapeInfo : ShapeSurface {
     ShapeKind kind = ShapeKind::Mesh;
     std::uint64_t triangles = 0;  // 0 for the analytic shapes (sphere, plane, disc)
     std::vector<ShapeSurface> parts;
+    bool needs_uv = false;  // hits compute uv (textured material/emission)
+};
+
+// A material some of whose parameters are textures: the model and its constant parameters, and
+// for each textured parameter the texture and whether the model reads it as a colour. At a hit
+// the textures are evaluated and the model is built from the full ParamSet by the core's
+// registry, exactly as a constant material is (facet/registry.h).
+struct TexturedMaterial {
+    std::string model;
+    ParamSet params;  // the constant parameters and a placeholder for every textured one
+    struct Slot {
+        std::string name;
+        const Texture* texture;
+        bool color;  // a colour parameter (else a number: the texture's r channel)
+    };
+    std::vector<Slot> slots;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -229,6 +256,13 @@ class Scene {
     const std::string& name() const { return m_name; }
     // fingerprint() of the SceneDescription it was built from (scene_description.h).
     std::uint64_t fingerprint() const { return m_fingerprint; }
+    // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
+    // model built from them (never throws: build_scene checked every texture's range against
+    // the model's). Hits with textured < 0 use *hit.material.
+    Material material_at(const SurfaceHit& hit) const;
+    // The textured materials (ShapeInfo::textured indexes them).
+    std::span<const TexturedMaterial> textured_materials() const { return m_textured; }
+
     // Warnings build_scene() reported (dropped zero-area triangles, ...), one line each.
     std::span<const std::string> warnings() const { return m_warnings; }
 
@@ -264,6 +298,8 @@ class Scene {
     RenderSettings m_settings;
     SceneFeatures m_features;
     std::vector<std::unique_ptr<Material>> m_materials;  // stable addresses
+    std::vector<std::unique_ptr<Texture>> m_textures;    // stable addresses
+    std::vector<TexturedMaterial> m_textured;
     std::vector<ShapeInfo> m_shapes;
     std::vector<Light> m_lights;
     LightDistribution m_light_distribution;

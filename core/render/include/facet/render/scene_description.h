@@ -24,6 +24,7 @@
 
 #include <array>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <optional>
 #include <span>
@@ -33,6 +34,7 @@
 
 #include "facet/registry.h"
 #include "facet/render/scene.h"
+#include "facet/render/texture.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -58,21 +60,25 @@ struct CameraDesc {
 
 struct MaterialDesc {
     std::string model;  // a name of the core's model table (facet::model_table())
-    ParamSet params;
+    ParamSet params;    // constant parameters
+    // Parameters given as textures (texture.h) instead of constants; a name is in `params` or
+    // here, never both.
+    std::map<std::string, TextureDesc> textures;
     bool operator==(const MaterialDesc&) const = default;
 };
 
 // Flat triangle-mesh arrays: positions x0 y0 z0 x1 ..., 3 indices per triangle, normals empty
-// or one per position.
+// or one per position, uvs empty or one (u, v) pair per position (u0 v0 u1 v1 ...).
 struct MeshData {
     std::span<const float> positions;
     std::span<const std::uint32_t> indices;
     std::span<const float> normals;
     std::shared_ptr<const void> owner;  // keeps the arrays alive (may be null: see conventions)
+    std::span<const float> uvs;         // after `owner`: MeshData{p, i, n, owner} still works
 
     // A mesh that owns copies of (or takes) the given arrays.
     static MeshData copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
-                            std::vector<float> normals = {});
+                            std::vector<float> normals = {}, std::vector<float> uvs = {});
     std::size_t num_vertices() const { return positions.size() / 3; }
     std::size_t num_triangles() const { return indices.size() / 3; }
     bool operator==(const MeshData& o) const;
@@ -87,6 +93,7 @@ struct ShapeDesc {
     std::string material_ref;
     std::optional<MaterialDesc> material;
     Rgb emission{0.f};
+    std::optional<TextureDesc> emission_texture;  // instead of `emission` (texture.h)
     bool two_sided = true;
     bool flip_normals = false;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
@@ -154,7 +161,8 @@ struct SceneDescription {
     std::vector<ShapeDesc> shapes;
     std::vector<LightDesc> lights;
     RenderSettings render;  // width/height are ignored (the camera's)
-    // Directory that relative mesh "file" paths are resolved against (not part of equality).
+    // Directory that relative mesh "file" and texture paths are resolved against (not part of
+    // equality).
     std::string base_dir = ".";
 
     bool operator==(const SceneDescription& o) const;

@@ -1,0 +1,97 @@
+// Textures as parameter values: an image (read through TexelImageCache) or a procedural
+// checker, evaluated at a hit's UV coordinates. A material parameter or a shape's emission holds
+// either a constant (the ParamSet / ShapeDesc value) or one of these (scenes/FORMAT.md,
+// "Textures").
+//
+// Conventions:
+//  - UV: (0, 0) is the bottom-left corner of the image, v grows upward, [0, 1]^2 covers the
+//    image once (the convention of OBJ and Blender). Texel (x, y) of a TexelImage (row 0 at the
+//    top) covers u in [x / W, (x + 1) / W] and v in [1 - (y + 1) / H, 1 - y / H]; its centre is
+//    ((x + 0.5) / W, 1 - (y + 0.5) / H).
+//  - The UV transform maps the hit's uv to the texture's:
+//      uv' = R(uv_rotation) (uv_scale * uv) + uv_offset,
+//    R rotating counter-clockwise by uv_rotation degrees about (0, 0), `*` per component.
+//  - Filters: closest (the texel containing uv'), linear (bilinear between the 4 texel centres
+//    around uv'). Wrap modes act on texel indices: repeat (period W), clamp (edge texels),
+//    mirror (period 2W, reflected). "mipmap" is not implemented in this version and is an
+//    error, never a silent fallback.
+//  - Values: a colour texture of a 1- or 2-channel image is grey (channel 0 in r, g, b); of a
+//    3+ channel image, its first three channels; `channel` picks one channel (or the Rec. 709
+//    luminance 0.2126 R + 0.7152 G + 0.0722 B of linear values) as grey. A number texture
+//    reads channel 0 of a 1- or 2-channel image and needs `channel` otherwise. Every value is
+//    multiplied by `scale` last.
+//  - Checker: cell (i, j) = (floor(n u'), floor(n v')), colour colors[(i + j) mod 2]; so the
+//    cell at the UV origin has colors[0].
+#pragma once
+
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+
+#include "facet/render/texel_image.h"
+#include "facet/types.h"
+
+namespace facet::render {
+
+// A texture as the scene format writes it (plain data, validated by build_scene).
+struct TextureDesc {
+    bool checker = false;  // a procedural checker instead of an image
+    // Image
+    std::string file;        // relative to the scene file's directory
+    std::string colorspace;  // "" (default: image's), "srgb", "linear"
+    std::string filter;      // "" (default: linear), "closest", "linear", "mipmap"
+    std::string wrap;        // "" (default: repeat), "repeat", "clamp", "mirror"
+    std::string channel;     // "" (all), "r", "g", "b", "a", "luminance"
+    // Checker
+    std::array<Rgb, 2> colors{Rgb(0.f), Rgb(1.f)};
+    double checker_scale = 1.0;  // cells per unit of uv'
+    // Both
+    Vec2 uv_scale{1.f}, uv_offset{0.f};
+    double uv_rotation = 0.0;  // degrees, counter-clockwise
+    double scale = 1.0;        // multiplier on the value
+    bool operator==(const TextureDesc&) const = default;
+};
+
+enum class TextureFilter : std::uint8_t { Closest, Linear };
+enum class TextureWrap : std::uint8_t { Repeat, Clamp, Mirror };
+
+// A texture ready to evaluate (immutable, thread-safe). Never throws once built.
+class Texture {
+  public:
+    // `channel`: -1 all (colour) channels, 0..3 one channel, 4 luminance.
+    static constexpr int kAllChannels = -1, kLuminance = 4;
+    static Texture image(std::shared_ptr<const TexelImage> img, TextureFilter filter,
+                         TextureWrap wrap, int channel, const TextureDesc& transform);
+    static Texture checker(const TextureDesc& desc);
+
+    // The value at uv (see conventions): a colour (grey for one channel).
+    Rgb eval(Vec2 uv) const;
+    // The transformed coordinates uv' (conventions).
+    Vec2 transform(Vec2 uv) const;
+    // Smallest and largest value per channel over the whole texture (every texel, times scale;
+    // bilinear values lie between them), for validation against a parameter's range.
+    Rgb min_value() const { return m_min; }
+    Rgb max_value() const { return m_max; }
+    // The image (null for a checker).
+    const TexelImage* texel_image() const { return m_image.get(); }
+
+  private:
+    Rgb texel(int x, int y) const;
+    std::shared_ptr<const TexelImage> m_image;  // null for a checker
+    TextureFilter m_filter = TextureFilter::Linear;
+    TextureWrap m_wrap = TextureWrap::Repeat;
+    int m_channel = kAllChannels;
+    float m_scale = 1.f;
+    // uv' = m_a * uv + m_b (m_a = R(rotation) diag(uv_scale))
+    glm::mat2 m_a{1.f};
+    Vec2 m_b{0.f};
+    std::array<Rgb, 2> m_colors{};
+    float m_cells = 1.f;
+    Rgb m_min{0.f}, m_max{0.f};
+};
+
+// Wraps texel index i into [0, n) by `wrap` (conventions).
+int wrap_index(int i, int n, TextureWrap wrap);
+
+}  // namespace facet::render
