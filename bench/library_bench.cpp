@@ -218,12 +218,16 @@ int main(int argc, char** argv) {
             }
         }
         fr::SceneDescription d;
-        d.camera = {{0.f, 2.f, 3.f}, {0.f, 0.f, 0.f}, {0.f, 1.f, 0.f}, 40.0, 64, 64};
-        d.materials.push_back({"white", {"lambert", {}}});
+        d.camera.position = {0.f, 2.f, 3.f};
+        d.camera.look_at = {0.f, 0.f, 0.f};
+        d.camera.up = {0.f, 1.f, 0.f};
+        d.camera.fov = 40.0;
+        d.camera.width = d.camera.height = 64;
+        d.materials.push_back({"white", {"lambert", {}, {}}});
         fr::ShapeDesc s;
         s.kind = fr::ShapeKind::Mesh;
         s.material_ref = "white";
-        s.mesh = fr::MeshData{pos, idx, {}, nullptr};
+        s.mesh = fr::MeshData{pos, idx, {}, nullptr, {}};
         d.shapes.push_back(s);
         fr::LightDesc l;
         l.position = {0.f, 3.f, 0.f};

@@ -77,16 +77,24 @@ std::string quoted_list(const std::vector<std::string>& names) {
     return s;
 }
 
+// The models a brdf finish takes: the core's reflection models. A transmissive model
+// (dielectric, thin_dielectric) would need POV-Ray's interior and refraction (docs/povray.md),
+// so it is not offered, and naming one reads like any other unknown model.
+bool reflection_model(const std::string& name) {
+    return !facet::make_material(name, {}).transmissive();
+}
+
 }  // namespace
 
 std::string model_list() {
     std::vector<std::string> names;
-    for (const auto& m : facet::model_table()) names.push_back(m.name);
+    for (const auto& m : facet::model_table())
+        if (reflection_model(m.name)) names.push_back(m.name);
     return quoted_list(names);
 }
 
 bool is_model(const char* name) {
-    return facet::find_model(name) != nullptr;
+    return facet::find_model(name) != nullptr && reflection_model(name);
 }
 
 ParamKind param_kind(const char* model, const char* param, std::string& message) {

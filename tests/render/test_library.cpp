@@ -60,7 +60,7 @@ fr::SceneDescription mesh_scene(std::vector<float> positions, std::vector<std::u
     d.camera.fov = 40.0;
     d.camera.width = 16;
     d.camera.height = 12;
-    d.materials.push_back({"white", {"lambert", {}}});
+    d.materials.push_back({"white", {"lambert", {}, {}}});
     fr::ShapeDesc s;
     s.kind = fr::ShapeKind::Mesh;
     s.name = "floor";
@@ -145,7 +145,7 @@ TEST(SceneDescription, MeshFromCallerArraysEqualsItsJsonTwin) {
     std::vector<float> p = kQuad;
     std::vector<std::uint32_t> ix = kQuadIdx;
     fr::SceneDescription d = mesh_scene({}, {});
-    d.shapes[0].mesh = fr::MeshData{p, ix, {}, nullptr};
+    d.shapes[0].mesh = fr::MeshData{p, ix, {}, nullptr, {}};
     const fr::Scene from_arrays = fr::build_scene(d, "arrays");
     const fr::Scene from_json = fr::load_scene_from_string(fr::write_scene_json(d), "twin.json");
     fr::RenderOptions o = fr::testing::test_options("direct", 1, 0);
@@ -206,7 +206,7 @@ TEST(BuildScene, MaterialsLightsCameraAndTransforms) {
               "desc: /lights: the scene has no light source (no entry in \"lights\" and no shape "
               "with \"emission\")");
     d = mesh_scene(kQuad, kQuadIdx);
-    d.materials.push_back({"white", {"lambert", {}}});
+    d.materials.push_back({"white", {"lambert", {}, {}}});
     EXPECT_EQ(build_error(d), "desc: /materials/white: duplicate material name 'white'");
     d = mesh_scene(kQuad, kQuadIdx);
     d.materials[0].second.params.set("reflectance", std::nan(""));

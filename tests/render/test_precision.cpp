@@ -74,7 +74,7 @@ fr::SceneDescription empty_scene(const Vec3& camera_at) {
     d.camera.look_at = camera_at;
     d.camera.width = 8;
     d.camera.height = 8;
-    d.materials.push_back({"white", {"lambert", {}}});
+    d.materials.push_back({"white", {"lambert", {}, {}}});
     fr::LightDesc l;
     l.kind = fr::LightKind::Directional;
     l.direction = Vec3(0.f, -1.f, 0.f);

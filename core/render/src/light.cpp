@@ -151,6 +151,7 @@ Light Light::environment(const Rgb& radiance) {
 Light Light::environment_map(std::shared_ptr<const EnvironmentMap> map) {
     Light l;
     l.m_kind = Kind::Environment;
+    l.m_delta = false;
     l.m_emission = map->mean_radiance();
     l.m_map = std::move(map);
     return l;

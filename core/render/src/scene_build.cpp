@@ -582,7 +582,10 @@ class Builder final : public BuildChecks {
         }
 
         const Material* add_material(const MaterialDesc& m, const std::string& p) override {
-            return m_b.build_material(m, p);
+            // A kind's own materials are constants (gltf converts no texture yet and says so).
+            const BuiltMaterial bm = m_b.build_material(m, p);
+            if (bm.textured >= 0) fail(p, "a textured material is not supported here");
+            return bm.material;
         }
 
         void add_part(TriangleMesh mesh, ShapeSurface surface) override {
