@@ -241,17 +241,23 @@ def _light_data(obj, matrix, problems):
     m = matrix
     pos = [m[i][3] for i in range(3)]
     axis = [-m[i][2] for i in range(3)]  # Blender lights point along local -Z
+    # Sizes as Cycles 3.4 defines them: a point or spot lamp's Radius is the radius of a sphere
+    # of uniform radiance with the lamp's power (Facet's "radius"), the Sun's Angle its full
+    # angular diameter (Facet's "angle", degrees) with the irradiance unchanged.
+    size = {"radius": float(lt.shadow_soft_size)} if lt.type in ('POINT', 'SPOT') and \
+        lt.shadow_soft_size > 0.0 else {}
     if lt.type == 'POINT':
-        return [{"type": "point", "position": pos,
+        return [{"type": "point", "position": pos, **size,
                  "power": units.point_power_from_blender(lt.color, lt.energy)}], []
     if lt.type == 'SPOT':
         outer, inner = units.spot_cone_from_blender(lt.spot_size, lt.spot_blend)
         outer = min(outer, 179.9)
         return [{"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
-                 "inner_angle": inner,
+                 "inner_angle": inner, **size,
                  "power": units.spot_power_from_blender(lt.color, lt.energy, outer, inner)}], []
     if lt.type == 'SUN':
-        return [{"type": "directional", "direction": axis,
+        sun = {"angle": math.degrees(lt.angle)} if lt.angle > 0.0 else {}
+        return [{"type": "directional", "direction": axis, **sun,
                  "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}], []
     if lt.type == 'AREA':
         sx = lt.size

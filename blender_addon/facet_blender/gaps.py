@@ -73,14 +73,9 @@ INPUTS = {
 # (attribute path, Blender's UI label, the value converted exactly, shown in degrees, what
 # Facet does otherwise); Cycles' own light settings are under light.cycles.
 LIGHTS = {
-    'POINT': (("shadow_soft_size", "Radius", 0.0, False,
-               "ignored (soft shadows): a point light of the same power"),),
-    'SPOT': (("shadow_soft_size", "Radius", 0.0, False,
-              "ignored (soft shadows): a point-like spot of the same power"),
-             ("spot_blend", "Blend", 0.0, False,
-              "Cycles' blend range, faded linearly in cos instead of smoothstep")),
-    'SUN': (("angle", "Angle", 0.0, True,
-             "ignored (soft shadows): a directional light of the same irradiance"),),
+    # Radius (point, spot) and the Sun's Angle are converted (export.py, _light_data).
+    'SPOT': (("spot_blend", "Blend", 0.0, False,
+              "Cycles' blend range, faded linearly in cos instead of smoothstep"),),
     'AREA': (("spread", "Spread", 3.141592653589793, True,
               "ignored: the light emits into the full hemisphere (180 degrees)"),
              ("cycles.is_portal", "Portal", False, False,

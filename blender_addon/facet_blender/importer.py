@@ -162,9 +162,11 @@ def _camera_settings(cd, cam):
         cd.dof.aperture_rotation = math.radians(cam.get("rotation", 0.0))
 
 
-def import_scene(context, data, collection=None):
+def import_scene(context, data, collection=None, problems=None):
     """Creates the scene's objects in `collection` (default: a new one named after the
-    description). Returns the collection."""
+    description). Returns the collection. What is not imported exactly is appended to
+    `problems` (one line each), never dropped silently."""
+    problems = [] if problems is None else problems
     scene = context.scene
     coll = collection or bpy.data.collections.new("Facet scene")
     if collection is None:
@@ -215,7 +217,13 @@ def import_scene(context, data, collection=None):
             world = scene.world or bpy.data.worlds.new("World")
             scene.world = world
             world.use_nodes = False
-            rad = lt["radiance"]
+            rad = lt.get("radiance")
+            rad = 1.0 if rad is None else rad
+            if lt.get("file"):
+                # Blender shows the map's multiplier; Facet renders the map (the light is
+                # stored on the world and exported unchanged).
+                problems.append("light %d: environment map '%s' is shown in Blender as its "
+                                "multiplier only; Facet renders the map" % (i, lt["file"]))
             world.color = rad if not isinstance(rad, (int, float)) else [rad] * 3
             world["facet_environment"] = _json(lt)
             world["facet_state"] = export.world_state(world)
@@ -223,7 +231,7 @@ def import_scene(context, data, collection=None):
         if kind == "point":
             ld = bpy.data.lights.new("Point %d" % i, 'POINT')
             ld.color, ld.energy = units.point_power_to_blender(lt["power"])
-            ld.shadow_soft_size = 0.0
+            ld.shadow_soft_size = lt.get("radius") or 0.0
             m = Matrix.Translation(Vector(lt["position"]))
         elif kind == "spot":
             ld = bpy.data.lights.new("Spot %d" % i, 'SPOT')
@@ -231,15 +239,17 @@ def import_scene(context, data, collection=None):
             inner = lt.get("inner_angle", outer)
             ld.spot_size, ld.spot_blend = units.spot_cone_to_blender(outer, inner)
             ld.color, ld.energy = units.spot_power_to_blender(lt["power"], outer, inner)
-            ld.shadow_soft_size = 0.0
+            ld.shadow_soft_size = lt.get("radius") or 0.0
             d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
             m = _direction_matrix(lt["position"], d)
         elif kind == "directional":
             ld = bpy.data.lights.new("Sun %d" % i, 'SUN')
             ld.color, ld.energy = units.sun_irradiance_to_blender(lt["irradiance"])
-            ld.angle = 0.0
+            ld.angle = math.radians(lt.get("angle") or 0.0)
             m = _direction_matrix([0.0, 0.0, 0.0], lt["direction"])
         else:
+            problems.append("light %d: kind '%s' is not imported into Blender yet; skipped"
+                            % (i, kind))
             continue
         lo = bpy.data.objects.new(ld.name, ld)
         lo.matrix_world = m

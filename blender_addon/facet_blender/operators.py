@@ -20,7 +20,10 @@ class FACET_OT_import_scene(bpy.types.Operator, ImportHelper):
         except Exception as e:  # the core's message names the file and JSON pointer
             self.report({'ERROR'}, "Facet: %s" % e)
             return {'CANCELLED'}
-        importer.import_scene(context, data)
+        problems = []
+        importer.import_scene(context, data, problems=problems)
+        for line in problems:
+            self.report({'WARNING'}, "Facet: %s" % line)
         if context.scene.render.engine != 'FACET':
             context.scene.render.engine = 'FACET'
         return {'FINISHED'}

@@ -321,12 +321,21 @@ def scene_reports():
     bpy.data.lights["spot"].cycles.cast_shadow = False
     bpy.context.view_layer.update()
     data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
-    for who, what in (("light 'Light'", "Radius = 0.1:"), ("light 'sun'", "Angle = 5.73 deg"),
-                      ("light 'spot'", "Blend = 0.3:"), ("light 'spot'", "Cast Shadow = False"),
+    for who, what in (("light 'spot'", "Blend = 0.3:"), ("light 'spot'", "Cast Shadow = False"),
                       ("light 'area'", "Spread = 57.3 deg"),
                       ("world 'World'", "Environment Texture")):
         bt.check(any(who in p and what in p for p in problems),
                  "%s: %s reported: %s" % (who, what, problems))
+    # Radius and the Sun's Angle are converted, not reported: the factory point light's 0.1 m
+    # radius, the sun's 0.1 rad = 5.7296 degrees.
+    bt.check(not any("Radius" in p or "Angle" in p for p in problems),
+             "radius and angle are converted, not reported: %s" % problems)
+    point = [lt for lt in data["lights"] if lt["type"] == "point"]
+    sun = [lt for lt in data["lights"] if lt["type"] == "directional"]
+    bt.check(len(point) == 1 and abs(point[0].get("radius", 0.0) - 0.1) < 1e-6,
+             "the point lamp's radius is exported: %s" % point)
+    bt.check(len(sun) == 1 and abs(sun[0].get("angle", 0.0) - 5.729578) < 1e-5,
+             "the sun's angle is exported in degrees: %s" % sun)
     env_light = [lt for lt in data["lights"] if lt["type"] == "environment"]
     bt.check(len(env_light) == 1 and np.allclose(env_light[0]["radiance"], [0.0509] * 3,
                                                  atol=1e-3),
