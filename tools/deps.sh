@@ -8,6 +8,8 @@ packages=(
   nlohmann-json3-dev libtinyobjloader-dev libopenexr-dev libstb-dev libcli11-dev libfmt-dev
   # images and textures (OpenImageIO: EXR, HDR, PNG, JPEG, TGA, TIFF; its TextureSystem), glTF
   libopenimageio-dev openimageio-tools libtinygltf-dev
+  # real assets nobody here made: glTF models (and malformed ones) for the import tests
+  assimp-testmodels
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3
   # the facet Python module (built against Debian's /usr/bin/python3, the one Blender embeds)
   python3-dev pybind11-dev python3-numpy python3-pytest
