@@ -297,8 +297,7 @@ class Builder final : public BuildChecks {
             opt.color_space = ColorSpace::Linear;
         std::shared_ptr<const TexelImage> img;
         try {
-            img =
-                m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt, ptr + "/texture");
+            img = m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt, ptr + "/texture");
         } catch (const TexelImageError& e) {
             throw SceneError(m_name + ": " + e.what());
         }
