@@ -449,6 +449,13 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         fail(pointer + "/" + detail::escape_pointer_token(m.textures.begin()->first),
              "a texture cannot be exported to POV-Ray exactly (only constant parameters are)");
     }
+    // Opacity (cut-outs) is not exported yet: POV-Ray's pigment transmit would blend where
+    // Facet chooses stochastically (same expectation), and is not checked against it.
+    for (const char* key : {"opacity", "alpha_cutoff"})
+        if (m.params.has(key) || m.textures.count(key))
+            fail(pointer + "/" + key,
+                 "opacity (cut-outs) cannot be exported to POV-Ray exactly yet (remove it, or "
+                 "render with Facet)");
     // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
     // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
     if (make_material(m.model, m.params).transmissive())
