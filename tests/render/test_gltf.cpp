@@ -230,11 +230,13 @@ TEST(Gltf, RealAssetsLoadWithTheirTextures) {
         const std::string r = joined(g.reports);
         ASSERT_EQ(g.materials.size(), 1u);
         EXPECT_EQ(g.materials[0].desc.textures.count("base_color"), 1u);
-        EXPECT_EQ(g.materials[0].desc.textures.at("base_color").wrap, "mirror");
         EXPECT_EQ(g.parts[0].mesh.uvs.size(), g.parts[0].mesh.positions.size());
         EXPECT_EQ(r.find("TEXCOORD_0"), std::string::npos) << r;
-        EXPECT_NE(r.find("#/samplers/0/wrapT: wrapT differs"), std::string::npos) << r;
         EXPECT_NE(r.find("#/samplers/0/minFilter"), std::string::npos) << r;
+        // Debian's .gltf variant has a mirror/clamp sampler, the .glb a repeat one.
+        const bool gltf = std::string(f).find(".glb") == std::string::npos;
+        EXPECT_EQ(g.materials[0].desc.textures.at("base_color").wrap, gltf ? "mirror" : "repeat");
+        EXPECT_EQ(r.find("#/samplers/0/wrapT: wrapT differs") != std::string::npos, gltf) << r;
     }
 }
 
@@ -262,17 +264,10 @@ TEST(Gltf, MalformedAssetsGiveClearErrors) {
         }
         EXPECT_NE(e.find(expected), std::string::npos) << f << ": " << e;
     }
-    // A KHR_texture_transform that is not an object is an error naming it.
-    std::string e = "(no error)";
-    try {
-        import_gltf(kAssimp + "wrongTypes/badExtension.gltf");
-    } catch (const std::runtime_error& x) {
-        e = x.what();
-    }
-    EXPECT_NE(e.find("#/materials/0/pbrMetallicRoughness/baseColorTexture/extensions/"
-                     "KHR_texture_transform: expected an object"),
-              std::string::npos)
-        << e;
+    // Wrong JSON types tinygltf tolerates (it drops the value and keeps glTF's default): a
+    // KHR_texture_transform that is a string imports untransformed (docs/gltf.md, Limitation).
+    const GltfImport g = import_gltf(kAssimp + "wrongTypes/badExtension.gltf");
+    EXPECT_EQ(g.materials.at(0).desc.textures.at("base_color").uv_scale, Vec2(1.f));
 }
 
 // `facet render` on a bare glTF file: the file's camera when it has one.

@@ -149,7 +149,8 @@ TEST(GltfTextures, KhrTextureTransformSamplesTheSameTexel) {
 // BoxTextured (Khronos sample, via Debian): TEXCOORD_0 is imported as (u, 1 - v) of the accessor
 // read here from the .bin directly, and the base colour texture at texel centres equals the
 // PNG's sRGB-decoded codes read with OpenImageIO (baseColorFactor 1). Bilinear filtering at a
-// texel centre weighs its neighbours by the rounding of u W only: tolerance 1e-5.
+// texel centre weighs its neighbours by the float rounding of u W only (~W 2^-24 = 1.3e-5 texel
+// for W = 211, times a texel difference <= 1): tolerance 5e-5.
 TEST(GltfTextures, BoxTexturedTexelsAndUvsMatchTheFiles) {
     REQUIRE_ASSET("BoxTextured-glTF/BoxTextured.gltf");
     const std::string dir = kAssimp + "BoxTextured-glTF/";
@@ -182,13 +183,15 @@ TEST(GltfTextures, BoxTexturedTexelsAndUvsMatchTheFiles) {
         for (int x = 0; x < c.w; x += 5) {
             const Rgb v = tex->eval(facet_uv((x + 0.5) / c.w, (y + 0.5) / c.h));
             for (int ch = 0; ch < 3; ++ch)
-                ASSERT_NEAR(v[ch], srgb(c.at(x, y, ch)), 1e-5) << x << "," << y << " " << ch;
+                ASSERT_NEAR(v[ch], srgb(c.at(x, y, ch)), 5e-5) << x << "," << y << " " << ch;
         }
     }
 }
 
 // The same box with its image in a .glb buffer view and as a data: URI (decoded from memory,
-// no temporary file) gives the texels of the separate PNG file, exactly, and the same render.
+// no temporary file) gives the texels of the separate PNG file, exactly; the .glb and the
+// data: URI variants render the same image. (Debian's separate-file variant has another
+// sampler, mirror/clamp instead of repeat, and UVs up to 6: its render differs.)
 TEST(GltfTextures, GlbAndDataUriImagesEqualTheFile) {
     REQUIRE_ASSET("BoxTextured-glTF-Binary/BoxTextured.glb");
     const fr::Scene file = gltf_scene(kAssimp + "BoxTextured-glTF/BoxTextured.gltf", 16);
@@ -204,9 +207,9 @@ TEST(GltfTextures, GlbAndDataUriImagesEqualTheFile) {
     }
     // One sample per pixel: every textured hit builds its composite (with its albedo table).
     const fr::RenderOptions o = fr::testing::test_options("path", 1, 4);
-    const fr::Image ia = fr::render(file, o), ib = fr::render(glb, o), ic = fr::render(uri, o);
-    EXPECT_TRUE(ia.pixels() == ib.pixels());
-    EXPECT_TRUE(ia.pixels() == ic.pixels());
+    const fr::Image ib = fr::render(glb, o), ic = fr::render(uri, o);
+    EXPECT_TRUE(ib.pixels() == ic.pixels());
+    const fr::Image& ia = ib;
     // The texture shows: the box is not one colour.
     float lo = 1e9f, hi = -1e9f;
     for (const Rgb& p : ia.pixels()) {
@@ -322,7 +325,8 @@ TEST(GltfTextures, ColourScaleMultipliesPerChannelAndRoundTrips) {
     const fr::Texture t = fr::Texture::checker(d);
     EXPECT_EQ(t.eval(Vec2(0.25f, 0.25f)), Rgb(0.5f, 0.25f, 0.125f));
     const std::string json = R"({"format": "facet-scene", "version": 1,
-        "camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "width": 4, "height": 4},
+        "camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "fov": 40, "width": 4,
+                   "height": 4},
         "lights": [{"type": "environment", "radiance": 1}],
         "shapes": [{"type": "quad", "vertices": [[-1, -1, 0], [1, -1, 0], [1, 1, 0], [-1, 1, 0]],
                     "material": {"model": "lambert", "reflectance":
@@ -336,9 +340,11 @@ TEST(GltfTextures, ColourScaleMultipliesPerChannelAndRoundTrips) {
     try {
         fr::load_scene_from_string(
             R"({"format": "facet-scene", "version": 1,
-                "camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "width": 4, "height": 4},
+                "camera": {"position": [0, 0, 2], "look_at": [0, 0, 0], "fov": 40, "width": 4,
+                   "height": 4},
                 "lights": [{"type": "environment", "radiance": 1}],
-                "shapes": [{"type": "sphere", "material": {"model": "lambert", "reflectance": 0.5,
+                "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                            "material": {"model": "lambert", "reflectance": 0.5,
                             "opacity": {"checker": {"colors": [0, 1]}, "scale": [1, 0.5, 1]}}}]})",
             "n.json");
     } catch (const fr::SceneError& x) {

@@ -46,13 +46,13 @@ const char* const kCamera =
 // The quad in front of a constant environment of radiance 1 (max_depth 1): where it is there,
 // the Lambertian quad of reflectance 0.5 has radiance rho * E / pi = 0.5 exactly (every
 // cosine-sampled estimate is rho); where it lets the ray through, the camera sees 1.
-std::string quad_in_front(const std::string& opacity, const std::string& extra = "") {
+// `opacity`: the material's opacity key and value (or nothing).
+std::string quad_in_front(const std::string& opacity) {
     return std::string(kCamera) +
            R"("shapes": [{"type": "quad", "vertices": [[-1.5, -1.5, 0], [1.5, -1.5, 0],
                                                        [1.5, 1.5, 0], [-1.5, 1.5, 0]],
-                          "material": {"model": "lambert", "reflectance": 0.5,
-                                       "opacity": )" +
-           opacity + extra + R"(}}],
+                          "material": {"model": "lambert", "reflectance": 0.5)" +
+           opacity + R"(}}],
              "lights": [{"type": "environment", "radiance": 1}],
              "render": {"max_depth": 1})";
 }
@@ -66,7 +66,7 @@ std::string quad_in_front(const std::string& opacity, const std::string& extra =
 // alpha read as 1 - alpha: 0.65) or a correlated hash (all samples alike: 0.5 or 1) fails.
 TEST(Opacity, CameraRaysSeeThroughInProportion) {
     const int spp = std::max(16, int(256 * fr::testing::stress_scale()));
-    const fr::Scene scene = scene_of(quad_in_front("0.3"));
+    const fr::Scene scene = scene_of(quad_in_front(R"(, "opacity": 0.3)"));
     const fr::Image img = fr::render(scene, fr::testing::test_options("path", spp, 5));
     const double n = 256.0 * spp;
     EXPECT_NEAR(mean_red(img), 0.85, 5.0 * 0.229 / std::sqrt(n));
@@ -156,11 +156,10 @@ TEST(Opacity, OpacityZeroSphereAndPlaneAreInvisible) {
 
 // Opacity 1 is the opaque fast path: the same image bit for bit as without the key.
 TEST(Opacity, OpacityOneChangesNothing) {
-    const fr::Image with =
-        fr::render(scene_of(quad_in_front("1")), fr::testing::test_options("path", 4, 9));
-    std::string body = quad_in_front("1");
-    body.replace(body.find(R"(, "opacity": 1)"), std::string(R"(, "opacity": 1)").size(), "");
-    const fr::Image without = fr::render(scene_of(body), fr::testing::test_options("path", 4, 9));
+    const fr::Image with = fr::render(scene_of(quad_in_front(R"(, "opacity": 1)")),
+                                      fr::testing::test_options("path", 4, 9));
+    const fr::Image without =
+        fr::render(scene_of(quad_in_front("")), fr::testing::test_options("path", 4, 9));
     ASSERT_EQ(with.pixels().size(), without.pixels().size());
     for (std::size_t i = 0; i < with.pixels().size(); ++i)
         EXPECT_EQ(with.pixels()[i], without.pixels()[i]);
@@ -171,7 +170,7 @@ TEST(Opacity, BadValuesNameThePointer) {
         return scene_of(std::string(kCamera) +
                         R"("materials": {"leaf": {"model": "lambert", "reflectance": 0.5, )" +
                         body + R"(}},
-             "shapes": [{"type": "sphere", "material": "leaf"}],
+             "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "leaf"}],
              "lights": [{"type": "environment", "radiance": 1}])");
     };
     auto err = [&](const std::string& body) {
@@ -192,7 +191,7 @@ TEST(Opacity, BadValuesNameThePointer) {
     fr::SceneDescription d = fr::parse_scene_description(
         std::string(R"({"format": "facet-scene", "version": 1, )") + kCamera +
             R"("materials": {"leaf": {"model": "lambert", "reflectance": 0.5, "opacity": 0.5}},
-               "shapes": [{"type": "sphere", "material": "leaf"}],
+               "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "leaf"}],
                "lights": [{"type": "environment", "radiance": 1}]})",
         "nan.json");
     d.materials[0].second.params.set("opacity", std::numeric_limits<double>::quiet_NaN());
@@ -205,7 +204,7 @@ TEST(Opacity, BadValuesNameThePointer) {
     }
     // An emitter with opacity would be sampled in full by next-event estimation: refused.
     EXPECT_NE(error_of(std::string(kCamera) + R"(
-        "shapes": [{"type": "sphere", "emission": 1,
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "emission": 1,
                     "material": {"model": "lambert", "reflectance": 0.5, "opacity": 0.5}}],
         "lights": [])")
                   .find("/shapes/0/material"),
@@ -223,7 +222,7 @@ TEST(Opacity, PovExportNamesTheOpacity) {
                 std::string(R"({"format": "facet-scene", "version": 1, )") + kCamera +
                     R"("materials": {"leaf": {"model": "lambert", "reflectance": 0.5,
                                                "opacity": 0.5}},
-                       "shapes": [{"type": "sphere", "material": "leaf"}],
+                       "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "leaf"}],
                        "lights": [{"type": "point", "position": [0, 0, 5], "power": 10}]})",
                 "p.json"),
             "p.json");

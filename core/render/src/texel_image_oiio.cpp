@@ -48,7 +48,10 @@ TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOption
     // unassociated alpha by alpha on reading (in the encoded values, before any decoding).
     OIIO::ImageSpec config;
     config.attribute("oiio:UnassociatedAlpha", 1);
-    auto in = OIIO::ImageInput::open(path, &config, memory);
+    // OpenImageIO 2.4's readers take the proxy from this attribute (its open()'s own proxy
+    // argument is not passed on to the PNG reader: "Could not open file").
+    if (memory) config.attribute("oiio:ioproxy", OIIO::TypeDesc::PTR, &memory);
+    auto in = OIIO::ImageInput::open(path, &config);
     if (!in) fail(where, path, "cannot read image: " + OIIO::geterror());
     const OIIO::ImageSpec& spec = in->spec();
     TexelImage image;
