@@ -371,7 +371,12 @@ class Importer {
         const std::string ip = "/images/" + idx(std::size_t(t.source));
         const tinygltf::Image& im = element(m_model.images, t.source, tp + "/source", "image");
         if (is_file_uri(im.uri)) {
-            if (m_in_memory) fail(ip + "/uri", "external image files are refused here");
+            if (m_in_memory) {
+                report(ip, ip + "/uri",
+                       "external image files are refused (reading from memory): the " + what +
+                           " texture is not used, its factor alone is");
+                return std::nullopt;
+            }
             // A file beside the glTF file (URIs are relative to it).
             d.file = (std::filesystem::path(m_path).parent_path() / im.uri).string();
         } else {
