@@ -11,6 +11,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "facet/render/sampler.h"
 #include "scene_impl.h"
 
 namespace facet::render {
@@ -84,12 +85,104 @@ double intersect_unit_disc(const glm::dvec3& o, const glm::dvec3& d, double tnea
     return x * x + y * y <= 1.0 ? t : -1.0;
 }
 
-double intersect_prim(const AnalyticPrim& prim, const glm::dvec3& o_world,
+// --- texture coordinates (scenes/FORMAT.md, "UV coordinates"), for hits and opacity tests ---
+
+// A triangle's uv at Embree's barycentrics (u, v), or the icosphere's from point p.
+Vec2 triangle_uv(const MeshGeom& mg, std::uint32_t tri, float u, float v, const glm::dvec3& p) {
+    if (!mg.tri_uvs.empty()) {
+        const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
+        return (1.f - u - v) * t[0] + u * t[1] + v * t[2];
+    }
+    return mg.spherical ? sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(p, 1.0))) : Vec2(0.f);
+}
+
+// An analytic primitive's uv at object-space point po (on its surface): the sphere's
+// longitude/latitude, the disc's bounding square [-1, 1]^2 onto [0, 1]^2.
+Vec2 analytic_uv(AnalyticPrim::Kind kind, const glm::dvec3& po) {
+    return kind == AnalyticPrim::Kind::Sphere
+               ? sphere_uv(po)
+               : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
+}
+
+// A plane's uv at point p (scene units along its axes).
+Vec2 plane_uv(const PlaneGeom& pl, const glm::dvec3& p) {
+    const glm::dvec3 d = p - pl.point;
+    return Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
+}
+
+// --- opacity (scene.h, Opacity) ----------------------------------------------------------------
+
+// The random number u in [0, 1) that decides whether a candidate hit of a cut-out surface
+// stops the ray (opacity_blocks): a hash of the ray's origin and direction (their float bits)
+// and of the primitive (`a`, `b`), as pbrt-v4 hashes the ray for its alpha test
+// (GeometricPrimitive::Intersect). No sampler dimension is drawn, so scenes without opacity keep
+// their sample sequences, and a ray gets the same answer in a packet or alone, in any tile or
+// region. Different rays (jittered film positions, other bounces) get independent numbers.
+float hit_uniform(const glm::vec3& o, const glm::vec3& d, std::uint32_t a, std::uint32_t b) {
+    std::uint32_t h = hash_combine(hash_u32(a), b);
+    for (int i = 0; i < 3; ++i) {
+        std::uint32_t bits;
+        std::memcpy(&bits, &o[i], sizeof bits);
+        h = hash_combine(h, bits);
+        std::memcpy(&bits, &d[i], sizeof bits);
+        h = hash_combine(h, bits);
+    }
+    return float(h >> 8) * 0x1p-24f;  // 24 bits: exactly representable, < 1
+}
+
+// Tags of the primitive classes in hit_uniform's `a` (triangles use their Embree geomID).
+constexpr std::uint32_t kAnalyticTag = 0xA0000000u, kPlaneTag = 0xB0000000u;
+
+// Embree's intersection and occlusion filter on a cut-out triangle mesh (MeshGeom::opacity):
+// rejects each candidate hit that its opacity lets through.
+void opacity_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* mg = static_cast<const MeshGeom*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 o(RTCRayN_org_x(args->ray, n, i), RTCRayN_org_y(args->ray, n, i),
+                          RTCRayN_org_z(args->ray, n, i));
+        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+                          RTCRayN_dir_z(args->ray, n, i));
+        const unsigned prim = RTCHitN_primID(args->hit, n, i);
+        Vec2 uv(0.f);
+        if (mg->opacity.texture) {
+            // The candidate's distance is in tfar while the filter runs (Embree 3).
+            const glm::dvec3 p =
+                glm::dvec3(o) + double(RTCRayN_tfar(args->ray, n, i)) * glm::dvec3(d);
+            uv = triangle_uv(*mg, prim, RTCHitN_u(args->hit, n, i), RTCHitN_v(args->hit, n, i), p);
+        }
+        const std::uint32_t geom = RTCHitN_geomID(args->hit, n, i);
+        if (!opacity_blocks(mg->opacity.alpha(uv), hit_uniform(o, d, geom, prim)))
+            args->valid[i] = 0;
+    }
+}
+
+// Nearest hit of primitive `index` (Impl::prims) in (tnear, tfar) that its opacity keeps, or -1.
+double intersect_prim(const AnalyticPrim& prim, std::uint32_t index, const glm::dvec3& o_world,
                       const glm::dvec3& d_world, double tnear, double tfar) {
     glm::dvec3 o = glm::dvec3(prim.to_object * glm::dvec4(o_world, 1.0));
     glm::dvec3 d = glm::dmat3(prim.to_object) * d_world;
-    return prim.kind == AnalyticPrim::Kind::Sphere ? intersect_unit_sphere(o, d, tnear, tfar)
-                                                   : intersect_unit_disc(o, d, tnear, tfar);
+    auto solve = [&](double t0) {
+        return prim.kind == AnalyticPrim::Kind::Sphere ? intersect_unit_sphere(o, d, t0, tfar)
+                                                       : intersect_unit_disc(o, d, t0, tfar);
+    };
+    double t = solve(tnear);
+    if (!prim.opacity.active()) [[likely]]
+        return t;
+    // A cut-out: the nearest root the opacity keeps (a sphere's far root when the near one is
+    // let through). Texture coordinates as fill_analytic computes them.
+    for (std::uint32_t root = 0; t > 0.0; ++root) {
+        const glm::dvec3 po = o + t * d;
+        // (A sphere's point is not projected onto it here: uv depends on its direction only.)
+        const Vec2 uv = prim.opacity.texture ? analytic_uv(prim.kind, po) : Vec2(0.f);
+        if (opacity_blocks(
+                prim.opacity.alpha(uv),
+                hit_uniform(glm::vec3(o_world), glm::vec3(d_world), kAnalyticTag + root, index)))
+            return t;
+        t = solve(t);
+    }
+    return -1.0;
 }
 
 void analytic_bounds(const RTCBoundsFunctionArguments* args) {
@@ -128,8 +221,8 @@ void analytic_intersect(const RTCIntersectFunctionNArguments* args) {
         glm::dvec3 d(RTCRayN_dir_x(rays, args->N, i), RTCRayN_dir_y(rays, args->N, i),
                      RTCRayN_dir_z(rays, args->N, i));
         float& tfar = RTCRayN_tfar(rays, args->N, i);
-        double t =
-            intersect_prim(prim, o, d, double(RTCRayN_tnear(rays, args->N, i)), double(tfar));
+        double t = intersect_prim(prim, args->primID, o, d, double(RTCRayN_tnear(rays, args->N, i)),
+                                  double(tfar));
         if (!(t > 0.0)) continue;
         float tf = float(t);
         if (!(tf < tfar)) continue;
@@ -155,8 +248,8 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
         glm::dvec3 d(RTCRayN_dir_x(args->ray, args->N, i), RTCRayN_dir_y(args->ray, args->N, i),
                      RTCRayN_dir_z(args->ray, args->N, i));
         float& tfar = RTCRayN_tfar(args->ray, args->N, i);
-        double t =
-            intersect_prim(prim, o, d, double(RTCRayN_tnear(args->ray, args->N, i)), double(tfar));
+        double t = intersect_prim(prim, args->primID, o, d,
+                                  double(RTCRayN_tnear(args->ray, args->N, i)), double(tfar));
         if (t > 0.0) tfar = -kInfinity;  // Embree's "occluded" mark
     }
 }
@@ -172,6 +265,12 @@ double intersect_planes(const std::vector<PlaneGeom>& planes, const Ray& ray, do
         if (dn == 0.0) continue;
         double t = glm::dot(pl.point - o, pl.normal) / dn;
         if (t > 0.0 && t < tmax) {
+            if (pl.opacity.active()) [[unlikely]] {
+                // A cut-out plane: the uv of fill (complete_hit) and the hit's random number.
+                if (!opacity_blocks(pl.opacity.alpha(plane_uv(pl, o + t * d)),
+                                    hit_uniform(ray.o, ray.d, kPlaneTag, std::uint32_t(i))))
+                    continue;
+            }
             tmax = t;
             best = t;
             which = i;
@@ -359,6 +458,17 @@ void Scene::Impl::build(const std::string& name) {
             meshes[m].mesh.positions = {};
             meshes[m].mesh.indices = {};
         }
+        if (meshes[m].opacity.active()) {
+            // Cut-outs only: every other mesh keeps Embree's filterless path.
+            if (!rtcGetDeviceProperty(be.device.get(),
+                                      RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+                throw SceneError(name +
+                                 ": embree: built without filter functions, which opacity "
+                                 "(cut-outs) needs");
+            rtcSetGeometryUserData(g, &meshes[m]);
+            rtcSetGeometryIntersectFilterFunction(g, opacity_filter);
+            rtcSetGeometryOccludedFilterFunction(g, opacity_filter);
+        }
         rtcCommitGeometry(g);
         unsigned id = rtcAttachGeometry(be.scene.get(), g);
         rtcReleaseGeometry(g);
@@ -418,12 +528,7 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.ns = hit.ng;
     hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
     hit.shape = prim.shape;
-    if (prim.uv) {
-        // Sphere: longitude/latitude; disc: its bounding square [-1, 1]^2 onto [0, 1]^2.
-        hit.uv = prim.kind == AnalyticPrim::Kind::Sphere
-                     ? sphere_uv(po)
-                     : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
-    }
+    if (prim.uv) hit.uv = analytic_uv(prim.kind, po);
 }
 
 // Inline: called once per closest hit, only from Scene::intersect below.
@@ -469,12 +574,7 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
-    if (!mg.tri_uvs.empty()) {
-        const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
-        hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
-    } else if (mg.spherical) {
-        hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
-    }
+    if (!mg.tri_uvs.empty() || mg.spherical) hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -526,10 +626,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         hit.ns = hit.ng;
         hit.dpdu = pl.tangent;
         hit.shape = pl.shape;
-        if (pl.uv) {
-            const glm::dvec3 d = p - pl.point;
-            hit.uv = Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
-        }
+        if (pl.uv) hit.uv = plane_uv(pl, p);
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
     } else if (geom == be.analytic_geom) {

@@ -26,6 +26,14 @@
 namespace facet::render {
 
 // Value checks shared by build_scene and the kinds' builders: each fails through fail().
+// A kind's own material parameters (e.g. glTF's base colour, metallic, roughness) and the one
+// function that maps them onto a core model's (TexturedMaterial::convert): each source may be a
+// constant or a texture, as a model parameter may.
+struct MaterialConversion {
+    std::vector<ParamInfo> sources;  // names and types (colour or number) of the sources
+    TexturedMaterial::Convert convert;
+};
+
 class BuildChecks {
   public:
     virtual ~BuildChecks() = default;
@@ -107,8 +115,16 @@ class ShapeBuild : public BuildChecks {
                                const glm::dmat4* sphere = nullptr) = 0;
     // Kinds with their own materials (ShapeKindDef::own_materials, e.g. gltf): builds one of
     // them through the core's registry (errors name `ptr`, e.g. "/shapes/2/file"), once per
-    // material however many parts use it.
-    virtual const Material* add_material(const MaterialDesc& material, const std::string& ptr) = 0;
+    // material however many parts use it; returns its material, textured material and opacity
+    // as a surface for add_part (the kind fills the rest).
+    // With `conversion`, the material's parameters and textures are the kind's own
+    // (MaterialConversion), converted onto the model's at build time and at every hit.
+    virtual ShapeSurface add_material(const MaterialDesc& material, const std::string& ptr,
+                                      const MaterialConversion* conversion = nullptr) = 0;
+    // A texture of the kind's own (e.g. a glTF emissive texture), as a material's textures
+    // are built (texture.h; errors name `ptr`); `radiance`: negative texels are errors.
+    virtual const Texture* add_texture(const TextureDesc& texture, const std::string& ptr,
+                                       bool color, bool radiance) = 0;
     // Object-space triangles as one part of the shape with its own surface (material, emission,
     // sidedness; `surface.light` is filled here): as add_triangles otherwise.
     virtual void add_part(TriangleMesh mesh, ShapeSurface surface) = 0;

@@ -239,7 +239,68 @@ class Builder final : public BuildChecks {
     struct BuiltMaterial {
         const Material* material = nullptr;
         std::int32_t textured = -1;
+        Opacity opacity;  // the material's "opacity" and "alpha_cutoff"
     };
+
+    // The keys "opacity" (a number or a texture) and "alpha_cutoff" of a material, which belong
+    // to no reflection model (scenes/FORMAT.md, "Opacity"): validated, and taken out of `m`.
+    Opacity build_opacity(MaterialDesc& m, const std::string& ptr) {
+        Opacity o;
+        auto number = [&](const char* key, double lo, const char* range) -> std::optional<double> {
+            const auto it = m.params.values().find(key);
+            if (it == m.params.values().end()) return std::nullopt;
+            const std::string p = ptr + "/" + key;
+            const double* d = std::get_if<double>(&it->second);
+            if (!d) fail(p, std::string("expected a number ") + range);
+            return check_range(*d, p, lo, 1.0, range);
+        };
+        const std::optional<double> value = number("opacity", 0.0, "in [0, 1]");
+        const std::optional<double> cutoff = number("alpha_cutoff", 1e-30, "in (0, 1]");
+        if (value) o.value = float(*value);
+        if (auto it = m.textures.find("opacity"); it != m.textures.end()) {
+            const std::string op = ptr + "/opacity";
+            const TextureDesc& td = it->second;
+            TexelImageOptions linear;
+            linear.color_space = ColorSpace::Linear;
+            if (!td.checker && td.channel == "a" && !td.file.empty() &&
+                (m_limits.allow_files || td.bytes) &&
+                load_image(td, linear, op)->alpha_channel < 0) {
+                // The alpha of an image without one is 1 (opaque), as glTF and Blender read it:
+                // the opacity is the texture's scale alone.
+                o.value = float(check_range(td.scale * double(td.color_scale.r), op + "/scale", 0.0,
+                                            1.0, "in [0, 1]"));
+                m.textures.erase(it);
+            } else {
+                o.texture = build_texture(td, op, false, false);
+                if (!(o.texture->min_value().r >= 0.f) || !(o.texture->max_value().r <= 1.f))
+                    fail(op, "the texture's values must lie in [0, 1]");
+                m.textures.erase(it);
+            }
+        }
+        if (cutoff) {
+            o.cutoff = float(*cutoff);
+            if (!o.texture) o.value = o.value >= o.cutoff ? 1.f : 0.f;
+        }
+        if (value || cutoff) {
+            ParamSet rest;
+            for (const auto& [key, v] : m.params.values())
+                if (key != "opacity" && key != "alpha_cutoff") rest.set(key, v);
+            m.params = std::move(rest);
+        }
+        return o;
+    }
+
+    // The image of texture `d` (a file, or encoded bytes in memory), through the scene's cache.
+    std::shared_ptr<const TexelImage> load_image(const TextureDesc& d, const TexelImageOptions& opt,
+                                                 const std::string& ptr) {
+        try {
+            return d.bytes ? m_images.get_memory(d.file, *d.bytes, opt, ptr + "/texture")
+                           : m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt,
+                                          ptr + "/texture");
+        } catch (const TexelImageError& e) {
+            throw SceneError(m_name + ": " + e.what());
+        }
+    }
 
     // A texture parameter value (texture.h), validated with JSON pointers under `ptr`. `color`:
     // the parameter is a colour (sRGB decoding by default for integer images) or a number
@@ -253,6 +314,9 @@ class Builder final : public BuildChecks {
             check_finite(double(d.uv_offset[i]), ptr + "/uv_offset/" + std::to_string(i));
         }
         if (d.scale < 0.0) fail(ptr + "/scale", "must be >= 0");
+        check_color(d.color_scale, ptr + "/scale", "a colour multiplier");
+        if (!color && (d.color_scale.r != d.color_scale.g || d.color_scale.r != d.color_scale.b))
+            fail(ptr + "/scale", "a number parameter needs a number (or grey) scale");
         auto& textures = m_builder.textures();
         if (d.checker) {
             const std::string cp = ptr + "/checker";
@@ -278,7 +342,8 @@ class Builder final : public BuildChecks {
             fail(ptr + "/" + key, msg);
         };
         if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
-        if (!m_limits.allow_files) fail(ptr + "/texture", "image files are disabled here");
+        if (!m_limits.allow_files && !d.bytes)
+            fail(ptr + "/texture", "image files are disabled here");
         const int filter =
             d.filter.empty() ? 1 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
         if (filter == 2) {
@@ -295,12 +360,7 @@ class Builder final : public BuildChecks {
                                   : ColorSpace::Linear;
         else if (!color)
             opt.color_space = ColorSpace::Linear;
-        std::shared_ptr<const TexelImage> img;
-        try {
-            img = m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt, ptr + "/texture");
-        } catch (const TexelImageError& e) {
-            throw SceneError(m_name + ": " + e.what());
-        }
+        const std::shared_ptr<const TexelImage> img = load_image(d, opt, ptr);
         int channel = Texture::kAllChannels;
         if (!d.channel.empty()) {
             channel = choose("channel", d.channel, {"r", "g", "b", "a", "luminance"});
@@ -333,7 +393,22 @@ class Builder final : public BuildChecks {
     // part of the pointer. A material with textured parameters also gets its TexturedMaterial:
     // the registry validates it with every texture at its smallest and at its largest value
     // (a value between them, as bilinear filtering gives, is then valid too).
-    BuiltMaterial build_material(const MaterialDesc& m, const std::string& ptr) {
+    BuiltMaterial build_material(const MaterialDesc& desc, const std::string& ptr,
+                                 const MaterialConversion* conversion = nullptr) {
+        MaterialDesc m = desc;
+        const Opacity opacity = build_opacity(m, ptr);
+        BuiltMaterial built = build_model(m, ptr, conversion);
+        built.opacity = opacity;
+        return built;
+    }
+
+    // The reflection model of a material (build_material without its opacity).
+    // With a conversion, the parameters and textures are its sources (kind_build.h).
+    BuiltMaterial build_model(const MaterialDesc& m, const std::string& ptr,
+                              const MaterialConversion* conversion) {
+        auto to_model = [&](const ParamSet& ps) {
+            return conversion ? conversion->convert(ps) : ps;
+        };
         if (!find_model(m.model)) {
             std::vector<std::string> names;
             for (const auto& mi : model_table()) names.push_back(mi.name);
@@ -356,7 +431,7 @@ class Builder final : public BuildChecks {
         if (m.textures.empty()) {
             try {
                 m_builder.materials().push_back(
-                    std::make_unique<Material>(make_material(m.model, m.params)));
+                    std::make_unique<Material>(make_material(m.model, to_model(m.params))));
             } catch (const ParamError& e) {
                 fail(e.param().empty() ? ptr + "/model"
                                        : ptr + "/" + escape_pointer_token(e.param()),
@@ -364,19 +439,21 @@ class Builder final : public BuildChecks {
             }
             return {m_builder.materials().back().get(), -1};
         }
-        const ModelInfo& info = *find_model(m.model);
+        const std::vector<ParamInfo>& table =
+            conversion ? conversion->sources : find_model(m.model)->params;
         TexturedMaterial tm;
         tm.model = m.model;
         tm.params = m.params;
+        if (conversion) tm.convert = conversion->convert;
         for (const auto& [name, td] : m.textures) {
             const std::string& key = name;  // (clang 14 cannot capture a structured binding)
             const std::string p = ptr + "/" + escape_pointer_token(key);
             if (m.params.has(key)) fail(p, "given both as a constant and as a texture");
-            const auto pi = std::find_if(info.params.begin(), info.params.end(),
+            const auto pi = std::find_if(table.begin(), table.end(),
                                          [&](const ParamInfo& x) { return x.name == key; });
-            if (pi == info.params.end()) {
+            if (pi == table.end()) {
                 std::vector<std::string> names;
-                for (const auto& x : info.params) names.push_back(x.name);
+                for (const auto& x : table) names.push_back(x.name);
                 std::string msg = "unknown parameter '" + key + "' for model '" + m.model + "'";
                 const std::string g = closest_name(key, names);
                 if (!g.empty()) msg += " (did you mean '" + g + "'?)";
@@ -387,23 +464,40 @@ class Builder final : public BuildChecks {
             const bool color = pi->type == ParamType::Color;
             tm.slots.push_back({key, build_texture(td, p, color, false), color});
         }
-        // Validate at both extremes; keep the material of the largest values for the analysis.
-        auto with = [&](bool largest) {
+        // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
+        // The model's own parameters are checked per value (both ends); a conversion mixes its
+        // sources, monotonically in each (glTF: b (1 - m), r^2, ...), so every corner of the
+        // box. Keep the material of the largest values for the analysis, and every corner's
+        // lobes (TexturedMaterial::flags).
+        auto with = [&](std::uint32_t corner) {
             ParamSet ps = tm.params;
-            for (const auto& s : tm.slots) {
-                const Rgb v = largest ? s.texture->max_value() : s.texture->min_value();
+            for (std::size_t i = 0; i < tm.slots.size(); ++i) {
+                const auto& s = tm.slots[i];
+                const Rgb v = (corner >> i) & 1u ? s.texture->max_value() : s.texture->min_value();
                 ps.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
             }
             return ps;
         };
-        for (bool largest : {false, true}) {
+        const std::uint32_t all = (1u << std::min<std::size_t>(tm.slots.size(), 8)) - 1u;
+        std::vector<std::uint32_t> corners{0u, all};
+        if (conversion) {
+            if (tm.slots.size() > 8) fail(ptr, "more than 8 textured sources");
+            corners.clear();
+            for (std::uint32_t c = 0; c <= all; ++c) corners.push_back(c);
+        }
+        for (std::uint32_t corner : corners) {
+            const bool largest = corner == all;
             try {
-                Material mat = make_material(m.model, with(largest));
+                Material mat = make_material(m.model, to_model(with(corner)));
+                tm.flags = tm.flags | mat.flags();
                 if (largest) m_builder.materials().push_back(std::make_unique<Material>(mat));
             } catch (const ParamError& e) {
                 fail(e.param().empty() ? ptr + "/model"
                                        : ptr + "/" + escape_pointer_token(e.param()),
-                     std::string(e.what()) + " (a texture's " + (largest ? "largest" : "smallest") +
+                     std::string(e.what()) + " (a texture's " +
+                         (largest       ? "largest"
+                          : corner == 0 ? "smallest"
+                                        : "extreme") +
                          " value)");
             }
         }
@@ -419,6 +513,11 @@ class Builder final : public BuildChecks {
             if (m_named.count(name)) fail(ptr, "duplicate material name '" + name + "'");
             m_named[name] = build_material(m, ptr);
         }
+    }
+
+    // Whether hits on a surface compute uv: its material, emission or opacity is textured.
+    static bool needs_uv(const ShapeSurface& s) {
+        return s.textured >= 0 || s.emission_texture != nullptr || s.opacity.texture != nullptr;
     }
 
     const Material* black_material() {
@@ -458,6 +557,7 @@ class Builder final : public BuildChecks {
             const BuiltMaterial bm = build_material(*s.material, ptr + "/material");
             info.material = bm.material;
             info.textured = bm.textured;
+            info.opacity = bm.opacity;
             info.material_name = "<inline>";
         } else if (!s.material_ref.empty()) {
             const std::string& name = s.material_ref;
@@ -476,6 +576,7 @@ class Builder final : public BuildChecks {
             }
             info.material = found->second.material;
             info.textured = found->second.textured;
+            info.opacity = found->second.opacity;
             info.material_name = name;
         } else if (emissive || shape_kind(s.kind).own_materials) {
             // Emitters reflect nothing; kinds with their own materials add them as parts.
@@ -485,7 +586,11 @@ class Builder final : public BuildChecks {
             fail(ptr, "missing required key 'material' (only emissive shapes may omit it)");
         }
 
-        info.needs_uv = info.needs_uv || info.textured >= 0;
+        info.needs_uv = info.needs_uv || needs_uv(info);
+        // Light sampling would count a cut-out emitter's light in full where rays see it with
+        // probability alpha: not supported rather than biased.
+        if (emissive && info.opacity.active())
+            fail(ptr + "/material", "an emitting shape cannot have a material with opacity < 1");
         glm::dmat4 xf(1.0);
         if (s.transform) {
             xf = *s.transform;
@@ -542,6 +647,7 @@ class Builder final : public BuildChecks {
             prim.to_object = glm::inverse(prim.to_world);
             prim.normal_to_world = glm::transpose(glm::inverse(glm::dmat3(prim.to_world)));
             prim.uv = m_info.needs_uv;
+            prim.opacity = m_info.opacity;
             const double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
@@ -565,6 +671,7 @@ class Builder final : public BuildChecks {
             // made orthogonal to x in the plane (the unflipped normal, so flip_normals does not
             // mirror the texture).
             pl.uv = m_info.needs_uv;
+            pl.opacity = m_info.opacity;
             pl.ex = glm::normalize(lin * glm::dvec3(local.x));
             pl.ey = glm::cross(glm::normalize(glm::transpose(glm::inverse(lin)) * glm::dvec3(n)),
                                pl.ex);
@@ -580,15 +687,27 @@ class Builder final : public BuildChecks {
             add_mesh(std::move(mesh), tangent, -1, emissive, emission, sphere);
         }
 
-        const Material* add_material(const MaterialDesc& m, const std::string& p) override {
-            // A kind's own materials are constants (gltf converts no texture yet and says so).
-            const BuiltMaterial bm = m_b.build_material(m, p);
-            if (bm.textured >= 0) fail(p, "a textured material is not supported here");
-            return bm.material;
+        ShapeSurface add_material(const MaterialDesc& m, const std::string& p,
+                                  const MaterialConversion* conversion) override {
+            const BuiltMaterial bm = m_b.build_material(m, p, conversion);
+            ShapeSurface surface;
+            surface.material = bm.material;
+            surface.textured = bm.textured;
+            surface.opacity = bm.opacity;
+            return surface;
+        }
+
+        const Texture* add_texture(const TextureDesc& t, const std::string& p, bool color,
+                                   bool radiance) override {
+            return m_b.build_texture(t, p, color, radiance);
         }
 
         void add_part(TriangleMesh mesh, ShapeSurface surface) override {
+            if (surface.emission_texture) surface.emission = surface.emission_texture->max_value();
             const bool emits = max_component(surface.emission) > 0.f;
+            if (emits && surface.opacity.active())
+                fail(ptr,
+                     "an emitting part cannot have opacity < 1 (" + surface.material_name + ")");
             const Rgb radiance = surface.emission;
             m_info.parts.push_back(std::move(surface));
             add_mesh(std::move(mesh), Vec3(0.f), std::int32_t(m_info.parts.size() - 1), emits,
@@ -639,6 +758,7 @@ class Builder final : public BuildChecks {
                     add_light(std::move(l));
                 } else {
                     std::vector<Light>& lights = m_b.m_builder.lights();
+                    if (m_info.parts[std::size_t(part)].emission_texture) l.set_textured_emission();
                     m_info.parts[std::size_t(part)].light = std::int32_t(lights.size());
                     lights.push_back(std::move(l));
                 }
@@ -646,7 +766,9 @@ class Builder final : public BuildChecks {
             MeshGeom g;
             g.shape = index;
             g.part = part;
-            if (m_info.needs_uv) {
+            g.opacity = part < 0 ? m_info.opacity : m_info.parts[std::size_t(part)].opacity;
+            const bool uv = part < 0 ? m_info.needs_uv : needs_uv(m_info.parts[std::size_t(part)]);
+            if (uv) {
                 if (sphere) {
                     g.spherical = true;
                     g.to_object = glm::inverse(xf * *sphere);
@@ -807,6 +929,8 @@ class Builder final : public BuildChecks {
             // The shape's own surface, then its parts' (a glTF file's materials).
             auto surface = [&](const ShapeSurface& su) {
                 BxDFFlags fl = su.material->flags();
+                if (su.textured >= 0)
+                    fl = fl | m_builder.textured()[std::size_t(su.textured)].flags;
                 f.lobes = f.lobes | fl;
                 if (fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;

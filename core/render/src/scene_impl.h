@@ -41,6 +41,7 @@ struct MeshGeom {
     // object space (`spherical`, `to_object`: world -> the unit sphere's frame).
     std::vector<std::array<Vec2, 3>> tri_uvs;
     bool spherical = false;
+    Opacity opacity;  // active: cut-outs decided per candidate hit (an Embree filter function)
     glm::dmat4 to_object{1.0};
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
@@ -60,6 +61,7 @@ struct AnalyticPrim {
     // Error of the double hit point, added to its rounding in SurfaceHit::p_err (set by build).
     float err_floor = 0.f;
     bool uv = false;  // compute SurfaceHit::uv (ShapeInfo::needs_uv)
+    Opacity opacity;  // active: cut-outs decided per root
 };
 
 // Texture coordinates of a point on the unit sphere (object space): u = longitude / 2 pi
@@ -81,6 +83,7 @@ struct PlaneGeom {
     // Texture coordinates (only when `uv`): u = dot(p - point, ex), v = dot(p - point, ey).
     bool uv = false;
     glm::dvec3 ex{1.0, 0.0, 0.0}, ey{0.0, 1.0, 0.0};
+    Opacity opacity;  // active: cut-outs decided per hit
 };
 
 struct EmbreeBackend;  // embree_scene.cpp

@@ -399,7 +399,12 @@ class Reader {
         if (t.contains("uv_offset")) d.uv_offset = vec2(t["uv_offset"], ptr + "/uv_offset");
         if (t.contains("uv_rotation"))
             d.uv_rotation = get_number(t["uv_rotation"], ptr + "/uv_rotation");
-        if (t.contains("scale")) d.scale = get_number(t["scale"], ptr + "/scale");
+        if (t.contains("scale")) {
+            if (t["scale"].is_array())
+                d.color_scale = get_color(t["scale"], ptr + "/scale", "a colour multiplier");
+            else
+                d.scale = get_number(t["scale"], ptr + "/scale");
+        }
         return d;
     }
 
@@ -728,7 +733,12 @@ json texture_json(const TextureDesc& d) {
     if (d.uv_offset != Vec2(0.f))
         j["uv_offset"] = json::array({double(d.uv_offset.x), double(d.uv_offset.y)});
     if (d.uv_rotation != 0.0) j["uv_rotation"] = d.uv_rotation;
-    if (d.scale != 1.0) j["scale"] = d.scale;
+    if (d.color_scale != Rgb(1.f)) {
+        // A colour multiplier; a number one is folded in (only one "scale" key).
+        j["scale"] = vec_json(d.color_scale * float(d.scale));
+    } else if (d.scale != 1.0) {
+        j["scale"] = d.scale;
+    }
     return j;
 }
 

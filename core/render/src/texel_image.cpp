@@ -15,12 +15,22 @@ namespace {
 
 using LoadFn = bool (*)(const std::string&, const TexelImageOptions&, const std::string&,
                         TexelImage&, std::string&);
+using LoadMemoryFn = bool (*)(const std::string&, const unsigned char*, std::size_t,
+                              const TexelImageOptions&, const std::string&, TexelImage&,
+                              std::string&);
+
+// The module's entry points, looked up once.
+struct Module {
+    LoadFn load = nullptr;
+    LoadMemoryFn load_memory = nullptr;
+    std::string tried;
+};
 
 constexpr const char* kModuleName = "libfacet_oiio.so";
 
 // The module, searched in order: $FACET_OIIO_MODULE; beside the binary that holds this code (the
 // Python extension's folder, also inside the Blender addon); the build tree's copy.
-LoadFn load_module(std::string& tried) {
+void* load_module(std::string& tried) {
     std::vector<std::string> candidates;
     if (const char* env = std::getenv("FACET_OIIO_MODULE"); env && *env) candidates.push_back(env);
     Dl_info info{};
@@ -42,27 +52,65 @@ LoadFn load_module(std::string& tried) {
             tried += "\n  " + c + ": " + dlerror();
             continue;
         }
-        if (void* f = dlsym(h, "facet_oiio_load_texel_image")) return reinterpret_cast<LoadFn>(f);
+        if (dlsym(h, "facet_oiio_load_texel_image")) return h;
         tried += "\n  " + c + ": no entry point facet_oiio_load_texel_image";
     }
     return nullptr;
+}
+
+const Module& module() {
+    static const Module m = [] {
+        Module r;
+        if (void* h = load_module(r.tried)) {
+            r.load = reinterpret_cast<LoadFn>(dlsym(h, "facet_oiio_load_texel_image"));
+            r.load_memory =
+                reinterpret_cast<LoadMemoryFn>(dlsym(h, "facet_oiio_load_texel_image_memory"));
+        }
+        return r;
+    }();
+    return m;
+}
+
+[[noreturn]] void unavailable(const std::string& where, const std::string& path) {
+    throw TexelImageError(where + ": " + path + ": image support (OpenImageIO, " + kModuleName +
+                          ") is not available; tried:" + module().tried);
 }
 
 }  // namespace
 
 TexelImage load_texel_image(const std::string& path, const TexelImageOptions& options,
                             const std::string& where) {
-    static std::once_flag once;
-    static LoadFn fn = nullptr;
-    static std::string tried;
-    std::call_once(once, [] { fn = load_module(tried); });
-    if (!fn)
-        throw TexelImageError(where + ": " + path + ": image support (OpenImageIO, " + kModuleName +
-                              ") is not available; tried:" + tried);
+    const LoadFn fn = module().load;
+    if (!fn) unavailable(where, path);
     TexelImage out;
     std::string error;
     if (!fn(path, options, where, out, error)) throw TexelImageError(error);
     return out;
+}
+
+TexelImage load_texel_image_memory(const std::string& name, std::span<const unsigned char> bytes,
+                                   const TexelImageOptions& options, const std::string& where) {
+    const LoadMemoryFn fn = module().load_memory;
+    if (!fn) unavailable(where, name);
+    TexelImage out;
+    std::string error;
+    if (!fn(name, bytes.data(), bytes.size(), options, where, out, error))
+        throw TexelImageError(error);
+    return out;
+}
+
+std::shared_ptr<const TexelImage> TexelImageCache::get_memory(const std::string& name,
+                                                              std::span<const unsigned char> bytes,
+                                                              const TexelImageOptions& options,
+                                                              const std::string& where) {
+    const auto key = std::make_tuple(name, int(options.color_space), options.reject_negative);
+    std::lock_guard lock(m_mutex);
+    auto it = m_images.find(key);
+    if (it != m_images.end()) return it->second;
+    auto image =
+        std::make_shared<const TexelImage>(load_texel_image_memory(name, bytes, options, where));
+    m_images.emplace(key, image);
+    return image;
 }
 
 std::shared_ptr<const TexelImage> TexelImageCache::get(const std::string& path,

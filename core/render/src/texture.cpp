@@ -48,7 +48,7 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
     t.m_filter = filter;
     t.m_wrap = wrap;
     t.m_channel = channel;
-    t.m_scale = float(d.scale);
+    t.m_scale = float(d.scale) * d.color_scale;
     set_transform(d, t.m_a, t.m_b);
     const TexelImage& im = *t.m_image;
     t.m_min = Rgb(INFINITY);
@@ -65,9 +65,9 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
 
 Texture Texture::checker(const TextureDesc& d) {
     Texture t;
-    t.m_colors = {d.colors[0] * float(d.scale), d.colors[1] * float(d.scale)};
+    t.m_scale = float(d.scale) * d.color_scale;
+    t.m_colors = {d.colors[0] * t.m_scale, d.colors[1] * t.m_scale};
     t.m_cells = float(d.checker_scale);
-    t.m_scale = float(d.scale);
     set_transform(d, t.m_a, t.m_b);
     t.m_min = glm::min(t.m_colors[0], t.m_colors[1]);
     t.m_max = glm::max(t.m_colors[0], t.m_colors[1]);
@@ -136,7 +136,7 @@ Material Scene::material_at(const SurfaceHit& hit) const {
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
     try {
-        return make_material(tm.model, params);
+        return make_material(tm.model, tm.convert ? tm.convert(params) : params);
     } catch (const ParamError&) {
         // Unreachable after build_scene's checks; the render loop never throws.
         return Material(std::nullopt, std::nullopt, std::nullopt);

@@ -619,6 +619,20 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
     // Validate everything the renderer would (ranges, names, meshes) before writing: the SDL is
     // only written for scenes that `facet render` accepts.
     (void)build_scene(desc, name);
+    // Opacity (cut-outs) is not exported yet: POV-Ray's pigment transmit would blend where
+    // Facet chooses stochastically (the same expectation), unchecked against it. An error.
+    auto no_opacity = [&](const MaterialDesc& m, const std::string& pointer) {
+        for (const char* key : {"opacity", "alpha_cutoff"})
+            if (m.params.has(key) || m.textures.count(key))
+                throw SceneError(name + ": " + pointer + "/" + key +
+                                 ": opacity (cut-outs) cannot be exported to POV-Ray exactly "
+                                 "yet (remove it, or render with Facet)");
+    };
+    for (const auto& [mname, m] : desc.materials)
+        no_opacity(m, "/materials/" + detail::escape_pointer_token(mname));
+    for (std::size_t i = 0; i < desc.shapes.size(); ++i)
+        if (desc.shapes[i].material)
+            no_opacity(*desc.shapes[i].material, "/shapes/" + std::to_string(i) + "/material");
     return PovWriter(desc, name, options).write();
 }
 

@@ -14,8 +14,12 @@
 //    f0 = 0.04 (1 - m) + b m (the Blender addon's Principled conversion with Specular 0.5);
 //    emission = emissiveFactor x KHR_materials_emissive_strength (radiance);
 //    two_sided = doubleSided (and the shape's "two_sided").
-//  - Nothing is dropped silently: what is not converted (textures, UV sets, vertex colours,
-//    alpha modes, skins, morph targets, animations, cameras, lights, extensions) is reported
+//  - Textures (docs/gltf.md): TEXCOORD_0 as the mesh's uvs, v -> 1 - v; base colour, metallic-
+//    roughness and emissive textures times their factors, with their samplers and
+//    KHR_texture_transform; images from files, .glb buffer views and data: URIs (decoded from
+//    memory by the texture layer); alphaMode MASK / BLEND as the material's opacity.
+//  - Nothing is dropped silently: what is not converted (occlusion textures, other UV sets,
+//    vertex colours, skins, morph targets, animations, cameras, lights, extensions) is reported
 //    once per material or extension as "<file>#<glTF JSON pointer>: ...", a warning of the
 //    build; bad data and unknown required extensions are errors of the same form.
 #define TINYGLTF_NO_STB_IMAGE
@@ -31,6 +35,8 @@
 #include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <memory>
 #include <set>
 #include <stdexcept>
 
@@ -57,11 +63,44 @@ std::string idx(std::size_t i) {
     return std::to_string(i);
 }
 
-// tinygltf decodes no image for us: Facet's own image reader (texel_image.h) reads textures.
-bool skip_image(tinygltf::Image*, const int, std::string*, std::string*, int, int,
-                const unsigned char*, int, void*) {
+// tinygltf decodes no image for us: Facet's own image reader (texel_image.h) decodes textures.
+// The encoded bytes tinygltf hands over (from a buffer view, a data: URI, or a file whose URI
+// is percent-encoded) are kept per image index; other files are read by their path
+// (is_file_uri), through the scene's image cache.
+using ImageBytes = std::map<int, std::shared_ptr<const std::vector<unsigned char>>>;
+bool is_file_uri(const std::string& uri) {
+    return !uri.empty() && uri.rfind("data:", 0) != 0 && uri.find('%') == std::string::npos;
+}
+bool keep_image(tinygltf::Image* image, const int index, std::string*, std::string*, int, int,
+                const unsigned char* bytes, int size, void* user) {
+    if (bytes && size > 0 && !is_file_uri(image->uri))
+        (*static_cast<ImageBytes*>(user))[index] =
+            std::make_shared<const std::vector<unsigned char>>(bytes, bytes + size);
     return true;
 }
+
+// The format of an encoded image by its signature, as a file extension for the reader (which
+// picks its decoder by extension): PNG, JPEG, else none.
+std::string image_extension(const std::vector<unsigned char>& b, const std::string& mime) {
+    if (b.size() >= 8 && b[0] == 0x89 && b[1] == 'P' && b[2] == 'N' && b[3] == 'G') return ".png";
+    if (b.size() >= 3 && b[0] == 0xFF && b[1] == 0xD8 && b[2] == 0xFF) return ".jpg";
+    if (mime == "image/png") return ".png";
+    if (mime == "image/jpeg") return ".jpg";
+    return "";
+}
+
+// glTF sampler constants (glTF 2.0, 5.26).
+constexpr int kNearest = 9728, kClampToEdge = 33071, kMirroredRepeat = 33648;
+
+const char* wrap_name(int w) {
+    return w == kClampToEdge ? "clamp" : w == kMirroredRepeat ? "mirror" : "repeat";
+}
+
+// The glTF texture sources of gltf_composite_params: what a texture may replace.
+const MaterialConversion kGltfConversion{{{"base_color", ParamType::Color, "1", "baseColor"},
+                                          {"metallic", ParamType::Number, "1", "metallic"},
+                                          {"roughness", ParamType::Number, "1", "roughness"}},
+                                         gltf_composite_params};
 
 const char* type_name(int type) {
     switch (type) {
@@ -146,7 +185,7 @@ class Importer {
 
     void load() {
         tinygltf::TinyGLTF loader;
-        loader.SetImageLoader(skip_image, nullptr);
+        loader.SetImageLoader(keep_image, &m_image_bytes);
         std::string err, warn;
         if (m_in_memory) return load_memory(loader);
         std::string ext = std::filesystem::path(m_path).extension().string();
@@ -232,16 +271,20 @@ class Importer {
         check_required();
         for (std::size_t i = 0; i < m_model.extensionsUsed.size(); ++i) {
             const std::string& e = m_model.extensionsUsed[i];
-            if (e == "KHR_materials_emissive_strength") continue;
+            if (converted_extension(e)) continue;
             report("ext:" + e, "/extensionsUsed/" + idx(i),
                    "extension '" + e + "' is not converted (the data it extends is used as is)");
         }
     }
 
+    static bool converted_extension(const std::string& e) {
+        return e == "KHR_materials_emissive_strength" || e == "KHR_texture_transform";
+    }
+
     void check_required() const {
         for (std::size_t i = 0; i < m_model.extensionsRequired.size(); ++i) {
             const std::string& e = m_model.extensionsRequired[i];
-            if (e == "KHR_materials_emissive_strength") continue;
+            if (converted_extension(e)) continue;
             std::string why = e == "KHR_draco_mesh_compression"
                                   ? "Draco-compressed meshes cannot be read (tinygltf is built "
                                     "without Draco); re-export the file uncompressed"
@@ -273,21 +316,97 @@ class Importer {
         return v;
     }
 
-    void texture_slot(const std::string& ptr, int index, int tex_coord,
-                      const tinygltf::ExtensionMap& ext, const std::string& what) {
+    // A texture slot Facet does not use (occlusion): reported, never silently dropped.
+    void unused_texture(const std::string& ptr, int index, const std::string& what) {
         if (index < 0) return;
-        report(ptr, ptr,
-               "texture " + std::to_string(index) + " (" + what +
-                   ") is not imported yet (Facet meshes have no UVs in this build); the "
-                   "material's constant factor is used");
+        report(ptr, ptr, "texture " + std::to_string(index) + " (" + what + ") is not used");
+    }
+
+    // The image of texture `index` as a TextureDesc (file or encoded bytes, sampler,
+    // KHR_texture_transform), or none with a report (then the factor alone is used).
+    std::optional<TextureDesc> texture(const std::string& ptr, int index, int tex_coord,
+                                       const tinygltf::ExtensionMap& ext, const std::string& what) {
+        if (index < 0) return std::nullopt;
+        const tinygltf::Texture& t = element(m_model.textures, index, ptr + "/index", "texture");
+        const std::string tp = "/textures/" + idx(std::size_t(index));
+        TextureDesc d;
+        if (auto tt = ext.find("KHR_texture_transform"); tt != ext.end()) {
+            const std::string xp = ptr + "/extensions/KHR_texture_transform";
+            const tinygltf::Value& v = tt->second;
+            if (!v.IsObject()) fail(xp, "expected an object");
+            auto pair = [&](const char* key, Vec2 def) {
+                const tinygltf::Value& a = v.Get(key);
+                if (!a.IsArray()) return def;
+                if (a.ArrayLen() != 2) fail(xp + "/" + key, "expected 2 numbers");
+                Vec2 out;
+                for (int i = 0; i < 2; ++i) {
+                    const double x = a.Get(i).GetNumberAsDouble();
+                    if (!std::isfinite(x)) fail(xp + "/" + key + "/" + idx(i), "must be finite");
+                    out[i] = float(x);
+                }
+                return out;
+            };
+            const double rotation = v.Get("rotation").IsNumber() || v.Get("rotation").IsInt()
+                                        ? v.Get("rotation").GetNumberAsDouble()
+                                        : 0.0;
+            if (!std::isfinite(rotation)) fail(xp + "/rotation", "must be finite");
+            apply_khr_texture_transform(d, pair("offset", Vec2(0.f)), rotation,
+                                        pair("scale", Vec2(1.f)));
+            if (v.Get("texCoord").IsInt()) tex_coord = v.Get("texCoord").GetNumberAsInt();
+        }
         if (tex_coord != 0) {
             report(ptr + "/texCoord", ptr + "/texCoord",
-                   "TEXCOORD_" + std::to_string(tex_coord) + " is not imported");
+                   "TEXCOORD_" + std::to_string(tex_coord) +
+                       " is not imported (only TEXCOORD_0): "
+                       "the " +
+                       what + " texture is not used, its factor alone is");
+            return std::nullopt;
         }
-        if (ext.count("KHR_texture_transform")) {
-            report(ptr + "/ext", ptr + "/extensions/KHR_texture_transform",
-                   "KHR_texture_transform is not converted (the texture itself is not imported)");
+        if (t.source < 0) {
+            report(tp, tp,
+                   "the texture has no PNG/JPEG source (an extension's image?): the " + what +
+                       " texture is not used, its factor alone is");
+            return std::nullopt;
         }
+        const std::string ip = "/images/" + idx(std::size_t(t.source));
+        const tinygltf::Image& im = element(m_model.images, t.source, tp + "/source", "image");
+        if (is_file_uri(im.uri)) {
+            if (m_in_memory) {
+                report(ip, ip + "/uri",
+                       "external image files are refused (reading from memory): the " + what +
+                           " texture is not used, its factor alone is");
+                return std::nullopt;
+            }
+            // A file beside the glTF file (URIs are relative to it).
+            d.file = (std::filesystem::path(m_path).parent_path() / im.uri).string();
+        } else {
+            const auto it = m_image_bytes.find(t.source);
+            if (it == m_image_bytes.end()) fail(ip, "the image's data are missing or empty");
+            const std::string e = image_extension(*it->second, im.mimeType);
+            if (e.empty()) fail(ip, "not a PNG or JPEG image (mimeType '" + im.mimeType + "')");
+            d.bytes = it->second;
+            d.file = (m_in_memory ? m_file : m_path) + "#" + ip + e;
+        }
+        if (t.sampler >= 0) {
+            const tinygltf::Sampler& sa =
+                element(m_model.samplers, t.sampler, tp + "/sampler", "sampler");
+            const std::string sp = "/samplers/" + idx(std::size_t(t.sampler));
+            d.wrap = wrap_name(sa.wrapS);
+            if (sa.wrapT != sa.wrapS) {
+                report(sp + "/wrapT", sp + "/wrapT",
+                       std::string("wrapT differs from wrapS: both use wrapS's ") + d.wrap +
+                           " (Facet has one wrap mode per texture)");
+            }
+            d.filter = sa.magFilter == kNearest ? "closest" : "linear";
+            if (sa.minFilter >= 0 && sa.minFilter != sa.magFilter) {
+                report(sp + "/minFilter", sp + "/minFilter",
+                       "minFilter " + std::to_string(sa.minFilter) +
+                           " is not converted: "
+                           "minification uses the magFilter's " +
+                           d.filter + " filter");
+            }
+        }
+        return d;
     }
 
     GltfMaterial convert_material(const tinygltf::Material& m, const std::string& ptr) {
@@ -301,22 +420,63 @@ class Importer {
             base[c] = float(unit_number(pbr.baseColorFactor[std::size_t(c)],
                                         pp + "/baseColorFactor/" + idx(std::size_t(c))));
         }
-        unit_number(pbr.baseColorFactor[3], pp + "/baseColorFactor/3");
+        const double alpha = unit_number(pbr.baseColorFactor[3], pp + "/baseColorFactor/3");
         const double metal = unit_number(pbr.metallicFactor, pp + "/metallicFactor");
         const double rough = unit_number(pbr.roughnessFactor, pp + "/roughnessFactor");
         GltfMaterial out;
         out.pointer = ptr;
         out.name = m.name;
         out.double_sided = m.doubleSided;
-        const Rgb diffuse = base * float(1.0 - metal);
-        Rgb f0;
-        for (int c = 0; c < 3; ++c) f0[c] = float(kDielectricF0 * (1.0 - metal) + base[c] * metal);
         out.desc.model = "composite";
-        out.desc.params.set("diffuse_reflectance", diffuse);
-        out.desc.params.set("distribution", std::string("ggx"));
-        out.desc.params.set("alpha", rough * rough);
-        out.desc.params.set("fresnel", std::string("schlick"));
-        out.desc.params.set("f0", f0);
+        // Each source: its texture times its factor, or the factor (gltf_composite_params).
+        const std::optional<TextureDesc> base_tex =
+            texture(pp + "/baseColorTexture", pbr.baseColorTexture.index,
+                    pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, "base colour");
+        if (base_tex) {
+            TextureDesc d = *base_tex;
+            d.color_scale = base;  // sRGB-decoded by default (8/16-bit), as glTF's base colour
+            out.desc.textures["base_color"] = d;
+        } else {
+            out.desc.params.set("base_color", base);
+        }
+        const std::optional<TextureDesc> mr_tex =
+            texture(pp + "/metallicRoughnessTexture", pbr.metallicRoughnessTexture.index,
+                    pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions,
+                    "metallic-roughness");
+        if (mr_tex) {
+            // Linear data: metallic in B, roughness in G (glTF 3.9.2).
+            TextureDesc d = *mr_tex;
+            d.colorspace = "linear";
+            d.channel = "b";
+            d.scale = metal;
+            out.desc.textures["metallic"] = d;
+            d.channel = "g";
+            d.scale = rough;
+            out.desc.textures["roughness"] = d;
+        } else {
+            out.desc.params.set("metallic", metal);
+            out.desc.params.set("roughness", rough);
+        }
+        // alphaMode: the base colour's alpha (factor times the texture's A) as opacity, cut at
+        // alphaCutoff for MASK, stochastic for BLEND (its expectation is the blend).
+        if (m.alphaMode == "MASK" || m.alphaMode == "BLEND") {
+            if (base_tex) {
+                TextureDesc d = *base_tex;
+                d.channel = "a";  // an image without alpha is opaque (FORMAT.md, "Opacity")
+                d.colorspace = "linear";
+                d.scale = alpha;
+                out.desc.textures["opacity"] = d;
+            } else {
+                out.desc.params.set("opacity", alpha);
+            }
+            if (m.alphaMode == "MASK") {
+                if (!std::isfinite(m.alphaCutoff) || !(m.alphaCutoff > 0.0) || m.alphaCutoff > 1.0)
+                    fail(ptr + "/alphaCutoff", "must be a number in (0, 1]");
+                out.desc.params.set("alpha_cutoff", m.alphaCutoff);
+            }
+        } else if (m.alphaMode != "OPAQUE") {
+            fail(ptr + "/alphaMode", "unknown alphaMode '" + m.alphaMode + "'");
+        }
 
         // tinygltf leaves the array empty when the file omits it (default [0, 0, 0]).
         std::vector<double> emissive = m.emissiveFactor;
@@ -340,22 +500,21 @@ class Importer {
                       strength);
         }
         if (!is_finite(out.emission)) fail(ptr + "/emissiveFactor", "emission overflows float");
-
-        texture_slot(pp + "/baseColorTexture", pbr.baseColorTexture.index,
-                     pbr.baseColorTexture.texCoord, pbr.baseColorTexture.extensions, "base colour");
-        texture_slot(pp + "/metallicRoughnessTexture", pbr.metallicRoughnessTexture.index,
-                     pbr.metallicRoughnessTexture.texCoord, pbr.metallicRoughnessTexture.extensions,
-                     "metallic-roughness");
-        texture_slot(ptr + "/normalTexture", m.normalTexture.index, m.normalTexture.texCoord,
-                     m.normalTexture.extensions, "normal map");
-        texture_slot(ptr + "/occlusionTexture", m.occlusionTexture.index,
-                     m.occlusionTexture.texCoord, m.occlusionTexture.extensions,
-                     "ambient occlusion: Facet computes occlusion itself");
-        texture_slot(ptr + "/emissiveTexture", m.emissiveTexture.index, m.emissiveTexture.texCoord,
-                     m.emissiveTexture.extensions, "emission");
-        if (m.alphaMode != "OPAQUE") {
-            report(ptr + "/alphaMode", ptr + "/alphaMode",
-                   "alphaMode '" + m.alphaMode + "' is not converted (rendered opaque)");
+        if (auto e = texture(ptr + "/emissiveTexture", m.emissiveTexture.index,
+                             m.emissiveTexture.texCoord, m.emissiveTexture.extensions, "emissive");
+            e && max_component(out.emission) > 0.f) {
+            // Radiance = texture x emissiveFactor x strength (an unset factor, 0, emits nothing).
+            out.emission_texture = *e;
+            out.emission_texture->color_scale = out.emission;
+            out.emission = Rgb(0.f);
+        }
+        unused_texture(ptr + "/occlusionTexture", m.occlusionTexture.index,
+                       "ambient occlusion: Facet computes occlusion itself");
+        // Normal maps: the normals layer (not imported here yet).
+        if (m.normalTexture.index >= 0) {
+            report(ptr + "/normalTexture", ptr + "/normalTexture",
+                   "texture " + std::to_string(m.normalTexture.index) +
+                       " (normal map) is not imported yet: the mesh's normals are used");
         }
         for (const auto& [name, _] : m.extensions) {
             if (name == "KHR_materials_emissive_strength") continue;
@@ -585,6 +744,37 @@ class Importer {
         return out;
     }
 
+    // TEXCOORD_0: float, or normalised unsigned byte / short (glTF 3.7.2.1), turned from glTF's
+    // top-left origin to Facet's bottom-left: (u, v) -> (u, 1 - v).
+    std::vector<Vec2> texcoords(int index, const std::string& user, std::size_t nvert) const {
+        const Elements e =
+            accessor(index, user, {TINYGLTF_TYPE_VEC2},
+                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        const std::string ap = "/accessors/" + std::to_string(index);
+        if (e.count != nvert)
+            fail(ap, idx(e.count) + " texture coordinates for " + idx(nvert) +
+                         " positions (used by " + user + ")");
+        std::vector<Vec2> out(e.count);
+        for (std::size_t i = 0; i < e.count; ++i) {
+            const unsigned char* p = e.data + i * e.stride;
+            Vec2 uv;
+            if (e.component == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                std::memcpy(&uv, p, sizeof uv);
+            } else if (e.component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                uv = Vec2(float(p[0]) / 255.f, float(p[1]) / 255.f);
+            } else {
+                std::uint16_t s[2];
+                std::memcpy(s, p, sizeof s);
+                uv = Vec2(float(s[0]) / 65535.f, float(s[1]) / 65535.f);
+            }
+            if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
+                fail(ap, "texture coordinate " + idx(i) + " is not finite (used by " + user + ")");
+            out[i] = Vec2(uv.x, 1.f - uv.y);
+        }
+        return out;
+    }
+
     std::vector<std::uint32_t> indices(int index, const std::string& user,
                                        std::size_t num_vertices) const {
         const Elements e =
@@ -670,11 +860,11 @@ class Importer {
                        "morph targets are not applied (the base shape is imported)");
             }
             for (const auto& [name, _] : pr.attributes) {
-                if (name == "POSITION" || name == "NORMAL") continue;
+                if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0") continue;
                 const std::string key = name.rfind("TEXCOORD_", 0) == 0 ? "uv"
                                         : name.rfind("COLOR_", 0) == 0  ? "color"
                                                                         : name;
-                const char* what = key == "uv"      ? "UVs are not imported yet"
+                const char* what = key == "uv"      ? "only TEXCOORD_0 is imported"
                                    : key == "color" ? "vertex colours are not imported"
                                                     : "this attribute is not imported";
                 report("attr:" + key, pp + "/attributes/" + name, what);
@@ -691,6 +881,8 @@ class Importer {
                          idx(m.normals.size()) + " normals for " + idx(nvert) + " positions");
                 }
             }
+            if (auto t = pr.attributes.find("TEXCOORD_0"); t != pr.attributes.end())
+                m.uvs = texcoords(t->second, pp + "/attributes/TEXCOORD_0", nvert);
             std::vector<std::uint32_t> ix;
             if (pr.indices >= 0) {
                 ix = indices(pr.indices, pp + "/indices", nvert);
@@ -743,6 +935,7 @@ class Importer {
     std::set<std::string> m_reported;
     std::vector<bool> m_seen;
     int m_default = -1;
+    ImageBytes m_image_bytes;  // encoded images by index (keep_image)
 };
 
 // All parts as one mesh (the exporters' `triangles`, and a shape whose "material" replaces the
@@ -762,6 +955,12 @@ TriangleMesh merged(const GltfImport& g) {
             out.normals.insert(out.normals.end(), p.mesh.normals.begin(), p.mesh.normals.end());
         }
     }
+    // UVs likewise (a shape "material" with textures needs them everywhere).
+    bool uvs = !g.parts.empty();
+    for (const GltfPart& p : g.parts) uvs = uvs && !p.mesh.uvs.empty();
+    if (uvs)
+        for (const GltfPart& p : g.parts)
+            out.uvs.insert(out.uvs.end(), p.mesh.uvs.begin(), p.mesh.uvs.end());
     return out;
 }
 
@@ -808,15 +1007,22 @@ void build(ShapeBuild& b) {
                "a gltf shape emits what its file's materials emit (emissiveFactor); give the "
                "shape a \"material\" to replace the file's materials and emit this instead");
     }
-    std::vector<const Material*> built(g.materials.size(), nullptr);
+    std::vector<std::optional<ShapeSurface>> built(g.materials.size());
     for (GltfPart& p : g.parts) {
         const GltfMaterial& gm = g.materials[std::size_t(p.material)];
-        const Material*& mat = built[std::size_t(p.material)];
-        if (!mat) mat = b.add_material(gm.desc, fp);
-        ShapeSurface su;
+        std::optional<ShapeSurface>& mat = built[std::size_t(p.material)];
+        if (!mat) {
+            mat = b.add_material(gm.desc, fp, &kGltfConversion);
+            if (gm.emission_texture)
+                mat->emission_texture = b.add_texture(*gm.emission_texture, fp, true, true);
+        }
+        ShapeSurface su = *mat;
         su.material_name = s.file + "#" + gm.pointer;
-        su.material = mat;
         su.emission = gm.emission;
+        if ((su.textured >= 0 || su.emission_texture || su.opacity.texture) && p.mesh.uvs.empty())
+            b.fail(fp, std::filesystem::path(s.file).filename().string() + "#" + p.pointer +
+                           "/attributes: the primitive's material " + gm.pointer +
+                           " has textures but the primitive has no TEXCOORD_0");
         su.two_sided = gm.double_sided && s.two_sided;
         b.add_part(std::move(p.mesh), std::move(su));
     }
@@ -832,6 +1038,31 @@ void pov(PovShapeOut& o) {
 }
 
 }  // namespace
+
+ParamSet gltf_composite_params(const ParamSet& sources) {
+    const auto& v = sources.values();
+    const Rgb base = std::get<Rgb>(v.at("base_color"));
+    const double metal = std::get<double>(v.at("metallic"));
+    const double rough = std::get<double>(v.at("roughness"));
+    Rgb f0;
+    for (int c = 0; c < 3; ++c) f0[c] = float(kDielectricF0 * (1.0 - metal) + base[c] * metal);
+    ParamSet out;
+    out.set("diffuse_reflectance", base * float(1.0 - metal));
+    out.set("distribution", std::string("ggx"));
+    out.set("alpha", rough * rough);
+    out.set("fresnel", std::string("schlick"));
+    out.set("f0", f0);
+    return out;
+}
+
+void apply_khr_texture_transform(TextureDesc& d, Vec2 offset, double rotation, Vec2 scale) {
+    constexpr double kPi = 3.14159265358979323846;
+    const double s = std::sin(rotation), c = std::cos(rotation);
+    d.uv_scale = scale;
+    d.uv_rotation = -rotation * 180.0 / kPi;
+    d.uv_offset = Vec2(float(double(offset.x) - double(scale.y) * s),
+                       float(1.0 - double(offset.y) - double(scale.y) * c));
+}
 
 GltfImport import_gltf(const std::string& path) {
     return Importer(path).run();
@@ -900,12 +1131,16 @@ extern const ShapeKindDef kGltfKind{
     "gltf",
     "every triangle primitive of a glTF 2.0 file (`.gltf` or `.glb`, tinygltf) with its node "
     "transforms, turned Z-up ((x, y, z) -> (x, -z, y)) before `transform`, and its "
-    "metallic-roughness materials as `composite` (docs/gltf.md); `material`, when given, "
-    "replaces the file's materials; what is not converted is reported",
+    "metallic-roughness materials as `composite` with their base colour, metallic-roughness and "
+    "emissive textures (TEXCOORD_0, v -> 1 - v; samplers; KHR_texture_transform) and alphaMode "
+    "as opacity (docs/gltf.md); `material`, when given, replaces the file's materials; what is "
+    "not converted is reported",
     {{"file", FieldType::Path, true, &ShapeDesc::file, "-",
-      "the glTF file, relative to the scene file; per material: diffuse_reflectance = b (1 - m), "
-      "ggx alpha = r^2, schlick f0 = 0.04 (1 - m) + b m, emission = emissiveFactor x "
-      "emissiveStrength, two_sided = doubleSided and `two_sided`"}},
+      "the glTF file, relative to the scene file; per material, with b = baseColorFactor x "
+      "baseColorTexture, m = metallicFactor x texture B, r = roughnessFactor x texture G: "
+      "diffuse_reflectance = b (1 - m), ggx alpha = r^2, schlick f0 = 0.04 (1 - m) + b m, "
+      "emission = emissiveFactor x emissiveTexture x emissiveStrength, opacity = base alpha "
+      "(MASK: cut at alphaCutoff; BLEND), two_sided = doubleSided and `two_sided`"}},
     build,
     triangles,
     pov,

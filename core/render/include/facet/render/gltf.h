@@ -22,15 +22,20 @@ namespace facet::render {
 
 // One triangle primitive of the file.
 struct GltfPart {
-    TriangleMesh mesh;    // object space (see conventions); normals unit or absent
+    TriangleMesh mesh;    // object space (see conventions); normals unit or absent; uvs from
+                          // TEXCOORD_0 turned bottom-left: (u, v) -> (u, 1 - v), or absent
     int material = -1;    // index into GltfImport::materials
     std::string pointer;  // "/meshes/<m>/primitives/<p>"
 };
 
-// A metallic-roughness material as a core model (docs/gltf.md gives the mapping).
+// A metallic-roughness material as a core model (docs/gltf.md gives the mapping). `desc` holds
+// the sources "base_color" (colour), "metallic" and "roughness" (numbers), each a constant or a
+// texture (times its factor: TextureDesc::scale / color_scale), which gltf_composite_params
+// maps onto `composite`, and "opacity" / "alpha_cutoff" from alphaMode.
 struct GltfMaterial {
     MaterialDesc desc;
     Rgb emission{0.f};  // emissiveFactor x KHR_materials_emissive_strength, radiance
+    std::optional<TextureDesc> emission_texture;  // emissiveTexture x the above, or none
     bool double_sided = false;
     std::string pointer;  // "/materials/<i>"
     std::string name;
@@ -53,7 +58,19 @@ struct GltfImport {
     std::size_t num_cameras = 0;  // in the file's "cameras"
 };
 
-// Reads a .gltf or .glb file (tinygltf; images are not decoded).
+// glTF's metallic-roughness sources (base_color b, metallic m, roughness r) -> `composite`:
+// diffuse_reflectance = b (1 - m), ggx alpha = r^2, schlick f0 = 0.04 (1 - m) + b m.
+ParamSet gltf_composite_params(const ParamSet& sources);
+
+// KHR_texture_transform (offset o, rotation r radians, scale s; glTF's uv origin top-left)
+// as Facet's uv transform (texture.h; origin bottom-left, the mesh's v = 1 - v_glTF): the same
+// texel for every uv. With F(u, v) = (u, 1 - v), glTF samples R(r) S F(uv) + o at glTF
+// coordinates, i.e. Facet's F(R(r) S F(uv) + o) = R(-r) S uv + (o_u - s_v sin r,
+// 1 - o_v - s_v cos r), since F R(r) F = R(-r) on the linear part. Sets uv_scale = s,
+// uv_rotation = -r in degrees, uv_offset as given.
+void apply_khr_texture_transform(TextureDesc& d, Vec2 offset, double rotation, Vec2 scale);
+
+// Reads a .gltf or .glb file (tinygltf; images are kept encoded, decoded by the texture layer).
 GltfImport import_gltf(const std::string& path);
 // The same from bytes in memory (a .glb when they start with "glTF", else .gltf JSON), named
 // `name` in messages; external buffers and images are refused (data: URIs work). For fuzzing.

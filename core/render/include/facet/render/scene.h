@@ -85,6 +85,31 @@ struct RenderSettings {
 
 enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid, Gltf };
 
+// A surface's opacity (scenes/FORMAT.md, "Opacity"), for cut-outs: the fraction alpha in
+// [0, 1] of the rays meeting the surface that stop there; the others pass through as if it were
+// not there (camera, continuation and shadow rays alike). alpha is `value`, or the texture's
+// value (its r channel) at the hit's uv; with a `cutoff` > 0 (glTF's alphaMode MASK) it becomes
+// 1 where that value is >= cutoff and 0 elsewhere. Decided per candidate hit while tracing
+// (embree_scene.cpp), with the hit's random number u from hash_uniform (precision-free, no
+// sampler dimension): the surface is there when opacity_blocks(alpha, u).
+struct Opacity {
+    float value = 1.f;
+    const Texture* texture = nullptr;  // instead of `value`, or null
+    float cutoff = 0.f;                // > 0: alpha = value >= cutoff ? 1 : 0
+    // Whether the surface can let a ray through (else it is opaque: the fast path).
+    bool active() const { return texture != nullptr || value < 1.f; }
+    float alpha(Vec2 uv) const {
+        const float a = texture ? texture->eval(uv).r : value;
+        return cutoff > 0.f ? (a >= cutoff ? 1.f : 0.f) : a;
+    }
+};
+
+// Whether a ray meets a surface of opacity alpha, given u uniform in [0, 1): with probability
+// alpha. alpha = 0 never blocks, alpha = 1 always does (exact holes and exact solids).
+[[gnu::always_inline]] inline bool opacity_blocks(float alpha, float u) {
+    return u < alpha;
+}
+
 // What a hit on a surface reads: its material, emission and sidedness.
 struct ShapeSurface {
     std::string material_name;  // the "materials" key, "<inline>", or the part's source
@@ -94,6 +119,7 @@ struct ShapeSurface {
     bool two_sided = true;
     std::int32_t textured = -1;  // index of its textured material (Scene::material_at), or -1
     const Texture* emission_texture = nullptr;  // textured emission (times nothing), or null
+    Opacity opacity;                            // its material's (Opacity::active: a cut-out)
 };
 
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
@@ -119,6 +145,15 @@ struct TexturedMaterial {
         bool color;  // a colour parameter (else a number: the texture's r channel)
     };
     std::vector<Slot> slots;
+    // A kind's own parameterisation (glTF's metallic-roughness: shapes/gltf.cpp): `params` and
+    // the slots then hold its source values, which `convert` maps onto the model's parameters
+    // at every hit (pure, never throws). Null: the slots are the model's parameters.
+    using Convert = ParamSet (*)(const ParamSet&);
+    Convert convert = nullptr;
+    // Union of the lobes of the material at its textures' extremes (every corner of the
+    // slots' [min, max] box with a conversion; both ends otherwise), for the scene analysis:
+    // a roughness texture can make a lobe a mirror at some texels and glossy at others.
+    BxDFFlags flags = BxDFFlags::None;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel

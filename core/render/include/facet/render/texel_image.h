@@ -22,6 +22,7 @@
 #include <map>
 #include <memory>
 #include <mutex>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <tuple>
@@ -59,6 +60,11 @@ struct TexelImageOptions {
 // ("/lights/0/file", "material 'wood'"); messages read "<where>: <path>: <what>".
 TexelImage load_texel_image(const std::string& path, const TexelImageOptions& options,
                             const std::string& where);
+// The same from an encoded image file held in memory (e.g. inside a .glb, or a data: URI),
+// through OpenImageIO's IOMemReader, without a temporary file. `name` names it in messages and
+// its extension (".png", ".jpg") picks the format.
+TexelImage load_texel_image_memory(const std::string& name, std::span<const unsigned char> bytes,
+                                   const TexelImageOptions& options, const std::string& where);
 
 // Loaded images by (path, options): the same image used twice is read once. Thread-safe.
 // Paths are compared after std::filesystem::weakly_canonical, so "a/../b.png" and "b.png" are
@@ -67,6 +73,12 @@ class TexelImageCache {
   public:
     std::shared_ptr<const TexelImage> get(const std::string& path, const TexelImageOptions& options,
                                           const std::string& where);
+    // An image in memory (load_texel_image_memory), cached under `name` (which must then name
+    // these bytes only, e.g. "/abs/model.glb#/images/0").
+    std::shared_ptr<const TexelImage> get_memory(const std::string& name,
+                                                 std::span<const unsigned char> bytes,
+                                                 const TexelImageOptions& options,
+                                                 const std::string& where);
     std::size_t size() const;
     std::size_t bytes() const;  // texel memory held
 

@@ -19,7 +19,8 @@
 //    3+ channel image, its first three channels; `channel` picks one channel (or the Rec. 709
 //    luminance 0.2126 R + 0.7152 G + 0.0722 B of linear values) as grey. A number texture
 //    reads channel 0 of a 1- or 2-channel image and needs `channel` otherwise. Every value is
-//    multiplied by `scale` last.
+//    multiplied by `scale` last; a colour `scale` ([r, g, b], `color_scale`) multiplies per
+//    channel (a colour parameter's tint, e.g. glTF's baseColorFactor times its texture).
 //  - Checker: cell (i, j) = (floor(n u'), floor(n v')), colour colors[(i + j) mod 2]; so the
 //    cell at the UV origin has colors[0].
 #pragma once
@@ -28,6 +29,7 @@
 #include <cstdint>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "facet/render/texel_image.h"
 #include "facet/types.h"
@@ -43,6 +45,10 @@ struct TextureDesc {
     std::string filter;      // "" (default: linear), "closest", "linear", "mipmap"
     std::string wrap;        // "" (default: repeat), "repeat", "clamp", "mirror"
     std::string channel;     // "" (all), "r", "g", "b", "a", "luminance"
+    // An encoded image held in memory instead of a file (an importer's: a .glb's buffer view or
+    // a data: URI); `file` then names it ("/path/model.glb#/images/0", with the format's
+    // extension appended) for messages and the image cache. Never written to JSON.
+    std::shared_ptr<const std::vector<unsigned char>> bytes;
     // Checker
     std::array<Rgb, 2> colors{Rgb(0.f), Rgb(1.f)};
     double checker_scale = 1.0;  // cells per unit of uv'
@@ -50,6 +56,7 @@ struct TextureDesc {
     Vec2 uv_scale{1.f}, uv_offset{0.f};
     double uv_rotation = 0.0;  // degrees, counter-clockwise
     double scale = 1.0;        // multiplier on the value
+    Rgb color_scale{1.f};      // per-channel multiplier (JSON "scale": [r, g, b]), times `scale`
     bool operator==(const TextureDesc&) const = default;
 };
 
@@ -82,7 +89,7 @@ class Texture {
     TextureFilter m_filter = TextureFilter::Linear;
     TextureWrap m_wrap = TextureWrap::Repeat;
     int m_channel = kAllChannels;
-    float m_scale = 1.f;
+    Rgb m_scale{1.f};  // scale * color_scale
     // uv' = m_a * uv + m_b (m_a = R(rotation) diag(uv_scale))
     glm::mat2 m_a{1.f};
     Vec2 m_b{0.f};
