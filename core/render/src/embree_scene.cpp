@@ -420,9 +420,18 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.shape = prim.shape;
     if (prim.uv) {
         // Sphere: longitude/latitude; disc: its bounding square [-1, 1]^2 onto [0, 1]^2.
-        hit.uv = prim.kind == AnalyticPrim::Kind::Sphere
-                     ? sphere_uv(po)
-                     : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
+        const glm::dmat3 lin(prim.to_world);
+        if (prim.kind == AnalyticPrim::Kind::Sphere) {
+            hit.uv = sphere_uv(po);
+            glm::dvec3 du, dv;
+            sphere_uv_derivatives(po, du, dv);
+            hit.dpdu_uv = Vec3(lin * du);
+            hit.dpdv_uv = Vec3(lin * dv);
+        } else {
+            hit.uv = Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
+            hit.dpdu_uv = Vec3(lin * glm::dvec3(2.0, 0.0, 0.0));
+            hit.dpdv_uv = Vec3(lin * glm::dvec3(0.0, 2.0, 0.0));
+        }
     }
 }
 
@@ -472,8 +481,16 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     if (!mg.tri_uvs.empty()) {
         const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
         hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
+        hit.dpdu_uv = mg.tri_dpduv[tri][0];
+        hit.dpdv_uv = mg.tri_dpduv[tri][1];
     } else if (mg.spherical) {
-        hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
+        const glm::dvec3 po(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
+        hit.uv = sphere_uv(po);
+        glm::dvec3 du, dv;
+        sphere_uv_derivatives(po / glm::length(po), du, dv);
+        const glm::dmat3 lin = glm::inverse(glm::dmat3(mg.to_object));
+        hit.dpdu_uv = Vec3(lin * du);
+        hit.dpdv_uv = Vec3(lin * dv);
     }
 }
 
@@ -529,6 +546,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         if (pl.uv) {
             const glm::dvec3 d = p - pl.point;
             hit.uv = Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
+            hit.dpdu_uv = Vec3(pl.ex);
+            hit.dpdv_uv = Vec3(pl.ey);
         }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
@@ -547,7 +566,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.textured = s.textured;
     hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
     if (s.emission_texture && glm::dot(hit.ng, ray.d) < 0.f) [[unlikely]]
-        hit.emitted_radiance = s.emission_texture->eval(hit.uv);
+        hit.emitted_radiance = s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
     return true;
 }
 
