@@ -24,18 +24,10 @@
 #include "oiio_test_image.h"
 
 namespace fr = facet::render;
-using facet::Rgb;
 using facet::Vec2;
 using facet::Vec3;
 
 namespace {
-
-std::string temp_dir() {
-    const auto d =
-        std::filesystem::temp_directory_path() / ("facet_mipmap_" + std::to_string(::getpid()));
-    std::filesystem::create_directories(d);
-    return d.string();
-}
 
 fr::TexelImage grey_image(int w, int h, const std::vector<float>& v) {
     fr::TexelImage im;
@@ -219,7 +211,7 @@ fr::Image far_checker(const std::string& dir, const std::string& filter,
 // texels, 0 or 1 (aliasing: its RMSE from 0.5 is 0.5, far over the 0.25 the test allows).
 // Pinhole, thin lens and orthographic cameras alike.
 TEST(MipLevels, FarCheckerAveragesWithMipmapAndAliasesWithClosest) {
-    const std::string dir = temp_dir();
+    const std::string dir = fr::testing::test_temp_dir("facet_mipmap");
     fr::testing::write_test_image(dir + "/checker.exr", 1024, 1024, 1, checker_texels(1024, 1024),
                                   OIIO::TypeDesc::FLOAT);
     // fov: the 1-unit quad spans 32 of 64 pixels at distance 20 (tan(fov/2) = 1 / 20).
@@ -250,7 +242,7 @@ TEST(MipLevels, FarCheckerAveragesWithMipmapAndAliasesWithClosest) {
 
 // "mipmap" is the default filter of image textures.
 TEST(MipLevels, MipmapIsTheDefaultFilter) {
-    const std::string dir = temp_dir();
+    const std::string dir = fr::testing::test_temp_dir("facet_mipmap");
     fr::testing::write_test_image(dir + "/g.exr", 4, 4, 1, std::vector<float>(16, 0.5f),
                                   OIIO::TypeDesc::FLOAT);
     const fr::Scene scene = fr::load_scene_from_string(
@@ -268,7 +260,7 @@ TEST(MipLevels, MipmapIsTheDefaultFilter) {
 // file and the limit; the levels count (a 64^2 grey float image is 16 KiB, 21.3 KiB with its
 // levels: a 20 KiB bound admits it as "linear", not as "mipmap").
 TEST(MipLevels, TextureMemoryBoundIsAClearError) {
-    const std::string dir = temp_dir();
+    const std::string dir = fr::testing::test_temp_dir("facet_mipmap");
     fr::testing::write_test_image(dir + "/m.exr", 64, 64, 1, std::vector<float>(64 * 64, 0.5f),
                                   OIIO::TypeDesc::FLOAT);
     auto load = [&](const std::string& filter) {
@@ -295,24 +287,6 @@ TEST(MipLevels, TextureMemoryBoundIsAClearError) {
         EXPECT_NE(msg.find("above the limit"), std::string::npos) << msg;
     }
 }
-
-namespace {
-
-// The closest hit along a ray, in a scene whose only shape has a checker material (so that
-// hits compute uv and its derivatives).
-fr::SurfaceHit hit_at(const std::string& shape, const Vec3& o, const Vec3& d) {
-    const fr::Scene scene = fr::testing::scene_from(
-        R"("camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40, "width": 4, "height": 4},
-           "materials": {"c": {"model": "lambert",
-                               "reflectance": {"checker": {"colors": [0.2, 0.8]}}}},
-           "shapes": [)" +
-        shape + R"(], "lights": [{"type": "environment", "radiance": 1}])");
-    fr::SurfaceHit hit;
-    EXPECT_TRUE(scene.intersect(fr::Ray{o, glm::normalize(d), facet::kInfinity}, hit)) << shape;
-    return hit;
-}
-
-}  // namespace
 
 // dp/du and dp/dv on every shape kind agree with the surface: two hits delta = 1e-3 apart
 // satisfy p1 - p0 = dpdu (u1 - u0) + dpdv (v1 - v0) to first order. Tolerance 1e-2 of |p1 - p0|:
@@ -345,12 +319,12 @@ TEST(MipLevels, SurfaceDerivativesMatchTheUvMap) {
     };
     const float delta = 1e-3f;
     for (const Case& c : cases) {
-        const fr::SurfaceHit h0 = hit_at(c.shape, c.o, c.d);
+        const fr::SurfaceHit h0 = fr::testing::checker_scene_hit(c.shape, c.o, c.d);
         ASSERT_GT(glm::length(h0.dpdu_uv), 0.f) << c.shape;
         // Two directions across the ray.
         const facet::Frame f = facet::Frame::from_z(glm::normalize(c.d));
         for (const Vec3& t : {f.x, f.y}) {
-            const fr::SurfaceHit h1 = hit_at(c.shape, c.o + delta * t, c.d);
+            const fr::SurfaceHit h1 = fr::testing::checker_scene_hit(c.shape, c.o + delta * t, c.d);
             const Vec3 dp = h1.p - h0.p;
             const Vec2 duv = h1.uv - h0.uv;
             const Vec3 lin = h0.dpdu_uv * duv.x + h0.dpdv_uv * duv.y;
