@@ -187,8 +187,8 @@ void TexelImageCache::reserve(std::uint64_t add, const std::string& where,
                               const std::string& path) {
     if (m_bytes + add > m_limit) {
         throw TexelImageError(where + ": " + path + ": texture memory would reach " +
-                              mib(m_bytes + add) + " (this image and its MIP levels: " + mib(add) +
-                              "), above the limit of " + mib(m_limit) +
+                              mib(m_bytes + add) + " (" + mib(add) +
+                              " more for this file), above the limit of " + mib(m_limit) +
                               " (raise it with `facet render --texture-memory MIB` or "
                               "SceneLimits::texture_memory)");
     }
