@@ -46,6 +46,7 @@ struct RenderCmdOptions {
     std::string stats_json;
     std::string region;   // "x0,y0,x1,y1"
     std::string samples;  // "s0:s1"
+    double texture_memory_mib = double(render::kDefaultTextureMemory >> 20);
 };
 
 // Parses "a<sep>b<sep>..." into exactly n non-negative integers, or throws naming the flag.
@@ -101,9 +102,9 @@ void print_explain(const render::Scene& scene, const render::KernelChoice& k,
 
 // A scene file, or a bare glTF file (.gltf, .glb) with its camera or one framing it and a
 // constant environment (render::gltf_scene_description); the choices made go to stderr.
-render::Scene load_scene_or_gltf(const std::string& path) {
+render::Scene load_scene_or_gltf(const std::string& path, const render::SceneLimits& limits) {
     const std::string e = extension_of(path);
-    if (e != ".gltf" && e != ".glb") return render::load_scene(path);
+    if (e != ".gltf" && e != ".glb") return render::load_scene(path, limits);
     // The image size of a bare glTF render; the file's camera aspect ratio sets the width.
     constexpr int kWidth = 640, kHeight = 480;
     std::vector<std::string> notes;
@@ -111,7 +112,7 @@ render::Scene load_scene_or_gltf(const std::string& path) {
         render::gltf_scene_description(path, kWidth, kHeight, notes);
     for (const std::string& n : notes)
         std::fprintf(stderr, "facet: render: %s: %s\n", path.c_str(), n.c_str());
-    return render::build_scene(desc, path);
+    return render::build_scene(desc, path, limits);
 }
 
 void run_render(const RenderCmdOptions& o) {
@@ -127,7 +128,9 @@ void run_render(const RenderCmdOptions& o) {
         throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
                                  o.kernel + "'");
 
-    const render::Scene scene = load_scene_or_gltf(o.scene);  // SceneError names file + path
+    render::SceneLimits limits;
+    limits.texture_memory = std::uint64_t(o.texture_memory_mib * double(1 << 20));
+    const render::Scene scene = load_scene_or_gltf(o.scene, limits);  // SceneError: file + path
     for (const std::string& w : scene.warnings())
         std::fprintf(stderr, "facet: render: warning: %s: %s\n", o.scene.c_str(), w.c_str());
 
@@ -255,6 +258,11 @@ void add_render_command(CLI::App& app) {
                     "sobol: Owen-scrambled Sobol samples; independent: independent uniform "
                     "samples (for comparisons: slower convergence)")
         ->check(CLI::IsMember({"sobol", "independent"}))
+        ->capture_default_str();
+    cmd->add_option("--texture-memory", o->texture_memory_mib,
+                    "bound on texture memory in MiB (float texels, MIP levels included); a scene "
+                    "over it is an error naming the texture")
+        ->check(CLI::PositiveNumber)
         ->capture_default_str();
     cmd->add_flag("--explain", o->explain,
                   "print the scene analysis and which kernel features were chosen and skipped");

@@ -66,6 +66,45 @@ py::array as_array(py::handle obj, const char* what, const char* expected) {
     return a;
 }
 
+// numpy array -> an in-memory texture (facet.Texture(array, ...)): H x W or H x W x {1, 3, 4},
+// float32 or uint8, finite; decoded now by colorspace (texel_image_from_memory).
+TextureDesc texture_from_array(py::handle obj, const std::string& colorspace) {
+    const char* what = "Texture: array";
+    const py::array a = as_array(obj, what, "H x W or H x W x C (C = 1, 3, 4) of float32 or uint8");
+    const bool u8 = a.dtype().is(py::dtype::of<std::uint8_t>());
+    if (!u8 && !a.dtype().is(py::dtype::of<float>()))
+        bad_argument(what, "dtype " + dtype_str(a) + ", expected float32 or uint8");
+    if (!(a.ndim() == 2 ||
+          (a.ndim() == 3 && (a.shape(2) == 1 || a.shape(2) == 3 || a.shape(2) == 4))))
+        bad_argument(what, "shape " + shape_str(a) + ", expected (H, W) or (H, W, C), C = 1, 3, 4");
+    if (a.size() == 0) bad_argument(what, "shape " + shape_str(a) + " is empty");
+    if (!colorspace.empty() && colorspace != "srgb" && colorspace != "linear")
+        bad_argument("Texture: colorspace",
+                     "'" + colorspace + "', expected 'srgb', 'linear' or '' (default)");
+    const int h = int(a.shape(0)), w = int(a.shape(1)), c = a.ndim() == 3 ? int(a.shape(2)) : 1;
+    TexelImageOptions opt;
+    opt.color_space = colorspace.empty()     ? ColorSpace::Auto
+                      : colorspace == "srgb" ? ColorSpace::Srgb
+                                             : ColorSpace::Linear;
+    TextureDesc d;
+    d.file = "<numpy array " + std::to_string(h) + "x" + std::to_string(w) + "x" +
+             std::to_string(c) + " " + dtype_str(a) + ">";
+    try {
+        if (u8) {
+            const auto p = py::array_t<std::uint8_t, py::array::c_style>::ensure(a);
+            d.image = std::make_shared<const TexelImage>(
+                texel_image_from_memory(p.data(), nullptr, w, h, c, opt, d.file, what));
+        } else {
+            const auto p = py::array_t<float, py::array::c_style>::ensure(a);
+            d.image = std::make_shared<const TexelImage>(
+                texel_image_from_memory(nullptr, p.data(), w, h, c, opt, d.file, what));
+        }
+    } catch (const TexelImageError& e) {
+        throw py::value_error(e.what());
+    }
+    return d;
+}
+
 // Float rows (n, 3): float32 C-contiguous in place, else converted. Checks finiteness.
 py::array_t<float, py::array::c_style> float_rows(py::handle obj, const char* what,
                                                   py::ssize_t cols = 3) {
@@ -438,12 +477,18 @@ void bind_scene(py::module_& m) {
         "colorspace='srgb', filter='closest', wrap='repeat', uv_scale=(1, 1), uv_offset=(0, 0), "
         "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1). Values are "
         "checked by build_scene (errors name the JSON pointer and the file).")
-        .def(py::init([](std::string file, std::string colorspace, std::string filter,
+        .def(py::init([](const py::object& file, std::string colorspace, std::string filter,
                          std::string wrap, std::array<float, 2> uv_scale,
                          std::array<float, 2> uv_offset, double uv_rotation, double scale,
                          std::string channel) {
                  TextureDesc d;
-                 d.file = std::move(file);
+                 if (py::isinstance<py::str>(file))
+                     d.file = file.cast<std::string>();
+                 else if (py::isinstance<py::array>(file))
+                     d = texture_from_array(file, colorspace);
+                 else
+                     bad_argument("Texture", "expected a file name (str) or a numpy array, got " +
+                                                 std::string(py::str(file.get_type())));
                  d.colorspace = std::move(colorspace);
                  d.filter = std::move(filter);
                  d.wrap = std::move(wrap);
@@ -454,10 +499,23 @@ void bind_scene(py::module_& m) {
                  d.channel = std::move(channel);
                  return d;
              }),
+             "Texture(file, ...): file is an image file (relative to the description's "
+             "base_dir), or a numpy array: H x W (grey) or H x W x C with C = 1 (grey), 3 (RGB) "
+             "or 4 (RGBA), float32 or uint8, array[0] the TOP row of the picture (as image files "
+             "and PIL store it: uv (0, 0) is array[-1, 0]). uint8 codes are value / 255 and "
+             "sRGB-decoded by default (colorspace='linear' keeps them); float32 values are linear "
+             "by default (colorspace='srgb' decodes them). Texels must be finite. The texels are "
+             "copied; a scene holding one cannot be written to a JSON file.",
              py::arg("file"), py::arg("colorspace") = "", py::arg("filter") = "",
              py::arg("wrap") = "", py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
              py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
              py::arg("scale") = 1.0, py::arg("channel") = "")
+        .def_property_readonly("shape",
+                               [](const TextureDesc& d) -> py::object {
+                                   if (!d.image) return py::none();
+                                   return py::make_tuple(d.image->height, d.image->width,
+                                                         d.image->channels);
+                               })
         .def_static(
             "checker",
             [](Vec3 c0, Vec3 c1, double cells) {

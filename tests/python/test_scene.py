@@ -292,3 +292,74 @@ def test_gltf_shape_through_the_kind_table():
     d.shapes = [facet.ShapeDesc("gltf", file=str(gltf_dir / "bad_index.gltf"))]
     with pytest.raises(ValueError, match=r"/shapes/0/file: bad_index.gltf#/accessors/1: index 2"):
         facet.build_scene(d)
+
+
+def _texel_quad_scene(texture):
+    """A 4 x 3 camera whose pixel centres hit the texel centres of a 4 x 3 Lambertian quad under
+    a constant environment of radiance 1 (max_depth 1): each pixel is its texel's reflectance
+    (as tests/render/test_textures.cpp, LambertQuadRendersEachTexelsLinearReflectance)."""
+    d = facet.SceneDescription()
+    d.camera = facet.CameraDesc(position=(0, 0, 1.5), look_at=(0, 0, 0), up=(0, 1, 0), fov=90,
+                                width=4, height=3)
+    d.render = facet.RenderSettings(integrator="path", spp=1, max_depth=1, seed=1)
+    quad = facet.ShapeDesc("quad", material=facet.MaterialDesc("lambert", reflectance=texture))
+    quad.vertices = [(-2, -1.5, 0), (2, -1.5, 0), (2, 1.5, 0), (-2, 1.5, 0)]
+    d.shapes.append(quad)
+    d.lights.append(facet.LightDesc("environment", radiance=1))
+    return d
+
+
+def _srgb_decode(codes):
+    e = codes.astype(np.float64) / 255.0
+    return np.where(e <= 0.04045, e / 12.92, ((e + 0.055) / 1.055) ** 2.4).astype(np.float32)
+
+
+def test_numpy_textures_render_their_texels():
+    """facet.Texture from a numpy array: array[0] is the top row; uint8 is sRGB-decoded by
+    default with the exact piecewise curve, float32 is linear. Every path sample returns the
+    texel's reflectance (cosine sampling), so the tolerance is float rounding: 2e-7 relative;
+    a wrong row order or decoding is off by > 1e-2."""
+    codes = (np.arange(36, dtype=np.int64).reshape(3, 4, 3) * 7 + 3).astype(np.uint8)
+    cases = [(facet.Texture(codes, filter="closest"), _srgb_decode(codes)),
+             (facet.Texture(codes, colorspace="linear", filter="closest"),
+              (codes / np.float32(255)).astype(np.float32)),
+             (facet.Texture(codes.astype(np.float32) / 300, filter="closest"),
+              codes.astype(np.float32) / 300),
+             # Grey H x W: one channel, read as grey.
+             (facet.Texture(codes[:, :, 0].astype(np.float32) / 300, filter="closest"),
+              np.repeat(codes[:, :, :1].astype(np.float32) / 300, 3, axis=2))]
+    for texture, want in cases:
+        assert texture.shape[:2] == (3, 4)
+        image = facet.render(facet.build_scene(_texel_quad_scene(texture)), spp=1)
+        np.testing.assert_allclose(image, want, rtol=2e-7, atol=0)
+    # Non-contiguous input is copied, not misread.
+    flipped = np.ascontiguousarray(codes[::-1])[::-1]
+    image = facet.render(facet.build_scene(_texel_quad_scene(
+        facet.Texture(flipped, filter="closest"))), spp=1)
+    np.testing.assert_allclose(image, _srgb_decode(codes), rtol=2e-7, atol=0)
+
+
+def test_numpy_texture_bad_input_is_a_clear_error():
+    good = np.zeros((2, 2, 3), dtype=np.float32)
+    bad = [(np.zeros((2, 2, 3), dtype=np.float64), r"dtype float64, expected float32 or uint8"),
+           (np.zeros((2, 2, 2), dtype=np.float32), r"shape \(2, 2, 2\), expected"),
+           (np.zeros((2, 2, 3, 1), dtype=np.float32), r"shape \(2, 2, 3, 1\), expected"),
+           (np.zeros((0, 2, 3), dtype=np.float32), r"is empty"),
+           ([[1.0, 2.0]], r"expected a file name \(str\) or a numpy array, got <class .list.>")]
+    nan = good.copy()
+    nan[1, 0, 2] = np.nan
+    bad.append((nan, r"texel \(0, 1\) channel 2 is nan"))
+    inf = good.copy()
+    inf[0, 1, 0] = -np.inf
+    bad.append((inf, r"texel \(1, 0\) channel 0 is -inf"))
+    for array, message in bad:
+        with pytest.raises((ValueError, TypeError), match=message):
+            facet.Texture(array)
+    with pytest.raises(ValueError, match=r"colorspace.*'srbg'"):
+        facet.Texture(good, colorspace="srbg")
+    # A numpy texture cannot be written to a scene file (the fingerprint hashes its texels).
+    d = _texel_quad_scene(facet.Texture(good))
+    assert d.shapes[0].material.textures["reflectance"].shape == (2, 2, 3)
+    with pytest.raises(ValueError, match=r"in-memory \(numpy\) texture cannot be written"):
+        d.to_json()
+    facet.build_scene(d)

@@ -1,13 +1,20 @@
-// Test images written with OpenImageIO directly (test_texel_image.cpp, test_textures.cpp), so
-// that the texels a test expects are known independently of the reader under test.
+// Test images written with OpenImageIO directly (test_texel_image.cpp, test_textures.cpp,
+// test_mipmap.cpp), so that the texels a test expects are known independently of the reader
+// under test; and the texture tests' other shared helpers.
 #pragma once
 
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
 
+#include <filesystem>
 #include <string>
 #include <vector>
+
+#include <unistd.h>
+
+#include "facet/render/scene.h"
+#include "facet/testsupport/render_test_util.h"
 
 namespace facet::render::testing {
 
@@ -23,6 +30,29 @@ void write_test_image(const std::string& path, int w, int h, int c, const std::v
     ASSERT_TRUE(out->open(path, spec));
     ASSERT_TRUE(out->write_image(type, data.data()));
     out->close();
+}
+
+// A per-process temporary directory for test images, "<tmp>/<prefix>_<pid>".
+inline std::string test_temp_dir(const std::string& prefix) {
+    const auto d =
+        std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(d);
+    return d.string();
+}
+
+// The closest hit along ray (o, d) in a scene whose only shape is `shape` with the checker
+// material "c" (so that hits compute uv and its derivatives).
+inline SurfaceHit checker_scene_hit(const std::string& shape, const Vec3& o, const Vec3& d) {
+    const Scene scene = scene_from(
+        R"("camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40, "width": 4, "height": 4},
+           "materials": {"c": {"model": "lambert",
+                               "reflectance": {"checker": {"colors": [0.2, 0.8]}}}},
+           "shapes": [)" +
+        shape + R"(], "lights": [{"type": "environment", "radiance": 1}])");
+    SurfaceHit hit;
+    EXPECT_TRUE(scene.intersect(Ray{o, glm::normalize(d), kInfinity}, hit)) << shape;
+    EXPECT_GE(hit.textured, 0);
+    return hit;
 }
 
 }  // namespace facet::render::testing

@@ -2,6 +2,7 @@
 // facet/render/camera.h).
 #include "facet/render/camera.h"
 
+#include "facet/frame.h"
 #include "facet/sampling.h"
 
 namespace facet::render {
@@ -51,6 +52,46 @@ Vec2 Camera::sample_aperture(Vec2 u) const {
     const Vec2 p = blades == 0 ? sample_uniform_disk_concentric(u)
                                : sample_regular_polygon(u, blades, blade_rotation);
     return lens_radius * p;
+}
+
+namespace {
+
+// Where ray (o, e) (e not necessarily unit) meets the plane through p with normal n, minus p.
+// A ray parallel to the plane (grazing) gets a huge but finite offset: the texture then reads
+// its coarsest level, which is what a grazing footprint covers.
+Vec3 plane_offset(const Vec3& o, const Vec3& e, const Vec3& p, const Vec3& n) {
+    constexpr float kMinCos = 1e-6f;  // |dot(e, n)| below this counts as grazing
+    float den = glm::dot(e, n);
+    if (!(std::fabs(den) > kMinCos)) den = std::copysign(kMinCos, den);
+    return o + (glm::dot(p - o, n) / den) * e - p;
+}
+
+}  // namespace
+
+PixelFootprint Camera::footprint(const Vec3& o, const Vec3& d, const Vec3& p, const Vec3& n) const {
+    const Vec3 wx = (2.f * tan_half_x / float(width)) * right;
+    const Vec3 wy = (-2.f * tan_half_y / float(height)) * true_up;
+    if (projection == Projection::Orthographic)
+        return {plane_offset(o + wx, d, p, n), plane_offset(o + wy, d, p, n)};
+    const Vec3 e = d / glm::dot(d, forward);
+    return {plane_offset(o, e + wx, p, n), plane_offset(o, e + wy, p, n)};
+}
+
+PixelFootprint Camera::footprint_at(const Vec3& p, const Vec3& n) const {
+    const Vec3 v = p - position;
+    if (projection == Projection::Orthographic)
+        return footprint(p - glm::dot(v, forward) * forward, forward, p, n);
+    const float len = glm::length(v);
+    if (!(len > 0.f)) return {};
+    const Vec3 d = v / len;
+    // In front of the camera (within ~84 degrees of the view axis): the lens-centre ray.
+    constexpr float kMinForward = 0.1f;
+    if (glm::dot(d, forward) > kMinForward) return footprint(position, d, p, n);
+    // Behind or beside it: the centre pixel's angular steps, about the direction to p.
+    const Frame fr = Frame::from_z(d);
+    const float sx = 2.f * tan_half_x / float(width), sy = 2.f * tan_half_y / float(height);
+    return {plane_offset(position, d + sx * fr.x, p, n),
+            plane_offset(position, d + sy * fr.y, p, n)};
 }
 
 std::optional<Vec2> Camera::project(const Vec3& p) const {

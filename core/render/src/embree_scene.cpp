@@ -528,7 +528,21 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     hit.ns = hit.ng;
     hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
     hit.shape = prim.shape;
-    if (prim.uv) hit.uv = analytic_uv(prim.kind, po);
+    if (prim.uv) {
+        hit.uv = analytic_uv(prim.kind, po);
+        // dp/du and dp/dv of the uv map (ray differentials): sphere longitude/latitude, disc
+        // bounding square [-1, 1]^2 onto [0, 1]^2.
+        const glm::dmat3 lin(prim.to_world);
+        if (prim.kind == AnalyticPrim::Kind::Sphere) {
+            glm::dvec3 du, dv;
+            sphere_uv_derivatives(po, du, dv);
+            hit.dpdu_uv = Vec3(lin * du);
+            hit.dpdv_uv = Vec3(lin * dv);
+        } else {
+            hit.dpdu_uv = Vec3(lin * glm::dvec3(2.0, 0.0, 0.0));
+            hit.dpdv_uv = Vec3(lin * glm::dvec3(0.0, 2.0, 0.0));
+        }
+    }
 }
 
 // Inline: called once per closest hit, only from Scene::intersect below.
@@ -574,7 +588,19 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
-    if (!mg.tri_uvs.empty() || mg.spherical) hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
+    if (!mg.tri_uvs.empty()) {
+        hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
+        hit.dpdu_uv = mg.tri_dpduv[tri][0];
+        hit.dpdv_uv = mg.tri_dpduv[tri][1];
+    } else if (mg.spherical) {
+        const glm::dvec3 po(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
+        hit.uv = sphere_uv(po);
+        glm::dvec3 du, dv;
+        sphere_uv_derivatives(po / glm::length(po), du, dv);
+        const glm::dmat3 lin = glm::inverse(glm::dmat3(mg.to_object));
+        hit.dpdu_uv = Vec3(lin * du);
+        hit.dpdv_uv = Vec3(lin * dv);
+    }
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -626,7 +652,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         hit.ns = hit.ng;
         hit.dpdu = pl.tangent;
         hit.shape = pl.shape;
-        if (pl.uv) hit.uv = plane_uv(pl, p);
+        if (pl.uv) {
+            hit.uv = plane_uv(pl, p);
+            hit.dpdu_uv = Vec3(pl.ex);
+            hit.dpdv_uv = Vec3(pl.ey);
+        }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
     } else if (geom == be.analytic_geom) {
@@ -644,7 +674,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.textured = s.textured;
     hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
     if (s.emission_texture && glm::dot(hit.ng, ray.d) < 0.f) [[unlikely]]
-        hit.emitted_radiance = s.emission_texture->eval(hit.uv);
+        hit.emitted_radiance = s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
     return true;
 }
 

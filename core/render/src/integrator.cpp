@@ -289,8 +289,11 @@ template <std::uint32_t F>
                                              RayPacket& rays, std::size_t k, const SurfaceHit& hit,
                                              const VertexSamples& s, bool& has_shadow,
                                              RayPacket& shadow, int depth, int max_depth,
-                                             KernelCounters& c, const Vec3& ray_d) {
-    const Material m = scene.material_at(hit);
+                                             KernelCounters& c, const Ray& ray) {
+    // The texture footprint: exact for camera rays, as the camera sees p further on.
+    const Material m =
+        scene.material_at(hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr));
+    const Vec3& ray_d = ray.d;
     return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, m);
 }
@@ -344,7 +347,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     }
     if (hit.textured >= 0) [[unlikely]]
         return path_scatter_textured<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow,
-                                        depth, max_depth, c, ray_d);
+                                        depth, max_depth, c, rays.get(k));
     return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, *hit.material);
 }
@@ -440,7 +443,8 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
         std::optional<Material> textured;  // as in path_vertex
         if (hit.textured >= 0) [[unlikely]]
-            textured.emplace(scene.material_at(hit));
+            textured.emplace(
+                scene.material_at(hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr)));
         const Material& m = textured ? *textured : *hit.material;
         Shading sh;
         bool transmissive = false;

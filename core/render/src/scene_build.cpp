@@ -69,7 +69,11 @@ class Builder final : public BuildChecks {
   public:
     Builder(const SceneDescription& desc, std::string name, const SceneLimits& limits,
             BuildReport* report)
-        : m_desc(desc), m_name(std::move(name)), m_limits(limits), m_report(report) {}
+        : m_desc(desc),
+          m_name(std::move(name)),
+          m_limits(limits),
+          m_report(report),
+          m_images(limits.texture_memory) {}
 
     Scene build() {
         const auto t0 = std::chrono::steady_clock::now();
@@ -263,7 +267,7 @@ class Builder final : public BuildChecks {
             TexelImageOptions linear;
             linear.color_space = ColorSpace::Linear;
             if (!td.checker && td.channel == "a" && !td.file.empty() &&
-                (m_limits.allow_files || td.bytes) &&
+                (m_limits.allow_files || td.bytes || td.image) &&
                 load_image(td, linear, op)->alpha_channel < 0) {
                 // The alpha of an image without one is 1 (opaque), as glTF and Blender read it:
                 // the opacity is the texture's scale alone.
@@ -294,6 +298,18 @@ class Builder final : public BuildChecks {
     std::shared_ptr<const TexelImage> load_image(const TextureDesc& d, const TexelImageOptions& opt,
                                                  const std::string& ptr) {
         try {
+            if (d.image) {
+                // In memory (numpy): decoded when it was made; counted against the bound, and
+                // checked here for what a file is checked on load.
+                auto img = m_images.adopt(d.image, ptr + "/texture");
+                for (std::size_t i = 0; opt.reject_negative && i < img->texels.size(); ++i)
+                    if (img->texels[i] < 0.f &&
+                        int(i % std::size_t(img->channels)) != img->alpha_channel)
+                        fail(ptr + "/texture", d.file + ": texel " +
+                                                   std::to_string(i / std::size_t(img->channels)) +
+                                                   " is negative (an emitted radiance)");
+                return img;
+            }
             return d.bytes ? m_images.get_memory(d.file, *d.bytes, opt, ptr + "/texture")
                            : m_images.get(resolve_scene_path(d.file, m_desc.base_dir), opt,
                                           ptr + "/texture");
@@ -342,15 +358,10 @@ class Builder final : public BuildChecks {
             fail(ptr + "/" + key, msg);
         };
         if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
-        if (!m_limits.allow_files && !d.bytes)
+        if (!m_limits.allow_files && !d.bytes && !d.image)
             fail(ptr + "/texture", "image files are disabled here");
         const int filter =
-            d.filter.empty() ? 1 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
-        if (filter == 2) {
-            fail(ptr + "/filter",
-                 "\"mipmap\" filtering is not implemented yet; use \"closest\" or \"linear\" "
-                 "(bilinear)");
-        }
+            d.filter.empty() ? 2 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
         const int wrap = d.wrap.empty() ? 0 : choose("wrap", d.wrap, {"repeat", "clamp", "mirror"});
         TexelImageOptions opt;
         opt.reject_negative = radiance;
@@ -380,12 +391,23 @@ class Builder final : public BuildChecks {
                  "luminance) for the colour image '" +
                      d.file + "'");
         }
-        textures.push_back(std::make_unique<Texture>(Texture::image(
-            std::move(img), filter == 0 ? TextureFilter::Closest : TextureFilter::Linear,
-            wrap == 0   ? TextureWrap::Repeat
-            : wrap == 1 ? TextureWrap::Clamp
-                        : TextureWrap::Mirror,
-            channel, d)));
+        std::shared_ptr<const std::vector<TexelImage>> mips;
+        if (filter == 2) {
+            try {
+                mips = m_images.mip_levels(img, ptr + "/texture");
+            } catch (const TexelImageError& e) {
+                throw SceneError(m_name + ": " + e.what());
+            }
+        }
+        textures.push_back(
+            std::make_unique<Texture>(Texture::image(std::move(img),
+                                                     filter == 0   ? TextureFilter::Closest
+                                                     : filter == 1 ? TextureFilter::Linear
+                                                                   : TextureFilter::Mipmap,
+                                                     wrap == 0   ? TextureWrap::Repeat
+                                                     : wrap == 1 ? TextureWrap::Clamp
+                                                                 : TextureWrap::Mirror,
+                                                     channel, d, std::move(mips))));
         return textures.back().get();
     }
 
@@ -777,9 +799,15 @@ class Builder final : public BuildChecks {
                          "the shape's material or emission is textured but the mesh has no UVs");
                 } else {
                     g.tri_uvs.resize(mesh.num_triangles());
-                    for (std::size_t t = 0; t < g.tri_uvs.size(); ++t)
-                        for (std::size_t j = 0; j < 3; ++j)
+                    g.tri_dpduv.resize(mesh.num_triangles());
+                    for (std::size_t t = 0; t < g.tri_uvs.size(); ++t) {
+                        std::array<glm::dvec3, 3> p;
+                        for (std::size_t j = 0; j < 3; ++j) {
                             g.tri_uvs[t][j] = mesh.uvs[mesh.indices[3 * t + j]];
+                            p[j] = glm::dvec3(mesh.positions[mesh.indices[3 * t + j]]);
+                        }
+                        g.tri_dpduv[t] = triangle_uv_derivatives(p, g.tri_uvs[t]);
+                    }
                 }
             }
             mesh.uvs = {};

@@ -40,6 +40,8 @@ struct MeshGeom {
     // barycentrics), or, for the icosphere, from the direction of the hit point in the shape's
     // object space (`spherical`, `to_object`: world -> the unit sphere's frame).
     std::vector<std::array<Vec2, 3>> tri_uvs;
+    // With tri_uvs: per triangle dp/du and dp/dv (SurfaceHit::dpdu_uv, dpdv_uv).
+    std::vector<std::array<Vec3, 2>> tri_dpduv;
     bool spherical = false;
     Opacity opacity;  // active: cut-outs decided per candidate hit (an Embree filter function)
     glm::dmat4 to_object{1.0};
@@ -72,6 +74,31 @@ inline Vec2 sphere_uv(const glm::dvec3& p) {
     if (u < 0.0) u += 1.0;
     const double z = std::clamp(p.z / glm::length(p), -1.0, 1.0);
     return {float(u), float(std::acos(-z) / kPi)};
+}
+
+// dp/du and dp/dv (object space) of the map sphere_uv at point p of the unit sphere
+// (scene.h: SurfaceHit conventions); at the poles (rho = 0) dp/dv is taken along longitude 0.
+inline void sphere_uv_derivatives(const glm::dvec3& p, glm::dvec3& dpdu, glm::dvec3& dpdv) {
+    constexpr double kPi = 3.14159265358979323846;
+    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    dpdu = 2.0 * kPi * glm::dvec3(-p.y, p.x, 0.0);
+    dpdv = rho > 0.0 ? kPi * glm::dvec3(-p.z * p.x / rho, -p.z * p.y / rho, rho)
+                     : kPi * glm::dvec3(-p.z, 0.0, 0.0);
+}
+
+// dp/du and dp/dv of a triangle with positions p and texture coordinates uv (pbrt-v4 eq. 6.7),
+// or zero vectors when its uvs are degenerate (collinear).
+inline std::array<Vec3, 2> triangle_uv_derivatives(const std::array<glm::dvec3, 3>& p,
+                                                   const std::array<Vec2, 3>& uv) {
+    const glm::dvec2 d02 = glm::dvec2(uv[0]) - glm::dvec2(uv[2]);
+    const glm::dvec2 d12 = glm::dvec2(uv[1]) - glm::dvec2(uv[2]);
+    const glm::dvec3 dp02 = p[0] - p[2], dp12 = p[1] - p[2];
+    const double det = d02.x * d12.y - d02.y * d12.x;
+    if (!(std::fabs(det) > 0.0)) return {Vec3(0.f), Vec3(0.f)};
+    const glm::dvec3 dpdu = (d12.y * dp02 - d02.y * dp12) / det;
+    const glm::dvec3 dpdv = (d02.x * dp12 - d12.x * dp02) / det;
+    if (!is_finite(Vec3(dpdu)) || !is_finite(Vec3(dpdv))) return {Vec3(0.f), Vec3(0.f)};
+    return {Vec3(dpdu), Vec3(dpdv)};
 }
 
 // An infinite plane through `point` with unit normal `normal` (world space).

@@ -716,13 +716,28 @@ json vec_json(const Vec3& v) {
     return json::array({double(v.x), double(v.y), double(v.z)});
 }
 
-json texture_json(const TextureDesc& d) {
+std::uint64_t fnv1a(const void* data, std::size_t n, std::uint64_t h);
+
+// `hashed`: for the fingerprint, where an in-memory image stands as a hash of its texels; a
+// scene file cannot hold one (an error: save the array as an image file and name it).
+json texture_json(const TextureDesc& d, bool hashed) {
     json j = json::object();
+    if (d.image) {
+        if (!hashed)
+            throw SceneError(d.file +
+                             ": an in-memory (numpy) texture cannot be written to a scene file; "
+                             "save it as an image file and give its path");
+        j["texture"] = d.file;
+        j["texels"] =
+            std::to_string(d.image->texels.size()) + ":" +
+            std::to_string(fnv1a(d.image->texels.data(), d.image->texels.size() * sizeof(float),
+                                 1469598103934665603ull));
+    }
     if (d.checker) {
         j["checker"] = {{"colors", json::array({vec_json(d.colors[0]), vec_json(d.colors[1])})},
                         {"scale", d.checker_scale}};
     } else {
-        j["texture"] = d.file;
+        if (!d.image) j["texture"] = d.file;
         if (!d.colorspace.empty()) j["colorspace"] = d.colorspace;
         if (!d.filter.empty()) j["filter"] = d.filter;
         if (!d.wrap.empty()) j["wrap"] = d.wrap;
@@ -742,10 +757,10 @@ json texture_json(const TextureDesc& d) {
     return j;
 }
 
-json material_json(const MaterialDesc& m) {
+json material_json(const MaterialDesc& m, bool hashed) {
     json j = json::object();
     j["model"] = m.model;
-    for (const auto& [name, t] : m.textures) j[name] = texture_json(t);
+    for (const auto& [name, t] : m.textures) j[name] = texture_json(t, hashed);
     for (const auto& [name, v] : m.params.values()) {
         const std::string& key = name;  // (clang 14 cannot capture a structured binding)
         std::visit(
@@ -860,7 +875,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     if (c.rotation != 0.0) cam["rotation"] = c.rotation;
     root["camera"] = cam;
     json mats = json::object();
-    for (const auto& [name, m] : d.materials) mats[name] = material_json(m);
+    for (const auto& [name, m] : d.materials) mats[name] = material_json(m, hashed_arrays);
     root["materials"] = mats;
     json shapes = json::array();
     for (const ShapeDesc& s : d.shapes) {
@@ -868,11 +883,11 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         j["type"] = shape_kind(s.kind).name;
         if (!s.name.empty()) j["name"] = s.name;
         if (s.material)
-            j["material"] = material_json(*s.material);
+            j["material"] = material_json(*s.material, hashed_arrays);
         else if (!s.material_ref.empty())
             j["material"] = s.material_ref;
         if (s.emission != Rgb(0.f)) j["emission"] = vec_json(s.emission);
-        if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture);
+        if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture, hashed_arrays);
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.transform) j["transform"] = matrix_json(*s.transform);
@@ -939,9 +954,9 @@ Scene load_scene_from_string(const std::string& json_text, const std::string& na
                        name_for_errors, limits);
 }
 
-Scene load_scene(const std::string& path) {
+Scene load_scene(const std::string& path, const SceneLimits& limits) {
     SceneDescription d = read_scene_description(path);
-    return build_scene(d, path);
+    return build_scene(d, path, limits);
 }
 
 }  // namespace facet::render

@@ -24,11 +24,6 @@ namespace {
     throw TexelImageError(fmt::format("{}: {}: {}", where, path, what));
 }
 
-// IEC 61966-2-1 decoding in double, rounded once to float.
-float srgb_decode_exact(double e) {
-    return float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
-}
-
 bool is_float(const OIIO::TypeDesc& t) {
     return t.basetype == OIIO::TypeDesc::FLOAT || t.basetype == OIIO::TypeDesc::HALF ||
            t.basetype == OIIO::TypeDesc::DOUBLE;
@@ -110,18 +105,7 @@ TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOption
     if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, image.texels.data()))
         fail(where, path, "cannot read image: " + in->geterror());
     in->close();
-    for (std::size_t i = 0; i < n; ++i) {
-        float& v = image.texels[i];
-        const int c = int(i % nc);
-        if (!std::isfinite(v) || (options.reject_negative && v < 0.f)) {
-            const std::size_t p = i / nc;
-            fail(where, path,
-                 fmt::format("texel ({}, {}) channel {} is {}{} (row 0 at the top)",
-                             p % std::size_t(image.width), p / std::size_t(image.width), c,
-                             std::isfinite(v) ? "negative: " : "", v));
-        }
-        if (cs == ColorSpace::Srgb && c != image.alpha_channel) v = srgb_decode_exact(v);
-    }
+    check_and_decode_texels(image, cs, options.reject_negative, where);
     return image;
 }
 

@@ -42,9 +42,12 @@ int wrap_index(int i, int n, TextureWrap wrap) {
 }
 
 Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filter,
-                       TextureWrap wrap, int channel, const TextureDesc& d) {
+                       TextureWrap wrap, int channel, const TextureDesc& d,
+                       std::shared_ptr<const std::vector<TexelImage>> mips) {
     Texture t;
     t.m_image = std::move(img);
+    t.m_mips = std::move(mips);
+    if (filter == TextureFilter::Mipmap && !t.m_mips) filter = TextureFilter::Linear;
     t.m_filter = filter;
     t.m_wrap = wrap;
     t.m_channel = channel;
@@ -55,7 +58,7 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
     t.m_max = Rgb(-INFINITY);
     for (int y = 0; y < im.height; ++y) {
         for (int x = 0; x < im.width; ++x) {
-            const Rgb v = t.texel(x, y);
+            const Rgb v = t.texel(im, x, y);
             t.m_min = glm::min(t.m_min, v);
             t.m_max = glm::max(t.m_max, v);
         }
@@ -78,9 +81,8 @@ Vec2 Texture::transform(Vec2 uv) const {
     return m_a * uv + m_b;
 }
 
-// Texel (x, y) (indices already wrapped) as the texture's value, times scale.
-Rgb Texture::texel(int x, int y) const {
-    const TexelImage& im = *m_image;
+// Texel (x, y) of level `im` (indices already wrapped) as the texture's value, times scale.
+Rgb Texture::texel(const TexelImage& im, int x, int y) const {
     const float* p = &im.texels[(std::size_t(y) * std::size_t(im.width) + std::size_t(x)) *
                                 std::size_t(im.channels)];
     Rgb c;
@@ -94,6 +96,27 @@ Rgb Texture::texel(int x, int y) const {
     return c * m_scale;
 }
 
+namespace {
+
+// Clamp before converting: uv far outside any image must not overflow int.
+int texel_index(float f) {
+    return int(std::floor(std::clamp(f, -1e9f, 1e9f)));
+}
+
+}  // namespace
+
+// Bilinear between the texel centres of level `im` around the transformed coordinates t.
+Rgb Texture::bilinear(const TexelImage& im, Vec2 t) const {
+    // Continuous texel coordinates: x right from the left edge, y down from the top edge.
+    const float gx = t.x * float(im.width) - 0.5f, gy = (1.f - t.y) * float(im.height) - 0.5f;
+    const int x0 = texel_index(gx), y0 = texel_index(gy);
+    const float ax = gx - float(x0), ay = gy - float(y0);
+    const int xa = wrap_index(x0, im.width, m_wrap), xb = wrap_index(x0 + 1, im.width, m_wrap);
+    const int ya = wrap_index(y0, im.height, m_wrap), yb = wrap_index(y0 + 1, im.height, m_wrap);
+    return (1.f - ay) * ((1.f - ax) * texel(im, xa, ya) + ax * texel(im, xb, ya)) +
+           ay * ((1.f - ax) * texel(im, xa, yb) + ax * texel(im, xb, yb));
+}
+
 Rgb Texture::eval(Vec2 uv) const {
     const Vec2 t = transform(uv);
     if (!m_image) {
@@ -104,35 +127,73 @@ Rgb Texture::eval(Vec2 uv) const {
         return m_colors[odd ? 1 : 0];
     }
     const TexelImage& im = *m_image;
-    // Continuous texel coordinates: x right from the left edge, y down from the top edge.
-    const float fx = t.x * float(im.width), fy = (1.f - t.y) * float(im.height);
-    auto index = [](float f) {
-        // Clamp before converting: uv far outside any image must not overflow int.
-        return int(std::floor(std::clamp(f, -1e9f, 1e9f)));
-    };
     if (m_filter == TextureFilter::Closest) {
-        return texel(wrap_index(index(fx), im.width, m_wrap),
-                     wrap_index(index(fy), im.height, m_wrap));
+        return texel(im, wrap_index(texel_index(t.x * float(im.width)), im.width, m_wrap),
+                     wrap_index(texel_index((1.f - t.y) * float(im.height)), im.height, m_wrap));
     }
-    // Bilinear between the texel centres around (fx, fy).
-    const float gx = fx - 0.5f, gy = fy - 0.5f;
-    const int x0 = index(gx), y0 = index(gy);
-    const float ax = gx - float(x0), ay = gy - float(y0);
-    const int xa = wrap_index(x0, im.width, m_wrap), xb = wrap_index(x0 + 1, im.width, m_wrap);
-    const int ya = wrap_index(y0, im.height, m_wrap), yb = wrap_index(y0 + 1, im.height, m_wrap);
-    return (1.f - ay) * ((1.f - ax) * texel(xa, ya) + ax * texel(xb, ya)) +
-           ay * ((1.f - ax) * texel(xa, yb) + ax * texel(xb, yb));
+    return bilinear(im, t);
+}
+
+float Texture::mip_level(const UvFootprint& fp) const {
+    if (!m_image) return 0.f;
+    const Vec2 size(float(m_image->width), float(m_image->height));
+    const Vec2 gx = size * (m_a * fp.duvdx), gy = size * (m_a * fp.duvdy);
+    const float width = std::max(glm::dot(gx, gx), glm::dot(gy, gy));
+    // log2 of the longer length; a zero or non-finite footprint reads level 0.
+    return width > 0.f && std::isfinite(width) ? 0.5f * std::log2(width) : 0.f;
+}
+
+Rgb Texture::eval(Vec2 uv, const UvFootprint& fp) const {
+    if (m_filter != TextureFilter::Mipmap) return eval(uv);
+    const float lambda = mip_level(fp);
+    if (!(lambda > 0.f)) return eval(uv);  // magnification: level 0, exactly "linear"
+    const Vec2 t = transform(uv);
+    const std::vector<TexelImage>& mips = *m_mips;
+    const int last = int(mips.size());  // index of the 1 x 1 level
+    if (lambda >= float(last)) return last == 0 ? bilinear(*m_image, t) : bilinear(mips.back(), t);
+    const int l = int(std::floor(lambda));
+    const float a = lambda - float(l);
+    const TexelImage& lo = l == 0 ? *m_image : mips[std::size_t(l - 1)];
+    const TexelImage& hi = mips[std::size_t(l)];
+    return (1.f - a) * bilinear(lo, t) + a * bilinear(hi, t);
+}
+
+UvFootprint uv_footprint(const PixelFootprint& fp, const Vec3& dpdu, const Vec3& dpdv) {
+    // Normal equations of the 3 x 2 system [dpdu dpdv] (du, dv) = dp, solved in double (the
+    // determinant of nearly parallel derivatives cancels badly in float).
+    const glm::dvec3 a(dpdu), b(dpdv);
+    const double aa = glm::dot(a, a), ab = glm::dot(a, b), bb = glm::dot(b, b);
+    const double det = aa * bb - ab * ab;
+    if (!(det > 0.0) || !std::isfinite(det)) return {};
+    auto solve = [&](const Vec3& dp) {
+        const glm::dvec3 d(dp);
+        const double ra = glm::dot(a, d), rb = glm::dot(b, d);
+        const glm::dvec2 r((bb * ra - ab * rb) / det, (aa * rb - ab * ra) / det);
+        // A huge (grazing) footprint is clamped far past any pyramid's last level.
+        constexpr double kMaxDuv = 1e8;
+        return std::isfinite(r.x) && std::isfinite(r.y)
+                   ? Vec2(glm::clamp(r, glm::dvec2(-kMaxDuv), glm::dvec2(kMaxDuv)))
+                   : Vec2(float(kMaxDuv));
+    };
+    return {solve(fp.dpdx), solve(fp.dpdy)};
+}
+
+UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ray) const {
+    const PixelFootprint fp = camera_ray
+                                  ? m_camera.footprint(camera_ray->o, camera_ray->d, hit.p, hit.ng)
+                                  : m_camera.footprint_at(hit.p, hit.ng);
+    return uv_footprint(fp, hit.dpdu_uv, hit.dpdv_uv);
 }
 
 // Per-hit instantiation of a textured material (scene.h). The values are clamped into the
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
-Material Scene::material_at(const SurfaceHit& hit) const {
+Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
     const TexturedMaterial& tm = m_textured[std::size_t(hit.textured)];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
         const Rgb v =
-            glm::clamp(s.texture->eval(hit.uv), s.texture->min_value(), s.texture->max_value());
+            glm::clamp(s.texture->eval(hit.uv, fp), s.texture->min_value(), s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
     try {

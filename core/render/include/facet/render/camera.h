@@ -35,6 +35,19 @@
 //    along f (a plane, not a sphere). aperture_radius = 0 is the pinhole: no lens sample is
 //    drawn and rays are exactly the lens-centre rays.
 //  - Rays start exactly at their origin (no near plane) and have unit direction.
+//  - Pixel footprints (ray differentials, pbrt-v4 sections 5.1 and 10.1.1): the rays of the
+//    film positions one pixel to the right (x + 1) and one pixel down (y + 1), with the SAME
+//    lens sample, meet the tangent plane of a hit at p + dpdx and p + dpdy. In closed form, with
+//    the window's pixel steps w_x = (2 h_x / width) r and w_y = -(2 h_y / height) u:
+//      perspective (pinhole and thin lens alike): the differential ray leaves the same origin o
+//        with direction d / dot(d, f) + w (the focus point moves by focus_distance w, and the
+//        lens point stays);
+//      orthographic (with or without lens): the differential ray leaves o + w in direction d.
+//    Exact for camera rays. At later path vertices (pbrt-v4's Camera::Approximate_dp_dxy) the
+//    footprint is that of the lens-centre camera ray through p, as if p were seen directly:
+//    exact for pinhole and orthographic cameras at points the camera sees, approximate for a
+//    thin lens (its footprint at the plane of focus) and for points behind the camera (there
+//    the centre pixel's angular step about the direction to p).
 #pragma once
 
 #include <cstdint>
@@ -52,6 +65,12 @@ struct Ray {
 };
 
 enum class Projection : std::uint8_t { Perspective, Orthographic };
+
+// The pixel footprint on a surface: p + dpdx, p + dpdy are where the differential rays meet
+// the tangent plane at p (conventions).
+struct PixelFootprint {
+    Vec3 dpdx{0.f}, dpdy{0.f};
+};
 
 // What a camera has besides the pinhole perspective's position, orientation, fov and size;
 // the defaults are the pinhole perspective camera.
@@ -103,6 +122,12 @@ struct Camera {
 
     // The lens point (r, u coordinates, scene units) of lens sample u: uniform on the aperture.
     Vec2 sample_aperture(Vec2 u) const;
+
+    // The footprint at hit point p (unit normal n) of camera ray (o, d): exact (conventions).
+    PixelFootprint footprint(const Vec3& o, const Vec3& d, const Vec3& p, const Vec3& n) const;
+    // The footprint at p as if seen from the lens centre: for later path vertices
+    // (conventions).
+    PixelFootprint footprint_at(const Vec3& p, const Vec3& n) const;
 
     // Film position (pixels) where world point p projects through the lens centre, or nullopt
     // when p is not in front of the camera (the lens plane). The inverse of generate_ray(film)

@@ -19,6 +19,12 @@
 //    computed (skip what the scene does not need) and must not be read. `textured` >= 0 means
 //    the material's parameters depend on uv: build the hit's material with
 //    Scene::material_at(hit) instead of using `material` (the untextured fast path).
+//    `dpdu_uv`, `dpdv_uv` (the partial derivatives of p with respect to u and v, world units
+//    per unit of uv) are filled with uv and give the texture footprint (uv_footprint):
+//    triangles, per triangle from its vertices' positions and uvs (pbrt-v4 eq. 6.7; zero when
+//    the uvs are degenerate: no filtering); sphere and icosphere, the longitude/latitude map's
+//    derivatives 2 pi (-y, x, 0) and pi (-z x / rho, -z y / rho, rho) in object space
+//    (rho = sqrt(x^2 + y^2)); disc, 2 x and 2 y of its object frame; plane, its unit uv axes.
 //  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
 //    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
 //    is always one-sided: only the front side emits (light.h).
@@ -71,7 +77,13 @@ struct SurfaceHit {
     std::int32_t light = -1;             // index into Scene::lights() when the shape emits, else -1
     Vec2 uv{0.f};                        // texture coordinates (see conventions)
     std::int32_t textured = -1;          // index of the textured material, or -1
+    Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};     // dp/du and dp/dv (with uv; see conventions)
 };
+
+// The footprint in uv of pixel footprint fp at a hit with derivatives dpdu, dpdv: the least
+// squares solution of dpdx = dpdu dudx + dpdv dvdx (and likewise for y), as pbrt-v4's
+// SurfaceInteraction::ComputeDifferentials; zero when dpdu and dpdv are degenerate.
+UvFootprint uv_footprint(const PixelFootprint& fp, const Vec3& dpdu, const Vec3& dpdv);
 
 struct RenderSettings {
     std::string integrator = "path";  // "direct" | "path"
@@ -294,7 +306,11 @@ class Scene {
     // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
     // model built from them (never throws: build_scene checked every texture's range against
     // the model's). Hits with textured < 0 use *hit.material.
-    Material material_at(const SurfaceHit& hit) const;
+    Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {}) const;
+    // The texture footprint of a hit with uv: from the camera ray `camera_ray` that reached it
+    // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
+    // (Camera::footprint_at).
+    UvFootprint texture_footprint(const SurfaceHit& hit, const Ray* camera_ray) const;
     // The textured materials (ShapeInfo::textured indexes them).
     std::span<const TexturedMaterial> textured_materials() const { return m_textured; }
 
@@ -375,12 +391,15 @@ struct SceneLimits {
     std::uint64_t max_triangles = std::uint64_t(1) << 26;  // 67M triangles in the whole scene
     std::int64_t max_pixels = std::int64_t(1) << 28;
     bool allow_files = true;  // mesh "file" entries and environment map images
+    // Bytes of texture texels (float, MIP levels included) the scene may hold
+    // (TexelImageCache): an image past it is a SceneError naming the texture's pointer.
+    std::uint64_t texture_memory = kDefaultTextureMemory;
 };
 
 // Loads a scene file (JSON, scenes/FORMAT.md): read_scene_description() then build_scene()
 // (scene_description.h). Throws SceneError("<path>: <pointer>: message"). Relative mesh file
 // paths are resolved against the scene file's directory.
-Scene load_scene(const std::string& path);
+Scene load_scene(const std::string& path, const SceneLimits& limits = {});
 // Same, from JSON text; `name_for_errors` prefixes messages, `base_dir` resolves mesh files.
 Scene load_scene_from_string(const std::string& json, const std::string& name_for_errors,
                              const std::string& base_dir = ".", const SceneLimits& limits = {});

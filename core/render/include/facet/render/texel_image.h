@@ -16,9 +16,19 @@
 //    throw TexelImageError naming `where` (a JSON pointer or an object name) and the file.
 //    Negative texels are rejected only when asked (environment maps and emission: radiance
 //    cannot be negative), as float files can legitimately hold signed data (normal maps).
+//  - MIP levels (build_mip_levels): level l + 1 has max(1, floor(W_l / 2)) x
+//    max(1, floor(H_l / 2)) texels, each the area-weighted mean of the level-l texels it
+//    covers (a box filter with fractional weights at odd sizes, so every level keeps the mean
+//    of the image exactly up to float rounding); the last level is 1 x 1. Built once, on load,
+//    from the decoded (linear) texels, so sRGB images are averaged in linear light.
+//  - Memory bound: a TexelImageCache holds at most `limit` bytes of texels (images and their
+//    MIP levels, 4 bytes per channel); an image that would pass it throws TexelImageError
+//    naming `where`, the file, the size and the limit (never a silent downscale or eviction).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <memory>
 #include <mutex>
@@ -56,6 +66,55 @@ struct TexelImageOptions {
     bool reject_negative = false;
 };
 
+// The MIP levels 1, 2, ... of `image` down to 1 x 1 (level 0 is the image itself; see
+// conventions). Empty for a 1 x 1 image.
+std::vector<TexelImage> build_mip_levels(const TexelImage& image);
+
+// The default bound of a TexelImageCache: 4 GiB of float texels (an 8-bit RGBA 16K x 16K
+// image with its MIP levels takes 5.3 GiB; a 4K RGB image 0.27 GiB).
+constexpr std::uint64_t kDefaultTextureMemory = std::uint64_t(4) << 30;
+
+// IEC 61966-2-1 decoding in double, rounded once to float (conventions).
+inline float srgb_decode_exact(double e) {
+    return float(e <= 0.04045 ? e / 12.92 : std::pow((e + 0.055) / 1.055, 2.4));
+}
+
+// Checks the texels of `image` (NaN, Inf; negative values when reject_negative) and decodes
+// its colour channels in place when cs is Srgb; throws TexelImageError "<where>: <path>:
+// texel (x, y) channel c is ..." for the first bad texel. Shared by the file reader and
+// in-memory images.
+inline void check_and_decode_texels(TexelImage& image, ColorSpace cs, bool reject_negative,
+                                    const std::string& where) {
+    const std::size_t nc = std::size_t(image.channels);
+    for (std::size_t i = 0; i < image.texels.size(); ++i) {
+        float& v = image.texels[i];
+        const int c = int(i % nc);
+        if (!std::isfinite(v) || (reject_negative && v < 0.f)) {
+            const std::size_t p = i / nc;
+            char value[32];
+            if (std::isnan(v))
+                std::snprintf(value, sizeof value, "nan");
+            else
+                std::snprintf(value, sizeof value, "%g", double(v));
+            throw TexelImageError(
+                where + ": " + image.path + ": texel (" +
+                std::to_string(p % std::size_t(image.width)) + ", " +
+                std::to_string(p / std::size_t(image.width)) + ") channel " + std::to_string(c) +
+                " is " + (std::isfinite(v) ? "negative: " : "") + value + " (row 0 at the top)");
+        }
+        if (cs == ColorSpace::Srgb && c != image.alpha_channel) v = srgb_decode_exact(v);
+    }
+    image.color_space = cs == ColorSpace::Srgb ? ColorSpace::Srgb : ColorSpace::Linear;
+}
+
+// An image from memory (the Python module's numpy arrays): w x h texels of c channels
+// (1 grey, 2 grey + alpha, 3 RGB, 4 RGBA), row 0 at the top, interleaved; `codes` 8-bit (value
+// code / 255) or else `floats`. Colour space Auto is Srgb for 8-bit codes and Linear for floats,
+// as for files. Validated as files are (conventions); `name` stands for the path in messages.
+TexelImage texel_image_from_memory(const std::uint8_t* codes, const float* floats, int w, int h,
+                                   int c, const TexelImageOptions& options, const std::string& name,
+                                   const std::string& where);
+
 // Reads `path` (see conventions). `where` names the place in the scene for error messages
 // ("/lights/0/file", "material 'wood'"); messages read "<where>: <path>: <what>".
 TexelImage load_texel_image(const std::string& path, const TexelImageOptions& options,
@@ -71,6 +130,7 @@ TexelImage load_texel_image_memory(const std::string& name, std::span<const unsi
 // one image.
 class TexelImageCache {
   public:
+    explicit TexelImageCache(std::uint64_t limit = kDefaultTextureMemory) : m_limit(limit) {}
     std::shared_ptr<const TexelImage> get(const std::string& path, const TexelImageOptions& options,
                                           const std::string& where);
     // An image in memory (load_texel_image_memory), cached under `name` (which must then name
@@ -79,12 +139,27 @@ class TexelImageCache {
                                                  std::span<const unsigned char> bytes,
                                                  const TexelImageOptions& options,
                                                  const std::string& where);
+    // An image made elsewhere (texel_image_from_memory), counted against the limit once.
+    std::shared_ptr<const TexelImage> adopt(std::shared_ptr<const TexelImage> image,
+                                            const std::string& where);
+    // The MIP levels of an image returned by get() (build_mip_levels), built on first request
+    // and shared by every texture of that image; counted against the limit (`where` names the
+    // place in the error).
+    std::shared_ptr<const std::vector<TexelImage>> mip_levels(
+        const std::shared_ptr<const TexelImage>& image, const std::string& where);
     std::size_t size() const;
-    std::size_t bytes() const;  // texel memory held
+    std::size_t bytes() const;  // texel memory held, MIP levels included
+    std::uint64_t limit() const { return m_limit; }
 
   private:
+    // Adds `add` bytes to m_bytes or throws (conventions); call with m_mutex held.
+    void reserve(std::uint64_t add, const std::string& where, const std::string& path);
     mutable std::mutex m_mutex;
+    std::uint64_t m_limit;
+    std::uint64_t m_bytes = 0;
     std::map<std::tuple<std::string, int, bool>, std::shared_ptr<const TexelImage>> m_images;
+    std::map<const TexelImage*, std::shared_ptr<const std::vector<TexelImage>>> m_mips;
+    std::map<const TexelImage*, std::shared_ptr<const TexelImage>> m_adopted;
 };
 
 }  // namespace facet::render

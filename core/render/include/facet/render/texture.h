@@ -12,9 +12,19 @@
 //      uv' = R(uv_rotation) (uv_scale * uv) + uv_offset,
 //    R rotating counter-clockwise by uv_rotation degrees about (0, 0), `*` per component.
 //  - Filters: closest (the texel containing uv'), linear (bilinear between the 4 texel centres
-//    around uv'). Wrap modes act on texel indices: repeat (period W), clamp (edge texels),
-//    mirror (period 2W, reflected). "mipmap" is not implemented in this version and is an
-//    error, never a silent fallback.
+//    around uv'), mipmap (trilinear over the image's MIP levels, texel_image.h; the default).
+//    Wrap modes act on texel indices of every level: repeat (period W_l), clamp (edge texels),
+//    mirror (period 2 W_l, reflected).
+//  - Mipmap level (Williams 1983; pbrt-v4 section 10.4.3, isotropic trilinear): the pixel's
+//    footprint in uv (UvFootprint: duv/dx, duv/dy per pixel step, from ray differentials,
+//    camera.h) is mapped into level-0 texel units, g = diag(W, H) A duv (A the UV transform's
+//    linear part), and the level is lambda = log2(max(|g_x|, |g_y|)), the longer of the two
+//    footprint vectors (isotropic: blurrier than anisotropic filtering at grazing angles, never
+//    aliased). One pixel spanning exactly 2^k texels gives lambda = k. lambda <= 0
+//    (magnification, or a zero footprint) is exactly the bilinear lookup of level 0 (bit for
+//    bit the "linear" filter); otherwise the bilinear lookups of levels floor(lambda) and
+//    floor(lambda) + 1 are blended linearly in lambda, and lambda past the last (1 x 1) level
+//    reads that level.
 //  - Values: a colour texture of a 1- or 2-channel image is grey (channel 0 in r, g, b); of a
 //    3+ channel image, its first three channels; `channel` picks one channel (or the Rec. 709
 //    luminance 0.2126 R + 0.7152 G + 0.0722 B of linear values) as grey. A number texture
@@ -40,9 +50,12 @@ namespace facet::render {
 struct TextureDesc {
     bool checker = false;  // a procedural checker instead of an image
     // Image
-    std::string file;        // relative to the scene file's directory
+    std::string file;  // relative to the scene file's directory (a name for `image`)
+    // In-memory texels instead of a file (the Python module's numpy arrays, already decoded:
+    // texel_image_from_memory); the scene writer cannot write it (an error).
+    std::shared_ptr<const TexelImage> image;
     std::string colorspace;  // "" (default: image's), "srgb", "linear"
-    std::string filter;      // "" (default: linear), "closest", "linear", "mipmap"
+    std::string filter;      // "" (default: mipmap), "closest", "linear", "mipmap"
     std::string wrap;        // "" (default: repeat), "repeat", "clamp", "mirror"
     std::string channel;     // "" (all), "r", "g", "b", "a", "luminance"
     // An encoded image held in memory instead of a file (an importer's: a .glb's buffer view or
@@ -60,7 +73,14 @@ struct TextureDesc {
     bool operator==(const TextureDesc&) const = default;
 };
 
-enum class TextureFilter : std::uint8_t { Closest, Linear };
+enum class TextureFilter : std::uint8_t { Closest, Linear, Mipmap };
+
+// A pixel's footprint in texture coordinates: the change of uv per pixel step along film x
+// and along film y (zero: a point, sampled at level 0). From uv_footprint (scene.h).
+struct UvFootprint {
+    Vec2 duvdx{0.f}, duvdy{0.f};
+};
+
 enum class TextureWrap : std::uint8_t { Repeat, Clamp, Mirror };
 
 // A texture ready to evaluate (immutable, thread-safe). Never throws once built.
@@ -68,12 +88,22 @@ class Texture {
   public:
     // `channel`: -1 all (colour) channels, 0..3 one channel, 4 luminance.
     static constexpr int kAllChannels = -1, kLuminance = 4;
+    // `mips`: the image's MIP levels 1, 2, ... (TexelImageCache::mip_levels), needed by the
+    // Mipmap filter only (null otherwise).
     static Texture image(std::shared_ptr<const TexelImage> img, TextureFilter filter,
-                         TextureWrap wrap, int channel, const TextureDesc& transform);
+                         TextureWrap wrap, int channel, const TextureDesc& transform,
+                         std::shared_ptr<const std::vector<TexelImage>> mips = nullptr);
     static Texture checker(const TextureDesc& desc);
 
-    // The value at uv (see conventions): a colour (grey for one channel).
+    // The value at uv (see conventions): a colour (grey for one channel). Without a footprint
+    // the Mipmap filter reads level 0 (bilinear).
     Rgb eval(Vec2 uv) const;
+    // The value at uv filtered over the pixel footprint `fp` (Mipmap; the other filters and the
+    // checker ignore fp).
+    Rgb eval(Vec2 uv, const UvFootprint& fp) const;
+    // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
+    float mip_level(const UvFootprint& fp) const;
+    TextureFilter filter() const { return m_filter; }
     // The transformed coordinates uv' (conventions).
     Vec2 transform(Vec2 uv) const;
     // Smallest and largest value per channel over the whole texture (every texel, times scale;
@@ -84,8 +114,10 @@ class Texture {
     const TexelImage* texel_image() const { return m_image.get(); }
 
   private:
-    Rgb texel(int x, int y) const;
-    std::shared_ptr<const TexelImage> m_image;  // null for a checker
+    Rgb texel(const TexelImage& im, int x, int y) const;
+    Rgb bilinear(const TexelImage& im, Vec2 t) const;
+    std::shared_ptr<const TexelImage> m_image;              // null for a checker
+    std::shared_ptr<const std::vector<TexelImage>> m_mips;  // levels 1.. (Mipmap only)
     TextureFilter m_filter = TextureFilter::Linear;
     TextureWrap m_wrap = TextureWrap::Repeat;
     int m_channel = kAllChannels;
