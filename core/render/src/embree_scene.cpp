@@ -423,6 +423,21 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
         hit.uv = prim.kind == AnalyticPrim::Kind::Sphere
                      ? sphere_uv(po)
                      : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
+        if (prim.dp) {
+            const glm::dmat3 lin(prim.to_world);
+            if (prim.kind == AnalyticPrim::Kind::Sphere) {
+                sphere_dp(po, lin, hit.dp_du, hit.dp_dv);
+            } else {
+                hit.dp_du = Vec3(lin * glm::dvec3(2.0, 0.0, 0.0));
+                hit.dp_dv = Vec3(lin * glm::dvec3(0.0, 2.0, 0.0));
+            }
+        }
+        if (prim.tangent_sign != 0.f) {
+            // dp/du of the UVs: along dpdu above; unit (zero at a sphere's poles).
+            const float l = glm::length(hit.dpdu);
+            hit.dpdu = l > 0.f ? hit.dpdu / l : Vec3(0.f);
+            hit.tangent_sign = prim.tangent_sign;
+        }
     }
 }
 
@@ -472,8 +487,29 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     if (!mg.tri_uvs.empty()) {
         const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
         hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
+        if (!mg.tri_tangents.empty()) [[unlikely]] {
+            // Interpolated, not normalised (as Cycles' tangent attribute); the sign too.
+            const std::array<glm::vec4, 3>& tt = mg.tri_tangents[tri];
+            const glm::vec4 tan = (1.f - u - v) * tt[0] + u * tt[1] + v * tt[2];
+            hit.dpdu = Vec3(tan);
+            hit.tangent_sign = tan.w;
+        }
+        if (!mg.tri_dp.empty()) [[unlikely]] {
+            hit.dp_du = mg.tri_dp[tri][0];
+            hit.dp_dv = mg.tri_dp[tri][1];
+        }
     } else if (mg.spherical) {
-        hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
+        const glm::dvec3 q = glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
+        hit.uv = sphere_uv(q);
+        if (mg.tangent_sign != 0.f) [[unlikely]] {
+            // dp/du of the sphere's UVs: (-y, x, 0) in its frame, to world; unit.
+            const glm::dvec3 w = mg.sphere_to_world * glm::dvec3(-q.y, q.x, 0.0);
+            const double l = glm::length(w);
+            hit.dpdu = l > 0.0 ? Vec3(w / l) : Vec3(0.f);
+            hit.tangent_sign = mg.tangent_sign;
+        }
+        if (mg.dp_sphere) [[unlikely]]
+            sphere_dp(q / glm::length(q), mg.sphere_to_world, hit.dp_du, hit.dp_dv);
     }
 }
 
@@ -529,6 +565,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         if (pl.uv) {
             const glm::dvec3 d = p - pl.point;
             hit.uv = Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
+            hit.tangent_sign = pl.tangent_sign;
+            if (pl.dp) {
+                hit.dp_du = Vec3(pl.ex);
+                hit.dp_dv = Vec3(pl.ey);
+            }
         }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;

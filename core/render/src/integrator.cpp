@@ -290,8 +290,10 @@ template <std::uint32_t F>
                                              const VertexSamples& s, bool& has_shadow,
                                              RayPacket& shadow, int depth, int max_depth,
                                              KernelCounters& c, const Vec3& ray_d) {
-    const Material m = scene.material_at(hit);
-    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+    SurfaceHit h = hit;
+    scene.shade_normal(h, -ray_d);  // normal map (nothing without one)
+    const Material m = scene.material_at(h);
+    return path_scatter<F>(scene, light_dist, p, rays, k, h, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, m);
 }
 
@@ -439,8 +441,10 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
         std::optional<Material> textured;  // as in path_vertex
-        if (hit.textured >= 0) [[unlikely]]
+        if (hit.textured >= 0) [[unlikely]] {
+            scene.shade_normal(hit, -ray.d);  // normal map (nothing without one)
             textured.emplace(scene.material_at(hit));
+        }
         const Material& m = textured ? *textured : *hit.material;
         Shading sh;
         bool transmissive = false;

@@ -42,6 +42,17 @@ struct MeshGeom {
     std::vector<std::array<Vec2, 3>> tri_uvs;
     bool spherical = false;
     glm::dmat4 to_object{1.0};
+    // The UV map's tangents, only for shapes that need them (ShapeInfo::needs_tangent): per
+    // triangle, its corners' world tangents (xyz) and bitangent signs (w, with the transform's
+    // and flip_normals' handedness folded in), interpolated like the uvs; for the icosphere
+    // (`spherical`) the analytic dp/du of its UVs, from the hit point, with `tangent_sign`.
+    std::vector<std::array<glm::vec4, 3>> tri_tangents;
+    float tangent_sign = 0.f;         // icosphere: non-zero when tangents are needed
+    glm::dmat3 sphere_to_world{1.0};  // icosphere: linear part of to_object's inverse
+    // Bump maps (ShapeInfo::needs_dp): per triangle its constant dp/du and dp/dv (world), from
+    // its positions and uvs; the icosphere's from the analytic sphere (`dp_sphere`).
+    std::vector<std::array<Vec3, 2>> tri_dp;
+    bool dp_sphere = false;
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
     }
@@ -60,6 +71,10 @@ struct AnalyticPrim {
     // Error of the double hit point, added to its rounding in SurfaceHit::p_err (set by build).
     float err_floor = 0.f;
     bool uv = false;  // compute SurfaceHit::uv (ShapeInfo::needs_uv)
+    // Non-zero (ShapeInfo::needs_tangent): hits get the unit dpdu and this bitangent sign,
+    // -1 when flip_normals or a mirroring transform reverses cross(n, dp/du) against dp/dv.
+    float tangent_sign = 0.f;
+    bool dp = false;  // compute SurfaceHit::dp_du, dp_dv (ShapeInfo::needs_dp)
 };
 
 // Texture coordinates of a point on the unit sphere (object space): u = longitude / 2 pi
@@ -81,7 +96,24 @@ struct PlaneGeom {
     // Texture coordinates (only when `uv`): u = dot(p - point, ex), v = dot(p - point, ey).
     bool uv = false;
     glm::dvec3 ex{1.0, 0.0, 0.0}, ey{0.0, 1.0, 0.0};
+    float tangent_sign = 1.f;  // -1 with flip_normals (ey = cross(unflipped normal, ex))
+    bool dp = false;           // set SurfaceHit::dp_du = ex, dp_dv = ey (ShapeInfo::needs_dp)
 };
+
+// dp/du and dp/dv of the sphere UVs (sphere_uv) at unit-sphere point p (object space), through
+// the linear map `lin` to world: u = longitude / 2 pi, v = arccos(-z) / pi, so with
+// rho = sqrt(x^2 + y^2): dp/du = 2 pi (-y, x, 0), dp/dv = pi (-z x / rho, -z y / rho, rho).
+// Zero at the poles (rho = 0).
+inline void sphere_dp(const glm::dvec3& p, const glm::dmat3& lin, Vec3& dpdu, Vec3& dpdv) {
+    constexpr double kPi = 3.14159265358979323846;
+    const double rho = std::sqrt(p.x * p.x + p.y * p.y);
+    if (!(rho > 0.0)) {
+        dpdu = dpdv = Vec3(0.f);
+        return;
+    }
+    dpdu = Vec3(lin * (2.0 * kPi * glm::dvec3(-p.y, p.x, 0.0)));
+    dpdv = Vec3(lin * (kPi * glm::dvec3(-p.z * p.x / rho, -p.z * p.y / rho, rho)));
+}
 
 struct EmbreeBackend;  // embree_scene.cpp
 
