@@ -141,38 +141,24 @@ MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle n
     auto pos = float_rows(positions, "positions");
     const std::size_t n = std::size_t(pos.shape(0));
     py::array idx = index_rows(indices, "indices", n);
-    py::object nrm = py::none();
     MeshData mesh;
     mesh.positions = {pos.data(), std::size_t(pos.size())};
     mesh.indices = {static_cast<const std::uint32_t*>(idx.data()), std::size_t(idx.size())};
-    if (!normals.is_none()) {
-        auto nr = float_rows(normals, "normals");
-        if (std::size_t(nr.shape(0)) != n)
-            bad_argument("normals", std::to_string(nr.shape(0)) +
-                                        " rows, expected one per position (" + std::to_string(n) +
-                                        ")");
-        mesh.normals = {nr.data(), std::size_t(nr.size())};
-        nrm = nr;
-    }
-    py::object uv = py::none();
-    if (!uvs.is_none()) {
-        auto u = float_rows(uvs, "uvs", 2);
-        if (std::size_t(u.shape(0)) != n)
-            bad_argument("uvs", std::to_string(u.shape(0)) + " rows, expected one per position (" +
-                                    std::to_string(n) + ")");
-        mesh.uvs = {u.data(), std::size_t(u.size())};
-        uv = u;
-    }
-    py::object tan = py::none();
-    if (!tangents.is_none()) {
-        auto t = float_rows(tangents, "tangents", 4);
-        if (std::size_t(t.shape(0)) != n)
-            bad_argument("tangents", std::to_string(t.shape(0)) +
-                                         " rows, expected one per position (" + std::to_string(n) +
-                                         ")");
-        mesh.tangents = {t.data(), std::size_t(t.size())};
-        tan = t;
-    }
+    // An optional (n, cols) float array per position: its span in `out`; the array (kept alive
+    // by the mesh's owner) or None.
+    auto per_position = [&](py::handle h, const char* what, py::ssize_t cols,
+                            std::span<const float>& out) -> py::object {
+        if (h.is_none()) return py::none();
+        auto a = float_rows(h, what, cols);
+        if (std::size_t(a.shape(0)) != n)
+            bad_argument(what, std::to_string(a.shape(0)) + " rows, expected one per position (" +
+                                   std::to_string(n) + ")");
+        out = {a.data(), std::size_t(a.size())};
+        return a;
+    };
+    py::object nrm = per_position(normals, "normals", 3, mesh.normals);
+    py::object uv = per_position(uvs, "uvs", 2, mesh.uvs);
+    py::object tan = per_position(tangents, "tangents", 4, mesh.tangents);
     mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan));
     return mesh;
 }

@@ -58,18 +58,19 @@ Vec3 encode(const Vec3& m) {
     return 0.5f * (m + Vec3(1.f));
 }
 
+// The scene of a JSON body (the keys after "version"), relative paths resolved in `dir`, and
+// the message of the SceneError it throws ("" when it builds).
 fr::Scene scene_in(const std::string& dir, const std::string& body) {
-    return fr::load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                      "nm.json", dir);
+    const std::string head = R"({"format": "facet-scene", "version": 1, )";
+    return fr::load_scene_from_string(head + body + "}", "nm.json", dir);
 }
-
 std::string error_of(const std::string& dir, const std::string& body) {
     try {
-        scene_in(dir, body);
+        (void)scene_in(dir, body);
+        return "";
     } catch (const fr::SceneError& e) {
         return e.what();
     }
-    return "";
 }
 
 fr::Image render(const fr::Scene& scene, const std::string& integrator, int spp) {
