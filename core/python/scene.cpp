@@ -176,33 +176,29 @@ py::array index_rows(py::handle obj, const char* what, std::size_t num_vertices)
 }
 
 MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals,
-                          py::handle uvs) {
+                          py::handle uvs, py::handle tangents = py::none()) {
     auto pos = float_rows(positions, "positions");
     const std::size_t n = std::size_t(pos.shape(0));
     py::array idx = index_rows(indices, "indices", n);
-    py::object nrm = py::none();
     MeshData mesh;
     mesh.positions = {pos.data(), std::size_t(pos.size())};
     mesh.indices = {static_cast<const std::uint32_t*>(idx.data()), std::size_t(idx.size())};
-    if (!normals.is_none()) {
-        auto nr = float_rows(normals, "normals");
-        if (std::size_t(nr.shape(0)) != n)
-            bad_argument("normals", std::to_string(nr.shape(0)) +
-                                        " rows, expected one per position (" + std::to_string(n) +
-                                        ")");
-        mesh.normals = {nr.data(), std::size_t(nr.size())};
-        nrm = nr;
-    }
-    py::object uv = py::none();
-    if (!uvs.is_none()) {
-        auto u = float_rows(uvs, "uvs", 2);
-        if (std::size_t(u.shape(0)) != n)
-            bad_argument("uvs", std::to_string(u.shape(0)) + " rows, expected one per position (" +
-                                    std::to_string(n) + ")");
-        mesh.uvs = {u.data(), std::size_t(u.size())};
-        uv = u;
-    }
-    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv));
+    // An optional (n, cols) float array per position: its span in `out`; the array (kept alive
+    // by the mesh's owner) or None.
+    auto per_position = [&](py::handle h, const char* what, py::ssize_t cols,
+                            std::span<const float>& out) -> py::object {
+        if (h.is_none()) return py::none();
+        auto a = float_rows(h, what, cols);
+        if (std::size_t(a.shape(0)) != n)
+            bad_argument(what, std::to_string(a.shape(0)) + " rows, expected one per position (" +
+                                   std::to_string(n) + ")");
+        out = {a.data(), std::size_t(a.size())};
+        return a;
+    };
+    py::object nrm = per_position(normals, "normals", 3, mesh.normals);
+    py::object uv = per_position(uvs, "uvs", 2, mesh.uvs);
+    py::object tan = per_position(tangents, "tangents", 4, mesh.tangents);
+    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan));
     return mesh;
 }
 
@@ -579,14 +575,15 @@ void bind_scene(py::module_& m) {
         m, "MeshData",
         "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
         "normals float32 (n, 3) or None, uvs float32 (n, 2) or None (texture coordinates, "
-        "(0, 0) the bottom-left of an image). Used in place when of exactly these "
+        "(0, 0) the bottom-left of an image), tangents float32 (n, 4) or None (xyz and the "
+        "bitangent sign, glTF's TANGENT). Used in place when of exactly these "
         "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
-        .def(py::init(
-                 [](py::handle positions, py::handle indices, py::handle normals, py::handle uvs) {
-                     return mesh_from_arrays(positions, indices, normals, uvs);
-                 }),
+        .def(py::init([](py::handle positions, py::handle indices, py::handle normals,
+                         py::handle uvs, py::handle tangents) {
+                 return mesh_from_arrays(positions, indices, normals, uvs, tangents);
+             }),
              py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none(),
-             py::arg("uvs") = py::none())
+             py::arg("uvs") = py::none(), py::arg("tangents") = py::none())
         .def_property_readonly("positions",
                                [](const MeshData& d) { return mesh_view(d.positions, d); })
         .def_property_readonly("indices", [](const MeshData& d) { return mesh_view(d.indices, d); })
@@ -599,6 +596,11 @@ void bind_scene(py::module_& m) {
                                [](const MeshData& d) -> py::object {
                                    if (d.uvs.empty()) return py::none();
                                    return mesh_view(d.uvs, d, 2);
+                               })
+        .def_property_readonly("tangents",
+                               [](const MeshData& d) -> py::object {
+                                   if (d.tangents.empty()) return py::none();
+                                   return mesh_view(d.tangents, d, 4);
                                })
         .def_property_readonly("num_vertices", &MeshData::num_vertices)
         .def_property_readonly("num_triangles", &MeshData::num_triangles)
@@ -620,7 +622,7 @@ void bind_scene(py::module_& m) {
                  if (!kind.is_none()) self.attr("kind") = kind;
                  py::kwargs rest;
                  py::object positions = py::none(), indices = py::none(), normals = py::none(),
-                            uvs = py::none();
+                            uvs = py::none(), tangents = py::none();
                  for (auto [key, value] : kw) {
                      const std::string k = key.cast<std::string>();
                      if (k == "positions")
@@ -631,6 +633,8 @@ void bind_scene(py::module_& m) {
                          normals = py::reinterpret_borrow<py::object>(value);
                      else if (k == "uvs")
                          uvs = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "tangents")
+                         tangents = py::reinterpret_borrow<py::object>(value);
                      else
                          rest[key] = value;
                  }
@@ -638,10 +642,11 @@ void bind_scene(py::module_& m) {
                      if (positions.is_none() || indices.is_none())
                          throw py::value_error("ShapeDesc: give positions and indices together");
                      self.attr("mesh") =
-                         py::cast(mesh_from_arrays(positions, indices, normals, uvs));
+                         py::cast(mesh_from_arrays(positions, indices, normals, uvs, tangents));
                      if (kind.is_none()) self.attr("kind") = py::str("mesh");
-                 } else if (!normals.is_none() || !uvs.is_none()) {
-                     throw py::value_error("ShapeDesc: normals and uvs need positions and indices");
+                 } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none()) {
+                     throw py::value_error(
+                         "ShapeDesc: normals, uvs and tangents need positions and indices");
                  }
                  if (!kind.is_none())
                      check_kind_keywords(rest, shape_kind(self.cast<const ShapeDesc&>().kind),

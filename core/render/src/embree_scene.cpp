@@ -542,6 +542,12 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
             hit.dpdu_uv = Vec3(lin * glm::dvec3(2.0, 0.0, 0.0));
             hit.dpdv_uv = Vec3(lin * glm::dvec3(0.0, 2.0, 0.0));
         }
+        if (prim.tangent_sign != 0.f) {
+            // dp/du of the UVs: along dpdu above; unit (zero at a sphere's poles).
+            const float l = glm::length(hit.dpdu);
+            hit.dpdu = l > 0.f ? hit.dpdu / l : Vec3(0.f);
+            hit.tangent_sign = prim.tangent_sign;
+        }
     }
 }
 
@@ -592,6 +598,13 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
         hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
         hit.dpdu_uv = mg.tri_dpduv[tri][0];
         hit.dpdv_uv = mg.tri_dpduv[tri][1];
+        if (!mg.tri_tangents.empty()) [[unlikely]] {
+            // Interpolated, not normalised (as Cycles' tangent attribute); the sign too.
+            const std::array<glm::vec4, 3>& tt = mg.tri_tangents[tri];
+            const glm::vec4 tan = (1.f - u - v) * tt[0] + u * tt[1] + v * tt[2];
+            hit.dpdu = Vec3(tan);
+            hit.tangent_sign = tan.w;
+        }
     } else if (mg.spherical) {
         const glm::dvec3 po(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
         hit.uv = sphere_uv(po);
@@ -600,6 +613,13 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
         const glm::dmat3 lin = glm::inverse(glm::dmat3(mg.to_object));
         hit.dpdu_uv = Vec3(lin * du);
         hit.dpdv_uv = Vec3(lin * dv);
+        if (mg.tangent_sign != 0.f) [[unlikely]] {
+            // dp/du of the sphere's UVs: (-y, x, 0) in its frame, to world; unit.
+            const glm::dvec3 w = mg.sphere_to_world * glm::dvec3(-po.y, po.x, 0.0);
+            const double l = glm::length(w);
+            hit.dpdu = l > 0.0 ? Vec3(w / l) : Vec3(0.f);
+            hit.tangent_sign = mg.tangent_sign;
+        }
     }
 }
 
@@ -656,6 +676,7 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
             hit.uv = plane_uv(pl, p);
             hit.dpdu_uv = Vec3(pl.ex);
             hit.dpdv_uv = Vec3(pl.ey);
+            hit.tangent_sign = pl.tangent_sign;
         }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;

@@ -290,11 +290,13 @@ template <std::uint32_t F>
                                              const VertexSamples& s, bool& has_shadow,
                                              RayPacket& shadow, int depth, int max_depth,
                                              KernelCounters& c, const Ray& ray) {
+    SurfaceHit h = hit;
+    scene.shade_normal(h, -ray.d);  // normal map (nothing without one)
     // The texture footprint: exact for camera rays, as the camera sees p further on.
     const Material m =
-        scene.material_at(hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr));
+        scene.material_at(h, scene.texture_footprint(h, depth == 0 ? &ray : nullptr));
     const Vec3& ray_d = ray.d;
-    return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
+    return path_scatter<F>(scene, light_dist, p, rays, k, h, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, m);
 }
 
@@ -442,9 +444,11 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
         std::optional<Material> textured;  // as in path_vertex
-        if (hit.textured >= 0) [[unlikely]]
+        if (hit.textured >= 0) [[unlikely]] {
+            scene.shade_normal(hit, -ray.d);  // normal map (nothing without one)
             textured.emplace(
                 scene.material_at(hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr)));
+        }
         const Material& m = textured ? *textured : *hit.material;
         Shading sh;
         bool transmissive = false;

@@ -557,6 +557,16 @@ std::string validate_mesh(const TriangleMesh& m) {
         if (!std::isfinite(m.uvs[i].x) || !std::isfinite(m.uvs[i].y))
             return "uv " + std::to_string(i) + " is not finite";
     }
+    if (!m.tangents.empty() && m.tangents.size() != m.positions.size()) {
+        return "tangents must be given once per position (" + std::to_string(m.positions.size()) +
+               "), got " + std::to_string(m.tangents.size());
+    }
+    for (std::size_t i = 0; i < m.tangents.size(); ++i) {
+        const glm::vec4& t = m.tangents[i];
+        if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
+            !std::isfinite(t.w))
+            return "tangent " + std::to_string(i) + " is not finite";
+    }
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         if (!is_finite(m.positions[i])) return "position " + std::to_string(i) + " is not finite";
     }

@@ -25,19 +25,22 @@ namespace facet::render {
 using detail::escape_pointer_token;
 
 MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
-                           std::vector<float> normals, std::vector<float> uvs) {
+                           std::vector<float> normals, std::vector<float> uvs,
+                           std::vector<float> tangents) {
     struct Arrays {
         std::vector<float> p;
         std::vector<std::uint32_t> i;
-        std::vector<float> n, uv;
+        std::vector<float> n, uv, t;
     };
-    auto a = std::make_shared<Arrays>(
-        Arrays{std::move(positions), std::move(indices), std::move(normals), std::move(uvs)});
+    auto a =
+        std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
+                                        std::move(normals), std::move(uvs), std::move(tangents)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
     m.normals = a->n;
     m.uvs = a->uv;
+    m.tangents = a->t;
     m.owner = a;
     return m;
 }
@@ -48,7 +51,7 @@ bool MeshData::operator==(const MeshData& o) const {
                (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
     };
     return same(positions, o.positions) && same(indices, o.indices) && same(normals, o.normals) &&
-           same(uvs, o.uvs);
+           same(uvs, o.uvs) && same(tangents, o.tangents);
 }
 
 bool SceneDescription::operator==(const SceneDescription& o) const {
@@ -450,7 +453,24 @@ class Builder final : public BuildChecks {
             if (const double* d = std::get_if<double>(&v)) check_finite(*d, p);
             if (const Rgb* c = std::get_if<Rgb>(&v)) check_finite(*c, p);
         }
-        if (m.textures.empty()) {
+        // A normal map of strength 0 is no map (exactly: the material stays constant).
+        const bool normal_map = m.normal_map && m.normal_map->strength != 0.0;
+        if (m.normal_map) {
+            check_range(m.normal_map->strength, ptr + "/normal_map/strength", 0.0, 1e6,
+                        "in [0, 1e6] (Blender's Normal Map strength; 0 = no map)");
+            check_range(m.normal_map->xy_scale, ptr + "/normal_map/xy_scale", -1e6, 1e6,
+                        "a finite number (glTF's normalTexture.scale)");
+            if (m.normal_map->texture.scale != 1.0)
+                fail(ptr + "/normal_map/scale",
+                     "a normal map's texels are not scaled: use \"strength\" (Blender) or "
+                     "\"xy_scale\" (glTF)");
+        }
+        if (m.bump) {
+            check_range(m.bump->distance, ptr + "/bump/distance", -1e30, 1e30,
+                        "a finite number (scene units per unit of height)");
+        }
+        const bool bump = m.bump && m.bump->distance != 0.0;
+        if (m.textures.empty() && !normal_map && !bump) {
             try {
                 m_builder.materials().push_back(
                     std::make_unique<Material>(make_material(m.model, to_model(m.params))));
@@ -525,6 +545,27 @@ class Builder final : public BuildChecks {
         }
         for (const auto& s : tm.slots)
             tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
+        if (normal_map) {
+            // Read linearly unless the scene says otherwise (the texture's colour space key).
+            TextureDesc td = m.normal_map->texture;
+            if (td.colorspace.empty()) td.colorspace = "linear";
+            tm.normal_map = build_texture(td, ptr + "/normal_map", true, false);
+            tm.normal_strength = float(m.normal_map->strength);
+            tm.normal_xy_scale = float(m.normal_map->xy_scale);
+        }
+        if (bump) {
+            tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
+            tm.bump_distance = float(m.bump->distance);
+            // Forward-difference step in uv: half a texel of the image (or a thousandth of a
+            // checker cell), through the texture's UV scale.
+            const TextureDesc& td = m.bump->texture;
+            const double per_uv = std::max(
+                {std::fabs(double(td.uv_scale.x)), std::fabs(double(td.uv_scale.y)), 1e-12});
+            const TexelImage* im = tm.bump->texel_image();
+            const double cells =
+                im ? double(std::max(im->width, im->height)) : 1000.0 * td.checker_scale;
+            tm.bump_step = float(0.5 / (cells * per_uv));
+        }
         m_builder.textured().push_back(std::move(tm));
         return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1)};
     }
@@ -613,6 +654,10 @@ class Builder final : public BuildChecks {
         // probability alpha: not supported rather than biased.
         if (emissive && info.opacity.active())
             fail(ptr + "/material", "an emitting shape cannot have a material with opacity < 1");
+        if (info.textured >= 0) {
+            const TexturedMaterial& tm = m_builder.textured()[std::size_t(info.textured)];
+            info.needs_tangent = tm.normal_map != nullptr;
+        }
         glm::dmat4 xf(1.0);
         if (s.transform) {
             xf = *s.transform;
@@ -670,6 +715,7 @@ class Builder final : public BuildChecks {
             prim.normal_to_world = glm::transpose(glm::inverse(glm::dmat3(prim.to_world)));
             prim.uv = m_info.needs_uv;
             prim.opacity = m_info.opacity;
+            if (m_info.needs_tangent) prim.tangent_sign = handedness(prim.to_world);
             const double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
@@ -694,6 +740,7 @@ class Builder final : public BuildChecks {
             // mirror the texture).
             pl.uv = m_info.needs_uv;
             pl.opacity = m_info.opacity;
+            pl.tangent_sign = shape.flip_normals ? -1.f : 1.f;
             pl.ex = glm::normalize(lin * glm::dvec3(local.x));
             pl.ey = glm::cross(glm::normalize(glm::transpose(glm::inverse(lin)) * glm::dvec3(n)),
                                pl.ex);
@@ -750,6 +797,13 @@ class Builder final : public BuildChecks {
             // A mirroring transform reverses the winding: undo it so the authored front stays
             // the front; "flip_normals" reverses it on purpose.
             const bool flip = (glm::determinant(lin) < 0.0) != shape.flip_normals;
+            // Object-space copies for MikkTSpace (only when a normal map needs tangents).
+            std::vector<Vec3> object_positions, object_normals;
+            std::vector<std::array<glm::vec4, 3>> tri_tangents;
+            if (m_info.needs_tangent && !sphere && mesh.tangents.empty()) {
+                object_positions = mesh.positions;
+                object_normals = mesh.normals;
+            }
             // Also without a transform: the identity leaves positions exact, and normals get
             // their double-precision renormalisation either way.
             for (Vec3& p : mesh.positions) {
@@ -769,6 +823,22 @@ class Builder final : public BuildChecks {
             check_finite_bounds();
             if (std::string err = validate_mesh(mesh); !err.empty()) fail(place(), err);
             m_b.drop_degenerate(mesh, index);
+            if (m_info.needs_tangent && !sphere) {
+                if (mesh.uvs.empty())
+                    fail(ptr + (shape.file.empty() ? "/uvs" : "/file"),
+                         "the material has a normal map but the mesh has no UVs (its tangent "
+                         "space needs them)");
+                // MikkTSpace in object space, as Blender computes it: the kept triangles
+                // over the untransformed positions and normals.
+                TriangleMesh obj;
+                if (mesh.tangents.empty()) {
+                    obj.positions = std::move(object_positions);
+                    obj.normals = std::move(object_normals);
+                    obj.uvs = mesh.uvs;
+                    obj.indices = mesh.indices;
+                }
+                tri_tangents = corner_tangents(mesh, obj, lin);
+            }
             m_info.triangles += mesh.num_triangles();
             if (emits) {
                 std::vector<Vec3> tri;
@@ -810,10 +880,49 @@ class Builder final : public BuildChecks {
                     }
                 }
             }
+            if (m_info.needs_tangent && sphere) g.tangent_sign = handedness(xf * *sphere);
+            if (m_info.needs_tangent && sphere) g.sphere_to_world = glm::dmat3(xf * *sphere);
+            g.tri_tangents = std::move(tri_tangents);
             mesh.uvs = {};
+            mesh.tangents = {};
             g.mesh = std::move(mesh);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
             m_b.m_builder.impl().meshes.push_back(std::move(g));
+        }
+
+        // The bitangent sign factor of a placement: -1 when it mirrors (cross(n, t) then
+        // points against dp/dv) or when flip_normals reverses n, +1 otherwise (both: +1).
+        float handedness(const glm::dmat4& to_world) const {
+            const bool mirrored = glm::determinant(glm::dmat3(to_world)) < 0.0;
+            return mirrored != shape.flip_normals ? -1.f : 1.f;
+        }
+
+        // World tangents per corner of `mesh` (already transformed, degenerate triangles
+        // dropped): its own per-position tangents, or MikkTSpace's over `obj` (the same
+        // triangles in object space); xyz through the linear part `lin`, w times the
+        // handedness.
+        std::vector<std::array<glm::vec4, 3>> corner_tangents(const TriangleMesh& mesh,
+                                                              const TriangleMesh& obj,
+                                                              const glm::dmat3& lin) const {
+            const std::size_t nt = mesh.num_triangles();
+            std::vector<glm::vec4> c;
+            if (mesh.tangents.empty()) {
+                c = compute_tangents(obj);
+            } else {
+                c.resize(3 * nt);
+                for (std::size_t i = 0; i < 3 * nt; ++i) c[i] = mesh.tangents[mesh.indices[i]];
+            }
+            const float hand = handedness(glm::dmat4(lin));
+            std::vector<std::array<glm::vec4, 3>> out(nt);
+            for (std::size_t t = 0; t < nt; ++t) {
+                for (std::size_t j = 0; j < 3; ++j) {
+                    const glm::vec4& v = c[3 * t + j];
+                    const glm::dvec3 w = lin * glm::dvec3(Vec3(v));
+                    const double l = glm::length(w);
+                    out[t][j] = glm::vec4(l > 0.0 ? Vec3(w / l) : Vec3(0.f), v.w * hand);
+                }
+            }
+            return out;
         }
 
       public:

@@ -45,6 +45,13 @@ struct MeshGeom {
     bool spherical = false;
     Opacity opacity;  // active: cut-outs decided per candidate hit (an Embree filter function)
     glm::dmat4 to_object{1.0};
+    // The UV map's tangents, only for shapes that need them (ShapeInfo::needs_tangent): per
+    // triangle, its corners' world tangents (xyz) and bitangent signs (w, with the transform's
+    // and flip_normals' handedness folded in), interpolated like the uvs; for the icosphere
+    // (`spherical`) the analytic dp/du of its UVs, from the hit point, with `tangent_sign`.
+    std::vector<std::array<glm::vec4, 3>> tri_tangents;
+    float tangent_sign = 0.f;         // icosphere: non-zero when tangents are needed
+    glm::dmat3 sphere_to_world{1.0};  // icosphere: linear part of to_object's inverse
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
     }
@@ -64,6 +71,9 @@ struct AnalyticPrim {
     float err_floor = 0.f;
     bool uv = false;  // compute SurfaceHit::uv (ShapeInfo::needs_uv)
     Opacity opacity;  // active: cut-outs decided per root
+    // Non-zero (ShapeInfo::needs_tangent): hits get the unit dpdu and this bitangent sign,
+    // -1 when flip_normals or a mirroring transform reverses cross(n, dp/du) against dp/dv.
+    float tangent_sign = 0.f;
 };
 
 // Texture coordinates of a point on the unit sphere (object space): u = longitude / 2 pi
@@ -111,6 +121,7 @@ struct PlaneGeom {
     bool uv = false;
     glm::dvec3 ex{1.0, 0.0, 0.0}, ey{0.0, 1.0, 0.0};
     Opacity opacity;  // active: cut-outs decided per hit
+    float tangent_sign = 1.f;  // -1 with flip_normals (ey = cross(unflipped normal, ex))
 };
 
 struct EmbreeBackend;  // embree_scene.cpp

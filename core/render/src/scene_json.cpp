@@ -363,14 +363,18 @@ class Reader {
 
     // A texture value (texture.h): {"texture": file, ...options} or {"checker": {...}}. Value
     // checks (ranges, names of filters...) are build_scene's; here types and keys.
-    TextureDesc read_texture(const json& t, const std::string& ptr) const {
+    TextureDesc read_texture(const json& t, const std::string& ptr,
+                             std::vector<const char*> extra_keys = {}) const {
         TextureDesc d;
         auto vec2 = [&](const json& v, const std::string& p) {
             if (!v.is_array() || v.size() != 2) fail(p, "expected [x, y], got " + type_name(v));
             return Vec2(float(get_number(v[0], p + "/0")), float(get_number(v[1], p + "/1")));
         };
         if (t.contains("checker")) {
-            check_keys(t, ptr, {"checker", "uv_scale", "uv_offset", "uv_rotation", "scale"});
+            std::vector<const char*> keys = {"checker", "uv_scale", "uv_offset", "uv_rotation",
+                                             "scale"};
+            keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+            check_keys_v(t, ptr, keys);
             const json& c = t["checker"];
             const std::string cp = ptr + "/checker";
             expect_object(c, cp);
@@ -384,9 +388,11 @@ class Reader {
                     get_color(cols[i], cp + "/colors/" + std::to_string(i), "a checker colour");
             if (c.contains("scale")) d.checker_scale = get_number(c["scale"], cp + "/scale");
         } else {
-            check_keys(t, ptr,
-                       {"texture", "colorspace", "filter", "wrap", "uv_scale", "uv_offset",
-                        "uv_rotation", "scale", "channel"});
+            std::vector<const char*> keys = {"texture",     "colorspace", "filter",
+                                             "wrap",        "uv_scale",   "uv_offset",
+                                             "uv_rotation", "scale",      "channel"};
+            keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+            check_keys_v(t, ptr, keys);
             d.file = get_string(require(t, ptr, "texture"), ptr + "/texture");
             if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
             if (t.contains("colorspace"))
@@ -415,7 +421,22 @@ class Reader {
         for (const auto& [key, v] : m.items()) {
             if (key == "model") continue;
             std::string p = ptr + "/" + escape_pointer_token(key);
-            if (v.is_number()) {
+            if (key == "normal_map") {
+                expect_object(v, p);
+                MaterialDesc::NormalMap nm;
+                nm.texture = read_texture(v, p, {"strength", "xy_scale"});
+                if (v.contains("strength"))
+                    nm.strength = get_number(v["strength"], p + "/strength");
+                if (v.contains("xy_scale"))
+                    nm.xy_scale = get_number(v["xy_scale"], p + "/xy_scale");
+                d.normal_map = nm;
+            } else if (key == "bump") {
+                expect_object(v, p);
+                MaterialDesc::Bump b;
+                b.texture = read_texture(v, p, {"distance"});
+                if (v.contains("distance")) b.distance = get_number(v["distance"], p + "/distance");
+                d.bump = b;
+            } else if (v.is_number()) {
                 d.params.set(key, get_number(v, p));
             } else if (v.is_boolean()) {
                 d.params.set(key, v.get<bool>());
@@ -566,7 +587,7 @@ class Reader {
     static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
         for (const auto& f : k.fields) {
             if (f.type == FieldType::MeshArrays) {
-                keys.insert(keys.end(), {"positions", "indices", "normals", "uvs"});
+                keys.insert(keys.end(), {"positions", "indices", "normals", "uvs", "tangents"});
             } else {
                 keys.push_back(f.key.data());
             }
@@ -628,7 +649,7 @@ class Reader {
     // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
     void read_mesh(const json& s, const std::string& ptr, MeshData& out) const {
         if (s.contains("file")) {
-            for (const char* k : {"positions", "indices", "normals", "uvs"}) {
+            for (const char* k : {"positions", "indices", "normals", "uvs", "tangents"}) {
                 if (s.contains(k)) {
                     fail(ptr + "/" + k, "cannot be combined with \"file\" (give one or the other)");
                 }
@@ -672,8 +693,21 @@ class Reader {
             for (std::size_t i = 0; i < a.size(); ++i)
                 uvs[i] = float(get_number(a[i], ptr + "/uvs/" + std::to_string(i)));
         }
+        std::vector<float> tangents;
+        if (s.contains("tangents")) {
+            const json& a = s["tangents"];
+            if (!a.is_array() || a.size() != 4 * (positions.size() / 3)) {
+                fail(ptr + "/tangents",
+                     "expected a flat array of 4 numbers (x, y, z, bitangent sign) per position (" +
+                         std::to_string(4 * (positions.size() / 3)) + " numbers), got " +
+                         (a.is_array() ? std::to_string(a.size()) : type_name(a)));
+            }
+            tangents.resize(a.size());
+            for (std::size_t i = 0; i < a.size(); ++i)
+                tangents[i] = float(get_number(a[i], ptr + "/tangents/" + std::to_string(i)));
+        }
         out = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals),
-                                std::move(uvs));
+                                std::move(uvs), std::move(tangents));
     }
 
     LightDesc read_light(const json& l, const std::string& ptr) const {
@@ -761,6 +795,17 @@ json material_json(const MaterialDesc& m, bool hashed) {
     json j = json::object();
     j["model"] = m.model;
     for (const auto& [name, t] : m.textures) j[name] = texture_json(t, hashed);
+    if (m.normal_map) {
+        json n = texture_json(m.normal_map->texture, hashed);
+        if (m.normal_map->strength != 1.0) n["strength"] = m.normal_map->strength;
+        if (m.normal_map->xy_scale != 1.0) n["xy_scale"] = m.normal_map->xy_scale;
+        j["normal_map"] = n;
+    }
+    if (m.bump) {
+        json b = texture_json(m.bump->texture, hashed);
+        if (m.bump->distance != 1.0) b["distance"] = m.bump->distance;
+        j["bump"] = b;
+    }
     for (const auto& [name, v] : m.params.values()) {
         const std::string& key = name;  // (clang 14 cannot capture a structured binding)
         std::visit(
@@ -835,6 +880,7 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                     j["indices"] = array_json(v.indices, hashed);
                     if (!v.normals.empty()) j["normals"] = array_json(v.normals, hashed);
                     if (!v.uvs.empty()) j["uvs"] = array_json(v.uvs, hashed);
+                    if (!v.tangents.empty()) j["tangents"] = array_json(v.tangents, hashed);
                 }
             } else {
                 j[key] = v;

@@ -775,6 +775,23 @@ class Importer {
         return out;
     }
 
+    // TANGENT (glTF 3.7.2.1: VEC4 float, xyz unit, w = +-1 the bitangent sign).
+    std::vector<glm::vec4> tangents(int index, const std::string& user) const {
+        const Elements e =
+            accessor(index, user, {TINYGLTF_TYPE_VEC4}, {TINYGLTF_COMPONENT_TYPE_FLOAT});
+        std::vector<glm::vec4> out(e.count);
+        for (std::size_t i = 0; i < e.count; ++i) {
+            std::memcpy(&out[i], e.data + i * e.stride, sizeof(glm::vec4));
+            const glm::vec4& t = out[i];
+            if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
+                !std::isfinite(t.w) || t.w == 0.f)
+                fail("/accessors/" + std::to_string(index),
+                     "tangent " + idx(i) + " is not finite or has a zero sign (used by " + user +
+                         ")");
+        }
+        return out;
+    }
+
     std::vector<std::uint32_t> indices(int index, const std::string& user,
                                        std::size_t num_vertices) const {
         const Elements e =
@@ -860,7 +877,9 @@ class Importer {
                        "morph targets are not applied (the base shape is imported)");
             }
             for (const auto& [name, _] : pr.attributes) {
-                if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0") continue;
+                if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" ||
+                    name == "TANGENT")
+                    continue;
                 const std::string key = name.rfind("TEXCOORD_", 0) == 0 ? "uv"
                                         : name.rfind("COLOR_", 0) == 0  ? "color"
                                                                         : name;
@@ -883,6 +902,20 @@ class Importer {
             }
             if (auto t = pr.attributes.find("TEXCOORD_0"); t != pr.attributes.end())
                 m.uvs = texcoords(t->second, pp + "/attributes/TEXCOORD_0", nvert);
+            if (auto t = pr.attributes.find("TANGENT"); t != pr.attributes.end()) {
+                m.tangents = tangents(t->second, pp + "/attributes/TANGENT");
+                if (m.tangents.size() != nvert) {
+                    fail(pp + "/attributes/TANGENT",
+                         idx(m.tangents.size()) + " tangents for " + idx(nvert) + " positions");
+                }
+                // xyz as directions through the node transform; a mirroring transform
+                // reverses the bitangent's handedness.
+                for (glm::vec4& t4 : m.tangents) {
+                    const glm::dvec3 w = lin * glm::dvec3(Vec3(t4));
+                    const double l = glm::length(w);
+                    t4 = glm::vec4(l > 0.0 ? Vec3(w / l) : Vec3(0.f), det < 0.0 ? -t4.w : t4.w);
+                }
+            }
             std::vector<std::uint32_t> ix;
             if (pr.indices >= 0) {
                 ix = indices(pr.indices, pp + "/indices", nvert);
@@ -961,6 +994,13 @@ TriangleMesh merged(const GltfImport& g) {
     if (uvs)
         for (const GltfPart& p : g.parts)
             out.uvs.insert(out.uvs.end(), p.mesh.uvs.begin(), p.mesh.uvs.end());
+    // Tangents likewise.
+    bool all_tangents = !g.parts.empty();
+    for (const GltfPart& p : g.parts) all_tangents = all_tangents && !p.mesh.tangents.empty();
+    for (const GltfPart& p : g.parts) {
+        if (all_tangents)
+            out.tangents.insert(out.tangents.end(), p.mesh.tangents.begin(), p.mesh.tangents.end());
+    }
     return out;
 }
 

@@ -28,6 +28,10 @@ TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
         m.uvs.resize(n);
         std::memcpy(m.uvs.data(), md.uvs.data(), n * sizeof(Vec2));
     }
+    if (md.tangents.size() == 4 * n && n > 0) {
+        m.tangents.resize(n);
+        std::memcpy(m.tangents.data(), md.tangents.data(), n * sizeof(glm::vec4));
+    }
     return m;
 }
 
@@ -37,7 +41,7 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
     const MeshData& md = s.mesh;
     if (!s.file.empty()) {
         if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty() ||
-            !md.uvs.empty()) {
+            !md.uvs.empty() || !md.tangents.empty()) {
             b.fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
         }
         if (!b.files_allowed()) b.fail(ptr + "/file", "mesh files are disabled here");
@@ -79,6 +83,23 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
         if (!std::isfinite(md.uvs[i]))
             b.fail(ptr + "/uvs/" + std::to_string(i), "must be a finite number");
     }
+    if (!md.tangents.empty() && md.tangents.size() != 4 * n) {
+        b.fail(ptr + "/tangents", "expected 4 numbers (x, y, z, bitangent sign) per position (" +
+                                      std::to_string(4 * n) + " numbers), got " +
+                                      std::to_string(md.tangents.size()));
+    }
+    for (std::size_t i = 0; i < md.tangents.size(); ++i) {
+        if (!std::isfinite(md.tangents[i]))
+            b.fail(ptr + "/tangents/" + std::to_string(i), "must be a finite number");
+    }
+    for (std::size_t i = 0; i < m.tangents.size(); ++i) {
+        if (!(glm::length(Vec3(m.tangents[i])) > 0.f))
+            b.fail(ptr + "/tangents/" + std::to_string(4 * i),
+                   "tangent " + std::to_string(i) + " is zero");
+        if (m.tangents[i].w == 0.f)
+            b.fail(ptr + "/tangents/" + std::to_string(4 * i + 3),
+                   "the bitangent sign must be +1 or -1 (non-zero)");
+    }
     for (std::size_t i = 0; i < m.normals.size(); ++i) {
         Vec3& v = m.normals[i];
         if (!is_finite(v)) b.fail(place, "normal " + std::to_string(i) + " is not finite");
@@ -108,7 +129,10 @@ extern const ShapeKindDef kMeshKind{
     {{"positions", FieldType::MeshArrays, false, &ShapeDesc::mesh, "-",
       "flat arrays: `positions` [x0, y0, z0, x1, ...], `indices` (3 per triangle), optional "
       "`normals` (one per position: smooth shading), optional `uvs` [u0, v0, u1, ...] (one pair "
-      "per position; needed when the material or emission is textured)"},
+      "per position; needed when the material or emission is textured), optional `tangents` "
+      "[x0, y0, z0, w0, x1, ...] (4 per position: the tangent along increasing u and the "
+      "bitangent sign w, bitangent = w normal x tangent, glTF's TANGENT; computed as MikkTSpace "
+      "does when a normal map or bump needs them and none are given)"},
      {"file", FieldType::Path, false, &ShapeDesc::file, "-",
       "a mesh file (instead of the arrays), relative to the scene file"}},
     build,

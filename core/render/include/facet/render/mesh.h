@@ -6,6 +6,8 @@
 //    per position (used for smooth shading only; geometry stays flat). `uvs` is empty or holds
 //    one texture coordinate per position: (0, 0) the bottom-left corner of an image, v up
 //    (scenes/FORMAT.md, "UV coordinates"); the generators below give each kind's documented UVs.
+//    `tangents` is empty or holds one per position: xyz the tangent (the direction of increasing
+//    u), w the bitangent sign, bitangent = w cross(normal, tangent) (glTF's TANGENT).
 //  - Readers throw std::runtime_error with a message naming the line / element at fault (the
 //    scene loader prefixes the file and JSON path); they never crash on malformed input.
 #pragma once
@@ -16,6 +18,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/vec4.hpp>
+
 #include "facet/types.h"
 
 namespace facet::render {
@@ -24,6 +28,7 @@ struct TriangleMesh {
     std::vector<Vec3> positions;
     std::vector<Vec3> normals;           // empty, or one per position
     std::vector<Vec2> uvs;               // empty, or one per position
+    std::vector<glm::vec4> tangents;     // empty, or one per position (xyz, bitangent sign)
     std::vector<std::uint32_t> indices;  // 3 per triangle
     std::size_t num_triangles() const { return indices.size() / 3; }
 };
@@ -53,8 +58,25 @@ TriangleMesh load_obj(const std::string& path);
 TriangleMesh load_ply(const std::string& path);
 TriangleMesh parse_ply(std::string_view data);
 
+// Per-corner tangents (3 per triangle, in index order) of a mesh with UVs, as MikkTSpace
+// computes them (Mikkelsen 2008; Blender's Mesh.calc_tangents, glTF's assumed tangent space):
+//  - corners with bit-identical position, normal and uv are one vertex (the normal is the
+//    vertex normal, or the face normal when the mesh has none);
+//  - each triangle contributes its unit dp/du (from its UV gradients), projected into the
+//    vertex's tangent plane and normalised, weighted by its corner angle in that plane;
+//  - a vertex is split by the triangles' UV orientation (sign of the UV area): w = +1 for
+//    triangles whose UV map keeps the orientation, -1 for mirrored ones;
+//  - a triangle with zero UV area takes the tangent of its vertex's group (orientation
+//    preserving first).
+// Simplifications against the reference implementation: the triangles of one orientation
+// around a vertex form one group even when they are not contiguous around it (the reference
+// splits such fans), and its 180-degree angular threshold (the default) is not a parameter.
+// A vertex without any UV gradient gets a unit vector perpendicular to its normal. Meshes
+// without UVs get zeros.
+std::vector<glm::vec4> compute_tangents(const TriangleMesh& mesh);
+
 // "" when the mesh is usable, else a message: index out of range, non-finite position, wrong
-// normal or UV count, non-finite UV, no triangles.
+// normal, UV or tangent count, non-finite UV or tangent, no triangles.
 std::string validate_mesh(const TriangleMesh& mesh);
 
 }  // namespace facet::render

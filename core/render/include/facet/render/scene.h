@@ -13,7 +13,11 @@
 //    shading normal (interpolated vertex normals for meshes that have
 //    them, else ns = ng), always in ng's hemisphere. `dpdu` is a tangent hint for anisotropic
 //    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
-//    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent).
+//    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent). On shapes
+//    whose material has a normal map (ShapeInfo::needs_tangent) it is the tangent of the UV
+//    map instead, with `tangent_sign` (scenes/FORMAT.md, "Normal maps"): the unit dp/du of an
+//    analytic shape's UVs, or a mesh's interpolated per-corner tangent (given, or MikkTSpace's:
+//    mesh.h), so that the bitangent along +v is tangent_sign * cross(ns, dpdu).
 //  - `uv` holds the shape's texture coordinates (scenes/FORMAT.md, "UV coordinates") only on
 //    shapes whose material or emission is textured (ShapeInfo::needs_uv); elsewhere it is not
 //    computed (skip what the scene does not need) and must not be read. `textured` >= 0 means
@@ -64,13 +68,14 @@ class SceneError : public std::runtime_error {
 };
 
 struct SurfaceHit {
-    float t = kInfinity;      // ray parameter of the hit
-    Vec3 p{0.f};              // hit point (world space)
-    Vec3 p_err{0.f};          // error box of p (precision.h): p +- p_err meets the surface
-    Vec3 ng{0.f};             // unit geometric normal (see conventions: not flipped)
-    Vec3 ns{0.f};             // unit shading normal, same hemisphere as ng
-    Vec3 dpdu{0.f};           // tangent hint, may be 0
-    std::uint32_t shape = 0;  // index into Scene::shapes()
+    float t = kInfinity;       // ray parameter of the hit
+    Vec3 p{0.f};               // hit point (world space)
+    Vec3 p_err{0.f};           // error box of p (precision.h): p +- p_err meets the surface
+    Vec3 ng{0.f};              // unit geometric normal (see conventions: not flipped)
+    Vec3 ns{0.f};              // unit shading normal, same hemisphere as ng
+    Vec3 dpdu{0.f};            // tangent hint, may be 0
+    float tangent_sign = 1.f;  // bitangent sign (only where ShapeInfo::needs_tangent)
+    std::uint32_t shape = 0;             // index into Scene::shapes()
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
@@ -142,6 +147,9 @@ struct ShapeInfo : ShapeSurface {
     std::uint64_t triangles = 0;  // 0 for the analytic shapes (sphere, plane, disc)
     std::vector<ShapeSurface> parts;
     bool needs_uv = false;  // hits compute uv (textured material/emission)
+    // Hits compute the UV map's tangent frame (dpdu, tangent_sign): the material has a normal
+    // map. Implies needs_uv.
+    bool needs_tangent = false;
 };
 
 // A material some of whose parameters are textures: the model and its constant parameters, and
@@ -166,6 +174,15 @@ struct TexturedMaterial {
     // slots' [min, max] box with a conversion; both ends otherwise), for the scene analysis:
     // a roughness texture can make a lobe a mirror at some texels and glossy at others.
     BxDFFlags flags = BxDFFlags::None;
+    // Normal map (scenes/FORMAT.md, "Normal maps"): a linear RGB texture, its strength; null
+    // when the material has none (Scene::shade_normal does nothing then).
+    const Texture* normal_map = nullptr;
+    float normal_strength = 1.f;
+    float normal_xy_scale = 1.f;  // glTF's normalTexture.scale
+    // Bump map (scenes/FORMAT.md, "Bump maps"): the height texture (number: its r), Blender's
+    // distance, and the forward-difference step in uv; null when the material has none.
+    const Texture* bump = nullptr;
+    float bump_distance = 1.f, bump_step = 1e-3f;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -311,6 +328,13 @@ class Scene {
     // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
     // (Camera::footprint_at).
     UvFootprint texture_footprint(const SurfaceHit& hit, const Ray* camera_ray) const;
+    // The shading normal of a hit with hit.textured >= 0 whose material has a normal map
+    // and/or a bump map: hit.ns becomes the mapped normal (Blender's Normal Map node, tangent
+    // space), then the bumped one (Blender's Bump node, its Normal input the mapped normal),
+    // bent where needed so that the mirror direction of wo (unit, toward the viewer) stays
+    // above the geometric surface (Cycles' ensure_valid_reflection). Call before material_at;
+    // does nothing for materials without either. Never throws.
+    void shade_normal(SurfaceHit& hit, const Vec3& wo) const;
     // The textured materials (ShapeInfo::textured indexes them).
     std::span<const TexturedMaterial> textured_materials() const { return m_textured; }
 

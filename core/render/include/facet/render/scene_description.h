@@ -64,21 +64,44 @@ struct MaterialDesc {
     // Parameters given as textures (texture.h) instead of constants; a name is in `params` or
     // here, never both.
     std::map<std::string, TextureDesc> textures;
+    // "normal_map": a tangent-space normal map, +Y up, read linearly (a texture whose RGB c
+    // gives the tangent-space normal 2c - 1), and its strength (>= 0; 0 = no map). JSON: the
+    // texture's keys plus "strength" and "xy_scale" (glTF's normalTexture.scale: multiplies
+    // the map's x and y before the frame; scenes/FORMAT.md, "Normal maps").
+    struct NormalMap {
+        TextureDesc texture;
+        double strength = 1.0;
+        double xy_scale = 1.0;
+        bool operator==(const NormalMap&) const = default;
+    };
+    std::optional<NormalMap> normal_map;
+    // "bump": a height texture (a number texture, scene units) and Blender's Bump distance d
+    // (the heights' multiplier; scenes/FORMAT.md, "Bump maps"). JSON: the texture's keys plus
+    // "distance".
+    struct Bump {
+        TextureDesc texture;
+        double distance = 1.0;
+        bool operator==(const Bump&) const = default;
+    };
+    std::optional<Bump> bump;
     bool operator==(const MaterialDesc&) const = default;
 };
 
 // Flat triangle-mesh arrays: positions x0 y0 z0 x1 ..., 3 indices per triangle, normals empty
-// or one per position, uvs empty or one (u, v) pair per position (u0 v0 u1 v1 ...).
+// or one per position, uvs empty or one (u, v) pair per position (u0 v0 u1 v1 ...), tangents
+// empty or 4 floats per position (x y z and the bitangent sign, glTF's TANGENT: mesh.h).
 struct MeshData {
     std::span<const float> positions;
     std::span<const std::uint32_t> indices;
     std::span<const float> normals;
     std::shared_ptr<const void> owner;  // keeps the arrays alive (may be null: see conventions)
     std::span<const float> uvs;         // after `owner`: MeshData{p, i, n, owner} still works
+    std::span<const float> tangents;
 
     // A mesh that owns copies of (or takes) the given arrays.
     static MeshData copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
-                            std::vector<float> normals = {}, std::vector<float> uvs = {});
+                            std::vector<float> normals = {}, std::vector<float> uvs = {},
+                            std::vector<float> tangents = {});
     std::size_t num_vertices() const { return positions.size() / 3; }
     std::size_t num_triangles() const { return indices.size() / 3; }
     bool operator==(const MeshData& o) const;
