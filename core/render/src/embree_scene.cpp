@@ -43,6 +43,11 @@ struct EmbreeBackend {
     // per-triangle records outgrow the caches. On the Cornell box (36 triangles) the prefetch
     // loop cost 1.5% of the render for nothing.
     bool prefetch_hit_records = false;
+    // Whether some hit needs more than the shape's own surface: a mesh that is a part of its
+    // shape (ShapeInfo::parts) or geometry with texture coordinates (which every textured
+    // material or emission has). False for most scenes: their hit records then skip the part
+    // and UV look-ups and the emission texture test (Scene::complete_hit<false>).
+    bool surface_extras = true;
 };
 
 namespace {
@@ -385,6 +390,13 @@ void Scene::Impl::build(const std::string& name) {
         record_bytes += mg.planes.size() * sizeof(glm::vec4) +
                         mg.records.size() * sizeof(MeshGeom::SmoothRecord);
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
+    be.surface_extras =
+        std::any_of(meshes.begin(), meshes.end(),
+                    [](const MeshGeom& mg) {
+                        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
+                    }) ||
+        std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
+        std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
     rtcCommitScene(be.scene.get());
     std::lock_guard<std::mutex> lock(be.error_mutex);
     if (!be.first_error.empty()) throw SceneError(name + ": embree: " + be.first_error);
@@ -426,7 +438,9 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
 }
 
-// Inline: called once per closest hit, only from Scene::intersect below.
+// Inline: called once per closest hit, only from Scene::intersect below. kUv: compute the
+// texture coordinates of meshes that have them (EmbreeBackend::surface_extras).
+template <bool kUv>
 [[gnu::always_inline]] inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri,
                                                               const Ray& ray, float u, float v,
                                                               float t, SurfaceHit& hit) const {
@@ -469,11 +483,13 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
-    if (!mg.tri_uvs.empty()) {
-        const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
-        hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
-    } else if (mg.spherical) {
-        hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
+    if constexpr (kUv) {
+        if (!mg.tri_uvs.empty()) {
+            const std::array<Vec2, 3>& t = mg.tri_uvs[tri];
+            hit.uv = (1.f - u - v) * t[0] + u * t[1] + v * t[2];
+        } else if (mg.spherical) {
+            hit.uv = sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0)));
+        }
     }
 }
 
@@ -498,11 +514,17 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
-    return complete_hit(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    return be.surface_extras ? complete_hit<true>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                                  rh.hit.v, rh.ray.tfar, hit)
+                             : complete_hit<false>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                                   rh.hit.v, rh.ray.tfar, hit);
 }
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
 // then the hit record of whatever is nearest. `geom` is Embree's geomID (invalid: no hit).
+// kSurfaceExtras (EmbreeBackend::surface_extras): parts, texture coordinates and textured
+// emission; without it a hit reads its shape's own surface only.
+template <bool kSurfaceExtras>
 [[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim,
                                                        float u, float v, float t,
                                                        SurfaceHit& hit) const {
@@ -536,8 +558,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
         const MeshGeom& mg = impl.meshes[std::size_t(be.geom_to_mesh[geom])];
-        impl.fill_triangle(mg, prim, ray, u, v, t, hit);
-        part = mg.part;
+        impl.fill_triangle<kSurfaceExtras>(mg, prim, ray, u, v, t, hit);
+        if constexpr (kSurfaceExtras) part = mg.part;
     }
     const ShapeInfo& shape = m_shapes[hit.shape];
     const ShapeSurface& s = part < 0 ? shape : shape.parts[std::size_t(part)];
@@ -545,9 +567,15 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.two_sided = s.two_sided;
     hit.light = s.light;
     hit.textured = s.textured;
-    hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
-    if (s.emission_texture && glm::dot(hit.ng, ray.d) < 0.f) [[unlikely]]
-        hit.emitted_radiance = s.emission_texture->eval(hit.uv);
+    // A textured emission needs uv, which only kSurfaceExtras computes (every textured surface
+    // has texture coordinates); its surface is an emitter (light >= 0) like any other.
+    hit.emitted_radiance = Rgb(0.f);
+    if (s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f) {
+        hit.emitted_radiance = s.emission;
+        if constexpr (kSurfaceExtras) {
+            if (s.emission_texture) hit.emitted_radiance = s.emission_texture->eval(hit.uv);
+        }
+    }
     return true;
 }
 
@@ -578,10 +606,20 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
         const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
         __builtin_prefetch(&mg.plane(rh.hit.primID[k]));
     }
-    for (std::size_t k = 0; k < n; ++k) {
-        if (!valid[k]) continue;
-        found[k] = complete_hit(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
-                                rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+    // The hit records, with the scene's surface extras or without (decided once per packet).
+    // (Two plain loops: GCC did not inline complete_hit into a templated lambda.)
+    if (impl.backend->surface_extras) {
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!valid[k]) continue;
+            found[k] = complete_hit<true>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
+                                          rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+        }
+    } else {
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!valid[k]) continue;
+            found[k] = complete_hit<false>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
+                                           rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+        }
     }
 }
 
