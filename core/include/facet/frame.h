@@ -86,8 +86,15 @@ struct Frame {
         f.y = glm::cross(n, f.x);
         return f;
     }
-    Vec3 to_local(const Vec3& v) const { return {glm::dot(v, x), glm::dot(v, y), glm::dot(v, z)}; }
-    Vec3 from_local(const Vec3& v) const { return v.x * x + v.y * y + v.z * z; }
+    // Always inlined: a few multiply-adds that the renderer's kernels call at every vertex. Left
+    // to itself GCC stopped inlining them into the grown path kernel (out-of-line calls cost 1.7%
+    // of the Cornell box's instructions: docs/performance.md, "Paying only for what is used").
+    [[gnu::always_inline]] Vec3 to_local(const Vec3& v) const {
+        return {glm::dot(v, x), glm::dot(v, y), glm::dot(v, z)};
+    }
+    [[gnu::always_inline]] Vec3 from_local(const Vec3& v) const {
+        return v.x * x + v.y * y + v.z * z;
+    }
 };
 
 }  // namespace facet

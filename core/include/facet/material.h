@@ -52,6 +52,15 @@ class Material {
     const std::optional<DielectricBxDF>& dielectric() const { return m_dielectric; }
     const std::optional<ThinDielectricBxDF>& thin_dielectric() const { return m_thin; }
 
+    // The same material with the diffuse lobe's reflectance rho replaced (it has a diffuse lobe):
+    // bit for bit the material the constructor builds from that lobe and the same glossy and
+    // mirror lobes, since rho enters no table. No allocation: for per-hit textured materials.
+    Material with_diffuse_reflectance(const Rgb& rho) const {
+        Material m = *this;
+        m.m_diffuse.emplace(rho);
+        return m;
+    }
+
     const std::optional<LambertReflection>& diffuse() const { return m_diffuse; }
     const std::optional<MicrofacetReflection>& glossy() const { return m_glossy; }
     const std::optional<MirrorReflection>& mirror() const { return m_mirror; }

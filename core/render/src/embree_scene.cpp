@@ -44,6 +44,11 @@ struct EmbreeBackend {
     // per-triangle records outgrow the caches. On the Cornell box (36 triangles) the prefetch
     // loop cost 1.5% of the render for nothing.
     bool prefetch_hit_records = false;
+    // Whether some hit needs more than the shape's own surface: a mesh that is a part of its
+    // shape (ShapeInfo::parts) or geometry with texture coordinates (which every textured
+    // material or emission has). False for most scenes: their hit records then skip the part
+    // and UV look-ups and the emission texture test (Scene::complete_hit<false>).
+    bool surface_extras = true;
 };
 
 namespace {
@@ -495,6 +500,13 @@ void Scene::Impl::build(const std::string& name) {
         record_bytes += mg.planes.size() * sizeof(glm::vec4) +
                         mg.records.size() * sizeof(MeshGeom::SmoothRecord);
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
+    be.surface_extras =
+        std::any_of(meshes.begin(), meshes.end(),
+                    [](const MeshGeom& mg) {
+                        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
+                    }) ||
+        std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
+        std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
     rtcCommitScene(be.scene.get());
     std::lock_guard<std::mutex> lock(be.error_mutex);
     if (!be.first_error.empty()) throw SceneError(name + ": embree: " + be.first_error);
@@ -551,7 +563,9 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
 }
 
-// Inline: called once per closest hit, only from Scene::intersect below.
+// Inline: called once per closest hit, only from Scene::intersect below. kUv: compute the
+// texture coordinates of meshes that have them (EmbreeBackend::surface_extras).
+template <bool kUv>
 [[gnu::always_inline]] inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri,
                                                               const Ray& ray, float u, float v,
                                                               float t, SurfaceHit& hit) const {
@@ -594,31 +608,33 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
-    if (!mg.tri_uvs.empty()) {
-        hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
-        hit.dpdu_uv = mg.tri_dpduv[tri][0];
-        hit.dpdv_uv = mg.tri_dpduv[tri][1];
-        if (!mg.tri_tangents.empty()) [[unlikely]] {
-            // Interpolated, not normalised (as Cycles' tangent attribute); the sign too.
-            const std::array<glm::vec4, 3>& tt = mg.tri_tangents[tri];
-            const glm::vec4 tan = (1.f - u - v) * tt[0] + u * tt[1] + v * tt[2];
-            hit.dpdu = Vec3(tan);
-            hit.tangent_sign = tan.w;
-        }
-    } else if (mg.spherical) {
-        const glm::dvec3 po(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
-        hit.uv = sphere_uv(po);
-        glm::dvec3 du, dv;
-        sphere_uv_derivatives(po / glm::length(po), du, dv);
-        const glm::dmat3 lin = glm::inverse(glm::dmat3(mg.to_object));
-        hit.dpdu_uv = Vec3(lin * du);
-        hit.dpdv_uv = Vec3(lin * dv);
-        if (mg.tangent_sign != 0.f) [[unlikely]] {
-            // dp/du of the sphere's UVs: (-y, x, 0) in its frame, to world; unit.
-            const glm::dvec3 w = mg.sphere_to_world * glm::dvec3(-po.y, po.x, 0.0);
-            const double l = glm::length(w);
-            hit.dpdu = l > 0.0 ? Vec3(w / l) : Vec3(0.f);
-            hit.tangent_sign = mg.tangent_sign;
+    if constexpr (kUv) {
+        if (!mg.tri_uvs.empty()) {
+            hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
+            hit.dpdu_uv = mg.tri_dpduv[tri][0];
+            hit.dpdv_uv = mg.tri_dpduv[tri][1];
+            if (!mg.tri_tangents.empty()) [[unlikely]] {
+                // Interpolated, not normalised (as Cycles' tangent attribute); the sign too.
+                const std::array<glm::vec4, 3>& tt = mg.tri_tangents[tri];
+                const glm::vec4 tan = (1.f - u - v) * tt[0] + u * tt[1] + v * tt[2];
+                hit.dpdu = Vec3(tan);
+                hit.tangent_sign = tan.w;
+            }
+        } else if (mg.spherical) {
+            const glm::dvec3 po(mg.to_object * glm::dvec4(glm::dvec3(hit.p), 1.0));
+            hit.uv = sphere_uv(po);
+            glm::dvec3 du, dv;
+            sphere_uv_derivatives(po / glm::length(po), du, dv);
+            const glm::dmat3 lin = glm::inverse(glm::dmat3(mg.to_object));
+            hit.dpdu_uv = Vec3(lin * du);
+            hit.dpdv_uv = Vec3(lin * dv);
+            if (mg.tangent_sign != 0.f) [[unlikely]] {
+                // dp/du of the sphere's UVs: (-y, x, 0) in its frame, to world; unit.
+                const glm::dvec3 w = mg.sphere_to_world * glm::dvec3(-po.y, po.x, 0.0);
+                const double l = glm::length(w);
+                hit.dpdu = l > 0.0 ? Vec3(w / l) : Vec3(0.f);
+                hit.tangent_sign = mg.tangent_sign;
+            }
         }
     }
 }
@@ -644,11 +660,17 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
-    return complete_hit(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+    return be.surface_extras ? complete_hit<true>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                                  rh.hit.v, rh.ray.tfar, hit)
+                             : complete_hit<false>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                                   rh.hit.v, rh.ray.tfar, hit);
 }
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
 // then the hit record of whatever is nearest. `geom` is Embree's geomID (invalid: no hit).
+// kSurfaceExtras (EmbreeBackend::surface_extras): parts, texture coordinates and textured
+// emission; without it a hit reads its shape's own surface only.
+template <bool kSurfaceExtras>
 [[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim,
                                                        float u, float v, float t,
                                                        SurfaceHit& hit) const {
@@ -684,8 +706,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
         const MeshGeom& mg = impl.meshes[std::size_t(be.geom_to_mesh[geom])];
-        impl.fill_triangle(mg, prim, ray, u, v, t, hit);
-        part = mg.part;
+        impl.fill_triangle<kSurfaceExtras>(mg, prim, ray, u, v, t, hit);
+        if constexpr (kSurfaceExtras) part = mg.part;
     }
     const ShapeInfo& shape = m_shapes[hit.shape];
     const ShapeSurface& s = part < 0 ? shape : shape.parts[std::size_t(part)];
@@ -693,9 +715,17 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     hit.two_sided = s.two_sided;
     hit.light = s.light;
     hit.textured = s.textured;
-    hit.emitted_radiance = s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f ? s.emission : Rgb(0.f);
-    if (s.emission_texture && glm::dot(hit.ng, ray.d) < 0.f) [[unlikely]]
-        hit.emitted_radiance = s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
+    // A textured emission needs uv, which only kSurfaceExtras computes (every textured surface
+    // has texture coordinates); its surface is an emitter (light >= 0) like any other.
+    hit.emitted_radiance = Rgb(0.f);
+    if (s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f) {
+        hit.emitted_radiance = s.emission;
+        if constexpr (kSurfaceExtras) {
+            if (s.emission_texture)
+                hit.emitted_radiance =
+                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
+        }
+    }
     return true;
 }
 
@@ -726,10 +756,20 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
         const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
         __builtin_prefetch(&mg.plane(rh.hit.primID[k]));
     }
-    for (std::size_t k = 0; k < n; ++k) {
-        if (!valid[k]) continue;
-        found[k] = complete_hit(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
-                                rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+    // The hit records, with the scene's surface extras or without (decided once per packet).
+    // (Two plain loops: GCC did not inline complete_hit into a templated lambda.)
+    if (impl.backend->surface_extras) {
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!valid[k]) continue;
+            found[k] = complete_hit<true>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
+                                          rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+        }
+    } else {
+        for (std::size_t k = 0; k < n; ++k) {
+            if (!valid[k]) continue;
+            found[k] = complete_hit<false>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
+                                           rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+        }
     }
 }
 

@@ -237,7 +237,9 @@ template <std::uint32_t F>
                     const float lp = select_pmf * ls->pdf;
                     float w = 1.f;
                     if constexpr (kMis) {
-                        if (!ls->delta && light.hittable()) w = power_heuristic(lp, e.pdf);
+                        // Only lights that rays can hit compete with BSDF samples (a delta
+                        // light never is one: light.h).
+                        if (light.hittable()) w = power_heuristic(lp, e.pdf);
                     }
                     p.nee = p.beta * contrib * (w / lp);
                 }
@@ -314,6 +316,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
+    constexpr bool kTextured = (F & kFeatTextured) != 0;
     const std::span<const Light> lights = scene.lights();
 
     // Emission reached by this ray: full weight from the camera or after a delta lobe (light
@@ -347,9 +350,11 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     if constexpr (!kIndirect && !kSpecular) {
         if (depth >= 1) return false;
     }
-    if (hit.textured >= 0) [[unlikely]]
-        return path_scatter_textured<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow,
-                                        depth, max_depth, c, rays.get(k));
+    if constexpr (kTextured) {
+        if (hit.textured >= 0)
+            return path_scatter_textured<F>(scene, light_dist, p, rays, k, hit, s, has_shadow,
+                                            shadow, depth, max_depth, c, rays.get(k));
+    }
     return path_scatter<F>(scene, light_dist, p, rays, k, hit, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, *hit.material);
 }
@@ -427,6 +432,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kArea = (F & kFeatAreaSampling) != 0;
     constexpr bool kTransmission = (F & kFeatTransmission) != 0;
+    constexpr bool kTextured = (F & kFeatTextured) != 0;
     const std::span<const Light> lights = scene.lights();
     // Dimensions of one depth: one per light, then one for the lobe choice of a smooth
     // dielectric (transmission kernel only).
@@ -443,13 +449,18 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
             break;
         }
         if constexpr (kEmission) L += beta * hit.emitted_radiance;
-        std::optional<Material> textured;  // as in path_vertex
-        if (hit.textured >= 0) [[unlikely]] {
-            scene.shade_normal(hit, -ray.d);  // normal map (nothing without one)
-            textured.emplace(
-                scene.material_at(hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr)));
+        // A textured hit's material is built for it (only in the textured kernel, as in
+        // path_vertex).
+        const Material* mp = hit.material;
+        [[maybe_unused]] std::optional<Material> textured;
+        if constexpr (kTextured) {
+            if (hit.textured >= 0) {
+                scene.shade_normal(hit, -ray.d);  // normal map (nothing without one)
+                mp = &textured.emplace(scene.material_at(
+                    hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr)));
+            }
         }
-        const Material& m = textured ? *textured : *hit.material;
+        const Material& m = *mp;
         Shading sh;
         bool transmissive = false;
         if constexpr (kTransmission) transmissive = m.transmissive();
@@ -666,6 +677,7 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
     };
     add(f & kFeatLambertOnly, "lambert-only", "");
     add(f & kFeatTransmission, "transmission", "");
+    add(f & kFeatTextured, "textured", "");
     add(f & kFeatSpecular, "specular", "no-specular");
     if (kind == IntegratorKind::Path) {
         add(f & kFeatMis, "mis", "no-mis");
@@ -769,14 +781,25 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.features = f;
     }
     k.features &= path ? kPathMask : kDirectMask;
+    // Transmission and textures: the general kernel plus what they need (kernel_function
+    // instantiates these combinations only).
+    if (sf.has_transmission || sf.has_textured) {
+        k.features = path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
+                          : (kFeatSpecular | kFeatEmission | kFeatAreaSampling);
+    }
     if (sf.has_transmission) {
-        // The transmission kernel is the general one plus two-sided shading (kernel_function).
-        k.features = (path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
-                           : (kFeatSpecular | kFeatEmission | kFeatAreaSampling)) |
-                     kFeatTransmission;
+        k.features |= kFeatTransmission;
         k.chosen.push_back(
             "transmission (dielectric materials): the general kernel with two-sided shading "
             "frames and rays spawned on the side they leave to");
+    }
+    if (sf.has_textured) {
+        k.features |= kFeatTextured;
+        k.chosen.push_back(
+            "textured materials: the general kernel, building a hit's material from its "
+            "textures where the surface has them");
+    } else {
+        k.skipped.push_back("per-hit materials: no material is textured");
     }
     k.name = std::string(integrator_name(integrator)) + "<" + feature_list(integrator, k.features) +
              ">" + (force_general ? " (general)" : "");
@@ -784,20 +807,31 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
 }
 
 TileKernel kernel_function(const KernelChoice& choice) {
-    // Transmission: one kernel per integrator, every other feature on (choose_kernel).
-    constexpr std::uint32_t kPathTransmission = kPathMask | kFeatTransmission;
-    constexpr std::uint32_t kDirectTransmission = kDirectMask | kFeatTransmission;
-    if ((choice.features & kFeatTransmission) != 0) {
-        return choice.integrator == IntegratorKind::Path
-                   ? &render_tile<IntegratorKind::Path, kPathTransmission & ~kFeatLambertOnly>
-                   : &render_tile<IntegratorKind::Direct, kDirectTransmission & ~kFeatLambertOnly>;
+    // Transmission and textures: the general kernel of each integrator with either or both
+    // (choose_kernel).
+    constexpr std::uint32_t kPathGeneral = kPathMask & ~kFeatLambertOnly;
+    constexpr std::uint32_t kDirectGeneral = kDirectMask & ~kFeatLambertOnly;
+    constexpr std::uint32_t kT = kFeatTransmission, kX = kFeatTextured;
+    const bool path = choice.integrator == IntegratorKind::Path;
+    switch (choice.features & (kT | kX)) {
+        case kT:
+            return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT>
+                        : &render_tile<IntegratorKind::Direct, kDirectGeneral | kT>;
+        case kX:
+            return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kX>
+                        : &render_tile<IntegratorKind::Direct, kDirectGeneral | kX>;
+        case kT | kX:
+            return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX>
+                        : &render_tile<IntegratorKind::Direct, kDirectGeneral | kT | kX>;
+        default:
+            break;
     }
     static constexpr std::array<TileKernel, kTableSize> kPath =
         make_table<IntegratorKind::Path, kPathMask>(std::make_index_sequence<kTableSize>{});
     static constexpr std::array<TileKernel, kTableSize> kDirect =
         make_table<IntegratorKind::Direct, kDirectMask>(std::make_index_sequence<kTableSize>{});
     const std::size_t i = choice.features & (kTableSize - 1);
-    return choice.integrator == IntegratorKind::Path ? kPath[i] : kDirect[i];
+    return path ? kPath[i] : kDirect[i];
 }
 
 }  // namespace facet::render

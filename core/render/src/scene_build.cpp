@@ -566,6 +566,13 @@ class Builder final : public BuildChecks {
                 im ? double(std::max(im->width, im->height)) : 1000.0 * td.checker_scale;
             tm.bump_step = float(0.5 / (cells * per_uv));
         }
+        if (!tm.convert && tm.slots.size() == 1 &&
+            ((m.model == "lambert" && tm.slots[0].name == "reflectance") ||
+             (m.model == "composite" && tm.slots[0].name == "diffuse_reflectance")) &&
+            m_builder.materials().back()->diffuse()) {
+            tm.diffuse_base = m_builder.materials().back().get();
+            tm.diffuse_black_ok = m.model == "lambert";
+        }
         m_builder.textured().push_back(std::move(tm));
         return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1)};
     }
@@ -1071,6 +1078,7 @@ class Builder final : public BuildChecks {
                 f.lobes = f.lobes | fl;
                 if (fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;
+                if (su.textured >= 0) f.has_textured = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
             };
             if (s.parts.empty()) surface(s);
@@ -1140,7 +1148,8 @@ std::string SceneFeatures::describe() const {
       << num_materials << " materials\n";
     s << "lobes: diffuse " << yn(has_diffuse) << ", glossy " << yn(has_glossy) << ", specular "
       << yn(has_specular) << ", transmission " << yn(has_transmission)
-      << (lambert_only ? " (Lambert only)" : "") << "\n";
+      << (lambert_only ? " (Lambert only)" : "") << "; textured materials " << yn(has_textured)
+      << "\n";
     s << "lights: " << num_lights << " (point " << yn(has_point) << ", spot " << yn(has_spot)
       << ", directional " << yn(has_directional) << ", area " << yn(has_area) << ", environment "
       << yn(has_environment) << "); all delta: " << yn(all_lights_delta) << "\n";

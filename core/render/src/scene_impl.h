@@ -138,6 +138,7 @@ struct Scene::Impl {
     void build(const std::string& name);
     // Fills `hit` (except material/emission fields) for a closest hit found by the backend.
     void fill_analytic(const AnalyticPrim& prim, const Ray& ray, float t, SurfaceHit& hit) const;
+    template <bool kUv>
     void fill_triangle(const MeshGeom& mesh, std::uint32_t tri, const Ray& ray, float u, float v,
                        float t, SurfaceHit& hit) const;
 };

@@ -190,6 +190,16 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
     const TexturedMaterial& tm = m_textured[std::size_t(hit.textured)];
+    if (tm.diffuse_base) {
+        // A textured diffuse reflectance alone: the base material with its diffuse lobe
+        // replaced, the same bits as make_material gives. Composite leaves out a zero diffuse
+        // lobe, so a black value takes the general path below.
+        const TexturedMaterial::Slot& s = tm.slots[0];
+        const Rgb v =
+            glm::clamp(s.texture->eval(hit.uv, fp), s.texture->min_value(), s.texture->max_value());
+        if (tm.diffuse_black_ok || max_component(v) > 0.f)
+            return tm.diffuse_base->with_diffuse_reflectance(v);
+    }
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
         const Rgb v =

@@ -72,7 +72,12 @@ enum KernelFeature : std::uint32_t {
     kFeatAreaSampling = 1u << 5,  // direct: stochastic light samples (area lights, environment)
     // Some material transmits (dielectrics): two-sided shading frames, rays spawned on the side
     // they leave to. Only the general kernel of each integrator is instantiated with it.
-    kFeatTransmission = 1u << 6
+    kFeatTransmission = 1u << 6,
+    // Some surface's material depends on the hit (SceneFeatures::has_textured): hits with
+    // SurfaceHit::textured >= 0 build their material with Scene::material_at. Only kernels with
+    // this bit test it, so an untextured scene's kernel has no such branch (the general kernel
+    // of each integrator, with or without Transmission, is instantiated with it).
+    kFeatTextured = 1u << 7
 };
 
 enum class IntegratorKind { Direct, Path };

@@ -183,6 +183,13 @@ struct TexturedMaterial {
     // distance, and the forward-difference step in uv; null when the material has none.
     const Texture* bump = nullptr;
     float bump_distance = 1.f, bump_step = 1e-3f;
+    // Set when the only textured parameter is a diffuse reflectance (lambert "reflectance",
+    // composite "diffuse_reflectance"): the material built at the texture's largest value, whose
+    // diffuse lobe material_at replaces per hit (Material::with_diffuse_reflectance) instead of
+    // building the model from a ParamSet (which allocates and, for composite, recomputes the
+    // albedo table).
+    const Material* diffuse_base = nullptr;
+    bool diffuse_black_ok = false;  // lambert: a black value is still its one lobe
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -191,7 +198,10 @@ struct SceneFeatures {
     BxDFFlags lobes = BxDFFlags::None;  // union of every material's Material::flags()
     bool has_diffuse = false, has_glossy = false, has_specular = false;
     bool has_transmission = false;  // some material transmits (facet/dielectric.h)
-    bool lambert_only = false;      // every material is a pure Lambertian (diffuse only)
+    // Some surface's material is textured (ShapeSurface::textured >= 0): only then do kernels
+    // test SurfaceHit::textured and build per-hit materials (kFeatTextured).
+    bool has_textured = false;
+    bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
     bool all_lights_delta = true;  // every light is a point, spot or directional light without size
@@ -364,8 +374,11 @@ class Scene {
     // Any hit with t in (0, r.tmax) (planes outside Embree, then Embree's occlusion query).
     bool occluded_ray(const Ray& r) const;
     // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray`.
-    bool complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u, float v, float t,
-                      SurfaceHit& hit) const;
+    // kSurfaceExtras: the scene has shape parts or texture coordinates (embree_scene.cpp);
+    // without them the hit record skips their look-ups.
+    template <bool kSurfaceExtras>
+    [[gnu::always_inline]] bool complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u,
+                                             float v, float t, SurfaceHit& hit) const;
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
     std::vector<std::string> m_warnings;
