@@ -79,14 +79,16 @@ MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, i
 // Tolerance per channel: 4 combined standard errors (Facet's from its seeds, Cycles' from the
 // JSON) plus a systematic allowance of 0.6% of the value for what differs besides the BSDF:
 // Cycles' sphere is an icosphere with interpolated normals and Cycles' pixel filter is
-// Blackman-Harris 1.5 px (the mask keeps 2.6 px from the silhouette). The allowance is what
-// the Lambertian-like points (no_specular: Disney diffuse only) measure at most, with margin.
-// Points that cannot agree are listed in docs/principled.md with the reason and the analytic
-// case that decides; they are compared with their own stated tolerance.
+// Blackman-Harris 1.5 px (the mask keeps 2.6 px from the silhouette). Measured: every point
+// without clearcoat within 0.2% (docs/principled.md has the table).
 double allowance(const std::string& name) {
-    // Cycles 3.4 samples the clearcoat with GGX visible normals but weighs by the GTR1 pdf:
-    // its clearcoat estimate is not the GTR1 lobe it evaluates (docs/principled.md).
-    if (name.rfind("clearcoat", 0) == 0) return 0.02;
+    // Cycles 3.4 samples the clearcoat with GGX visible normals at alpha = roughness^2 but
+    // weighs the samples by the GTR1 pdf, so its estimate is neither the GTR1 lobe it
+    // evaluates nor independent of the other lobes (one-sample MIS over the closures with a
+    // wrong pdf): measured +3.7% (clearcoat roughness 0.03) and -1.4% .. +1.0% per channel
+    // (0.3). Facet integrates the GTR1 lobe (Principled.ClearcoatPdfIntegratesToOne and the
+    // chi-square test decide); docs/principled.md, difference 2.
+    if (name.rfind("clearcoat", 0) == 0) return 0.045;
     return 0.006;
 }
 

@@ -22,7 +22,9 @@
 //      RR = roughness (1 + wi.wo)  (= 2 roughness (wi.h)^2).
 //  - Sheen: f_sh = sheen w_d C_sheen (1 - wi.h)^5, C_sheen = mix(1, C / lum(C), sheen_tint)
 //    (lum: Rec. 709 luminance); only when w_d and sheen exceed Cycles' cut-off 1e-5.
-//  - Specular (GGX, height-correlated Smith G, anisotropic): present only when w_s > 1e-5 and
+//  - G in every microfacet lobe below is Cycles 3.4's separable Smith form G1(wo) G1(wi)
+//    (not the height-correlated G of facet/microfacet.h; Cycles switched in 3.5).
+//  - Specular (GGX, anisotropic): present only when w_s > 1e-5 and
 //    (specular > 1e-5 or metallic > 1e-5) -- with both 0 there is no specular lobe at all.
 //      f_s = w_s F_s D G / (4 cos_i cos_o),  alpha_x = min(1, r^2 / a), alpha_y = min(1, r^2 a),
 //      a = sqrt(1 - 0.9 anisotropic), tangent rotated by 2 pi anisotropic_rotation;
@@ -37,7 +39,7 @@
 //      rt = 1 - (1 - roughness)(1 - transmission_roughness) (Cycles' GGX branch).
 //  - Clearcoat (clearcoat > 1e-5): 0.25 clearcoat F_diel(wi.h, 1.5) D_GTR1 G / (4 cos_i cos_o),
 //      D_GTR1 = (a2 - 1) / (pi ln(a2) (1 + (a2 - 1) cos_h^2)), a2 = clearcoat_roughness^4
-//      (1 / pi when a2 >= 1), G the GGX height-correlated G at the fixed alpha 0.25.
+//      (1 / pi when a2 >= 1), G the GGX G at the fixed alpha 0.25.
 //  - Subsurface: Facet has no subsurface transport; it uses Cycles' own fallback (the one
 //    Cycles takes after a diffuse bounce): C = mix(base_color, subsurface_color, subsurface)
 //    for every lobe, and the diffuse lobe instead of the BSSRDF.
