@@ -11,22 +11,13 @@
 #include "chi2.h"
 #include "facet/fresnel.h"
 #include "facet/registry.h"
+#include "test_directions.h"
 
 namespace facet {
 namespace {
 
-constexpr double kDeg = kPiD / 180.0;
-
-Vec3 dir(double theta_deg, double phi_deg) {
-    const double t = theta_deg * kDeg, p = phi_deg * kDeg;
-    return Vec3(
-        glm::normalize(DVec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t))));
-}
-
-double stress_scale() {
-    const char* s = std::getenv("FACET_STRESS_SCALE");
-    return s ? std::atof(s) : 1.0;
-}
+using test::dir;
+using test::stress_scale;
 
 Material principled(const ParamSet& p) {
     return make_material("principled", p);

@@ -29,8 +29,7 @@ struct MeanSe {
 };
 
 // The Cycles script's scene in Facet's format: the same sphere, camera, environment, bounces.
-MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, int spp,
-                    int seeds) {
+MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, int spp, int seeds) {
     const int size = scene["size"];
     const double scale = scene["ortho_scale"], mask = scene["mask_radius"];
     nlohmann::json material = params;
@@ -69,8 +68,8 @@ MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, i
     MeanSe r;
     for (int c = 0; c < 3; ++c) {
         r.mean[c] = sum[c] / seeds;
-        const double var = std::max(0.0, sum2[c] / seeds - r.mean[c] * r.mean[c]) * seeds /
-                           (seeds - 1);
+        const double var =
+            std::max(0.0, sum2[c] / seeds - r.mean[c] * r.mean[c]) * seeds / (seeds - 1);
         r.se[c] = std::sqrt(var / seeds);
     }
     return r;
