@@ -56,16 +56,11 @@ INPUTS = {
     ('ShaderNodeBsdfDiffuse', 'Roughness'): (0.0, "Oren-Nayar is not in Facet's core yet; "
                                                   "converted as Lambert"),
     ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
-                                                      "Facet's core yet; ignored"),
-    ('ShaderNodeBsdfPrincipled', 'Sheen'): (0.0, "sheen is not in Facet's core yet; ignored"),
-    ('ShaderNodeBsdfPrincipled', 'Clearcoat'): (0.0, "clearcoat is not in Facet's core yet; "
-                                                     "ignored"),
-    ('ShaderNodeBsdfPrincipled', 'Transmission'): (0.0, "transmission is not in Facet's core "
-                                                        "yet; ignored"),
+                                                      "Facet's core; Cycles' diffuse fallback "
+                                                      "(base colour mixed with Subsurface "
+                                                      "Color) is used"),
     ('ShaderNodeBsdfPrincipled', 'Alpha'): (1.0, "alpha (transparency) is not in Facet's core "
                                                  "yet; opaque"),
-    ('ShaderNodeBsdfPrincipled', 'Anisotropic Rotation'): (0.0, "tangent rotation is not "
-                                                                "converted; ignored"),
     ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
                                                      "ignored"),
 }

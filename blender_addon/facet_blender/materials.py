@@ -29,13 +29,16 @@ default material).
   Principled Anisotropic uses Disney's aspect instead: alpha_u = alpha / aspect, alpha_v =
   alpha * aspect, aspect = sqrt(1 - 0.9 anisotropic). Rotation and tangents are not converted
   (Facet meshes have no tangent field): a non-zero Rotation is reported.
-- Principled BSDF (3.4's Disney-based model) -> composite: diffuse_reflectance =
-  Base Color (1 - Metallic); a GGX glossy lobe with alpha = Roughness^2 and Schlick Fresnel with
-  f0 = mix(0.08 Specular mix(1, tint, Specular Tint), Base Color, Metallic) (Disney's Cspec0).
-  Approximations: Principled's diffuse is Disney's (retro-reflection at grazing angles), not
-  Lambert; Facet's composite weights the diffuse lobe by what the specular lobe leaves
-  (energy conserving) where Principled adds them; Subsurface, Sheen, Clearcoat, Transmission
-  and Alpha are not converted (reported when not at their defaults); Emission is converted.
+- Principled BSDF -> principled (the core's model of Cycles 3.4's Principled BSDF, lobe by lobe:
+  docs/principled.md), every input by its own name: Base Color, Subsurface, Subsurface Color,
+  Metallic, Specular, Specular Tint, Roughness, Anisotropic, Anisotropic Rotation (wrapped to
+  [0, 1): the rotation is periodic), Sheen, Sheen Tint, Clearcoat, Clearcoat Roughness, IOR,
+  Transmission, Transmission Roughness; factors clamped to [0, 1] as Cycles clamps them (colours
+  per channel), IOR to [0.001, 100]. Emission is converted. Reported: Multiscatter GGX
+  (exported as GGX: Facet's principled has single-scattering GGX only), Subsurface > 0 (Cycles'
+  diffuse fallback instead of subsurface transport), Alpha < 1; Subsurface Radius / IOR /
+  Anisotropy and Clearcoat Normal, Normal, Tangent when linked (not read). The anisotropic
+  tangent is Facet's surface dp/du, not Cycles' default tangent.
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
 - Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
@@ -384,26 +387,34 @@ def _glossy(ctx, node, path):
     return data, None
 
 
+# Principled BSDF input -> the principled model's parameter (factors in [0, 1]).
+_PRINCIPLED_FACTORS = (
+    ('Subsurface', "subsurface"), ('Metallic', "metallic"), ('Specular', "specular"),
+    ('Specular Tint', "specular_tint"), ('Roughness', "roughness"),
+    ('Anisotropic', "anisotropic"), ('Sheen', "sheen"), ('Sheen Tint', "sheen_tint"),
+    ('Clearcoat', "clearcoat"), ('Clearcoat Roughness', "clearcoat_roughness"),
+    ('Transmission', "transmission"), ('Transmission Roughness', "transmission_roughness"))
+_PRINCIPLED_COLOURS = (('Base Color', "base_color"), ('Subsurface Color', "subsurface_color"))
+
+
 def _principled(ctx, node, path):
     def val(name):
         return ctx.value(node, name, path)
-    base = _rgb(val('Base Color'))
-    metallic = max(0.0, min(1.0, val('Metallic')))
-    specular = max(0.0, val('Specular'))
-    tint = max(0.0, min(1.0, val('Specular Tint')))
-    alpha = _alpha(val('Roughness'))
-    aniso = val('Anisotropic')
-    # Disney's tint: the base colour's hue at luminance 1.
-    lum = 0.2126 * base[0] + 0.7152 * base[1] + 0.0722 * base[2]
-    ctint = [c / lum for c in base] if lum > 0.0 else [1.0, 1.0, 1.0]
-    f0 = [min(1.0, (1.0 - metallic) * 0.08 * specular * ((1.0 - tint) + tint * ct)
-              + metallic * b) for ct, b in zip(ctint, base)]
-    data = {"model": "composite", "diffuse_reflectance": [b * (1.0 - metallic) for b in base],
-            "distribution": "ggx", "fresnel": "schlick", "f0": f0}
-    if aniso != 0.0:
-        data["alpha_u"], data["alpha_v"] = _aniso(alpha, aniso)
-    else:
-        data["alpha"] = alpha
+
+    def unit(x):
+        return max(0.0, min(1.0, float(x)))
+
+    data = {"model": "principled"}
+    for name, key in _PRINCIPLED_COLOURS:
+        data[key] = [unit(c) for c in _rgb(val(name))]
+    for name, key in _PRINCIPLED_FACTORS:
+        data[key] = unit(val(name))
+    rotation = float(val('Anisotropic Rotation'))
+    data["anisotropic_rotation"] = rotation - math.floor(rotation)  # periodic (2 pi x rotation)
+    data["ior"] = max(1e-3, min(100.0, float(val('IOR'))))
+    if node.distribution != 'GGX':
+        ctx.problems.append("%s: %s distribution '%s' is not in Facet's principled; exported as "
+                            "GGX (single scattering)" % (ctx.what, node.name, node.distribution))
     emission = units.emission_from_blender(val('Emission'), val('Emission Strength'))
     return data, emission
 
@@ -428,7 +439,7 @@ _READS = {
     'ShaderNodeBsdfDiffuse': ('Color',),
     'ShaderNodeBsdfGlossy': ('Color', 'Roughness'),
     'ShaderNodeBsdfAnisotropic': ('Color', 'Roughness', 'Anisotropy'),
-    'ShaderNodeBsdfPrincipled': ('Base Color', 'Metallic', 'Specular', 'Specular Tint',
-                                 'Roughness', 'Anisotropic', 'Emission', 'Emission Strength'),
+    'ShaderNodeBsdfPrincipled': tuple(n for n, _ in _PRINCIPLED_COLOURS + _PRINCIPLED_FACTORS)
+    + ('Anisotropic Rotation', 'IOR', 'Emission', 'Emission Strength'),
     'ShaderNodeEmission': ('Color', 'Strength'),
 }

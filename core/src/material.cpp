@@ -64,6 +64,9 @@ Material::Material(const DielectricBxDF& dielectric)
 
 Material::Material(const ThinDielectricBxDF& thin) : m_thin(thin), m_flags(thin.flags()) {}
 
+Material::Material(const PrincipledBxDF& principled)
+    : m_principled(principled), m_flags(principled.flags()) {}
+
 Rgb Material::glossy_albedo(float mu) const {
     if (!m_has_table) return Rgb(0.f);
     float x = clamp_unit(mu) * float(kTableSize - 1);
@@ -105,6 +108,8 @@ Rgb Material::f(const Vec3& wo, const Vec3& wi, Mode mode) const {
     // Transmissive materials are one dielectric lobe (the thin pane has only deltas: f = 0).
     if (m_dielectric) [[unlikely]]
         return m_dielectric->f(wo, wi, mode);
+    if (m_principled) [[unlikely]]
+        return m_principled->f(wo, wi, mode);
     Rgb result(0.f);
     if (m_diffuse) result += diffuse_f(wo, wi);
     if (m_glossy) result += m_glossy->f(wo, wi);
@@ -114,6 +119,8 @@ Rgb Material::f(const Vec3& wo, const Vec3& wi, Mode mode) const {
 float Material::pdf(const Vec3& wo, const Vec3& wi, Mode mode) const {
     if (m_dielectric) [[unlikely]]
         return m_dielectric->pdf(wo, wi, mode);
+    if (m_principled) [[unlikely]]
+        return m_principled->pdf(wo, wi, mode);
     // A single-lobe material is that lobe (probability 1: the same bits as the sum below).
     if (!m_has_table) {
         if (m_diffuse) return m_diffuse->pdf(wo, wi);
@@ -130,6 +137,8 @@ float Material::pdf(const Vec3& wo, const Vec3& wi, Mode mode) const {
 BSDFEval Material::eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
     if (m_dielectric) [[unlikely]]
         return m_dielectric->eval(wo, wi, mode);
+    if (m_principled) [[unlikely]]
+        return m_principled->eval(wo, wi, mode);
     // f() and pdf() in one pass: the glossy lobe's D and Lambda and the lobe probabilities are
     // computed once (same arithmetic, so the results equal f() and pdf() bit for bit).
     if (!m_has_table) {  // single lobe, as in pdf()
@@ -152,6 +161,8 @@ BSDFEval Material::eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
 }
 
 std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u, Mode mode) const {
+    if (m_principled) [[unlikely]]
+        return m_principled->sample_f(wo, uc, u, mode);
     if (transmissive()) [[unlikely]] {
         if (m_dielectric) return m_dielectric->sample_f(wo, uc, u, mode);
         return m_thin->sample_f(wo, uc, u, mode);

@@ -106,11 +106,21 @@ Vec3 clamp_above_horizon(Vec3 w) {
     return w;
 }
 
+// The quadrature maps know the lobes of the layered (diffuse + glossy + mirror) materials only:
+// the principled model (its own lobes) is an error, never a silent 0.
+void require_layered(const Material& m) {
+    if (m.principled())
+        throw std::invalid_argument(
+            "reflectance quadrature: the principled model is not supported yet (its lobes have "
+            "no maps here)");
+}
+
 // Fixed order: int f cos dw over the free direction with `fixed_in` held: fixed = wo when
 // fixed_is_wo (integrating over wi), else fixed = wi (integrating over wo). No reciprocity is
 // assumed.
 Reflectance fixed_order_hemispherical(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
                                       int order) {
+    require_layered(m);
     Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
     const MicrofacetDistribution* dist = glossy_distribution(m);
     Rgb delta = delta_reflectance(m, fixed);
@@ -471,6 +481,7 @@ void check_settings(const QuadratureSettings& s) {
 Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
                                    const QuadratureSettings& settings) {
     check_settings(settings);
+    require_layered(m);
     const Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
     const DVec3 v = glm::normalize(DVec3(fixed));
     Reflectance out;

@@ -138,6 +138,39 @@ std::vector<ModelInfo> build_table() {
           number("alpha_v", "-",
                  "roughness along the bitangent v (anisotropic; give with alpha_u)"),
           text("distribution", "ggx", "microfacet D of a rough interface: ggx or beckmann")}});
+    t.push_back(
+        {"principled",
+         "Blender 3.4's Principled BSDF as Cycles evaluates it: Disney diffuse with "
+         "retro-reflection, sheen, GGX specular (anisotropic), metallic, GTR1 clearcoat, rough "
+         "glass transmission (docs/principled.md)",
+         {color("base_color", "0.8", "Base Color C, in [0, 1]"),
+          number("subsurface", "0",
+                 "Subsurface, in [0, 1]: no subsurface transport; C = mix(base_color, "
+                 "subsurface_color, subsurface) for every lobe (Cycles' diffuse fallback)"),
+          color("subsurface_color", "0.8", "Subsurface Color, in [0, 1]"),
+          number("metallic", "0", "Metallic, in [0, 1]"),
+          number("specular", "0.5",
+                 "Specular, in [0, 1]: F0 = 0.08 specular; with specular = metallic = 0 there "
+                 "is no specular lobe"),
+          number("specular_tint", "0", "Specular Tint, in [0, 1]"),
+          number("roughness", "0.5", "Roughness r, in [0, 1]: GGX alpha = r^2"),
+          number("anisotropic", "0",
+                 "Anisotropic, in [0, 1]: alpha_u = min(1, r^2 / a), alpha_v = min(1, r^2 a), "
+                 "a = sqrt(1 - 0.9 anisotropic)"),
+          number("anisotropic_rotation", "0",
+                 "Anisotropic Rotation, in [0, 1]: the tangent turned by 2 pi times this"),
+          number("sheen", "0", "Sheen, in [0, 1]"),
+          number("sheen_tint", "0.5", "Sheen Tint, in [0, 1]"),
+          number("clearcoat", "0", "Clearcoat, in [0, 1]: lobe weight 0.25 clearcoat"),
+          number("clearcoat_roughness", "0.03",
+                 "Clearcoat Roughness, in [0, 1]: GTR1 alpha = clearcoat_roughness^2"),
+          number("ior", "1.45", "IOR of the transmission (n_inside / n_outside), in [0.001, 100]"),
+          number("transmission", "0", "Transmission, in [0, 1]"),
+          number("transmission_roughness", "0",
+                 "Transmission Roughness, in [0, 1]: refraction roughness 1 - (1 - r)(1 - this)"),
+          text("distribution", "ggx",
+               "microfacet distribution: ggx (Cycles' GGX); multi_ggx is not implemented yet "
+               "and is an error")}});
     t.push_back({"thin_dielectric",
                  "thin pane (window glass): both interfaces' reflections summed, R' = R + "
                  "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
@@ -318,6 +351,31 @@ Material build(const ModelInfo& info, const ParamSet& params) {
         return Material(DielectricBxDF(eta, tr,
                                        kind == "ggx" ? MicrofacetDistribution::ggx(au, av)
                                                      : MicrofacetDistribution::beckmann(au, av)));
+    }
+    if (name == "principled") {
+        PrincipledParams p;
+        auto unit = [&](const char* key, float def) { return float(r.number(key, def, 0.0, 1.0)); };
+        p.base_color = r.color("base_color", p.base_color, 0.0, 1.0);
+        p.subsurface = unit("subsurface", p.subsurface);
+        p.subsurface_color = r.color("subsurface_color", p.subsurface_color, 0.0, 1.0);
+        p.metallic = unit("metallic", p.metallic);
+        p.specular = unit("specular", p.specular);
+        p.specular_tint = unit("specular_tint", p.specular_tint);
+        p.roughness = unit("roughness", p.roughness);
+        p.anisotropic = unit("anisotropic", p.anisotropic);
+        p.anisotropic_rotation = unit("anisotropic_rotation", p.anisotropic_rotation);
+        p.sheen = unit("sheen", p.sheen);
+        p.sheen_tint = unit("sheen_tint", p.sheen_tint);
+        p.clearcoat = unit("clearcoat", p.clearcoat);
+        p.clearcoat_roughness = unit("clearcoat_roughness", p.clearcoat_roughness);
+        p.ior = float(r.number("ior", p.ior, 1e-3, kMaxIor));
+        p.transmission = unit("transmission", p.transmission);
+        p.transmission_roughness = unit("transmission_roughness", p.transmission_roughness);
+        if (r.choice("distribution", "ggx", {"ggx", "multi_ggx"}) == "multi_ggx")
+            throw r.error("distribution",
+                          "multi_ggx (Cycles' stochastic multiple-scattering GGX) is not "
+                          "implemented; use ggx (docs/principled.md)");
+        return Material(PrincipledBxDF(p));
     }
     // composite
     Rgb kd = r.color("diffuse_reflectance", Rgb(0.5f), 0.0, 1.0);

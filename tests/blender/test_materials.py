@@ -71,22 +71,32 @@ def main():
     m, _ = node_material("P", "ShaderNodeBsdfPrincipled", Base_Color=(0.8, 0.1, 0.1, 1.0),
                          Roughness=0.4, Specular=0.5, Metallic=0.0, Specular_Tint=0.0)
     c = conv(m)
-    bt.check(c.data["model"] == "composite" and close(c.data["diffuse_reflectance"], [0.8, 0.1, 0.1])
-             and close(c.data["f0"], [0.04] * 3) and close(c.data["alpha"], 0.16)
-             and c.data["fresnel"] == "schlick", "Principled dielectric: f0 = 0.08 Specular")
+    bt.check(c.data["model"] == "principled" and close(c.data["base_color"], [0.8, 0.1, 0.1])
+             and close(c.data["roughness"], 0.4) and close(c.data["specular"], 0.5)
+             and close(c.data["metallic"], 0.0) and close(c.data["ior"], 1.45),
+             "Principled -> principled, inputs by name: %s" % c.data)
     m, _ = node_material("PM", "ShaderNodeBsdfPrincipled", Base_Color=(0.9, 0.6, 0.2, 1.0),
-                         Metallic=1.0, Roughness=0.2)
+                         Metallic=1.0, Roughness=0.2, Anisotropic_Rotation=1.25)
     c = conv(m)
-    bt.check(close(c.data["diffuse_reflectance"], [0, 0, 0]) and close(c.data["f0"], [0.9, 0.6, 0.2]),
-             "Principled metal: f0 = Base Color, no diffuse")
-    m, n = node_material("PX", "ShaderNodeBsdfPrincipled", Clearcoat=0.5)
+    bt.check(close(c.data["metallic"], 1.0) and close(c.data["anisotropic_rotation"], 0.25),
+             "Principled metal; Anisotropic Rotation wrapped to [0, 1): %s" % c.data)
+    m, n = node_material("PX", "ShaderNodeBsdfPrincipled", Clearcoat=0.5, Sheen=0.3,
+                         Transmission=0.2, Subsurface=0.1)
+    n.distribution = 'MULTI_GGX'
     tex = m.node_tree.nodes.new("ShaderNodeTexNoise")
     m.node_tree.links.new(tex.outputs[1], n.inputs["Base Color"])
     c = conv(m)
-    bt.check(any("PX" in p and "Clearcoat" in p for p in c.problems)
+    bt.check(close(c.data["clearcoat"], 0.5) and close(c.data["sheen"], 0.3)
+             and close(c.data["transmission"], 0.2) and close(c.data["subsurface"], 0.1),
+             "Principled: clearcoat, sheen, transmission, subsurface converted: %s" % c.data)
+    bt.check(any("PX" in p and "Subsurface" in p for p in c.problems)
+             and any("PX" in p and "MULTI_GGX" in p for p in c.problems)
+             and not any("Clearcoat" in p or "Sheen" in p or "Transmission" in p
+                         for p in c.problems)
              and any("PX" in p and "Base Color" in p and "Noise Texture" in p
                      for p in c.problems),
-             "Principled: unsupported and linked inputs named: %s" % c.problems)
+             "Principled: subsurface fallback, multiscatter and linked inputs named: %s"
+             % c.problems)
     m, _ = node_material("E", "ShaderNodeEmission", Color=(1.0, 0.5, 0.25, 1.0), Strength=4.0)
     c = conv(m)
     bt.check(close(c.emission, [4.0, 2.0, 1.0]), "Emission: radiance = Color x Strength")

@@ -147,11 +147,12 @@ def structure():
 
     c = materials.convert(mat)
     want_base = [0.25, 0.1875, 0.5]
-    want = {"model": "composite", "diffuse_reflectance": [b * 0.5 for b in want_base],
-            "distribution": "ggx", "fresnel": "schlick",
-            "f0": [0.5 * 0.08 + 0.5 * b for b in want_base], "alpha": 0.25}
-    bt.check(c.data == want, "through reroutes, nested groups, a muted node and constant "
-             "chains: %s == %s" % (c.data, want))
+    want = {"base_color": want_base, "roughness": 0.5, "metallic": 0.5, "specular": 1.0,
+            "specular_tint": 0.0}
+    bt.check(c.data["model"] == "principled"
+             and all(c.data[k] == v for k, v in want.items()),
+             "through reroutes, nested groups, a muted node and constant "
+             "chains: %s has %s" % (c.data, want))
     # Screen: 1 - (1 - t + t(1 - b))(1 - a), t = 0.5: (1 - 0.75 * 0.5, 1 - 0.5, 1) =
     # (0.625, 0.5, 1), x Strength 4.
     bt.check(c.emission == [2.5, 2.0, 4.0], "Mix RGB Screen x Math Power emission: %s"
@@ -205,10 +206,10 @@ def reports():
         hits = [x for x in lines if "'reported'" in x and "%s '%s'" % (node, node) in x]
         bt.check(len(hits) == 1 and feeds in hits[0],
                  "%s: one report line naming material, node and %s: %s" % (node, feeds, hits))
-    # The rest converts: Fac 0.25 -> the Principled BSDF (input 1), Roughness 0.5 -> 0.25,
+    # The rest converts: Fac 0.25 -> the Principled BSDF (input 1), Roughness 0.5,
     # Base Color the input's own value (0.8, 0.8, 0.8) (named in the Image Texture's line).
-    bt.check(c.data["model"] == "composite" and c.data["alpha"] == 0.25
-             and all(abs(x - 0.8) < 1e-6 for x in c.data["diffuse_reflectance"]),
+    bt.check(c.data["model"] == "principled" and c.data["roughness"] == 0.5
+             and all(abs(x - 0.8) < 1e-6 for x in c.data["base_color"]),
              "the rest still converts: %s" % c.data)
     bt.check(len(lines) == 4, "exactly four lines: %s" % lines)
 

@@ -28,6 +28,13 @@ expect_err() {
 # Lambert f = rho/pi = 0.5/pi = 0.159155 (printed to 6 significant digits).
 expect_ok lambert-eval '^    0\.1591549' "$facet" brdf eval --model lambert --reflectance 0.5 --wi 10,0 --wo 40,90 --json
 expect_ok lambert-eval-text 'f   = 0.159155 0.159155 0.159155' "$facet" brdf eval --model lambert --reflectance 0.5
+# Principled with specular 0 and roughness 0 is Disney diffuse without retro-reflection: at
+# normal incidence on both sides F_V = F_L = 0, so f = C / pi = 0.5 / pi.
+expect_ok principled-eval 'f   = 0.159155 0.159155 0.159155' "$facet" brdf eval --model principled \
+  --base_color 0.5 --specular 0 --roughness 0 --wi 0,0 --wo 0,0
+expect_err principled-reflectance 'principled' "$facet" reflectance --model principled
+expect_err principled-multi-ggx '--distribution' "$facet" brdf eval --model principled \
+  --distribution multi_ggx
 # Cosine-weighted sampling: pdf = cos(theta)/pi <= 1/pi for every sample.
 expect_ok lambert-sample 'diffuse' "$facet" brdf sample --model lambert --count 4 --seed 7
 # Mirror: a delta, f = pdf = 0 off the delta; samples are specular with pdf 1.

@@ -17,6 +17,8 @@
 //    outward shading normal, not the viewer's side, and wo may lie on either side. The
 //    TransportMode argument matters only to these (radiance by default: camera paths); the
 //    reflection lobes are symmetric and ignore it.
+//  - A principled material (facet/principled.h) is that one model and nothing else; with
+//    transmission it follows the transmissive conventions above.
 #pragma once
 
 #include <array>
@@ -28,6 +30,7 @@
 #include "facet/lambert.h"
 #include "facet/microfacet.h"
 #include "facet/mirror.h"
+#include "facet/principled.h"
 
 namespace facet {
 
@@ -38,6 +41,8 @@ class Material {
     // A transmissive material: the dielectric interface or the thin pane alone.
     explicit Material(const DielectricBxDF& dielectric);
     explicit Material(const ThinDielectricBxDF& thin);
+    // Blender's Principled BSDF (facet/principled.h), alone.
+    explicit Material(const PrincipledBxDF& principled);
 
     using Mode = TransportMode;
     Rgb f(const Vec3& wo, const Vec3& wi, Mode mode = Mode::Radiance) const;
@@ -51,6 +56,7 @@ class Material {
 
     const std::optional<DielectricBxDF>& dielectric() const { return m_dielectric; }
     const std::optional<ThinDielectricBxDF>& thin_dielectric() const { return m_thin; }
+    const std::optional<PrincipledBxDF>& principled() const { return m_principled; }
 
     // The same material with the diffuse lobe's reflectance rho replaced (it has a diffuse lobe):
     // bit for bit the material the constructor builds from that lobe and the same glossy and
@@ -87,6 +93,7 @@ class Material {
     std::optional<MirrorReflection> m_mirror;
     std::optional<DielectricBxDF> m_dielectric;
     std::optional<ThinDielectricBxDF> m_thin;
+    std::optional<PrincipledBxDF> m_principled;
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_has_table = false;            // false for single-lobe materials
     std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)

@@ -70,7 +70,8 @@ struct Shading {
     Vec3 ng, ns, wo;  // world ng/ns on the viewer's side; wo in the local frame
 };
 
-// Whether the material reads the tangent direction: only an anisotropic glossy lobe does.
+// Whether the material reads the tangent direction: only an anisotropic glossy lobe (or a
+// principled material's anisotropic specular) does.
 // Lambertian, mirror and isotropic microfacet lobes are invariant under rotation about the
 // normal, so for them the frame's tangent is arbitrary and Frame::from_z(ns) replaces the
 // Gram-Schmidt of from_z_x (every kernel makes the same choice, so their images still agree).
@@ -79,6 +80,7 @@ bool needs_tangent(const Material& m) {
     if constexpr ((F & kFeatLambertOnly) != 0) {
         return false;
     } else {
+        if (m.principled()) return m.principled()->anisotropic();
         if (!m.glossy()) return false;
         const MicrofacetDistribution& d = m.glossy()->distribution();
         return d.alpha_x() != d.alpha_y();
@@ -108,8 +110,9 @@ template <std::uint32_t F>
                                                              Shading& sh) {
     sh.ng = hit.ng;
     sh.ns = hit.ns;
-    const bool aniso = m.dielectric() && m.dielectric()->distribution().alpha_x() !=
-                                             m.dielectric()->distribution().alpha_y();
+    const bool aniso = (m.dielectric() && m.dielectric()->distribution().alpha_x() !=
+                                              m.dielectric()->distribution().alpha_y()) ||
+                       (m.principled() && m.principled()->anisotropic());
     sh.frame = aniso ? Frame::from_z_x(sh.ns, hit.dpdu) : Frame::from_z(sh.ns);
     sh.wo = sh.frame.to_local(-ray_d);
 }
@@ -511,7 +514,8 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                 } else {
                     break;
                 }
-                if (!ms) break;
+                // (a principled material may answer with a non-delta lobe: not followed here)
+                if (!ms || !ms->is_specular()) break;
                 const Vec3 wi_w = sh.frame.from_local(ms->wi);
                 if (!valid_side(sh, transmissive, wi_w, ms->wi.z)) break;
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);

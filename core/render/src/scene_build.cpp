@@ -1029,6 +1029,7 @@ class Builder final : public BuildChecks {
         if (m.transmissive()) return true;  // a dielectric reflects at least its Fresnel part
         if (m.diffuse() && max_component(m.diffuse()->rho()) > 0.f) return true;
         if (m.glossy()) return true;
+        if (m.principled()) return m.principled()->flags() != BxDFFlags::None;
         if (m.mirror() && max_component(m.mirror()->scale()) > 0.f) return true;
         return false;
     }
@@ -1076,7 +1077,10 @@ class Builder final : public BuildChecks {
                 if (su.textured >= 0)
                     fl = fl | m_builder.textured()[std::size_t(su.textured)].flags;
                 f.lobes = f.lobes | fl;
-                if (fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) f.lambert_only = false;
+                // A principled material's diffuse lobe is Disney's, not Lambert's.
+                if ((fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) ||
+                    su.material->principled())
+                    f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;
                 if (su.textured >= 0) f.has_textured = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;

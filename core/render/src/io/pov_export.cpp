@@ -456,6 +456,10 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
              fmt::format("'{}' transmits light, which POV-Ray cannot express exactly (the brdf "
                          "finish is reflection only; POV-Ray's interior/refraction differs)",
                          m.model));
+    if (m.model == "principled")
+        fail(pointer + "/model",
+             "'principled' has no povray-facet brdf finish yet, so it cannot be exported "
+             "exactly (docs/principled.md)");
     const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
                                       : m.model == "composite" ? "diffuse_reflectance"
                                                                : "";

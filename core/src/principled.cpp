@@ -1,0 +1,359 @@
+// The principled model (facet/principled.h; formulas and differences from Cycles:
+// docs/principled.md).
+#include "facet/principled.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "facet/fresnel.h"
+#include "facet/sampling.h"
+
+namespace facet {
+
+namespace {
+
+// Cycles' CLOSURE_WEIGHT_CUTOFF: a closure whose weight is at most this is not allocated.
+constexpr float kCutoff = 1e-5f;
+// Cycles treats a GGX / GTR1 lobe with alpha_x alpha_y <= 1e-7 as singular (a delta lobe).
+constexpr float kSingular = 1e-7f;
+// Cycles' floor on the glass refraction weight (keeps MNEE from a null BSDF).
+constexpr float kMinRefraction = 1e-4f;
+// The clearcoat lobe's fixed masking-shadowing alpha (Cycles: "alpha2 = 0.25 * 0.25").
+constexpr float kClearcoatGAlpha = 0.25f;
+constexpr float kClearcoatIor = 1.5f;
+constexpr float kIorOne = 1e-3f;  // |ior - 1| below this: refraction straight through
+
+float schlick_weight(float cos_theta) {
+    const float m = std::clamp(1.f - cos_theta, 0.f, 1.f);
+    return (m * m) * (m * m) * m;
+}
+float average(const Rgb& c) {
+    return (c.r + c.g + c.b) / 3.f;
+}
+Rgb mix(const Rgb& a, const Rgb& b, float t) {
+    return a * (1.f - t) + b * t;
+}
+Vec3 mirror_z(const Vec3& w) {
+    return {w.x, w.y, -w.z};
+}
+// Colour with its luminance divided out ("hue and saturation"), white for black; `lum` is the
+// weighting Cycles uses at that place.
+Rgb tint_of(const Rgb& c, float lum) {
+    return lum > 0.f ? c / lum : Rgb(1.f);
+}
+
+// Cycles' interpolate_fresnel_color: blends cspec0 toward white by the dielectric Fresnel term
+// at ior renormalised to [0, 1] (FH = (F - F0) / (1 - F0), F0 = F(normal incidence)).
+Rgb interpolate_fresnel(float cos_ih, float eta, float f0, const Rgb& cspec0) {
+    const float fh = f0 < 1.f ? (fresnel_dielectric(cos_ih, eta) - f0) / (1.f - f0) : 1.f;
+    return cspec0 * (1.f - fh) + Rgb(fh);
+}
+
+// Generalised Trowbridge-Reitz with gamma = 1 (Burley 2012, eq. 4), normalised so that
+// int D cos dw = 1; a2 = alpha^2; Cycles returns 1 / pi for a2 >= 1. The denominator
+// 1 + (a2 - 1) cos^2 is written a2 cos^2 + sin^2 with sin^2 from the vector's x, y: near the
+// peak of a sharp lobe (a2 ~ 1e-6) the first form loses all digits to cancellation.
+constexpr float kGtr1Uniform = 0.9999f;  // above this, the a2 -> 1 limit 1 / pi (see sampling)
+float gtr1_d(const Vec3& h, float a2) {
+    if (h.z <= 0.f) return 0.f;
+    if (a2 >= kGtr1Uniform) return kInvPi;
+    const float t = a2 * h.z * h.z + (h.x * h.x + h.y * h.y);
+    return (a2 - 1.f) / (kPi * std::log(a2) * t);
+}
+// Draws a GTR1 normal with density D(h) cos(theta_h): sin^2 = (a2^(1 - u) - a2) / (1 - a2)
+// (cos^2 = (1 - a2^(1 - u)) / (1 - a2), Burley 2012 appendix B), in double.
+Vec3 sample_gtr1(float a2, Vec2 u) {
+    double sin2;
+    if (a2 >= kGtr1Uniform)
+        sin2 = double(u[0]);  // D = 1 / pi: cosine-distributed normals
+    else
+        sin2 = (std::pow(double(a2), 1.0 - double(u[0])) - double(a2)) / (1.0 - double(a2));
+    sin2 = std::clamp(sin2, 0.0, 1.0);
+    const double s = std::sqrt(sin2), c = std::sqrt(1.0 - sin2);
+    const double phi = 2.0 * kPiD * double(u[1]);
+    return Vec3(glm::normalize(DVec3(s * std::cos(phi), s * std::sin(phi), c)));
+}
+
+// Cycles 3.4's masking-shadowing: the separable Smith form G1(wo) G1(wi), not the
+// height-correlated 1 / (1 + Lambda(wo) + Lambda(wi)) of Facet's other microfacet models (Cycles
+// switched in 3.5). Measured: a GGX sphere at alpha 0.81 renders 0.4573 in Cycles 3.4, the
+// separable form predicts 0.4570, the height-correlated one 0.4689 (docs/principled.md).
+float separable_g(const MicrofacetDistribution& d, const Vec3& wo, const Vec3& wi) {
+    return d.G1(wo) * d.G1(wi);
+}
+
+}  // namespace
+
+PrincipledBxDF::PrincipledBxDF(const PrincipledParams& p) : m_params(p) {
+    // Subsurface: Cycles' fallback after a diffuse bounce (the base colour mixed toward the
+    // subsurface colour, the diffuse lobe instead of the BSSRDF) for every path.
+    const Rgb c =
+        p.subsurface > 0.f ? mix(p.base_color, p.subsurface_color, p.subsurface) : p.base_color;
+    const float metallic = p.metallic, transmission = p.transmission;
+    const float w_d = (1.f - metallic) * (1.f - transmission);
+    const float w_t = transmission * (1.f - metallic);
+    const float w_s = 1.f - w_t;
+
+    if (w_d > kCutoff && std::fabs(average(c)) > kCutoff) m_diffuse = c * w_d;
+    if (w_d > kCutoff && p.sheen > kCutoff) {
+        const float lum = 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;  // Rec. 709
+        m_sheen = p.sheen * w_d * mix(Rgb(1.f), tint_of(c, lum), p.sheen_tint);
+    }
+    m_cosine = max_component(m_diffuse) > 0.f || max_component(m_sheen) > 0.f;
+
+    // Specular: none at all when specular and metallic are both (almost) 0.
+    if (w_s > kCutoff && (p.specular > kCutoff || metallic > kCutoff)) {
+        m_spec = true;
+        m_spec_weight = w_s;
+        m_spec_eta = 2.f / (1.f - safe_sqrt(0.08f * p.specular)) - 1.f;
+        m_spec_f0 = fresnel_dielectric(1.f, m_spec_eta);
+        const float lum = 0.3f * c.r + 0.6f * c.g + 0.1f * c.b;  // Cycles' approximation
+        const Rgb tint = mix(Rgb(1.f), tint_of(c, lum), p.specular_tint);
+        m_cspec0 = glm::clamp(p.specular * 0.08f * tint * (1.f - metallic) + c * metallic, Rgb(0.f),
+                              Rgb(1.f));
+        const float aspect = safe_sqrt(1.f - 0.9f * p.anisotropic);
+        const float r2 = p.roughness * p.roughness;
+        const float ax = std::min(1.f, r2 / aspect), ay = std::min(1.f, r2 * aspect);
+        m_spec_dist = MicrofacetDistribution::ggx(ax, ay);
+        if (ax * ay <= kSingular) m_delta_mask |= 1u << kSpecular;
+        const float angle = 2.f * kPi * p.anisotropic_rotation;
+        m_rot_c = std::cos(angle), m_rot_s = std::sin(angle);
+    }
+
+    if (p.clearcoat > kCutoff) {
+        m_clearcoat = true;
+        m_cc_weight = 0.25f * p.clearcoat;
+        const float a = p.clearcoat_roughness * p.clearcoat_roughness;
+        m_cc_a2 = a * a;
+        m_cc_g = MicrofacetDistribution::ggx(kClearcoatGAlpha, kClearcoatGAlpha);
+        if (m_cc_a2 <= kSingular) m_delta_mask |= 1u << kClearcoat;
+    }
+
+    if (w_t > kCutoff) {
+        m_glass = true;
+        m_glass_weight = w_t;
+        m_glass_color = c;
+        m_cspec_glass =
+            glm::clamp(c * p.specular_tint + Rgb(1.f - p.specular_tint), Rgb(0.f), Rgb(1.f));
+        const float ar = std::min(1.f, p.roughness * p.roughness);
+        const float rt = 1.f - (1.f - p.roughness) * (1.f - p.transmission_roughness);
+        const float at = std::min(1.f, rt * rt);
+        m_glass_r_dist = MicrofacetDistribution::ggx(ar, ar);
+        m_glass_t_dist = MicrofacetDistribution::ggx(at, at);
+        if (ar * ar <= kSingular) m_delta_mask |= 1u << kGlassReflect;
+        // Cycles samples a refraction at |ior - 1| < 1e-4 as singular; Facet widens this to
+        // 1e-3, where the half-vector Jacobian (etap wi.wm + wo.wm)^-2 of the rough lobe
+        // degenerates in float while the lobe is narrower than 1e-3 rad.
+        if (at * at <= kSingular || std::fabs(p.ior - 1.f) < kIorOne)
+            m_delta_mask |= 1u << kGlassRefract;
+    }
+
+    if (m_cosine) m_flags = m_flags | BxDFFlags::Diffuse;
+    const bool lobe[kLobes] = {false, m_spec, m_clearcoat, m_glass, m_glass};
+    for (int k = kSpecular; k < kLobes; ++k)
+        if (lobe[k]) m_flags = m_flags | (is_delta(k) ? BxDFFlags::Specular : BxDFFlags::Glossy);
+    if (m_glass) m_flags = m_flags | BxDFFlags::Transmission;
+}
+
+Rgb PrincipledBxDF::spec_fresnel(float cos_ih) const {
+    return interpolate_fresnel(cos_ih, m_spec_eta, m_spec_f0, m_cspec0);
+}
+
+Rgb PrincipledBxDF::glass_fresnel(float cos_ih, float etap) const {
+    return interpolate_fresnel(cos_ih, etap, fresnel_dielectric(1.f, etap), m_cspec_glass);
+}
+
+PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
+    // wo is above the (mirrored) surface here; etap is the glass's n(other side) / n(wo side).
+    AtWo a;
+    a.etap = etap;
+    const float c = wo.z;
+    float w[kLobes] = {0.f, 0.f, 0.f, 0.f, 0.f};
+    // Sheen's sample weight is Cycles' avg_value schlick(cos_o) cos_o, floored so that the
+    // cosine lobe keeps a positive probability wherever sheen reflects.
+    if (m_cosine)
+        w[kCosine] = average(m_diffuse) + average(m_sheen) * std::max(schlick_weight(c) * c, 1e-3f);
+    if (m_spec) w[kSpecular] = m_spec_weight * average(spec_fresnel(c));
+    if (m_clearcoat) w[kClearcoat] = m_cc_weight * fresnel_dielectric(c, kClearcoatIor);
+    if (m_glass) {
+        a.fm = fresnel_dielectric(c, a.etap);
+        w[kGlassReflect] = m_glass_weight * a.fm * average(glass_fresnel(c, a.etap));
+        w[kGlassRefract] =
+            m_glass_weight * std::max(kMinRefraction, 1.f - a.fm) * average(m_glass_color);
+    }
+    const bool present[kLobes] = {m_cosine, m_spec, m_clearcoat, m_glass, m_glass};
+    float sum = 0.f;
+    int n = 0;
+    for (int k = 0; k < kLobes; ++k) sum += w[k], n += present[k];
+    for (int k = 0; k < kLobes; ++k)
+        a.p[k] = sum > 0.f ? w[k] / sum : (present[k] ? 1.f / float(n) : 0.f);
+    return a;
+}
+
+void PrincipledBxDF::evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, TransportMode mode,
+                              Rgb* f_out, float* pdf_out) const {
+    Rgb f(0.f);
+    float pdf = 0.f;
+    const float cos_o = wo.z, cos_i = wi.z;
+    if (cos_i > 0.f) {
+        const Vec3 h = glm::normalize(wo + wi);
+        const float cos_ih = glm::dot(wi, h), cos_oh = glm::dot(wo, h);
+        const float inv4 = 1.f / (4.f * cos_o * cos_i);
+        if (m_cosine) {
+            // Disney diffuse with retro-reflection (Burley 2015; Cycles' PRINCIPLED_DIFFUSE_FULL)
+            const float fl = schlick_weight(cos_i), fv = schlick_weight(cos_o);
+            const float rr = m_params.roughness * (1.f + glm::dot(wi, wo));
+            const float d =
+                (1.f - 0.5f * fv) * (1.f - 0.5f * fl) + rr * (fl + fv + fl * fv * (rr - 1.f));
+            f += m_diffuse * (d * kInvPi) + m_sheen * schlick_weight(cos_ih);
+            pdf += a.p[kCosine] * cosine_hemisphere_pdf(cos_i);
+        }
+        if (m_spec && !is_delta(kSpecular)) {
+            const Vec3 so = to_spec(wo), si = to_spec(wi), sh = to_spec(h);
+            const float d = m_spec_dist.D(sh);
+            f += m_spec_weight * spec_fresnel(cos_ih) *
+                 (d * separable_g(m_spec_dist, so, si) * inv4);
+            if (cos_oh > 0.f) pdf += a.p[kSpecular] * m_spec_dist.pdf(so, sh) / (4.f * cos_oh);
+        }
+        if (m_clearcoat && !is_delta(kClearcoat)) {
+            const float d = gtr1_d(h, m_cc_a2);
+            f += Rgb(m_cc_weight * fresnel_dielectric(cos_ih, kClearcoatIor) * d *
+                     separable_g(m_cc_g, wo, wi) * inv4);
+            if (cos_oh > 0.f) pdf += a.p[kClearcoat] * d * h.z / (4.f * cos_oh);
+        }
+        if (m_glass && !is_delta(kGlassReflect)) {
+            const float d = m_glass_r_dist.D(h);
+            f += (m_glass_weight * a.fm) * glass_fresnel(cos_ih, a.etap) *
+                 (d * separable_g(m_glass_r_dist, wo, wi) * inv4);
+            if (cos_oh > 0.f)
+                pdf += a.p[kGlassReflect] * m_glass_r_dist.pdf(wo, h) / (4.f * cos_oh);
+        }
+    } else if (cos_i < 0.f && m_glass && !is_delta(kGlassRefract)) {
+        // Walter et al. 2007 refraction without a Fresnel factor (Cycles'
+        // CLOSURE_BSDF_MICROFACET_GGX_REFRACTION_ID); microfacets facing away from either
+        // direction reflect nothing (as facet/dielectric.h).
+        const float etap = a.etap;
+        Vec3 wm = etap * wi + wo;
+        const float len2 = glm::dot(wm, wm);
+        if (len2 > 0.f) {
+            wm /= std::sqrt(len2);
+            if (wm.z < 0.f) wm = -wm;
+            const float d_i = glm::dot(wi, wm), d_o = glm::dot(wo, wm);
+            if (d_o > 0.f && d_i < 0.f) {
+                const float denom = sqr(etap * d_i + d_o);
+                const float d = m_glass_t_dist.D(wm);
+                float ft = d * separable_g(m_glass_t_dist, wo, wi) * std::fabs(d_i) * d_o /
+                           (cos_o * std::fabs(cos_i) * denom);
+                if (mode == TransportMode::Importance) ft *= etap * etap;
+                f += (m_glass_weight * std::max(kMinRefraction, 1.f - a.fm) * ft) * m_glass_color;
+                pdf += a.p[kGlassRefract] * m_glass_t_dist.pdf(wo, wm) * etap * etap *
+                       std::fabs(d_i) / denom;
+            }
+        }
+    }
+    if (f_out) *f_out = f;
+    if (pdf_out) *pdf_out = pdf;
+}
+
+bool PrincipledBxDF::mirrored(const Vec3& wo, Vec3& o, AtWo& a) const {
+    const bool inside = wo.z < 0.f;
+    if (wo.z == 0.f || (inside && !m_glass)) return false;
+    o = inside ? mirror_z(wo) : wo;
+    a = at_wo(o, inside ? 1.f / m_params.ior : m_params.ior);
+    return true;
+}
+
+BSDFEval PrincipledBxDF::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    BSDFEval e;
+    Vec3 o;
+    AtWo a;
+    if (!mirrored(wo, o, a)) return e;
+    evaluate(o, wo.z < 0.f ? mirror_z(wi) : wi, a, mode, &e.f, &e.pdf);
+    return e;
+}
+
+Rgb PrincipledBxDF::f(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    return eval(wo, wi, mode).f;
+}
+
+float PrincipledBxDF::pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
+    return eval(wo, wi, mode).pdf;
+}
+
+std::optional<BSDFSample> PrincipledBxDF::sample_f(const Vec3& wo, float uc, Vec2 u,
+                                                   TransportMode mode) const {
+    Vec3 o;
+    AtWo a;
+    if (!mirrored(wo, o, a)) return std::nullopt;
+    const bool inside = wo.z < 0.f;
+    // Choose a lobe with uc (the last present lobe absorbs round-off).
+    int lobe = -1;
+    float acc = 0.f;
+    for (int k = 0; k < kLobes; ++k) {
+        if (!(a.p[k] > 0.f)) continue;
+        lobe = k;
+        acc += a.p[k];
+        if (uc < acc) break;
+    }
+    if (lobe < 0) return std::nullopt;
+
+    BSDFSample s;
+    const Vec3 n(0.f, 0.f, 1.f);
+    if (is_delta(lobe)) {
+        // A delta lobe: f |cos_i| / pdf is its weight; pdf is the discrete choice.
+        Rgb weight(0.f);
+        if (lobe == kGlassRefract) {
+            float etap = 1.f;
+            if (!refract(o, n, a.etap, etap, s.wi)) return std::nullopt;
+            float t = m_glass_weight * std::max(kMinRefraction, 1.f - a.fm);
+            if (mode == TransportMode::Radiance) t /= etap * etap;
+            weight = t * m_glass_color;
+            s.flags = BxDFFlags::Specular | BxDFFlags::Transmission;
+        } else {
+            s.wi = reflect(o, n);
+            const float c = o.z;
+            if (lobe == kSpecular) weight = m_spec_weight * spec_fresnel(c);
+            if (lobe == kClearcoat)
+                weight = Rgb(m_cc_weight * fresnel_dielectric(c, kClearcoatIor));
+            if (lobe == kGlassReflect) weight = (m_glass_weight * a.fm) * glass_fresnel(c, a.etap);
+            s.flags = BxDFFlags::Specular;
+        }
+        if (!(std::fabs(s.wi.z) > 0.f)) return std::nullopt;
+        s.f = weight / std::fabs(s.wi.z);
+        s.pdf = a.p[lobe];
+        if (inside) s.wi = mirror_z(s.wi);
+        return s;
+    }
+
+    Vec3 wi;
+    switch (lobe) {
+        case kCosine:
+            wi = sample_cosine_hemisphere(u);
+            break;
+        case kSpecular:
+            wi = reflect(o, from_spec(m_spec_dist.sample_wm(to_spec(o), u)));
+            break;
+        case kClearcoat:
+            wi = reflect(o, sample_gtr1(m_cc_a2, u));
+            break;
+        case kGlassReflect:
+            wi = reflect(o, m_glass_r_dist.sample_wm(o, u));
+            break;
+        default: {  // kGlassRefract
+            const Vec3 wm = m_glass_t_dist.sample_wm(o, u);
+            float etap = 1.f;
+            if (!refract(o, wm, a.etap, etap, wi)) return std::nullopt;
+            if (!(wi.z < 0.f)) return std::nullopt;
+            break;
+        }
+    }
+    if (lobe != kGlassRefract && !(wi.z > 0.f)) return std::nullopt;
+    evaluate(o, wi, a, mode, &s.f, &s.pdf);
+    if (!(s.pdf > 0.f)) return std::nullopt;
+    s.flags = wi.z < 0.f ? BxDFFlags::Glossy | BxDFFlags::Transmission
+                         : (lobe == kCosine ? BxDFFlags::Diffuse : BxDFFlags::Glossy);
+    s.wi = inside ? mirror_z(wi) : wi;
+    return s;
+}
+
+}  // namespace facet

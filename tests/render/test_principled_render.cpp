@@ -1,0 +1,113 @@
+// The `principled` model against Blender 3.4's Cycles: a sphere under a constant white
+// environment, one point per row of tests/render/principled_cycles.json (made by
+// bench/principled_cycles.py, which also documents the Cycles settings). Facet renders the same
+// orthographic view and takes the mean of the same pixel mask (centres within 0.9 radii of the
+// sphere's centre) over independent seeds; docs/principled.md lists the measured ratios.
+#include <gtest/gtest.h>
+
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+#include <string>
+
+#include "facet/render/render.h"
+#include "facet/render/scene.h"
+#include "facet/testsupport/render_test_util.h"
+
+namespace fr = facet::render;
+using facet::Rgb;
+
+namespace {
+
+nlohmann::json references() {
+    std::ifstream in(FACET_PRINCIPLED_CYCLES_JSON);
+    return nlohmann::json::parse(in);
+}
+
+struct MeanSe {
+    double mean[3], se[3];
+};
+
+// The Cycles script's scene in Facet's format: the same sphere, camera, environment, bounces.
+MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, int spp, int seeds) {
+    const int size = scene["size"];
+    const double scale = scene["ortho_scale"], mask = scene["mask_radius"];
+    nlohmann::json material = params;
+    material["model"] = "principled";
+    std::ostringstream body;
+    body << R"("camera": {"type": "orthographic", "position": [0, 0, 5], "look_at": [0, 0, 0],
+                "up": [0, 1, 0], "scale": )"
+         << scale << R"(, "width": )" << size << R"(, "height": )" << size << R"(},
+        "render": {"integrator": "path", "max_depth": )"
+         << int(scene["max_bounces"]) << R"(},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )"
+         << material.dump() << R"(}],
+        "lights": [{"type": "environment", "radiance": )"
+         << double(scene["environment"]) << "}]";
+    const fr::Scene s = fr::testing::scene_from(body.str());
+    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
+    for (int seed = 0; seed < seeds; ++seed) {
+        const fr::Image img = fr::render(s, fr::testing::test_options("path", spp, 101 + seed));
+        double m[3] = {0, 0, 0};
+        int n = 0;
+        for (int y = 0; y < size; ++y) {
+            for (int x = 0; x < size; ++x) {
+                const double px = ((x + 0.5) / size - 0.5) * scale;
+                const double py = ((y + 0.5) / size - 0.5) * scale;
+                if (std::hypot(px, py) >= mask) continue;
+                const Rgb& p = img.at(x, y);
+                for (int c = 0; c < 3; ++c) m[c] += p[c];
+                ++n;
+            }
+        }
+        for (int c = 0; c < 3; ++c) {
+            m[c] /= n;
+            sum[c] += m[c], sum2[c] += m[c] * m[c];
+        }
+    }
+    MeanSe r;
+    for (int c = 0; c < 3; ++c) {
+        r.mean[c] = sum[c] / seeds;
+        const double var =
+            std::max(0.0, sum2[c] / seeds - r.mean[c] * r.mean[c]) * seeds / (seeds - 1);
+        r.se[c] = std::sqrt(var / seeds);
+    }
+    return r;
+}
+
+// Tolerance per channel: 4 combined standard errors (Facet's from its seeds, Cycles' from the
+// JSON) plus a systematic allowance of 0.6% of the value for what differs besides the BSDF:
+// Cycles' sphere is an icosphere with interpolated normals and Cycles' pixel filter is
+// Blackman-Harris 1.5 px (the mask keeps 2.6 px from the silhouette). Measured: every point
+// without clearcoat within 0.2% (docs/principled.md has the table).
+double allowance(const std::string& name) {
+    // Cycles 3.4 samples the clearcoat with GGX visible normals at alpha = roughness^2 but
+    // weighs the samples by the GTR1 pdf, so its estimate is neither the GTR1 lobe it
+    // evaluates nor independent of the other lobes (one-sample MIS over the closures with a
+    // wrong pdf): measured +3.7% (clearcoat roughness 0.03) and -1.4% .. +1.0% per channel
+    // (0.3). Facet integrates the GTR1 lobe (Principled.ClearcoatPdfIntegratesToOne and the
+    // chi-square test decide); docs/principled.md, difference 2.
+    if (name.rfind("clearcoat", 0) == 0) return 0.045;
+    return 0.006;
+}
+
+TEST(PrincipledRender, MatchesCyclesOnASphereInAConstantEnvironment) {
+    const nlohmann::json ref = references();
+    const int spp = std::max(4, int(32 * fr::testing::stress_scale()));
+    const int seeds = 4;
+    for (const nlohmann::json& p : ref["points"]) {
+        const std::string name = p["name"];
+        const MeanSe f = render_point(ref["scene"], p["params"], spp, seeds);
+        std::printf("%-20s Facet/Cycles", name.c_str());
+        for (int c = 0; c < 3; ++c) {
+            const double cy = p["mean"][c], cy_se = p["se"][c];
+            const double tol =
+                4.0 * std::sqrt(f.se[c] * f.se[c] + cy_se * cy_se) + allowance(name) * cy;
+            std::printf(" %.4f", f.mean[c] / cy);
+            EXPECT_NEAR(f.mean[c], cy, tol) << name << " channel " << c;
+        }
+        std::printf("  (Facet %.4f %.4f %.4f)\n", f.mean[0], f.mean[1], f.mean[2]);
+    }
+}
+
+}  // namespace
