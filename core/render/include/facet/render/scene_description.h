@@ -64,6 +64,12 @@ struct MaterialDesc {
     // Parameters given as textures (texture.h) instead of constants; a name is in `params` or
     // here, never both.
     std::map<std::string, TextureDesc> textures;
+    // The sub-materials of a combination (mix, add: the "materials" key), in order. A
+    // sub-material given by name has only `ref` set (the name in SceneDescription::materials);
+    // an inline one has its model and no `ref`.
+    std::vector<MaterialDesc> materials =
+        {};  // (initialisers: aggregate {model, params} stays warning-free)
+    std::string ref = {};
     bool operator==(const MaterialDesc&) const = default;
 };
 
