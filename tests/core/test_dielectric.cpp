@@ -14,19 +14,9 @@
 namespace facet {
 namespace {
 
-constexpr double kDeg = kPiD / 180.0;
-
-// Direction at polar angle theta (degrees from +z; > 90 is inside) and azimuth phi.
-Vec3 dir(double theta_deg, double phi_deg) {
-    const double t = theta_deg * kDeg, p = phi_deg * kDeg;
-    return Vec3(
-        glm::normalize(DVec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t))));
-}
-
-double stress_scale() {
-    const char* s = std::getenv("FACET_STRESS_SCALE");
-    return s ? std::atof(s) : 1.0;
-}
+using test::dir;
+using test::kDeg;
+using test::stress_scale;
 
 Material glass(double ior, double alpha = 0.0, Rgb tr = Rgb(1.f)) {
     ParamSet p;

@@ -16,18 +16,9 @@
 namespace facet {
 namespace {
 
-constexpr double kDeg = kPiD / 180.0;
-
-Vec3 dir(double theta_deg, double phi_deg) {
-    const double t = theta_deg * kDeg, p = phi_deg * kDeg;
-    return Vec3(
-        glm::normalize(DVec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t))));
-}
-
-double stress_scale() {
-    const char* s = std::getenv("FACET_STRESS_SCALE");
-    return s ? std::atof(s) : 1.0;
-}
+using test::dir;
+using test::kDeg;
+using test::stress_scale;
 
 using Ptr = std::shared_ptr<const Material>;
 Ptr make(std::string_view model, const ParamSet& p = {}) {
