@@ -204,10 +204,11 @@ void print_models(bool markdown) {
                 "#### `{}`\n{}\n\n| parameter | type | default | meaning |\n|---|---|---|---|\n",
                 m.name, m.summary);
             for (const auto& p : m.params) {
-                const char* type = p.type == ParamType::Number  ? "number"
-                                   : p.type == ParamType::Color ? "colour"
-                                   : p.type == ParamType::Bool  ? "bool"
-                                                                : "string";
+                const char* type = p.type == ParamType::Number      ? "number"
+                                   : p.type == ParamType::Color     ? "colour"
+                                   : p.type == ParamType::Bool      ? "bool"
+                                   : p.type == ParamType::Materials ? "[material, material]"
+                                                                    : "string";
                 fmt::print("| `{}` | {} | {} | {} |\n", p.name, type, p.default_value, p.doc);
             }
             fmt::print("\n");

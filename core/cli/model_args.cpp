@@ -92,6 +92,10 @@ Material material_from_args(const std::string& model, const std::vector<std::str
                 case ParamType::String:
                     params.set(name, value);
                     break;
+                case ParamType::Materials:
+                    throw std::runtime_error(flag + ": model '" + model +
+                                             "' combines sub-materials, which only a scene "
+                                             "file or the Python SceneDescription can give");
             }
         }
     }

@@ -77,6 +77,8 @@ std::string param_type_name(ParamType t) {
             return "string";
         case ParamType::Bool:
             return "bool";
+        case ParamType::Materials:
+            return "materials";
     }
     return "?";
 }

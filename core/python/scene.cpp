@@ -530,11 +530,30 @@ void bind_scene(py::module_& m) {
                              : "facet.Texture('" + d.file + "')";
         });
 
+    // A combination's sub-materials (mix, add): names (str) or MaterialDesc objects.
+    auto sub_materials_from = [](py::handle v) {
+        if (!py::isinstance<py::list>(v) && !py::isinstance<py::tuple>(v))
+            bad_argument("materials", "expected a list [a, b] of material names or MaterialDesc");
+        std::vector<MaterialDesc> out;
+        for (py::handle c : v) {
+            if (py::isinstance<py::str>(c)) {
+                MaterialDesc r;
+                r.ref = c.cast<std::string>();
+                out.push_back(std::move(r));
+            } else if (py::isinstance<MaterialDesc>(c)) {
+                out.push_back(c.cast<MaterialDesc>());
+            } else {
+                bad_argument("materials", "expected a material name or a MaterialDesc");
+            }
+        }
+        return out;
+    };
     py::class_<MaterialDesc>(m, "MaterialDesc",
                              "A named material: model name (facet.models()) and parameters, "
                              "e.g. MaterialDesc('ggx', alpha=0.3); a facet.Texture may stand "
-                             "for any colour or number parameter")
-        .def(py::init([](std::string model, py::object params, py::kwargs kw) {
+                             "for any colour or number parameter; mix and add take "
+                             "materials=[a, b] (names or MaterialDesc)")
+        .def(py::init([sub_materials_from](std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
                  d.model = std::move(model);
                  // Textures go to `textures`, every other value to the ParamSet.
@@ -544,7 +563,9 @@ void bind_scene(py::module_& m) {
                          bad_argument("params", "expected a dict of parameters");
                      py::dict constants;
                      for (auto [k, v] : py::reinterpret_borrow<py::dict>(src)) {
-                         if (py::isinstance<TextureDesc>(v))
+                         if (k.cast<std::string>() == "materials")
+                             d.materials = sub_materials_from(v);
+                         else if (py::isinstance<TextureDesc>(v))
                              d.textures[k.cast<std::string>()] = v.cast<TextureDesc>();
                          else
                              constants[k] = v;
@@ -556,6 +577,17 @@ void bind_scene(py::module_& m) {
              }),
              py::arg("model") = "", py::arg("params") = py::none())
         .def_readwrite("model", &MaterialDesc::model)
+        .def_property(
+            "materials",
+            [](const MaterialDesc& d) {
+                py::list out;
+                for (const MaterialDesc& c : d.materials)
+                    out.append(c.ref.empty() ? py::cast(c) : py::object(py::str(c.ref)));
+                return out;
+            },
+            [sub_materials_from](MaterialDesc& d, py::object v) {
+                d.materials = sub_materials_from(v);
+            })
         .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })

@@ -35,6 +35,8 @@ Material::Material(std::optional<LambertReflection> diffuse,
     if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
     if (m_glossy) m_flags = m_flags | m_glossy->flags();
     if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
+    m_anisotropic =
+        m_glossy && m_glossy->distribution().alpha_x() != m_glossy->distribution().alpha_y();
 
     // The glossy albedo table is needed to weight the diffuse lobe and to choose between lobes;
     // a single-lobe material needs neither.
@@ -60,12 +62,48 @@ Material::Material(std::optional<LambertReflection> diffuse,
 }
 
 Material::Material(const DielectricBxDF& dielectric)
-    : m_dielectric(dielectric), m_flags(dielectric.flags()) {}
+    : m_dielectric(dielectric),
+      m_flags(dielectric.flags()),
+      m_special(true),
+      m_anisotropic(dielectric.distribution().alpha_x() != dielectric.distribution().alpha_y()) {}
 
-Material::Material(const ThinDielectricBxDF& thin) : m_thin(thin), m_flags(thin.flags()) {}
+Material::Material(const ThinDielectricBxDF& thin)
+    : m_thin(thin), m_flags(thin.flags()), m_special(true) {}
+
+Material::Material(const OrenNayarReflection& oren_nayar)
+    : m_oren_nayar(oren_nayar), m_flags(oren_nayar.flags()), m_special(true) {}
+
+Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
+                       float weight) {
+    // The end points are the children themselves: w = 0 renders a exactly, w = 1 b.
+    if (weight <= 0.f) return *a;
+    if (weight >= 1.f) return *b;
+    Material m(std::nullopt, std::nullopt, std::nullopt);
+    m.m_combination = std::make_shared<const Combination>(
+        Combination{Combine::Mix, a, b, 1.f - weight, weight, 1.f - weight});
+    m.m_flags = a->flags() | b->flags();
+    m.m_special = true;
+    m.m_anisotropic = a->anisotropic() || b->anisotropic();
+    return m;
+}
+
+Material Material::add(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b) {
+    Material m(std::nullopt, std::nullopt, std::nullopt);
+    // Sampling 50/50: a per-direction albedo estimate of arbitrary children would cost a
+    // table per child at every (textured) construction; the pdf stays exact either way.
+    m.m_combination =
+        std::make_shared<const Combination>(Combination{Combine::Add, a, b, 1.f, 1.f, 0.5f});
+    m.m_flags = a->flags() | b->flags();
+    m.m_special = true;
+    m.m_anisotropic = a->anisotropic() || b->anisotropic();
+    return m;
+}
 
 Material::Material(const PrincipledBxDF& principled)
-    : m_principled(principled), m_flags(principled.flags()) {}
+    : m_principled(principled),
+      m_flags(principled.flags()),
+      m_special(true),
+      m_anisotropic(principled.anisotropic()) {}
 
 Rgb Material::glossy_albedo(float mu) const {
     if (!m_has_table) return Rgb(0.f);
@@ -104,12 +142,73 @@ std::array<float, 3> Material::lobe_probabilities(const Vec3& wo) const {
     return {w[0] / sum, w[1] / sum, w[2] / sum};
 }
 
+// ---- the rare kinds ----
+
+namespace {
+// A reflection-only child of a transmissive combination sees wo from its own side: z mirrored
+// when wo is below the shape's frame (header comment).
+inline Vec3 flip_z(const Vec3& w) {
+    return {w.x, w.y, -w.z};
+}
+inline bool child_flipped(const Material& parent, const Material& child, const Vec3& wo) {
+    return wo.z < 0.f && parent.transmissive() && !child.transmissive();
+}
+}  // namespace
+
+BSDFEval Material::special_eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
+    if (m_dielectric) return m_dielectric->eval(wo, wi, mode);
+    if (m_principled) return m_principled->eval(wo, wi, mode);
+    if (m_oren_nayar) return {m_oren_nayar->f(wo, wi), m_oren_nayar->pdf(wo, wi)};
+    if (!m_combination) return {};  // the thin pane: deltas only
+    const Combination& c = *m_combination;
+    BSDFEval e;
+    for (int k = 0; k < 2; ++k) {
+        const Material& child = k == 0 ? *c.a : *c.b;
+        const bool flip = child_flipped(*this, child, wo);
+        const BSDFEval ce =
+            flip ? child.eval(flip_z(wo), flip_z(wi), mode) : child.eval(wo, wi, mode);
+        e.f += (k == 0 ? c.coef_a : c.coef_b) * ce.f;
+        e.pdf += (k == 0 ? c.prob_a : 1.f - c.prob_a) * ce.pdf;
+    }
+    return e;
+}
+
+std::optional<BSDFSample> Material::special_sample_f(const Vec3& wo, float uc, Vec2 u,
+                                                     Mode mode) const {
+    if (m_dielectric) return m_dielectric->sample_f(wo, uc, u, mode);
+    if (m_principled) return m_principled->sample_f(wo, uc, u, mode);
+    if (m_thin) return m_thin->sample_f(wo, uc, u, mode);
+    if (m_oren_nayar) return m_oren_nayar->sample_f(wo, uc, u);
+    const Combination& c = *m_combination;
+    // Choose a child with uc, then stretch the used part of uc back to [0, 1) for it.
+    const bool first = uc < c.prob_a;
+    const float p = first ? c.prob_a : 1.f - c.prob_a;
+    if (!(p > 0.f)) return std::nullopt;
+    const float uc_child =
+        std::max(std::min((first ? uc : uc - c.prob_a) / p, kOneMinusEpsilon), 0.f);
+    const Material& child = first ? *c.a : *c.b;
+    const bool flip = child_flipped(*this, child, wo);
+    std::optional<BSDFSample> s = child.sample_f(flip ? flip_z(wo) : wo, uc_child, u, mode);
+    if (!s) return std::nullopt;
+    if (flip) s->wi = flip_z(s->wi);
+    if (s->is_specular()) {
+        // A delta lobe of the child: its discrete probability times the choice of the child.
+        s->f *= first ? c.coef_a : c.coef_b;
+        s->pdf *= p;
+        return s;
+    }
+    // One-sample MIS over both children's non-delta lobes.
+    const BSDFEval e = special_eval(wo, s->wi, mode);
+    if (!(e.pdf > 0.f)) return std::nullopt;
+    s->f = e.f;
+    s->pdf = e.pdf;
+    return s;
+}
+
 Rgb Material::f(const Vec3& wo, const Vec3& wi, Mode mode) const {
-    // Transmissive materials are one dielectric lobe (the thin pane has only deltas: f = 0).
-    if (m_dielectric) [[unlikely]]
-        return m_dielectric->f(wo, wi, mode);
-    if (m_principled) [[unlikely]]
-        return m_principled->f(wo, wi, mode);
+    // Dielectrics, Oren-Nayar and combinations (the thin pane has only deltas: f = 0).
+    if (m_special) [[unlikely]]
+        return special_eval(wo, wi, mode).f;
     Rgb result(0.f);
     if (m_diffuse) result += diffuse_f(wo, wi);
     if (m_glossy) result += m_glossy->f(wo, wi);
@@ -117,10 +216,8 @@ Rgb Material::f(const Vec3& wo, const Vec3& wi, Mode mode) const {
 }
 
 float Material::pdf(const Vec3& wo, const Vec3& wi, Mode mode) const {
-    if (m_dielectric) [[unlikely]]
-        return m_dielectric->pdf(wo, wi, mode);
-    if (m_principled) [[unlikely]]
-        return m_principled->pdf(wo, wi, mode);
+    if (m_special) [[unlikely]]
+        return special_eval(wo, wi, mode).pdf;
     // A single-lobe material is that lobe (probability 1: the same bits as the sum below).
     if (!m_has_table) {
         if (m_diffuse) return m_diffuse->pdf(wo, wi);
@@ -135,10 +232,8 @@ float Material::pdf(const Vec3& wo, const Vec3& wi, Mode mode) const {
 }
 
 BSDFEval Material::eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
-    if (m_dielectric) [[unlikely]]
-        return m_dielectric->eval(wo, wi, mode);
-    if (m_principled) [[unlikely]]
-        return m_principled->eval(wo, wi, mode);
+    if (m_special) [[unlikely]]
+        return special_eval(wo, wi, mode);
     // f() and pdf() in one pass: the glossy lobe's D and Lambda and the lobe probabilities are
     // computed once (same arithmetic, so the results equal f() and pdf() bit for bit).
     if (!m_has_table) {  // single lobe, as in pdf()
@@ -161,12 +256,8 @@ BSDFEval Material::eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
 }
 
 std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u, Mode mode) const {
-    if (m_principled) [[unlikely]]
-        return m_principled->sample_f(wo, uc, u, mode);
-    if (transmissive()) [[unlikely]] {
-        if (m_dielectric) return m_dielectric->sample_f(wo, uc, u, mode);
-        return m_thin->sample_f(wo, uc, u, mode);
-    }
+    if (m_special) [[unlikely]]
+        return special_sample_f(wo, uc, u, mode);
     if (!(wo.z > 0.f)) return std::nullopt;
     if (!m_has_table) {
         // A single-lobe material is that lobe: it gets uc as the general path below would

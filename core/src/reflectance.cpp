@@ -86,6 +86,25 @@ Rgb delta_reflectance(const Material& m, const Vec3& fixed) {
     return r;
 }
 
+// Oren-Nayar and combinations, which the lobe-specific routines below do not see: a
+// combination's reflectance is linear in its children's, c_a R_a + c_b R_b (values and
+// errors), recursing with `of`; Oren-Nayar is smooth over the hemisphere (a kink where
+// cos(phi) changes sign), integrated through the cosine map at Q(order) and Q(2 order).
+// nullopt for the other materials.
+Reflectance with_error_of(const Material& m, const Vec3& fixed, bool fixed_is_wo, int order);
+template <class Of>
+std::optional<Reflectance> special_reflectance(const Material& m, const Vec3& fixed,
+                                               bool fixed_is_wo, int order, const Of& of) {
+    if (const Material::Combination* c = m.combination()) {
+        const Reflectance a = of(*c->a), b = of(*c->b);
+        return Reflectance{double(c->coef_a) * a.value + double(c->coef_b) * b.value,
+                           double(c->coef_a) * a.error + double(c->coef_b) * b.error,
+                           a.evaluations + b.evaluations};
+    }
+    if (m.oren_nayar()) return with_error_of(m, fixed, fixed_is_wo, order);
+    return std::nullopt;
+}
+
 // value = Q(2n); error = twice the larger of the last two successive differences among Q(n/2),
 // Q(n), Q(2n). One difference alone can vanish by coincidence: the integrands have kinks where
 // the half-vector map crosses the horizon, so Gauss-Legendre converges irregularly there.
@@ -118,10 +137,21 @@ void require_layered(const Material& m) {
 // Fixed order: int f cos dw over the free direction with `fixed_in` held: fixed = wo when
 // fixed_is_wo (integrating over wi), else fixed = wi (integrating over wo). No reciprocity is
 // assumed.
+Reflectance with_error_of(const Material& m, const Vec3& fixed, bool fixed_is_wo, int order) {
+    auto g = [&](const Vec3& w) { return (fixed_is_wo ? m.f(fixed, w) : m.f(w, fixed)) * w.z; };
+    Reflectance r = with_error([&](int n) { return cosine_map_quadrature(g, n); }, order);
+    r.evaluations = long(order) * order * 21 / 4;  // Q(n/2) + Q(n) + Q(2n) nodes
+    return r;
+}
+
 Reflectance fixed_order_hemispherical(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
                                       int order) {
     require_layered(m);
     Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
+    if (auto r = special_reflectance(m, fixed, fixed_is_wo, order, [&](const Material& c) {
+            return fixed_order_hemispherical(c, fixed_in, fixed_is_wo, order);
+        }))
+        return *r;
     const MicrofacetDistribution* dist = glossy_distribution(m);
     Rgb delta = delta_reflectance(m, fixed);
     // Each non-delta lobe through its own map: diffuse by the cosine map, glossy by its
@@ -483,6 +513,11 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
     check_settings(settings);
     require_layered(m);
     const Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
+    // Order 64 for Oren-Nayar: its error estimate is reported, not refined to the tolerance.
+    if (auto r = special_reflectance(m, fixed, fixed_is_wo, 64, [&](const Material& c) {
+            return adaptive_hemispherical(c, fixed_in, fixed_is_wo, settings);
+        }))
+        return *r;
     const DVec3 v = glm::normalize(DVec3(fixed));
     Reflectance out;
     out.value = DVec3(delta_reflectance(m, fixed));
@@ -599,6 +634,7 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
 }
 
 bool is_isotropic(const Material& m) {
+    if (m.combination()) return !m.anisotropic();
     if (const MicrofacetDistribution* d = glossy_distribution(m))
         return d->alpha_x() == d->alpha_y();
     return true;
@@ -658,9 +694,7 @@ Reflectance bihemispherical(const Material& m, int order) {
     // rho(2pi->2pi) = (1/pi) int rho(wi->2pi) cos dwi = 2 int_0^1 <rho(mu, .)>_phi mu dmu.
     // Outer Gauss-Legendre in mu and phi (phi over a quarter turn: the models are symmetric
     // under x -> -x and y -> -y), inner directional_hemispherical at its own order.
-    bool isotropic = true;
-    if (const MicrofacetDistribution* d = glossy_distribution(m))
-        isotropic = (d->alpha_x() == d->alpha_y());
+    const bool isotropic = is_isotropic(m);
     auto eval = [&](int n) {
         const QuadratureRule& qm = gauss_legendre(n);
         const QuadratureRule& qp = gauss_legendre(isotropic ? 1 : n / 2);

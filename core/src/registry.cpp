@@ -171,6 +171,27 @@ std::vector<ModelInfo> build_table() {
           text("distribution", "ggx",
                "microfacet distribution: ggx (Cycles' GGX); multi_ggx is not implemented yet "
                "and is an error")}});
+    t.push_back({"oren_nayar",
+                 "rough diffuse reflection as Cycles' Diffuse BSDF with roughness: f = rho (A + "
+                 "B t), A = 1 / (pi + (3 pi - 4) / 6 sigma), B = sigma A, t = s / max(cos_i, "
+                 "cos_o) for s = wi.wo - cos_i cos_o > 0, else s (Fujii 2012)",
+                 {color("reflectance", "0.5", "diffuse reflectance rho, in [0, 1]"),
+                  number("sigma", "0.5",
+                         "roughness as Blender's Diffuse BSDF Roughness (not radians), in [0, 1]; "
+                         "0 is Lambert")}});
+    const ParamInfo materials{"materials", ParamType::Materials, "-",
+                              "the two sub-materials [a, b]: names from the scene's materials or "
+                              "inline material objects (nesting allowed, no cycles)"};
+    t.push_back({"mix",
+                 "blend of two materials (Blender's Mix Shader): f = (1 - w) f_a + w f_b, "
+                 "sampled by w",
+                 {materials, number("weight", "0.5", "the weight w of b, in [0, 1]")},
+                 2});
+    t.push_back({"add",
+                 "sum of two materials (Blender's Add Shader): f = f_a + f_b, each sampled with "
+                 "probability 1/2; may reflect more than it receives (the scene builder warns)",
+                 {materials},
+                 2});
     t.push_back({"thin_dielectric",
                  "thin pane (window glass): both interfaces' reflections summed, R' = R + "
                  "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
@@ -324,9 +345,28 @@ MicrofacetDistribution read_distribution(Reader& r, const std::string& kind) {
                          : MicrofacetDistribution::beckmann(au, av);
 }
 
-Material build(const ModelInfo& info, const ParamSet& params) {
+Material build(const ModelInfo& info, const ParamSet& params,
+               std::span<const std::shared_ptr<const Material>> children) {
     Reader r(info, params);
     const std::string& name = info.name;
+    if (r.has("materials"))
+        throw r.error("materials",
+                      "sub-materials are not a parameter value (give materials [a, b])");
+    if (std::ptrdiff_t(children.size()) != info.children) {
+        if (info.children == 0) throw r.error("materials", "this model takes no sub-materials");
+        throw r.error("materials", "needs exactly " + std::to_string(info.children) +
+                                       " sub-materials (got " + std::to_string(children.size()) +
+                                       ")");
+    }
+    for (const auto& c : children)
+        if (!c) throw r.error("materials", "a sub-material is missing");
+    if (name == "mix")
+        return Material::mix(children[0], children[1], float(r.number("weight", 0.5, 0.0, 1.0)));
+    if (name == "add") return Material::add(children[0], children[1]);
+    if (name == "oren_nayar") {
+        const Rgb rho = r.color("reflectance", Rgb(0.5f), 0.0, 1.0);
+        return Material(OrenNayarReflection(rho, float(r.number("sigma", 0.5, 0.0, 1.0))));
+    }
     if (name == "lambert")
         return Material(LambertReflection(r.color("reflectance", Rgb(0.5f), 0.0, 1.0)),
                         std::nullopt, std::nullopt);
@@ -428,7 +468,8 @@ const ModelInfo* find_model(std::string_view name) {
     return nullptr;
 }
 
-Material make_material(std::string_view model, const ParamSet& params) {
+Material make_material(std::string_view model, const ParamSet& params,
+                       std::span<const std::shared_ptr<const Material>> children) {
     const ModelInfo* info = find_model(model);
     if (!info) {
         std::vector<std::string> names;
@@ -440,7 +481,7 @@ Material make_material(std::string_view model, const ParamSet& params) {
         for (const auto& n : names) msg += " " + n;
         throw ParamError("", msg);
     }
-    return build(*info, params);
+    return build(*info, params, children);
 }
 
 std::string closest_name(std::string_view name, const std::vector<std::string>& candidates) {

@@ -81,7 +81,12 @@ std::string quoted_list(const std::vector<std::string>& names) {
 // (dielectric, thin_dielectric) would need POV-Ray's interior and refraction (docs/povray.md),
 // so it is not offered, and naming one reads like any other unknown model.
 bool reflection_model(const std::string& name) {
-    return !facet::make_material(name, {}).transmissive();
+    // Combinations (mix, add) need sub-materials, which the finish syntax does not give;
+    // Oren-Nayar is not one of the lobes the shading functions below evaluate.
+    const facet::ModelInfo* m = facet::find_model(name);
+    if (m && m->children > 0) return false;
+    const facet::Material mat = facet::make_material(name, {});
+    return !mat.transmissive() && !mat.oren_nayar();
 }
 
 }  // namespace
@@ -113,6 +118,8 @@ ParamKind param_kind(const char* model, const char* param, std::string& message)
                 return ParamKind::Word;
             case facet::ParamType::Bool:
                 return ParamKind::Bool;
+            case facet::ParamType::Materials:
+                break;  // combinations are not finish models (reflection_model)
         }
     }
     std::vector<std::string> names;

@@ -30,6 +30,7 @@
 
 #include <cmath>
 #include <cstdint>
+#include <cstdlib>
 #include <functional>
 #include <optional>
 #include <string>
@@ -40,6 +41,21 @@
 #include "facet/types.h"
 
 namespace facet::test {
+
+inline constexpr double kDeg = kPiD / 180.0;
+
+// Direction at polar angle theta (degrees from +z; > 90 is below the surface) and azimuth phi.
+inline Vec3 dir(double theta_deg, double phi_deg) {
+    const double t = theta_deg * kDeg, p = phi_deg * kDeg;
+    return Vec3(
+        glm::normalize(DVec3(std::sin(t) * std::cos(p), std::sin(t) * std::sin(p), std::cos(t))));
+}
+
+// Monte Carlo tests scale their sample counts by FACET_STRESS_SCALE (default 1).
+inline double stress_scale() {
+    const char* s = std::getenv("FACET_STRESS_SCALE");
+    return s ? std::atof(s) : 1.0;
+}
 
 // Uniform float in [0, 1) from the top 24 bits of a 32-bit PCG draw (exactly representable).
 inline float uniform_float(pcg32& rng) {

@@ -10,14 +10,12 @@
 #include "facet/dielectric.h"
 #include "facet/fresnel.h"
 #include "facet/registry.h"
-#include "test_directions.h"
 
 namespace facet {
 namespace {
 
-constexpr double kDeg = kPiD / 180.0;
-
 using test::dir;
+using test::kDeg;
 using test::stress_scale;
 
 Material glass(double ior, double alpha = 0.0, Rgb tr = Rgb(1.f)) {

@@ -41,11 +41,19 @@ ParamSet context_for(const ModelInfo& model, const std::string& name) {
     return p;
 }
 
+// The sub-materials a model takes (mix, add: two Lambertians; others none).
+std::span<const std::shared_ptr<const Material>> children_for(std::string_view model) {
+    static const auto l = std::make_shared<const Material>(make_material("lambert", {}));
+    static const std::vector<std::shared_ptr<const Material>> kids{l, l};
+    const ModelInfo* info = find_model(model);  // null for the unknown-model tests
+    return {kids.data(), info ? std::size_t(info->children) : 0};
+}
+
 // Expects make_material to throw ParamError naming `param`; returns the message.
 std::string expect_param_error(const std::string& model, const ParamSet& p,
                                const std::string& param) {
     try {
-        make_material(model, p);
+        make_material(model, p, children_for(model));
     } catch (const ParamError& e) {
         EXPECT_EQ(e.param(), param) << model << ": " << e.what();
         if (!param.empty()) {
@@ -63,12 +71,13 @@ std::string expect_param_error(const std::string& model, const ParamSet& p,
 
 TEST(ParamErrors, EveryModelBuildsFromDefaultsAndFromEachParameterInContext) {
     for (const ModelInfo& m : model_table()) {
-        EXPECT_NO_THROW(make_material(m.name, ParamSet{})) << m.name;
+        EXPECT_NO_THROW(make_material(m.name, ParamSet{}, children_for(m.name))) << m.name;
         for (const ParamInfo& p : m.params) {
             ParamSet ps = context_for(m, p.name);
             if (p.type == ParamType::Number || p.type == ParamType::Color) {
                 ps.set(p.name, p.name == "ior" || p.name == "eta" ? 1.5 : 0.5);
-                EXPECT_NO_THROW(make_material(m.name, ps)) << m.name << "/" << p.name;
+                EXPECT_NO_THROW(make_material(m.name, ps, children_for(m.name)))
+                    << m.name << "/" << p.name;
             }
         }
     }

@@ -11,7 +11,6 @@
 #include "chi2.h"
 #include "facet/fresnel.h"
 #include "facet/registry.h"
-#include "test_directions.h"
 
 namespace facet {
 namespace {

@@ -21,9 +21,15 @@ ParamSet params(std::initializer_list<std::pair<std::string, ParamValue>> list) 
     return ParamSet(list);
 }
 
+// Combinations (mix, add) get their ModelInfo::children sub-materials (two Lambertians).
 TEST(Registry, EveryModelBuildsWithDefaults) {
-    for (const auto& m : model_table())
-        EXPECT_NO_THROW(make_material(m.name, ParamSet{})) << m.name;
+    const auto l = std::make_shared<const Material>(make_material("lambert", {}));
+    const std::vector<std::shared_ptr<const Material>> kids{l, l};
+    for (const auto& m : model_table()) {
+        const std::span<const std::shared_ptr<const Material>> children(kids.data(),
+                                                                        std::size_t(m.children));
+        EXPECT_NO_THROW(make_material(m.name, ParamSet{}, children)) << m.name;
+    }
 }
 
 TEST(Registry, UnknownModelSuggestsClosest) {

@@ -142,6 +142,29 @@ def test_texture_parameters_from_python(tmp_path):
         facet.build_scene(d, name="py")
 
 
+def test_mix_and_add_from_python():
+    """mix/add take materials=[a, b] (names or MaterialDesc, nested); they round-trip through
+    JSON, render, and a cycle names the pointer of the reference."""
+    d = ts.numpy_description()
+    inner = facet.MaterialDesc("add", materials=[facet.MaterialDesc("oren_nayar", sigma=0.4),
+                                                 "white"])
+    d.materials["blend"] = facet.MaterialDesc("mix", weight=0.3, materials=["red", inner])
+    d.shapes[2].material_ref = "blend"
+    blend = d.materials["blend"]
+    assert blend.materials[0] == "red"
+    assert blend.materials[1].model == "add"
+    assert blend.materials[1].materials[1] == "white"
+    # (The JSON reader sorts materials by name, so compare the material, not the order.)
+    assert facet.parse_scene_description(d.to_json(), name="twin").materials["blend"] == blend
+    image = facet.render(facet.build_scene(d, name="py"), spp=2)
+    assert np.all(np.isfinite(image)) and image.max() > 0
+    d.materials["loop"] = facet.MaterialDesc("mix", materials=["loop", "white"])
+    with pytest.raises(ValueError, match=r"/materials/loop/materials/0: material 'loop' refers to itself"):
+        facet.build_scene(d, name="py")
+    with pytest.raises(ValueError, match="materials"):
+        facet.MaterialDesc("mix", materials=[1, 2])
+
+
 def test_build_errors_name_the_place():
     d = ts.numpy_description()
     d.materials["gold"] = facet.MaterialDesc("ggx", alpha=-1.0)

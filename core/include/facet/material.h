@@ -19,9 +19,23 @@
 //    reflection lobes are symmetric and ignore it.
 //  - A principled material (facet/principled.h) is that one model and nothing else; with
 //    transmission it follows the transmissive conventions above.
+//  - `oren_nayar` is one OrenNayarReflection lobe alone (facet/oren_nayar.h).
+//  - Combinations (`mix`, `add`; Material::mix, Material::add) hold two child materials:
+//        mix:  f = (1 - w) f_a + w f_b,   add:  f = f_a + f_b,
+//    chosen for sampling with probabilities p_a = 1 - w, p_b = w (mix) and 1/2, 1/2 (add);
+//    pdf = p_a pdf_a + p_b pdf_b (the mixture density of the non-delta lobes). A child's delta
+//    sample keeps its direction, with f scaled by the child's coefficient ((1 - w), w or 1)
+//    and pdf by its probability, so f |cos| / pdf is the child's weight over p. A non-delta
+//    sample gets the whole combination's f and pdf (one-sample MIS, as the composite does).
+//    Flags are the union of the children's. A combination with a transmissive child is
+//    transmissive: its frame is the shape's (facet/dielectric.h) and wo may lie below it; its
+//    reflection-only children are then evaluated from wo's side (z mirrored when wo.z < 0),
+//    i.e. they reflect on both sides of the interface, as Cycles' closures do. `add` may
+//    reflect more than it receives (albedo sum > 1, as Cycles allows); the scene builder warns.
 #pragma once
 
 #include <array>
+#include <memory>
 #include <optional>
 #include <string>
 
@@ -31,6 +45,7 @@
 #include "facet/microfacet.h"
 #include "facet/mirror.h"
 #include "facet/principled.h"
+#include "facet/oren_nayar.h"
 
 namespace facet {
 
@@ -43,6 +58,19 @@ class Material {
     explicit Material(const ThinDielectricBxDF& thin);
     // Blender's Principled BSDF (facet/principled.h), alone.
     explicit Material(const PrincipledBxDF& principled);
+    explicit Material(const OrenNayarReflection& oren_nayar);
+
+    // Combinations (header comment). mix() with weight 0 or 1 returns a copy of a or b itself.
+    enum class Combine : std::uint8_t { Mix, Add };
+    struct Combination {
+        Combine kind;
+        std::shared_ptr<const Material> a, b;
+        float coef_a, coef_b;  // f = coef_a f_a + coef_b f_b
+        float prob_a;          // probability of sampling a (b: 1 - prob_a)
+    };
+    static Material mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
+                        float weight);
+    static Material add(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b);
 
     using Mode = TransportMode;
     Rgb f(const Vec3& wo, const Vec3& wi, Mode mode = Mode::Radiance) const;
@@ -53,6 +81,10 @@ class Material {
                                        Mode mode = Mode::Radiance) const;
     BxDFFlags flags() const { return m_flags; }
     bool transmissive() const { return is_transmissive(m_flags); }
+    // Some lobe reads the tangent direction (an anisotropic microfacet lobe, here or in a child).
+    bool anisotropic() const { return m_anisotropic; }
+    const Combination* combination() const { return m_combination.get(); }
+    const std::optional<OrenNayarReflection>& oren_nayar() const { return m_oren_nayar; }
 
     const std::optional<DielectricBxDF>& dielectric() const { return m_dielectric; }
     const std::optional<ThinDielectricBxDF>& thin_dielectric() const { return m_thin; }
@@ -87,6 +119,9 @@ class Material {
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
     std::array<float, 3> lobe_probabilities(const Vec3& wo) const;
     Rgb diffuse_scale(float mu) const { return Rgb(1.f) - specular_albedo(mu); }
+    // The rare kinds (dielectric, thin pane, Oren-Nayar, combinations), out of the fast path.
+    BSDFEval special_eval(const Vec3& wo, const Vec3& wi, Mode mode) const;
+    std::optional<BSDFSample> special_sample_f(const Vec3& wo, float uc, Vec2 u, Mode mode) const;
 
     std::optional<LambertReflection> m_diffuse;
     std::optional<MicrofacetReflection> m_glossy;
@@ -94,7 +129,11 @@ class Material {
     std::optional<DielectricBxDF> m_dielectric;
     std::optional<ThinDielectricBxDF> m_thin;
     std::optional<PrincipledBxDF> m_principled;
+    std::optional<OrenNayarReflection> m_oren_nayar;
+    std::shared_ptr<const Combination> m_combination;
     BxDFFlags m_flags = BxDFFlags::None;
+    bool m_special = false;  // one of the rare kinds: f, pdf and sample_f go to special_*
+    bool m_anisotropic = false;
     bool m_has_table = false;            // false for single-lobe materials
     std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
     Rgb m_inv_one_minus_es_avg{1.f};     // 1 / (1 - Es_avg), per channel

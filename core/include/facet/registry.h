@@ -12,6 +12,8 @@
 
 #include <initializer_list>
 #include <map>
+#include <memory>
+#include <span>
 #include <stdexcept>
 #include <string>
 #include <string_view>
@@ -52,7 +54,9 @@ class ParamSet {
     std::map<std::string, ParamValue> m_values;
 };
 
-enum class ParamType { Number, Color, String, Bool };
+// Materials: the sub-materials of a combination (mix, add), which a ParamSet does not hold:
+// they are built first and passed to make_material() (scenes name them or give them inline).
+enum class ParamType { Number, Color, String, Bool, Materials };
 
 struct ParamInfo {
     std::string name;
@@ -65,14 +69,18 @@ struct ModelInfo {
     std::string name;
     std::string summary;
     std::vector<ParamInfo> params;
+    int children = 0;  // number of sub-materials (mix, add: 2), passed to make_material()
 };
 
 // Every model the core knows, in documentation order.
 const std::vector<ModelInfo>& model_table();
 const ModelInfo* find_model(std::string_view name);
 
-// Builds a material from a model name and its parameters. Throws ParamError.
-Material make_material(std::string_view model, const ParamSet& params);
+// Builds a material from a model name, its parameters and, for combinations (ModelInfo::
+// children > 0), its sub-materials in order. Throws ParamError ("materials" for a wrong number
+// of sub-materials).
+Material make_material(std::string_view model, const ParamSet& params,
+                       std::span<const std::shared_ptr<const Material>> children = {});
 
 // The candidate closest to `name` by edit distance, or "" when nothing is close enough;
 // for "did you mean" messages.

@@ -70,8 +70,7 @@ struct Shading {
     Vec3 ng, ns, wo;  // world ng/ns on the viewer's side; wo in the local frame
 };
 
-// Whether the material reads the tangent direction: only an anisotropic glossy lobe (or a
-// principled material's anisotropic specular) does.
+// Whether the material reads the tangent direction: only an anisotropic microfacet lobe does.
 // Lambertian, mirror and isotropic microfacet lobes are invariant under rotation about the
 // normal, so for them the frame's tangent is arbitrary and Frame::from_z(ns) replaces the
 // Gram-Schmidt of from_z_x (every kernel makes the same choice, so their images still agree).
@@ -80,10 +79,7 @@ bool needs_tangent(const Material& m) {
     if constexpr ((F & kFeatLambertOnly) != 0) {
         return false;
     } else {
-        if (m.principled()) return m.principled()->anisotropic();
-        if (!m.glossy()) return false;
-        const MicrofacetDistribution& d = m.glossy()->distribution();
-        return d.alpha_x() != d.alpha_y();
+        return m.anisotropic();  // an anisotropic glossy lobe, here or in a mix's child
     }
 }
 
@@ -110,10 +106,7 @@ template <std::uint32_t F>
                                                              Shading& sh) {
     sh.ng = hit.ng;
     sh.ns = hit.ns;
-    const bool aniso = (m.dielectric() && m.dielectric()->distribution().alpha_x() !=
-                                              m.dielectric()->distribution().alpha_y()) ||
-                       (m.principled() && m.principled()->anisotropic());
-    sh.frame = aniso ? Frame::from_z_x(sh.ns, hit.dpdu) : Frame::from_z(sh.ns);
+    sh.frame = m.anisotropic() ? Frame::from_z_x(sh.ns, hit.dpdu) : Frame::from_z(sh.ns);
     sh.wo = sh.frame.to_local(-ray_d);
 }
 
@@ -504,11 +497,15 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
         if constexpr (kSpecular) {
             std::optional<BSDFSample> ms;
             if (depth < max_depth) {
-                if (transmissive && is_specular(m.flags())) {
+                if ((transmissive || m.combination()) && is_specular(m.flags())) {
                     // A smooth dielectric or thin pane: one of its two delta lobes, chosen by
-                    // Fresnel with the block's last dimension (the estimate stays unbiased).
+                    // Fresnel with the block's last dimension (the estimate stays unbiased). A
+                    // combination (mix, add) chooses a child the same way; a non-delta sample
+                    // ends the path (light sampling above counted that lobe), so the delta
+                    // lobes' expected weight is exactly theirs.
                     s.set_dimension(base + std::uint32_t(lights.size()));
                     ms = m.sample_f(sh.wo, s.get_1d(), Vec2(0.f));
+                    if (ms && !ms->is_specular()) break;
                 } else if (m.mirror()) {
                     ms = m.mirror()->sample_f(sh.wo, 0.f, Vec2(0.f));
                 } else {

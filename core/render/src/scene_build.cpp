@@ -13,6 +13,7 @@
 #include <sstream>
 
 #include "facet/frame.h"
+#include "facet/reflectance.h"
 #include "facet/render/kinds.h"
 #include "facet/render/scene_description.h"
 #include "kind_build.h"
@@ -247,6 +248,7 @@ class Builder final : public BuildChecks {
         const Material* material = nullptr;
         std::int32_t textured = -1;
         Opacity opacity;  // the material's "opacity" and "alpha_cutoff"
+        std::shared_ptr<const Material> shared;  // the same material, for combinations' children
     };
 
     // The keys "opacity" (a number or a texture) and "alpha_cutoff" of a material, which belong
@@ -319,6 +321,92 @@ class Builder final : public BuildChecks {
         } catch (const TexelImageError& e) {
             throw SceneError(m_name + ": " + e.what());
         }
+    }
+
+    // "unknown material 'x'" with a did-you-mean among the scene's material names.
+    std::string unknown_material(const std::string& name) const {
+        std::vector<std::string> names;
+        for (const auto& [n, _] : m_desc.materials) names.push_back(n);
+        std::string msg = "unknown material '" + name + "'";
+        std::string g = closest_name(name, names);
+        if (!g.empty()) {
+            msg += " (did you mean '" + g + "'?)";
+        } else if (names.empty()) {
+            msg += " (the scene defines no \"materials\")";
+        }
+        return msg;
+    }
+
+    // The named material `name`, built on first use (a combination may name a material that
+    // the file lists after it); `ref_ptr` is the pointer of the reference, for errors. A chain
+    // of references that comes back to a material being built is a cycle: an error.
+    BuiltMaterial named_material(const std::string& name, const std::string& ref_ptr) {
+        if (auto it = m_named.find(name); it != m_named.end()) return it->second;
+        const auto d = m_named_desc.find(name);
+        if (d == m_named_desc.end()) fail(ref_ptr, unknown_material(name));
+        if (std::find(m_building.begin(), m_building.end(), name) != m_building.end()) {
+            std::string chain;
+            for (auto it = std::find(m_building.begin(), m_building.end(), name);
+                 it != m_building.end(); ++it)
+                chain += "'" + *it + "' -> ";
+            fail(ref_ptr, "material '" + name + "' refers to itself (" + chain + "'" + name + "')");
+        }
+        m_building.push_back(name);
+        const BuiltMaterial bm =
+            build_material(*d->second, "/materials/" + escape_pointer_token(name));
+        m_building.pop_back();
+        m_named[name] = bm;
+        return bm;
+    }
+
+    // The children of a combination (ModelInfo::children of them, under ptr/materials).
+    std::vector<BuiltMaterial> build_children(const MaterialDesc& m, const ModelInfo& info,
+                                              const std::string& ptr) {
+        if (int(m.materials.size()) != info.children) {
+            fail(ptr + "/materials",
+                 info.children == 0
+                     ? "model '" + m.model + "' takes no sub-materials"
+                     : "model '" + m.model + "' needs exactly " + std::to_string(info.children) +
+                           " materials [a, b] (got " + std::to_string(m.materials.size()) + ")");
+        }
+        std::vector<BuiltMaterial> children;
+        for (std::size_t k = 0; k < m.materials.size(); ++k) {
+            const MaterialDesc& c = m.materials[k];
+            const std::string cp = ptr + "/materials/" + std::to_string(k);
+            if (!c.ref.empty()) {
+                if (!c.model.empty() || !c.params.values().empty() || !c.materials.empty())
+                    fail(cp, "give either a material name or an inline material, not both");
+                children.push_back(named_material(c.ref, cp));
+            } else {
+                children.push_back(build_material(c, cp));
+            }
+        }
+        return children;
+    }
+
+    // Warns when an `add` reflects more than it receives (allowed, as in Cycles): its
+    // directional albedo at a few angles (Gauss-Legendre order 16, reflection only).
+    void check_energy_gain(const MaterialDesc& m, const Material& mat, const std::string& ptr) {
+        if (m.model != "add") return;
+        float worst = 0.f, worst_mu = 1.f;
+        for (float mu : {1.f, 0.7f, 0.4f, 0.1f}) {
+            const Vec3 w(std::sqrt(1.f - mu * mu), 0.f, mu);
+            const DVec3 r = hemispherical_directional(mat, w, 16).value;
+            const float rmax = float(std::max({r.x, r.y, r.z}));
+            if (rmax > worst) worst = rmax, worst_mu = mu;
+        }
+        if (worst > 1.001f) {
+            m_builder.warnings().push_back(
+                m_name + ": " + ptr + ": add reflects " + fmt_number(worst) +
+                " of the light at cos theta = " + fmt_number(worst_mu) +
+                " (> 1: an energy gain, allowed as in Cycles' Add Shader)");
+        }
+    }
+    static std::string fmt_number(double v) {
+        std::ostringstream s;
+        s.precision(3);
+        s << v;
+        return s.str();
     }
 
     // A texture parameter value (texture.h), validated with JSON pointers under `ptr`. `color`:
@@ -470,16 +558,25 @@ class Builder final : public BuildChecks {
                         "a finite number (scene units per unit of height)");
         }
         const bool bump = m.bump && m.bump->distance != 0.0;
-        if (m.textures.empty() && !normal_map && !bump) {
+        const ModelInfo& info = *find_model(m.model);
+        const std::vector<BuiltMaterial> children = build_children(m, info, ptr);
+        std::vector<std::shared_ptr<const Material>> kids;
+        bool textured_child = false;
+        for (const BuiltMaterial& c : children) {
+            kids.push_back(c.shared);
+            textured_child = textured_child || c.textured >= 0;
+        }
+        if (m.textures.empty() && !normal_map && !bump && !textured_child) {
             try {
                 m_builder.materials().push_back(
-                    std::make_unique<Material>(make_material(m.model, to_model(m.params))));
+                    std::make_shared<Material>(make_material(m.model, to_model(m.params), kids)));
             } catch (const ParamError& e) {
                 fail(e.param().empty() ? ptr + "/model"
                                        : ptr + "/" + escape_pointer_token(e.param()),
                      e.what());
             }
-            return {m_builder.materials().back().get(), -1};
+            check_energy_gain(m, *m_builder.materials().back(), ptr);
+            return {m_builder.materials().back().get(), -1, m_builder.materials().back()};
         }
         const std::vector<ParamInfo>& table =
             conversion ? conversion->sources : find_model(m.model)->params;
@@ -487,6 +584,8 @@ class Builder final : public BuildChecks {
         tm.model = m.model;
         tm.params = m.params;
         if (conversion) tm.convert = conversion->convert;
+        for (const BuiltMaterial& c : children)
+            tm.children.push_back({c.textured >= 0 ? nullptr : c.shared, c.textured});
         for (const auto& [name, td] : m.textures) {
             const std::string& key = name;  // (clang 14 cannot capture a structured binding)
             const std::string p = ptr + "/" + escape_pointer_token(key);
@@ -530,9 +629,10 @@ class Builder final : public BuildChecks {
         for (std::uint32_t corner : corners) {
             const bool largest = corner == all;
             try {
-                Material mat = make_material(m.model, to_model(with(corner)));
+                // Children: their largest-value materials (the analysis' view of them).
+                Material mat = make_material(m.model, to_model(with(corner)), kids);
                 tm.flags = tm.flags | mat.flags();
-                if (largest) m_builder.materials().push_back(std::make_unique<Material>(mat));
+                if (largest) m_builder.materials().push_back(std::make_shared<Material>(mat));
             } catch (const ParamError& e) {
                 fail(e.param().empty() ? ptr + "/model"
                                        : ptr + "/" + escape_pointer_token(e.param()),
@@ -574,15 +674,18 @@ class Builder final : public BuildChecks {
             tm.diffuse_black_ok = m.model == "lambert";
         }
         m_builder.textured().push_back(std::move(tm));
-        return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1)};
+        return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1),
+                m_builder.materials().back()};
     }
 
     void build_materials() {
         for (const auto& [name, m] : m_desc.materials) {
             const std::string ptr = "/materials/" + escape_pointer_token(name);
-            if (m_named.count(name)) fail(ptr, "duplicate material name '" + name + "'");
-            m_named[name] = build_material(m, ptr);
+            if (m_named_desc.count(name)) fail(ptr, "duplicate material name '" + name + "'");
+            m_named_desc[name] = &m;
         }
+        for (const auto& [name, m] : m_desc.materials)
+            named_material(name, "/materials/" + escape_pointer_token(name));
     }
 
     // Whether hits on a surface compute uv: its material, emission or opacity is textured.
@@ -632,18 +735,7 @@ class Builder final : public BuildChecks {
         } else if (!s.material_ref.empty()) {
             const std::string& name = s.material_ref;
             auto found = m_named.find(name);
-            if (found == m_named.end()) {
-                std::vector<std::string> names;
-                for (const auto& [n, _] : m_named) names.push_back(n);
-                std::string msg = "unknown material '" + name + "'";
-                std::string g = closest_name(name, names);
-                if (!g.empty()) {
-                    msg += " (did you mean '" + g + "'?)";
-                } else if (names.empty()) {
-                    msg += " (the scene defines no \"materials\")";
-                }
-                fail(ptr + "/material", msg);
-            }
+            if (found == m_named.end()) fail(ptr + "/material", unknown_material(name));
             info.material = found->second.material;
             info.textured = found->second.textured;
             info.opacity = found->second.opacity;
@@ -1027,6 +1119,9 @@ class Builder final : public BuildChecks {
 
     static bool reflects(const Material& m) {
         if (m.transmissive()) return true;  // a dielectric reflects at least its Fresnel part
+        if (const Material::Combination* c = m.combination())
+            return reflects(*c->a) || reflects(*c->b);
+        if (m.oren_nayar()) return max_component(m.oren_nayar()->rho()) > 0.f;
         if (m.diffuse() && max_component(m.diffuse()->rho()) > 0.f) return true;
         if (m.glossy()) return true;
         if (m.principled()) return m.principled()->flags() != BxDFFlags::None;
@@ -1077,9 +1172,9 @@ class Builder final : public BuildChecks {
                 if (su.textured >= 0)
                     fl = fl | m_builder.textured()[std::size_t(su.textured)].flags;
                 f.lobes = f.lobes | fl;
-                // A principled material's diffuse lobe is Disney's, not Lambert's.
-                if ((fl != BxDFFlags::Diffuse && fl != BxDFFlags::None) ||
-                    su.material->principled())
+                // The Lambert-only kernel reads the Lambertian lobe itself: Oren-Nayar and
+                // combinations of Lambertians are Diffuse too but have no such lobe.
+                if (fl != BxDFFlags::None && !(fl == BxDFFlags::Diffuse && su.material->diffuse()))
                     f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;
                 if (su.textured >= 0) f.has_textured = true;
@@ -1137,7 +1232,9 @@ class Builder final : public BuildChecks {
     std::uint64_t m_triangles = 0, m_degenerate = 0;
     Scene::Builder m_builder;
     std::map<std::string, BuiltMaterial> m_named;
-    TexelImageCache m_images;  // an image used twice is read once
+    std::map<std::string, const MaterialDesc*> m_named_desc;  // every named material
+    std::vector<std::string> m_building;  // named materials being built (cycle detection)
+    TexelImageCache m_images;             // an image used twice is read once
     const Material* m_black = nullptr;
     std::vector<Bounds3> m_shape_bounds;
 };

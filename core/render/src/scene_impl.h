@@ -152,7 +152,7 @@ struct Scene::Builder {
     Camera& camera() { return scene.m_camera; }
     RenderSettings& settings() { return scene.m_settings; }
     SceneFeatures& features() { return scene.m_features; }
-    std::vector<std::unique_ptr<Material>>& materials() { return scene.m_materials; }
+    std::vector<std::shared_ptr<Material>>& materials() { return scene.m_materials; }
     std::vector<std::unique_ptr<Texture>>& textures() { return scene.m_textures; }
     std::vector<TexturedMaterial>& textured() { return scene.m_textured; }
     std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }

@@ -436,6 +436,26 @@ class Reader {
                 b.texture = read_texture(v, p, {"distance"});
                 if (v.contains("distance")) b.distance = get_number(v["distance"], p + "/distance");
                 d.bump = b;
+            } else if (key == "materials") {  // a combination's sub-materials (mix, add)
+                if (!v.is_array())
+                    fail(p, "expected an array of materials [a, b], got " + type_name(v));
+                for (std::size_t k = 0; k < v.size(); ++k) {
+                    const json& c = v[k];
+                    const std::string cp = p + "/" + std::to_string(k);
+                    if (c.is_string()) {
+                        MaterialDesc ref;
+                        ref.ref = c.get<std::string>();
+                        if (ref.ref.empty()) fail(cp, "unknown material ''");
+                        d.materials.push_back(std::move(ref));
+                    } else if (c.is_object()) {
+                        d.materials.push_back(read_material(c, cp));
+                    } else {
+                        fail(cp,
+                             "expected a material name or an inline {\"model\": ...} object, "
+                             "got " +
+                                 type_name(c));
+                    }
+                }
             } else if (v.is_number()) {
                 d.params.set(key, get_number(v, p));
             } else if (v.is_boolean()) {
@@ -794,6 +814,12 @@ json texture_json(const TextureDesc& d, bool hashed) {
 json material_json(const MaterialDesc& m, bool hashed) {
     json j = json::object();
     j["model"] = m.model;
+    if (!m.materials.empty()) {
+        json children = json::array();
+        for (const MaterialDesc& c : m.materials)
+            children.push_back(c.ref.empty() ? material_json(c, hashed) : json(c.ref));
+        j["materials"] = children;
+    }
     for (const auto& [name, t] : m.textures) j[name] = texture_json(t, hashed);
     if (m.normal_map) {
         json n = texture_json(m.normal_map->texture, hashed);

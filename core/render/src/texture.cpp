@@ -189,25 +189,41 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
-    const TexturedMaterial& tm = m_textured[std::size_t(hit.textured)];
+    return textured_material(std::size_t(hit.textured), hit.uv, fp);
+}
+
+Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const {
+    const TexturedMaterial& tm = m_textured[index];
     if (tm.diffuse_base) {
         // A textured diffuse reflectance alone: the base material with its diffuse lobe
         // replaced, the same bits as make_material gives. Composite leaves out a zero diffuse
         // lobe, so a black value takes the general path below.
         const TexturedMaterial::Slot& s = tm.slots[0];
         const Rgb v =
-            glm::clamp(s.texture->eval(hit.uv, fp), s.texture->min_value(), s.texture->max_value());
+            glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
         const Rgb v =
-            glm::clamp(s.texture->eval(hit.uv, fp), s.texture->min_value(), s.texture->max_value());
+            glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
+    // A combination's textured children are built at the same uv (one allocation each).
+    std::array<std::shared_ptr<const Material>, 2> children;
+    for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
+        const TexturedMaterial::Child& c = tm.children[k];
+        children[k] =
+            c.textured >= 0
+                ? std::make_shared<const Material>(
+                      textured_material(std::size_t(c.textured), uv, fp))
+                : c.constant;
+    }
     try {
-        return make_material(tm.model, tm.convert ? tm.convert(params) : params);
+        return make_material(
+            tm.model, tm.convert ? tm.convert(params) : params,
+            std::span(children.data(), std::min(tm.children.size(), children.size())));
     } catch (const ParamError&) {
         // Unreachable after build_scene's checks; the render loop never throws.
         return Material(std::nullopt, std::nullopt, std::nullopt);

@@ -111,6 +111,10 @@ class PovWriter {
     void global_settings();
     std::string texture(const MaterialDesc& m, const std::string& pointer,
                         const glm::dvec3& emission = glm::dvec3(0.0));
+    // A combination's sub-material k: the named material it refers to, or the inline one; its
+    // pointer in `pointer` (build_scene has checked the names and that there is no cycle).
+    const MaterialDesc& child(const MaterialDesc& m, std::size_t k, std::string& pointer) const;
+    bool has_mirror(const MaterialDesc& m) const;
     void materials();
     std::string shape_texture(const ShapeDesc& s, const std::string& pointer, bool inside_front);
     void shape(const ShapeDesc& s, std::size_t index);
@@ -370,9 +374,6 @@ void PovWriter::global_settings() {
     // Mirror bounces are the only recursion of the direct integrator: without a mirror lobe
     // the depth changes nothing, and a deeper limit than POV-Ray's is no error.
     bool mirrors = false;
-    auto has_mirror = [](const MaterialDesc& m) {
-        return make_material(m.model, m.params).mirror().has_value();
-    };
     for (const auto& [name, m] : m_desc.materials) mirrors = mirrors || has_mirror(m);
     for (const ShapeDesc& s : m_desc.shapes)
         if (s.material) mirrors = mirrors || has_mirror(*s.material);
@@ -416,6 +417,32 @@ void PovWriter::global_settings() {
     m_out << "}\n\n";
 }
 
+const MaterialDesc& PovWriter::child(const MaterialDesc& m, std::size_t k,
+                                     std::string& pointer) const {
+    const MaterialDesc& c = m.materials.at(k);
+    if (c.ref.empty()) {
+        pointer += "/materials/" + std::to_string(k);
+        return c;
+    }
+    for (const auto& [name, named] : m_desc.materials)
+        if (name == c.ref) {
+            pointer = "/materials/" + detail::escape_pointer_token(name);
+            return named;
+        }
+    fail(pointer + "/materials/" + std::to_string(k), "unknown material '" + c.ref + "'");
+}
+
+bool PovWriter::has_mirror(const MaterialDesc& m) const {
+    if (!m.materials.empty()) {
+        for (std::size_t k = 0; k < m.materials.size(); ++k) {
+            std::string p;
+            if (has_mirror(child(m, k, p))) return true;
+        }
+        return false;
+    }
+    return make_material(m.model, m.params).mirror().has_value();
+}
+
 // " emission rgb <...>" giving the radiance `emission` on a surface of that pigment: POV-Ray
 // multiplies `emission` by the pigment (trace.cpp ComputeLightedTexture), so it is divided
 // here. "" when there is no emission.
@@ -449,6 +476,31 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         fail(pointer + "/" + detail::escape_pointer_token(m.textures.begin()->first),
              "a texture cannot be exported to POV-Ray exactly (only constant parameters are)");
     }
+    // mix: POV-Ray's `average` texture_map shades each texture and averages the results with
+    // the weights [1 - w, w] (their sum is 1, so POV-Ray's normalisation changes nothing):
+    // (1 - w) L_a + w L_b, which is what f = (1 - w) f_a + w f_b reflects. Each entry carries
+    // the shape's emission, so the average emits it once.
+    if (m.model == "mix") {
+        const auto it = m.params.values().find("weight");
+        const double w = it == m.params.values().end() ? 0.5 : std::get<double>(it->second);
+        std::string pa = pointer, pb = pointer;
+        const MaterialDesc& a = child(m, 0, pa);
+        const MaterialDesc& b = child(m, 1, pb);
+        if (w <= 0.0) return texture(a, pa, emission);  // Material::mix: the child itself
+        if (w >= 1.0) return texture(b, pb, emission);
+        auto body = [](const std::string& t) { return t.substr(10, t.size() - 12); };
+        return "texture { average texture_map { [" + pov_num(1.0 - w) + " " +
+               body(texture(a, pa, emission)) + "] [" + pov_num(w) + " " +
+               body(texture(b, pb, emission)) + "] } }";
+    }
+    if (m.model == "add")
+        fail(pointer + "/model",
+             "'add' sums two materials, which POV-Ray cannot express exactly (its average "
+             "texture_map normalises the weights to a mean)");
+    if (m.model == "oren_nayar")
+        fail(pointer + "/model",
+             "'oren_nayar' cannot be exported to POV-Ray yet (povray-facet's brdf finish shades "
+             "lambert, microfacet and mirror lobes only; stock POV-Ray has no Oren-Nayar)");
     // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
     // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
     if (make_material(m.model, m.params).transmissive())

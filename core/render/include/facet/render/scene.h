@@ -190,6 +190,13 @@ struct TexturedMaterial {
     // albedo table).
     const Material* diffuse_base = nullptr;
     bool diffuse_black_ok = false;  // lambert: a black value is still its one lobe
+    // The sub-materials of a combination (mix, add), in order: a constant material, or
+    // (textured >= 0) another textured material built at the same hit.
+    struct Child {
+        std::shared_ptr<const Material> constant;
+        std::int32_t textured = -1;
+    };
+    std::vector<Child> children;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -382,11 +389,14 @@ class Scene {
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
     std::vector<std::string> m_warnings;
+    // material_at() for textured material `index` at uv (combinations recurse into children).
+    Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
     Camera m_camera;
     RenderSettings m_settings;
     SceneFeatures m_features;
-    std::vector<std::unique_ptr<Material>> m_materials;  // stable addresses
-    std::vector<std::unique_ptr<Texture>> m_textures;    // stable addresses
+    // Stable addresses; shared with the combinations (mix, add) that hold them as children.
+    std::vector<std::shared_ptr<Material>> m_materials;
+    std::vector<std::unique_ptr<Texture>> m_textures;  // stable addresses
     std::vector<TexturedMaterial> m_textured;
     std::vector<ShapeInfo> m_shapes;
     std::vector<Light> m_lights;

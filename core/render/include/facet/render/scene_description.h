@@ -84,6 +84,12 @@ struct MaterialDesc {
         bool operator==(const Bump&) const = default;
     };
     std::optional<Bump> bump;
+    // The sub-materials of a combination (mix, add: the "materials" key), in order. A
+    // sub-material given by name has only `ref` set (the name in SceneDescription::materials);
+    // an inline one has its model and no `ref`.
+    std::vector<MaterialDesc> materials =
+        {};  // (initialisers: aggregate {model, params} stays warning-free)
+    std::string ref = {};
     bool operator==(const MaterialDesc&) const = default;
 };
 
