@@ -52,20 +52,31 @@ default material).
 import json
 import math
 
-from . import gaps, nodegraph, units
+from . import gaps, nodegraph, textures, units
 from .properties import material_params
 
 DEFAULT_MATERIAL = {"model": "lambert", "reflectance": 0.8}
 
 
 class Converted:
-    """A converted material: data (FORMAT.md material dict), emission, two_sided, problems."""
+    """A converted material: data (FORMAT.md material dict; colour and number parameters may
+    be texture dicts), emission (a colour or a texture dict), two_sided, problems, and uv_maps:
+    the UV layers its textures read ("" the render UV map; empty: no texture)."""
 
-    def __init__(self, data, emission=None, two_sided=True, problems=()):
+    def __init__(self, data, emission=None, two_sided=True, problems=(), uv_maps=()):
         self.data = data
         self.emission = emission or [0.0, 0.0, 0.0]
         self.two_sided = two_sided
         self.problems = list(problems)
+        self.uv_maps = set(uv_maps)
+
+    def emits(self):
+        return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
+
+
+def is_texture(v):
+    """Whether a parameter value is a texture dict (textures.py) rather than a constant."""
+    return isinstance(v, dict)
 
 
 def convert(mat):
@@ -102,7 +113,7 @@ def convert(mat):
                             "grey lambert" % mat.name)
         return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
     data, emission = ctx.shader(src, "the Material Output's Surface")
-    return Converted(data, emission, two_sided, ctx.finish())
+    return Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
 
 
 def material_state(mat):
@@ -131,6 +142,7 @@ class NodeContext:
         self.walker = nodegraph.Walker(tree)
         self.problems = []
         self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
+        self.uv_maps = set()  # UV layers read by the textures converted
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -163,6 +175,37 @@ class NodeContext:
                      "feeds %s '%s' input '%s'; using the input's value %s"
                      % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
         return own
+
+    def param(self, node, name, path=(), scale=1.0):
+        """A BSDF input that Facet may texture: the folded constant (as value()), or the
+        texture its subgraph converts to (textures.py; `scale` multiplies it, the texture's
+        "scale"), or, when neither, the input's own value with the nodes reported."""
+        sock = _input(node, name)
+        src = self.walker.input(node, sock, path)
+        v, blockers = self.walker.fold(src)
+        if v is not None:
+            return v
+        feeds = "%s '%s' input '%s'" % (nodegraph.node_type_label(node), node.name, sock.name)
+        try:
+            res = textures.convert(self.walker, src, number=sock.type != 'RGBA')
+        except textures.Unsupported as e:
+            used = "feeds %s; using the input's value %s" % (feeds,
+                                                            _fmt(nodegraph.socket_value(sock)))
+            if e.reason is None:  # not a texture: the nodes stopping the folding
+                for b in blockers:
+                    self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN, used)
+            else:
+                self.gap(e.out, e.reason, used)
+            return nodegraph.socket_value(sock)
+        for note in res.notes:
+            self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
+        if res.data is None:  # the Alpha of an opaque image: 1
+            return 1.0
+        self.uv_maps.add(res.uv_map)
+        tex = dict(res.data)
+        if scale != 1.0:
+            tex["scale"] = tex.get("scale", 1.0) * scale
+        return tex
 
     def ignored_input(self, node, name, path, feeds_what):
         """An input the conversion does not read: a live link into it is reported (the node
@@ -280,10 +323,19 @@ def _rgb3(v):
 
 
 def _add_emission(e1, e2, w1, w2):
+    """w1 e1 + w2 e2 (None: no emission). A texture plus nothing is the weighted texture; a
+    texture plus anything else is not one texture: the first texture, weighted (combine()
+    declines such sums; the Add Shader's fallback reports it)."""
     if e1 is None and e2 is None:
         return None
+    if is_texture(e1) or is_texture(e2):
+        return _scaled(e1, w1) if is_texture(e1) else _scaled(e2, w2)
     e1, e2 = e1 or [0.0] * 3, e2 or [0.0] * 3
     return [w1 * a + w2 * b for a, b in zip(e1, e2)]
+
+
+def _black(e):
+    return e is None or (not is_texture(e) and not any(e))
 
 
 def combine(parts, weights):
@@ -293,6 +345,8 @@ def combine(parts, weights):
     reflectance, and the weighted reflectance stays <= 1."""
     (d1, e1), (d2, e2) = parts
     w1, w2 = weights
+    if (is_texture(e1) and not _black(e2)) or (is_texture(e2) and not _black(e1)):
+        return None  # a sum of a texture and another emission is not one texture
     emission = _add_emission(e1, e2, w1, w2)
     bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
     if not bsdfs:
@@ -300,6 +354,8 @@ def combine(parts, weights):
     model = bsdfs[0][0].get("model")
     if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
         return None
+    if any(is_texture(v) for d, _ in bsdfs for v in d.values()):
+        return None  # a weighted sum of textured BSDFs is not one BSDF
     rest = [{k: v for k, v in d.items() if k != "reflectance"} for d, _ in bsdfs]
     if any(r != rest[0] for r in rest):
         return None
@@ -321,7 +377,18 @@ def _input(node, name):
 
 
 def _rgb(v):
+    """A colour parameter: [r, g, b], or a texture dict as it is."""
+    if is_texture(v):
+        return v
     return [float(c) for c in v[:3]]
+
+
+def _scaled(tex, w):
+    if w == 1.0:
+        return tex
+    out = dict(tex)
+    out["scale"] = out.get("scale", 1.0) * w
+    return out
 
 
 def _alpha(roughness):
@@ -348,7 +415,7 @@ def _aniso(alpha, anisotropy):
 
 
 def _diffuse(ctx, node, path):
-    return {"model": "lambert", "reflectance": _rgb(ctx.value(node, 'Color', path))}, None
+    return {"model": "lambert", "reflectance": _rgb(ctx.param(node, 'Color', path))}, None
 
 
 def _glossy_model(ctx, node):
@@ -366,7 +433,7 @@ def _glossy_model(ctx, node):
 
 
 def _glossy(ctx, node, path):
-    color = _rgb(ctx.value(node, 'Color', path))
+    color = _rgb(ctx.param(node, 'Color', path))
     model, compensate = _glossy_model(ctx, node)
     data = {"model": model, "reflectance": color, "fresnel": "none"}
     if model != "mirror":
@@ -387,12 +454,24 @@ def _glossy(ctx, node, path):
 def _principled(ctx, node, path):
     def val(name):
         return ctx.value(node, name, path)
-    base = _rgb(val('Base Color'))
     metallic = max(0.0, min(1.0, val('Metallic')))
     specular = max(0.0, val('Specular'))
     tint = max(0.0, min(1.0, val('Specular Tint')))
     alpha = _alpha(val('Roughness'))
     aniso = val('Anisotropic')
+    if metallic == 0.0 and tint == 0.0:
+        # f0 does not depend on Base Color: a texture there is the diffuse reflectance.
+        base = _rgb(ctx.param(node, 'Base Color', path))
+        if is_texture(base):
+            data = {"model": "composite", "diffuse_reflectance": base, "distribution": "ggx",
+                    "fresnel": "schlick", "f0": [min(1.0, 0.08 * specular)] * 3}
+            data["alpha"] = alpha
+            if aniso != 0.0:
+                del data["alpha"]
+                data["alpha_u"], data["alpha_v"] = _aniso(alpha, aniso)
+            return data, units.emission_from_blender(val('Emission'), val('Emission Strength'))
+    else:
+        base = _rgb(val('Base Color'))
     # Disney's tint: the base colour's hue at luminance 1.
     lum = 0.2126 * base[0] + 0.7152 * base[1] + 0.0722 * base[2]
     ctint = [c / lum for c in base] if lum > 0.0 else [1.0, 1.0, 1.0]
@@ -409,9 +488,46 @@ def _principled(ctx, node, path):
 
 
 def _emission(ctx, node, path):
-    emission = units.emission_from_blender(ctx.value(node, 'Color', path),
-                                           ctx.value(node, 'Strength', path))
-    return dict(BLACK), emission
+    strength = ctx.value(node, 'Strength', path)
+    color = ctx.param(node, 'Color', path, scale=strength)
+    if is_texture(color):
+        return dict(BLACK), color  # radiance = texture x Strength (the texture's scale)
+    return dict(BLACK), units.emission_from_blender(color, strength)
+
+
+def _glass(ctx, node, path):
+    """Glass and Refraction BSDF -> dielectric: ior = IOR (eta = n_inside / n_outside, the
+    outside the side the normal points to, as Cycles' backfacing test), alpha = Roughness^2 as
+    Cycles squares it (Sharp: 0), GGX -> ggx, Beckmann -> beckmann, Color -> transmittance.
+    Approximations, reported: Cycles' Glass tints its reflection by Color too (Facet only the
+    transmission); Cycles' Refraction BSDF has no reflection (Facet's dielectric reflects the
+    Fresnel fraction); Multiscatter GGX is converted as GGX."""
+    label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+    ior = ctx.value(node, 'IOR', path)
+    data = {"model": "dielectric", "ior": min(max(float(ior), 1e-3), 100.0)}
+    if data["ior"] != ior:
+        ctx.problems.append("%s: %s IOR %s clamped to Facet's range [0.001, 100]"
+                            % (ctx.what, label, _fmt(ior)))
+    color = _rgb(ctx.param(node, 'Color', path))
+    if is_texture(color) or color != [1.0, 1.0, 1.0]:
+        data["transmittance"] = color
+        if node.bl_idname == 'ShaderNodeBsdfGlass':
+            ctx.problems.append("%s: %s Color tints the reflection too in Cycles; Facet tints "
+                                "only the transmission" % (ctx.what, label))
+    if node.bl_idname == 'ShaderNodeBsdfRefraction':
+        ctx.problems.append("%s: %s has no reflection in Cycles; Facet's dielectric reflects "
+                            "the Fresnel fraction" % (ctx.what, label))
+    dist = node.distribution
+    if dist != 'SHARP':
+        alpha = _alpha(ctx.value(node, 'Roughness', path))
+        if alpha > 0.0:
+            data["alpha"] = alpha
+            if dist == 'BECKMANN':
+                data["distribution"] = "beckmann"
+            elif dist == 'MULTI_GGX':
+                ctx.problems.append("%s: %s Multiscatter GGX converted as GGX (single "
+                                    "scattering: rough glass loses energy)" % (ctx.what, label))
+    return data, None
 
 
 # bl_idname -> conversion(ctx, node, path) -> (data, emission or None); _READS: the inputs it
@@ -423,6 +539,8 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfAnisotropic': _glossy,
     'ShaderNodeBsdfPrincipled': _principled,
     'ShaderNodeEmission': _emission,
+    'ShaderNodeBsdfGlass': _glass,
+    'ShaderNodeBsdfRefraction': _glass,
 }
 _READS = {
     'ShaderNodeBsdfDiffuse': ('Color',),
@@ -431,4 +549,6 @@ _READS = {
     'ShaderNodeBsdfPrincipled': ('Base Color', 'Metallic', 'Specular', 'Specular Tint',
                                  'Roughness', 'Anisotropic', 'Emission', 'Emission Strength'),
     'ShaderNodeEmission': ('Color', 'Strength'),
+    'ShaderNodeBsdfGlass': ('Color', 'Roughness', 'IOR'),
+    'ShaderNodeBsdfRefraction': ('Color', 'Roughness', 'IOR'),
 }

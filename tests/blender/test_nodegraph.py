@@ -323,7 +323,7 @@ def scene_reports():
     data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
     for who, what in (("light 'Light'", "Radius = 0.1: converted to a sphere"),
                       ("light 'sun'", "Angle = 5.73 deg: converted to a cone"),
-                      ("light 'spot'", "Blend = 0.3:"), ("light 'spot'", "Cast Shadow = False"),
+                      ("light 'spot'", "Cast Shadow = False"),
                       ("light 'area'", "Spread = 57.3 deg"),
                       ("world 'World'", "Environment Texture")):
         bt.check(any(who in p and what in p for p in problems),
