@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import gaps, hooks, materials, nodegraph, textures, units
+from . import bake, gaps, hooks, materials, nodegraph, textures, units
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
 DEFAULT_MATERIAL_NAME = "facet_default"
@@ -53,6 +53,8 @@ def object_state(obj, matrix=None):
             parts.append(_floats((lt.spot_size, lt.spot_blend)))
         if lt.type == 'SUN':
             parts.append(_floats((lt.angle,)))
+        if lt.type == 'AREA':
+            parts.append(lt.shape + _floats((lt.size, lt.size_y)))
     return ";".join(parts)
 
 
@@ -234,16 +236,24 @@ class _Materials:
     def __init__(self, problems):
         self.problems = problems
         self.by_name = {}  # facet name -> materials.Converted
+        self.first_user = {}  # facet name -> the object it was converted for (bakes)
         self.order = []
 
-    def get(self, mat):
+    def get(self, mat, obj=None):
         name = DEFAULT_MATERIAL_NAME if mat is None else mat.name
         if name not in self.by_name:
-            conv = materials.convert(mat)
+            conv = materials.convert(mat, getattr(obj, "original", obj))
             self.problems.extend(conv.problems)
             self.by_name[name] = conv
             self.order.append(name)
-        return name, self.by_name[name]
+            self.first_user[name] = obj.original.name if obj is not None else None
+        conv = self.by_name[name]
+        if conv.baked and obj is not None and obj.original.name != self.first_user[name]:
+            line = ("material '%s': baked over object '%s''s UVs; object '%s' uses the same "
+                    "image over its own UVs" % (name, self.first_user[name], obj.original.name))
+            if line not in self.problems:
+                self.problems.append(line)
+        return name, conv
 
     def data(self):
         return [(n, self.by_name[n].data) for n in self.order]
@@ -316,6 +326,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
     arrays of objects converted before (the viewport drops the entries of changed objects)."""
     scene = depsgraph.scene
     problems = []
+    bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
     mats = _Materials(problems)
     data = {"description": "exported from Blender scene '%s'" % scene.name,
             "camera": camera or export_camera(depsgraph, scene, problems),
@@ -356,7 +367,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
                     continue
                 shape["positions"], shape["indices"], shape["normals"] = arrays
             slot_mat = obj.material_slots[0].material if obj.material_slots else None
-            _add_material(shape, slot_mat, mats)
+            _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
             continue
         slots = [s.material for s in obj.material_slots] or [None]
@@ -387,7 +398,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
                      "name": name if len(used) == 1 else "%s [slot %d]" % (name, mi)}
             if uvs is not None:
                 shape["uvs"] = uvs
-            _add_material(shape, slot_mat, mats)
+            _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
     data["shapes"].extend(area_shapes)
     env = export_environment(scene, problems)
@@ -405,7 +416,7 @@ def _uv_layer(obj, slots, mats, problems):
     for m in slots:
         if m is not None and m.get("facet_cycles_only"):
             continue
-        for uv in sorted(mats.get(m)[1].uv_maps):
+        for uv in sorted(mats.get(m, obj)[1].uv_maps):
             if uv not in wanted:
                 wanted.append(uv)
     if len(wanted) > 1:
@@ -435,13 +446,13 @@ def _imported_mesh_arrays(obj_eval):
     return co.reshape(-1, 3), idx.reshape(-1, 3), nrm
 
 
-def _add_material(shape, mat, mats):
+def _add_material(shape, mat, mats, obj=None):
     if mat is not None and mat.get("facet_cycles_only"):
         # an emitter's Cycles-only material (tests/support/python/facet_testsupport/cycles_scene.py)
         mat = None
     if mat is None and any(shape.get("emission") or []):
         return  # an emitter without a material reflects nothing (FORMAT.md)
-    name, conv = mats.get(mat)
+    name, conv = mats.get(mat, obj)
     shape["material"] = name
     if "emission" not in shape or not any(shape.get("emission") or []):
         if conv.emits():

@@ -52,7 +52,7 @@ default material).
 import json
 import math
 
-from . import gaps, nodegraph, textures, units
+from . import bake, gaps, nodegraph, textures, units
 from .properties import material_params
 
 DEFAULT_MATERIAL = {"model": "lambert", "reflectance": 0.8}
@@ -69,6 +69,7 @@ class Converted:
         self.two_sided = two_sided
         self.problems = list(problems)
         self.uv_maps = set(uv_maps)
+        self.baked = False  # an input baked over the UVs of the object it was converted for
 
     def emits(self):
         return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
@@ -79,9 +80,10 @@ def is_texture(v):
     return isinstance(v, dict)
 
 
-def convert(mat):
+def convert(mat, obj=None):
     """Blender material (or None) -> Converted. Never raises for a bad node tree: what cannot
-    be converted is listed in problems, each naming the material and the input or node."""
+    be converted is listed in problems, each naming the material and the input or node.
+    `obj` (the first object using the material) is the one a bake (bake.py) is made over."""
     if mat is None:
         return Converted(dict(DEFAULT_MATERIAL))
     fs = getattr(mat, "facet", None)
@@ -99,6 +101,7 @@ def convert(mat):
         return Converted({"model": "lambert", "reflectance": list(mat.diffuse_color)[:3]},
                          two_sided=two_sided)
     ctx = NodeContext("material", mat.name, mat.node_tree)
+    ctx.material, ctx.obj = mat, obj
     out = nodegraph.active_output(mat.node_tree, 'ShaderNodeOutputMaterial')
     if out is None:
         ctx.problems.append("material '%s': no Material Output node; using grey lambert"
@@ -113,7 +116,9 @@ def convert(mat):
                             "grey lambert" % mat.name)
         return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
     data, emission = ctx.shader(src, "the Material Output's Surface")
-    return Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
+    conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
+    conv.baked = ctx.baked
+    return conv
 
 
 def material_state(mat):
@@ -143,6 +148,8 @@ class NodeContext:
         self.problems = []
         self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
         self.uv_maps = set()  # UV layers read by the textures converted
+        self.material = self.obj = None  # set for a material: what a bake needs (bake.py)
+        self.baked = False
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -191,6 +198,13 @@ class NodeContext:
         except textures.Unsupported as e:
             used = "feeds %s; using the input's value %s" % (feeds,
                                                             _fmt(nodegraph.socket_value(sock)))
+            baked = bake.request(self, node, sock, src) if self.material is not None else None
+            if baked:  # Blender's bake of the subgraph, over the object's render UV map
+                self.uv_maps.add("")
+                self.baked = True
+                return baked
+            if baked is False:  # reported by bake.request
+                return nodegraph.socket_value(sock)
             if e.reason is None:  # not a texture: the nodes stopping the folding
                 for b in blockers:
                     self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN, used)
@@ -318,10 +332,6 @@ class NodeContext:
 _LINEAR_MODELS = ("lambert", "mirror", "ggx", "beckmann")
 
 
-def _rgb3(v):
-    return [float(v)] * 3 if not isinstance(v, (list, tuple)) else [float(c) for c in v]
-
-
 def _add_emission(e1, e2, w1, w2):
     """w1 e1 + w2 e2 (None: no emission). A texture plus nothing is the weighted texture; a
     texture plus anything else is not one texture: the first texture, weighted (combine()
@@ -361,7 +371,7 @@ def combine(parts, weights):
         return None
     refl = [0.0] * 3
     for d, w in bsdfs:
-        refl = [a + w * b for a, b in zip(refl, _rgb3(d.get("reflectance", 1.0)))]
+        refl = [a + w * b for a, b in zip(refl, units.rgb3(d.get("reflectance", 1.0)))]
     if max(refl) > 1.0:
         return None
     data = dict(rest[0])

@@ -115,6 +115,11 @@ def emission_from_blender(color, strength):
     return [float(c) * float(strength) for c in color[:3]]
 
 
+def rgb3(v):
+    """A colour of the scene format (a number or [r, g, b]) as [r, g, b]."""
+    return [float(v)] * 3 if isinstance(v, (int, float)) else [float(c) for c in v]
+
+
 def _split_colour(rgb):
     """RGB quantity -> (colour with max 1, scalar), as Blender stores lights."""
     m = max(float(v) for v in rgb)
