@@ -15,9 +15,9 @@
    pixel < 0.01: the bake samples the noise at texel centres (4 x 4 per pixel) and Facet
    interpolates between them, so they differ only by the noise's variation inside a texel
    (at Scale 5 on a 2 m plane, under 0.5% of its range per texel) and the sampling noise of 16
-   jittered samples (sd under 0.01 for this smooth noise); a bake over the wrong UVs, rows
-   flipped, or an sRGB-decoded bake gives a mean |difference| above 0.05 (checked while
-   writing: a flipped bake gave 0.09).
+   jittered samples (sd under 0.01 for this smooth noise). Measured: means 0.49735 both,
+   mean |difference| 0.0008. A view-transformed bake (Image.save(), found while writing) gave
+   a mean of 0.73 and a mean |difference| of 0.23.
 """
 import os
 import sys
