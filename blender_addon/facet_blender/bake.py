@@ -9,9 +9,10 @@ image over the object's UV map, and the material renders with that image.
   a procedural is deterministic; Emission Strength 1 gives the colour as it is) into a float
   image of `scene.facet.bake_resolution` pixels square, its pixels written as a linear EXR in
   the cache directory (textures.CACHE_DIR) by the core's writer (Image.save() of a float image
-  wrote view-transformed values in 3.4.1, measured: a mean of 0.73 for 0.50). The Emit pass equals the value Cycles feeds the input at the
-  texel's centre; between texels Facet interpolates bilinearly (the approximation: detail
-  finer than a texel is lost), and outside the UV islands the margin (16 px) extends the edge.
+  wrote view-transformed values in 3.4.1, measured: a mean of 0.73 for 0.50). The Emit pass
+  equals the value Cycles feeds the input at the texel's centre; between texels Facet
+  interpolates bilinearly (the approximation: detail finer than a texel is lost), and outside
+  the UV islands the margin (16 px) extends the edge.
 - Cache: the file is named by a hash of the material's node tree (every node, its properties,
   input values and links, node groups included), the input, the object's name, its mesh's UVs
   and positions, and the resolution: an unchanged material bakes once.

@@ -12,9 +12,12 @@ Every BSDF input is folded to a constant when its subgraph is made of nodes node
 evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range, Vector
 Math, ColorRamp, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one
 line per material and node, naming the input it feeds and what Facet used instead (the input's
-own value, grey lambert, ...). Inherent model differences of the conversions below are
-documented here and in docs/blender.md, not reported per material (they would fire on every
-default material).
+own value, grey lambert, ...). Colour inputs the conversions pass on unchanged (Diffuse, Glossy
+and Glass Color, Emission Color x Strength, Principled Base Color with Metallic and Specular
+Tint 0) also take textures (textures.py: Image and Checker Textures through UV Map and Mapping
+nodes) and, for any other subgraph, the image Blender bakes of it (bake.py). Inherent model
+differences of the conversions below are documented here and in docs/blender.md, not reported
+per material (they would fire on every default material).
 
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
   converted as Lambert.
@@ -36,6 +39,8 @@ default material).
   Lambert; Facet's composite weights the diffuse lobe by what the specular lobe leaves
   (energy conserving) where Principled adds them; Subsurface, Sheen, Clearcoat, Transmission
   and Alpha are not converted (reported when not at their defaults); Emission is converted.
+- Glass / Refraction BSDF: dielectric, ior = IOR, alpha = Roughness^2 (Sharp: smooth), GGX or
+  Beckmann, transmittance = Color (see _glass for what is reported).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
 - Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
@@ -499,6 +504,8 @@ def _principled(ctx, node, path):
 
 def _emission(ctx, node, path):
     strength = ctx.value(node, 'Strength', path)
+    if strength == 0.0:
+        return dict(BLACK), None  # nothing emitted, whatever feeds the colour
     color = ctx.param(node, 'Color', path, scale=strength)
     if is_texture(color):
         return dict(BLACK), color  # radiance = texture x Strength (the texture's scale)

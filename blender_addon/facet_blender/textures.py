@@ -13,10 +13,10 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   projection Flat (Box, Sphere, Tube are not converted). Cycles interpolates an 8-bit sRGB
   image's encoded values and decodes after; Facet decodes the texels, then interpolates:
   reported (measured on an 8 x 6 texture of strongly different neighbours magnified 4x per
-  texel: mean difference 0.06; a float image agrees to 0.001). Alpha -> channel "a" (an image without
-  alpha: the constant 1, as Cycles). A colour output into a number input: channel "luminance"
-  (Facet's Rec. 709 weights 0.2126, 0.7152, 0.0722 against Cycles' 0.2126729, 0.7151522,
-  0.0721750: reported, under 1e-4 relative).
+  texel: mean difference 0.06; a float image agrees to 0.001). Alpha -> channel "a" (an image
+  without alpha: the constant 1, as Cycles). A colour output into a number input: channel
+  "luminance" (Facet's Rec. 709 weights 0.2126, 0.7152, 0.0722 against Cycles' 0.2126729,
+  0.7151522, 0.0721750: reported, under 1e-4 relative).
 - Checker Texture, Color or Fac output, with constant Color1, Color2 and Scale: Cycles'
   svm_checker on p = Scale x the vector: the cell (floor x, floor y, floor z) is Color1 when
   (|floor x| mod 2 == |floor y| mod 2) != (|floor z| mod 2), else Color2. On UVs (z = 0) the
@@ -205,16 +205,26 @@ def image_file(img):
 
 
 def _write_pixels(img):
+    """Writes the image's pixels once per content: the file is named by a hash of the packed
+    file's bytes (or the generated image's settings); an edited (dirty) image is written
+    every time."""
+    import hashlib
     import numpy as np
     from . import native
     w, h = img.size
     if w == 0 or h == 0:
         raise ValueError("image '%s' has no pixels" % img.name)
+    key = hashlib.sha1(("%s|%d|%d|%s|%s|%s" % (
+        img.name, w, h, img.source, getattr(img, "generated_type", ""),
+        tuple(getattr(img, "generated_color", ())))).encode())
+    if img.packed_file is not None:
+        key.update(img.packed_file.data)
+    os.makedirs(CACHE_DIR, exist_ok=True)
+    path = os.path.join(CACHE_DIR, "image_%s.exr" % key.hexdigest()[:20])
+    if os.path.isfile(path) and not img.is_dirty:
+        return path
     px = np.empty(w * h * 4, np.float32)
     img.pixels.foreach_get(px)
-    os.makedirs(CACHE_DIR, exist_ok=True)
-    safe = "".join(c if c.isalnum() or c in "-_." else "_" for c in img.name)
-    path = os.path.join(CACHE_DIR, "image_%s_%dx%d.exr" % (safe, w, h))
     rgb = px.reshape(h, w, 4)[::-1, :, :3].copy()  # Blender's rows run bottom-up
     native.facet.write_image(rgb, path)
     return path

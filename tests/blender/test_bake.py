@@ -84,7 +84,7 @@ def main():
     textures.CACHE_DIR = os.path.join(outdir, "bake_cache")
     for f in os.listdir(textures.CACHE_DIR) if os.path.isdir(textures.CACHE_DIR) else []:
         os.remove(os.path.join(textures.CACHE_DIR, f))
-    em_plane = plane("EmPlane", noise_material("noise_emission", "emission"), (0, 0, 0))
+    plane("EmPlane", noise_material("noise_emission", "emission"), (0, 0, 0))
     plane("BasePlane", noise_material("noise_base", "base"), (5, 0, 0))
     plane("NoUV", noise_material("noise_nouv", "emission"), (10, 0, 0), uv=False)
 

@@ -113,6 +113,21 @@ def exported(outdir):
              "Image Texture via UV Map + Mapping (Point) -> texture: %s %s %s"
              % (c.data, c.uv_maps, c.problems))
 
+    # A generated (never saved) image: its pixels written once to the cache as an EXR.
+    from facet_blender import textures
+    gen = bpy.data.images.new("generated", 4, 2)
+    gen.generated_color = (0.5, 0.25, 1.0, 1.0)
+    mat, nt, out = new_material("generated")
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    nt.links.new(image_node(nt, gen, interpolation='Closest').outputs["Color"], d.inputs["Color"])
+    nt.links.new(d.outputs[0], out.inputs["Surface"])
+    c = materials.convert(mat)
+    r = c.data["reflectance"]
+    bt.check(os.path.dirname(r["texture"]) == textures.CACHE_DIR and os.path.isfile(r["texture"])
+             and r["colorspace"] == "srgb" and c.problems == []
+             and materials.convert(mat).data["reflectance"]["texture"] == r["texture"],
+             "a generated image is written to the cache once: %s %s" % (r, c.problems))
+
     # Texture-type Mapping: (R^T (v - l)) / s with a uniform scale: exact; with a non-uniform
     # one it shears the UV plane: reported.
     mat, nt, out = new_material("img_tex")
