@@ -19,8 +19,8 @@ nodes) and, for any other subgraph, the image Blender bakes of it (bake.py). Inh
 differences of the conversions below are documented here and in docs/blender.md, not reported
 per material (they would fire on every default material).
 
-- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
-  converted as Lambert.
+- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar): the core's
+  oren_nayar (sigma = Roughness) when the core has it, else reported and converted as Lambert.
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -154,6 +154,7 @@ class NodeContext:
         self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
         self.uv_maps = set()  # UV layers read by the textures converted
         self.material = self.obj = None  # set for a material: what a bake needs (bake.py)
+        self.exact = set()  # (node, input) of gaps.INPUTS entries a conversion converted
         self.baked = False
 
     def gap(self, src, reason, feeds):
@@ -248,7 +249,7 @@ class NodeContext:
             if not sock.enabled or sock.type == 'SHADER':
                 continue
             entry = gaps.INPUTS.get((node.bl_idname, sock.name))
-            if entry is not None:
+            if entry is not None and (node.name, sock.name) not in self.exact:
                 v = self.value(node, sock.identifier, path)
                 if isinstance(v, float) and v != entry[0]:
                     self.problems.append("%s: %s input '%s' = %s: %s"
@@ -430,7 +431,28 @@ def _aniso(alpha, anisotropy):
 
 
 def _diffuse(ctx, node, path):
-    return {"model": "lambert", "reflectance": _rgb(ctx.param(node, 'Color', path))}, None
+    """Lambert; with Roughness > 0, the core's `oren_nayar` with sigma = Roughness (Cycles'
+    Oren-Nayar takes the roughness as its sigma) when the core has that model (issue 23's
+    model; until it lands, Lambert and the report of gaps.INPUTS)."""
+    color = _rgb(ctx.param(node, 'Color', path))
+    rough = ctx.value(node, 'Roughness', path)
+    if isinstance(rough, float) and rough > 0.0 and _model_has("oren_nayar", "sigma"):
+        ctx.exact.add((node.name, 'Roughness'))
+        return {"model": "oren_nayar", "reflectance": color,
+                "sigma": min(rough, 1.0)}, None
+    return {"model": "lambert", "reflectance": color}, None
+
+
+_MODEL_PARAMS = {}
+
+
+def _model_has(model, param):
+    """Whether the core's model table (the native module's) has `model` with `param`."""
+    if not _MODEL_PARAMS:
+        from . import native
+        for m in native.models():
+            _MODEL_PARAMS[m["name"]] = {p["name"] for p in m["params"]}
+    return param in _MODEL_PARAMS.get(model, ())
 
 
 def _glossy_model(ctx, node):
@@ -560,7 +582,7 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfRefraction': _glass,
 }
 _READS = {
-    'ShaderNodeBsdfDiffuse': ('Color',),
+    'ShaderNodeBsdfDiffuse': ('Color', 'Roughness'),
     'ShaderNodeBsdfGlossy': ('Color', 'Roughness'),
     'ShaderNodeBsdfAnisotropic': ('Color', 'Roughness', 'Anisotropy'),
     'ShaderNodeBsdfPrincipled': ('Base Color', 'Metallic', 'Specular', 'Specular Tint',

@@ -34,12 +34,7 @@ SPP = 16
 
 
 def noise_material(name, target):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    mat, nt, out = bt.new_material(name)
     noise = nt.nodes.new("ShaderNodeTexNoise")
     noise.inputs["Scale"].default_value = 5.0
     noise.inputs["Detail"].default_value = 2.0

@@ -27,14 +27,7 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
 from facet_testsupport import blender_harness as bt  # noqa: E402
 
 
-def new_material(name):
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    return mat, nt, out
+new_material = bt.new_material
 
 
 def value_node(nt, v):

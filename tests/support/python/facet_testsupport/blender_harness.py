@@ -44,6 +44,17 @@ def factory_scene(width, height, spp=4, reload=True):
     return scene
 
 
+def new_material(name):
+    """A material with nodes and an empty tree but its Material Output: (mat, tree, output)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    return mat, nt, out
+
+
 def single_shader(mat, idname, inputs=None, props=None):
     """Replaces the material's node tree by one shader node wired to the output."""
     mat.use_nodes = True
