@@ -367,6 +367,8 @@ def combine(parts, weights):
     bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
     if not bsdfs:
         return dict(BLACK), emission
+    if len(bsdfs) == 1 and bsdfs[0][1] == 1.0:
+        return dict(bsdfs[0][0]), emission  # one BSDF at weight 1: any model, textured too
     model = bsdfs[0][0].get("model")
     if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
         return None

@@ -189,6 +189,24 @@ def exported(outdir):
              "Checker (z cell odd: colours swapped) -> checker texture: %s %s"
              % (ck, c.problems))
 
+    # Add Shader of a textured Emission and a textured Diffuse: both kept, exactly.
+    mat, nt, out = new_material("add_textured")
+    e = nt.nodes.new("ShaderNodeEmission")
+    nt.links.new(image_node(nt, img, interpolation='Closest').outputs["Color"], e.inputs["Color"])
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    ch = nt.nodes.new("ShaderNodeTexChecker")
+    nt.links.new(nt.nodes.new("ShaderNodeUVMap").outputs[0], ch.inputs["Vector"])
+    nt.links.new(ch.outputs["Color"], d.inputs["Color"])
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(e.outputs[0], add.inputs[0])
+    nt.links.new(d.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Surface"])
+    c = materials.convert(mat)
+    bt.check(c.data["model"] == "lambert" and "checker" in c.data["reflectance"]
+             and c.emission["texture"] == os.path.normpath(img.filepath) and c.problems == [],
+             "Add Shader(textured Emission, textured Diffuse): %s %s %s"
+             % (c.data, c.emission, c.problems))
+
     # An unlinked Checker vector is Generated coordinates: reported.
     mat, nt, out = new_material("checker_generated")
     ch = nt.nodes.new("ShaderNodeTexChecker")
