@@ -594,13 +594,7 @@ def against_cycles(outdir):
         c = materials.convert(mat)
         bt.check(c.problems == [], "%s: folds without a report: %s" % (name, c.problems))
         expected.append(c.emission)
-    cam = bpy.data.cameras.new("cam")
-    cam.type = 'ORTHO'
-    cam.ortho_scale = n
-    cob = bpy.data.objects.new("cam", cam)
-    cob.location = (n / 2.0, 0.0, 5.0)
-    scene.collection.objects.link(cob)
-    scene.camera = cob
+    bt.ortho_camera(scene, n, (n / 2.0, 0.0, 5.0))
     scene.render.engine = 'CYCLES'
     scene.render.resolution_x, scene.render.resolution_y = n, 4
     scene.render.resolution_percentage = 100

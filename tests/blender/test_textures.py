@@ -80,6 +80,14 @@ def image_node(nt, img, vector=None, interpolation='Linear', extension='REPEAT')
     return t
 
 
+def add_shaders(nt, out, a, b):
+    """An Add Shader of the shader nodes a and b into the Material Output."""
+    add = nt.nodes.new("ShaderNodeAddShader")
+    nt.links.new(a.outputs[0], add.inputs[0])
+    nt.links.new(b.outputs[0], add.inputs[1])
+    nt.links.new(add.outputs[0], out.inputs["Surface"])
+
+
 def close(a, b, tol=1e-6):
     return all(abs(x - y) <= tol for x, y in zip(a, b)) and len(a) == len(b)
 
@@ -156,10 +164,7 @@ def exported(outdir):
     nt.links.new(t.outputs["Color"], d.inputs["Color"])
     d2 = nt.nodes.new("ShaderNodeBsdfDiffuse")
     nt.links.new(t2.outputs["Color"], d2.inputs["Color"])
-    add = nt.nodes.new("ShaderNodeAddShader")
-    nt.links.new(d.outputs[0], add.inputs[0])
-    nt.links.new(d2.outputs[0], add.inputs[1])
-    nt.links.new(add.outputs[0], out.inputs["Surface"])
+    add_shaders(nt, out, d, d2)
     c = materials.convert(mat)
     bt.check(any("not a rotation and scale in the UV plane" in p and "input 'Color'" in p
                  for p in c.problems)
@@ -197,10 +202,7 @@ def exported(outdir):
     ch = nt.nodes.new("ShaderNodeTexChecker")
     nt.links.new(nt.nodes.new("ShaderNodeUVMap").outputs[0], ch.inputs["Vector"])
     nt.links.new(ch.outputs["Color"], d.inputs["Color"])
-    add = nt.nodes.new("ShaderNodeAddShader")
-    nt.links.new(e.outputs[0], add.inputs[0])
-    nt.links.new(d.outputs[0], add.inputs[1])
-    nt.links.new(add.outputs[0], out.inputs["Surface"])
+    add_shaders(nt, out, e, d)
     c = materials.convert(mat)
     bt.check(c.data["model"] == "lambert" and "checker" in c.data["reflectance"]
              and c.emission["texture"] == os.path.normpath(img.filepath) and c.problems == [],
@@ -363,13 +365,7 @@ def _strip_scene(n):
         uv.data[i].uv = [(0, 0), (1, 0), (1, 1), (0, 1)][i % 4]
     ob = bpy.data.objects.new("strip", me)
     scene.collection.objects.link(ob)
-    cam = bpy.data.cameras.new("cam")
-    cam.type = 'ORTHO'
-    cam.ortho_scale = n
-    cob = bpy.data.objects.new("cam", cam)
-    cob.location = (n / 2.0, 0.5, 5.0)
-    scene.collection.objects.link(cob)
-    scene.camera = cob
+    bt.ortho_camera(scene, n, (n / 2.0, 0.5, 5.0))
     scene.world.node_tree.nodes["Background"].inputs["Strength"].default_value = 0.0
     return scene, me
 
