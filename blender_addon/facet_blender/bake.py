@@ -3,7 +3,8 @@
 image over the object's UV map, and the material renders with that image.
 
 - What: the output socket feeding the input (materials.NodeContext.param, after the folding and
-  textures.py both fail), wired into an Emission shader on a temporary copy of the material,
+  textures.py both fail; for a Roughness, through clamp(v, 0, 1)^2 Math nodes: Facet's alpha,
+  which no texture can square), wired into an Emission shader on a temporary copy of the material,
   on a temporary mesh of the object's evaluated geometry (modifiers applied) holding only the
   faces of that material, with the object's render UV map active; Cycles' Emit bake (1 sample:
   a procedural is deterministic; Emission Strength 1 gives the colour as it is) into a float
@@ -37,7 +38,7 @@ MARGIN = 16
 
 
 class Request:
-    def __init__(self, key, path, mat, node, input_id, obj, src, resolution):
+    def __init__(self, key, path, mat, node, input_id, obj, src, resolution, square=False):
         self.key = key
         self.path = path
         self.mat = mat
@@ -46,12 +47,13 @@ class Request:
         self.obj = obj
         self.src = src
         self.resolution = resolution
+        self.square = square
 
     def describe(self):
-        return "%s feeding %s '%s' input '%s' of material '%s' over object '%s' (%d px)" % (
+        return "%s feeding %s '%s' input '%s'%s of material '%s' over object '%s' (%d px)" % (
             self.src.label(), self.node.bl_label, self.node.name,
-            _input(self.node, self.input_id).name, self.mat.name, self.obj.name,
-            self.resolution)
+            _input(self.node, self.input_id).name, " (squared: alpha)" if self.square else "",
+            self.mat.name, self.obj.name, self.resolution)
 
 
 def _input(node, ident):
@@ -116,9 +118,10 @@ def _mesh_signature(obj, h):
         h.update(uv.tobytes())
 
 
-def request(ctx, node, sock, src):
-    """The baked texture for `src` feeding `sock` of `node` in the material of `ctx`, or None
-    (then `ctx` has reported why). Registers the bake in PENDING when it is not cached."""
+def request(ctx, node, sock, src, square=False):
+    """The baked texture for `src` feeding `sock` of `node` in the material of `ctx` (with
+    `square`: of clamp(value, 0, 1)^2, a roughness's alpha), None (not a material: the caller
+    reports) or False (reported here). Registers the bake in PENDING when it is not cached."""
     mat, obj = ctx.material, ctx.obj
     feeds = "%s '%s' input '%s'" % (node.bl_label, node.name, sock.name)
     if mat is None or obj is None:
@@ -141,13 +144,13 @@ def request(ctx, node, sock, src):
     res = int(scene.facet.bake_resolution)
     h = hashlib.sha1()
     tree_signature(mat.node_tree, h)
-    h.update(("%s|%s|%s|%s|%s|%d" % (mat.name, node.name, sock.identifier, src.node.name,
-                                      src.socket.identifier, res)).encode())
+    h.update(("%s|%s|%s|%s|%s|%d|%s" % (mat.name, node.name, sock.identifier, src.node.name,
+                                         src.socket.identifier, res, square)).encode())
     h.update(obj.name.encode())
     _mesh_signature(obj, h)
     key = h.hexdigest()[:20]
     path = os.path.join(textures.CACHE_DIR, "bake_%s.exr" % key)
-    req = Request(key, path, mat, node, sock.identifier, obj, src, res)
+    req = Request(key, path, mat, node, sock.identifier, obj, src, res, square)
     if os.path.isfile(path):
         ctx.problems.append("%s: baked: %s" % (ctx.what, req.describe()))
         return {"texture": path, "colorspace": "linear"}
@@ -226,8 +229,18 @@ def _bake_one(context, req):
                    and n.name == _output_name(mat))
         em = nt.nodes.new("ShaderNodeEmission")
         em.inputs["Strength"].default_value = 1.0
-        src_node = nt.nodes[req.src.node.name]
-        nt.links.new(src_node.outputs[req.src.socket.identifier], em.inputs["Color"])
+        value = nt.nodes[req.src.node.name].outputs[req.src.socket.identifier]
+        if req.square:  # clamp(v, 0, 1)^2: Cycles' alpha of a roughness
+            clamp = nt.nodes.new("ShaderNodeMath")
+            clamp.operation, clamp.use_clamp = 'ADD', True
+            clamp.inputs[1].default_value = 0.0
+            nt.links.new(value, clamp.inputs[0])
+            sq = nt.nodes.new("ShaderNodeMath")
+            sq.operation = 'MULTIPLY'
+            nt.links.new(clamp.outputs[0], sq.inputs[0])
+            nt.links.new(clamp.outputs[0], sq.inputs[1])
+            value = sq.outputs[0]
+        nt.links.new(value, em.inputs["Color"])
         nt.links.new(em.outputs[0], out.inputs["Surface"])
         tex = nt.nodes.new("ShaderNodeTexImage")
         tex.image = img

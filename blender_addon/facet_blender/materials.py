@@ -189,10 +189,13 @@ class NodeContext:
                      % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
         return own
 
-    def param(self, node, name, path=(), scale=1.0):
+    def param(self, node, name, path=(), scale=1.0, square=False):
         """A BSDF input that Facet may texture: the folded constant (as value()), or the
         texture its subgraph converts to (textures.py; `scale` multiplies it, the texture's
-        "scale"), or, when neither, the input's own value with the nodes reported."""
+        "scale"), or the image Blender bakes of it (bake.py), or, when none, the input's own
+        value with the nodes reported. `square`: the caller wants clamp(v, 0, 1)^2 (a
+        roughness -> alpha): a constant is returned as it is (the caller squares it), a
+        subgraph is baked squared (a texture cannot square)."""
         sock = _input(node, name)
         src = self.walker.input(node, sock, path)
         v, blockers = self.walker.fold(src)
@@ -200,15 +203,20 @@ class NodeContext:
             return v
         feeds = "%s '%s' input '%s'" % (nodegraph.node_type_label(node), node.name, sock.name)
         try:
+            if square:  # no texture squares: the folding's blockers are reported
+                raise textures.Unsupported(src, None)
             res = textures.convert(self.walker, src, number=sock.type != 'RGBA')
         except textures.Unsupported as e:
             used = "feeds %s; using the input's value %s" % (feeds,
                                                             _fmt(nodegraph.socket_value(sock)))
-            baked = bake.request(self, node, sock, src) if self.material is not None else None
+            baked = bake.request(self, node, sock, src, square) \
+                if self.material is not None else None
             if baked:  # Blender's bake of the subgraph, over the object's render UV map
                 self.uv_maps.add("")
                 self.baked = True
-                return baked
+                if sock.type != 'RGBA' or square:
+                    baked["channel"] = "r"  # a grey bake of a number
+                return _scaled(baked, scale)
             if baked is False:  # reported by bake.request
                 return nodegraph.socket_value(sock)
             if e.reason is None:  # not a texture: the nodes stopping the folding
@@ -415,13 +423,20 @@ def _alpha(roughness):
     return r * r
 
 
+def _alpha_param(ctx, node, path):
+    """alpha = clamp(Roughness, 0, 1)^2: a number, or a texture of it baked squared."""
+    r = ctx.param(node, 'Roughness', path, square=True)
+    return r if is_texture(r) else _alpha(r)
+
+
 def _aniso_bsdf(alpha, anisotropy):
     """Cycles' Anisotropic BSDF node: a >= 0 stretches alpha_x by (1 - a) and alpha_y by
     1 / (1 - a); a < 0 the other way round (a clamped to [-0.99, 0.99])."""
     a = max(-0.99, min(0.99, float(anisotropy)))
-    if a >= 0.0:
-        return alpha * (1.0 - a), alpha / (1.0 - a)
-    return alpha / (1.0 + a), alpha * (1.0 + a)
+    su, sv = ((1.0 - a), 1.0 / (1.0 - a)) if a >= 0.0 else (1.0 / (1.0 + a), (1.0 + a))
+    if is_texture(alpha):
+        return _scaled(alpha, su), _scaled(alpha, sv)
+    return alpha * su, alpha * sv
 
 
 def _aniso(alpha, anisotropy):
@@ -476,7 +491,7 @@ def _glossy(ctx, node, path):
     model, compensate = _glossy_model(ctx, node)
     data = {"model": model, "reflectance": color, "fresnel": "none"}
     if model != "mirror":
-        alpha = _alpha(ctx.value(node, 'Roughness', path))
+        alpha = _alpha_param(ctx, node, path)
         if node.bl_idname == 'ShaderNodeBsdfAnisotropic':
             aniso = ctx.value(node, 'Anisotropy', path)
             if aniso != 0.0:
@@ -560,8 +575,8 @@ def _glass(ctx, node, path):
                             "the Fresnel fraction" % (ctx.what, label))
     dist = node.distribution
     if dist != 'SHARP':
-        alpha = _alpha(ctx.value(node, 'Roughness', path))
-        if alpha > 0.0:
+        alpha = _alpha_param(ctx, node, path)
+        if is_texture(alpha) or alpha > 0.0:
             data["alpha"] = alpha
             if dist == 'BECKMANN':
                 data["distribution"] = "beckmann"

@@ -41,6 +41,14 @@ def noise_material(name, target):
     if target == "emission":
         sh = nt.nodes.new("ShaderNodeEmission")
         nt.links.new(noise.outputs["Color"], sh.inputs["Color"])
+    elif target == "rough":  # Emission = Fac, Glossy Roughness = Fac: alpha must be Fac^2
+        em = nt.nodes.new("ShaderNodeEmission")
+        nt.links.new(noise.outputs["Fac"], em.inputs["Color"])
+        gl = nt.nodes.new("ShaderNodeBsdfGlossy")
+        nt.links.new(noise.outputs["Fac"], gl.inputs["Roughness"])
+        sh = nt.nodes.new("ShaderNodeAddShader")
+        nt.links.new(em.outputs[0], sh.inputs[0])
+        nt.links.new(gl.outputs[0], sh.inputs[1])
     else:
         sh = nt.nodes.new("ShaderNodeBsdfPrincipled")
         nt.links.new(noise.outputs["Color"], sh.inputs["Base Color"])
@@ -82,6 +90,7 @@ def main():
     plane("EmPlane", noise_material("noise_emission", "emission"), (0, 0, 0))
     plane("BasePlane", noise_material("noise_base", "base"), (5, 0, 0))
     plane("NoUV", noise_material("noise_nouv", "emission"), (10, 0, 0), uv=False)
+    plane("RoughPlane", noise_material("noise_rough", "rough"), (15, 0, 0))
 
     data, problems = export()
     for mat, inp in (("noise_emission", "input 'Color'"), ("noise_base", "input 'Base Color'")):
@@ -90,13 +99,13 @@ def main():
                  "before baking, %s's %s is reported as not baked yet: %s" % (mat, inp, problems))
     bt.check(any("object 'NoUV' has no UV map" in p and "'noise_nouv'" in p for p in problems),
              "the object without UVs is named with its material: %s" % problems)
-    bt.check(len(bake.PENDING) == 2, "two bakes pending: %s" % [r.describe()
-                                                                 for r in bake.PENDING])
+    bt.check(len(bake.PENDING) == 4, "four bakes pending: %s" % [r.describe()
+                                                                  for r in bake.PENDING])
 
     bt.check(bpy.ops.facet.bake_inputs() == {'FINISHED'}, "Bake Procedural Inputs finished")
     baked = sorted(os.listdir(textures.CACHE_DIR))
-    bt.check(len(baked) == 2 and all(f.startswith("bake_") and f.endswith(".exr")
-                                     for f in baked), "two EXRs in the cache: %s" % baked)
+    bt.check(len(baked) == 4 and all(f.startswith("bake_") and f.endswith(".exr")
+                                     for f in baked), "four EXRs in the cache: %s" % baked)
     data, problems = export()
     mats = dict(data["materials"])
     em_shape = [s for s in data["shapes"] if s.get("name") == "EmPlane"][0]
@@ -107,7 +116,7 @@ def main():
              "the emission plane renders the baked image over its UVs: %s" % em)
     bt.check(isinstance(base, dict) and base["texture"] != em["texture"],
              "Base Color -> a baked diffuse_reflectance texture: %s" % base)
-    bt.check(sum("baked: Noise Texture 'Noise Texture'" in p for p in problems) == 2
+    bt.check(sum("baked: Noise Texture 'Noise Texture'" in p for p in problems) == 4
              and not any("not baked yet" in p for p in problems),
              "what was baked is reported: %s" % problems)
     bt.check(bpy.ops.facet.bake_inputs() == {'FINISHED'} and bake.PENDING == []
@@ -115,11 +124,27 @@ def main():
              "a second bake finds everything cached")
     scene.facet.bake_resolution = 128
     export()
-    bt.check(len(bake.PENDING) == 2, "a new resolution needs new bakes")
+    bt.check(len(bake.PENDING) == 4, "a new resolution needs new bakes")
     scene.facet.bake_resolution = 256
 
+    # A roughness bakes squared: alpha = clamp(Fac, 0, 1)^2, a grey texture read in "r";
+    # the same plane's Emission bake of Fac gives Fac itself.
+    rough = [s for s in data["shapes"] if s.get("name") == "RoughPlane"][0]
+    alpha = mats["noise_rough"]["alpha"]
+    from facet_blender import native
+    fac = np.asarray(native.facet.read_image(rough["emission"]["texture"]))
+    alp = np.asarray(native.facet.read_image(alpha["texture"]))
+    err = np.abs(alp - np.clip(fac, 0, 1) ** 2).max()
+    bt.check(mats["noise_rough"]["model"] == "ggx" and alpha["channel"] == "r"
+             and fac.std() > 0.02 and err < 1e-5,
+             "Glossy Roughness <- Noise: alpha baked as Fac^2 (max error %.3g), channel r: %s"
+             % (err, alpha))
+    fscene, warnings = native.build(data)
+    bt.check(fscene is not None and warnings == [],
+             "the core builds the baked textures (a textured ggx alpha too): %s" % warnings)
+
     # Render: only the emission plane, filling the orthographic view.
-    for name in ("BasePlane", "NoUV"):
+    for name in ("BasePlane", "NoUV", "RoughPlane"):
         bpy.data.objects.remove(bpy.data.objects[name])
     cam = scene.camera
     cam.data.type = 'ORTHO'
