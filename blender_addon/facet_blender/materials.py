@@ -441,9 +441,11 @@ def _aniso_bsdf(alpha, anisotropy):
 
 def _aniso(alpha, anisotropy):
     """Principled (Disney): aspect = sqrt(1 - 0.9 anisotropy), alpha_x = alpha / aspect,
-    alpha_y = alpha aspect."""
+    alpha_y = alpha aspect (a texture of alpha: scaled)."""
     a = max(-1.0, min(1.0, float(anisotropy)))
     aspect = math.sqrt(1.0 - 0.9 * a) if a >= 0.0 else 1.0 / math.sqrt(1.0 + 0.9 * a)
+    if is_texture(alpha):
+        return _scaled(alpha, 1.0 / aspect), _scaled(alpha, aspect)
     return alpha / aspect, alpha * aspect
 
 
@@ -511,7 +513,7 @@ def _principled(ctx, node, path):
     metallic = max(0.0, min(1.0, val('Metallic')))
     specular = max(0.0, val('Specular'))
     tint = max(0.0, min(1.0, val('Specular Tint')))
-    alpha = _alpha(val('Roughness'))
+    alpha = _alpha_param(ctx, node, path)  # a roughness map: baked squared (bake.py)
     aniso = val('Anisotropic')
     if metallic == 0.0 and tint == 0.0:
         # f0 does not depend on Base Color: a texture there is the diffuse reflectance.

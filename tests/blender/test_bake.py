@@ -1,7 +1,8 @@
 """The bake fallback (facet_blender/bake.py) in headless Blender:
 
-1. A Noise Texture (on its default Generated coordinates) into an Emission's Color, and a Noise
-   Texture into a Principled BSDF's Base Color: before baking, the export reports each as not
+1. A Noise Texture (on its default Generated coordinates) into an Emission's Color, a Noise
+   Texture into a Principled BSDF's Base Color and Roughness, and a Noise Fac into an Emission
+   and a Glossy Roughness (alpha = Fac^2 exactly): before baking, the export reports each as not
    baked yet (naming material, node and input); Render Properties > Facet > Bake Procedural
    Inputs (facet.bake_inputs) bakes them; the export then uses the baked EXRs (the emission
    texture, the diffuse_reflectance texture) and lists what was baked; a second bake finds
@@ -52,6 +53,7 @@ def noise_material(name, target):
     else:
         sh = nt.nodes.new("ShaderNodeBsdfPrincipled")
         nt.links.new(noise.outputs["Color"], sh.inputs["Base Color"])
+        nt.links.new(noise.outputs["Fac"], sh.inputs["Roughness"])
     nt.links.new(sh.outputs[0], out.inputs["Surface"])
     return mat
 
@@ -99,13 +101,13 @@ def main():
                  "before baking, %s's %s is reported as not baked yet: %s" % (mat, inp, problems))
     bt.check(any("object 'NoUV' has no UV map" in p and "'noise_nouv'" in p for p in problems),
              "the object without UVs is named with its material: %s" % problems)
-    bt.check(len(bake.PENDING) == 4, "four bakes pending: %s" % [r.describe()
+    bt.check(len(bake.PENDING) == 5, "five bakes pending: %s" % [r.describe()
                                                                   for r in bake.PENDING])
 
     bt.check(bpy.ops.facet.bake_inputs() == {'FINISHED'}, "Bake Procedural Inputs finished")
     baked = sorted(os.listdir(textures.CACHE_DIR))
-    bt.check(len(baked) == 4 and all(f.startswith("bake_") and f.endswith(".exr")
-                                     for f in baked), "four EXRs in the cache: %s" % baked)
+    bt.check(len(baked) == 5 and all(f.startswith("bake_") and f.endswith(".exr")
+                                     for f in baked), "five EXRs in the cache: %s" % baked)
     data, problems = export()
     mats = dict(data["materials"])
     em_shape = [s for s in data["shapes"] if s.get("name") == "EmPlane"][0]
@@ -114,9 +116,11 @@ def main():
     bt.check(isinstance(em, dict) and os.path.dirname(em["texture"]) == textures.CACHE_DIR
              and em["colorspace"] == "linear" and em_shape["uvs"] is not None,
              "the emission plane renders the baked image over its UVs: %s" % em)
-    bt.check(isinstance(base, dict) and base["texture"] != em["texture"],
-             "Base Color -> a baked diffuse_reflectance texture: %s" % base)
-    bt.check(sum("baked: Noise Texture 'Noise Texture'" in p for p in problems) == 4
+    bt.check(isinstance(base, dict) and base["texture"] != em["texture"]
+             and mats["noise_base"]["alpha"]["channel"] == "r",
+             "Principled Base Color and Roughness -> baked diffuse_reflectance and alpha "
+             "textures: %s" % mats["noise_base"])
+    bt.check(sum("baked: Noise Texture 'Noise Texture'" in p for p in problems) == 5
              and not any("not baked yet" in p for p in problems),
              "what was baked is reported: %s" % problems)
     bt.check(bpy.ops.facet.bake_inputs() == {'FINISHED'} and bake.PENDING == []
@@ -124,7 +128,7 @@ def main():
              "a second bake finds everything cached")
     scene.facet.bake_resolution = 128
     export()
-    bt.check(len(bake.PENDING) == 4, "a new resolution needs new bakes")
+    bt.check(len(bake.PENDING) == 5, "a new resolution needs new bakes")
     scene.facet.bake_resolution = 256
 
     # A roughness bakes squared: alpha = clamp(Fac, 0, 1)^2, a grey texture read in "r";
