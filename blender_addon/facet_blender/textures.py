@@ -28,7 +28,9 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   output and UV Map nodes are a mesh's UV map (UV Map names it; the mesh exports that layer),
   then any chain of Mapping nodes of type Point, Texture or Vector with constant Location,
   Rotation and Scale (Cycles' svm_mapping: Point R (v s) + l, Texture R^T (v - l) / s, Vector
-  R (v s), R = Rz Ry Rx). The chain acts on (u, v, 0) as an affine map; it is exact when its
+  R (v s), R = Rz Ry Rx), Separate / Combine XYZ, Math Add, Subtract, Multiply and Multiply
+  Add by constants, Divide by a constant (no Clamp), Vector Math Add, Subtract, Multiply,
+  Scale (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
   (x, y) part is R(theta) diag(su, sv) (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
   "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
   with any scale, or any rotation with a uniform scale in the UV plane), and, for the
@@ -138,7 +140,15 @@ def _image(walker, src, to_number):
             data["channel"] = "luminance"
             if img.channels >= 3 and not _grey(img):
                 notes.append("%s: %s" % (label, LUMINANCE_NOTE))
-    uv_map = _vector(walker, src, data, checker=False)
+    uv_map, _, mirrored = _vector(walker, src, data, checker=False)
+    if mirrored:
+        # Math Ping-Pong (scale 1) on a coordinate is a mirrored repeat of it (the glTF
+        # importer's MIRRORED_REPEAT); Facet's wrap is one for both axes.
+        data["wrap"] = "mirror"
+        if mirrored != {0, 1} or node.extension not in ('EXTEND', 'MIRROR'):
+            notes.append("%s: mirrored on %s, extension %s on the other: converted as Mirror on "
+                         "both (they differ where that coordinate leaves [0, 1])"
+                         % (label, "U" if 0 in mirrored else "V", node.extension.title()))
     return Result(data, uv_map, notes)
 
 
@@ -242,7 +252,9 @@ def _checker(walker, src, to_number):
                               "feeds the Checker Texture's %s (only constants convert)" % name)
         consts[name] = v
     data = {}
-    uv_map, z = _vector(walker, src, data, checker=True)
+    uv_map, z, mirrored = _vector(walker, src, data, checker=True)
+    if mirrored:
+        raise Unsupported(src, "a Ping-Pong vector on the checker is not converted")
     c1, c2 = consts['Color1'], consts['Color2']
     if src.socket.identifier == 'Fac':
         c1, c2 = 1.0, 0.0
@@ -301,50 +313,20 @@ def mapping_matrix(vector_type, loc, rot, scale):
 
 
 def _vector(walker, src, data, checker):
-    """Follows the texture's Vector input back to a UV map through Mapping nodes; sets
-    uv_scale / uv_offset / uv_rotation in `data`. Returns the UV map's name ("" the render
-    one), and for the checker also the constant z."""
-    node, path = src.node, src.path
-    m = [[1.0 if i == j else 0.0 for j in range(4)] for i in range(4)]
-    cur = walker.input(node, 'Vector', path)
-    uv_map = ""
-    while True:
-        if isinstance(cur, nodegraph.Const):
-            if node is src.node and not checker:
-                break  # an Image Texture's unlinked Vector: the render UV map
-            raise Unsupported(src, "its vector is %s, not a UV map"
-                              % ("Generated coordinates" if checker and node is src.node
-                                 else "a constant"))
-        n = cur.node
-        if n.bl_idname == 'ShaderNodeTexCoord' and cur.socket.identifier == 'UV':
-            if n.from_instancer:
-                raise Unsupported(cur, "UVs from the instancer are not converted")
-            break
-        if n.bl_idname == 'ShaderNodeUVMap':
-            if n.from_instancer:
-                raise Unsupported(cur, "UVs from the instancer are not converted")
-            uv_map = n.uv_map
-            break
-        if n.bl_idname == 'ShaderNodeMapping':
-            vals = []
-            for name in ('Location', 'Rotation', 'Scale'):
-                sock = next((s for s in n.inputs if s.name == name and s.enabled), None)
-                if sock is None:
-                    vals.append((0.0, 0.0, 0.0) if name != 'Scale' else (1.0, 1.0, 1.0))
-                    continue
-                v, blockers = walker.fold(walker.input(n, sock, cur.path))
-                if v is None:
-                    raise Unsupported(blockers[0] if blockers else cur,
-                                      "feeds the Mapping's %s (only constants convert)" % name)
-                vals.append(v)
-            mm = mapping_matrix(n.vector_type, *vals)
-            if mm is None:
-                raise Unsupported(cur, "Mapping of type Normal is not a UV transform")
-            m = _matmul(m, mm)
-            node, path = n, cur.path
-            cur = walker.input(n, 'Vector', cur.path)
-            continue
-        raise Unsupported(cur, "texture coordinates other than UV maps are not converted")
+    """Follows the texture's Vector input back to a UV map (_affine); sets uv_scale /
+    uv_offset / uv_rotation in `data`. Returns (the UV map's name, "" the render one; the
+    constant z, for the checker; the set of axes (0: x, 1: y) mirrored by a Ping-Pong)."""
+    cur = walker.input(src.node, 'Vector', src.path)
+    if isinstance(cur, nodegraph.Const):
+        if checker:
+            raise Unsupported(src, "its vector is Generated coordinates, not a UV map")
+        cur = None  # an Image Texture's unlinked Vector: the render UV map
+    state = {"uv": None, "mirror": set()}
+    rows = _affine(walker, cur, state) if cur is not None else _IDENTITY
+    uv_map = state["uv"] or ""
+    if cur is not None and state["uv"] is None:
+        raise Unsupported(src, "its vector is a constant, not a UV map")
+    m = rows
     # (x, y) = A (u, v) + b with z = 0 in: A = [[a, b], [c, d]] = R(theta) diag(su, sv).
     a, b, c, d = m[0][0], m[0][1], m[1][0], m[1][1]
     su = math.hypot(a, c)
@@ -352,7 +334,7 @@ def _vector(walker, src, data, checker):
     sv = -b * math.sin(theta) + d * math.cos(theta)
     resid = abs(b + sv * math.sin(theta)) + abs(d - sv * math.cos(theta))
     if su == 0.0 or resid > 1e-6 * max(1.0, abs(su), abs(sv)):
-        raise Unsupported(src, "its Mapping is not a rotation and scale in the UV plane "
+        raise Unsupported(src, "its vector is not a rotation and scale of the UV plane "
                           "(only rotation about Z, or a uniform scale, converts exactly)")
     if theta != 0.0:
         data["uv_rotation"] = math.degrees(theta)
@@ -362,7 +344,141 @@ def _vector(walker, src, data, checker):
         data["uv_offset"] = [m[0][3], m[1][3]]
     if checker:
         if abs(m[2][0]) + abs(m[2][1]) > 1e-9:
-            raise Unsupported(src, "its Mapping turns the UV plane out of z = 0 (the 3D "
+            raise Unsupported(src, "its vector turns the UV plane out of z = 0 (the 3D "
                               "checker is not a 2D one there)")
-        return uv_map, m[2][3]
-    return uv_map
+        return uv_map, m[2][3], state["mirror"]
+    return uv_map, 0.0, state["mirror"]
+
+
+# --- affine texture coordinates ---------------------------------------------------------------
+#
+# A texture's vector as an affine function of the UV map's (u, v, 0): rows [a_u, a_v, a_z, b]
+# (3 for a vector, 1 for a number), through the nodes below, each exactly as Cycles evaluates
+# it; anything else raises Unsupported. The glTF importer's V flip (Separate XYZ, Math
+# 1 - y, Combine XYZ) is such a chain.
+
+_IDENTITY = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
+
+
+def _is_const(row):
+    return row[0] == 0.0 and row[1] == 0.0 and row[2] == 0.0
+
+
+def _lin(a, ra, b=0.0, rb=None):
+    """a ra + b rb (rows), rb None: a ra."""
+    if rb is None:
+        return [a * x for x in ra]
+    return [a * x + b * y for x, y in zip(ra, rb)]
+
+
+def _times(ra, rb, at):
+    """ra rb when one of them is constant, else Unsupported."""
+    if _is_const(ra):
+        return _lin(ra[3], rb)
+    if _is_const(rb):
+        return _lin(rb[3], ra)
+    raise Unsupported(at, "a product of two texture coordinates is not affine")
+
+
+def _rows_in(walker, node, ident, path, state):
+    sock = next((s for s in node.inputs if s.identifier == ident), None)
+    if sock is None or not sock.enabled:
+        return None
+    return _affine(walker, walker.input(node, sock, path), state)
+
+
+def _affine(walker, src, state):
+    """Rows of `src` (Const or Out) as an affine function of (u, v, 0)."""
+    if isinstance(src, nodegraph.Const):
+        v = src.value
+        vals = v if isinstance(v, tuple) else (v,)
+        return [[0.0, 0.0, 0.0, float(c)] for c in vals]
+    n, ident, path = src.node, src.socket.identifier, src.path
+    idname = n.bl_idname
+    if idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
+        if idname == 'ShaderNodeTexCoord' and ident != 'UV':
+            raise Unsupported(src, "texture coordinates other than UV maps are not converted")
+        if n.from_instancer:
+            raise Unsupported(src, "UVs from the instancer are not converted")
+        name = n.uv_map if idname == 'ShaderNodeUVMap' else ""
+        if state["uv"] not in (None, name):
+            raise Unsupported(src, "two UV maps in one texture's vector")
+        state["uv"] = name
+        rows = [list(r) for r in _IDENTITY]
+    elif idname == 'ShaderNodeMapping':
+        vals = []
+        for name in ('Location', 'Rotation', 'Scale'):
+            sock = next((s for s in n.inputs if s.name == name and s.enabled), None)
+            if sock is None:
+                vals.append((0.0, 0.0, 0.0) if name != 'Scale' else (1.0, 1.0, 1.0))
+                continue
+            v, blockers = walker.fold(walker.input(n, sock, path))
+            if v is None:
+                raise Unsupported(blockers[0] if blockers else src,
+                                  "feeds the Mapping's %s (only constants convert)" % name)
+            vals.append(v)
+        mm = mapping_matrix(n.vector_type, *vals)
+        if mm is None:
+            raise Unsupported(src, "Mapping of type Normal is not a UV transform")
+        inner = _rows_in(walker, n, 'Vector', path, state)
+        rows = [[sum(mm[i][k] * inner[k][j] for k in range(3)) + (mm[i][3] if j == 3 else 0.0)
+                 for j in range(4)] for i in range(3)]
+    elif idname == 'ShaderNodeSeparateXYZ':
+        inner = _rows_in(walker, n, 'Vector', path, state)
+        rows = [inner["XYZ".index(ident)]]
+    elif idname == 'ShaderNodeCombineXYZ':
+        rows = []
+        for axis, k in enumerate(("X", "Y", "Z")):
+            inner = walker.input(n, k, path)
+            pp = inner if isinstance(inner, nodegraph.Out) and not inner.convs and \
+                inner.node.bl_idname == 'ShaderNodeMath' and \
+                inner.node.operation == 'PINGPONG' and not inner.node.use_clamp else None
+            if pp is not None and axis < 2 and \
+                    walker.fold(walker.input(pp.node, 'Value_001', pp.path))[0] == 1.0:
+                state["mirror"].add(axis)  # Ping-Pong(x, 1) = x mirrored with period 2
+                rows.append(_rows_in(walker, pp.node, 'Value', pp.path, state)[0])
+            else:
+                rows.append(_affine(walker, inner, state)[0])
+    elif idname == 'ShaderNodeMath' and not n.use_clamp:
+        a = _rows_in(walker, n, 'Value', path, state)[0]
+        b = (_rows_in(walker, n, 'Value_001', path, state) or [[0.0] * 4])[0]
+        op = n.operation
+        if op == 'ADD':
+            rows = [_lin(1.0, a, 1.0, b)]
+        elif op == 'SUBTRACT':
+            rows = [_lin(1.0, a, -1.0, b)]
+        elif op == 'MULTIPLY':
+            rows = [_times(a, b, src)]
+        elif op == 'DIVIDE' and _is_const(b) and b[3] != 0.0:
+            rows = [_lin(1.0 / b[3], a)]
+        elif op == 'MULTIPLY_ADD':
+            c = _rows_in(walker, n, 'Value_002', path, state)[0]
+            rows = [_lin(1.0, _times(a, b, src), 1.0, c)]
+        else:
+            raise Unsupported(src, "Math %s on texture coordinates is not affine" % op.title())
+    elif idname == 'ShaderNodeVectorMath' and ident == 'Vector':
+        a = _rows_in(walker, n, 'Vector', path, state)
+        b = _rows_in(walker, n, 'Vector_001', path, state)
+        op = n.operation
+        if op == 'ADD':
+            rows = [_lin(1.0, x, 1.0, y) for x, y in zip(a, b)]
+        elif op == 'SUBTRACT':
+            rows = [_lin(1.0, x, -1.0, y) for x, y in zip(a, b)]
+        elif op == 'MULTIPLY':
+            rows = [_times(x, y, src) for x, y in zip(a, b)]
+        elif op == 'SCALE':
+            s = _rows_in(walker, n, 'Scale', path, state)[0]
+            rows = [_times(x, s, src) for x in a]
+        else:
+            raise Unsupported(src, "Vector Math %s on texture coordinates is not affine"
+                              % op.title())
+    else:
+        raise Unsupported(src, "texture coordinates other than UV maps are not converted")
+    # The link conversions on the way (nodegraph.convert): vector -> number the mean,
+    # number -> vector the row three times.
+    for to in src.convs:
+        if to in ('VALUE', 'INT', 'BOOLEAN') and len(rows) == 3:
+            rows = [_lin(1.0 / 3.0, _lin(1.0, rows[0], 1.0, _lin(1.0, rows[1], 1.0, rows[2])))]
+        elif to in ('VECTOR', 'RGBA') and len(rows) == 1:
+            rows = [list(rows[0]) for _ in range(3)]
+    return rows

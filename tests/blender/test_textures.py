@@ -166,10 +166,49 @@ def exported(outdir):
     nt.links.new(t2.outputs["Color"], d2.inputs["Color"])
     add_shaders(nt, out, d, d2)
     c = materials.convert(mat)
-    bt.check(any("not a rotation and scale in the UV plane" in p and "input 'Color'" in p
+    bt.check(any("not a rotation and scale of the UV plane" in p and "input 'Color'" in p
                  for p in c.problems)
              and any("projection 'Box'" in p for p in c.problems),
              "a Mapping out of the UV plane and a Box projection are reported: %s" % c.problems)
+
+    # The glTF importer's chain: UV Map -> Separate XYZ -> X: Ping-Pong(x, 1), Y: 1 - y ->
+    # Combine XYZ: mirror wrap (reported: V keeps the image's Extend), uv_scale (1, -1),
+    # uv_offset (0, 1). A product of two coordinates is not affine: reported.
+    mat, nt, out = new_material("gltf_chain")
+    sep = nt.nodes.new("ShaderNodeSeparateXYZ")
+    nt.links.new(nt.nodes.new("ShaderNodeUVMap").outputs[0], sep.inputs[0])
+    pp = nt.nodes.new("ShaderNodeMath")
+    pp.operation = 'PINGPONG'
+    pp.inputs[1].default_value = 1.0
+    nt.links.new(sep.outputs["X"], pp.inputs[0])
+    flip = nt.nodes.new("ShaderNodeMath")
+    flip.operation = 'SUBTRACT'
+    flip.inputs[0].default_value = 1.0
+    nt.links.new(sep.outputs["Y"], flip.inputs[1])
+    comb = nt.nodes.new("ShaderNodeCombineXYZ")
+    nt.links.new(pp.outputs[0], comb.inputs["X"])
+    nt.links.new(flip.outputs[0], comb.inputs["Y"])
+    t = image_node(nt, img, comb.outputs[0], 'Closest', 'EXTEND')
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    nt.links.new(t.outputs["Color"], d.inputs["Color"])
+    prod = nt.nodes.new("ShaderNodeMath")
+    prod.operation = 'MULTIPLY'
+    nt.links.new(sep.outputs["X"], prod.inputs[0])
+    nt.links.new(sep.outputs["Y"], prod.inputs[1])
+    comb2 = nt.nodes.new("ShaderNodeCombineXYZ")
+    nt.links.new(prod.outputs[0], comb2.inputs["X"])
+    g = nt.nodes.new("ShaderNodeBsdfGlossy")
+    nt.links.new(image_node(nt, img, comb2.outputs[0], 'Closest').outputs["Color"],
+                 g.inputs["Color"])
+    add_shaders(nt, out, d, g)
+    c = materials.convert(mat)
+    r = c.data["reflectance"] if c.data["model"] == "lambert" else None
+    bt.check(r is not None and r["wrap"] == "mirror" and close(r["uv_scale"], [1, -1])
+             and close(r["uv_offset"], [0, 1]) and "uv_rotation" not in r
+             and any("mirrored on U, extension Extend" in p for p in c.problems)
+             and any("product of two texture coordinates" in p for p in c.problems),
+             "glTF importer's UV chain -> mirror wrap and a V flip; a product reported: %s %s"
+             % (c.data, c.problems))
 
     # Checker -> Glossy Color: colours [Color2, Color1] at the origin cell, Scale 4, mapped;
     # its Fac into a Glass's... no: Checker Fac into a Diffuse Color is the grey [0, 1].
