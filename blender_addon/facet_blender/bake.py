@@ -22,7 +22,8 @@ image over the object's UV map, and the material renders with that image.
   yet reports it (and uses the input's own value). Baking needs bpy.ops, which a render
   engine's render() cannot call.
 - Reports: every baked input is listed (an approximation); an object without a UV map, an
-  input fed from inside a node group, a material used by several objects (baked over the
+  input fed from inside a node group, a subgraph depending on the view or the lighting
+  (Fresnel, Layer Weight, Light Path, Geometry Incoming, ...: VIEW_DEPENDENT), a material used by several objects (baked over the
   first one's UVs) are reported naming the object and the material.
 """
 import hashlib
@@ -31,6 +32,13 @@ import os
 import bpy
 
 from . import textures
+
+# Nodes whose value depends on the view, the ray or the lighting: a subgraph with one of them
+# is not baked (reported). Geometry's Incoming and Backfacing outputs too (request()).
+VIEW_DEPENDENT = {'ShaderNodeFresnel', 'ShaderNodeLayerWeight', 'ShaderNodeLightPath',
+                  'ShaderNodeCameraData', 'ShaderNodeAmbientOcclusion', 'ShaderNodeBevel',
+                  'ShaderNodeLightFalloff', 'ShaderNodeShaderToRGB', 'ShaderNodeHairInfo',
+                  'ShaderNodeParticleInfo', 'ShaderNodeVolumeInfo', 'ShaderNodePointInfo'}
 
 # Requests of the current export: [Request]; export_scene clears it, facet.bake_inputs bakes.
 PENDING = []
@@ -141,6 +149,13 @@ def request(ctx, node, sock, src, square=False):
         ctx.gap(src, "not convertible, and it is inside a node group, which the bake does not "
                 "reach", "feeds %s; using the input's value" % feeds)
         return False
+    for o in ctx.walker.subgraph(src):
+        if o.node.bl_idname in VIEW_DEPENDENT or (
+                o.node.bl_idname == 'ShaderNodeNewGeometry'
+                and o.socket.identifier in ('Incoming', 'Backfacing')):
+            ctx.gap(o, "it depends on the view or the lighting, which a bake over the UVs "
+                    "cannot keep", "feeds %s; using the input's value" % feeds)
+            return False
     res = int(scene.facet.bake_resolution)
     h = hashlib.sha1()
     tree_signature(mat.node_tree, h)

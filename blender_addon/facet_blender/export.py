@@ -260,6 +260,7 @@ class _Materials:
 
 
 def _light_data(obj, matrix, problems):
+    """A Blender lamp -> one light of the scene format (None: not supported, reported)."""
     lt = obj.data
     for label, value, what in gaps.light_gaps(lt):
         problems.append("light '%s': %s light %s = %s: %s" % (obj.name, lt.type.lower(), label,
@@ -273,24 +274,24 @@ def _light_data(obj, matrix, problems):
     size = {"radius": float(lt.shadow_soft_size)} if lt.type in ('POINT', 'SPOT') and \
         lt.shadow_soft_size > 0.0 else {}
     if lt.type == 'POINT':
-        return [{"type": "point", "position": pos, **size,
-                 "power": units.point_power_from_blender(lt.color, lt.energy)}], []
+        return {"type": "point", "position": pos, **size,
+                 "power": units.point_power_from_blender(lt.color, lt.energy)}
     if lt.type == 'SPOT':
         # Blender's form (FORMAT.md, spot): outer = spot_size / 2, spot_blend as it is, with
         # Cycles 3.4's smoothstep fall-off; the power keeps K = P / (4 pi).
         outer = math.degrees(0.5 * lt.spot_size)
-        return [{"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
+        return {"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
                  "spot_blend": float(lt.spot_blend), **size,
                  "power": units.spot_blend_power_from_blender(lt.color, lt.energy, outer,
-                                                              lt.spot_blend)}], []
+                                                              lt.spot_blend)}
     if lt.type == 'SUN':
         sun = {"angle": math.degrees(lt.angle)} if lt.angle > 0.0 else {}
-        return [{"type": "directional", "direction": axis, **sun,
-                 "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}], []
+        return {"type": "directional", "direction": axis, **sun,
+                 "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}
     if lt.type == 'AREA':
-        return [_area_light(obj, lt, m, pos, problems)], []
+        return _area_light(obj, lt, m, pos, problems)
     problems.append("light '%s': type %s is not supported; skipped" % (obj.name, lt.type))
-    return [], []
+    return None
 
 
 def _area_light(obj, lt, m, pos, problems):
@@ -331,7 +332,6 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
     data = {"description": "exported from Blender scene '%s'" % scene.name,
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
-    area_shapes = []
     mesh_cache = {} if mesh_cache is None else mesh_cache
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -343,9 +343,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
             if stored is not None:
                 data["lights"].append(stored)
                 continue
-            lights, shapes = _light_data(obj, matrix, problems)
-            data["lights"].extend(lights)
-            area_shapes.extend(shapes)
+            light = _light_data(obj, matrix, problems)
+            if light is not None:
+                data["lights"].append(light)
             continue
         if obj.type not in GEOMETRY_TYPES:
             continue
@@ -400,7 +400,6 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
                 shape["uvs"] = uvs
             _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
-    data["shapes"].extend(area_shapes)
     env = export_environment(scene, problems)
     if env is not None:
         data["lights"].append(env)

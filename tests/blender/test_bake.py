@@ -42,6 +42,10 @@ def noise_material(name, target):
     if target == "emission":
         sh = nt.nodes.new("ShaderNodeEmission")
         nt.links.new(noise.outputs["Color"], sh.inputs["Color"])
+    elif target == "view":  # Layer Weight: view dependent, never baked
+        sh = nt.nodes.new("ShaderNodeEmission")
+        lw = nt.nodes.new("ShaderNodeLayerWeight")
+        nt.links.new(lw.outputs["Facing"], sh.inputs["Color"])
     elif target == "rough":  # Emission = Fac, Glossy Roughness = Fac: alpha must be Fac^2
         em = nt.nodes.new("ShaderNodeEmission")
         nt.links.new(noise.outputs["Fac"], em.inputs["Color"])
@@ -93,6 +97,7 @@ def main():
     plane("BasePlane", noise_material("noise_base", "base"), (5, 0, 0))
     plane("NoUV", noise_material("noise_nouv", "emission"), (10, 0, 0), uv=False)
     plane("RoughPlane", noise_material("noise_rough", "rough"), (15, 0, 0))
+    plane("ViewPlane", noise_material("view", "view"), (20, 0, 0))
 
     data, problems = export()
     for mat, inp in (("noise_emission", "input 'Color'"), ("noise_base", "input 'Base Color'")):
@@ -101,6 +106,8 @@ def main():
                  "before baking, %s's %s is reported as not baked yet: %s" % (mat, inp, problems))
     bt.check(any("object 'NoUV' has no UV map" in p and "'noise_nouv'" in p for p in problems),
              "the object without UVs is named with its material: %s" % problems)
+    bt.check(any("material 'view': Layer Weight" in p and "depends on the view" in p
+                 for p in problems), "a view-dependent subgraph is not baked: %s" % problems)
     bt.check(len(bake.PENDING) == 5, "five bakes pending: %s" % [r.describe()
                                                                   for r in bake.PENDING])
 
@@ -148,7 +155,7 @@ def main():
              "the core builds the baked textures (a textured ggx alpha too): %s" % warnings)
 
     # Render: only the emission plane, filling the orthographic view.
-    for name in ("BasePlane", "NoUV", "RoughPlane"):
+    for name in ("BasePlane", "NoUV", "RoughPlane", "ViewPlane"):
         bpy.data.objects.remove(bpy.data.objects[name])
     cam = scene.camera
     cam.data.type = 'ORTHO'
