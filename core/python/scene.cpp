@@ -437,11 +437,10 @@ void bind_scene(py::module_& m) {
         m, "Texture",
         "A texture as a parameter value (scenes/FORMAT.md, Textures): Texture('wood.png', "
         "colorspace='srgb', filter='closest', wrap='repeat', uv_scale=(1, 1), uv_offset=(0, 0), "
-        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1, uv_scale=(1, "
-        "1), "
-        "uv_offset=(0, 0), uv_rotation=0, value_scale=1) (scale: cells per unit; value_scale: "
-        "the JSON's \"scale\"). Values are "
-        "checked by build_scene (errors name the JSON pointer and the file).")
+        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1, "
+        "uv_scale=(1, 1), uv_offset=(0, 0), uv_rotation=0, value_scale=1) (scale: cells per "
+        "unit; value_scale: the JSON's \"scale\"). Values are checked by build_scene (errors "
+        "name the JSON pointer and the file).")
         .def(py::init([](std::string file, std::string colorspace, std::string filter,
                          std::string wrap, std::array<float, 2> uv_scale,
                          std::array<float, 2> uv_offset, double uv_rotation, double scale,
