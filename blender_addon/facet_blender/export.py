@@ -18,7 +18,7 @@ import math
 
 import numpy as np
 
-from . import gaps, hooks, materials, nodegraph, units
+from . import bake, gaps, hooks, materials, nodegraph, textures, units
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
 DEFAULT_MATERIAL_NAME = "facet_default"
@@ -53,6 +53,8 @@ def object_state(obj, matrix=None):
             parts.append(_floats((lt.spot_size, lt.spot_blend)))
         if lt.type == 'SUN':
             parts.append(_floats((lt.angle,)))
+        if lt.type == 'AREA':
+            parts.append(lt.shape + _floats((lt.size, lt.size_y)))
     return ";".join(parts)
 
 
@@ -169,9 +171,12 @@ def _is_identity(m):
     return all(m[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
 
 
-def mesh_arrays(obj_eval):
+def mesh_arrays(obj_eval, uv_layer=None):
     """Evaluated object -> (positions (n,3) f32, indices (m,3) i32, normals (n,3) f32 | None,
-    material index per triangle (m,) i32), or None for a mesh without triangles."""
+    material index per triangle (m,) i32, uvs (n,2) f32 | None), or None for a mesh without
+    triangles. `uv_layer` (a UV map's name, "" for the render one; None: no UVs) exports that
+    layer's UVs, one vertex per face corner (loop) as UVs are per corner in Blender; a mesh
+    without that layer gets uvs None."""
     me = obj_eval.to_mesh()
     try:
         if me is None:
@@ -191,23 +196,36 @@ def mesh_arrays(obj_eval):
         me.loop_triangles.foreach_get('material_index', mat)
         smooth = np.empty(len(me.polygons), bool)
         me.polygons.foreach_get('use_smooth', smooth)
-        if not smooth.any():
-            return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat
-        if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
-            n = np.empty(nv * 3, np.float32)
-            me.vertices.foreach_get('normal', n)
-            return co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat
+        layer = None
+        if uv_layer is not None:
+            layer = (me.uv_layers.get(uv_layer) if uv_layer else
+                     next((u for u in me.uv_layers if u.active_render), None))
+        if layer is None:
+            if not smooth.any():
+                return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat, None
+            if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
+                n = np.empty(nv * 3, np.float32)
+                me.vertices.foreach_get('normal', n)
+                return co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat, None
         # Split normals (auto smooth, sharp edges, custom normals, flat faces among smooth
-        # ones): one vertex per loop.
-        me.calc_normals_split()
+        # ones) or UVs: one vertex per loop.
         nl = len(me.loops)
         loop_v = np.empty(nl, np.int32)
         me.loops.foreach_get('vertex_index', loop_v)
-        ln = np.empty(nl * 3, np.float32)
-        me.loops.foreach_get('normal', ln)
         tri_l = np.empty(nt * 3, np.int32)
         me.loop_triangles.foreach_get('loops', tri_l)
-        return (co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln.reshape(-1, 3), mat)
+        ln = None
+        if smooth.any():
+            me.calc_normals_split()
+            ln = np.empty(nl * 3, np.float32)
+            me.loops.foreach_get('normal', ln)
+            ln = ln.reshape(-1, 3)
+        uvs = None
+        if layer is not None:
+            uvs = np.empty(nl * 2, np.float32)
+            layer.data.foreach_get('uv', uvs)
+            uvs = uvs.reshape(-1, 2)
+        return co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln, mat, uvs
     finally:
         obj_eval.to_mesh_clear()
 
@@ -218,22 +236,31 @@ class _Materials:
     def __init__(self, problems):
         self.problems = problems
         self.by_name = {}  # facet name -> materials.Converted
+        self.first_user = {}  # facet name -> the object it was converted for (bakes)
         self.order = []
 
-    def get(self, mat):
+    def get(self, mat, obj=None):
         name = DEFAULT_MATERIAL_NAME if mat is None else mat.name
         if name not in self.by_name:
-            conv = materials.convert(mat)
+            conv = materials.convert(mat, getattr(obj, "original", obj))
             self.problems.extend(conv.problems)
             self.by_name[name] = conv
             self.order.append(name)
-        return name, self.by_name[name]
+            self.first_user[name] = obj.original.name if obj is not None else None
+        conv = self.by_name[name]
+        if conv.baked and obj is not None and obj.original.name != self.first_user[name]:
+            line = ("material '%s': baked over object '%s''s UVs; object '%s' uses the same "
+                    "image over its own UVs" % (name, self.first_user[name], obj.original.name))
+            if line not in self.problems:
+                self.problems.append(line)
+        return name, conv
 
     def data(self):
         return [(n, self.by_name[n].data) for n in self.order]
 
 
 def _light_data(obj, matrix, problems):
+    """A Blender lamp -> one light of the scene format (None: not supported, reported)."""
     lt = obj.data
     for label, value, what in gaps.light_gaps(lt):
         problems.append("light '%s': %s light %s = %s: %s" % (obj.name, lt.type.lower(), label,
@@ -247,38 +274,50 @@ def _light_data(obj, matrix, problems):
     size = {"radius": float(lt.shadow_soft_size)} if lt.type in ('POINT', 'SPOT') and \
         lt.shadow_soft_size > 0.0 else {}
     if lt.type == 'POINT':
-        return [{"type": "point", "position": pos, **size,
-                 "power": units.point_power_from_blender(lt.color, lt.energy)}], []
+        return {"type": "point", "position": pos, **size,
+                 "power": units.point_power_from_blender(lt.color, lt.energy)}
     if lt.type == 'SPOT':
-        outer, inner = units.spot_cone_from_blender(lt.spot_size, lt.spot_blend)
-        outer = min(outer, 179.9)
-        return [{"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
-                 "inner_angle": inner, **size,
-                 "power": units.spot_power_from_blender(lt.color, lt.energy, outer, inner)}], []
+        # Blender's form (FORMAT.md, spot): outer = spot_size / 2, spot_blend as it is, with
+        # Cycles 3.4's smoothstep fall-off; the power keeps K = P / (4 pi).
+        outer = math.degrees(0.5 * lt.spot_size)
+        return {"type": "spot", "position": pos, "direction": axis, "outer_angle": outer,
+                 "spot_blend": float(lt.spot_blend), **size,
+                 "power": units.spot_blend_power_from_blender(lt.color, lt.energy, outer,
+                                                              lt.spot_blend)}
     if lt.type == 'SUN':
         sun = {"angle": math.degrees(lt.angle)} if lt.angle > 0.0 else {}
-        return [{"type": "directional", "direction": axis, **sun,
-                 "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}], []
+        return {"type": "directional", "direction": axis, **sun,
+                 "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}
     if lt.type == 'AREA':
-        sx = lt.size
-        sy = lt.size_y if lt.shape in ('RECTANGLE', 'ELLIPSE') else lt.size
-        radiance = units.area_radiance_from_blender(
-            lt.color, lt.energy, units.area_light_area(lt.shape, sx, sy))
-        # Local geometry, emitting toward local -Z (Cycles); the world matrix places it.
-        if lt.shape in ('DISK', 'ELLIPSE'):
-            shape = {"type": "disc", "center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, -1.0],
-                     "radius": 0.5 * sx, "transform":
-                     _matrix_rows(m) if sx == sy else
-                     (np.asarray(_matrix_rows(m)) @ np.diag([1.0, sy / sx, 1.0, 1.0])).tolist()}
-        else:
-            hx, hy = 0.5 * sx, 0.5 * sy
-            shape = {"type": "quad", "vertices": [[-hx, -hy, 0.0], [-hx, hy, 0.0],
-                                                  [hx, hy, 0.0], [hx, -hy, 0.0]],
-                     "transform": _matrix_rows(m)}
-        shape.update({"name": obj.name, "emission": radiance, "two_sided": False})
-        return [], [shape]
+        return _area_light(obj, lt, m, pos, problems)
     problems.append("light '%s': type %s is not supported; skipped" % (obj.name, lt.type))
-    return [], []
+    return None
+
+
+def _area_light(obj, lt, m, pos, problems):
+    """Blender's area lamp -> the core's `area` kind (square, rectangle, disc, ellipse; power
+    P as Blender's): centred on the object, emitting along its local -Z, local +Y up, the
+    sizes times the object's scale along X and Y (as Cycles scales them). A shear between the
+    lamp's X and Y axes is reported (the sizes along the scaled axes are used)."""
+    x = [m[i][0] for i in range(3)]
+    y = [m[i][1] for i in range(3)]
+    z = [m[i][2] for i in range(3)]
+    sx, sy, sz = (math.sqrt(sum(c * c for c in v)) for v in (x, y, z))
+    if abs(sum(a * b for a, b in zip(x, y))) > 1e-6 * sx * sy:
+        problems.append("light '%s': area lamp sheared by its transform; its X and Y sizes are "
+                        "used along perpendicular axes" % obj.name)
+    round_shape = lt.shape in ('DISK', 'ELLIPSE')
+    size = float(lt.size) * sx
+    size_y = (float(lt.size_y) if lt.shape in ('RECTANGLE', 'ELLIPSE') else float(lt.size)) * sy
+    out = {"type": "area", "position": pos, "direction": [-c / sz for c in z],
+           "up": [c / sy for c in y],
+           "size": size, "power": [float(c) * float(lt.energy) for c in lt.color]}
+    if abs(size_y - size) > 1e-6 * size:  # float32 matrices: a square stays square
+        out["shape"] = "ellipse" if round_shape else "rectangle"
+        out["size_y"] = size_y
+    else:
+        out["shape"] = "disc" if round_shape else "square"
+    return out
 
 
 def export_scene(depsgraph, camera=None, mesh_cache=None):
@@ -288,11 +327,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
     arrays of objects converted before (the viewport drops the entries of changed objects)."""
     scene = depsgraph.scene
     problems = []
+    bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
     mats = _Materials(problems)
     data = {"description": "exported from Blender scene '%s'" % scene.name,
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
-    area_shapes = []
     mesh_cache = {} if mesh_cache is None else mesh_cache
     for inst in depsgraph.object_instances:
         obj = inst.object
@@ -304,9 +343,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
             if stored is not None:
                 data["lights"].append(stored)
                 continue
-            lights, shapes = _light_data(obj, matrix, problems)
-            data["lights"].extend(lights)
-            area_shapes.extend(shapes)
+            light = _light_data(obj, matrix, problems)
+            if light is not None:
+                data["lights"].append(light)
             continue
         if obj.type not in GEOMETRY_TYPES:
             continue
@@ -328,20 +367,27 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
                     continue
                 shape["positions"], shape["indices"], shape["normals"] = arrays
             slot_mat = obj.material_slots[0].material if obj.material_slots else None
-            _add_material(shape, slot_mat, mats)
+            _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
             continue
-        key = obj.name if not inst.is_instance else (obj.name, "instance")
+        slots = [s.material for s in obj.material_slots] or [None]
+        uv_layer = _uv_layer(obj, slots, mats, problems)
+        key = (obj.name, inst.is_instance, uv_layer)
         if key not in mesh_cache:
-            mesh_cache[key] = mesh_arrays(obj)
+            mesh_cache[key] = mesh_arrays(obj, uv_layer)
             hooks.export_stats["meshes"] += 1
         arrays = mesh_cache[key]
         if arrays is None:
             problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)
             continue
-        pos, idx, nrm, mat_idx = arrays
+        pos, idx, nrm, mat_idx, uvs = arrays
+        if uv_layer is not None and uvs is None:
+            # Cycles reads a missing UV map as (0, 0): the textures' value at the origin.
+            problems.append("object '%s': its textured materials read UV map '%s', which the "
+                            "mesh does not have; UV (0, 0) used everywhere, as Cycles does"
+                            % (orig.name, uv_layer or "(render)"))
+            uvs = np.zeros((len(pos), 2), np.float32)
         transform = None if _is_identity(matrix) else _matrix_rows(matrix)
-        slots = [s.material for s in obj.material_slots] or [None]
         used = np.unique(mat_idx)
         for mi in used:
             mi = int(mi)
@@ -350,15 +396,34 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
             shape = {"type": "mesh", "positions": pos, "indices": tris, "normals": nrm,
                      "transform": transform,
                      "name": name if len(used) == 1 else "%s [slot %d]" % (name, mi)}
-            _add_material(shape, slot_mat, mats)
+            if uvs is not None:
+                shape["uvs"] = uvs
+            _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
-    data["shapes"].extend(area_shapes)
     env = export_environment(scene, problems)
     if env is not None:
         data["lights"].append(env)
     data["materials"] = mats.data()
     data["render"] = export_render_settings(scene)
     return data, problems
+
+
+def _uv_layer(obj, slots, mats, problems):
+    """The UV map the object's textured materials read: None (no texture), "" (the render UV
+    map) or a name; one per object, the others reported."""
+    wanted = []
+    for m in slots:
+        if m is not None and m.get("facet_cycles_only"):
+            continue
+        for uv in sorted(mats.get(m, obj)[1].uv_maps):
+            if uv not in wanted:
+                wanted.append(uv)
+    if len(wanted) > 1:
+        problems.append("object '%s': its materials read several UV maps (%s); only '%s' is "
+                        "exported" % (obj.original.name, ", ".join("'%s'" % (w or "(render)")
+                                                                   for w in wanted),
+                                      wanted[0] or "(render)"))
+    return wanted[0] if wanted else None
 
 
 def _imported_mesh_arrays(obj_eval):
@@ -380,17 +445,18 @@ def _imported_mesh_arrays(obj_eval):
     return co.reshape(-1, 3), idx.reshape(-1, 3), nrm
 
 
-def _add_material(shape, mat, mats):
+def _add_material(shape, mat, mats, obj=None):
     if mat is not None and mat.get("facet_cycles_only"):
         # an emitter's Cycles-only material (tests/support/python/facet_testsupport/cycles_scene.py)
         mat = None
     if mat is None and any(shape.get("emission") or []):
         return  # an emitter without a material reflects nothing (FORMAT.md)
-    name, conv = mats.get(mat)
+    name, conv = mats.get(mat, obj)
     shape["material"] = name
     if "emission" not in shape or not any(shape.get("emission") or []):
-        if any(c > 0.0 for c in conv.emission):
-            shape["emission"] = list(conv.emission)
+        if conv.emits():
+            shape["emission"] = (dict(conv.emission) if materials.is_texture(conv.emission)
+                                 else list(conv.emission))
     if "two_sided" not in shape:
         shape["two_sided"] = conv.two_sided
 
@@ -403,6 +469,9 @@ def export_environment(scene, problems):
     if stored is not None:
         return stored
     if world.use_nodes and world.node_tree is not None:
+        env = _world_environment_map(world, problems)
+        if env is not None:
+            return env
         rad = _world_radiance(world, problems)
         if rad is None:
             return None
@@ -411,6 +480,82 @@ def export_environment(scene, problems):
     if not any(c > 0.0 for c in rad):
         return None
     return {"type": "environment", "radiance": rad}
+
+
+def _world_environment_map(world, problems):
+    """A world whose output is a Background (or Emission) with its Color fed by an
+    Environment Texture (equirectangular), through Mapping nodes of rotations (and a uniform
+    scale) from the world's Generated coordinates (the view direction, also when unlinked),
+    and a constant Strength -> the core's environment map: file, radiance = Strength, and
+    rotate. Cycles looks up l = R d (Mapping Point / Vector: R = Rz Ry Rx; Texture: its
+    transpose); Facet looks up l = M^T d, so M = R^T, given as the axis and angle of R^T.
+    None when the world is not of this form (the generic conversion then reports it)."""
+    from mathutils import Matrix
+    walker = nodegraph.Walker(world.node_tree)
+    out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
+    if out is None:
+        return None
+    bg = walker.input(out, 'Surface')
+    if not isinstance(bg, nodegraph.Out) or bg.convs or bg.node.bl_idname not in (
+            'ShaderNodeBackground', 'ShaderNodeEmission'):
+        return None
+    tex = walker.input(bg.node, 'Color', bg.path)
+    strength, _ = walker.fold(walker.input(bg.node, 'Strength', bg.path))
+    if not isinstance(tex, nodegraph.Out) or tex.node.bl_idname != 'ShaderNodeTexEnvironment' \
+            or tex.socket.identifier != 'Color' or strength is None:
+        return None
+    what = "world '%s': %s" % (world.name, tex.label())
+    node = tex.node
+    if node.image is None or node.projection != 'EQUIRECTANGULAR':
+        return None
+    try:
+        path, colorspace, note = textures.image_file(node.image)
+    except ValueError:
+        return None
+    m = Matrix.Identity(4)
+    cur = walker.input(node, 'Vector', tex.path)
+    while isinstance(cur, nodegraph.Out):
+        n = cur.node
+        if n.bl_idname == 'ShaderNodeTexCoord' and cur.socket.identifier == 'Generated':
+            break
+        if n.bl_idname != 'ShaderNodeMapping':
+            return None
+        vals = [walker.fold(walker.input(n, name, cur.path))[0]
+                for name in ('Location', 'Rotation', 'Scale')]
+        mm = textures.mapping_matrix(n.vector_type, *vals) if None not in vals else None
+        if mm is None:
+            return None
+        m = m @ Matrix(mm)
+        cur = walker.input(n, 'Vector', cur.path)
+    lin = m.to_3x3()
+    scale = lin.determinant() ** (1.0 / 3.0) if lin.determinant() > 0.0 else 0.0
+    if scale <= 0.0 or m.translation.length > 0.0 or \
+            max(abs(v) for row in (lin @ lin.transposed() - Matrix.Identity(3) * scale ** 2)
+                for v in row) > 1e-6 * scale ** 2:
+        problems.append("%s: its Mapping is not a rotation (with a uniform scale); the map is "
+                        "not rotated" % what)
+        lin = Matrix.Identity(3)
+    else:
+        lin = lin * (1.0 / scale)
+    env = {"type": "environment", "file": path, "radiance": float(strength)}
+    axis, angle = lin.transposed().to_quaternion().to_axis_angle()
+    if abs(angle) > 1e-12:
+        if max(axis, key=abs) < 0.0:  # the same rotation, read with the axis' main part > 0
+            axis, angle = -axis, -angle
+        env["rotate"] = {"axis": [float(c) for c in axis], "angle": math.degrees(angle)}
+    if note:
+        problems.append("%s: %s" % (what, note))
+    # The core reads float files as linear and other files sRGB-decoded (FORMAT.md).
+    want = "linear" if path.lower().endswith((".exr", ".hdr")) else "srgb"
+    if colorspace != want:
+        problems.append("%s: colour space '%s': Facet reads this file as %s"
+                        % (what, node.image.colorspace_settings.name, want))
+    if colorspace == "srgb" and not node.image.is_float:
+        problems.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, "
+                        "Facet after" % what)
+    if node.interpolation not in ('Linear',):
+        problems.append("%s: interpolation %s converted as Linear" % (what, node.interpolation))
+    return env
 
 
 def _world_radiance(world, problems):

@@ -14,9 +14,18 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
 # error).
 UNKNOWN = "Facet does not convert this node yet"
 
+# Converted textures (textures.py) feed colour inputs of Diffuse, Glossy, Glass, Refraction,
+# Emission and Principled Base Color straight (or through reroutes and groups); on any other
+# input (one the conversion computes with, such as Roughness -> alpha = Roughness^2), or
+# through other nodes, they are reported with this reason.
+TEXTURE_HERE = ("a texture converts only straight into a colour input of Diffuse, Glossy, "
+                "Glass, Refraction, Emission or Principled Base Color")
+
 NODES = {
-    'ShaderNodeTexImage': "image textures are not in Facet's core yet",
-    'ShaderNodeTexEnvironment': "environment textures are not in Facet's core yet",
+    'ShaderNodeTexImage': TEXTURE_HERE,
+    'ShaderNodeTexChecker': TEXTURE_HERE,
+    'ShaderNodeTexEnvironment': "environment textures convert only as the world's "
+                                "Background colour",
     'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
     'ShaderNodeNormalMap': "normal mapping is not in Facet's core yet; the mesh's shading "
                            "normal is used",
@@ -27,8 +36,6 @@ NODES = {
                                     "undisplaced",
     'ShaderNodeMixShader': "mixing shaders is not in Facet's core yet",
     'ShaderNodeAddShader': "adding shaders is not in Facet's core yet",
-    'ShaderNodeBsdfGlass': "glass (refraction) is not in Facet's core yet",
-    'ShaderNodeBsdfRefraction': "refraction is not in Facet's core yet",
     'ShaderNodeBsdfTransparent': "transparency is not in Facet's core yet",
     'ShaderNodeBsdfTranslucent': "translucency is not in Facet's core yet",
     'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
@@ -41,9 +48,10 @@ NODES = {
     'ShaderNodeVolumeScatter': "volumes are not in Facet's core",
     'ShaderNodeVolumePrincipled': "volumes are not in Facet's core",
     'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
-    'ShaderNodeMapping': "Mapping (texture coordinates) is not converted yet",
-    'ShaderNodeTexCoord': "texture coordinates are not converted yet",
-    'ShaderNodeUVMap': "UV maps are not converted yet",
+    'ShaderNodeMapping': "Mapping converts only between a UV map and a texture",
+    'ShaderNodeTexCoord': "Texture Coordinate converts only as a texture's UV (or the "
+                          "world's Generated)",
+    'ShaderNodeUVMap': "UV Map converts only as a texture's vector",
     'ShaderNodeVertexColor': "colour attributes are not converted yet",
     'ShaderNodeAttribute': "attributes are not converted yet",
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
@@ -78,9 +86,7 @@ LIGHTS = {
     # core's sphere light and sun cone; Cycles 3.4's own models of them differ, measured
     # (docs/blender.md), so a non-zero value is reported with the difference.
     'POINT': (("shadow_soft_size", "Radius", 0.0, False, RADIUS_NOTE),),
-    'SPOT': (("shadow_soft_size", "Radius", 0.0, False, RADIUS_NOTE),
-             ("spot_blend", "Blend", 0.0, False,
-              "Cycles' blend range, faded linearly in cos instead of smoothstep"),),
+    'SPOT': (("shadow_soft_size", "Radius", 0.0, False, RADIUS_NOTE),),
     'SUN': (("angle", "Angle", 0.0, True, SUN_ANGLE_NOTE),),
     'AREA': (("spread", "Spread", 3.141592653589793, True,
               "ignored: the light emits into the full hemisphere (180 degrees)"),

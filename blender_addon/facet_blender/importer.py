@@ -236,9 +236,16 @@ def import_scene(context, data, collection=None, problems=None):
         elif kind == "spot":
             ld = bpy.data.lights.new("Spot %d" % i, 'SPOT')
             outer = lt.get("outer_angle", 45.0)
-            inner = lt.get("inner_angle", outer)
-            ld.spot_size, ld.spot_blend = units.spot_cone_to_blender(outer, inner)
-            ld.color, ld.energy = units.spot_power_to_blender(lt["power"], outer, inner)
+            if lt.get("spot_blend") is not None:  # Blender's form: its own size and blend
+                ld.spot_size, ld.spot_blend = math.radians(2.0 * outer), lt["spot_blend"]
+                per_watt = units.spot_blend_power_from_blender([1.0], 1.0, outer,
+                                                               lt["spot_blend"])[0]
+                ld.color, ld.energy = units.point_power_to_blender(
+                    [p / per_watt for p in units.rgb3(lt["power"])])
+            else:
+                inner = lt.get("inner_angle", outer)
+                ld.spot_size, ld.spot_blend = units.spot_cone_to_blender(outer, inner)
+                ld.color, ld.energy = units.spot_power_to_blender(lt["power"], outer, inner)
             ld.shadow_soft_size = lt.get("radius") or 0.0
             d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
             m = _direction_matrix(lt["position"], d)
@@ -247,6 +254,23 @@ def import_scene(context, data, collection=None, problems=None):
             ld.color, ld.energy = units.sun_irradiance_to_blender(lt["irradiance"])
             ld.angle = math.radians(lt.get("angle") or 0.0)
             m = _direction_matrix([0.0, 0.0, 0.0], lt["direction"])
+        elif kind == "area":
+            ld = bpy.data.lights.new("Area %d" % i, 'AREA')
+            ld.shape = {"square": 'SQUARE', "rectangle": 'RECTANGLE', "disc": 'DISK',
+                        "ellipse": 'ELLIPSE'}[lt.get("shape") or "square"]
+            ld.size = lt["size"]
+            ld.size_y = lt.get("size_y") or lt["size"]
+            ld.color, ld.energy = units.point_power_to_blender(units.rgb3(lt["power"]))
+            d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
+            # FORMAT.md's area frame: z = -direction, y = up made perpendicular, x = y x z.
+            z = -Vector(d).normalized()
+            up = Vector(lt.get("up") or ([0.0, 0.0, 1.0] if abs(z.y) > 0.999 else
+                                         [0.0, 1.0, 0.0]))
+            y = (up - up.dot(z) * z).normalized()
+            x = y.cross(z)
+            m = Matrix.Identity(4)
+            for r in range(3):
+                m[r][0], m[r][1], m[r][2], m[r][3] = x[r], y[r], z[r], lt["position"][r]
         else:
             problems.append("light %d: kind '%s' is not imported into Blender yet; skipped"
                             % (i, kind))

@@ -12,12 +12,15 @@ Every BSDF input is folded to a constant when its subgraph is made of nodes node
 evaluates (Math, Mix, Invert, Gamma, Hue/Saturation/Value, Combine/Separate, Map Range, Vector
 Math, ColorRamp, RGB, Value, ...); that is exact. Anything else is reported through gaps.py, one
 line per material and node, naming the input it feeds and what Facet used instead (the input's
-own value, grey lambert, ...). Inherent model differences of the conversions below are
-documented here and in docs/blender.md, not reported per material (they would fire on every
-default material).
+own value, grey lambert, ...). Colour inputs the conversions pass on unchanged (Diffuse, Glossy
+and Glass Color, Emission Color x Strength, Principled Base Color with Metallic and Specular
+Tint 0) also take textures (textures.py: Image and Checker Textures through UV Map and Mapping
+nodes) and, for any other subgraph, the image Blender bakes of it (bake.py). Inherent model
+differences of the conversions below are documented here and in docs/blender.md, not reported
+per material (they would fire on every default material).
 
-- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar) is reported and
-  converted as Lambert.
+- Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar): the core's
+  oren_nayar (sigma = Roughness) when the core has it, else reported and converted as Lambert.
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -39,6 +42,8 @@ default material).
   diffuse fallback instead of subsurface transport), Alpha < 1; Subsurface Radius / IOR /
   Anisotropy and Clearcoat Normal, Normal, Tangent when linked (not read). The anisotropic
   tangent is Facet's surface dp/du, not Cycles' default tangent.
+- Glass / Refraction BSDF: dielectric, ior = IOR, alpha = Roughness^2 (Sharp: smooth), GGX or
+  Beckmann, transmittance = Color (see _glass for what is reported).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
 - Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
@@ -55,25 +60,38 @@ default material).
 import json
 import math
 
-from . import gaps, nodegraph, units
+from . import bake, gaps, nodegraph, textures, units
 from .properties import material_params
 
 DEFAULT_MATERIAL = {"model": "lambert", "reflectance": 0.8}
 
 
 class Converted:
-    """A converted material: data (FORMAT.md material dict), emission, two_sided, problems."""
+    """A converted material: data (FORMAT.md material dict; colour and number parameters may
+    be texture dicts), emission (a colour or a texture dict), two_sided, problems, and uv_maps:
+    the UV layers its textures read ("" the render UV map; empty: no texture)."""
 
-    def __init__(self, data, emission=None, two_sided=True, problems=()):
+    def __init__(self, data, emission=None, two_sided=True, problems=(), uv_maps=()):
         self.data = data
         self.emission = emission or [0.0, 0.0, 0.0]
         self.two_sided = two_sided
         self.problems = list(problems)
+        self.uv_maps = set(uv_maps)
+        self.baked = False  # an input baked over the UVs of the object it was converted for
+
+    def emits(self):
+        return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
 
 
-def convert(mat):
+def is_texture(v):
+    """Whether a parameter value is a texture dict (textures.py) rather than a constant."""
+    return isinstance(v, dict)
+
+
+def convert(mat, obj=None):
     """Blender material (or None) -> Converted. Never raises for a bad node tree: what cannot
-    be converted is listed in problems, each naming the material and the input or node."""
+    be converted is listed in problems, each naming the material and the input or node.
+    `obj` (the first object using the material) is the one a bake (bake.py) is made over."""
     if mat is None:
         return Converted(dict(DEFAULT_MATERIAL))
     fs = getattr(mat, "facet", None)
@@ -91,6 +109,7 @@ def convert(mat):
         return Converted({"model": "lambert", "reflectance": list(mat.diffuse_color)[:3]},
                          two_sided=two_sided)
     ctx = NodeContext("material", mat.name, mat.node_tree)
+    ctx.material, ctx.obj = mat, obj
     out = nodegraph.active_output(mat.node_tree, 'ShaderNodeOutputMaterial')
     if out is None:
         ctx.problems.append("material '%s': no Material Output node; using grey lambert"
@@ -105,7 +124,9 @@ def convert(mat):
                             "grey lambert" % mat.name)
         return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
     data, emission = ctx.shader(src, "the Material Output's Surface")
-    return Converted(data, emission, two_sided, ctx.finish())
+    conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
+    conv.baked = ctx.baked
+    return conv
 
 
 def material_state(mat):
@@ -134,6 +155,10 @@ class NodeContext:
         self.walker = nodegraph.Walker(tree)
         self.problems = []
         self._lines = {}  # node key -> [label, reason, [feeds and what was used]]
+        self.uv_maps = set()  # UV layers read by the textures converted
+        self.material = self.obj = None  # set for a material: what a bake needs (bake.py)
+        self.exact = set()  # (node, input) of gaps.INPUTS entries a conversion converted
+        self.baked = False
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -167,6 +192,52 @@ class NodeContext:
                      % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
         return own
 
+    def param(self, node, name, path=(), scale=1.0, square=False):
+        """A BSDF input that Facet may texture: the folded constant (as value()), or the
+        texture its subgraph converts to (textures.py; `scale` multiplies it, the texture's
+        "scale"), or the image Blender bakes of it (bake.py), or, when none, the input's own
+        value with the nodes reported. `square`: the caller wants clamp(v, 0, 1)^2 (a
+        roughness -> alpha): a constant is returned as it is (the caller squares it), a
+        subgraph is baked squared (a texture cannot square)."""
+        sock = _input(node, name)
+        src = self.walker.input(node, sock, path)
+        v, blockers = self.walker.fold(src)
+        if v is not None:
+            return v
+        feeds = "%s '%s' input '%s'" % (nodegraph.node_type_label(node), node.name, sock.name)
+        try:
+            if square:  # no texture squares: the folding's blockers are reported
+                raise textures.Unsupported(src, None)
+            res = textures.convert(self.walker, src, number=sock.type != 'RGBA')
+        except textures.Unsupported as e:
+            used = "feeds %s; using the input's value %s" % (feeds,
+                                                            _fmt(nodegraph.socket_value(sock)))
+            baked = bake.request(self, node, sock, src, square) \
+                if self.material is not None else None
+            if baked:  # Blender's bake of the subgraph, over the object's render UV map
+                self.uv_maps.add("")
+                self.baked = True
+                if sock.type != 'RGBA' or square:
+                    baked["channel"] = "r"  # a grey bake of a number
+                return _scaled(baked, scale)
+            if baked is False:  # reported by bake.request
+                return nodegraph.socket_value(sock)
+            if e.reason is None:  # not a texture: the nodes stopping the folding
+                for b in blockers:
+                    self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN, used)
+            else:
+                self.gap(e.out, e.reason, used)
+            return nodegraph.socket_value(sock)
+        for note in res.notes:
+            self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
+        if res.data is None:  # the Alpha of an opaque image: 1
+            return 1.0
+        self.uv_maps.add(res.uv_map)
+        tex = dict(res.data)
+        if scale != 1.0:
+            tex["scale"] = tex.get("scale", 1.0) * scale
+        return tex
+
     def ignored_input(self, node, name, path, feeds_what):
         """An input the conversion does not read: a live link into it is reported (the node
         feeding it, or the nodes stopping its folding)."""
@@ -189,7 +260,7 @@ class NodeContext:
             if not sock.enabled or sock.type == 'SHADER':
                 continue
             entry = gaps.INPUTS.get((node.bl_idname, sock.name))
-            if entry is not None:
+            if entry is not None and (node.name, sock.name) not in self.exact:
                 v = self.value(node, sock.identifier, path)
                 if isinstance(v, float) and v != entry[0]:
                     self.problems.append("%s: %s input '%s' = %s: %s"
@@ -278,15 +349,20 @@ class NodeContext:
 _LINEAR_MODELS = ("lambert", "mirror", "ggx", "beckmann")
 
 
-def _rgb3(v):
-    return [float(v)] * 3 if not isinstance(v, (list, tuple)) else [float(c) for c in v]
-
-
 def _add_emission(e1, e2, w1, w2):
+    """w1 e1 + w2 e2 (None: no emission). A texture plus nothing is the weighted texture; a
+    texture plus anything else is not one texture: the first texture, weighted (combine()
+    declines such sums; the Add Shader's fallback reports it)."""
     if e1 is None and e2 is None:
         return None
+    if is_texture(e1) or is_texture(e2):
+        return _scaled(e1, w1) if is_texture(e1) else _scaled(e2, w2)
     e1, e2 = e1 or [0.0] * 3, e2 or [0.0] * 3
     return [w1 * a + w2 * b for a, b in zip(e1, e2)]
+
+
+def _black(e):
+    return e is None or (not is_texture(e) and not any(e))
 
 
 def combine(parts, weights):
@@ -296,19 +372,25 @@ def combine(parts, weights):
     reflectance, and the weighted reflectance stays <= 1."""
     (d1, e1), (d2, e2) = parts
     w1, w2 = weights
+    if (is_texture(e1) and not _black(e2)) or (is_texture(e2) and not _black(e1)):
+        return None  # a sum of a texture and another emission is not one texture
     emission = _add_emission(e1, e2, w1, w2)
     bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
     if not bsdfs:
         return dict(BLACK), emission
+    if len(bsdfs) == 1 and bsdfs[0][1] == 1.0:
+        return dict(bsdfs[0][0]), emission  # one BSDF at weight 1: any model, textured too
     model = bsdfs[0][0].get("model")
     if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
         return None
+    if any(is_texture(v) for d, _ in bsdfs for v in d.values()):
+        return None  # a weighted sum of textured BSDFs is not one BSDF
     rest = [{k: v for k, v in d.items() if k != "reflectance"} for d, _ in bsdfs]
     if any(r != rest[0] for r in rest):
         return None
     refl = [0.0] * 3
     for d, w in bsdfs:
-        refl = [a + w * b for a, b in zip(refl, _rgb3(d.get("reflectance", 1.0)))]
+        refl = [a + w * b for a, b in zip(refl, units.rgb3(d.get("reflectance", 1.0)))]
     if max(refl) > 1.0:
         return None
     data = dict(rest[0])
@@ -324,7 +406,18 @@ def _input(node, name):
 
 
 def _rgb(v):
+    """A colour parameter: [r, g, b], or a texture dict as it is."""
+    if is_texture(v):
+        return v
     return [float(c) for c in v[:3]]
+
+
+def _scaled(tex, w):
+    if w == 1.0:
+        return tex
+    out = dict(tex)
+    out["scale"] = out.get("scale", 1.0) * w
+    return out
 
 
 def _alpha(roughness):
@@ -333,25 +426,55 @@ def _alpha(roughness):
     return r * r
 
 
+def _alpha_param(ctx, node, path):
+    """alpha = clamp(Roughness, 0, 1)^2: a number, or a texture of it baked squared."""
+    r = ctx.param(node, 'Roughness', path, square=True)
+    return r if is_texture(r) else _alpha(r)
+
+
 def _aniso_bsdf(alpha, anisotropy):
     """Cycles' Anisotropic BSDF node: a >= 0 stretches alpha_x by (1 - a) and alpha_y by
     1 / (1 - a); a < 0 the other way round (a clamped to [-0.99, 0.99])."""
     a = max(-0.99, min(0.99, float(anisotropy)))
-    if a >= 0.0:
-        return alpha * (1.0 - a), alpha / (1.0 - a)
-    return alpha / (1.0 + a), alpha * (1.0 + a)
+    su, sv = ((1.0 - a), 1.0 / (1.0 - a)) if a >= 0.0 else (1.0 / (1.0 + a), (1.0 + a))
+    if is_texture(alpha):
+        return _scaled(alpha, su), _scaled(alpha, sv)
+    return alpha * su, alpha * sv
 
 
 def _aniso(alpha, anisotropy):
     """Principled (Disney): aspect = sqrt(1 - 0.9 anisotropy), alpha_x = alpha / aspect,
-    alpha_y = alpha aspect."""
+    alpha_y = alpha aspect (a texture of alpha: scaled)."""
     a = max(-1.0, min(1.0, float(anisotropy)))
     aspect = math.sqrt(1.0 - 0.9 * a) if a >= 0.0 else 1.0 / math.sqrt(1.0 + 0.9 * a)
+    if is_texture(alpha):
+        return _scaled(alpha, 1.0 / aspect), _scaled(alpha, aspect)
     return alpha / aspect, alpha * aspect
 
 
 def _diffuse(ctx, node, path):
-    return {"model": "lambert", "reflectance": _rgb(ctx.value(node, 'Color', path))}, None
+    """Lambert; with Roughness > 0, the core's `oren_nayar` with sigma = Roughness (Cycles'
+    Oren-Nayar takes the roughness as its sigma) when the core has that model (issue 23's
+    model; until it lands, Lambert and the report of gaps.INPUTS)."""
+    color = _rgb(ctx.param(node, 'Color', path))
+    rough = ctx.value(node, 'Roughness', path)
+    if isinstance(rough, float) and rough > 0.0 and _model_has("oren_nayar", "sigma"):
+        ctx.exact.add((node.name, 'Roughness'))
+        return {"model": "oren_nayar", "reflectance": color,
+                "sigma": min(rough, 1.0)}, None
+    return {"model": "lambert", "reflectance": color}, None
+
+
+_MODEL_PARAMS = {}
+
+
+def _model_has(model, param):
+    """Whether the core's model table (the native module's) has `model` with `param`."""
+    if not _MODEL_PARAMS:
+        from . import native
+        for m in native.models():
+            _MODEL_PARAMS[m["name"]] = {p["name"] for p in m["params"]}
+    return param in _MODEL_PARAMS.get(model, ())
 
 
 def _glossy_model(ctx, node):
@@ -369,11 +492,11 @@ def _glossy_model(ctx, node):
 
 
 def _glossy(ctx, node, path):
-    color = _rgb(ctx.value(node, 'Color', path))
+    color = _rgb(ctx.param(node, 'Color', path))
     model, compensate = _glossy_model(ctx, node)
     data = {"model": model, "reflectance": color, "fresnel": "none"}
     if model != "mirror":
-        alpha = _alpha(ctx.value(node, 'Roughness', path))
+        alpha = _alpha_param(ctx, node, path)
         if node.bl_idname == 'ShaderNodeBsdfAnisotropic':
             aniso = ctx.value(node, 'Anisotropy', path)
             if aniso != 0.0:
@@ -406,6 +529,12 @@ def _principled(ctx, node, path):
 
     data = {"model": "principled"}
     for name, key in _PRINCIPLED_COLOURS:
+        if name == 'Base Color':
+            # An image or checker texture (textures.py) goes in as a texture value.
+            base = _rgb(ctx.param(node, name, path))
+            if is_texture(base):
+                data[key] = base
+                continue
         data[key] = [unit(c) for c in _rgb(val(name))]
     for name, key in _PRINCIPLED_FACTORS:
         data[key] = unit(val(name))
@@ -420,9 +549,48 @@ def _principled(ctx, node, path):
 
 
 def _emission(ctx, node, path):
-    emission = units.emission_from_blender(ctx.value(node, 'Color', path),
-                                           ctx.value(node, 'Strength', path))
-    return dict(BLACK), emission
+    strength = ctx.value(node, 'Strength', path)
+    if strength == 0.0:
+        return dict(BLACK), None  # nothing emitted, whatever feeds the colour
+    color = ctx.param(node, 'Color', path, scale=strength)
+    if is_texture(color):
+        return dict(BLACK), color  # radiance = texture x Strength (the texture's scale)
+    return dict(BLACK), units.emission_from_blender(color, strength)
+
+
+def _glass(ctx, node, path):
+    """Glass and Refraction BSDF -> dielectric: ior = IOR (eta = n_inside / n_outside, the
+    outside the side the normal points to, as Cycles' backfacing test), alpha = Roughness^2 as
+    Cycles squares it (Sharp: 0), GGX -> ggx, Beckmann -> beckmann, Color -> transmittance.
+    Approximations, reported: Cycles' Glass tints its reflection by Color too (Facet only the
+    transmission); Cycles' Refraction BSDF has no reflection (Facet's dielectric reflects the
+    Fresnel fraction); Multiscatter GGX is converted as GGX."""
+    label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+    ior = ctx.value(node, 'IOR', path)
+    data = {"model": "dielectric", "ior": min(max(float(ior), 1e-3), 100.0)}
+    if data["ior"] != ior:
+        ctx.problems.append("%s: %s IOR %s clamped to Facet's range [0.001, 100]"
+                            % (ctx.what, label, _fmt(ior)))
+    color = _rgb(ctx.param(node, 'Color', path))
+    if is_texture(color) or color != [1.0, 1.0, 1.0]:
+        data["transmittance"] = color
+        if node.bl_idname == 'ShaderNodeBsdfGlass':
+            ctx.problems.append("%s: %s Color tints the reflection too in Cycles; Facet tints "
+                                "only the transmission" % (ctx.what, label))
+    if node.bl_idname == 'ShaderNodeBsdfRefraction':
+        ctx.problems.append("%s: %s has no reflection in Cycles; Facet's dielectric reflects "
+                            "the Fresnel fraction" % (ctx.what, label))
+    dist = node.distribution
+    if dist != 'SHARP':
+        alpha = _alpha_param(ctx, node, path)
+        if is_texture(alpha) or alpha > 0.0:
+            data["alpha"] = alpha
+            if dist == 'BECKMANN':
+                data["distribution"] = "beckmann"
+            elif dist == 'MULTI_GGX':
+                ctx.problems.append("%s: %s Multiscatter GGX converted as GGX (single "
+                                    "scattering: rough glass loses energy)" % (ctx.what, label))
+    return data, None
 
 
 # bl_idname -> conversion(ctx, node, path) -> (data, emission or None); _READS: the inputs it
@@ -434,12 +602,16 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfAnisotropic': _glossy,
     'ShaderNodeBsdfPrincipled': _principled,
     'ShaderNodeEmission': _emission,
+    'ShaderNodeBsdfGlass': _glass,
+    'ShaderNodeBsdfRefraction': _glass,
 }
 _READS = {
-    'ShaderNodeBsdfDiffuse': ('Color',),
+    'ShaderNodeBsdfDiffuse': ('Color', 'Roughness'),
     'ShaderNodeBsdfGlossy': ('Color', 'Roughness'),
     'ShaderNodeBsdfAnisotropic': ('Color', 'Roughness', 'Anisotropy'),
     'ShaderNodeBsdfPrincipled': tuple(n for n, _ in _PRINCIPLED_COLOURS + _PRINCIPLED_FACTORS)
     + ('Anisotropic Rotation', 'IOR', 'Emission', 'Emission Strength'),
     'ShaderNodeEmission': ('Color', 'Strength'),
+    'ShaderNodeBsdfGlass': ('Color', 'Roughness', 'IOR'),
+    'ShaderNodeBsdfRefraction': ('Color', 'Roughness', 'IOR'),
 }

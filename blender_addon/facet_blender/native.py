@@ -70,11 +70,33 @@ _SHAPE_KEYS = {
     "mesh": (),
 }
 _LIGHT_KEYS = {
-    "point": ("position", "power"),
-    "spot": ("position", "direction", "look_at", "power", "outer_angle", "inner_angle"),
-    "directional": ("direction", "irradiance"),
-    "environment": ("radiance",),
+    "point": ("position", "power", "radius"),
+    "spot": ("position", "direction", "look_at", "power", "outer_angle", "inner_angle",
+             "spot_blend", "radius"),
+    "directional": ("direction", "irradiance", "angle"),
+    "area": ("position", "direction", "look_at", "up", "shape", "size", "size_y", "power"),
+    "environment": ("radiance", "file", "up", "rotate"),
 }
+
+
+def texture(t):
+    """A scene-format texture dict (FORMAT.md, Textures) -> facet.Texture."""
+    uv = {"uv_scale": tuple(t.get("uv_scale", (1.0, 1.0))),
+          "uv_offset": tuple(t.get("uv_offset", (0.0, 0.0))),
+          "uv_rotation": float(t.get("uv_rotation", 0.0))}
+    if "checker" in t:
+        c = t["checker"]
+        c0, c1 = (_rgb(x) for x in c["colors"])
+        return facet.Texture.checker(c0, c1, scale=float(c.get("scale", 1.0)),
+                                     value_scale=float(t.get("scale", 1.0)), **uv)
+    return facet.Texture(t["texture"], colorspace=t.get("colorspace", ""),
+                         filter=t.get("filter", ""), wrap=t.get("wrap", ""),
+                         scale=float(t.get("scale", 1.0)), channel=t.get("channel", ""), **uv)
+
+
+def _material_desc(m):
+    return facet.MaterialDesc(m["model"], {k: texture(v) if isinstance(v, dict) else v
+                                           for k, v in m.items() if k != "model"})
 
 
 def _rgb(v):
@@ -89,11 +111,12 @@ def _shape_desc(s):
     sd.name = s.get("name", "")
     mat = s.get("material")
     if isinstance(mat, dict):
-        sd.material = facet.MaterialDesc(mat["model"], {k: v for k, v in mat.items()
-                                                        if k != "model"})
+        sd.material = _material_desc(mat)
     elif mat:
         sd.material_ref = mat
-    if "emission" in s:
+    if isinstance(s.get("emission"), dict):
+        sd.emission_texture = texture(s["emission"])
+    elif "emission" in s:
         sd.emission = _rgb(s["emission"])
     sd.two_sided = bool(s.get("two_sided", True))
     sd.flip_normals = bool(s.get("flip_normals", False))
@@ -110,7 +133,9 @@ def _shape_desc(s):
                 np.ascontiguousarray(s["positions"], dtype=np.float32),
                 np.ascontiguousarray(s["indices"], dtype=np.int32),
                 None if s.get("normals") is None else
-                np.ascontiguousarray(s["normals"], dtype=np.float32))
+                np.ascontiguousarray(s["normals"], dtype=np.float32),
+                None if s.get("uvs") is None else
+                np.ascontiguousarray(s["uvs"], dtype=np.float32))
     return sd
 
 
@@ -138,9 +163,7 @@ def to_description(data):
         if key in cam:
             setattr(c, key, cam[key])
     d.camera = c
-    d.materials = {name: facet.MaterialDesc(m["model"], {k: v for k, v in m.items()
-                                                         if k != "model"})
-                   for name, m in data.get("materials", [])}
+    d.materials = {name: _material_desc(m) for name, m in data.get("materials", [])}
     shapes = []
     for i, s in enumerate(data.get("shapes", [])):
         try:

@@ -3,7 +3,7 @@ import bpy
 from bpy.props import StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import export, importer, native
+from . import bake, export, importer, native
 
 
 class FACET_OT_import_scene(bpy.types.Operator, ImportHelper):
@@ -71,7 +71,41 @@ def _menu_export(self, context):
     self.layout.operator(FACET_OT_export_scene.bl_idname, text="Facet scene (.json)")
 
 
-_classes = (FACET_OT_import_scene, FACET_OT_export_scene, FACET_OT_clear_shape)
+class FACET_OT_bake_inputs(bpy.types.Operator):
+    """Bake every material input Facet cannot express (procedural textures, ...) into an image
+    over its object's UV map, with Cycles (bake.py); cached until the material changes"""
+    bl_idname = "facet.bake_inputs"
+    bl_label = "Bake Procedural Inputs"
+    bl_options = {'REGISTER'}
+
+    def execute(self, context):
+        try:
+            export.export_scene(context.evaluated_depsgraph_get())  # collects bake.PENDING
+        except export.ExportError:
+            pass  # no camera: the materials were still collected
+        todo = list(bake.PENDING)
+        if not todo:
+            self.report({'INFO'}, "Facet: nothing to bake (every input converts or is baked)")
+            return {'FINISHED'}
+        wm = context.window_manager
+        wm.progress_begin(0, len(todo))
+        try:
+            done = bake.bake_all(context, todo, progress=lambda i, n: wm.progress_update(i))
+        finally:
+            wm.progress_end()
+        bad = 0
+        for req, err in done:
+            if err is None:
+                self.report({'INFO'}, "Facet: baked %s" % req.describe())
+            else:
+                bad += 1
+                self.report({'ERROR'}, "Facet: baking %s failed: %s" % (req.describe(), err))
+        bake.PENDING.clear()
+        return {'FINISHED'} if bad == 0 else {'CANCELLED'}
+
+
+_classes = (FACET_OT_import_scene, FACET_OT_export_scene, FACET_OT_clear_shape,
+            FACET_OT_bake_inputs)
 
 
 def register():

@@ -23,6 +23,12 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                               description="samples per pixel the viewport refines to")
     animated_seed: BoolProperty(name="Animated Seed", default=False,
                                 description="add the frame number to the seed")
+    bake: BoolProperty(name="Bake", default=True,
+                       description="render node subgraphs Facet cannot express (procedural "
+                                   "textures, ...) from images Blender bakes over the object's "
+                                   "UV map (Bake Procedural Inputs)")
+    bake_resolution: IntProperty(name="Bake Resolution", default=512, min=16, max=8192,
+                                 description="width and height in pixels of each baked image")
 
 
 # Material.facet is generated from the model table: for every model m and parameter p, a value

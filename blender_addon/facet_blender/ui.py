@@ -85,6 +85,11 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         sub = lay.row()
         sub.enabled = rd.threads_mode == 'FIXED'
         sub.prop(rd, "threads")
+        lay.prop(fs, "bake")
+        sub = lay.column()
+        sub.enabled = fs.bake
+        sub.prop(fs, "bake_resolution")
+        sub.operator("facet.bake_inputs", icon='RENDER_STILL')
 
 
 class FACET_PT_context_material(FacetPanel, bpy.types.Panel):

@@ -78,6 +78,16 @@ def spot_power_to_blender(power_rgb, outer_deg, inner_deg):
     return _split_colour([p / factor for p in power_rgb])
 
 
+def spot_blend_power_from_blender(color, power_w, outer_deg, blend):
+    """Blender spot (colour, Power P, half-angle outer, spot_blend b) -> the power of Facet's
+    spot in Blender's form (FORMAT.md, spot): K = P / (4 pi) and
+    Phi = 2 pi K [(1 - (c + s)^2) / 2 + s (c / 2 + 0.35 s)], c = cos outer, s = (1 - c) b."""
+    c = math.cos(math.radians(outer_deg))
+    s = (1.0 - c) * float(blend)
+    factor = 0.5 * ((1.0 - (c + s) ** 2) / 2.0 + s * (c / 2.0 + 0.35 * s))
+    return [float(col) * float(power_w) * factor for col in color]
+
+
 def sun_irradiance_from_blender(color, strength):
     """Blender sun (colour, Strength in W/m^2) -> Facet directional irradiance (W/m^2, RGB)."""
     return [float(c) * float(strength) for c in color]
@@ -103,6 +113,11 @@ def area_radiance_from_blender(color, power_w, area):
 def emission_from_blender(color, strength):
     """Cycles emission shader (or world background) colour x strength -> radiance."""
     return [float(c) * float(strength) for c in color[:3]]
+
+
+def rgb3(v):
+    """A colour of the scene format (a number or [r, g, b]) as [r, g, b]."""
+    return [float(v)] * 3 if isinstance(v, (int, float)) else [float(c) for c in v]
 
 
 def _split_colour(rgb):

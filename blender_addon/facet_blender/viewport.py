@@ -42,8 +42,8 @@ def forget_changed(mesh_cache, depsgraph):
             continue
         idb = getattr(u.id, "original", u.id)
         if isinstance(idb, bpy.types.Object):
-            mesh_cache.pop(idb.name, None)
-            mesh_cache.pop((idb.name, "instance"), None)
+            for key in [k for k in mesh_cache if k[0] == idb.name]:
+                del mesh_cache[key]  # keys: (name, is_instance, uv layer)
         elif isinstance(idb, (bpy.types.Mesh, bpy.types.Curve, bpy.types.MetaBall,
                               bpy.types.Collection, bpy.types.Scene)):
             mesh_cache.clear()  # shared data, or objects added or removed

@@ -292,7 +292,8 @@ void def_kind_fields(py::class_<Desc>& cls, const Kinds& kinds) {
 
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
-    "name", "material_ref", "material", "emission", "two_sided", "flip_normals", "transform"};
+    "name",      "material_ref", "material", "emission", "emission_texture",
+    "two_sided", "flip_normals", "transform"};
 
 // TypeError for a keyword that is no field of the kind (a typo, or another kind's key).
 template <class Def>
@@ -471,8 +472,10 @@ void bind_scene(py::module_& m) {
         m, "Texture",
         "A texture as a parameter value (scenes/FORMAT.md, Textures): Texture('wood.png', "
         "colorspace='srgb', filter='closest', wrap='repeat', uv_scale=(1, 1), uv_offset=(0, 0), "
-        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1). Values are "
-        "checked by build_scene (errors name the JSON pointer and the file).")
+        "uv_rotation=0, scale=1, channel='r'), or Texture.checker(c0, c1, scale=1, "
+        "uv_scale=(1, 1), uv_offset=(0, 0), uv_rotation=0, value_scale=1) (scale: cells per "
+        "unit; value_scale: the JSON's \"scale\"). Values are checked by build_scene (errors "
+        "name the JSON pointer and the file).")
         .def(py::init([](const py::object& file, std::string colorspace, std::string filter,
                          std::string wrap, std::array<float, 2> uv_scale,
                          std::array<float, 2> uv_offset, double uv_rotation, double scale,
@@ -514,14 +517,22 @@ void bind_scene(py::module_& m) {
                                })
         .def_static(
             "checker",
-            [](Vec3 c0, Vec3 c1, double cells) {
+            [](Vec3 c0, Vec3 c1, double cells, std::array<float, 2> uv_scale,
+               std::array<float, 2> uv_offset, double uv_rotation, double value_scale) {
                 TextureDesc d;
                 d.checker = true;
                 d.colors = {Rgb(c0), Rgb(c1)};
                 d.checker_scale = cells;
+                d.uv_scale = {uv_scale[0], uv_scale[1]};
+                d.uv_offset = {uv_offset[0], uv_offset[1]};
+                d.uv_rotation = uv_rotation;
+                d.scale = value_scale;
                 return d;
             },
-            py::arg("c0"), py::arg("c1"), py::arg("scale") = 1.0)
+            py::arg("c0"), py::arg("c1"), py::arg("scale") = 1.0,
+            py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
+            py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
+            py::arg("value_scale") = 1.0)
         .def_readonly("file", &TextureDesc::file)
         .def_readonly("is_checker", &TextureDesc::checker)
         .def(py::self == py::self)
@@ -694,6 +705,9 @@ void bind_scene(py::module_& m) {
         .def_readwrite("material_ref", &ShapeDesc::material_ref)
         .def_readwrite("material", &ShapeDesc::material)
         .def_readwrite("emission", &ShapeDesc::emission)
+        .def_readwrite(
+            "emission_texture", &ShapeDesc::emission_texture,
+            "a facet.Texture instead of `emission` (scenes/FORMAT.md, Textures), or None")
         .def_readwrite("two_sided", &ShapeDesc::two_sided)
         .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
         .def_readwrite("transform", &ShapeDesc::transform)

@@ -7,11 +7,10 @@ lighting only (Facet max_depth 1 = Cycles 0 bounces). Facet renders through the 
 (units.py's conversions), Cycles renders the same Blender light natively. The pixel of plane
 point p is rho/pi E(p), the irradiance E (Cycles' units, units.py):
 - point of Power P at height h: E = P/(4 pi) cos(theta) / r^2;
-- spot (blend 0, so Facet's linear fade and Cycles' smoothstep agree): Facet's intensity is
-  the point light's P/(4 pi) inside the cone (no normalisation by the cone), 0 outside.
-  Found here: Cycles 3.4's is P/(4 pi) cos(angle from the axis) (its ratio to Facet's is cos
-  to 1e-3 in every ring of the cone); each renderer is checked against its own model, and
-  Facet - Cycles against the models' difference;
+- spot (blend 0): Cycles 3.4's intensity is P/(4 pi) cos(angle from the axis) inside the
+  cone, 0 outside (measured: the ratio to P/(4 pi) is cos to 1e-3 in every ring); the addon
+  exports Blender's form of Facet's spot (outer_angle + spot_blend), which has the same
+  fall-off, so both are checked against it;
 - point of Power P and Radius R (Facet's sphere light): Facet's E is the point light's (a
   sphere wholly above the horizon), Cycles 3.4's E d^2 / (d^2 + R^2) (a disc facing the point);
 - sun of Strength S tilted 30 degrees: E = S cos 30;
@@ -205,11 +204,12 @@ def main():
     inside = h / np.sqrt(r2) > math.cos(half)
     E = np.where(inside, P / (4 * math.pi) * h / r2 ** 1.5, 0.0)
     # Cycles 3.4 (measured here, and its spot_attenuation starts from dot(dir, axis)): the
-    # intensity in the cone is P/(4 pi) cos(angle from the axis); Facet's spot model has no
-    # such factor, so units.py matches the axis intensity (see units.py).
+    # intensity in the cone is P/(4 pi) cos(angle from the axis). The addon exports Blender's
+    # form of Facet's spot (outer_angle, spot_blend: FORMAT.md), whose fall-off is Cycles'
+    # g(mu) = mu inside the cone: both renderers have that factor.
     cos_axis = h / np.sqrt(r2)
     keep = inside.all(axis=2) | (~inside).all(axis=2)
-    run_case("spot", scene, {'FACET': (RHO / math.pi * E).mean(axis=2),
+    run_case("spot", scene, {'FACET': (RHO / math.pi * E * cos_axis).mean(axis=2),
                              'CYCLES': (RHO / math.pi * E * cos_axis).mean(axis=2)},
              16, out, keep=keep)
 

@@ -44,6 +44,29 @@ def factory_scene(width, height, spp=4, reload=True):
     return scene
 
 
+def new_material(name):
+    """A material with nodes and an empty tree but its Material Output: (mat, tree, output)."""
+    mat = bpy.data.materials.new(name)
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    out = nt.nodes.new("ShaderNodeOutputMaterial")
+    return mat, nt, out
+
+
+def ortho_camera(scene, scale, location):
+    """A new orthographic camera looking down -Z from `location`, the scene's camera."""
+    cam = bpy.data.cameras.new("cam")
+    cam.type = 'ORTHO'
+    cam.ortho_scale = scale
+    cob = bpy.data.objects.new("cam", cam)
+    cob.location = location
+    scene.collection.objects.link(cob)
+    scene.camera = cob
+    return cob
+
+
 def single_shader(mat, idname, inputs=None, props=None):
     """Replaces the material's node tree by one shader node wired to the output."""
     mat.use_nodes = True

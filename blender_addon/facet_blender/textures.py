@@ -1,0 +1,484 @@
+"""Blender texture subgraphs -> Facet textures (scenes/FORMAT.md, Textures), exactly as Cycles
+3.4 evaluates them where Facet can express it; pure Python over bpy data (no bpy.ops).
+
+A BSDF input (or an Emission's Color) fed by one of these converts to a texture dict of the
+scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
+
+- Image Texture, Color or Alpha output: the image's file (a packed, generated or missing file
+  is written to the cache directory as a float EXR of Blender's pixels, with the image's colour
+  space), colour space sRGB -> "srgb", Linear / Non-Color / Raw -> "linear" (others reported,
+  "linear" used); interpolation Linear -> "linear", Closest -> "closest" (Cubic and Smart
+  reported, "linear" used); extension Repeat -> "repeat", Extend -> "clamp", Mirror ->
+  "mirror" (Clip reported, "clamp" used: Cycles gives transparent black outside [0, 1]);
+  projection Flat (Box, Sphere, Tube are not converted). Cycles interpolates an 8-bit sRGB
+  image's encoded values and decodes after; Facet decodes the texels, then interpolates:
+  reported (measured on an 8 x 6 texture of strongly different neighbours magnified 4x per
+  texel: mean difference 0.06; a float image agrees to 0.001). Alpha -> channel "a" (an image
+  without alpha: the constant 1, as Cycles). A colour output into a number input: channel
+  "luminance" (Facet's Rec. 709 weights 0.2126, 0.7152, 0.0722 against Cycles' 0.2126729,
+  0.7151522, 0.0721750: reported, under 1e-4 relative).
+- Checker Texture, Color or Fac output, with constant Color1, Color2 and Scale: Cycles'
+  svm_checker on p = Scale x the vector: the cell (floor x, floor y, floor z) is Color1 when
+  (|floor x| mod 2 == |floor y| mod 2) != (|floor z| mod 2), else Color2. On UVs (z = 0) the
+  cell at the origin is Color2: "colors": [Color2, Color1], "scale": Scale (Fac: [0, 1]); a
+  constant z with an odd cell swaps them. Cycles nudges p by (p + 1e-6) 0.999999 against
+  precision issues on integer coordinates; Facet does not (cell edges move by ~1e-6 cells).
+- The vector: an Image Texture's unlinked Vector is the render UV map (Cycles' default); a
+  Checker's unlinked Vector is Generated coordinates (not converted). Texture Coordinate's UV
+  output and UV Map nodes are a mesh's UV map (UV Map names it; the mesh exports that layer),
+  then any chain of Mapping nodes of type Point, Texture or Vector with constant Location,
+  Rotation and Scale (Cycles' svm_mapping: Point R (v s) + l, Texture R^T (v - l) / s, Vector
+  R (v s), R = Rz Ry Rx), Separate / Combine XYZ, Math Add, Subtract, Multiply and Multiply
+  Add by constants, Divide by a constant (no Clamp), Vector Math Add, Subtract, Multiply,
+  Scale (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
+  (x, y) part is R(theta) diag(su, sv) (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
+  "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
+  with any scale, or any rotation with a uniform scale in the UV plane), and, for the
+  checker, its z is constant. Anything else raises Unsupported.
+
+Every approximation is returned as a note (the caller reports it); everything else raises
+Unsupported(out, reason) naming the node that stops the conversion.
+"""
+import math
+import os
+import tempfile
+
+from . import nodegraph
+
+CACHE_DIR = os.path.join(tempfile.gettempdir(), "facet_blender_cache")
+
+# Blender 3.4's colour spaces whose values Facet reads exactly.
+_COLORSPACES = {"sRGB": "srgb", "Linear": "linear", "Non-Color": "linear", "Raw": "linear"}
+_FILTERS = {'Linear': None, 'Closest': "closest"}
+_WRAPS = {'REPEAT': None, 'EXTEND': "clamp", 'MIRROR': "mirror"}
+# Cycles' rgb_to_y (nodegraph.RGB_TO_Y) against Facet's luminance channel.
+LUMINANCE_NOTE = ("a colour into a number input: Facet's luminance (0.2126, 0.7152, 0.0722) "
+                  "instead of Cycles' (0.2126729, 0.7151522, 0.0721750), under 1e-4 relative")
+
+
+class Unsupported(Exception):
+    """`out` (nodegraph.Out) stops the conversion, for `reason` (None: `out` is no texture
+    node at all)."""
+
+    def __init__(self, out, reason):
+        super().__init__(reason or "not a texture")
+        self.out = out
+        self.reason = reason
+
+
+class Result:
+    """A converted texture: `data` (scene-format texture dict), `uv_map` (the Blender UV layer
+    name it reads, "" for the render UV map), `notes` (approximations to report)."""
+
+    def __init__(self, data, uv_map="", notes=()):
+        self.data = data
+        self.uv_map = uv_map
+        self.notes = list(notes)
+
+
+def convert(walker, src, number):
+    """The texture for the Out `src` feeding a number (`number` True) or colour input, or
+    Unsupported. The link conversions on the way (src.convs) are applied: colour -> number is
+    the luminance channel; number -> colour a grey texture."""
+    node = src.node
+    types = (src.socket.type,) + src.convs
+    if 'VECTOR' in types or 'SHADER' in types:
+        raise Unsupported(src, "a vector output used as a colour or number")
+    to_number = any(a == 'RGBA' and b in ('VALUE', 'INT', 'BOOLEAN')
+                    for a, b in zip(types, types[1:])) or (number and types[-1] == 'RGBA')
+    if node.bl_idname == 'ShaderNodeTexImage':
+        return _image(walker, src, to_number)
+    if node.bl_idname == 'ShaderNodeTexChecker':
+        return _checker(walker, src, to_number)
+    raise Unsupported(src, None)  # not a texture node: the caller reports the folding
+
+
+# --- images ---------------------------------------------------------------------------------
+
+def _image(walker, src, to_number):
+    node = src.node
+    img = node.image
+    if img is None:
+        raise Unsupported(src, "no image (Cycles renders it magenta)")
+    if node.projection != 'FLAT':
+        raise Unsupported(src, "projection '%s' (only Flat converts)" % node.projection.title())
+    notes = []
+    label = src.label()
+    try:
+        path, colorspace, note = image_file(img)
+    except ValueError as e:
+        raise Unsupported(src, str(e)) from e
+    if note:
+        notes.append("%s: %s" % (label, note))
+    data = {"texture": path, "colorspace": colorspace}
+    if colorspace == "srgb" and not img.is_float and node.interpolation != 'Closest':
+        notes.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, Facet "
+                     "after (they differ between strongly different texels when magnified)"
+                     % label)
+    filt = _FILTERS.get(node.interpolation, "")
+    if filt == "":
+        notes.append("%s: interpolation %s converted as Linear" % (label, node.interpolation))
+    elif filt:
+        data["filter"] = filt
+    wrap = _WRAPS.get(node.extension, "")
+    if wrap == "":
+        notes.append("%s: extension %s converted as Extend (Cycles is transparent black "
+                     "outside the image)" % (label, node.extension.title()))
+        data["wrap"] = "clamp"
+    elif wrap:
+        data["wrap"] = wrap
+    if src.socket.identifier == 'Alpha':
+        if not has_alpha(img):
+            return Result(None, notes=notes)  # Cycles' alpha of an opaque image: 1
+        data["channel"] = "a"
+    else:
+        if has_alpha(img) and img.alpha_mode not in ('NONE', 'CHANNEL_PACKED') \
+                and not _linked(node.outputs['Alpha']) and _transparent(img):
+            notes.append("%s: Cycles premultiplies the colour by the image's alpha when the "
+                         "Alpha output is unused; Facet reads the colour as stored" % label)
+        if to_number:
+            data["channel"] = "luminance"
+            if img.channels >= 3 and not _grey(img):
+                notes.append("%s: %s" % (label, LUMINANCE_NOTE))
+    uv_map, _, mirrored = _vector(walker, src, data, checker=False)
+    if mirrored:
+        # Math Ping-Pong (scale 1) on a coordinate is a mirrored repeat of it (the glTF
+        # importer's MIRRORED_REPEAT); Facet's wrap is one for both axes.
+        data["wrap"] = "mirror"
+        if mirrored != {0, 1} or node.extension not in ('EXTEND', 'MIRROR'):
+            notes.append("%s: mirrored on %s, extension %s on the other: converted as Mirror on "
+                         "both (they differ where that coordinate leaves [0, 1])"
+                         % (label, "U" if 0 in mirrored else "V", node.extension.title()))
+    return Result(data, uv_map, notes)
+
+
+def _linked(sock):
+    return any(not l.is_muted for l in sock.links)
+
+
+def has_alpha(img):
+    """Whether the image's file has an alpha channel (Blender's depth in bits per pixel: 32 or
+    64 for RGBA bytes / halves, 128 for RGBA floats)."""
+    return img.depth in (32, 64, 128) or (img.depth == 16 and img.channels == 2)
+
+
+_PIXEL_STATS = {}  # (image name, file, size) -> (min alpha, grey)
+
+
+def _pixel_stats(img):
+    key = (img.name, img.filepath, tuple(img.size), img.is_dirty)
+    if key not in _PIXEL_STATS:
+        import numpy as np
+        w, h = img.size
+        px = np.empty(w * h * 4, np.float32)
+        img.pixels.foreach_get(px)
+        px = px.reshape(-1, 4)
+        grey = bool(np.all(px[:, 0] == px[:, 1]) and np.all(px[:, 1] == px[:, 2]))
+        _PIXEL_STATS[key] = (float(px[:, 3].min()) if len(px) else 1.0, grey)
+    return _PIXEL_STATS[key]
+
+
+def _transparent(img):
+    return _pixel_stats(img)[0] < 1.0
+
+
+def _grey(img):
+    return _pixel_stats(img)[1]
+
+
+def image_file(img):
+    """(absolute path Facet reads, colour space, note or None) of a Blender image. A file on
+    disk is used as it is; a packed, generated, edited or missing one is written to CACHE_DIR
+    as an EXR of Blender's pixels (the same values Cycles reads)."""
+    if img.source not in ('FILE', 'GENERATED'):
+        raise ValueError("image '%s': source %s is not converted (a single still image only)"
+                         % (img.name, img.source))
+    cs_name = img.colorspace_settings.name
+    colorspace = _COLORSPACES.get(cs_name)
+    note = None
+    if colorspace is None:
+        note = "colour space '%s' converted as Linear" % cs_name
+        colorspace = "linear"
+    path = None
+    if img.source == 'FILE' and img.packed_file is None and not img.is_dirty:
+        import bpy
+        p = bpy.path.abspath(img.filepath, library=img.library)
+        if os.path.isfile(p):
+            path = os.path.normpath(p)
+    if path is None:
+        path = _write_pixels(img)
+        # Blender's float pixels of a byte image are its stored (encoded) values: keep the
+        # colour space; a float image's pixels are scene linear already.
+        if img.is_float:
+            colorspace = "linear"
+    return path, colorspace, note
+
+
+def _write_pixels(img):
+    """Writes the image's pixels once per content: the file is named by a hash of the packed
+    file's bytes (or the generated image's settings); an edited (dirty) image is written
+    every time."""
+    import hashlib
+    import numpy as np
+    from . import native
+    w, h = img.size
+    if w == 0 or h == 0:
+        raise ValueError("image '%s' has no pixels" % img.name)
+    key = hashlib.sha1(("%s|%d|%d|%s|%s|%s" % (
+        img.name, w, h, img.source, getattr(img, "generated_type", ""),
+        tuple(getattr(img, "generated_color", ())))).encode())
+    if img.packed_file is not None:
+        key.update(img.packed_file.data)
+    os.makedirs(CACHE_DIR, exist_ok=True)
+    path = os.path.join(CACHE_DIR, "image_%s.exr" % key.hexdigest()[:20])
+    if os.path.isfile(path) and not img.is_dirty:
+        return path
+    px = np.empty(w * h * 4, np.float32)
+    img.pixels.foreach_get(px)
+    rgb = px.reshape(h, w, 4)[::-1, :, :3].copy()  # Blender's rows run bottom-up
+    native.facet.write_image(rgb, path)
+    return path
+
+
+# --- checker --------------------------------------------------------------------------------
+
+def _checker(walker, src, to_number):
+    node = src.node
+    consts = {}
+    for name in ('Color1', 'Color2', 'Scale'):
+        v, blockers = walker.fold(walker.input(node, name, src.path))
+        if v is None:
+            raise Unsupported(blockers[0] if blockers else src,
+                              "feeds the Checker Texture's %s (only constants convert)" % name)
+        consts[name] = v
+    data = {}
+    uv_map, z, mirrored = _vector(walker, src, data, checker=True)
+    if mirrored:
+        raise Unsupported(src, "a Ping-Pong vector on the checker is not converted")
+    c1, c2 = consts['Color1'], consts['Color2']
+    if src.socket.identifier == 'Fac':
+        c1, c2 = 1.0, 0.0
+    elif to_number:
+        c1, c2 = (sum(a * b for a, b in zip(c, nodegraph.RGB_TO_Y)) for c in (c1, c2))
+    colors = [c2, c1]
+    if abs(math.floor(z * consts['Scale'])) % 2 == 1:
+        colors.reverse()
+    data["checker"] = {"colors": [_plain(c) for c in colors], "scale": consts['Scale']}
+    return Result(data, uv_map)
+
+
+def _plain(c):
+    return [float(x) for x in c] if isinstance(c, tuple) else float(c)
+
+
+# --- texture coordinates ----------------------------------------------------------------------
+
+def _matmul(a, b):
+    return [[sum(a[i][k] * b[k][j] for k in range(4)) for j in range(4)] for i in range(4)]
+
+
+def _euler(rx, ry, rz):
+    """Cycles' euler_to_transform: R = Rz Ry Rx, as a 4 x 4 affine matrix."""
+    cx, cy, cz = math.cos(rx), math.cos(ry), math.cos(rz)
+    sx, sy, sz = math.sin(rx), math.sin(ry), math.sin(rz)
+    return [[cy * cz, sy * sx * cz - cx * sz, sy * cx * cz + sx * sz, 0.0],
+            [cy * sz, sy * sx * sz + cx * cz, sy * cx * sz - sx * cz, 0.0],
+            [-sy, cy * sx, cy * cx, 0.0],
+            [0.0, 0.0, 0.0, 1.0]]
+
+
+def _transposed3(m):
+    return [[m[j][i] for j in range(3)] + [0.0] for i in range(3)] + [[0.0, 0.0, 0.0, 1.0]]
+
+
+def _diag(s):
+    return [[s[0], 0, 0, 0], [0, s[1], 0, 0], [0, 0, s[2], 0], [0, 0, 0, 1.0]]
+
+
+def _translate(t):
+    return [[1, 0, 0, t[0]], [0, 1, 0, t[1]], [0, 0, 1, t[2]], [0, 0, 0, 1.0]]
+
+
+def mapping_matrix(vector_type, loc, rot, scale):
+    """Cycles' svm_mapping as a 4 x 4 affine matrix (None for Normal, not affine)."""
+    r = _euler(*rot)
+    if vector_type == 'POINT':
+        return _matmul(_translate(loc), _matmul(r, _diag(scale)))
+    if vector_type == 'VECTOR':
+        return _matmul(r, _diag(scale))
+    if vector_type == 'TEXTURE':
+        inv = [1.0 / s if s != 0.0 else 0.0 for s in scale]  # Cycles' safe_divide
+        return _matmul(_diag(inv), _matmul(_transposed3(r), _translate([-x for x in loc])))
+    return None
+
+
+def _vector(walker, src, data, checker):
+    """Follows the texture's Vector input back to a UV map (_affine); sets uv_scale /
+    uv_offset / uv_rotation in `data`. Returns (the UV map's name, "" the render one; the
+    constant z, for the checker; the set of axes (0: x, 1: y) mirrored by a Ping-Pong)."""
+    cur = walker.input(src.node, 'Vector', src.path)
+    if isinstance(cur, nodegraph.Const):
+        if checker:
+            raise Unsupported(src, "its vector is Generated coordinates, not a UV map")
+        cur = None  # an Image Texture's unlinked Vector: the render UV map
+    state = {"uv": None, "mirror": set()}
+    rows = _affine(walker, cur, state) if cur is not None else _IDENTITY
+    uv_map = state["uv"] or ""
+    if cur is not None and state["uv"] is None:
+        raise Unsupported(src, "its vector is a constant, not a UV map")
+    m = rows
+    # (x, y) = A (u, v) + b with z = 0 in: A = [[a, b], [c, d]] = R(theta) diag(su, sv).
+    a, b, c, d = m[0][0], m[0][1], m[1][0], m[1][1]
+    su = math.hypot(a, c)
+    theta = math.atan2(c, a) if su > 0.0 else 0.0
+    sv = -b * math.sin(theta) + d * math.cos(theta)
+    resid = abs(b + sv * math.sin(theta)) + abs(d - sv * math.cos(theta))
+    if su == 0.0 or resid > 1e-6 * max(1.0, abs(su), abs(sv)):
+        raise Unsupported(src, "its vector is not a rotation and scale of the UV plane "
+                          "(only rotation about Z, or a uniform scale, converts exactly)")
+    if theta != 0.0:
+        data["uv_rotation"] = math.degrees(theta)
+    if (su, sv) != (1.0, 1.0):
+        data["uv_scale"] = [su, sv]
+    if (m[0][3], m[1][3]) != (0.0, 0.0):
+        data["uv_offset"] = [m[0][3], m[1][3]]
+    if checker:
+        if abs(m[2][0]) + abs(m[2][1]) > 1e-9:
+            raise Unsupported(src, "its vector turns the UV plane out of z = 0 (the 3D "
+                              "checker is not a 2D one there)")
+        return uv_map, m[2][3], state["mirror"]
+    return uv_map, 0.0, state["mirror"]
+
+
+# --- affine texture coordinates ---------------------------------------------------------------
+#
+# A texture's vector as an affine function of the UV map's (u, v, 0): rows [a_u, a_v, a_z, b]
+# (3 for a vector, 1 for a number), through the nodes below, each exactly as Cycles evaluates
+# it; anything else raises Unsupported. The glTF importer's V flip (Separate XYZ, Math
+# 1 - y, Combine XYZ) is such a chain.
+
+_IDENTITY = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
+
+
+def _is_const(row):
+    return row[0] == 0.0 and row[1] == 0.0 and row[2] == 0.0
+
+
+def _lin(a, ra, b=0.0, rb=None):
+    """a ra + b rb (rows), rb None: a ra."""
+    if rb is None:
+        return [a * x for x in ra]
+    return [a * x + b * y for x, y in zip(ra, rb)]
+
+
+def _times(ra, rb, at):
+    """ra rb when one of them is constant, else Unsupported."""
+    if _is_const(ra):
+        return _lin(ra[3], rb)
+    if _is_const(rb):
+        return _lin(rb[3], ra)
+    raise Unsupported(at, "a product of two texture coordinates is not affine")
+
+
+def _rows_in(walker, node, ident, path, state):
+    sock = next((s for s in node.inputs if s.identifier == ident), None)
+    if sock is None or not sock.enabled:
+        return None
+    return _affine(walker, walker.input(node, sock, path), state)
+
+
+def _affine(walker, src, state):
+    """Rows of `src` (Const or Out) as an affine function of (u, v, 0)."""
+    if isinstance(src, nodegraph.Const):
+        v = src.value
+        vals = v if isinstance(v, tuple) else (v,)
+        return [[0.0, 0.0, 0.0, float(c)] for c in vals]
+    n, ident, path = src.node, src.socket.identifier, src.path
+    idname = n.bl_idname
+    if idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
+        if idname == 'ShaderNodeTexCoord' and ident != 'UV':
+            raise Unsupported(src, "texture coordinates other than UV maps are not converted")
+        if n.from_instancer:
+            raise Unsupported(src, "UVs from the instancer are not converted")
+        name = n.uv_map if idname == 'ShaderNodeUVMap' else ""
+        if state["uv"] not in (None, name):
+            raise Unsupported(src, "two UV maps in one texture's vector")
+        state["uv"] = name
+        rows = [list(r) for r in _IDENTITY]
+    elif idname == 'ShaderNodeMapping':
+        vals = []
+        for name in ('Location', 'Rotation', 'Scale'):
+            sock = next((s for s in n.inputs if s.name == name and s.enabled), None)
+            if sock is None:
+                vals.append((0.0, 0.0, 0.0) if name != 'Scale' else (1.0, 1.0, 1.0))
+                continue
+            v, blockers = walker.fold(walker.input(n, sock, path))
+            if v is None:
+                raise Unsupported(blockers[0] if blockers else src,
+                                  "feeds the Mapping's %s (only constants convert)" % name)
+            vals.append(v)
+        mm = mapping_matrix(n.vector_type, *vals)
+        if mm is None:
+            raise Unsupported(src, "Mapping of type Normal is not a UV transform")
+        inner = _rows_in(walker, n, 'Vector', path, state)
+        rows = [[sum(mm[i][k] * inner[k][j] for k in range(3)) + (mm[i][3] if j == 3 else 0.0)
+                 for j in range(4)] for i in range(3)]
+    elif idname == 'ShaderNodeSeparateXYZ':
+        inner = _rows_in(walker, n, 'Vector', path, state)
+        rows = [inner["XYZ".index(ident)]]
+    elif idname == 'ShaderNodeCombineXYZ':
+        rows = []
+        for axis, k in enumerate(("X", "Y", "Z")):
+            inner = walker.input(n, k, path)
+            pp = inner if isinstance(inner, nodegraph.Out) and not inner.convs and \
+                inner.node.bl_idname == 'ShaderNodeMath' and \
+                inner.node.operation == 'PINGPONG' and not inner.node.use_clamp else None
+            if pp is not None and axis < 2 and \
+                    walker.fold(walker.input(pp.node, 'Value_001', pp.path))[0] == 1.0:
+                state["mirror"].add(axis)  # Ping-Pong(x, 1) = x mirrored with period 2
+                rows.append(_rows_in(walker, pp.node, 'Value', pp.path, state)[0])
+            else:
+                rows.append(_affine(walker, inner, state)[0])
+    elif idname == 'ShaderNodeMath' and not n.use_clamp:
+        a = _rows_in(walker, n, 'Value', path, state)[0]
+        b = (_rows_in(walker, n, 'Value_001', path, state) or [[0.0] * 4])[0]
+        op = n.operation
+        if op == 'ADD':
+            rows = [_lin(1.0, a, 1.0, b)]
+        elif op == 'SUBTRACT':
+            rows = [_lin(1.0, a, -1.0, b)]
+        elif op == 'MULTIPLY':
+            rows = [_times(a, b, src)]
+        elif op == 'DIVIDE' and _is_const(b) and b[3] != 0.0:
+            rows = [_lin(1.0 / b[3], a)]
+        elif op == 'MULTIPLY_ADD':
+            c = _rows_in(walker, n, 'Value_002', path, state)[0]
+            rows = [_lin(1.0, _times(a, b, src), 1.0, c)]
+        else:
+            raise Unsupported(src, "Math %s on texture coordinates is not affine" % op.title())
+    elif idname == 'ShaderNodeVectorMath' and ident == 'Vector':
+        a = _rows_in(walker, n, 'Vector', path, state)
+        b = _rows_in(walker, n, 'Vector_001', path, state)
+        op = n.operation
+        if op == 'ADD':
+            rows = [_lin(1.0, x, 1.0, y) for x, y in zip(a, b)]
+        elif op == 'SUBTRACT':
+            rows = [_lin(1.0, x, -1.0, y) for x, y in zip(a, b)]
+        elif op == 'MULTIPLY':
+            rows = [_times(x, y, src) for x, y in zip(a, b)]
+        elif op == 'SCALE':
+            s = _rows_in(walker, n, 'Scale', path, state)[0]
+            rows = [_times(x, s, src) for x in a]
+        else:
+            raise Unsupported(src, "Vector Math %s on texture coordinates is not affine"
+                              % op.title())
+    else:
+        raise Unsupported(src, "texture coordinates other than UV maps are not converted")
+    # The link conversions on the way (nodegraph.convert): vector -> number the mean,
+    # number -> vector the row three times.
+    for to in src.convs:
+        if to in ('VALUE', 'INT', 'BOOLEAN') and len(rows) == 3:
+            rows = [_lin(1.0 / 3.0, _lin(1.0, rows[0], 1.0, _lin(1.0, rows[1], 1.0, rows[2])))]
+        elif to in ('VECTOR', 'RGBA') and len(rows) == 1:
+            rows = [list(rows[0]) for _ in range(3)]
+    return rows
