@@ -25,6 +25,7 @@
 
 #include <unistd.h>
 
+#include "bench_stats.h"
 #include "facet/frame.h"
 #include "facet/render/image.h"
 #include "facet/render/light.h"
@@ -33,14 +34,9 @@
 
 using namespace facet;
 using namespace facet::render;
+using facet::bench::median;
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Estimates {
     double importance, uniform, cosine, mis;

@@ -15,19 +15,15 @@
 #include <string>
 #include <vector>
 
+#include "bench_stats.h"
 #include "facet/render/light.h"
 #include "facet/sampling.h"
 
 using namespace facet;
 using namespace facet::render;
+using facet::bench::median;
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Variances {
     double lamp, area, mean;

@@ -233,6 +233,10 @@ class _Materials:
         return [(n, self.by_name[n].data) for n in self.order]
 
 
+# Blender's area lamp shapes -> Facet's "area" kind's.
+AREA_SHAPES = {'SQUARE': "square", 'RECTANGLE': "rectangle", 'DISK': "disc", 'ELLIPSE': "ellipse"}
+
+
 def _light_data(obj, matrix, problems):
     lt = obj.data
     for label, value, what in gaps.light_gaps(lt):
@@ -260,23 +264,22 @@ def _light_data(obj, matrix, problems):
         return [{"type": "directional", "direction": axis, **sun,
                  "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}], []
     if lt.type == 'AREA':
-        sx = lt.size
-        sy = lt.size_y if lt.shape in ('RECTANGLE', 'ELLIPSE') else lt.size
-        radiance = units.area_radiance_from_blender(
-            lt.color, lt.energy, units.area_light_area(lt.shape, sx, sy))
-        # Local geometry, emitting toward local -Z (Cycles); the world matrix places it.
-        if lt.shape in ('DISK', 'ELLIPSE'):
-            shape = {"type": "disc", "center": [0.0, 0.0, 0.0], "normal": [0.0, 0.0, -1.0],
-                     "radius": 0.5 * sx, "transform":
-                     _matrix_rows(m) if sx == sy else
-                     (np.asarray(_matrix_rows(m)) @ np.diag([1.0, sy / sx, 1.0, 1.0])).tolist()}
-        else:
-            hx, hy = 0.5 * sx, 0.5 * sy
-            shape = {"type": "quad", "vertices": [[-hx, -hy, 0.0], [-hx, hy, 0.0],
-                                                  [hx, hy, 0.0], [hx, -hy, 0.0]],
-                     "transform": _matrix_rows(m)}
-        shape.update({"name": obj.name, "emission": radiance, "two_sided": False})
-        return [], [shape]
+        # Facet's "area" lamp (FORMAT.md): the same power P (the core converts it to radiance
+        # P / (4 A), light_units.h), sampled by solid angle. Its frame is the object's: size
+        # along local X, size_y along local Y (both scaled by the object's axes, as Cycles
+        # does), emitting along local -Z; camera rays see it only when the object's Visibility >
+        # Camera is on (Blender's default for lamps: off).
+        col = [[m[i][j] for i in range(3)] for j in range(3)]
+        scale = [math.sqrt(sum(c * c for c in v)) for v in col]
+        two = lt.shape in ('RECTANGLE', 'ELLIPSE')
+        lamp = {"type": "area", "shape": AREA_SHAPES[lt.shape], "position": pos,
+                "direction": axis, "up": [c / scale[1] for c in col[1]],
+                "size": float(lt.size) * scale[0],
+                "power": units.area_power_from_blender(lt.color, lt.energy),
+                "camera_visible": bool(obj.visible_camera)}
+        if two:
+            lamp["size_y"] = float(lt.size_y) * scale[1]
+        return [lamp], []
     problems.append("light '%s': type %s is not supported; skipped" % (obj.name, lt.type))
     return [], []
 

@@ -245,6 +245,8 @@ def from_description(d):
             if v is None:
                 continue
             lt[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+        if kind == "environment" and lt.get("file"):
+            lt["file"] = os.path.join(d.base_dir, lt["file"])  # as the meshes' files
         data["lights"].append(lt)
     r = d.render
     data["render"] = {"integrator": r.integrator, "spp": int(r.spp),

@@ -77,13 +77,15 @@ constexpr double kLampMinSolidAngle = 1e-4;
 
 // Disc and ellipse lamps: sampled over their bounding spherical rectangle (with rejection) while
 // the point's height above the lamp's plane is below kLampEllipseNear times the larger half-axis,
-// else uniformly by area. On the axis of a disc of radius R at distance d, area sampling's
-// irradiance estimate has relative variance (1 + T)^2 / (3T) (1 - (1 + T)^-3) - 1, T = R^2/d^2:
-// 0.017 at d = 2R, 0.17 at d = R, 1.07 at d = R/2, growing like T/3 as d -> 0; the rejection
-// estimator's is at least 4/pi - 1 = 0.27 (the lost samples) plus the cosine's spread, ~0.5 near
-// the plane (bench/lamp_sampling: the measured table in docs/performance.md). They cross at
-// d ~ 0.7 R on the axis.
-constexpr double kLampEllipseNear = 0.7;
+// else uniformly by area. Variances of the irradiance estimate from a disc of radius R, area
+// sampling / rejection (exact integrals, tools-free: E[X^2] = Omega_rect int cos^2 dw for
+// rejection, A int cos^4 / r^4 dA for area): on the axis 14.2 at h = 0.4 R, 3.7 at 0.7 R, 1.1 at
+// R, 0.57 at 1.2 R, 0.08 at 2 R; offset 1.5 R from the axis 4.5 at 0.7 R, 2.8 at R, 0.74 at 2 R.
+// Near the lamp the rejection wins by far (the area pdf's 1 / cos_l and r^2 blow up), far off
+// area sampling does (its solid-angle density becomes uniform, while rejection loses 1 - pi/4 of
+// its samples). The crossover is at h ~ R on the axis and ~1.7 R off it: h < R.
+// bench/lamp_bench.cpp measures the rendered ratio (docs/performance.md).
+constexpr double kLampEllipseNear = 1.0;
 
 // Urena, Fajardo & King 2013 (Algorithm 1): the spherical rectangle that a rectangle with corner
 // s and edges ex, ey (perpendicular) subtends from o, and its area-preserving sampling. All in

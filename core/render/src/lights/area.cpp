@@ -85,7 +85,7 @@ extern const LightKindDef kAreaLightKind{
     "rectangle of half-sides a, b: E = 2 L [a/√(a²+d²) atan(b/√(a²+d²)) + "
     "b/√(b²+d²) atan(a/√(b²+d²))]. Sampled by solid angle: rectangles exactly (Ureña, Fajardo "
     "& King 2013's spherical rectangle, pdf 1/Ω), discs and ellipses over their bounding "
-    "spherical rectangle when near (height < 0.7 × the larger half-axis; samples outside the "
+    "spherical rectangle when near (height < the larger half-axis; samples outside the "
     "ellipse are lost), by area when farther. Camera rays see it only with `camera_visible` "
     "(as Blender 3.4, whose lamps have Object > Visibility > Camera off by default); reflected "
     "and diffuse rays never (only light samples find it): give an emissive quad or disc shape "

@@ -53,7 +53,7 @@
 //    uniformly in the solid angle it subtends (Urena, Fajardo & King 2013, "An Area-Preserving
 //    Parametrization for Spherical Rectangles"; pdf = 1 / Omega), in double precision. A disc or
 //    ellipse lamp is sampled the same way over its bounding rectangle when the point is near
-//    (height h above its plane below kLampEllipseNear times its larger half-axis); a sample
+//    (height h above its plane below kLampEllipseNear = 1 times its larger half-axis); a sample
 //    that falls outside the ellipse is lost (nullopt), so the density over the ellipse is
 //    exactly 1 / Omega_rect, unbiased, with pi/4 of the samples kept far off (more near);
 //    farther away the ellipse is sampled uniformly by area, whose solid-angle density is then
