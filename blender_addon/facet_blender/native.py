@@ -69,12 +69,9 @@ _SHAPE_KEYS = {
     "grid": ("nx", "ny", "amplitude", "frequency"),
     "mesh": (),
 }
-_LIGHT_KEYS = {
-    "point": ("position", "power"),
-    "spot": ("position", "direction", "look_at", "power", "outer_angle", "inner_angle"),
-    "directional": ("direction", "irradiance"),
-    "environment": ("radiance",),
-}
+# Every light kind's keys, from the core's kind table (kinds.h): sizes, Blender's spot blend,
+# the area lamp and environment maps travel with their lights.
+_LIGHT_KEYS = {kind: tuple(keys) for kind, keys in facet.light_kind_keys().items()}
 
 
 def _rgb(v):
@@ -154,7 +151,7 @@ def to_description(data):
         ld = facet.LightDesc()
         ld.kind = lt["type"]
         for k in _LIGHT_KEYS[lt["type"]]:
-            if k in lt:
+            if k in lt and lt[k] is not None:
                 setattr(ld, k, lt[k])
         lights.append(ld)
     d.lights = lights
