@@ -95,11 +95,7 @@ Estimates variances(const Light& env, const Vec3& n, int trials, unsigned seed) 
 }  // namespace
 
 int main(int argc, char** argv) {
-    int trials = 20000, runs = 5;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--trials")) trials = std::atoi(argv[i + 1]);
-        if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
-    }
+    const auto [trials, runs] = facet::bench::trial_options(argc, argv);
     const int W = 512, H = 256, sx = 300, sy = 70;
     Image map(W, H);
     for (int y = 0; y < H; ++y)

@@ -79,11 +79,7 @@ Variances variances(const Light& lamp, bool disc, const Vec3& p, int trials, uns
 }  // namespace
 
 int main(int argc, char** argv) {
-    int trials = 20000, runs = 5;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--trials")) trials = std::atoi(argv[i + 1]);
-        if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
-    }
+    const auto [trials, runs] = facet::bench::trial_options(argc, argv);
     std::printf(
         "Area lamps 1 x 1 (disc: diameter 1), radiance 1, emitting down; irradiance on a "
         "surface facing up at height h below the centre, offset x; 16 samples per estimate, %d "

@@ -144,6 +144,19 @@ struct SphericalRect {
     }
 };
 
+// The lamp's bounding spherical rectangle seen from p: corner c - e1 - e2, edges 2 e1 and 2 e2.
+SphericalRect lamp_rect(const glm::dvec3& p, const Vec3& c, const Vec3& e1, const Vec3& e2) {
+    const glm::dvec3 a(e1), b(e2);
+    return SphericalRect(p, glm::dvec3(c) - a - b, 2.0 * a, 2.0 * b);
+}
+
+// Whether a lamp is sampled by solid angle from a point at height h > 0 above it (light.h):
+// rectangles always, ellipses when near (kLampEllipseNear).
+bool lamp_near(double h, const Vec3& e1, const Vec3& e2, bool ellipse) {
+    if (!ellipse) return true;
+    return h < kLampEllipseNear * double(std::max(glm::length(e1), glm::length(e2)));
+}
+
 }  // namespace
 
 Light Light::point(const Vec3& position, const Rgb& power, float radius) {
@@ -369,21 +382,6 @@ Light Light::area_lamp(const Vec3& center, const Vec3& e1, const Vec3& e2, const
         l.m_inv_area = 1.f / l.m_area;
     }
     return l;
-}
-
-// Height of p above the lamp's plane (> 0 in front), and the lamp's bounding spherical rectangle
-// seen from p. Corner c - e1 - e2, edges 2 e1 and 2 e2.
-namespace {
-SphericalRect lamp_rect(const glm::dvec3& p, const Vec3& c, const Vec3& e1, const Vec3& e2) {
-    const glm::dvec3 a(e1), b(e2);
-    return SphericalRect(p, glm::dvec3(c) - a - b, 2.0 * a, 2.0 * b);
-}
-}  // namespace
-
-// Whether a lamp is sampled by solid angle from p (height h > 0 above it, light.h).
-static bool lamp_near(double h, const Vec3& e1, const Vec3& e2, bool ellipse) {
-    if (!ellipse) return true;
-    return h < kLampEllipseNear * double(std::max(glm::length(e1), glm::length(e2)));
 }
 
 std::optional<LightLiSample> Light::sample_lamp(const LightSampleContext& ctx, Vec2 u) const {

@@ -201,7 +201,9 @@ class Light {
     std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
                                                     LightLiSample& s) const;
 
-    // Area lamps (LampRect, LampEllipse): sample_li by solid angle, and its pdf.
+    // Area lamps (LampRect, LampEllipse): sample_li (see conventions, "Area lamps"), and the
+    // solid-angle pdf 1 / Omega of its spherical-rectangle branch from p: 0 from behind, -1
+    // when p is sampled by area instead (pdf_li then takes area_to_solid_angle_pdf).
     std::optional<LightLiSample> sample_lamp(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_lamp(const Vec3& p) const;
 
