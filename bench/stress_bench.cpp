@@ -1,15 +1,14 @@
 // The longer scene-level stress run of issue 12 (the CTest test is
-// tests/render/test_scene_stress.cpp; both draw their scenes from
-// tests/support/include/facet/testsupport/stress_scenes.h). Over the stated ranges — scene scale
-// 1e-8 .. 1e9, coordinates up to |1e12| (docs/architecture.md, "Scene scale"), offsets up to 1e4
-// scene sizes from the origin (its quantisation limit) — it renders every furnace material of
-// stress_scenes.h and the grazing-light scene (coincident floors, sliver and degenerate triangles —
-// the slivers at the origin only: offset, float quantises them to zero area) with lights 1e-7 ..
-// 1e-2 rad above grazing, with the path and direct integrators, and prints one row per
-// configuration with the counts of NaN/Inf pixels, dropped samples and energy gains (a furnace mean
-// above its analytic bound by more than 5 standard errors + 3e-3 relative). Expected: all zero; the
-// exit status is 1 otherwise. Usage: facet_stress_bench [--spp N] (default 256 per furnace, 64 per
-// grazing scene).
+// tests/render/test_scene_stress.cpp; both draw their scenes from tests/support/include/facet/testsupport/stress_scenes.h).
+// Over the stated ranges — scene scale 1e-8 .. 1e9, coordinates up to |1e12| (docs/architecture.md,
+// "Scene scale"), offsets up to 1e4 scene sizes from the origin (its quantisation limit) —
+// it renders every furnace material of stress_scenes.h and the grazing-light scene (coincident
+// floors, sliver and degenerate triangles — the slivers at the origin only: offset, float
+// quantises them to zero area) with lights 1e-7 .. 1e-2 rad above grazing, with the
+// path and direct integrators, and prints one row per configuration with the counts of NaN/Inf
+// pixels, dropped samples and energy gains (a furnace mean above its analytic bound by more
+// than 5 standard errors + 3e-3 relative). Expected: all zero; the exit status is 1 otherwise.
+// Usage: facet_stress_bench [--spp N] (default 256 per furnace, 64 per grazing scene).
 #include <fmt/format.h>
 
 #include <cstdlib>
