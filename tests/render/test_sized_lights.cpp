@@ -558,7 +558,9 @@ TEST(SizedLights, AreaLampSamplingMatchesItsPdfChiSquare) {
                 expected[(i / kSub) * kCells + j / kSub] += prob;
                 total += prob;
             }
-        if (!ellipse) EXPECT_NEAR(total, 1.0, 1e-3);
+        if (!ellipse) {
+            EXPECT_NEAR(total, 1.0, 1e-3);
+        }
         expected.back() = std::max(0.0, 1.0 - total);
         const int n = scaled(64000);
         std::vector<int> count(expected.size(), 0);
@@ -573,7 +575,9 @@ TEST(SizedLights, AreaLampSamplingMatchesItsPdfChiSquare) {
             const double a = 2.0 * double(s->p_light.z) / sx, b = 2.0 * double(s->p_light.x) / sy;
             ASSERT_LE(std::fabs(a), 1.0 + 1e-5);
             ASSERT_LE(std::fabs(b), 1.0 + 1e-5);
-            if (ellipse) ASSERT_LE(a * a + b * b, 1.0 + 1e-5);
+            if (ellipse) {
+                ASSERT_LE(a * a + b * b, 1.0 + 1e-5);
+            }
             ASSERT_NEAR(s->pdf, l.pdf_li(ctx, s->wi, s->p_light, s->n_light), 1e-4 * s->pdf);
             const int ia = std::clamp(int((a + 1.0) * 0.5 * kCells), 0, kCells - 1);
             const int ib = std::clamp(int((b + 1.0) * 0.5 * kCells), 0, kCells - 1);
