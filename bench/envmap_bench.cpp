@@ -25,6 +25,7 @@
 
 #include <unistd.h>
 
+#include "bench_stats.h"
 #include "facet/frame.h"
 #include "facet/render/image.h"
 #include "facet/render/light.h"
@@ -33,14 +34,9 @@
 
 using namespace facet;
 using namespace facet::render;
+using facet::bench::median;
 
 namespace {
-
-double median(std::vector<double> v) {
-    std::sort(v.begin(), v.end());
-    const std::size_t n = v.size();
-    return n % 2 ? v[n / 2] : 0.5 * (v[n / 2 - 1] + v[n / 2]);
-}
 
 struct Estimates {
     double importance, uniform, cosine, mis;
@@ -99,11 +95,7 @@ Estimates variances(const Light& env, const Vec3& n, int trials, unsigned seed) 
 }  // namespace
 
 int main(int argc, char** argv) {
-    int trials = 20000, runs = 5;
-    for (int i = 1; i + 1 < argc; i += 2) {
-        if (!std::strcmp(argv[i], "--trials")) trials = std::atoi(argv[i + 1]);
-        if (!std::strcmp(argv[i], "--runs")) runs = std::atoi(argv[i + 1]);
-    }
+    const auto [trials, runs] = facet::bench::trial_options(argc, argv);
     const int W = 512, H = 256, sx = 300, sy = 70;
     Image map(W, H);
     for (int y = 0; y < H; ++y)

@@ -259,6 +259,10 @@ class _Materials:
         return [(n, self.by_name[n].data) for n in self.order]
 
 
+# Blender's area lamp shapes -> Facet's "area" kind's (the importer maps them back).
+AREA_SHAPES = {'SQUARE': "square", 'RECTANGLE': "rectangle", 'DISK': "disc", 'ELLIPSE': "ellipse"}
+
+
 def _light_data(obj, matrix, problems):
     """A Blender lamp -> one light of the scene format (None: not supported, reported)."""
     lt = obj.data
@@ -311,7 +315,9 @@ def _area_light(obj, lt, m, pos, problems):
     size_y = (float(lt.size_y) if lt.shape in ('RECTANGLE', 'ELLIPSE') else float(lt.size)) * sy
     out = {"type": "area", "position": pos, "direction": [-c / sz for c in z],
            "up": [c / sy for c in y],
-           "size": size, "power": [float(c) * float(lt.energy) for c in lt.color]}
+           "size": size, "power": units.area_power_from_blender(lt.color, lt.energy),
+           # Blender 3.4 hides a new lamp from camera rays (Object > Visibility > Camera).
+           "camera_visible": bool(obj.visible_camera)}
     if abs(size_y - size) > 1e-6 * size:  # float32 matrices: a square stays square
         out["shape"] = "ellipse" if round_shape else "rectangle"
         out["size_y"] = size_y

@@ -118,6 +118,53 @@ def _direction_matrix(position, direction):
     return m
 
 
+def _environment_world(world, lt, rad, i, problems):
+    """An environment map as Blender's World: Environment Texture (equirectangular, the image
+    `file`) -> Background, its Strength the multiplier `radiance` (an RGB multiplier through a
+    Multiply node). With no `rotate` and `up` [0, 0, 1] the mapping is exactly Facet's
+    (FORMAT.md, "Environment maps": Facet's is defined as Blender's); other orientations are
+    reported. Cycles renders this world; the Facet engine renders the stored description."""
+    world.use_nodes = True
+    nt = world.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new('ShaderNodeOutputWorld')
+    bg = nt.nodes.new('ShaderNodeBackground')
+    tex = nt.nodes.new('ShaderNodeTexEnvironment')
+    tex.image = bpy.data.images.load(lt["file"], check_existing=True)
+    colour = tex.outputs['Color']
+    if isinstance(rad, (int, float)):
+        bg.inputs['Strength'].default_value = float(rad)
+    else:
+        mul = nt.nodes.new('ShaderNodeMixRGB')
+        mul.blend_type, mul.inputs['Fac'].default_value = 'MULTIPLY', 1.0
+        mul.inputs['Color2'].default_value = list(rad) + [1.0]
+        nt.links.new(colour, mul.inputs['Color1'])
+        colour = mul.outputs['Color']
+        bg.inputs['Strength'].default_value = 1.0
+    nt.links.new(colour, bg.inputs['Color'])
+    nt.links.new(bg.outputs['Background'], out.inputs['Surface'])
+    up = lt.get("up")
+    if lt.get("rotate") is not None or (up is not None and list(up) != [0.0, 0.0, 1.0]):
+        problems.append("light %d: environment map '%s': its rotate/up is not shown in "
+                        "Blender's World (Cycles renders it unrotated); Facet renders it"
+                        % (i, lt["file"]))
+
+
+def _lamp_matrix(position, direction, up):
+    """An area lamp's object matrix (FORMAT.md, "area"): local -Z along `direction`, local +Y
+    `up` made perpendicular to it ([0, 1, 0], or [0, 0, 1] within 2.6 degrees of +-Y, when
+    None), local X = Y x Z."""
+    z = -Vector(direction).normalized()
+    if up is None:
+        up = (0.0, 1.0, 0.0) if abs(z.y) < 0.999 else (0.0, 0.0, 1.0)
+    y = Vector(up) - Vector(up).dot(z) * z
+    y.normalize()
+    x = y.cross(z)
+    m = Matrix((x, y, z)).transposed().to_4x4()
+    m.translation = Vector(position)
+    return m
+
+
 def _material(name, m):
     mat = bpy.data.materials.new(name)
     properties.set_material_params(mat.facet, m["model"],
@@ -219,12 +266,9 @@ def import_scene(context, data, collection=None, problems=None):
             world.use_nodes = False
             rad = lt.get("radiance")
             rad = 1.0 if rad is None else rad
-            if lt.get("file"):
-                # Blender shows the map's multiplier; Facet renders the map (the light is
-                # stored on the world and exported unchanged).
-                problems.append("light %d: environment map '%s' is shown in Blender as its "
-                                "multiplier only; Facet renders the map" % (i, lt["file"]))
             world.color = rad if not isinstance(rad, (int, float)) else [rad] * 3
+            if lt.get("file"):
+                _environment_world(world, lt, rad, i, problems)
             world["facet_environment"] = _json(lt)
             world["facet_state"] = export.world_state(world)
             continue
@@ -249,34 +293,27 @@ def import_scene(context, data, collection=None, problems=None):
             ld.shadow_soft_size = lt.get("radius") or 0.0
             d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
             m = _direction_matrix(lt["position"], d)
+        elif kind == "area":
+            ld = bpy.data.lights.new("Area %d" % i, 'AREA')
+            ld.shape = {v: k for k, v in export.AREA_SHAPES.items()}[lt.get("shape", "square")]
+            ld.size = lt["size"]
+            if "size_y" in lt:
+                ld.size_y = lt["size_y"]
+            ld.color, ld.energy = units.area_power_to_blender(lt["power"])
+            d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
+            m = _lamp_matrix(lt["position"], d, lt.get("up"))
         elif kind == "directional":
             ld = bpy.data.lights.new("Sun %d" % i, 'SUN')
             ld.color, ld.energy = units.sun_irradiance_to_blender(lt["irradiance"])
             ld.angle = math.radians(lt.get("angle") or 0.0)
             m = _direction_matrix([0.0, 0.0, 0.0], lt["direction"])
-        elif kind == "area":
-            ld = bpy.data.lights.new("Area %d" % i, 'AREA')
-            ld.shape = {"square": 'SQUARE', "rectangle": 'RECTANGLE', "disc": 'DISK',
-                        "ellipse": 'ELLIPSE'}[lt.get("shape") or "square"]
-            ld.size = lt["size"]
-            ld.size_y = lt.get("size_y") or lt["size"]
-            ld.color, ld.energy = units.point_power_to_blender(units.rgb3(lt["power"]))
-            d = lt.get("direction") or [lt["look_at"][k] - lt["position"][k] for k in range(3)]
-            # FORMAT.md's area frame: z = -direction, y = up made perpendicular, x = y x z.
-            z = -Vector(d).normalized()
-            up = Vector(lt.get("up") or ([0.0, 0.0, 1.0] if abs(z.y) > 0.999 else
-                                         [0.0, 1.0, 0.0]))
-            y = (up - up.dot(z) * z).normalized()
-            x = y.cross(z)
-            m = Matrix.Identity(4)
-            for r in range(3):
-                m[r][0], m[r][1], m[r][2], m[r][3] = x[r], y[r], z[r], lt["position"][r]
         else:
             problems.append("light %d: kind '%s' is not imported into Blender yet; skipped"
                             % (i, kind))
             continue
         lo = bpy.data.objects.new(ld.name, ld)
         lo.matrix_world = m
+        lo.visible_camera = bool(lt.get("camera_visible", False))
         coll.objects.link(lo)
         context.view_layer.update()
         lo["facet_light"] = _json(lt)

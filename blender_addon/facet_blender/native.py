@@ -69,14 +69,9 @@ _SHAPE_KEYS = {
     "grid": ("nx", "ny", "amplitude", "frequency"),
     "mesh": (),
 }
-_LIGHT_KEYS = {
-    "point": ("position", "power", "radius"),
-    "spot": ("position", "direction", "look_at", "power", "outer_angle", "inner_angle",
-             "spot_blend", "radius"),
-    "directional": ("direction", "irradiance", "angle"),
-    "area": ("position", "direction", "look_at", "up", "shape", "size", "size_y", "power"),
-    "environment": ("radiance", "file", "up", "rotate"),
-}
+# Every light kind's keys, from the core's kind table (kinds.h): sizes, Blender's spot blend,
+# the area lamp and environment maps travel with their lights.
+_LIGHT_KEYS = {kind: tuple(keys) for kind, keys in facet.light_kind_keys().items()}
 
 
 def texture(t):
@@ -177,7 +172,7 @@ def to_description(data):
         ld = facet.LightDesc()
         ld.kind = lt["type"]
         for k in _LIGHT_KEYS[lt["type"]]:
-            if k in lt:
+            if k in lt and lt[k] is not None:
                 setattr(ld, k, lt[k])
         lights.append(ld)
     d.lights = lights
@@ -268,6 +263,8 @@ def from_description(d):
             if v is None:
                 continue
             lt[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+        if kind == "environment" and lt.get("file"):
+            lt["file"] = os.path.join(d.base_dir, lt["file"])  # as the meshes' files
         data["lights"].append(lt)
     r = d.render
     data["render"] = {"integrator": r.integrator, "spp": int(r.spp),

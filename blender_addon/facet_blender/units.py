@@ -20,9 +20,10 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
   40), and linear instead of smoothstep in the blend range.
 - sun of Strength S: irradiance S W/m^2 on a surface facing it (Cycles' sun angle, for soft
   shadows, is ignored).
-- area light of Power P and area A (rectangle: size_x size_y; square: size^2; disc and
-  ellipse: pi/4 of that): Cycles' radiance is L = P / (4 A) (eval_fac = 0.25 / area; for round
-  lights the area is multiplied by pi/4), one-sided, along the light's local -Z.
+- area light of Power P: Facet's "area" lamp takes the same P; its radiance L = P / (4 A)
+  (Cycles' eval_fac = 0.25 / area; A = size_x size_y, pi/4 of that for round lights) is the
+  core's conversion alone (light_units.h: area_lamp_area, area_lamp_radiance), one-sided,
+  along the light's local -Z.
 - emission shader: radiance = Color x Strength (Cycles' emission closure is radiance).
 - world background: radiance = Color x Strength.
 """
@@ -97,17 +98,16 @@ def sun_irradiance_to_blender(irradiance_rgb):
     return _split_colour(irradiance_rgb)
 
 
-def area_light_area(shape, size_x, size_y):
-    """Area (m^2) Cycles divides by: rectangle size_x size_y, round shapes pi/4 of that."""
-    area = float(size_x) * float(size_y)
-    return area * math.pi / 4.0 if shape in ('DISK', 'ELLIPSE') else area
+def area_power_from_blender(color, power_w):
+    """Blender area light (colour, Power in W) -> Facet "area" lamp power (W, RGB): the same
+    P; the core alone turns it into radiance, L = P / (4 A) (light_units.h,
+    area_lamp_radiance)."""
+    return point_power_from_blender(color, power_w)
 
 
-def area_radiance_from_blender(color, power_w, area):
-    """Blender area light (colour, Power, area) -> Facet emission radiance: L = P / (4 A)."""
-    if area <= 0.0:
-        return [0.0, 0.0, 0.0]
-    return [float(c) * float(power_w) / (4.0 * area) for c in color]
+def area_power_to_blender(power_rgb):
+    """Facet "area" lamp power (W, RGB) -> (colour, Power in W) for Blender."""
+    return _split_colour(power_rgb)
 
 
 def emission_from_blender(color, strength):

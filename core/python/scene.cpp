@@ -412,6 +412,19 @@ void bind_scene(py::module_& m) {
     py::enum_<LightKind> light_kind_enum(m, "LightKind",
                                          "Light types (the scene format's \"type\")");
     for (const LightKindDef* k : light_kinds()) light_kind_enum.value(k->name.data(), k->kind);
+    m.def(
+        "light_kind_keys",
+        [] {
+            py::dict out;
+            for (const LightKindDef* k : light_kinds()) {
+                py::list keys;
+                for (const auto& f : k->fields) keys.append(attribute_name(f));
+                out[py::str(std::string(k->name))] = py::tuple(keys);
+            }
+            return out;
+        },
+        "{light kind: (its keys, the LightDesc attributes, in the kind table's order)}: what a "
+        "front end copies between a LightDesc and its own data (the Blender addon).");
 
     py::class_<CameraDesc>(m, "CameraDesc",
                            "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "

@@ -52,6 +52,9 @@ def build_scene():
         ob = bpy.data.objects.new(kind, ld)
         ob.location = loc
         ob.rotation_euler = (0.4, 0.1, 0.0)
+        if kind == 'AREA':
+            ob.scale = (2.0, 1.0, 1.0)  # Cycles scales the lamp's size by the object's axes
+            ob.visible_camera = True  # Object > Visibility > Camera (off by default for lamps)
         scene.collection.objects.link(ob)
     return scene
 
@@ -84,6 +87,14 @@ def main():
     bt.check(bpy.ops.import_scene.facet(filepath=a_path) == {'FINISHED'}, "imported A")
     bt.check(bpy.ops.export_scene.facet(filepath=b_path) == {'FINISHED'}, "exported B")
     da, db = native.read_scene(a_path), native.read_scene(b_path)
+    # The area lamp is Facet's "area" kind with Blender's power, shape, scaled sizes, frame and
+    # camera visibility (export.py, _light_data); the core converts the power to radiance.
+    lamp = [lt for lt in da["lights"] if lt["type"] == "area"]
+    bt.check(len(lamp) == 1 and lamp[0]["shape"] == "rectangle"
+             and abs(lamp[0]["size"] - 2.0) < 1e-6 and abs(lamp[0]["size_y"] - 0.5) < 1e-6
+             and lamp[0]["camera_visible"] is True
+             and np.allclose(lamp[0]["power"], [300.0] * 3)
+             and np.allclose(lamp[0]["position"], (0, 2, 3)), "area lamp exported: %s" % lamp)
     da.pop("description"), db.pop("description")
     same(da, db)
     bt.check(True, "A and B describe the same scene")

@@ -44,10 +44,11 @@ def test_spot():
 
 def test_sun_area_emission():
     assert close(units.sun_irradiance_from_blender([1, 1, 0.5], 3.0), [3, 3, 1.5])
-    # Cycles area light: L = P / (4 A); round lights use pi/4 of the bounding rectangle.
-    assert units.area_light_area('SQUARE', 2.0, 2.0) == 4.0
-    assert abs(units.area_light_area('DISK', 2.0, 2.0) - math.pi) < 1e-15
-    assert close(units.area_radiance_from_blender([1, 1, 1], 16.0, 4.0), [1, 1, 1])
+    # Cycles area light: Facet's "area" lamp takes the same power (the core converts it to
+    # radiance: tests/render/test_sized_lights.cpp), and back.
+    assert close(units.area_power_from_blender([1, 0.5, 0.25], 16.0), [16, 8, 4])
+    col, p = units.area_power_to_blender([16.0, 8.0, 4.0])
+    assert close(col, [1, 0.5, 0.25]) and p == 16.0
     assert close(units.emission_from_blender([0.5, 1, 2, 1], 2.0), [1, 2, 4])
 
 

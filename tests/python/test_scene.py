@@ -222,6 +222,13 @@ def test_kind_fields_come_from_the_kind_table(tmp_path):
     lamp = facet.LightDesc("area", shape="rectangle", size=2, size_y=0.5, power=10,
                            position=[0, 2, 0], direction=[0, -1, 0])
     assert (lamp.shape, lamp.size, lamp.size_y) == ("rectangle", 2, 0.5)
+    assert lamp.camera_visible is False  # Blender's default for lamps
+    # light_kind_keys(): each kind's keys in the table's order (what the Blender addon copies).
+    keys = facet.light_kind_keys()
+    assert set(keys) == {"point", "spot", "directional", "environment", "area"}
+    assert keys["point"][:2] == ("position", "power") and "radius" in keys["point"]
+    assert "camera_visible" in keys["area"] and "radius" not in keys["area"]
+    assert {"file", "rotate", "up"} <= set(keys["environment"])
     assert "kinds: sphere, disc, icosphere" in facet.ShapeDesc.radius.__doc__
 
 

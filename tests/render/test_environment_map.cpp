@@ -497,6 +497,14 @@ TEST(EnvironmentMap, BadInputNamesThePointerAndTheFile) {
     EXPECT_NE(e.find("/lights/0/file"), std::string::npos) << e;
     EXPECT_NE(e.find(corrupt), std::string::npos) << e;
 
+    // A map of zero size: a PPM header of 0 x 0 texels (OpenImageIO refuses it, or reads a
+    // 0 x 0 image that texel_image_oiio.cpp refuses; either error names file and pointer).
+    const std::string empty = temp_path("empty.ppm");
+    std::ofstream(empty) << "P3\n0 0\n255\n";
+    e = error_of(env_scene(file_key(empty)));
+    EXPECT_NE(e.find("/lights/0/file"), std::string::npos) << e;
+    EXPECT_NE(e.find(empty), std::string::npos) << e;
+
     const float nan = std::numeric_limits<float>::quiet_NaN();
     const float inf = std::numeric_limits<float>::infinity();
     for (const float bad : {nan, inf, -1.f}) {

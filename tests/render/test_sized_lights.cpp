@@ -446,6 +446,206 @@ TEST(SizedLights, AreaLoaderChecksAndPovRefusal) {
     EXPECT_EQ(d.lights[0].shape, "ellipse");
 }
 
+// --- area lamps sampled by solid angle (light.h, "Area lamps") ----------------------------------
+
+namespace {
+
+// An area lamp of `shape` ("rectangle" or "ellipse"), size sx x sy, power 4 sx sy (radiance 1
+// for the rectangle), centred at height h above the origin and emitting down; its local y
+// (size_y) is world x, its local x (size) world z (see AreaRectangleOnAxisAndOrientation).
+Light down_lamp(const std::string& shape, double sx, double sy, double h) {
+    return lamp(R"({"type": "area", "shape": ")" + shape + R"(", "size": )" + std::to_string(sx) +
+                R"(, "size_y": )" + std::to_string(sy) + R"(, "power": )" +
+                std::to_string(4.0 * sx * sy) + R"(, "position": [0, )" + std::to_string(h) +
+                R"(, 0], "look_at": [0, 0, 0], "up": [1, 0, 0]})");
+}
+
+// Irradiance at the origin (normal +y) from a rectangle of radiance L in the plane y = h
+// spanning x in [x1, x2], z in [z1, z2], facing down: inclusion-exclusion over the four corner
+// rectangles of the foot point, each E_c(a, b) = L/2 [a/ra atan(b/ra) + b/rb atan(a/rb)],
+// ra = sqrt(a^2 + h^2) (Howell's catalogue C-11; odd in a and in b, so signed corners work).
+double rect_irradiance(double big_l, double h, double x1, double x2, double z1, double z2) {
+    auto corner = [&](double a, double b) {
+        const double ra = std::sqrt(a * a + h * h), rb = std::sqrt(b * b + h * h);
+        return 0.5 * big_l * (a / ra * std::atan(b / ra) + b / rb * std::atan(a / rb));
+    };
+    return corner(x2, z2) - corner(x1, z2) - corner(x2, z1) + corner(x1, z1);
+}
+
+// Irradiance on a surface parallel to a disc of radius R and radiance L at height h, offset rho
+// from its axis: E = pi L / 2 [1 - (h^2 + rho^2 - R^2) / sqrt((h^2 + rho^2 + R^2)^2 -
+// 4 R^2 rho^2)] (Howell's catalogue B-13).
+double disc_irradiance(double big_l, double h, double rho, double r) {
+    const double a = h * h + rho * rho;
+    return 0.5 * kPiD * big_l *
+           (1.0 - (a - r * r) / std::sqrt((a + r * r) * (a + r * r) - 4.0 * r * r * rho * rho));
+}
+
+}  // namespace
+
+// Off the axis and near the plane, where sampling by area is at its worst: the irradiance from a
+// rectangle lamp (foot point inside and outside it) and a disc lamp (near: its bounding
+// spherical rectangle with rejection; far: by area) against the closed forms above.
+TEST(SizedLights, AreaLampOffAxisIrradianceIsExact) {
+    const double sx = 2.0, sy = 1.0;  // along world z and world x
+    const Light rect = down_lamp("rectangle", sx, sy, 0.1);
+    const double big_l = rect.emission().r;
+    EXPECT_NEAR(big_l, 1.0, 1e-6);
+    for (const Vec3 p : {Vec3(0.3f, 0.f, 0.6f), Vec3(0.8f, 0.f, -1.5f), Vec3(0, 0, 0)}) {
+        SCOPED_TRACE(::testing::PrintToString(std::vector<float>{p.x, p.y, p.z}));
+        const LightSampleContext ctx{p, {0, 1, 0}};
+        // The lamp seen from p: x in [-sy/2, sy/2] - p.x, z in [-sx/2, sx/2] - p.z, h = 0.1.
+        const double e = rect_irradiance(big_l, 0.1, -0.5 * sy - p.x, 0.5 * sy - p.x,
+                                         -0.5 * sx - p.z, 0.5 * sx - p.z);
+        const Mc m = mc(scaled(20000), [&](Vec2 u) { return irradiance(rect, ctx, u); });
+        expect_mc(m, e);
+        // Solid-angle sampling: the estimate's spread is the cosine's alone (relative standard
+        // deviation < 1 per sample; sampling by area gives ~5 at this height).
+        EXPECT_LT(m.stderr_ * std::sqrt(double(scaled(20000))), 1.0 * e);
+    }
+    const double r = 0.5;
+    for (double h : {0.1, 0.3, 2.0}) {  // 0.1, 0.3: rejection (h < R); 2: by area
+        SCOPED_TRACE(h);
+        const Light disc = down_lamp("ellipse", 2 * r, 2 * r, h);
+        const double l = disc.emission().r;
+        for (float rho : {0.f, 0.3f, 0.9f}) {
+            const LightSampleContext ctx{{rho, 0, 0}, {0, 1, 0}};
+            expect_mc(mc(scaled(20000), [&](Vec2 u) { return irradiance(disc, ctx, u); }),
+                      disc_irradiance(l, h, rho, r));
+        }
+    }
+}
+
+// Chi-square test of a lamp's sampling against its own pdf (Light::pdf_li): cells on the lamp
+// (8 x 8 in its local coordinates a, b in [-1, 1]), each cell's expected probability the
+// integral of pdf_li over the directions toward it, int pdf cos_l / r^2 dA (midpoint rule, 24 x
+// 24 points per cell: ~1e-4 relative at these distances), and for an ellipse one more cell for
+// the lost samples (nullopt: 1 - the sum). The rectangle's cells must sum to 1 (1e-3: the
+// midpoint rule), so that 1 / pdf is the solid angle. A false failure: chi2(64) above 120 has
+// probability ~3e-5. Every sample's pdf equals pdf_li's to 1e-4 (float round-off).
+TEST(SizedLights, AreaLampSamplingMatchesItsPdfChiSquare) {
+    struct Case {
+        const char* shape;
+        double h;
+        Vec3 p;
+    };
+    for (const Case c :
+         {Case{"rectangle", 0.2, {0.3f, 0.f, 0.5f}}, Case{"rectangle", 1.5, {1.5f, 0.f, -2.f}},
+          Case{"ellipse", 0.2, {0.1f, 0.f, 0.4f}}, Case{"ellipse", 0.3, {0.8f, 0.f, 0.f}},
+          Case{"ellipse", 3.0, {0.5f, 0.f, 0.5f}}}) {
+        SCOPED_TRACE(std::string(c.shape) + " h " + std::to_string(c.h));
+        const double sx = 2.0, sy = 1.0;
+        const Light l = down_lamp(c.shape, sx, sy, c.h);
+        const bool ellipse = std::string(c.shape) == "ellipse";
+        const LightSampleContext ctx{c.p, {0, 0, 0}};
+        // Lamp point of local (a, b): world x = b sy/2, z = a sx/2 (a along size).
+        auto point = [&](double a, double b) {
+            return glm::dvec3(0.5 * sy * b, c.h, 0.5 * sx * a);
+        };
+        constexpr int kCells = 8, kSub = 24;
+        std::vector<double> expected(kCells * kCells + 1, 0.0);
+        const double da = 2.0 / (kCells * kSub), cell_area = 0.25 * sx * sy * da * da;
+        double total = 0.0;
+        for (int i = 0; i < kCells * kSub; ++i)
+            for (int j = 0; j < kCells * kSub; ++j) {
+                const double a = -1.0 + (i + 0.5) * da, b = -1.0 + (j + 0.5) * da;
+                if (ellipse && a * a + b * b > 1.0) continue;
+                const glm::dvec3 q = point(a, b), v = q - glm::dvec3(c.p);
+                const double r2 = glm::dot(v, v), cos_l = v.y / std::sqrt(r2);
+                const Vec3 wi(v / std::sqrt(r2));
+                const double pdf = l.pdf_li(ctx, wi, Vec3(q), {0, -1, 0});
+                const double prob = pdf * cos_l / r2 * cell_area;
+                expected[(i / kSub) * kCells + j / kSub] += prob;
+                total += prob;
+            }
+        if (!ellipse) {
+            EXPECT_NEAR(total, 1.0, 1e-3);
+        }
+        expected.back() = std::max(0.0, 1.0 - total);
+        const int n = scaled(64000);
+        std::vector<int> count(expected.size(), 0);
+        std::mt19937 rng(11);
+        std::uniform_real_distribution<float> u(0.f, 1.f);
+        for (int k = 0; k < n; ++k) {
+            const auto s = l.sample_li(ctx, {u(rng), u(rng)});
+            if (!s) {
+                ++count.back();
+                continue;
+            }
+            const double a = 2.0 * double(s->p_light.z) / sx, b = 2.0 * double(s->p_light.x) / sy;
+            ASSERT_LE(std::fabs(a), 1.0 + 1e-5);
+            ASSERT_LE(std::fabs(b), 1.0 + 1e-5);
+            if (ellipse) {
+                ASSERT_LE(a * a + b * b, 1.0 + 1e-5);
+            }
+            ASSERT_NEAR(s->pdf, l.pdf_li(ctx, s->wi, s->p_light, s->n_light), 1e-4 * s->pdf);
+            const int ia = std::clamp(int((a + 1.0) * 0.5 * kCells), 0, kCells - 1);
+            const int ib = std::clamp(int((b + 1.0) * 0.5 * kCells), 0, kCells - 1);
+            ++count[ia * kCells + ib];
+        }
+        double chi2 = 0.0;
+        int dof = -1;
+        for (std::size_t k = 0; k < expected.size(); ++k) {
+            const double e = expected[k] * n;
+            if (e < 5.0) {  // cells outside the ellipse (or never reached) must stay empty
+                EXPECT_LE(count[k], int(std::ceil(5.0 + 4.0 * std::sqrt(5.0)))) << "cell " << k;
+                continue;
+            }
+            chi2 += (count[k] - e) * (count[k] - e) / e;
+            ++dof;
+        }
+        EXPECT_LT(chi2, 120.0) << "dof " << dof;
+    }
+}
+
+// From behind or in its plane a lamp gives nothing (one-sided), by either sampler.
+TEST(SizedLights, AreaLampIsOneSided) {
+    for (const char* shape : {"rectangle", "ellipse"}) {
+        const Light l = down_lamp(shape, 2.0, 1.0, 1.0);
+        for (const Vec3 p : {Vec3(0, 2, 0), Vec3(0.1f, 1, 0.2f), Vec3(0, 1.5f, 5)}) {
+            EXPECT_FALSE(l.sample_li({p, {0, 0, 0}}, {0.3f, 0.6f}).has_value());
+            EXPECT_EQ(l.pdf_li({p, {0, 0, 0}}, {0, -1, 0}, {0, 1, 0}, {0, -1, 0}), 0.f);
+        }
+    }
+}
+
+// "camera_visible": a camera looking up at a lamp (radiance L = P / (4A) = 1) sees L in the
+// pixels inside it and nothing elsewhere; by default (Blender's) and from behind it sees none.
+// Direct and path integrators alike; the lamp is transparent (Cycles): nothing else changes.
+TEST(SizedLights, AreaLampCameraVisible) {
+    auto render_lamp = [](const std::string& extra, const std::string& integrator, double lamp_y) {
+        const std::string body =
+            R"("camera": {"position": [0, 0, 0], "look_at": [0, 1, 0], "up": [0, 0, 1],
+                          "fov": 90, "width": 8, "height": 8},
+               "materials": {}, "shapes": [],
+               "lights": [{"type": "area", "shape": "rectangle", "size": 1, "size_y": 1,
+                           "power": 4, "position": [0, )" +
+            std::to_string(lamp_y) + R"(, 0], "direction": [0, -1, 0])" + extra + "}]";
+        const Scene scene = facet::render::testing::scene_from(body);
+        return facet::render::render(scene,
+                                     facet::render::testing::test_options(integrator, 1, 1, 1));
+    };
+    for (const char* integrator : {"path", "direct"}) {
+        SCOPED_TRACE(integrator);
+        // fov 90 at distance 1: the image spans [-1, 1]^2 on the lamp's plane, the lamp the
+        // middle half, so the 4 x 4 central pixels (1 spp, jittered within the pixel; those
+        // 4 pixels span exactly [-0.5, 0.5]) see it and the border pixels do not.
+        const Image seen = render_lamp(R"(, "camera_visible": true)", integrator, 1.0);
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                const bool inside = x >= 2 && x < 6 && y >= 2 && y < 6;
+                EXPECT_FLOAT_EQ(seen.at(x, y).g, inside ? 1.f : 0.f) << x << "," << y;
+            }
+        const Image hidden = render_lamp("", integrator, 1.0);
+        const Image behind = render_lamp(R"(, "camera_visible": true)", integrator, -1.0);
+        for (int y = 0; y < 8; ++y)
+            for (int x = 0; x < 8; ++x) {
+                EXPECT_EQ(hidden.at(x, y).g, 0.f);
+                EXPECT_EQ(behind.at(x, y).g, 0.f);
+            }
+    }
+}
+
 // --- Blender's spot form ------------------------------------------------------------------------
 
 namespace {

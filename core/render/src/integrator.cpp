@@ -315,6 +315,10 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     constexpr bool kTextured = (F & kFeatTextured) != 0;
     const std::span<const Light> lights = scene.lights();
 
+    // Area lamps that camera rays see (transparent: the path goes on behind them).
+    if (depth == 0 && scene.has_camera_lamps()) [[unlikely]]
+        p.L += scene.camera_lamps(rays.origin(k), ray_d, found ? hit.t : kInfinity);
+
     // Emission reached by this ray: full weight from the camera or after a delta lobe (light
     // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
     if constexpr (kMis) {
@@ -436,6 +440,8 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
 
     Rgb L(0.f), beta(1.f);
     SurfaceHit hit = first_hit;
+    if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex
+        L += scene.camera_lamps(ray.o, ray.d, found ? first_hit.t : kInfinity);
     for (int depth = 0;; ++depth) {
         if (depth > 0) found = scene.intersect(ray, hit);
         if (!found) {

@@ -104,6 +104,9 @@ class Builder final : public BuildChecks {
         analyse();
         m_builder.light_distribution() =
             LightDistribution(m_builder.scene.lights(), m_builder.scene.radius());
+        for (std::size_t i = 0; i < m_builder.lights().size(); ++i)
+            if (m_builder.lights()[i].camera_visible())
+                m_builder.camera_lamps().push_back(std::uint32_t(i));
         if (m_report) {
             m_report->degenerate_triangles = m_degenerate;
             m_report->warnings = m_builder.warnings();

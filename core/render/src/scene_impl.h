@@ -159,6 +159,7 @@ struct Scene::Builder {
     std::vector<Light>& lights() { return scene.m_lights; }
     LightDistribution& light_distribution() { return scene.m_light_distribution; }
     std::int32_t& environment() { return scene.m_environment; }
+    std::vector<std::uint32_t>& camera_lamps() { return scene.m_camera_lamps; }
     Bounds3& bounds() { return scene.m_bounds; }
     Impl& impl() { return *scene.m_impl; }
 };

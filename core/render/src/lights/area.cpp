@@ -8,6 +8,7 @@
 
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
+#include "facet/render/light_units.h"
 
 namespace facet::render {
 
@@ -51,21 +52,15 @@ void build(LightBuild& b) {
     const glm::dvec3 x = glm::cross(y, z);
     const glm::dvec3 hx = 0.5 * sx * x, hy = 0.5 * sy * y;
     const glm::dvec3 c(l.position);
-    // Cycles 3.4: radiance P / (4 A) (eval_fac = 1/4 invarea), A the lamp's area.
+    // Cycles 3.4: radiance P / (4 A) (light_units.h).
     const bool round = shape == AreaShape::Disc || shape == AreaShape::Ellipse;
-    const double area = round ? 0.25 * kPiD * sx * sy : sx * sy;
     const Rgb power = b.check_color(l.power, b.ptr + "/power", "a power (W)");
-    const Rgb radiance(glm::dvec3(power) / (4.0 * area));
+    const Rgb radiance(area_lamp_radiance(glm::dvec3(power), area_lamp_area(round, sx, sy)));
     if (!is_finite(radiance))
         b.fail(b.ptr + "/size", "too small for the power: the radiance P / (4 A) overflows");
     // Front side (the side emitting) = dir: cross(e1, e2) must point along -z, so e1 = hy,
     // e2 = hx (cross(y, x) = -z).
-    if (round) {
-        b.add_light(Light::area_disc(Vec3(c), Vec3(hy), Vec3(hx), radiance, UINT32_MAX));
-        return;
-    }
-    const Vec3 c00(c - hx - hy), c01(c - hx + hy), c11(c + hx + hy), c10(c + hx - hy);
-    b.add_light(Light::area_triangles({c00, c01, c11, c00, c11, c10}, radiance, UINT32_MAX));
+    b.add_light(Light::area_lamp(Vec3(c), Vec3(hy), Vec3(hx), radiance, round, l.camera_visible));
 }
 
 void pov(PovLightOut& o) {
@@ -88,8 +83,13 @@ extern const LightKindDef kAreaLightKind{
     "rectangle) or π/4·size·size_y (disc, ellipse), so the emitted flux is π L A = π P / 4. "
     "Irradiance on the axis at distance d, facing it: disc of radius R: E = π L R²/(R² + d²); "
     "rectangle of half-sides a, b: E = 2 L [a/√(a²+d²) atan(b/√(a²+d²)) + "
-    "b/√(b²+d²) atan(a/√(b²+d²))]. Not seen by camera or reflected rays (only light samples "
-    "find it, uniform by area); give an emissive quad or disc shape for a visible emitter",
+    "b/√(b²+d²) atan(a/√(b²+d²))]. Sampled by solid angle: rectangles exactly (Ureña, Fajardo "
+    "& King 2013's spherical rectangle, pdf 1/Ω), discs and ellipses over their bounding "
+    "spherical rectangle when near (height < the larger half-axis; samples outside the "
+    "ellipse are lost), by area when farther. Camera rays see it only with `camera_visible` "
+    "(as Blender 3.4, whose lamps have Object > Visibility > Camera off by default); reflected "
+    "and diffuse rays never (only light samples find it): give an emissive quad or disc shape "
+    "for an emitter seen in mirrors",
     {{"position", FieldType::Point, true, &LightDesc::position, "-", "centre"},
      {"direction", FieldType::Direction, false, &LightDesc::direction, "-",
       "the way it emits (give this or look_at)"},
@@ -104,7 +104,9 @@ extern const LightKindDef kAreaLightKind{
       "side (square, rectangle: along x) or diameter (disc, ellipse: along x), > 0"},
      {"size_y", FieldType::Number, false, &LightDesc::size_y, "-",
       "rectangle and ellipse only (required there): the extent along y, > 0"},
-     {"power", FieldType::Color, true, &LightDesc::power, "-", "Blender's power P (W)"}},
+     {"power", FieldType::Color, true, &LightDesc::power, "-", "Blender's power P (W)"},
+     {"camera_visible", FieldType::Bool, false, &LightDesc::camera_visible, "false",
+      "camera rays see its front side, of radiance L (Blender: Object > Visibility > Camera)"}},
     {{"direction", "look_at"}},
     build,
     pov};

@@ -49,6 +49,17 @@
 //    that form a parallelogram (a quad light) maps u straight onto the parallelogram,
 //    p = o + u.x e1 + u.y e2: the same density, no triangle search, and u's 2D stratification
 //    carries over to the whole light.
+//  - Area lamps (Blender's, the "area" kind: Light::area_lamp). A rectangle lamp is sampled
+//    uniformly in the solid angle it subtends (Urena, Fajardo & King 2013, "An Area-Preserving
+//    Parametrization for Spherical Rectangles"; pdf = 1 / Omega), in double precision. A disc or
+//    ellipse lamp is sampled the same way over its bounding rectangle when the point is near
+//    (height h above its plane below kLampEllipseNear = 1 times its larger half-axis); a sample
+//    that falls outside the ellipse is lost (nullopt), so the density over the ellipse is
+//    exactly 1 / Omega_rect, unbiased, with pi/4 of the samples kept far off (more near);
+//    farther away the ellipse is sampled uniformly by area, whose solid-angle density is then
+//    nearly uniform (see light.cpp for the measured crossover). Either shape falls back to
+//    area sampling when Omega < kLampMinSolidAngle (precision: Omega is a sum of four angles
+//    minus 2 pi). Lamps emit from the front only: from behind or in the plane, nullopt.
 //  - Choosing a light for next-event estimation: LightDistribution, in proportion to power().
 #pragma once
 
@@ -121,6 +132,12 @@ class Light {
     // front normal normalize(cross(e1, e2)). A transformed disc is such an ellipse.
     static Light area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
                            std::uint32_t shape);
+    // Blender's area lamp (the "area" kind, no shape): a rectangle c + a e1 + b e2 (|a|, |b| <=
+    // 1) or, with `ellipse`, the ellipse a^2 + b^2 <= 1, where e1 and e2 are PERPENDICULAR
+    // half-axes; front normal normalize(cross(e1, e2)). Sampled by solid angle (see
+    // conventions, "Area lamps"). With `camera_visible`, camera rays see it (lamp_hit).
+    static Light area_lamp(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
+                           bool ellipse, bool camera_visible = false);
 
     Kind kind() const { return m_kind; }
     // A delta light: sample_li ignores u (point, spot and directional lights without size).
@@ -158,6 +175,12 @@ class Light {
     // The environment's map, or null (a constant environment or another kind).
     const EnvironmentMap* map() const { return m_map.get(); }
 
+    // An area lamp that camera rays see ("camera_visible"): the distance t > 0 along the unit
+    // d at which the ray o + t d meets the lamp's front side, or +inf (a miss, its back side, or
+    // any other light). The radiance seen there is emission().
+    bool camera_visible() const { return m_camera_visible; }
+    float lamp_hit(const Vec3& o, const Vec3& d) const;
+
     // Parameters, for exporters, tests and --explain.
     const Vec3& position() const { return m_position; }    // point, spot; sphere/disc centre
     const Vec3& direction() const { return m_direction; }  // spot axis, directional travel dir
@@ -178,6 +201,12 @@ class Light {
     std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
                                                     LightLiSample& s) const;
 
+    // Area lamps (LampRect, LampEllipse): sample_li (see conventions, "Area lamps"), and the
+    // solid-angle pdf 1 / Omega of its spherical-rectangle branch from p: 0 from behind, -1
+    // when p is sampled by area instead (pdf_li then takes area_to_solid_angle_pdf).
+    std::optional<LightLiSample> sample_lamp(const LightSampleContext& ctx, Vec2 u) const;
+    float pdf_lamp(const Vec3& p) const;
+
     // The spot's intensity relative to K (linear or Cycles' form) at cos theta from the axis.
     float spot_falloff(float cos_theta) const;
     // Point and spot factories: radius > 0 (and L = I0 / (pi r^2) finite) makes the sphere.
@@ -188,6 +217,7 @@ class Light {
     Kind m_kind = Kind::Point;
     bool m_delta = true;
     bool m_textured = false;
+    bool m_camera_visible = false;  // area lamps: seen by camera rays (lamp_hit)
     std::uint32_t m_shape = UINT32_MAX;
     Vec3 m_position{0.f};
     Vec3 m_direction{0.f, 0.f, -1.f};
@@ -205,7 +235,9 @@ class Light {
         Triangles,
         Parallelogram,  // two triangles forming a parallelogram (a quad)
         Sphere,
-        Disc
+        Disc,
+        LampRect,    // area lamp rectangle: centre m_position, half-axes m_e1, m_e2
+        LampEllipse  // area lamp ellipse: the same frame
     } m_area_shape = AreaShape::Triangles;
     float m_radius = 0.f;   // sphere (area light, or a point/spot light with a radius)
     bool m_inward = false;  // sphere turned inside out

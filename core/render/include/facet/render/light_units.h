@@ -64,6 +64,21 @@ inline glm::dvec3 cycles_spot_intensity(const glm::dvec3& power, double outer_de
     return integral > 0.0 ? power / (2.0 * kPiD * integral) : glm::dvec3(0.0);
 }
 
+// The area (m^2) Blender's area lamp divides its power by (Cycles 3.4, scene/light.cpp): size
+// x size_y for the square (size_y = size) and the rectangle, pi/4 of that for the disc and the
+// ellipse. `round`: disc or ellipse.
+inline double area_lamp_area(bool round, double size, double size_y) {
+    return round ? 0.25 * kPiD * size * size_y : size * size_y;
+}
+
+// Radiance (W sr^-1 m^-2) of Blender's area lamp of power P (W) and area A (area_lamp_area):
+// L = P / (4 A) (Cycles 3.4: eval_fac = 1/4 invarea), so the emitted flux is pi L A = pi P / 4.
+// The Blender addon converts through this function too (the Python module's
+// facet.area_lamp_radiance).
+inline glm::dvec3 area_lamp_radiance(const glm::dvec3& power, double area) {
+    return power / (4.0 * area);
+}
+
 // On-axis intensity (W/sr) of a flat Lambertian emitter of radiance L and area A:
 // I(theta) = L A cos(theta), so I0 = L A.
 inline glm::dvec3 emitter_intensity(const glm::dvec3& radiance, double area) {

@@ -327,6 +327,17 @@ class Scene {
     const Light* environment() const {
         return m_environment >= 0 ? &m_lights[std::size_t(m_environment)] : nullptr;
     }
+    // Radiance that camera ray (o, d) sees from the area lamps with "camera_visible" nearer
+    // than t_hit (the ray's closest hit, +inf when none). As Cycles 3.4, the lamp is
+    // transparent: the ray goes on to what lies behind it, so the caller ADDS this to the
+    // radiance found along the ray. 0 (and no work) when no lamp is camera-visible.
+    Rgb camera_lamps(const Vec3& o, const Vec3& d, float t_hit) const {
+        Rgb l(0.f);
+        for (std::uint32_t i : m_camera_lamps)
+            if (m_lights[i].lamp_hit(o, d) < t_hit) l += m_lights[i].emission();
+        return l;
+    }
+    bool has_camera_lamps() const { return !m_camera_lamps.empty(); }
     const RenderSettings& settings() const { return m_settings; }
     const SceneFeatures& features() const { return m_features; }
     std::span<const ShapeInfo> shapes() const { return m_shapes; }
@@ -401,6 +412,7 @@ class Scene {
     std::vector<ShapeInfo> m_shapes;
     std::vector<Light> m_lights;
     LightDistribution m_light_distribution;
+    std::vector<std::uint32_t> m_camera_lamps;  // indices of lights with camera_visible()
     std::int32_t m_environment = -1;
     Bounds3 m_bounds;
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)

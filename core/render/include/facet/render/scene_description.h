@@ -171,6 +171,7 @@ struct LightDesc {
     std::string shape = "square";
     double size = 0.0;
     std::optional<double> size_y;
+    bool camera_visible = false;  // area lamp: seen by camera rays (Blender's default: no)
     // Environment: W sr^-1 m^-2 (required without a file); with a file, the map's multiplier
     // (none = 1).
     std::optional<Rgb> radiance;
