@@ -250,8 +250,8 @@ class Builder final : public BuildChecks {
     struct BuiltMaterial {
         const Material* material = nullptr;
         std::int32_t textured = -1;
-        Opacity opacity;  // the material's "opacity" and "alpha_cutoff"
-        std::shared_ptr<const Material> shared;  // the same material, for combinations' children
+        std::shared_ptr<const Material> shared = {};  // the same material, for combinations
+        Opacity opacity = {};  // the material's "opacity" and "alpha_cutoff"
     };
 
     // The keys "opacity" (a number or a texture) and "alpha_cutoff" of a material, which belong
