@@ -528,16 +528,14 @@ def _principled(ctx, node, path):
         return max(0.0, min(1.0, float(x)))
 
     data = {"model": "principled"}
+    # Each input a constant (clamped as Cycles clamps it) or a texture value: an image or
+    # checker (textures.py) or Blender's bake of its subgraph (bake.py).
     for name, key in _PRINCIPLED_COLOURS:
-        if name == 'Base Color':
-            # An image or checker texture (textures.py) goes in as a texture value.
-            base = _rgb(ctx.param(node, name, path))
-            if is_texture(base):
-                data[key] = base
-                continue
-        data[key] = [unit(c) for c in _rgb(val(name))]
+        v = _rgb(ctx.param(node, name, path))
+        data[key] = v if is_texture(v) else [unit(c) for c in v]
     for name, key in _PRINCIPLED_FACTORS:
-        data[key] = unit(val(name))
+        v = ctx.param(node, name, path)
+        data[key] = v if is_texture(v) else unit(v)
     rotation = float(val('Anisotropic Rotation'))
     data["anisotropic_rotation"] = rotation - math.floor(rotation)  # periodic (2 pi x rotation)
     data["ior"] = max(1e-3, min(100.0, float(val('IOR'))))

@@ -82,11 +82,11 @@ std::string quoted_list(const std::vector<std::string>& names) {
 // so it is not offered, and naming one reads like any other unknown model.
 bool reflection_model(const std::string& name) {
     // Combinations (mix, add) need sub-materials, which the finish syntax does not give;
-    // Oren-Nayar is not one of the lobes the shading functions below evaluate.
+    // Oren-Nayar and principled are not among the lobes the shading functions below evaluate.
     const facet::ModelInfo* m = facet::find_model(name);
     if (m && m->children > 0) return false;
     const facet::Material mat = facet::make_material(name, {});
-    return !mat.transmissive() && !mat.oren_nayar();
+    return !mat.transmissive() && !mat.oren_nayar() && !mat.principled();
 }
 
 }  // namespace

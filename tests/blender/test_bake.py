@@ -5,7 +5,7 @@
    and a Glossy Roughness (alpha = Fac^2 exactly): before baking, the export reports each as not
    baked yet (naming material, node and input); Render Properties > Facet > Bake Procedural
    Inputs (facet.bake_inputs) bakes them; the export then uses the baked EXRs (the emission
-   texture, the diffuse_reflectance texture) and lists what was baked; a second bake finds
+   texture, the principled base_color texture) and lists what was baked; a second bake finds
    nothing to do (the cache, keyed by the node tree, object and resolution); changing the
    resolution bakes again.
 2. An object without a UV map gets a message naming the object and the material.
@@ -119,13 +119,14 @@ def main():
     mats = dict(data["materials"])
     em_shape = [s for s in data["shapes"] if s.get("name") == "EmPlane"][0]
     em = em_shape["emission"]
-    base = mats["noise_base"]["diffuse_reflectance"]
+    base = mats["noise_base"]["base_color"]
     bt.check(isinstance(em, dict) and os.path.dirname(em["texture"]) == textures.CACHE_DIR
              and em["colorspace"] == "linear" and em_shape["uvs"] is not None,
              "the emission plane renders the baked image over its UVs: %s" % em)
     bt.check(isinstance(base, dict) and base["texture"] != em["texture"]
-             and mats["noise_base"]["alpha"]["channel"] == "r",
-             "Principled Base Color and Roughness -> baked diffuse_reflectance and alpha "
+             and mats["noise_base"]["model"] == "principled"
+             and isinstance(mats["noise_base"]["roughness"], dict),
+             "Principled Base Color and Roughness -> baked base_color and roughness "
              "textures: %s" % mats["noise_base"])
     bt.check(sum("baked: Noise Texture 'Noise Texture'" in p for p in problems) == 5
              and not any("not baked yet" in p for p in problems),

@@ -285,15 +285,15 @@ def reports():
     bt.check(c.data["reflectance"] == [0.0, 0.5, 0.0] and out_all.is_active_output,
              "the Cycles-target output wins over an active All one: %s" % c.data)
 
-    # Diffuse roughness > 0 (Oren-Nayar): reported, Lambert used.
+    # Diffuse roughness > 0: the core's oren_nayar, sigma = Roughness (Cycles' Diffuse BSDF).
     mat3, nt3, out3 = new_material("oren")
     d = nt3.nodes.new("ShaderNodeBsdfDiffuse")
     d.inputs["Roughness"].default_value = 0.5
     nt3.links.new(d.outputs[0], out3.inputs["Surface"])
     c = materials.convert(mat3)
-    bt.check(c.data["model"] == "lambert" and len(c.problems) == 1
-             and "Roughness" in c.problems[0] and "Oren-Nayar" in c.problems[0],
-             "Diffuse Roughness 0.5: reported: %s" % c.problems)
+    bt.check(c.data["model"] == "oren_nayar" and abs(c.data["sigma"] - 0.5) < 1e-6
+             and not c.problems, "Diffuse Roughness 0.5 -> oren_nayar: %s %s"
+             % (c.data, c.problems))
 
 
 def scene_reports():

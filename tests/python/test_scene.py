@@ -117,7 +117,7 @@ def test_mesh_uvs_from_numpy_match_json():
         facet.MeshData(p, i, None, np.zeros((4, 3), dtype=np.float32))
     with pytest.raises(ValueError, match=r"uvs: 3 rows, expected one per position \(4\)"):
         facet.MeshData(p, i, None, uvs[:3])
-    with pytest.raises(ValueError, match="normals and uvs need positions and indices"):
+    with pytest.raises(ValueError, match="normals, uvs and tangents need positions and indices"):
         facet.ShapeDesc("mesh", uvs=uvs)
 
 
