@@ -26,6 +26,7 @@
 //    significance level.
 #pragma once
 
+#include <gtest/gtest.h>
 #include <pcg_random.hpp>
 
 #include <cmath>
@@ -225,6 +226,32 @@ Chi2Result chi2_sampling_test(const B& b, const Vec3& wo, const Chi2Options& opt
     expected[fail_cell] = std::fmax(0.0, 1.0 - total - r.p_spec) * opt.n_samples;
     r.chi2 = chi2_statistic(observed, expected);
     return r;
+}
+
+// The whole-sphere chi-square of a material's sample_f against its pdf at wo = dir(theta, 30)
+// (16 x 16 cells over the sphere; 1e5 samples times the stress scale, at least 2e4), shared
+// by the rough-glass, principled and combination tests.
+template <typename B>
+Chi2Result sphere_chi2(const B& b, double theta_deg) {
+    Chi2Options o;
+    o.cos_min = -1.0;  // the whole sphere is the fine grid
+    o.theta_bins = 16;
+    o.phi_bins = 16;
+    o.n_samples = std::max(20000, int(100000 * stress_scale()));
+    return chi2_sampling_test(b, dir(theta_deg, 30.0), o);
+}
+
+// The expectations every sphere_chi2 result meets: p-value >= `level` (Sidak-corrected by the
+// caller), no sample in a cell of zero expectation, no NaN/Inf or non-unit direction, and
+// per-sample f and pdf within 1e-3 of f() / pdf() (recomputed half vectors: a few float
+// roundings).
+inline void expect_sphere_chi2(const Chi2Result& r, double level) {
+    EXPECT_GE(r.chi2.p_value, level) << r.describe();
+    EXPECT_FALSE(r.chi2.zero_expected_hit);
+    EXPECT_EQ(r.bad_values, 0);
+    EXPECT_EQ(r.not_unit, 0);
+    EXPECT_LT(r.max_pdf_rel_err, 1e-3);
+    EXPECT_LT(r.max_f_rel_err, 1e-3);
 }
 
 // A sampler with a deliberately wrong pdf, to show that the test can fail: the pdf is tilted by
