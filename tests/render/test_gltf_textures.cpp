@@ -99,6 +99,30 @@ Vec2 facet_uv(double u, double v) {
     return Vec2(float(u), float(1.0 - v));
 }
 
+// normalTexture (ClearCoatTest's "BaseNorm_Base", via Debian): imported as the material's
+// normal map, read linearly, with glTF's scale (default 1) as xy_scale; the file is the one the
+// glTF names (RibsNormal.png). Exact: these are copied values.
+TEST(GltfTextures, NormalTextureBecomesTheNormalMap) {
+    REQUIRE_ASSET("ClearCoat-glTF/ClearCoatTest.gltf");
+    const fr::GltfImport g = fr::import_gltf(kAssimp + "ClearCoat-glTF/ClearCoatTest.gltf");
+    const fr::GltfMaterial* found = nullptr;
+    for (const fr::GltfMaterial& m : g.materials)
+        if (m.name == "BaseNorm_Base") found = &m;
+    ASSERT_NE(found, nullptr);
+    ASSERT_TRUE(found->desc.normal_map.has_value());
+    EXPECT_EQ(found->desc.normal_map->texture.colorspace, "linear");
+    EXPECT_EQ(found->desc.normal_map->xy_scale, 1.0);
+    EXPECT_EQ(found->desc.normal_map->strength, 1.0);
+    EXPECT_NE(found->desc.normal_map->texture.file.find("RibsNormal.png"), std::string::npos)
+        << found->desc.normal_map->texture.file;
+    // Materials without one have none.
+    for (const fr::GltfMaterial& m : g.materials)
+        if (m.name == "Partial_Coating") EXPECT_FALSE(m.desc.normal_map.has_value());
+    // The whole asset builds (tangents computed where the file gives none) and renders finite.
+    const fr::Scene s = gltf_scene(kAssimp + "ClearCoat-glTF/ClearCoatTest.gltf");
+    EXPECT_GT(s.shapes().size(), 0u);
+}
+
 }  // namespace
 
 // KHR_texture_transform: glTF samples T(o) R(r) S(s) uv_glTF (its uv origin top-left); Facet's

@@ -510,11 +510,18 @@ class Importer {
         }
         unused_texture(ptr + "/occlusionTexture", m.occlusionTexture.index,
                        "ambient occlusion: Facet computes occlusion itself");
-        // Normal maps: the normals layer (not imported here yet).
-        if (m.normalTexture.index >= 0) {
-            report(ptr + "/normalTexture", ptr + "/normalTexture",
-                   "texture " + std::to_string(m.normalTexture.index) +
-                       " (normal map) is not imported yet: the mesh's normals are used");
+        // Normal map (glTF 3.9.3): tangent space, +Y up, linear; scale multiplies the sampled
+        // x and y (scenes/FORMAT.md, "Normal maps": xy_scale). Tangents: the primitive's
+        // TANGENT, else MikkTSpace's, as the spec asks.
+        if (auto n = texture(ptr + "/normalTexture", m.normalTexture.index,
+                             m.normalTexture.texCoord, m.normalTexture.extensions, "normal")) {
+            if (!std::isfinite(m.normalTexture.scale))
+                fail(ptr + "/normalTexture/scale", "must be a finite number");
+            MaterialDesc::NormalMap nm;
+            nm.texture = *n;
+            nm.texture.colorspace = "linear";
+            nm.xy_scale = m.normalTexture.scale;
+            out.desc.normal_map = nm;
         }
         for (const auto& [name, _] : m.extensions) {
             if (name == "KHR_materials_emissive_strength") continue;
@@ -1172,8 +1179,9 @@ extern const ShapeKindDef kGltfKind{
     "every triangle primitive of a glTF 2.0 file (`.gltf` or `.glb`, tinygltf) with its node "
     "transforms, turned Z-up ((x, y, z) -> (x, -z, y)) before `transform`, and its "
     "metallic-roughness materials as `composite` with their base colour, metallic-roughness and "
-    "emissive textures (TEXCOORD_0, v -> 1 - v; samplers; KHR_texture_transform) and alphaMode "
-    "as opacity (docs/gltf.md); `material`, when given, replaces the file's materials; what is "
+    "emissive textures (TEXCOORD_0, v -> 1 - v; samplers; KHR_texture_transform), its normal "
+    "textures as normal maps (TANGENT or MikkTSpace tangents) and alphaMode as opacity "
+    "(docs/gltf.md); `material`, when given, replaces the file's materials; what is "
     "not converted is reported",
     {{"file", FieldType::Path, true, &ShapeDesc::file, "-",
       "the glTF file, relative to the scene file; per material, with b = baseColorFactor x "
