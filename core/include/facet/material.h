@@ -44,8 +44,8 @@
 #include "facet/lambert.h"
 #include "facet/microfacet.h"
 #include "facet/mirror.h"
-#include "facet/principled.h"
 #include "facet/oren_nayar.h"
+#include "facet/principled.h"
 
 namespace facet {
 

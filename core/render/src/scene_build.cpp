@@ -251,7 +251,7 @@ class Builder final : public BuildChecks {
         const Material* material = nullptr;
         std::int32_t textured = -1;
         std::shared_ptr<const Material> shared = {};  // the same material, for combinations
-        Opacity opacity = {};  // the material's "opacity" and "alpha_cutoff"
+        Opacity opacity = {};                         // the material's "opacity" and "alpha_cutoff"
     };
 
     // The keys "opacity" (a number or a texture) and "alpha_cutoff" of a material, which belong

@@ -120,7 +120,7 @@ struct PlaneGeom {
     // Texture coordinates (only when `uv`): u = dot(p - point, ex), v = dot(p - point, ey).
     bool uv = false;
     glm::dvec3 ex{1.0, 0.0, 0.0}, ey{0.0, 1.0, 0.0};
-    Opacity opacity;  // active: cut-outs decided per hit
+    Opacity opacity;           // active: cut-outs decided per hit
     float tangent_sign = 1.f;  // -1 with flip_normals (ey = cross(unflipped normal, ex))
 };
 

@@ -214,11 +214,9 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
     std::array<std::shared_ptr<const Material>, 2> children;
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] =
-            c.textured >= 0
-                ? std::make_shared<const Material>(
-                      textured_material(std::size_t(c.textured), uv, fp))
-                : c.constant;
+        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
+                                            textured_material(std::size_t(c.textured), uv, fp))
+                                      : c.constant;
     }
     try {
         return make_material(

@@ -75,7 +75,7 @@ struct SurfaceHit {
     Vec3 ns{0.f};              // unit shading normal, same hemisphere as ng
     Vec3 dpdu{0.f};            // tangent hint, may be 0
     float tangent_sign = 1.f;  // bitangent sign (only where ShapeInfo::needs_tangent)
-    std::uint32_t shape = 0;             // index into Scene::shapes()
+    std::uint32_t shape = 0;   // index into Scene::shapes()
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
