@@ -32,6 +32,17 @@ Material::Material(std::optional<LambertReflection> diffuse,
                    std::optional<MicrofacetReflection> glossy,
                    std::optional<MirrorReflection> mirror)
     : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
+    init(nullptr);
+}
+
+Material::Material(std::optional<LambertReflection> diffuse,
+                   std::optional<MicrofacetReflection> glossy,
+                   std::optional<MirrorReflection> mirror, const AlbedoTable& eg)
+    : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
+    init(&eg);
+}
+
+void Material::init(const AlbedoTable* eg) {
     if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
     if (m_glossy) m_flags = m_flags | m_glossy->flags();
     if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
@@ -43,9 +54,13 @@ Material::Material(std::optional<LambertReflection> diffuse,
     int lobes = int(m_diffuse.has_value()) + int(m_glossy.has_value()) + int(m_mirror.has_value());
     if (lobes < 2) return;
     m_has_table = true;
-    for (int k = 0; k < kTableSize; ++k) {
-        float mu = float(k) / float(kTableSize - 1);
-        m_eg[k] = m_glossy ? phi_averaged_albedo(*m_glossy, mu) : Rgb(0.f);
+    if (eg && m_glossy) {
+        m_eg = *eg;
+    } else {
+        for (int k = 0; k < kTableSize; ++k) {
+            float mu = float(k) / float(kTableSize - 1);
+            m_eg[k] = m_glossy ? phi_averaged_albedo(*m_glossy, mu) : Rgb(0.f);
+        }
     }
     if (m_diffuse) {
         std::array<Rgb, kTableSize> es;
@@ -59,6 +74,21 @@ Material::Material(std::optional<LambertReflection> diffuse,
             m_inv_one_minus_es_avg[c] =
                 one_minus_avg[c] > kMinDiffuseShare ? 1.f / one_minus_avg[c] : 0.f;
     }
+}
+
+Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
+                             const MicrofacetDistribution& d, const Fresnel& fr, bool ec,
+                             const AlbedoTable* eg) {
+    std::optional<LambertReflection> diffuse;
+    std::optional<MicrofacetReflection> glossy;
+    std::optional<MirrorReflection> mirror;
+    // Zero-weight lobes are left out, so a material never pays for what it does not show.
+    if (max_component(kd) > 0.f) diffuse.emplace(kd);
+    if (max_component(ks) > 0.f) glossy.emplace(d, fr, ks, ec);
+    if (max_component(km) > 0.f) mirror.emplace(fr, km);
+    if (!diffuse && !glossy && !mirror) diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
+    if (eg) return Material(std::move(diffuse), std::move(glossy), std::move(mirror), *eg);
+    return Material(std::move(diffuse), std::move(glossy), std::move(mirror));
 }
 
 Material::Material(const DielectricBxDF& dielectric)

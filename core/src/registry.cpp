@@ -430,15 +430,7 @@ Material build(const ModelInfo& info, const ParamSet& params,
     MicrofacetDistribution d = read_distribution(r, kind);
     Fresnel fr = read_fresnel(r, "dielectric");
     bool ec = r.boolean("energy_compensation", false);
-    std::optional<LambertReflection> diffuse;
-    std::optional<MicrofacetReflection> glossy;
-    std::optional<MirrorReflection> mirror;
-    // Zero-weight lobes are left out, so a material never pays for what it does not show.
-    if (max_component(kd) > 0.f) diffuse.emplace(kd);
-    if (max_component(ks) > 0.f) glossy.emplace(d, fr, ks, ec);
-    if (max_component(km) > 0.f) mirror.emplace(fr, km);
-    if (!diffuse && !glossy && !mirror) diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
-    return Material(std::move(diffuse), std::move(glossy), std::move(mirror));
+    return Material::composite(kd, ks, km, d, fr, ec);
 }
 
 size_t edit_distance(std::string_view a, std::string_view b) {

@@ -45,6 +45,7 @@ class Fresnel {
 
     const Rgb& eta() const { return m_a; }
     const Rgb& k() const { return m_b; }
+    const Rgb& f0() const { return m_a; }  // Schlick's F0
 
   private:
     Rgb eval_exact(float cos_i) const;  // Dielectric and Conductor

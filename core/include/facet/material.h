@@ -53,6 +53,20 @@ class Material {
   public:
     Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
              std::optional<MirrorReflection> mirror);
+    // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
+    static constexpr int kTableSize = 64;
+    using AlbedoTable = std::array<Rgb, kTableSize>;  // Eg(mu_k), mu_k = k / (kTableSize - 1)
+    // The same, with the glossy albedo table Eg given instead of computed (the staged build,
+    // facet/staged_material.h, looks it up per hit; with the table the first constructor
+    // computes, the material is bit for bit the same). Read only when two or more lobes exist.
+    Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
+             std::optional<MirrorReflection> mirror, const AlbedoTable& eg);
+    // The registry's "composite" model: the lobes of non-zero weight (diffuse kd, glossy ks with
+    // distribution d, Fresnel fr and compensation ec, mirror km with fr), a black diffuse lobe
+    // when all are zero; eg as above (null: computed).
+    static Material composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
+                              const MicrofacetDistribution& d, const Fresnel& fr, bool ec,
+                              const AlbedoTable* eg = nullptr);
     // A transmissive material: the dielectric interface or the thin pane alone.
     explicit Material(const DielectricBxDF& dielectric);
     explicit Material(const ThinDielectricBxDF& thin);
@@ -111,10 +125,11 @@ class Material {
     // The diffuse lobe's f including its energy-conserving weight (see header comment).
     Rgb diffuse_f(const Vec3& wo, const Vec3& wi) const;
 
-    // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
-    static constexpr int kTableSize = 64;
-
   private:
+    // The constructors' common part: flags and, for two or more lobes, the tables (eg given or
+    // computed).
+    void init(const AlbedoTable* eg);
+
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
     std::array<float, 3> lobe_probabilities(const Vec3& wo) const;

@@ -26,6 +26,7 @@ class OrenNayarReflection {
     // rho in [0, 1] per channel; sigma is clamped to [0, 1] (the registry validates both).
     OrenNayarReflection(const Rgb& rho, float sigma) : m_rho(rho) {
         const float s = std::clamp(sigma, 0.f, 1.f);
+        m_sigma = s;
         m_a = 1.f / (kPi + (3.f * kPi - 4.f) / 6.f * s);
         m_b = s * m_a;
     }
@@ -50,10 +51,12 @@ class OrenNayarReflection {
     const Rgb& rho() const { return m_rho; }
     float a() const { return m_a; }
     float b() const { return m_b; }
+    float sigma() const { return m_sigma; }  // clamped to [0, 1]
 
   private:
     Rgb m_rho;
     float m_a, m_b;
+    float m_sigma;
 };
 
 }  // namespace facet

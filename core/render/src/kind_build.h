@@ -32,6 +32,10 @@ namespace facet::render {
 struct MaterialConversion {
     std::vector<ParamInfo> sources;  // names and types (colour or number) of the sources
     TexturedMaterial::Convert convert;
+    // The same map on values, for the staged per-hit build (TexturedMaterial::convert_values):
+    // the model parameters it sets that the sources change, in its outputs' order.
+    std::vector<std::string> outputs = {};
+    TexturedMaterial::ConvertValues convert_values = nullptr;
 };
 
 class BuildChecks {

@@ -646,6 +646,7 @@ class Builder final : public BuildChecks {
                          " value)");
             }
         }
+        stage(tm, *m_builder.materials().back(), conversion);
         for (const auto& s : tm.slots)
             tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
         if (normal_map) {
@@ -679,6 +680,77 @@ class Builder final : public BuildChecks {
         m_builder.textured().push_back(std::move(tm));
         return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1),
                 m_builder.materials().back()};
+    }
+
+    // The staged per-hit build of a textured material (facet/staged_material.h), where the model
+    // and its textured parameters allow it. `base` is the material at the textures' largest
+    // values (with a conversion: its sources' largest), validated by build_model.
+    static void stage(TexturedMaterial& tm, const Material& base,
+                      const MaterialConversion* conversion) {
+        using Range = StagedMaterial::Range;
+        constexpr std::size_t kMax = TexturedMaterial::kMaxStaged;
+        auto value = [](const TexturedMaterial::Slot& s, const Rgb& v) {
+            return s.color ? DVec3(v) : DVec3(double(v.r));
+        };
+        std::vector<std::string> names;
+        std::vector<Range> ranges;
+        if (tm.slots.size() > kMax) return;
+        if (!conversion) {
+            for (const TexturedMaterial::Slot& s : tm.slots) {
+                names.push_back(s.name);
+                ranges.push_back(
+                    {value(s, s.texture->min_value()), value(s, s.texture->max_value())});
+            }
+        } else {
+            if (!conversion->convert_values || conversion->sources.size() > kMax ||
+                conversion->outputs.size() > kMax)
+                return;
+            // The sources' constants, and the source of each slot.
+            tm.sources.assign(conversion->sources.size(), DVec3(0.0));
+            tm.slot_source.assign(tm.slots.size(), 0);
+            for (std::size_t i = 0; i < conversion->sources.size(); ++i) {
+                const std::string& name = conversion->sources[i].name;
+                const auto slot = std::find_if(tm.slots.begin(), tm.slots.end(),
+                                               [&](const auto& s) { return s.name == name; });
+                if (slot != tm.slots.end()) {
+                    tm.slot_source[std::size_t(slot - tm.slots.begin())] = std::uint8_t(i);
+                    continue;
+                }
+                if (!tm.params.has(name)) return;  // a default: not staged
+                const ParamValue& v = tm.params.values().at(name);
+                if (const double* d = std::get_if<double>(&v))
+                    tm.sources[i] = DVec3(*d);
+                else if (const Rgb* c = std::get_if<Rgb>(&v))
+                    tm.sources[i] = DVec3(*c);
+                else
+                    return;
+            }
+            // The outputs' ranges: over every corner of the sources' box (the conversion is
+            // monotonic in each source, as build_model's validation assumes).
+            names = conversion->outputs;
+            ranges.assign(names.size(), {DVec3(INFINITY), DVec3(-INFINITY)});
+            std::vector<DVec3> src(tm.sources), out(names.size());
+            for (std::uint32_t c = 0; c < (1u << tm.slots.size()); ++c) {
+                for (std::size_t i = 0; i < tm.slots.size(); ++i) {
+                    const auto& s = tm.slots[i];
+                    src[tm.slot_source[i]] =
+                        value(s, (c >> i) & 1u ? s.texture->max_value() : s.texture->min_value());
+                }
+                conversion->convert_values(src.data(), out.data());
+                for (std::size_t k = 0; k < out.size(); ++k) {
+                    ranges[k].lo = glm::min(ranges[k].lo, out[k]);
+                    ranges[k].hi = glm::max(ranges[k].hi, out[k]);
+                }
+            }
+            tm.convert_values = conversion->convert_values;
+        }
+        std::optional<StagedMaterial> st = StagedMaterial::make(tm.model, base, names, ranges);
+        if (!st) {
+            tm.sources.clear(), tm.slot_source.clear(), tm.convert_values = nullptr;
+            return;
+        }
+        tm.staged = std::make_shared<const StagedMaterial>(std::move(*st));
+        tm.num_staged = names.size();
     }
 
     void build_materials() {

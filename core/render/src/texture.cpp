@@ -204,6 +204,25 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
+    if (tm.staged) {
+        // The staged build: the slots' values (through the conversion's sources) set the lobes.
+        std::array<DVec3, TexturedMaterial::kMaxStaged> in, out;
+        if (tm.convert_values) std::copy(tm.sources.begin(), tm.sources.end(), in.begin());
+        for (std::size_t i = 0; i < tm.slots.size(); ++i) {
+            const TexturedMaterial::Slot& s = tm.slots[i];
+            const Rgb v =
+                glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
+            (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
+                s.color ? DVec3(v) : DVec3(double(v.r));
+        }
+        if (tm.convert_values) tm.convert_values(in.data(), out.data());
+        return tm.staged->at(std::span(out.data(), tm.num_staged));
+    }
+    return textured_material_rebuilt(index, uv, fp);
+}
+
+Material Scene::textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp) const {
+    const TexturedMaterial& tm = m_textured[index];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
         const Rgb v =

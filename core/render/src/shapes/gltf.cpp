@@ -100,7 +100,9 @@ const char* wrap_name(int w) {
 const MaterialConversion kGltfConversion{{{"base_color", ParamType::Color, "1", "baseColor"},
                                           {"metallic", ParamType::Number, "1", "metallic"},
                                           {"roughness", ParamType::Number, "1", "roughness"}},
-                                         gltf_composite_params};
+                                         gltf_composite_params,
+                                         {"diffuse_reflectance", "alpha", "f0"},
+                                         gltf_composite_values};
 
 const char* type_name(int type) {
     switch (type) {
@@ -1086,20 +1088,30 @@ void pov(PovShapeOut& o) {
 
 }  // namespace
 
-ParamSet gltf_composite_params(const ParamSet& sources) {
-    const auto& v = sources.values();
-    const Rgb base = std::get<Rgb>(v.at("base_color"));
-    const double metal = std::get<double>(v.at("metallic"));
-    const double rough = std::get<double>(v.at("roughness"));
+void gltf_composite_values(const DVec3* sources, DVec3* outputs) {
+    const Rgb base(sources[0]);
+    const double metal = sources[1].x, rough = sources[2].x;
     Rgb f0;
     for (int c = 0; c < 3; ++c) f0[c] = float(kDielectricF0 * (1.0 - metal) + base[c] * metal);
-    ParamSet out;
-    out.set("diffuse_reflectance", base * float(1.0 - metal));
-    out.set("distribution", std::string("ggx"));
-    out.set("alpha", rough * rough);
-    out.set("fresnel", std::string("schlick"));
-    out.set("f0", f0);
-    return out;
+    outputs[0] = DVec3(base * float(1.0 - metal));
+    outputs[1] = DVec3(rough * rough);
+    outputs[2] = DVec3(f0);
+}
+
+ParamSet gltf_composite_params(const ParamSet& sources) {
+    const auto& v = sources.values();
+    const DVec3 in[3] = {DVec3(std::get<Rgb>(v.at("base_color"))),
+                         DVec3(std::get<double>(v.at("metallic"))),
+                         DVec3(std::get<double>(v.at("roughness")))};
+    DVec3 out[3];
+    gltf_composite_values(in, out);
+    ParamSet p;
+    p.set("diffuse_reflectance", Rgb(out[0]));
+    p.set("distribution", std::string("ggx"));
+    p.set("alpha", out[1].x);
+    p.set("fresnel", std::string("schlick"));
+    p.set("f0", Rgb(out[2]));
+    return p;
 }
 
 void apply_khr_texture_transform(TextureDesc& d, Vec2 offset, double rotation, Vec2 scale) {

@@ -61,6 +61,9 @@ struct GltfImport {
 // glTF's metallic-roughness sources (base_color b, metallic m, roughness r) -> `composite`:
 // diffuse_reflectance = b (1 - m), ggx alpha = r^2, schlick f0 = 0.04 (1 - m) + b m.
 ParamSet gltf_composite_params(const ParamSet& sources);
+// The same on values (TexturedMaterial::convert_values): sources (b, m, r) as DVec3 (numbers in
+// x) -> (diffuse_reflectance, alpha, f0).
+void gltf_composite_values(const DVec3* sources, DVec3* outputs);
 
 // KHR_texture_transform (offset o, rotation r radians, scale s; glTF's uv origin top-left)
 // as Facet's uv transform (texture.h; origin bottom-left, the mesh's v = 1 - v_glTF): the same

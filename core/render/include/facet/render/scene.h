@@ -58,6 +58,7 @@
 #include "facet/render/light.h"
 #include "facet/render/precision.h"
 #include "facet/render/texture.h"
+#include "facet/staged_material.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -154,8 +155,10 @@ struct ShapeInfo : ShapeSurface {
 
 // A material some of whose parameters are textures: the model and its constant parameters, and
 // for each textured parameter the texture and whether the model reads it as a colour. At a hit
-// the textures are evaluated and the model is built from the full ParamSet by the core's
-// registry, exactly as a constant material is (facet/registry.h).
+// the textures are evaluated and the model's lobes are set from the values by its staged build
+// (`staged`, facet/staged_material.h); where the model is not staged, the model is built from
+// the full ParamSet by the core's registry, exactly as a constant material is
+// (facet/registry.h; Scene::textured_material_rebuilt).
 struct TexturedMaterial {
     std::string model;
     ParamSet params;  // the constant parameters and a placeholder for every textured one
@@ -170,6 +173,18 @@ struct TexturedMaterial {
     // at every hit (pure, never throws). Null: the slots are the model's parameters.
     using Convert = ParamSet (*)(const ParamSet&);
     Convert convert = nullptr;
+    // The staged build (facet/staged_material.h), when the model and its textured parameters
+    // allow it; null: the model is built from the ParamSet at every hit.
+    //  - Without a conversion, value i of `staged` is slot i's (a number: its r channel).
+    //  - With one, `convert_values` maps the sources (`sources`: the constants, slot i's value
+    //    at sources[slot_source[i]]) onto `staged`'s values, as `convert` does on ParamSets.
+    static constexpr std::size_t kMaxStaged = 8;  // values or sources
+    std::shared_ptr<const StagedMaterial> staged;
+    using ConvertValues = void (*)(const DVec3* sources, DVec3* outputs);
+    ConvertValues convert_values = nullptr;
+    std::vector<DVec3> sources;
+    std::vector<std::uint8_t> slot_source;
+    std::size_t num_staged = 0;  // number of staged values
     // Union of the lobes of the material at its textures' extremes (every corner of the
     // slots' [min, max] box with a conversion; both ends otherwise), for the scene analysis:
     // a roughness texture can make a lobe a mirror at some texels and glossy at others.
@@ -352,6 +367,10 @@ class Scene {
     // model built from them (never throws: build_scene checked every texture's range against
     // the model's). Hits with textured < 0 use *hit.material.
     Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {}) const;
+    // Textured material `index` at uv: as material_at (staged where built), or built from its
+    // ParamSet by the registry (the reference the staged build is tested against).
+    Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
+    Material textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
     // The texture footprint of a hit with uv: from the camera ray `camera_ray` that reached it
     // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
     // (Camera::footprint_at).
@@ -400,8 +419,6 @@ class Scene {
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
     std::vector<std::string> m_warnings;
-    // material_at() for textured material `index` at uv (combinations recurse into children).
-    Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
     Camera m_camera;
     RenderSettings m_settings;
     SceneFeatures m_features;

@@ -1,0 +1,108 @@
+// Staged material build (issue 25): a material some of whose parameters vary from hit to hit
+// (textures) is built in two stages instead of through the registry at every hit.
+//  - Once, at scene build (StagedMaterial::make): everything that does not depend on the
+//    varying values — the model's parsed constants (Fresnel kind, distribution, compensation),
+//    the lobe structure, and the tables (the composite's glossy albedo Eg(mu), over the varying
+//    roughness's range).
+//  - Per hit (StagedMaterial::at): only the lobe parameters are set, from the values; no heap
+//    allocation and no string handling.
+//
+// Conventions:
+//  - A value is a DVec3: a colour parameter's channels, or a number in x (all three equal), as
+//    a ParamSet holds them (the models read float(x) for numbers, as the registry does).
+//  - `base` is the model built by the registry (make_material) at some valid values of the
+//    varying parameters (the scene builder uses their largest): its constants are read from it.
+//    The caller guarantees that every value passed to at() lies in the ranges given to make()
+//    and is valid for the model (the scene builder validates the extremes of each texture).
+//  - make() returns nullopt where the model or a varying parameter is not staged (mix, add,
+//    Blinn exponents, anisotropic alpha_u/alpha_v, conductor eta/k, a composite's ior with a
+//    glossy lobe, a composite's f0 with energy compensation); callers then build per hit.
+//
+// Exactness against make_material at the same values:
+//  - bit for bit for lambert, oren_nayar, principled, mirror, ggx/beckmann/blinn (the same
+//    constructors with the same arguments), dielectric, thin_dielectric, and for a composite
+//    whose glossy lobe does not vary (only diffuse_reflectance and/or mirror_reflectance do:
+//    its Eg table is computed once, as the constructor would);
+//  - a composite whose glossy lobe varies (alpha, f0 under fresnel = schlick,
+//    glossy_reflectance) reads Eg from tables built once: Eg(mu) = ks (f0 A(mu, alpha) +
+//    B(mu, alpha)), exact in ks and f0 (the lobe is linear in its scale, and Schlick's
+//    F = f0 (1 - (1 - c)^5) + (1 - c)^5 is linear in f0), with A, B tabulated on kAlphaNodes
+//    nodes uniform in sqrt(alpha) over the texture's range and interpolated linearly. Eg only
+//    weights the diffuse lobe and picks lobes (facet/material.h); the glossy lobe itself is
+//    exact. Tested against the per-hit registry build (tests/render/test_staged_material.cpp).
+#pragma once
+
+#include <optional>
+#include <span>
+#include <string>
+#include <string_view>
+#include <vector>
+
+#include "facet/material.h"
+
+namespace facet {
+
+class StagedMaterial {
+  public:
+    struct Range {
+        DVec3 lo, hi;  // per channel; numbers in x
+    };
+    // Nodes of the composite's Eg tables over sqrt(alpha) (when alpha varies).
+    static constexpr int kAlphaNodes = 48;
+
+    // `varying[i]` is the registry's name of value i of at(); ranges[i] its range.
+    static std::optional<StagedMaterial> make(std::string_view model, const Material& base,
+                                              std::span<const std::string> varying,
+                                              std::span<const Range> ranges);
+
+    // The material at these values (one per varying name, in make()'s order).
+    Material at(std::span<const DVec3> values) const;
+
+  private:
+    enum class Family : std::uint8_t {
+        Lambert,
+        OrenNayar,
+        Principled,
+        Mirror,
+        Microfacet,
+        Dielectric,
+        ThinDielectric,
+        Composite
+    };
+    enum class Param : std::uint8_t {
+        Reflectance,  // lambert, oren_nayar, mirror, ggx/beckmann/blinn: the lobe's scale/rho
+        Sigma,
+        Alpha,
+        F0,
+        Ior,
+        Transmittance,
+        Diffuse,  // composite's diffuse_reflectance
+        Glossy,   // composite's glossy_reflectance
+        Mirror,   // composite's mirror_reflectance
+        PrincipledColor,
+        PrincipledNumber
+    };
+    struct Slot {
+        Param param;
+        Rgb PrincipledParams::*color = nullptr;
+        float PrincipledParams::*number = nullptr;
+    };
+    // The values of the reflection models' parameters at one hit.
+    struct Values;
+
+    explicit StagedMaterial(const Material& base) : m_base(base) {}
+    Values constants() const;
+    Material composite_at(const Values& v) const;
+
+    Family m_family = Family::Lambert;
+    std::vector<Slot> m_slots;
+    Material m_base;  // the constants' source (see the header comment)
+    // Composite: Eg per alpha node, A (the f0 slope; zero unless f0 varies) and B; one node
+    // when alpha is constant. m_glossy_varies false: m_eg_const is the exact table.
+    bool m_glossy_varies = false, m_f0_varies = false, m_alpha_varies = false;
+    std::vector<Material::AlbedoTable> m_eg_a, m_eg_b;
+    Material::AlbedoTable m_eg_const{};
+    float m_s_lo = 0.f, m_s_step = 0.f;  // node i at sqrt(alpha) = m_s_lo + i m_s_step
+};
+
+}  // namespace facet

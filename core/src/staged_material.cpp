@@ -1,0 +1,318 @@
+// Staged material build: see facet/staged_material.h.
+#include "facet/staged_material.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "facet/reflectance.h"
+
+namespace facet {
+
+namespace {
+
+using P = PrincipledParams;
+struct PrincipledField {
+    const char* name;
+    Rgb P::*color;
+    float P::*number;
+};
+// Principled's colour and number parameters (the registry's names) and their fields.
+constexpr PrincipledField kPrincipledFields[] = {
+    {"base_color", &P::base_color, nullptr},
+    {"subsurface_color", &P::subsurface_color, nullptr},
+    {"subsurface", nullptr, &P::subsurface},
+    {"metallic", nullptr, &P::metallic},
+    {"specular", nullptr, &P::specular},
+    {"specular_tint", nullptr, &P::specular_tint},
+    {"roughness", nullptr, &P::roughness},
+    {"anisotropic", nullptr, &P::anisotropic},
+    {"anisotropic_rotation", nullptr, &P::anisotropic_rotation},
+    {"sheen", nullptr, &P::sheen},
+    {"sheen_tint", nullptr, &P::sheen_tint},
+    {"clearcoat", nullptr, &P::clearcoat},
+    {"clearcoat_roughness", nullptr, &P::clearcoat_roughness},
+    {"ior", nullptr, &P::ior},
+    {"transmission", nullptr, &P::transmission},
+    {"transmission_roughness", nullptr, &P::transmission_roughness},
+};
+
+MicrofacetDistribution isotropic(DistributionKind kind, float alpha) {
+    return kind == DistributionKind::Beckmann ? MicrofacetDistribution::beckmann(alpha, alpha)
+                                              : MicrofacetDistribution::ggx(alpha, alpha);
+}
+
+float mu_node(int k) {
+    return float(k) / float(Material::kTableSize - 1);
+}
+
+}  // namespace
+
+struct StagedMaterial::Values {
+    Rgb rho{0.f}, kd{0.f}, ks{0.f}, km{0.f}, tr{1.f};
+    float sigma = 0.f, eta = 1.f, alpha = 0.f;
+    bool alpha_set = false, ec = false;
+    Fresnel fr = Fresnel::none();
+    MicrofacetDistribution dist = MicrofacetDistribution::ggx(1.f, 1.f);
+};
+
+std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const Material& base,
+                                                   std::span<const std::string> varying,
+                                                   std::span<const Range> ranges) {
+    StagedMaterial s(base);
+    using F = Family;
+    if (model == "lambert" && base.diffuse())
+        s.m_family = F::Lambert;
+    else if (model == "oren_nayar" && base.oren_nayar())
+        s.m_family = F::OrenNayar;
+    else if (model == "principled" && base.principled())
+        s.m_family = F::Principled;
+    else if (model == "mirror" && base.mirror())
+        s.m_family = F::Mirror;
+    else if ((model == "ggx" || model == "beckmann" || model == "blinn") && base.glossy())
+        s.m_family = F::Microfacet;
+    else if (model == "dielectric" && base.dielectric())
+        s.m_family = F::Dielectric;
+    else if (model == "thin_dielectric" && base.thin_dielectric())
+        s.m_family = F::ThinDielectric;
+    else if (model == "composite" && !base.combination() && !base.transmissive())
+        s.m_family = F::Composite;
+    else
+        return std::nullopt;
+
+    const F f = s.m_family;
+    const Fresnel::Kind fresnel_kind = f == F::Mirror       ? base.mirror()->fresnel().kind()
+                                       : f == F::Microfacet ? base.glossy()->fresnel().kind()
+                                       : base.glossy()      ? base.glossy()->fresnel().kind()
+                                       : base.mirror()      ? base.mirror()->fresnel().kind()
+                                                            : Fresnel::Kind::Constant;
+    const bool reflectance =
+        f == F::Lambert || f == F::OrenNayar || f == F::Mirror || f == F::Microfacet;
+    const bool fresnel = f == F::Mirror || f == F::Microfacet || f == F::Composite;
+    const bool blinn =
+        base.glossy() && base.glossy()->distribution().kind() == DistributionKind::Blinn;
+    for (const std::string& name : varying) {
+        Slot slot{Param::Reflectance};
+        if (f == F::Principled) {
+            const auto* it =
+                std::find_if(std::begin(kPrincipledFields), std::end(kPrincipledFields),
+                             [&](const PrincipledField& p) { return name == p.name; });
+            if (it == std::end(kPrincipledFields)) return std::nullopt;
+            slot = {it->color ? Param::PrincipledColor : Param::PrincipledNumber, it->color,
+                    it->number};
+        } else if (name == "reflectance" && reflectance) {
+            slot.param = Param::Reflectance;
+        } else if (name == "sigma" && f == F::OrenNayar) {
+            slot.param = Param::Sigma;
+        } else if (name == "alpha" && !blinn &&
+                   (f == F::Microfacet || f == F::Dielectric || f == F::Composite)) {
+            slot.param = Param::Alpha;
+        } else if (name == "f0" && fresnel && fresnel_kind == Fresnel::Kind::Schlick) {
+            slot.param = Param::F0;
+        } else if (name == "ior" && ((fresnel && fresnel_kind == Fresnel::Kind::Dielectric) ||
+                                     f == F::Dielectric || f == F::ThinDielectric)) {
+            // A composite's glossy albedo is not linear in the IOR: not tabulated.
+            if (f == F::Composite && base.glossy()) return std::nullopt;
+            slot.param = Param::Ior;
+        } else if (name == "transmittance" && (f == F::Dielectric || f == F::ThinDielectric)) {
+            slot.param = Param::Transmittance;
+        } else if (name == "diffuse_reflectance" && f == F::Composite) {
+            slot.param = Param::Diffuse;
+        } else if (name == "glossy_reflectance" && f == F::Composite) {
+            slot.param = Param::Glossy;
+        } else if (name == "mirror_reflectance" && f == F::Composite) {
+            slot.param = Param::Mirror;
+        } else {
+            return std::nullopt;
+        }
+        s.m_slots.push_back(slot);
+    }
+    if (f != F::Composite || !base.glossy()) return s;
+
+    // The composite's glossy albedo table Eg(mu) (facet/material.h), once.
+    const MicrofacetReflection& g = *base.glossy();
+    double alpha_lo = 0.0, alpha_hi = 0.0;
+    for (std::size_t i = 0; i < s.m_slots.size(); ++i) {
+        const Param p = s.m_slots[i].param;
+        s.m_f0_varies = s.m_f0_varies || p == Param::F0;
+        s.m_glossy_varies = s.m_glossy_varies || p == Param::F0 || p == Param::Glossy;
+        if (p == Param::Alpha && ranges[i].hi.x > ranges[i].lo.x) {
+            s.m_alpha_varies = s.m_glossy_varies = true;
+            alpha_lo = std::max(ranges[i].lo.x, 0.0), alpha_hi = ranges[i].hi.x;
+        } else if (p == Param::Alpha) {
+            s.m_glossy_varies = true;  // one value: one node at it
+            alpha_lo = alpha_hi = ranges[i].lo.x;
+        }
+    }
+    // With compensation, the lobe's albedo is not linear in F0 (F_ms, Kulla & Conty eq. 16).
+    if (s.m_f0_varies && g.energy_compensation()) return std::nullopt;
+    if (!s.m_glossy_varies) {
+        for (int k = 0; k < Material::kTableSize; ++k)
+            s.m_eg_const[k] = phi_averaged_albedo(g, mu_node(k));
+        return s;
+    }
+    const bool alpha_given = std::any_of(s.m_slots.begin(), s.m_slots.end(),
+                                         [](const Slot& sl) { return sl.param == Param::Alpha; });
+    const int nodes = s.m_alpha_varies ? kAlphaNodes : 1;
+    s.m_s_lo = float(std::sqrt(alpha_lo));
+    s.m_s_step =
+        s.m_alpha_varies ? float((std::sqrt(alpha_hi) - std::sqrt(alpha_lo)) / (nodes - 1)) : 0.f;
+    s.m_eg_a.assign(std::size_t(s.m_f0_varies ? nodes : 0), {});
+    s.m_eg_b.assign(std::size_t(nodes), {});
+    for (int i = 0; i < nodes; ++i) {
+        const float sq = s.m_s_lo + float(i) * s.m_s_step;
+        const MicrofacetDistribution d =
+            alpha_given
+                ? isotropic(g.distribution().kind(), s.m_alpha_varies ? sq * sq : float(alpha_lo))
+                : g.distribution();
+        const Fresnel f_b = s.m_f0_varies ? Fresnel::schlick(Rgb(0.f)) : g.fresnel();
+        const MicrofacetReflection lobe_b(d, f_b, Rgb(1.f), g.energy_compensation());
+        for (int k = 0; k < Material::kTableSize; ++k)
+            s.m_eg_b[std::size_t(i)][k] = phi_averaged_albedo(lobe_b, mu_node(k));
+        if (!s.m_f0_varies) continue;
+        const MicrofacetReflection lobe_1(d, Fresnel::schlick(Rgb(1.f)), Rgb(1.f), false);
+        for (int k = 0; k < Material::kTableSize; ++k)
+            s.m_eg_a[std::size_t(i)][k] =
+                phi_averaged_albedo(lobe_1, mu_node(k)) - s.m_eg_b[std::size_t(i)][k];
+    }
+    return s;
+}
+
+StagedMaterial::Values StagedMaterial::constants() const {
+    Values v;
+    const Material& b = m_base;
+    switch (m_family) {
+        case Family::Lambert:
+            v.rho = b.diffuse()->rho();
+            break;
+        case Family::OrenNayar:
+            v.rho = b.oren_nayar()->rho(), v.sigma = b.oren_nayar()->sigma();
+            break;
+        case Family::Mirror:
+            v.rho = b.mirror()->scale(), v.fr = b.mirror()->fresnel();
+            break;
+        case Family::Microfacet:
+            v.rho = b.glossy()->scale(), v.fr = b.glossy()->fresnel();
+            v.dist = b.glossy()->distribution(), v.ec = b.glossy()->energy_compensation();
+            break;
+        case Family::Dielectric:
+            v.eta = b.dielectric()->eta(), v.tr = b.dielectric()->transmittance();
+            v.dist = b.dielectric()->distribution();
+            break;
+        case Family::ThinDielectric:
+            v.eta = b.thin_dielectric()->eta(), v.tr = b.thin_dielectric()->transmittance();
+            break;
+        case Family::Composite:
+            if (b.diffuse()) v.kd = b.diffuse()->rho();
+            if (b.mirror()) v.km = b.mirror()->scale(), v.fr = b.mirror()->fresnel();
+            if (b.glossy()) {
+                v.ks = b.glossy()->scale(), v.fr = b.glossy()->fresnel();
+                v.dist = b.glossy()->distribution(), v.ec = b.glossy()->energy_compensation();
+            }
+            break;
+        case Family::Principled:
+            break;
+    }
+    return v;
+}
+
+Material StagedMaterial::at(std::span<const DVec3> values) const {
+    if (m_family == Family::Principled) {
+        PrincipledParams p = m_base.principled()->params();
+        for (std::size_t i = 0; i < m_slots.size(); ++i) {
+            if (m_slots[i].color)
+                p.*m_slots[i].color = Rgb(values[i]);
+            else
+                p.*m_slots[i].number = float(values[i].x);
+        }
+        return Material(PrincipledBxDF(p));
+    }
+    Values v = constants();
+    for (std::size_t i = 0; i < m_slots.size(); ++i) {
+        const DVec3& x = values[i];
+        switch (m_slots[i].param) {
+            case Param::Reflectance:
+                v.rho = Rgb(x);
+                break;
+            case Param::Sigma:
+                v.sigma = float(x.x);
+                break;
+            case Param::Alpha:
+                v.alpha = float(x.x), v.alpha_set = true;
+                break;
+            case Param::F0:
+                v.fr = Fresnel::schlick(Rgb(x));
+                break;
+            case Param::Ior:
+                v.eta = float(x.x);
+                v.fr = Fresnel::dielectric(v.eta);
+                break;
+            case Param::Transmittance:
+                v.tr = Rgb(x);
+                break;
+            case Param::Diffuse:
+                v.kd = Rgb(x);
+                break;
+            case Param::Glossy:
+                v.ks = Rgb(x);
+                break;
+            case Param::Mirror:
+                v.km = Rgb(x);
+                break;
+            case Param::PrincipledColor:
+            case Param::PrincipledNumber:
+                break;
+        }
+    }
+    if (v.alpha_set) v.dist = isotropic(v.dist.kind(), v.alpha);
+    switch (m_family) {
+        case Family::Lambert:
+            return Material(LambertReflection(v.rho), std::nullopt, std::nullopt);
+        case Family::OrenNayar:
+            return Material(OrenNayarReflection(v.rho, v.sigma));
+        case Family::Mirror:
+            return Material(std::nullopt, std::nullopt, MirrorReflection(v.fr, v.rho));
+        case Family::Microfacet:
+            return Material(std::nullopt, MicrofacetReflection(v.dist, v.fr, v.rho, v.ec),
+                            std::nullopt);
+        case Family::Dielectric:
+            return Material(DielectricBxDF(v.eta, v.tr, v.dist));
+        case Family::ThinDielectric:
+            return Material(ThinDielectricBxDF(v.eta, v.tr));
+        case Family::Composite:
+            return composite_at(v);
+        case Family::Principled:
+            break;
+    }
+    return m_base;
+}
+
+Material StagedMaterial::composite_at(const Values& v) const {
+    if (!m_glossy_varies)
+        return Material::composite(v.kd, v.ks, v.km, v.dist, v.fr, v.ec, &m_eg_const);
+    // Eg = ks (f0 A + B), A and B interpolated linearly in sqrt(alpha) (header comment).
+    std::size_t i = 0;
+    float t = 0.f;
+    if (m_alpha_varies) {
+        const int last = int(m_eg_b.size()) - 1;
+        const float x =
+            std::clamp((std::sqrt(std::max(v.alpha, 0.f)) - m_s_lo) / m_s_step, 0.f, float(last));
+        i = std::size_t(std::min(int(x), last - 1));
+        t = x - float(i);
+    }
+    const std::size_t j = m_alpha_varies ? i + 1 : i;
+    const Material::AlbedoTable& b0 = m_eg_b[i];
+    const Material::AlbedoTable& b1 = m_eg_b[j];
+    Material::AlbedoTable eg;
+    if (m_f0_varies) {
+        const Rgb f0 = v.fr.f0();
+        const Material::AlbedoTable& a0 = m_eg_a[i];
+        const Material::AlbedoTable& a1 = m_eg_a[j];
+        for (int k = 0; k < Material::kTableSize; ++k)
+            eg[k] = v.ks * (f0 * (a0[k] + t * (a1[k] - a0[k])) + (b0[k] + t * (b1[k] - b0[k])));
+    } else {
+        for (int k = 0; k < Material::kTableSize; ++k) eg[k] = v.ks * (b0[k] + t * (b1[k] - b0[k]));
+    }
+    return Material::composite(v.kd, v.ks, v.km, v.dist, v.fr, v.ec, &eg);
+}
+
+}  // namespace facet
