@@ -18,7 +18,7 @@ if [ -f build/blender_addon/facet_blender.zip ] && command -v blender > /dev/nul
 fi
 # The showcase's POV-Ray equivalent (scenes/pov/showcase.pov, brdf finishes) with povray-facet.
 if [ -x build/povray_patch/bin/povray-facet ]; then
-  (cd out && ../build/povray_patch/bin/povray-facet +I../scenes/pov/showcase.pov \
+  (cd out && ../build/povray_patch/bin/povray-facet +I../scenes/pov/showcase.pov +L../scenes/pov \
      +Oshowcase_povray.png +W960 +H540 +FN8 -D -V +A0.1 +AM2 +R2 Declare=Glossy_Samples=32 \
      2> showcase_povray.log) \
     || { tail -n 20 out/showcase_povray.log; exit 1; }

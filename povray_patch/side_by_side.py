@@ -31,7 +31,9 @@ def write_png(path, width, height, rows):
 
 def render(binary, out, w, h, extra):
     tmp = os.path.dirname(out)
-    cmd = [binary, f"+I{os.path.abspath(SCENE)}", f"+O{out}", f"+W{w}", f"+H{h}", "-D", "-V",
+    # +L: the scene's image files are relative to its directory.
+    cmd = [binary, f"+I{os.path.abspath(SCENE)}", f"+L{os.path.dirname(os.path.abspath(SCENE))}",
+           f"+O{out}", f"+W{w}", f"+H{h}", "-D", "-V",
            "-GA", "+GF", "+FN8", "+A0.05", "+AM2", "+R2"] + extra
     p = subprocess.run(cmd, cwd=tmp, env=dict(os.environ, HOME=tmp),
                        stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)

@@ -171,7 +171,7 @@ def _material(name, m):
                                    {k: v for k, v in m.items() if k != "model"})
     # A viewport colour that resembles the material.
     for key in ("reflectance", "diffuse_reflectance"):
-        if key in m:
+        if key in m and not isinstance(m[key], dict):  # a texture: no constant colour
             v = m[key]
             v = [v] * 3 if isinstance(v, (int, float)) else v
             mat.diffuse_color = (v[0], v[1], v[2], 1.0)

@@ -7,6 +7,7 @@ transforms as 4x4 row-major nested lists of floats acting on column vectors, or 
 to_description() turns it into a facet.SceneDescription and from_description() back, so the
 binding's names appear only here.
 """
+import json
 import os
 import sys
 
@@ -273,9 +274,36 @@ def from_description(d):
     return data
 
 
+def _texture_values(raw, base_dir):
+    """The texture-valued parameters ({"texture": ...} or {"checker": ...}) of a raw JSON
+    material, image paths made absolute (relative ones are relative to the scene file)."""
+    out = {}
+    for k, v in raw.items():
+        if isinstance(v, dict) and ("texture" in v or "checker" in v):
+            v = dict(v)
+            if isinstance(v.get("texture"), str):
+                v["texture"] = os.path.join(base_dir, v["texture"])
+            out[k] = v
+    return out
+
+
 def read_scene(path):
-    """A JSON scene file -> scene data (the core's reader: its errors name file and pointer)."""
-    return from_description(facet.read_scene_description(path))
+    """A JSON scene file -> scene data (the core's reader: its errors name file and pointer).
+    Texture-valued material parameters are taken from the file as written (the Python
+    MaterialDesc carries a texture's file only, not its options), with absolute paths."""
+    data = from_description(facet.read_scene_description(path))
+    with open(path, encoding="utf-8") as f:
+        raw = json.load(f)
+    base_dir = os.path.dirname(os.path.abspath(path))
+    raw_mats = raw.get("materials", {})
+    if isinstance(raw_mats, dict):
+        for name, m in data["materials"]:
+            if isinstance(raw_mats.get(name), dict):
+                m.update(_texture_values(raw_mats[name], base_dir))
+    for s, rs in zip(data["shapes"], raw.get("shapes", [])):
+        if isinstance(s.get("material"), dict) and isinstance(rs.get("material"), dict):
+            s["material"].update(_texture_values(rs["material"], base_dir))
+    return data
 
 
 def write_scene(data, path):

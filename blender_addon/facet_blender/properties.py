@@ -127,6 +127,8 @@ def set_material_params(mat_settings, model, params):
         for p in m["params"]:
             if p["name"] in params:
                 v = params[p["name"]]
+                if isinstance(v, dict):
+                    continue  # a texture: kept in the material's "facet_material" JSON
                 if p["type"] == "colour" and isinstance(v, (int, float)):
                     v = [float(v)] * 3
                 setattr(mat_settings, prop_name(model, p["name"]), v)

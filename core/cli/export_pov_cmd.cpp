@@ -72,9 +72,16 @@ void add_export_pov_command(CLI::App& app) {
         ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     cmd->add_option("--environment", o->pov.environment,
-                    "error: an environment light is an error; background: export it as the "
+                    "error: an environment light is an error; light: a sky_sphere that brdf "
+                    "finishes importance-sample (povray-facet's brdf_sky_sampling); "
+                    "background: export it as the "
                     "background only (it then lights no surface: an approximation)")
-        ->check(CLI::IsMember({"error", "background"}))
+        ->check(CLI::IsMember({"error", "background", "light"}))
+        ->capture_default_str();
+    cmd->add_option("--sky-samples", o->pov.sky_samples,
+                    "with --environment light: sky samples per camera-ray hit "
+                    "(brdf_sky_sampling N; 1 at deeper hits)")
+        ->check(CLI::Range(1, 4096))
         ->capture_default_str();
     cmd->add_option("--radiosity", o->pov.radiosity,
                     "POV-Ray radiosity for the indirect light (approximates `--integrator path`): "

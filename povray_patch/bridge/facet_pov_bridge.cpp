@@ -276,6 +276,15 @@ bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const d
     return true;
 }
 
+double glossy_pdf(const Brdf* b, const double n[3], const double wo[3], const double wi[3]) {
+    if (!b->glossy()) return 0.0;
+    const facet::Frame frame = facet::Frame::from_z(to_vec(n));
+    const facet::Vec3 o = frame.to_local(to_vec(wo)), i = frame.to_local(to_vec(wi));
+    if (!(o.z > 0.f) || !(i.z > 0.f)) return 0.0;
+    const float p = b->material().glossy()->pdf(o, i);
+    return std::isfinite(p) && p > 0.f ? double(p) : 0.0;
+}
+
 int glossy_ray_count(const Brdf* b, unsigned trace_level) {
     if (!b->glossy()) return 0;
     if (b->samples() == 0) return 0;

@@ -76,6 +76,10 @@ void diffuse_albedo(const Brdf* b, const double n[3], const double wo[3], const 
 // Weight of the mirror lobe at wo (scale times the core's Fresnel at the angle of wo).
 void mirror_weight(const Brdf* b, const double n[3], const double wo[3], float out[3]);
 
+// Solid-angle density with which sample_glossy returns wi (0 without a glossy lobe or below
+// the surface): the BRDF side of the sky sampling's multiple importance sampling.
+double glossy_pdf(const Brdf* b, const double n[3], const double wo[3], const double wi[3]);
+
 // One importance sample of the glossy lobe: writes wi and the weight f cos / pdf (glossy lobe
 // alone, so the weights of the glossy rays average to the lobe's albedo). false when the lobe
 // gives no sample (below the surface, zero albedo). u[0] picks a sub-lobe (energy

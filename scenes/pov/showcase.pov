@@ -4,17 +4,28 @@
 // quad: the softbox is a 6x5 area light with physical_falloff whose colour L A / pi (quad
 // radiance L times area A, over pi for povray-facet's pi f cos scale) gives the quad's
 // irradiance below it (no emitter cosine), plus a visible emitting polygon (hidden from
-// reflections, see below); the environment is
-// a sky_sphere (seen in reflections; no radiosity). The brushed sphere's anisotropy axis is the
+// reflections, see below). The environment, Blender's studio HDRI (CC0, Greg Zaal; installed
+// with Debian's blender package), is the sky_sphere that `facet export-pov --environment light`
+// writes for it: the same image_map and orientation matrix, lighting the brdf finishes through
+// povray-facet's `brdf_sky_sampling` (docs/povray.md "Sky light"; no radiosity). The floor's
+// tiles are the same image (scenes/textures/showcase_tiles.png, made by
+// tools/make_showcase_texture.py) mapped as Facet maps a plane: u = x, v = -z in scene units, the
+// image repeating every 4 units (uv_scale 0.25). The brushed sphere's anisotropy axis is the
 // core's default tangent frame (POV-Ray has no surface tangents).
 //
 // Declare=Classic=1 renders the same scene with stock POV-Ray finishes (phong, specular,
-// reflection, metallic) for the side-by-side picture; that variant runs on the stock povray.
+// reflection, metallic) for the side-by-side picture; that variant runs on the stock povray
+// (without brdf_sky_sampling the sky only shows in reflections there). Sky_Samples sets the sky
+// samples per camera-ray hit.
 #version 3.7;
 #ifndef (Classic) #declare Classic = 0; #end
 #ifndef (Glossy_Samples) #declare Glossy_Samples = 8; #end
+#ifndef (Sky_Samples) #declare Sky_Samples = 16; #end
 
-global_settings { assumed_gamma 1.0 max_trace_level 12 ambient_light 0 }
+global_settings {
+  assumed_gamma 1.0 max_trace_level 12 ambient_light 0
+  #if (!Classic) brdf_sky_sampling Sky_Samples #end
+}
 
 // camera: position, look_at, up, fov 36 (vertical), 960x540, pixel centres as Facet's
 #declare P = <0, 1.8, 6.5>;
@@ -31,7 +42,12 @@ camera {
   direction F  // POV-Ray 3.7 traces pixel centres itself (scenes/FORMAT.md)
 }
 
-sky_sphere { pigment { rgb <0.12, 0.15, 0.22> } }
+// The studio HDRI as `facet export-pov --environment light` writes it for the JSON's light
+// (up +y, rotated 90 degrees about +y; the matrix's 6e-17 round-off written as 0).
+sky_sphere {
+  pigment { image_map { exr "/usr/share/blender/datafiles/studiolights/world/studio.exr" map_type 1 interpolate 2 }
+    matrix <0, 0, 1, 0, 1, 0, -1, 0, 0, 0, 0, 0> }
+}
 
 // softbox: quad (-1.5..1.5, 4, -1..1.5), radiance <9, 8.6, 8>, area 7.5
 // (stock POV-Ray has no exact inverse square: fade_distance 1 fade_power 2 gives 2 / (1 + d^2),
@@ -62,7 +78,11 @@ polygon { 5, <-1.5, 4, -1>, <1.5, 4, -1>, <1.5, 4, 1.5>, <-1.5, 4, 1.5>, <-1.5, 
   #declare Brushed = finish { ambient 0 brdf { ggx alpha_u 0.05 alpha_v 0.35 fresnel conductor samples Glossy_Samples } }
 #end
 
-plane { y, 0 pigment { rgb 0.45 } finish { Floor } }
+// The image maps [0, 1]^2 of the x-y plane; rotate -90*x takes (a, b) to (a, 0, -b), and
+// scale 4 repeats it every 4 units: u' = x / 4, v' = -z / 4, as Facet's plane with uv_scale 0.25.
+plane { y, 0
+  pigment { image_map { png "../textures/showcase_tiles.png" interpolate 2 } rotate -90 * x scale 4 }
+  finish { Floor } }
 sphere { <-2.3, 0.5, -0.6>, 0.5 pigment { rgb <0.7, 0.25, 0.15> } finish { Clay } }
 sphere { <-0.9, 0.6, 0.2>, 0.6 pigment { rgb <1, 0.78, 0.34> } finish { Gold } }
 sphere { <0.45, 0.7, -0.4>, 0.7 pigment { rgb 0.6 } finish { Chrome } }

@@ -19,6 +19,9 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
                path (POV-Ray's radiosity is interpolated and biased: stated tolerances)
   envmap       an environment map (export-pov --environment background: a sky_sphere image_map)
                seen by the camera across the seam, tilted and rotated, against facet render
+  skylight     brdf_sky_sampling (export-pov --environment light): brdf finishes lit by an HDR
+               sky_sphere against facet render --integrator direct within noise; 0 = no keyword
+  skylight-errors  bad brdf_sky_sampling settings are parse errors naming file and line
 
 Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
 half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
@@ -335,6 +338,55 @@ def cmd_errors(env):
     return ok and good
 
 
+def sphere_pixels(cam, centre, radius):
+    """The pixels whose centre ray (FORMAT.md camera) hits the sphere (centre, radius)."""
+    w, h = cam["width"], cam["height"]
+    pos, look = np.array(cam["position"], float), np.array(cam["look_at"], float)
+    f = (look - pos) / np.linalg.norm(look - pos)
+    r = np.cross(f, cam.get("up", [0, 1, 0])); r /= np.linalg.norm(r)
+    u = np.cross(r, f)
+    ty = math.tan(math.radians(cam["fov"]) / 2); tx = ty * w / h
+    xs, ys = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    d = f + ((2 * xs / w - 1) * tx)[..., None] * r + ((1 - 2 * ys / h) * ty)[..., None] * u
+    d /= np.linalg.norm(d, axis=2, keepdims=True)
+    oc = pos - np.asarray(centre, float)
+    b = (d * oc).sum(axis=2)
+    return b * b - (oc @ oc - radius ** 2) > 0
+
+
+def t_test(name, where, pov, ref, on):
+    """Two noisy images agree within their noise on the pixels `on`: 4x4 blocks of per-pixel
+    differences are t-tested (|mean| / (std / sqrt n) below 5 for >= 97% of the blocks with at
+    least 12 pixels), and the mean over all of them is within 3 standard errors plus half-float
+    rounding. A wrong weight or a missing lobe moves whole blocks and the mean."""
+    h, w = on.shape
+    diff = (pov - ref).mean(axis=2)
+    zs = []
+    for y0 in range(0, h, 4):
+        for x0 in range(0, w, 4):
+            m = on[y0:y0 + 4, x0:x0 + 4]
+            if m.sum() < 12:
+                continue
+            v = diff[y0:y0 + 4, x0:x0 + 4][m]
+            se = v.std(ddof=1) / math.sqrt(v.size)
+            zs.append(abs(v.mean()) / max(se, 1e-9))
+            if zs[-1] > 4: print(f"      block at ({x0}, {y0}): t {zs[-1]:.2f}, mean difference {v.mean():.2e} over {v.size} pixels")
+    zs = np.array(zs)
+    frac = (zs < 5).mean()
+    v = diff[on]
+    mean_p, mean_f = pov.mean(axis=2)[on].mean(), ref.mean(axis=2)[on].mean()
+    se = v.std(ddof=1) / math.sqrt(v.size)
+    ok_blocks = frac >= 0.97
+    ok_mean = abs(v.mean()) <= 3 * se + 2.0 ** -11 * mean_f
+    print(f"{'ok  ' if ok_blocks else 'FAIL'} {name}: {100 * frac:.1f}% of "
+          f"{zs.size} 4x4 blocks on the {where} with |t| < 5 (required 97%); median |t| "
+          f"{np.median(zs):.2f}, max {zs.max():.2f}")
+    print(f"{'ok  ' if ok_mean else 'FAIL'} mean over {on.sum()} {where} pixels: povray-facet "
+          f"{mean_p:.5f}, facet {mean_f:.5f} (ratio {mean_p / mean_f:.4f}; difference "
+          f"{v.mean():.2e}, standard error {se:.2e})")
+    return ok_blocks and ok_mean
+
+
 def cmd_glossy(env):
     """A rough gold sphere reflecting a checkered Lambert floor and a coloured wall, lit by two
     point lights, black background. On the sphere, povray-facet computes the lights' highlights
@@ -378,43 +430,8 @@ def cmd_glossy(env):
     fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
     ref = env.render(env.write_scene(fine, "glossy_fine"), "--spp", "64", integrator="path")[2::5, 2::5]
     # Pixels whose centre ray hits the sphere (FORMAT.md camera), shrunk by 5%.
-    cam = scene["camera"]
-    pos, look = np.array(cam["position"], float), np.array(cam["look_at"], float)
-    f = (look - pos) / np.linalg.norm(look - pos)
-    r = np.cross(f, [0, 1, 0]); r /= np.linalg.norm(r)
-    u = np.cross(r, f)
-    ty = math.tan(math.radians(cam["fov"]) / 2); tx = ty * w / h
-    xs, ys = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
-    d = f + ((2 * xs / w - 1) * tx)[..., None] * r + ((1 - 2 * ys / h) * ty)[..., None] * u
-    d /= np.linalg.norm(d, axis=2, keepdims=True)
-    oc = pos - centre
-    b = (d * oc).sum(axis=2)
-    on = b * b - (oc @ oc - (0.95 * radius) ** 2) > 0
-    diff = (pov - ref).mean(axis=2)
-    zs, n_blocks = [], 0
-    for y0 in range(0, h, 4):
-        for x0 in range(0, w, 4):
-            m = on[y0:y0 + 4, x0:x0 + 4]
-            if m.sum() < 12:
-                continue
-            v = diff[y0:y0 + 4, x0:x0 + 4][m]
-            se = v.std(ddof=1) / math.sqrt(v.size)
-            zs.append(abs(v.mean()) / max(se, 1e-9))
-            if zs[-1] > 4: print(f"      block at ({x0}, {y0}): t {zs[-1]:.2f}, mean difference {v.mean():.2e} over {v.size} pixels")
-    zs = np.array(zs)
-    frac = (zs < 5).mean()
-    v = diff[on]
-    mean_p, mean_f = pov.mean(axis=2)[on].mean(), ref.mean(axis=2)[on].mean()
-    se = v.std(ddof=1) / math.sqrt(v.size)
-    ok_blocks = frac >= 0.97
-    ok_mean = abs(v.mean()) <= 3 * se + 2.0 ** -11 * mean_f
-    print(f"{'ok  ' if ok_blocks else 'FAIL'} glossy rays vs path (max_depth 2): {100 * frac:.1f}% of "
-          f"{zs.size} 4x4 blocks on the sphere with |t| < 5 (required 97%); median |t| "
-          f"{np.median(zs):.2f}, max {zs.max():.2f}")
-    print(f"{'ok  ' if ok_mean else 'FAIL'} mean over {on.sum()} sphere pixels: povray-facet "
-          f"{mean_p:.5f}, facet path {mean_f:.5f} (ratio {mean_p / mean_f:.4f}; difference "
-          f"{v.mean():.2e}, standard error {se:.2e})")
-    return ok_blocks and ok_mean
+    on = sphere_pixels(scene["camera"], centre, 0.95 * radius)
+    return t_test("glossy rays vs path (max_depth 2)", "sphere", pov, ref, on)
 
 
 def point_plane_centres(scene):
@@ -529,6 +546,125 @@ def cmd_envmap(env):
     return ok and differs
 
 
+def sky_map(w=32, h=16):
+    """A small HDR sky for the sky-light tests: blue above the horizon, brighter toward the
+    zenith, dim brown below, and a 2 x 1-texel sun about 100 times the sky at 40 degrees
+    elevation (left of the map's centre column, which looks toward +X)."""
+    ys, xs = np.mgrid[0:h, 0:w].astype(np.float32)
+    theta = (ys + 0.5) / h * np.pi
+    up = (theta < np.pi / 2)[..., None]
+    sky = np.array([0.25, 0.45, 0.9], np.float32) * (0.6 + 0.6 * np.cos(theta))[..., None]
+    ground = np.broadcast_to(np.array([0.12, 0.1, 0.08], np.float32), sky.shape)
+    rgb = np.where(up, sky, ground).astype(np.float32)
+    rgb[h // 4 - 1, w // 2 - 6:w // 2 - 4] = [60.0, 55.0, 45.0]
+    return rgb
+
+
+def sky_scene(exr, w, h):
+    """A Lambert floor, a rough gold sphere (glossy: its sky light is shared between the sky
+    samples and the glossy rays by MIS) and a Lambert sphere under the map of sky_map, Z up."""
+    return {"format": "facet-scene", "version": 1,
+            "camera": {"position": [4.5, -3.5, 2.6], "look_at": [0.3, 0, 0.5], "up": [0, 0, 1],
+                       "fov": 40, "width": w, "height": h},
+            "materials": {"floor": {"model": "lambert", "reflectance": 0.5},
+                          "clay": {"model": "lambert", "reflectance": [0.8, 0.5, 0.3]},
+                          "gold": {"model": "ggx", "alpha": 0.3, "fresnel": "conductor",
+                                   "eta": [0.143, 0.374, 1.442], "k": [3.983, 2.385, 1.603]}},
+            "shapes": [{"type": "quad", "material": "floor",
+                        "vertices": [[-3, -3, 0], [3, -3, 0], [3, 3, 0], [-3, 3, 0]]},
+                       {"type": "sphere", "center": [0, 0, 0.7], "radius": 0.7, "material": "gold"},
+                       {"type": "sphere", "center": [1.4, -1.2, 0.45], "radius": 0.45, "material": "clay"}],
+            "lights": [{"type": "environment", "file": exr, "rotate": {"axis": [0, 0, 1], "angle": 25}}]}
+
+
+def cmd_skylight(env):
+    """povray-facet's brdf_sky_sampling (export-pov --environment light) against facet render
+    --integrator direct: the scene of sky_scene, 64 x 48. On the sky pixels both look the map up
+    through the pixel centre (deterministic): REL_TOL, every pixel. On the objects both are
+    unbiased estimates of the same direct light (the sky's, occluded by the objects, through
+    the core's BRDFs): POV-Ray with 64 sky samples and 16 glossy rays per pixel centre, Facet
+    with 64 samples per pixel at 5x the resolution, of which the middle pixel of each 5 x 5 group
+    is taken (its centre is the POV pixel's, cmd_glossy), then the block t-test of t_test.
+    Pixels next to a silhouette are left out (the 1/5-pixel footprint still straddles it).
+    Then the same SDL with `brdf_sky_sampling 0` is bit-identical to the export without the
+    keyword (--environment background), whose objects are black, so the keyword is what lights
+    them (the check can fail), and its sky pixels equal the lit render's."""
+    w, h = 64, 48
+    exr = env.path("sky.exr")
+    write_exr(exr, sky_map())
+    scene = sky_scene(exr, w, h)
+    js = env.write_scene(scene, "skylight")
+    sdl = env.export(js, "--environment", "light", "--sky-samples", "64", "--glossy-samples", "16")
+    text = open(sdl).read()
+    ok = "brdf_sky_sampling 64" in text
+    print(f"{'ok  ' if ok else 'FAIL'} export-pov --environment light writes brdf_sky_sampling 64")
+    pov = env.povray(sdl, w, h, "+FE32")
+    fine = json.loads(json.dumps(scene))
+    fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
+    fine_js = env.write_scene(fine, "skylight_fine")
+    ref = env.render(fine_js, "--spp", "64", "--seed", "3")[2::5, 2::5]
+    # On the gold sphere the glossy rays see the floor and the clay sphere lit by the sky (one
+    # bounce more than direct): Facet's path tracer with max_depth 2 computes exactly that there
+    # (cmd_glossy). Elsewhere the surfaces are Lambert, and `direct` is exact.
+    gold = sphere_pixels(scene["camera"], [0, 0, 0.7], 1.05 * 0.7)
+    ref_gold = env.render(fine_js, "--spp", "64", "--seed", "3", "--max-depth", "2",
+                          integrator="path")[2::5, 2::5]
+    # Without glossy rays every object is black here (no lights), so black = geometry.
+    bg_sdl = env.export(js, "--environment", "background", "--glossy-samples", "0")
+    bg = env.povray(bg_sdl, w, h, "+FE32")
+    geometry = bg.max(axis=2) <= 0.0  # unlit objects are black; the map is positive everywhere
+    sky = ~geometry
+    ok &= compare("sky pixels, brdf_sky_sampling 64 vs facet direct (pixel centres)", pov,
+                  env.render(js, "--spp", "1"), sky, required=1.0)
+    interior = geometry.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            interior &= np.roll(np.roll(geometry, dy, 0), dx, 1)
+    ok &= t_test("brdf_sky_sampling 64 vs facet direct", "Lambert", pov, ref, interior & ~gold)
+    ok &= t_test("brdf_sky_sampling 64 + 16 glossy rays (MIS) vs facet path max_depth 2", "gold sphere",
+                 pov, ref_gold, interior & sphere_pixels(scene["camera"], [0, 0, 0.7], 0.95 * 0.7))
+    off_sdl = env.path("skylight_off.pov")
+    with open(off_sdl, "w") as f:
+        f.write(open(bg_sdl).read().replace("  ambient_light 0\n", "  ambient_light 0\n  brdf_sky_sampling 0\n", 1))
+    off = env.povray(off_sdl, w, h, "+FE32")
+    same = bool(np.array_equal(off, bg))
+    print(f"{'ok  ' if same else 'FAIL'} brdf_sky_sampling 0 is bit-identical to no keyword")
+    dark = bool(np.all(bg[interior] == 0.0)) and bool(np.all(pov[interior].max(axis=1) > 0.0))
+    print(f"{'ok  ' if dark else 'FAIL'} without the keyword the objects are black, with it lit")
+    return ok and same and dark
+
+
+# brdf_sky_sampling errors: (name, global_settings text, other SDL, message pattern, line).
+SKY_ERRORS = [
+    ("negative", "brdf_sky_sampling -1", "sky_sphere { pigment { rgb 1 } }",
+     r"brdf_sky_sampling expects a whole number of samples from 0 \(off\) to 4096, found -1 instead", 2),
+    ("fraction", "brdf_sky_sampling 2.5", "sky_sphere { pigment { rgb 1 } }",
+     r"found 2\.5 instead", 2),
+    ("missing", "brdf_sky_sampling", "sky_sphere { pigment { rgb 1 } }",
+     r"Expected 'float", 2),
+    ("no_sky", "brdf_sky_sampling 4", "", r"brdf_sky_sampling in global_settings needs a sky_sphere", None),
+]
+
+
+def cmd_skylight_errors(env):
+    """Bad brdf_sky_sampling settings are POV-Ray parse errors naming the file and line."""
+    ok = True
+    for name, setting, other, pattern, line in SKY_ERRORS:
+        sdl = env.path(f"sky_{name}.pov")
+        with open(sdl, "w") as f:
+            f.write(f"#version 3.7;\nglobal_settings {{ {setting} }}\n{other}\n"
+                    "camera { location <0, 0, -3> look_at 0 }\n"
+                    "sphere { 0, 1 texture { pigment { rgb 1 } finish { brdf { lambert } } } }\n")
+        p = env.run([env.pov, f"+I{sdl}", "-F", "+W8", "+H8", "-D", "-V"], check=False)
+        err = p.stderr.replace("\n", "")
+        where = re.search(rf"File '.*sky_{name}\.pov' line (\d+):", err)
+        good = (p.returncode != 0 and "Parse Error" in err and re.search(pattern, err) is not None
+                and where is not None and (line is None or int(where.group(1)) == line))
+        print(f"{'ok  ' if good else 'FAIL'} {name}: " + (err[where.start():where.start() + 200] if where else err[-600:]))
+        ok &= good
+    return ok
+
+
 def cmd_radiosity_furnace(env):
     """Radiosity on a brdf { lambert } surface: the camera inside a sphere of reflectance rho
     that glows with e (POV-Ray emission is tinted by the pigment: exitance rho e), no lights.
@@ -621,7 +757,9 @@ def main():
               "float": lambda: cmd_float(env),
               "radiosity-furnace": lambda: cmd_radiosity_furnace(env),
               "radiosity-cornell": lambda: cmd_radiosity_cornell(env),
-              "envmap": lambda: cmd_envmap(env)}[cmd]()
+              "envmap": lambda: cmd_envmap(env),
+              "skylight": lambda: cmd_skylight(env),
+              "skylight-errors": lambda: cmd_skylight_errors(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 

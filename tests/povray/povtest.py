@@ -212,7 +212,7 @@ def cmd_parse_errors(facet):
 
 # Every model, parameter and bare-word value of the core's registry plus the patch's own words.
 CLASH_NAMES = [
-    "brdf", "physical_falloff", "lambert", "mirror", "ggx", "beckmann", "blinn", "composite",
+    "brdf", "physical_falloff", "brdf_sky_sampling", "lambert", "mirror", "ggx", "beckmann", "blinn", "composite",
     "reflectance", "diffuse_reflectance", "glossy_reflectance", "mirror_reflectance",
     "distribution", "alpha", "alpha_u", "alpha_v", "exponent", "exponent_u", "exponent_v",
     "fresnel", "ior", "eta", "k", "f0", "energy_compensation", "none", "dielectric",

@@ -658,3 +658,77 @@ TEST(EnvironmentMap, PovExportErrorsNameThePointer) {
     e = export_error(file_key(path) + R"(, "up": [0, 0, 0])");
     EXPECT_NE(e.find("/lights/0/up"), std::string::npos) << e;
 }
+
+// Lossy EXR codecs undershoot near black (Blender's own studio-light HDRIs hold texels down to
+// -1.6e-4): a negative texel within 1e-3 of the map's mean reads as 0 with one warning naming
+// the pointer and the file; one below that stays an error (BadInputNamesThePointerAndTheFile).
+TEST(EnvironmentMap, CompressionNoiseBelowZeroReadsZeroWithAWarning) {
+    const std::string path = write_map("noise.exr", 4, 2, [](int x, int y) {
+        return x == 2 && y == 1 ? Rgb(1.f, -1e-4f, 1.f) : Rgb(1.f);
+    });
+    const fr::Scene scene = scene_from(env_scene(file_key(path)));
+    ASSERT_EQ(scene.warnings().size(), 1u);
+    const std::string& w = scene.warnings()[0];
+    EXPECT_NE(w.find("/lights/0/file"), std::string::npos) << w;
+    EXPECT_NE(w.find(path), std::string::npos) << w;
+    EXPECT_NE(w.find("1 slightly negative texel value"), std::string::npos) << w;
+    // The clamped texel is exactly 0: at its centre the bilinear lookup is the texel itself.
+    const fr::EnvironmentMap& m = *scene.environment()->map();
+    const Rgb c = m.eval(m.uv_to_direction(Vec2(2.5f / 4.f, 1.5f / 2.f)));
+    EXPECT_NEAR(c.y, 0.f, 1e-6f);
+    EXPECT_NEAR(c.x, 1.f, 1e-6f);
+    // 2e-3 below zero with a mean of ~1 is more than noise.
+    const std::string bad = write_map("noise_bad.exr", 4, 2, [](int x, int y) {
+        return x == 2 && y == 1 ? Rgb(1.f, -2e-3f, 1.f) : Rgb(1.f);
+    });
+    const std::string e = error_of(env_scene(file_key(bad)));
+    EXPECT_NE(e.find("/lights/0/file"), std::string::npos) << e;
+    EXPECT_NE(e.find("texel (2, 1) channel 1 is negative"), std::string::npos) << e;
+}
+
+// --environment light: the map as the sky_sphere plus povray-facet's brdf_sky_sampling in
+// global_settings (--sky-samples); a constant as a plain sky_sphere pigment; refused with
+// --radiosity (the sky would light diffuse surfaces twice).
+TEST(EnvironmentMap, PovExportLightIsASkySphereWithBrdfSkySampling) {
+    const std::string path = write_map("povlight.exr", 8, 4, mapping_texel);
+    std::string sdl = export_sdl(file_key(path), "light");
+    EXPECT_NE(sdl.find("brdf_sky_sampling 16"), std::string::npos) << sdl;
+    EXPECT_LT(sdl.find("global_settings"), sdl.find("brdf_sky_sampling"));
+    EXPECT_NE(sdl.find("image_map { exr \"" + path + "\" map_type 1 interpolate 2 }"),
+              std::string::npos)
+        << sdl;
+    sdl = export_sdl(R"("radiance": [0.5, 0.25, 1])", "light");
+    EXPECT_NE(sdl.find("sky_sphere { pigment { rgb <0.5, 0.25, 1> } }"), std::string::npos) << sdl;
+    EXPECT_NE(sdl.find("brdf_sky_sampling 16"), std::string::npos) << sdl;
+    // Without --environment light the keyword is never written.
+    sdl = export_sdl(file_key(path), "background");
+    EXPECT_EQ(sdl.find("brdf_sky_sampling"), std::string::npos) << sdl;
+    fr::PovExportOptions o;
+    o.environment = "light";
+    o.radiosity = "low";
+    EXPECT_THROW(fr::check_pov_options(o), std::invalid_argument);
+    o.radiosity = "off";
+    o.sky_samples = 0;
+    EXPECT_THROW(fr::check_pov_options(o), std::invalid_argument);
+}
+
+// The lat-long mapping and the table live in the core (facet/latlong.h) and are shared with the
+// POV-Ray bridge: the map's (u, v) is the core's of the direction in the map's frame, and the
+// map's pdf is the core table's.
+TEST(EnvironmentMap, UsesTheCoresLatLongTable) {
+    const std::string path = write_map("core.exr", 8, 4, mapping_texel);
+    const fr::Scene scene = scene_from(env_scene(file_key(path) + R"(, "up": [0, 1, 0])"));
+    const fr::EnvironmentMap& m = *scene.environment()->map();
+    pcg32 rng(11);
+    for (int i = 0; i < 200; ++i) {
+        const Vec2 uv(facet::test::uniform_float(rng),
+                      0.05f + 0.9f * facet::test::uniform_float(rng));
+        const Vec3 d = m.uv_to_direction(uv);
+        // up [0, 1, 0]: the map's +Z is world +Y, so the core's direction is rotated.
+        const Vec3 l = facet::latlong_direction(uv);
+        EXPECT_NEAR(d.y, l.z, 1e-5f);
+        const Vec2 back = m.direction_to_uv(d);
+        EXPECT_NEAR(back.x, uv.x, 1e-4f);
+        EXPECT_NEAR(back.y, uv.y, 1e-4f);
+    }
+}

@@ -162,6 +162,8 @@ class LightBuild : public BuildChecks {
     virtual void add_light(Light light) = 0;
     // The scene's environment light (at most one).
     virtual void add_environment(Light light) = 0;
+    // A warning for BuildReport::warnings and Scene::warnings() (what the kind approximates).
+    virtual void warn(std::string message) = 0;
     // The unit direction a spot or area light points along: its "direction", or toward its
     // "look_at" from `position` (exactly one is given: the reader checks).
     Vec3 aim(const Vec3& position) const {

@@ -1185,6 +1185,9 @@ class Builder final : public BuildChecks {
             m_b.m_builder.environment() = std::int32_t(m_b.m_builder.lights().size());
             add_light(std::move(light));
         }
+        void warn(std::string message) override {
+            m_b.m_builder.warnings().push_back(std::move(message));
+        }
 
       private:
         Builder& m_b;

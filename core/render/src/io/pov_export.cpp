@@ -394,6 +394,13 @@ void PovWriter::global_settings() {
           << "\n"
           << "  adc_bailout 0\n"
           << "  ambient_light 0\n";
+    // --environment light: brdf finishes sample the sky_sphere (povray-facet's keyword).
+    bool environment = false;
+    for (const LightDesc& l : m_desc.lights)
+        environment = environment || l.kind == LightKind::Environment;
+    if (environment && m_opt.environment == "light")
+        m_out << "  brdf_sky_sampling " << m_opt.sky_samples
+              << "  // the sky_sphere lights brdf finishes (povray-facet; --sky-samples)\n";
     if (m_rad.count > 0) {
         // count/error_bound/recursion_limit from --radiosity; the rest fixed: nearest_count
         // 10 (POV-Ray's default 5 is blotchier), POV-Ray's pretrace defaults, no brightness
@@ -664,9 +671,16 @@ void check_pov_options(const PovExportOptions& o) {
     if (o.blur_samples < 1 || o.blur_samples > 4096)
         throw std::invalid_argument(
             fmt::format("--blur-samples: must be in [1, 4096] (got {})", o.blur_samples));
-    if (o.environment != "error" && o.environment != "background")
-        throw std::invalid_argument("--environment: expected error or background, got '" +
+    if (o.environment != "error" && o.environment != "background" && o.environment != "light")
+        throw std::invalid_argument("--environment: expected error, background or light, got '" +
                                     o.environment + "'");
+    if (o.environment == "light" && parse_radiosity(o.radiosity).count > 0)
+        throw std::invalid_argument(
+            "--environment light with --radiosity: radiosity gathers the sky_sphere's light too, "
+            "so the sky would light diffuse surfaces twice");
+    if (o.sky_samples < 1 || o.sky_samples > 4096)
+        throw std::invalid_argument(
+            fmt::format("--sky-samples: must be in [1, 4096] (got {})", o.sky_samples));
 }
 
 std::string export_pov(const SceneDescription& desc, const std::string& name,

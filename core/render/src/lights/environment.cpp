@@ -55,6 +55,41 @@ glm::dmat3 map_frame(const LightDesc& l, const std::string& ptr, const Fail& fai
     return frame;
 }
 
+// Negative texels: lossy EXR codecs (DWAA, B44, PXR24) undershoot near black, and Blender's own
+// studio-light HDRIs hold such values (down to -1.6e-4, with means of about 0.1-1). A texel
+// channel v < 0 with v >= -1e-3 * m, m the mean of all colour texel values, is that noise: it is
+// set to 0 and reported once (how many, the most negative). Anything more negative is an error
+// naming the file and the texel, as before.
+void clamp_compression_noise(TexelImage& image, const std::string& path, const std::string& where,
+                             LightBuild& b) {
+    double sum = 0.0;
+    for (float v : image.texels) sum += v;
+    const double mean = image.texels.empty() ? 0.0 : sum / double(image.texels.size());
+    const double tolerance = 1e-3 * std::max(mean, 0.0);
+    std::size_t clamped = 0;
+    float lowest = 0.f;
+    const std::size_t channels = std::size_t(image.channels);
+    for (std::size_t i = 0; i < image.texels.size(); ++i) {
+        float& v = image.texels[i];
+        if (!(v < 0.f)) continue;
+        if (double(v) < -tolerance) {
+            const std::size_t t = i / channels;
+            b.fail(where, path + ": texel (" + std::to_string(t % std::size_t(image.width)) + ", " +
+                              std::to_string(t / std::size_t(image.width)) + ") channel " +
+                              std::to_string(i % channels) + " is negative: " + std::to_string(v) +
+                              ", below the compression-noise tolerance -" +
+                              std::to_string(tolerance) + " (1e-3 of the mean; row 0 at the top)");
+        }
+        lowest = std::min(lowest, v);
+        v = 0.f;
+        ++clamped;
+    }
+    if (clamped > 0)
+        b.warn(where + ": " + path + ": " + std::to_string(clamped) +
+               " slightly negative texel values (compression noise, the lowest " +
+               std::to_string(lowest) + ") read as 0");
+}
+
 void build(LightBuild& b) {
     const LightDesc& l = b.light;
     const std::string& ptr = b.ptr;
@@ -82,13 +117,15 @@ void build(LightBuild& b) {
     const std::string where = ptr + "/file";
     try {
         // Auto colour space: float files linear, 8/16-bit files sRGB-decoded (texel_image.h).
-        image = load_texel_image(path, {ColorSpace::Auto, true}, where);
+        // NaN and Inf are errors there; negative texels are judged below.
+        image = load_texel_image(path, {ColorSpace::Auto, false}, where);
     } catch (const TexelImageError& e) {
         // "<where>: <file>: <what>"; fail() names the pointer itself.
         std::string m = e.what();
         if (m.rfind(where + ": ", 0) == 0) m.erase(0, where.size() + 2);
         b.fail(where, m);
     }
+    clamp_compression_noise(image, path, where, b);
     b.add_environment(Light::environment_map(
         std::make_shared<const EnvironmentMap>(image, multiplier, glm::mat3(frame))));
 }
@@ -102,7 +139,7 @@ void build(LightBuild& b) {
 // u = 0.5 - atan2(l.y, l.x) / 2pi and v = theta / pi: the pigment's transform (pattern ->
 // world) is T = M F (F = F^-1). Its bilinear lookup (interpolate 2) puts texel centres where
 // Facet does; it wraps around vertically where Facet clamps (stated in the comment).
-void write_map(PovLightOut& o) {
+void write_map(PovLightOut& o, bool light) {
     const LightDesc& l = o.light;
     if (l.radiance && *l.radiance != Rgb(1.f))
         o.fail(o.pointer + "/radiance",
@@ -124,9 +161,12 @@ void write_map(PovLightOut& o) {
     if (file.find('"') != std::string::npos || file.find('\n') != std::string::npos)
         o.fail(o.pointer + "/file", "the path cannot be written as a POV-Ray string");
     o.out() << "sky_sphere {  // " << o.pointer
-            << ": environment map, seen by camera and mirror rays only (approximation: it "
-               "lights no surface; within half a texel row of the poles POV-Ray's lookup wraps "
-               "to the opposite row where Facet's clamps)\n  pigment { image_map { "
+            << (light ? ": environment map, lighting brdf finishes by brdf_sky_sampling "
+                        "(approximation: "
+                      : ": environment map, seen by camera and mirror rays only (approximation: "
+                        "it lights no surface; ")
+            << "within half a texel row of the poles POV-Ray's lookup wraps to the opposite row "
+               "where Facet's clamps)\n  pigment { image_map { "
             << type << " \"" << file << "\" map_type 1 interpolate 2 }\n    matrix <"
             << pov_num(t[0].x) << ", " << pov_num(t[0].y) << ", " << pov_num(t[0].z) << ", "
             << pov_num(t[1].x) << ", " << pov_num(t[1].y) << ", " << pov_num(t[1].z) << ", "
@@ -135,8 +175,18 @@ void write_map(PovLightOut& o) {
 }
 
 void pov(PovLightOut& o) {
+    if (o.options.environment == "light") {
+        // povray-facet's brdf_sky_sampling (global_settings) makes brdf finishes sample it.
+        if (!o.light.file.empty()) return write_map(o, true);
+        if (!o.light.radiance)
+            o.fail(o.pointer + "/radiance", "is required (or give a map as \"file\")");
+        o.out() << "sky_sphere { pigment { " << pov_rgb(glm::dvec3(*o.light.radiance))
+                << " } }  // " << o.pointer
+                << ": constant environment, lighting brdf finishes by brdf_sky_sampling\n";
+        return;
+    }
     if (o.options.environment == "background") {
-        if (!o.light.file.empty()) return write_map(o);
+        if (!o.light.file.empty()) return write_map(o, false);
         if (!o.light.radiance)
             o.fail(o.pointer + "/radiance", "is required (or give a map as \"file\")");
         o.out() << "background { " << pov_rgb(glm::dvec3(*o.light.radiance)) << " }  // "
@@ -148,7 +198,8 @@ void pov(PovLightOut& o) {
     o.fail(o.pointer,
            "an environment light lights every surface from every unoccluded direction, which "
            "POV-Ray cannot express exactly (radiosity only approximates it); --environment "
-           "background exports it as the background only");
+           "light exports it as a sky_sphere that povray-facet's brdf finishes sample "
+           "(brdf_sky_sampling), --environment background as the background only");
 }
 
 }  // namespace

@@ -19,8 +19,8 @@
 //    ((x + 0.5) / W, (y + 0.5) / H); wrapping around in u (the seam is continuous), clamped to
 //    the first and last row in v. Radiance = multiplier * lookup (RGB; a grey image is grey,
 //    alpha is ignored).
-//  - Importance sampling (pbrt-v4's ImageInfiniteLight, Pharr, Jakob & Humphreys 4th ed.
-//    §12.5.2): a piecewise-constant density over (u, v) with one cell per texel, marginal over
+//  - Importance sampling: facet::LatLongDistribution (facet/latlong.h, shared with the POV-Ray
+//    bridge), a piecewise-constant density over (u, v) with one cell per texel, marginal over
 //    rows and conditional within a row. Cell (x, y) has weight
 //        w(x, y) = Ybar(x, y) * sin(theta_y),   theta_y = pi (y + 0.5) / H,
 //    where Ybar is the mean of the bilinear lookup's Rec. 709 luminance over the texel's cell
@@ -37,6 +37,7 @@
 #include <memory>
 #include <vector>
 
+#include "facet/latlong.h"
 #include "facet/types.h"
 
 namespace facet::render {
@@ -76,18 +77,13 @@ class EnvironmentMap {
   private:
     Rgb texel(int x, int y) const { return m_texels[std::size_t(y) * m_width + x]; }
     Rgb lookup(Vec2 uv) const;  // bilinear, without the multiplier
-    float cell_pdf(int x, int y) const;
 
     int m_width = 0, m_height = 0;
     std::vector<Rgb> m_texels;  // RGB per texel, multiplier applied
     glm::mat3 m_frame{1.f};     // M: map -> world
     glm::mat3 m_inverse{1.f};   // M^T: world -> map
     Rgb m_mean{0.f};
-    // Piecewise-constant 2D distribution: m_row_cdf[y] = sum of row weights before row y + 1
-    // over the total (m_row_cdf[H - 1] = 1); m_col_cdf[y * W + x] likewise within row y; the
-    // cell density p(u, v) = W H w(x, y) / sum w is stored in m_cell_pdf.
-    std::vector<float> m_row_cdf, m_col_cdf, m_cell_pdf;
-    bool m_black = true;  // every weight is 0: sample() fails, pdf() is 0
+    LatLongDistribution m_distribution;  // the importance density over the cells
 };
 
 }  // namespace facet::render

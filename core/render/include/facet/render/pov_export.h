@@ -48,8 +48,12 @@ struct PovExportOptions {
     // [1, 4096]: POV-Ray's own aperture sampling, an approximation of the lens average.
     int blur_samples = 64;
     // "error": an environment light is an error; "background": exported as the background
-    // only (it then lights no surface: an approximation).
+    // only (it then lights no surface: an approximation); "light": a sky_sphere that brdf
+    // finishes importance-sample (povray-facet's `brdf_sky_sampling`, docs/povray.md).
     std::string environment = "error";
+    // With environment "light": sky samples per camera-ray hit (`brdf_sky_sampling N`; 1 at
+    // deeper hits), in [1, 4096].
+    int sky_samples = 16;
     // POV-Ray radiosity for the indirect light (approximates `--integrator path`): "off",
     // "low" (50,1.0,4), "medium" (200,0.4,8), "high" (800,0.15,16) or
     // "COUNT,ERROR_BOUND,RECURSION_LIMIT".

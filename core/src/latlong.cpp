@@ -1,0 +1,105 @@
+// The latitude-longitude mapping and its piecewise-constant density (conventions in latlong.h).
+#include "facet/latlong.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace facet {
+
+namespace {
+
+// Index of the interval of u in a cdf (the first i with u < cdf[i], the last one at most),
+// and u's position within it, in [0, 1).
+std::size_t sample_cdf(const float* cdf, std::size_t n, float u, float& offset) {
+    const std::size_t i = std::min(std::size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
+    const float lo = i == 0 ? 0.f : cdf[i - 1];
+    const float w = cdf[i] - lo;
+    offset = w > 0.f ? std::clamp((u - lo) / w, 0.f, kOneMinusEpsilon) : 0.5f;
+    return i;
+}
+
+}  // namespace
+
+Vec2 latlong_uv(const Vec3& l) {
+    // atan2 for theta too: acos(z) loses half its digits near the poles.
+    const float theta = std::atan2(std::sqrt(l.x * l.x + l.y * l.y), l.z);
+    const float u = 0.5f - std::atan2(l.y, l.x) * kInv2Pi, v = theta * kInvPi;
+    // Clamped into [0, 1] with NaN (a NaN direction) to 0: the lookups convert to int.
+    auto unit = [](float t) { return t > 0.f ? (t < 1.f ? t : 1.f) : 0.f; };
+    return {unit(u), unit(v)};
+}
+
+Vec3 latlong_direction(Vec2 uv) {
+    const float phi = kPi - 2.f * kPi * uv.x;
+    const float theta = kPi * uv.y;
+    const float s = std::sin(theta);
+    return Vec3(s * std::cos(phi), s * std::sin(phi), std::cos(theta));
+}
+
+LatLongDistribution::LatLongDistribution(int width, int height,
+                                         const std::vector<double>& luminance)
+    : m_width(width), m_height(height) {
+    const int W = width, H = height;
+    const std::size_t n = std::size_t(W) * std::size_t(H);
+    if (W <= 0 || H <= 0 || luminance.size() != n) return;
+    std::vector<double> w(n);
+    std::vector<double> row_sum(std::size_t(H), 0.0);
+    for (int y = 0; y < H; ++y) {
+        const double sin_c = std::sin(kPiD * (y + 0.5) / H);
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * W + x;
+            w[i] = luminance[i] * sin_c;
+            row_sum[std::size_t(y)] += w[i];
+        }
+    }
+    double total = 0.0;
+    for (double r : row_sum) total += r;
+    m_black = !(total > 0.0) || !std::isfinite(total);
+    if (m_black) return;
+    m_row_cdf.resize(std::size_t(H));
+    m_col_cdf.resize(n);
+    m_cell_pdf.resize(n);
+    double run_rows = 0.0;
+    for (int y = 0; y < H; ++y) {
+        run_rows += row_sum[std::size_t(y)];
+        m_row_cdf[std::size_t(y)] = float(run_rows / total);
+        const double rs = row_sum[std::size_t(y)];
+        double run = 0.0;
+        for (int x = 0; x < W; ++x) {
+            const std::size_t i = std::size_t(y) * W + x;
+            run += w[i];
+            // A row of zero weight is never chosen; its cdf is uniform only to stay monotone.
+            m_col_cdf[i] = rs > 0.0 ? float(run / rs) : float(x + 1) / float(W);
+            m_cell_pdf[i] = float(double(W) * double(H) * w[i] / total);
+        }
+        m_col_cdf[std::size_t(y) * W + W - 1] = 1.f;
+    }
+    // Exactly 1 at the end so that every u < 1 selects a row (trailing zero rows keep width 0).
+    const float last = m_row_cdf[std::size_t(H - 1)];
+    for (int y = H; y-- > 0 && m_row_cdf[std::size_t(y)] == last;) m_row_cdf[std::size_t(y)] = 1.f;
+}
+
+float LatLongDistribution::pdf(Vec2 uv) const {
+    if (m_black) return 0.f;
+    const float sin_theta = std::sin(kPi * uv.y);
+    if (!(sin_theta > 0.f)) return 0.f;
+    const int x = std::min(int(uv.x * float(m_width)), m_width - 1);
+    const int y = std::min(int(uv.y * float(m_height)), m_height - 1);
+    return cell_pdf(x, y) / (2.f * kPi * kPi * sin_theta);
+}
+
+LatLongDistribution::Sample LatLongDistribution::sample(Vec2 u) const {
+    Sample s;
+    if (m_black) return s;
+    float dv = 0.f, du = 0.f;
+    const std::size_t W = std::size_t(m_width);
+    const int y = int(sample_cdf(m_row_cdf.data(), m_row_cdf.size(), u.y, dv));
+    const int x = int(sample_cdf(&m_col_cdf[std::size_t(y) * W], W, u.x, du));
+    s.uv = Vec2((float(x) + du) / float(m_width), (float(y) + dv) / float(m_height));
+    const float sin_theta = std::sin(kPi * s.uv.y);
+    if (!(sin_theta > 0.f)) return s;
+    s.pdf = cell_pdf(x, y) / (2.f * kPi * kPi * sin_theta);
+    return s;
+}
+
+}  // namespace facet
