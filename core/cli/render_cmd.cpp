@@ -128,6 +128,12 @@ void run_render(const RenderCmdOptions& o) {
         throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
                                  o.kernel + "'");
 
+    // At least 1 MiB (render::kMinTextureMemory), at most 2^40 MiB; NaN fails both.
+    if (!(o.texture_memory_mib >= 1.0 && o.texture_memory_mib <= 1099511627776.0))
+        throw std::runtime_error(
+            "render: --texture-memory: expected a size in MiB from 1 to "
+            "2^40, got " +
+            std::to_string(o.texture_memory_mib));
     render::SceneLimits limits;
     limits.texture_memory = std::uint64_t(o.texture_memory_mib * double(1 << 20));
     const render::Scene scene = load_scene_or_gltf(o.scene, limits);  // SceneError: file + path
@@ -182,6 +188,15 @@ void run_render(const RenderCmdOptions& o) {
             render::write_image(image, out);
     }
 
+    const render::TextureMemoryStats tm = scene.texture_memory();
+    const double hit_rate =
+        tm.hits + tm.misses > 0 ? double(tm.hits) / double(tm.hits + tm.misses) : 1.0;
+    if (tm.paged_images > 0 && !o.quiet)
+        std::fprintf(stderr,
+                     "facet: render: texture cache: %zu images paged; %.1f MiB whole + %.1f MiB "
+                     "tiles at most (of %.1f MiB); tile hit rate %.4f\n",
+                     tm.paged_images, double(tm.whole_bytes) / 1048576.0,
+                     double(tm.tile_peak) / 1048576.0, double(tm.limit) / 1048576.0, hit_rate);
     if (!o.stats_json.empty()) {
         nlohmann::json j{{"scene", scene.name()},
                          {"kernel", st.kernel.name},
@@ -195,7 +210,18 @@ void run_render(const RenderCmdOptions& o) {
                          {"shadow_rays", st.shadow_rays},
                          {"nonfinite_samples", st.nonfinite},
                          {"paths_per_s", double(st.paths) / st.seconds},
-                         {"rays_per_s", double(st.rays + st.shadow_rays) / st.seconds}};
+                         {"rays_per_s", double(st.rays + st.shadow_rays) / st.seconds},
+                         {"texture_memory",
+                          {{"limit", tm.limit},
+                           {"whole_bytes", tm.whole_bytes},
+                           {"paged_images", tm.paged_images},
+                           {"tile_capacity", tm.tile_capacity},
+                           {"tile_peak", tm.tile_peak},
+                           {"peak_bytes", tm.peak_bytes()},
+                           {"hits", tm.hits},
+                           {"misses", tm.misses},
+                           {"evictions", tm.evictions},
+                           {"hit_rate", hit_rate}}}};
         std::ofstream f(o.stats_json);
         if (!(f << j.dump(2) << "\n"))
             throw std::runtime_error("render: --stats-json " + o.stats_json + ": cannot write");
@@ -260,9 +286,8 @@ void add_render_command(CLI::App& app) {
         ->check(CLI::IsMember({"sobol", "independent"}))
         ->capture_default_str();
     cmd->add_option("--texture-memory", o->texture_memory_mib,
-                    "bound on texture memory in MiB (float texels, MIP levels included); a scene "
-                    "over it is an error naming the texture")
-        ->check(CLI::PositiveNumber)
+                    "bound on texture memory in MiB (float texels, MIP levels included), at least "
+                    "1; images past it are paged through a tile cache within it")
         ->capture_default_str();
     cmd->add_flag("--explain", o->explain,
                   "print the scene analysis and which kernel features were chosen and skipped");

@@ -16,6 +16,7 @@
 #include "facet/reflectance.h"
 #include "facet/render/kinds.h"
 #include "facet/render/scene_description.h"
+#include "facet/render/texel_pages.h"
 #include "kind_build.h"
 #include "scene_checks.h"
 #include "scene_impl.h"
@@ -83,6 +84,10 @@ class Builder final : public BuildChecks {
         const auto t0 = std::chrono::steady_clock::now();
         m_builder.name() = m_name;
         m_builder.fingerprint() = fingerprint(m_desc);
+        if (m_limits.texture_memory < kMinTextureMemory)
+            throw SceneError(m_name + ": the texture memory bound of " +
+                             std::to_string(m_limits.texture_memory) +
+                             " bytes is below the smallest, 1 MiB (SceneLimits::texture_memory)");
         build_camera();
         build_materials();
         for (std::size_t i = 0; i < m_desc.shapes.size(); ++i) {
@@ -113,6 +118,8 @@ class Builder final : public BuildChecks {
             m_report->seconds_before_bvh = std::chrono::duration<double>(t1 - t0).count();
             m_report->seconds_bvh = std::chrono::duration<double>(t2 - t1).count();
         }
+        m_builder.texture_memory() = m_images.stats();
+        m_builder.tile_cache() = m_images.tile_cache();
         return std::move(m_builder.scene);
     }
 
@@ -1341,6 +1348,15 @@ double aperture_radius(const CameraDesc& c) {
     if (c.aperture_radius) return *c.aperture_radius;
     if (c.fstop && c.focal_length) return *c.focal_length * 1e-3 / (2.0 * *c.fstop);
     return 0.0;
+}
+
+TextureMemoryStats Scene::texture_memory() const {
+    TextureMemoryStats s = m_texture_memory;
+    if (m_tile_cache) {
+        s.hits = s.misses = s.evictions = 0;
+        m_tile_cache->stats(s);
+    }
+    return s;
 }
 
 Scene build_scene(const SceneDescription& desc, const std::string& name, const SceneLimits& limits,

@@ -155,6 +155,8 @@ struct Scene::Builder {
     std::vector<std::shared_ptr<Material>>& materials() { return scene.m_materials; }
     std::vector<std::unique_ptr<Texture>>& textures() { return scene.m_textures; }
     std::vector<TexturedMaterial>& textured() { return scene.m_textured; }
+    TextureMemoryStats& texture_memory() { return scene.m_texture_memory; }
+    std::shared_ptr<const TileCache>& tile_cache() { return scene.m_tile_cache; }
     std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }
     std::vector<Light>& lights() { return scene.m_lights; }
     LightDistribution& light_distribution() { return scene.m_light_distribution; }

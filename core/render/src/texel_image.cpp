@@ -5,10 +5,13 @@
 
 #include <dlfcn.h>
 
+#include "facet/render/texel_pages.h"
+
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <deque>
 #include <filesystem>
 #include <mutex>
 
@@ -21,11 +24,15 @@ using LoadFn = bool (*)(const std::string&, const TexelImageOptions&, const std:
 using LoadMemoryFn = bool (*)(const std::string&, const unsigned char*, std::size_t,
                               const TexelImageOptions&, const std::string&, TexelImage&,
                               std::string&);
+using LoadRowsFn = bool (*)(const std::string&, const unsigned char*, std::size_t, bool,
+                            const TexelImageOptions&, const std::string&, const TexelRowSink&,
+                            TexelImage&, std::string&);
 
 // The module's entry points, looked up once.
 struct Module {
     LoadFn load = nullptr;
     LoadMemoryFn load_memory = nullptr;
+    LoadRowsFn load_rows = nullptr;
     std::string tried;
 };
 
@@ -68,6 +75,8 @@ const Module& module() {
             r.load = reinterpret_cast<LoadFn>(dlsym(h, "facet_oiio_load_texel_image"));
             r.load_memory =
                 reinterpret_cast<LoadMemoryFn>(dlsym(h, "facet_oiio_load_texel_image_memory"));
+            r.load_rows =
+                reinterpret_cast<LoadRowsFn>(dlsym(h, "facet_oiio_load_texel_image_rows"));
         }
         return r;
     }();
@@ -88,6 +97,19 @@ TexelImage load_texel_image(const std::string& path, const TexelImageOptions& op
     TexelImage out;
     std::string error;
     if (!fn(path, options, where, out, error)) throw TexelImageError(error);
+    return out;
+}
+
+TexelImage load_texel_image_rows(const std::string& path, std::span<const unsigned char>* bytes,
+                                 const TexelImageOptions& options, const std::string& where,
+                                 const TexelRowSink& sink) {
+    const LoadRowsFn fn = module().load_rows;
+    if (!fn) unavailable(where, path);
+    TexelImage out;
+    std::string error;
+    if (!fn(path, bytes ? bytes->data() : nullptr, bytes ? bytes->size() : 0, bytes != nullptr,
+            options, where, sink, out, error))
+        throw TexelImageError(error);
     return out;
 }
 
@@ -112,46 +134,6 @@ std::vector<BoxTap> box_taps(int n, int m) {
             t.weights.push_back(float((std::min(b, double(j + 1)) - std::max(a, double(j))) / s));
     }
     return taps;
-}
-
-// `src` resampled to w x h (each no larger than src's) by the separable box filter.
-TexelImage box_downsample(const TexelImage& src, int w, int h) {
-    const int c = src.channels;
-    const std::vector<BoxTap> tx = box_taps(src.width, w), ty = box_taps(src.height, h);
-    // Along x first (src.height rows of w texels), then along y.
-    std::vector<float> rows(std::size_t(src.height) * std::size_t(w) * std::size_t(c), 0.f);
-    for (int y = 0; y < src.height; ++y)
-        for (int x = 0; x < w; ++x) {
-            const BoxTap& t = tx[std::size_t(x)];
-            float* out = &rows[(std::size_t(y) * std::size_t(w) + std::size_t(x)) * std::size_t(c)];
-            for (std::size_t k = 0; k < t.weights.size(); ++k)
-                for (int ch = 0; ch < c; ++ch)
-                    out[ch] += t.weights[k] * src.at(t.first + int(k), y, ch);
-        }
-    TexelImage dst;
-    dst.path = src.path;
-    dst.width = w;
-    dst.height = h;
-    dst.channels = c;
-    dst.alpha_channel = src.alpha_channel;
-    dst.float_format = src.float_format;
-    dst.color_space = src.color_space;
-    dst.texels.assign(std::size_t(w) * std::size_t(h) * std::size_t(c), 0.f);
-    for (int y = 0; y < h; ++y) {
-        const BoxTap& t = ty[std::size_t(y)];
-        float* out = &dst.texels[std::size_t(y) * std::size_t(w) * std::size_t(c)];
-        for (std::size_t k = 0; k < t.weights.size(); ++k) {
-            const float* in =
-                &rows[std::size_t(t.first + int(k)) * std::size_t(w) * std::size_t(c)];
-            for (std::size_t i = 0; i < std::size_t(w) * std::size_t(c); ++i)
-                out[i] += t.weights[k] * in[i];
-        }
-    }
-    return dst;
-}
-
-std::uint64_t texel_bytes(const TexelImage& image) {
-    return std::uint64_t(image.texels.size()) * sizeof(float);
 }
 
 std::string mib(std::uint64_t bytes) {
@@ -195,14 +177,112 @@ TexelImage texel_image_from_memory(const std::uint8_t* codes, const float* float
     return image;
 }
 
-std::vector<TexelImage> build_mip_levels(const TexelImage& image) {
-    std::vector<TexelImage> levels;
-    const TexelImage* prev = &image;
-    while (prev->width > 1 || prev->height > 1) {
-        levels.push_back(
-            box_downsample(*prev, std::max(1, prev->width / 2), std::max(1, prev->height / 2)));
-        prev = &levels.back();
+// One level transition of MipChain: the separable box filter from src_w x src_h to
+// dst_w x dst_h, along x per incoming row, then along y over a window of x-filtered rows.
+struct MipChain::Stage {
+    int dst_w = 0, dst_h = 0;
+    std::vector<BoxTap> tx, ty;
+    int next_in = 0, next_out = 0;
+    int window_first = 0;  // source row of window[0]
+    std::deque<std::vector<float>> window;
+    std::vector<float> out;
+};
+
+std::vector<std::pair<int, int>> MipChain::level_sizes(int width, int height) {
+    std::vector<std::pair<int, int>> sizes{{width, height}};
+    while (width > 1 || height > 1) {
+        width = std::max(1, width / 2);
+        height = std::max(1, height / 2);
+        sizes.emplace_back(width, height);
     }
+    return sizes;
+}
+
+MipChain::MipChain(int width, int height, int channels, Emit emit)
+    : m_channels(channels), m_emit(std::move(emit)) {
+    const auto sizes = level_sizes(width, height);
+    for (std::size_t l = 0; l + 1 < sizes.size(); ++l) {
+        auto s = std::make_unique<Stage>();
+        s->dst_w = sizes[l + 1].first;
+        s->dst_h = sizes[l + 1].second;
+        s->tx = box_taps(sizes[l].first, s->dst_w);
+        s->ty = box_taps(sizes[l].second, s->dst_h);
+        m_stages.push_back(std::move(s));
+    }
+}
+
+MipChain::~MipChain() = default;
+
+void MipChain::push_row(const float* row) {
+    push(0, row);
+}
+
+void MipChain::push(std::size_t k, const float* row) {
+    if (k >= m_stages.size()) return;
+    Stage& s = *m_stages[k];
+    const std::size_t c = std::size_t(m_channels), n = std::size_t(s.dst_w) * c;
+    // Along x: each output texel sums its weighted source texels in order, from 0.
+    std::vector<float> xr(n, 0.f);
+    for (int x = 0; x < s.dst_w; ++x) {
+        const BoxTap& t = s.tx[std::size_t(x)];
+        float* out = &xr[std::size_t(x) * c];
+        for (std::size_t j = 0; j < t.weights.size(); ++j)
+            for (std::size_t ch = 0; ch < c; ++ch)
+                out[ch] += t.weights[j] * row[(std::size_t(t.first) + j) * c + ch];
+    }
+    s.window.push_back(std::move(xr));
+    const int y = s.next_in++;
+    // Along y: every output row whose source rows have all arrived, in order.
+    while (s.next_out < s.dst_h) {
+        const BoxTap& t = s.ty[std::size_t(s.next_out)];
+        if (t.first + int(t.weights.size()) - 1 > y) break;
+        s.out.assign(n, 0.f);
+        for (std::size_t j = 0; j < t.weights.size(); ++j) {
+            const float* in = s.window[std::size_t(t.first - s.window_first) + j].data();
+            for (std::size_t i = 0; i < n; ++i) s.out[i] += t.weights[j] * in[i];
+        }
+        const int emitted = s.next_out++;
+        const int keep = s.next_out < s.dst_h ? s.ty[std::size_t(s.next_out)].first : y + 1;
+        while (s.window_first < keep && !s.window.empty()) {
+            s.window.pop_front();
+            ++s.window_first;
+        }
+        m_emit(int(k) + 1, emitted, s.out.data());
+        push(k + 1, s.out.data());
+    }
+}
+
+std::uint64_t pyramid_bytes(int width, int height, int channels) {
+    std::uint64_t n = 0;
+    for (const auto& [w, h] : MipChain::level_sizes(width, height))
+        n += std::uint64_t(w) * std::uint64_t(h) * std::uint64_t(channels) * sizeof(float);
+    return n;
+}
+
+std::vector<TexelImage> build_mip_levels(const TexelImage& image) {
+    const auto sizes = MipChain::level_sizes(image.width, image.height);
+    std::vector<TexelImage> levels(sizes.size() - 1);
+    const std::size_t c = std::size_t(image.channels);
+    for (std::size_t l = 0; l < levels.size(); ++l) {
+        TexelImage& d = levels[l];
+        d.path = image.path;
+        d.width = sizes[l + 1].first;
+        d.height = sizes[l + 1].second;
+        d.channels = image.channels;
+        d.alpha_channel = image.alpha_channel;
+        d.float_format = image.float_format;
+        d.color_space = image.color_space;
+        d.texels.resize(std::size_t(d.width) * std::size_t(d.height) * c);
+    }
+    MipChain chain(image.width, image.height, image.channels,
+                   [&](int level, int y, const float* row) {
+                       TexelImage& d = levels[std::size_t(level - 1)];
+                       const std::size_t n = std::size_t(d.width) * c;
+                       std::copy_n(row, n, d.texels.data() + std::size_t(y) * n);
+                   });
+    const std::size_t row = std::size_t(image.width) * c;
+    for (int y = 0; y < image.height; ++y)
+        chain.push_row(image.texels.data() + std::size_t(y) * row);
     return levels;
 }
 
@@ -212,7 +292,8 @@ void TexelImageCache::reserve(std::uint64_t add, const std::string& where,
         throw TexelImageError(where + ": " + path + ": texture memory would reach " +
                               mib(m_bytes + add) + " (" + mib(add) +
                               " more for this file), above the limit of " + mib(m_limit) +
-                              " (raise it with `facet render --texture-memory MIB` or "
+                              " (an in-memory image cannot be paged; raise it with "
+                              "`facet render --texture-memory MIB` or "
                               "SceneLimits::texture_memory)");
     }
     m_bytes += add;
@@ -229,6 +310,37 @@ TexelImage load_texel_image_memory(const std::string& name, std::span<const unsi
     return out;
 }
 
+// Whole while the whole images fit limit - reserve; else paged (texel_image.h conventions).
+std::shared_ptr<const TexelImage> TexelImageCache::load(const std::string& path,
+                                                        std::span<const unsigned char>* bytes,
+                                                        const TexelImageOptions& options,
+                                                        const std::string& where) {
+    constexpr std::uint64_t kMaxTileReserve = std::uint64_t(64) << 20;
+    std::unique_ptr<PagedImageWriter> writer;
+    TexelRowSink sink;
+    sink.stream = [&](const TexelImage& header) {
+        const std::uint64_t need = pyramid_bytes(header.width, header.height, header.channels);
+        const std::uint64_t reserve = std::min(m_limit / 4, kMaxTileReserve);
+        if (!m_paging && m_bytes + need <= m_limit - reserve) {
+            m_bytes += need;
+            return false;
+        }
+        if (!m_tiles) m_tiles = std::make_shared<TileCache>(m_limit - m_bytes);
+        writer = std::make_unique<PagedImageWriter>(header, m_tiles, where);
+        m_paging = true;
+        return true;
+    };
+    sink.rows = [&](int first_row, int rows, const float* texels) {
+        writer->add_rows(first_row, rows, texels);
+    };
+    TexelImage image = load_texel_image_rows(path, bytes, options, where, sink);
+    if (writer) {
+        image.paged = writer->finish();
+        ++m_paged;
+    }
+    return std::make_shared<const TexelImage>(std::move(image));
+}
+
 std::shared_ptr<const TexelImage> TexelImageCache::get_memory(const std::string& name,
                                                               std::span<const unsigned char> bytes,
                                                               const TexelImageOptions& options,
@@ -237,9 +349,7 @@ std::shared_ptr<const TexelImage> TexelImageCache::get_memory(const std::string&
     std::lock_guard lock(m_mutex);
     auto it = m_images.find(key);
     if (it != m_images.end()) return it->second;
-    auto image =
-        std::make_shared<const TexelImage>(load_texel_image_memory(name, bytes, options, where));
-    reserve(texel_bytes(*image), where, name);
+    auto image = load(name, &bytes, options, where);
     m_images.emplace(key, image);
     return image;
 }
@@ -254,8 +364,7 @@ std::shared_ptr<const TexelImage> TexelImageCache::get(const std::string& path,
     std::lock_guard lock(m_mutex);
     auto it = m_images.find(key);
     if (it != m_images.end()) return it->second;
-    auto image = std::make_shared<const TexelImage>(load_texel_image(path, options, where));
-    reserve(texel_bytes(*image), where, path);
+    auto image = load(path, nullptr, options, where);
     m_images.emplace(key, image);
     return image;
 }
@@ -264,27 +373,36 @@ std::shared_ptr<const TexelImage> TexelImageCache::adopt(std::shared_ptr<const T
                                                          const std::string& where) {
     std::lock_guard lock(m_mutex);
     if (m_adopted.count(image.get())) return image;
-    reserve(texel_bytes(*image), where, image->path);
+    reserve(pyramid_bytes(image->width, image->height, image->channels), where, image->path);
     m_adopted.emplace(image.get(), image);
     return image;
 }
 
 std::shared_ptr<const std::vector<TexelImage>> TexelImageCache::mip_levels(
     const std::shared_ptr<const TexelImage>& image, const std::string& where) {
+    (void)where;  // counted when the image was loaded or adopted
     std::lock_guard lock(m_mutex);
     auto it = m_mips.find(image.get());
     if (it != m_mips.end()) return it->second;
-    // Checked before building: the levels take a third of the image (1/4 + 1/16 + ...).
-    std::uint64_t add = 0;
-    for (int w = image->width, h = image->height; w > 1 || h > 1;) {
-        w = std::max(1, w / 2);
-        h = std::max(1, h / 2);
-        add += std::uint64_t(w) * std::uint64_t(h) * std::uint64_t(image->channels) * sizeof(float);
-    }
-    reserve(add, where, image->path);
-    auto levels = std::make_shared<const std::vector<TexelImage>>(build_mip_levels(*image));
+    auto levels = std::make_shared<const std::vector<TexelImage>>(
+        image->paged ? std::vector<TexelImage>{} : build_mip_levels(*image));
     m_mips.emplace(image.get(), levels);
     return levels;
+}
+
+TextureMemoryStats TexelImageCache::stats() const {
+    std::lock_guard lock(m_mutex);
+    TextureMemoryStats s;
+    s.limit = m_limit;
+    s.whole_bytes = m_bytes;
+    s.paged_images = m_paged;
+    if (m_tiles) m_tiles->stats(s);
+    return s;
+}
+
+std::shared_ptr<const TileCache> TexelImageCache::tile_cache() const {
+    std::lock_guard lock(m_mutex);
+    return m_tiles;
 }
 
 std::size_t TexelImageCache::size() const {

@@ -16,7 +16,8 @@ namespace facet::render {
 
 TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOptions& options,
                                  const std::string& where,
-                                 OIIO::Filesystem::IOProxy* memory = nullptr);
+                                 OIIO::Filesystem::IOProxy* memory = nullptr,
+                                 const TexelRowSink* sink = nullptr);
 
 namespace {
 
@@ -33,9 +34,11 @@ bool is_float(const OIIO::TypeDesc& t) {
 
 // `memory`: the encoded file's bytes (an image inside a .glb or a data: URI), read through
 // OpenImageIO's IOProxy without a temporary file; `path` then only names it (its extension picks
-// the format) in messages.
+// the format) in messages. `sink`: stream the rows when sink->stream(header) says so (bands of
+// kRowBand rows through read_scanlines, decoded as the whole image is), texels left empty.
 TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOptions& options,
-                                 const std::string& where, OIIO::Filesystem::IOProxy* memory) {
+                                 const std::string& where, OIIO::Filesystem::IOProxy* memory,
+                                 const TexelRowSink* sink) {
     std::error_code ec;
     if (!memory && !std::filesystem::is_regular_file(path, ec))
         fail(where, path, "no such image file");
@@ -66,8 +69,30 @@ TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOption
     if (cs == ColorSpace::Auto) cs = image.float_format ? ColorSpace::Linear : ColorSpace::Srgb;
     image.color_space = cs;
     const std::size_t nc = std::size_t(image.channels);
-    const std::size_t n = std::size_t(image.width) * std::size_t(image.height) * nc;
+    const bool streamed = sink && sink->stream(image);
+    // Rows per read: all of them, or bands of kRowBand when streaming.
+    constexpr int kRowBand = 64;
+    const int band = streamed ? std::min(kRowBand, image.height) : image.height;
+    const std::size_t n = std::size_t(image.width) * std::size_t(band) * nc;
     image.texels.resize(n);
+    // Reads rows [y0, y0 + rows) as `type` into `data` (the whole image when not streaming).
+    auto read_rows = [&](int y0, int rows, OIIO::TypeDesc type, void* data) {
+        const bool ok = streamed ? in->read_scanlines(0, 0, spec.y + y0, spec.y + y0 + rows, 0, 0,
+                                                      image.channels, type, data)
+                                 : in->read_image(0, 0, 0, image.channels, type, data);
+        if (!ok) fail(where, path, "cannot read image: " + in->geterror());
+    };
+    // Every band in order: read, decode into image.texels, hand over when streaming.
+    auto for_each_band = [&](const auto& decode_band) {
+        for (int y0 = 0; y0 < image.height; y0 += band) {
+            const int rows = std::min(band, image.height - y0);
+            decode_band(y0, rows, std::size_t(image.width) * std::size_t(rows) * nc);
+            if (streamed) sink->rows(y0, rows, image.texels.data());
+        }
+        in->close();
+        if (streamed) image.texels = {};
+        return std::move(image);
+    };
 
     // 8- and 16-bit files are decoded from their integer codes through a table of the curve
     // evaluated in double (code / (2^bits - 1), then sRGB or not, rounded once to float): exact,
@@ -82,31 +107,34 @@ TexelImage load_texel_image_oiio(const std::string& path, const TexelImageOption
             linear_table[k] = float(e);
             srgb_table[k] = cs == ColorSpace::Srgb ? srgb_decode_exact(e) : float(e);
         }
-        auto decode = [&](const auto* codes) {
-            for (std::size_t i = 0; i < n; ++i) {
+        auto decode = [&](const auto* codes, std::size_t count) {
+            for (std::size_t i = 0; i < count; ++i) {
                 const bool alpha = int(i % nc) == image.alpha_channel;
                 image.texels[i] = (alpha ? linear_table : srgb_table)[codes[i]];
             }
         };
         if (bits8) {
             std::vector<std::uint8_t> codes(n);
-            if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::UINT8, codes.data()))
-                fail(where, path, "cannot read image: " + in->geterror());
-            decode(codes.data());
-        } else {
-            std::vector<std::uint16_t> codes(n);
-            if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::UINT16, codes.data()))
-                fail(where, path, "cannot read image: " + in->geterror());
-            decode(codes.data());
+            return for_each_band([&](int y0, int rows, std::size_t count) {
+                read_rows(y0, rows, OIIO::TypeDesc::UINT8, codes.data());
+                decode(codes.data(), count);
+            });
         }
-        in->close();
-        return image;
+        std::vector<std::uint16_t> codes(n);
+        return for_each_band([&](int y0, int rows, std::size_t count) {
+            read_rows(y0, rows, OIIO::TypeDesc::UINT16, codes.data());
+            decode(codes.data(), count);
+        });
     }
-    if (!in->read_image(0, 0, 0, image.channels, OIIO::TypeDesc::FLOAT, image.texels.data()))
-        fail(where, path, "cannot read image: " + in->geterror());
-    in->close();
-    check_and_decode_texels(image, cs, options.reject_negative, where);
-    return image;
+    return for_each_band([&](int y0, int rows, std::size_t count) {
+        read_rows(y0, rows, OIIO::TypeDesc::FLOAT, image.texels.data());
+        // A short last band: check only its rows (the rest is the previous band's).
+        image.texels.resize(count);
+        const int h = image.height;
+        image.height = rows;
+        check_and_decode_texels(image, cs, options.reject_negative, where, y0);
+        image.height = h;
+    });
 }
 
 }  // namespace facet::render
@@ -136,6 +164,23 @@ extern "C" bool facet_oiio_load_texel_image_memory(const std::string& name,
     try {
         OIIO::Filesystem::IOMemReader reader(bytes, size);
         out = facet::render::load_texel_image_oiio(name, options, where, &reader);
+        return true;
+    } catch (const std::exception& e) {
+        error = e.what();
+        return false;
+    }
+}
+
+// Streaming (texel_image.h, load_texel_image_rows): from the file, or from `bytes` when
+// `in_memory`.
+extern "C" bool facet_oiio_load_texel_image_rows(
+    const std::string& path, const unsigned char* bytes, std::size_t size, bool in_memory,
+    const facet::render::TexelImageOptions& options, const std::string& where,
+    const facet::render::TexelRowSink& sink, facet::render::TexelImage& out, std::string& error) {
+    try {
+        OIIO::Filesystem::IOMemReader reader(bytes, size);
+        out = facet::render::load_texel_image_oiio(path, options, where,
+                                                   in_memory ? &reader : nullptr, &sink);
         return true;
     } catch (const std::exception& e) {
         error = e.what();

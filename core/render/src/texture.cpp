@@ -2,6 +2,7 @@
 #include "facet/render/texture.h"
 
 #include "facet/render/scene.h"
+#include "facet/render/texel_pages.h"
 
 #include <algorithm>
 #include <cmath>
@@ -54,14 +55,22 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
     t.m_scale = float(d.scale) * d.color_scale;
     set_transform(d, t.m_a, t.m_b);
     const TexelImage& im = *t.m_image;
+    t.m_paged = im.paged.get();
     t.m_min = Rgb(INFINITY);
     t.m_max = Rgb(-INFINITY);
-    for (int y = 0; y < im.height; ++y) {
+    auto extend = [&](const float* row) {
         for (int x = 0; x < im.width; ++x) {
-            const Rgb v = t.texel(im, x, y);
+            const Rgb v = t.value(row + std::size_t(x) * std::size_t(im.channels), im.channels);
             t.m_min = glm::min(t.m_min, v);
             t.m_max = glm::max(t.m_max, v);
         }
+    };
+    if (t.m_paged) {
+        t.m_paged->for_each_row(extend);
+    } else {
+        for (int y = 0; y < im.height; ++y)
+            extend(im.texels.data() +
+                   std::size_t(y) * std::size_t(im.width) * std::size_t(im.channels));
     }
     return t;
 }
@@ -81,15 +90,13 @@ Vec2 Texture::transform(Vec2 uv) const {
     return m_a * uv + m_b;
 }
 
-// Texel (x, y) of level `im` (indices already wrapped) as the texture's value, times scale.
-Rgb Texture::texel(const TexelImage& im, int x, int y) const {
-    const float* p = &im.texels[(std::size_t(y) * std::size_t(im.width) + std::size_t(x)) *
-                                std::size_t(im.channels)];
+// One texel's channels p as the texture's value, times scale.
+Rgb Texture::value(const float* p, int channels) const {
     Rgb c;
     if (m_channel == kAllChannels) {
-        c = im.channels >= 3 ? Rgb(p[0], p[1], p[2]) : Rgb(p[0]);
+        c = channels >= 3 ? Rgb(p[0], p[1], p[2]) : Rgb(p[0]);
     } else if (m_channel == kLuminance) {
-        c = Rgb(im.channels >= 3 ? luminance(Rgb(p[0], p[1], p[2])) : p[0]);
+        c = Rgb(channels >= 3 ? luminance(Rgb(p[0], p[1], p[2])) : p[0]);
     } else {
         c = Rgb(p[m_channel]);
     }
@@ -103,35 +110,89 @@ int texel_index(float f) {
     return int(std::floor(std::clamp(f, -1e9f, 1e9f)));
 }
 
+// The levels of a whole image: level 0 is the image, level l >= 1 its MIP level l.
+struct WholeLevels {
+    const TexelImage& image;
+    const std::vector<TexelImage>* mips;  // null without MIP levels
+    const TexelImage& at(int l) const { return l == 0 ? image : (*mips)[std::size_t(l - 1)]; }
+    int count() const { return 1 + (mips ? int(mips->size()) : 0); }
+    int width(int l) const { return at(l).width; }
+    int height(int l) const { return at(l).height; }
+    const float* texel(int l, int x, int y, float*) const {
+        const TexelImage& im = at(l);
+        return &im.texels[(std::size_t(y) * std::size_t(im.width) + std::size_t(x)) *
+                          std::size_t(im.channels)];
+    }
+};
+
+// The levels of a paged image, through the tile cache (a copy of the texel into `scratch`).
+struct PagedLevels {
+    const PagedImage& image;
+    int count() const { return image.levels(); }
+    int width(int l) const { return image.level(l).width; }
+    int height(int l) const { return image.level(l).height; }
+    const float* texel(int l, int x, int y, float* scratch) const {
+        image.texel(l, x, y, scratch);
+        return scratch;
+    }
+};
+
 }  // namespace
 
-// Bilinear between the texel centres of level `im` around the transformed coordinates t.
-Rgb Texture::bilinear(const TexelImage& im, Vec2 t) const {
+// Bilinear between the texel centres of `level` around the transformed coordinates t.
+template <class Levels>
+Rgb Texture::bilinear(const Levels& levels, int level, Vec2 t) const {
+    const int w = levels.width(level), h = levels.height(level);
+    const int c = m_image->channels;
     // Continuous texel coordinates: x right from the left edge, y down from the top edge.
-    const float gx = t.x * float(im.width) - 0.5f, gy = (1.f - t.y) * float(im.height) - 0.5f;
+    const float gx = t.x * float(w) - 0.5f, gy = (1.f - t.y) * float(h) - 0.5f;
     const int x0 = texel_index(gx), y0 = texel_index(gy);
     const float ax = gx - float(x0), ay = gy - float(y0);
-    const int xa = wrap_index(x0, im.width, m_wrap), xb = wrap_index(x0 + 1, im.width, m_wrap);
-    const int ya = wrap_index(y0, im.height, m_wrap), yb = wrap_index(y0 + 1, im.height, m_wrap);
-    return (1.f - ay) * ((1.f - ax) * texel(im, xa, ya) + ax * texel(im, xb, ya)) +
-           ay * ((1.f - ax) * texel(im, xa, yb) + ax * texel(im, xb, yb));
+    const int xa = wrap_index(x0, w, m_wrap), xb = wrap_index(x0 + 1, w, m_wrap);
+    const int ya = wrap_index(y0, h, m_wrap), yb = wrap_index(y0 + 1, h, m_wrap);
+    float scratch[kMaxPagedChannels];
+    auto texel = [&](int x, int y) { return value(levels.texel(level, x, y, scratch), c); };
+    return (1.f - ay) * ((1.f - ax) * texel(xa, ya) + ax * texel(xb, ya)) +
+           ay * ((1.f - ax) * texel(xa, yb) + ax * texel(xb, yb));
+}
+
+template <class Levels>
+Rgb Texture::lookup(const Levels& levels, Vec2 uv, const UvFootprint* fp) const {
+    const Vec2 t = transform(uv);
+    if (m_filter == TextureFilter::Closest) {
+        const int w = levels.width(0), h = levels.height(0);
+        float scratch[kMaxPagedChannels];
+        return value(
+            levels.texel(0, wrap_index(texel_index(t.x * float(w)), w, m_wrap),
+                         wrap_index(texel_index((1.f - t.y) * float(h)), h, m_wrap), scratch),
+            m_image->channels);
+    }
+    // Mipmap with a footprint: the level (conventions); otherwise (and when magnified) level
+    // 0, exactly "linear".
+    const float lambda = fp && m_filter == TextureFilter::Mipmap ? mip_level(*fp) : 0.f;
+    if (!(lambda > 0.f)) return bilinear(levels, 0, t);
+    const int last = levels.count() - 1;  // index of the 1 x 1 level
+    if (lambda >= float(last)) return bilinear(levels, last, t);
+    const int l = int(std::floor(lambda));
+    const float a = lambda - float(l);
+    return (1.f - a) * bilinear(levels, l, t) + a * bilinear(levels, l + 1, t);
+}
+
+Rgb Texture::eval_image(Vec2 uv, const UvFootprint* fp) const {
+    if (m_paged) return lookup(PagedLevels{*m_paged}, uv, fp);
+    return lookup(WholeLevels{*m_image, m_mips.get()}, uv, fp);
 }
 
 Rgb Texture::eval(Vec2 uv) const {
-    const Vec2 t = transform(uv);
     if (!m_image) {
+        const Vec2 t = transform(uv);
         const float i = std::floor(m_cells * t.x), j = std::floor(m_cells * t.y);
         // (i + j) mod 2 without overflow for huge cells: parity of each floor.
         const bool odd =
             (std::fmod(std::fabs(i), 2.f) == 1.f) != (std::fmod(std::fabs(j), 2.f) == 1.f);
         return m_colors[odd ? 1 : 0];
     }
-    const TexelImage& im = *m_image;
-    if (m_filter == TextureFilter::Closest) {
-        return texel(im, wrap_index(texel_index(t.x * float(im.width)), im.width, m_wrap),
-                     wrap_index(texel_index((1.f - t.y) * float(im.height)), im.height, m_wrap));
-    }
-    return bilinear(im, t);
+    return eval_image(uv, nullptr);
 }
 
 float Texture::mip_level(const UvFootprint& fp) const {
@@ -144,18 +205,8 @@ float Texture::mip_level(const UvFootprint& fp) const {
 }
 
 Rgb Texture::eval(Vec2 uv, const UvFootprint& fp) const {
-    if (m_filter != TextureFilter::Mipmap) return eval(uv);
-    const float lambda = mip_level(fp);
-    if (!(lambda > 0.f)) return eval(uv);  // magnification: level 0, exactly "linear"
-    const Vec2 t = transform(uv);
-    const std::vector<TexelImage>& mips = *m_mips;
-    const int last = int(mips.size());  // index of the 1 x 1 level
-    if (lambda >= float(last)) return last == 0 ? bilinear(*m_image, t) : bilinear(mips.back(), t);
-    const int l = int(std::floor(lambda));
-    const float a = lambda - float(l);
-    const TexelImage& lo = l == 0 ? *m_image : mips[std::size_t(l - 1)];
-    const TexelImage& hi = mips[std::size_t(l)];
-    return (1.f - a) * bilinear(lo, t) + a * bilinear(hi, t);
+    if (!m_image) return eval(uv);
+    return eval_image(uv, &fp);
 }
 
 UvFootprint uv_footprint(const PixelFootprint& fp, const Vec3& dpdu, const Vec3& dpdv) {

@@ -384,6 +384,9 @@ class Scene {
     void shade_normal(SurfaceHit& hit, const Vec3& wo) const;
     // The textured materials (ShapeInfo::textured indexes them).
     std::span<const TexturedMaterial> textured_materials() const { return m_textured; }
+    // Texture memory: whole images, and the tile cache of paged ones with its counters so far
+    // (texel_image.h, "Memory bound").
+    TextureMemoryStats texture_memory() const;
 
     // Warnings build_scene() reported (dropped zero-area triangles, ...), one line each.
     std::span<const std::string> warnings() const { return m_warnings; }
@@ -426,6 +429,8 @@ class Scene {
     std::vector<std::shared_ptr<Material>> m_materials;
     std::vector<std::unique_ptr<Texture>> m_textures;  // stable addresses
     std::vector<TexturedMaterial> m_textured;
+    TextureMemoryStats m_texture_memory;            // as the build left it
+    std::shared_ptr<const TileCache> m_tile_cache;  // null while nothing is paged
     std::vector<ShapeInfo> m_shapes;
     std::vector<Light> m_lights;
     LightDistribution m_light_distribution;
@@ -467,8 +472,9 @@ struct SceneLimits {
     std::uint64_t max_triangles = std::uint64_t(1) << 26;  // 67M triangles in the whole scene
     std::int64_t max_pixels = std::int64_t(1) << 28;
     bool allow_files = true;  // mesh "file" entries and environment map images
-    // Bytes of texture texels (float, MIP levels included) the scene may hold
-    // (TexelImageCache): an image past it is a SceneError naming the texture's pointer.
+    // Bytes of texture texels (float, MIP levels included) the scene may hold, at least
+    // kMinTextureMemory (TexelImageCache): images past it are paged through a tile cache
+    // within it (texel_image.h, "Memory bound").
     std::uint64_t texture_memory = kDefaultTextureMemory;
 };
 

@@ -31,6 +31,8 @@
 //    reads channel 0 of a 1- or 2-channel image and needs `channel` otherwise. Every value is
 //    multiplied by `scale` last; a colour `scale` ([r, g, b], `color_scale`) multiplies per
 //    channel (a colour parameter's tint, e.g. glTF's baseColorFactor times its texture).
+//  - Paged images (texel_pages.h) are looked up through the tile cache with the same
+//    arithmetic as whole ones: a texture's values do not depend on the memory bound.
 //  - Checker: cell (i, j) = (floor(n u'), floor(n v')), colour colors[(i + j) mod 2]; so the
 //    cell at the UV origin has colors[0].
 #pragma once
@@ -114,10 +116,18 @@ class Texture {
     const TexelImage* texel_image() const { return m_image.get(); }
 
   private:
-    Rgb texel(const TexelImage& im, int x, int y) const;
-    Rgb bilinear(const TexelImage& im, Vec2 t) const;
+    // The texture's value of one texel's channels p (channel choice, times scale).
+    Rgb value(const float* p, int channels) const;
+    // The image's filtered value at uv over footprint fp (null: level 0) through `levels`, the
+    // whole image's or the paged image's (texture.cpp): one code for both, so the same bits.
+    template <class Levels>
+    Rgb lookup(const Levels& levels, Vec2 uv, const UvFootprint* fp) const;
+    template <class Levels>
+    Rgb bilinear(const Levels& levels, int level, Vec2 t) const;
+    Rgb eval_image(Vec2 uv, const UvFootprint* fp) const;
     std::shared_ptr<const TexelImage> m_image;              // null for a checker
     std::shared_ptr<const std::vector<TexelImage>> m_mips;  // levels 1.. (Mipmap only)
+    const PagedImage* m_paged = nullptr;                    // m_image->paged
     TextureFilter m_filter = TextureFilter::Linear;
     TextureWrap m_wrap = TextureWrap::Repeat;
     int m_channel = kAllChannels;
