@@ -12,7 +12,7 @@ image and still exit 0 in `blender -b`.
 import time
 import traceback
 
-from . import export, hooks, native, pixels
+from . import export, hooks, native, passes, pixels
 
 PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
 
@@ -88,6 +88,13 @@ class FinalSession:
         tu = time.perf_counter()
         img = session.image()
         combined.rect.foreach_set(pixels.to_blender_rect(img))
+        if finished and not engine.is_preview:
+            # The view layer's other passes (passes.py): only those enabled, each computed once.
+            crop = region or (0, 0, width, height)
+            written = passes.write(result, fscene, depsgraph.view_layer, min(rs["spp"], 64),
+                                   rs["seed"], threads, crop)
+            if written:
+                engine.update_stats("", "Facet | Passes %s" % ", ".join(written))
         engine.end_result(result)
         upload[0] += time.perf_counter() - tu
         hooks.final_finished(img, not finished,

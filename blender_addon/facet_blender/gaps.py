@@ -27,15 +27,14 @@ NODES = {
     'ShaderNodeTexEnvironment': "environment textures convert only as the world's "
                                 "Background colour",
     'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
-    'ShaderNodeNormalMap': "normal mapping is not in Facet's core yet; the mesh's shading "
-                           "normal is used",
-    'ShaderNodeBump': "bump mapping is not in Facet's core yet; the mesh's shading normal is "
-                      "used",
+    'ShaderNodeNormalMap': "a Normal Map converts only into a BSDF's Normal input (or a "
+                           "Bump's Normal)",
+    'ShaderNodeBump': "a Bump converts only into a BSDF's Normal input",
     'ShaderNodeDisplacement': "displacement is not converted; the mesh is rendered undisplaced",
     'ShaderNodeVectorDisplacement': "displacement is not converted; the mesh is rendered "
                                     "undisplaced",
-    'ShaderNodeMixShader': "mixing shaders is not in Facet's core yet",
-    'ShaderNodeAddShader': "adding shaders is not in Facet's core yet",
+    'ShaderNodeMixShader': "a shader converts only into a shader input",
+    'ShaderNodeAddShader': "a shader converts only into a shader input",
     'ShaderNodeBsdfTransparent': "transparency is not in Facet's core yet",
     'ShaderNodeBsdfTranslucent': "translucency is not in Facet's core yet",
     'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
