@@ -262,8 +262,9 @@ def _loop_tangents(me, uv_name, nl):
 class _Materials:
     """Blender materials -> named Facet materials, each converted once."""
 
-    def __init__(self, problems):
+    def __init__(self, problems, users=None):
         self.problems = problems
+        self.users = {} if users is None else users  # facet name -> {object names}
         self.by_name = {}  # facet name -> materials.Converted
         self.first_user = {}  # facet name -> the object it was converted for (bakes)
         self.order = []
@@ -277,6 +278,8 @@ class _Materials:
             self.order.append(name)
             self.first_user[name] = obj.original.name if obj is not None else None
         conv = self.by_name[name]
+        if obj is not None:
+            self.users.setdefault(name, set()).add(obj.original.name)
         if conv.baked and obj is not None and obj.original.name != self.first_user[name]:
             line = ("material '%s': baked over object '%s''s UVs; object '%s' uses the same "
                     "image over its own UVs" % (name, self.first_user[name], obj.original.name))
@@ -355,15 +358,17 @@ def _area_light(obj, lt, m, pos, problems):
     return out
 
 
-def export_scene(depsgraph, camera=None, mesh_cache=None):
+def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
     scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
-    arrays of objects converted before (the viewport drops the entries of changed objects)."""
+    arrays of objects converted before (the viewport drops the entries of changed objects).
+    `users` (a dict, filled when given): material name -> the names of the objects using it
+    (for the grouped report, gaps.grouped)."""
     scene = depsgraph.scene
     problems = []
     bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
-    mats = _Materials(problems)
+    mats = _Materials(problems, users)
     data = {"description": "exported from Blender scene '%s'" % scene.name,
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}

@@ -222,6 +222,39 @@ def tangents_exported():
                 problems))
 
 
+def report_grouping():
+    """Two objects sharing a material with a report and two instances of it: the render's
+    report says each line once, under the material with both objects named and counted; the
+    core's build warning about a material joins that material's group."""
+    from facet_blender import export, gaps
+    bpy.ops.wm.read_homefile(use_factory_startup=True)
+    for o in list(bpy.data.objects):
+        if o.type != 'CAMERA':
+            bpy.data.objects.remove(o)
+    mat, nt, out = new_material("shared")
+    d1, d2 = diffuse(nt, (0.8, 0.8, 0.8)), node(nt, "ShaderNodeBsdfGlossy")
+    nm = node(nt, "ShaderNodeNormalMap")
+    nm.space = 'WORLD'
+    nt.links.new(nm.outputs[0], d1.inputs["Normal"])
+    nt.links.new(add(nt, d1, d2).outputs[0], out.inputs["Surface"])
+    for x in (0.0, 3.0):
+        bpy.ops.mesh.primitive_uv_sphere_add(location=(x, 0, 0))
+        bpy.context.active_object.data.materials.append(mat)
+    users = {}
+    data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get(),
+                                         mesh_cache={}, users=users)
+    warning = "blender: /materials/shared: add reflects 1.6 of the light"
+    groups = gaps.grouped(problems + problems + [warning, "object 'Sphere': note"], users)
+    subjects = [g[0] for g in groups]
+    bt.check(subjects == ["material 'shared' (2 objects: Sphere, Sphere.001)",
+                          "object 'Sphere'"]
+             and len(groups[0][1]) == 2 and "World" in groups[0][1][0]
+             and groups[0][1][1] == warning
+             and gaps.summary(groups).startswith("3 conversion notes: material 'shared'"),
+             "grouped report: each line once, by material with its objects, counted: %s %s"
+             % (groups, gaps.summary(groups)))
+
+
 def _scene(n):
     """An orthographic camera above x in [0, n], y in [0, 1]; a sun 40 degrees from the
     vertical and a grey world."""
@@ -350,6 +383,7 @@ def main():
     outdir = bt.args()[0]
     conversion()
     tangents_exported()
+    report_grouping()
     render_mix(outdir)
     render_normals(outdir)
 
