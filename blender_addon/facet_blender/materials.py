@@ -46,14 +46,17 @@ per material (they would fire on every default material).
   Beckmann, transmittance = Color (see _glass for what is reported).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
-- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
-  exact when combine() expresses the weighted sum: t = 0 or 1 (one side); emissions (any
-  weights); a BSDF linear in its reflectance (lambert, mirror, ggx, beckmann without energy
-  compensation) weighted, or two of the same model and parameters but reflectance, summed
-  while the reflectance stays <= 1. Otherwise the Mix uses its heavier side, the Add its first
-  BSDF (emissions added), and the node is reported. Principled (composite) does not combine.
-- Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
-  Output's Volume and Displacement are reported when something is linked to them.
+- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1], or a texture / bake of the Fac)
+  -> the core's `mix`, Add Shader -> `add` (combine()), nested as the tree nests them; t = 0
+  or 1 is that side alone, a black side only weights the other, and two BSDFs of one linear
+  model (lambert, mirror, ggx, beckmann without energy compensation) differing only in
+  reflectance merge into one while the reflectance stays <= 1. Emissions add with the same
+  weights (a textured Fac on an emission: reported, averaged). The children's normal maps and
+  bumps move to the combination (the core applies a combination's own); different ones are
+  reported and the first's kept.
+- Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
+  conversion does not read (Tangent, Clearcoat Normal, ...) and the Material Output's Volume
+  and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
 - Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """

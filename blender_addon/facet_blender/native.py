@@ -90,7 +90,7 @@ def texture(t):
 
 
 # The keys a material's normal_map / bump takes besides its texture's (FORMAT.md).
-_MAP_KEYS = {"normal_map": ("strength", "xy_scale"), "bump": ("distance",)}
+_MAP_KEYS = {"normal_map": ("strength", "xy_scale"), "bump": ("distance", "strength")}
 
 
 def _material_desc(m):

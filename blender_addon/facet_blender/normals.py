@@ -12,9 +12,8 @@ maps" and "Bump maps"), exactly as Cycles 3.4 evaluates them where the core can 
   Object and Blender World are reported (the core's maps are tangent space only).
 - Bump node (Cycles' svm_node_set_bump): `bump` = the texture of its Height (a number
   texture: an image's luminance, a checker, or the bake) with `distance` = Distance, negated
-  when Invert is on (Cycles negates the distance). Strength 1 is exact, 0 is no bump; any other
-  Strength is reported (the core's bump has no strength: converted as 1). A constant Height is
-  no bump (its gradient is zero). Its Normal input may be a Normal Map node (the core applies
+  when Invert is on (Cycles negates the distance), and `strength` = max(Strength, 0) (0: no
+  bump). A constant Height is no bump (its gradient is zero). Its Normal input may be a Normal Map node (the core applies
   the normal map, then the bump, as Cycles chains them); another Bump (a chain of bumps) is
   reported and only the outer one converted.
 - Anything else into a Normal input (Geometry, Texture Coordinate, a vector Math...) is
@@ -103,9 +102,8 @@ def _bump(ctx, src, feeds, out):
     height = ctx.param(node, 'Height', path)
     if not isinstance(height, dict):
         return  # a constant height: zero gradient, the normal unchanged
-    if strength != 1.0:
-        ctx.problems.append("%s: %s Strength %.4g is not in the core's bump; converted as 1 "
-                            "(feeds %s)" % (ctx.what, label, strength, feeds))
     bump = dict(height)
     bump["distance"] = distance
+    if strength != 1.0:
+        bump["strength"] = strength
     out["bump"] = bump

@@ -611,9 +611,36 @@ void bind_scene(py::module_& m) {
         MaterialDesc::Bump b;
         b.texture = d["texture"].cast<TextureDesc>();
         b.distance = number_or(d, "distance", "bump", 1.0);
-        if (d.contains("strength") || d.contains("xy_scale"))
-            bad_argument("bump", "only \"texture\" and \"distance\"");
+        b.strength = number_or(d, "strength", "bump", 1.0);
+        if (d.contains("xy_scale")) bad_argument("bump", "unknown key 'xy_scale'");
         return b;
+    };
+    // The normal_map / bump properties: a dict of the map's keys, None without one.
+    auto normal_map_dict = [](const MaterialDesc::NormalMap& n, py::dict& out) {
+        out["strength"] = n.strength;
+        out["xy_scale"] = n.xy_scale;
+    };
+    auto bump_dict = [](const MaterialDesc::Bump& b, py::dict& out) {
+        out["distance"] = b.distance;
+        out["strength"] = b.strength;
+    };
+    auto map_getter = [](auto member, auto fill) {
+        return [member, fill](const MaterialDesc& d) -> py::object {
+            const auto& map = d.*member;
+            if (!map) return py::none();
+            py::dict out;
+            out["texture"] = map->texture;
+            fill(*map, out);
+            return out;
+        };
+    };
+    auto map_setter = [](auto member, auto from) {
+        return [member, from](MaterialDesc& d, py::object v) {
+            if (v.is_none())
+                (d.*member).reset();
+            else
+                d.*member = from(v);
+        };
     };
     py::class_<MaterialDesc>(m, "MaterialDesc",
                              "A named material: model name (facet.models()) and parameters, "
@@ -621,7 +648,7 @@ void bind_scene(py::module_& m) {
                              "for any colour or number parameter; mix and add take "
                              "materials=[a, b] (names or MaterialDesc); normal_map={'texture': "
                              "facet.Texture, 'strength', 'xy_scale'} and bump={'texture', "
-                             "'distance'} as in the scene format")
+                             "'distance', 'strength'} as in the scene format")
         .def(py::init([sub_materials_from, normal_map_from, bump_from](
                           std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
@@ -662,37 +689,10 @@ void bind_scene(py::module_& m) {
             [sub_materials_from](MaterialDesc& d, py::object v) {
                 d.materials = sub_materials_from(v);
             })
-        .def_property(
-            "normal_map",
-            [](const MaterialDesc& d) -> py::object {
-                if (!d.normal_map) return py::none();
-                py::dict out;
-                out["texture"] = d.normal_map->texture;
-                out["strength"] = d.normal_map->strength;
-                out["xy_scale"] = d.normal_map->xy_scale;
-                return out;
-            },
-            [normal_map_from](MaterialDesc& d, py::object v) {
-                if (v.is_none())
-                    d.normal_map.reset();
-                else
-                    d.normal_map = normal_map_from(v);
-            })
-        .def_property(
-            "bump",
-            [](const MaterialDesc& d) -> py::object {
-                if (!d.bump) return py::none();
-                py::dict out;
-                out["texture"] = d.bump->texture;
-                out["distance"] = d.bump->distance;
-                return out;
-            },
-            [bump_from](MaterialDesc& d, py::object v) {
-                if (v.is_none())
-                    d.bump.reset();
-                else
-                    d.bump = bump_from(v);
-            })
+        .def_property("normal_map", map_getter(&MaterialDesc::normal_map, normal_map_dict),
+                      map_setter(&MaterialDesc::normal_map, normal_map_from))
+        .def_property("bump", map_getter(&MaterialDesc::bump, bump_dict),
+                      map_setter(&MaterialDesc::bump, bump_from))
         .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })
