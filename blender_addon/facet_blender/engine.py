@@ -4,7 +4,7 @@ final.FinalSession, view_update()/view_draw() (Rendered shading) to the
 viewport.ViewportSession it keeps while the 3D view shows Facet."""
 import bpy
 
-from . import final, viewport
+from . import final, passes, viewport
 
 
 class FacetRenderEngine(bpy.types.RenderEngine):
@@ -16,6 +16,9 @@ class FacetRenderEngine(bpy.types.RenderEngine):
 
     def render(self, depsgraph):
         final.FinalSession(self).render(depsgraph)
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        passes.register_passes(self, scene, renderlayer)
 
     def view_update(self, context, depsgraph):
         vs = getattr(self, "_viewport", None)

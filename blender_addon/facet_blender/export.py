@@ -171,12 +171,15 @@ def _is_identity(m):
     return all(m[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
 
 
-def mesh_arrays(obj_eval, uv_layer=None):
+def mesh_arrays(obj_eval, uv_layer=None, tangents=False):
     """Evaluated object -> (positions (n,3) f32, indices (m,3) i32, normals (n,3) f32 | None,
-    material index per triangle (m,) i32, uvs (n,2) f32 | None), or None for a mesh without
-    triangles. `uv_layer` (a UV map's name, "" for the render one; None: no UVs) exports that
-    layer's UVs, one vertex per face corner (loop) as UVs are per corner in Blender; a mesh
-    without that layer gets uvs None."""
+    material index per triangle (m,) i32, uvs (n,2) f32 | None, tangents (n,4) f32 | None),
+    or None for a mesh without triangles. `uv_layer` (a UV map's name, "" for the render one;
+    None: no UVs) exports that layer's UVs, one vertex per face corner (loop) as UVs are per
+    corner in Blender; a mesh without that layer gets uvs None. `tangents`: with the UVs, that
+    layer's MikkTSpace tangents and bitangent signs per corner, Blender's own calc_tangents()
+    (what Cycles' Normal Map node reads); None when Blender cannot compute them (a face of
+    more than 4 corners: the core then computes MikkTSpace itself, FORMAT.md)."""
     me = obj_eval.to_mesh()
     try:
         if me is None:
@@ -200,13 +203,15 @@ def mesh_arrays(obj_eval, uv_layer=None):
         if uv_layer is not None:
             layer = (me.uv_layers.get(uv_layer) if uv_layer else
                      next((u for u in me.uv_layers if u.active_render), None))
+        uv_name = layer.name if layer is not None else None
         if layer is None:
             if not smooth.any():
-                return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat, None
+                return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat, None, None
             if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
                 n = np.empty(nv * 3, np.float32)
                 me.vertices.foreach_get('normal', n)
-                return co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat, None
+                return (co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat, None,
+                        None)
         # Split normals (auto smooth, sharp edges, custom normals, flat faces among smooth
         # ones) or UVs: one vertex per loop.
         nl = len(me.loops)
@@ -220,21 +225,46 @@ def mesh_arrays(obj_eval, uv_layer=None):
             ln = np.empty(nl * 3, np.float32)
             me.loops.foreach_get('normal', ln)
             ln = ln.reshape(-1, 3)
-        uvs = None
+        uvs = tan = None
         if layer is not None:
+            # calc_normals_split() reallocates the corners' layers: look the UV layer up again
+            # (the old reference reads freed memory; its name came back empty).
+            layer = me.uv_layers[uv_name]
             uvs = np.empty(nl * 2, np.float32)
             layer.data.foreach_get('uv', uvs)
             uvs = uvs.reshape(-1, 2)
-        return co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln, mat, uvs
+            if tangents:
+                tan = _loop_tangents(me, layer.name, nl)
+        return co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln, mat, uvs, tan
     finally:
         obj_eval.to_mesh_clear()
+
+
+def _loop_tangents(me, uv_name, nl):
+    """(nl, 4) f32: Blender's MikkTSpace tangent and bitangent sign of every corner for UV map
+    `uv_name` (calc_tangents() also computes the split normals they are relative to); None
+    when Blender refuses (n-gons)."""
+    try:
+        me.calc_tangents(uvmap=uv_name)
+    except RuntimeError:
+        return None
+    tan = np.empty((nl, 4), np.float32)
+    t3 = np.empty(nl * 3, np.float32)
+    me.loops.foreach_get('tangent', t3)
+    sign = np.empty(nl, np.float32)
+    me.loops.foreach_get('bitangent_sign', sign)
+    tan[:, :3] = t3.reshape(-1, 3)
+    tan[:, 3] = sign
+    me.free_tangents()
+    return tan
 
 
 class _Materials:
     """Blender materials -> named Facet materials, each converted once."""
 
-    def __init__(self, problems):
+    def __init__(self, problems, users=None):
         self.problems = problems
+        self.users = {} if users is None else users  # facet name -> {object names}
         self.by_name = {}  # facet name -> materials.Converted
         self.first_user = {}  # facet name -> the object it was converted for (bakes)
         self.order = []
@@ -248,6 +278,8 @@ class _Materials:
             self.order.append(name)
             self.first_user[name] = obj.original.name if obj is not None else None
         conv = self.by_name[name]
+        if obj is not None:
+            self.users.setdefault(name, set()).add(obj.original.name)
         if conv.baked and obj is not None and obj.original.name != self.first_user[name]:
             line = ("material '%s': baked over object '%s''s UVs; object '%s' uses the same "
                     "image over its own UVs" % (name, self.first_user[name], obj.original.name))
@@ -326,15 +358,17 @@ def _area_light(obj, lt, m, pos, problems):
     return out
 
 
-def export_scene(depsgraph, camera=None, mesh_cache=None):
+def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
     scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
-    arrays of objects converted before (the viewport drops the entries of changed objects)."""
+    arrays of objects converted before (the viewport drops the entries of changed objects).
+    `users` (a dict, filled when given): material name -> the names of the objects using it
+    (for the grouped report, gaps.grouped)."""
     scene = depsgraph.scene
     problems = []
     bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
-    mats = _Materials(problems)
+    mats = _Materials(problems, users)
     data = {"description": "exported from Blender scene '%s'" % scene.name,
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
@@ -378,15 +412,18 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
             continue
         slots = [s.material for s in obj.material_slots] or [None]
         uv_layer = _uv_layer(obj, slots, mats, problems)
-        key = (obj.name, inst.is_instance, uv_layer)
+        tangents = uv_layer is not None and any(
+            mats.get(m, obj)[1].tangents for m in slots
+            if m is None or not m.get("facet_cycles_only"))
+        key = (obj.name, inst.is_instance, uv_layer, tangents)
         if key not in mesh_cache:
-            mesh_cache[key] = mesh_arrays(obj, uv_layer)
+            mesh_cache[key] = mesh_arrays(obj, uv_layer, tangents)
             hooks.export_stats["meshes"] += 1
         arrays = mesh_cache[key]
         if arrays is None:
             problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)
             continue
-        pos, idx, nrm, mat_idx, uvs = arrays
+        pos, idx, nrm, mat_idx, uvs, tan = arrays
         if uv_layer is not None and uvs is None:
             # Cycles reads a missing UV map as (0, 0): the textures' value at the origin.
             problems.append("object '%s': its textured materials read UV map '%s', which the "
@@ -404,6 +441,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None):
                      "name": name if len(used) == 1 else "%s [slot %d]" % (name, mi)}
             if uvs is not None:
                 shape["uvs"] = uvs
+            if tan is not None:
+                shape["tangents"] = tan
             _add_material(shape, slot_mat, mats, obj)
             data["shapes"].append(shape)
     env = export_environment(scene, problems)

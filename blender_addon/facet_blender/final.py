@@ -12,7 +12,7 @@ image and still exit 0 in `blender -b`.
 import time
 import traceback
 
-from . import export, hooks, native, pixels
+from . import export, gaps, hooks, native, passes, pixels
 
 PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
 
@@ -35,24 +35,35 @@ class FinalSession:
             self.engine.report({'ERROR'}, msg)
             self.engine.error_set(msg)
 
+    def _report(self, engine, problems, warnings, users):
+        """One report per render: each line once, grouped by material (with the objects using
+        it) and object, after a count (gaps.grouped, gaps.summary); the preview scene's own
+        materials are not the user's."""
+        groups = gaps.grouped(list(problems) + list(warnings), users)
+        for _, lines in groups:
+            self.problems.extend(lines)
+        if groups and not engine.is_preview:
+            engine.report({'WARNING'}, "Facet: " + gaps.summary(groups))
+            for subject, lines in groups:
+                for line in lines:
+                    engine.report({'WARNING'}, "Facet: [%s] %s" % (subject, line))
+
     def _render(self, depsgraph):
         engine = self.engine
         scene = depsgraph.scene
         t0 = time.perf_counter()
         engine.update_stats("", "Facet | Exporting scene")
-        data, problems = export.export_scene(depsgraph)
+        users = {}
+        data, problems = export.export_scene(depsgraph, users=users)
         if engine.is_preview:
             hooks.preview_started()
-        for p in problems:
-            self.problems.append(p)
-            if not engine.is_preview:  # the preview scene's own materials are not the user's
-                engine.report({'WARNING'}, "Facet: " + p)
         width, height = data["camera"]["width"], data["camera"]["height"]
         engine.update_stats("", "Facet | Building scene")
-        fscene, warnings = native.build(data, name="blender")
-        for w in warnings:
-            self.problems.append(w)
-            engine.report({'WARNING'}, "Facet: " + w)
+        warnings = []
+        try:
+            fscene, warnings = native.build(data, name="blender")
+        finally:  # the conversion's report also when the build fails
+            self._report(engine, problems, warnings, users)
         rs = data["render"]
         if engine.is_preview:
             rs["spp"] = min(rs["spp"], PREVIEW_SPP)
@@ -88,6 +99,13 @@ class FinalSession:
         tu = time.perf_counter()
         img = session.image()
         combined.rect.foreach_set(pixels.to_blender_rect(img))
+        if finished and not engine.is_preview:
+            # The view layer's other passes (passes.py): only those enabled, each computed once.
+            crop = region or (0, 0, width, height)
+            written = passes.write(result, fscene, depsgraph.view_layer, min(rs["spp"], 64),
+                                   rs["seed"], threads, crop)
+            if written:
+                engine.update_stats("", "Facet | Passes %s" % ", ".join(written))
         engine.end_result(result)
         upload[0] += time.perf_counter() - tu
         hooks.final_finished(img, not finished,

@@ -27,15 +27,14 @@ NODES = {
     'ShaderNodeTexEnvironment': "environment textures convert only as the world's "
                                 "Background colour",
     'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
-    'ShaderNodeNormalMap': "normal mapping is not in Facet's core yet; the mesh's shading "
-                           "normal is used",
-    'ShaderNodeBump': "bump mapping is not in Facet's core yet; the mesh's shading normal is "
-                      "used",
+    'ShaderNodeNormalMap': "a Normal Map converts only into a BSDF's Normal input (or a "
+                           "Bump's Normal)",
+    'ShaderNodeBump': "a Bump converts only into a BSDF's Normal input",
     'ShaderNodeDisplacement': "displacement is not converted; the mesh is rendered undisplaced",
     'ShaderNodeVectorDisplacement': "displacement is not converted; the mesh is rendered "
                                     "undisplaced",
-    'ShaderNodeMixShader': "mixing shaders is not in Facet's core yet",
-    'ShaderNodeAddShader': "adding shaders is not in Facet's core yet",
+    'ShaderNodeMixShader': "a shader converts only into a shader input",
+    'ShaderNodeAddShader': "a shader converts only into a shader input",
     'ShaderNodeBsdfTransparent': "transparency is not in Facet's core yet",
     'ShaderNodeBsdfTranslucent': "translucency is not in Facet's core yet",
     'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
@@ -132,3 +131,49 @@ def light_gaps(light):
                      else "%.4g" % float(v))
             out.append((label, shown, what))
     return out
+
+
+def _subject(line):
+    """The subject a report line starts with ("material 'Wood'", "object 'Rock'", "light
+    'Sun'", "world 'World'", "camera ..."), or "scene" for the core's build warnings."""
+    head = line.split(": ", 1)[0]
+    for kind in ("material", "object", "light", "world", "camera"):
+        if head.startswith(kind + " "):
+            return head
+    if head.startswith("blender") and "/materials/" in line:
+        # the core's warning about a material: "blender: /materials/<name>: ..."
+        name = line.split("/materials/", 1)[1].split(":", 1)[0].split("/", 1)[0]
+        return "material '%s'" % name.replace("~1", "/").replace("~0", "~")
+    return "scene"
+
+
+def grouped(lines, users=None):
+    """One render's report, grouped: [(subject, [lines])] in order of first appearance, each
+    line once (a material converted for several objects, or an instanced object, says it
+    once). A material's subject names the objects using it (`users`: material name -> object
+    names) and counts them, e.g. "material 'Wood' (3 objects: Chair, Desk, Shelf)"."""
+    groups, seen = {}, set()
+    for line in lines:
+        if line in seen:
+            continue
+        seen.add(line)
+        groups.setdefault(_subject(line), []).append(line)
+    out = []
+    for subject, ls in groups.items():
+        label = subject
+        if subject.startswith("material '") and users:
+            objs = sorted(users.get(subject[len("material '"):-1], ()))
+            if objs:
+                shown = ", ".join(objs[:5]) + (", ..." if len(objs) > 5 else "")
+                label = "%s (%d object%s: %s)" % (subject, len(objs),
+                                                 "" if len(objs) == 1 else "s", shown)
+        out.append((label, ls))
+    return out
+
+
+def summary(groups):
+    """A one-line count of a grouped report: "7 notes: material 'Wood' (3 objects: ...) 2,
+    object 'Rock' 1, ..."."""
+    n = sum(len(ls) for _, ls in groups)
+    return "%d conversion note%s: %s" % (n, "" if n == 1 else "s",
+                                         ", ".join("%s %d" % (s, len(ls)) for s, ls in groups))

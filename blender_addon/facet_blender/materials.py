@@ -46,21 +46,24 @@ per material (they would fire on every default material).
   Beckmann, transmittance = Color (see _glass for what is reported).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
-- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1]) and Add Shader (weights 1, 1):
-  exact when combine() expresses the weighted sum: t = 0 or 1 (one side); emissions (any
-  weights); a BSDF linear in its reflectance (lambert, mirror, ggx, beckmann without energy
-  compensation) weighted, or two of the same model and parameters but reflectance, summed
-  while the reflectance stays <= 1. Otherwise the Mix uses its heavier side, the Add its first
-  BSDF (emissions added), and the node is reported. Principled (composite) does not combine.
-- Inputs a conversion does not read (Normal, Tangent, Clearcoat Normal, ...) and the Material
-  Output's Volume and Displacement are reported when something is linked to them.
+- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1], or a texture / bake of the Fac)
+  -> the core's `mix`, Add Shader -> `add` (combine()), nested as the tree nests them; t = 0
+  or 1 is that side alone, a black side only weights the other, and two BSDFs of one linear
+  model (lambert, mirror, ggx, beckmann without energy compensation) differing only in
+  reflectance merge into one while the reflectance stays <= 1. Emissions add with the same
+  weights (a textured Fac on an emission: reported, averaged). The children's normal maps and
+  bumps move to the combination (the core applies a combination's own); different ones are
+  reported and the first's kept.
+- Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
+  conversion does not read (Tangent, Clearcoat Normal, ...) and the Material Output's Volume
+  and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
 - Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """
 import json
 import math
 
-from . import bake, gaps, nodegraph, textures, units
+from . import bake, gaps, nodegraph, normals, textures, units
 from .properties import material_params
 
 DEFAULT_MATERIAL = {"model": "lambert", "reflectance": 0.8}
@@ -78,6 +81,7 @@ class Converted:
         self.problems = list(problems)
         self.uv_maps = set(uv_maps)
         self.baked = False  # an input baked over the UVs of the object it was converted for
+        self.tangents = False  # a normal map: the mesh needs the tangents of its UV map
 
     def emits(self):
         return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
@@ -126,6 +130,7 @@ def convert(mat, obj=None):
     data, emission = ctx.shader(src, "the Material Output's Surface")
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
     conv.baked = ctx.baked
+    conv.tangents = ctx.tangents
     return conv
 
 
@@ -159,6 +164,7 @@ class NodeContext:
         self.material = self.obj = None  # set for a material: what a bake needs (bake.py)
         self.exact = set()  # (node, input) of gaps.INPUTS entries a conversion converted
         self.baked = False
+        self.tangents = False  # a normal map: the mesh exports its UV map's tangents
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -290,6 +296,9 @@ class NodeContext:
         if conv is not None:
             read = _READS.get(node.bl_idname, ('Color', 'Strength'))
             data, emission = conv(self, node, path)
+            if any(s.identifier == 'Normal' for s in node.inputs) and not self.world:
+                data.update(normals.convert(self, node, path))
+                read = read + ('Normal',)
             self.check_inputs(node, path, read)
             return data, emission
         if node.bl_idname == 'ShaderNodeMixShader':
@@ -306,56 +315,54 @@ class NodeContext:
 
     def _mix_shader(self, src, feeds):
         """Cycles mixes with weights (1 - t, t), t = Fac clamped to [0, 1]: t = 0 or 1 is one
-        of the shaders exactly; any other t is exact when combine() can weight the two sides
-        (emitters, and BSDFs linear in their reflectance); otherwise the heavier side is used,
-        and reported."""
+        of the shaders exactly (Cycles skips the other); any other t, or a Fac that is a
+        texture or a bake, is the core's `mix` (mix())."""
         node, path = src.node, src.path
-        t = min(max(self.value(node, 'Fac', path), 0.0), 1.0)
-        ins = [s for s in node.inputs if s.type == 'SHADER']
+        fac = self.param(node, 'Fac', path)
         label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
-        pick = 1 if t >= 0.5 else 0
-        if t not in (0.0, 1.0):
-            saved = (list(self.problems), {k: [a, b, list(c)] for k, (a, b, c)
-                                           in self._lines.items()})
-            sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
-            mixed = combine(sides, (1.0 - t, t))
-            if mixed is not None:
-                return mixed
-            self.problems, self._lines = saved  # only the side used is reported
-            self.gap(src, gaps.node_reason(node),
-                     "feeds %s; using its shader input %d (Fac %s)" % (feeds, pick + 1,
-                                                                     _fmt(t)))
-        return self.shader(self.walker.input(node, ins[pick], path), label)
+        ins = [s for s in node.inputs if s.type == 'SHADER']
+        if not is_texture(fac):
+            t = min(max(float(fac), 0.0), 1.0)
+            if t in (0.0, 1.0):
+                return self.shader(self.walker.input(node, ins[int(t)], path), label)
+            fac = t
+        sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+        return self._combined(sides, fac, src, feeds)
 
     def _add_shader(self, src, feeds):
-        """The sum of both sides when combine() can express it (emissions add; an Emission and
-        a BSDF; two BSDFs linear in their reflectance with a sum <= 1); otherwise the first
-        BSDF with both emissions, reported."""
+        """Both sides summed: the core's `add` (emissions added)."""
         node, path = src.node, src.path
         label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
         ins = [s for s in node.inputs if s.type == 'SHADER']
         parts = [self.shader(self.walker.input(node, s, path), label) for s in ins]
-        summed = combine(parts, (1.0, 1.0))
-        if summed is not None:
-            return summed
-        self.gap(src, gaps.node_reason(node),
-                 "feeds %s; using its first shader's BSDF (emissions added)" % feeds)
-        return parts[0][0], _add_emission(parts[0][1], parts[1][1], 1.0, 1.0)
+        return self._combined(parts, None, src, feeds)
+
+    def _combined(self, parts, fac, src, feeds):
+        """combine() of a Mix (fac: its weight, a number or a texture) or an Add (fac None),
+        with what it could not keep exactly reported on the node."""
+        data, emission, notes = combine(parts, fac)
+        for note in notes:
+            self.gap(src, note, "feeds %s" % feeds)
+        return data, emission
 
 
 # Facet models whose BSDF is linear in "reflectance" (f = reflectance x a lobe independent of
 # it): a weighted sum of two of them that differ only in reflectance is one of them, and a
 # weight scales the reflectance. Energy compensation (Kulla-Conty) is left out.
 _LINEAR_MODELS = ("lambert", "mirror", "ggx", "beckmann")
+# The keys of a material that are its shading normal (FORMAT.md "Normal maps", "Bump maps"):
+# the core applies a combination's own, not its children's.
+NORMAL_KEYS = ("normal_map", "bump")
 
 
 def _add_emission(e1, e2, w1, w2):
-    """w1 e1 + w2 e2 (None: no emission). A texture plus nothing is the weighted texture; a
-    texture plus anything else is not one texture: the first texture, weighted (combine()
-    declines such sums; the Add Shader's fallback reports it)."""
+    """w1 e1 + w2 e2 (None: no emission), or None when that is no single texture or colour
+    (a texture plus another emission). A texture plus nothing is the weighted texture."""
     if e1 is None and e2 is None:
         return None
     if is_texture(e1) or is_texture(e2):
+        if not (_black(e1) or _black(e2)):
+            raise ValueError("a texture plus another emission")
         return _scaled(e1, w1) if is_texture(e1) else _scaled(e2, w2)
     e1, e2 = e1 or [0.0] * 3, e2 or [0.0] * 3
     return [w1 * a + w2 * b for a, b in zip(e1, e2)]
@@ -365,21 +372,9 @@ def _black(e):
     return e is None or (not is_texture(e) and not any(e))
 
 
-def combine(parts, weights):
-    """w1 (data1, emission1) + w2 (data2, emission2) as one converted shader, when Facet can
-    express it exactly; None otherwise. Black sides (emission only, or nothing) only weight the
-    other; two BSDFs combine when they are the same linear model with the same parameters but
-    reflectance, and the weighted reflectance stays <= 1."""
-    (d1, e1), (d2, e2) = parts
-    w1, w2 = weights
-    if (is_texture(e1) and not _black(e2)) or (is_texture(e2) and not _black(e1)):
-        return None  # a sum of a texture and another emission is not one texture
-    emission = _add_emission(e1, e2, w1, w2)
-    bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
-    if not bsdfs:
-        return dict(BLACK), emission
-    if len(bsdfs) == 1 and bsdfs[0][1] == 1.0:
-        return dict(bsdfs[0][0]), emission  # one BSDF at weight 1: any model, textured too
+def _linear_sum(bsdfs):
+    """sum w d over [(data, weight)] as one BSDF when they are the same linear model with the
+    same parameters but reflectance, constant, and the sum stays <= 1; else None."""
     model = bsdfs[0][0].get("model")
     if model not in _LINEAR_MODELS or any(d.get("energy_compensation") for d, _ in bsdfs):
         return None
@@ -395,7 +390,62 @@ def combine(parts, weights):
         return None
     data = dict(rest[0])
     data["reflectance"] = refl
-    return data, emission
+    return data
+
+
+def _hoist_normals(children, notes):
+    """The core shades a combination with its own normal_map / bump and ignores its
+    children's: the children's (of those that reflect) move to the combination when they are
+    the same; different ones keep the first's (a note)."""
+    own = [{k: d[k] for k in NORMAL_KEYS if k in d} for d in children if d != BLACK]
+    out = [{k: v for k, v in d.items() if k not in NORMAL_KEYS} for d in children]
+    if own and any(o != own[0] for o in own):
+        notes.append("its shaders have different normals (Normal Map / Bump); Facet shades a "
+                     "combination with one normal: the first shader's")
+    return out, (own[0] if own else {})
+
+
+def combine(parts, fac):
+    """A Mix Shader (fac: the weight t of the second side, a number in (0, 1) or a texture) or
+    an Add Shader (fac None) of parts [(data, emission)] -> (data, emission, notes): the
+    core's `mix` / `add` of the two BSDFs (FORMAT.md "Combinations": mix f = (1 - t) f_a +
+    t f_b, add f = f_a + f_b) and the weighted sum of the emissions. Simpler forms where they
+    are exact: a black side (emission only, or nothing) only weights the other; two BSDFs of
+    the same linear model and parameters but reflectance merge into one (while <= 1). `notes`
+    lists what is not exact (reported by the caller)."""
+    (d1, e1), (d2, e2) = parts
+    notes = []
+    textured = is_texture(fac)
+    w1, w2 = (1.0, 1.0) if fac is None else (None, None) if textured else (1.0 - fac, fac)
+    if textured:
+        emission = None
+        if not (_black(e1) and _black(e2)):  # (1 - w) e1 + w e2, w a texture: no texture
+            emission = next((e for e in (e1, e2) if is_texture(e)), None) or \
+                _add_emission(e1, e2, 0.5, 0.5)
+            notes.append("an emission weighted by a textured Fac is not converted; the "
+                         "emissions are averaged (weight 0.5)")
+    else:
+        try:
+            emission = _add_emission(e1, e2, w1, w2)
+        except ValueError:
+            emission = e1 if is_texture(e1) else e2
+            notes.append("a textured emission plus another emission is not one texture; only "
+                         "the textured one is kept")
+    if d1 == BLACK and d2 == BLACK:
+        return dict(BLACK), emission, notes
+    if not textured:
+        bsdfs = [(d, w) for d, w in ((d1, w1), (d2, w2)) if d != BLACK]
+        if len(bsdfs) == 1 and bsdfs[0][1] == 1.0:
+            return dict(bsdfs[0][0]), emission, notes  # one BSDF at weight 1: itself
+        merged = _linear_sum(bsdfs)
+        if merged is not None:
+            return merged, emission, notes
+    children, normal = _hoist_normals([d1, d2], notes)
+    data = {"model": "add" if fac is None else "mix", "materials": children}
+    if fac is not None:
+        data["weight"] = fac
+    data.update(normal)
+    return data, emission, notes
 
 
 def _input(node, name):

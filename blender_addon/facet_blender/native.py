@@ -90,9 +90,25 @@ def texture(t):
                          scale=float(t.get("scale", 1.0)), channel=t.get("channel", ""), **uv)
 
 
+# The keys a material's normal_map / bump takes besides its texture's (FORMAT.md).
+_MAP_KEYS = {"normal_map": ("strength", "xy_scale"), "bump": ("distance", "strength")}
+
+
 def _material_desc(m):
-    return facet.MaterialDesc(m["model"], {k: texture(v) if isinstance(v, dict) else v
-                                           for k, v in m.items() if k != "model"})
+    """A material dict -> facet.MaterialDesc: textures for texture dicts, the sub-materials of
+    a mix / add (names or material dicts, nested), normal_map and bump."""
+    params = {}
+    for k, v in m.items():
+        if k == "model":
+            continue
+        if k == "materials":
+            v = [c if isinstance(c, str) else _material_desc(c) for c in v]
+        elif k in _MAP_KEYS:
+            v = dict({x: float(v[x]) for x in _MAP_KEYS[k] if x in v}, texture=texture(v))
+        elif isinstance(v, dict):
+            v = texture(v)
+        params[k] = v
+    return facet.MaterialDesc(m["model"], params)
 
 
 def _rgb(v):
@@ -125,13 +141,10 @@ def _shape_desc(s):
         if "file" in s:
             sd.file = s["file"]
         else:
-            sd.mesh = facet.MeshData(
-                np.ascontiguousarray(s["positions"], dtype=np.float32),
-                np.ascontiguousarray(s["indices"], dtype=np.int32),
-                None if s.get("normals") is None else
-                np.ascontiguousarray(s["normals"], dtype=np.float32),
-                None if s.get("uvs") is None else
-                np.ascontiguousarray(s["uvs"], dtype=np.float32))
+            sd.mesh = facet.MeshData(*(
+                None if s.get(k) is None else
+                np.ascontiguousarray(s[k], dtype=np.int32 if k == "indices" else np.float32)
+                for k in ("positions", "indices", "normals", "uvs", "tangents")))
     return sd
 
 
@@ -207,6 +220,8 @@ def _params(p):
 def _material_data(m):
     out = {"model": m.model}
     out.update(_params(m.params))
+    if m.materials:
+        out["materials"] = [c if isinstance(c, str) else _material_data(c) for c in m.materials]
     return out
 
 
@@ -315,6 +330,14 @@ def build(data, name="blender"):
     """Scene data -> (renderable facet scene, [warning lines])."""
     scene = facet.build_scene(to_description(data), name=name)
     return scene, list(scene.warnings)
+
+
+def render_aovs(scene, passes, spp=16, seed=0, threads=0):
+    """The core's first-hit passes (facet/render/aov.h) of a built scene: {name: float32
+    (h, w, 3), top row first} for names in albedo, normal, depth, emission."""
+    return {k: np.asarray(v, dtype=np.float32)
+            for k, v in facet.render_aovs(scene, list(passes), spp=int(spp), seed=int(seed),
+                                          threads=int(threads)).items()}
 
 
 class Session:

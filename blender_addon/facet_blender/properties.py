@@ -135,19 +135,28 @@ def set_material_params(mat_settings, model, params):
                 setattr(mat_settings, prop_name(model, p["name"]) + "__set", True)
 
 
+class FacetViewLayerSettings(bpy.types.PropertyGroup):
+    use_pass_albedo: BoolProperty(
+        name="Albedo", default=False,
+        description="Albedo pass: the directional albedo of the material seen by the camera "
+                    "(the fraction of light from the viewer's direction it sends back)")
+
+
 _classes = []
 
 
 def register():
     mat_cls = _make_material_props()
-    _classes[:] = [FacetRenderSettings, mat_cls]
+    _classes[:] = [FacetRenderSettings, FacetViewLayerSettings, mat_cls]
     for c in _classes:
         bpy.utils.register_class(c)
     bpy.types.Scene.facet = PointerProperty(type=FacetRenderSettings)
     bpy.types.Material.facet = PointerProperty(type=mat_cls)
+    bpy.types.ViewLayer.facet = PointerProperty(type=FacetViewLayerSettings)
 
 
 def unregister():
+    del bpy.types.ViewLayer.facet
     del bpy.types.Material.facet
     del bpy.types.Scene.facet
     for c in reversed(_classes):

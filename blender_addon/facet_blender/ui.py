@@ -92,6 +92,21 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         sub.operator("facet.bake_inputs", icon='RENDER_STILL')
 
 
+class FACET_PT_passes(FacetPanel, bpy.types.Panel):
+    bl_label = "Passes"
+    bl_context = "view_layer"
+
+    def draw(self, context):
+        vl = context.view_layer
+        col = self.layout.column(heading="Include")
+        col.use_property_split = True
+        col.prop(vl, "use_pass_combined")
+        col.prop(vl, "use_pass_z")
+        col.prop(vl, "use_pass_normal")
+        col.prop(vl, "use_pass_emit", text="Emission")
+        col.prop(vl.facet, "use_pass_albedo")
+
+
 class FACET_PT_context_material(FacetPanel, bpy.types.Panel):
     bl_label = ""
     bl_context = "material"
@@ -245,9 +260,9 @@ class FACET_PT_object(FacetPanel, bpy.types.Panel):
 
 
 _panels = []  # (panel class, its own COMPAT_ENGINES before, or None when inherited)
-_classes = (FACET_PT_render, FACET_PT_context_material, FACET_PT_material_preview,
-            FACET_PT_material_surface, FACET_PT_material, FACET_PT_world_surface,
-            FACET_PT_light, FACET_PT_object)
+_classes = (FACET_PT_render, FACET_PT_passes, FACET_PT_context_material,
+            FACET_PT_material_preview, FACET_PT_material_surface, FACET_PT_material,
+            FACET_PT_world_surface, FACET_PT_light, FACET_PT_object)
 
 
 def register():

@@ -16,12 +16,14 @@
 //    part(), stats and samples_done between passes (from the callback, or from another thread
 //    while the callback runs) or after render() returned; continue_to() only when no render runs.
 //  - Images are float32 numpy arrays (h, w, 3), linear RGB, row 0 at the top (image.h).
+#include <algorithm>
 #include <cstring>
 #include <exception>
 #include <optional>
 
 #include "bindings.h"
 #include "facet/registry.h"
+#include "facet/render/aov.h"
 #include "facet/render/film.h"
 #include "facet/render/image.h"
 #include "facet/render/render.h"
@@ -488,6 +490,49 @@ void bind_render(py::module_& m) {
         "samples=(s0, s1), time_budget, tile_size, pass_seconds, force_general_kernel, "
         "uniform_light_selection, independent_samples; progress=callable(PassInfo) -> bool "
         "(False cancels: the partial image is returned). Ctrl-C raises KeyboardInterrupt.");
+
+    m.def(
+        "render_aovs",
+        [](py::handle scene, const std::vector<std::string>& passes, int spp, std::uint64_t seed,
+           int threads) {
+            const SceneHandle& sh = scene_arg(scene);
+            static const std::pair<const char*, std::uint32_t> kNames[] = {
+                {"albedo", kAovAlbedo},
+                {"normal", kAovNormal},
+                {"depth", kAovDepth},
+                {"emission", kAovEmission}};
+            AovOptions o;
+            for (const std::string& p : passes) {
+                const auto* it = std::find_if(std::begin(kNames), std::end(kNames),
+                                              [&](const auto& n) { return p == n.first; });
+                if (it == std::end(kNames))
+                    bad_argument("passes", "unknown pass '" + p +
+                                               "' (expected albedo, normal, depth or emission)");
+                o.which |= it->second;
+            }
+            if (spp < 1) bad_argument("spp", "must be >= 1");
+            o.spp = spp;
+            o.seed = seed;
+            o.threads = threads;
+            Aovs a;
+            {
+                py::gil_scoped_release release;
+                a = render_aovs(*sh.scene, o);
+            }
+            py::dict out;
+            if (o.which & kAovAlbedo) out["albedo"] = image_array(std::move(a.albedo));
+            if (o.which & kAovNormal) out["normal"] = image_array(std::move(a.normal));
+            if (o.which & kAovDepth) out["depth"] = image_array(std::move(a.depth));
+            if (o.which & kAovEmission) out["emission"] = image_array(std::move(a.emission));
+            return out;
+        },
+        py::arg("scene"), py::arg("passes"), py::arg("spp") = 16, py::arg("seed") = 0,
+        py::arg("threads") = 0,
+        "First-hit render passes (facet/render/aov.h): {name: float32 (h, w, 3)} for each of "
+        "passes ('albedo': directional albedo of the material seen, 'normal': world-space "
+        "shading normal facing the viewer, 'depth': distance along the camera's view axis, "
+        "1e10 where nothing is hit, 'emission': emitted radiance), averaged over spp camera "
+        "samples per pixel; deterministic for a seed");
 
     m.def(
         "write_image",

@@ -572,12 +572,85 @@ void bind_scene(py::module_& m) {
         }
         return out;
     };
+    // A material's normal map and bump map (scenes/FORMAT.md "Normal maps", "Bump maps"): a
+    // dict {"texture": facet.Texture, "strength": s, "xy_scale": k} / {"texture": ...,
+    // "distance": d}, the texture required, the numbers optional (the format's defaults).
+    auto map_texture = [](py::handle v, const char* what) {
+        if (!py::isinstance<py::dict>(v))
+            bad_argument(what, "expected a dict {\"texture\": facet.Texture, ...}");
+        auto d = py::reinterpret_borrow<py::dict>(v);
+        if (!d.contains("texture") || !py::isinstance<TextureDesc>(d["texture"]))
+            bad_argument(what, "\"texture\": expected a facet.Texture");
+        return d;
+    };
+    auto number_or = [](const py::dict& d, const char* key, const char* what, double def) {
+        for (auto [k, v] : d) {
+            const std::string name = k.cast<std::string>();
+            if (name != "texture" && name != "strength" && name != "xy_scale" && name != "distance")
+                bad_argument(what, "unknown key '" + name + "'");
+        }
+        if (!d.contains(key)) return def;
+        try {
+            return d[key].cast<double>();
+        } catch (const py::cast_error&) {
+            bad_argument(what, std::string("\"") + key + "\": expected a number");
+        }
+        return def;
+    };
+    auto normal_map_from = [map_texture, number_or](py::handle v) {
+        const py::dict d = map_texture(v, "normal_map");
+        MaterialDesc::NormalMap nm;
+        nm.texture = d["texture"].cast<TextureDesc>();
+        nm.strength = number_or(d, "strength", "normal_map", 1.0);
+        nm.xy_scale = number_or(d, "xy_scale", "normal_map", 1.0);
+        if (d.contains("distance")) bad_argument("normal_map", "unknown key 'distance'");
+        return nm;
+    };
+    auto bump_from = [map_texture, number_or](py::handle v) {
+        const py::dict d = map_texture(v, "bump");
+        MaterialDesc::Bump b;
+        b.texture = d["texture"].cast<TextureDesc>();
+        b.distance = number_or(d, "distance", "bump", 1.0);
+        b.strength = number_or(d, "strength", "bump", 1.0);
+        if (d.contains("xy_scale")) bad_argument("bump", "unknown key 'xy_scale'");
+        return b;
+    };
+    // The normal_map / bump properties: a dict of the map's keys, None without one.
+    auto normal_map_dict = [](const MaterialDesc::NormalMap& n, py::dict& out) {
+        out["strength"] = n.strength;
+        out["xy_scale"] = n.xy_scale;
+    };
+    auto bump_dict = [](const MaterialDesc::Bump& b, py::dict& out) {
+        out["distance"] = b.distance;
+        out["strength"] = b.strength;
+    };
+    auto map_getter = [](auto member, auto fill) {
+        return [member, fill](const MaterialDesc& d) -> py::object {
+            const auto& map = d.*member;
+            if (!map) return py::none();
+            py::dict out;
+            out["texture"] = map->texture;
+            fill(*map, out);
+            return out;
+        };
+    };
+    auto map_setter = [](auto member, auto from) {
+        return [member, from](MaterialDesc& d, py::object v) {
+            if (v.is_none())
+                (d.*member).reset();
+            else
+                d.*member = from(v);
+        };
+    };
     py::class_<MaterialDesc>(m, "MaterialDesc",
                              "A named material: model name (facet.models()) and parameters, "
                              "e.g. MaterialDesc('ggx', alpha=0.3); a facet.Texture may stand "
                              "for any colour or number parameter; mix and add take "
-                             "materials=[a, b] (names or MaterialDesc)")
-        .def(py::init([sub_materials_from](std::string model, py::object params, py::kwargs kw) {
+                             "materials=[a, b] (names or MaterialDesc); normal_map={'texture': "
+                             "facet.Texture, 'strength', 'xy_scale'} and bump={'texture', "
+                             "'distance', 'strength'} as in the scene format")
+        .def(py::init([sub_materials_from, normal_map_from, bump_from](
+                          std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
                  d.model = std::move(model);
                  // Textures go to `textures`, every other value to the ParamSet.
@@ -589,6 +662,10 @@ void bind_scene(py::module_& m) {
                      for (auto [k, v] : py::reinterpret_borrow<py::dict>(src)) {
                          if (k.cast<std::string>() == "materials")
                              d.materials = sub_materials_from(v);
+                         else if (k.cast<std::string>() == "normal_map")
+                             d.normal_map = normal_map_from(v);
+                         else if (k.cast<std::string>() == "bump")
+                             d.bump = bump_from(v);
                          else if (py::isinstance<TextureDesc>(v))
                              d.textures[k.cast<std::string>()] = v.cast<TextureDesc>();
                          else
@@ -612,6 +689,10 @@ void bind_scene(py::module_& m) {
             [sub_materials_from](MaterialDesc& d, py::object v) {
                 d.materials = sub_materials_from(v);
             })
+        .def_property("normal_map", map_getter(&MaterialDesc::normal_map, normal_map_dict),
+                      map_setter(&MaterialDesc::normal_map, normal_map_from))
+        .def_property("bump", map_getter(&MaterialDesc::bump, bump_dict),
+                      map_setter(&MaterialDesc::bump, bump_from))
         .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })

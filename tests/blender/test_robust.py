@@ -72,13 +72,11 @@ def case_unsupported_node():
     fresh()
     mat = bpy.data.materials["Material"]
     nt = mat.node_tree
-    mix = nt.nodes.new("ShaderNodeMixShader")  # of two BSDFs at Fac 0.5: not converted
-    nt.links.new(nt.nodes["Principled BSDF"].outputs[0], mix.inputs[1])
-    nt.links.new(nt.nodes.new("ShaderNodeBsdfGlossy").outputs[0], mix.inputs[2])
-    nt.links.new(mix.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
+    toon = nt.nodes.new("ShaderNodeBsdfToon")  # no Facet equivalent: not converted
+    nt.links.new(toon.outputs[0], nt.nodes["Material Output"].inputs["Surface"])
     err = render_error()
     from facet_blender import hooks
-    msgs = [p for p in hooks.last_problems if "Material" in p and "Mix Shader" in p]
+    msgs = [p for p in hooks.last_problems if "Material" in p and "Toon BSDF" in p]
     bt.check(err is None and hooks.last_image is not None and msgs,
              "unsupported node: renders and names material and node: %s" % msgs)
 

@@ -202,7 +202,8 @@ def exported(outdir):
                  g.inputs["Color"])
     add_shaders(nt, out, d, g)
     c = materials.convert(mat)
-    r = c.data["reflectance"] if c.data["model"] == "lambert" else None
+    first = c.data["materials"][0] if c.data["model"] == "add" else {}  # the core's add
+    r = first["reflectance"] if first.get("model") == "lambert" else None
     bt.check(r is not None and r["wrap"] == "mirror" and close(r["uv_scale"], [1, -1])
              and close(r["uv_offset"], [0, 1]) and "uv_rotation" not in r
              and any("mirrored on U, extension Extend" in p for p in c.problems)

@@ -280,9 +280,13 @@ TEST(BumpMap, LinearHeightRampGivesTheAnalyticTilt) {
     fr::testing::write_test_image(dir + "/ramp_v.exr", 1, 8, 1, ramp_v, OIIO::TypeDesc::FLOAT);
     const double d = 0.75 * std::tan(30.0 * kPi / 180.0);
     const float th = float(30.0 * kPi / 180.0), beta = float(40.0 * kPi / 180.0);
-    for (const auto& [file, axis] : {std::pair<std::string, Vec3>{"ramp_u.exr", Vec3(1, 0, 0)},
-                                     std::pair<std::string, Vec3>{"ramp_v.exr", Vec3(0, 1, 0)}}) {
-        const Vec3 n = std::cos(th) * Vec3(0.f, 0.f, 1.f) - std::sin(th) * axis;
+    // Strength s (Blender's Bump Strength): normalize(s n' + (1 - s) z); 1 is the tilt itself.
+    for (const auto& [file, axis, strength] :
+         {std::tuple<std::string, Vec3, float>{"ramp_u.exr", Vec3(1, 0, 0), 1.f},
+          std::tuple<std::string, Vec3, float>{"ramp_v.exr", Vec3(0, 1, 0), 1.f},
+          std::tuple<std::string, Vec3, float>{"ramp_u.exr", Vec3(1, 0, 0), 0.25f}}) {
+        const Vec3 tilted = std::cos(th) * Vec3(0.f, 0.f, 1.f) - std::sin(th) * axis;
+        const Vec3 n = glm::normalize(strength * tilted + (1.f - strength) * Vec3(0.f, 0.f, 1.f));
         for (const Vec3& to_light :
              {Vec3(0.f, 0.f, 1.f), std::cos(beta) * Vec3(0.f, 0.f, 1.f) - std::sin(beta) * axis}) {
             const fr::Scene s = scene_in(
@@ -290,13 +294,14 @@ TEST(BumpMap, LinearHeightRampGivesTheAnalyticTilt) {
                          R"("shapes": [{"type": "quad", "vertices": [[-3, -3, 0], [3, -3, 0],
                             [3, 3, 0], [-3, 3, 0]], "material": {"model": "lambert",
                             "reflectance": 0.5, "bump": {"texture": ")" +
-                         file + R"(", "wrap": "clamp", "distance": )" + exact(d) + "}}}], " +
-                         light_from(to_light));
+                         file + R"(", "wrap": "clamp", "distance": )" + exact(d) +
+                         R"(, "strength": )" + exact(strength) + "}}}], " + light_from(to_light));
             const fr::Image img = render(s, "direct", 1);
             const double want = 0.5 * double(glm::dot(n, to_light)) / kPi;
             for (const Rgb& px : img.pixels())
-                EXPECT_NEAR(px.g, want, 1e-5 * want) << file << " light (" << to_light.x << ", "
-                                                     << to_light.y << ", " << to_light.z << ")";
+                EXPECT_NEAR(px.g, want, 1e-5 * want)
+                    << file << " strength " << strength << " light (" << to_light.x << ", "
+                    << to_light.y << ", " << to_light.z << ")";
         }
     }
 }
@@ -384,6 +389,9 @@ TEST(NormalMap, BadInputNamesTheJsonPointer) {
                  {"texture": "flat.exr", "strenght": 1}}}])");
     EXPECT_NE(e.find("/shapes/0/material/normal_map"), std::string::npos) << e;
     EXPECT_NE(e.find("strength"), std::string::npos) << e;
+    e = error_of(dir, head + quad + R"("material": {"model": "lambert", "bump":
+                 {"texture": "flat.exr", "strength": -0.5}}}])");
+    EXPECT_NE(e.find("/shapes/0/material/bump/strength"), std::string::npos) << e;
     e = error_of(dir, head + quad + R"("material": {"model": "lambert", "normal_map":
                  {"texture": "missing.exr"}}}])");
     EXPECT_NE(e.find("/shapes/0/material/normal_map/texture"), std::string::npos) << e;

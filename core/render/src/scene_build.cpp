@@ -566,8 +566,11 @@ class Builder final : public BuildChecks {
         if (m.bump) {
             check_range(m.bump->distance, ptr + "/bump/distance", -1e30, 1e30,
                         "a finite number (scene units per unit of height)");
+            check_range(m.bump->strength, ptr + "/bump/strength", 0.0, 1e6,
+                        "in [0, 1e6] (Blender's Bump strength; 0 = no bump)");
         }
-        const bool bump = m.bump && m.bump->distance != 0.0;
+        // A bump of distance 0 or strength 0 is no bump (the material stays constant).
+        const bool bump = m.bump && m.bump->distance != 0.0 && m.bump->strength != 0.0;
         const ModelInfo& info = *find_model(m.model);
         const std::vector<BuiltMaterial> children = build_children(m, info, ptr);
         std::vector<std::shared_ptr<const Material>> kids;
@@ -667,6 +670,7 @@ class Builder final : public BuildChecks {
         if (bump) {
             tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
             tm.bump_distance = float(m.bump->distance);
+            tm.bump_strength = float(m.bump->strength);
             // Forward-difference step in uv: half a texel of the image (or a thousandth of a
             // checker cell), through the texture's UV scale.
             const TextureDesc& td = m.bump->texture;

@@ -433,8 +433,9 @@ class Reader {
             } else if (key == "bump") {
                 expect_object(v, p);
                 MaterialDesc::Bump b;
-                b.texture = read_texture(v, p, {"distance"});
+                b.texture = read_texture(v, p, {"distance", "strength"});
                 if (v.contains("distance")) b.distance = get_number(v["distance"], p + "/distance");
+                if (v.contains("strength")) b.strength = get_number(v["strength"], p + "/strength");
                 d.bump = b;
             } else if (key == "materials") {  // a combination's sub-materials (mix, add)
                 if (!v.is_array())
@@ -830,6 +831,7 @@ json material_json(const MaterialDesc& m, bool hashed) {
     if (m.bump) {
         json b = texture_json(m.bump->texture, hashed);
         if (m.bump->distance != 1.0) b["distance"] = m.bump->distance;
+        if (m.bump->strength != 1.0) b["strength"] = m.bump->strength;
         j["bump"] = b;
     }
     for (const auto& [name, v] : m.params.values()) {

@@ -77,13 +77,14 @@ Vec3 valid_reflection_normal(const Vec3& ng, const Vec3& wo, const Vec3& n) {
 }
 
 Vec3 apply_bump(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, float h, float hu, float hv,
-                float step, float distance) {
+                float step, float distance, float strength) {
     const Vec3 rx = glm::cross(step * dpdv, n), ry = glm::cross(n, step * dpdu);
     const Vec3 grad = (hu - h) * rx + (hv - h) * ry;
     if (grad == Vec3(0.f)) return n;
     const float det = glm::dot(step * dpdu, rx);
-    const Vec3 b =
-        normalized_or_zero(std::fabs(det) * n - distance * std::copysign(1.f, det) * grad);
+    Vec3 b = normalized_or_zero(std::fabs(det) * n - distance * std::copysign(1.f, det) * grad);
+    if (b == Vec3(0.f)) return n;
+    if (strength != 1.f) b = normalized_or_zero(strength * b + (1.f - strength) * n);
     return b == Vec3(0.f) ? n : b;
 }
 
@@ -102,7 +103,8 @@ void Scene::shade_normal(SurfaceHit& hit, const Vec3& wo) const {
         const float h = tm.bump->eval(hit.uv).r;
         const float hu = tm.bump->eval(hit.uv + Vec2(d, 0.f)).r;
         const float hv = tm.bump->eval(hit.uv + Vec2(0.f, d)).r;
-        n = apply_bump(n, hit.dpdu_uv, hit.dpdv_uv, h, hu, hv, d, tm.bump_distance);
+        n = apply_bump(n, hit.dpdu_uv, hit.dpdv_uv, h, hu, hv, d, tm.bump_distance,
+                       tm.bump_strength);
     }
     if (n == hit.ns) return;  // unchanged: keep the normal bit for bit
     // On the viewer's side (make_shading turns both normals toward the viewer the same way).

@@ -195,9 +195,10 @@ struct TexturedMaterial {
     float normal_strength = 1.f;
     float normal_xy_scale = 1.f;  // glTF's normalTexture.scale
     // Bump map (scenes/FORMAT.md, "Bump maps"): the height texture (number: its r), Blender's
-    // distance, and the forward-difference step in uv; null when the material has none.
+    // distance and strength, and the forward-difference step in uv; null when the material
+    // has none.
     const Texture* bump = nullptr;
-    float bump_distance = 1.f, bump_step = 1e-3f;
+    float bump_distance = 1.f, bump_step = 1e-3f, bump_strength = 1.f;
     // Set when the only textured parameter is a diffuse reflectance (lambert "reflectance",
     // composite "diffuse_reflectance"): the material built at the texture's largest value, whose
     // diffuse lobe material_at replaces per hit (Material::with_diffuse_reflectance) instead of

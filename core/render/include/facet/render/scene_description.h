@@ -75,12 +75,14 @@ struct MaterialDesc {
         bool operator==(const NormalMap&) const = default;
     };
     std::optional<NormalMap> normal_map;
-    // "bump": a height texture (a number texture, scene units) and Blender's Bump distance d
-    // (the heights' multiplier; scenes/FORMAT.md, "Bump maps"). JSON: the texture's keys plus
-    // "distance".
+    // "bump": a height texture (a number texture, scene units), Blender's Bump distance d (the
+    // heights' multiplier) and strength s (>= 0; 0 = no bump: n'' = normalize(s n' + (1 - s)
+    // n)); scenes/FORMAT.md, "Bump maps". JSON: the texture's keys plus "distance" and
+    // "strength".
     struct Bump {
         TextureDesc texture;
         double distance = 1.0;
+        double strength = 1.0;
         bool operator==(const Bump&) const = default;
     };
     std::optional<Bump> bump;

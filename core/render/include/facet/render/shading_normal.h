@@ -25,17 +25,18 @@ namespace facet::render {
 Vec3 apply_normal_map(const Vec3& n, const Vec3& t, float sign, const Vec3& c, float s,
                       float k = 1.f);
 
-// Blender's Bump node (Cycles' svm_node_set_bump, strength 1) on shading normal n (unit) with
-// the UV map's surface derivatives dpdu, dpdv, the heights h = H(u, v), hu = H(u + step, v),
-// hv = H(u, v + step) and `distance` d: with the differentials dPdx = step dpdu and
-// dPdy = step dpdv,
+// Blender's Bump node (Cycles' svm_node_set_bump) on shading normal n (unit) with the UV map's
+// surface derivatives dpdu, dpdv, the heights h = H(u, v), hu = H(u + step, v),
+// hv = H(u, v + step), `distance` d and `strength` s >= 0: with the differentials
+// dPdx = step dpdu and dPdy = step dpdv,
 //     Rx = dPdy x n,  Ry = n x dPdx,  det = dPdx . Rx,
 //     g = (hu - h) Rx + (hv - h) Ry,
 //     n' = normalize(|det| n - d sign(det) g),
-// which, as step -> 0, is the normal of the surface displaced by d H along n (Blinn 1978).
-// Returns n unchanged when g = 0 (flat height) or the result is zero.
+// which, as step -> 0, is the normal of the surface displaced by d H along n (Blinn 1978);
+// then, for s != 1, n'' = normalize(s n' + (1 - s) n) (Cycles' strength). Returns n unchanged
+// when g = 0 (flat height) or the result is zero.
 Vec3 apply_bump(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, float h, float hu, float hv,
-                float step, float distance);
+                float step, float distance, float strength = 1.f);
 
 // A shading normal n (unit, any side) bent toward ng, within the plane of n and ng, just enough
 // that the mirror reflection of wo about it leaves the geometric surface at least as steeply as

@@ -1,0 +1,68 @@
+"""Render passes besides Combined, for Blender's compositor: Depth, Normal, Emit (Blender's
+own View Layer toggles Z, Normal and Emission) and Albedo (the view layer's Facet toggle),
+computed by the core's first-hit pass (facet/render/aov.h) after the beauty render, only
+when enabled (nothing is computed otherwise):
+
+- Depth ("Z"): distance from the camera along its view axis, as Cycles 3.4's Z pass
+  (camera_z_depth: the camera-space z of the hit), 1e10 where nothing is hit; Facet averages
+  the samples that hit, Cycles averages all samples with 0 for misses and writes 1e10 only
+  where every sample missed (silhouette pixels differ).
+- Normal ("XYZ"): the world-space shading normal (after normal and bump maps) turned toward
+  the viewer, averaged over the pixel's samples, 0 where nothing is hit (as Cycles).
+- Emit ("RGB"): the radiance the surface seen emits toward the camera (not the world: that
+  is Blender's Environment pass).
+- Albedo ("RGB"): the material's directional albedo rho(wo) toward the viewer (reflection
+  and transmission), a one-BSDF-sample estimate per camera sample (exact for Lambert).
+  Cycles' nearest pass, Denoising Albedo, sums its closures' albedo estimates, which agrees
+  for Lambert and differs for glossy lobes.
+"""
+import numpy as np
+
+from . import native
+
+# (Blender pass name, core pass, channels, channel ids, type, ViewLayer toggle)
+PASSES = (
+    ("Depth", "depth", 1, "Z", 'VALUE', "use_pass_z"),
+    ("Normal", "normal", 3, "XYZ", 'VECTOR', "use_pass_normal"),
+    ("Emit", "emission", 3, "RGB", 'COLOR', "use_pass_emit"),
+    ("Albedo", "albedo", 3, "RGB", 'COLOR', "facet.use_pass_albedo"),
+)
+
+
+def _enabled(view_layer, toggle):
+    obj = view_layer
+    for part in toggle.split(".")[:-1]:
+        obj = getattr(obj, part, None)
+        if obj is None:
+            return False
+    return bool(getattr(obj, toggle.split(".")[-1], False))
+
+
+def enabled(view_layer):
+    """The PASSES entries the view layer asks for."""
+    return [p for p in PASSES if _enabled(view_layer, p[5])]
+
+
+def register_passes(engine, scene, view_layer):
+    """RenderEngine.update_render_passes: Combined and the enabled passes."""
+    engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", 'COLOR')
+    for name, _, n, chans, ptype, _ in enabled(view_layer):
+        engine.register_pass(scene, view_layer, name, n, chans, ptype)
+
+
+def write(result, fscene, view_layer, spp, seed, threads, crop):
+    """Computes the enabled passes over the whole image and writes the `crop` (x0, y0, x1, y1
+    of the core's top-down image; the border) into the render result's passes. Returns the
+    names written."""
+    want = [p for p in enabled(view_layer)]
+    if not want:
+        return []
+    imgs = native.render_aovs(fscene, [p[1] for p in want], spp=spp, seed=seed,
+                              threads=threads)
+    x0, y0, x1, y1 = crop
+    layer = result.layers[0]
+    for name, core, n, _, _, _ in want:
+        img = imgs[core][y0:y1, x0:x1]
+        flat = np.ascontiguousarray(img[::-1, :, :n], dtype=np.float32).reshape(-1, n)
+        layer.passes[name].rect.foreach_set(flat)
+    return [p[0] for p in want]

@@ -1,0 +1,59 @@
+// Arbitrary output variables (AOVs): per-pixel data about what camera rays see first, for a
+// compositor (Blender's render passes Albedo, Normal, Depth and Emission).
+//
+// Conventions:
+//  - A separate pass over the image, after or instead of the beauty render: nothing here runs
+//    unless render_aovs() is called, so a render without AOVs costs exactly what it did.
+//  - Each pixel averages `spp` camera samples at the same film positions the renderer's sample
+//    indices would use for dimension 0 (stratified, Owen-scrambled Sobol: sampler.h; pixel
+//    centres for spp = 1), with the seed's pixel randomisation: a pure function of (pixel,
+//    sample index, seed), so the result is deterministic and independent of the thread count.
+//    Thin-lens cameras take their lens sample as the integrator does (kLensDimension).
+//  - At the first surface a camera ray hits (after opacity, as the renderer sees it), with the
+//    shading normal after normal and bump maps, turned toward the viewer (Cycles' backfacing
+//    flip):
+//      albedo   = rho(wo) = integral of f(wo, wi) |cos theta_i| over the sphere: the fraction of
+//                 light from the viewer's direction the material sends back (reflection and
+//                 transmission), estimated with one BSDF sample per camera sample
+//                 (f |cos| / pdf; exact for Lambert, whose sampling is proportional to f cos);
+//      normal   = the unit shading normal in world space;
+//      depth    = distance from the camera along its view axis (forward . (p - position)),
+//                 as Cycles 3.4's Z pass for perspective and orthographic cameras;
+//      emission = the radiance the surface emits toward the camera (emitted_radiance).
+//    Samples that miss every surface add 0 to albedo, normal and emission (the background is
+//    not an emitter here: Blender's Environment pass, not its Emit pass); depth averages the
+//    samples that hit and is kMissDepth (1e10, Cycles' value) where none does.
+//  - Images are RGB (depth in all three channels), width x height of the camera, top row first.
+#pragma once
+
+#include <cstdint>
+
+#include "facet/render/image.h"
+#include "facet/render/scene.h"
+
+namespace facet::render {
+
+inline constexpr float kMissDepth = 1e10f;
+
+enum AovBits : std::uint32_t {
+    kAovAlbedo = 1u << 0,
+    kAovNormal = 1u << 1,
+    kAovDepth = 1u << 2,
+    kAovEmission = 1u << 3,
+};
+
+struct AovOptions {
+    std::uint32_t which = 0;  // AovBits
+    int spp = 16;             // >= 1
+    std::uint64_t seed = 0;
+    int threads = 0;  // 0 = every hardware thread
+};
+
+struct Aovs {
+    Image albedo, normal, depth, emission;  // empty (0 x 0) unless requested
+};
+
+// Throws std::invalid_argument for spp < 1.
+Aovs render_aovs(const Scene& scene, const AovOptions& options);
+
+}  // namespace facet::render
