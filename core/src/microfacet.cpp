@@ -7,6 +7,7 @@
 #include <cmath>
 #include <vector>
 
+#include "albedo_table.h"
 #include "facet/quadrature.h"
 #include "facet/sampling.h"
 #include "microfacet_formulas.h"
@@ -39,12 +40,6 @@ constexpr double kBeckmannMaxSlope = 9.0;
 // Newton/bisection stop: |step| below this (relative to 1 + |x|); a float result needs 6e-8.
 constexpr double kBeckmannSlopeTolerance = 1e-10;
 constexpr int kBeckmannMaxIterations = 60;
-
-// Compensation is skipped when the lobe misses less energy than this on average: the table's
-// quadrature error (1e-5 .. 1e-3, worst at grazing mu) would then be of the order of what f_ms
-// restores, and 1 / (1 - E_avg) amplifies it (measured: a compensated Blinn kappa = 1e7 lobe,
-// which loses ~1e-3, reflected 1.02 at 89.9 deg with a 1e-5 threshold).
-constexpr float kMinMissingEnergy = 2e-3f;
 
 Vec3 normalize_or_normal(double x, double y, double z) {
     double len2 = x * x + y * y + z * z;
@@ -475,18 +470,10 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     if (!m_has_ms) m_ms_factor = Rgb(0.f);
 }
 
-// E_avg = 2 int E(mu) mu dmu of the table's interpolant, exactly (so that f_ms integrates
-// to exactly (1 - E(mu_o)) F_ms): with s = sqrt(mu), E = A + B s on each interval and
-// 2 int E mu dmu = 4 int (A s^3 + B s^4) ds.
+// E_avg = 2 int E(mu) mu dmu of the table's interpolant, exactly (albedo_table.h), so that
+// f_ms integrates to exactly (1 - E(mu_o)) F_ms.
 float MicrofacetReflection::isotropic_average() const {
-    double h = 1.0 / (kTableSize - 1), avg = 0.0;
-    for (int k = 0; k + 1 < kTableSize; ++k) {
-        double s0 = k * h, s1 = (k + 1) * h;
-        double b = (double(m_e[k + 1]) - double(m_e[k])) / h, a = double(m_e[k]) - b * s0;
-        avg += a * (std::pow(s1, 4) - std::pow(s0, 4)) / 4.0 +
-               b * (std::pow(s1, 5) - std::pow(s0, 5)) / 5.0;
-    }
-    return float(std::fmin(4.0 * avg, 1.0));
+    return sqrt_mu_table_average(m_e.data(), kTableSize);
 }
 
 // E_avg = (1 / pi) int E_tab(wo) cos_o dwo of the (mu_s, phi_s) interpolant, which must be
@@ -534,13 +521,8 @@ float MicrofacetReflection::anisotropic_average(const QuadratureRule& gu) const 
 }
 
 float MicrofacetReflection::albedo_row(int row, float mu) const {
-    // Nodes are uniform in sqrt(mu): E(mu) rises steeply near grazing (e.g. GGX alpha = 1:
-    // 0.85 at mu = 0.05, 0.993 at mu = 1e-3), where a uniform-in-mu table would be too coarse.
-    const float* e = &m_e[size_t(row) * kTableSize];
-    float x = std::sqrt(clamp_unit(mu)) * (kTableSize - 1);
-    int i = std::min(int(x), kTableSize - 2);
-    float t = x - float(i);
-    return e[i] + t * (e[i + 1] - e[i]);
+    // Nodes uniform in sqrt(mu) (albedo_table.h).
+    return sqrt_mu_table_lookup(&m_e[size_t(row) * kTableSize], kTableSize, mu);
 }
 
 float MicrofacetReflection::albedo_table(const Vec3& w) const {

@@ -137,7 +137,11 @@ std::vector<ModelInfo> build_table() {
           number("alpha_u", "-", "roughness along the tangent u (anisotropic; give with alpha_v)"),
           number("alpha_v", "-",
                  "roughness along the bitangent v (anisotropic; give with alpha_u)"),
-          text("distribution", "ggx", "microfacet D of a rough interface: ggx or beckmann")}});
+          text("distribution", "ggx", "microfacet D of a rough interface: ggx or beckmann"),
+          flag("energy_compensation", "false",
+               "rough, isotropic interfaces: add the multiple-scattering lobe (Kulla & Conty "
+               "2017 extended to refraction, facet/dielectric.h): reflection + transmission "
+               "conserve energy at transmittance 1")}});
     t.push_back(
         {"principled",
          "Blender 3.4's Principled BSDF as Cycles evaluates it: Disney diffuse with "
@@ -388,9 +392,14 @@ Material build(const ModelInfo& info, const ParamSet& params,
         if (name == "thin_dielectric") return Material(ThinDielectricBxDF(eta, tr));
         std::string kind = r.choice("distribution", "ggx", {"ggx", "beckmann"});
         auto [au, av] = read_roughness_pair(r, "alpha", 0.0, kMaxAlpha);
+        const bool ec = r.boolean("energy_compensation", false);
+        if (ec && au != av)
+            throw r.error("energy_compensation",
+                          "is not available for anisotropic dielectrics (alpha_u != alpha_v)");
         return Material(DielectricBxDF(eta, tr,
                                        kind == "ggx" ? MicrofacetDistribution::ggx(au, av)
-                                                     : MicrofacetDistribution::beckmann(au, av)));
+                                                     : MicrofacetDistribution::beckmann(au, av),
+                                       ec));
     }
     if (name == "principled") {
         PrincipledParams p;

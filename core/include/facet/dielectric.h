@@ -40,6 +40,29 @@
 //    otherwise; pdf = D_wo(wm) / (4 |wo.wm|) F  resp.  D_wo(wm) |wi.wm| / (wi.wm + wo.wm /
 //    etap)^2 (1 - F). Without energy compensation the rough lobe loses the energy of light
 //    scattered more than once between microfacets (measured in tests/core/test_dielectric.cpp).
+//  - Energy compensation (optional, rough only; the Kulla & Conty 2017 construction extended to
+//    refraction, with our own reciprocal split): E_s(mu) is the single-scattering albedo
+//    R + T of the interface above with transmittance 1, in importance mode, for wo on side s
+//    (s = out: relative index eta; s = in: 1 / eta), tabulated per material on kTableSize
+//    nodes uniform in sqrt(mu) by Gauss-Legendre quadrature over the visible-normal sampler's
+//    unit square (the sample weight F G / G1 resp. (1 - F) G / G1); E_avg_s = 2 int E_s mu dmu
+//    of the interpolant, exactly; m_s = pi (1 - E_avg_s). The added lobe, in importance mode,
+//        f_ms(wo, wi) = k(s_o, s_i) (1 - E_so(mu_o)) (1 - E_si(mu_i))  [* transmittance when
+//                       s_o != s_i],
+//        k(out, out) = (1 - x) / m_out,   k(out, in) = x / m_in,
+//        k(in, out) = x / (eta^2 m_in),   k(in, in) = (1 - k(in, out) m_out) / m_in;
+//    in radiance mode the transmitted f_ms is divided by etap^2 as the single lobe is, which
+//    swaps k(out, in) and k(in, out). Then f_ms(wo, wi) / n(wi)^2 (n_out = 1, n_in = eta) is
+//    symmetric, so generalised reciprocity holds as for the single lobe, and
+//    int f_ms |cos_i| dwi = 1 - E_so(mu_o) on both sides: a rough interface with transmittance
+//    1 conserves energy up to the table's error (white furnace). x, the share of the
+//    multiply scattered energy from outside that is transmitted, is the free parameter: we take
+//    the smooth interface's hemispherical transmittance 1 - F_avg(eta), clamped to
+//    eta^2 m_in / m_out so that k(in, in) >= 0. Sampling picks f_ms with probability
+//    1 - E_so(mu_o), then transmission with probability x (outside) resp. k(in, out) m_out
+//    (inside), then a cosine-distributed direction on that side. Off when either side misses
+//    less than kMinMissingEnergy (albedo_table.h) on average (the table error would dominate).
+//    Anisotropic interfaces are not compensated (the registry rejects the combination).
 //  - ThinDielectricBxDF (pbrt-v4's ThinDielectricBxDF): two parallel interfaces with the
 //    inter-reflections inside the pane summed, R' = R + T^2 R / (1 - R^2), T' = 1 - R'
 //    (R = F(|cos theta_o|) of one interface); reflection about the normal and transmission
@@ -47,6 +70,7 @@
 //    medium is the same on both sides: no etap^2 factor, and no inside or outside.
 #pragma once
 
+#include <array>
 #include <optional>
 
 #include "facet/bxdf.h"
@@ -73,8 +97,10 @@ class DielectricBxDF {
   public:
     // eta: n_inside / n_outside, > 0 (validated by the registry). A distribution with
     // effectively_smooth() makes the delta (smooth) interface; only GGX and Beckmann (exact
-    // visible-normal samplers) are accepted by the registry.
-    DielectricBxDF(float eta, const Rgb& transmittance, const MicrofacetDistribution& d);
+    // visible-normal samplers) are accepted by the registry. energy_compensation builds the
+    // tables (isotropic rough interfaces only; ignored when smooth).
+    DielectricBxDF(float eta, const Rgb& transmittance, const MicrofacetDistribution& d,
+                   bool energy_compensation = false);
 
     Rgb f(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
@@ -88,14 +114,41 @@ class DielectricBxDF {
     const Rgb& transmittance() const { return m_transmittance; }
     bool smooth() const { return m_smooth; }
     const MicrofacetDistribution& distribution() const { return m_distribution; }
+    bool energy_compensation() const { return m_energy_compensation; }
+    bool has_multiple_scattering() const { return m_has_ms; }
+
+    // The tabulated single-scattering albedo E_s(mu) (header comment) for wo outside
+    // (inside = false) or inside, and its average; 1 when no table is built.
+    float albedo_table(bool inside, float mu) const;
+    float albedo_average(bool inside) const { return m_e_avg[inside ? 1 : 0]; }
+    // The single-scattering albedo R + T at wo (transmittance 1, importance mode) by the
+    // table's quadrature (Gauss-Legendre of `order` nodes per dimension of the visible-normal
+    // sampler's unit square); what the table stores at its nodes, exposed for the tests.
+    double single_scattering_albedo(const Vec3& wo, int order) const;
+
+    static constexpr int kTableSize = 64;  // nodes in sqrt(mu), per side
 
   private:
     std::optional<BSDFSample> sample_smooth(const Vec3& wo, float uc, TransportMode mode) const;
+    BSDFEval eval_single(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
+    // Probability of choosing the f_ms lobe at wo, and of transmission within it.
+    float ms_probability(const Vec3& wo) const;
+    float ms_transmit_probability(bool wo_inside) const {
+        return wo_inside ? m_k[1][0] * m_m[0] : m_x;
+    }
 
     float m_eta;
     Rgb m_transmittance;
     MicrofacetDistribution m_distribution;
     bool m_smooth;
+    bool m_energy_compensation = false;
+    bool m_has_ms = false;
+    // E_out at [0, kTableSize), E_in at [kTableSize, 2 kTableSize) (nodes of albedo_table.h).
+    std::array<float, 2 * kTableSize> m_e{};
+    float m_e_avg[2] = {1.f, 1.f};
+    float m_m[2] = {0.f, 0.f};  // pi (1 - E_avg) per side
+    float m_x = 0.f;            // transmitted share of the outside f_ms
+    float m_k[2][2] = {};       // importance-mode k(s_o, s_i), index 0 = out, 1 = in
 };
 
 class ThinDielectricBxDF {
