@@ -13,7 +13,8 @@ tests/realscenes/CMakeLists.txt makes one CTest test per entry (`realscenes.<nam
 
 A scene whose converter feature is not on main yet carries `pending` = the missing feature and
 the helper branch bringing it. Its test is SKIPPED (CTest "Not Run", return code 77) with that
-reason, never run against a threshold it cannot meet and never counted as passing. Whoever lands
+reason (by plain Python, without starting Blender), never run against a threshold it cannot
+meet and never counted as passing. Whoever lands
 the feature deletes the `pending` field, and the test runs.
 
 This module imports bpy only inside the staging functions, so plain Python can list the scenes
@@ -75,7 +76,7 @@ class Scene:
     # docs/realscenes.md).
     light_selection: str = "uniform"
     ci: tuple = (96, 72, 32)  # width, height, spp of the CTest render
-    bench: tuple = (384, 288, 1024)  # of bench/realscenes_bench.py
+    bench: tuple = (192, 144, 256)  # of bench/realscenes_bench.py
     notes: list = field(default_factory=list)
 
 
@@ -483,5 +484,15 @@ def by_name(name):
     raise KeyError("no real scene named %r (have: %s)" % (name, ", ".join(s.name for s in SCENES)))
 
 
-if __name__ == "__main__" and "--list" in sys.argv:
-    print(";".join(s.name for s in SCENES), end="")
+def _skip_pending(name):
+    """The CTest command of a pending scene: names the missing feature, exit code 77 (CTest's
+    SKIP_RETURN_CODE), without starting Blender."""
+    print("SKIPPED: scene '%s' needs %s, not on this branch yet" % (name, by_name(name).pending))
+    sys.exit(77)
+
+
+if __name__ == "__main__":
+    if "--list" in sys.argv:  # CMake: name or name:pending per scene, ';'-separated
+        print(";".join(s.name + (":pending" if s.pending else "") for s in SCENES), end="")
+    elif "--skip-pending" in sys.argv:
+        _skip_pending(sys.argv[sys.argv.index("--skip-pending") + 1])

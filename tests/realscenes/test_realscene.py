@@ -1,7 +1,7 @@
 """One scene of the real-scene suite (scenes.py), Facet engine against Cycles at equal settings.
 
 Run inside Blender: `blender -b --factory-startup --python test_realscene.py -- NAME OUTDIR
-[ci|bench]` (tests/realscenes/CMakeLists.txt, bench/realscenes_bench.py).
+[ci|preview|bench [WIDTH HEIGHT SPP]]` (tests/realscenes/CMakeLists.txt, bench/realscenes_bench.py).
 
 Equal settings: the same resolution, samples per pixel and bounces (Facet max_depth = Cycles
 bounces + 1); Cycles without clamping (Clamp Direct 0, Clamp Indirect 0), Filter Glossy 0, no
@@ -126,6 +126,8 @@ def main():
     # Profiles: ci (the CTest size, checked), preview (the CTest size, pending scenes too, not
     # checked), bench (bench/realscenes_bench.py: larger, not checked, with Power selection too).
     width, height, spp = entry.bench if profile == "bench" else entry.ci
+    if len(bt.args()) > 5:  # explicit width height spp (bench/realscenes_bench.py --size/--spp)
+        width, height, spp = (int(v) for v in bt.args()[3:6])
     settings(scene, width, height, spp, entry.max_depth, entry.light_selection)
     base = os.path.join(out, "realscene_%s" % name)
     from facet_blender import hooks
