@@ -148,20 +148,9 @@ def normalise(objects, size=2.0):
 
 def material(name, shader, inputs=None, props=None):
     """A material whose Surface is one shader node (idname) with the given inputs/props."""
-    bpy = _bpy()
-    mat = bpy.data.materials.new(name)
-    mat.use_nodes = True
-    nt = mat.node_tree
-    for n in list(nt.nodes):
-        nt.nodes.remove(n)
-    out = nt.nodes.new("ShaderNodeOutputMaterial")
-    node = nt.nodes.new(shader)
-    for k, v in (props or {}).items():
-        setattr(node, k, v)
-    for k, v in (inputs or {}).items():
-        node.inputs[k].default_value = v
-    nt.links.new(node.outputs[0], out.inputs["Surface"])
-    return mat, node
+    from facet_testsupport import blender_harness
+    mat = _bpy().data.materials.new(name)
+    return mat, blender_harness.single_shader(mat, shader, inputs, props)
 
 
 def ground(scene, size=40.0, colour=(0.5, 0.5, 0.5), checker=None):
@@ -252,6 +241,19 @@ def camera(scene, lo, hi, azimuth_deg, elevation_deg, lens=50.0, margin=1.15, do
     return ob
 
 
+def open_suzanne():
+    """Suzanne_248.blend without its lamp and camera, smooth shaded: (scene, mesh objects)."""
+    bpy = _bpy()
+    scene = open_blend(ASSIMP + "/BLEND/Suzanne_248.blend")
+    for ob in list(scene.objects):
+        if ob.type in ('LIGHT', 'CAMERA'):
+            bpy.data.objects.remove(ob)
+    objs = [o for o in scene.objects if o.type == 'MESH']
+    for ob in objs:
+        ob.data.polygons.foreach_set("use_smooth", [True] * len(ob.data.polygons))
+    return scene, objs
+
+
 def _asset_objects(objs):
     return [o for o in objs if o.type in ('MESH', 'EMPTY')]
 
@@ -300,14 +302,8 @@ def stage_suzanne_glass(scene):
     sharp) on a checker ground (Checker Texture) under the forest HDRI; the file's own lamp is
     removed (a glass caustic of a point lamp is a path-tracing noise test, not a conversion
     test)."""
-    bpy = _bpy()
-    scene = open_blend(ASSIMP + "/BLEND/Suzanne_248.blend")
-    for ob in list(scene.objects):
-        if ob.type in ('LIGHT', 'CAMERA'):
-            bpy.data.objects.remove(ob)
-    objs = [o for o in scene.objects if o.type == 'MESH']
+    scene, objs = open_suzanne()
     for ob in objs:
-        ob.data.polygons.foreach_set("use_smooth", [True] * len(ob.data.polygons))
         ob.data.materials.clear()
         ob.data.materials.append(material("glass", "ShaderNodeBsdfGlass",
                                           {"IOR": 1.45, "Roughness": 0.0},
@@ -326,7 +322,7 @@ def stage_arealight_269(scene):
 
 def stage_cubes_4mats(scene):
     """4Cubes4Mats_248.blend (Blender 2.48): four cubes with four node-less materials (their
-    diffuse colours), its camera and lamp; a sun and a ground added."""
+    diffuse colours), its camera, lamp (Radius 1) and sky-blue world; a ground added."""
     scene = open_blend(ASSIMP + "/BLEND/4Cubes4Mats_248.blend")
     objs = [o for o in scene.objects if o.type == 'MESH']
     lo, _ = world_bounds(objs)
@@ -397,16 +393,10 @@ def stage_suzanne_vertex_colours(scene):
     from the smooth normals, (n + 1) / 2, into a Diffuse BSDF through a Color Attribute node;
     ground, sunset HDRI. No asset in the packages has vertex colours that are not all white
     (BlenderDefault_250's 'Col' layer is), so the colours are computed; the mesh is real."""
-    bpy = _bpy()
     import numpy as np
-    scene = open_blend(ASSIMP + "/BLEND/Suzanne_248.blend")
-    for ob in list(scene.objects):
-        if ob.type in ('LIGHT', 'CAMERA'):
-            bpy.data.objects.remove(ob)
-    objs = [o for o in scene.objects if o.type == 'MESH']
+    scene, objs = open_suzanne()
     for ob in objs:
         me = ob.data
-        me.polygons.foreach_set("use_smooth", [True] * len(me.polygons))
         me.calc_normals_split()
         n = np.empty(len(me.loops) * 3, np.float32)
         me.loops.foreach_get("normal", n)

@@ -36,7 +36,6 @@ import json
 import os
 import re
 import sys
-import time
 
 import bpy
 import numpy as np
