@@ -582,6 +582,10 @@ def _world_environment_map(world, problems):
         lin = Matrix.Identity(3)
     else:
         lin = lin * (1.0 / scale)
+    if node.image.is_float:
+        path, clamped = textures.nonnegative_radiance_file(node.image, path)
+        if clamped:
+            problems.append("%s: %s" % (what, clamped))
     env = {"type": "environment", "file": path, "radiance": float(strength)}
     axis, angle = lin.transposed().to_quaternion().to_axis_angle()
     if abs(angle) > 1e-12:

@@ -72,7 +72,8 @@ class FinalSession:
         region = None if (w, h) == (width, height) else pixels.core_region(x, y, w, h, height)
         session = native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                  max_depth=rs["max_depth"], integrator=rs["integrator"],
-                                 time_budget=rs.get("time_budget", 0.0), region=region)
+                                 time_budget=rs.get("time_budget", 0.0), region=region,
+                                 light_selection=scene.facet.light_selection)
         t_export = time.perf_counter() - t0
         # With a border, Blender's render rectangle is the border: result coordinates are
         # relative to it.

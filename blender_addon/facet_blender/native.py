@@ -346,8 +346,10 @@ class Session:
     calling thread."""
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
-                 time_budget=None, region=None):
+                 time_budget=None, region=None, light_selection=None):
         kw = {"threads": int(threads)}
+        if light_selection is not None:
+            kw["uniform_light_selection"] = light_selection == "uniform"
         if region is not None:
             kw["region"] = tuple(int(v) for v in region)  # (x0, y0, x1, y1), y down
         if spp is not None:

@@ -214,6 +214,44 @@ def image_file(img):
     return path, colorspace, note
 
 
+_NONNEGATIVE = {}  # (path, mtime, size) -> (path Facet reads, note or None)
+
+
+def nonnegative_radiance_file(img, path):
+    """(path, note): the file of a float image used as a radiance (the World's Environment
+    Texture), with its negative colour values clamped to 0. The core refuses negative radiance
+    (FORMAT.md, environment); HDRIs often hold small negative values from their filtering or
+    compression (every one of Blender's studio lights does, down to -0.0039), and Cycles 3.4
+    renders them as they are. A file with none is used as it is (note None); otherwise a
+    clamped EXR copy is written once per file version to CACHE_DIR and the note says how many
+    values were clamped and by how much at most (the largest radiance difference to Cycles).
+    Cached by (path, modification time, size)."""
+    import hashlib
+    import numpy as np
+    from . import native
+    st = os.stat(path)
+    key = (path, st.st_mtime_ns, st.st_size)
+    if key in _NONNEGATIVE:
+        return _NONNEGATIVE[key]
+    w, h = img.size
+    px = np.empty(w * h * 4, np.float32)
+    img.pixels.foreach_get(px)
+    rgb = px.reshape(h, w, 4)[::-1, :, :3]  # Blender's rows run bottom-up
+    neg = rgb < 0.0
+    result = (path, None)
+    if neg.any():
+        name = hashlib.sha1(repr(key).encode()).hexdigest()[:20]
+        os.makedirs(CACHE_DIR, exist_ok=True)
+        out = os.path.join(CACHE_DIR, "nonnegative_%s.exr" % name)
+        if not os.path.isfile(out):
+            native.facet.write_image(np.maximum(rgb, 0.0), out)
+        result = (out, "%d negative colour values (down to %.3g) clamped to 0: Facet refuses "
+                       "negative radiance, Cycles uses them as they are"
+                  % (int(neg.sum()), float(rgb.min())))
+    _NONNEGATIVE[key] = result
+    return result
+
+
 def _write_pixels(img):
     """Writes the image's pixels once per content: the file is named by a hash of the packed
     file's bytes (or the generated image's settings); an edited (dirty) image is written

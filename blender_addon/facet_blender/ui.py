@@ -77,6 +77,7 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.prop(fs, "viewport_spp")
         lay.prop(fs, "time_budget")
         lay.prop(fs, "max_depth")
+        lay.prop(fs, "light_selection")
         row = lay.row(align=True)
         row.prop(fs, "seed")
         row.prop(fs, "animated_seed", text="", icon='TIME')

@@ -63,6 +63,37 @@ def main():
     bt.check(rel.max() < 0.01, "Facet and Cycles see the same sky per pixel (max %.4f)"
              % rel.max())
     bt.check(np.all(np.abs(ratio - 1.0) < 0.002), "image means agree to 0.2%% (%s)" % ratio)
+    negative_texels(scene, sky, out)
+
+
+def negative_texels(scene, sky, out):
+    """A float map with negative values (Blender's own studio HDRIs have some, down to
+    -0.0039) renders from a copy clamped to 0, reported with the count and the minimum; the
+    core would refuse the file itself (negative radiance)."""
+    from facet_blender import export, native
+    neg = sky.copy()
+    neg[3, 5, 1] = -0.25
+    neg[10, 40, 2] = -0.125
+    path = os.path.join(out, "envmap_world_negative.exr")
+    native.facet.write_image(neg, path)
+    world = bpy.data.worlds.new("negative")  # a user's World (not the imported one)
+    world.use_nodes = True
+    node = world.node_tree.nodes.new("ShaderNodeTexEnvironment")
+    node.image = bpy.data.images.load(path)
+    world.node_tree.links.new(node.outputs["Color"],
+                              world.node_tree.nodes["Background"].inputs["Color"])
+    scene.world = world
+    data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    env = data["lights"][-1]
+    lines = [p for p in problems if "negative colour values" in p]
+    print(lines)
+    bt.check(len(lines) == 1 and "2 negative colour values (down to -0.25) clamped to 0"
+             in lines[0], "the clamp is reported with its count and minimum")
+    bt.check(env["file"] != path and np.array_equal(bt.load_exr(env["file"]),
+                                                     np.maximum(neg, 0.0)),
+             "the map rendered is the file clamped to 0, every other texel unchanged")
+    native.build(data, name="negative")  # the core accepts it (it refuses the original)
+    print("ok: the clamped map builds")
 
 
 bt.run(main)

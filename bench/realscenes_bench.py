@@ -1,0 +1,110 @@
+#!/usr/bin/python3
+"""The real-scene suite's longer run: every scene of tests/realscenes/scenes.py (pending ones
+too, to show what they still lack) rendered by the Facet engine and by Cycles in headless
+Blender at the bench size (Scene.bench: 192 x 144, 256 spp unless --size/--spp), with Facet's
+default Power light selection measured beside the suite's Uniform. Writes the side-by-sides to
+docs/img/realscenes/<name>.png and the table between the markers of docs/realscenes.md.
+
+    bench/realscenes_bench.py --build build [--size 192x144] [--spp 256] [scene ...]
+
+Needs the addon installed as tests/blender installs it (`ctest --test-dir build -R
+blender.install`). Takes ~3 minutes per scene on the 2-core development machine.
+"""
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+
+ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+sys.path.insert(0, os.path.join(ROOT, "tests", "realscenes"))
+import scenes  # noqa: E402
+
+BEGIN, END = "<!-- realscenes:begin -->", "<!-- realscenes:end -->"
+
+
+def run(build, name, out, size, spp):
+    bdir = os.path.join(build, "tests", "blender")
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(bdir, "user_scripts"),
+               BLENDER_USER_CONFIG=os.path.join(bdir, "user_config"), PYTHONNOUSERSITE="1")
+    cmd = ["blender", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
+           "--python", os.path.join(ROOT, "tests", "realscenes", "test_realscene.py"), "--",
+           name, out, "bench"]
+    if size or spp:
+        w, h, s = scenes.by_name(name).bench
+        if size:
+            w, h = (int(v) for v in size.split("x"))
+        cmd += [str(w), str(h), str(spp or s)]
+    log = os.path.join(out, "realscene_%s.log" % name)
+    with open(log, "w") as f:
+        rc = subprocess.run(cmd, env=env, stdout=f, stderr=subprocess.STDOUT).returncode
+    path = os.path.join(out, "realscene_%s.json" % name)
+    if rc != 0 or not os.path.exists(path):
+        raise RuntimeError("%s failed (exit %d), see %s" % (name, rc, log))
+    with open(path) as f:
+        return json.load(f)
+
+
+def row(r):
+    status = ("pending: " + r["pending"]) if r["pending"] else (
+        "meets" if r["pass"] else "**misses**")
+    power = ""
+    if "power_block_rmse" in r:
+        power = "%.2f× (%.4f)" % (r["power_block_rmse"] / max(r["noise_floor"], 1e-12),
+                                  r["power_mean_ratio"])
+    return ("| [%s](img/realscenes/%s.png) | %s | %.4f | %.2f× | %s | %.1f s | %.1f s | %d | %s |"
+            % (r["scene"], r["scene"], ", ".join(r["features"]), r["mean_ratio"],
+               r["rmse_over_floor"], power, r["facet_seconds"], r["cycles_seconds"],
+               len(r["report"]), status))
+
+
+def table(results):
+    lines = ["| scene | exercises | mean Facet / Cycles | block RMSE / noise floor | with Power "
+             "selection: RMSE / floor (mean) | Facet | Cycles | report lines | threshold |",
+             "|---|---|---|---|---|---|---|---|---|"]
+    lines += [row(r) for r in results]
+    r0 = results[0]
+    lines.append("")
+    lines.append("%d x %d pixels, %d spp (Facet and each Cycles seed), measured by "
+                 "`bench/realscenes_bench.py` on the shared 2-core development machine; times "
+                 "are F12 wall times inside Blender (Cycles: one seed, world importance map "
+                 "included)." % (r0["width"], r0["height"], r0["spp"]))
+    return "\n".join(lines)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--build", default=os.path.join(ROOT, "build"))
+    ap.add_argument("--out", default=None, help="work directory (default BUILD/realscenes_bench)")
+    ap.add_argument("--size", default=None, help="WxH (default: each scene's bench size)")
+    ap.add_argument("--spp", type=int, default=None)
+    ap.add_argument("--no-docs", action="store_true", help="do not update docs/")
+    ap.add_argument("scenes", nargs="*", help="scene names (default: all)")
+    a = ap.parse_args()
+    out = a.out or os.path.join(a.build, "realscenes_bench")
+    os.makedirs(out, exist_ok=True)
+    names = a.scenes or [s.name for s in scenes.SCENES]
+    results = []
+    for name in names:
+        r = run(a.build, name, out, a.size, a.spp)
+        print(row(r), flush=True)
+        results.append(r)
+    with open(os.path.join(out, "realscenes_bench.json"), "w") as f:
+        json.dump(results, f, indent=1)
+    if a.no_docs:
+        return
+    img = os.path.join(ROOT, "docs", "img", "realscenes")
+    os.makedirs(img, exist_ok=True)
+    for r in results:
+        shutil.copyfile(os.path.join(out, r["png"]), os.path.join(img, r["scene"] + ".png"))
+    doc = os.path.join(ROOT, "docs", "realscenes.md")
+    with open(doc) as f:
+        text = f.read()
+    i, j = text.index(BEGIN) + len(BEGIN), text.index(END)
+    with open(doc, "w") as f:
+        f.write(text[:i] + "\n" + table(results) + "\n" + text[j:])
+
+
+if __name__ == "__main__":
+    main()
