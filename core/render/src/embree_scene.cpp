@@ -395,15 +395,13 @@ float analytic_error_floor(const AnalyticPrim& prim) {
 void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes, std::size_t m,
                  std::vector<std::int32_t>& geom_to_mesh, const std::string& name) {
     MeshGeom& mg = meshes[m];
-const TriangleMesh& mesh = mg.mesh;
+    const TriangleMesh& mesh = mg.mesh;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
     // Embree-owned buffers: Embree pads them as its SIMD loads require.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                          RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                          mesh.positions.size()));
-    auto* idx = static_cast<unsigned*>(
-        rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                3 * sizeof(unsigned), mesh.num_triangles()));
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.num_triangles()));
     if (v && idx) {
         for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
             std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
@@ -452,8 +450,7 @@ const TriangleMesh& mesh = mg.mesh;
     }
     if (mg.opacity.active()) {
         // Cut-outs only: every other mesh keeps Embree's filterless path.
-        if (!rtcGetDeviceProperty(device,
-                                  RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+        if (!rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
             throw SceneError(name +
                              ": embree: built without filter functions, which opacity "
                              "(cut-outs) needs");
@@ -716,11 +713,11 @@ template <bool kUv>
     const glm::dvec3 po(hit.p);
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
     hit.p = Vec3(pw);
-    const double shift = double(gamma_bound(4)) *
-                         (in.linear_norm * (in.inverse_norm * largest_magnitude(pw) +
-                                            in.inverse_offset + largest_magnitude(po)) +
-                          in.offset) +
-                         kDoubleSlack * largest_magnitude(pw);
+    const double shift =
+        double(gamma_bound(4)) * (in.linear_norm * (in.inverse_norm * largest_magnitude(pw) +
+                                                    in.inverse_offset + largest_magnitude(po)) +
+                                  in.offset) +
+        kDoubleSlack * largest_magnitude(pw);
     hit.p_err = Vec3(in.abs_linear * glm::dvec3(hit.p_err) + shift) + rounding_error(hit.p);
     const glm::dvec3 ng = glm::normalize(in.normal_to_world * glm::dvec3(hit.ng));
     glm::dvec3 ns = glm::normalize(in.normal_to_world * glm::dvec3(hit.ns));
@@ -757,10 +754,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
-    return be.surface_extras ? complete_hit<true>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                                  rh.hit.v, rh.ray.tfar, hit)
-                             : complete_hit<false>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                                   rh.hit.v, rh.ray.tfar, hit);
+    return be.surface_extras
+               ? complete_hit<true>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                    rh.hit.v, rh.ray.tfar, hit)
+               : complete_hit<false>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                     rh.hit.v, rh.ray.tfar, hit);
 }
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
@@ -768,9 +766,9 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 // kSurfaceExtras (EmbreeBackend::surface_extras): parts, texture coordinates and textured
 // emission; without it a hit reads its shape's own surface only.
 template <bool kSurfaceExtras>
-[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned inst,
-                                                       unsigned geom, unsigned prim, float u,
-                                                       float v, float t, SurfaceHit& hit) const {
+[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned inst, unsigned geom,
+                                                       unsigned prim, float u, float v, float t,
+                                                       SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
     const EmbreeBackend& be = *impl.backend;
     const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;
@@ -862,14 +860,16 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     if (impl.backend->surface_extras) {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<true>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k], rh.hit.primID[k],
-                                          rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<true>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
+                                          rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
+                                          rh.ray.tfar[k], hits[k]);
         }
     } else {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<false>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k], rh.hit.primID[k],
-                                           rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<false>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
+                                           rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
+                                           rh.ray.tfar[k], hits[k]);
         }
     }
 }

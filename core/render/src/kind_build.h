@@ -91,7 +91,7 @@ class ShapeBuild : public BuildChecks {
     // In Scene::shapes(): the description's "shapes" index, or after them a prototype's shape.
     const std::uint32_t index;
     const std::string ptr;  // "/shapes/<index>" or "/prototypes/<name>/<k>"
-    Rgb emission{0.f};          // checked
+    Rgb emission{0.f};      // checked
     bool emissive = false;
     glm::dmat4 xf{1.0};  // object to world (checked: finite, affine, not singular)
 

@@ -58,8 +58,8 @@ bool MeshData::operator==(const MeshData& o) const {
 bool SceneDescription::operator==(const SceneDescription& o) const {
     return description == o.description && camera == o.camera && materials == o.materials &&
            shapes == o.shapes && prototypes == o.prototypes && lights == o.lights &&
-           render.integrator == o.render.integrator &&
-           render.spp == o.render.spp && render.time_budget_s == o.render.time_budget_s &&
+           render.integrator == o.render.integrator && render.spp == o.render.spp &&
+           render.time_budget_s == o.render.time_budget_s &&
            render.max_depth == o.render.max_depth && render.seed == o.render.seed;
 }
 
@@ -1365,7 +1365,7 @@ class Builder final : public BuildChecks {
     TexelImageCache m_images;             // an image used twice is read once
     const Material* m_black = nullptr;
     std::vector<Bounds3> m_shape_bounds;
-    std::vector<std::string> m_places;        // shape_place() per Scene::shapes() index
+    std::vector<std::string> m_places;       // shape_place() per Scene::shapes() index
     std::vector<PendingInstance> m_pending;  // instances, placed once their prototypes are built
 };
 
