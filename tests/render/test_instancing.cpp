@@ -173,9 +173,9 @@ TEST(Instancing, ImageMatchesTheFlattenedScene) {
     EXPECT_GE(close, int(0.99 * double(a.pixels().size())));
 }
 
-// The same image for 1 and 2 threads, for other tile sizes, and when rendered as two sample
-// ranges merged (the splits of the render farm): bit for bit.
-TEST(Instancing, ImagesAreBitIdenticalAcrossThreadsAndTiles) {
+// The same image for 1 and 2 threads, for other tile sizes, for a region rendered alone, and
+// when rendered as two sample ranges merged (the render farm's splits): bit for bit.
+TEST(Instancing, ImagesAreBitIdenticalAcrossThreadsAndSplits) {
     const fr::Scene inst = fr::build_scene(describe(instanced_scene()), "inst.json");
     const fr::Image one = fr::render(inst, fr::testing::test_options("path", 4, 9, 1));
     const fr::Image two = fr::render(inst, fr::testing::test_options("path", 4, 9, 2));
@@ -183,13 +183,32 @@ TEST(Instancing, ImagesAreBitIdenticalAcrossThreadsAndTiles) {
     small_tiles.tile_size = 8;
     const fr::Image tiled = fr::render(inst, small_tiles);
     ASSERT_EQ(one.pixels().size(), two.pixels().size());
+    EXPECT_EQ(max_abs_diff(one, two), 0.0);
     EXPECT_EQ(
         std::memcmp(one.pixels().data(), two.pixels().data(), one.pixels().size() * sizeof(Rgb)),
         0);
     EXPECT_EQ(
         std::memcmp(one.pixels().data(), tiled.pixels().data(), one.pixels().size() * sizeof(Rgb)),
         0);
-    EXPECT_EQ(max_abs_diff(one, two), 0.0);
+    fr::RenderOptions crop = fr::testing::test_options("path", 4, 9, 2);
+    crop.region = fr::Region{5, 3, 27, 19};
+    const fr::Image part = fr::render(inst, crop);
+    for (int y = 3; y < 19; ++y)
+        for (int x = 5; x < 27; ++x)
+            ASSERT_EQ(part.at(x - 5, y - 3), one.at(x, y)) << x << "," << y;
+    std::vector<fr::RenderPart> halves;
+    for (int h = 0; h < 2; ++h) {
+        fr::RenderOptions o = fr::testing::test_options("path", 4, 9, 2);
+        o.sample_begin = 2 * h;
+        o.sample_end = 2 * h + 2;
+        fr::RenderSession session(inst, o);
+        session.render();
+        halves.push_back(session.part());
+    }
+    const fr::Image merged = fr::merge_parts(halves, {"s0", "s1"}).resolve();
+    EXPECT_EQ(
+        std::memcmp(one.pixels().data(), merged.pixels().data(), one.pixels().size() * sizeof(Rgb)),
+        0);
 }
 
 // A unit quad (z = 0, facing +z) placed by M = diag(1, 1, 3) R_x(40 deg) translated: a
