@@ -335,11 +335,12 @@ T from_kwargs(const py::kwargs& kw, const char* type) {
 
 struct PySceneDescription {
     std::string description;
-    py::object camera;   // CameraDesc
-    py::dict materials;  // str -> MaterialDesc
-    py::list shapes;     // [ShapeDesc]
-    py::list lights;     // [LightDesc]
-    py::object render;   // RenderSettings
+    py::object camera;    // CameraDesc
+    py::dict materials;   // str -> MaterialDesc
+    py::list shapes;      // [ShapeDesc]
+    py::dict prototypes;  // str -> [ShapeDesc] (instancing: scenes/FORMAT.md, "Instances")
+    py::list lights;      // [LightDesc]
+    py::object render;    // RenderSettings
     std::string base_dir = ".";
 
     PySceneDescription() : camera(py::cast(CameraDesc{})), render(py::cast(RenderSettings{})) {}
@@ -369,6 +370,18 @@ SceneDescription to_cpp(const PySceneDescription& d) {
     for (std::size_t i = 0; i < d.shapes.size(); ++i)
         s.shapes.push_back(
             element<ShapeDesc>(d.shapes[i], "shapes[" + std::to_string(i) + "]", "ShapeDesc"));
+    for (auto [key, value] : d.prototypes) {
+        if (!py::isinstance<py::str>(key)) throw py::type_error("prototypes: keys must be strings");
+        const std::string name = key.cast<std::string>();
+        if (!py::isinstance<py::sequence>(value) || py::isinstance<py::str>(value))
+            throw py::type_error("prototypes['" + name + "']: expected a list of ShapeDesc");
+        std::vector<ShapeDesc> list;
+        const py::sequence seq = value.cast<py::sequence>();
+        for (std::size_t i = 0; i < seq.size(); ++i)
+            list.push_back(element<ShapeDesc>(
+                seq[i], "prototypes['" + name + "'][" + std::to_string(i) + "]", "ShapeDesc"));
+        s.prototypes.emplace_back(name, std::move(list));
+    }
     for (std::size_t i = 0; i < d.lights.size(); ++i)
         s.lights.push_back(
             element<LightDesc>(d.lights[i], "lights[" + std::to_string(i) + "]", "LightDesc"));
@@ -384,6 +397,11 @@ PySceneDescription from_cpp(SceneDescription&& s) {
     for (auto& [name, mat] : s.materials) d.materials[py::str(name)] = py::cast(std::move(mat));
     for (auto& shape : s.shapes) d.shapes.append(py::cast(std::move(shape)));
     for (auto& light : s.lights) d.lights.append(py::cast(std::move(light)));
+    for (auto& [name, list] : s.prototypes) {
+        py::list shapes;
+        for (auto& shape : list) shapes.append(py::cast(std::move(shape)));
+        d.prototypes[py::str(name)] = shapes;
+    }
     return d;
 }
 
@@ -840,8 +858,10 @@ void bind_scene(py::module_& m) {
     py::class_<PySceneDescription>(
         m, "SceneDescription",
         "The plain-data scene (scene_description.h): description, camera (CameraDesc), materials "
-        "(dict name -> MaterialDesc), shapes (list of ShapeDesc), lights (list of LightDesc), "
-        "render (RenderSettings), base_dir. Mutable in place; build it with build_scene().")
+        "(dict name -> MaterialDesc), shapes (list of ShapeDesc), prototypes (dict name -> list "
+        "of ShapeDesc, placed by ShapeDesc('instance', of=name, transform=M)), lights (list of "
+        "LightDesc), render (RenderSettings), base_dir. Mutable in place; build it with "
+        "build_scene().")
         .def(py::init([](py::kwargs kw) {
             py::object self = py::cast(PySceneDescription{});
             set_fields(self, kw, "SceneDescription");
@@ -866,6 +886,9 @@ void bind_scene(py::module_& m) {
         .def_property(
             "shapes", [](const PySceneDescription& d) { return d.shapes; },
             [](PySceneDescription& d, py::iterable v) { d.shapes = py::list(v); })
+        .def_property(
+            "prototypes", [](const PySceneDescription& d) { return d.prototypes; },
+            [](PySceneDescription& d, py::dict v) { d.prototypes = v; })
         .def_property(
             "lights", [](const PySceneDescription& d) { return d.lights; },
             [](PySceneDescription& d, py::iterable v) { d.lights = py::list(v); })

@@ -25,14 +25,15 @@ std::string read_text(const std::string& path) {
     return s.str();
 }
 
-// A scene with one shape or light spliced in.
+// A scene with one shape or light spliced in (and `extra` top-level members, e.g.
+// "prototypes").
 SceneDescription scene_with(const std::string& shape, const std::string& light,
-                            const std::string& base_dir = ".") {
+                            const std::string& base_dir = ".", const std::string& extra = "") {
     const std::string text = R"({"format": "facet-scene", "version": 1,
       "camera": {"position": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40, "width": 16, "height": 12},
       "materials": {"white": {"model": "lambert", "reflectance": 0.8}},
-      "shapes": [)" + shape + R"(], "lights": [)" +
-                             light + "]}";
+      )" + extra + R"("shapes": [)" +
+                             shape + R"(], "lights": [)" + light + "]}";
     return parse_scene_description(text, "t.json", base_dir);
 }
 
@@ -49,8 +50,8 @@ TEST(Kinds, EveryEnumValueHasExactlyOneKindWithUniqueKeys) {
         for (const auto& f : k->fields)
             EXPECT_TRUE(keys.insert(f.key).second) << k->name << " " << f.key;
     }
-    EXPECT_EQ(names.size(), 9u);  // ShapeKind has 9 values: each one is in the table
-    for (int e = 0; e < 9; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
+    EXPECT_EQ(names.size(), 10u);  // ShapeKind has 10 values: each one is in the table
+    for (int e = 0; e < 10; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
     EXPECT_EQ(find_shape_kind(ShapeKind(200)), nullptr);
     EXPECT_THROW(shape_kind(ShapeKind(200)), std::logic_error);
 
@@ -92,14 +93,17 @@ TEST(Kinds, JsonRoundTripOfEveryKind) {
       {"type": "mesh", "positions": [0, 0, 0, 1, 0, 0, 0, 1, 0], "indices": [0, 1, 2], "material": "white"},
       {"type": "icosphere", "center": [2, 0, 0], "radius": 0.5, "subdivisions": 1, "material": "white"},
       {"type": "grid", "nx": 2, "ny": 3, "amplitude": 0.1, "frequency": 2, "material": "white"},
-      {"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR R"(/modes.gltf"})";
+      {"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR R"(/modes.gltf"},
+      {"type": "instance", "of": "card", "transform": {"translate": [0, 3, 0]}})";
     const std::string lights = R"(
       {"type": "point", "position": [0, 5, 0], "power": 100},
       {"type": "spot", "position": [0, 5, 0], "look_at": [0, 0, 0], "power": 10, "outer_angle": 30, "inner_angle": 20},
       {"type": "directional", "direction": [0, -1, 0], "irradiance": [1, 2, 3]},
       {"type": "area", "position": [0, 2, 0], "direction": [0, -1, 0], "size": 1, "power": 5},
       {"type": "environment", "radiance": 0.1})";
-    const SceneDescription d = scene_with(shapes, lights);
+    const SceneDescription d =
+        scene_with(shapes, lights, ".", R"("prototypes": {"card": [{"type": "quad",
+          "material": "white", "vertices": [[0, 0, 0], [1, 0, 0], [1, 1, 0], [0, 1, 0]]}]},)");
     ASSERT_EQ(d.shapes.size(), shape_kinds().size());
     ASSERT_EQ(d.lights.size(), light_kinds().size());
     const SceneDescription back = parse_scene_description(write_scene_json(d), "back.json");

@@ -49,6 +49,13 @@ struct EmbreeBackend {
     // material or emission has). False for most scenes: their hit records then skip the part
     // and UV look-ups and the emission texture test (Scene::complete_hit<false>).
     bool surface_extras = true;
+    bool surface_extras_instanced = false;  // some prototype's mesh has parts or uvs
+    // Instancing (Impl::prototypes, Impl::instances): one Embree scene per prototype that has
+    // instances (null otherwise), its geomID -> index in PrototypeGeom::meshes, and the top
+    // scene's geomID -> index in Impl::instances (-1: not an instance).
+    std::vector<ScenePtr> prototype_scenes;
+    std::vector<std::vector<std::int32_t>> prototype_geom_to_mesh;
+    std::vector<std::int32_t> geom_to_instance;
 };
 
 namespace {
@@ -383,6 +390,81 @@ float analytic_error_floor(const AnalyticPrim& prim) {
     return next_float_up(float(kDoubleSlack * m));
 }
 
+// Attaches mesh `m` of `meshes` to `scene` as Embree triangle geometry and fills its hit
+// records (planes or smooth records, normal_err); `geom_to_mesh` maps the geometry id to m.
+void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes, std::size_t m,
+                 std::vector<std::int32_t>& geom_to_mesh, const std::string& name) {
+    MeshGeom& mg = meshes[m];
+    const TriangleMesh& mesh = mg.mesh;
+    RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
+    // Embree-owned buffers: Embree pads them as its SIMD loads require.
+    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.num_triangles()));
+    if (v && idx) {
+        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
+            std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
+        }
+        std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
+        std::vector<glm::vec4> planes(mesh.num_triangles());
+        // The hit points' error along the normal (MeshGeom::normal_err): the largest
+        // distance of a triangle's vertices from its float plane, and the longest edge.
+        double plane_dev = 0.0, max_edge = 0.0, max_coord = 0.0;
+        for (std::size_t t = 0; t < planes.size(); ++t) {
+            const glm::dvec3 v[3] = {glm::dvec3(mesh.positions[mesh.indices[3 * t]]),
+                                     glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]),
+                                     glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]])};
+            // In double: the float cross product's squared length overflows for edges
+            // beyond ~4e9, which zeroed the walls' normals of a Cornell box scaled by 1e7.
+            const glm::dvec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
+            const double len = glm::length(c);
+            const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
+            const glm::dvec3 nd(n);
+            const float w = float(glm::dot(nd, v[0]));
+            planes[t] = glm::vec4(n, w);
+            const double inv_len = 1.0 / glm::length(nd);
+            for (int j = 0; j < 3; ++j) {
+                plane_dev =
+                    std::max(plane_dev, std::fabs(glm::dot(nd, v[j]) - double(w)) * inv_len);
+                max_edge = std::max(max_edge, glm::length(v[(j + 1) % 3] - v[j]));
+                max_coord = std::max(max_coord, largest_magnitude(v[j]));
+            }
+        }
+        mg.normal_err = triangle_normal_error(plane_dev, max_edge, max_coord);
+        if (mesh.normals.empty()) {
+            mg.planes = std::move(planes);
+        } else {
+            std::vector<MeshGeom::SmoothRecord>& rec = mg.records;
+            rec.resize(planes.size());
+            for (std::size_t t = 0; t < planes.size(); ++t) {
+                rec[t].plane = planes[t];
+                for (int j = 0; j < 3; ++j)
+                    rec[t].n[j] = mesh.normals[mesh.indices[3 * t + std::size_t(j)]];
+            }
+            mg.mesh.normals = {};
+        }
+        // Embree holds the data now (the scene keeps the geometry and its buffers alive).
+        mg.mesh.positions = {};
+        mg.mesh.indices = {};
+    }
+    if (mg.opacity.active()) {
+        // Cut-outs only: every other mesh keeps Embree's filterless path.
+        if (!rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+            throw SceneError(name +
+                             ": embree: built without filter functions, which opacity "
+                             "(cut-outs) needs");
+        rtcSetGeometryUserData(g, &mg);
+        rtcSetGeometryIntersectFilterFunction(g, opacity_filter);
+        rtcSetGeometryOccludedFilterFunction(g, opacity_filter);
+    }
+    rtcCommitGeometry(g);
+    unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    if (geom_to_mesh.size() <= id) geom_to_mesh.resize(id + 1, -1);
+    geom_to_mesh[id] = std::int32_t(m);
+}
+
 }  // namespace
 
 // --- Scene::Impl ------------------------------------------------------------------------------
@@ -407,79 +489,8 @@ void Scene::Impl::build(const std::string& name) {
     rtcSetSceneFlags(be.scene.get(), RTC_SCENE_FLAG_ROBUST);
     rtcSetSceneBuildQuality(be.scene.get(), RTC_BUILD_QUALITY_HIGH);
 
-    for (std::size_t m = 0; m < meshes.size(); ++m) {
-        const TriangleMesh& mesh = meshes[m].mesh;
-        RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_TRIANGLE);
-        // Embree-owned buffers: Embree pads them as its SIMD loads require.
-        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX, 0,
-                                                              RTC_FORMAT_FLOAT3, 3 * sizeof(float),
-                                                              mesh.positions.size()));
-        auto* idx = static_cast<unsigned*>(
-            rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                    3 * sizeof(unsigned), mesh.num_triangles()));
-        if (v && idx) {
-            for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-                std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
-            }
-            std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
-            std::vector<glm::vec4> planes(mesh.num_triangles());
-            // The hit points' error along the normal (MeshGeom::normal_err): the largest
-            // distance of a triangle's vertices from its float plane, and the longest edge.
-            double plane_dev = 0.0, max_edge = 0.0, max_coord = 0.0;
-            for (std::size_t t = 0; t < planes.size(); ++t) {
-                const glm::dvec3 v[3] = {glm::dvec3(mesh.positions[mesh.indices[3 * t]]),
-                                         glm::dvec3(mesh.positions[mesh.indices[3 * t + 1]]),
-                                         glm::dvec3(mesh.positions[mesh.indices[3 * t + 2]])};
-                // In double: the float cross product's squared length overflows for edges
-                // beyond ~4e9, which zeroed the walls' normals of a Cornell box scaled by 1e7.
-                const glm::dvec3 c = glm::cross(v[1] - v[0], v[2] - v[0]);
-                const double len = glm::length(c);
-                const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
-                const glm::dvec3 nd(n);
-                const float w = float(glm::dot(nd, v[0]));
-                planes[t] = glm::vec4(n, w);
-                const double inv_len = 1.0 / glm::length(nd);
-                for (int j = 0; j < 3; ++j) {
-                    plane_dev =
-                        std::max(plane_dev, std::fabs(glm::dot(nd, v[j]) - double(w)) * inv_len);
-                    max_edge = std::max(max_edge, glm::length(v[(j + 1) % 3] - v[j]));
-                    max_coord = std::max(max_coord, largest_magnitude(v[j]));
-                }
-            }
-            meshes[m].normal_err = triangle_normal_error(plane_dev, max_edge, max_coord);
-            if (mesh.normals.empty()) {
-                meshes[m].planes = std::move(planes);
-            } else {
-                std::vector<MeshGeom::SmoothRecord>& rec = meshes[m].records;
-                rec.resize(planes.size());
-                for (std::size_t t = 0; t < planes.size(); ++t) {
-                    rec[t].plane = planes[t];
-                    for (int j = 0; j < 3; ++j)
-                        rec[t].n[j] = mesh.normals[mesh.indices[3 * t + std::size_t(j)]];
-                }
-                meshes[m].mesh.normals = {};
-            }
-            // Embree holds the data now (the scene keeps the geometry and its buffers alive).
-            meshes[m].mesh.positions = {};
-            meshes[m].mesh.indices = {};
-        }
-        if (meshes[m].opacity.active()) {
-            // Cut-outs only: every other mesh keeps Embree's filterless path.
-            if (!rtcGetDeviceProperty(be.device.get(),
-                                      RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
-                throw SceneError(name +
-                                 ": embree: built without filter functions, which opacity "
-                                 "(cut-outs) needs");
-            rtcSetGeometryUserData(g, &meshes[m]);
-            rtcSetGeometryIntersectFilterFunction(g, opacity_filter);
-            rtcSetGeometryOccludedFilterFunction(g, opacity_filter);
-        }
-        rtcCommitGeometry(g);
-        unsigned id = rtcAttachGeometry(be.scene.get(), g);
-        rtcReleaseGeometry(g);
-        if (be.geom_to_mesh.size() <= id) be.geom_to_mesh.resize(id + 1, -1);
-        be.geom_to_mesh[id] = std::int32_t(m);
-    }
+    for (std::size_t m = 0; m < meshes.size(); ++m)
+        attach_mesh(be.device.get(), be.scene.get(), meshes, m, be.geom_to_mesh, name);
     for (AnalyticPrim& prim : prims) prim.err_floor = analytic_error_floor(prim);
     if (!prims.empty()) {
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_USER);
@@ -495,21 +506,60 @@ void Scene::Impl::build(const std::string& name) {
             be.geom_to_mesh.resize(be.analytic_geom + 1, -1);
         }
     }
+    build_instances(name);
     std::size_t record_bytes = 0;
+    auto mesh_extras = [](const MeshGeom& mg) {
+        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
+    };
     for (const MeshGeom& mg : meshes)
         record_bytes += mg.planes.size() * sizeof(glm::vec4) +
                         mg.records.size() * sizeof(MeshGeom::SmoothRecord);
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
+    for (const PrototypeGeom& pg : prototypes)
+        be.surface_extras_instanced |= std::any_of(pg.meshes.begin(), pg.meshes.end(), mesh_extras);
     be.surface_extras =
-        std::any_of(meshes.begin(), meshes.end(),
-                    [](const MeshGeom& mg) {
-                        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
-                    }) ||
+        be.surface_extras_instanced || std::any_of(meshes.begin(), meshes.end(), mesh_extras) ||
         std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
         std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
     rtcCommitScene(be.scene.get());
     std::lock_guard<std::mutex> lock(be.error_mutex);
     if (!be.first_error.empty()) throw SceneError(name + ": embree: " + be.first_error);
+}
+
+void Scene::Impl::build_instances(const std::string& name) {
+    if (instances.empty()) return;
+    EmbreeBackend& be = *backend;
+    be.prototype_scenes.resize(prototypes.size());
+    be.prototype_geom_to_mesh.resize(prototypes.size());
+    std::vector<bool> used(prototypes.size(), false);
+    for (const InstanceGeom& in : instances) used[in.prototype] = true;
+    for (std::size_t p = 0; p < prototypes.size(); ++p) {
+        if (!used[p]) continue;  // built for its checks only
+        ScenePtr ps(rtcNewScene(be.device.get()));
+        rtcSetSceneFlags(ps.get(), RTC_SCENE_FLAG_ROBUST);
+        rtcSetSceneBuildQuality(ps.get(), RTC_BUILD_QUALITY_HIGH);
+        for (std::size_t m = 0; m < prototypes[p].meshes.size(); ++m)
+            attach_mesh(be.device.get(), ps.get(), prototypes[p].meshes, m,
+                        be.prototype_geom_to_mesh[p], name);
+        rtcCommitScene(ps.get());
+        be.prototype_scenes[p] = std::move(ps);
+    }
+    for (std::size_t i = 0; i < instances.size(); ++i) {
+        const InstanceGeom& in = instances[i];
+        RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_INSTANCE);
+        rtcSetGeometryInstancedScene(g, be.prototype_scenes[in.prototype].get());
+        rtcSetGeometryTimeStepCount(g, 1);
+        float m[12];  // 3x4 column major: the linear part's columns, then the translation
+        for (int c = 0; c < 4; ++c)
+            for (int r = 0; r < 3; ++r) m[3 * c + r] = float(in.to_world[c][r]);
+        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        rtcCommitGeometry(g);
+        const unsigned id = rtcAttachGeometry(be.scene.get(), g);
+        rtcReleaseGeometry(g);
+        if (be.geom_to_instance.size() <= id) be.geom_to_instance.resize(id + 1, -1);
+        be.geom_to_instance[id] = std::int32_t(i);
+        if (be.geom_to_mesh.size() <= id) be.geom_to_mesh.resize(id + 1, -1);
+    }
 }
 
 void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float t,
@@ -639,6 +689,50 @@ template <bool kUv>
     }
 }
 
+// Out of line: only instanced scenes call it. The hit is found in the prototype's object space
+// (the ray brought there in double, rounded to float, then fill_triangle as for any mesh) and
+// taken to world space (InstanceGeom). Its error box: the object-space box through |linear
+// part|, plus the world point's rounding, plus gamma(4) of the magnitudes that Embree's float
+// copy of the transform and its float transform of spawned rays work at (the surface Embree
+// traces differs from the double placement, and a ray leaving p is moved into object space in
+// float: both shift it by a few u of those magnitudes).
+template <bool kUv>
+[[gnu::noinline]] void Scene::Impl::fill_instance(const InstanceGeom& in, std::uint32_t geom,
+                                                  std::uint32_t tri, const Ray& ray, float u,
+                                                  float v, float t, SurfaceHit& hit,
+                                                  std::int32_t& part) const {
+    const PrototypeGeom& pg = prototypes[in.prototype];
+    const MeshGeom& mg =
+        pg.meshes[std::size_t(backend->prototype_geom_to_mesh[in.prototype][geom])];
+    Ray local;
+    local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
+    local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
+    local.tmax = ray.tmax;
+    fill_triangle<kUv>(mg, tri, local, u, v, t, hit);
+    const glm::dmat3 lin(in.to_world);
+    const glm::dvec3 po(hit.p);
+    const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
+    hit.p = Vec3(pw);
+    const double shift =
+        double(gamma_bound(4)) * (in.linear_norm * (in.inverse_norm * largest_magnitude(pw) +
+                                                    in.inverse_offset + largest_magnitude(po)) +
+                                  in.offset) +
+        kDoubleSlack * largest_magnitude(pw);
+    hit.p_err = Vec3(in.abs_linear * glm::dvec3(hit.p_err) + shift) + rounding_error(hit.p);
+    const glm::dvec3 ng = glm::normalize(in.normal_to_world * glm::dvec3(hit.ng));
+    glm::dvec3 ns = glm::normalize(in.normal_to_world * glm::dvec3(hit.ns));
+    if (glm::dot(ns, ng) < 0.0) ns = -ns;
+    hit.ng = Vec3(ng);
+    hit.ns = Vec3(ns);
+    hit.dpdu = Vec3(lin * glm::dvec3(hit.dpdu));
+    hit.tangent_sign *= in.handedness;
+    if constexpr (kUv) {
+        hit.dpdu_uv = Vec3(lin * glm::dvec3(hit.dpdu_uv));
+        hit.dpdv_uv = Vec3(lin * glm::dvec3(hit.dpdv_uv));
+        part = mg.part;
+    }
+}
+
 // --- Scene ------------------------------------------------------------------------------------
 
 Scene::Scene() : m_impl(std::make_unique<Impl>()) {}
@@ -660,10 +754,11 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
-    return be.surface_extras ? complete_hit<true>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                                  rh.hit.v, rh.ray.tfar, hit)
-                             : complete_hit<false>(ray, rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                                   rh.hit.v, rh.ray.tfar, hit);
+    return be.surface_extras
+               ? complete_hit<true>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                    rh.hit.v, rh.ray.tfar, hit)
+               : complete_hit<false>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
+                                     rh.hit.v, rh.ray.tfar, hit);
 }
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
@@ -671,8 +766,8 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 // kSurfaceExtras (EmbreeBackend::surface_extras): parts, texture coordinates and textured
 // emission; without it a hit reads its shape's own surface only.
 template <bool kSurfaceExtras>
-[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned geom, unsigned prim,
-                                                       float u, float v, float t,
+[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned inst, unsigned geom,
+                                                       unsigned prim, float u, float v, float t,
                                                        SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
     const EmbreeBackend& be = *impl.backend;
@@ -702,6 +797,9 @@ template <bool kSurfaceExtras>
         }
     } else if (geom == RTC_INVALID_GEOMETRY_ID) {
         return false;
+    } else if (inst != RTC_INVALID_GEOMETRY_ID) [[unlikely]] {
+        const InstanceGeom& in = impl.instances[std::size_t(be.geom_to_instance[inst])];
+        impl.fill_instance<kSurfaceExtras>(in, geom, prim, ray, u, v, t, hit, part);
     } else if (geom == be.analytic_geom) {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
@@ -751,7 +849,8 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     // lines first so that the misses overlap instead of queueing one lane at a time.
     for (std::size_t k = 0; k < n && impl.backend->prefetch_hit_records; ++k) {
         const unsigned geom = rh.hit.geomID[k];
-        if (!valid[k] || geom == RTC_INVALID_GEOMETRY_ID || geom == impl.backend->analytic_geom)
+        if (!valid[k] || geom == RTC_INVALID_GEOMETRY_ID || geom == impl.backend->analytic_geom ||
+            rh.hit.instID[0][k] != RTC_INVALID_GEOMETRY_ID)
             continue;
         const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
         __builtin_prefetch(&mg.plane(rh.hit.primID[k]));
@@ -761,14 +860,16 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     if (impl.backend->surface_extras) {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<true>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
-                                          rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<true>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
+                                          rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
+                                          rh.ray.tfar[k], hits[k]);
         }
     } else {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<false>(rays.get(k), rh.hit.geomID[k], rh.hit.primID[k],
-                                           rh.hit.u[k], rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<false>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
+                                           rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
+                                           rh.ray.tfar[k], hits[k]);
         }
     }
 }

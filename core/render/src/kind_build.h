@@ -89,12 +89,13 @@ class BuildChecks {
 
 class ShapeBuild : public BuildChecks {
   public:
-    ShapeBuild(const ShapeDesc& s, std::uint32_t i)
-        : shape(s), index(i), ptr("/shapes/" + std::to_string(i)) {}
+    ShapeBuild(const ShapeDesc& s, std::uint32_t i, std::string p)
+        : shape(s), index(i), ptr(std::move(p)) {}
     const ShapeDesc& shape;
-    const std::uint32_t index;  // in the description's "shapes"
-    const std::string ptr;      // "/shapes/<index>"
-    Rgb emission{0.f};          // checked
+    // In Scene::shapes(): the description's "shapes" index, or after them a prototype's shape.
+    const std::uint32_t index;
+    const std::string ptr;  // "/shapes/<index>" or "/prototypes/<name>/<k>"
+    Rgb emission{0.f};      // checked
     bool emissive = false;
     glm::dmat4 xf{1.0};  // object to world (checked: finite, affine, not singular)
 
@@ -132,6 +133,9 @@ class ShapeBuild : public BuildChecks {
     // Object-space triangles as one part of the shape with its own surface (material, emission,
     // sidedness; `surface.light` is filled here): as add_triangles otherwise.
     virtual void add_part(TriangleMesh mesh, ShapeSurface surface) = 0;
+    // Places prototype `of` (SceneDescription::prototypes) by the shape's transform `xf`
+    // (kind "instance"); errors name `of_ptr`: an unknown name, an instance inside a prototype.
+    virtual void add_instance(const std::string& of, const std::string& of_ptr) = 0;
     // A warning for BuildReport::warnings and Scene::warnings() (what the kind approximates).
     virtual void warn(std::string message) = 0;
     // The shape's area light (emissive analytic shapes).

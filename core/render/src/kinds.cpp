@@ -13,15 +13,15 @@
 namespace facet::render {
 
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
-    kIcosphereKind, kGridKind, kGltfKind;
+    kIcosphereKind, kGridKind, kGltfKind, kInstanceKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
 
 namespace {
 
-const std::array<const ShapeKindDef*, 9> kShapeKinds = {&kSphereKind,    &kPlaneKind, &kBoxKind,
-                                                        &kQuadKind,      &kDiscKind,  &kMeshKind,
-                                                        &kIcosphereKind, &kGridKind,  &kGltfKind};
+const std::array<const ShapeKindDef*, 10> kShapeKinds = {
+    &kSphereKind, &kPlaneKind,     &kBoxKind,  &kQuadKind, &kDiscKind,
+    &kMeshKind,   &kIcosphereKind, &kGridKind, &kGltfKind, &kInstanceKind};
 const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};

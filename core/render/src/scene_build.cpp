@@ -58,8 +58,9 @@ bool MeshData::operator==(const MeshData& o) const {
 
 bool SceneDescription::operator==(const SceneDescription& o) const {
     return description == o.description && camera == o.camera && materials == o.materials &&
-           shapes == o.shapes && lights == o.lights && render.integrator == o.render.integrator &&
-           render.spp == o.render.spp && render.time_budget_s == o.render.time_budget_s &&
+           shapes == o.shapes && prototypes == o.prototypes && lights == o.lights &&
+           render.integrator == o.render.integrator && render.spp == o.render.spp &&
+           render.time_budget_s == o.render.time_budget_s &&
            render.max_depth == o.render.max_depth && render.seed == o.render.seed;
 }
 
@@ -91,8 +92,9 @@ class Builder final : public BuildChecks {
         build_camera();
         build_materials();
         for (std::size_t i = 0; i < m_desc.shapes.size(); ++i) {
-            build_shape(m_desc.shapes[i], std::uint32_t(i));
+            build_shape(m_desc.shapes[i], std::uint32_t(i), "/shapes/" + std::to_string(i), -1);
         }
+        build_prototypes();
         for (std::size_t i = 0; i < m_desc.lights.size(); ++i) {
             build_light(m_desc.lights[i], i);
         }
@@ -129,11 +131,9 @@ class Builder final : public BuildChecks {
     }
 
   private:
-    // "/shapes/3" or "/shapes/3 ('Suzanne')" for messages about a shape as a whole.
-    std::string shape_place(std::uint32_t index) const {
-        const std::string& n = m_desc.shapes[index].name;
-        return "/shapes/" + std::to_string(index) + (n.empty() ? "" : " ('" + n + "')");
-    }
+    // "/shapes/3" or "/shapes/3 ('Suzanne')" (or "/prototypes/tree/0 ...") for messages about a
+    // shape as a whole (index: in Scene::shapes()).
+    std::string shape_place(std::uint32_t index) const { return m_places[index]; }
 
     // --- camera, render ------------------------------------------------------------------------
 
@@ -790,9 +790,26 @@ class Builder final : public BuildChecks {
 
     // --- shapes --------------------------------------------------------------------------------
 
-    void build_shape(const ShapeDesc& s, std::uint32_t index) {
-        const std::string ptr = "/shapes/" + std::to_string(index);
+    // Shape `s` as Scene::shapes()[index], at JSON pointer `ptr`: a description shape
+    // (proto -1) or a shape of prototype `proto` (its geometry then goes to the prototype).
+    void build_shape(const ShapeDesc& s, std::uint32_t index, const std::string& ptr,
+                     std::int32_t proto) {
+        m_places.push_back(ptr + (s.name.empty() ? "" : " ('" + s.name + "')"));
         if (!find_shape_kind(s.kind)) fail(ptr + "/type", "unknown shape type");
+        if (proto >= 0 && (s.emission != Rgb(0.f) || s.emission_texture))
+            fail(ptr + "/emission",
+                 "a prototype's shapes cannot emit (light sampling would need each instance as "
+                 "a light of its own; place an emitter as a shape instead)");
+        if (shape_kind(s.kind).places_prototype) {
+            // No surface of its own: hits report the prototype's shapes.
+            if (s.material || !s.material_ref.empty())
+                fail(ptr + "/material",
+                     "an instance takes its prototype's materials (give them in the prototype)");
+            if (s.emission != Rgb(0.f) || s.emission_texture)
+                fail(ptr + "/emission", "an instance cannot emit (its prototype's shapes do not)");
+            if (!s.two_sided) fail(ptr + "/two_sided", "give it on the prototype's shapes");
+            if (s.flip_normals) fail(ptr + "/flip_normals", "give it on the prototype's shapes");
+        }
 
         ShapeInfo info;
         info.kind = s.kind;
@@ -826,7 +843,8 @@ class Builder final : public BuildChecks {
             info.textured = found->second.textured;
             info.opacity = found->second.opacity;
             info.material_name = name;
-        } else if (emissive || shape_kind(s.kind).own_materials) {
+        } else if (emissive || shape_kind(s.kind).own_materials ||
+                   shape_kind(s.kind).places_prototype) {
             // Emitters reflect nothing; kinds with their own materials add them as parts.
             info.material = black_material();
             info.material_name = "<black>";
@@ -859,12 +877,17 @@ class Builder final : public BuildChecks {
                 fail(tp, "the transform is singular (zero scale?) or not finite");
             }
         }
-        ShapeContext ctx(*this, s, index, info);
+        ShapeContext ctx(*this, s, index, ptr, info, proto);
         ctx.emission = info.emission;
         ctx.emissive = emissive;
         ctx.xf = xf;
         shape_kind(s.kind).build(ctx);
-        if (!ctx.bounds.empty()) {
+        if (proto >= 0) {
+            // Object-space extent of the prototype; the scene's grows by its instances.
+            Bounds3& pb = m_builder.impl().prototypes[std::size_t(proto)].bounds;
+            pb.lo = glm::min(pb.lo, ctx.bounds.lo);
+            pb.hi = glm::max(pb.hi, ctx.bounds.hi);
+        } else if (!ctx.bounds.empty()) {
             check_coordinate_range(std::max(max_abs(ctx.bounds.lo), max_abs(ctx.bounds.hi)), index);
             m_builder.bounds().lo = glm::min(m_builder.bounds().lo, ctx.bounds.lo);
             m_builder.bounds().hi = glm::max(m_builder.bounds().hi, ctx.bounds.hi);
@@ -876,8 +899,9 @@ class Builder final : public BuildChecks {
     // What a shape kind's builder adds to the scene (kind_build.h).
     class ShapeContext final : public ShapeBuild {
       public:
-        ShapeContext(Builder& b, const ShapeDesc& s, std::uint32_t i, ShapeInfo& info)
-            : ShapeBuild(s, i), m_b(b), m_info(info) {}
+        ShapeContext(Builder& b, const ShapeDesc& s, std::uint32_t i, const std::string& p,
+                     ShapeInfo& info, std::int32_t proto)
+            : ShapeBuild(s, i, p), m_b(b), m_info(info), m_proto(proto) {}
         Bounds3 bounds;  // world extent of what was added
 
         [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
@@ -891,6 +915,7 @@ class Builder final : public BuildChecks {
         const std::string& base_dir() const override { return m_b.m_desc.base_dir; }
 
         const AnalyticPrim& add_prim(AnalyticPrim::Kind k, const glm::dmat4& local) override {
+            analytic_in_prototype();
             AnalyticPrim prim;
             prim.kind = k;
             prim.shape = index;
@@ -912,6 +937,7 @@ class Builder final : public BuildChecks {
         }
 
         void add_plane(const glm::dvec3& point, const Vec3& n) override {
+            analytic_in_prototype();
             const glm::dmat3 lin(xf);
             PlaneGeom pl;
             pl.shape = index;
@@ -959,6 +985,9 @@ class Builder final : public BuildChecks {
         void add_part(TriangleMesh mesh, ShapeSurface surface) override {
             if (surface.emission_texture) surface.emission = surface.emission_texture->max_value();
             const bool emits = max_component(surface.emission) > 0.f;
+            if (emits && m_proto >= 0)
+                fail(ptr, "a prototype's shapes cannot emit (" + surface.material_name +
+                              " emits; place the emitter as a shape instead)");
             if (emits && surface.opacity.active())
                 fail(ptr,
                      "an emitting part cannot have opacity < 1 (" + surface.material_name + ")");
@@ -970,6 +999,24 @@ class Builder final : public BuildChecks {
 
         void warn(std::string message) override {
             m_b.m_builder.warnings().push_back(std::move(message));
+        }
+
+        void add_instance(const std::string& of, const std::string& of_ptr) override {
+            if (m_proto >= 0)
+                fail(of_ptr,
+                     "a prototype cannot hold instances (one level of instancing: a prototype "
+                     "may not place itself or another prototype)");
+            const auto& protos = m_b.m_desc.prototypes;
+            for (std::size_t p = 0; p < protos.size(); ++p) {
+                if (protos[p].first != of) continue;
+                m_b.m_pending.push_back({index, std::uint32_t(p), xf});
+                return;
+            }
+            std::string msg = "unknown prototype '" + of + "' (";
+            if (protos.empty()) msg += "the scene has no \"prototypes\"";
+            for (std::size_t p = 0; p < protos.size(); ++p)
+                msg += (p ? ", '" : "known: '") + protos[p].first + "'";
+            fail(of_ptr, msg + ")");
         }
 
       private:
@@ -1072,7 +1119,20 @@ class Builder final : public BuildChecks {
             mesh.tangents = {};
             g.mesh = std::move(mesh);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
-            m_b.m_builder.impl().meshes.push_back(std::move(g));
+            if (m_proto >= 0) {
+                m_b.m_builder.impl().prototypes[std::size_t(m_proto)].meshes.push_back(
+                    std::move(g));
+            } else {
+                m_b.m_builder.impl().meshes.push_back(std::move(g));
+            }
+        }
+
+        // Prototypes hold triangles only: their hits are filled as meshes' are.
+        void analytic_in_prototype() const {
+            if (m_proto >= 0)
+                fail(ptr + "/type",
+                     "a prototype holds triangle shapes only (box, quad, mesh, icosphere, grid, "
+                     "gltf), not the analytic sphere, disc or plane");
         }
 
         // The bitangent sign factor of a placement: -1 when it mirrors (cross(n, t) then
@@ -1131,7 +1191,72 @@ class Builder final : public BuildChecks {
         }
         Builder& m_b;
         ShapeInfo& m_info;
+        std::int32_t m_proto;  // the prototype being built, or -1
     };
+
+    // --- instancing (scenes/FORMAT.md, "Instances") -------------------------------------------
+
+    // Every prototype's shapes after the description's (Scene::shapes() order), then the
+    // instances that place them.
+    void build_prototypes() {
+        std::set<std::string> names;
+        for (std::size_t p = 0; p < m_desc.prototypes.size(); ++p) {
+            const auto& [pname, shapes] = m_desc.prototypes[p];
+            const std::string pp = "/prototypes/" + escape_pointer_token(pname);
+            if (!names.insert(pname).second) fail(pp, "duplicate prototype name '" + pname + "'");
+            if (shapes.empty()) fail(pp, "a prototype needs at least one shape");
+            m_builder.impl().prototypes.emplace_back();
+            for (std::size_t k = 0; k < shapes.size(); ++k) {
+                build_shape(shapes[k], std::uint32_t(m_builder.shapes().size()),
+                            pp + "/" + std::to_string(k), std::int32_t(p));
+            }
+        }
+        for (const PendingInstance& pi : m_pending) place_instance(pi);
+    }
+
+    struct PendingInstance {
+        std::uint32_t shape, prototype;
+        glm::dmat4 xf;
+    };
+
+    // Instance `pi` (its transform checked by build_shape: finite, affine, not singular).
+    void place_instance(const PendingInstance& pi) {
+        InstanceGeom in;
+        in.prototype = pi.prototype;
+        in.to_world = pi.xf;
+        in.to_object = glm::inverse(pi.xf);
+        const glm::dmat3 lin(pi.xf), inv(in.to_object);
+        in.normal_to_world = glm::transpose(inv);
+        in.handedness = glm::determinant(lin) < 0.0 ? -1.f : 1.f;
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r) in.abs_linear[c][r] = std::fabs(lin[c][r]);
+        auto norm = [](const glm::dmat3& m) {  // infinity norm: the largest row sum of |m|
+            double best = 0.0;
+            for (int r = 0; r < 3; ++r)
+                best = std::max(best, std::fabs(m[0][r]) + std::fabs(m[1][r]) + std::fabs(m[2][r]));
+            return best;
+        };
+        in.linear_norm = norm(lin);
+        in.inverse_norm = norm(inv);
+        in.offset = largest_magnitude(glm::dvec3(pi.xf[3]));
+        in.inverse_offset = largest_magnitude(glm::dvec3(in.to_object[3]));
+        const Bounds3& pb = m_builder.impl().prototypes[pi.prototype].bounds;
+        Bounds3 wb;
+        for (int i = 0; i < 8; ++i) {
+            const glm::dvec3 c(i & 1 ? pb.hi.x : pb.lo.x, i & 2 ? pb.hi.y : pb.lo.y,
+                               i & 4 ? pb.hi.z : pb.lo.z);
+            const Vec3 w(glm::dvec3(pi.xf * glm::dvec4(c, 1.0)));
+            wb.lo = glm::min(wb.lo, w);
+            wb.hi = glm::max(wb.hi, w);
+        }
+        if (!is_finite(wb.lo) || !is_finite(wb.hi))
+            fail(shape_place(pi.shape), "the instance's extent overflows float");
+        check_coordinate_range(std::max(max_abs(wb.lo), max_abs(wb.hi)), pi.shape);
+        m_builder.bounds().lo = glm::min(m_builder.bounds().lo, wb.lo);
+        m_builder.bounds().hi = glm::max(m_builder.bounds().hi, wb.hi);
+        m_shape_bounds[pi.shape] = wb;
+        m_builder.impl().instances.push_back(in);
+    }
 
     // Coordinates beyond Scene::kMaxCoordinate break Embree's float triangle test (scene.h).
     void check_coordinate_range(double m, std::uint32_t index) {
@@ -1326,6 +1451,8 @@ class Builder final : public BuildChecks {
     TexelImageCache m_images;             // an image used twice is read once
     const Material* m_black = nullptr;
     std::vector<Bounds3> m_shape_bounds;
+    std::vector<std::string> m_places;       // shape_place() per Scene::shapes() index
+    std::vector<PendingInstance> m_pending;  // instances, placed once their prototypes are built
 };
 
 }  // namespace

@@ -124,6 +124,29 @@ struct PlaneGeom {
     float tangent_sign = 1.f;  // -1 with flip_normals (ey = cross(unflipped normal, ex))
 };
 
+// A prototype (SceneDescription::prototypes): its triangle meshes in its own object space,
+// traced as one Embree scene that every instance of it shares (a two-level BVH).
+struct PrototypeGeom {
+    std::vector<MeshGeom> meshes;
+    Bounds3 bounds;  // object-space extent of its meshes
+};
+
+// One placement of a prototype. Hits are computed in the prototype's object space with the ray
+// brought there (to_object), then taken to world: points by to_world, normals by the inverse
+// transpose of its linear part (normal_to_world), tangents and uv derivatives by the linear
+// part; the bitangent sign times `handedness` (-1 when to_world mirrors).
+struct InstanceGeom {
+    std::uint32_t prototype = 0;  // index into Impl::prototypes
+    glm::dmat4 to_world{1.0};
+    glm::dmat4 to_object{1.0};
+    glm::dmat3 normal_to_world{1.0};
+    glm::dmat3 abs_linear{1.0};  // |to_world's linear part| per entry (error boxes to world)
+    // Infinity norms of the linear parts of to_world and to_object, and the largest magnitudes
+    // of their translations (the hit's error box: embree_scene.cpp, fill_instance).
+    double linear_norm = 1.0, inverse_norm = 1.0, offset = 0.0, inverse_offset = 0.0;
+    float handedness = 1.f;
+};
+
 struct EmbreeBackend;  // embree_scene.cpp
 
 struct Scene::Impl {
@@ -132,12 +155,21 @@ struct Scene::Impl {
     std::vector<MeshGeom> meshes;
     std::vector<AnalyticPrim> prims;
     std::vector<PlaneGeom> planes;
+    std::vector<PrototypeGeom> prototypes;
+    std::vector<InstanceGeom> instances;
     std::unique_ptr<EmbreeBackend> backend;
 
     // Builds the Embree scene from meshes and prims. Throws SceneError("<name>: embree: ...").
     void build(const std::string& name);
+    // The prototypes' Embree scenes and the instances in the top scene (build's last step).
+    void build_instances(const std::string& name);
     // Fills `hit` (except material/emission fields) for a closest hit found by the backend.
     void fill_analytic(const AnalyticPrim& prim, const Ray& ray, float t, SurfaceHit& hit) const;
+    // A hit inside instance `inst` (Impl::instances) on its prototype's Embree geometry `geom`.
+    template <bool kUv>
+    void fill_instance(const InstanceGeom& inst, std::uint32_t geom, std::uint32_t tri,
+                       const Ray& ray, float u, float v, float t, SurfaceHit& hit,
+                       std::int32_t& part) const;
     template <bool kUv>
     void fill_triangle(const MeshGeom& mesh, std::uint32_t tri, const Ray& ray, float u, float v,
                        float t, SurfaceHit& hit) const;

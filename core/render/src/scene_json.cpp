@@ -105,8 +105,8 @@ class Reader {
         json root = parse(text);
         expect_object(root, "");
         check_keys(root, "",
-                   {"format", "version", "description", "camera", "materials", "shapes", "lights",
-                    "render"});
+                   {"format", "version", "description", "camera", "materials", "shapes",
+                    "prototypes", "lights", "render"});
         std::string fmt = get_string(require(root, "", "format"), "/format");
         if (fmt != "facet-scene") fail("/format", "expected \"facet-scene\", got \"" + fmt + "\"");
         std::int64_t version = get_int(require(root, "", "version"), "/version", 0, 1 << 30);
@@ -133,6 +133,18 @@ class Reader {
             expect_array(shapes, "/shapes");
             for (std::size_t i = 0; i < shapes.size(); ++i) {
                 d.shapes.push_back(read_shape(shapes[i], "/shapes/" + std::to_string(i)));
+            }
+        }
+        if (root.contains("prototypes")) {
+            const json& protos = root["prototypes"];
+            expect_object(protos, "/prototypes");
+            for (const auto& [pname, shapes] : protos.items()) {
+                const std::string pp = "/prototypes/" + escape_pointer_token(pname);
+                expect_array(shapes, pp);
+                std::vector<ShapeDesc> list;
+                for (std::size_t i = 0; i < shapes.size(); ++i)
+                    list.push_back(read_shape(shapes[i], pp + "/" + std::to_string(i)));
+                d.prototypes.emplace_back(pname, std::move(list));
             }
         }
         if (root.contains("lights")) {
@@ -951,8 +963,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     json mats = json::object();
     for (const auto& [name, m] : d.materials) mats[name] = material_json(m, hashed_arrays);
     root["materials"] = mats;
-    json shapes = json::array();
-    for (const ShapeDesc& s : d.shapes) {
+    auto shape_json = [&](const ShapeDesc& s) {
         json j = json::object();
         j["type"] = shape_kind(s.kind).name;
         if (!s.name.empty()) j["name"] = s.name;
@@ -967,9 +978,21 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (s.transform) j["transform"] = matrix_json(*s.transform);
         for (const Field<ShapeDesc>& f : shape_kind(s.kind).fields)
             write_field(j, f, s, hashed_arrays);
-        shapes.push_back(j);
-    }
+        return j;
+    };
+    json shapes = json::array();
+    for (const ShapeDesc& s : d.shapes) shapes.push_back(shape_json(s));
     root["shapes"] = shapes;
+    // Only when there are any: files without instances (and their fingerprints) are unchanged.
+    if (!d.prototypes.empty()) {
+        json protos = json::object();
+        for (const auto& [pname, list] : d.prototypes) {
+            json a = json::array();
+            for (const ShapeDesc& s : list) a.push_back(shape_json(s));
+            protos[pname] = a;
+        }
+        root["prototypes"] = protos;
+    }
     json lights = json::array();
     for (const LightDesc& l : d.lights) {
         json j = json::object();

@@ -117,7 +117,9 @@ class PovWriter {
     bool has_mirror(const MaterialDesc& m) const;
     void materials();
     std::string shape_texture(const ShapeDesc& s, const std::string& pointer, bool inside_front);
-    void shape(const ShapeDesc& s, std::size_t index);
+    void shape(const ShapeDesc& s, const std::string& pointer);
+    // The POV identifier of prototype `name` (declared by write()).
+    std::string prototype_id(const std::string& name) const;
     std::string emission_of(const glm::dvec3& emission, const glm::dvec3& pigment,
                             const std::string& pointer) const;
 
@@ -133,8 +135,8 @@ class PovWriter {
 // A shape kind's view of the writer.
 class ShapeOut final : public PovShapeOut {
   public:
-    ShapeOut(PovWriter& w, const ShapeDesc& s, std::size_t index)
-        : PovShapeOut(s, "/shapes/" + std::to_string(index),
+    ShapeOut(PovWriter& w, const ShapeDesc& s, std::string pointer)
+        : PovShapeOut(s, std::move(pointer),
                       std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f),
           m_w(w) {}
     [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
@@ -146,6 +148,7 @@ class ShapeOut final : public PovShapeOut {
     void cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
                     double area) override;
     int area_grid() const override { return m_w.m_opt.area_grid; }
+    void instance(const std::string& prototype) override;
 
   private:
     bool twin() const { return emits && m_w.m_rad.count > 0; }
@@ -377,6 +380,9 @@ void PovWriter::global_settings() {
     for (const auto& [name, m] : m_desc.materials) mirrors = mirrors || has_mirror(m);
     for (const ShapeDesc& s : m_desc.shapes)
         if (s.material) mirrors = mirrors || has_mirror(*s.material);
+    for (const auto& [pname, shapes] : m_desc.prototypes)
+        for (const ShapeDesc& s : shapes)
+            if (s.material) mirrors = mirrors || has_mirror(*s.material);
     const int depth = mirrors ? m_desc.render.max_depth : std::min(m_desc.render.max_depth, 255);
     if (depth + 1 > 256)
         fail("/render/max_depth", fmt::format("{} bounces: POV-Ray traces at most 255 (its "
@@ -613,8 +619,18 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
     return front + "\n  interior_texture { " + back.substr(10, back.size() - 12) + " }";
 }
 
-void PovWriter::shape(const ShapeDesc& s, std::size_t index) {
-    ShapeOut out(*this, s, index);
+void ShapeOut::instance(const std::string& prototype) {
+    m_w.m_out << "object { " << m_w.prototype_id(prototype) << "\n" << xf() << "}\n";
+}
+
+std::string PovWriter::prototype_id(const std::string& name) const {
+    for (std::size_t p = 0; p < m_desc.prototypes.size(); ++p)
+        if (m_desc.prototypes[p].first == name) return "FacetPrototype" + std::to_string(p);
+    throw std::logic_error("export_pov: unknown prototype (build_scene checks the names)");
+}
+
+void PovWriter::shape(const ShapeDesc& s, const std::string& pointer) {
+    ShapeOut out(*this, s, pointer);
     m_out << "// " << out.pointer << (s.name.empty() ? "" : " ('" + comment_text(s.name) + "')")
           << "\n";
     const ShapeKindDef& kind = shape_kind(s.kind);
@@ -647,8 +663,18 @@ std::string PovWriter::write() {
         light_kind(m_desc.lights[i].kind).pov(out);
     }
     m_out << "\n";
+    // Prototypes: each declared once as a union of its shapes (written as any shapes are, in
+    // the prototype's object space), placed by the instances' `object` statements.
+    for (std::size_t p = 0; p < m_desc.prototypes.size(); ++p) {
+        const auto& [pname, shapes] = m_desc.prototypes[p];
+        const std::string pp = "/prototypes/" + detail::escape_pointer_token(pname);
+        m_out << "// " << pp << "\n#declare " << prototype_id(pname) << " = union {\n";
+        for (std::size_t k = 0; k < shapes.size(); ++k)
+            shape(shapes[k], pp + "/" + std::to_string(k));
+        m_out << "}\n";
+    }
     for (std::size_t i = 0; i < m_desc.shapes.size(); ++i) {
-        shape(m_desc.shapes[i], i);
+        shape(m_desc.shapes[i], "/shapes/" + std::to_string(i));
         if (m_cells > kMaxLightCells)
             fail("/shapes/" + std::to_string(i) + "/emission",
                  fmt::format("the emitters need more than {} light cells at --area-grid {} "
@@ -703,6 +729,12 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
     for (std::size_t i = 0; i < desc.shapes.size(); ++i)
         if (desc.shapes[i].material)
             no_opacity(*desc.shapes[i].material, "/shapes/" + std::to_string(i) + "/material");
+    for (const auto& [pname, shapes] : desc.prototypes)
+        for (std::size_t k = 0; k < shapes.size(); ++k)
+            if (shapes[k].material)
+                no_opacity(*shapes[k].material, "/prototypes/" +
+                                                    detail::escape_pointer_token(pname) + "/" +
+                                                    std::to_string(k) + "/material");
     return PovWriter(desc, name, options).write();
 }
 

@@ -23,7 +23,7 @@ class PovShapeOut {
         : shape(s), pointer(std::move(p)), emits(e) {}
     virtual ~PovShapeOut() = default;
     const ShapeDesc& shape;
-    const std::string pointer;  // "/shapes/<index>"
+    const std::string pointer;  // "/shapes/<index>" or "/prototypes/<name>/<k>"
     const bool emits;
 
     [[noreturn]] virtual void fail(const std::string& pointer,
@@ -43,6 +43,9 @@ class PovShapeOut {
     virtual void cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
                             double area) = 0;
     virtual int area_grid() const = 0;
+    // An instance: `object { <the prototype's declared union> <the shape's transform> }`
+    // (export_pov declares each prototype once, its shapes written as any shapes are).
+    virtual void instance(const std::string& prototype) = 0;
 };
 
 class PovLightOut {

@@ -83,6 +83,9 @@ struct ShapeKindDef {
     // The kind brings its own materials (a glTF file's): "material" is optional, and when given
     // replaces all of them.
     bool own_materials = false;
+    // The kind places a prototype (instance): it has no surface of its own, so "material",
+    // "emission", "two_sided": false and "flip_normals" are errors on it.
+    bool places_prototype = false;
 };
 
 struct LightKindDef {

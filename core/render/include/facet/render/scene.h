@@ -101,7 +101,18 @@ struct RenderSettings {
     bool operator==(const RenderSettings&) const = default;
 };
 
-enum class ShapeKind : std::uint8_t { Sphere, Plane, Box, Quad, Disc, Mesh, Icosphere, Grid, Gltf };
+enum class ShapeKind : std::uint8_t {
+    Sphere,
+    Plane,
+    Box,
+    Quad,
+    Disc,
+    Mesh,
+    Icosphere,
+    Grid,
+    Gltf,
+    Instance
+};
 
 // A surface's opacity (scenes/FORMAT.md, "Opacity"), for cut-outs: the fraction alpha in
 // [0, 1] of the rays meeting the surface that stop there; the others pass through as if it were
@@ -143,6 +154,9 @@ struct ShapeSurface {
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
 // brings its own materials (gltf: one per primitive) has `parts`, each a surface of its own;
 // its triangles name their part (the shape's own surface fields then are unused: black).
+// The shapes of the prototypes (SceneDescription::prototypes) follow, prototype by prototype in
+// description order: hits on an instance name the prototype's shape (an instance's own entry,
+// kind Instance, is never hit).
 struct ShapeInfo : ShapeSurface {
     ShapeKind kind = ShapeKind::Mesh;
     std::uint64_t triangles = 0;  // 0 for the analytic shapes (sphere, plane, disc)
@@ -414,12 +428,14 @@ class Scene {
     friend struct Builder;
     // Any hit with t in (0, r.tmax) (planes outside Embree, then Embree's occlusion query).
     bool occluded_ray(const Ray& r) const;
-    // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray`.
+    // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray`;
+    // `inst`: the instance's Embree id when the hit is inside an instance (else invalid).
     // kSurfaceExtras: the scene has shape parts or texture coordinates (embree_scene.cpp);
     // without them the hit record skips their look-ups.
     template <bool kSurfaceExtras>
-    [[gnu::always_inline]] bool complete_hit(const Ray& ray, unsigned geom, unsigned prim, float u,
-                                             float v, float t, SurfaceHit& hit) const;
+    [[gnu::always_inline]] bool complete_hit(const Ray& ray, unsigned inst, unsigned geom,
+                                             unsigned prim, float u, float v, float t,
+                                             SurfaceHit& hit) const;
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
     std::vector<std::string> m_warnings;

@@ -141,6 +141,7 @@ struct ShapeDesc {
     bool smooth = true;                       // icosphere
     int nx = 1, ny = 1;                       // grid
     double amplitude = 0.0, frequency = 0.0;  // grid
+    std::string of;                           // instance: the prototype's name
 
     bool operator==(const ShapeDesc&) const = default;
 };
@@ -191,6 +192,11 @@ struct SceneDescription {
     // name, as the JSON library stores objects). Names must be unique.
     std::vector<std::pair<std::string, MaterialDesc>> materials;
     std::vector<ShapeDesc> shapes;
+    // Named prototypes ("prototypes": {name: [shapes...]}): groups of shapes stored once and
+    // placed by "instance" shapes (scenes/FORMAT.md, "Instances"), in the order they are written
+    // (the JSON reader gives them sorted by name). A prototype's shapes are in its own object
+    // space; they may not emit, hold instances, or be analytic (sphere, disc, plane).
+    std::vector<std::pair<std::string, std::vector<ShapeDesc>>> prototypes;
     std::vector<LightDesc> lights;
     RenderSettings render;  // width/height are ignored (the camera's)
     // Directory that relative mesh "file" and texture paths are resolved against (not part of
