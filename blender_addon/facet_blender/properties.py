@@ -145,9 +145,17 @@ def set_material_params(mat_settings, model, params):
                 setattr(mat_settings, prop_name(model, p["name"]) + "__set", True)
 
 
+def _requery_passes(self, context):
+    """The compositor's Render Layers node re-reads the engine's passes (Blender does this by
+    itself for its own pass toggles)."""
+    vl = getattr(context, "view_layer", None)
+    if vl is not None and hasattr(vl, "update_render_passes"):
+        vl.update_render_passes()
+
+
 class FacetViewLayerSettings(bpy.types.PropertyGroup):
     use_pass_albedo: BoolProperty(
-        name="Albedo", default=False,
+        name="Albedo", default=False, update=_requery_passes,
         description="Albedo pass: the directional albedo of the material seen by the camera "
                     "(the fraction of light from the viewer's direction it sends back)")
 

@@ -592,46 +592,41 @@ void bind_scene(py::module_& m) {
     };
     // A material's normal map and bump map (scenes/FORMAT.md "Normal maps", "Bump maps"): a
     // dict {"texture": facet.Texture, "strength": s, "xy_scale": k} / {"texture": ...,
-    // "distance": d}, the texture required, the numbers optional (the format's defaults).
-    auto map_texture = [](py::handle v, const char* what) {
+    // "distance": d, "strength": s}, the texture required, the numbers optional (the format's
+    // defaults); any other key is an error.
+    auto map_dict = [](py::handle v, const char* what, std::initializer_list<const char*> keys) {
         if (!py::isinstance<py::dict>(v))
             bad_argument(what, "expected a dict {\"texture\": facet.Texture, ...}");
         auto d = py::reinterpret_borrow<py::dict>(v);
         if (!d.contains("texture") || !py::isinstance<TextureDesc>(d["texture"]))
             bad_argument(what, "\"texture\": expected a facet.Texture");
+        for (auto [k, unused] : d) {
+            const std::string name = k.cast<std::string>();
+            if (name != "texture" &&
+                std::none_of(keys.begin(), keys.end(), [&](const char* x) { return name == x; }))
+                bad_argument(what, "unknown key '" + name + "'");
+        }
         return d;
     };
     auto number_or = [](const py::dict& d, const char* key, const char* what, double def) {
-        for (auto [k, v] : d) {
-            const std::string name = k.cast<std::string>();
-            if (name != "texture" && name != "strength" && name != "xy_scale" && name != "distance")
-                bad_argument(what, "unknown key '" + name + "'");
-        }
         if (!d.contains(key)) return def;
         try {
             return d[key].cast<double>();
         } catch (const py::cast_error&) {
             bad_argument(what, std::string("\"") + key + "\": expected a number");
         }
-        return def;
     };
-    auto normal_map_from = [map_texture, number_or](py::handle v) {
-        const py::dict d = map_texture(v, "normal_map");
-        MaterialDesc::NormalMap nm;
-        nm.texture = d["texture"].cast<TextureDesc>();
-        nm.strength = number_or(d, "strength", "normal_map", 1.0);
-        nm.xy_scale = number_or(d, "xy_scale", "normal_map", 1.0);
-        if (d.contains("distance")) bad_argument("normal_map", "unknown key 'distance'");
-        return nm;
+    auto normal_map_from = [map_dict, number_or](py::handle v) {
+        const py::dict d = map_dict(v, "normal_map", {"strength", "xy_scale"});
+        return MaterialDesc::NormalMap{d["texture"].cast<TextureDesc>(),
+                                       number_or(d, "strength", "normal_map", 1.0),
+                                       number_or(d, "xy_scale", "normal_map", 1.0)};
     };
-    auto bump_from = [map_texture, number_or](py::handle v) {
-        const py::dict d = map_texture(v, "bump");
-        MaterialDesc::Bump b;
-        b.texture = d["texture"].cast<TextureDesc>();
-        b.distance = number_or(d, "distance", "bump", 1.0);
-        b.strength = number_or(d, "strength", "bump", 1.0);
-        if (d.contains("xy_scale")) bad_argument("bump", "unknown key 'xy_scale'");
-        return b;
+    auto bump_from = [map_dict, number_or](py::handle v) {
+        const py::dict d = map_dict(v, "bump", {"distance", "strength"});
+        return MaterialDesc::Bump{d["texture"].cast<TextureDesc>(),
+                                  number_or(d, "distance", "bump", 1.0),
+                                  number_or(d, "strength", "bump", 1.0)};
     };
     // The normal_map / bump properties: a dict of the map's keys, None without one.
     auto normal_map_dict = [](const MaterialDesc::NormalMap& n, py::dict& out) {

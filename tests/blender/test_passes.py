@@ -134,6 +134,8 @@ def main():
              "no Depth output when the pass is off")
     vl.use_pass_z = vl.use_pass_normal = vl.use_pass_emit = True
     vl.facet.use_pass_albedo = True
+    bt.check("Albedo" in [o.name for o in rl.outputs if o.enabled],
+             "the Albedo toggle re-queries the passes: the Render Layers node offers it")
 
     names = ["Depth", "Normal", "Emit", "Albedo"]
     f = render_passes(scene, outdir, 'FACET', "facet_persp", names)

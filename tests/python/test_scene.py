@@ -393,3 +393,22 @@ def test_numpy_texture_bad_input_is_a_clear_error():
     with pytest.raises(ValueError, match=r"in-memory \(numpy\) texture cannot be written"):
         d.to_json()
     facet.build_scene(d)
+
+
+def test_material_desc_normal_map_and_bump(tmp_path):
+    """MaterialDesc's normal_map / bump dicts (FORMAT.md keys, defaults filled in), None to
+    remove, errors naming the argument; a mix takes names and nested MaterialDesc."""
+    tex = facet.Texture.checker((0.5, 0.5, 1.0), (0.6, 0.5, 0.9))
+    m = facet.MaterialDesc("lambert", {"normal_map": {"texture": tex, "strength": 0.5},
+                                       "bump": {"texture": tex, "distance": 0.1}})
+    assert m.normal_map == {"texture": tex, "strength": 0.5, "xy_scale": 1.0}
+    assert m.bump == {"texture": tex, "distance": 0.1, "strength": 1.0}
+    m.bump = None
+    assert m.bump is None
+    for bad, msg in (({"texture": tex, "xy_scale": 1}, "unknown key 'xy_scale'"),
+                     ({"texture": tex, "distance": "x"}, "expected a number"),
+                     ({"distance": 1}, "expected a facet.Texture")):
+        with pytest.raises(ValueError, match=msg):
+            facet.MaterialDesc("lambert", {"bump": bad})
+    mix = facet.MaterialDesc("mix", {"weight": 0.25, "materials": ["a", m]})
+    assert mix.materials[0] == "a" and mix.materials[1] == m
