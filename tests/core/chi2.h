@@ -38,6 +38,7 @@
 #include <vector>
 
 #include "facet/bxdf.h"
+#include "facet/dielectric.h"
 #include "facet/frame.h"
 #include "facet/types.h"
 
@@ -239,6 +240,27 @@ Chi2Result sphere_chi2(const B& b, double theta_deg) {
     o.phi_bins = 16;
     o.n_samples = std::max(20000, int(100000 * stress_scale()));
     return chi2_sampling_test(b, dir(theta_deg, 30.0), o);
+}
+
+// Directional albedo at wo by Monte Carlo over n sample weights f |cos_i| / pdf in importance
+// mode (no etap^2 factor) of channel `channel` (0 r, 1 g, 2 b): the mean and its standard error.
+struct SampledAlbedo {
+    double mean, se;
+};
+template <class B>
+SampledAlbedo sampled_albedo(const B& b, const Vec3& wo, int n, std::uint64_t seed, int channel) {
+    pcg32 rng(seed);
+    double s = 0.0, s2 = 0.0;
+    for (int i = 0; i < n; ++i) {
+        const float uc = uniform_float(rng);
+        const Vec2 u(uniform_float(rng), uniform_float(rng));
+        auto smp = b.sample_f(wo, uc, u, TransportMode::Importance);
+        if (!smp) continue;
+        const double w = double(smp->f[channel]) * std::fabs(smp->wi.z) / smp->pdf;
+        s += w, s2 += w * w;
+    }
+    const double mean = s / n;
+    return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n)};
 }
 
 // The expectations every sphere_chi2 result meets: p-value >= `level` (Sidak-corrected by the

@@ -210,23 +210,9 @@ TEST(Principled, ChiSquareRejectsAWrongPdf) {
     EXPECT_LT(test::chi2_sampling_test(bad, dir(0.0, 0.0), o).chi2.p_value, 1e-6);
 }
 
-// Directional albedo by Monte Carlo over sample weights (importance mode: no etap^2).
-struct Albedo {
-    double mean, se;
-};
-Albedo albedo(const Material& m, const Vec3& wo, int n) {
-    pcg32 rng(9);
-    double s = 0.0, s2 = 0.0;
-    for (int i = 0; i < n; ++i) {
-        const float uc = test::uniform_float(rng);
-        const Vec2 u(test::uniform_float(rng), test::uniform_float(rng));
-        auto smp = m.sample_f(wo, uc, u, TransportMode::Importance);
-        if (!smp) continue;
-        const double w = double(smp->f.g) * std::fabs(smp->wi.z) / smp->pdf;
-        s += w, s2 += w * w;
-    }
-    const double mean = s / n;
-    return {mean, std::sqrt(std::max(0.0, s2 / n - mean * mean) / n)};
+// Directional albedo by Monte Carlo over sample weights (importance mode: no etap^2), green.
+test::SampledAlbedo albedo(const Material& m, const Vec3& wo, int n) {
+    return test::sampled_albedo(m, wo, n, 9, 1);
 }
 
 // White furnace. Cycles' principled v1 adds its lobes without taking energy from one for
@@ -240,7 +226,7 @@ TEST(Principled, WhiteFurnaceBounds) {
         const Material metal =
             principled({{"base_color", 1.0}, {"metallic", 1.0}, {"roughness", r}});
         for (double th : {0.0, 60.0, 85.0}) {
-            const Albedo a = albedo(metal, dir(th, 0.0), n);
+            const auto a = albedo(metal, dir(th, 0.0), n);
             EXPECT_LE(a.mean, 1.0 + 4.0 * a.se) << r << " " << th;
             // Single-scattering GGX loses energy: facet reflectance --model ggx --alpha 0.81
             // --theta-i 0 gives 0.420 (the lowest of these cases).
@@ -249,14 +235,14 @@ TEST(Principled, WhiteFurnaceBounds) {
         const Material glass =
             principled({{"base_color", 1.0}, {"transmission", 1.0}, {"roughness", r}});
         for (double th : {0.0, 60.0, 120.0}) {
-            const Albedo a = albedo(glass, dir(th, 0.0), n);
+            const auto a = albedo(glass, dir(th, 0.0), n);
             EXPECT_LE(a.mean, 1.0 + 4.0 * a.se) << r << " " << th;
         }
     }
     const Material smooth =
         principled({{"base_color", 1.0}, {"transmission", 1.0}, {"roughness", 0.0}});
     for (double th : {0.0, 60.0, 120.0, 170.0}) {
-        const Albedo a = albedo(smooth, dir(th, 0.0), 2000);
+        const auto a = albedo(smooth, dir(th, 0.0), 2000);
         // Exactly 1 in expectation; under total internal reflection the refraction lobe keeps
         // Cycles' floor weight 1e-4, is chosen with probability ~1e-4 and fails (TIR), and
         // reflections weigh 1 + 1e-4: allowed 2e-4.
@@ -265,7 +251,7 @@ TEST(Principled, WhiteFurnaceBounds) {
     // The documented energy gain of a white dielectric base (diffuse + specular added).
     const Material white = principled({{"base_color", 1.0}, {"roughness", 0.5}});
     for (double th : {0.0, 60.0, 85.0}) {
-        const Albedo a = albedo(white, dir(th, 0.0), n);
+        const auto a = albedo(white, dir(th, 0.0), n);
         std::printf("white base, roughness 0.5, theta %2.0f: albedo %.4f +- %.4f\n", th, a.mean,
                     a.se);
         EXPECT_LT(a.mean, 1.3);
