@@ -70,6 +70,16 @@ def table(results):
                  "`bench/realscenes_bench.py` on the shared 2-core development machine; times "
                  "are F12 wall times inside Blender (Cycles: one seed, world importance map "
                  "included)." % (r0["width"], r0["height"], r0["spp"]))
+    lines.append("")
+    lines.append("The conversion reports, as the engine gave them:")
+    lines.append("")
+    for r in results:
+        lines.append("<details><summary>%s: %d lines</summary>" % (r["scene"], len(r["report"])))
+        lines.append("")
+        lines += ["- " + p.replace("|", "\\|") for p in r["report"]] or ["(none)"]
+        lines.append("")
+        lines.append("</details>")
+        lines.append("")
     return "\n".join(lines)
 
 
@@ -80,18 +90,24 @@ def main():
     ap.add_argument("--size", default=None, help="WxH (default: each scene's bench size)")
     ap.add_argument("--spp", type=int, default=None)
     ap.add_argument("--no-docs", action="store_true", help="do not update docs/")
+    ap.add_argument("--docs-only", action="store_true",
+                    help="rewrite docs/ from OUT/realscenes_bench.json without rendering")
     ap.add_argument("scenes", nargs="*", help="scene names (default: all)")
     a = ap.parse_args()
     out = a.out or os.path.join(a.build, "realscenes_bench")
     os.makedirs(out, exist_ok=True)
-    names = a.scenes or [s.name for s in scenes.SCENES]
-    results = []
-    for name in names:
-        r = run(a.build, name, out, a.size, a.spp)
-        print(row(r), flush=True)
-        results.append(r)
-    with open(os.path.join(out, "realscenes_bench.json"), "w") as f:
-        json.dump(results, f, indent=1)
+    summary = os.path.join(out, "realscenes_bench.json")
+    if a.docs_only:
+        with open(summary) as f:
+            results = json.load(f)
+    else:
+        results = []
+        for name in a.scenes or [s.name for s in scenes.SCENES]:
+            r = run(a.build, name, out, a.size, a.spp)
+            print(row(r), flush=True)
+            results.append(r)
+        with open(summary, "w") as f:
+            json.dump(results, f, indent=1)
     if a.no_docs:
         return
     img = os.path.join(ROOT, "docs", "img", "realscenes")

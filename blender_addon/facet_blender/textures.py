@@ -49,7 +49,11 @@ CACHE_DIR = os.path.join(tempfile.gettempdir(), "facet_blender_cache")
 
 # Blender 3.4's colour spaces whose values Facet reads exactly.
 _COLORSPACES = {"sRGB": "srgb", "Linear": "linear", "Non-Color": "linear", "Raw": "linear"}
-_FILTERS = {'Linear': None, 'Closest': "closest"}
+# Cycles' Linear is bilinear on the full-resolution image at every sample (no MIP maps on the
+# CPU): Facet's `linear`, named explicitly since the core's default is `mipmap`, which in
+# minification differs from Cycles (TextureTransformTest with Extend: +7.3% image mean, up to
+# +33% per 8 x 8 block; linear: +0.4%; docs/realscenes.md).
+_FILTERS = {'Linear': "linear", 'Closest': "closest"}
 _WRAPS = {'REPEAT': None, 'EXTEND': "clamp", 'MIRROR': "mirror"}
 # Cycles' rgb_to_y (nodegraph.RGB_TO_Y) against Facet's luminance channel.
 LUMINANCE_NOTE = ("a colour into a number input: Facet's luminance (0.2126, 0.7152, 0.0722) "
@@ -115,11 +119,11 @@ def _image(walker, src, to_number):
         notes.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, Facet "
                      "after (they differ between strongly different texels when magnified)"
                      % label)
-    filt = _FILTERS.get(node.interpolation, "")
-    if filt == "":
+    filt = _FILTERS.get(node.interpolation)
+    if filt is None:
         notes.append("%s: interpolation %s converted as Linear" % (label, node.interpolation))
-    elif filt:
-        data["filter"] = filt
+        filt = "linear"
+    data["filter"] = filt
     wrap = _WRAPS.get(node.extension, "")
     if wrap == "":
         notes.append("%s: extension %s converted as Extend (Cycles is transparent black "

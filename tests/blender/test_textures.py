@@ -147,7 +147,7 @@ def exported(outdir):
     # u' = R(-90)(u - 1, v) / 2: rotation -90 deg, scale 1/2, offset R(-90)(-1, 0)/2 = (0, 0.5).
     bt.check(isinstance(em, dict) and abs(em["uv_rotation"] + 90.0) < 1e-5
              and close(em["uv_scale"], [0.5, 0.5]) and close(em["uv_offset"], [0.0, 0.5])
-             and em["scale"] == 3.0 and c.uv_maps == {""} and "filter" not in em
+             and em["scale"] == 3.0 and c.uv_maps == {""} and em["filter"] == "linear"
              and "wrap" not in em and len(c.problems) == 1
              and "interpolates an 8-bit sRGB image before decoding" in c.problems[0],
              "Texture-type Mapping, Emission Strength 3 -> emission texture; the 8-bit sRGB "

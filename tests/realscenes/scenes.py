@@ -225,7 +225,9 @@ def camera(scene, lo, hi, azimuth_deg, elevation_deg, lens=50.0, margin=1.15, do
     radius = (hi - lo).length / 2
     cam = bpy.data.cameras.new("camera")
     cam.lens = lens
-    half_fov = min(cam.angle_x, cam.angle_y * 3 / 4) / 2  # 4:3 frames
+    # Sensor fit Auto on a 4:3 frame: angle_x spans the width, the height sees 3/4 of its
+    # tangent; the bounding sphere must fit the height.
+    half_fov = math.atan(math.tan(cam.angle_x / 2) * 3 / 4)
     dist = margin * radius / math.sin(half_fov)
     az, el = math.radians(azimuth_deg), math.radians(elevation_deg)
     d = Vector((math.sin(az) * math.cos(el), -math.cos(az) * math.cos(el), math.sin(el)))
@@ -269,18 +271,18 @@ def stage_box_textured(scene):
     ground(scene)
     hdri_world(scene, "courtyard", 1.0, 60.0)
     lamp(scene, 'SUN', (0, 0, 5), (40, 0, 30), energy=3.0, angle=math.radians(2.0))
-    camera(scene, lo, hi, 35, 25, margin=0.8)
+    camera(scene, lo, hi, 35, 25)
 
 
 def stage_texture_transform(scene):
     """TextureTransformTest (glTF 2.0, KHR_texture_transform): nine textured tiles whose UVs
     go through Mapping nodes (offset, rotation, scale) into Principled Base Color, seen head
-    on under the studio HDRI (the asset's tiles face +Z after import; the camera looks down)."""
+    on under the studio HDRI (glTF's +Z, the tiles' normal, is Blender's -Y after import)."""
     objs = _asset_objects(import_gltf(
         ASSIMP + "/glTF2/textureTransform/TextureTransformTest.gltf"))
     lo, hi = normalise(objs, 3.0)
     hdri_world(scene, "studio", 1.0)
-    camera(scene, lo, hi, 0, 89.9, margin=0.75)
+    camera(scene, lo, hi, 0, 0, margin=0.75)
 
 
 def stage_engine_dof(scene):
@@ -354,7 +356,7 @@ def stage_box_instances(scene):
     ground(scene)
     hdri_world(scene, "courtyard", 1.0, 200.0)
     lamp(scene, 'SUN', (0, 0, 5), (50, 0, -40), energy=3.0, angle=math.radians(2.0))
-    camera(scene, Vector((-2.1, -2.1, 0)), Vector((2.1, 2.1, 1.0)), 15, 40, margin=0.8)
+    camera(scene, Vector((-2.1, -2.1, 0)), Vector((2.1, 2.1, 1.0)), 15, 40, margin=0.9)
 
 
 def stage_box_mix_bump(scene):
@@ -385,7 +387,7 @@ def stage_box_mix_bump(scene):
     lo, hi = normalise(objs, 1.0)
     ground(scene)
     hdri_world(scene, "studio", 1.0)
-    camera(scene, lo, hi, -35, 25, margin=0.8)
+    camera(scene, lo, hi, -35, 25)
 
 
 def stage_suzanne_vertex_colours(scene):
@@ -439,7 +441,10 @@ SCENES = [
           explained=(NEGATIVE_HDRI, ZERO_AREA)),
     Scene("suzanne_glass", stage_suzanne_glass, "BLEND/Suzanne_248.blend",
           ("old .blend", "Glass BSDF -> dielectric", "Checker Texture", "HDRI world + Mapping"),
-          explained=(NEGATIVE_HDRI,), max_depth=12),
+          explained=(NEGATIVE_HDRI,), max_depth=12,
+          # Refraction of the HDRI (caustics on the ground) is noisy in both: at 32 spp the two
+          # Cycles seeds' means differ by 1.1%, too close to the 2% bound; 128 spp halves it.
+          ci=(96, 72, 128)),
     Scene("arealight_269", stage_arealight_269, "BLEND/AreaLight_269.blend",
           ("old .blend", "square area lamps", "point lamp radius", "world colour"),
           explained=(POINT_RADIUS,)),
