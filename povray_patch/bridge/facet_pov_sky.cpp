@@ -2,6 +2,7 @@
 // are the core's (facet/latlong.h); this file only evaluates the sky on the grid.
 #include "facet_pov_sky.h"
 
+#include <atomic>
 #include <cmath>
 #include <cstdint>
 #include <memory>
@@ -20,8 +21,15 @@ class Sky {
     int samples() const { return m_samples; }
 
     bool prepare(int width, int height, const double frame[9], SkyRadianceFn fn, void* ctx) {
-        std::call_once(m_once, [&] { build(width, height, frame, fn, ctx); });
+        std::call_once(m_once, [&] {
+            build(width, height, frame, fn, ctx);
+            m_built.store(true, std::memory_order_release);
+        });
         return !m_table.black();
+    }
+    int state() const {
+        if (!m_built.load(std::memory_order_acquire)) return -1;
+        return m_table.black() ? 0 : 1;
     }
     bool sample(const double u[2], double wi[3], double& pdf) const {
         const facet::LatLongDistribution::Sample s =
@@ -77,6 +85,7 @@ class Sky {
 
     int m_samples;
     std::once_flag m_once;
+    std::atomic<bool> m_built{false};
     glm::dmat3 m_frame{1.0};
     facet::LatLongDistribution m_table;
 };
@@ -98,6 +107,10 @@ Sky* sky_create(int samples) {
 int sky_sample_count(const Sky* sky, unsigned trace_level) {
     if (!sky || sky->samples() <= 0) return 0;
     return trace_level <= 1 ? sky->samples() : 1;
+}
+
+int sky_state(const Sky* sky) {
+    return sky ? sky->state() : 0;
 }
 
 bool sky_prepare(Sky* sky, int width, int height, const double frame[9], SkyRadianceFn fn,

@@ -38,6 +38,9 @@ using SkyRadianceFn = void (*)(void* context, const double d[3], float rgb[3]);
 Sky* sky_create(int samples);
 // Sky samples at one hit: N at the first hit of a camera ray (trace level 1), 1 deeper.
 int sky_sample_count(const Sky* sky, unsigned trace_level);
+// -1 before sky_prepare has built the table, then 0 for a black sky (nothing to sample), 1 ready:
+// the patch's cheap test before it works out the table's frame.
+int sky_state(const Sky* sky);
 // Builds the table once (thread-safe: the first caller builds, the others wait): W x H cells in
 // the frame `frame` (column-major 3 x 3, columns X, Y, Z), radiance by `fn(context, d, rgb)`.
 // false when the sky is black (nothing to sample).

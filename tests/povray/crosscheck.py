@@ -641,7 +641,7 @@ SKY_ERRORS = [
     ("fraction", "brdf_sky_sampling 2.5", "sky_sphere { pigment { rgb 1 } }",
      r"found 2\.5 instead", 2),
     ("missing", "brdf_sky_sampling", "sky_sphere { pigment { rgb 1 } }",
-     r"Expected 'float", 2),
+     r"Expected 'numeric expression', } found instead", 2),
     ("no_sky", "brdf_sky_sampling 4", "", r"brdf_sky_sampling in global_settings needs a sky_sphere", None),
 ]
 
