@@ -321,3 +321,50 @@ TEST(Instancing, PovExportDeclaresThePrototypeOnce) {
         ++n;
     EXPECT_EQ(n, 3u);
 }
+
+// glTF: a mesh that three nodes use is stored once and placed as instances; the same file with
+// a copy of the mesh per node is flattened. Both give the same hits (tolerances as in
+// HitsMatchTheFlattenedScene; the box's face normals interpolate alike under the non-uniform
+// node scale) and the same image to float round-off; the shared file counts its 12 triangles
+// once.
+TEST(Instancing, GltfSharedMeshesMatchCopies) {
+    auto scene_of = [](const std::string& file) {
+        return fr::build_scene(describe(R"(
+          "shapes": [{"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR "/" +
+                                        file + R"(",
+                      "transform": {"rotate": {"axis": [0, 0, 1], "angle": 20}}},
+                     {"type": "quad", "material": {"model": "lambert", "reflectance": 0.5},
+                      "vertices": [[-6, -6, -1], [6, -6, -1], [6, 6, -1], [-6, 6, -1]]}],
+          "camera": {"position": [1, -7, 4], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 50,
+                     "width": 32, "height": 24},
+          "lights": [{"type": "directional", "direction": [-0.3, 0.4, -1], "irradiance": 3},
+                     {"type": "environment", "radiance": 0.2}],
+          "render": {"max_depth": 3})"),
+                               file);
+    };
+    const fr::Scene shared = scene_of("shared_mesh.gltf");
+    const fr::Scene copies = scene_of("shared_mesh_copies.gltf");
+    EXPECT_EQ(shared.features().num_triangles, 12u + 2u);
+    EXPECT_EQ(copies.features().num_triangles, 36u + 2u);
+    int on_boxes = 0;
+    for (int y = 0; y < 24; ++y) {
+        for (int x = 0; x < 32; ++x) {
+            const fr::Ray ray = shared.camera().generate_ray({float(x) + 0.5f, float(y) + 0.5f});
+            fr::SurfaceHit a, b;
+            const bool fa = shared.intersect(ray, a), fb = copies.intersect(ray, b);
+            ASSERT_EQ(fa, fb) << x << "," << y;
+            if (!fa) continue;
+            on_boxes += a.shape == 0;
+            EXPECT_EQ(a.shape, b.shape);
+            for (int c = 0; c < 3; ++c) {
+                EXPECT_NEAR(a.p[c], b.p[c], 2e-5) << x << "," << y;
+                EXPECT_NEAR(a.ng[c], b.ng[c], 2e-5) << x << "," << y;
+                EXPECT_NEAR(a.ns[c], b.ns[c], 2e-5) << x << "," << y;
+            }
+        }
+    }
+    EXPECT_GT(on_boxes, 40);
+    const fr::Image ia = fr::render(shared, fr::testing::test_options("path", 4, 3));
+    const fr::Image ib = fr::render(copies, fr::testing::test_options("path", 4, 3));
+    EXPECT_LE(max_abs_diff(ia, ib), 1e-4);
+}
