@@ -106,43 +106,46 @@ double max_abs_diff(const fr::Image& a, const fr::Image& b) {
     return m;
 }
 
-}  // namespace
-
-// Every camera ray of the image, traced in both scenes, finds the same surface: the same
-// material, and the same point, normals, uv and uv derivatives to float round-off. The instance
-// hit is computed in object space from a ray moved there in float and taken back in double, the
-// flattened one in world space from world-space float vertices: both are within a few float
-// spacings of the exact hit. Tolerances: points 2e-5 (scene size ~5: ~40 spacings at 4, the
-// float vertices' own rounding and Embree's t included), unit vectors 2e-5, uvs 1e-5, uv
-// derivatives 1e-4 relative. A wrong transform (e.g. normals by M instead of M^-T, a missed
-// mirror) moves them by O(1).
-TEST(Instancing, HitsMatchTheFlattenedScene) {
-    const fr::Scene inst = fr::build_scene(describe(instanced_scene()), "inst.json");
-    const fr::Scene flat = fr::build_scene(describe(flattened_scene()), "flat.json");
-    const fr::Camera& cam = inst.camera();
-    int hits = 0, on_instances = 0;
-    for (int y = 0; y < 24; ++y) {
-        for (int x = 0; x < 32; ++x) {
-            const fr::Ray ray = cam.generate_ray({float(x) + 0.37f, float(y) + 0.61f});
+// Traces the camera ray through each pixel (at `offset` in it) in both scenes: both must find
+// the same surface (the same material) at the same point with the same normals, to float
+// round-off. The instance hit is computed in object space from a ray moved there in float and
+// taken back in double, the flattened one in world space from world-space float vertices: both
+// are within a few float spacings of the exact hit. Tolerances: points 2e-5 (scenes of size
+// ~5: ~40 spacings at 4, the float vertices' own rounding and Embree's t included), unit
+// vectors 2e-5, t 2e-5 relative. A wrong transform (normals by M instead of M^-T, a missed
+// mirror) moves them by O(1). Returns the hits, and those on shapes other than shape 0.
+std::pair<int, int> compare_hits(const fr::Scene& a_scene, const fr::Scene& b_scene,
+                                 facet::Vec2 offset) {
+    int hits = 0, others = 0;
+    const fr::Camera& cam = a_scene.camera();
+    for (int y = 0; y < cam.height; ++y) {
+        for (int x = 0; x < cam.width; ++x) {
+            const fr::Ray ray = cam.generate_ray({float(x) + offset.x, float(y) + offset.y});
             fr::SurfaceHit a, b;
-            const bool fa = inst.intersect(ray, a), fb = flat.intersect(ray, b);
-            ASSERT_EQ(fa, fb) << x << "," << y;
-            if (!fa) continue;
+            const bool fa = a_scene.intersect(ray, a), fb = b_scene.intersect(ray, b);
+            EXPECT_EQ(fa, fb) << x << "," << y;
+            if (!fa || !fb) continue;
             ++hits;
-            on_instances += a.shape != 0;
-            EXPECT_EQ(inst.shapes()[a.shape].material_name, flat.shapes()[b.shape].material_name);
+            others += a.shape != 0;
+            EXPECT_EQ(a_scene.shapes()[a.shape].material_name,
+                      b_scene.shapes()[b.shape].material_name);
             for (int c = 0; c < 3; ++c) {
                 EXPECT_NEAR(a.p[c], b.p[c], 2e-5) << x << "," << y;
                 EXPECT_NEAR(a.ng[c], b.ng[c], 2e-5) << x << "," << y;
                 EXPECT_NEAR(a.ns[c], b.ns[c], 2e-5) << x << "," << y;
             }
             EXPECT_NEAR(a.t, b.t, 2e-5 * b.t);
-            if (a.shape != 0 && inst.shapes()[a.shape].needs_uv) {
-                EXPECT_NEAR(a.uv.x, b.uv.x, 1e-5);
-                EXPECT_NEAR(a.uv.y, b.uv.y, 1e-5);
-            }
         }
     }
+    return {hits, others};
+}
+
+}  // namespace
+
+TEST(Instancing, HitsMatchTheFlattenedScene) {
+    const fr::Scene inst = fr::build_scene(describe(instanced_scene()), "inst.json");
+    const fr::Scene flat = fr::build_scene(describe(flattened_scene()), "flat.json");
+    const auto [hits, on_instances] = compare_hits(inst, flat, {0.37f, 0.61f});
     EXPECT_GT(on_instances, 50);  // the instances are in view
     EXPECT_GT(hits, on_instances);
 }
@@ -320,4 +323,35 @@ TEST(Instancing, PovExportDeclaresThePrototypeOnce) {
          at = pov.find("object { FacetPrototype0\n  matrix <", at + 1))
         ++n;
     EXPECT_EQ(n, 3u);
+}
+
+// glTF: a mesh that three nodes use is stored once and placed as instances; the same file with
+// a copy of the mesh per node is flattened. Both give the same hits (compare_hits; the box's face
+// normals interpolate alike under the non-uniform node scale) and the same image to float
+// round-off; the shared file counts its 12 triangles once.
+TEST(Instancing, GltfSharedMeshesMatchCopies) {
+    auto scene_of = [](const std::string& file) {
+        return fr::build_scene(describe(R"(
+          "shapes": [{"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR "/" +
+                                        file + R"(",
+                      "transform": {"rotate": {"axis": [0, 0, 1], "angle": 20}}},
+                     {"type": "quad", "material": {"model": "lambert", "reflectance": 0.5},
+                      "vertices": [[-6, -6, -1], [6, -6, -1], [6, 6, -1], [-6, 6, -1]]}],
+          "camera": {"position": [1, -7, 4], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 50,
+                     "width": 32, "height": 24},
+          "lights": [{"type": "directional", "direction": [-0.3, 0.4, -1], "irradiance": 3},
+                     {"type": "environment", "radiance": 0.2}],
+          "render": {"max_depth": 3})"),
+                               file);
+    };
+    const fr::Scene shared = scene_of("shared_mesh.gltf");
+    const fr::Scene copies = scene_of("shared_mesh_copies.gltf");
+    EXPECT_EQ(shared.features().num_triangles, 12u + 2u);
+    EXPECT_EQ(copies.features().num_triangles, 36u + 2u);
+    const auto [hits, on_boxes] = compare_hits(shared, copies, {0.5f, 0.5f});
+    EXPECT_GT(hits, on_boxes);
+    EXPECT_GT(on_boxes, 40);
+    const fr::Image ia = fr::render(shared, fr::testing::test_options("path", 4, 3));
+    const fr::Image ib = fr::render(copies, fr::testing::test_options("path", 4, 3));
+    EXPECT_LE(max_abs_diff(ia, ib), 1e-4);
 }

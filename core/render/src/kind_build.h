@@ -136,6 +136,14 @@ class ShapeBuild : public BuildChecks {
     // Places prototype `of` (SceneDescription::prototypes) by the shape's transform `xf`
     // (kind "instance"); errors name `of_ptr`: an unknown name, an instance inside a prototype.
     virtual void add_instance(const std::string& of, const std::string& of_ptr) = 0;
+    // Kinds that share their own meshes (gltf: a mesh that several nodes use). Whether the
+    // shape may (not inside a prototype: one level of instancing); a new prototype of the
+    // shape; a part of it in its own frame (as add_part, but stored once); a placement of it
+    // (`local`: its frame to the shape's object space; the shape's transform applies after).
+    virtual bool can_instance() const = 0;
+    virtual std::uint32_t add_local_prototype() = 0;
+    virtual void add_part_to(std::uint32_t prototype, TriangleMesh mesh, ShapeSurface surface) = 0;
+    virtual void place_prototype(std::uint32_t prototype, const glm::dmat4& local) = 0;
     // A warning for BuildReport::warnings and Scene::warnings() (what the kind approximates).
     virtual void warn(std::string message) = 0;
     // The shape's area light (emissive analytic shapes).

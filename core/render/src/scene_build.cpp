@@ -1009,7 +1009,7 @@ class Builder final : public BuildChecks {
             const auto& protos = m_b.m_desc.prototypes;
             for (std::size_t p = 0; p < protos.size(); ++p) {
                 if (protos[p].first != of) continue;
-                m_b.m_pending.push_back({index, std::uint32_t(p), xf});
+                m_b.m_pending.push_back({index, std::uint32_t(p), xf, true});
                 return;
             }
             std::string msg = "unknown prototype '" + of + "' (";
@@ -1017,6 +1017,29 @@ class Builder final : public BuildChecks {
             for (std::size_t p = 0; p < protos.size(); ++p)
                 msg += (p ? ", '" : "known: '") + protos[p].first + "'";
             fail(of_ptr, msg + ")");
+        }
+
+        bool can_instance() const override { return m_proto < 0; }
+        std::uint32_t add_local_prototype() override {
+            std::vector<PrototypeGeom>& protos = m_b.m_builder.impl().prototypes;
+            protos.emplace_back();
+            return std::uint32_t(protos.size() - 1);
+        }
+        void add_part_to(std::uint32_t prototype, TriangleMesh mesh,
+                         ShapeSurface surface) override {
+            // As add_part, with the prototype as destination and no transform (the
+            // placements carry it).
+            const glm::dmat4 shape_xf = xf;
+            xf = glm::dmat4(1.0);
+            m_proto = std::int32_t(prototype);
+            m_local = true;
+            add_part(std::move(mesh), std::move(surface));
+            m_local = false;
+            m_proto = -1;
+            xf = shape_xf;
+        }
+        void place_prototype(std::uint32_t prototype, const glm::dmat4& local) override {
+            m_b.m_pending.push_back({index, prototype, xf * local, false});
         }
 
       private:
@@ -1179,19 +1202,26 @@ class Builder final : public BuildChecks {
         }
 
         void check_finite_bounds() override {
-            if (!is_finite(bounds.lo) || !is_finite(bounds.hi)) {
+            const Bounds3& b = m_local ? local_bounds() : bounds;
+            if (!is_finite(b.lo) || !is_finite(b.hi)) {
                 fail(ptr, "the shape's extent overflows float (transform or size too large)");
             }
         }
 
       private:
+        // The shape's extent, or (add_part_to) its local prototype's.
         void grow(const glm::dvec3& p) {
-            bounds.lo = glm::min(bounds.lo, Vec3(p));
-            bounds.hi = glm::max(bounds.hi, Vec3(p));
+            Bounds3& b = m_local ? local_bounds() : bounds;
+            b.lo = glm::min(b.lo, Vec3(p));
+            b.hi = glm::max(b.hi, Vec3(p));
+        }
+        Bounds3& local_bounds() {
+            return m_b.m_builder.impl().prototypes[std::size_t(m_proto)].bounds;
         }
         Builder& m_b;
         ShapeInfo& m_info;
         std::int32_t m_proto;  // the prototype being built, or -1
+        bool m_local = false;  // building one of the shape's own prototypes (add_part_to)
     };
 
     // --- instancing (scenes/FORMAT.md, "Instances") -------------------------------------------
@@ -1200,6 +1230,8 @@ class Builder final : public BuildChecks {
     // instances that place them.
     void build_prototypes() {
         std::set<std::string> names;
+        // After the shapes' own prototypes (add_local_prototype).
+        m_prototype_base = m_builder.impl().prototypes.size();
         for (std::size_t p = 0; p < m_desc.prototypes.size(); ++p) {
             const auto& [pname, shapes] = m_desc.prototypes[p];
             const std::string pp = "/prototypes/" + escape_pointer_token(pname);
@@ -1208,7 +1240,7 @@ class Builder final : public BuildChecks {
             m_builder.impl().prototypes.emplace_back();
             for (std::size_t k = 0; k < shapes.size(); ++k) {
                 build_shape(shapes[k], std::uint32_t(m_builder.shapes().size()),
-                            pp + "/" + std::to_string(k), std::int32_t(p));
+                            pp + "/" + std::to_string(k), std::int32_t(m_prototype_base + p));
             }
         }
         for (const PendingInstance& pi : m_pending) place_instance(pi);
@@ -1217,12 +1249,13 @@ class Builder final : public BuildChecks {
     struct PendingInstance {
         std::uint32_t shape, prototype;
         glm::dmat4 xf;
+        bool described;  // prototype indexes the description's prototypes (else Impl's)
     };
 
     // Instance `pi` (its transform checked by build_shape: finite, affine, not singular).
     void place_instance(const PendingInstance& pi) {
         InstanceGeom in;
-        in.prototype = pi.prototype;
+        in.prototype = std::uint32_t(pi.described ? m_prototype_base + pi.prototype : pi.prototype);
         in.to_world = pi.xf;
         in.to_object = glm::inverse(pi.xf);
         const glm::dmat3 lin(pi.xf), inv(in.to_object);
@@ -1240,7 +1273,8 @@ class Builder final : public BuildChecks {
         in.inverse_norm = norm(inv);
         in.offset = largest_magnitude(glm::dvec3(pi.xf[3]));
         in.inverse_offset = largest_magnitude(glm::dvec3(in.to_object[3]));
-        const Bounds3& pb = m_builder.impl().prototypes[pi.prototype].bounds;
+        const Bounds3& pb = m_builder.impl().prototypes[in.prototype].bounds;
+        if (pb.empty()) return;  // a glTF mesh without triangles: nothing to place
         Bounds3 wb;
         for (int i = 0; i < 8; ++i) {
             const glm::dvec3 c(i & 1 ? pb.hi.x : pb.lo.x, i & 2 ? pb.hi.y : pb.lo.y,
@@ -1254,7 +1288,9 @@ class Builder final : public BuildChecks {
         check_coordinate_range(std::max(max_abs(wb.lo), max_abs(wb.hi)), pi.shape);
         m_builder.bounds().lo = glm::min(m_builder.bounds().lo, wb.lo);
         m_builder.bounds().hi = glm::max(m_builder.bounds().hi, wb.hi);
-        m_shape_bounds[pi.shape] = wb;
+        Bounds3& sb = m_shape_bounds[pi.shape];
+        sb.lo = glm::min(sb.lo, wb.lo);
+        sb.hi = glm::max(sb.hi, wb.hi);
         m_builder.impl().instances.push_back(in);
     }
 
@@ -1453,6 +1489,7 @@ class Builder final : public BuildChecks {
     std::vector<Bounds3> m_shape_bounds;
     std::vector<std::string> m_places;       // shape_place() per Scene::shapes() index
     std::vector<PendingInstance> m_pending;  // instances, placed once their prototypes are built
+    std::size_t m_prototype_base = 0;        // Impl::prototypes index of the first described
 };
 
 }  // namespace

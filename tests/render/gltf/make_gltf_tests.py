@@ -69,6 +69,44 @@ def hierarchy():
     w.write(os.path.join(HERE, "hierarchy.gltf"))
 
 
+def shared():
+    """One mesh (a 2 x 1 x 0.5 box of 12 triangles with face normals, grey) used by three nodes
+    (shared_mesh.gltf: stored once, placed as instances), and the same file with three copies
+    of the mesh, one per node (shared_mesh_copies.gltf: flattened). The nodes: a translation;
+    a rotation with a non-uniform scale; a mirror. test_instancing.cpp compares the two."""
+    def box_geometry():
+        pos, nrm, idx = [], [], []
+        for axis in range(3):
+            for sign in (-1.0, 1.0):
+                u, v = [a for a in range(3) if a != axis]
+                base = len(pos)
+                for cu, cv in [(-1, -1), (1, -1), (1, 1), (-1, 1)]:
+                    p = [0.0, 0.0, 0.0]
+                    p[axis], p[u], p[v] = sign, cu, cv
+                    pos.append((p[0], p[1] * 0.5, p[2] * 0.25))
+                    n = [0.0, 0.0, 0.0]
+                    n[axis] = sign
+                    nrm.append(tuple(n))
+                outward = (1 if (v - u) % 3 == 1 else -1) * sign > 0
+                idx += ([base, base + 1, base + 2, base, base + 2, base + 3] if outward
+                        else [base, base + 2, base + 1, base, base + 3, base + 2])
+        return pos, nrm, idx
+
+    nodes = [dict(translation=[-2.5, 0, 0]),
+             dict(translation=[0, 0.5, 0], rotation=[0, 0.3826834, 0, 0.9238795],
+                  scale=[1.2, 0.6, 1.5]),
+             dict(matrix=[-1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 2.5, 0, 0.3, 1])]
+    for copies, name in ((False, "shared_mesh.gltf"), (True, "shared_mesh_copies.gltf")):
+        w = GltfWriter()
+        grey = w.material(base=(0.6, 0.6, 0.6, 1), metallic=0.0, roughness=1.0)
+        pos, nrm, idx = box_geometry()
+        prim = {"positions": pos, "normals": nrm, "indices": idx, "material": grey}
+        m = w.mesh([prim])
+        for k, fields in enumerate(nodes):
+            w.node(mesh=w.mesh([prim]) if copies and k > 0 else m, **fields)
+        w.write(os.path.join(HERE, name))
+
+
 def modes():
     """A strip of 4 vertices (2 triangles), a fan of 5 (3 triangles), both without indices,
     u32-indexed TRIANGLES (1 triangle), LINES (reported, skipped); two materials (grey,
@@ -122,3 +160,4 @@ if __name__ == "__main__":
     hierarchy()
     modes()
     bad()
+    shared()

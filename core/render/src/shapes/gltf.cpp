@@ -145,8 +145,10 @@ const char* component_name(int c) {
 // Reads one glTF file into object-space parts, materials and reports.
 class Importer {
   public:
-    explicit Importer(std::string path)
-        : m_path(std::move(path)), m_file(std::filesystem::path(m_path).filename().string()) {}
+    explicit Importer(std::string path, bool share_meshes = false)
+        : m_path(std::move(path)),
+          m_file(std::filesystem::path(m_path).filename().string()),
+          m_share(share_meshes) {}
     // From bytes in memory (the fuzzer), named `name`; external files are refused.
     Importer(std::string_view bytes, std::string name)
         : m_file(std::move(name)), m_memory(bytes), m_in_memory(true) {}
@@ -159,6 +161,12 @@ class Importer {
         m_out.materials.resize(m_model.materials.size());
         for (std::size_t i = 0; i < m_model.materials.size(); ++i) {
             m_out.materials[i] = convert_material(m_model.materials[i], "/materials/" + idx(i));
+        }
+        if (m_share) {
+            m_uses.assign(m_model.meshes.size(), 0);
+            for (const tinygltf::Node& nd : m_model.nodes)
+                if (nd.mesh >= 0 && std::size_t(nd.mesh) < m_uses.size())
+                    ++m_uses[std::size_t(nd.mesh)];
         }
         for (int root : roots()) traverse(root);
         return std::move(m_out);
@@ -853,7 +861,46 @@ class Importer {
         return t;
     }
 
+    // Whether nodes share mesh `mesh_index` (share_meshes): used by several nodes, and none of
+    // its primitives' materials emits (an emitter is a light per placement: copied instead).
+    bool shared(int mesh_index) const {
+        if (!m_share || mesh_index < 0 || std::size_t(mesh_index) >= m_uses.size() ||
+            m_uses[std::size_t(mesh_index)] < 2)
+            return false;
+        for (const tinygltf::Primitive& pr : m_model.meshes[std::size_t(mesh_index)].primitives) {
+            if (pr.material < 0 || std::size_t(pr.material) >= m_out.materials.size()) continue;
+            const GltfMaterial& gm = m_out.materials[std::size_t(pr.material)];
+            if (gm.emission != Rgb(0.f) || gm.emission_texture) return false;
+        }
+        return true;
+    }
+
     void mesh(int mesh_index, const glm::dmat4& world, const std::string& np) {
+        if (shared(mesh_index)) {
+            const double det = glm::determinant(glm::dmat3(world));
+            if (!(std::fabs(det) > 0.0) || !std::isfinite(det)) {
+                report(np + "/singular", np,
+                       "the node's transform is singular (zero scale) or not finite: its mesh "
+                       "is skipped");
+                return;
+            }
+            auto [at, fresh] = m_prototype_of.try_emplace(mesh_index, m_out.num_prototypes);
+            if (fresh) {
+                // The mesh once, in its own frame; each node places it.
+                const std::size_t first = m_out.parts.size();
+                mesh_copy(mesh_index, glm::dmat4(1.0), np);
+                for (std::size_t i = first; i < m_out.parts.size(); ++i)
+                    m_out.parts[i].prototype = at->second;
+                ++m_out.num_prototypes;
+            }
+            m_out.placements.push_back({at->second, world});
+            return;
+        }
+        mesh_copy(mesh_index, world, np);
+    }
+
+    // The mesh's primitives as parts, transformed by `world`.
+    void mesh_copy(int mesh_index, const glm::dmat4& world, const std::string& np) {
         const tinygltf::Mesh& me = element(m_model.meshes, mesh_index, np + "/mesh", "mesh");
         const glm::dmat3 lin(world);
         const double det = glm::determinant(lin);
@@ -978,6 +1025,9 @@ class Importer {
     std::vector<bool> m_seen;
     int m_default = -1;
     ImageBytes m_image_bytes;  // encoded images by index (keep_image)
+    bool m_share = false;
+    std::vector<int> m_uses;            // per mesh: the nodes that use it (m_share)
+    std::map<int, int> m_prototype_of;  // shared mesh -> GltfPart::prototype
 };
 
 // All parts as one mesh (the exporters' `triangles`, and a shape whose "material" replaces the
@@ -1026,8 +1076,12 @@ void build(ShapeBuild& b) {
     const std::string fp = b.ptr + "/file";
     if (!b.files_allowed()) b.fail(fp, "files are disabled here");
     GltfImport g;
+    // Meshes that several nodes use are stored once and placed as instances (embree_scene.cpp),
+    // unless the shape's own material replaces the file's (then one merged mesh) or the shape
+    // is itself in a prototype (one level of instancing).
+    const bool share = b.can_instance() && !replaces_materials(s);
     try {
-        g = import_gltf(resolve_scene_path(s.file, b.base_dir()));
+        g = import_gltf(resolve_scene_path(s.file, b.base_dir()), share);
     } catch (const std::exception& e) {
         b.fail(fp, e.what());
     }
@@ -1057,6 +1111,8 @@ void build(ShapeBuild& b) {
                "shape a \"material\" to replace the file's materials and emit this instead");
     }
     std::vector<std::optional<ShapeSurface>> built(g.materials.size());
+    std::vector<std::uint32_t> prototypes;
+    for (int i = 0; i < g.num_prototypes; ++i) prototypes.push_back(b.add_local_prototype());
     for (GltfPart& p : g.parts) {
         const GltfMaterial& gm = g.materials[std::size_t(p.material)];
         std::optional<ShapeSurface>& mat = built[std::size_t(p.material)];
@@ -1073,8 +1129,13 @@ void build(ShapeBuild& b) {
                            "/attributes: the primitive's material " + gm.pointer +
                            " has textures but the primitive has no TEXCOORD_0");
         su.two_sided = gm.double_sided && s.two_sided;
-        b.add_part(std::move(p.mesh), std::move(su));
+        if (p.prototype >= 0)
+            b.add_part_to(prototypes[std::size_t(p.prototype)], std::move(p.mesh), std::move(su));
+        else
+            b.add_part(std::move(p.mesh), std::move(su));
     }
+    for (const GltfPlacement& pl : g.placements)
+        b.place_prototype(prototypes[std::size_t(pl.prototype)], pl.to_object);
 }
 
 // POV-Ray: one mesh with the shape's material when it replaces the file's; a file's several
@@ -1123,8 +1184,8 @@ void apply_khr_texture_transform(TextureDesc& d, Vec2 offset, double rotation, V
                        float(1.0 - double(offset.y) - double(scale.y) * c));
 }
 
-GltfImport import_gltf(const std::string& path) {
-    return Importer(path).run();
+GltfImport import_gltf(const std::string& path, bool share_meshes) {
+    return Importer(path, share_meshes).run();
 }
 
 GltfImport parse_gltf(std::string_view bytes, const std::string& name) {

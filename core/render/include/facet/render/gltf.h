@@ -15,6 +15,8 @@
 #include <string_view>
 #include <vector>
 
+#include <glm/mat4x4.hpp>
+
 #include "facet/render/mesh.h"
 #include "facet/render/scene_description.h"
 
@@ -26,6 +28,15 @@ struct GltfPart {
                           // TEXCOORD_0 turned bottom-left: (u, v) -> (u, 1 - v), or absent
     int material = -1;    // index into GltfImport::materials
     std::string pointer;  // "/meshes/<m>/primitives/<p>"
+    // With share_meshes: the shared mesh this part belongs to (its mesh in that mesh's own
+    // space, placed by GltfImport::placements), or -1 (in object space as above).
+    int prototype = -1;
+};
+
+// One node's use of a shared mesh: the mesh's frame to the shape's object space.
+struct GltfPlacement {
+    int prototype = 0;
+    glm::dmat4 to_object{1.0};
 };
 
 // A metallic-roughness material as a core model (docs/gltf.md gives the mapping). `desc` holds
@@ -56,6 +67,10 @@ struct GltfImport {
     std::vector<std::string> reports;  // "<file>#<pointer>: <what is not converted>"
     std::optional<GltfCamera> camera;
     std::size_t num_cameras = 0;  // in the file's "cameras"
+    // With share_meshes: meshes that several nodes use, none of whose materials emit, are
+    // imported once (GltfPart::prototype) and placed by these (instancing, kind `gltf`).
+    std::vector<GltfPlacement> placements;
+    int num_prototypes = 0;
 };
 
 // glTF's metallic-roughness sources (base_color b, metallic m, roughness r) -> `composite`:
@@ -74,7 +89,8 @@ void gltf_composite_values(const DVec3* sources, DVec3* outputs);
 void apply_khr_texture_transform(TextureDesc& d, Vec2 offset, double rotation, Vec2 scale);
 
 // Reads a .gltf or .glb file (tinygltf; images are kept encoded, decoded by the texture layer).
-GltfImport import_gltf(const std::string& path);
+// share_meshes: see GltfImport::placements (otherwise every node's mesh is a copy of its own).
+GltfImport import_gltf(const std::string& path, bool share_meshes = false);
 // The same from bytes in memory (a .glb when they start with "glTF", else .gltf JSON), named
 // `name` in messages; external buffers and images are refused (data: URIs work). For fuzzing.
 GltfImport parse_gltf(std::string_view bytes, const std::string& name);
