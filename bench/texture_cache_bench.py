@@ -126,8 +126,8 @@ def fast_path(a, d):
     files = make_textures(d / "small", a.baseline_count, a.baseline_size)
     small = d / "small" / "scene.json"
     small.write_text(json.dumps(scene(files, 320, 180, 4)))
-    cases = [("cornell_textured 128^2 region, 4 spp", ROOT / "bench" / "cornell_textured.json",
-              ["--spp", "4", "--region", "192,192,320,320"]),
+    cases = [("cornell_textured 256^2 region, 16 spp", ROOT / "bench" / "cornell_textured.json",
+              ["--spp", "16", "--region", "128,128,384,384"]),
              (f"{a.baseline_count} x {a.baseline_size}^2 PNG floor, 320x180, 4 spp", small, [])]
     print("\n| scene | baseline CPU s (median) | this CPU s (median) | median ratio | identical |")
     print("|---|---|---|---|---|")
