@@ -112,6 +112,12 @@ TEST_F(CliTest, BadFlagsFailWithMessages) {
         {"render " + scene + " -o " + path("x.exr") + " --kernel fast", "--kernel"},
         {"render " + scene, "no output"},
         {"render " + scene + " -o " + path("x.exr") + " --bogus", "--bogus"},
+        // The texture memory bound: at least 1 MiB, a number (NaN fails every comparison).
+        {"render " + scene + " -o " + path("x.exr") + " --texture-memory 0", "--texture-memory"},
+        {"render " + scene + " -o " + path("x.exr") + " --texture-memory -4", "--texture-memory"},
+        {"render " + scene + " -o " + path("x.exr") + " --texture-memory 0.5", "from 1 to"},
+        {"render " + scene + " -o " + path("x.exr") + " --texture-memory nan", "--texture-memory"},
+        {"render " + scene + " -o " + path("x.exr") + " --texture-memory lots", "--texture-memory"},
     };
     for (const Case& c : cases) {
         const CmdResult r = run(c.args);
