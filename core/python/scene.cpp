@@ -22,6 +22,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -176,7 +177,8 @@ py::array index_rows(py::handle obj, const char* what, std::size_t num_vertices)
 }
 
 MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals,
-                          py::handle uvs, py::handle tangents = py::none()) {
+                          py::handle uvs, py::handle tangents = py::none(),
+                          py::handle colors = py::none()) {
     auto pos = float_rows(positions, "positions");
     const std::size_t n = std::size_t(pos.shape(0));
     py::array idx = index_rows(indices, "indices", n);
@@ -198,7 +200,14 @@ MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle n
     py::object nrm = per_position(normals, "normals", 3, mesh.normals);
     py::object uv = per_position(uvs, "uvs", 2, mesh.uvs);
     py::object tan = per_position(tangents, "tangents", 4, mesh.tangents);
-    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan));
+    // Colours: (n, 3) linear RGB or (n, 4) linear RGBA (the JSON "colors").
+    py::ssize_t color_cols = 3;
+    if (!colors.is_none()) {
+        const py::array a = py::array::ensure(colors);
+        if (a && a.ndim() == 2 && a.shape(1) == 4) color_cols = 4;
+    }
+    py::object col = per_position(colors, "colors", color_cols, mesh.colors);
+    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan, col));
     return mesh;
 }
 
@@ -546,13 +555,71 @@ void bind_scene(py::module_& m) {
             py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
             py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
             py::arg("value_scale") = 1.0)
+        .def_static(
+            "vertex_color",
+            [](std::string channel, double scale) {
+                TextureDesc d;
+                d.vertex_color = true;
+                d.channel = std::move(channel);
+                d.scale = scale;
+                return d;
+            },
+            "The mesh's interpolated vertex colour as a texture (the JSON {\"vertex_color\": "
+            "true}): channel '' (RGB) or 'r', 'g', 'b', 'a', 'luminance'; times scale.",
+            py::arg("channel") = "", py::arg("scale") = 1.0)
         .def_readonly("file", &TextureDesc::file)
         .def_readonly("is_checker", &TextureDesc::checker)
+        .def_readonly("is_vertex_color", &TextureDesc::vertex_color)
+        .def_readonly("channel", &TextureDesc::channel)
+        .def_readonly("scale", &TextureDesc::scale)
         .def(py::self == py::self)
         .def("__repr__", [](const TextureDesc& d) {
-            return d.checker ? std::string("facet.Texture.checker(...)")
-                             : "facet.Texture('" + d.file + "')";
+            return d.vertex_color ? "facet.Texture.vertex_color('" + d.channel + "')"
+                   : d.checker    ? std::string("facet.Texture.checker(...)")
+                                  : "facet.Texture('" + d.file + "')";
         });
+
+    // The JSON "normal_map" and "bump" objects: a texture and the map's own keys.
+    py::class_<MaterialDesc::NormalMap>(
+        m, "NormalMap",
+        "A tangent-space normal map (the JSON \"normal_map\"; scenes/FORMAT.md, Normal maps): "
+        "NormalMap(texture, strength=1, xy_scale=1), texture a facet.Texture (read linearly "
+        "unless it names a colorspace)")
+        .def(py::init([](TextureDesc texture, double strength, double xy_scale) {
+                 return MaterialDesc::NormalMap{std::move(texture), strength, xy_scale};
+             }),
+             py::arg("texture"), py::arg("strength") = 1.0, py::arg("xy_scale") = 1.0)
+        .def_readwrite("texture", &MaterialDesc::NormalMap::texture)
+        .def_readwrite("strength", &MaterialDesc::NormalMap::strength)
+        .def_readwrite("xy_scale", &MaterialDesc::NormalMap::xy_scale)
+        .def(py::self == py::self);
+    py::class_<MaterialDesc::Bump>(
+        m, "Bump",
+        "A bump map (the JSON \"bump\"; scenes/FORMAT.md, Bump maps): Bump(texture, "
+        "distance=1), texture a number facet.Texture of heights in scene units")
+        .def(py::init([](TextureDesc texture, double distance) {
+                 return MaterialDesc::Bump{std::move(texture), distance};
+             }),
+             py::arg("texture"), py::arg("distance") = 1.0)
+        .def_readwrite("texture", &MaterialDesc::Bump::texture)
+        .def_readwrite("distance", &MaterialDesc::Bump::distance)
+        .def(py::self == py::self);
+    // "normal_map=" / "bump=": the object, a bare Texture (default strength / distance) or None.
+    auto normal_map_from = [](py::handle v) -> std::optional<MaterialDesc::NormalMap> {
+        if (v.is_none()) return std::nullopt;
+        if (py::isinstance<TextureDesc>(v))
+            return MaterialDesc::NormalMap{v.cast<TextureDesc>(), 1.0, 1.0};
+        if (!py::isinstance<MaterialDesc::NormalMap>(v))
+            bad_argument("normal_map", "expected a facet.NormalMap, a facet.Texture or None");
+        return v.cast<MaterialDesc::NormalMap>();
+    };
+    auto bump_from = [](py::handle v) -> std::optional<MaterialDesc::Bump> {
+        if (v.is_none()) return std::nullopt;
+        if (py::isinstance<TextureDesc>(v)) return MaterialDesc::Bump{v.cast<TextureDesc>(), 1.0};
+        if (!py::isinstance<MaterialDesc::Bump>(v))
+            bad_argument("bump", "expected a facet.Bump, a facet.Texture or None");
+        return v.cast<MaterialDesc::Bump>();
+    };
 
     // A combination's sub-materials (mix, add): names (str) or MaterialDesc objects.
     auto sub_materials_from = [](py::handle v) {
@@ -576,8 +643,11 @@ void bind_scene(py::module_& m) {
                              "A named material: model name (facet.models()) and parameters, "
                              "e.g. MaterialDesc('ggx', alpha=0.3); a facet.Texture may stand "
                              "for any colour or number parameter; mix and add take "
-                             "materials=[a, b] (names or MaterialDesc)")
-        .def(py::init([sub_materials_from](std::string model, py::object params, py::kwargs kw) {
+                             "materials=[a, b] (names or MaterialDesc); normal_map= a "
+                             "facet.NormalMap and bump= a facet.Bump (or a bare Texture) as "
+                             "the JSON keys")
+        .def(py::init([sub_materials_from, normal_map_from, bump_from](
+                          std::string model, py::object params, py::kwargs kw) {
                  MaterialDesc d;
                  d.model = std::move(model);
                  // Textures go to `textures`, every other value to the ParamSet.
@@ -589,6 +659,10 @@ void bind_scene(py::module_& m) {
                      for (auto [k, v] : py::reinterpret_borrow<py::dict>(src)) {
                          if (k.cast<std::string>() == "materials")
                              d.materials = sub_materials_from(v);
+                         else if (k.cast<std::string>() == "normal_map")
+                             d.normal_map = normal_map_from(v);
+                         else if (k.cast<std::string>() == "bump")
+                             d.bump = bump_from(v);
                          else if (py::isinstance<TextureDesc>(v))
                              d.textures[k.cast<std::string>()] = v.cast<TextureDesc>();
                          else
@@ -613,6 +687,18 @@ void bind_scene(py::module_& m) {
                 d.materials = sub_materials_from(v);
             })
         .def_property(
+            "normal_map",
+            [](const MaterialDesc& d) -> py::object {
+                return d.normal_map ? py::cast(*d.normal_map) : py::none();
+            },
+            [normal_map_from](MaterialDesc& d, py::object v) { d.normal_map = normal_map_from(v); })
+        .def_property(
+            "bump",
+            [](const MaterialDesc& d) -> py::object {
+                return d.bump ? py::cast(*d.bump) : py::none();
+            },
+            [bump_from](MaterialDesc& d, py::object v) { d.bump = bump_from(v); })
+        .def_property(
             "params", [](const MaterialDesc& d) { return params_to_dict(d.params); },
             [](MaterialDesc& d, py::object p) { d.params = params_from_dict(p, "params"); })
         .def_property_readonly("textures",
@@ -632,14 +718,16 @@ void bind_scene(py::module_& m) {
         "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
         "normals float32 (n, 3) or None, uvs float32 (n, 2) or None (texture coordinates, "
         "(0, 0) the bottom-left of an image), tangents float32 (n, 4) or None (xyz and the "
-        "bitangent sign, glTF's TANGENT). Used in place when of exactly these "
-        "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
+        "bitangent sign, glTF's TANGENT), colors float32 (n, 3) or (n, 4) or None (linear "
+        "RGB(A) vertex colours in [0, 1], read by Texture.vertex_color()). Used in place when of "
+        "exactly these dtypes and C-contiguous (kept alive by the mesh), else converted once.")
         .def(py::init([](py::handle positions, py::handle indices, py::handle normals,
-                         py::handle uvs, py::handle tangents) {
-                 return mesh_from_arrays(positions, indices, normals, uvs, tangents);
+                         py::handle uvs, py::handle tangents, py::handle colors) {
+                 return mesh_from_arrays(positions, indices, normals, uvs, tangents, colors);
              }),
              py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none(),
-             py::arg("uvs") = py::none(), py::arg("tangents") = py::none())
+             py::arg("uvs") = py::none(), py::arg("tangents") = py::none(),
+             py::arg("colors") = py::none())
         .def_property_readonly("positions",
                                [](const MeshData& d) { return mesh_view(d.positions, d); })
         .def_property_readonly("indices", [](const MeshData& d) { return mesh_view(d.indices, d); })
@@ -657,6 +745,12 @@ void bind_scene(py::module_& m) {
                                [](const MeshData& d) -> py::object {
                                    if (d.tangents.empty()) return py::none();
                                    return mesh_view(d.tangents, d, 4);
+                               })
+        .def_property_readonly("colors",
+                               [](const MeshData& d) -> py::object {
+                                   if (d.colors.empty() || d.num_vertices() == 0) return py::none();
+                                   return mesh_view(d.colors, d,
+                                                    py::ssize_t(d.colors.size() / d.num_vertices()));
                                })
         .def_property_readonly("num_vertices", &MeshData::num_vertices)
         .def_property_readonly("num_triangles", &MeshData::num_triangles)
@@ -678,7 +772,7 @@ void bind_scene(py::module_& m) {
                  if (!kind.is_none()) self.attr("kind") = kind;
                  py::kwargs rest;
                  py::object positions = py::none(), indices = py::none(), normals = py::none(),
-                            uvs = py::none(), tangents = py::none();
+                            uvs = py::none(), tangents = py::none(), colors = py::none();
                  for (auto [key, value] : kw) {
                      const std::string k = key.cast<std::string>();
                      if (k == "positions")
@@ -691,6 +785,8 @@ void bind_scene(py::module_& m) {
                          uvs = py::reinterpret_borrow<py::object>(value);
                      else if (k == "tangents")
                          tangents = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "colors")
+                         colors = py::reinterpret_borrow<py::object>(value);
                      else
                          rest[key] = value;
                  }
@@ -698,11 +794,14 @@ void bind_scene(py::module_& m) {
                      if (positions.is_none() || indices.is_none())
                          throw py::value_error("ShapeDesc: give positions and indices together");
                      self.attr("mesh") =
-                         py::cast(mesh_from_arrays(positions, indices, normals, uvs, tangents));
+                         py::cast(mesh_from_arrays(positions, indices, normals, uvs, tangents,
+                                                   colors));
                      if (kind.is_none()) self.attr("kind") = py::str("mesh");
-                 } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none()) {
+                 } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none() ||
+                            !colors.is_none()) {
                      throw py::value_error(
-                         "ShapeDesc: normals, uvs and tangents need positions and indices");
+                         "ShapeDesc: normals, uvs, tangents and colors need positions and "
+                         "indices");
                  }
                  if (!kind.is_none())
                      check_kind_keywords(rest, shape_kind(self.cast<const ShapeDesc&>().kind),

@@ -393,3 +393,99 @@ def test_numpy_texture_bad_input_is_a_clear_error():
     with pytest.raises(ValueError, match=r"in-memory \(numpy\) texture cannot be written"):
         d.to_json()
     facet.build_scene(d)
+
+
+def _vertex_colour_triangle_scene(colors, reflectance):
+    """The 4 x 3 texel camera over a Lambertian triangle P0 (-2, -1.5), P1 (2, -1.5),
+    P2 (-2, 1.5) with vertex colours, under a constant environment of radiance 1, max_depth 1:
+    each pixel is the reflectance at its centre (tests/render/test_vertex_colors.cpp)."""
+    d = _texel_quad_scene(facet.Texture.checker([0.5] * 3, [0.5] * 3))
+    positions = np.array([[-2, -1.5, 0], [2, -1.5, 0], [-2, 1.5, 0]], dtype=np.float32)
+    indices = np.array([[0, 1, 2]], dtype=np.int32)
+    d.shapes[0] = facet.ShapeDesc(positions=positions, indices=indices, colors=colors,
+                                  material=facet.MaterialDesc("lambert", reflectance=reflectance))
+    return d
+
+
+def test_vertex_colours_from_python():
+    """MeshData colors (n, 3) or (n, 4) and Texture.vertex_color(): they round-trip through
+    JSON, and a pixel centre at barycentrics (b0, b1, b2) renders b0 c0 + b1 c1 + b2 c2 (every
+    cosine-weighted sample returns the reflectance: tolerance 2e-6 for Embree's float
+    barycentrics); a mesh without colours names the pointer and the material."""
+    colors = np.array([[0.9, 0.1, 0.2, 1.0], [0.1, 0.8, 0.3, 0.5], [0.2, 0.3, 0.7, 0.25]],
+                      dtype=np.float32)
+    d = _vertex_colour_triangle_scene(colors, facet.Texture.vertex_color())
+    assert d.shapes[0].mesh.colors.shape == (3, 4)
+    np.testing.assert_array_equal(d.shapes[0].mesh.colors, colors)
+    tex = d.shapes[0].material.textures["reflectance"]
+    assert tex.is_vertex_color and tex.channel == "" and tex.scale == 1.0
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    image = facet.render(facet.build_scene(d, name="py"), spp=1)
+    for y in range(3):
+        for x in range(4):
+            b1, b2 = (x - 1.5 + 2) / 4, (1 - y + 1.5) / 3
+            b0 = 1 - b1 - b2
+            if b0 < 0:
+                continue
+            want = b0 * colors[0, :3] + b1 * colors[1, :3] + b2 * colors[2, :3]
+            np.testing.assert_allclose(image[y, x], want, rtol=0, atol=2e-6)
+    # RGB colours, one channel as grey.
+    d = _vertex_colour_triangle_scene(colors[:, :3].copy(),
+                                      facet.Texture.vertex_color(channel="g", scale=0.5))
+    assert d.shapes[0].mesh.colors.shape == (3, 3)
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    facet.build_scene(d, name="py")
+    d.shapes[0] = facet.ShapeDesc(positions=d.shapes[0].mesh.positions,
+                                  indices=d.shapes[0].mesh.indices,
+                                  material=facet.MaterialDesc(
+                                      "lambert", reflectance=facet.Texture.vertex_color()))
+    with pytest.raises(ValueError, match=r"/shapes/0/colors: the material '<inline>'.*no colours"):
+        facet.build_scene(d, name="py")
+    with pytest.raises(ValueError, match="colors"):
+        facet.MeshData(colors[:, :3], np.array([[0, 1, 2]], dtype=np.int32),
+                       colors=colors[:2])
+
+
+def test_normal_map_and_bump_on_material_desc(tmp_path):
+    """MaterialDesc(normal_map=, bump=) mirror the JSON keys "normal_map" (texture, strength,
+    xy_scale) and "bump" (texture, distance): set from Python they equal the JSON's, round-trip,
+    and a bad value names its JSON pointer."""
+    flat = facet.Texture(np.full((2, 2, 3), 0.5, dtype=np.float32))
+    heights = facet.Texture(np.zeros((2, 2), dtype=np.float32))
+    m = facet.MaterialDesc("lambert", reflectance=0.5,
+                           normal_map=facet.NormalMap(flat, strength=0.5, xy_scale=2.0),
+                           bump=facet.Bump(heights, distance=0.1))
+    assert m.normal_map.strength == 0.5 and m.normal_map.xy_scale == 2.0
+    assert m.normal_map.texture == flat
+    assert m.bump.distance == 0.1 and m.bump.texture == heights
+    assert "normal_map" not in m.params and "bump" not in m.params
+    # A bare texture takes the defaults; None removes the map.
+    m2 = facet.MaterialDesc("lambert", reflectance=0.5, normal_map=flat)
+    assert m2.normal_map == facet.NormalMap(flat)
+    m2.normal_map = None
+    assert m2.normal_map is None
+    m2.bump = facet.Bump(heights, distance=0.25)
+    assert m2.bump.distance == 0.25
+    # Against the JSON twin (file textures: numpy ones cannot be written).
+    text = ('{"format": "facet-scene", "version": 1, "camera": {"position": [0, 0, 1], '
+            '"look_at": [0, 0, 0], "width": 4, "height": 4}, "materials": {"m": '
+            '{"model": "lambert", "reflectance": 0.5, '
+            '"normal_map": {"texture": "n.png", "strength": 0.5, "xy_scale": 2}, '
+            '"bump": {"texture": "h.png", "distance": 0.1}}}, "shapes": [], '
+            '"lights": [{"type": "environment", "radiance": 1}]}')
+    jm = facet.parse_scene_description(text, name="j").materials["m"]
+    pm = facet.MaterialDesc("lambert", reflectance=0.5,
+                            normal_map=facet.NormalMap(facet.Texture("n.png"), 0.5, 2.0),
+                            bump=facet.Bump(facet.Texture("h.png"), 0.1))
+    assert pm == jm
+    d = facet.parse_scene_description(text, name="j")
+    d.materials["m"] = pm
+    assert facet.parse_scene_description(d.to_json(), name="twin").materials["m"] == jm
+    # Bad values name the JSON pointer.
+    d = _texel_quad_scene(0.5)
+    d.shapes[0].material = facet.MaterialDesc("lambert", reflectance=0.5,
+                                              normal_map=facet.NormalMap(flat, strength=-1))
+    with pytest.raises(ValueError, match=r"/shapes/0/material/normal_map/strength"):
+        facet.build_scene(d, name="py")
+    with pytest.raises(ValueError, match="normal_map"):
+        facet.MaterialDesc("lambert", normal_map=3)

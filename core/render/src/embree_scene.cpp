@@ -503,7 +503,8 @@ void Scene::Impl::build(const std::string& name) {
     be.surface_extras =
         std::any_of(meshes.begin(), meshes.end(),
                     [](const MeshGeom& mg) {
-                        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
+                        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical ||
+                               !mg.tri_colors.empty();
                     }) ||
         std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
         std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
@@ -609,6 +610,10 @@ template <bool kUv>
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
     if constexpr (kUv) {
+        if (!mg.tri_colors.empty()) {
+            const std::array<glm::vec4, 3>& c = mg.tri_colors[tri];
+            hit.color = (1.f - u - v) * c[0] + u * c[1] + v * c[2];
+        }
         if (!mg.tri_uvs.empty()) {
             hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
             hit.dpdu_uv = mg.tri_dpduv[tri][0];
@@ -723,7 +728,7 @@ template <bool kSurfaceExtras>
         if constexpr (kSurfaceExtras) {
             if (s.emission_texture)
                 hit.emitted_radiance =
-                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
+                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr), hit.color);
         }
     }
     return true;
