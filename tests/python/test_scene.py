@@ -117,7 +117,7 @@ def test_mesh_uvs_from_numpy_match_json():
         facet.MeshData(p, i, None, np.zeros((4, 3), dtype=np.float32))
     with pytest.raises(ValueError, match=r"uvs: 3 rows, expected one per position \(4\)"):
         facet.MeshData(p, i, None, uvs[:3])
-    with pytest.raises(ValueError, match="normals, uvs and tangents need positions and indices"):
+    with pytest.raises(ValueError, match="normals, uvs, tangents and colors need positions and indices"):
         facet.ShapeDesc("mesh", uvs=uvs)
 
 
@@ -468,7 +468,7 @@ def test_normal_map_and_bump_on_material_desc(tmp_path):
     assert m2.bump.distance == 0.25
     # Against the JSON twin (file textures: numpy ones cannot be written).
     text = ('{"format": "facet-scene", "version": 1, "camera": {"position": [0, 0, 1], '
-            '"look_at": [0, 0, 0], "width": 4, "height": 4}, "materials": {"m": '
+            '"look_at": [0, 0, 0], "fov": 40, "width": 4, "height": 4}, "materials": {"m": '
             '{"model": "lambert", "reflectance": 0.5, '
             '"normal_map": {"texture": "n.png", "strength": 0.5, "xy_scale": 2}, '
             '"bump": {"texture": "h.png", "distance": 0.1}}}, "shapes": [], '
