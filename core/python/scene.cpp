@@ -746,12 +746,12 @@ void bind_scene(py::module_& m) {
                                    if (d.tangents.empty()) return py::none();
                                    return mesh_view(d.tangents, d, 4);
                                })
-        .def_property_readonly("colors",
-                               [](const MeshData& d) -> py::object {
-                                   if (d.colors.empty() || d.num_vertices() == 0) return py::none();
-                                   return mesh_view(d.colors, d,
-                                                    py::ssize_t(d.colors.size() / d.num_vertices()));
-                               })
+        .def_property_readonly(
+            "colors",
+            [](const MeshData& d) -> py::object {
+                if (d.colors.empty() || d.num_vertices() == 0) return py::none();
+                return mesh_view(d.colors, d, py::ssize_t(d.colors.size() / d.num_vertices()));
+            })
         .def_property_readonly("num_vertices", &MeshData::num_vertices)
         .def_property_readonly("num_triangles", &MeshData::num_triangles)
         .def(py::self == py::self)
@@ -793,9 +793,8 @@ void bind_scene(py::module_& m) {
                  if (!positions.is_none() || !indices.is_none()) {
                      if (positions.is_none() || indices.is_none())
                          throw py::value_error("ShapeDesc: give positions and indices together");
-                     self.attr("mesh") =
-                         py::cast(mesh_from_arrays(positions, indices, normals, uvs, tangents,
-                                                   colors));
+                     self.attr("mesh") = py::cast(
+                         mesh_from_arrays(positions, indices, normals, uvs, tangents, colors));
                      if (kind.is_none()) self.attr("kind") = py::str("mesh");
                  } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none() ||
                             !colors.is_none()) {

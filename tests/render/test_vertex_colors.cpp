@@ -11,8 +11,8 @@
 #include <cstring>
 #include <fstream>
 #include <optional>
-#include <utility>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "facet/render/mesh.h"
@@ -35,17 +35,11 @@ std::string temp_dir() {
 }
 
 fr::Scene scene_in(const std::string& dir, const std::string& body) {
-    return fr::load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                      "vc.json", dir);
+    return fr::testing::scene_in_dir(dir, body, "vc.json");
 }
 
 std::string error_of_in(const std::string& dir, const std::string& body) {
-    try {
-        scene_in(dir, body);
-    } catch (const fr::SceneError& e) {
-        return e.what();
-    }
-    return "";
+    return fr::testing::scene_error(dir, body, "vc.json");
 }
 
 std::string error_of(const std::string& body) {
@@ -66,8 +60,8 @@ const char* const kCamera =
 // The triangle P0 (-2, -1.5), P1 (2, -1.5), P2 (-2, 1.5) in z = 0, facing +z, with corner
 // colours c0, c1, c2 (RGBA): at (px, py) its barycentrics are b1 = (px + 2) / 4,
 // b2 = (py + 1.5) / 3, b0 = 1 - b1 - b2.
-const float kCorner[3][4] = {{0.9f, 0.1f, 0.2f, 1.0f}, {0.1f, 0.8f, 0.3f, 0.5f},
-                             {0.2f, 0.3f, 0.7f, 0.25f}};
+const float kCorner[3][4] = {
+    {0.9f, 0.1f, 0.2f, 1.0f}, {0.1f, 0.8f, 0.3f, 0.5f}, {0.2f, 0.3f, 0.7f, 0.25f}};
 
 std::string triangle_mesh(const std::string& material_or_emission) {
     std::string colors;
@@ -98,10 +92,10 @@ fr::Image render_once(const fr::Scene& scene, const std::string& integrator) {
 // interpolation: tolerance 2e-6 absolute. Taking the corners in the wrong order, or the
 // colours as sRGB, moves values by > 1e-2.
 TEST(VertexColors, EmissionInterpolatesCornerColoursBarycentrically) {
-    const fr::Scene scene = scene_in(temp_dir(), std::string(kCamera) + R"("shapes": [)" +
-                                                     triangle_mesh(R"("emission":
+    const fr::Scene scene =
+        scene_in(temp_dir(), std::string(kCamera) + R"("shapes": [)" + triangle_mesh(R"("emission":
                                                          {"vertex_color": true})") +
-                                                     R"(], "lights": [])");
+                                 R"(], "lights": [])");
     ASSERT_EQ(scene.lights().size(), 1u);
     EXPECT_TRUE(scene.shapes()[0].needs_color);
     EXPECT_FALSE(scene.shapes()[0].needs_uv);  // a vertex colour needs no UVs
@@ -143,10 +137,10 @@ TEST(VertexColors, ReflectanceFromOneChannelUnderConstantEnvironment) {
 // A hit at a known barycentric point: SurfaceHit::color is (1 - u - v) c0 + u c1 + v c2.
 // The point (0.5, -0.75) has b1 = 0.625, b2 = 0.25: tolerance 1e-6 (float barycentrics).
 TEST(VertexColors, HitColourAtAKnownBarycentricPoint) {
-    const fr::Scene scene = scene_in(temp_dir(), std::string(kCamera) + R"("shapes": [)" +
-                                                     triangle_mesh(R"("emission":
+    const fr::Scene scene =
+        scene_in(temp_dir(), std::string(kCamera) + R"("shapes": [)" + triangle_mesh(R"("emission":
                                                          {"vertex_color": true})") +
-                                                     "], \"lights\": []");
+                                 "], \"lights\": []");
     fr::SurfaceHit hit;
     ASSERT_TRUE(scene.intersect(fr::Ray{Vec3(0.5f, -0.75f, 1.f), Vec3(0.f, 0.f, -1.f)}, hit));
     const double b1 = 0.625, b2 = 0.25, b0 = 1.0 - b1 - b2;
@@ -207,9 +201,9 @@ TEST(VertexColors, BadInputNamesThePointer) {
         << no_colors;
     EXPECT_NE(no_colors.find("the mesh has no colours"), std::string::npos) << no_colors;
     // A named material on an analytic sphere.
-    const std::string sphere = error_of(
-        std::string(kCamera) +
-        R"("lights": [], "materials": {"painted": {"model": "lambert", "reflectance":
+    const std::string sphere =
+        error_of(std::string(kCamera) +
+                 R"("lights": [], "materials": {"painted": {"model": "lambert", "reflectance":
               {"vertex_color": true}}},
            "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
                        "material": "painted"}])");
@@ -286,16 +280,18 @@ TEST(VertexColors, PlyColoursByType) {
     EXPECT_EQ(bytes.colors[1],
               glm::vec4(srgb(10.0 / 255.0), srgb(20.0 / 255.0), srgb(30.0 / 255.0), 0.2f));
     EXPECT_EQ(bytes.colors[2], glm::vec4(0.f, 0.f, 1.f, 0.f));
-    const fr::TriangleMesh floats = fr::parse_ply(
-        head + "property float red\nproperty float green\nproperty float blue\n"
-               "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
-               "0 0 0 0.5 0.25 0\n1 0 0 1 1 1\n0 1 0 0 0 0.125\n3 0 1 2\n");
+    const fr::TriangleMesh floats =
+        fr::parse_ply(head +
+                      "property float red\nproperty float green\nproperty float blue\n"
+                      "element face 1\nproperty list uchar int vertex_indices\nend_header\n"
+                      "0 0 0 0.5 0.25 0\n1 0 0 1 1 1\n0 1 0 0 0 0.125\n3 0 1 2\n");
     ASSERT_EQ(floats.colors.size(), 3u);
     EXPECT_EQ(floats.colors[0], glm::vec4(0.5f, 0.25f, 0.f, 1.f));
     try {
-        fr::parse_ply(head + "property int red\nproperty int green\nproperty int blue\n"
-                             "element face 0\nproperty list uchar int vertex_indices\n"
-                             "end_header\n0 0 0 1 1 1\n1 0 0 1 1 1\n0 1 0 1 1 1\n");
+        fr::parse_ply(head +
+                      "property int red\nproperty int green\nproperty int blue\n"
+                      "element face 0\nproperty list uchar int vertex_indices\n"
+                      "end_header\n0 0 0 1 1 1\n1 0 0 1 1 1\n0 1 0 1 1 1\n");
         ADD_FAILURE() << "int colours accepted";
     } catch (const std::runtime_error& e) {
         EXPECT_NE(std::string(e.what()).find("'red' must be uchar, ushort, float or double"),
@@ -335,12 +331,11 @@ void write_gltf(const std::string& dir) {
     std::ofstream(dir + "/tri.bin", std::ios::binary)
         .write(reinterpret_cast<const char*>(bin.data()), std::streamsize(bin.size()));
     fr::testing::write_test_image(dir + "/base.png", 1, 1, 3,
-                                  std::vector<std::uint8_t>{255, 255, 255},
-                                  OIIO::TypeDesc::UINT8);
+                                  std::vector<std::uint8_t>{255, 255, 255}, OIIO::TypeDesc::UINT8);
     std::string accessors, views;
     for (int k = 0; k < 4; ++k) {
-        views += R"({"buffer": 0, "byteOffset": )" + std::to_string(36 * k) +
-                 R"(, "byteLength": 36},)";
+        views +=
+            R"({"buffer": 0, "byteOffset": )" + std::to_string(36 * k) + R"(, "byteLength": 36},)";
         accessors += R"({"bufferView": )" + std::to_string(k) +
                      R"(, "componentType": 5126, "count": 3, "type": "VEC3",
                         "min": [-2, -1.5, -3], "max": [2, 1.5, 0]},)";
@@ -380,9 +375,8 @@ void write_gltf(const std::string& dir) {
 TEST(VertexColors, GltfColor0MultipliesTheBaseColour) {
     const std::string dir = temp_dir();
     write_gltf(dir);
-    const fr::Scene scene = scene_in(
-        dir, std::string(kCamera) +
-                 R"("shapes": [{"type": "gltf", "file": "tri.gltf"}],
+    const fr::Scene scene = scene_in(dir, std::string(kCamera) +
+                                              R"("shapes": [{"type": "gltf", "file": "tri.gltf"}],
                     "lights": [{"type": "environment", "radiance": 1}])");
     const Rgb f(0.5f, 0.25f, 1.f);
     const double b[3] = {0.125, 0.625, 0.25};
@@ -411,8 +405,7 @@ TEST(VertexColors, GltfColor0MultipliesTheBaseColour) {
         ASSERT_TRUE(base.has_value()) << z;
         const glm::vec4 want = mix(corners);
         for (int c = 0; c < 4; ++c) EXPECT_NEAR(color[c], want[c], 1e-6) << z << " c" << c;
-        for (int c = 0; c < 3; ++c)
-            EXPECT_NEAR((*base)[c], f[c] * want[c], 1e-6) << z << " c" << c;
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR((*base)[c], f[c] * want[c], 1e-6) << z << " c" << c;
     }
     // Without COLOR_0: the constant factor (an untextured material).
     EXPECT_FALSE(base_at(-2.f, color).has_value());

@@ -150,9 +150,7 @@ namespace {
 // A vertex colour from sRGB-encoded channels (alpha linear), for the OBJ and PLY readers. Values
 // outside [0, 1] (and NaN) are kept, undecoded, for validate_mesh to report.
 glm::vec4 srgb_color(double r, double g, double b, double a) {
-    auto decode = [](double e) {
-        return e >= 0.0 && e <= 1.0 ? srgb_decode_exact(e) : float(e);
-    };
+    auto decode = [](double e) { return e >= 0.0 && e <= 1.0 ? srgb_decode_exact(e) : float(e); };
     return {decode(r), decode(g), decode(b), float(a)};
 }
 

@@ -274,8 +274,9 @@ class Builder final : public BuildChecks {
             const std::string op = ptr + "/opacity";
             const TextureDesc& td = it->second;
             if (td.vertex_color || td.times_vertex_color)
-                fail(op, "a vertex colour cannot be an opacity (cut-outs are decided during "
-                         "traversal, before the hit's colour is known)");
+                fail(op,
+                     "a vertex colour cannot be an opacity (cut-outs are decided during "
+                     "traversal, before the hit's colour is known)");
             TexelImageOptions linear;
             linear.color_space = ColorSpace::Linear;
             if (!td.checker && td.channel == "a" && !td.file.empty() &&
@@ -439,8 +440,8 @@ class Builder final : public BuildChecks {
                 const std::vector<std::string> allowed = {"r", "g", "b", "a", "luminance"};
                 const auto it = std::find(allowed.begin(), allowed.end(), d.channel);
                 if (it == allowed.end())
-                    fail(ptr + "/channel", "unknown value '" + d.channel +
-                                               "' (expected one of r g b a luminance)");
+                    fail(ptr + "/channel",
+                         "unknown value '" + d.channel + "' (expected one of r g b a luminance)");
                 channel = int(it - allowed.begin());
             } else if (!color) {
                 fail(ptr + "/channel",
@@ -1013,7 +1014,8 @@ class Builder final : public BuildChecks {
             g.shape = index;
             g.part = part;
             g.opacity = part < 0 ? m_info.opacity : m_info.parts[std::size_t(part)].opacity;
-            const bool uv = part < 0 ? m_info.needs_uv : m_b.needs_uv(m_info.parts[std::size_t(part)]);
+            const bool uv =
+                part < 0 ? m_info.needs_uv : m_b.needs_uv(m_info.parts[std::size_t(part)]);
             if (uv) {
                 if (sphere) {
                     g.spherical = true;

@@ -25,7 +25,7 @@ using json = nlohmann::json;
 using detail::escape_pointer_token;
 
 // The keys of a mesh kind's MeshArrays field (ShapeDesc::mesh).
-constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices", "normals",
+constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  "normals",
                                                        "uvs",       "tangents", "colors"};
 
 std::string type_name(const json& v) {
@@ -747,7 +747,8 @@ class Reader {
             const std::size_t n = positions.size() / 3;
             if (!a.is_array() || (a.size() != 3 * n && a.size() != 4 * n)) {
                 fail(ptr + "/colors",
-                     "expected a flat array of 3 (r, g, b) or 4 (r, g, b, a) numbers per position (" +
+                     "expected a flat array of 3 (r, g, b) or 4 (r, g, b, a) numbers per position "
+                     "(" +
                          std::to_string(3 * n) + " or " + std::to_string(4 * n) +
                          " numbers), got " +
                          (a.is_array() ? std::to_string(a.size()) : type_name(a)));

@@ -222,25 +222,23 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
         // replaced, the same bits as make_material gives. Composite leaves out a zero diffuse
         // lobe, so a black value takes the general path below.
         const TexturedMaterial::Slot& s = tm.slots[0];
-        const Rgb v =
-            glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
-                       s.texture->max_value());
+        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
+                                 s.texture->max_value());
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
-        const Rgb v =
-            glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
-                       s.texture->max_value());
+        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
+                                 s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
     // A combination's textured children are built at the same uv (one allocation each).
     std::array<std::shared_ptr<const Material>, 2> children;
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
-                                            textured_material(std::size_t(c.textured), uv, fp, color))
+        children[k] = c.textured >= 0 ? std::make_shared<const Material>(textured_material(
+                                            std::size_t(c.textured), uv, fp, color))
                                       : c.constant;
     }
     try {

@@ -793,8 +793,8 @@ class Importer {
                       TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
         const std::string ap = "/accessors/" + std::to_string(index);
         if (e.count != nvert)
-            fail(ap, idx(e.count) + " colours for " + idx(nvert) + " positions (used by " + user +
-                         ")");
+            fail(ap,
+                 idx(e.count) + " colours for " + idx(nvert) + " positions (used by " + user + ")");
         const std::size_t nc = e.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
         std::vector<glm::vec4> out(e.count, glm::vec4(1.f));
         for (std::size_t i = 0; i < e.count; ++i) {
@@ -811,8 +811,8 @@ class Importer {
                     v = float(u) / 65535.f;
                 }
                 if (!(v >= 0.f && v <= 1.f))
-                    fail(ap, "colour " + idx(i) + " has a channel outside [0, 1] (used by " +
-                                 user + ")");
+                    fail(ap, "colour " + idx(i) + " has a channel outside [0, 1] (used by " + user +
+                                 ")");
                 out[i][int(c)] = v;
             }
         }
@@ -1135,9 +1135,8 @@ void build(ShapeBuild& b) {
         ShapeSurface su = *mat;
         su.material_name = s.file + "#" + gm.pointer;
         su.emission = gm.emission;
-        const bool uv_textured =
-            (su.textured >= 0 && b.textured_uses_uv(su.textured)) ||
-            su.emission_texture || su.opacity.texture;
+        const bool uv_textured = (su.textured >= 0 && b.textured_uses_uv(su.textured)) ||
+                                 su.emission_texture || su.opacity.texture;
         if (uv_textured && p.mesh.uvs.empty())
             b.fail(fp, std::filesystem::path(s.file).filename().string() + "#" + p.pointer +
                            "/attributes: the primitive's material " + gm.pointer +

@@ -59,9 +59,9 @@ TriangleMesh load_obj(const std::string& path);
 // PLY, ascii or binary_little_endian: element vertex with float/double x y z (optional nx ny
 // nz; optional u v, or s t, or texture_u texture_v; optional red green blue [alpha]: uchar
 // values are sRGB-encoded bytes, decoded with the sRGB curve (as Blender's PLY importer reads
-// them), alpha linearly as a / 255; float values are linear), element face with a list of vertex indices
-// (polygons are fan-triangulated). Other elements and properties are skipped. Written here: Debian
-// ships no small PLY library.
+// them), alpha linearly as a / 255; float values are linear), element face with a list of vertex
+// indices (polygons are fan-triangulated). Other elements and properties are skipped. Written here:
+// Debian ships no small PLY library.
 TriangleMesh load_ply(const std::string& path);
 TriangleMesh parse_ply(std::string_view data);
 
