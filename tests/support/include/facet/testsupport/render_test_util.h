@@ -25,8 +25,8 @@ inline Scene scene_from(const std::string& body) {
 // The same with relative files resolved in `dir`, and errors naming `name`.
 inline Scene scene_in_dir(const std::string& dir, const std::string& body,
                           const std::string& name) {
-    return load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                  name, dir);
+    return load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}", name,
+                                  dir);
 }
 
 // The SceneError message of scene_in_dir(dir, body, name), or "" when the scene loads.
