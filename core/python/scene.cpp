@@ -22,6 +22,7 @@
 #include <deque>
 #include <limits>
 #include <map>
+#include <optional>
 #include <set>
 #include <sstream>
 
@@ -176,7 +177,8 @@ py::array index_rows(py::handle obj, const char* what, std::size_t num_vertices)
 }
 
 MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle normals,
-                          py::handle uvs, py::handle tangents = py::none()) {
+                          py::handle uvs, py::handle tangents = py::none(),
+                          py::handle colors = py::none()) {
     auto pos = float_rows(positions, "positions");
     const std::size_t n = std::size_t(pos.shape(0));
     py::array idx = index_rows(indices, "indices", n);
@@ -198,7 +200,14 @@ MeshData mesh_from_arrays(py::handle positions, py::handle indices, py::handle n
     py::object nrm = per_position(normals, "normals", 3, mesh.normals);
     py::object uv = per_position(uvs, "uvs", 2, mesh.uvs);
     py::object tan = per_position(tangents, "tangents", 4, mesh.tangents);
-    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan));
+    // Colours: (n, 3) linear RGB or (n, 4) linear RGBA (the JSON "colors").
+    py::ssize_t color_cols = 3;
+    if (!colors.is_none()) {
+        const py::array a = py::array::ensure(colors);
+        if (a && a.ndim() == 2 && a.shape(1) == 4) color_cols = 4;
+    }
+    py::object col = per_position(colors, "colors", color_cols, mesh.colors);
+    mesh.owner = python_owner(py::make_tuple(pos, idx, nrm, uv, tan, col));
     return mesh;
 }
 
@@ -564,12 +573,28 @@ void bind_scene(py::module_& m) {
             py::arg("uv_scale") = std::array<float, 2>{1.f, 1.f},
             py::arg("uv_offset") = std::array<float, 2>{0.f, 0.f}, py::arg("uv_rotation") = 0.0,
             py::arg("value_scale") = 1.0)
+        .def_static(
+            "vertex_color",
+            [](std::string channel, double scale) {
+                TextureDesc d;
+                d.vertex_color = true;
+                d.channel = std::move(channel);
+                d.scale = scale;
+                return d;
+            },
+            "The mesh's interpolated vertex colour as a texture (the JSON {\"vertex_color\": "
+            "true}): channel '' (RGB) or 'r', 'g', 'b', 'a', 'luminance'; times scale.",
+            py::arg("channel") = "", py::arg("scale") = 1.0)
         .def_readonly("file", &TextureDesc::file)
         .def_readonly("is_checker", &TextureDesc::checker)
+        .def_readonly("is_vertex_color", &TextureDesc::vertex_color)
+        .def_readonly("channel", &TextureDesc::channel)
+        .def_readonly("scale", &TextureDesc::scale)
         .def(py::self == py::self)
         .def("__repr__", [](const TextureDesc& d) {
-            return d.checker ? std::string("facet.Texture.checker(...)")
-                             : "facet.Texture('" + d.file + "')";
+            return d.vertex_color ? "facet.Texture.vertex_color('" + d.channel + "')"
+                   : d.checker    ? std::string("facet.Texture.checker(...)")
+                                  : "facet.Texture('" + d.file + "')";
         });
 
     // A combination's sub-materials (mix, add): names (str) or MaterialDesc objects.
@@ -726,14 +751,16 @@ void bind_scene(py::module_& m) {
         "Triangle-mesh arrays: positions float32 (n, 3), indices int32 (m, 3), "
         "normals float32 (n, 3) or None, uvs float32 (n, 2) or None (texture coordinates, "
         "(0, 0) the bottom-left of an image), tangents float32 (n, 4) or None (xyz and the "
-        "bitangent sign, glTF's TANGENT). Used in place when of exactly these "
-        "dtypes and C-contiguous (kept alive by the mesh), else converted once.")
+        "bitangent sign, glTF's TANGENT), colors float32 (n, 3) or (n, 4) or None (linear "
+        "RGB(A) vertex colours in [0, 1], read by Texture.vertex_color()). Used in place when of "
+        "exactly these dtypes and C-contiguous (kept alive by the mesh), else converted once.")
         .def(py::init([](py::handle positions, py::handle indices, py::handle normals,
-                         py::handle uvs, py::handle tangents) {
-                 return mesh_from_arrays(positions, indices, normals, uvs, tangents);
+                         py::handle uvs, py::handle tangents, py::handle colors) {
+                 return mesh_from_arrays(positions, indices, normals, uvs, tangents, colors);
              }),
              py::arg("positions"), py::arg("indices"), py::arg("normals") = py::none(),
-             py::arg("uvs") = py::none(), py::arg("tangents") = py::none())
+             py::arg("uvs") = py::none(), py::arg("tangents") = py::none(),
+             py::arg("colors") = py::none())
         .def_property_readonly("positions",
                                [](const MeshData& d) { return mesh_view(d.positions, d); })
         .def_property_readonly("indices", [](const MeshData& d) { return mesh_view(d.indices, d); })
@@ -752,6 +779,12 @@ void bind_scene(py::module_& m) {
                                    if (d.tangents.empty()) return py::none();
                                    return mesh_view(d.tangents, d, 4);
                                })
+        .def_property_readonly(
+            "colors",
+            [](const MeshData& d) -> py::object {
+                if (d.colors.empty() || d.num_vertices() == 0) return py::none();
+                return mesh_view(d.colors, d, py::ssize_t(d.colors.size() / d.num_vertices()));
+            })
         .def_property_readonly("num_vertices", &MeshData::num_vertices)
         .def_property_readonly("num_triangles", &MeshData::num_triangles)
         .def(py::self == py::self)
@@ -772,7 +805,7 @@ void bind_scene(py::module_& m) {
                  if (!kind.is_none()) self.attr("kind") = kind;
                  py::kwargs rest;
                  py::object positions = py::none(), indices = py::none(), normals = py::none(),
-                            uvs = py::none(), tangents = py::none();
+                            uvs = py::none(), tangents = py::none(), colors = py::none();
                  for (auto [key, value] : kw) {
                      const std::string k = key.cast<std::string>();
                      if (k == "positions")
@@ -785,18 +818,22 @@ void bind_scene(py::module_& m) {
                          uvs = py::reinterpret_borrow<py::object>(value);
                      else if (k == "tangents")
                          tangents = py::reinterpret_borrow<py::object>(value);
+                     else if (k == "colors")
+                         colors = py::reinterpret_borrow<py::object>(value);
                      else
                          rest[key] = value;
                  }
                  if (!positions.is_none() || !indices.is_none()) {
                      if (positions.is_none() || indices.is_none())
                          throw py::value_error("ShapeDesc: give positions and indices together");
-                     self.attr("mesh") =
-                         py::cast(mesh_from_arrays(positions, indices, normals, uvs, tangents));
+                     self.attr("mesh") = py::cast(
+                         mesh_from_arrays(positions, indices, normals, uvs, tangents, colors));
                      if (kind.is_none()) self.attr("kind") = py::str("mesh");
-                 } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none()) {
+                 } else if (!normals.is_none() || !uvs.is_none() || !tangents.is_none() ||
+                            !colors.is_none()) {
                      throw py::value_error(
-                         "ShapeDesc: normals, uvs and tangents need positions and indices");
+                         "ShapeDesc: normals, uvs, tangents and colors need positions and "
+                         "indices");
                  }
                  if (!kind.is_none())
                      check_kind_keywords(rest, shape_kind(self.cast<const ShapeDesc&>().kind),

@@ -117,7 +117,7 @@ def test_mesh_uvs_from_numpy_match_json():
         facet.MeshData(p, i, None, np.zeros((4, 3), dtype=np.float32))
     with pytest.raises(ValueError, match=r"uvs: 3 rows, expected one per position \(4\)"):
         facet.MeshData(p, i, None, uvs[:3])
-    with pytest.raises(ValueError, match="normals, uvs and tangents need positions and indices"):
+    with pytest.raises(ValueError, match="normals, uvs, tangents and colors need positions and indices"):
         facet.ShapeDesc("mesh", uvs=uvs)
 
 
@@ -412,3 +412,54 @@ def test_material_desc_normal_map_and_bump(tmp_path):
             facet.MaterialDesc("lambert", {"bump": bad})
     mix = facet.MaterialDesc("mix", {"weight": 0.25, "materials": ["a", m]})
     assert mix.materials[0] == "a" and mix.materials[1] == m
+
+
+def _vertex_colour_triangle_scene(colors, reflectance):
+    """The 4 x 3 texel camera over a Lambertian triangle P0 (-2, -1.5), P1 (2, -1.5),
+    P2 (-2, 1.5) with vertex colours, under a constant environment of radiance 1, max_depth 1:
+    each pixel is the reflectance at its centre (tests/render/test_vertex_colors.cpp)."""
+    d = _texel_quad_scene(facet.Texture.checker([0.5] * 3, [0.5] * 3))
+    positions = np.array([[-2, -1.5, 0], [2, -1.5, 0], [-2, 1.5, 0]], dtype=np.float32)
+    indices = np.array([[0, 1, 2]], dtype=np.int32)
+    d.shapes[0] = facet.ShapeDesc(positions=positions, indices=indices, colors=colors,
+                                  material=facet.MaterialDesc("lambert", reflectance=reflectance))
+    return d
+
+
+def test_vertex_colours_from_python():
+    """MeshData colors (n, 3) or (n, 4) and Texture.vertex_color(): they round-trip through
+    JSON, and a pixel centre at barycentrics (b0, b1, b2) renders b0 c0 + b1 c1 + b2 c2 (every
+    cosine-weighted sample returns the reflectance: tolerance 2e-6 for Embree's float
+    barycentrics); a mesh without colours names the pointer and the material."""
+    colors = np.array([[0.9, 0.1, 0.2, 1.0], [0.1, 0.8, 0.3, 0.5], [0.2, 0.3, 0.7, 0.25]],
+                      dtype=np.float32)
+    d = _vertex_colour_triangle_scene(colors, facet.Texture.vertex_color())
+    assert d.shapes[0].mesh.colors.shape == (3, 4)
+    np.testing.assert_array_equal(d.shapes[0].mesh.colors, colors)
+    tex = d.shapes[0].material.textures["reflectance"]
+    assert tex.is_vertex_color and tex.channel == "" and tex.scale == 1.0
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    image = facet.render(facet.build_scene(d, name="py"), spp=1)
+    for y in range(3):
+        for x in range(4):
+            b1, b2 = (x - 1.5 + 2) / 4, (1 - y + 1.5) / 3
+            b0 = 1 - b1 - b2
+            if b0 < 0:
+                continue
+            want = b0 * colors[0, :3] + b1 * colors[1, :3] + b2 * colors[2, :3]
+            np.testing.assert_allclose(image[y, x], want, rtol=0, atol=2e-6)
+    # RGB colours, one channel as grey.
+    d = _vertex_colour_triangle_scene(colors[:, :3].copy(),
+                                      facet.Texture.vertex_color(channel="g", scale=0.5))
+    assert d.shapes[0].mesh.colors.shape == (3, 3)
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    facet.build_scene(d, name="py")
+    d.shapes[0] = facet.ShapeDesc(positions=d.shapes[0].mesh.positions,
+                                  indices=d.shapes[0].mesh.indices,
+                                  material=facet.MaterialDesc(
+                                      "lambert", reflectance=facet.Texture.vertex_color()))
+    with pytest.raises(ValueError, match=r"/shapes/0/colors: the material '<inline>'.*no colours"):
+        facet.build_scene(d, name="py")
+    with pytest.raises(ValueError, match="colors"):
+        facet.MeshData(colors[:, :3], np.array([[0, 1, 2]], dtype=np.int32),
+                       colors=colors[:2])

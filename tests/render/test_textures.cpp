@@ -45,17 +45,11 @@ float srgb(std::uint8_t code) {
 }
 
 fr::Scene scene_in(const std::string& dir, const std::string& body) {
-    return fr::load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}",
-                                      "tex.json", dir);
+    return fr::testing::scene_in_dir(dir, body, "tex.json");
 }
 
 std::string error_of(const std::string& dir, const std::string& body) {
-    try {
-        scene_in(dir, body);
-    } catch (const fr::SceneError& e) {
-        return e.what();
-    }
-    return "";
+    return fr::testing::scene_error(dir, body, "tex.json");
 }
 
 // A 4 x 3 camera whose pixel centres hit the texel centres of the 4 x 3 quad [-2, 2] x

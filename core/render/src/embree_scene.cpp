@@ -509,7 +509,7 @@ void Scene::Impl::build(const std::string& name) {
     build_instances(name);
     std::size_t record_bytes = 0;
     auto mesh_extras = [](const MeshGeom& mg) {
-        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical;
+        return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical || !mg.tri_colors.empty();
     };
     for (const MeshGeom& mg : meshes)
         record_bytes += mg.planes.size() * sizeof(glm::vec4) +
@@ -659,6 +659,10 @@ template <bool kUv>
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
     if constexpr (kUv) {
+        if (!mg.tri_colors.empty()) {
+            const std::array<glm::vec4, 3>& c = mg.tri_colors[tri];
+            hit.color = (1.f - u - v) * c[0] + u * c[1] + v * c[2];
+        }
         if (!mg.tri_uvs.empty()) {
             hit.uv = triangle_uv(mg, tri, u, v, glm::dvec3(hit.p));
             hit.dpdu_uv = mg.tri_dpduv[tri][0];
@@ -821,7 +825,7 @@ template <bool kSurfaceExtras>
         if constexpr (kSurfaceExtras) {
             if (s.emission_texture)
                 hit.emitted_radiance =
-                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr));
+                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr), hit.color);
         }
     }
     return true;

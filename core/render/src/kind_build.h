@@ -130,6 +130,9 @@ class ShapeBuild : public BuildChecks {
     // are built (texture.h; errors name `ptr`); `radiance`: negative texels are errors.
     virtual const Texture* add_texture(const TextureDesc& texture, const std::string& ptr,
                                        bool color, bool radiance) = 0;
+    // Whether textured material `textured` (ShapeSurface::textured) reads the hit's uv
+    // (TexturedMaterial::uses_uv; a vertex colour alone does not).
+    virtual bool textured_uses_uv(std::int32_t textured) const = 0;
     // Object-space triangles as one part of the shape with its own surface (material, emission,
     // sidedness; `surface.light` is filled here): as add_triangles otherwise.
     virtual void add_part(TriangleMesh mesh, ShapeSurface surface) = 0;

@@ -1,6 +1,8 @@
 // Procedural meshes and mesh file readers (conventions in facet/render/mesh.h).
 #include "facet/render/mesh.h"
 
+#include "facet/render/texel_image.h"
+
 #include <tiny_obj_loader.h>
 
 #include <charconv>
@@ -143,6 +145,17 @@ TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency) {
     return m;
 }
 
+namespace {
+
+// A vertex colour from sRGB-encoded channels (alpha linear), for the OBJ and PLY readers. Values
+// outside [0, 1] (and NaN) are kept, undecoded, for validate_mesh to report.
+glm::vec4 srgb_color(double r, double g, double b, double a) {
+    auto decode = [](double e) { return e >= 0.0 && e <= 1.0 ? srgb_decode_exact(e) : float(e); };
+    return {decode(r), decode(g), decode(b), float(a)};
+}
+
+}  // namespace
+
 TriangleMesh load_obj(const std::string& path) {
     tinyobj::ObjReader reader;
     tinyobj::ObjReaderConfig config;
@@ -156,6 +169,9 @@ TriangleMesh load_obj(const std::string& path) {
     }
     const tinyobj::attrib_t& attrib = reader.GetAttrib();
     TriangleMesh m;
+    // tinyobjloader keeps `v x y z r g b` colours only when every vertex has them
+    // (config.vertex_color = false: no default fill).
+    const bool colors = !attrib.colors.empty() && attrib.colors.size() == attrib.vertices.size();
     bool all_normals = true, all_uvs = true;
     for (const auto& shape : reader.GetShapes()) {
         for (const auto& idx : shape.mesh.indices) {
@@ -199,6 +215,11 @@ TriangleMesh load_obj(const std::string& path) {
                     if (ti >= 0) {
                         const float* t = &attrib.texcoords[2 * std::size_t(ti)];
                         m.uvs.emplace_back(t[0], t[1]);
+                    }
+                    if (colors) {
+                        // sRGB-encoded, as Blender's OBJ exporter writes them (mesh.h).
+                        const float* c = &attrib.colors[3 * std::size_t(idx.vertex_index)];
+                        m.colors.push_back(srgb_color(c[0], c[1], c[2], 1.f));
                     }
                 }
                 m.indices.push_back(it->second);
@@ -428,6 +449,7 @@ TriangleMesh parse_ply(std::string_view data) {
         }
         if (e.name == "vertex") {
             int ix = -1, iy = -1, iz = -1, inx = -1, iny = -1, inz = -1, iu = -1, iv = -1;
+            int ir = -1, ig = -1, ib = -1, ia = -1;
             for (std::size_t k = 0; k < e.props.size(); ++k) {
                 const std::string& n = e.props[k].name;
                 int* slot = n == "x"                                     ? &ix
@@ -438,6 +460,10 @@ TriangleMesh parse_ply(std::string_view data) {
                             : n == "nz"                                  ? &inz
                             : (n == "u" || n == "s" || n == "texture_u") ? &iu
                             : (n == "v" || n == "t" || n == "texture_v") ? &iv
+                            : (n == "red" || n == "r")                   ? &ir
+                            : (n == "green" || n == "g")                 ? &ig
+                            : (n == "blue" || n == "b")                  ? &ib
+                            : (n == "alpha" || n == "a")                 ? &ia
                                                                          : nullptr;
                 if (slot && !e.props[k].is_list) *slot = int(k);
             }
@@ -447,6 +473,28 @@ TriangleMesh parse_ply(std::string_view data) {
             if (normals) m.normals.reserve(e.count);
             const bool uvs = iu >= 0 && iv >= 0;
             if (uvs) m.uvs.reserve(e.count);
+            const bool colors = ir >= 0 && ig >= 0 && ib >= 0;
+            if (colors) m.colors.reserve(e.count);
+            // Integer colour channels are bytes (or shorts) of an sRGB-encoded colour, divided
+            // by the type's largest value; float channels are linear (mesh.h).
+            auto channel_max = [&](int k) {
+                switch (e.props[std::size_t(k)].type) {
+                    case PlyType::UInt8:
+                        return 255.0;
+                    case PlyType::UInt16:
+                        return 65535.0;
+                    case PlyType::Float32:
+                    case PlyType::Float64:
+                        return 0.0;
+                    default:
+                        ply_fail("vertex colour property '" + e.props[std::size_t(k)].name +
+                                 "' must be uchar, ushort, float or double");
+                }
+            };
+            const double cmax = colors ? channel_max(ir) : 0.0;
+            if (colors && (channel_max(ig) != cmax || channel_max(ib) != cmax ||
+                           (ia >= 0 && channel_max(ia) != cmax)))
+                ply_fail("the vertex colour properties must share one type");
             std::vector<double> vals(e.props.size());
             for (std::size_t i = 0; i < e.count; ++i) {
                 for (std::size_t k = 0; k < e.props.size(); ++k) {
@@ -468,6 +516,13 @@ TriangleMesh parse_ply(std::string_view data) {
                                                                         : Vec3(0.f, 0.f, 1.f));
                 }
                 if (uvs) m.uvs.emplace_back(float(vals[iu]), float(vals[iv]));
+                if (colors) {
+                    const double a = ia >= 0 ? vals[ia] : (cmax > 0.0 ? cmax : 1.0);
+                    m.colors.push_back(cmax > 0.0 ? srgb_color(vals[ir] / cmax, vals[ig] / cmax,
+                                                               vals[ib] / cmax, a / cmax)
+                                                  : glm::vec4(float(vals[ir]), float(vals[ig]),
+                                                              float(vals[ib]), float(a)));
+                }
             }
             have_vertices = true;
         } else if (e.name == "face") {
@@ -566,6 +621,15 @@ std::string validate_mesh(const TriangleMesh& m) {
         if (!std::isfinite(t.x) || !std::isfinite(t.y) || !std::isfinite(t.z) ||
             !std::isfinite(t.w))
             return "tangent " + std::to_string(i) + " is not finite";
+    }
+    if (!m.colors.empty() && m.colors.size() != m.positions.size()) {
+        return "colors must be given once per position (" + std::to_string(m.positions.size()) +
+               "), got " + std::to_string(m.colors.size());
+    }
+    for (std::size_t i = 0; i < m.colors.size(); ++i) {
+        for (int c = 0; c < 4; ++c)
+            if (!(m.colors[i][c] >= 0.f && m.colors[i][c] <= 1.f))
+                return "colour " + std::to_string(i) + " has a channel outside [0, 1]";
     }
     for (std::size_t i = 0; i < m.positions.size(); ++i) {
         if (!is_finite(m.positions[i])) return "position " + std::to_string(i) + " is not finite";

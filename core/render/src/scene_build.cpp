@@ -28,21 +28,22 @@ using detail::escape_pointer_token;
 
 MeshData MeshData::copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
                            std::vector<float> normals, std::vector<float> uvs,
-                           std::vector<float> tangents) {
+                           std::vector<float> tangents, std::vector<float> colors) {
     struct Arrays {
         std::vector<float> p;
         std::vector<std::uint32_t> i;
-        std::vector<float> n, uv, t;
+        std::vector<float> n, uv, t, c;
     };
-    auto a =
-        std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
-                                        std::move(normals), std::move(uvs), std::move(tangents)});
+    auto a = std::make_shared<Arrays>(Arrays{std::move(positions), std::move(indices),
+                                             std::move(normals), std::move(uvs),
+                                             std::move(tangents), std::move(colors)});
     MeshData m;
     m.positions = a->p;
     m.indices = a->i;
     m.normals = a->n;
     m.uvs = a->uv;
     m.tangents = a->t;
+    m.colors = a->c;
     m.owner = a;
     return m;
 }
@@ -53,7 +54,7 @@ bool MeshData::operator==(const MeshData& o) const {
                (a.empty() || std::memcmp(a.data(), b.data(), a.size_bytes()) == 0);
     };
     return same(positions, o.positions) && same(indices, o.indices) && same(normals, o.normals) &&
-           same(uvs, o.uvs) && same(tangents, o.tangents);
+           same(uvs, o.uvs) && same(tangents, o.tangents) && same(colors, o.colors);
 }
 
 bool SceneDescription::operator==(const SceneDescription& o) const {
@@ -279,6 +280,10 @@ class Builder final : public BuildChecks {
         if (auto it = m.textures.find("opacity"); it != m.textures.end()) {
             const std::string op = ptr + "/opacity";
             const TextureDesc& td = it->second;
+            if (td.vertex_color || td.times_vertex_color)
+                fail(op,
+                     "a vertex colour cannot be an opacity (cut-outs are decided during "
+                     "traversal, before the hit's colour is known)");
             TexelImageOptions linear;
             linear.color_space = ColorSpace::Linear;
             if (!td.checker && td.channel == "a" && !td.file.empty() &&
@@ -435,6 +440,24 @@ class Builder final : public BuildChecks {
         if (!color && (d.color_scale.r != d.color_scale.g || d.color_scale.r != d.color_scale.b))
             fail(ptr + "/scale", "a number parameter needs a number (or grey) scale");
         auto& textures = m_builder.textures();
+        if (d.vertex_color) {
+            // The hit's vertex colour (texture.h): no image, no UVs; `channel` as for images.
+            int channel = Texture::kAllChannels;
+            if (!d.channel.empty()) {
+                const std::vector<std::string> allowed = {"r", "g", "b", "a", "luminance"};
+                const auto it = std::find(allowed.begin(), allowed.end(), d.channel);
+                if (it == allowed.end())
+                    fail(ptr + "/channel",
+                         "unknown value '" + d.channel + "' (expected one of r g b a luminance)");
+                channel = int(it - allowed.begin());
+            } else if (!color) {
+                fail(ptr + "/channel",
+                     "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
+                     "luminance) for the vertex colour");
+            }
+            textures.push_back(std::make_unique<Texture>(Texture::vertex_color(d, channel)));
+            return textures.back().get();
+        }
         if (d.checker) {
             const std::string cp = ptr + "/checker";
             for (int i = 0; i < 2; ++i)
@@ -617,6 +640,14 @@ class Builder final : public BuildChecks {
                 fail(p, "only colour and number parameters can be textures");
             const bool color = pi->type == ParamType::Color;
             tm.slots.push_back({key, build_texture(td, p, color, false), color});
+            tm.uses_uv = tm.uses_uv || tm.slots.back().texture->uses_uv();
+            tm.uses_color = tm.uses_color || tm.slots.back().texture->uses_vertex_color();
+        }
+        for (const BuiltMaterial& c : children) {
+            if (c.textured < 0) continue;
+            const TexturedMaterial& ct = m_builder.textured()[std::size_t(c.textured)];
+            tm.uses_uv = tm.uses_uv || ct.uses_uv;
+            tm.uses_color = tm.uses_color || ct.uses_color;
         }
         // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
         // The model's own parameters are checked per value (both ends); a conversion mixes its
@@ -659,6 +690,14 @@ class Builder final : public BuildChecks {
         stage(tm, *m_builder.materials().back(), conversion);
         for (const auto& s : tm.slots)
             tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
+        for (const auto* map : {m.normal_map ? &m.normal_map->texture : nullptr,
+                                m.bump ? &m.bump->texture : nullptr}) {
+            if (map && (map->vertex_color || map->times_vertex_color))
+                fail(ptr + (map == &m.bump->texture ? "/bump" : "/normal_map"),
+                     "a vertex colour cannot be a normal or bump map (they need texture "
+                     "coordinates)");
+        }
+        tm.uses_uv = tm.uses_uv || normal_map || bump;
         if (normal_map) {
             // Read linearly unless the scene says otherwise (the texture's colour space key).
             TextureDesc td = m.normal_map->texture;
@@ -774,9 +813,17 @@ class Builder final : public BuildChecks {
             named_material(name, "/materials/" + escape_pointer_token(name));
     }
 
-    // Whether hits on a surface compute uv: its material, emission or opacity is textured.
-    static bool needs_uv(const ShapeSurface& s) {
-        return s.textured >= 0 || s.emission_texture != nullptr || s.opacity.texture != nullptr;
+    // Whether hits on a surface compute uv: its material, emission or opacity reads a texture
+    // over UVs (an image or checker; not a vertex colour alone).
+    bool needs_uv(const ShapeSurface& s) {
+        return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_uv) ||
+               (s.emission_texture && s.emission_texture->uses_uv()) ||
+               s.opacity.texture != nullptr;
+    }
+    // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
+    bool needs_color(const ShapeSurface& s) {
+        return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
+               (s.emission_texture && s.emission_texture->uses_vertex_color());
     }
 
     const Material* black_material() {
@@ -822,7 +869,6 @@ class Builder final : public BuildChecks {
                 build_texture(*s.emission_texture, ptr + "/emission", true, true);
             // The largest value makes the shape an emitter and sets its light's power (light.h).
             info.emission = info.emission_texture->max_value();
-            info.needs_uv = true;
         }
         const bool emissive = max_component(info.emission) > 0.f;
         if (s.material) {
@@ -852,7 +898,8 @@ class Builder final : public BuildChecks {
             fail(ptr, "missing required key 'material' (only emissive shapes may omit it)");
         }
 
-        info.needs_uv = info.needs_uv || needs_uv(info);
+        info.needs_uv = needs_uv(info);
+        info.needs_color = needs_color(info);
         // Light sampling would count a cut-out emitter's light in full where rays see it with
         // probability alpha: not supported rather than biased.
         if (emissive && info.opacity.active())
@@ -916,6 +963,7 @@ class Builder final : public BuildChecks {
 
         const AnalyticPrim& add_prim(AnalyticPrim::Kind k, const glm::dmat4& local) override {
             analytic_in_prototype();
+            if (m_info.needs_color) fail_no_colors(m_info.material_name, false);
             AnalyticPrim prim;
             prim.kind = k;
             prim.shape = index;
@@ -938,6 +986,7 @@ class Builder final : public BuildChecks {
 
         void add_plane(const glm::dvec3& point, const Vec3& n) override {
             analytic_in_prototype();
+            if (m_info.needs_color) fail_no_colors(m_info.material_name, false);
             const glm::dmat3 lin(xf);
             PlaneGeom pl;
             pl.shape = index;
@@ -980,6 +1029,10 @@ class Builder final : public BuildChecks {
         const Texture* add_texture(const TextureDesc& t, const std::string& p, bool color,
                                    bool radiance) override {
             return m_b.build_texture(t, p, color, radiance);
+        }
+
+        bool textured_uses_uv(std::int32_t textured) const override {
+            return m_b.m_builder.textured()[std::size_t(textured)].uses_uv;
         }
 
         void add_part(TriangleMesh mesh, ShapeSurface surface) override {
@@ -1114,7 +1167,8 @@ class Builder final : public BuildChecks {
             g.shape = index;
             g.part = part;
             g.opacity = part < 0 ? m_info.opacity : m_info.parts[std::size_t(part)].opacity;
-            const bool uv = part < 0 ? m_info.needs_uv : needs_uv(m_info.parts[std::size_t(part)]);
+            const bool uv =
+                part < 0 ? m_info.needs_uv : m_b.needs_uv(m_info.parts[std::size_t(part)]);
             if (uv) {
                 if (sphere) {
                     g.spherical = true;
@@ -1135,6 +1189,15 @@ class Builder final : public BuildChecks {
                     }
                 }
             }
+            const ShapeSurface& surface = part < 0 ? m_info : m_info.parts[std::size_t(part)];
+            if (part < 0 ? m_info.needs_color : m_b.needs_color(surface)) {
+                if (mesh.colors.empty()) fail_no_colors(surface.material_name, true);
+                g.tri_colors.resize(mesh.num_triangles());
+                for (std::size_t t = 0; t < g.tri_colors.size(); ++t)
+                    for (std::size_t j = 0; j < 3; ++j)
+                        g.tri_colors[t][j] = mesh.colors[mesh.indices[3 * t + j]];
+            }
+            mesh.colors = {};
             if (m_info.needs_tangent && sphere) g.tangent_sign = handedness(xf * *sphere);
             if (m_info.needs_tangent && sphere) g.sphere_to_world = glm::dmat3(xf * *sphere);
             g.tri_tangents = std::move(tri_tangents);
@@ -1156,6 +1219,22 @@ class Builder final : public BuildChecks {
                 fail(ptr + "/type",
                      "a prototype holds triangle shapes only (box, quad, mesh, icosphere, grid, "
                      "gltf), not the analytic sphere, disc or plane");
+        }
+
+        // A material or emission reads vertex colours the shape does not have: a mesh
+        // without "colors" (`mesh`), or a kind that has none.
+        [[noreturn]] void fail_no_colors(const std::string& material, bool mesh) const {
+            const std::string what = "the material '" + material +
+                                     "' or the emission reads vertex colours "
+                                     "({\"vertex_color\": true}) but ";
+            if (!mesh)
+                fail(ptr + "/type", what + "a '" + std::string(shape_kind(shape.kind).name) +
+                                        "' has none (only meshes with \"colors\" do)");
+            fail(ptr + (shape.kind != ShapeKind::Mesh ? "/type"
+                        : shape.file.empty()          ? "/colors"
+                                                      : "/file"),
+                 what + "the mesh has no colours" +
+                     (shape.kind == ShapeKind::Mesh ? " (give \"colors\")" : ""));
         }
 
         // The bitangent sign factor of a placement: -1 when it mirrors (cross(n, t) then

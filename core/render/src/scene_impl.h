@@ -43,6 +43,9 @@ struct MeshGeom {
     // With tri_uvs: per triangle dp/du and dp/dv (SurfaceHit::dpdu_uv, dpdv_uv).
     std::vector<std::array<Vec3, 2>> tri_dpduv;
     bool spherical = false;
+    // Vertex colours, only for surfaces that read them (ShapeInfo::needs_color): per triangle
+    // its corners' linear RGBA (hit colour = (1 - u - v) c0 + u c1 + v c2).
+    std::vector<std::array<glm::vec4, 3>> tri_colors;
     Opacity opacity;  // active: cut-outs decided per candidate hit (an Embree filter function)
     glm::dmat4 to_object{1.0};
     // The UV map's tangents, only for shapes that need them (ShapeInfo::needs_tangent): per

@@ -24,6 +24,10 @@ namespace {
 using json = nlohmann::json;
 using detail::escape_pointer_token;
 
+// The keys of a mesh kind's MeshArrays field (ShapeDesc::mesh).
+constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  "normals",
+                                                       "uvs",       "tangents", "colors"};
+
 std::string type_name(const json& v) {
     switch (v.type()) {
         case json::value_t::null:
@@ -382,7 +386,17 @@ class Reader {
             if (!v.is_array() || v.size() != 2) fail(p, "expected [x, y], got " + type_name(v));
             return Vec2(float(get_number(v[0], p + "/0")), float(get_number(v[1], p + "/1")));
         };
-        if (t.contains("checker")) {
+        if (t.contains("vertex_color")) {
+            // The mesh's vertex colour (texture.h): no image, no UV keys.
+            std::vector<const char*> keys = {"vertex_color", "channel", "scale"};
+            keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+            check_keys_v(t, ptr, keys);
+            if (!get_bool(t["vertex_color"], ptr + "/vertex_color"))
+                fail(ptr + "/vertex_color",
+                     "must be true (omit the key for an image or checker texture)");
+            d.vertex_color = true;
+            if (t.contains("channel")) d.channel = get_string(t["channel"], ptr + "/channel");
+        } else if (t.contains("checker")) {
             std::vector<const char*> keys = {"checker", "uv_scale", "uv_offset", "uv_rotation",
                                              "scale"};
             keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
@@ -482,7 +496,8 @@ class Reader {
             } else {
                 fail(p,
                      "expected a number, a colour [r, g, b], a string, a boolean or a texture "
-                     "{\"texture\": ...} / {\"checker\": ...}, got " +
+                     "{\"texture\": ...} / {\"checker\": ...} / {\"vertex_color\": true}, "
+                     "got " +
                          type_name(v));
             }
         }
@@ -620,7 +635,7 @@ class Reader {
     static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
         for (const auto& f : k.fields) {
             if (f.type == FieldType::MeshArrays) {
-                keys.insert(keys.end(), {"positions", "indices", "normals", "uvs", "tangents"});
+                keys.insert(keys.end(), kMeshArrayKeys.begin(), kMeshArrayKeys.end());
             } else {
                 keys.push_back(f.key.data());
             }
@@ -682,7 +697,7 @@ class Reader {
     // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
     void read_mesh(const json& s, const std::string& ptr, MeshData& out) const {
         if (s.contains("file")) {
-            for (const char* k : {"positions", "indices", "normals", "uvs", "tangents"}) {
+            for (const char* k : kMeshArrayKeys) {
                 if (s.contains(k)) {
                     fail(ptr + "/" + k, "cannot be combined with \"file\" (give one or the other)");
                 }
@@ -739,8 +754,24 @@ class Reader {
             for (std::size_t i = 0; i < a.size(); ++i)
                 tangents[i] = float(get_number(a[i], ptr + "/tangents/" + std::to_string(i)));
         }
+        std::vector<float> colors;
+        if (s.contains("colors")) {
+            const json& a = s["colors"];
+            const std::size_t n = positions.size() / 3;
+            if (!a.is_array() || (a.size() != 3 * n && a.size() != 4 * n)) {
+                fail(ptr + "/colors",
+                     "expected a flat array of 3 (r, g, b) or 4 (r, g, b, a) numbers per position "
+                     "(" +
+                         std::to_string(3 * n) + " or " + std::to_string(4 * n) +
+                         " numbers), got " +
+                         (a.is_array() ? std::to_string(a.size()) : type_name(a)));
+            }
+            colors.resize(a.size());
+            for (std::size_t i = 0; i < a.size(); ++i)
+                colors[i] = float(get_number(a[i], ptr + "/colors/" + std::to_string(i)));
+        }
         out = MeshData::copy_of(std::move(positions), std::move(indices), std::move(normals),
-                                std::move(uvs), std::move(tangents));
+                                std::move(uvs), std::move(tangents), std::move(colors));
     }
 
     LightDesc read_light(const json& l, const std::string& ptr) const {
@@ -800,7 +831,12 @@ json texture_json(const TextureDesc& d, bool hashed) {
             std::to_string(fnv1a(d.image->texels.data(), d.image->texels.size() * sizeof(float),
                                  1469598103934665603ull));
     }
-    if (d.checker) {
+    if (d.times_vertex_color)
+        throw SceneError(d.file + ": an importer's vertex-tinted texture cannot be written");
+    if (d.vertex_color) {
+        j["vertex_color"] = true;
+        if (!d.channel.empty()) j["channel"] = d.channel;
+    } else if (d.checker) {
         j["checker"] = {{"colors", json::array({vec_json(d.colors[0]), vec_json(d.colors[1])})},
                         {"scale", d.checker_scale}};
     } else {
@@ -921,6 +957,7 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                     if (!v.normals.empty()) j["normals"] = array_json(v.normals, hashed);
                     if (!v.uvs.empty()) j["uvs"] = array_json(v.uvs, hashed);
                     if (!v.tangents.empty()) j["tangents"] = array_json(v.tangents, hashed);
+                    if (!v.colors.empty()) j["colors"] = array_json(v.colors, hashed);
                 }
             } else {
                 j[key] = v;

@@ -51,6 +51,7 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
     if (filter == TextureFilter::Mipmap && !t.m_mips) filter = TextureFilter::Linear;
     t.m_filter = filter;
     t.m_wrap = wrap;
+    if (d.times_vertex_color) t.m_vertex = Vertex::Tint;
     t.m_channel = channel;
     t.m_scale = float(d.scale) * d.color_scale;
     set_transform(d, t.m_a, t.m_b);
@@ -72,6 +73,7 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
             extend(im.texels.data() +
                    std::size_t(y) * std::size_t(im.width) * std::size_t(im.channels));
     }
+    if (t.m_vertex == Vertex::Tint) t.m_min = Rgb(0.f);  // a vertex colour may be black
     return t;
 }
 
@@ -83,7 +85,27 @@ Texture Texture::checker(const TextureDesc& d) {
     set_transform(d, t.m_a, t.m_b);
     t.m_min = glm::min(t.m_colors[0], t.m_colors[1]);
     t.m_max = glm::max(t.m_colors[0], t.m_colors[1]);
+    if (d.times_vertex_color) t.m_vertex = Vertex::Tint, t.m_min = Rgb(0.f);
     return t;
+}
+
+Texture Texture::vertex_color(const TextureDesc& d, int channel) {
+    Texture t;
+    t.m_vertex = Vertex::Value;
+    t.m_channel = channel;
+    t.m_scale = float(d.scale) * d.color_scale;
+    t.m_min = Rgb(0.f);
+    t.m_max = channel == kAllChannels ? t.m_scale : Rgb(t.m_scale.r);
+    return t;
+}
+
+Rgb Texture::vertex_eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const {
+    if (m_vertex == Vertex::Tint) return eval(uv, fp) * Rgb(color);
+    const Rgb rgb(color);
+    const float v = m_channel == kAllChannels ? 0.f
+                    : m_channel == kLuminance ? luminance(rgb)
+                                              : color[m_channel];
+    return (m_channel == kAllChannels ? rgb : Rgb(v)) * m_scale;
 }
 
 Vec2 Texture::transform(Vec2 uv) const {
@@ -240,18 +262,19 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
-    return textured_material(std::size_t(hit.textured), hit.uv, fp);
+    return textured_material(std::size_t(hit.textured), hit.uv, fp, hit.color);
 }
 
-Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const {
+Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp,
+                                  const glm::vec4& color) const {
     const TexturedMaterial& tm = m_textured[index];
     if (tm.diffuse_base) {
         // A textured diffuse reflectance alone: the base material with its diffuse lobe
         // replaced, the same bits as make_material gives. Composite leaves out a zero diffuse
         // lobe, so a black value takes the general path below.
         const TexturedMaterial::Slot& s = tm.slots[0];
-        const Rgb v =
-            glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
+        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
+                                 s.texture->max_value());
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
@@ -262,30 +285,31 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
         for (std::size_t i = 0; i < tm.slots.size(); ++i) {
             const TexturedMaterial::Slot& s = tm.slots[i];
             const Rgb v =
-                glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
+                glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(), s.texture->max_value());
             (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
                 s.color ? DVec3(v) : DVec3(double(v.r));
         }
         if (tm.convert_values) tm.convert_values(in.data(), out.data());
         return tm.staged->at(std::span(out.data(), tm.num_staged));
     }
-    return textured_material_rebuilt(index, uv, fp);
+    return textured_material_rebuilt(index, uv, fp, color);
 }
 
-Material Scene::textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp) const {
+Material Scene::textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
+                                           const glm::vec4& color) const {
     const TexturedMaterial& tm = m_textured[index];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
-        const Rgb v =
-            glm::clamp(s.texture->eval(uv, fp), s.texture->min_value(), s.texture->max_value());
+        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
+                                 s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
     // A combination's textured children are built at the same uv (one allocation each).
     std::array<std::shared_ptr<const Material>, 2> children;
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
-                                            textured_material(std::size_t(c.textured), uv, fp))
+        children[k] = c.textured >= 0 ? std::make_shared<const Material>(textured_material(
+                                            std::size_t(c.textured), uv, fp, color))
                                       : c.constant;
     }
     try {

@@ -485,9 +485,16 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     // Textured parameters are not exported: povray-facet's brdf block takes constants, and
     // POV-Ray's image_map (its UV mapping per object, its interpolation, its sRGB handling)
     // matches Facet's texture exactly for no parameter yet. An error, never a silent constant.
+    // Vertex colours likewise: a mesh2 texture_list blends whole textures per vertex, which
+    // the povray-facet brdf finish (one constant block per texture) does not interpolate.
     if (!m.textures.empty()) {
-        fail(pointer + "/" + detail::escape_pointer_token(m.textures.begin()->first),
-             "a texture cannot be exported to POV-Ray exactly (only constant parameters are)");
+        const auto& [key, td] = *m.textures.begin();
+        fail(pointer + "/" + detail::escape_pointer_token(key),
+             td.vertex_color
+                 ? "a vertex colour cannot be exported to POV-Ray exactly (a mesh2 texture_list "
+                   "would blend whole textures per vertex; povray-facet's brdf takes constants)"
+                 : "a texture cannot be exported to POV-Ray exactly (only constant parameters "
+                   "are)");
     }
     // mix: POV-Ray's `average` texture_map shades each texture and averages the results with
     // the weights [1 - w, w] (their sum is 1, so POV-Ray's normalisation changes nothing):

@@ -687,6 +687,7 @@ class Importer {
         const unsigned char* data = nullptr;
         std::size_t stride = 0, count = 0;
         int component = 0;
+        int type = 0;  // TINYGLTF_TYPE_*
     };
 
     Elements accessor(int index, const std::string& user, std::initializer_list<int> types,
@@ -735,6 +736,7 @@ class Importer {
         e.count = a.count;
         e.stride = stride;
         e.component = a.componentType;
+        e.type = a.type;
         if (a.count == 0) return e;
         // byteOffset + stride (count - 1) + elem <= byteLength, without overflow.
         if (a.byteOffset > v.byteLength || elem > v.byteLength - a.byteOffset ||
@@ -788,6 +790,41 @@ class Importer {
             if (!std::isfinite(uv.x) || !std::isfinite(uv.y))
                 fail(ap, "texture coordinate " + idx(i) + " is not finite (used by " + user + ")");
             out[i] = Vec2(uv.x, 1.f - uv.y);
+        }
+        return out;
+    }
+
+    // COLOR_0 (glTF 3.7.2.1: VEC3 or VEC4, float or normalised unsigned byte / short; linear
+    // RGB(A), alpha 1 for VEC3). Float channels outside [0, 1] are errors.
+    std::vector<glm::vec4> colors(int index, const std::string& user, std::size_t nvert) const {
+        const Elements e =
+            accessor(index, user, {TINYGLTF_TYPE_VEC3, TINYGLTF_TYPE_VEC4},
+                     {TINYGLTF_COMPONENT_TYPE_FLOAT, TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE,
+                      TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT});
+        const std::string ap = "/accessors/" + std::to_string(index);
+        if (e.count != nvert)
+            fail(ap,
+                 idx(e.count) + " colours for " + idx(nvert) + " positions (used by " + user + ")");
+        const std::size_t nc = e.type == TINYGLTF_TYPE_VEC4 ? 4 : 3;
+        std::vector<glm::vec4> out(e.count, glm::vec4(1.f));
+        for (std::size_t i = 0; i < e.count; ++i) {
+            const unsigned char* p = e.data + i * e.stride;
+            for (std::size_t c = 0; c < nc; ++c) {
+                float v;
+                if (e.component == TINYGLTF_COMPONENT_TYPE_FLOAT) {
+                    std::memcpy(&v, p + 4 * c, 4);
+                } else if (e.component == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+                    v = float(p[c]) / 255.f;
+                } else {
+                    std::uint16_t u;
+                    std::memcpy(&u, p + 2 * c, 2);
+                    v = float(u) / 65535.f;
+                }
+                if (!(v >= 0.f && v <= 1.f))
+                    fail(ap, "colour " + idx(i) + " has a channel outside [0, 1] (used by " + user +
+                                 ")");
+                out[i][int(c)] = v;
+            }
         }
         return out;
     }
@@ -934,13 +971,13 @@ class Importer {
             }
             for (const auto& [name, _] : pr.attributes) {
                 if (name == "POSITION" || name == "NORMAL" || name == "TEXCOORD_0" ||
-                    name == "TANGENT")
+                    name == "TANGENT" || name == "COLOR_0")
                     continue;
                 const std::string key = name.rfind("TEXCOORD_", 0) == 0 ? "uv"
                                         : name.rfind("COLOR_", 0) == 0  ? "color"
                                                                         : name;
                 const char* what = key == "uv"      ? "only TEXCOORD_0 is imported"
-                                   : key == "color" ? "vertex colours are not imported"
+                                   : key == "color" ? "only COLOR_0 is imported"
                                                     : "this attribute is not imported";
                 report("attr:" + key, pp + "/attributes/" + name, what);
             }
@@ -958,6 +995,8 @@ class Importer {
             }
             if (auto t = pr.attributes.find("TEXCOORD_0"); t != pr.attributes.end())
                 m.uvs = texcoords(t->second, pp + "/attributes/TEXCOORD_0", nvert);
+            if (auto c = pr.attributes.find("COLOR_0"); c != pr.attributes.end())
+                m.colors = colors(c->second, pp + "/attributes/COLOR_0", nvert);
             if (auto t = pr.attributes.find("TANGENT"); t != pr.attributes.end()) {
                 m.tangents = tangents(t->second, pp + "/attributes/TANGENT");
                 if (m.tangents.size() != nvert) {
@@ -1071,6 +1110,25 @@ bool replaces_materials(const ShapeDesc& s) {
     return s.material || !s.material_ref.empty();
 }
 
+// The base colour times the vertex colour: its texture tinted per hit, or a constant factor as
+// the scale of a vertex-colour texture.
+MaterialDesc gltf_vertex_colored(const MaterialDesc& desc) {
+    MaterialDesc d = desc;
+    if (auto t = d.textures.find("base_color"); t != d.textures.end()) {
+        t->second.times_vertex_color = true;
+    } else {
+        TextureDesc v;
+        v.vertex_color = true;
+        v.color_scale = std::get<Rgb>(d.params.values().at("base_color"));
+        ParamSet rest;
+        for (const auto& [key, value] : d.params.values())
+            if (key != "base_color") rest.set(key, value);
+        d.params = std::move(rest);
+        d.textures["base_color"] = v;
+    }
+    return d;
+}
+
 void build(ShapeBuild& b) {
     const ShapeDesc& s = b.shape;
     const std::string fp = b.ptr + "/file";
@@ -1110,21 +1168,34 @@ void build(ShapeBuild& b) {
                "a gltf shape emits what its file's materials emit (emissiveFactor); give the "
                "shape a \"material\" to replace the file's materials and emit this instead");
     }
-    std::vector<std::optional<ShapeSurface>> built(g.materials.size());
+    // Per material, built without and with COLOR_0 (glTF 3.9.2: a primitive's vertex colour
+    // multiplies its base colour, factor and texture alike).
+    std::vector<std::array<std::optional<ShapeSurface>, 2>> built(g.materials.size());
     std::vector<std::uint32_t> prototypes;
     for (int i = 0; i < g.num_prototypes; ++i) prototypes.push_back(b.add_local_prototype());
     for (GltfPart& p : g.parts) {
         const GltfMaterial& gm = g.materials[std::size_t(p.material)];
-        std::optional<ShapeSurface>& mat = built[std::size_t(p.material)];
+        const bool colored = !p.mesh.colors.empty();
+        std::optional<ShapeSurface>& mat = built[std::size_t(p.material)][colored ? 1 : 0];
         if (!mat) {
-            mat = b.add_material(gm.desc, fp, &kGltfConversion);
+            mat = b.add_material(colored ? gltf_vertex_colored(gm.desc) : gm.desc, fp,
+                                 &kGltfConversion);
             if (gm.emission_texture)
                 mat->emission_texture = b.add_texture(*gm.emission_texture, fp, true, true);
         }
+        if (colored && mat->opacity.active() &&
+            std::any_of(p.mesh.colors.begin(), p.mesh.colors.end(),
+                        [](const glm::vec4& c) { return c.a != 1.f; }))
+            b.warn(s.file + "#" + p.pointer +
+                   "/attributes/COLOR_0: the vertex colours' alpha does not multiply the "
+                   "material's opacity (" +
+                   gm.pointer + " alphaMode); their RGB does multiply the base colour");
         ShapeSurface su = *mat;
         su.material_name = s.file + "#" + gm.pointer;
         su.emission = gm.emission;
-        if ((su.textured >= 0 || su.emission_texture || su.opacity.texture) && p.mesh.uvs.empty())
+        const bool uv_textured = (su.textured >= 0 && b.textured_uses_uv(su.textured)) ||
+                                 su.emission_texture || su.opacity.texture;
+        if (uv_textured && p.mesh.uvs.empty())
             b.fail(fp, std::filesystem::path(s.file).filename().string() + "#" + p.pointer +
                            "/attributes: the primitive's material " + gm.pointer +
                            " has textures but the primitive has no TEXCOORD_0");

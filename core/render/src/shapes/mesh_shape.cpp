@@ -32,6 +32,14 @@ TriangleMesh triangles(const ShapeDesc& s, const std::string& base_dir) {
         m.tangents.resize(n);
         std::memcpy(m.tangents.data(), md.tangents.data(), n * sizeof(glm::vec4));
     }
+    if (n > 0 && (md.colors.size() == 3 * n || md.colors.size() == 4 * n)) {
+        // RGB gets alpha 1 (mesh.h).
+        const std::size_t k = md.colors.size() / n;
+        m.colors.resize(n);
+        for (std::size_t i = 0; i < n; ++i)
+            m.colors[i] = glm::vec4(md.colors[k * i], md.colors[k * i + 1], md.colors[k * i + 2],
+                                    k == 4 ? md.colors[k * i + 3] : 1.f);
+    }
     return m;
 }
 
@@ -41,7 +49,7 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
     const MeshData& md = s.mesh;
     if (!s.file.empty()) {
         if (!md.positions.empty() || !md.indices.empty() || !md.normals.empty() ||
-            !md.uvs.empty() || !md.tangents.empty()) {
+            !md.uvs.empty() || !md.tangents.empty() || !md.colors.empty()) {
             b.fail(ptr + "/file", "cannot be combined with mesh arrays (give one or the other)");
         }
         if (!b.files_allowed()) b.fail(ptr + "/file", "mesh files are disabled here");
@@ -92,6 +100,16 @@ TriangleMesh checked_mesh(ShapeBuild& b) {
         if (!std::isfinite(md.tangents[i]))
             b.fail(ptr + "/tangents/" + std::to_string(i), "must be a finite number");
     }
+    if (!md.colors.empty() && md.colors.size() != 3 * n && md.colors.size() != 4 * n) {
+        b.fail(ptr + "/colors", "expected 3 (r, g, b) or 4 (r, g, b, a) numbers per position (" +
+                                    std::to_string(3 * n) + " or " + std::to_string(4 * n) +
+                                    " numbers), got " + std::to_string(md.colors.size()));
+    }
+    for (std::size_t i = 0; i < md.colors.size(); ++i) {
+        if (!(md.colors[i] >= 0.f && md.colors[i] <= 1.f))
+            b.fail(ptr + "/colors/" + std::to_string(i),
+                   "must be a finite number in [0, 1] (a linear colour channel)");
+    }
     for (std::size_t i = 0; i < m.tangents.size(); ++i) {
         if (!(glm::length(Vec3(m.tangents[i])) > 0.f))
             b.fail(ptr + "/tangents/" + std::to_string(4 * i),
@@ -123,16 +141,19 @@ extern const ShapeKindDef kMeshKind{
     "mesh",
     "triangle mesh from flat arrays (`positions`, `indices`, optional `normals`, optional "
     "`uvs`) or from a `file`: `.obj` (tinyobjloader; polygons triangulated, vertex normals and "
-    "texture coordinates `vt` kept when every corner has one) or `.ply` (ascii or "
-    "binary_little_endian; vertex x y z [nx ny nz] [u v | s t | texture_u texture_v], face "
-    "vertex_indices lists, fan-triangulated)",
+    "texture coordinates `vt` kept when every corner has one, vertex colours `v x y z r g b` "
+    "when every vertex has one, read as sRGB) or `.ply` (ascii or binary_little_endian; vertex "
+    "x y z [nx ny nz] [u v | s t | texture_u texture_v] [red green blue [alpha]: uchar/ushort "
+    "sRGB-encoded, float linear], face vertex_indices lists, fan-triangulated)",
     {{"positions", FieldType::MeshArrays, false, &ShapeDesc::mesh, "-",
       "flat arrays: `positions` [x0, y0, z0, x1, ...], `indices` (3 per triangle), optional "
       "`normals` (one per position: smooth shading), optional `uvs` [u0, v0, u1, ...] (one pair "
       "per position; needed when the material or emission is textured), optional `tangents` "
       "[x0, y0, z0, w0, x1, ...] (4 per position: the tangent along increasing u and the "
       "bitangent sign w, bitangent = w normal x tangent, glTF's TANGENT; computed as MikkTSpace "
-      "does when a normal map or bump needs them and none are given)"},
+      "does when a normal map or bump needs them and none are given), optional `colors` "
+      "[r0, g0, b0, r1, ...] or [r0, g0, b0, a0, r1, ...] (3 or 4 per position: linear vertex "
+      "colours, each in [0, 1], alpha 1 when 3; read by `{\"vertex_color\": true}` textures)"},
      {"file", FieldType::Path, false, &ShapeDesc::file, "-",
       "a mesh file (instead of the arrays), relative to the scene file"}},
     build,

@@ -8,6 +8,9 @@
 //    (scenes/FORMAT.md, "UV coordinates"); the generators below give each kind's documented UVs.
 //    `tangents` is empty or holds one per position: xyz the tangent (the direction of increasing
 //    u), w the bitangent sign, bitangent = w cross(normal, tangent) (glTF's TANGENT).
+//    `colors` is empty or holds one vertex colour per position: linear RGBA, each channel in
+//    [0, 1] (alpha 1 where the source has none); a hit interpolates them barycentrically
+//    (scenes/FORMAT.md, "Vertex colours").
 //  - Readers throw std::runtime_error with a message naming the line / element at fault (the
 //    scene loader prefixes the file and JSON path); they never crash on malformed input.
 #pragma once
@@ -29,6 +32,7 @@ struct TriangleMesh {
     std::vector<Vec3> normals;           // empty, or one per position
     std::vector<Vec2> uvs;               // empty, or one per position
     std::vector<glm::vec4> tangents;     // empty, or one per position (xyz, bitangent sign)
+    std::vector<glm::vec4> colors;       // empty, or one per position (linear RGBA in [0, 1])
     std::vector<std::uint32_t> indices;  // 3 per triangle
     std::size_t num_triangles() const { return indices.size() / 3; }
 };
@@ -49,12 +53,15 @@ TriangleMesh make_icosphere(int subdivisions, bool smooth);
 TriangleMesh make_grid(int nx, int ny, float amplitude, float frequency);
 
 // Wavefront OBJ (tinyobjloader; polygons are triangulated, vertex normals kept when every
-// corner has one, texture coordinates `vt` likewise).
+// corner has one, texture coordinates `vt` likewise; vertex colours from `v x y z r g b` lines,
+// taken as linear RGB as tinyobjloader reads them, when every vertex has them).
 TriangleMesh load_obj(const std::string& path);
 // PLY, ascii or binary_little_endian: element vertex with float/double x y z (optional nx ny
-// nz; optional u v, or s t, or texture_u texture_v), element face with a list of vertex indices
-// (polygons are fan-triangulated). Other elements and properties are skipped. Written here: Debian
-// ships no small PLY library.
+// nz; optional u v, or s t, or texture_u texture_v; optional red green blue [alpha]: uchar
+// values are sRGB-encoded bytes, decoded with the sRGB curve (as Blender's PLY importer reads
+// them), alpha linearly as a / 255; float values are linear), element face with a list of vertex
+// indices (polygons are fan-triangulated). Other elements and properties are skipped. Written here:
+// Debian ships no small PLY library.
 TriangleMesh load_ply(const std::string& path);
 TriangleMesh parse_ply(std::string_view data);
 
@@ -76,7 +83,8 @@ TriangleMesh parse_ply(std::string_view data);
 std::vector<glm::vec4> compute_tangents(const TriangleMesh& mesh);
 
 // "" when the mesh is usable, else a message: index out of range, non-finite position, wrong
-// normal, UV or tangent count, non-finite UV or tangent, no triangles.
+// normal, UV, tangent or colour count, non-finite UV or tangent, a colour channel outside
+// [0, 1] (or NaN), no triangles.
 std::string validate_mesh(const TriangleMesh& mesh);
 
 }  // namespace facet::render

@@ -29,6 +29,9 @@
 //    the uvs are degenerate: no filtering); sphere and icosphere, the longitude/latitude map's
 //    derivatives 2 pi (-y, x, 0) and pi (-z x / rho, -z y / rho, rho) in object space
 //    (rho = sqrt(x^2 + y^2)); disc, 2 x and 2 y of its object frame; plane, its unit uv axes.
+//  - `color` is the hit's vertex colour (linear RGBA, barycentric over the triangle's corners:
+//    mesh.h) only on shapes whose material or emission reads one (ShapeInfo::needs_color);
+//    elsewhere it is (1, 1, 1, 1) and not computed.
 //  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
 //    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
 //    is always one-sided: only the front side emits (light.h).
@@ -84,6 +87,7 @@ struct SurfaceHit {
     Vec2 uv{0.f};                        // texture coordinates (see conventions)
     std::int32_t textured = -1;          // index of the textured material, or -1
     Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};     // dp/du and dp/dv (with uv; see conventions)
+    glm::vec4 color{1.f};                // vertex colour (see conventions)
 };
 
 // The footprint in uv of pixel footprint fp at a hit with derivatives dpdu, dpdv: the least
@@ -165,6 +169,8 @@ struct ShapeInfo : ShapeSurface {
     // Hits compute the UV map's tangent frame (dpdu, tangent_sign): the material has a normal
     // map. Implies needs_uv.
     bool needs_tangent = false;
+    // Hits interpolate the mesh's vertex colours (SurfaceHit::color): a vertex_color texture.
+    bool needs_color = false;
 };
 
 // A material some of whose parameters are textures: the model and its constant parameters, and
@@ -227,6 +233,9 @@ struct TexturedMaterial {
         std::int32_t textured = -1;
     };
     std::vector<Child> children;
+    // Whether a slot (or a child's) reads the hit's uv / its vertex colour (Texture::uses_uv,
+    // uses_vertex_color; the normal and bump maps always read uv).
+    bool uses_uv = false, uses_color = false;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -384,8 +393,11 @@ class Scene {
     Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {}) const;
     // Textured material `index` at uv: as material_at (staged where built), or built from its
     // ParamSet by the registry (the reference the staged build is tested against).
-    Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
-    Material textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp) const;
+    // `color` is the hit's vertex colour (SurfaceHit::color), read by vertex_color textures.
+    Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp,
+                               const glm::vec4& color = glm::vec4(1.f)) const;
+    Material textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
+                                       const glm::vec4& color = glm::vec4(1.f)) const;
     // The texture footprint of a hit with uv: from the camera ray `camera_ray` that reached it
     // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
     // (Camera::footprint_at).

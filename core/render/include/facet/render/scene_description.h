@@ -105,11 +105,14 @@ struct MeshData {
     std::shared_ptr<const void> owner;  // keeps the arrays alive (may be null: see conventions)
     std::span<const float> uvs;         // after `owner`: MeshData{p, i, n, owner} still works
     std::span<const float> tangents;
+    // Vertex colours: 3 (linear RGB) or 4 (linear RGBA) floats per position, each in [0, 1]
+    // (scenes/FORMAT.md, "Vertex colours"); the count says which.
+    std::span<const float> colors = {};
 
     // A mesh that owns copies of (or takes) the given arrays.
     static MeshData copy_of(std::vector<float> positions, std::vector<std::uint32_t> indices,
                             std::vector<float> normals = {}, std::vector<float> uvs = {},
-                            std::vector<float> tangents = {});
+                            std::vector<float> tangents = {}, std::vector<float> colors = {});
     std::size_t num_vertices() const { return positions.size() / 3; }
     std::size_t num_triangles() const { return indices.size() / 3; }
     bool operator==(const MeshData& o) const;

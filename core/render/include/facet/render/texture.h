@@ -35,6 +35,12 @@
 //    arithmetic as whole ones: a texture's values do not depend on the memory bound.
 //  - Checker: cell (i, j) = (floor(n u'), floor(n v')), colour colors[(i + j) mod 2]; so the
 //    cell at the UV origin has colors[0].
+//  - Vertex colour ({"vertex_color": true}): the hit's vertex colour c = (1 - b1 - b2) c0 +
+//    b1 c1 + b2 c2 (linear RGBA, barycentric b1, b2; mesh.h), read as an image texel is: its
+//    RGB as a colour, or `channel` r, g, b, a or luminance as grey; times `scale`. No UVs, no
+//    filtering. Its range is [0, scale] per channel (mesh colours lie in [0, 1]).
+//  - Vertex tint (TextureDesc::times_vertex_color, an importer's: glTF's COLOR_0 times its
+//    base colour texture): an image or checker value multiplied per channel by c's RGB.
 #pragma once
 
 #include <array>
@@ -43,6 +49,8 @@
 #include <string>
 #include <vector>
 
+#include <glm/vec4.hpp>
+
 #include "facet/render/texel_image.h"
 #include "facet/types.h"
 
@@ -50,7 +58,11 @@ namespace facet::render {
 
 // A texture as the scene format writes it (plain data, validated by build_scene).
 struct TextureDesc {
-    bool checker = false;  // a procedural checker instead of an image
+    bool checker = false;       // a procedural checker instead of an image
+    bool vertex_color = false;  // the mesh's vertex colour instead of an image (`channel`, `scale`)
+    // An image or checker multiplied by the vertex colour (glTF's COLOR_0 times its base colour
+    // texture; an importer's, never read from or written to JSON).
+    bool times_vertex_color = false;
     // Image
     std::string file;  // relative to the scene file's directory (a name for `image`)
     // In-memory texels instead of a file (the Python module's numpy arrays, already decoded:
@@ -96,6 +108,8 @@ class Texture {
                          TextureWrap wrap, int channel, const TextureDesc& transform,
                          std::shared_ptr<const std::vector<TexelImage>> mips = nullptr);
     static Texture checker(const TextureDesc& desc);
+    // The vertex colour (conventions); `channel` as for images.
+    static Texture vertex_color(const TextureDesc& desc, int channel);
 
     // The value at uv (see conventions): a colour (grey for one channel). Without a footprint
     // the Mipmap filter reads level 0 (bilinear).
@@ -103,6 +117,17 @@ class Texture {
     // The value at uv filtered over the pixel footprint `fp` (Mipmap; the other filters and the
     // checker ignore fp).
     Rgb eval(Vec2 uv, const UvFootprint& fp) const;
+    // The value at a hit with uv, footprint fp and interpolated vertex colour `color` (linear
+    // RGBA; (1, 1, 1, 1) on surfaces without colours): the only evaluation that serves
+    // vertex-colour textures (the others read them as white).
+    Rgb eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const {
+        if (m_vertex == Vertex::None) [[likely]]
+            return eval(uv, fp);
+        return vertex_eval(uv, fp, color);
+    }
+    // Whether the value depends on the hit's uv (images, checkers) / its vertex colour.
+    bool uses_uv() const { return m_vertex != Vertex::Value; }
+    bool uses_vertex_color() const { return m_vertex != Vertex::None; }
     // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
     float mip_level(const UvFootprint& fp) const;
     TextureFilter filter() const { return m_filter; }
@@ -125,6 +150,8 @@ class Texture {
     template <class Levels>
     Rgb bilinear(const Levels& levels, int level, Vec2 t) const;
     Rgb eval_image(Vec2 uv, const UvFootprint* fp) const;
+    enum class Vertex : std::uint8_t { None, Value, Tint };
+    Rgb vertex_eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const;
     std::shared_ptr<const TexelImage> m_image;              // null for a checker
     std::shared_ptr<const std::vector<TexelImage>> m_mips;  // levels 1.. (Mipmap only)
     const PagedImage* m_paged = nullptr;                    // m_image->paged
@@ -138,6 +165,7 @@ class Texture {
     std::array<Rgb, 2> m_colors{};
     float m_cells = 1.f;
     Rgb m_min{0.f}, m_max{0.f};
+    Vertex m_vertex = Vertex::None;
 };
 
 // Wraps texel index i into [0, n) by `wrap` (conventions).

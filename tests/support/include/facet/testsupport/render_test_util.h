@@ -22,6 +22,24 @@ inline Scene scene_from(const std::string& body) {
                                   "test.json");
 }
 
+// The same with relative files resolved in `dir`, and errors naming `name`.
+inline Scene scene_in_dir(const std::string& dir, const std::string& body,
+                          const std::string& name) {
+    return load_scene_from_string(R"({"format": "facet-scene", "version": 1, )" + body + "}", name,
+                                  dir);
+}
+
+// The SceneError message of scene_in_dir(dir, body, name), or "" when the scene loads.
+inline std::string scene_error(const std::string& dir, const std::string& body,
+                               const std::string& name) {
+    try {
+        scene_in_dir(dir, body, name);
+    } catch (const SceneError& e) {
+        return e.what();
+    }
+    return "";
+}
+
 // "materials" and "shapes" of a white Lambertian plane y = 0 (reflectance 0.7) under a 2 x 2
 // quad light of radiance 5 at height 0.6 centred over the origin, emitting downward (its front
 // side faces the plane), for scene_from after a "camera".
