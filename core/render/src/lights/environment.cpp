@@ -56,16 +56,19 @@ glm::dmat3 map_frame(const LightDesc& l, const std::string& ptr, const Fail& fai
 }
 
 // Negative texels: lossy EXR codecs (DWAA, B44, PXR24) undershoot near black, and Blender's own
-// studio-light HDRIs hold such values (down to -1.6e-4, with means of about 0.1-1). A texel
-// channel v < 0 with v >= -1e-3 * m, m the mean of all colour texel values, is that noise: it is
-// set to 0 and reported once (how many, the most negative). Anything more negative is an error
-// naming the file and the texel, as before.
+// studio-light HDRIs hold such values: down to -0.0039 (sunrise.exr, mean 0.47) and -0.0033
+// (night.exr, mean 0.13, i.e. 2.5% of it), measured with `oiiotool --stats` on Blender 3.4.1's
+// eight maps. A texel channel v < 0 with v >= -kNoise * m, m the mean of all colour texel values
+// and kNoise = 0.05 (twice the worst of those maps), is that noise: it is set to 0 and reported
+// once (how many, the most negative). Anything more negative is an error naming the file and the
+// texel, as before. (Test: EnvironmentMap.BlenderStudioHdrisLoad.)
 void clamp_compression_noise(TexelImage& image, const std::string& path, const std::string& where,
                              LightBuild& b) {
     double sum = 0.0;
     for (float v : image.texels) sum += v;
     const double mean = image.texels.empty() ? 0.0 : sum / double(image.texels.size());
-    const double tolerance = 1e-3 * std::max(mean, 0.0);
+    constexpr double kNoise = 0.05;
+    const double tolerance = kNoise * std::max(mean, 0.0);
     std::size_t clamped = 0;
     float lowest = 0.f;
     const std::size_t channels = std::size_t(image.channels);
@@ -78,7 +81,7 @@ void clamp_compression_noise(TexelImage& image, const std::string& path, const s
                               std::to_string(t / std::size_t(image.width)) + ") channel " +
                               std::to_string(i % channels) + " is negative: " + std::to_string(v) +
                               ", below the compression-noise tolerance -" +
-                              std::to_string(tolerance) + " (1e-3 of the mean; row 0 at the top)");
+                              std::to_string(tolerance) + " (5% of the mean; row 0 at the top)");
         }
         lowest = std::min(lowest, v);
         v = 0.f;
