@@ -284,8 +284,8 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
         if (tm.convert_values) std::copy(tm.sources.begin(), tm.sources.end(), in.begin());
         for (std::size_t i = 0; i < tm.slots.size(); ++i) {
             const TexturedMaterial::Slot& s = tm.slots[i];
-            const Rgb v =
-                glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(), s.texture->max_value());
+            const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
+                                     s.texture->max_value());
             (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
                 s.color ? DVec3(v) : DVec3(double(v.r));
         }
@@ -296,7 +296,7 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
 }
 
 Material Scene::textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                                           const glm::vec4& color) const {
+                                          const glm::vec4& color) const {
     const TexturedMaterial& tm = m_textured[index];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
