@@ -455,12 +455,16 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
 
 def _uv_layer(obj, slots, mats, problems):
     """The UV map the object's textured materials read: None (no texture), "" (the render UV
-    map) or a name; one per object, the others reported."""
+    map) or a name; one per object, the others reported. A name that is the render UV map's
+    (the glTF importer names it on its Normal Map nodes) is that map: ""."""
+    layers = getattr(obj.data, "uv_layers", None) or ()
+    render = next((u.name for u in layers if u.active_render), None)
     wanted = []
     for m in slots:
         if m is not None and m.get("facet_cycles_only"):
             continue
         for uv in sorted(mats.get(m, obj)[1].uv_maps):
+            uv = "" if uv == render else uv
             if uv not in wanted:
                 wanted.append(uv)
     if len(wanted) > 1:

@@ -236,8 +236,8 @@ class NodeContext:
             return nodegraph.socket_value(sock)
         for note in res.notes:
             self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
-        if res.data is None:  # the Alpha of an opaque image: 1
-            return 1.0
+        if res.data is None:  # a constant: the Alpha of an opaque image (1), a texture x 0
+            return res.const * scale
         self.uv_maps.add(res.uv_map)
         tex = dict(res.data)
         if scale != 1.0:
@@ -299,6 +299,9 @@ class NodeContext:
             if any(s.identifier == 'Normal' for s in node.inputs) and not self.world:
                 data.update(normals.convert(self, node, path))
                 read = read + ('Normal',)
+            if node.bl_idname == 'ShaderNodeBsdfPrincipled':
+                normals.clearcoat(self, node, path, data)
+                read = read + ('Clearcoat Normal', 'Alpha')
             self.check_inputs(node, path, read)
             return data, emission
         if node.bl_idname == 'ShaderNodeMixShader':
@@ -415,6 +418,10 @@ def combine(parts, fac):
     lists what is not exact (reported by the caller)."""
     (d1, e1), (d2, e2) = parts
     notes = []
+    if any("opacity" in d for d in (d1, d2)):
+        d1, d2 = ({k: v for k, v in d.items() if k != "opacity"} for d in (d1, d2))
+        notes.append("the Alpha of a shader inside a Mix or Add Shader is not converted (the "
+                     "core's opacity is a whole material's); opaque")
     textured = is_texture(fac)
     w1, w2 = (1.0, 1.0) if fac is None else (None, None) if textured else (1.0 - fac, fac)
     if textured:
@@ -592,18 +599,49 @@ def _principled(ctx, node, path):
     if node.distribution != 'GGX':
         ctx.problems.append("%s: %s distribution '%s' is not in Facet's principled; exported as "
                             "GGX (single scattering)" % (ctx.what, node.name, node.distribution))
-    emission = units.emission_from_blender(val('Emission'), val('Emission Strength'))
+    emission = _emission_of(ctx, node, path, 'Emission', 'Emission Strength')
+    _principled_alpha(ctx, node, path, data, emission)
     return data, emission
 
 
-def _emission(ctx, node, path):
-    strength = ctx.value(node, 'Strength', path)
+def _emission_of(ctx, node, path, color_name, strength_name):
+    """Color x Strength of an emission: None (Strength 0: nothing emitted, whatever feeds the
+    colour), a colour, or a texture of the colour with "scale" Strength (an image into the
+    colour: Cycles' emission is the texture's value x Strength)."""
+    strength = ctx.value(node, strength_name, path)
     if strength == 0.0:
-        return dict(BLACK), None  # nothing emitted, whatever feeds the colour
-    color = ctx.param(node, 'Color', path, scale=strength)
+        return None
+    color = ctx.param(node, color_name, path, scale=strength)
     if is_texture(color):
-        return dict(BLACK), color  # radiance = texture x Strength (the texture's scale)
-    return dict(BLACK), units.emission_from_blender(color, strength)
+        return color
+    return units.emission_from_blender(color, strength)
+
+
+def _principled_alpha(ctx, node, path, data, emission):
+    """Principled Alpha a: Cycles mixes the BSDF with a Transparent BSDF, a x principled +
+    (1 - a) x transparent, shadows included; the core's "opacity" a is that in expectation
+    (FORMAT.md "Opacity": a surface that a fraction a of the rays meet). A number or a number
+    texture (an image's Alpha output: channel "a"; its Color into Alpha: luminance). The core
+    refuses opacity on an emitting surface (next-event estimation would count its light in
+    full): reported, opaque."""
+    alpha = ctx.param(node, 'Alpha', path)
+    ctx.exact.add((node.name, 'Alpha'))
+    if not is_texture(alpha):
+        alpha = max(0.0, min(1.0, float(alpha)))
+        if alpha == 1.0:
+            return
+    if emission is not None and (is_texture(emission) or any(c > 0.0 for c in emission)):
+        ctx.problems.append("%s: %s '%s' input 'Alpha' %s with an emission: Facet's opacity "
+                            "does not take emitting surfaces; opaque"
+                            % (ctx.what, nodegraph.node_type_label(node), node.name,
+                               "(a texture)" if is_texture(alpha) else "= " + _fmt(alpha)))
+        return
+    data["opacity"] = alpha
+
+
+def _emission(ctx, node, path):
+    # radiance = Color x Strength (a texture's scale), nothing for Strength 0
+    return dict(BLACK), _emission_of(ctx, node, path, 'Color', 'Strength')
 
 
 def _glass(ctx, node, path):

@@ -107,3 +107,42 @@ def _bump(ctx, src, feeds, out):
     if strength != 1.0:
         bump["strength"] = strength
     out["bump"] = bump
+
+
+# The keys of a material that are its shading normal (materials.NORMAL_KEYS).
+_NORMAL_KEYS = ("normal_map", "bump")
+
+
+def clearcoat(ctx, node, path, data):
+    """Principled's Clearcoat Normal (Cycles shades the clearcoat lobe with it, every other lobe
+    with Normal). The core's principled has one shading normal for all its lobes, so:
+    - nothing linked, the same map as Normal (the glTF importer's shared normal texture), or no
+      clearcoat (constant Clearcoat 0: the lobe is absent): exact;
+    - otherwise an approximation, reported: without a Normal of its own the material takes the
+      Clearcoat Normal's map for every lobe (the coat's sharp reflection is what a coat normal
+      map shows; the base lobes then see it too), else the Normal's is kept for every lobe.
+    `data` is the converted material (its normal keys already set by convert())."""
+    sock = next((s for s in node.inputs if s.identifier == 'Clearcoat Normal' and s.enabled),
+                None)
+    if sock is None:
+        return
+    src = ctx.walker.input(node, sock, path)
+    if isinstance(src, nodegraph.Const):
+        return
+    feeds = "%s '%s' input 'Clearcoat Normal'" % (nodegraph.node_type_label(node), node.name)
+    coat = data.get("clearcoat")
+    if not isinstance(coat, dict) and float(coat or 0.0) == 0.0:
+        return  # no clearcoat lobe: its normal shades nothing
+    cc = {}
+    _normal(ctx, src, feeds, cc, outer=True)
+    base = {k: data[k] for k in _NORMAL_KEYS if k in data}
+    if cc == base:
+        return  # one normal for every lobe, as in Cycles
+    what = "%s: %s: Facet's principled shades every lobe with one normal" % (ctx.what, feeds)
+    if not base:
+        data.update(cc)
+        ctx.problems.append("%s; the Clearcoat Normal's map is used for all of them (Cycles: "
+                            "for the clearcoat only)" % what)
+    else:
+        ctx.problems.append("%s; the Normal's is used for all of them and the Clearcoat "
+                            "Normal is ignored (Cycles: it shades the clearcoat)" % what)

@@ -74,10 +74,11 @@ class Result:
     """A converted texture: `data` (scene-format texture dict), `uv_map` (the Blender UV layer
     name it reads, "" for the render UV map), `notes` (approximations to report)."""
 
-    def __init__(self, data, uv_map="", notes=()):
+    def __init__(self, data, uv_map="", notes=(), const=1.0):
         self.data = data
         self.uv_map = uv_map
         self.notes = list(notes)
+        self.const = const  # the value when data is None (an opaque image's Alpha: 1)
 
 
 def convert(walker, src, number):
@@ -94,7 +95,127 @@ def convert(walker, src, number):
         return _image(walker, src, to_number)
     if node.bl_idname == 'ShaderNodeTexChecker':
         return _checker(walker, src, to_number)
+    if node.bl_idname in SEPARATE:
+        return _separate(walker, src)
+    if node.bl_idname in COMBINE and not to_number:
+        return _combine(walker, src)
+    if node.bl_idname == 'ShaderNodeMath' and 'RGBA' not in types:
+        return _math(walker, src)
     raise Unsupported(src, None)  # not a texture node: the caller reports the folding
+
+
+# --- channels ---------------------------------------------------------------------------------
+#
+# Separate Color (mode RGB), Separate RGB and Separate XYZ of an Image Texture's Color: one
+# channel of the image, the core texture's "channel" r, g or b (Cycles' separate nodes copy the
+# component, and a colour <-> vector link keeps the components). Separate of a Combine (RGB
+# mode) is the Combine's input of that channel, and a Combine of the three Separate channels of
+# one texture, in order, is that texture (pass-throughs). Math Multiply of a number texture by a
+# constant c >= 0 (no Clamp) scales it ("scale" c); by 0 it is the constant 0.
+
+# bl_idname -> (input, {output identifier: channel}, the node's mode that converts or None).
+SEPARATE = {
+    'ShaderNodeSeparateColor': ('Color', {'Red': "r", 'Green': "g", 'Blue': "b"}, 'RGB'),
+    'ShaderNodeSeparateRGB': ('Image', {'R': "r", 'G': "g", 'B': "b"}, None),
+    'ShaderNodeSeparateXYZ': ('Vector', {'X': "r", 'Y': "g", 'Z': "b"}, None),
+}
+COMBINE = {
+    'ShaderNodeCombineColor': (('Red', 'Green', 'Blue'), 'RGB'),
+    'ShaderNodeCombineRGB': (('R', 'G', 'B'), None),
+    'ShaderNodeCombineXYZ': (('X', 'Y', 'Z'), None),
+}
+_CHANNELS = ("r", "g", "b")
+
+
+def _mode_ok(node, mode):
+    return mode is None or getattr(node, "mode", mode) == mode
+
+
+def _separate(walker, src):
+    node = src.node
+    inp, outs, mode = SEPARATE[node.bl_idname]
+    if not _mode_ok(node, mode):
+        raise Unsupported(src, "mode %s of a texture (only RGB converts: one channel)"
+                          % node.mode)
+    channel = outs[src.socket.identifier]
+    up = walker.input(node, inp, src.path)
+    if isinstance(up, nodegraph.Const):
+        raise Unsupported(src, None)  # constant: the folding decides
+    if up.node.bl_idname in COMBINE and _mode_ok(up.node, COMBINE[up.node.bl_idname][1]):
+        # Separate(Combine(a, b, c)).channel is the Combine's input of that channel.
+        names = COMBINE[up.node.bl_idname][0]
+        return convert(walker, _number_src(walker, up, names[_CHANNELS.index(channel)]),
+                       number=True)
+    if up.node.bl_idname != 'ShaderNodeTexImage' or up.socket.identifier != 'Color':
+        raise Unsupported(src, "a channel of something other than an Image Texture's Color "
+                          "(only an image's channels convert)")
+    res = _image(walker, up, to_number=False)
+    if res.data is not None:
+        # A grey image (r = g = b at every pixel; its file may have one channel only): every
+        # channel is its luminance (Facet's weights sum to 1).
+        res.data["channel"] = "luminance" if _grey(up.node.image) else channel
+    return res
+
+
+def _number_src(walker, combine_out, name):
+    """The value feeding input `name` of the Combine node of `combine_out` (an Out), or
+    Unsupported when it is a constant (a constant channel of a texture is no texture)."""
+    v = walker.input(combine_out.node, name, combine_out.path)
+    if isinstance(v, nodegraph.Const):
+        raise Unsupported(combine_out, "a constant channel of a combined texture")
+    return v
+
+
+def _combine(walker, src):
+    """Combine(Separate r, g, b of one texture X), in that order: X itself."""
+    node = src.node
+    names, mode = COMBINE[node.bl_idname]
+    if not _mode_ok(node, mode):
+        raise Unsupported(src, "mode %s of textures (only RGB converts)" % node.mode)
+    ups = [walker.input(node, n, src.path) for n in names]
+    first = None
+    for ch, up in zip(_CHANNELS, ups):
+        if isinstance(up, nodegraph.Const) or up.node.bl_idname not in SEPARATE or up.convs:
+            raise Unsupported(src, "combines other than the three channels of one texture in "
+                              "order are not converted")
+        inp, outs, smode = SEPARATE[up.node.bl_idname]
+        if outs[up.socket.identifier] != ch or not _mode_ok(up.node, smode):
+            raise Unsupported(src, "combines other than the three channels of one texture in "
+                              "order are not converted")
+        x = walker.input(up.node, inp, up.path)
+        if isinstance(x, nodegraph.Const):
+            raise Unsupported(src, None)
+        key = (x.key, x.socket.identifier, x.convs)
+        if first is None:
+            first = (key, x)
+        elif key != first[0]:
+            raise Unsupported(src, "combines channels of different textures (not converted)")
+    return convert(walker, first[1], number=False)
+
+
+def _math(walker, src):
+    """Math Multiply of a number texture by a constant."""
+    node = src.node
+    if node.operation != 'MULTIPLY' or node.use_clamp:
+        raise Unsupported(src, None)
+    a = walker.input(node, node.inputs[0], src.path)
+    b = walker.input(node, node.inputs[1], src.path)
+    va, _ = walker.fold(a)
+    vb, _ = walker.fold(b)
+    if (va is None) == (vb is None):
+        raise Unsupported(src, None)  # both constant (folded) or both textures
+    c, tex = (va, b) if va is not None else (vb, a)
+    if not isinstance(c, float) or not math.isfinite(c) or c < 0.0:
+        raise Unsupported(src, "a texture times %s (only a constant >= 0 scales a texture)"
+                          % (c,))
+    if c == 0.0:
+        return Result(None, const=0.0)  # 0 x a finite texture
+    res = convert(walker, tex, number=True)
+    if res.data is not None:
+        res.data["scale"] = res.data.get("scale", 1.0) * c
+    else:
+        res.const *= c
+    return res
 
 
 # --- images ---------------------------------------------------------------------------------
@@ -115,7 +236,8 @@ def _image(walker, src, to_number):
     if note:
         notes.append("%s: %s" % (label, note))
     data = {"texture": path, "colorspace": colorspace}
-    if colorspace == "srgb" and not img.is_float and node.interpolation != 'Closest':
+    if colorspace == "srgb" and not img.is_float and node.interpolation != 'Closest' \
+            and src.socket.identifier != 'Alpha':  # alpha is stored linear
         notes.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, Facet "
                      "after (they differ between strongly different texels when magnified)"
                      % label)

@@ -5,10 +5,10 @@ the report of what is not converted (gaps.py), in headless Blender:
    through reroutes, a nested node group (Group Input/Output mapped through), a muted node and
    constant Math / Mix RGB chains -> the converted parameters equal the expected values
    exactly (inputs chosen exactly representable, so double and float32 agree).
-2. Reports: a Bump into Clearcoat Normal and an Image Texture without an image each give one
-   line naming the material, the node and the input it feeds, and the rest (a Mix Shader, a
-   Normal Map of the default colour) still converts; lamp settings
-   the exporter ignores and a world texture are reported.
+2. Reports: a Geometry normal into Clearcoat Normal and an Image Texture without an image
+   each give one line naming the material, the node and the input it feeds, and the rest (a
+   Mix Shader, a Normal Map of the default colour) still converts; lamp settings the exporter
+   ignores and a world texture are reported.
 3. Against Cycles' own evaluation: a row of emission quads, each driven by one node chain
    (Math operations, Mix RGB / Mix blend modes, Invert, Gamma, Hue/Saturation/Value,
    Separate/Combine, Map Range, Bright/Contrast, Vector Math, link conversions colour -> float
@@ -182,8 +182,11 @@ def reports():
     p.inputs["Roughness"].default_value = 0.5
     nm = nt.nodes.new("ShaderNodeNormalMap")
     nt.links.new(nm.outputs[0], p.inputs["Normal"])
-    bump = nt.nodes.new("ShaderNodeBump")
-    nt.links.new(bump.outputs[0], p.inputs["Clearcoat Normal"])
+    # A Geometry normal into Clearcoat Normal (with a clearcoat lobe to shade; at Clearcoat 0
+    # the input changes nothing and is not reported): not converted.
+    p.inputs["Clearcoat"].default_value = 0.5
+    geo = nt.nodes.new("ShaderNodeNewGeometry")
+    nt.links.new(geo.outputs["Normal"], p.inputs["Clearcoat Normal"])
     img = nt.nodes.new("ShaderNodeTexImage")
     nt.links.new(img.outputs[0], p.inputs["Base Color"])
     diff = nt.nodes.new("ShaderNodeBsdfDiffuse")
@@ -195,7 +198,7 @@ def reports():
     bpy.context.view_layer.update()
     c = materials.convert(mat)
     lines = c.problems
-    for node, feeds in (("Bump", "input 'Clearcoat Normal'"),
+    for node, feeds in (("Geometry", "input 'Clearcoat Normal'"),
                         ("Image Texture", "input 'Base Color'")):
         hits = [x for x in lines if "'reported'" in x and "%s '%s'" % (node, node) in x]
         bt.check(len(hits) == 1 and feeds in hits[0],
