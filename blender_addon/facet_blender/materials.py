@@ -37,10 +37,12 @@ per material (they would fire on every default material).
   Metallic, Specular, Specular Tint, Roughness, Anisotropic, Anisotropic Rotation (wrapped to
   [0, 1): the rotation is periodic), Sheen, Sheen Tint, Clearcoat, Clearcoat Roughness, IOR,
   Transmission, Transmission Roughness; factors clamped to [0, 1] as Cycles clamps them (colours
-  per channel), IOR to [0.001, 100]. Emission is converted. Reported: Multiscatter GGX
+  per channel), IOR to [0.001, 100]. Emission (a colour, or an image x Emission Strength) is
+  converted; Alpha -> the material's "opacity" (_principled_alpha); Clearcoat Normal as
+  normals.clearcoat says. Reported: Multiscatter GGX
   (exported as GGX: Facet's principled has single-scattering GGX only), Subsurface > 0 (Cycles'
-  diffuse fallback instead of subsurface transport), Alpha < 1; Subsurface Radius / IOR /
-  Anisotropy and Clearcoat Normal, Normal, Tangent when linked (not read). The anisotropic
+  diffuse fallback instead of subsurface transport), Alpha < 1 on an emitting Principled;
+  Subsurface Radius / IOR / Anisotropy and Tangent when linked (not read). The anisotropic
   tangent is Facet's surface dp/du, not Cycles' default tangent.
 - Glass / Refraction BSDF: dielectric, ior = IOR, alpha = Roughness^2 (Sharp: smooth), GGX or
   Beckmann, transmittance = Color (see _glass for what is reported).
@@ -51,11 +53,13 @@ per material (they would fire on every default material).
   or 1 is that side alone, a black side only weights the other, and two BSDFs of one linear
   model (lambert, mirror, ggx, beckmann without energy compensation) differing only in
   reflectance merge into one while the reflectance stays <= 1. Emissions add with the same
-  weights (a textured Fac on an emission: reported, averaged). The children's normal maps and
+  weights (a textured Fac on an emission: reported, averaged). A child's opacity (Principled
+  Alpha) is reported and dropped: the core's opacity is a whole material's. The children's
+  normal maps and
   bumps move to the combination (the core applies a combination's own); different ones are
   reported and the first's kept.
 - Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
-  conversion does not read (Tangent, Clearcoat Normal, ...) and the Material Output's Volume
+  conversion does not read (Tangent, ...) and the Material Output's Volume
   and Displacement are reported when something is linked to them.
 - No node tree: lambert with the viewport Diffuse Color.
 - Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.

@@ -18,6 +18,7 @@ maps" and "Bump maps"), exactly as Cycles 3.4 evaluates them where the core can 
   reported and only the outer one converted.
 - Anything else into a Normal input (Geometry, Texture Coordinate, a vector Math...) is
   reported, and the shading normal used.
+- Principled's Clearcoat Normal: clearcoat() (the core's principled has one shading normal).
 """
 from . import gaps, nodegraph
 

@@ -17,6 +17,10 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   without alpha: the constant 1, as Cycles). A colour output into a number input: channel
   "luminance" (Facet's Rec. 709 weights 0.2126, 0.7152, 0.0722 against Cycles' 0.2126729,
   0.7151522, 0.0721750: reported, under 1e-4 relative).
+- Channels (_separate, _combine, _math): Separate Color (RGB) / RGB / XYZ of an Image Texture's
+  Color -> channel r, g, b (a grey image: luminance); Separate of a Combine -> the Combine's
+  input; Combine of the three channels of one texture in order -> the texture; Math Multiply
+  of a number texture by a constant c >= 0 (no Clamp) -> "scale" c (c = 0: the constant 0).
 - Checker Texture, Color or Fac output, with constant Color1, Color2 and Scale: Cycles'
   svm_checker on p = Scale x the vector: the cell (floor x, floor y, floor z) is Color1 when
   (|floor x| mod 2 == |floor y| mod 2) != (|floor z| mod 2), else Color2. On UVs (z = 0) the
