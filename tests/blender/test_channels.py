@@ -276,9 +276,22 @@ def render_strip(outdir):
         s = separate(nt, "ShaderNodeSeparateXYZ", image_node(nt, img).outputs["Color"])
         emission(nt, out, s.outputs["X"])
 
+    flat = bpy.data.images.new("flat_normal", 2, 2, float_buffer=True)
+    flat.pixels.foreach_set(np.tile([0.5, 0.5, 1.0, 1.0], 4).astype(np.float32))
+    flat.filepath_raw = os.path.join(outdir, "facet_flat_normal.exr")
+    flat.file_format = 'OPEN_EXR'
+    flat.save()
+    flat.colorspace_settings.name = 'Non-Color'
+
     def principled_emission(nt, out):
         p = principled(nt, out, Base_Color=(0, 0, 0, 1), Specular=0.0, Emission_Strength=2.0)
         nt.links.new(image_node(nt, img).outputs["Color"], p.inputs["Emission"])
+        # A (flat) Normal Map naming the render UV map, as the glTF importer writes them: the
+        # same map as the textures' default one (no "several UV maps" line; export.py).
+        nm = nt.nodes.new("ShaderNodeNormalMap")
+        nm.uv_map = "UVMap"
+        nt.links.new(image_node(nt, flat).outputs["Color"], nm.inputs["Color"])
+        nt.links.new(nm.outputs[0], p.inputs["Normal"])
 
     def lit(nt, out):  # under the cut-out quad: radiance 1
         e = nt.nodes.new("ShaderNodeEmission")
@@ -305,7 +318,8 @@ def render_strip(outdir):
     from facet_blender import hooks
     problems = list(hooks.last_problems)
     b, _ = cs.render(scene, 'CYCLES', os.path.join(outdir, "channels_cycles.exr"), seed=1)
-    bt.check(problems == [], "the strip converts without a report: %s" % problems)
+    bt.check(problems == [], "the strip converts without a report (a Normal Map naming the "
+             "render UV map is that map): %s" % problems)
     d = np.abs(a - b)
     for i, name in enumerate(("Separate Color Green", "Separate RGB Blue", "Separate XYZ X",
                               "Principled Emission x 2")):
