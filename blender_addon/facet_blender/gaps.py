@@ -66,8 +66,6 @@ INPUTS = {
                                                       "Facet's core; Cycles' diffuse fallback "
                                                       "(base colour mixed with Subsurface "
                                                       "Color) is used"),
-    ('ShaderNodeBsdfPrincipled', 'Alpha'): (1.0, "alpha (transparency) is not in Facet's core "
-                                                 "yet; opaque"),
     ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
                                                      "ignored"),
 }
