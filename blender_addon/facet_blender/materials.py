@@ -629,7 +629,6 @@ def _principled_alpha(ctx, node, path, data, emission):
     refuses opacity on an emitting surface (next-event estimation would count its light in
     full): reported, opaque."""
     alpha = ctx.param(node, 'Alpha', path)
-    ctx.exact.add((node.name, 'Alpha'))
     if not is_texture(alpha):
         alpha = max(0.0, min(1.0, float(alpha)))
         if alpha == 1.0:
