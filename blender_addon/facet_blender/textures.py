@@ -318,8 +318,9 @@ def _grey(img):
 
 def image_file(img):
     """(absolute path Facet reads, colour space, note or None) of a Blender image. A file on
-    disk is used as it is; a packed, generated, edited or missing one is written to CACHE_DIR
-    as an EXR of Blender's pixels (the same values Cycles reads)."""
+    disk is used as it is; a packed one's bytes are written to CACHE_DIR as they are
+    (_write_packed); a generated, edited or missing one is written there as an EXR of
+    Blender's pixels (the same values Cycles reads; RGB only)."""
     if img.source not in ('FILE', 'GENERATED'):
         raise ValueError("image '%s': source %s is not converted (a single still image only)"
                          % (img.name, img.source))
@@ -335,6 +336,9 @@ def image_file(img):
         p = bpy.path.abspath(img.filepath, library=img.library)
         if os.path.isfile(p):
             path = os.path.normpath(p)
+    if path is None and img.source == 'FILE' and img.packed_file is not None \
+            and not img.is_dirty:
+        path = _write_packed(img)
     if path is None:
         path = _write_pixels(img)
         # Blender's float pixels of a byte image are its stored (encoded) values: keep the
@@ -380,6 +384,35 @@ def nonnegative_radiance_file(img, path):
                   % (int(neg.sum()), float(rgb.min())))
     _NONNEGATIVE[key] = result
     return result
+
+
+# Packed files by their first bytes (the format Blender decoded them as), else file_format.
+_MAGIC = ((b"\x89PNG", ".png"), (b"\xff\xd8", ".jpg"), (b"v/1\x01", ".exr"),
+          (b"#?RADIANCE", ".hdr"), (b"#?RGBE", ".hdr"), (b"II*\x00", ".tif"), (b"MM\x00*", ".tif"),
+          (b"BM", ".bmp"))
+_FORMAT_EXT = {'PNG': ".png", 'JPEG': ".jpg", 'OPEN_EXR': ".exr", 'HDR': ".hdr",
+               'TIFF': ".tif", 'BMP': ".bmp", 'TARGA': ".tga", 'TARGA_RAW': ".tga"}
+
+
+def _write_packed(img):
+    """A packed (unedited) image: its file's bytes as they were packed, written once per
+    content to CACHE_DIR (the glTF importer packs every image it reads). Keeps the file's
+    alpha and bit depth, which the EXR of Blender's pixels (_write_pixels: RGB) would lose.
+    None when the format is not known."""
+    import hashlib
+    data = img.packed_file.data
+    ext = next((e for magic, e in _MAGIC if data.startswith(magic)),
+               _FORMAT_EXT.get(img.file_format))
+    if ext is None:
+        return None
+    os.makedirs(CACHE_DIR, exist_ok=True)
+    path = os.path.join(CACHE_DIR, "packed_%s%s" % (hashlib.sha1(data).hexdigest()[:20], ext))
+    if not os.path.isfile(path):
+        tmp = path + ".tmp%d" % os.getpid()
+        with open(tmp, "wb") as f:
+            f.write(data)
+        os.replace(tmp, path)  # whole or absent, for a concurrent render
+    return path
 
 
 def _write_pixels(img):

@@ -181,6 +181,29 @@ def exported(outdir):
     bt.check(isinstance(o, dict) and o.get("channel") == "a"
              and o["texture"] == os.path.normpath(img_a.filepath)
              and c.problems == [], "image Alpha -> opacity: %s %s" % (o, c.problems))
+    # A packed image (the glTF importer packs every image): its file's bytes, alpha included,
+    # not an EXR of Blender's RGB pixels (which made ClearCoatTest's cut-out opaque).
+    png = os.path.join(outdir, "facet_channels_alpha.png")
+    src = bpy.data.images.new("alpha_png_src", 8, 6, alpha=True)
+    px = np.ones((6, 8, 4), np.float32)
+    px[..., 3] = np.linspace(0.0, 1.0, 48).reshape(6, 8)
+    src.pixels.foreach_set(px.ravel())
+    src.filepath_raw = png
+    src.file_format = 'PNG'
+    src.save()
+    bpy.data.images.remove(src)
+    packed = bpy.data.images.load(png, check_existing=False)
+    packed.pack()
+    mat, nt, out = new_material("alpha_packed")
+    p = principled(nt, out)
+    nt.links.new(image_node(nt, packed).outputs["Alpha"], p.inputs["Alpha"])
+    c = materials.convert(mat)
+    o = c.data.get("opacity")
+    with open(png, "rb") as f:
+        same = isinstance(o, dict) and o["texture"].endswith(".png") and \
+            open(o["texture"], "rb").read() == f.read()
+    bt.check(same and o.get("channel") == "a" and c.problems == [],
+             "a packed PNG's Alpha -> opacity from the packed bytes: %s %s" % (o, c.problems))
     mat, nt, out = new_material("alpha_const")
     principled(nt, out, Alpha=0.3)
     c = materials.convert(mat)
