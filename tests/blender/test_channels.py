@@ -199,9 +199,10 @@ def exported(outdir):
     nt.links.new(image_node(nt, packed).outputs["Alpha"], p.inputs["Alpha"])
     c = materials.convert(mat)
     o = c.data.get("opacity")
-    with open(png, "rb") as f:
-        same = isinstance(o, dict) and o["texture"].endswith(".png") and \
-            open(o["texture"], "rb").read() == f.read()
+    same = False
+    if isinstance(o, dict) and o["texture"].endswith(".png"):
+        with open(png, "rb") as f, open(o["texture"], "rb") as g:
+            same = f.read() == g.read()
     bt.check(same and o.get("channel") == "a" and c.problems == [],
              "a packed PNG's Alpha -> opacity from the packed bytes: %s %s" % (o, c.problems))
     mat, nt, out = new_material("alpha_const")
