@@ -166,11 +166,18 @@ def export_dof(cam_eval, c, ortho, problems):
 
 
 def _matrix_rows(m):
-    return [[float(m[i][j]) for j in range(4)] for i in range(4)]
+    return [list(row) for row in m]  # a mathutils Matrix's rows as floats
 
 
 def _is_identity(m):
     return all(m[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
+
+
+def _placement(m):
+    """A placement's transform rows, None for the identity."""
+    rows = [list(row) for row in m]
+    identity = all(rows[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
+    return None if identity else rows
 
 
 class MeshArrays:
@@ -516,6 +523,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     order = []  # in depsgraph order: a shape dict, or a _Placed (one entry per placement)
     placed = {}  # geometry key -> _Placed
     expanded_shapes = set()
+    seen = {}  # (object name, geometry, is instance) -> (_Placed, shape name)
     empty = []  # objects whose own mesh is empty (reported unless they place instances)
     instancers = set()
     for inst in depsgraph.object_instances:
@@ -540,6 +548,15 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 or obj.visible_shadow):
             continue
         orig = obj.original
+        data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
+        again = seen.get((orig.name, data_ptr, inst.is_instance)) if data_ptr else None
+        if again is not None:
+            # Another placement of an object converted above (same object, same geometry:
+            # the same materials and the same record): only its matrix is new.
+            if again[0].templates:
+                again[0].placements.append((_placement(matrix), again[1]))
+                order.append(again[0])
+            continue
         name = orig.name if not inst.is_instance else "%s (instance)" % orig.name
         if "facet_shape" in orig:
             shape = json.loads(orig["facet_shape"])
@@ -568,7 +585,6 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             mats.get(m, obj)[1].tangents for m in slots
             if m is None or not m.get("facet_cycles_only"))
         colors = _color_attribute_read(obj, slots, mats, problems)
-        data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
         # The same evaluated geometry (a pointer compared while this depsgraph lives) with the
         # same materials is one mesh however often it is placed; other kinds: per object.
         gkey = (data_ptr or orig.name, inst.is_instance if not data_ptr else None,
@@ -583,11 +599,13 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 hooks.export_stats["meshes"] += 1
             rec = placed[gkey] = _placed_mesh(mesh_cache[key], obj, slots, uv_layer, mats,
                                                problems)
+        if data_ptr:
+            seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
         if not rec.templates:
             if orig.name not in empty:
                 empty.append(orig.name)
             continue
-        rec.placements.append((None if _is_identity(matrix) else _matrix_rows(matrix), name))
+        rec.placements.append((_placement(matrix), name))
         order.append(rec)
     # An instancer's own geometry may be empty (geometry nodes outputting only instances).
     problems.extend("object '%s': empty mesh (no faces); skipped" % name for name in empty

@@ -122,6 +122,13 @@ def _rgb(v):
 
 def _shape_desc(s):
     sd = facet.ShapeDesc()
+    if s["type"] == "instance":  # a placement: its prototype, name and transform only
+        sd.kind = "instance"
+        sd.of = s["of"]
+        sd.name = s.get("name", "")
+        if s.get("transform") is not None:
+            sd.transform = np.asarray(s["transform"], dtype=np.float64)
+        return sd
     sd.kind = s["type"]
     sd.name = s.get("name", "")
     mat = s.get("material")
