@@ -141,6 +141,8 @@ def inside(tris, reps, profile, cases):
     cam.location = (0, 0, 5)
     scene.collection.objects.link(cam)
     scene.camera = cam
+    sun = bpy.data.objects.new("sun", bpy.data.lights.new("sun", 'SUN'))
+    scene.collection.objects.link(sun)  # build_scene needs a light
     t0 = time.perf_counter()
     me = grid_mesh("grid", tris)
     print("BENCH grid: %d triangles, %d vertices, %d loops (built in %.1f s)"
