@@ -4,7 +4,9 @@ Meshes go through foreach_get into numpy (never Blender's structs by pointer): t
 mesh (modifiers applied) of every visible object instance, triangulated by Blender's
 loop_triangles, split by material slot (one Facet mesh shape per slot used), with split
 normals when any face is smooth, in object space with the instance's world matrix as the
-shape's transform.
+shape's transform; the colour attribute its materials' Color Attribute nodes read as the
+mesh's vertex colours. A mesh placed several times (instances, linked duplicates) is one
+prototype with an instance per placement (export_scene).
 
 Objects imported from a Facet JSON scene carry their original description as custom
 properties ("facet_shape", "facet_camera", "facet_light", "facet_environment") with a
@@ -164,23 +166,93 @@ def export_dof(cam_eval, c, ortho, problems):
 
 
 def _matrix_rows(m):
-    return [[float(m[i][j]) for j in range(4)] for i in range(4)]
+    return [list(row) for row in m]  # a mathutils Matrix's rows as floats
 
 
 def _is_identity(m):
     return all(m[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
 
 
-def mesh_arrays(obj_eval, uv_layer=None, tangents=False):
-    """Evaluated object -> (positions (n,3) f32, indices (m,3) i32, normals (n,3) f32 | None,
-    material index per triangle (m,) i32, uvs (n,2) f32 | None, tangents (n,4) f32 | None),
-    or None for a mesh without triangles. `uv_layer` (a UV map's name, "" for the render one;
-    None: no UVs) exports that layer's UVs, one vertex per face corner (loop) as UVs are per
-    corner in Blender; a mesh without that layer gets uvs None. `tangents`: with the UVs, that
-    layer's MikkTSpace tangents and bitangent signs per corner, Blender's own calc_tangents()
-    (what Cycles' Normal Map node reads); None when Blender cannot compute them (a face of
-    more than 4 corners: the core then computes MikkTSpace itself, FORMAT.md)."""
-    me = obj_eval.to_mesh()
+def _placement(m):
+    """A placement's transform rows, None for the identity."""
+    rows = [list(row) for row in m]
+    identity = all(rows[i][j] == (1.0 if i == j else 0.0) for i in range(4) for j in range(4))
+    return None if identity else rows
+
+
+class MeshArrays:
+    """One evaluated mesh as arrays: positions (n, 3) f32, indices (m, 3) i32, normals (n, 3)
+    f32 | None, material (m,) i32 (slot per triangle), uvs (n, 2) f32 | None, tangents (n, 4)
+    f32 | None, colors (n, 4) f32 | None, and notes: what the colours could not give exactly
+    (the caller reports them, naming the object)."""
+
+    __slots__ = ("positions", "indices", "normals", "material", "uvs", "tangents", "colors",
+                 "notes")
+
+    def __init__(self, positions, indices, normals, material, uvs=None, tangents=None,
+                 colors=None, notes=()):
+        self.positions, self.indices, self.normals = positions, indices, normals
+        self.material, self.uvs, self.tangents = material, uvs, tangents
+        self.colors, self.notes = colors, list(notes)
+
+
+def color_attribute(me, name):
+    """The mesh attribute a Color Attribute node reads: by name, or for "" the mesh's default
+    colour attribute (Cycles' ATTR_STD_VERTEX_COLOR); None when there is none."""
+    if name:
+        return me.attributes.get(name)
+    ca = me.color_attributes
+    default = getattr(ca, "default_color_name", "")
+    if default and default in ca:
+        return ca[default]
+    i = ca.render_color_index
+    return ca[i] if 0 <= i < len(ca) else None
+
+
+_COLOR_TYPES = ('FLOAT_COLOR', 'BYTE_COLOR')
+_COLOR_DOMAINS = ('POINT', 'CORNER', 'FACE')
+
+
+def _color_values(me, name, what):
+    """(linear RGBA values (k, 4) f32 of the attribute's domain, its domain, [notes]) of the
+    colour attribute `name` ("" the default one). Byte colours are read decoded (`color`,
+    linear), as Cycles decodes each corner before interpolating. A missing attribute gives
+    (None, None, [note]): Cycles then reads black with alpha 0."""
+    attr = color_attribute(me, name)
+    label = "'%s'" % name if name else "(the default colour attribute)"
+    if attr is None:
+        return None, None, ["%s: its materials read colour attribute %s, which the mesh does "
+                            "not have; black (alpha 0) used, as Cycles does" % (what, label)]
+    if attr.data_type not in _COLOR_TYPES or attr.domain not in _COLOR_DOMAINS:
+        return None, None, ["%s: attribute '%s' (%s on %s) is not a colour attribute Facet "
+                            "reads (float or byte colours on points, corners or faces); black "
+                            "(alpha 0) used" % (what, attr.name, attr.data_type.lower(),
+                                                attr.domain.lower())]
+    vals = np.empty(len(attr.data) * 4, np.float32)
+    attr.data.foreach_get('color', vals)
+    vals = vals.reshape(-1, 4)
+    notes = []
+    if not (vals.min(initial=0.0) >= 0.0 and vals.max(initial=0.0) <= 1.0):  # NaN: False too
+        bad = ~np.isfinite(vals) | (vals < 0.0) | (vals > 1.0)
+        lo, hi = float(np.nanmin(vals)), float(np.nanmax(vals))
+        notes.append("%s: colour attribute '%s': %d values outside [0, 1] (%.4g to %.4g) "
+                     "clamped: Facet's vertex colours are in [0, 1], Cycles uses them as they "
+                     "are" % (what, attr.name, int(bad.sum()), lo, hi))
+        vals = np.clip(np.nan_to_num(vals, nan=0.0), 0.0, 1.0)
+    return vals, attr.domain, notes
+
+
+def mesh_arrays(obj_eval, uv_layer=None, tangents=False, colors=None):
+    """Evaluated object -> MeshArrays, or None for a mesh without triangles. `uv_layer` (a UV
+    map's name, "" for the render one; None: no UVs) exports that layer's UVs, one vertex per
+    face corner (loop) as UVs are per corner in Blender; a mesh without that layer gets uvs
+    None. `tangents`: with the UVs, that layer's MikkTSpace tangents and bitangent signs per
+    corner, Blender's own calc_tangents() (what Cycles' Normal Map node reads); None when
+    Blender cannot compute them (a face of more than 4 corners: the core then computes
+    MikkTSpace itself, FORMAT.md). `colors` (a colour attribute's name, "" the default one;
+    None: none) exports it as linear RGBA per exported vertex: point colours as they are,
+    corner and face colours one vertex per loop."""
+    me, copied = _export_mesh(obj_eval, tangents)
     try:
         if me is None:
             return None
@@ -188,11 +260,10 @@ def mesh_arrays(obj_eval, uv_layer=None, tangents=False):
         nt = len(me.loop_triangles)
         if nt == 0:
             return None
+        what = "object '%s'" % obj_eval.original.name
         nv = len(me.vertices)
         co = np.empty(nv * 3, np.float32)
         me.vertices.foreach_get('co', co)
-        tri_v = np.empty(nt * 3, np.int32)
-        me.loop_triangles.foreach_get('vertices', tri_v)
         # 3.4: the material_index attribute is absent when every index is 0; loop_triangles
         # has it either way.
         mat = np.empty(nt, np.int32)
@@ -204,23 +275,38 @@ def mesh_arrays(obj_eval, uv_layer=None, tangents=False):
             layer = (me.uv_layers.get(uv_layer) if uv_layer else
                      next((u for u in me.uv_layers if u.active_render), None))
         uv_name = layer.name if layer is not None else None
-        if layer is None:
-            if not smooth.any():
-                return co.reshape(-1, 3), tri_v.reshape(-1, 3), None, mat, None, None
+        col_domain = None
+        if colors is not None:
+            attr = color_attribute(me, colors)
+            col_domain = attr.domain if attr is not None else None
+        if layer is None and col_domain in (None, 'POINT'):
+            nrm = None
             if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
-                n = np.empty(nv * 3, np.float32)
-                me.vertices.foreach_get('normal', n)
-                return (co.reshape(-1, 3), tri_v.reshape(-1, 3), n.reshape(-1, 3), mat, None,
-                        None)
+                nrm = np.empty(nv * 3, np.float32)
+                me.vertices.foreach_get('normal', nrm)
+                nrm = nrm.reshape(-1, 3)
+            if nrm is not None or not smooth.any():
+                tri_v = np.empty(nt * 3, np.int32)
+                me.loop_triangles.foreach_get('vertices', tri_v)
+                out = MeshArrays(co.reshape(-1, 3), tri_v.reshape(-1, 3), nrm, mat)
+                if colors is not None:
+                    _set_colors(out, me, colors, what, None, nv)
+                return out
         # Split normals (auto smooth, sharp edges, custom normals, flat faces among smooth
-        # ones) or UVs: one vertex per loop.
+        # ones), UVs or corner colours: one vertex per loop.
         nl = len(me.loops)
         loop_v = np.empty(nl, np.int32)
         me.loops.foreach_get('vertex_index', loop_v)
         tri_l = np.empty(nt * 3, np.int32)
         me.loop_triangles.foreach_get('loops', tri_l)
         ln = None
-        if smooth.any():
+        if smooth.all() and not me.use_auto_smooth and not me.has_custom_normals:
+            # Smooth everywhere: the corners' normals are the vertex normals (as Cycles reads
+            # them), without split normals' work and 3 floats per corner read through RNA.
+            vn = np.empty(nv * 3, np.float32)
+            me.vertices.foreach_get('normal', vn)
+            ln = vn.reshape(-1, 3)[loop_v]
+        elif smooth.any():
             me.calc_normals_split()
             ln = np.empty(nl * 3, np.float32)
             me.loops.foreach_get('normal', ln)
@@ -235,9 +321,50 @@ def mesh_arrays(obj_eval, uv_layer=None, tangents=False):
             uvs = uvs.reshape(-1, 2)
             if tangents:
                 tan = _loop_tangents(me, layer.name, nl)
-        return co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln, mat, uvs, tan
+        out = MeshArrays(co.reshape(-1, 3)[loop_v], tri_l.reshape(-1, 3), ln, mat, uvs, tan)
+        if colors is not None:
+            _set_colors(out, me, colors, what, loop_v, nl)
+        return out
     finally:
-        obj_eval.to_mesh_clear()
+        if copied:
+            obj_eval.to_mesh_clear()
+
+
+def _export_mesh(obj_eval, tangents):
+    """(mesh, copied): the evaluated mesh itself when reading it needs no change to it, as
+    Cycles reads it (blender/mesh.cpp: a copy only for auto smooth and edit mode); else
+    to_mesh()'s copy, as split normals and tangents add layers to the mesh they are computed
+    on. Skipping the copy saves ~0.27 s per 10^6 triangles (bench/blender_export_bench.py)."""
+    d = obj_eval.data if obj_eval.type == 'MESH' else None
+    if d is None or tangents or d.is_editmode or d.use_auto_smooth or d.has_custom_normals:
+        return obj_eval.to_mesh(), True
+    smooth = np.empty(len(d.polygons), bool)
+    d.polygons.foreach_get('use_smooth', smooth)
+    if smooth.any() and not smooth.all():  # flat faces among smooth: split normals
+        return obj_eval.to_mesh(), True
+    return d, False
+
+
+def _set_colors(out, me, name, what, loop_v, n):
+    """The colour attribute `name` per exported vertex into out.colors (n vertices: the
+    mesh's points when loop_v is None, else one per loop, loop_v their points). Read last:
+    calc_normals_split() and calc_tangents() reallocate the corners' layers."""
+    vals, domain, notes = _color_values(me, name, what)
+    out.notes.extend(notes)
+    if vals is None:
+        out.colors = np.zeros((n, 4), np.float32)
+    elif domain == 'POINT':
+        out.colors = vals if loop_v is None else vals[loop_v]
+    elif domain == 'CORNER':
+        out.colors = vals
+    else:  # FACE: each loop takes its face's colour
+        totals = np.empty(len(me.polygons), np.int32)
+        me.polygons.foreach_get('loop_total', totals)
+        starts = np.empty(len(me.polygons), np.int32)
+        me.polygons.foreach_get('loop_start', starts)
+        order = np.argsort(starts, kind="stable")  # the faces in the order of their loops
+        face_of_loop = np.repeat(order.astype(np.int32), totals[order])
+        out.colors = vals[face_of_loop]
 
 
 def _loop_tangents(me, uv_name, nl):
@@ -358,13 +485,33 @@ def _area_light(obj, lt, m, pos, problems):
     return out
 
 
-def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
+class _Placed:
+    """One mesh (one evaluated geometry with one set of materials) and its placements: the
+    shapes of its material slots in object space, and (transform rows, name) per placement."""
+
+    def __init__(self, name, templates, emits):
+        self.name = name
+        self.templates = templates  # [(suffix, shape dict without transform and name)]
+        self.emits = emits
+        self.placements = []
+
+
+def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing=True):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
     scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
     arrays of objects converted before (the viewport drops the entries of changed objects).
     `users` (a dict, filled when given): material name -> the names of the objects using it
-    (for the grouped report, gaps.grouped)."""
+    (for the grouped report, gaps.grouped).
+
+    Instancing (`instancing`, on by default): a mesh placed more than once (collection
+    instances, particles, geometry-nodes instances, linked duplicates: the same evaluated
+    geometry with the same materials) is exported once, as a prototype (FORMAT.md,
+    "Instances"), with an `instance` shape per placement; a mesh placed once stays a mesh
+    shape. Where the core's instancing cannot take a mesh the placements are expanded into
+    mesh shapes (exact, one copy each) and reported: an emitting mesh (the core's prototypes
+    cannot emit) and Facet shapes imported from JSON (analytic kinds). Blender's nested
+    instances arrive as one level already (the depsgraph composes their matrices)."""
     scene = depsgraph.scene
     problems = []
     bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
@@ -373,9 +520,17 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
             "camera": camera or export_camera(depsgraph, scene, problems),
             "shapes": [], "lights": []}
     mesh_cache = {} if mesh_cache is None else mesh_cache
+    order = []  # in depsgraph order: a shape dict, or a _Placed (one entry per placement)
+    placed = {}  # geometry key -> _Placed
+    expanded_shapes = set()
+    seen = {}  # (object name, geometry, is instance) -> (_Placed, shape name)
+    empty = []  # objects whose own mesh is empty (reported unless they place instances)
+    instancers = set()
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
+        if inst.is_instance and inst.parent is not None:
+            instancers.add(inst.parent.original.name)
         if obj.type == 'LIGHT':
             orig = obj.original
             stored = None if inst.is_instance else _stored(orig, "facet_light",
@@ -393,6 +548,15 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
                 or obj.visible_shadow):
             continue
         orig = obj.original
+        data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
+        again = seen.get((orig.name, data_ptr, inst.is_instance)) if data_ptr else None
+        if again is not None:
+            # Another placement of an object converted above (same object, same geometry:
+            # the same materials and the same record): only its matrix is new.
+            if again[0].templates:
+                again[0].placements.append((_placement(matrix), again[1]))
+                order.append(again[0])
+            continue
         name = orig.name if not inst.is_instance else "%s (instance)" % orig.name
         if "facet_shape" in orig:
             shape = json.loads(orig["facet_shape"])
@@ -400,6 +564,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
                 pass  # unchanged since import: the stored (double precision) transform
             else:
                 shape["transform"] = None if _is_identity(matrix) else _matrix_rows(matrix)
+            if inst.is_instance and orig.name not in expanded_shapes:
+                expanded_shapes.add(orig.name)
+                problems.append("object '%s': a Facet %s shape (imported from JSON) placed by "
+                                "instances is expanded into a shape per placement (only meshes "
+                                "become prototypes)" % (orig.name, shape["type"]))
             if shape["type"] == "mesh" and "file" not in shape:
                 arrays = _imported_mesh_arrays(obj)
                 if arrays is None:
@@ -408,49 +577,143 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None):
                 shape["positions"], shape["indices"], shape["normals"] = arrays
             slot_mat = obj.material_slots[0].material if obj.material_slots else None
             _add_material(shape, slot_mat, mats, obj)
-            data["shapes"].append(shape)
+            order.append(shape)
             continue
         slots = [s.material for s in obj.material_slots] or [None]
         uv_layer = _uv_layer(obj, slots, mats, problems)
         tangents = uv_layer is not None and any(
             mats.get(m, obj)[1].tangents for m in slots
             if m is None or not m.get("facet_cycles_only"))
-        key = (obj.name, inst.is_instance, uv_layer, tangents)
-        if key not in mesh_cache:
-            mesh_cache[key] = mesh_arrays(obj, uv_layer, tangents)
-            hooks.export_stats["meshes"] += 1
-        arrays = mesh_cache[key]
-        if arrays is None:
-            problems.append("object '%s': empty mesh (no faces); skipped" % orig.name)
+        colors = _color_attribute_read(obj, slots, mats, problems)
+        # The same evaluated geometry (a pointer compared while this depsgraph lives) with the
+        # same materials is one mesh however often it is placed; other kinds: per object.
+        gkey = (data_ptr or orig.name, inst.is_instance if not data_ptr else None,
+                tuple(m.name if m is not None else None for m in slots), uv_layer, tangents,
+                colors)
+        rec = placed.get(gkey)
+        if rec is None:
+            key = (orig.name, inst.is_instance, data_ptr if inst.is_instance else 0, uv_layer,
+                   tangents, colors)
+            if key not in mesh_cache:
+                mesh_cache[key] = mesh_arrays(obj, uv_layer, tangents, colors)
+                hooks.export_stats["meshes"] += 1
+            rec = placed[gkey] = _placed_mesh(mesh_cache[key], obj, slots, uv_layer, mats,
+                                               problems)
+        if data_ptr:
+            seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
+        if not rec.templates:
+            if orig.name not in empty:
+                empty.append(orig.name)
             continue
-        pos, idx, nrm, mat_idx, uvs, tan = arrays
-        if uv_layer is not None and uvs is None:
-            # Cycles reads a missing UV map as (0, 0): the textures' value at the origin.
-            problems.append("object '%s': its textured materials read UV map '%s', which the "
-                            "mesh does not have; UV (0, 0) used everywhere, as Cycles does"
-                            % (orig.name, uv_layer or "(render)"))
-            uvs = np.zeros((len(pos), 2), np.float32)
-        transform = None if _is_identity(matrix) else _matrix_rows(matrix)
-        used = np.unique(mat_idx)
-        for mi in used:
-            mi = int(mi)
-            slot_mat = slots[min(mi, len(slots) - 1)] if slots else None
-            tris = idx if len(used) == 1 else idx[mat_idx == mi]
-            shape = {"type": "mesh", "positions": pos, "indices": tris, "normals": nrm,
-                     "transform": transform,
-                     "name": name if len(used) == 1 else "%s [slot %d]" % (name, mi)}
-            if uvs is not None:
-                shape["uvs"] = uvs
-            if tan is not None:
-                shape["tangents"] = tan
-            _add_material(shape, slot_mat, mats, obj)
-            data["shapes"].append(shape)
+        rec.placements.append((_placement(matrix), name))
+        order.append(rec)
+    # An instancer's own geometry may be empty (geometry nodes outputting only instances).
+    problems.extend("object '%s': empty mesh (no faces); skipped" % name for name in empty
+                    if name not in instancers)
+    data["shapes"], prototypes = _place(order, placed, instancing, problems)
+    if prototypes:
+        data["prototypes"] = prototypes
     env = export_environment(scene, problems)
     if env is not None:
         data["lights"].append(env)
     data["materials"] = mats.data()
     data["render"] = export_render_settings(scene)
     return data, problems
+
+
+def _placed_mesh(arrays, obj, slots, uv_layer, mats, problems):
+    """A _Placed for the arrays of `obj` (no templates: an empty mesh): one shape per
+    material slot used."""
+    orig = obj.original
+    if arrays is None:
+        return _Placed(orig.name, [], False)
+    problems.extend(arrays.notes)
+    uvs = arrays.uvs
+    if uv_layer is not None and uvs is None:
+        # Cycles reads a missing UV map as (0, 0): the textures' value at the origin.
+        problems.append("object '%s': its textured materials read UV map '%s', which the "
+                        "mesh does not have; UV (0, 0) used everywhere, as Cycles does"
+                        % (orig.name, uv_layer or "(render)"))
+        uvs = np.zeros((len(arrays.positions), 2), np.float32)
+    used = np.unique(arrays.material)
+    templates = []
+    for mi in used:
+        mi = int(mi)
+        slot_mat = slots[min(mi, len(slots) - 1)] if slots else None
+        tris = arrays.indices if len(used) == 1 else arrays.indices[arrays.material == mi]
+        shape = {"type": "mesh", "positions": arrays.positions, "indices": tris,
+                 "normals": arrays.normals}
+        if uvs is not None:
+            shape["uvs"] = uvs
+        if arrays.tangents is not None:
+            shape["tangents"] = arrays.tangents
+        if arrays.colors is not None:
+            shape["colors"] = arrays.colors
+        _add_material(shape, slot_mat, mats, obj)
+        templates.append(("" if len(used) == 1 else " [slot %d]" % mi, shape))
+    emits = any(materials.is_texture(t.get("emission")) or any(t.get("emission") or [])
+                for _, t in templates)
+    return _Placed(orig.name, templates, emits)
+
+
+def _place(order, placed, instancing, problems):
+    """(shapes, prototypes) of the placements in `order`: a mesh placed more than once as a
+    prototype and instances (when `instancing`), every other placement as mesh shapes with
+    its transform."""
+    prototypes = {}
+    proto_of = {}  # id(_Placed) -> prototype name
+    for rec in placed.values():
+        n = len(rec.placements)
+        if n < 2 or not instancing:
+            continue
+        if rec.emits:
+            problems.append("object '%s': placed %d times and emits light: expanded into a mesh "
+                            "per placement, not instanced (Facet's prototypes cannot emit)"
+                            % (rec.name, n))
+            continue
+        pname, k = rec.name, 1
+        while pname in prototypes:
+            k += 1
+            pname = "%s (%d)" % (rec.name, k)
+        prototypes[pname] = [dict(t, name=rec.name + suffix) for suffix, t in rec.templates]
+        proto_of[id(rec)] = pname
+    shapes = []
+    next_placement = {}
+    for entry in order:
+        if not isinstance(entry, _Placed):
+            shapes.append(entry)
+            continue
+        i = next_placement.get(id(entry), 0)
+        next_placement[id(entry)] = i + 1
+        rows, name = entry.placements[i]
+        pname = proto_of.get(id(entry))
+        if pname is not None:
+            shapes.append({"type": "instance", "of": pname, "transform": rows, "name": name})
+            continue
+        for suffix, t in entry.templates:
+            shapes.append(dict(t, transform=rows, name=name + suffix))
+    return shapes, prototypes
+
+
+def _color_attribute_read(obj, slots, mats, problems):
+    """The colour attribute the object's materials read through Color Attribute nodes: None
+    (none), "" (the default colour attribute) or a name; one per object (the core has one
+    set of vertex colours per mesh), the others reported."""
+    wanted = []
+    for m in slots:
+        if m is not None and m.get("facet_cycles_only"):
+            continue
+        for name in sorted(mats.get(m, obj)[1].color_attributes):
+            if name not in wanted:
+                wanted.append(name)
+    if len(wanted) > 1:
+        line = ("object '%s': its materials read several colour attributes (%s); only '%s' is "
+                "exported, the others read it too"
+                % (obj.original.name, ", ".join("'%s'" % (w or "(default)") for w in wanted),
+                   wanted[0] or "(default)"))
+        if line not in problems:
+            problems.append(line)
+    return wanted[0] if wanted else None
 
 
 def _uv_layer(obj, slots, mats, problems):
@@ -468,10 +731,11 @@ def _uv_layer(obj, slots, mats, problems):
             if uv not in wanted:
                 wanted.append(uv)
     if len(wanted) > 1:
-        problems.append("object '%s': its materials read several UV maps (%s); only '%s' is "
-                        "exported" % (obj.original.name, ", ".join("'%s'" % (w or "(render)")
-                                                                   for w in wanted),
-                                      wanted[0] or "(render)"))
+        line = ("object '%s': its materials read several UV maps (%s); only '%s' is exported"
+                % (obj.original.name, ", ".join("'%s'" % (w or "(render)") for w in wanted),
+                   wanted[0] or "(render)"))
+        if line not in problems:  # once, however many placements
+            problems.append(line)
     return wanted[0] if wanted else None
 
 

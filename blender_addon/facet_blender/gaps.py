@@ -51,7 +51,9 @@ NODES = {
     'ShaderNodeTexCoord': "Texture Coordinate converts only as a texture's UV (or the "
                           "world's Generated)",
     'ShaderNodeUVMap': "UV Map converts only as a texture's vector",
-    'ShaderNodeVertexColor': "colour attributes are not converted yet",
+    'ShaderNodeVertexColor': "a Color Attribute converts only as a texture (into a colour "
+                             "or number input of a BSDF or an Emission, or a Mix Shader's "
+                             "Fac)",
     'ShaderNodeAttribute': "attributes are not converted yet",
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
                          "parameter)",

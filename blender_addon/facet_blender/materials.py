@@ -86,6 +86,7 @@ class Converted:
         self.uv_maps = set(uv_maps)
         self.baked = False  # an input baked over the UVs of the object it was converted for
         self.tangents = False  # a normal map: the mesh needs the tangents of its UV map
+        self.color_attributes = set()  # colour attributes read by Color Attribute nodes
 
     def emits(self):
         return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
@@ -135,6 +136,7 @@ def convert(mat, obj=None):
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
     conv.baked = ctx.baked
     conv.tangents = ctx.tangents
+    conv.color_attributes = ctx.color_attributes
     return conv
 
 
@@ -169,6 +171,7 @@ class NodeContext:
         self.exact = set()  # (node, input) of gaps.INPUTS entries a conversion converted
         self.baked = False
         self.tangents = False  # a normal map: the mesh exports its UV map's tangents
+        self.color_attributes = set()  # colour attributes read ("" the default one)
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -242,7 +245,10 @@ class NodeContext:
             self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
         if res.data is None:  # a constant: the Alpha of an opaque image (1), a texture x 0
             return res.const * scale
-        self.uv_maps.add(res.uv_map)
+        if res.color_attribute is not None:  # a Color Attribute node: no UVs
+            self.color_attributes.add(res.color_attribute)
+        else:
+            self.uv_maps.add(res.uv_map)
         tex = dict(res.data)
         if scale != 1.0:
             tex["scale"] = tex.get("scale", 1.0) * scale

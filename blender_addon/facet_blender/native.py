@@ -69,6 +69,7 @@ _SHAPE_KEYS = {
     "icosphere": ("center", "radius", "subdivisions", "smooth"),
     "grid": ("nx", "ny", "amplitude", "frequency"),
     "mesh": (),
+    "instance": ("of",),
 }
 # Every light kind's keys, from the core's kind table (kinds.h): sizes, Blender's spot blend,
 # the area lamp and environment maps travel with their lights.
@@ -77,6 +78,8 @@ _LIGHT_KEYS = {kind: tuple(keys) for kind, keys in facet.light_kind_keys().items
 
 def texture(t):
     """A scene-format texture dict (FORMAT.md, Textures) -> facet.Texture."""
+    if t.get("vertex_color"):
+        return facet.Texture.vertex_color(t.get("channel", ""), float(t.get("scale", 1.0)))
     uv = {"uv_scale": tuple(t.get("uv_scale", (1.0, 1.0))),
           "uv_offset": tuple(t.get("uv_offset", (0.0, 0.0))),
           "uv_rotation": float(t.get("uv_rotation", 0.0))}
@@ -119,6 +122,13 @@ def _rgb(v):
 
 def _shape_desc(s):
     sd = facet.ShapeDesc()
+    if s["type"] == "instance":  # a placement: its prototype, name and transform only
+        sd.kind = "instance"
+        sd.of = s["of"]
+        sd.name = s.get("name", "")
+        if s.get("transform") is not None:
+            sd.transform = np.asarray(s["transform"], dtype=np.float64)
+        return sd
     sd.kind = s["type"]
     sd.name = s.get("name", "")
     mat = s.get("material")
@@ -144,7 +154,7 @@ def _shape_desc(s):
             sd.mesh = facet.MeshData(*(
                 None if s.get(k) is None else
                 np.ascontiguousarray(s[k], dtype=np.int32 if k == "indices" else np.float32)
-                for k in ("positions", "indices", "normals", "uvs", "tangents")))
+                for k in ("positions", "indices", "normals", "uvs", "tangents", "colors")))
     return sd
 
 
@@ -181,6 +191,19 @@ def to_description(data):
             raise ValueError("%s: /shapes/%d ('%s'): %s" % (data.get("name", "blender"), i,
                                                            s.get("name", ""), e)) from e
     d.shapes = shapes
+    prototypes = {}
+    for pname, pshapes in data.get("prototypes", {}).items():
+        descs = []
+        for i, s in enumerate(pshapes):
+            try:
+                descs.append(_shape_desc(s))
+            except (ValueError, TypeError) as e:
+                raise ValueError("%s: /prototypes/%s/%d ('%s'): %s"
+                                 % (data.get("name", "blender"), pname, i, s.get("name", ""),
+                                    e)) from e
+        prototypes[pname] = descs
+    if prototypes:
+        d.prototypes = prototypes
     lights = []
     for lt in data.get("lights", []):
         ld = facet.LightDesc()
@@ -225,6 +248,37 @@ def _material_data(m):
     return out
 
 
+def _shape_data(sd, base_dir):
+    """facet.ShapeDesc -> a shape dict of the scene format."""
+    kind = str(sd.kind).split(".")[-1].lower()
+    s = {"type": kind, "name": sd.name, "two_sided": bool(sd.two_sided),
+         "flip_normals": bool(sd.flip_normals), "emission": _vec(sd.emission)}
+    if sd.material is not None:
+        s["material"] = _material_data(sd.material)
+    elif sd.material_ref:
+        s["material"] = sd.material_ref
+    t = sd.transform
+    s["transform"] = None if t is None else np.asarray(t, dtype=np.float64).tolist()
+    for k in _SHAPE_KEYS[kind]:
+        v = getattr(sd, k)
+        if k == "vertices":
+            v = [_vec(p) for p in v]
+        elif isinstance(v, (list, tuple, np.ndarray)):
+            v = _vec(v)
+        s[k] = v
+    if kind == "mesh":
+        if sd.file:
+            s["file"] = os.path.join(base_dir, sd.file)
+        else:
+            mesh = sd.mesh
+            s["positions"] = np.array(mesh.positions, dtype=np.float32).reshape(-1, 3)
+            s["indices"] = np.array(mesh.indices, dtype=np.int32).reshape(-1, 3)
+            n = mesh.normals
+            s["normals"] = None if n is None or len(n) == 0 else np.array(
+                n, dtype=np.float32).reshape(-1, 3)
+    return s
+
+
 def from_description(d):
     """facet.SceneDescription -> scene data (every field the format has)."""
     c = d.camera
@@ -233,7 +287,6 @@ def from_description(d):
         "camera": {"position": _vec(c.position), "look_at": _vec(c.look_at), "up": _vec(c.up),
                    "width": int(c.width), "height": int(c.height)},
         "materials": [(name, _material_data(m)) for name, m in d.materials.items()],
-        "shapes": [],
         "lights": [],
     }
     cam = data["camera"]
@@ -243,34 +296,10 @@ def from_description(d):
         v = getattr(c, key)
         if v is not None and v != _CAMERA_DEFAULTS.get(key):
             cam[key] = v
-    for sd in d.shapes:
-        kind = str(sd.kind).split(".")[-1].lower()
-        s = {"type": kind, "name": sd.name, "two_sided": bool(sd.two_sided),
-             "flip_normals": bool(sd.flip_normals), "emission": _vec(sd.emission)}
-        if sd.material is not None:
-            s["material"] = _material_data(sd.material)
-        elif sd.material_ref:
-            s["material"] = sd.material_ref
-        t = sd.transform
-        s["transform"] = None if t is None else np.asarray(t, dtype=np.float64).tolist()
-        for k in _SHAPE_KEYS[kind]:
-            v = getattr(sd, k)
-            if k == "vertices":
-                v = [_vec(p) for p in v]
-            elif isinstance(v, (list, tuple, np.ndarray)):
-                v = _vec(v)
-            s[k] = v
-        if kind == "mesh":
-            if sd.file:
-                s["file"] = os.path.join(d.base_dir, sd.file)
-            else:
-                mesh = sd.mesh
-                s["positions"] = np.array(mesh.positions, dtype=np.float32).reshape(-1, 3)
-                s["indices"] = np.array(mesh.indices, dtype=np.int32).reshape(-1, 3)
-                n = mesh.normals
-                s["normals"] = None if n is None or len(n) == 0 else np.array(
-                    n, dtype=np.float32).reshape(-1, 3)
-        data["shapes"].append(s)
+    data["shapes"] = [_shape_data(sd, d.base_dir) for sd in d.shapes]
+    if d.prototypes:
+        data["prototypes"] = {name: [_shape_data(sd, d.base_dir) for sd in shapes]
+                              for name, shapes in d.prototypes.items()}
     for ld in d.lights:
         kind = str(ld.kind).split(".")[-1].lower()
         lt = {"type": kind}

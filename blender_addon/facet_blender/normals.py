@@ -70,6 +70,10 @@ def _normal_map(ctx, src, feeds, out):
         return  # (0.5, 0.5, 1): no map, exactly
     if strength == 0.0:
         return  # no map, exactly
+    if color.get("vertex_color"):
+        ctx.gap(src, "a Color Attribute into its Color (the core's normal maps are images)",
+                used)
+        return
     nm = dict(color)
     if nm.pop("scale", 1.0) != 1.0:
         ctx.gap(src, "a scaled colour into its Color", used)
@@ -103,6 +107,10 @@ def _bump(ctx, src, feeds, out):
     height = ctx.param(node, 'Height', path)
     if not isinstance(height, dict):
         return  # a constant height: zero gradient, the normal unchanged
+    if height.get("vertex_color"):
+        ctx.gap(src, "a Color Attribute as its Height (the core's bumps read images or "
+                "checkers)", "feeds %s; the shading normal is used" % feeds)
+        return
     bump = dict(height)
     bump["distance"] = distance
     if strength != 1.0:

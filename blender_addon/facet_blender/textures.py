@@ -39,6 +39,12 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
   with any scale, or any rotation with a uniform scale in the UV plane), and, for the
   checker, its z is constant. Anything else raises Unsupported.
+- Color Attribute (Vertex Color) node -> `{"vertex_color": true}` (FORMAT.md, "Vertex
+  colours"): the mesh exports the attribute the node names (empty: the mesh's default colour
+  attribute, Cycles' ATTR_STD_VERTEX_COLOR) as its `colors` (export.py). Color output: the
+  colour (into a number input: channel "luminance", as for images); Alpha: channel "a".
+  Cycles interpolates linear values per corner (byte colours are decoded per corner first),
+  as the core does.
 
 Every approximation is returned as a note (the caller reports it); everything else raises
 Unsupported(out, reason) naming the node that stops the conversion.
@@ -78,11 +84,14 @@ class Result:
     """A converted texture: `data` (scene-format texture dict), `uv_map` (the Blender UV layer
     name it reads, "" for the render UV map), `notes` (approximations to report)."""
 
-    def __init__(self, data, uv_map="", notes=(), const=1.0):
+    def __init__(self, data, uv_map="", notes=(), const=1.0, color_attribute=None):
         self.data = data
         self.uv_map = uv_map
         self.notes = list(notes)
         self.const = const  # the value when data is None (an opaque image's Alpha: 1)
+        # A vertex colour texture: the colour attribute the mesh exports ("" the default
+        # one; None: not a vertex colour texture, and then uv_map is the UV layer read).
+        self.color_attribute = color_attribute
 
 
 def convert(walker, src, number):
@@ -99,6 +108,8 @@ def convert(walker, src, number):
         return _image(walker, src, to_number)
     if node.bl_idname == 'ShaderNodeTexChecker':
         return _checker(walker, src, to_number)
+    if node.bl_idname == 'ShaderNodeVertexColor':
+        return _color_attribute(src, to_number)
     if node.bl_idname in SEPARATE:
         return _separate(walker, src)
     if node.bl_idname in COMBINE and not to_number:
@@ -220,6 +231,18 @@ def _math(walker, src):
     else:
         res.const *= c
     return res
+
+
+def _color_attribute(src, to_number):
+    """The Color Attribute node: the mesh's colours at the hit (no UVs, no filtering)."""
+    data = {"vertex_color": True}
+    notes = []
+    if src.socket.identifier == 'Alpha':
+        data["channel"] = "a"
+    elif to_number:
+        data["channel"] = "luminance"
+        notes.append("%s: %s" % (src.label(), LUMINANCE_NOTE))
+    return Result(data, None, notes, color_attribute=src.node.layer_name)
 
 
 # --- images ---------------------------------------------------------------------------------

@@ -43,7 +43,7 @@ def forget_changed(mesh_cache, depsgraph):
         idb = getattr(u.id, "original", u.id)
         if isinstance(idb, bpy.types.Object):
             for key in [k for k in mesh_cache if k[0] == idb.name]:
-                del mesh_cache[key]  # keys: (name, is_instance, uv layer, tangents)
+                del mesh_cache[key]  # keys: (name, is_instance, data, uv layer, tangents, colours)
         elif isinstance(idb, (bpy.types.Mesh, bpy.types.Curve, bpy.types.MetaBall,
                               bpy.types.Collection, bpy.types.Scene)):
             mesh_cache.clear()  # shared data, or objects added or removed

@@ -343,9 +343,10 @@ def stage_cubes_4mats(scene):
 
 def stage_box_instances(scene):
     """BoxTextured as a collection instanced 3 x 3 times (Empties with Instance Collection, as
-    a user would lay out copies), each turned differently; ground, courtyard HDRI, sun. Today's
-    exporter expands every instance into its own mesh shape (exact); the instancing branch
-    exports the mesh once with a transform per instance (the test then also checks that)."""
+    a user would lay out copies), each turned differently; ground, courtyard HDRI, sun. The
+    exporter makes the box one prototype placed by 9 instances (FORMAT.md "Instances";
+    tests/blender/test_instances.py checks the counts and the image against the expanded
+    export)."""
     bpy = _bpy()
     from mathutils import Vector
     objs = _asset_objects(import_gltf(ASSIMP + "/glTF2/BoxTextured-glTF/BoxTextured.gltf"))
@@ -466,7 +467,8 @@ SCENES = [
            "image -> Emission", "Clearcoat Normal"),
           explained=(SRGB8, NEGATIVE_HDRI, COAT_NORMAL)),
     Scene("box_instances", stage_box_instances, "glTF2/BoxTextured-glTF/BoxTextured.gltf",
-          ("collection instances (expanded today)", "image texture", "HDRI world + Mapping",
+          ("collection instances -> prototype + instances", "image texture",
+           "HDRI world + Mapping",
            "sun angle"),
           explained=(SRGB8, MIRROR_EXTEND, NEGATIVE_HDRI, SUN_ANGLE)),
     Scene("box_mix_bump", stage_box_mix_bump, "glTF2/BoxTextured-glTF/BoxTextured.gltf",
@@ -474,8 +476,7 @@ SCENES = [
           explained=(SRGB8, MIRROR_EXTEND, NEGATIVE_HDRI, LUMINANCE)),
     Scene("suzanne_vertex_colours", stage_suzanne_vertex_colours, "BLEND/Suzanne_248.blend",
           ("old .blend", "Color Attribute node (vertex colours)", "HDRI world"),
-          explained=(NEGATIVE_HDRI,),
-          pending="vertex colours: Color Attribute node -> the mesh's colors (vtxcol)"),
+          explained=(NEGATIVE_HDRI,)),
 ]
 
 
