@@ -418,7 +418,10 @@ TEST(Principled, MultiscatterWhiteGlassIsAWhiteFurnace) {
         ASSERT_NE(m.principled()->multiscatter_glass(), nullptr);
         for (double th : {0.0, 60.0, 85.0, 120.0, 170.0}) {
             const auto a = albedo(m, dir(th, 0.0), n);
-            EXPECT_NEAR(a.mean, 1.0, 3e-3 + 4.0 * a.se) << r << " " << th;
+            // r 0.1 (alpha 0.01) misses less than kMinMissingEnergy on average: the dielectric
+            // is not compensated and loses 0.56% at 85 degrees: allowed 1e-2 there.
+            const bool on = m.principled()->multiscatter_glass()->has_multiple_scattering();
+            EXPECT_NEAR(a.mean, 1.0, (on ? 3e-3 : 1e-2) + 4.0 * a.se) << r << " " << th;
         }
     }
 }
