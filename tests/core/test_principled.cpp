@@ -11,6 +11,7 @@
 #include "chi2.h"
 #include "facet/fresnel.h"
 #include "facet/microfacet.h"
+#include "facet/reflectance.h"
 #include "facet/registry.h"
 
 namespace facet {
@@ -368,8 +369,8 @@ TEST(Principled, WhiteFurnaceBounds) {
 // above, 2e-3, and the quadrature's ~1e-3 near grazing). Anisotropic lobes are compensated with
 // the isotropic equivalent alpha, an approximation (docs/principled.md): measured 0.82 .. 1.04
 // (worst 0.18 off at anisotropic 0.8, r 0.8); allowed 0.2, the worst printed. This documents
-// the approximation's size, it does not claim the anisotropic furnace. With "ggx" the same cases reflect 0.42 .. 0.99 (the
-// test fails).
+// the approximation's size, it does not claim the anisotropic furnace. With "ggx" the same cases
+// reflect 0.42 .. 0.99 (the test fails).
 struct FurnaceCase {
     double roughness, anisotropic, theta;
 };
@@ -424,6 +425,33 @@ TEST(Principled, MultiscatterWhiteGlassIsAWhiteFurnace) {
             EXPECT_NEAR(a.mean, 1.0, (on ? 3e-3 : 1e-2) + 4.0 * a.se) << r << " " << th;
         }
     }
+}
+
+// facet reflectance for principled (its sampler-space quadrature, core/src/reflectance.cpp):
+// Disney diffuse alone (specular 0, roughness 0) at normal incidence has F_V = 0 and
+// rho = C (1 - 1/2 * 2 int (1 - mu)^5 mu dmu) = C (1 - 1/42): 0.5 -> 0.4880952, to 1e-5 (the
+// adaptive rule's tolerance; a wrong Schlick exponent 4 gives 0.4833). A white multiscatter
+// metal reflects 1 within the compensation's 3e-3 (0.57 with ggx at r 0.8).
+TEST(Principled, ReflectanceQuadrature) {
+    const Material diffuse =
+        principled({{"base_color", 0.5}, {"specular", 0.0}, {"roughness", 0.0}});
+    QuadratureSettings q;
+    q.tolerance = 1e-5;
+    const Reflectance r = directional_hemispherical(diffuse, Vec3(0.f, 0.f, 1.f), q);
+    EXPECT_NEAR(r.value.r, 0.5 * (1.0 - 1.0 / 42.0), 1e-5);
+    const Material metal = principled({{"base_color", 1.0},
+                                       {"metallic", 1.0},
+                                       {"roughness", 0.8},
+                                       {"distribution", std::string("multi_ggx")}});
+    for (double th : {0.0, 30.0, 60.0}) {
+        const Reflectance m = hemispherical_directional(metal, dir(th, 0.0), q);
+        std::printf("multi_ggx white metal r 0.8, theta %2.0f: rho %.5f (error %.1e)\n", th,
+                    m.value.r, m.error.r);
+        EXPECT_NEAR(m.value.r, 1.0, 3e-3 + m.error.r) << th;
+    }
+    EXPECT_THROW((void)directional_hemispherical(principled({{"transmission", 1.0}}),
+                                                 Vec3(0.f, 0.f, 1.f), q),
+                 std::invalid_argument);
 }
 
 // Extremes: roughness 0 .. 1, ior 0.001 .. 100, grazing directions on both sides, both
