@@ -39,13 +39,17 @@ per material (they would fire on every default material).
   Transmission, Transmission Roughness; factors clamped to [0, 1] as Cycles clamps them (colours
   per channel), IOR to [0.001, 100]. Emission (a colour, or an image x Emission Strength) is
   converted; Alpha -> the material's "opacity" (_principled_alpha); Clearcoat Normal as
-  normals.clearcoat says. Reported: Multiscatter GGX
-  (exported as GGX: Facet's principled has single-scattering GGX only), Subsurface > 0 (Cycles'
-  diffuse fallback instead of subsurface transport), Alpha < 1 on an emitting Principled;
-  Subsurface Radius / IOR / Anisotropy and Tangent when linked (not read). The anisotropic
+  normals.clearcoat says. Multiscatter GGX -> distribution multi_ggx (the core's Kulla-Conty
+  compensation of the specular lobe instead of Cycles' random walk: same energy,
+  docs/principled.md gives the measured difference on coloured metals). Reported: Multiscatter
+  GGX glass with Specular Tint > 0 (MULTI_GLASS_NOTE), Subsurface > 0 (Cycles' diffuse fallback
+  instead of subsurface transport), Alpha < 1 on an emitting Principled; Subsurface Radius / IOR
+  / Anisotropy and Tangent when linked (not read). The anisotropic
   tangent is Facet's surface dp/du, not Cycles' default tangent.
 - Glass / Refraction BSDF: dielectric, ior = IOR, alpha = Roughness^2 (Sharp: smooth), GGX or
-  Beckmann, transmittance = Color (see _glass for what is reported).
+  Beckmann, transmittance = Color (see _glass for what is reported). Multiscatter GGX -> ggx
+  with energy_compensation (the core's rough-dielectric compensation instead of Cycles' random
+  walk: same energy, a white glass sphere renders the environment in both).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
 - Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1], or a texture / bake of the Fac)
@@ -577,6 +581,18 @@ def _glossy(ctx, node, path):
     return data, None
 
 
+# Above this Roughness Cycles 3.4 makes one random-walk glass closure for a Multiscatter GGX
+# Principled with Transmission, and Facet's principled its compensated dielectric (not tinted
+# by Specular Tint: docs/principled.md).
+_MULTI_GLASS_MIN_ROUGHNESS = 0.05
+MULTI_GLASS_NOTE = ("%s: %s Multiscatter GGX with Transmission and Specular Tint: Facet's "
+                    "multiscatter glass reflection is not tinted (Cycles tints it by "
+                    "mix(1, Base Color, Specular Tint))")
+
+MULTI_ANISO_NOTE = ("%s: %s Multiscatter GGX with Anisotropic: Facet compensates the "
+                    "anisotropic lobe as an isotropic one of the same sqrt(alpha_u alpha_v) "
+                    "(a white metal reflects 0.82 .. 1.04 instead of 1)")
+
 # Principled BSDF input -> the principled model's parameter (factors in [0, 1]).
 _PRINCIPLED_FACTORS = (
     ('Subsurface', "subsurface"), ('Metallic', "metallic"), ('Specular', "specular"),
@@ -606,7 +622,18 @@ def _principled(ctx, node, path):
     rotation = float(val('Anisotropic Rotation'))
     data["anisotropic_rotation"] = rotation - math.floor(rotation)  # periodic (2 pi x rotation)
     data["ior"] = max(1e-3, min(100.0, float(val('IOR'))))
-    if node.distribution != 'GGX':
+    if node.distribution == 'MULTI_GGX':
+        data["distribution"] = "multi_ggx"
+        def above(key, threshold):
+            return is_texture(data[key]) or data[key] > threshold
+
+        if (above("transmission", 1e-5) and above("roughness", _MULTI_GLASS_MIN_ROUGHNESS)
+                and above("specular_tint", 0.0)
+                and (is_texture(data["metallic"]) or data["metallic"] < 1.0)):
+            ctx.problems.append(MULTI_GLASS_NOTE % (ctx.what, node.name))
+        if above("anisotropic", 0.0):
+            ctx.problems.append(MULTI_ANISO_NOTE % (ctx.what, node.name))
+    elif node.distribution != 'GGX':
         ctx.problems.append("%s: %s distribution '%s' is not in Facet's principled; exported as "
                             "GGX (single scattering)" % (ctx.what, node.name, node.distribution))
     emission = _emission_of(ctx, node, path, 'Emission', 'Emission Strength')
@@ -659,7 +686,8 @@ def _glass(ctx, node, path):
     Cycles squares it (Sharp: 0), GGX -> ggx, Beckmann -> beckmann, Color -> transmittance.
     Approximations, reported: Cycles' Glass tints its reflection by Color too (Facet only the
     transmission); Cycles' Refraction BSDF has no reflection (Facet's dielectric reflects the
-    Fresnel fraction); Multiscatter GGX is converted as GGX."""
+    Fresnel fraction). Multiscatter GGX -> energy_compensation (the core's rough-dielectric
+    compensation: same energy as Cycles' random walk, docs/blender.md)."""
     label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
     ior = ctx.value(node, 'IOR', path)
     data = {"model": "dielectric", "ior": min(max(float(ior), 1e-3), 100.0)}
@@ -683,8 +711,7 @@ def _glass(ctx, node, path):
             if dist == 'BECKMANN':
                 data["distribution"] = "beckmann"
             elif dist == 'MULTI_GGX':
-                ctx.problems.append("%s: %s Multiscatter GGX converted as GGX (single "
-                                    "scattering: rough glass loses energy)" % (ctx.what, label))
+                data["energy_compensation"] = True
     return data, None
 
 

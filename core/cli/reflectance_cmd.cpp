@@ -53,11 +53,10 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
             "round-off dominates)");
     // The reflectance quadrature integrates over the upper hemisphere: for a model that
     // transmits, reflectance and transmittance must be reported apart (not done yet).
-    if (o.model == "principled")
+    if (o.model == "principled" && material_from_args(o.model, extras).transmissive())
         throw std::runtime_error(
-            "--model principled: reflectance is not available for the "
-            "principled model yet (docs/principled.md quotes Monte Carlo "
-            "albedos)");
+            "--model principled: reflectance is not available with transmission > 0 yet (it "
+            "would need reflectance and transmittance separately)");
     if (find_model(o.model) && make_material(o.model, {}).transmissive())
         throw std::runtime_error("--model " + o.model +
                                  ": reflectance is not available for transmissive models yet "

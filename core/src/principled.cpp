@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "albedo_table.h"
 #include "facet/fresnel.h"
 #include "facet/sampling.h"
 
@@ -22,6 +23,42 @@ constexpr float kMinRefraction = 1e-4f;
 constexpr float kClearcoatGAlpha = 0.25f;
 constexpr float kClearcoatIor = 1.5f;
 constexpr float kIorOne = 1e-3f;  // |ior - 1| below this: refraction straight through
+// Cycles 3.4 takes single-scattering GGX for a Multiscatter GGX specular with roughness <= this.
+constexpr float kMultiscatterMinRoughness = 0.075f;
+// ... and single-scattering glass lobes for a Multiscatter GGX glass with roughness <= this.
+constexpr float kMultiscatterMinGlassRoughness = 0.05f;
+
+// The F = 1 single-scattering albedo E(mu; alpha) of isotropic GGX with the height-correlated
+// G, at alpha_j = r_j^2, r_j = j / (kAlphaNodes - 1) (uniform in roughness), on the mu nodes of
+// albedo_table.h, and E_avg per node. Built once (about 0.1 s) by the quadrature of the ggx
+// model's own energy compensation (MicrofacetReflection), shared by every multiscatter
+// principled material so that building one per hit (textured parameters) costs no table.
+// Linear interpolation between alpha nodes keeps E_avg exact: the average of the blend is the
+// blend of the averages. Measured: the blend between nodes differs from a table built at the
+// exact alpha by at most 1.5e-3 (test Principled.MultiscatterAlbedoTableInterpolates).
+struct GgxAlbedoTable {
+    static constexpr int kAlphaNodes = 33;
+    static constexpr int kMu = MicrofacetReflection::kTableSize;
+    std::array<std::array<float, kMu>, kAlphaNodes> e{};
+    std::array<float, kAlphaNodes> avg{};
+};
+const GgxAlbedoTable& ggx_albedo_table() {
+    static const GgxAlbedoTable table = [] {
+        GgxAlbedoTable t;
+        for (int j = 0; j < GgxAlbedoTable::kAlphaNodes; ++j) {
+            const float r = float(j) / float(GgxAlbedoTable::kAlphaNodes - 1), a = r * r;
+            const MicrofacetReflection lobe(MicrofacetDistribution::ggx(a, a), Fresnel::none(),
+                                            Rgb(1.f), true);
+            for (int k = 0; k < GgxAlbedoTable::kMu; ++k) {
+                const float s = float(k) / float(GgxAlbedoTable::kMu - 1);
+                t.e[j][k] = lobe.albedo_table(s * s);
+            }
+            t.avg[j] = sqrt_mu_table_average(t.e[j].data(), GgxAlbedoTable::kMu);
+        }
+        return t;
+    }();
+    return table;
+}
 
 float schlick_weight(float cos_theta) {
     const float m = std::clamp(1.f - cos_theta, 0.f, 1.f);
@@ -116,6 +153,7 @@ PrincipledBxDF::PrincipledBxDF(const PrincipledParams& p) : m_params(p) {
         const float ax = std::min(1.f, r2 / aspect), ay = std::min(1.f, r2 * aspect);
         m_spec_dist = MicrofacetDistribution::ggx(ax, ay);
         if (ax * ay <= kSingular) m_delta_mask |= 1u << kSpecular;
+        if (p.multiscatter && p.roughness > kMultiscatterMinRoughness) setup_multiscatter();
         const float angle = 2.f * kPi * p.anisotropic_rotation;
         m_rot_c = std::cos(angle), m_rot_s = std::sin(angle);
     }
@@ -136,7 +174,11 @@ PrincipledBxDF::PrincipledBxDF(const PrincipledParams& p) : m_params(p) {
         m_cspec_glass =
             glm::clamp(c * p.specular_tint + Rgb(1.f - p.specular_tint), Rgb(0.f), Rgb(1.f));
         const float ar = std::min(1.f, p.roughness * p.roughness);
-        const float rt = 1.f - (1.f - p.roughness) * (1.f - p.transmission_roughness);
+        // Cycles' Multiscatter GGX ignores Transmission Roughness (its glass branches both
+        // refract at the roughness).
+        const float rt = p.multiscatter
+                             ? p.roughness
+                             : 1.f - (1.f - p.roughness) * (1.f - p.transmission_roughness);
         const float at = std::min(1.f, rt * rt);
         m_glass_r_dist = MicrofacetDistribution::ggx(ar, ar);
         m_glass_t_dist = MicrofacetDistribution::ggx(at, at);
@@ -146,13 +188,50 @@ PrincipledBxDF::PrincipledBxDF(const PrincipledParams& p) : m_params(p) {
         // degenerates in float while the lobe is narrower than 1e-3 rad.
         if (at * at <= kSingular || std::fabs(p.ior - 1.f) < kIorOne)
             m_delta_mask |= 1u << kGlassRefract;
+        if (p.multiscatter && p.roughness > kMultiscatterMinGlassRoughness &&
+            !(m_delta_mask & (1u << kGlassRefract))) {
+            m_glass_ms.emplace(p.ior, c, MicrofacetDistribution::ggx(ar, ar), true);
+            m_delta_mask &= ~((1u << kGlassReflect) | (1u << kGlassRefract));
+        }
     }
 
     if (m_cosine) m_flags = m_flags | BxDFFlags::Diffuse;
-    const bool lobe[kLobes] = {false, m_spec, m_clearcoat, m_glass, m_glass};
+    const bool lobe[kLobes] = {false, m_spec, m_clearcoat, m_glass, m_glass, m_spec_ms};
     for (int k = kSpecular; k < kLobes; ++k)
         if (lobe[k]) m_flags = m_flags | (is_delta(k) ? BxDFFlags::Specular : BxDFFlags::Glossy);
     if (m_glass) m_flags = m_flags | BxDFFlags::Transmission;
+}
+
+void PrincipledBxDF::setup_multiscatter() {
+    m_spec_hc = true;
+    // The shared table's blend at the lobe's equivalent isotropic roughness sqrt(sqrt(ax ay)).
+    const GgxAlbedoTable& t = ggx_albedo_table();
+    const float r = std::sqrt(std::sqrt(m_spec_dist.alpha_x() * m_spec_dist.alpha_y()));
+    const float x = std::clamp(r, 0.f, 1.f) * float(GgxAlbedoTable::kAlphaNodes - 1);
+    m_ms_node = std::min(int(x), GgxAlbedoTable::kAlphaNodes - 2);
+    m_ms_t = x - float(m_ms_node);
+    const float e_avg = t.avg[m_ms_node] + m_ms_t * (t.avg[m_ms_node + 1] - t.avg[m_ms_node]);
+    // As the ggx model: no compensation when the lobe misses less than the table's error.
+    if (1.f - e_avg < kMinMissingEnergy) return;
+    // F_avg of Cycles' interpolated Fresnel, which is linear in F_d: the average of F_H is
+    // (avg F_d - F0) / (1 - F0).
+    const float fd_avg = Fresnel::dielectric(m_spec_eta).average().r;
+    const float fh_avg = m_spec_f0 < 1.f ? (fd_avg - m_spec_f0) / (1.f - m_spec_f0) : 1.f;
+    const Rgb f_avg = m_cspec0 * (1.f - fh_avg) + Rgb(fh_avg);
+    const Rgb f_ms = f_avg * f_avg * e_avg / (Rgb(1.f) - f_avg * (1.f - e_avg));
+    m_ms_color = m_spec_weight * f_ms / (kPi * (1.f - e_avg));
+    if (!is_finite(m_ms_color) || !(max_component(m_ms_color) > 0.f)) return;
+    m_spec_ms = true;
+    m_ms_e_avg = e_avg;
+}
+
+float PrincipledBxDF::multiscatter_albedo(float mu) const {
+    if (!m_spec_ms) return 1.f;
+    const GgxAlbedoTable& t = ggx_albedo_table();
+    const int n = GgxAlbedoTable::kMu;
+    const float e0 = sqrt_mu_table_lookup(t.e[m_ms_node].data(), n, mu);
+    const float e1 = sqrt_mu_table_lookup(t.e[m_ms_node + 1].data(), n, mu);
+    return e0 + m_ms_t * (e1 - e0);
 }
 
 Rgb PrincipledBxDF::spec_fresnel(float cos_ih) const {
@@ -168,7 +247,7 @@ PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
     AtWo a;
     a.etap = etap;
     const float c = wo.z;
-    float w[kLobes] = {0.f, 0.f, 0.f, 0.f, 0.f};
+    float w[kLobes] = {0.f, 0.f, 0.f, 0.f, 0.f, 0.f};
     // Sheen's sample weight is Cycles' avg_value schlick(cos_o) cos_o, floored so that the
     // cosine lobe keeps a positive probability wherever sheen reflects.
     if (m_cosine)
@@ -177,11 +256,22 @@ PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
     if (m_clearcoat) w[kClearcoat] = m_cc_weight * fresnel_dielectric(c, kClearcoatIor);
     if (m_glass) {
         a.fm = fresnel_dielectric(c, a.etap);
-        w[kGlassReflect] = m_glass_weight * a.fm * average(glass_fresnel(c, a.etap));
-        w[kGlassRefract] =
-            m_glass_weight * std::max(kMinRefraction, 1.f - a.fm) * average(m_glass_color);
+        if (m_glass_ms) {
+            // The compensated dielectric: reflects ~Fm, transmits ~(1 - Fm) C.
+            w[kGlassReflect] = m_glass_weight * (a.fm + (1.f - a.fm) * average(m_glass_color));
+        } else {
+            w[kGlassReflect] = m_glass_weight * a.fm * average(glass_fresnel(c, a.etap));
+            w[kGlassRefract] =
+                m_glass_weight * std::max(kMinRefraction, 1.f - a.fm) * average(m_glass_color);
+        }
     }
-    const bool present[kLobes] = {m_cosine, m_spec, m_clearcoat, m_glass, m_glass};
+    if (m_spec_ms) {
+        // The compensation lobe's albedo at wo: (1 - E(mu_o)) w_s mean(F_ms).
+        a.ms_o = std::max(0.f, 1.f - multiscatter_albedo(c));
+        w[kSpecularMs] = a.ms_o * average(m_ms_color) * kPi * (1.f - m_ms_e_avg);
+    }
+    const bool present[kLobes] = {m_cosine, m_spec, m_clearcoat, m_glass, m_glass && !m_glass_ms,
+                                  m_spec_ms};
     float sum = 0.f;
     int n = 0;
     for (int k = 0; k < kLobes; ++k) sum += w[k], n += present[k];
@@ -211,9 +301,15 @@ void PrincipledBxDF::evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, Tra
         if (m_spec && !is_delta(kSpecular)) {
             const Vec3 so = to_spec(wo), si = to_spec(wi), sh = to_spec(h);
             const float d = m_spec_dist.D(sh);
-            f += m_spec_weight * spec_fresnel(cos_ih) *
-                 (d * separable_g(m_spec_dist, so, si) * inv4);
+            // Multiscatter GGX's first bounce has the height-correlated G (Cycles' mf_eval).
+            const float g = m_spec_hc ? m_spec_dist.G(so, si) : separable_g(m_spec_dist, so, si);
+            f += m_spec_weight * spec_fresnel(cos_ih) * (d * g * inv4);
             if (cos_oh > 0.f) pdf += a.p[kSpecular] * m_spec_dist.pdf(so, sh) / (4.f * cos_oh);
+        }
+        if (m_spec_ms) {
+            // Kulla & Conty 2017's compensation lobe (header comment).
+            f += m_ms_color * (a.ms_o * std::max(0.f, 1.f - multiscatter_albedo(cos_i)));
+            pdf += a.p[kSpecularMs] * cosine_hemisphere_pdf(cos_i);
         }
         if (m_clearcoat && !is_delta(kClearcoat)) {
             const float d = gtr1_d(h, m_cc_a2);
@@ -221,14 +317,14 @@ void PrincipledBxDF::evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, Tra
                      separable_g(m_cc_g, wo, wi) * inv4);
             if (cos_oh > 0.f) pdf += a.p[kClearcoat] * d * h.z / (4.f * cos_oh);
         }
-        if (m_glass && !is_delta(kGlassReflect)) {
+        if (m_glass && !m_glass_ms && !is_delta(kGlassReflect)) {
             const float d = m_glass_r_dist.D(h);
             f += (m_glass_weight * a.fm) * glass_fresnel(cos_ih, a.etap) *
                  (d * separable_g(m_glass_r_dist, wo, wi) * inv4);
             if (cos_oh > 0.f)
                 pdf += a.p[kGlassReflect] * m_glass_r_dist.pdf(wo, h) / (4.f * cos_oh);
         }
-    } else if (cos_i < 0.f && m_glass && !is_delta(kGlassRefract)) {
+    } else if (cos_i < 0.f && m_glass && !m_glass_ms && !is_delta(kGlassRefract)) {
         // Walter et al. 2007 refraction without a Fresnel factor (Cycles'
         // CLOSURE_BSDF_MICROFACET_GGX_REFRACTION_ID); microfacets facing away from either
         // direction reflect nothing (as facet/dielectric.h).
@@ -263,12 +359,25 @@ bool PrincipledBxDF::mirrored(const Vec3& wo, Vec3& o, AtWo& a) const {
     return true;
 }
 
+std::array<float, PrincipledBxDF::kLobes> PrincipledBxDF::lobe_probabilities(const Vec3& wo) const {
+    Vec3 o;
+    AtWo a;
+    if (!mirrored(wo, o, a)) return {};
+    return a.p;
+}
+
 BSDFEval PrincipledBxDF::eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const {
     BSDFEval e;
     Vec3 o;
     AtWo a;
     if (!mirrored(wo, o, a)) return e;
     evaluate(o, wo.z < 0.f ? mirror_z(wi) : wi, a, mode, &e.f, &e.pdf);
+    if (m_glass_ms) {
+        // The compensated dielectric takes the shape's frame itself (no mirroring).
+        const BSDFEval g = m_glass_ms->eval(wo, wi, mode);
+        e.f += m_glass_weight * g.f;
+        e.pdf += a.p[kGlassReflect] * g.pdf;
+    }
     return e;
 }
 
@@ -288,14 +397,31 @@ std::optional<BSDFSample> PrincipledBxDF::sample_f(const Vec3& wo, float uc, Vec
     const bool inside = wo.z < 0.f;
     // Choose a lobe with uc (the last present lobe absorbs round-off).
     int lobe = -1;
-    float acc = 0.f;
+    float acc = 0.f, below = 0.f;
     for (int k = 0; k < kLobes; ++k) {
         if (!(a.p[k] > 0.f)) continue;
         lobe = k;
+        below = acc;
         acc += a.p[k];
         if (uc < acc) break;
     }
     if (lobe < 0) return std::nullopt;
+
+    if (m_glass_ms && lobe == kGlassReflect) {
+        // The compensated dielectric samples in the shape's frame with uc rescaled to its
+        // interval; f and pdf are the whole mixture's at the sampled direction.
+        const float ug = std::clamp((uc - below) / a.p[lobe], 0.f, 0x1.fffffep-1f);
+        const auto g = m_glass_ms->sample_f(wo, ug, u, mode);
+        if (!g) return std::nullopt;
+        const BSDFEval e = eval(wo, g->wi, mode);
+        if (!(e.pdf > 0.f)) return std::nullopt;
+        BSDFSample s;
+        s.wi = g->wi;
+        s.f = e.f;
+        s.pdf = e.pdf;
+        s.flags = g->flags;
+        return s;
+    }
 
     BSDFSample s;
     const Vec3 n(0.f, 0.f, 1.f);
@@ -328,6 +454,7 @@ std::optional<BSDFSample> PrincipledBxDF::sample_f(const Vec3& wo, float uc, Vec
     Vec3 wi;
     switch (lobe) {
         case kCosine:
+        case kSpecularMs:
             wi = sample_cosine_hemisphere(u);
             break;
         case kSpecular:
@@ -348,7 +475,13 @@ std::optional<BSDFSample> PrincipledBxDF::sample_f(const Vec3& wo, float uc, Vec
         }
     }
     if (lobe != kGlassRefract && !(wi.z > 0.f)) return std::nullopt;
-    evaluate(o, wi, a, mode, &s.f, &s.pdf);
+    if (m_glass_ms) {
+        // The mixture includes the dielectric, which eval() adds in the shape's frame.
+        const BSDFEval e = eval(wo, inside ? mirror_z(wi) : wi, mode);
+        s.f = e.f, s.pdf = e.pdf;
+    } else {
+        evaluate(o, wi, a, mode, &s.f, &s.pdf);
+    }
     if (!(s.pdf > 0.f)) return std::nullopt;
     s.flags = wi.z < 0.f ? BxDFFlags::Glossy | BxDFFlags::Transmission
                          : (lobe == kCosine ? BxDFFlags::Diffuse : BxDFFlags::Glossy);

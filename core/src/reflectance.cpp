@@ -125,13 +125,80 @@ Vec3 clamp_above_horizon(Vec3 w) {
     return w;
 }
 
-// The quadrature maps know the lobes of the layered (diffuse + glossy + mirror) materials only:
-// the principled model (its own lobes) is an error, never a silent 0.
+// The principled model (its own lobes, which the maps below do not know) is integrated through
+// its own sampler instead: with p_k its lobe probabilities at the fixed direction w and
+// u -> w'(u) lobe k's sampler (sample_f with uc inside lobe k's interval), f cos / pdf of
+// the returned sample being the whole mixture's,
+//     int f(w, w') cos' dw' = sum_k p_k int_[0,1)^2 f(w, w'(u)) cos' / pdf(w'(u)) du
+// (one-sample MIS over the lobes), each square by an n x n Gauss-Legendre rule; delta lobes give
+// their constant weight. Value Q(2n), error 2 max(|Q(n/2) - Q(n)|, |Q(n) - Q(2n)|) as the fixed
+// order rule; the adaptive call doubles n from 32 until the error is below the tolerance or n
+// reaches kPrincipledMaxOrder (the integrand has kinks where samples cross the horizon, so
+// convergence is algebraic: read the error estimate). Without transmission the model is
+// reciprocal (tests/core/test_principled.cpp), so rho(wi -> 2pi) samples from wi as well.
+// Transmissive principled materials are refused (the sum would mix reflection and
+// transmission).
+constexpr int kPrincipledMaxOrder = 512;
+
+DVec3 principled_quadrature(const Material& m, const Vec3& fixed, int n) {
+    const PrincipledBxDF& b = *m.principled();
+    const auto p = b.lobe_probabilities(fixed);
+    const QuadratureRule& q = gauss_legendre(n);
+    DVec3 total(0.0);
+    float below = 0.f;
+    for (int k = 0; k < PrincipledBxDF::kLobes; ++k) {
+        if (!(p[k] > 0.f)) continue;
+        const float uc = below + 0.5f * p[k];
+        below += p[k];
+        DVec3 sum(0.0);
+        for (size_t i = 0; i < q.nodes.size(); ++i) {
+            for (size_t j = 0; j < q.nodes.size(); ++j) {
+                const Vec2 u(float(q.nodes[i]), float(q.nodes[j]));
+                const auto s = b.sample_f(fixed, uc, u, TransportMode::Radiance);
+                if (!s || !(s->pdf > 0.f)) continue;
+                sum += q.weights[i] * q.weights[j] * DVec3(s->f) *
+                       (double(std::fabs(s->wi.z)) / double(s->pdf));
+            }
+        }
+        total += double(p[k]) * sum;
+    }
+    return total;
+}
+
+Reflectance principled_reflectance(const Material& m, const Vec3& fixed_in, int order,
+                                   double tolerance) {
+    if (m.transmissive())
+        throw std::invalid_argument(
+            "reflectance quadrature: a transmissive principled material (transmission > 0) "
+            "would need reflectance and transmittance separately (not done yet)");
+    const Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
+    auto eval = [&](int n) { return principled_quadrature(m, fixed, n); };
+    const int lobes = 6;
+    if (order > 0) {
+        Reflectance r = with_error(eval, order);
+        r.evaluations = long(order) * order * 21 / 4 * lobes;
+        return r;
+    }
+    Reflectance r;
+    DVec3 coarsest = eval(16), coarse = eval(32);
+    long evaluations = (16 * 16 + 32 * 32) * lobes;
+    for (int n = 64;; n *= 2) {
+        const DVec3 fine = eval(n);
+        evaluations += long(n) * n * lobes;
+        r = {fine, 2.0 * glm::max(glm::abs(fine - coarse), glm::abs(coarse - coarsest)),
+             evaluations};
+        if (std::max({r.error.r, r.error.g, r.error.b}) <= tolerance || n >= kPrincipledMaxOrder)
+            return r;
+        coarsest = coarse, coarse = fine;
+    }
+}
+
+// The quadrature maps below know the lobes of the layered (diffuse + glossy + mirror) materials
+// only; the principled model goes through principled_reflectance (callers check first).
 void require_layered(const Material& m) {
     if (m.principled())
         throw std::invalid_argument(
-            "reflectance quadrature: the principled model is not supported yet (its lobes have "
-            "no maps here)");
+            "reflectance quadrature: the principled model has no maps here (internal error)");
 }
 
 // Fixed order: int f cos dw over the free direction with `fixed_in` held: fixed = wo when
@@ -146,6 +213,7 @@ Reflectance with_error_of(const Material& m, const Vec3& fixed, bool fixed_is_wo
 
 Reflectance fixed_order_hemispherical(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
                                       int order) {
+    if (m.principled()) return principled_reflectance(m, fixed_in, order, 0.0);
     require_layered(m);
     Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
     if (auto r = special_reflectance(m, fixed, fixed_is_wo, order, [&](const Material& c) {
@@ -511,6 +579,7 @@ void check_settings(const QuadratureSettings& s) {
 Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool fixed_is_wo,
                                    const QuadratureSettings& settings) {
     check_settings(settings);
+    if (m.principled()) return principled_reflectance(m, fixed_in, 0, settings.tolerance);
     require_layered(m);
     const Vec3 fixed = clamp_above_horizon(glm::normalize(fixed_in));
     // Order 64 for Oren-Nayar: its error estimate is reported, not refined to the tolerance.
@@ -634,7 +703,7 @@ Reflectance adaptive_hemispherical(const Material& m, const Vec3& fixed_in, bool
 }
 
 bool is_isotropic(const Material& m) {
-    if (m.combination()) return !m.anisotropic();
+    if (m.combination() || m.principled()) return !m.anisotropic();
     if (const MicrofacetDistribution* d = glossy_distribution(m))
         return d->alpha_x() == d->alpha_y();
     return true;

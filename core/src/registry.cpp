@@ -173,8 +173,9 @@ std::vector<ModelInfo> build_table() {
           number("transmission_roughness", "0",
                  "Transmission Roughness, in [0, 1]: refraction roughness 1 - (1 - r)(1 - this)"),
           text("distribution", "ggx",
-               "microfacet distribution: ggx (Cycles' GGX); multi_ggx is not implemented yet "
-               "and is an error")}});
+               "microfacet distribution: ggx (Cycles' GGX) or multi_ggx (Cycles' Multiscatter "
+               "GGX: for roughness > 0.075 the specular lobe takes the height-correlated G and a "
+               "Kulla-Conty compensation lobe, so a white metal reflects everything)")}});
     t.push_back({"oren_nayar",
                  "rough diffuse reflection as Cycles' Diffuse BSDF with roughness: f = rho (A + "
                  "B t), A = 1 / (pi + (3 pi - 4) / 6 sigma), B = sigma A, t = s / max(cos_i, "
@@ -420,10 +421,7 @@ Material build(const ModelInfo& info, const ParamSet& params,
         p.ior = float(r.number("ior", p.ior, 1e-3, kMaxIor));
         p.transmission = unit("transmission", p.transmission);
         p.transmission_roughness = unit("transmission_roughness", p.transmission_roughness);
-        if (r.choice("distribution", "ggx", {"ggx", "multi_ggx"}) == "multi_ggx")
-            throw r.error("distribution",
-                          "multi_ggx (Cycles' stochastic multiple-scattering GGX) is not "
-                          "implemented; use ggx (docs/principled.md)");
+        p.multiscatter = r.choice("distribution", "ggx", {"ggx", "multi_ggx"}) == "multi_ggx";
         return Material(PrincipledBxDF(p));
     }
     // composite

@@ -105,13 +105,17 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
             slot.param = Param::Sigma;
         } else if (name == "alpha" && !blinn &&
                    (f == F::Microfacet || f == F::Dielectric || f == F::Composite)) {
+            // A compensated dielectric's tables depend on alpha: built per hit instead.
+            if (f == F::Dielectric && base.dielectric()->energy_compensation()) return std::nullopt;
             slot.param = Param::Alpha;
         } else if (name == "f0" && fresnel && fresnel_kind == Fresnel::Kind::Schlick) {
             slot.param = Param::F0;
         } else if (name == "ior" && ((fresnel && fresnel_kind == Fresnel::Kind::Dielectric) ||
                                      f == F::Dielectric || f == F::ThinDielectric)) {
-            // A composite's glossy albedo is not linear in the IOR: not tabulated.
+            // A composite's glossy albedo is not linear in the IOR: not tabulated; a compensated
+            // dielectric's tables depend on it: built per hit instead.
             if (f == F::Composite && base.glossy()) return std::nullopt;
+            if (f == F::Dielectric && base.dielectric()->energy_compensation()) return std::nullopt;
             slot.param = Param::Ior;
         } else if (name == "transmittance" && (f == F::Dielectric || f == F::ThinDielectric)) {
             slot.param = Param::Transmittance;
@@ -275,6 +279,9 @@ Material StagedMaterial::at(std::span<const DVec3> values) const {
             return Material(std::nullopt, MicrofacetReflection(v.dist, v.fr, v.rho, v.ec),
                             std::nullopt);
         case Family::Dielectric:
+            // Only the transmittance can vary with compensation (make()): keep the tables.
+            if (m_base.dielectric()->energy_compensation())
+                return Material(m_base.dielectric()->with_transmittance(v.tr));
             return Material(DielectricBxDF(v.eta, v.tr, v.dist));
         case Family::ThinDielectric:
             return Material(ThinDielectricBxDF(v.eta, v.tr));

@@ -89,14 +89,46 @@ def main():
     bt.check(close(c.data["clearcoat"], 0.5) and close(c.data["sheen"], 0.3)
              and close(c.data["transmission"], 0.2) and close(c.data["subsurface"], 0.1),
              "Principled: clearcoat, sheen, transmission, subsurface converted: %s" % c.data)
+    bt.check(c.data.get("distribution") == "multi_ggx",
+             "Principled Multiscatter GGX -> distribution multi_ggx: %s" % c.data)
     bt.check(any("PX" in p and "Subsurface" in p for p in c.problems)
-             and any("PX" in p and "MULTI_GGX" in p for p in c.problems)
+             and not any("MULTI_GGX" in p or "Multiscatter" in p for p in c.problems)
              and not any("Clearcoat" in p or "Sheen" in p or "Transmission" in p
                          for p in c.problems)
              and any("PX" in p and "Base Color" in p and "Noise Texture" in p
                      for p in c.problems),
-             "Principled: subsurface fallback, multiscatter and linked inputs named: %s"
+             "Principled: subsurface fallback and linked inputs named, multiscatter converted "
+             "silently (Specular Tint 0): %s"
              % c.problems)
+    # Multiscatter glass with Specular Tint: Facet's compensated glass reflection is untinted.
+    m, n = node_material("PT", "ShaderNodeBsdfPrincipled", Transmission=1.0, Roughness=0.5,
+                         Specular_Tint=0.5)
+    n.distribution = 'MULTI_GGX'
+    c = conv(m)
+    bt.check(c.data.get("distribution") == "multi_ggx"
+             and any("PT" in p and "Specular Tint" in p for p in c.problems),
+             "Principled Multiscatter glass with Specular Tint reported: %s" % c.problems)
+    m2, n2 = node_material("PA", "ShaderNodeBsdfPrincipled", Metallic=1.0, Anisotropic=0.5)
+    n2.distribution = 'MULTI_GGX'
+    bt.check(any("PA" in p and "Anisotropic" in p for p in conv(m2).problems),
+             "Principled Multiscatter GGX with Anisotropic reported (isotropic compensation)")
+    n.distribution = 'GGX'
+    bt.check(not any("Specular Tint" in p for p in conv(m).problems),
+             "Principled GGX glass with Specular Tint: exact, not reported")
+    # Glass Multiscatter GGX -> the dielectric's energy compensation, not reported.
+    m, n = node_material("GLM", "ShaderNodeBsdfGlass", _distribution='MULTI_GGX', Roughness=0.5)
+    c = conv(m)
+    bt.check(c.data["model"] == "dielectric" and c.data.get("energy_compensation") is True
+             and close(c.data["alpha"], 0.25) and not c.problems,
+             "Glass Multiscatter GGX -> dielectric with energy_compensation: %s %s"
+             % (c.data, c.problems))
+    n.distribution = 'GGX'
+    bt.check(conv(m).data.get("energy_compensation") is None, "Glass GGX -> not compensated")
+    m, _ = node_material("ANM", "ShaderNodeBsdfAnisotropic", _distribution='MULTI_GGX',
+                         Roughness=0.5, Anisotropy=0.5)
+    c = conv(m)
+    bt.check(c.data.get("energy_compensation") is True and "alpha_u" in c.data
+             and not c.problems, "Anisotropic Multiscatter GGX -> compensated: %s" % c.data)
     m, _ = node_material("E", "ShaderNodeEmission", Color=(1.0, 0.5, 0.25, 1.0), Strength=4.0)
     c = conv(m)
     bt.check(close(c.emission, [4.0, 2.0, 1.0]), "Emission: radiance = Color x Strength")

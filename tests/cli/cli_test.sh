@@ -32,9 +32,20 @@ expect_ok lambert-eval-text 'f   = 0.159155 0.159155 0.159155' "$facet" brdf eva
 # normal incidence on both sides F_V = F_L = 0, so f = C / pi = 0.5 / pi.
 expect_ok principled-eval 'f   = 0.159155 0.159155 0.159155' "$facet" brdf eval --model principled \
   --base_color 0.5 --specular 0 --roughness 0 --wi 0,0 --wo 0,0
-expect_err principled-reflectance 'principled' "$facet" reflectance --model principled
-expect_err principled-multi-ggx '--distribution' "$facet" brdf eval --model principled \
-  --distribution multi_ggx
+# Reflectance of principled (through its sampler): Disney diffuse alone (specular 0, roughness 0)
+# at normal incidence, F_V = 0: rho = C (1 - 1/2 * 2 int (1 - mu)^5 mu dmu) = 0.5 (1 - 1/42) =
+# 0.488095.
+expect_ok principled-reflectance 'rho\(wi->2pi\) at theta_i = 0 deg: 0\.48809[45]' "$facet" \
+  reflectance --model principled --base_color 0.5 --specular 0 --roughness 0
+# Multiscatter GGX: a white metal reflects everything (the compensation's error is < 3e-3); with
+# ggx the same metal reflects 0.57.
+expect_ok principled-multi-ggx-furnace 'theta_i = 30 deg: (0\.99[7-9]|1\.00[0-2])' "$facet" \
+  reflectance --model principled --base_color 1 --metallic 1 --roughness 0.8 \
+  --distribution multi_ggx --theta-i 30
+expect_err principled-reflectance-transmission 'transmission' "$facet" reflectance \
+  --model principled --transmission 1
+expect_err principled-distribution '--distribution' "$facet" brdf eval --model principled \
+  --distribution beckmann
 # Cosine-weighted sampling: pdf = cos(theta)/pi <= 1/pi for every sample.
 expect_ok lambert-sample 'diffuse' "$facet" brdf sample --model lambert --count 4 --seed 7
 # Mirror: a delta, f = pdf = 0 off the delta; samples are specular with pdf 1.

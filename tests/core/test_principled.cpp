@@ -10,6 +10,8 @@
 
 #include "chi2.h"
 #include "facet/fresnel.h"
+#include "facet/microfacet.h"
+#include "facet/reflectance.h"
 #include "facet/registry.h"
 
 namespace facet {
@@ -130,6 +132,75 @@ TEST(Principled, ReciprocalWithoutTransmission) {
     }
 }
 
+// The same with Multiscatter GGX: the height-correlated G and the compensation lobe
+// (1 - E(mu_o)) (1 - E(mu_i)) are symmetric too. A compensation lobe built with E(mu_o) twice
+// (a plausible slip) breaks this by ~10% at these roughnesses.
+TEST(Principled, MultiscatterIsReciprocal) {
+    const Material m = principled({{"base_color", Rgb(0.8f, 0.5f, 0.2f)},
+                                   {"metallic", 0.6},
+                                   {"roughness", 0.8},
+                                   {"anisotropic", 0.6},
+                                   {"anisotropic_rotation", 0.15},
+                                   {"sheen", 1.0},
+                                   {"clearcoat", 0.7},
+                                   {"clearcoat_roughness", 0.2},
+                                   {"distribution", std::string("multi_ggx")}});
+    ASSERT_TRUE(m.principled()->multiscatter_compensated());
+    pcg32 rng(4);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 a = dir(89.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+        const Vec3 b = dir(89.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+        const Rgb fab = m.f(a, b), fba = m.f(b, a);
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(fab[k], fba[k], 1e-4f * std::max(fab[k], fba[k]) + 1e-9f) << i;
+    }
+}
+
+// Cycles 3.4 takes single-scattering GGX for a Multiscatter GGX specular of roughness <= 0.075:
+// there the two distributions are the same model, bit for bit; above it they differ (the
+// height-correlated G, the compensation lobe).
+TEST(Principled, MultiscatterSwitchesAtCyclesThreshold) {
+    const Vec3 wo = dir(40.0, 10.0), wi = dir(55.0, 200.0);
+    for (double r : {0.0, 0.03, 0.075, 0.5}) {
+        ParamSet p{{"base_color", Rgb(0.8f, 0.5f, 0.2f)}, {"metallic", 0.5}, {"roughness", r}};
+        const Material single = principled(p);
+        p.set("distribution", std::string("multi_ggx"));
+        const Material multi = principled(p);
+        const Rgb a = single.f(wo, wi), b = multi.f(wo, wi);
+        if (r <= 0.075) {
+            EXPECT_EQ(a, b) << r;
+            EXPECT_FALSE(multi.principled()->multiscatter_compensated()) << r;
+        } else {
+            EXPECT_GT(b.r, a.r * 1.005f) << r;  // measured +0.99%
+            EXPECT_TRUE(multi.principled()->multiscatter_compensated()) << r;
+        }
+    }
+}
+
+// The shared E(mu; alpha) table, blended linearly between its roughness nodes, against the
+// ggx model's own table built at the exact alpha (the same quadrature): within 2e-3 between
+// nodes (measured worst printed; the nodes themselves agree to float rounding). A table of
+// half as many nodes misses by ~5e-3.
+TEST(Principled, MultiscatterAlbedoTableInterpolates) {
+    double worst = 0.0;
+    for (double r : {0.1, 0.23, 0.37, 0.5, 0.61, 0.77, 0.89, 0.97, 1.0}) {
+        const Material m = principled(
+            {{"metallic", 1.0}, {"roughness", r}, {"distribution", std::string("multi_ggx")}});
+        const float a = float(r * r);
+        // Below ~r 0.15 the lobe misses less than kMinMissingEnergy: no compensation, E = 1.
+        if (!m.principled()->multiscatter_compensated()) continue;
+        const MicrofacetReflection lobe(MicrofacetDistribution::ggx(a, a), Fresnel::none(),
+                                        Rgb(1.f), true);
+        for (double mu = 0.0; mu <= 1.0; mu += 1.0 / 128.0) {
+            const double d = std::fabs(double(m.principled()->multiscatter_albedo(float(mu))) -
+                                       double(lobe.albedo_table(float(mu))));
+            worst = std::max(worst, d);
+            EXPECT_LT(d, 2e-3) << r << " " << mu;
+        }
+    }
+    std::printf("multiscatter albedo table: worst blend error %.2e\n", worst);
+}
+
 struct Case {
     std::string name;
     ParamSet params;
@@ -169,6 +240,39 @@ std::vector<Case> chi2_cases() {
                       {"ior", 4.0},
                       {"clearcoat", 0.5},
                       {"clearcoat_roughness", 0.2}},
+                     th});
+    }
+    // Multiscatter GGX: the compensation lobe (cosine-sampled) next to the others.
+    for (double th : {0.0, 50.0, 85.0}) {
+        v.push_back({"multi_metal",
+                     {{"base_color", c},
+                      {"metallic", 1.0},
+                      {"roughness", 0.6},
+                      {"distribution", std::string("multi_ggx")}},
+                     th});
+        v.push_back({"multi_aniso",
+                     {{"base_color", c},
+                      {"metallic", 0.7},
+                      {"roughness", 0.9},
+                      {"anisotropic", 0.8},
+                      {"anisotropic_rotation", 0.3},
+                      {"sheen", 0.5},
+                      {"distribution", std::string("multi_ggx")}},
+                     th});
+    }
+    for (double th : {30.0, 150.0}) {
+        v.push_back({"multi_glass",
+                     {{"base_color", c},
+                      {"transmission", 1.0},
+                      {"roughness", 0.5},
+                      {"ior", 1.5},
+                      {"distribution", std::string("multi_ggx")}},
+                     th});
+        v.push_back({"multi_half_glass",
+                     {{"base_color", c},
+                      {"transmission", 0.5},
+                      {"roughness", 1.0},
+                      {"distribution", std::string("multi_ggx")}},
                      th});
     }
     // |ior - 1| < 1e-3: refraction is a delta (straight through), reflection stays rough.
@@ -258,36 +362,130 @@ TEST(Principled, WhiteFurnaceBounds) {
     }
 }
 
-// Extremes: roughness 0 .. 1, ior 0.001 .. 100, grazing directions on both sides: finite,
-// non-negative values and unit directions.
-TEST(Principled, ExtremesStayFinite) {
-    pcg32 rng(5);
-    const int n = std::max(500, int(5000 * stress_scale()));
-    for (double ior : {1e-3, 0.5, 1.0, 1.0001, 1.45, 100.0}) {
-        for (double r : {0.0, 1e-4, 0.02, 0.5, 1.0}) {
-            const Material m = principled({{"transmission", 0.7},
+// White furnace with Multiscatter GGX: a white metal (base colour 1, metallic 1: F = 1)
+// reflects everything, as Cycles' random walk does (Cycles 3.4 renders 0.99999 on the sphere,
+// tests/render/multiscatter_cycles.json). Tolerance 4 standard errors + 3e-3: the compensation
+// restores 1 - E_table(mu_o), so the albedo is 1 + E(mu_o) - E_table(mu_o) (the blend error
+// above, 2e-3, and the quadrature's ~1e-3 near grazing). Anisotropic lobes are compensated with
+// the isotropic equivalent alpha, an approximation (docs/principled.md): measured 0.82 .. 1.04
+// (worst 0.18 off at anisotropic 0.8, r 0.8); allowed 0.2, the worst printed. This documents
+// the approximation's size, it does not claim the anisotropic furnace. With "ggx" the same cases
+// reflect 0.42 .. 0.99 (the test fails).
+struct FurnaceCase {
+    double roughness, anisotropic, theta;
+};
+TEST(Principled, MultiscatterWhiteMetalIsAWhiteFurnace) {
+    const int n = std::max(20000, int(200000 * stress_scale()));
+    double worst_iso = 0.0, worst_aniso = 0.0;
+    for (double r : {0.1, 0.2, 0.5, 0.8, 1.0}) {
+        for (double aniso : {0.0, 0.8}) {
+            const Material m = principled({{"base_color", 1.0},
+                                           {"metallic", 1.0},
                                            {"roughness", r},
-                                           {"ior", ior},
-                                           {"sheen", 1.0},
-                                           {"clearcoat", 1.0},
-                                           {"clearcoat_roughness", r},
-                                           {"anisotropic", 1.0}});
-            for (int i = 0; i < n; ++i) {
-                const Vec3 wo =
-                    dir(180.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
-                const Vec3 wi =
-                    dir(180.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
-                const BSDFEval e = m.eval(wo, wi);
-                ASSERT_TRUE(is_finite(e.f) && std::isfinite(e.pdf)) << ior << " " << r;
-                ASSERT_GE(std::min({e.f.r, e.f.g, e.f.b, e.pdf}), 0.f);
-                auto s = m.sample_f(wo, test::uniform_float(rng),
-                                    Vec2(test::uniform_float(rng), test::uniform_float(rng)));
-                if (!s) continue;
-                ASSERT_TRUE(is_finite(s->f) && std::isfinite(s->pdf) && s->pdf > 0.f);
-                ASSERT_NEAR(glm::length(s->wi), 1.f, 1e-4f);
+                                           {"anisotropic", aniso},
+                                           {"distribution", std::string("multi_ggx")}});
+            for (double th : {0.0, 45.0, 70.0, 85.0}) {
+                for (double phi : {0.0, 45.0, 90.0}) {
+                    if (aniso == 0.0 && phi > 0.0) continue;
+                    const auto a = albedo(m, dir(th, phi), n);
+                    // Uncompensated (r 0.1: average loss below kMinMissingEnergy = 2e-3)
+                    // the lobe still loses 0.8% at 85 degrees: allowed 1e-2.
+                    const bool on = m.principled()->multiscatter_compensated();
+                    const double tol = (aniso > 0.0 ? 0.2 : on ? 3e-3 : 1e-2) + 4.0 * a.se;
+                    EXPECT_NEAR(a.mean, 1.0, tol) << r << " " << aniso << " " << th << " " << phi;
+                    double& worst = aniso > 0.0 ? worst_aniso : worst_iso;
+                    worst = std::max(worst, std::fabs(a.mean - 1.0));
+                }
             }
         }
     }
+    std::printf("multiscatter white metal: worst |albedo - 1| isotropic %.4f, anisotropic %.4f\n",
+                worst_iso, worst_aniso);
+}
+
+// Multiscatter glass (transmission 1, base colour 1): the compensated dielectric reflects plus
+// transmits everything from both sides (importance mode: no etap^2), as Cycles' random walk
+// does (0.9994 .. 0.99999 on the sphere, tests/render/multiscatter_cycles.json). Tolerance 4
+// standard errors + 3e-3, the dielectric's own (tests/core/test_dielectric.cpp). With "ggx" the
+// same glass keeps 0.27 .. 0.8 (the test fails).
+TEST(Principled, MultiscatterWhiteGlassIsAWhiteFurnace) {
+    const int n = std::max(20000, int(200000 * stress_scale()));
+    for (double r : {0.1, 0.5, 1.0}) {
+        const Material m = principled({{"base_color", 1.0},
+                                       {"transmission", 1.0},
+                                       {"roughness", r},
+                                       {"ior", 1.45},
+                                       {"distribution", std::string("multi_ggx")}});
+        ASSERT_NE(m.principled()->multiscatter_glass(), nullptr);
+        for (double th : {0.0, 60.0, 85.0, 120.0, 170.0}) {
+            const auto a = albedo(m, dir(th, 0.0), n);
+            // r 0.1 (alpha 0.01) misses less than kMinMissingEnergy on average: the dielectric
+            // is not compensated and loses 0.56% at 85 degrees: allowed 1e-2 there.
+            const bool on = m.principled()->multiscatter_glass()->has_multiple_scattering();
+            EXPECT_NEAR(a.mean, 1.0, (on ? 3e-3 : 1e-2) + 4.0 * a.se) << r << " " << th;
+        }
+    }
+}
+
+// facet reflectance for principled (its sampler-space quadrature, core/src/reflectance.cpp):
+// Disney diffuse alone (specular 0, roughness 0) at normal incidence has F_V = 0 and
+// rho = C (1 - 1/2 * 2 int (1 - mu)^5 mu dmu) = C (1 - 1/42): 0.5 -> 0.4880952, to 1e-5 (the
+// adaptive rule's tolerance; a wrong Schlick exponent 4 gives 0.4833). A white multiscatter
+// metal reflects 1 within the compensation's 3e-3 (0.57 with ggx at r 0.8).
+TEST(Principled, ReflectanceQuadrature) {
+    const Material diffuse =
+        principled({{"base_color", 0.5}, {"specular", 0.0}, {"roughness", 0.0}});
+    QuadratureSettings q;
+    q.tolerance = 1e-5;
+    const Reflectance r = directional_hemispherical(diffuse, Vec3(0.f, 0.f, 1.f), q);
+    EXPECT_NEAR(r.value.r, 0.5 * (1.0 - 1.0 / 42.0), 1e-5);
+    const Material metal = principled({{"base_color", 1.0},
+                                       {"metallic", 1.0},
+                                       {"roughness", 0.8},
+                                       {"distribution", std::string("multi_ggx")}});
+    for (double th : {0.0, 30.0, 60.0}) {
+        const Reflectance m = hemispherical_directional(metal, dir(th, 0.0), q);
+        std::printf("multi_ggx white metal r 0.8, theta %2.0f: rho %.5f (error %.1e)\n", th,
+                    m.value.r, m.error.r);
+        EXPECT_NEAR(m.value.r, 1.0, 3e-3 + m.error.r) << th;
+    }
+    EXPECT_THROW((void)directional_hemispherical(principled({{"transmission", 1.0}}),
+                                                 Vec3(0.f, 0.f, 1.f), q),
+                 std::invalid_argument);
+}
+
+// Extremes: roughness 0 .. 1, ior 0.001 .. 100, grazing directions on both sides, both
+// distributions: finite, non-negative values and unit directions.
+TEST(Principled, ExtremesStayFinite) {
+    pcg32 rng(5);
+    const int n = std::max(500, int(5000 * stress_scale()));
+    for (const char* dist : {"ggx", "multi_ggx"})
+        for (double ior : {1e-3, 0.5, 1.0, 1.0001, 1.45, 100.0}) {
+            for (double r : {0.0, 1e-7, 1e-4, 0.02, 0.076, 0.5, 1.0}) {
+                const Material m = principled({{"distribution", std::string(dist)},
+                                               {"transmission", 0.7},
+                                               {"roughness", r},
+                                               {"ior", ior},
+                                               {"sheen", 1.0},
+                                               {"clearcoat", 1.0},
+                                               {"clearcoat_roughness", r},
+                                               {"anisotropic", 1.0}});
+                for (int i = 0; i < n; ++i) {
+                    const Vec3 wo =
+                        dir(180.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+                    const Vec3 wi =
+                        dir(180.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+                    const BSDFEval e = m.eval(wo, wi);
+                    ASSERT_TRUE(is_finite(e.f) && std::isfinite(e.pdf)) << ior << " " << r;
+                    ASSERT_GE(std::min({e.f.r, e.f.g, e.f.b, e.pdf}), 0.f);
+                    auto s = m.sample_f(wo, test::uniform_float(rng),
+                                        Vec2(test::uniform_float(rng), test::uniform_float(rng)));
+                    if (!s) continue;
+                    ASSERT_TRUE(is_finite(s->f) && std::isfinite(s->pdf) && s->pdf > 0.f);
+                    ASSERT_NEAR(glm::length(s->wi), 1.f, 1e-4f);
+                }
+            }
+        }
 }
 
 TEST(Principled, BadInputNamesTheParameter) {
@@ -304,7 +502,7 @@ TEST(Principled, BadInputNamesTheParameter) {
     EXPECT_EQ(param_of({{"metallic", 1.5}}), "metallic");
     EXPECT_EQ(param_of({{"roughness", -0.1}}), "roughness");
     EXPECT_EQ(param_of({{"base_color", Rgb(0.5f, 2.f, 0.f)}}), "base_color");
-    EXPECT_EQ(param_of({{"distribution", std::string("multi_ggx")}}), "distribution");
+    EXPECT_EQ(param_of({{"distribution", std::string("beckmann")}}), "distribution");
     EXPECT_EQ(param_of({{"clearcoat_gloss", 0.5}}), "clearcoat_gloss");
 }
 

@@ -139,6 +139,12 @@ TEST(StagedMaterial, PrincipledIsBitIdentical) {
                        R"("clearcoat_roughness": )" + tex(random_image("g4", 1, 0.f, 6), 1) +
                        R"(, "transmission": )" + tex(random_image("g5", 1, 0.f, 7), 1) + "}"),
             0.0);
+    // Multiscatter GGX: the compensation's albedo table is shared, not rebuilt per hit.
+    compare(scene_with(R"({"model": "principled", "distribution": "multi_ggx", "base_color": )" +
+                       tex(random_image("c2", 3, 0.f, 3), 1) + R"(, "roughness": )" +
+                       tex(random_image("g2", 1, 0.f, 4), 1) + R"(, "anisotropic": )" +
+                       tex(random_image("g3", 1, 0.f, 5), 1) + "}"),
+            0.0);
 }
 
 TEST(StagedMaterial, MirrorAndMicrofacetAreBitIdentical) {
@@ -163,6 +169,12 @@ TEST(StagedMaterial, DielectricsAreBitIdentical) {
     compare(scene_with(R"({"model": "dielectric", "ior": )" +
                        tex(random_image("g9", 1, 0.3f, 15), 2.5) + R"(, "alpha": )" +
                        tex(random_image("g10", 1, 0.f, 16), 0.5) + R"(, "transmittance": )" +
+                       tex(random_image("c7", 3, 0.f, 17), 1) + "}"),
+            0.0);
+    // Energy compensation with a textured transmittance keeps the base's tables (they are built
+    // with transmittance 1); a staged build that dropped the compensation differs in f.
+    compare(scene_with(R"({"model": "dielectric", "energy_compensation": true, "alpha": 0.4, )"
+                       R"("ior": 1.5, "transmittance": )" +
                        tex(random_image("c7", 3, 0.f, 17), 1) + "}"),
             0.0);
     compare(scene_with(R"({"model": "thin_dielectric", "ior": )" +
@@ -206,6 +218,12 @@ TEST(StagedMaterial, UnstagedParametersFallBack) {
                                    tex(random_image("g14", 1, 0.f, 27), 0.5) + "}");
     ASSERT_EQ(s.textured_materials().size(), 1u);
     EXPECT_FALSE(s.textured_materials()[0].staged);
+    // A compensated dielectric's tables depend on alpha and ior: rebuilt per hit.
+    const fr::Scene d = scene_with(R"({"model": "dielectric", "energy_compensation": true, )"
+                                   R"("alpha": )" +
+                                   tex(random_image("g15", 1, 0.1f, 28), 0.5) + "}");
+    ASSERT_EQ(d.textured_materials().size(), 1u);
+    EXPECT_FALSE(d.textured_materials()[0].staged);
 }
 
 // glTF metallic-roughness through its conversion (Debian's assimp-testmodels; skipped when

@@ -116,6 +116,13 @@ class DielectricBxDF {
     const MicrofacetDistribution& distribution() const { return m_distribution; }
     bool energy_compensation() const { return m_energy_compensation; }
     bool has_multiple_scattering() const { return m_has_ms; }
+    // This interface with another transmittance: the compensation tables do not depend on it
+    // (they are built with transmittance 1), so the copy keeps them (staged materials).
+    DielectricBxDF with_transmittance(const Rgb& transmittance) const {
+        DielectricBxDF d = *this;
+        d.m_transmittance = transmittance;
+        return d;
+    }
 
     // The tabulated single-scattering albedo E_s(mu) (header comment) for wo outside
     // (inside = false) or inside, and its average; 1 when no table is built.

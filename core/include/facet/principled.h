@@ -43,6 +43,22 @@
 //  - Subsurface: Facet has no subsurface transport; it uses Cycles' own fallback (the one
 //    Cycles takes after a diffuse bounce): C = mix(base_color, subsurface_color, subsurface)
 //    for every lobe, and the diffuse lobe instead of the BSSRDF.
+//  - Multiscatter GGX (distribution "multi_ggx", Cycles' Multiscatter GGX; docs/principled.md):
+//    for roughness > 0.075 (Cycles' own switch to single scattering below), the specular lobe
+//    takes the height-correlated G (what Cycles' random walk evaluates for its first bounce)
+//    and gains the Kulla & Conty 2017 compensation lobe instead of Cycles' stochastic walk:
+//      f_ms = w_s F_ms (1 - E(mu_o)) (1 - E(mu_i)) / (pi (1 - E_avg)),
+//      F_ms = F_avg^2 E_avg / (1 - F_avg (1 - E_avg)), F_avg = 2 int F_s(mu) mu dmu,
+//    E the F = 1 single-scattering albedo of isotropic GGX at alpha = sqrt(alpha_x alpha_y)
+//    (one table over (alpha, mu) shared by every material; an anisotropic lobe is compensated
+//    with its equivalent isotropic alpha). A white metal then reflects everything (furnace).
+//    Glass (w_t > 1e-5) with roughness > 0.05 (Cycles' switch for its glass): Cycles 3.4 makes
+//    one random-walk glass closure with microfacet Fresnel at alpha = r^2 (Transmission
+//    Roughness ignored), refraction tinted by C; Facet takes its rough `dielectric` (Walter et
+//    al. 2007, height-correlated G, microfacet Fresnel) with energy compensation, transmittance
+//    C, weight w_t, in place of the two glass lobes. Its reflection is not tinted by
+//    specular_tint (Cycles tints it by mix(1, C, specular_tint)); at roughness <= 0.05 the two
+//    single-scattering glass lobes stay, with the refraction at r (no Transmission Roughness).
 //  - Sampling: one lobe is chosen with probability proportional to its Cycles-style sample
 //    weight at wo (average colour times its Fresnel at the normal), cosine-weighted for
 //    diffuse + sheen, visible normals for GGX, D cos for GTR1; pdf() is the mixture.
@@ -76,6 +92,7 @@ struct PrincipledParams {
     float ior = 1.45f;
     float transmission = 0.f;
     float transmission_roughness = 0.f;
+    bool multiscatter = false;  // distribution "multi_ggx" (header comment)
 };
 
 class PrincipledBxDF {
@@ -93,8 +110,29 @@ class PrincipledBxDF {
     bool anisotropic() const { return m_spec && m_spec_dist.alpha_x() != m_spec_dist.alpha_y(); }
 
     // Lobe indices: diffuse + sheen (cosine-sampled), specular, clearcoat, glass reflection,
-    // glass refraction.
-    enum Lobe { kCosine = 0, kSpecular, kClearcoat, kGlassReflect, kGlassRefract, kLobes };
+    // glass refraction, the specular's multiple-scattering compensation (cosine-sampled).
+    enum Lobe {
+        kCosine = 0,
+        kSpecular,
+        kClearcoat,
+        kGlassReflect,
+        kGlassRefract,
+        kSpecularMs,
+        kLobes
+    };
+
+    // The lobe selection probabilities of sample_f at wo (indexed by Lobe; all 0 when the model
+    // sends nothing toward wo's side). sample_f chooses lobe k for uc in [sum_{j<k} p_j,
+    // sum_{j<=k} p_j); the reflectance quadrature integrates each lobe's samples apart.
+    std::array<float, kLobes> lobe_probabilities(const Vec3& wo) const;
+    // The compensated dielectric that stands for the glass lobes with multiscatter (or null).
+    const DielectricBxDF* multiscatter_glass() const { return m_glass_ms ? &*m_glass_ms : nullptr; }
+    // Whether the specular lobe has the multiscatter compensation (multiscatter and roughness
+    // above Cycles' single-scattering threshold), and its table: the F = 1 single-scattering
+    // albedo E(mu) and its average E_avg (1 without compensation).
+    bool multiscatter_compensated() const { return m_spec_ms; }
+    float multiscatter_albedo(float mu) const;
+    float multiscatter_albedo_average() const { return m_ms_e_avg; }
 
   private:
     // What depends on wo (in the frame mirrored to wo's side): the glass split and the lobe
@@ -102,6 +140,7 @@ class PrincipledBxDF {
     struct AtWo {
         float etap = 1.f;               // n(other side) / n(wo's side) for the glass lobes
         float fm = 0.f;                 // Fresnel of the macro normal at wo (glass split)
+        float ms_o = 0.f;               // 1 - E(mu_o) of the multiscatter compensation
         std::array<float, kLobes> p{};  // selection probabilities (sum 1 when any lobe)
     };
     AtWo at_wo(const Vec3& wo, float etap) const;
@@ -112,6 +151,8 @@ class PrincipledBxDF {
     void evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, TransportMode mode, Rgb* f_out,
                   float* pdf_out) const;
     bool is_delta(int lobe) const { return (m_delta_mask >> lobe) & 1u; }
+    // The multiscatter shape and compensation of the specular lobe (after m_spec_dist).
+    void setup_multiscatter();
     // Rotation of the anisotropic specular's tangent (into its rotated frame).
     Vec3 to_spec(const Vec3& w) const {
         return {m_rot_c * w.x + m_rot_s * w.y, -m_rot_s * w.x + m_rot_c * w.y, w.z};
@@ -137,6 +178,13 @@ class PrincipledBxDF {
     MicrofacetDistribution m_spec_dist = MicrofacetDistribution::ggx(0.25f, 0.25f);
     float m_rot_c = 1.f, m_rot_s = 0.f;
 
+    bool m_spec_hc = false;  // multiscatter shape: the height-correlated G on the specular
+    bool m_spec_ms = false;  // multiscatter compensation on the specular lobe
+    int m_ms_node = 0;       // the shared table's alpha node below alpha ...
+    float m_ms_t = 0.f;      // ... and the linear weight of the node above
+    float m_ms_e_avg = 1.f;
+    Rgb m_ms_color{0.f};  // w_s F_ms / (pi (1 - E_avg))
+
     bool m_clearcoat = false;
     float m_cc_weight = 0.f;  // 0.25 clearcoat
     float m_cc_a2 = 0.f;      // clearcoat_roughness^4
@@ -148,6 +196,9 @@ class PrincipledBxDF {
     Rgb m_glass_color{1.f};  // C (refraction tint)
     MicrofacetDistribution m_glass_r_dist = MicrofacetDistribution::ggx(0.25f, 0.25f);
     MicrofacetDistribution m_glass_t_dist = MicrofacetDistribution::ggx(0.25f, 0.25f);
+    // Multiscatter glass (header comment): replaces the two glass lobes; sampled in the
+    // kGlassReflect slot.
+    std::optional<DielectricBxDF> m_glass_ms;
 };
 
 }  // namespace facet
