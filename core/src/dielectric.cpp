@@ -56,8 +56,33 @@ DielectricBxDF::DielectricBxDF(float eta, const Rgb& transmittance, const Microf
                 float(std::fmin(single_scattering_albedo(wo, kTableOrder), 1.0));
         }
         m_e_avg[side] = sqrt_mu_table_average(&m_e[size_t(side * kTableSize)], kTableSize);
-        m_m[side] = kPi * (1.f - m_e_avg[side]);
     }
+    finish_compensation();
+}
+
+DielectricBxDF::DielectricBxDF(float eta, const Rgb& transmittance, const MicrofacetDistribution& d,
+                               const Compensation& c)
+    : m_eta(eta),
+      m_transmittance(transmittance),
+      m_distribution(d),
+      m_smooth(d.effectively_smooth()),
+      m_energy_compensation(true) {
+    m_e.fill(1.f);
+    if (m_smooth) return;
+    m_e = c.e;
+    m_e_avg[0] = c.e_avg[0], m_e_avg[1] = c.e_avg[1];
+    finish_compensation();
+}
+
+DielectricBxDF::Compensation DielectricBxDF::compensation() const {
+    Compensation c;
+    c.e = m_e;
+    c.e_avg[0] = m_e_avg[0], c.e_avg[1] = m_e_avg[1];
+    return c;
+}
+
+void DielectricBxDF::finish_compensation() {
+    for (int side = 0; side < 2; ++side) m_m[side] = kPi * (1.f - m_e_avg[side]);
     if (1.f - m_e_avg[0] < kMinMissingEnergy || 1.f - m_e_avg[1] < kMinMissingEnergy) return;
     // The split of the multiply scattered energy (header comment): x = 1 - F_avg(eta), at most
     // eta^2 m_in / m_out.

@@ -37,12 +37,26 @@ Material::Material(std::optional<LambertReflection> diffuse,
 
 Material::Material(std::optional<LambertReflection> diffuse,
                    std::optional<MicrofacetReflection> glossy,
-                   std::optional<MirrorReflection> mirror, const AlbedoTable& eg)
+                   std::optional<MirrorReflection> mirror, const AlbedoTable& eg, const Rgb* es_avg)
     : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
-    init(&eg);
+    init(&eg, es_avg);
 }
 
-void Material::init(const AlbedoTable* eg) {
+Rgb Material::table_average(const AlbedoTable& table) {
+    return hemispherical_average(table);
+}
+
+Rgb Material::specular_average(const AlbedoTable& eg, const MirrorReflection* mirror) {
+    AlbedoTable es;
+    for (int k = 0; k < kTableSize; ++k) {
+        float mu = float(k) / float(kTableSize - 1);
+        es[k] =
+            glm::clamp(eg[k] + (mirror ? mirror->reflectance(mu) : Rgb(0.f)), Rgb(0.f), Rgb(1.f));
+    }
+    return hemispherical_average(es);
+}
+
+void Material::init(const AlbedoTable* eg, const Rgb* es_avg) {
     if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
     if (m_glossy) m_flags = m_flags | m_glossy->flags();
     if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
@@ -63,13 +77,9 @@ void Material::init(const AlbedoTable* eg) {
         }
     }
     if (m_diffuse) {
-        std::array<Rgb, kTableSize> es;
-        for (int k = 0; k < kTableSize; ++k) {
-            float mu = float(k) / float(kTableSize - 1);
-            es[k] = glm::clamp(m_eg[k] + (m_mirror ? m_mirror->reflectance(mu) : Rgb(0.f)),
-                               Rgb(0.f), Rgb(1.f));
-        }
-        Rgb one_minus_avg = Rgb(1.f) - hemispherical_average(es);
+        // Given (the staged build's table) or computed from the lobes.
+        Rgb one_minus_avg =
+            Rgb(1.f) - (es_avg ? *es_avg : specular_average(m_eg, m_mirror ? &*m_mirror : nullptr));
         for (int c = 0; c < 3; ++c)
             m_inv_one_minus_es_avg[c] =
                 one_minus_avg[c] > kMinDiffuseShare ? 1.f / one_minus_avg[c] : 0.f;
@@ -78,17 +88,28 @@ void Material::init(const AlbedoTable* eg) {
 
 Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
                              const MicrofacetDistribution& d, const Fresnel& fr, bool ec,
-                             const AlbedoTable* eg) {
+                             const CompositeTables& t) {
     std::optional<LambertReflection> diffuse;
     std::optional<MicrofacetReflection> glossy;
     std::optional<MirrorReflection> mirror;
     // Zero-weight lobes are left out, so a material never pays for what it does not show.
     if (max_component(kd) > 0.f) diffuse.emplace(kd);
-    if (max_component(ks) > 0.f) glossy.emplace(d, fr, ks, ec);
+    if (max_component(ks) > 0.f) {
+        if (ec && t.compensation)
+            glossy.emplace(d, fr, ks, *t.compensation);
+        else
+            glossy.emplace(d, fr, ks, ec);
+    }
     if (max_component(km) > 0.f) mirror.emplace(fr, km);
     if (!diffuse && !glossy && !mirror) diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
-    if (eg) return Material(std::move(diffuse), std::move(glossy), std::move(mirror), *eg);
+    if (t.eg)
+        return Material(std::move(diffuse), std::move(glossy), std::move(mirror), *t.eg, t.es_avg);
     return Material(std::move(diffuse), std::move(glossy), std::move(mirror));
+}
+
+Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
+                             const MicrofacetDistribution& d, const Fresnel& fr, bool ec) {
+    return composite(kd, ks, km, d, fr, ec, CompositeTables{});
 }
 
 Material::Material(const DielectricBxDF& dielectric)

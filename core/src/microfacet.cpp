@@ -419,8 +419,6 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
       m_scale(scale),
       m_energy_compensation(energy_compensation),
       m_smooth(d.effectively_smooth()) {
-    m_e.fill(1.f);
-    m_phi_count = 1;
     if (!m_energy_compensation || m_smooth) return;
 
     // E(mu_o, phi_o) by albedo_quadrature (above), tabulated.
@@ -440,6 +438,8 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     // are symmetric under x -> -x and y -> -y), bilinear; isotropic lobes over sqrt(mu_o).
     m_phi_count = dist.alpha_x() != dist.alpha_y() ? kPhiTableSize : 1;
     m_stretch = Vec2(float(ax), float(ay));
+    std::vector<float> rows(m_phi_count > 1 ? std::size_t(m_phi_count * kTableSize) : 0);
+    float* const e = m_phi_count > 1 ? rows.data() : m_e.data();
     for (int k = 0; k < kTableSize; ++k) {
         double s_k = double(k) / (kTableSize - 1);  // nodes uniform in sqrt(mu)
         double mu = std::fmax(s_k * s_k, double(kAlbedoMinMu));
@@ -455,10 +455,44 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
             double st = std::sqrt(std::fmax(0.0, 1.0 - wz * wz)), sxy = std::hypot(wx, wy);
             double cp = sxy > 0.0 ? wx / sxy : 1.0, sp = sxy > 0.0 ? wy / sxy : 0.0;
             Vec3 wo(float(st * cp), float(st * sp), float(wz));
-            m_e[size_t(p) * kTableSize + k] = albedo_quadrature(wo, ax, ay, cp, sp, gu, dist);
+            e[size_t(p) * kTableSize + k] = albedo_quadrature(wo, ax, ay, cp, sp, gu, dist);
         }
     }
+    if (m_phi_count > 1) m_e_rows = std::make_shared<const std::vector<float>>(std::move(rows));
+    m_has_table = true;
     m_e_avg = m_phi_count == 1 ? isotropic_average() : anisotropic_average(gu);
+    finish_compensation();
+}
+
+MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel,
+                                           const Rgb& scale, const Compensation& c)
+    : m_distribution(d),
+      m_fresnel(fresnel),
+      m_scale(scale),
+      m_energy_compensation(true),
+      m_smooth(d.effectively_smooth()) {
+    if (m_smooth) return;
+    // The first constructor's stretch of an isotropic lobe (its table is over mu itself).
+    const double s_blinn =
+        d.kind() == DistributionKind::Blinn ? std::sqrt(2.0 / double(d.nu())) : 1.0;
+    m_stretch = Vec2(float(s_blinn * d.alpha_x()), float(s_blinn * d.alpha_y()));
+    m_e = c.e;
+    m_has_table = true;
+    m_e_avg = c.e_avg;
+    finish_compensation();
+}
+
+MicrofacetReflection::Compensation MicrofacetReflection::compensation() const {
+    Compensation c;
+    if (m_has_table)
+        c.e = m_e;
+    else
+        c.e.fill(1.f);
+    c.e_avg = m_e_avg;
+    return c;
+}
+
+void MicrofacetReflection::finish_compensation() {
     if (1.f - m_e_avg < kMinMissingEnergy) return;
 
     Rgb f_avg = m_fresnel.average();
@@ -521,8 +555,10 @@ float MicrofacetReflection::anisotropic_average(const QuadratureRule& gu) const 
 }
 
 float MicrofacetReflection::albedo_row(int row, float mu) const {
+    if (!m_has_table) return 1.f;
     // Nodes uniform in sqrt(mu) (albedo_table.h).
-    return sqrt_mu_table_lookup(&m_e[size_t(row) * kTableSize], kTableSize, mu);
+    const float* e = m_e_rows ? m_e_rows->data() + size_t(row) * kTableSize : m_e.data();
+    return sqrt_mu_table_lookup(e, kTableSize, mu);
 }
 
 float MicrofacetReflection::albedo_table(const Vec3& w) const {

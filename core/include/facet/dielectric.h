@@ -102,6 +102,22 @@ class DielectricBxDF {
     DielectricBxDF(float eta, const Rgb& transmittance, const MicrofacetDistribution& d,
                    bool energy_compensation = false);
 
+    static constexpr int kTableSize = 64;  // nodes in sqrt(mu), per side
+
+    // The compensation tables (E_out, E_in at the nodes, and their averages). They depend on
+    // eta and the distribution only, so the staged build of a textured roughness at a constant
+    // IOR (facet/staged_material.h) tabulates them over alpha once and interpolates.
+    struct Compensation {
+        std::array<float, 2 * kTableSize> e{};
+        float e_avg[2] = {1.f, 1.f};
+    };
+    // The compensated interface with its tables given instead of computed (ignored when d is
+    // effectively smooth): bit for bit the first constructor's when `c` is its compensation().
+    DielectricBxDF(float eta, const Rgb& transmittance, const MicrofacetDistribution& d,
+                   const Compensation& c);
+    // This interface's tables (with energy compensation; otherwise E = 1).
+    Compensation compensation() const;
+
     Rgb f(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     BSDFEval eval(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
@@ -133,9 +149,9 @@ class DielectricBxDF {
     // sampler's unit square); what the table stores at its nodes, exposed for the tests.
     double single_scattering_albedo(const Vec3& wo, int order) const;
 
-    static constexpr int kTableSize = 64;  // nodes in sqrt(mu), per side
-
   private:
+    // The constructors' last step: the split of the multiply scattered energy from the tables.
+    void finish_compensation();
     std::optional<BSDFSample> sample_smooth(const Vec3& wo, float uc, TransportMode mode) const;
     BSDFEval eval_single(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     // Probability of choosing the f_ms lobe at wo, and of transmission within it.

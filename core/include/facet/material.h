@@ -59,14 +59,34 @@ class Material {
     // The same, with the glossy albedo table Eg given instead of computed (the staged build,
     // facet/staged_material.h, looks it up per hit; with the table the first constructor
     // computes, the material is bit for bit the same). Read only when two or more lobes exist.
+    // es_avg, when given, is Es_avg (header comment) instead of its computation from eg and the
+    // mirror lobe (specular_average): the same material bit for bit when it is that value.
     Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
-             std::optional<MirrorReflection> mirror, const AlbedoTable& eg);
+             std::optional<MirrorReflection> mirror, const AlbedoTable& eg,
+             const Rgb* es_avg = nullptr);
+    // What the staged build (facet/staged_material.h) gives the composite instead of computing
+    // it: the glossy albedo table Eg, Es_avg, and the glossy lobe's compensation table (used
+    // when ec is on). Null: computed.
+    struct CompositeTables {
+        const AlbedoTable* eg = nullptr;
+        const Rgb* es_avg = nullptr;
+        const MicrofacetReflection::Compensation* compensation = nullptr;
+    };
     // The registry's "composite" model: the lobes of non-zero weight (diffuse kd, glossy ks with
     // distribution d, Fresnel fr and compensation ec, mirror km with fr), a black diffuse lobe
-    // when all are zero; eg as above (null: computed).
+    // when all are zero; the tables `t` given or computed (CompositeTables).
     static Material composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
                               const MicrofacetDistribution& d, const Fresnel& fr, bool ec,
-                              const AlbedoTable* eg = nullptr);
+                              const CompositeTables& t);
+    static Material composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
+                              const MicrofacetDistribution& d, const Fresnel& fr, bool ec);
+    // Es_avg = 2 int Es(mu) mu dmu of the piecewise-linear interpolant of Es = clamp(eg + the
+    // mirror lobe's reflectance, 0, 1) at the table's nodes (exactly, in double): the diffuse
+    // lobe's normalisation (header comment). No mirror: `mirror` null.
+    static Rgb specular_average(const AlbedoTable& eg, const MirrorReflection* mirror);
+    // 2 int e(mu) mu dmu of the piecewise-linear interpolant of a table, exactly (in double):
+    // linear in the table, so the staged build interpolates it with the table.
+    static Rgb table_average(const AlbedoTable& table);
     // A transmissive material: the dielectric interface or the thin pane alone.
     explicit Material(const DielectricBxDF& dielectric);
     explicit Material(const ThinDielectricBxDF& thin);
@@ -128,7 +148,7 @@ class Material {
   private:
     // The constructors' common part: flags and, for two or more lobes, the tables (eg given or
     // computed).
-    void init(const AlbedoTable* eg);
+    void init(const AlbedoTable* eg, const Rgb* es_avg = nullptr);
 
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.

@@ -169,6 +169,24 @@ class MicrofacetReflection {
     MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel, const Rgb& scale,
                          bool energy_compensation);
 
+    static constexpr int kTableSize = 64;    // nodes in sqrt(mu)
+    static constexpr int kPhiTableSize = 9;  // nodes in phi over [0, pi/2], anisotropic only
+
+    // The compensation table of an isotropic lobe: E(mu_k) at the nodes (see albedo_table) and
+    // E_avg. It depends on the distribution only (F = 1), so the staged build of a textured
+    // roughness (facet/staged_material.h) tabulates it over alpha once and interpolates.
+    struct Compensation {
+        std::array<float, kTableSize> e{};
+        float e_avg = 1.f;
+    };
+    // The compensated lobe with its table given instead of computed (d isotropic; ignored when
+    // d is effectively smooth): bit for bit the lobe of the first constructor when `c` is that
+    // lobe's compensation().
+    MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel, const Rgb& scale,
+                         const Compensation& c);
+    // This lobe's table (isotropic lobes with energy compensation; smooth: E = 1).
+    Compensation compensation() const;
+
     Rgb f(const Vec3& wo, const Vec3& wi) const;
     float pdf(const Vec3& wo, const Vec3& wi) const;
     BSDFEval eval(const Vec3& wo, const Vec3& wi) const;  // f and pdf together
@@ -198,9 +216,6 @@ class MicrofacetReflection {
     float albedo_table(const Vec3& w) const;
     float albedo_average() const { return m_e_avg; }
 
-    static constexpr int kTableSize = 64;    // nodes in sqrt(mu)
-    static constexpr int kPhiTableSize = 9;  // nodes in phi over [0, pi/2], anisotropic only
-
   private:
     friend class MicrofacetBatch;  // the batch's non-vectorised path shares the helpers below
     // f and / or pdf (either pointer may be null) sharing the half vector, D and Lambda(wo).
@@ -218,6 +233,8 @@ class MicrofacetReflection {
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;
+    // The constructors' last step: F_ms and the lobe weights from m_e_avg (table built).
+    void finish_compensation();
     // E_avg of the table's interpolant, exactly (isotropic) / by cellwise quadrature.
     float isotropic_average() const;
     float anisotropic_average(const QuadratureRule& gu) const;
@@ -228,9 +245,14 @@ class MicrofacetReflection {
     bool m_energy_compensation;
     bool m_smooth;
     bool m_has_ms = false;  // compensation on and the lobe misses some energy
-    // E(mu_k, phi_j) at m_e[j * kTableSize + k], mu_k = (k / (kTableSize - 1))^2,
-    // phi_j = j / (m_phi_count - 1) * pi / 2 (of the stretched direction when anisotropic).
-    std::array<float, kTableSize * kPhiTableSize> m_e{};
+    // E(mu_k, phi_j), mu_k = (k / (kTableSize - 1))^2, phi_j = j / (m_phi_count - 1) * pi / 2
+    // (of the stretched direction when anisotropic): isotropic lobes in m_e (row 0), anisotropic
+    // ones at (*m_e_rows)[j * kTableSize + k], shared by copies. Only with compensation
+    // (m_has_table): a lobe without reads E = 1 and is copied per textured hit, so it carries
+    // one 64-node row and fills nothing.
+    std::array<float, kTableSize> m_e{};
+    std::shared_ptr<const std::vector<float>> m_e_rows;
+    bool m_has_table = false;
     int m_phi_count = 1;
     Vec2 m_stretch{1.f};  // (ax, ay): anisotropic tables are indexed by normalize(ax x, ay y, z)
     float m_e_avg = 1.f;

@@ -29,7 +29,16 @@
 //    F = f0 (1 - (1 - c)^5) + (1 - c)^5 is linear in f0), with A, B tabulated on kAlphaNodes
 //    nodes uniform in sqrt(alpha) over the texture's range and interpolated linearly. Eg only
 //    weights the diffuse lobe and picks lobes (facet/material.h); the glossy lobe itself is
-//    exact. Tested against the per-hit registry build (tests/render/test_staged_material.cpp).
+//    exact. The diffuse lobe's normalisation 1 / (1 - Es_avg) is linear in the same tables
+//    (Es_avg = ks (f0 H(A) + H(B)) + km H(F_mirror), H the table average), so it is tabulated
+//    with them instead of being integrated at every hit;
+//  - energy compensation (ggx/beckmann/blinn, a composite's glossy lobe, dielectric): the lobe's
+//    own compensation tables depend on alpha (and a dielectric's IOR) only. With a constant
+//    alpha they are the base's, read at each hit (bit for bit); with a textured alpha they are
+//    tabulated on kAlphaNodes nodes in sqrt(alpha) and interpolated by Catmull-Rom (E(mu) and
+//    E_avg with the same weights, so f_ms still integrates to 1 - E(mu_o)). An anisotropic lobe, or
+//    a dielectric with a textured IOR or alpha, still builds them per hit.
+// Tested against the per-hit registry build (tests/render/test_staged_material.cpp).
 #pragma once
 
 #include <optional>
@@ -93,6 +102,13 @@ class StagedMaterial {
     explicit StagedMaterial(const Material& base) : m_base(base) {}
     Values constants() const;
     Material composite_at(const Values& v) const;
+    // The alpha node below `alpha` and the weight of the one above (linear in sqrt(alpha));
+    // node 0 and weight 0 when alpha does not vary.
+    void alpha_node(float alpha, std::size_t& i, float& t) const;
+    // The compensation tables at alpha (node i, weight t of node i + 1): m_comp / m_dcomp
+    // interpolated by Catmull-Rom over the nodes (E and E_avg with the same weights).
+    MicrofacetReflection::Compensation glossy_compensation(std::size_t i, float t) const;
+    DielectricBxDF::Compensation dielectric_compensation(std::size_t i, float t) const;
 
     Family m_family = Family::Lambert;
     std::vector<Slot> m_slots;
@@ -102,7 +118,22 @@ class StagedMaterial {
     bool m_glossy_varies = false, m_f0_varies = false, m_alpha_varies = false;
     std::vector<Material::AlbedoTable> m_eg_a, m_eg_b;
     Material::AlbedoTable m_eg_const{};
-    float m_s_lo = 0.f, m_s_step = 0.f;  // node i at sqrt(alpha) = m_s_lo + i m_s_step
+    // Node i at sqrt(alpha) = m_s_lo + i m_s_step (m_alpha_varies), for the Eg tables and the
+    // compensation tables below.
+    float m_s_lo = 0.f, m_s_step = 0.f;
+    // Composite: Es_avg (facet/material.h), linear in the tables: ks (f0 m_ha + m_hb) per alpha
+    // node plus km (f0 m_hm_a + m_hm_b) for the mirror lobe. m_es_avg_const: one value for
+    // every hit (m_es_const, computed as the per-hit build would, bit for bit).
+    std::vector<Rgb> m_ha, m_hb;
+    Rgb m_hm_a{0.f}, m_hm_b{0.f};
+    bool m_es_avg_const = false;
+    Rgb m_es_const{0.f};
+    // Energy compensation of a ggx/beckmann/blinn or composite glossy lobe (m_comp) or of a
+    // dielectric (m_dcomp): the lobe's own tables per alpha node (one node when alpha is
+    // constant: the base's, exact), interpolated per hit like Eg. Empty: the lobe computes
+    // them (no compensation; an anisotropic lobe; a dielectric's textured IOR).
+    std::vector<MicrofacetReflection::Compensation> m_comp;
+    std::vector<DielectricBxDF::Compensation> m_dcomp;
 };
 
 }  // namespace facet
