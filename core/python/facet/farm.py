@@ -9,11 +9,16 @@ changes a bit of the image. An animation (several scene files) is one task per f
 tile of each frame when there are fewer frames than task slots.
 
 Conventions:
-  - The scene travels with the tasks: the client reads each scene file, strips its mesh arrays
-    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes, and submits
-    that ScenePayload once per job as a task returning it; Dask copies it to each worker that
-    needs it (once per worker, not per task; recomputed if lost) and the worker builds the Scene
-    once and caches it (_worker_scene). Workers need the facet module, no shared file system.
+  - Geometry travels with the tasks: the client reads each scene file, strips its mesh arrays
+    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes (of shapes
+    and of prototypes), and submits that ScenePayload once per job as a task returning it; Dask
+    copies it to each worker that needs it (once per worker, not per task; recomputed if lost)
+    and the worker builds the Scene once and caches it (_worker_scene).
+  - Textures, environment maps and glTF assets do not travel: the payload carries the scene's
+    directory as an absolute path (base_dir), so each worker resolves their file names exactly
+    as the client did and reads them itself, from a file system shared at the same path (NFS,
+    or the same files copied to the same place on every machine). Their texels never pass
+    through the scheduler.
   - Errors: everything the user can get wrong raises FarmError with one message (the scene
     file and JSON pointer for a bad scene, the address for an unreachable scheduler); the CLI
     prints it once, without a traceback, and exits 1. Ctrl-C cancels every task and shuts the
@@ -58,17 +63,20 @@ class FarmError(RuntimeError):
 
 @dataclasses.dataclass
 class ScenePayload:
-    """One scene, self-contained: JSON text without mesh arrays, the arrays, mesh files' bytes."""
+    """One scene: JSON text without mesh arrays, the arrays, mesh files' bytes, and the absolute
+    directory the workers resolve every other file (textures, environment maps, glTF) against."""
 
     name: str                 # the scene file (error messages, part names)
     json: str                 # description JSON; meshes from arrays hold a 1-triangle stand-in
-    meshes: list              # [(shape index, positions, indices, normals | None)]
-    files: dict               # {file name in the payload: bytes} for shapes with a mesh file
+    meshes: list              # [(prototype | None, shape index, positions, indices, normals | None)]
+    files: dict               # {file name in the payload: bytes} for mesh shapes with a file
     fingerprint: int          # of the original description: checked after rebuilding it
     width: int
     height: int
     spp: int
     seed: int
+    base_dir: str = "."       # absolute: the scene file's directory, as the client resolved it
+    file_refs: list = dataclasses.field(default_factory=list)  # [(prototype | None, index, name)]
 
     @property
     def key(self) -> str:
@@ -76,18 +84,30 @@ class ScenePayload:
 
     def nbytes(self) -> int:
         return (len(self.json.encode()) + sum(len(b) for b in self.files.values()) +
-                sum(a.nbytes for m in self.meshes for a in m[1:] if a is not None))
+                sum(a.nbytes for m in self.meshes for a in m[2:] if a is not None))
 
 
 _STANDIN = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32),
             np.array([[0, 1, 2]], dtype=np.int32))
 
 
-def _description(payload: ScenePayload, base_dir: str):
-    desc = facet.parse_scene_description(payload.json, payload.name, base_dir)
-    shapes = desc.shapes
-    for index, positions, indices, normals in payload.meshes:
-        shapes[index].mesh = facet.MeshData(positions, indices, normals)
+def _shape_lists(desc):
+    """{None: the scene's shapes, prototype name: its shapes} (live lists: edits stick)."""
+    lists = {None: desc.shapes}
+    lists.update(desc.prototypes)
+    return lists
+
+
+def _description(payload: ScenePayload, file_dir: str | None = None):
+    """The payload's description: base_dir the client's scene directory (textures, environment
+    maps and glTF files are read from there), mesh arrays put back, and mesh files that
+    travelled pointing into `file_dir`, where the worker wrote their bytes."""
+    desc = facet.parse_scene_description(payload.json, payload.name, payload.base_dir)
+    lists = _shape_lists(desc)
+    for proto, index, positions, indices, normals in payload.meshes:
+        lists[proto][index].mesh = facet.MeshData(positions, indices, normals)
+    for proto, index, name in payload.file_refs:
+        lists[proto][index].file = os.path.join(file_dir, name)
     return desc
 
 
@@ -107,32 +127,40 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
             raise FarmError(str(e)) from None
     fp = desc.fingerprint()
     settings = desc.render
-    base = pathlib.Path(desc.base_dir or ".")
-    meshes, files = [], {}
-    for i, shape in enumerate(desc.shapes):
-        if str(shape.kind).rsplit(".", 1)[-1] != "mesh":
-            continue
-        if shape.file:
-            source = pathlib.Path(shape.file)
-            if not source.is_absolute():
-                source = base / source
-            try:
-                data = source.read_bytes()
-            except OSError as e:
-                raise FarmError(f"{path}: /shapes/{i}/file: cannot read {source}: {e.strerror}")
-            name = f"shape{i}{source.suffix}"
-            files[name] = data
-            shape.file = name
-            continue
-        mesh = shape.mesh
-        normals = mesh.normals
-        meshes.append((i, np.array(mesh.positions), np.array(mesh.indices),
-                       None if normals is None else np.array(normals)))
-        shape.mesh = facet.MeshData(*_STANDIN)
+    base = pathlib.Path(desc.base_dir or ".").absolute()
+    meshes, files, refs, names = [], {}, [], {}
+    for proto, shapes in _shape_lists(desc).items():
+        where = "/shapes" if proto is None else f"/prototypes/{proto}"
+        for i, shape in enumerate(shapes):
+            if str(shape.kind).rsplit(".", 1)[-1] != "mesh":
+                continue
+            if shape.file:
+                source = pathlib.Path(shape.file)
+                if not source.is_absolute():
+                    source = base / source
+                try:
+                    data = source.read_bytes()
+                except OSError as e:
+                    raise FarmError(f"{path}: {where}/{i}/file: cannot read {source}: "
+                                    f"{e.strerror}")
+                # One copy per distinct file: a prototype's mesh used by many shapes, or the
+                # same file named twice, travels once.
+                name = names.get(str(source))
+                if name is None:
+                    name = names[str(source)] = f"mesh{len(files)}{source.suffix}"
+                    files[name] = data
+                refs.append((proto, i, name))
+                continue
+            mesh = shape.mesh
+            normals = mesh.normals
+            meshes.append((proto, i, np.array(mesh.positions), np.array(mesh.indices),
+                           None if normals is None else np.array(normals)))
+            shape.mesh = facet.MeshData(*_STANDIN)
     payload = ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
                            fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
                            spp=int(spp if spp is not None else settings.spp),
-                           seed=int(seed if seed is not None else settings.seed))
+                           seed=int(seed if seed is not None else settings.seed),
+                           base_dir=str(base), file_refs=refs)
     if validate:
         _cache_scene(payload.key, scene)  # in-process workers use it as it is
     return payload
@@ -154,12 +182,17 @@ def _cache_scene(key, scene):
             _scenes.popitem(last=False)
 
 
+# Scenes this process built from a payload (tests and bench/farm_scenes_bench.py read it on
+# the workers: the client's own validated scene is not counted).
+worker_scene_builds = 0
+
 # Set by the client on Ctrl-C: in-process workers' renders stop within a pass.
 _cancel = threading.Event()
 
 
 def _worker_scene(payload: ScenePayload):
     """The built Scene of a payload, built once per worker process (LRU of _CACHED_SCENES)."""
+    global worker_scene_builds
     with _cache_lock:
         scene = _scenes.get(payload.key)
         if scene is not None:
@@ -167,16 +200,25 @@ def _worker_scene(payload: ScenePayload):
             return scene
         tmp = None
         try:
-            base = "."
             if payload.files:
                 tmp = tempfile.mkdtemp(prefix="facet-farm-")
                 for name, data in payload.files.items():
                     pathlib.Path(tmp, name).write_bytes(data)
-                base = tmp
-            desc = _description(payload, base)
+            desc = _description(payload, tmp)
+            worker_scene_builds += 1
             if desc.fingerprint() != payload.fingerprint and not payload.files:
                 raise FarmError(f"{payload.name}: the scene changed on its way to the worker")
-            scene = facet.build_scene(desc, name=payload.name)
+            try:
+                scene = facet.build_scene(desc, name=payload.name)
+            except (ValueError, RuntimeError, OSError) as e:
+                # The client built this scene, so a failure here is most likely a file the
+                # worker cannot see: say where it looked.
+                import socket
+
+                raise FarmError(f"{e} (on worker {socket.gethostname()}: textures, environment "
+                                f"maps and glTF files are read by each worker from "
+                                f"{payload.base_dir}, which must be shared at the same path)"
+                                ) from None
         except (ValueError, RuntimeError, OSError) as e:
             raise FarmError(str(e)) from None
         finally:
