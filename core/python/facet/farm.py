@@ -14,11 +14,12 @@ Conventions:
     and of prototypes), and submits that ScenePayload once per job as a task returning it; Dask
     copies it to each worker that needs it (once per worker, not per task; recomputed if lost)
     and the worker builds the Scene once and caches it (_worker_scene).
-  - Textures, environment maps and glTF assets do not travel: the payload carries the scene's
-    directory as an absolute path (base_dir), so each worker resolves their file names exactly
-    as the client did and reads them itself, from a file system shared at the same path (NFS,
-    or the same files copied to the same place on every machine). Their texels never pass
-    through the scheduler.
+  - Textures, environment maps and glTF assets do not travel: the client makes their file
+    names absolute (resolved against the scene file's directory, as `facet render` would), so
+    each worker reads them itself from a file system shared at the same path (NFS, or the same
+    files copied to the same place on every machine). Their texels never pass through the
+    scheduler. (Mesh files that travel keep relative names, resolved against the worker's
+    temporary directory, so every worker builds a description of the same fingerprint.)
   - Errors: everything the user can get wrong raises FarmError with one message (the scene
     file and JSON pointer for a bad scene, the address for an unreachable scheduler); the CLI
     prints it once, without a traceback, and exits 1. Ctrl-C cancels every task and shuts the
@@ -35,6 +36,8 @@ from __future__ import annotations
 import argparse
 import collections
 import dataclasses
+import hashlib
+import json
 import logging
 import os
 import pathlib
@@ -63,8 +66,8 @@ class FarmError(RuntimeError):
 
 @dataclasses.dataclass
 class ScenePayload:
-    """One scene: JSON text without mesh arrays, the arrays, mesh files' bytes, and the absolute
-    directory the workers resolve every other file (textures, environment maps, glTF) against."""
+    """One scene: JSON text without mesh arrays (texture, environment map and glTF file names
+    made absolute: workers read those files themselves), the arrays, mesh files' bytes."""
 
     name: str                 # the scene file (error messages, part names)
     json: str                 # description JSON; meshes from arrays hold a 1-triangle stand-in
@@ -75,12 +78,15 @@ class ScenePayload:
     height: int
     spp: int
     seed: int
-    base_dir: str = "."       # absolute: the scene file's directory, as the client resolved it
-    file_refs: list = dataclasses.field(default_factory=list)  # [(prototype | None, index, name)]
+    base_dir: str = "."       # absolute: the scene file's directory (error messages)
+    sent_fingerprint: int | None = None  # of the description as the workers rebuild it
+    digest: str = ""          # of the JSON (absolute asset paths) and the mesh files' bytes
 
     @property
     def key(self) -> str:
-        return f"{self.fingerprint:016x}"
+        """The workers' cache key: the description's fingerprint names files by their relative
+        names only, so the same scene text in two directories (other textures) differs here."""
+        return f"{self.fingerprint:016x}-{self.digest}"
 
     def nbytes(self) -> int:
         return (len(self.json.encode()) + sum(len(b) for b in self.files.values()) +
@@ -98,17 +104,49 @@ def _shape_lists(desc):
     return lists
 
 
-def _description(payload: ScenePayload, file_dir: str | None = None):
-    """The payload's description: base_dir the client's scene directory (textures, environment
-    maps and glTF files are read from there), mesh arrays put back, and mesh files that
-    travelled pointing into `file_dir`, where the worker wrote their bytes."""
-    desc = facet.parse_scene_description(payload.json, payload.name, payload.base_dir)
+def _description(payload: ScenePayload, base_dir: str):
+    """The payload's description with its mesh arrays put back; relative names (the mesh files
+    that travelled) resolve against base_dir, where the worker wrote them."""
+    desc = facet.parse_scene_description(payload.json, payload.name, base_dir)
     lists = _shape_lists(desc)
     for proto, index, positions, indices, normals in payload.meshes:
         lists[proto][index].mesh = facet.MeshData(positions, indices, normals)
-    for proto, index, name in payload.file_refs:
-        lists[proto][index].file = os.path.join(file_dir, name)
     return desc
+
+
+def _absolute_asset_paths(text: str, base: pathlib.Path) -> str:
+    """The description JSON with every file the workers read from the shared file system made
+    absolute against `base`: image textures (any object's "texture" string: materials, normal
+    maps, emission), environment maps (a light's "file") and glTF files (a gltf shape's "file",
+    whose buffers and images then resolve next to it). Mesh shapes' files travel: untouched."""
+    data = json.loads(text)
+
+    def absolute(name):
+        return name if os.path.isabs(name) else str(base / name)
+
+    def textures(node):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                if k == "texture" and isinstance(v, str):
+                    node[k] = absolute(v)
+                else:
+                    textures(v)
+        elif isinstance(node, list):
+            for v in node:
+                textures(v)
+
+    textures(data.get("materials", {}))
+    textures(data.get("shapes", []))  # per-shape material overrides, if any
+    textures(data.get("prototypes", {}))
+    for light in data.get("lights", []):
+        if isinstance(light.get("file"), str):
+            light["file"] = absolute(light["file"])
+    shape_lists = [data.get("shapes", [])] + list(data.get("prototypes", {}).values())
+    for shapes in shape_lists:
+        for shape in shapes:
+            if shape.get("type") != "mesh" and isinstance(shape.get("file"), str):
+                shape["file"] = absolute(shape["file"])
+    return json.dumps(data)
 
 
 def load_payload(path: str, spp: int | None = None, seed: int | None = None,
@@ -128,7 +166,7 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
     fp = desc.fingerprint()
     settings = desc.render
     base = pathlib.Path(desc.base_dir or ".").absolute()
-    meshes, files, refs, names = [], {}, [], {}
+    meshes, files, names = [], {}, {}
     for proto, shapes in _shape_lists(desc).items():
         where = "/shapes" if proto is None else f"/prototypes/{proto}"
         for i, shape in enumerate(shapes):
@@ -149,18 +187,26 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
                 if name is None:
                     name = names[str(source)] = f"mesh{len(files)}{source.suffix}"
                     files[name] = data
-                refs.append((proto, i, name))
+                shape.file = name
                 continue
             mesh = shape.mesh
             normals = mesh.normals
             meshes.append((proto, i, np.array(mesh.positions), np.array(mesh.indices),
                            None if normals is None else np.array(normals)))
             shape.mesh = facet.MeshData(*_STANDIN)
-    payload = ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
-                           fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
+    payload = ScenePayload(name=path, json=_absolute_asset_paths(desc.to_json(), base),
+                           meshes=meshes, files=files, fingerprint=fp,
+                           width=desc.camera.width, height=desc.camera.height,
                            spp=int(spp if spp is not None else settings.spp),
                            seed=int(seed if seed is not None else settings.seed),
-                           base_dir=str(base), file_refs=refs)
+                           base_dir=str(base))
+    h = hashlib.sha1(payload.json.encode())
+    for name in sorted(files):
+        h.update(name.encode())
+        h.update(files[name])
+    payload.digest = h.hexdigest()[:16]
+    if not files:  # checked by the workers: the description arrived as it left
+        payload.sent_fingerprint = _description(payload, ".").fingerprint()
     if validate:
         _cache_scene(payload.key, scene)  # in-process workers use it as it is
     return payload
@@ -204,9 +250,10 @@ def _worker_scene(payload: ScenePayload):
                 tmp = tempfile.mkdtemp(prefix="facet-farm-")
                 for name, data in payload.files.items():
                     pathlib.Path(tmp, name).write_bytes(data)
-            desc = _description(payload, tmp)
+            desc = _description(payload, tmp or ".")
             worker_scene_builds += 1
-            if desc.fingerprint() != payload.fingerprint and not payload.files:
+            if payload.sent_fingerprint is not None and \
+                    desc.fingerprint() != payload.sent_fingerprint:
                 raise FarmError(f"{payload.name}: the scene changed on its way to the worker")
             try:
                 scene = facet.build_scene(desc, name=payload.name)
@@ -216,9 +263,9 @@ def _worker_scene(payload: ScenePayload):
                 import socket
 
                 raise FarmError(f"{e} (on worker {socket.gethostname()}: textures, environment "
-                                f"maps and glTF files are read by each worker from "
-                                f"{payload.base_dir}, which must be shared at the same path)"
-                                ) from None
+                                f"maps and glTF files are read by each worker at the client's "
+                                f"absolute paths, under {payload.base_dir}: share them at the "
+                                f"same path)") from None
         except (ValueError, RuntimeError, OSError) as e:
             raise FarmError(str(e)) from None
         finally:

@@ -747,7 +747,7 @@ LightDistribution LightDistribution::view(const Scene& scene) {
     for (std::size_t i = 0; i < lights.size(); ++i)
         if (!power.m_empty && power.pmf(i) > 0.f) cand.push_back(i);
     if (cand.size() < 2) return power;
-    // Primary receivers: a gx x gy grid (4:3 of the film's aspect), each with one bounce.
+    // Primary receivers: a gx x gy grid (the film's aspect), each with one bounce.
     const std::size_t receivers = kViewBudget / cand.size() / 2;
     if (receivers < 96) return power;
     const Camera& cam = scene.camera();
