@@ -86,18 +86,20 @@ def costs(path, reps):
     client = farm.connect(cluster)
     client.wait_for_workers(1)
     try:
-        builds = [client.submit(_build_on_worker, payload, pure=False).result()
+        # The payload as run_jobs sends it: once, as a task's result the others depend on.
+        data = client.submit(farm._scene_data, payload, pure=False)
+        builds = [client.submit(_build_on_worker, data, pure=False).result()
                   for _ in range(reps)]
         full = (0, 0, payload.width, payload.height)
-        renders = [client.submit(_render_on_worker, payload, full, (0, payload.spp),
+        renders = [client.submit(_render_on_worker, data, full, (0, payload.spp),
                                  pure=False).result() for _ in range(reps)]
-        one = [client.submit(_render_on_worker, payload, (0, 0, 1, 1), (0, 1),
+        one = [client.submit(_render_on_worker, data, (0, 0, 1, 1), (0, 1),
                              pure=False) for _ in range(3)]  # warm
         client.gather(one)
         overhead = []
         for _ in range(50):
             t = time.perf_counter()
-            client.submit(farm.render_piece, payload, (0, 0, 1, 1), (0, 1), 1,
+            client.submit(farm.render_piece, data, (0, 0, 1, 1), (0, 1), 1,
                           pure=False).result()
             overhead.append(time.perf_counter() - t)
     finally:

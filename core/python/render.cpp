@@ -170,8 +170,7 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
             else
                 bad_argument("light_selection",
                              "expected 'view', 'power' or 'uniform', got '" + s + "'");
-        }
-        else if (k == "independent_samples")
+        } else if (k == "independent_samples")
             o.independent_samples = option_value<bool>(value, k.c_str(), "a bool");
         else {
             std::vector<std::string> names(std::begin(kOptionNames), std::end(kOptionNames));

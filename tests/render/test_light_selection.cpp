@@ -27,8 +27,8 @@ constexpr auto kPower = fr::LightSelection::Power;
 constexpr auto kUniform = fr::LightSelection::Uniform;
 constexpr auto kView = fr::LightSelection::View;
 
-fr::Image render(const fr::Scene& scene, int spp, fr::LightSelection selection,
-                 std::uint64_t seed, const std::string& integrator = "path") {
+fr::Image render(const fr::Scene& scene, int spp, fr::LightSelection selection, std::uint64_t seed,
+                 const std::string& integrator = "path") {
     fr::RenderOptions o = fr::testing::test_options(integrator, spp, seed);
     o.light_selection = selection;
     return fr::render(scene, o);
@@ -208,7 +208,8 @@ TEST(LightSelection, PowerAndUniformSelectionConvergeToTheSameImage) {
     compare(power, direct, "power vs direct");
     compare(uniform, direct, "uniform vs direct");
     const double rms_power = compare(power, render(scene, spp, kPower, 21), "power, two seeds");
-    const double rms_uniform = compare(uniform, render(scene, spp, kUniform, 22), "uniform, two seeds");
+    const double rms_uniform =
+        compare(uniform, render(scene, spp, kUniform, 22), "uniform, two seeds");
     std::printf("pixel-difference RMS between seeds: power %.5g, uniform %.5g (ratio %.3f)\n",
                 rms_power, rms_uniform, rms_power / rms_uniform);
     EXPECT_LT(rms_power, rms_uniform);
@@ -372,9 +373,9 @@ TEST(LightSelection, ViewSelectionFollowsTheCameraAndKeepsTheMean) {
     EXPECT_LT(p_power, 0.05);
     EXPECT_GT(p_view, 0.5);
     // The power share keeps the sun choosable (unbiased whatever the pilot saw).
-    EXPECT_GE(scene.view_light_distribution().pmf(1 - area),
-              fr::LightDistribution::kViewPowerShare * scene.light_distribution().pmf(1 - area) -
-                  1e-6);
+    EXPECT_GE(
+        scene.view_light_distribution().pmf(1 - area),
+        fr::LightDistribution::kViewPowerShare * scene.light_distribution().pmf(1 - area) - 1e-6);
     const int spp = 16;
     const fr::Image view = render(scene, spp, kView, 11);
     const fr::Image power = render(scene, spp, kPower, 12);

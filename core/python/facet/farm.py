@@ -47,6 +47,7 @@ import sys
 import tempfile
 import threading
 import time
+import warnings
 from typing import Callable, Sequence
 
 import numpy as np
@@ -146,7 +147,7 @@ def _absolute_asset_paths(text: str, base: pathlib.Path) -> str:
         for shape in shapes:
             if shape.get("type") != "mesh" and isinstance(shape.get("file"), str):
                 shape["file"] = absolute(shape["file"])
-    return json.dumps(data)
+    return json.dumps(data, separators=(",", ":"))
 
 
 def load_payload(path: str, spp: int | None = None, seed: int | None = None,
@@ -468,7 +469,9 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             # it: Dask copies its result to each worker that runs one of the job's pieces (once
             # per worker, from peers), and recomputes it if every worker holding it is lost
             # (data scattered by the client would be gone with them).
-            scattered = client.submit(_scene_data, job.payload, pure=False)
+            with warnings.catch_warnings():  # "Large object ... in task graph": on purpose
+                warnings.filterwarnings("ignore", message="Large object", category=UserWarning)
+                scattered = client.submit(_scene_data, job.payload, pure=False)
             pending[j] = {r: [] for r in job.regions}
             for s in job.samples:
                 for r in job.regions:

@@ -183,9 +183,14 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
                              options.force_general_kernel);
     s.kernel = kernel_function(s.choice);
     switch (options.light_selection) {
-        case LightSelection::View: s.light_dist = scene.view_light_distribution(); break;
-        case LightSelection::Power: s.light_dist = scene.light_distribution(); break;
-        case LightSelection::Uniform: s.light_dist = LightDistribution::uniform(scene.lights());
+        case LightSelection::View:
+            s.light_dist = scene.view_light_distribution();
+            break;
+        case LightSelection::Power:
+            s.light_dist = scene.light_distribution();
+            break;
+        case LightSelection::Uniform:
+            s.light_dist = LightDistribution::uniform(scene.lights());
     }
     if (!(options.pass_seconds > 0.0)) throw std::invalid_argument("pass_seconds must be > 0");
     const Region& reg = s.rs.region;
