@@ -331,10 +331,12 @@ class LightDistribution {
     static LightDistribution uniform(std::span<const Light> lights);
     // In proportion to each light's contribution where it matters: a pilot at load time traces
     // camera rays through a coarse grid of the film (and one diffuse bounce from each hit),
-    // and at each hit x takes one light sample per candidate light, adding
-    //     c_i(x) = lum(li) max(0, n . wi) / pdf   when the shadow ray is unblocked
-    // (the light's unoccluded-or-not irradiance at x, no BSDF); bounce hits count half (an
-    // average albedo). The weight of light i is (1 - kViewPowerShare) C_i / sum C +
+    // and at each hit x takes one light sample per candidate light, adding c_i(x)^2 with
+    //     c_i(x) = lum(li) max(0, n . wi) / pdf   when the shadow ray is unblocked, else 0
+    // (a one-sample estimate of the light's irradiance at x, no BSDF); bounce hits count half
+    // (an average albedo) in c. With C_i = sqrt(sum c_i^2) (the choice that minimises the
+    // second moment of the one-sample estimate), the weight of light i is
+    // (1 - kViewPowerShare) C_i / sum C +
     // kViewPowerShare P_i / sum P (C_i the pilot's sum, P_i the power weights above): the power
     // share keeps every light of nonzero power choosable (unbiased: a light the pilot never saw
     // lit still gets samples). Falls back to the power weights when there are fewer than 2
