@@ -361,7 +361,7 @@ TEST(LightSelection, ViewSelectionFollowsTheCameraAndKeepsTheMean) {
                     "vertices": [[-20, -20, 0], [20, -20, 0], [20, 20, 0], [-20, 20, 0]]},
                    {"type": "sphere", "center": [0, 0, 0.6], "radius": 0.6, "material": "white"},
                    {"type": "quad", "emission": 40, "material": "white",
-                    "vertices": [[1.0, -0.5, 2], [1.5, -0.5, 2], [1.5, 0.5, 2], [1.0, 0.5, 2]]}],
+                    "vertices": [[1.0, 0.5, 2], [1.5, 0.5, 2], [1.5, -0.5, 2], [1.0, -0.5, 2]]}],
         "lights": [{"type": "directional", "direction": [-0.3, 0.4, -0.8], "irradiance": 1}],
         "render": {"spp": 16, "max_depth": 2})");
     ASSERT_EQ(scene.lights().size(), 2u);
