@@ -378,7 +378,7 @@ class Session:
                  time_budget=None, region=None, light_selection=None):
         kw = {"threads": int(threads)}
         if light_selection is not None:
-            kw["uniform_light_selection"] = light_selection == "uniform"
+            kw["light_selection"] = light_selection  # "view" | "power" | "uniform"
         if region is not None:
             kw["region"] = tuple(int(v) for v in region)  # (x0, y0, x1, y1), y down
         if spp is not None:

@@ -19,12 +19,15 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                                description="seconds; > 0 renders until the budget is spent")
     max_depth: IntProperty(name="Max Bounces", default=8, min=0, max=1024)
     # The path integrator's choice of the light for each shadow ray (RenderOptions::
-    # uniform_light_selection). Power is pbrt's; Uniform is Cycles 3.4's for lamps, and far less
-    # noisy where a strong lamp lights little of the view (docs/realscenes.md, arealight_269:
-    # 8x8-block noise 4.0x lower).
+    # light_selection). View, the default, measures each light's contribution from the camera
+    # when the scene is built; Power is pbrt's; Uniform is Cycles 3.4's for lamps
+    # (docs/blender.md; bench/light_selection_bench.py).
     light_selection: EnumProperty(
-        name="Light Selection", default="power",
-        items=[("power", "Power", "choose the light for each shadow ray in proportion to its "
+        name="Light Selection", default="view",
+        items=[("view", "View", "choose the light for each shadow ray in proportion to its "
+                                "contribution to what the camera sees (measured when the scene "
+                                "is built)"),
+               ("power", "Power", "choose the light for each shadow ray in proportion to its "
                                   "power"),
                ("uniform", "Uniform", "choose every light equally often, as Cycles 3.4 does "
                                       "for lamps")])

@@ -39,7 +39,7 @@ struct RenderCmdOptions {
     std::int64_t seed = -1;
     int max_depth = -1;
     std::string kernel = "auto";
-    std::string light_selection = "power";
+    std::string light_selection = "view";
     std::string sampler = "sobol";
     bool explain = false;
     bool quiet = false;
@@ -148,7 +148,9 @@ void run_render(const RenderCmdOptions& o) {
     if (o.seed >= 0) ro.seed = std::uint64_t(o.seed);
     ro.threads = o.threads;
     ro.force_general_kernel = o.kernel == "general";
-    ro.uniform_light_selection = o.light_selection == "uniform";
+    ro.light_selection = o.light_selection == "uniform" ? render::LightSelection::Uniform
+                         : o.light_selection == "power" ? render::LightSelection::Power
+                                                        : render::LightSelection::View;
     ro.independent_samples = o.sampler == "independent";
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
     if (!o.region.empty()) {
@@ -276,9 +278,9 @@ void add_render_command(CLI::App& app) {
         ->check(CLI::IsMember({"auto", "general"}))
         ->capture_default_str();
     cmd->add_option("--light-selection", o->light_selection,
-                    "path: choose the light for each shadow ray in proportion to power, or "
-                    "uniformly")
-        ->check(CLI::IsMember({"power", "uniform"}))
+                    "path: choose the light for each shadow ray in proportion to its "
+                    "contribution measured from the camera (view), to its power, or uniformly")
+        ->check(CLI::IsMember({"view", "power", "uniform"}))
         ->capture_default_str();
     cmd->add_option("--sampler", o->sampler,
                     "sobol: Owen-scrambled Sobol samples; independent: independent uniform "

@@ -95,6 +95,7 @@ const char* const kOptionNames[] = {"spp",
                                     "pass_seconds",
                                     "force_general_kernel",
                                     "uniform_light_selection",
+                                    "light_selection",
                                     "independent_samples"};
 
 template <class T>
@@ -154,9 +155,22 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
             o.pass_seconds = option_value<double>(value, "pass_seconds", "seconds");
         } else if (k == "force_general_kernel")
             o.force_general_kernel = option_value<bool>(value, k.c_str(), "a bool");
-        else if (k == "uniform_light_selection")
-            o.uniform_light_selection = option_value<bool>(value, k.c_str(), "a bool");
-        else if (k == "independent_samples")
+        else if (k == "uniform_light_selection") {
+            // Kept from before light_selection: True is "uniform", False the default.
+            if (option_value<bool>(value, k.c_str(), "a bool"))
+                o.light_selection = LightSelection::Uniform;
+        } else if (k == "light_selection") {
+            const auto s = option_value<std::string>(value, k.c_str(), "a str");
+            if (s == "view")
+                o.light_selection = LightSelection::View;
+            else if (s == "power")
+                o.light_selection = LightSelection::Power;
+            else if (s == "uniform")
+                o.light_selection = LightSelection::Uniform;
+            else
+                bad_argument("light_selection",
+                             "expected 'view', 'power' or 'uniform', got '" + s + "'");
+        } else if (k == "independent_samples")
             o.independent_samples = option_value<bool>(value, k.c_str(), "a bool");
         else {
             std::vector<std::string> names(std::begin(kOptionNames), std::end(kOptionNames));
@@ -488,7 +502,8 @@ void bind_render(py::module_& m) {
         "Renders the scene (or its region / sample range) and returns the image, float32 "
         "(h, w, 3). Options: spp, threads, seed, integrator, max_depth, region=(x0, y0, x1, y1), "
         "samples=(s0, s1), time_budget, tile_size, pass_seconds, force_general_kernel, "
-        "uniform_light_selection, independent_samples; progress=callable(PassInfo) -> bool "
+        "light_selection ('view' | 'power' | 'uniform'), uniform_light_selection (True = "
+        "'uniform'), independent_samples; progress=callable(PassInfo) -> bool "
         "(False cancels: the partial image is returned). Ctrl-C raises KeyboardInterrupt.");
 
     m.def(

@@ -1031,6 +1031,28 @@ void bind_scene(py::module_& m) {
         .def_property_readonly(
             "num_triangles", [](const SceneHandle& s) { return s.scene->features().num_triangles; })
         .def(
+            "light_pmfs",
+            [](const SceneHandle& s, const std::string& selection) {
+                const Scene& sc = *s.scene;
+                LightDistribution d;
+                if (selection == "power")
+                    d = sc.light_distribution();
+                else if (selection == "view")
+                    d = sc.view_light_distribution();
+                else if (selection == "uniform")
+                    d = LightDistribution::uniform(sc.lights());
+                else
+                    bad_argument("selection",
+                                 "expected 'view', 'power' or 'uniform', got '" + selection + "'");
+                std::vector<float> p(sc.lights().size(), 0.f);
+                if (!d.empty())
+                    for (std::size_t i = 0; i < p.size(); ++i) p[i] = d.pmf(i);
+                return p;
+            },
+            py::arg("selection") = "view",
+            "Next-event estimation's probability of choosing each light (light_selection "
+            "'view', 'power' or 'uniform'); 0 for lights it never samples.")
+        .def(
             "explain", [](const SceneHandle& s) { return s.scene->features().describe(); },
             "What the scene contains (facet render --explain)")
         .def("__repr__", [](const SceneHandle& s) {

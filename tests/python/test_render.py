@@ -59,6 +59,38 @@ def test_options_override_the_scene_and_bad_options_raise(scene):
         facet.render(ts.numpy_description())
 
 
+def test_light_selection_option_and_pmfs(tmp_path):
+    # A sun over a 40 m ground and an area light beside the sphere the camera frames: by power
+    # the sun takes almost every shadow ray, measured from the view the area light does
+    # (LightDistribution::view; the C++ test ViewSelectionFollowsTheCameraAndKeepsTheMean
+    # checks the means). The option picks the distribution: the images differ (same seed), the
+    # pmfs sum to 1, uniform is 1/2 each, and a bad value is an error naming the option.
+    scene = facet.load_scene_from_string("""{"format": "facet-scene", "version": 1,
+        "camera": {"position": [0, -4, 2.5], "look_at": [0, 0, 0.5], "up": [0, 0, 1], "fov": 40,
+                   "width": 24, "height": 18},
+        "materials": {"white": {"model": "lambert", "reflectance": 0.7}},
+        "shapes": [{"type": "quad", "material": "white",
+                    "vertices": [[-20, -20, 0], [20, -20, 0], [20, 20, 0], [-20, 20, 0]]},
+                   {"type": "sphere", "center": [0, 0, 0.6], "radius": 0.6, "material": "white"},
+                   {"type": "quad", "emission": 40, "material": "white",
+                    "vertices": [[1, 0.5, 2], [1.5, 0.5, 2], [1.5, -0.5, 2], [1, -0.5, 2]]}],
+        "lights": [{"type": "directional", "direction": [-0.3, 0.4, -0.8], "irradiance": 1}],
+        "render": {"spp": 2, "max_depth": 2}}""", name="sel")
+    power, view, uniform = (scene.light_pmfs(m) for m in ("power", "view", "uniform"))
+    area = 0 if power[0] < power[1] else 1
+    assert power[area] < 0.05 and view[area] > 0.5 and uniform == [0.5, 0.5]
+    assert abs(sum(view) - 1) < 1e-6
+    images = {m: facet.render(scene, light_selection=m, seed=1) for m in ("view", "power")}
+    assert not np.array_equal(images["view"], images["power"])
+    np.testing.assert_array_equal(images["view"], facet.render(scene, seed=1))  # the default
+    np.testing.assert_array_equal(facet.render(scene, uniform_light_selection=True, seed=1),
+                                  facet.render(scene, light_selection="uniform", seed=1))
+    with pytest.raises(ValueError, match=r"^light_selection: expected 'view', 'power' or"):
+        facet.render(scene, light_selection="pwr")
+    with pytest.raises(ValueError, match="selection"):
+        scene.light_pmfs("pwr")
+
+
 def test_progress_callback_sees_every_pass(scene):
     infos = []
     image = facet.render(scene, spp=8, pass_seconds=1e-9, progress=lambda i: infos.append(i))

@@ -9,11 +9,17 @@ changes a bit of the image. An animation (several scene files) is one task per f
 tile of each frame when there are fewer frames than task slots.
 
 Conventions:
-  - The scene travels with the tasks: the client reads each scene file, strips its mesh arrays
-    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes, and submits
-    that ScenePayload once per job as a task returning it; Dask copies it to each worker that
-    needs it (once per worker, not per task; recomputed if lost) and the worker builds the Scene
-    once and caches it (_worker_scene). Workers need the facet module, no shared file system.
+  - Geometry travels with the tasks: the client reads each scene file, strips its mesh arrays
+    out of the JSON text (they travel as numpy arrays) and packs mesh files' bytes (of shapes
+    and of prototypes), and submits that ScenePayload once per job as a task returning it; Dask
+    copies it to each worker that needs it (once per worker, not per task; recomputed if lost)
+    and the worker builds the Scene once and caches it (_worker_scene).
+  - Textures, environment maps and glTF assets do not travel: the client makes their file
+    names absolute (resolved against the scene file's directory, as `facet render` would), so
+    each worker reads them itself from a file system shared at the same path (NFS, or the same
+    files copied to the same place on every machine). Their texels never pass through the
+    scheduler. (Mesh files that travel keep relative names, resolved against the worker's
+    temporary directory, so every worker builds a description of the same fingerprint.)
   - Errors: everything the user can get wrong raises FarmError with one message (the scene
     file and JSON pointer for a bad scene, the address for an unreachable scheduler); the CLI
     prints it once, without a traceback, and exits 1. Ctrl-C cancels every task and shuts the
@@ -30,6 +36,8 @@ from __future__ import annotations
 import argparse
 import collections
 import dataclasses
+import hashlib
+import json
 import logging
 import os
 import pathlib
@@ -39,6 +47,7 @@ import sys
 import tempfile
 import threading
 import time
+import warnings
 from typing import Callable, Sequence
 
 import numpy as np
@@ -58,37 +67,87 @@ class FarmError(RuntimeError):
 
 @dataclasses.dataclass
 class ScenePayload:
-    """One scene, self-contained: JSON text without mesh arrays, the arrays, mesh files' bytes."""
+    """One scene: JSON text without mesh arrays (texture, environment map and glTF file names
+    made absolute: workers read those files themselves), the arrays, mesh files' bytes."""
 
     name: str                 # the scene file (error messages, part names)
     json: str                 # description JSON; meshes from arrays hold a 1-triangle stand-in
-    meshes: list              # [(shape index, positions, indices, normals | None)]
-    files: dict               # {file name in the payload: bytes} for shapes with a mesh file
+    meshes: list              # [(prototype | None, shape index, positions, indices, normals | None)]
+    files: dict               # {file name in the payload: bytes} for mesh shapes with a file
     fingerprint: int          # of the original description: checked after rebuilding it
     width: int
     height: int
     spp: int
     seed: int
+    base_dir: str = "."       # absolute: the scene file's directory (error messages)
+    sent_fingerprint: int | None = None  # of the description as the workers rebuild it
+    digest: str = ""          # of the JSON (absolute asset paths) and the mesh files' bytes
 
     @property
     def key(self) -> str:
-        return f"{self.fingerprint:016x}"
+        """The workers' cache key: the description's fingerprint names files by their relative
+        names only, so the same scene text in two directories (other textures) differs here."""
+        return f"{self.fingerprint:016x}-{self.digest}"
 
     def nbytes(self) -> int:
         return (len(self.json.encode()) + sum(len(b) for b in self.files.values()) +
-                sum(a.nbytes for m in self.meshes for a in m[1:] if a is not None))
+                sum(a.nbytes for m in self.meshes for a in m[2:] if a is not None))
 
 
 _STANDIN = (np.array([[0, 0, 0], [1, 0, 0], [0, 1, 0]], dtype=np.float32),
             np.array([[0, 1, 2]], dtype=np.int32))
 
 
+def _shape_lists(desc):
+    """{None: the scene's shapes, prototype name: its shapes} (live lists: edits stick)."""
+    lists = {None: desc.shapes}
+    lists.update(desc.prototypes)
+    return lists
+
+
 def _description(payload: ScenePayload, base_dir: str):
+    """The payload's description with its mesh arrays put back; relative names (the mesh files
+    that travelled) resolve against base_dir, where the worker wrote them."""
     desc = facet.parse_scene_description(payload.json, payload.name, base_dir)
-    shapes = desc.shapes
-    for index, positions, indices, normals in payload.meshes:
-        shapes[index].mesh = facet.MeshData(positions, indices, normals)
+    lists = _shape_lists(desc)
+    for proto, index, positions, indices, normals in payload.meshes:
+        lists[proto][index].mesh = facet.MeshData(positions, indices, normals)
     return desc
+
+
+def _absolute_asset_paths(text: str, base: pathlib.Path) -> str:
+    """The description JSON with every file the workers read from the shared file system made
+    absolute against `base`: image textures (any object's "texture" string: materials, normal
+    maps, emission), environment maps (a light's "file") and glTF files (a gltf shape's "file",
+    whose buffers and images then resolve next to it). Mesh shapes' files travel: untouched."""
+    data = json.loads(text)
+
+    def absolute(name):
+        return name if os.path.isabs(name) else str(base / name)
+
+    def textures(node):
+        if isinstance(node, dict):
+            for k, v in node.items():
+                if k == "texture" and isinstance(v, str):
+                    node[k] = absolute(v)
+                else:
+                    textures(v)
+        elif isinstance(node, list):
+            for v in node:
+                textures(v)
+
+    textures(data.get("materials", {}))
+    textures(data.get("shapes", []))  # per-shape material overrides, if any
+    textures(data.get("prototypes", {}))
+    for light in data.get("lights", []):
+        if isinstance(light.get("file"), str):
+            light["file"] = absolute(light["file"])
+    shape_lists = [data.get("shapes", [])] + list(data.get("prototypes", {}).values())
+    for shapes in shape_lists:
+        for shape in shapes:
+            if shape.get("type") != "mesh" and isinstance(shape.get("file"), str):
+                shape["file"] = absolute(shape["file"])
+    return json.dumps(data, separators=(",", ":"))
 
 
 def load_payload(path: str, spp: int | None = None, seed: int | None = None,
@@ -107,32 +166,48 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
             raise FarmError(str(e)) from None
     fp = desc.fingerprint()
     settings = desc.render
-    base = pathlib.Path(desc.base_dir or ".")
-    meshes, files = [], {}
-    for i, shape in enumerate(desc.shapes):
-        if str(shape.kind).rsplit(".", 1)[-1] != "mesh":
-            continue
-        if shape.file:
-            source = pathlib.Path(shape.file)
-            if not source.is_absolute():
-                source = base / source
-            try:
-                data = source.read_bytes()
-            except OSError as e:
-                raise FarmError(f"{path}: /shapes/{i}/file: cannot read {source}: {e.strerror}")
-            name = f"shape{i}{source.suffix}"
-            files[name] = data
-            shape.file = name
-            continue
-        mesh = shape.mesh
-        normals = mesh.normals
-        meshes.append((i, np.array(mesh.positions), np.array(mesh.indices),
-                       None if normals is None else np.array(normals)))
-        shape.mesh = facet.MeshData(*_STANDIN)
-    payload = ScenePayload(name=path, json=desc.to_json(), meshes=meshes, files=files,
-                           fingerprint=fp, width=desc.camera.width, height=desc.camera.height,
+    base = pathlib.Path(desc.base_dir or ".").absolute()
+    meshes, files, names = [], {}, {}
+    for proto, shapes in _shape_lists(desc).items():
+        where = "/shapes" if proto is None else f"/prototypes/{proto}"
+        for i, shape in enumerate(shapes):
+            if str(shape.kind).rsplit(".", 1)[-1] != "mesh":
+                continue
+            if shape.file:
+                source = pathlib.Path(shape.file)
+                if not source.is_absolute():
+                    source = base / source
+                try:
+                    data = source.read_bytes()
+                except OSError as e:
+                    raise FarmError(f"{path}: {where}/{i}/file: cannot read {source}: "
+                                    f"{e.strerror}")
+                # One copy per distinct file: a prototype's mesh used by many shapes, or the
+                # same file named twice, travels once.
+                name = names.get(str(source))
+                if name is None:
+                    name = names[str(source)] = f"mesh{len(files)}{source.suffix}"
+                    files[name] = data
+                shape.file = name
+                continue
+            mesh = shape.mesh
+            normals = mesh.normals
+            meshes.append((proto, i, np.array(mesh.positions), np.array(mesh.indices),
+                           None if normals is None else np.array(normals)))
+            shape.mesh = facet.MeshData(*_STANDIN)
+    payload = ScenePayload(name=path, json=_absolute_asset_paths(desc.to_json(), base),
+                           meshes=meshes, files=files, fingerprint=fp,
+                           width=desc.camera.width, height=desc.camera.height,
                            spp=int(spp if spp is not None else settings.spp),
-                           seed=int(seed if seed is not None else settings.seed))
+                           seed=int(seed if seed is not None else settings.seed),
+                           base_dir=str(base))
+    h = hashlib.sha1(payload.json.encode())
+    for name in sorted(files):
+        h.update(name.encode())
+        h.update(files[name])
+    payload.digest = h.hexdigest()[:16]
+    if not files:  # checked by the workers: the description arrived as it left
+        payload.sent_fingerprint = _description(payload, ".").fingerprint()
     if validate:
         _cache_scene(payload.key, scene)  # in-process workers use it as it is
     return payload
@@ -154,12 +229,17 @@ def _cache_scene(key, scene):
             _scenes.popitem(last=False)
 
 
+# Scenes this process built from a payload (tests and bench/farm_scenes_bench.py read it on
+# the workers: the client's own validated scene is not counted).
+worker_scene_builds = 0
+
 # Set by the client on Ctrl-C: in-process workers' renders stop within a pass.
 _cancel = threading.Event()
 
 
 def _worker_scene(payload: ScenePayload):
     """The built Scene of a payload, built once per worker process (LRU of _CACHED_SCENES)."""
+    global worker_scene_builds
     with _cache_lock:
         scene = _scenes.get(payload.key)
         if scene is not None:
@@ -167,16 +247,26 @@ def _worker_scene(payload: ScenePayload):
             return scene
         tmp = None
         try:
-            base = "."
             if payload.files:
                 tmp = tempfile.mkdtemp(prefix="facet-farm-")
                 for name, data in payload.files.items():
                     pathlib.Path(tmp, name).write_bytes(data)
-                base = tmp
-            desc = _description(payload, base)
-            if desc.fingerprint() != payload.fingerprint and not payload.files:
+            desc = _description(payload, tmp or ".")
+            worker_scene_builds += 1
+            if payload.sent_fingerprint is not None and \
+                    desc.fingerprint() != payload.sent_fingerprint:
                 raise FarmError(f"{payload.name}: the scene changed on its way to the worker")
-            scene = facet.build_scene(desc, name=payload.name)
+            try:
+                scene = facet.build_scene(desc, name=payload.name)
+            except (ValueError, RuntimeError, OSError) as e:
+                # The client built this scene, so a failure here is most likely a file the
+                # worker cannot see: say where it looked.
+                import socket
+
+                raise FarmError(f"{e} (on worker {socket.gethostname()}: textures, environment "
+                                f"maps and glTF files are read by each worker at the client's "
+                                f"absolute paths, under {payload.base_dir}: share them at the "
+                                f"same path)") from None
         except (ValueError, RuntimeError, OSError) as e:
             raise FarmError(str(e)) from None
         finally:
@@ -379,7 +469,9 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             # it: Dask copies its result to each worker that runs one of the job's pieces (once
             # per worker, from peers), and recomputes it if every worker holding it is lost
             # (data scattered by the client would be gone with them).
-            scattered = client.submit(_scene_data, job.payload, pure=False)
+            with warnings.catch_warnings():  # "Large object ... in task graph": on purpose
+                warnings.filterwarnings("ignore", message="Large object", category=UserWarning)
+                scattered = client.submit(_scene_data, job.payload, pure=False)
             pending[j] = {r: [] for r in job.regions}
             for s in job.samples:
                 for r in job.regions:

@@ -123,6 +123,8 @@ class Builder final : public BuildChecks {
         }
         m_builder.texture_memory() = m_images.stats();
         m_builder.tile_cache() = m_images.tile_cache();
+        // Last: its pilot traces rays through the finished scene (textures, tile cache).
+        m_builder.view_light_distribution() = LightDistribution::view(m_builder.scene);
         return std::move(m_builder.scene);
     }
 

@@ -195,6 +195,7 @@ struct Scene::Builder {
     std::vector<ShapeInfo>& shapes() { return scene.m_shapes; }
     std::vector<Light>& lights() { return scene.m_lights; }
     LightDistribution& light_distribution() { return scene.m_light_distribution; }
+    LightDistribution& view_light_distribution() { return scene.m_view_light_distribution; }
     std::int32_t& environment() { return scene.m_environment; }
     std::vector<std::uint32_t>& camera_lamps() { return scene.m_camera_lamps; }
     Bounds3& bounds() { return scene.m_bounds; }

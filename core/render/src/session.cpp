@@ -92,7 +92,8 @@ std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
     h = mix(h, std::uint64_t(rs.max_depth));
     h = mix(h, rs.seed);
     h = mix(h, rs.spp == 1 ? 1u : 0u);  // pixel-centre camera rays
-    h = mix(h, (o.independent_samples ? 1u : 0u) | (o.uniform_light_selection ? 2u : 0u) |
+    h = mix(h, (o.independent_samples ? 1u : 0u) | (std::uint64_t(o.light_selection) << 3) |
+                   (o.light_selection == LightSelection::Uniform ? 2u : 0u) |
                    (o.force_general_kernel ? 4u : 0u));
     return h;
 }
@@ -181,8 +182,16 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
     s.choice = choose_kernel(scene.features(), s.rs.integrator, s.rs.max_depth,
                              options.force_general_kernel);
     s.kernel = kernel_function(s.choice);
-    s.light_dist = options.uniform_light_selection ? LightDistribution::uniform(scene.lights())
-                                                   : scene.light_distribution();
+    switch (options.light_selection) {
+        case LightSelection::View:
+            s.light_dist = scene.view_light_distribution();
+            break;
+        case LightSelection::Power:
+            s.light_dist = scene.light_distribution();
+            break;
+        case LightSelection::Uniform:
+            s.light_dist = LightDistribution::uniform(scene.lights());
+    }
     if (!(options.pass_seconds > 0.0)) throw std::invalid_argument("pass_seconds must be > 0");
     const Region& reg = s.rs.region;
     const int ts = s.rs.tile_size;

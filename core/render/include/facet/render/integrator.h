@@ -127,7 +127,7 @@ struct TileJob {
     std::uint64_t seed;
     int max_depth;
     // Next-event estimation's light choice (path): the scene's power distribution, or another
-    // over the same lights (RenderOptions::uniform_light_selection). Never null.
+    // over the same lights (RenderOptions::light_selection). Never null.
     const LightDistribution* light_distribution;
     // Independent uniform samples instead of the Sobol sequence (RenderOptions).
     bool independent_samples = false;

@@ -46,6 +46,8 @@ namespace facet::render {
 inline constexpr int kDefaultTileSize = 16;
 inline constexpr int kMaxPassSpp = 16;
 
+enum class LightSelection : std::uint8_t { View, Power, Uniform };
+
 struct RenderOptions {
     std::string integrator;               // "" = scene setting; "direct" | "path"
     int spp = 0;                          // 0 = scene setting
@@ -54,8 +56,11 @@ struct RenderOptions {
     std::optional<std::uint64_t> seed;    // unset = scene setting
     int threads = 0;                      // 0 = every hardware thread
     bool force_general_kernel = false;    // --kernel general
-    // Path: choose NEE lights uniformly instead of in proportion to power (comparisons, tests).
-    bool uniform_light_selection = false;  // --light-selection uniform
+    // Path: how next-event estimation chooses the light of a shadow ray (light.h):
+    // View: in proportion to each light's contribution measured at the points the camera sees
+    // (LightDistribution::view, the default); Power: in proportion to power (pbrt-v4's);
+    // Uniform: every light equally often (Cycles 3.4's; comparisons, tests).
+    LightSelection light_selection = LightSelection::View;  // --light-selection
     // Independent uniform samples instead of Owen-scrambled Sobol (the peer of the time-to-error
     // benchmark; --sampler independent). Images converge to the same value, more slowly.
     bool independent_samples = false;

@@ -362,6 +362,9 @@ class Scene {
     std::span<const Light> lights() const { return m_lights; }
     // Next-event estimation's choice of light, in proportion to power (light.h).
     const LightDistribution& light_distribution() const { return m_light_distribution; }
+    // The choice in proportion to the lights' contributions measured from the camera
+    // (LightDistribution::view; RenderOptions::light_selection View, the default).
+    const LightDistribution& view_light_distribution() const { return m_view_light_distribution; }
     // The environment light, or null when the scene has none (escaping rays then see black).
     const Light* environment() const {
         return m_environment >= 0 ? &m_lights[std::size_t(m_environment)] : nullptr;
@@ -463,6 +466,7 @@ class Scene {
     std::vector<ShapeInfo> m_shapes;
     std::vector<Light> m_lights;
     LightDistribution m_light_distribution;
+    LightDistribution m_view_light_distribution;
     std::vector<std::uint32_t> m_camera_lamps;  // indices of lights with camera_visible()
     std::int32_t m_environment = -1;
     Bounds3 m_bounds;
