@@ -565,7 +565,7 @@ void PovWriter::check_clamp(const ShapeDesc& s, const std::string& pointer, glm:
                 fail(where + "/wrap",
                      fmt::format("clamp is POV-Ray's image_map `once`, which is transparent "
                                  "outside [0, 1]^2, and the texture coordinates of {} reach "
-                                 "({}, {}): not exported (use repeat, or keep the UVs inside)",
+                                 "({:.6g}, {:.6g}): not exported (use repeat, or keep the UVs inside)",
                                  pointer, q.x, q.y));
         }
     };
