@@ -542,7 +542,7 @@ def texture_scene(d, w=96, h=64):
     """A small scene of every texture path export-pov writes, images in directory d: a floor
     quad with an 8-bit sRGB PNG (bilinear, repeat, UV scale, rotation and offset), a rotated
     sphere with a float EXR (bilinear), a box with a checker diffuse colour under a glossy
-    composite (texture scale 0.8), a mesh with UVs inside [0.1, 0.9] and a 16-bit linear grey
+    composite, a mesh with UVs inside [0.1, 0.9] and a 16-bit linear grey
     PNG (closest, clamp = POV-Ray's once), an emitter textured by an 8-bit PNG (scale [2, 1.5,
     1]), and a prototype (a checker quad and a PNG box) placed by two instances. Textures of
     distinct texels (a seeded generator), two point lights."""
@@ -562,7 +562,7 @@ def texture_scene(d, w=96, h=64):
                 "tiles": {"model": "composite", "distribution": "ggx", "alpha": 0.3,
                           "fresnel": "dielectric", "ior": 1.5,
                           "diffuse_reflectance": {"checker": {"colors": [[0.9, 0.2, 0.1], [0.1, 0.3, 0.8]],
-                                                              "scale": 4}, "scale": 0.8}},
+                                                              "scale": 4}}},
                 "panel": {"model": "lambert", "reflectance": {"texture": "panel.png", "colorspace": "linear",
                                                               "filter": "closest", "wrap": "clamp"}},
                 "proto": {"model": "lambert", "reflectance": {"checker": {"colors": [0.85, 0.25], "scale": 3},
@@ -680,8 +680,8 @@ def cmd_texture_errors(env):
          "/shapes/7/material: a texture read through UVs cannot be exported on this shape kind: the icosphere"),
         ("textured emission with a material", lambda s: s["shapes"][4].update(material="floor"),
          "/shapes/4/emission: a textured emission on a shape with a material"),
-        ("texture scale above 1", lambda s: mats_of(s)["tiles"]["diffuse_reflectance"].update(scale=1.1),
-         "/materials/tiles/diffuse_reflectance/scale: "),
+        ("texture scale on the diffuse colour", lambda s: mats_of(s)["tiles"]["diffuse_reflectance"].update(scale=0.8),
+         "/materials/tiles/diffuse_reflectance/scale: a texture scale on the diffuse colour"),
         ("vertex colour", lambda s: (s["shapes"][3].update(colors=[0.5] * 12),
                                      mats_of(s)["panel"].update(reflectance={"vertex_color": True})),
          "/materials/panel/reflectance: a vertex colour"),
