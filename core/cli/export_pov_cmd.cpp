@@ -88,6 +88,12 @@ void add_export_pov_command(CLI::App& app) {
                     "off, low (50,1.0,4), medium (200,0.4,8), high (800,0.15,16) or "
                     "COUNT,ERROR_BOUND,RECURSION_LIMIT")
         ->capture_default_str();
+    cmd->add_option("--mipmap", o->pov.mipmap,
+                    "image textures with the mipmap filter (the default): error, or linear: "
+                    "POV-Ray's bilinear lookup of the full image (exact where the texture is "
+                    "magnified, sharper where it is minified)")
+        ->check(CLI::IsMember({"error", "linear"}))
+        ->capture_default_str();
     cmd->callback([o] { run_export_pov(*o); });
 }
 

@@ -22,6 +22,10 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
   skylight     brdf_sky_sampling (export-pov --environment light): brdf finishes lit by an HDR
                sky_sphere against facet render --integrator direct within noise; 0 = no keyword
   skylight-errors  bad brdf_sky_sampling settings are parse errors naming file and line
+  textures     image and checker textures (uv_mapping pigments on mesh2 uv_vectors and spheres,
+               textured emission) and instances against facet render; wrong UV flips and colour
+               spaces must fail
+  texture-errors  textures export-pov cannot write exactly fail naming the JSON path
 
 Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
 half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
@@ -515,6 +519,197 @@ def write_exr(path, rgb):
         f.write(header + offsets + body)
 
 
+def write_png(path, img):
+    """An 8- or 16-bit (by dtype) grey or RGB PNG without colour chunks (no gAMA, sRGB or
+    iCCP: the core and POV-Ray both take the colour space from the scene), row 0 at the top."""
+    import struct
+    import zlib
+    img = img if img.ndim == 3 else img[..., None]
+    h, w, c = img.shape
+    bits = 16 if img.dtype == np.uint16 else 8
+    raw = b"".join(b"\0" + img[y].astype(">u2" if bits == 16 else "u1").tobytes() for y in range(h))
+
+    def chunk(kind, data):
+        return (struct.pack(">I", len(data)) + kind + data
+                + struct.pack(">I", zlib.crc32(kind + data) & 0xffffffff))
+    with open(path, "wb") as f:
+        f.write(b"\x89PNG\r\n\x1a\n"
+                + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, bits, {1: 0, 3: 2}[c], 0, 0, 0))
+                + chunk(b"IDAT", zlib.compress(raw)) + chunk(b"IEND", b""))
+
+
+def texture_scene(d, w=96, h=64):
+    """A small scene of every texture path export-pov writes, images in directory d: a floor
+    quad with an 8-bit sRGB PNG (bilinear, repeat, UV scale, rotation and offset), a rotated
+    sphere with a float EXR (bilinear), a box with a checker diffuse colour under a glossy
+    composite, a mesh with UVs inside [0.1, 0.9] and a 16-bit linear grey
+    PNG (closest, clamp = POV-Ray's once), an emitter textured by an 8-bit PNG (scale [2, 1.5,
+    1]), and a prototype (a checker quad and a PNG box) placed by two instances. Textures of
+    distinct texels (a seeded generator), two point lights."""
+    rng = np.random.default_rng(7)
+    write_png(os.path.join(d, "floor.png"), rng.integers(0, 256, (8, 8, 3), dtype=np.uint8))
+    write_png(os.path.join(d, "panel.png"), rng.integers(0, 65536, (6, 5), dtype=np.uint16))
+    write_png(os.path.join(d, "glow.png"), rng.integers(40, 256, (4, 4, 3), dtype=np.uint8))
+    write_exr(os.path.join(d, "globe.exr"), rng.uniform(0.05, 0.95, (8, 16, 3)).astype(np.float32))
+    floor = {"texture": "floor.png", "filter": "linear", "uv_scale": [2, 2], "uv_rotation": 30,
+             "uv_offset": [0.1, 0.2]}
+    return {"format": "facet-scene", "version": 1,
+            "camera": {"position": [0.4, 2.6, 5.2], "look_at": [0, 0.5, 0], "fov": 40,
+                       "width": w, "height": h},
+            "materials": {
+                "floor": {"model": "lambert", "reflectance": floor},
+                "globe": {"model": "lambert", "reflectance": {"texture": "globe.exr", "filter": "linear"}},
+                "tiles": {"model": "composite", "distribution": "ggx", "alpha": 0.3,
+                          "fresnel": "dielectric", "ior": 1.5,
+                          "diffuse_reflectance": {"checker": {"colors": [[0.9, 0.2, 0.1], [0.1, 0.3, 0.8]],
+                                                              "scale": 4}}},
+                "panel": {"model": "lambert", "reflectance": {"texture": "panel.png", "colorspace": "linear",
+                                                              "filter": "closest", "wrap": "clamp"}},
+                "proto": {"model": "lambert", "reflectance": {"checker": {"colors": [0.85, 0.25], "scale": 3},
+                                                              "uv_rotation": 15}},
+                "crate": {"model": "lambert", "reflectance": {"texture": "floor.png", "filter": "linear"}}},
+            "prototypes": {"tile": [
+                {"type": "quad", "material": "proto",
+                 "vertices": [[-0.4, 0, 0], [0.4, 0, 0], [0.4, 0.8, 0], [-0.4, 0.8, 0]]},
+                {"type": "box", "min": [-0.15, 0, 0.05], "max": [0.15, 0.3, 0.35], "material": "crate"}]},
+            "shapes": [
+                {"type": "quad", "material": "floor",
+                 "vertices": [[-3, 0, 3], [3, 0, 3], [3, 0, -3], [-3, 0, -3]]},
+                {"type": "sphere", "center": [0, 0, 0], "radius": 0.7, "material": "globe",
+                 "transform": {"rotate": {"axis": [1, 0.3, 0], "angle": -80}, "translate": [-1.1, 0.7, 0.2]}},
+                {"type": "box", "min": [-0.45, 0, -0.45], "max": [0.45, 0.9, 0.45], "material": "tiles",
+                 "transform": {"rotate": {"axis": [0, 1, 0], "angle": 25}, "translate": [1.0, 0, 0.3]}},
+                {"type": "mesh", "material": "panel",
+                 "positions": [-1.5, 0, -1.5, 0.5, 0, -1.7, 0.6, 1.6, -1.6, -1.4, 1.5, -1.4],
+                 "indices": [0, 1, 2, 0, 2, 3], "uvs": [0.1, 0.1, 0.9, 0.12, 0.88, 0.9, 0.12, 0.85]},
+                {"type": "quad", "emission": {"texture": "glow.png", "filter": "linear", "scale": [2, 1.5, 1]},
+                 "vertices": [[1.2, 0.3, -1.6], [2.2, 0.3, -1.4], [2.2, 1.3, -1.4], [1.2, 1.3, -1.6]]},
+                {"type": "instance", "of": "tile",
+                 "transform": {"rotate": {"axis": [0, 1, 0], "angle": -20}, "translate": [-0.2, 0, 1.6]}},
+                {"type": "instance", "of": "tile",
+                 "transform": {"scale": [1.2, 0.9, 1.2], "translate": [2.0, 0, 1.2]}}],
+            "lights": [{"type": "point", "position": [2, 4, 3], "power": 300},
+                       {"type": "point", "position": [-3, 3, 1], "power": [60, 80, 120]}],
+            "render": {"max_depth": 1}}
+
+
+def cmd_textures(env):
+    """Textures through export-pov (docs/povray.md, "Textures"): the scene of texture_scene,
+    96 x 64, povray-facet (+FE32) against facet render --integrator direct at 1 spp (both
+    through the pixel centres, delta lights: deterministic). Tolerance REL_TOL per channel for
+    99.5% of the pixels (as export_coverage: POV-Ray shades in double, Facet's UVs and
+    intersections are float, so a pixel on a silhouette or, with `closest`, next to a texel edge
+    may differ). Then the SDL with each texture flipped in v (scale <1, -1, 1> after the pattern's transform),
+    or the sRGB images read as linear (gamma 1.0), or the sphere's axes not swapped, must fail,
+    so the check can see each convention."""
+    w, h = 96, 64
+    scene = texture_scene(env.tmp, w, h)
+    js = env.write_scene(scene, "textures")
+    sdl = env.export(js)
+    text = open(sdl).read()
+    ref = env.render(js, "--spp", "1")
+    pov = env.povray(sdl, w, h, "+FE32")
+    written = all(k in text for k in ("uv_mapping image_map { png", "gamma srgb", "gamma 1.0", " once",
+                                      "uv_vectors", "checker", "exr", "object { FacetPrototype0"))
+    print(f"{'ok  ' if written else 'FAIL'} the SDL has uv_mapping image_maps (png sRGB and linear, exr), "
+          f"once, a checker, uv_vectors and the instances")
+    ok = written & compare(f"textures {w}x{h}: povray-facet vs facet direct", pov, ref)
+    # The instances are in the picture (not just declared): without them the picture changes.
+    bare = env.path("textures_noinst.pov")
+    with open(bare, "w") as f:
+        f.write(re.sub(r"object \{ FacetPrototype0\n[^}]*\}\n", "", text))
+    seen = not compare("without the instances (must fail)", env.povray(bare, w, h, "+FE32"), ref)
+    print(f"{'ok  ' if seen else 'FAIL'} POV-Ray renders the instances")
+    wrong = {"every texture flipped in v": re.sub(r"(pigment \{ uv_mapping .*?) \} finish", r"\1 scale <1, -1, 1> } finish", text),
+             "sRGB images read as linear": text.replace("gamma srgb", "gamma 1.0"),
+             "sphere axes not swapped": re.sub(r"sphere \{ 0, 1\n  matrix <([^,]+), 0, 0, 0, 0, ([^,]+), 0, ([^,]+), 0,",
+                                               r"sphere { 0, 1\n  matrix <\1, 0, 0, 0, \2, 0, 0, 0, \3,", text)}
+    for name, variant in wrong.items():
+        if variant == text:
+            print(f"FAIL the variant '{name}' did not change the SDL")
+            ok = False
+            continue
+        path = env.path("textures_wrong.pov")
+        with open(path, "w") as f:
+            f.write(variant)
+        failed = not compare(f"{name} (must fail)", env.povray(path, w, h, "+FE32"), ref)
+        print(f"{'ok  ' if failed else 'FAIL'} {name}: the comparison fails")
+        ok &= failed
+    return ok and seen
+
+
+def cmd_texture_errors(env):
+    """What export-pov cannot write exactly about textures is an error naming the JSON path."""
+    d = env.tmp
+    base = texture_scene(d)
+    rng = np.random.default_rng(3)
+    # An RGBA PNG (colour type 6): POV-Ray would read its alpha as transparency.
+    import struct
+    import zlib
+    raw = b"".join(b"\0" + rng.integers(0, 256, 8, dtype=np.uint8).tobytes() for _ in range(2))
+    png = (b"\x89PNG\r\n\x1a\n" + b"".join(
+        struct.pack(">I", len(body)) + kind + body + struct.pack(">I", zlib.crc32(kind + body) & 0xffffffff)
+        for kind, body in ((b"IHDR", struct.pack(">IIBBBBB", 2, 2, 8, 6, 0, 0, 0)),
+                           (b"IDAT", zlib.compress(raw)), (b"IEND", b""))))
+    with open(os.path.join(d, "rgba.png"), "wb") as f:
+        f.write(png)
+    mats = base["materials"]
+    cases = [
+        ("mipmap filter (the default)", lambda s: mats_of(s)["floor"]["reflectance"].pop("filter"),
+         "/materials/floor/reflectance/filter: the mipmap filter"),
+        ("textured roughness", lambda s: mats_of(s)["tiles"].update(alpha={"texture": "panel.png", "filter": "linear"}),
+         "/materials/tiles/alpha: a textured 'alpha'"),
+        ("normal map", lambda s: mats_of(s)["globe"].update(normal_map={"texture": "floor.png", "filter": "linear"}),
+         "/materials/globe/normal_map: a tangent-space normal map"),
+        ("bump map", lambda s: mats_of(s)["globe"].update(bump={"texture": "panel.png", "filter": "linear", "colorspace": "linear"}),
+         "/materials/globe/bump: POV-Ray's bump_map"),
+        ("mirror wrap", lambda s: mats_of(s)["floor"]["reflectance"].update(wrap="mirror"),
+         "/materials/floor/reflectance/wrap: "),
+        ("clamp beyond [0, 1]", lambda s: mats_of(s)["panel"]["reflectance"].update(uv_scale=[1.2, 1]),
+         "/materials/panel/reflectance/wrap: clamp is POV-Ray's image_map `once`"),
+        ("image with alpha", lambda s: mats_of(s)["globe"].update(reflectance={"texture": "rgba.png", "filter": "linear"}),
+         "/materials/globe/reflectance: 'rgba.png' has 4 channels"),
+        ("one channel", lambda s: mats_of(s)["globe"].update(reflectance={"texture": "floor.png", "filter": "linear", "channel": "g"}),
+         "/materials/globe/reflectance/channel: "),
+        ("textured plane", lambda s: s["shapes"].append({"type": "plane", "point": [0, -1, 0], "normal": [0, 1, 0], "material": "floor"}),
+         "/shapes/7/material: a texture read through UVs cannot be exported on this shape kind: POV-Ray's plane"),
+        ("textured disc", lambda s: s["shapes"].append({"type": "disc", "center": [0, -1, 0], "normal": [0, 1, 0], "radius": 1, "material": "floor"}),
+         "/shapes/7/material: a texture read through UVs cannot be exported on this shape kind: POV-Ray's disc"),
+        ("textured icosphere", lambda s: s["shapes"].append({"type": "icosphere", "center": [0, -1, 0], "radius": 1,
+                                                               "subdivisions": 1, "material": "floor"}),
+         "/shapes/7/material: a texture read through UVs cannot be exported on this shape kind: the icosphere"),
+        ("textured emission with a material", lambda s: s["shapes"][4].update(material="floor"),
+         "/shapes/4/emission: a textured emission on a shape with a material"),
+        ("texture scale on the diffuse colour", lambda s: mats_of(s)["tiles"]["diffuse_reflectance"].update(scale=0.8),
+         "/materials/tiles/diffuse_reflectance/scale: a texture scale on the diffuse colour"),
+        ("vertex colour", lambda s: (s["shapes"][3].update(colors=[0.5] * 12),
+                                     mats_of(s)["panel"].update(reflectance={"vertex_color": True})),
+         "/materials/panel/reflectance: a vertex colour"),
+    ]
+    ok = True
+    for title, edit, want in cases:
+        s = json.loads(json.dumps(base))
+        edit(s)
+        js = env.write_scene(s, "texerr")
+        p = env.run([env.facet, "export-pov", js, "-o", env.path("texerr.pov")], check=False)
+        good = p.returncode == 1 and f"{js}: {want}" in p.stderr
+        print(f"{'ok  ' if good else 'FAIL'} {title}: rc {p.returncode}: {p.stderr.strip()}")
+        ok &= good
+    # --mipmap linear writes the default filter as POV-Ray's bilinear lookup.
+    s = json.loads(json.dumps(base))
+    mats_of(s)["floor"]["reflectance"].pop("filter")
+    js = env.write_scene(s, "mipmap")
+    out = env.path("mipmap.pov")
+    p = env.run([env.facet, "export-pov", js, "-o", out, "--mipmap", "linear"], check=False)
+    good = p.returncode == 0 and "floor.png\" gamma srgb interpolate 2" in open(out).read()
+    print(f"{'ok  ' if good else 'FAIL'} --mipmap linear exports the mipmap filter as interpolate 2")
+    return ok and good
+
+
+def mats_of(scene):
+    return scene["materials"]
+
+
 def cmd_envmap(env):
     """An environment map exported as POV-Ray's sky_sphere (map_type 1, interpolate 2, the pigment
     matrix of docs/povray.md) looks the same as in facet render: a 16 x 8 map of distinct texels,
@@ -759,7 +954,9 @@ def main():
               "radiosity-cornell": lambda: cmd_radiosity_cornell(env),
               "envmap": lambda: cmd_envmap(env),
               "skylight": lambda: cmd_skylight(env),
-              "skylight-errors": lambda: cmd_skylight_errors(env)}[cmd]()
+              "skylight-errors": lambda: cmd_skylight_errors(env),
+              "textures": lambda: cmd_textures(env),
+              "texture-errors": lambda: cmd_texture_errors(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 

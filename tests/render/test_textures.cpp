@@ -445,29 +445,59 @@ TEST(Textures, BadInputNamesThePointerAndTheFile) {
     EXPECT_NE(neg.find("/shapes/0/emission/texture"), std::string::npos) << neg;
 }
 
-// POV-Ray cannot express a texture exactly: export-pov names the textured parameter.
-TEST(Textures, PovExportOfATextureIsAnErrorNamingThePointer) {
+// export-pov writes a textured diffuse colour or emission as a uv_mapping pigment on objects
+// whose POV-Ray UVs are the core's (docs/povray.md, "Textures"; the pictures are compared by the
+// povray test povray_export_textures) and names what it cannot write: any other textured
+// parameter, a textured shape without POV-Ray UVs.
+TEST(Textures, PovExportWritesUvPigmentsOrNamesThePointer) {
     const std::string head = R"({"format": "facet-scene", "version": 1,
         "camera": {"position": [0, 0, 10], "look_at": [0, 0, 0], "fov": 40, "width": 4,
                    "height": 4},
         "lights": [{"type": "point", "position": [0, 0, 5], "power": 10}],)";
+    std::string sdl;
     auto error_of_export = [&](const std::string& rest) {
         try {
-            (void)fr::export_pov(fr::parse_scene_description(head + rest + "}", "p.json"),
-                                 "p.json");
+            sdl =
+                fr::export_pov(fr::parse_scene_description(head + rest + "}", "p.json"), "p.json");
         } catch (const fr::SceneError& e) {
             return std::string(e.what());
         }
         return std::string();
     };
-    const std::string named = error_of_export(R"(
-        "materials": {"m": {"model": "lambert", "reflectance": {"checker": {"colors": [0, 1]}}}},
-        "shapes": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1}])");
-    EXPECT_NE(named.find("p.json: /materials/m/reflectance:"), std::string::npos) << named;
-    const std::string emission = error_of_export(R"(
+    // A checker diffuse colour on a sphere: a uv_mapping checker scaled to the cells, on a
+    // unit sphere with y and z exchanged (POV-Ray's sphere UVs are the core's in that frame).
+    EXPECT_EQ(error_of_export(R"(
+        "materials": {"m": {"model": "lambert",
+                            "reflectance": {"checker": {"colors": [0, 1], "scale": 4}}}},
+        "shapes": [{"type": "sphere", "material": "m", "center": [1, 2, 3], "radius": 2}])"),
+              "");
+    EXPECT_NE(sdl.find("pigment { uv_mapping checker rgb <0, 0, 0>, rgb <1, 1, 1> matrix <0.25, "
+                       "0, 0, 0, 0.25, 0, 0, 0, 1, 0, 0, 0> }"),
+              std::string::npos)
+        << sdl;
+    EXPECT_NE(sdl.find("sphere { 0, 1\n  matrix <2, 0, 0, 0, 0, 2, 0, 2, 0, 1, 2, 3>"),
+              std::string::npos)
+        << sdl;
+    // A textured emission (no material): the texture as the pigment, glowing.
+    EXPECT_EQ(error_of_export(R"(
         "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                    "emission": {"checker": {"colors": [0, 1]}, "scale": 2}}])"),
+              "");
+    EXPECT_NE(sdl.find("finish { ambient 0 diffuse 0 emission rgb <2, 2, 2> }"), std::string::npos)
+        << sdl;
+    // A textured roughness: povray-facet's brdf block takes constants.
+    const std::string named = error_of_export(R"(
+        "materials": {"m": {"model": "ggx", "alpha": {"checker": {"colors": [0.1, 0.5]}}}},
+        "shapes": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 1}])");
+    EXPECT_NE(named.find("p.json: /materials/m/alpha: a textured 'alpha'"), std::string::npos)
+        << named;
+    // A textured disc: POV-Ray's disc has no UVs.
+    const std::string emission = error_of_export(R"(
+        "shapes": [{"type": "disc", "center": [0, 0, 0], "normal": [0, 0, 1], "radius": 1,
                     "emission": {"checker": {"colors": [0, 1]}}}])");
-    EXPECT_NE(emission.find("p.json: /shapes/0/emission:"), std::string::npos) << emission;
+    EXPECT_NE(emission.find("p.json: /shapes/0/emission: a texture read through UVs"),
+              std::string::npos)
+        << emission;
     // The same scene without the texture exports.
     EXPECT_EQ(error_of_export(R"(
         "materials": {"m": {"model": "lambert", "reflectance": 0.5}},

@@ -7,7 +7,9 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <fstream>
+#include <functional>
 #include <sstream>
 #include <stdexcept>
 
@@ -16,6 +18,7 @@
 #include "facet/registry.h"
 #include "facet/render/kinds.h"
 #include "facet/render/light_units.h"
+#include "facet/render/texel_image.h"
 #include "pov_writer.h"
 
 namespace facet::render {
@@ -111,6 +114,21 @@ class PovWriter {
     void global_settings();
     std::string texture(const MaterialDesc& m, const std::string& pointer,
                         const glm::dvec3& emission = glm::dvec3(0.0));
+    // `pigment { uv_mapping ... }` of a colour texture (image or checker) at `pointer`, and in
+    // `factor` the multiplier of its values (scale x color_scale) that the pigment leaves out.
+    std::string uv_pigment(const TextureDesc& t, const std::string& pointer,
+                           glm::dvec3& factor) const;
+    // Whether material m (its sub-materials too) / shape s reads anything through the UVs.
+    bool reads_uv(const MaterialDesc& m) const;
+    bool shape_reads_uv(const ShapeDesc& s) const;
+    // A clamp-wrapped texture is POV-Ray's `once`, which is transparent outside [0, 1]^2 where
+    // the core repeats the edge texels: an error unless the shape's UVs [lo, hi] stay inside
+    // after each such texture's UV transform.
+    void check_clamp(const ShapeDesc& s, const std::string& pointer, glm::dvec2 lo,
+                     glm::dvec2 hi) const;
+    // The shape's material (inline or named; null for none) and its JSON pointer.
+    const MaterialDesc* shape_material(const ShapeDesc& s, const std::string& pointer,
+                                       std::string& mpointer) const;
     // A combination's sub-material k: the named material it refers to, or the inline one; its
     // pointer in `pointer` (build_scene has checked the names and that there is no cycle).
     const MaterialDesc& child(const MaterialDesc& m, std::size_t k, std::string& pointer) const;
@@ -137,7 +155,8 @@ class ShapeOut final : public PovShapeOut {
   public:
     ShapeOut(PovWriter& w, const ShapeDesc& s, std::string pointer)
         : PovShapeOut(s, std::move(pointer),
-                      std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f),
+                      std::max({s.emission.r, s.emission.g, s.emission.b}) > 0.f,
+                      w.shape_reads_uv(s)),
           m_w(w) {}
     [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
         m_w.fail(p, m);
@@ -178,6 +197,8 @@ constexpr const char* kTwinTexture =
     "no_reflection no_shadow\n";
 
 void ShapeOut::object(const std::string& head, bool inside_front) {
+    // Only spheres reach here with UVs (their u, v span [0, 1]^2).
+    if (reads_uv) m_w.check_clamp(shape, pointer, glm::dvec2(0.0), glm::dvec2(1.0));
     std::ostringstream& out = m_w.m_out;
     out << head << "\n  " << m_w.shape_texture(shape, pointer, inside_front) << "\n"
         << (emits ? "  no_shadow\n" : "") << (twin() ? "  no_radiosity\n" : "") << xf() << "}\n";
@@ -218,6 +239,20 @@ void ShapeOut::triangles(bool parallelogram_cells) {
         body << "  normal_vectors { " << m.normals.size();
         for (const Vec3& nn : m.normals) body << ", " << pov_vec(glm::dvec3(nn));
         body << " }\n";
+    }
+    // The core's UVs per vertex, interpolated by POV-Ray over each triangle as by Facet
+    // (barycentric; uv_indices default to face_indices).
+    if (reads_uv) {
+        if (m.uvs.empty()) fail_uv("the mesh has no UVs");
+        glm::dvec2 lo(HUGE_VAL), hi(-HUGE_VAL);
+        body << "  uv_vectors { " << m.uvs.size();
+        for (const Vec2& uv : m.uvs) {
+            body << ", <" << pov_num(uv.x) << ", " << pov_num(uv.y) << ">";
+            lo = glm::min(lo, glm::dvec2(uv));
+            hi = glm::max(hi, glm::dvec2(uv));
+        }
+        body << " }\n";
+        m_w.check_clamp(shape, pointer, lo, hi);
     }
     // POV-Ray's triangle normal is (p0 - p1) x (p2 - p1) = -(p1 - p0) x (p2 - p0), the reverse
     // of Facet's front (mesh.h), and its interior_texture is on the side that normal points
@@ -474,6 +509,193 @@ std::string PovWriter::emission_of(const glm::dvec3& emission, const glm::dvec3&
     return " emission " + pov_rgb(e);
 }
 
+bool PovWriter::reads_uv(const MaterialDesc& m) const {
+    if (m.normal_map || m.bump) return true;
+    for (const auto& [key, t] : m.textures)
+        if (!t.vertex_color) return true;
+    for (std::size_t k = 0; k < m.materials.size(); ++k) {
+        std::string p;
+        if (reads_uv(child(m, k, p))) return true;
+    }
+    return false;
+}
+
+const MaterialDesc* PovWriter::shape_material(const ShapeDesc& s, const std::string& pointer,
+                                              std::string& mpointer) const {
+    mpointer = pointer + "/material";
+    if (s.material) return &*s.material;
+    if (s.material_ref.empty()) return nullptr;
+    for (const auto& [name, m] : m_desc.materials)
+        if (name == s.material_ref) {
+            mpointer = "/materials/" + detail::escape_pointer_token(name);
+            return &m;
+        }
+    fail(pointer + "/material", "unknown material '" + s.material_ref + "'");
+}
+
+bool PovWriter::shape_reads_uv(const ShapeDesc& s) const {
+    if (s.emission_texture && !s.emission_texture->vertex_color) return true;
+    std::string mp;
+    const MaterialDesc* m = shape_material(s, "", mp);
+    return m && reads_uv(*m);
+}
+
+namespace {
+
+// uv' = A uv + b of a texture (texture.h conventions), in double.
+void uv_affine(const TextureDesc& t, glm::dmat2& a, glm::dvec2& b) {
+    const double r = glm::radians(t.uv_rotation);
+    const glm::dmat2 rot(std::cos(r), std::sin(r), -std::sin(r), std::cos(r));  // columns
+    a = rot * glm::dmat2(double(t.uv_scale.x), 0.0, 0.0, double(t.uv_scale.y));
+    b = glm::dvec2(t.uv_offset);
+}
+
+}  // namespace
+
+void PovWriter::check_clamp(const ShapeDesc& s, const std::string& pointer, glm::dvec2 lo,
+                            glm::dvec2 hi) const {
+    auto check = [&](const TextureDesc& t, const std::string& where) {
+        if (t.wrap != "clamp" || t.checker || t.vertex_color) return;
+        glm::dmat2 a;
+        glm::dvec2 b;
+        uv_affine(t, a, b);
+        for (const glm::dvec2 c : {lo, glm::dvec2(hi.x, lo.y), hi, glm::dvec2(lo.x, hi.y)}) {
+            const glm::dvec2 q = a * c + b;
+            if (q.x < 0.0 || q.x > 1.0 || q.y < 0.0 || q.y > 1.0)
+                fail(where + "/wrap",
+                     fmt::format(
+                         "clamp is POV-Ray's image_map `once`, which is transparent "
+                         "outside [0, 1]^2, and the texture coordinates of {} reach "
+                         "({:.6g}, {:.6g}): not exported (use repeat, or keep the UVs inside)",
+                         pointer, q.x, q.y));
+        }
+    };
+    std::function<void(const MaterialDesc&, const std::string&)> walk = [&](const MaterialDesc& m,
+                                                                            const std::string& mp) {
+        for (const auto& [key, t] : m.textures)
+            check(t, mp + "/" + detail::escape_pointer_token(key));
+        for (std::size_t k = 0; k < m.materials.size(); ++k) {
+            std::string p = mp;
+            walk(child(m, k, p), p);
+        }
+    };
+    std::string mp;
+    if (const MaterialDesc* m = shape_material(s, pointer, mp)) walk(*m, mp);
+    if (s.emission_texture) check(*s.emission_texture, pointer + "/emission");
+}
+
+// An image or checker as a POV-Ray pigment read through the object's UVs. Exact because:
+//  - uv_mapping puts the pattern at (u, v, 0); the default planar image_map reads texel
+//    column u W and row (1 - v) H from the top (pattern.cpp map_pos: bottom-left at UV (0, 0),
+//    as the core's), with no interpolation the texel containing it (`closest`) and with
+//    `interpolate 2` the bilinear blend of the four texel centres around it (Interp), the
+//    texel indices wrapped (repeat) or, with `once`, clamped to the edge (the core's clamp
+//    inside [0, 1]^2; check_clamp);
+//  - `gamma srgb` decodes 8- and 16-bit files with the IEC 61966-2-1 curve, `gamma 1.0` keeps
+//    them linear (float files are linear), as the core's colorspace;
+//  - the UV transform uv' = A uv + b is the pigment's `matrix`, the inverse map (POV-Ray looks
+//    its patterns up at T^-1 of the point); a checker's scale n multiplies it, and POV-Ray's
+//    `checker` colours cell (floor u', floor v') by the parity of their sum, as the core.
+// Object transforms do not move uv_mapping patterns (the UVs are the object's own).
+std::string PovWriter::uv_pigment(const TextureDesc& t, const std::string& pointer,
+                                  glm::dvec3& factor) const {
+    if (t.vertex_color || t.times_vertex_color)
+        fail(pointer,
+             "a vertex colour cannot be exported to POV-Ray exactly (a mesh2 texture_list "
+             "blends whole textures per vertex; povray-facet's brdf takes constants)");
+    if (t.image || t.bytes)
+        fail(pointer,
+             "an image held in memory (a numpy array, or an image inside a .glb) has no file "
+             "POV-Ray can read: save it as a PNG or EXR file and name that");
+    if (!t.channel.empty())
+        fail(pointer + "/channel",
+             "one channel of an image as grey cannot be a POV-Ray image_map pigment (it reads "
+             "the colour channels)");
+    factor = glm::dvec3(t.color_scale) * t.scale;
+    glm::dmat2 a;
+    glm::dvec2 b;
+    uv_affine(t, a, b);
+    std::string body;
+    if (t.checker) {
+        a *= t.checker_scale;
+        b *= t.checker_scale;
+        body =
+            "checker " + pov_rgb(glm::dvec3(t.colors[0])) + ", " + pov_rgb(glm::dvec3(t.colors[1]));
+    } else {
+        const std::string path =
+            std::filesystem::absolute(resolve_scene_path(t.file, m_desc.base_dir))
+                .lexically_normal()
+                .string();
+        std::string ext = std::filesystem::path(path).extension().string();
+        for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
+        // The formats whose decoding was checked against the core's (test
+        // povray_export_textures): PNG (8/16-bit), OpenEXR, Radiance HDR.
+        const std::string kind = ext == ".png"   ? "png"
+                                 : ext == ".exr" ? "exr"
+                                 : ext == ".hdr" ? "hdr"
+                                                 : "";
+        if (kind.empty())
+            fail(pointer,
+                 "only PNG, OpenEXR and HDR images are exported to POV-Ray (their decoding is "
+                 "checked against the core's); convert '" +
+                     t.file + "' to one of them");
+        if (path.find('"') != std::string::npos)
+            fail(pointer,
+                 "the image path contains a double quote, which POV-Ray strings cannot hold");
+        // The header (channels, float or integer) as the renderer's one image reader sees it.
+        TexelImage header;
+        TexelRowSink sink{[&](const TexelImage& h) {
+                              header = h;
+                              return true;
+                          },
+                          [](int, int, const float*) {}};
+        try {
+            (void)load_texel_image_rows(path, nullptr, {}, pointer, sink);
+        } catch (const std::exception& e) {
+            fail(pointer, e.what());
+        }
+        if (header.alpha_channel >= 0 || header.channels == 2 || header.channels > 4)
+            fail(pointer,
+                 fmt::format("'{}' has {} channels: POV-Ray's image_map reads an alpha channel "
+                             "as transparency, where the core's colour ignores it (save the "
+                             "image as RGB or grey)",
+                             t.file, header.channels));
+        const std::string cs = !t.colorspace.empty() ? t.colorspace
+                               : header.float_format ? "linear"
+                                                     : "srgb";
+        if (header.float_format && cs == "srgb")
+            fail(pointer + "/colorspace",
+                 "an sRGB-encoded float image: POV-Ray reads float images as linear");
+        const std::string filter = t.filter.empty() ? "mipmap" : t.filter;
+        if (filter == "mipmap" && m_opt.mipmap != "linear")
+            fail(pointer + "/filter",
+                 "the mipmap filter (the default) has no POV-Ray equivalent (image_map filters "
+                 "the full image only): give \"filter\": \"linear\" or \"closest\", or export "
+                 "with --mipmap linear (exact where the texture is magnified)");
+        if (t.wrap == "mirror")
+            fail(pointer + "/wrap", "POV-Ray's image_map has no mirrored repeat");
+        body = "image_map { " + kind + " \"" + path + "\"" +
+               (header.float_format ? ""
+                : cs == "srgb"      ? " gamma srgb"
+                                    : " gamma 1.0") +
+               (filter == "closest" ? "" : " interpolate 2") + (t.wrap == "clamp" ? " once" : "") +
+               " }";
+    }
+    std::string xf;
+    if (a != glm::dmat2(1.0) || b != glm::dvec2(0.0)) {
+        if (glm::determinant(a) == 0.0) fail(pointer + "/uv_scale", "a singular UV transform");
+        // The pattern sees T^-1 (u, v, 0) = (A uv + b, 0): T is the inverse, z kept.
+        const glm::dmat2 ai = glm::inverse(a);
+        const glm::dvec2 bi = -(ai * b);
+        glm::dmat4 m(1.0);
+        m[0] = glm::dvec4(ai[0], 0.0, 0.0);
+        m[1] = glm::dvec4(ai[1], 0.0, 0.0);
+        m[3] = glm::dvec4(bi, 0.0, 1.0);
+        xf = " " + pov_matrix(m);
+    }
+    return "pigment { uv_mapping " + body + xf + " }";
+}
+
 // `texture { pigment {...} finish { ambient 0 brdf { ... } } }` for a material. The pigment is
 // the diffuse reflectance (lambert's reflectance, composite's diffuse_reflectance, with the
 // core's default when not given), which povray-facet multiplies into the diffuse lobe; the
@@ -482,20 +704,42 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                                const glm::dvec3& emission) {
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
-    // Textured parameters are not exported: povray-facet's brdf block takes constants, and
-    // POV-Ray's image_map (its UV mapping per object, its interpolation, its sRGB handling)
-    // matches Facet's texture exactly for no parameter yet. An error, never a silent constant.
-    // Vertex colours likewise: a mesh2 texture_list blends whole textures per vertex, which
-    // the povray-facet brdf finish (one constant block per texture) does not interpolate.
-    if (!m.textures.empty()) {
-        const auto& [key, td] = *m.textures.begin();
+    // The one parameter the pigment carries (the patch's tinting rule): lambert's reflectance,
+    // composite's diffuse_reflectance.
+    const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
+                                      : m.model == "composite" ? "diffuse_reflectance"
+                                                               : "";
+    // Textured parameters: only the pigment can vary over a surface (a uv_mapping pigment,
+    // uv_pigment); povray-facet's brdf block takes constants, so any other textured parameter
+    // is an error, never a silent constant. Vertex colours: a mesh2 texture_list blends whole
+    // textures per vertex, which the brdf finish (one constant block per texture) does not
+    // interpolate.
+    for (const auto& [key, td] : m.textures) {
+        if (key == diffuse_param && !td.vertex_color) continue;
         fail(pointer + "/" + detail::escape_pointer_token(key),
              td.vertex_color
                  ? "a vertex colour cannot be exported to POV-Ray exactly (a mesh2 texture_list "
                    "would blend whole textures per vertex; povray-facet's brdf takes constants)"
-                 : "a texture cannot be exported to POV-Ray exactly (only constant parameters "
-                   "are)");
+                 : "a textured '" + key +
+                       "' cannot be exported to POV-Ray exactly (povray-facet's brdf block takes "
+                       "constants; only the diffuse colour, which the pigment carries, can be "
+                       "an image or checker)");
     }
+    // Normal and bump maps: POV-Ray 3.7 has no tangent-space normal map. Its bump_map is a
+    // height image, but differentiated over one texel in image space (pattern.cpp bump_map:
+    // the heights of three neighbouring texels), oriented by a frame built from the normal and
+    // the object's +y axis rather than the surface's UV tangents, and scaled by bump_size in
+    // no scene unit: not the core's bump (scenes/FORMAT.md, "Bump maps").
+    if (m.normal_map)
+        fail(pointer + "/normal_map",
+             "a tangent-space normal map has no POV-Ray 3.7 equivalent (POV-Ray perturbs "
+             "normals by the gradient of a scalar pattern, in a frame that is not the "
+             "surface's UV tangent frame)");
+    if (m.bump)
+        fail(pointer + "/bump",
+             "POV-Ray's bump_map is not the core's bump: it differentiates the image over one "
+             "texel, in a frame built from the object's +y axis instead of the UV tangents, "
+             "scaled by bump_size in no scene unit");
     // mix: POV-Ray's `average` texture_map shades each texture and averages the results with
     // the weights [1 - w, w] (their sum is 1, so POV-Ray's normalisation changes nothing):
     // (1 - w) L_a + w L_b, which is what f = (1 - w) f_a + w f_b reflects. Each entry carries
@@ -532,11 +776,29 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         fail(pointer + "/model",
              "'principled' has no povray-facet brdf finish yet, so it cannot be exported "
              "exactly (docs/principled.md)");
-    const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
-                                      : m.model == "composite" ? "diffuse_reflectance"
-                                                               : "";
     glm::dvec3 pigment(1.0);
-    if (!diffuse_param.empty()) {
+    std::string pigment_sdl;  // a textured pigment (uv_pigment), or "" for the constant one
+    std::string brdf = m.model;
+    if (auto tex = m.textures.find(diffuse_param); tex != m.textures.end()) {
+        // The pigment is the texture's values; their multiplier is the brdf parameter, a
+        // factor on the pigment (docs/povray.md, "What the pigment tints").
+        glm::dvec3 factor;
+        const std::string tp = pointer + "/" + detail::escape_pointer_token(diffuse_param);
+        pigment_sdl = uv_pigment(tex->second, tp, factor);
+        // A texture scale would be the brdf block's diffuse factor, but povray-facet's
+        // composite does not treat diffuse_reflectance as a pure factor on the pigment
+        // (measured: up to 7% off facet render on a checker x 0.8), and the lambert factor is
+        // unchecked: an error rather than an unverified picture.
+        if (factor != glm::dvec3(1.0))
+            fail(tp + "/scale",
+                 "a texture scale on the diffuse colour is not exported (povray-facet's brdf "
+                 "factor on a textured pigment does not match the core for composite): scale "
+                 "the image's texels instead");
+        if (std::max({emission.x, emission.y, emission.z}) > 0.0)
+            fail(tp,
+                 "an emitter with a textured diffuse colour: POV-Ray multiplies emission by "
+                 "the pigment");
+    } else if (!diffuse_param.empty()) {
         auto it = m.params.values().find(diffuse_param);
         if (it != m.params.values().end()) {
             if (const double* d = std::get_if<double>(&it->second))
@@ -548,7 +810,6 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                 if (p.name == diffuse_param) pigment = glm::dvec3(std::stod(p.default_value));
         }
     }
-    std::string brdf = m.model;
     for (const auto& [name, value] : m.params.values()) {
         if (name == diffuse_param) continue;
         if (name == "alpha_u" || name == "alpha_v" || name == "exponent_u" || name == "exponent_v")
@@ -568,7 +829,8 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     const bool glossy =
         m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" || m.model == "composite";
     if (glossy) brdf += " samples " + std::to_string(m_opt.glossy_samples);
-    return "texture { pigment { " + pov_rgb(pigment) + " } finish { ambient 0" +
+    if (pigment_sdl.empty()) pigment_sdl = "pigment { " + pov_rgb(pigment) + " }";
+    return "texture { " + pigment_sdl + " finish { ambient 0" +
            emission_of(emission, pigment, pointer) + " brdf { " + brdf + " } } }";
 }
 
@@ -601,13 +863,27 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
             }
         if (!m) fail(pointer + "/material", "unknown material '" + s.material_ref + "'");
     }
-    if (s.emission_texture) {
-        fail(pointer + "/emission",
-             "a texture cannot be exported to POV-Ray exactly (only constant emission is)");
-    }
     const glm::dvec3 le = glm::dvec3(s.emission);
-    const bool emits = std::max({le.x, le.y, le.z}) > 0.0;
     const std::string black = "texture { pigment { rgb 0 } finish { ambient 0 diffuse 0 } }";
+    if (s.emission_texture) {
+        // A textured emitter is no light (scenes/FORMAT.md): the direct integrator sees it
+        // through camera and mirror rays only. POV-Ray's `emission` is multiplied by the
+        // pigment: with the texture as the pigment and its multiplier as `emission`, the
+        // surface shows exactly the emission, on its front only, and reflects nothing.
+        if (m)
+            fail(pointer + "/emission",
+                 "a textured emission on a shape with a material: POV-Ray multiplies emission "
+                 "by the pigment, which is the material's diffuse colour (export the emitter "
+                 "without a material)");
+        glm::dvec3 factor;
+        const std::string pigment = uv_pigment(*s.emission_texture, pointer + "/emission", factor);
+        std::string front = "texture { " + pigment + " finish { ambient 0 diffuse 0 emission " +
+                            pov_rgb(factor) + " } }";
+        std::string back = black;
+        if (inside_front) std::swap(front, back);
+        return front + "\n  interior_texture { " + back.substr(10, back.size() - 12) + " }";
+    }
+    const bool emits = std::max({le.x, le.y, le.z}) > 0.0;
     auto tex = [&](const glm::dvec3& e) {
         if (m && e == glm::dvec3(0.0) && !s.material)
             for (std::size_t i = 0; i < m_desc.materials.size(); ++i)
@@ -711,6 +987,8 @@ void check_pov_options(const PovExportOptions& o) {
         throw std::invalid_argument(
             "--environment light with --radiosity: radiosity gathers the sky_sphere's light too, "
             "so the sky would light diffuse surfaces twice");
+    if (o.mipmap != "error" && o.mipmap != "linear")
+        throw std::invalid_argument("--mipmap: expected error or linear, got '" + o.mipmap + "'");
     if (o.sky_samples < 1 || o.sky_samples > 4096)
         throw std::invalid_argument(
             fmt::format("--sky-samples: must be in [1, 4096] (got {})", o.sky_samples));

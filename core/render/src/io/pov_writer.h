@@ -19,12 +19,16 @@ std::string pov_rgb(const glm::dvec3& c);
 
 class PovShapeOut {
   public:
-    PovShapeOut(const ShapeDesc& s, std::string p, bool e)
-        : shape(s), pointer(std::move(p)), emits(e) {}
+    PovShapeOut(const ShapeDesc& s, std::string p, bool e, bool uv)
+        : shape(s), pointer(std::move(p)), emits(e), reads_uv(uv) {}
     virtual ~PovShapeOut() = default;
     const ShapeDesc& shape;
     const std::string pointer;  // "/shapes/<index>" or "/prototypes/<name>/<k>"
     const bool emits;
+    // The shape's material (or emission) reads an image or checker through the hit's UVs: the
+    // SDL's pigments are then `uv_mapping`, so the object must carry the core's UVs (mesh2
+    // uv_vectors, or a sphere whose POV-Ray UVs are the core's: sphere.cpp), or fail_uv().
+    const bool reads_uv;
 
     [[noreturn]] virtual void fail(const std::string& pointer,
                                    const std::string& message) const = 0;
@@ -43,6 +47,13 @@ class PovShapeOut {
     virtual void cell_light(const glm::dvec3& p, const glm::dvec3& n, const glm::dvec3& radiance,
                             double area) = 0;
     virtual int area_grid() const = 0;
+    // The error for a textured shape of a kind whose POV-Ray object has no UVs equal to the
+    // core's; `why` says what POV-Ray's object lacks. Throws (through fail).
+    void fail_uv(const std::string& why) const {
+        fail(pointer + (shape.emission_texture ? "/emission" : "/material"),
+             "a texture read through UVs cannot be exported on this shape kind: " + why +
+                 " (use a mesh, quad, grid, box or sphere, or render with Facet)");
+    }
     // An instance: `object { <the prototype's declared union> <the shape's transform> }`
     // (export_pov declares each prototype once, its shapes written as any shapes are).
     virtual void instance(const std::string& prototype) = 0;

@@ -20,10 +20,12 @@ void build(ShapeBuild& b) {
     b.add_triangles(triangles(s, b.base_dir()), Vec3(1.f, 0.f, 0.f));
 }
 
-// POV-Ray's box, except for an emitter (its light cells need the triangles).
+// POV-Ray's box, except for an emitter (its light cells need the triangles) and a textured box
+// (POV-Ray's box UVs unfold the six faces into one image; the core's give each face [0, 1]^2,
+// which the triangles carry as uv_vectors).
 void pov(PovShapeOut& o) {
     const ShapeDesc& s = o.shape;
-    if (o.emits) return o.triangles(false);
+    if (o.emits || o.reads_uv) return o.triangles(false);
     o.object("box { " + pov_vec(glm::dvec3(s.min)) + ", " + pov_vec(glm::dvec3(s.max)),
              s.flip_normals);
 }

@@ -33,6 +33,7 @@ void build(ShapeBuild& b) {
 // An emitter's light: N equal-area rings x 4N sectors, midpoint cells.
 void pov(PovShapeOut& o) {
     const ShapeDesc& s = o.shape;
+    if (o.reads_uv) o.fail_uv("POV-Ray's disc has no UV coordinates");
     const double nsign = s.flip_normals ? -1.0 : 1.0;
     const glm::dvec3 nn = glm::normalize(glm::dvec3(s.normal));
     o.object("disc { " + pov_vec(glm::dvec3(s.center)) + ", " + pov_vec(nsign * nn) + ", " +

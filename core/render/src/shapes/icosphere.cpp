@@ -26,6 +26,16 @@ void build(ShapeBuild& b) {
     b.add_triangles(triangles(s, b.base_dir()), Vec3(0.f), &sphere);
 }
 
+// A mesh2; its UVs are the analytic sphere's at each hit point, which per-vertex uv_vectors
+// interpolated over a triangle are not.
+void pov(PovShapeOut& o) {
+    if (o.reads_uv)
+        o.fail_uv(
+            "the icosphere's UVs are the sphere's longitude and latitude at each hit point, "
+            "which a mesh2's per-vertex uv_vectors only interpolate");
+    o.triangles(false);
+}
+
 }  // namespace
 
 extern const ShapeKindDef kIcosphereKind{
@@ -40,6 +50,6 @@ extern const ShapeKindDef kIcosphereKind{
       "vertex normals (smooth shading)"}},
     build,
     triangles,
-    nullptr};
+    pov};
 
 }  // namespace facet::render

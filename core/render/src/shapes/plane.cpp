@@ -18,6 +18,7 @@ void build(ShapeBuild& b) {
 
 void pov(PovShapeOut& o) {
     const ShapeDesc& s = o.shape;
+    if (o.reads_uv) o.fail_uv("POV-Ray's plane has no UV coordinates");
     const glm::dvec3 n = (s.flip_normals ? -1.0 : 1.0) * glm::normalize(glm::dvec3(s.normal));
     o.object("plane { " + pov_vec(n) + ", " + pov_num(glm::dot(n, glm::dvec3(s.point))), false);
 }

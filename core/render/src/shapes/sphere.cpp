@@ -38,7 +38,21 @@ void pov(PovShapeOut& o) {
                "an emissive sphere has no exact POV-Ray light (only quads, meshes and discs are "
                "exported as emitters)");
     const ShapeDesc& s = o.shape;
-    o.object("sphere { " + pov_vec(glm::dvec3(s.center)) + ", " + pov_num(s.radius),
+    if (!o.reads_uv)
+        return o.object("sphere { " + pov_vec(glm::dvec3(s.center)) + ", " + pov_num(s.radius),
+                        s.flip_normals);
+    // Textured: POV-Ray's sphere UVs (Sphere::UVCoord, in the unit sphere's own space) are
+    // u = the angle from +x toward +z / 2 pi in [0, 1) and v = 1/2 + asin(y) / pi, the core's
+    // u = atan2(y, x) / 2 pi and v = arccos(-z) / pi = 1/2 + asin(z) / pi with y and z
+    // exchanged. So a unit sphere whose POV y is the core's local z and POV z the core's y
+    // (a mirroring matrix: the sphere is symmetric, only its UVs change), scaled by the radius
+    // and moved to the centre, then the shape's transform. uv_mapping patterns are not moved
+    // by object transforms.
+    const double r = s.radius;
+    const glm::dvec3 c(s.center);
+    o.object("sphere { 0, 1\n  matrix <" + pov_num(r) + ", 0, 0, 0, 0, " + pov_num(r) + ", 0, " +
+                 pov_num(r) + ", 0, " + pov_num(c.x) + ", " + pov_num(c.y) + ", " + pov_num(c.z) +
+                 ">",
              s.flip_normals);
 }
 

@@ -28,6 +28,11 @@
 //    pigment carries the diffuse reflectance (the patch's tinting rule); `samples` (glossy
 //    reflection rays) is 0 unless glossy_samples says otherwise, since the direct integrator
 //    traces none;
+//  - textures: an image or checker as a material's diffuse colour (the pigment) or a shape's
+//    emission is a `uv_mapping` pigment (image_map with the core's UV, wrap, filter, colour
+//    space and UV transform), on objects whose POV-Ray UVs are the core's: mesh2 with
+//    uv_vectors, spheres with their axes swapped (docs/povray.md, "Textures"). Every other
+//    textured parameter, normal and bump maps are errors;
 //  - radiosity: a `radiosity {}` block; emitters are then `no_radiosity` with a black twin that
 //    only radiosity rays see, because the cell lights already count their light.
 #pragma once
@@ -58,6 +63,11 @@ struct PovExportOptions {
     // "low" (50,1.0,4), "medium" (200,0.4,8), "high" (800,0.15,16) or
     // "COUNT,ERROR_BOUND,RECURSION_LIMIT".
     std::string radiosity = "off";
+    // Image textures with the `mipmap` filter (the scene format's default): "error", or
+    // "linear": written as POV-Ray's bilinear lookup of the full image (`interpolate 2`), which
+    // is the core's mipmap wherever the texture is magnified (MIP level <= 0) and sharper where
+    // it is minified (an approximation; docs/povray.md).
+    std::string mipmap = "error";
 };
 
 // Checks the options alone (throws std::invalid_argument naming the option).
