@@ -96,6 +96,17 @@ class PrincipledBxDF {
     // glass refraction.
     enum Lobe { kCosine = 0, kSpecular, kClearcoat, kGlassReflect, kGlassRefract, kLobes };
 
+    // Whether the model has the lobe (of non-zero weight), and whether it is a delta lobe.
+    bool has_lobe(Lobe lobe) const;
+    bool lobe_is_delta(Lobe lobe) const { return has_lobe(lobe) && is_delta(lobe); }
+    // The same model with only the lobes whose bit (1 << Lobe) is set in `lobes`; the two
+    // glass lobes stay or go together (they share the macro-normal Fresnel split). f of the
+    // whole model is the sum of f over a partition of its lobes (each lobe's f does not depend
+    // on the others); sampling renormalises the selection over the lobes kept. For front ends
+    // that estimate lobes separately (povray-facet: the cosine lobe by lights and radiosity,
+    // the glossy lobes by rays, the delta lobes by mirror rays).
+    PrincipledBxDF only(unsigned lobes) const;
+
   private:
     // What depends on wo (in the frame mirrored to wo's side): the glass split and the lobe
     // selection probabilities.
@@ -112,6 +123,8 @@ class PrincipledBxDF {
     void evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, TransportMode mode, Rgb* f_out,
                   float* pdf_out) const;
     bool is_delta(int lobe) const { return (m_delta_mask >> lobe) & 1u; }
+    // m_flags from the lobes present.
+    void set_flags();
     // Rotation of the anisotropic specular's tangent (into its rotated frame).
     Vec3 to_spec(const Vec3& w) const {
         return {m_rot_c * w.x + m_rot_s * w.y, -m_rot_s * w.x + m_rot_c * w.y, w.z};
