@@ -376,7 +376,7 @@ bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const d
     const facet::Frame frame = facet::Frame::from_z(to_vec(n));
     const facet::Vec3 o = frame.to_local(to_vec(wo));
     if (!(o.z > 0.f)) return false;
-    const facet::Vec2 u12(float(u[1]), float(u[2]));
+    const facet::Vec2 u12{float(u[1]), float(u[2])};
     auto s = b->split() ? b->glossy_part()->sample_f(o, float(u[0]), u12)
                         : b->material().glossy()->sample_f(o, float(u[0]), u12);
     if (!s || !(s->pdf > 0.f) || !(s->wi.z > 0.f)) return false;

@@ -517,10 +517,21 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         fail(pointer + "/model",
              "'add' sums two materials, which POV-Ray cannot express exactly (its average "
              "texture_map normalises the weights to a mean)");
-    if (m.model == "oren_nayar")
-        fail(pointer + "/model",
-             "'oren_nayar' cannot be exported to POV-Ray yet (povray-facet's brdf finish shades "
-             "lambert, microfacet and mirror lobes only; stock POV-Ray has no Oren-Nayar)");
+    // principled: povray-facet's brdf finish shades its reflection part (the core's lobes);
+    // transmission would be POV-Ray's interior and refraction, which is not the model's glass
+    // lobes (rough refraction, the Fresnel split of Cycles, 1/eta^2), so it is reported.
+    if (m.model == "principled") {
+        const Material pm = make_material(m.model, m.params);
+        if (pm.transmissive())
+            fail(pointer + "/transmission",
+                 "principled transmission cannot be exported to POV-Ray exactly (the brdf "
+                 "finish is its reflection part; POV-Ray's interior/refraction is not its "
+                 "glass lobes)");
+        if (pm.anisotropic())
+            fail(pointer + "/anisotropic",
+                 "anisotropic lobes need a surface tangent, which POV-Ray does not provide "
+                 "(povray-facet would orient the lobe by an arbitrary frame)");
+    }
     // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
     // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
     if (make_material(m.model, m.params).transmissive())
@@ -528,11 +539,11 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
              fmt::format("'{}' transmits light, which POV-Ray cannot express exactly (the brdf "
                          "finish is reflection only; POV-Ray's interior/refraction differs)",
                          m.model));
-    if (m.model == "principled")
-        fail(pointer + "/model",
-             "'principled' has no povray-facet brdf finish yet, so it cannot be exported "
-             "exactly (docs/principled.md)");
-    const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
+    // The pigment: the diffuse reflectance of lambert and oren_nayar (povray-facet multiplies
+    // it into their f), composite's diffuse_reflectance; white for principled, whose colours are
+    // its own parameters (the pigment then only scales emission, emission_of).
+    const std::string diffuse_param = m.model == "lambert" || m.model == "oren_nayar"
+                                          ? "reflectance"
                                       : m.model == "composite" ? "diffuse_reflectance"
                                                                : "";
     glm::dvec3 pigment(1.0);
@@ -565,8 +576,8 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         else
             brdf += std::get<bool>(value) ? "on" : "off";
     }
-    const bool glossy =
-        m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" || m.model == "composite";
+    const bool glossy = m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" ||
+                        m.model == "composite" || m.model == "principled";
     if (glossy) brdf += " samples " + std::to_string(m_opt.glossy_samples);
     return "texture { pigment { " + pov_rgb(pigment) + " } finish { ambient 0" +
            emission_of(emission, pigment, pointer) + " brdf { " + brdf + " } } }";
