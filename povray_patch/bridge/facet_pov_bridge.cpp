@@ -15,7 +15,7 @@
 
 #include "facet/frame.h"
 #include "facet/material.h"
-#include "facet/reflectance.h"
+#include "facet/quadrature.h"
 #include "facet/registry.h"
 #include "facet/render/sampler.h"  // header-only part: the renderer's Owen-scrambled Sobol
 #include "facet/types.h"
@@ -99,15 +99,31 @@ class Brdf {
         init_albedo_table();
     }
 
-    // The diffuse part's albedo int f cos dwi at mu_k by the core's fixed-order quadrature
-    // (facet/reflectance.h; isotropic lobes, so one phi suffices): radiosity's reflectance.
+    // The diffuse part's albedo int f cos dwi at mu_k: Gauss-Legendre over cos theta_i in
+    // [0, 1] and over phi_i in [0, pi] (the lobes are isotropic, so f is even in phi_i - phi_o)
+    // of the core's f (facet/quadrature.h; the reflectance module has no principled maps):
+    // radiosity's reflectance. The lobes are smooth (Disney diffuse, sheen's (1 - cos)^5,
+    // Oren-Nayar), so 24 x 24 nodes are well within the radiosity cache's own error.
     void init_albedo_table() {
         if (!m_diffuse_part) return;
+        const facet::QuadratureRule& q = facet::gauss_legendre(24);
         for (int k = 0; k < kAlbedoNodes; ++k) {
             const float mu = std::max(1e-3f, float(k) / float(kAlbedoNodes - 1));
             const facet::Vec3 wo(std::sqrt(std::max(0.f, 1.f - mu * mu)), 0.f, mu);
-            const facet::DVec3 a = facet::hemispherical_directional(*m_diffuse_part, wo, 16).value;
-            m_albedo[k] = facet::Rgb(float(a.x), float(a.y), float(a.z));
+            facet::DVec3 sum(0.0);
+            for (std::size_t a = 0; a < q.nodes.size(); ++a) {
+                const double c = q.nodes[a], s = std::sqrt(std::max(0.0, 1.0 - c * c));
+                for (std::size_t b = 0; b < q.nodes.size(); ++b) {
+                    const double phi = facet::kPiD * q.nodes[b];
+                    const facet::Vec3 wi(float(s * std::cos(phi)), float(s * std::sin(phi)),
+                                         float(c));
+                    const facet::Rgb f = m_diffuse_part->f(wo, wi);
+                    // dwi = dcos dphi over [0, 1] x [0, 2 pi]: 2 pi, halved by the symmetry
+                    sum += (q.weights[a] * q.weights[b] * c * 2.0 * facet::kPiD) *
+                           facet::DVec3(f.x, f.y, f.z);
+                }
+            }
+            m_albedo[k] = facet::Rgb(float(sum.x), float(sum.y), float(sum.z));
         }
     }
 

