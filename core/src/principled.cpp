@@ -195,10 +195,15 @@ PrincipledBxDF::PrincipledBxDF(const PrincipledParams& p) : m_params(p) {
         }
     }
 
+    set_flags();
+}
+
+void PrincipledBxDF::set_flags() {
+    m_flags = BxDFFlags::None;
     if (m_cosine) m_flags = m_flags | BxDFFlags::Diffuse;
-    const bool lobe[kLobes] = {false, m_spec, m_clearcoat, m_glass, m_glass, m_spec_ms};
     for (int k = kSpecular; k < kLobes; ++k)
-        if (lobe[k]) m_flags = m_flags | (is_delta(k) ? BxDFFlags::Specular : BxDFFlags::Glossy);
+        if (has_lobe(Lobe(k)))
+            m_flags = m_flags | (is_delta(k) ? BxDFFlags::Specular : BxDFFlags::Glossy);
     if (m_glass) m_flags = m_flags | BxDFFlags::Transmission;
 }
 
@@ -232,6 +237,42 @@ float PrincipledBxDF::multiscatter_albedo(float mu) const {
     const float e0 = sqrt_mu_table_lookup(t.e[m_ms_node].data(), n, mu);
     const float e1 = sqrt_mu_table_lookup(t.e[m_ms_node + 1].data(), n, mu);
     return e0 + m_ms_t * (e1 - e0);
+}
+
+bool PrincipledBxDF::has_lobe(Lobe lobe) const {
+    switch (lobe) {
+        case kCosine:
+            return m_cosine;
+        case kSpecular:
+            return m_spec;
+        case kClearcoat:
+            return m_clearcoat;
+        case kGlassReflect:
+        case kGlassRefract:
+            return m_glass;
+        case kSpecularMs:
+            return m_spec_ms;
+        default:
+            return false;
+    }
+}
+
+PrincipledBxDF PrincipledBxDF::only(unsigned lobes) const {
+    PrincipledBxDF b = *this;
+    auto keep = [&](int k) { return ((lobes >> k) & 1u) != 0u; };
+    if (!keep(kCosine)) {
+        b.m_cosine = false;
+        b.m_diffuse = b.m_sheen = Rgb(0.f);
+    }
+    // The multiscatter compensation goes with the specular lobe it completes.
+    if (!keep(kSpecular)) b.m_spec = b.m_spec_ms = false;
+    if (!keep(kClearcoat)) b.m_clearcoat = false;
+    if (!keep(kGlassReflect) && !keep(kGlassRefract)) {
+        b.m_glass = false;
+        b.m_glass_ms.reset();
+    }
+    b.set_flags();
+    return b;
 }
 
 Rgb PrincipledBxDF::spec_fresnel(float cos_ih) const {

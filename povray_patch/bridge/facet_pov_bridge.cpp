@@ -4,6 +4,7 @@
 #include "facet_pov_bridge.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -14,15 +15,39 @@
 
 #include "facet/frame.h"
 #include "facet/material.h"
+#include "facet/quadrature.h"
 #include "facet/registry.h"
 #include "facet/render/sampler.h"  // header-only part: the renderer's Owen-scrambled Sobol
 #include "facet/types.h"
 
 namespace facet_pov {
 
+// A brdf finish's core material, as POV-Ray's three estimators see it: a "diffuse" part that
+// lights, the sky and radiosity shade (tinted by the pigment), a "glossy" part that lights and
+// the sky shade and importance-sampled rays trace, and "mirror" (delta) parts that POV-Ray's
+// reflection rays trace with their weight at wo.
+//  - lambert, the microfacet models, mirror, composite: the Material's own lobes (its diffuse
+//    lobe with the energy-sharing weight of facet/material.h).
+//  - principled (reflection part): the core's PrincipledBxDF split by PrincipledBxDF::only
+//    into the cosine lobe (Disney diffuse + sheen), the non-delta specular + clearcoat, and
+//    each delta lobe alone (f of the model is the sum of the parts). Its colours are its own
+//    parameters (base_color, ...): the pigment does not tint it.
+//  - oren_nayar: the diffuse part alone, tinted by the pigment (f is linear in rho).
 class Brdf {
   public:
     explicit Brdf(facet::Material m, int samples) : m_material(std::move(m)), m_samples(samples) {
+        if (const auto& p = m_material.principled()) {
+            init_principled(*p);
+            return;
+        }
+        if (m_material.oren_nayar()) {
+            m_split = true;
+            m_tinted = true;
+            m_diffuse_part.emplace(m_material);
+            m_diffuse = facet::max_component(m_material.oren_nayar()->rho()) > 0.f;
+            init_albedo_table();
+            return;
+        }
         const auto& g = m_material.glossy();
         // Lobes of zero weight are left out (no light calls, no rays for them).
         const bool g_on = g && facet::max_component(g->scale()) > 0.f;
@@ -38,12 +63,80 @@ class Brdf {
     bool diffuse() const { return m_diffuse; }
     int samples() const { return m_samples; }
 
+    // The split parts (split() true: principled, oren_nayar).
+    bool split() const { return m_split; }
+    bool tinted() const { return m_tinted; }
+    const std::optional<facet::Material>& diffuse_part() const { return m_diffuse_part; }
+    const std::optional<facet::Material>& glossy_part() const { return m_glossy_part; }
+    const std::vector<facet::Material>& mirror_parts() const { return m_mirror_parts; }
+    // Directional albedo of the diffuse part at cos theta_o = mu (linear in mu_k = k / (n - 1)).
+    facet::Rgb diffuse_part_albedo(float mu) const {
+        const float x = std::clamp(mu, 0.f, 1.f) * float(kAlbedoNodes - 1);
+        const int k = std::min(int(x), kAlbedoNodes - 2);
+        const float t = x - float(k);
+        return m_albedo[k] * (1.f - t) + m_albedo[k + 1] * t;
+    }
+
   private:
+    static constexpr int kAlbedoNodes = 33;
+
+    void init_principled(const facet::PrincipledBxDF& p) {
+        using P = facet::PrincipledBxDF;
+        m_split = true;
+        if (p.has_lobe(P::kCosine)) m_diffuse_part.emplace(p.only(1u << P::kCosine));
+        unsigned glossy = 0;
+        for (P::Lobe k : {P::kSpecular, P::kClearcoat}) {
+            if (!p.has_lobe(k)) continue;
+            if (p.lobe_is_delta(k))
+                m_mirror_parts.emplace_back(p.only(1u << k));
+            else
+                glossy |= 1u << k;
+        }
+        if (glossy) m_glossy_part.emplace(p.only(glossy));
+        m_diffuse = m_diffuse_part.has_value();
+        m_glossy = m_glossy_part.has_value();
+        m_mirror = !m_mirror_parts.empty();
+        init_albedo_table();
+    }
+
+    // The diffuse part's albedo int f cos dwi at mu_k: Gauss-Legendre over cos theta_i in
+    // [0, 1] and over phi_i in [0, pi] (the lobes are isotropic, so f is even in phi_i - phi_o)
+    // of the core's f (facet/quadrature.h; the reflectance module has no principled maps):
+    // radiosity's reflectance. The lobes are smooth (Disney diffuse, sheen's (1 - cos)^5,
+    // Oren-Nayar), so 24 x 24 nodes are well within the radiosity cache's own error.
+    void init_albedo_table() {
+        if (!m_diffuse_part) return;
+        const facet::QuadratureRule& q = facet::gauss_legendre(24);
+        for (int k = 0; k < kAlbedoNodes; ++k) {
+            const float mu = std::max(1e-3f, float(k) / float(kAlbedoNodes - 1));
+            const facet::Vec3 wo(std::sqrt(std::max(0.f, 1.f - mu * mu)), 0.f, mu);
+            facet::DVec3 sum(0.0);
+            for (std::size_t a = 0; a < q.nodes.size(); ++a) {
+                const double c = q.nodes[a], s = std::sqrt(std::max(0.0, 1.0 - c * c));
+                for (std::size_t b = 0; b < q.nodes.size(); ++b) {
+                    const double phi = facet::kPiD * q.nodes[b];
+                    const facet::Vec3 wi(float(s * std::cos(phi)), float(s * std::sin(phi)),
+                                         float(c));
+                    const facet::Rgb f = m_diffuse_part->f(wo, wi);
+                    // dwi = dcos dphi over [0, 1] x [0, 2 pi]: 2 pi, halved by the symmetry
+                    sum += (q.weights[a] * q.weights[b] * c * 2.0 * facet::kPiD) *
+                           facet::DVec3(f.x, f.y, f.z);
+                }
+            }
+            m_albedo[k] = facet::Rgb(float(sum.x), float(sum.y), float(sum.z));
+        }
+    }
+
     facet::Material m_material;
     int m_samples;
     bool m_glossy = false;
     bool m_mirror = false;
     bool m_diffuse = false;
+    bool m_split = false;
+    bool m_tinted = false;
+    std::optional<facet::Material> m_diffuse_part, m_glossy_part;
+    std::vector<facet::Material> m_mirror_parts;
+    std::array<facet::Rgb, kAlbedoNodes> m_albedo{};
 };
 
 namespace {
@@ -77,16 +170,17 @@ std::string quoted_list(const std::vector<std::string>& names) {
     return s;
 }
 
-// The models a brdf finish takes: the core's reflection models. A transmissive model
+// The models a brdf finish takes: the core's reflection models, and principled (its reflection
+// part: transmission > 0 is an error naming that parameter, see build()). A transmissive model
 // (dielectric, thin_dielectric) would need POV-Ray's interior and refraction (docs/povray.md),
 // so it is not offered, and naming one reads like any other unknown model.
 bool reflection_model(const std::string& name) {
-    // Combinations (mix, add) need sub-materials, which the finish syntax does not give;
-    // Oren-Nayar and principled are not among the lobes the shading functions below evaluate.
+    // Combinations (mix, add) need sub-materials, which the finish syntax does not give.
     const facet::ModelInfo* m = facet::find_model(name);
     if (m && m->children > 0) return false;
+    if (name == "principled") return true;
     const facet::Material mat = facet::make_material(name, {});
-    return !mat.transmissive() && !mat.oren_nayar() && !mat.principled();
+    return !mat.transmissive();
 }
 
 }  // namespace
@@ -134,6 +228,7 @@ ParamKind param_kind(const char* model, const char* param, std::string& message)
 std::string word_choices(const char* model, const char* param) {
     std::string p = param;
     if (p == "fresnel") return "'none', 'dielectric', 'conductor', 'schlick'";
+    if (p == "distribution" && std::string(model) == "principled") return "'ggx', 'multi_ggx'";
     if (p == "distribution") return "'ggx', 'beckmann', 'blinn'";
     return "";
 }
@@ -178,13 +273,19 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
         facet::ParamSet params = m_impl->params;
         // In POV-Ray the pigment is the diffuse reflectance (as with classic `diffuse`): the
         // diffuse reflectance parameter is a factor on it, 1 unless given.
-        if (m_impl->model == "lambert" && !params.has("reflectance"))
+        if ((m_impl->model == "lambert" || m_impl->model == "oren_nayar") &&
+            !params.has("reflectance"))
             params.set("reflectance", 1.0);
         if (m_impl->model == "composite" && !params.has("diffuse_reflectance"))
             params.set("diffuse_reflectance", 1.0);
         facet::Material m = facet::make_material(m_impl->model, params);
         // The brdf finish is reflection only; transmission in POV-Ray stays with its own
         // interior (docs/povray.md).
+        if (m.principled() && m.transmissive())
+            throw facet::ParamError("transmission",
+                                    "parameter 'transmission' of model 'principled': the brdf "
+                                    "finish is reflection only; transmission is POV-Ray's "
+                                    "interior (ior) with refraction (docs/povray.md)");
         if (m.transmissive())
             throw facet::ParamError("", "model '" + m_impl->model +
                                             "' transmits light: the brdf finish is reflection "
@@ -221,8 +322,15 @@ void shade(const Brdf* b, const double n[3], const double wo[3], const double wi
     if (!(o.z > 0.f) || !(i.z > 0.f)) return;
     const facet::Material& m = b->material();
     facet::Rgb r(0.f);
-    if (m.diffuse()) r += m.diffuse_f(o, i) * facet::Rgb(tint[0], tint[1], tint[2]);
-    if (glossy && b->glossy()) r += m.glossy()->f(o, i);
+    if (b->split()) {
+        if (const auto& d = b->diffuse_part())
+            r += d->f(o, i) *
+                 (b->tinted() ? facet::Rgb(tint[0], tint[1], tint[2]) : facet::Rgb(1.f));
+        if (glossy && b->glossy()) r += b->glossy_part()->f(o, i);
+    } else {
+        if (m.diffuse()) r += m.diffuse_f(o, i) * facet::Rgb(tint[0], tint[1], tint[2]);
+        if (glossy && b->glossy()) r += m.glossy()->f(o, i);
+    }
     r *= facet::kPi * i.z;
     if (!facet::is_finite(r)) return;
     out[0] = r.x;
@@ -234,9 +342,15 @@ void diffuse_albedo(const Brdf* b, const double n[3], const double wo[3], const 
                     float out[3]) {
     out[0] = out[1] = out[2] = 0.f;
     const facet::Material& m = b->material();
-    if (!m.diffuse()) return;
     facet::Vec3 nn = to_vec(n), o = to_vec(wo);
     float mu = std::clamp(glm::dot(nn, o), 0.f, 1.f);
+    if (b->split()) {
+        if (!b->diffuse_part()) return;
+        const facet::Rgb a = b->diffuse_part_albedo(mu);
+        for (int c = 0; c < 3; ++c) out[c] = std::max(0.f, a[c] * (b->tinted() ? tint[c] : 1.f));
+        return;
+    }
+    if (!m.diffuse()) return;
     // int f_d cos dwi = rho_d (1 - Es(wo)) (facet/material.h: 2 int (1 - Es) mu dmu = 1 - Es_avg).
     facet::Rgb a = m.diffuse()->rho() * (facet::Rgb(1.f) - m.specular_albedo(mu));
     for (int c = 0; c < 3; ++c) out[c] = std::max(0.f, a[c] * tint[c]);
@@ -247,6 +361,23 @@ void mirror_weight(const Brdf* b, const double n[3], const double wo[3], float o
     const facet::Material& m = b->material();
     float mu = std::clamp(glm::dot(to_vec(n), to_vec(wo)), 0.f, 1.f);
     facet::Rgb w(0.f);
+    if (b->split()) {
+        // Each delta part alone: its one sample is the mirror direction with weight f cos / pdf
+        // (pdf 1, the only lobe), i.e. the lobe's reflectance at wo.
+        const facet::Frame frame = facet::Frame::from_z(to_vec(n));
+        const facet::Vec3 o = frame.to_local(to_vec(wo));
+        if (o.z > 0.f)
+            for (const facet::Material& part : b->mirror_parts())
+                if (auto s = part.sample_f(o, 0.5f, facet::Vec2(0.5f));
+                    s && s->pdf > 0.f && s->wi.z > 0.f) {
+                    const facet::Rgb r = s->f * (s->wi.z / s->pdf);
+                    if (facet::is_finite(r)) w += r;
+                }
+        out[0] = w.x;
+        out[1] = w.y;
+        out[2] = w.z;
+        return;
+    }
     if (m.mirror()) w += m.mirror()->reflectance(mu);
     if (m.glossy() && !b->glossy())  // a smooth glossy lobe is the mirror (facet/microfacet.h)
         w += m.glossy()->scale() * m.glossy()->fresnel().eval(mu);
@@ -261,8 +392,9 @@ bool sample_glossy(const Brdf* b, const double n[3], const double wo[3], const d
     const facet::Frame frame = facet::Frame::from_z(to_vec(n));
     const facet::Vec3 o = frame.to_local(to_vec(wo));
     if (!(o.z > 0.f)) return false;
-    auto s =
-        b->material().glossy()->sample_f(o, float(u[0]), facet::Vec2(float(u[1]), float(u[2])));
+    const facet::Vec2 u12{float(u[1]), float(u[2])};
+    auto s = b->split() ? b->glossy_part()->sample_f(o, float(u[0]), u12)
+                        : b->material().glossy()->sample_f(o, float(u[0]), u12);
     if (!s || !(s->pdf > 0.f) || !(s->wi.z > 0.f)) return false;
     facet::Rgb w = s->f * (s->wi.z / s->pdf);
     if (!facet::is_finite(w) || !(facet::max_component(w) > 0.f)) return false;
@@ -281,7 +413,7 @@ double glossy_pdf(const Brdf* b, const double n[3], const double wo[3], const do
     const facet::Frame frame = facet::Frame::from_z(to_vec(n));
     const facet::Vec3 o = frame.to_local(to_vec(wo)), i = frame.to_local(to_vec(wi));
     if (!(o.z > 0.f) || !(i.z > 0.f)) return 0.0;
-    const float p = b->material().glossy()->pdf(o, i);
+    const float p = b->split() ? b->glossy_part()->pdf(o, i) : b->material().glossy()->pdf(o, i);
     return std::isfinite(p) && p > 0.f ? double(p) : 0.0;
 }
 

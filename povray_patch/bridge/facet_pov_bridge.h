@@ -57,6 +57,11 @@ class BrdfBuilder {
 // ---- shading -------------------------------------------------------------------------------
 
 // What a Brdf has: lobes that lights shade (diffuse/glossy), a glossy lobe, a mirror lobe.
+// For principled (reflection part) these are the core model's lobes grouped by how POV-Ray
+// estimates them: "diffuse" the cosine lobe (Disney diffuse + sheen), "glossy" the rough
+// specular and clearcoat, "mirror" the delta ones (facet::PrincipledBxDF::only); its colours
+// are its own parameters and the pigment (`tint`) does not enter. oren_nayar is a diffuse lobe
+// tinted by the pigment as lambert is (facet_pov_bridge.cpp, class Brdf).
 bool lit_by_lights(const Brdf* b);
 bool has_glossy(const Brdf* b);
 bool has_mirror(const Brdf* b);

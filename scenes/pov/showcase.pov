@@ -13,6 +13,13 @@
 // image repeating every 4 units (uv_scale 0.25). The brushed sphere's anisotropy axis is the
 // core's default tangent frame (POV-Ray has no surface tangents).
 //
+// The glass sphere (Facet's smooth `dielectric`, ior 1.5) is POV-Ray's own refraction: a
+// filtering pigment, Fresnel reflection and an interior with the same ior (povray-facet's brdf
+// finish is reflection only). Approximate: POV-Ray lets shadow rays through a filtering object
+// (a tinted shadow, no caustic) where Facet's glass blocks them (its caustic arrives by BSDF
+// sampling), and it does not scale radiance by 1/eta^2 inside (the two crossings cancel). The
+// satin sphere is the principled model's reflection part (clearcoat + sheen) as a brdf finish.
+//
 // Declare=Classic=1 renders the same scene with stock POV-Ray finishes (phong, specular,
 // reflection, metallic) for the side-by-side picture; that variant runs on the stock povray
 // (without brdf_sky_sampling the sky only shows in reflections there). Sky_Samples sets the sky
@@ -69,6 +76,7 @@ polygon { 5, <-1.5, 4, -1>, <1.5, 4, -1>, <1.5, 4, 1.5>, <-1.5, 4, 1.5>, <-1.5, 
   #declare Chrome  = finish { ambient 0 diffuse 0 reflection 0.6 }
   #declare Plastic = finish { ambient 0 diffuse 1 phong 0.6 phong_size 80 reflection { 0.02, 0.3 falloff 5 } }
   #declare Brushed = finish { ambient 0 diffuse 0.2 specular 0.6 roughness 0.05 metallic reflection { 0.4 metallic } }
+  #declare Satin   = finish { ambient 0 diffuse 0.8 specular 0.5 roughness 0.01 reflection { 0.02, 0.2 falloff 5 } }
 #else
   #declare Floor   = finish { ambient 0 brdf { lambert } }
   #declare Clay    = finish { ambient 0 brdf { lambert } }
@@ -76,7 +84,10 @@ polygon { 5, <-1.5, 4, -1>, <1.5, 4, -1>, <1.5, 4, 1.5>, <-1.5, 4, 1.5>, <-1.5, 
   #declare Chrome  = finish { ambient 0 brdf { mirror fresnel conductor eta rgb <3.1, 3.1, 2.3> k rgb <3.3, 3.3, 3.1> } }
   #declare Plastic = finish { ambient 0 brdf { composite glossy_reflectance 1 distribution ggx alpha 0.08 fresnel dielectric ior 1.5 samples Glossy_Samples } }
   #declare Brushed = finish { ambient 0 brdf { ggx alpha_u 0.05 alpha_v 0.35 fresnel conductor samples Glossy_Samples } }
+  #declare Satin   = finish { ambient 0 brdf { principled base_color rgb <0.55, 0.07, 0.2> roughness 0.5 sheen 1 sheen_tint 0.5 clearcoat 1 clearcoat_roughness 0.1 samples Glossy_Samples } }
 #end
+// Glass in both variants: classic POV-Ray refraction and Fresnel reflection.
+#declare Glass = finish { ambient 0 diffuse 0 reflection { 0, 1 fresnel on } conserve_energy }
 
 // The image maps [0, 1]^2 of the x-y plane; rotate -90*x takes (a, b) to (a, 0, -b), and
 // scale 4 repeats it every 4 units: u' = x / 4, v' = -z / 4, as Facet's plane with uv_scale 0.25.
@@ -88,3 +99,5 @@ sphere { <-0.9, 0.6, 0.2>, 0.6 pigment { rgb <1, 0.78, 0.34> } finish { Gold } }
 sphere { <0.45, 0.7, -0.4>, 0.7 pigment { rgb 0.6 } finish { Chrome } }
 sphere { <1.65, 0.5, 0.3>, 0.5 pigment { rgb <0.1, 0.3, 0.7> } finish { Plastic } }
 sphere { 0, 0.45 rotate -90 * x translate <2.75, 0.45, -0.9> pigment { rgb 0.9 } finish { Brushed } }
+sphere { <-1.55, 0.4, 1.5>, 0.4 pigment { rgbf <1, 1, 1, 1> } finish { Glass } interior { ior 1.5 } }
+sphere { <0.75, 0.4, 1.45>, 0.4 pigment { rgb <0.55, 0.07, 0.2> } finish { Satin } }

@@ -201,6 +201,52 @@ TEST(Principled, MultiscatterAlbedoTableInterpolates) {
     std::printf("multiscatter albedo table: worst blend error %.2e\n", worst);
 }
 
+// PrincipledBxDF::only (povray-facet shades the lobes separately): the lobes of a partition
+// sum to the whole model's f, each part keeps only its own lobes (flags), and a part's sampler
+// stays consistent with its pdf (chi-square). Tolerance 1e-5 relative: the parts evaluate the
+// same float expressions, only summed in another order. A part that dropped or doubled a lobe
+// (e.g. only() ignoring the clearcoat bit) is off by that lobe's f, far above it.
+TEST(Principled, LobePartsSumToTheModel) {
+    using P = PrincipledBxDF;
+    const Material whole = principled({{"base_color", Rgb(0.8f, 0.5f, 0.2f)},
+                                       {"metallic", 0.3},
+                                       {"roughness", 0.6},
+                                       {"sheen", 1.0},
+                                       {"clearcoat", 0.7},
+                                       {"clearcoat_roughness", 0.2}});
+    const PrincipledBxDF& b = *whole.principled();
+    for (int k = P::kCosine; k <= P::kClearcoat; ++k) EXPECT_TRUE(b.has_lobe(P::Lobe(k))) << k;
+    EXPECT_FALSE(b.has_lobe(P::kGlassReflect));
+    const Material cosine(b.only(1u << P::kCosine));
+    const Material spec(b.only(1u << P::kSpecular));
+    const Material coat(b.only(1u << P::kClearcoat));
+    EXPECT_EQ(cosine.flags(), BxDFFlags::Diffuse);
+    EXPECT_EQ(spec.flags(), BxDFFlags::Glossy);
+    EXPECT_EQ(coat.flags(), BxDFFlags::Glossy);
+    EXPECT_FALSE(cosine.principled()->has_lobe(P::kSpecular));
+    pcg32 rng(5);
+    for (int i = 0; i < 2000; ++i) {
+        const Vec3 a = dir(89.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+        const Vec3 c = dir(89.0 * test::uniform_float(rng), 360.0 * test::uniform_float(rng));
+        const Rgb sum = cosine.f(a, c) + spec.f(a, c) + coat.f(a, c), f = whole.f(a, c);
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(sum[k], f[k], 1e-5f * f[k] + 1e-9f) << i;
+    }
+    // All lobes kept: the model itself, bit for bit.
+    const Material all(b.only(~0u));
+    const Vec3 o = dir(50.0, 0.0), i = dir(20.0, 150.0);
+    EXPECT_EQ(all.f(o, i), whole.f(o, i));
+    EXPECT_EQ(all.pdf(o, i), whole.pdf(o, i));
+    // Two lobes: the sampler renormalises over them.
+    const Material two(b.only((1u << P::kSpecular) | (1u << P::kClearcoat)));
+    test::expect_sphere_chi2(test::sphere_chi2(two, 40.0), 0.01);
+    // Smooth specular: the delta lobe is flagged Specular in the part that keeps it.
+    const Material smooth = principled({{"roughness", 0.0}, {"clearcoat", 0.5}});
+    const P& sb = *smooth.principled();
+    EXPECT_TRUE(sb.lobe_is_delta(P::kSpecular));
+    EXPECT_FALSE(sb.lobe_is_delta(P::kClearcoat));
+    EXPECT_EQ(Material(sb.only(1u << P::kSpecular)).flags(), BxDFFlags::Specular);
+}
+
 struct Case {
     std::string name;
     ParamSet params;

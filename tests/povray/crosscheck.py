@@ -26,6 +26,11 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
                textured emission) and instances against facet render; wrong UV flips and colour
                spaces must fail
   texture-errors  textures export-pov cannot write exactly fail naming the JSON path
+  principled   principled spheres (sheen, clearcoat, metallic, Disney diffuse retro-reflection)
+               on an oren_nayar floor under point lights: povray-facet's brdf finish against
+               facet direct (deterministic, REL_TOL); a wrong parameter in the export fails
+  principled-sky  the same materials lit by an HDR sky (brdf_sky_sampling): the diffuse, glossy
+               and mirror parts of the split finish against facet within noise (t-test)
 
 Images travel as EXR (povray-facet writes half floats: relative rounding <= 2^-11 = 4.9e-4,
 half of the 1e-3 tolerance) and are read through `facet convert x.exr -o x.pfm` (float32).
@@ -937,6 +942,122 @@ def cmd_radiosity_cornell(env):
     return check("no radiosity (direct light only)", direct, False) and ok
 
 
+def principled_scene(w, h):
+    """Four principled spheres on an oren_nayar floor, Y up: "sheen" (dark blue, sheen 1, lit
+    from behind), "coat" (red, clearcoat 1), "metal" (metallic 1) and "retro" (Disney diffuse
+    alone, roughness 1: its retro-reflection brightens the limb under the light beside the
+    camera). Delta lights only, so both renders are deterministic."""
+    spheres = [("sheen", -1.5), ("coat", -0.5), ("metal", 0.5), ("retro", 1.5)]
+    return {"format": "facet-scene", "version": 1,
+            "camera": {"position": [0, 1.1, 5], "look_at": [0, 0.45, 0], "fov": 32, "width": w, "height": h},
+            "materials": {
+                "floor": {"model": "oren_nayar", "reflectance": [0.5, 0.45, 0.4], "sigma": 0.6},
+                "sheen": {"model": "principled", "base_color": [0.05, 0.08, 0.3], "sheen": 1.0,
+                          "sheen_tint": 0.0, "specular": 0.2, "roughness": 0.8},
+                "coat": {"model": "principled", "base_color": [0.6, 0.05, 0.05], "roughness": 0.6,
+                         "clearcoat": 1.0, "clearcoat_roughness": 0.15},
+                "metal": {"model": "principled", "base_color": [0.95, 0.7, 0.3], "metallic": 1.0,
+                          "roughness": 0.35},
+                "retro": {"model": "principled", "base_color": 0.7, "roughness": 1.0, "specular": 0.0}},
+            "shapes": [{"type": "quad", "material": "floor",
+                        "vertices": [[-4, 0, -3], [-4, 0, 3], [4, 0, 3], [4, 0, -3]]}] +
+                      [{"type": "sphere", "name": n, "center": [x, 0.45, 0], "radius": 0.45, "material": n}
+                       for n, x in spheres],
+            "lights": [{"type": "point", "position": [0.4, 1.3, 5.5], "power": 80},
+                       {"type": "point", "position": [3, 4, 2], "power": 150},
+                       {"type": "point", "position": [-1.5, 2.2, -1.2], "power": [150, 150, 200]}]}
+
+
+PRINCIPLED_CENTRES = {"sheen": [-1.5, 0.45, 0], "coat": [-0.5, 0.45, 0], "metal": [0.5, 0.45, 0],
+                      "retro": [1.5, 0.45, 0]}
+
+
+def cmd_principled(env):
+    """The brdf finish's principled and oren_nayar (export-pov writes them) against facet render
+    --integrator direct, 96 x 48: delta lights, no glossy rays (--glossy-samples 0, as direct),
+    so povray-facet computes pi f cos per light through the core's lobes, the same numbers as
+    Facet up to float rounding and EXR half floats: REL_TOL per pixel (compare). Then each
+    feature is perturbed in the exported scene alone (sheen 1 -> 0.8, clearcoat 1 -> 0.8,
+    metallic 1 -> 0.9, the retro sphere's roughness 1 -> 0.8, the floor's sigma 0.6 -> 0.5)
+    and the comparison on that object's pixels must fail: the check sees each parameter. The
+    retro-reflection itself: on the retro sphere's limb (the outer 15% of its radius) Facet's
+    image is brighter than with a Lambert sphere of the same base colour (printed ratio), and so
+    is povray-facet's."""
+    w, h = 96, 48
+    scene = principled_scene(w, h)
+    cam = scene["camera"]
+    js = env.write_scene(scene, "principled")
+    ref = env.render(js, "--spp", "1")
+    pov = env.povray(env.export(js), w, h)
+    ok = compare(f"principled + oren_nayar {w}x{h}: povray-facet vs facet direct", pov, ref)
+    r = 0.45
+    masks = {n: sphere_pixels(cam, c, 0.97 * r) for n, c in PRINCIPLED_CENTRES.items()}
+    any_sphere = np.zeros((h, w), bool)
+    for m in masks.values():
+        any_sphere |= m
+    masks["floor"] = ~any_sphere & (np.arange(h)[:, None] > h * 0.75)
+    for name, (mat, key, value) in {"sheen": ("sheen", "sheen", 0.8), "coat": ("coat", "clearcoat", 0.8),
+                                    "metal": ("metal", "metallic", 0.9), "retro": ("retro", "roughness", 0.8),
+                                    "floor": ("floor", "sigma", 0.5)}.items():
+        bad = json.loads(json.dumps(scene))
+        bad["materials"][mat][key] = value
+        wrong = env.povray(env.export(env.write_scene(bad, "principled_bad")), w, h)
+        caught = not compare(f"  {mat} {key} {scene['materials'][mat][key]} -> {value} in the export, "
+                             f"on the {name} pixels (must fail)", wrong, ref, masks[name])
+        print(f"{'ok  ' if caught else 'FAIL'} a wrong {key} is caught")
+        ok &= caught
+    # Retro-reflection at grazing: the limb against a Lambert sphere of the same base colour.
+    lam = json.loads(json.dumps(scene))
+    lam["materials"]["retro"] = {"model": "lambert", "reflectance": 0.7}
+    lam_img = env.render(env.write_scene(lam, "principled_lambert"), "--spp", "1")
+    limb = masks["retro"] & ~sphere_pixels(cam, PRINCIPLED_CENTRES["retro"], 0.85 * r)
+    rf, rp = ref[limb].mean() / lam_img[limb].mean(), pov[limb].mean() / lam_img[limb].mean()
+    retro = rf > 1.05 and rp > 1.05
+    print(f"{'ok  ' if retro else 'FAIL'} retro-reflection on the limb ({limb.sum()} pixels): facet "
+          f"{rf:.3f}, povray-facet {rp:.3f} times a Lambert sphere of the same colour (required > 1.05; Lambert is 1)")
+    return ok and retro
+
+
+def cmd_principled_sky(env):
+    """The principled materials of principled_scene lit by the HDR sky of sky_map through
+    brdf_sky_sampling, 64 x 32 (the light comes from everywhere, so every lobe of the split
+    finish is exercised at every angle): (1) --glossy-samples 0: the sky samples alone shade
+    the cosine (diffuse + sheen) and glossy parts, against facet direct within noise (t_test,
+    Facet at 5x the resolution, middle pixels, as cmd_skylight); (2) the metal sphere with 16
+    glossy rays per hit, whose escape to the sky shares the light with the sky samples by MIS,
+    against facet path with max_depth 2 (its glossy rays also see the floor and the other
+    spheres lit by the sky, cmd_glossy), on that sphere's pixels. The coat sphere's clearcoat
+    is smooth enough to be a delta lobe (clearcoat_roughness 0): POV-Ray's mirror rays with the
+    mirror part's weight at wo, as Facet's direct follows delta directions."""
+    w, h = 96, 48
+    exr = env.path("sky.exr")
+    write_exr(exr, sky_map())
+    scene = principled_scene(w, h)
+    scene["lights"] = [{"type": "environment", "file": exr, "up": [0, 1, 0], "rotate": {"axis": [0, 1, 0], "angle": 25}}]
+    scene["materials"]["coat"]["clearcoat_roughness"] = 0.0
+    cam = scene["camera"]
+    js = env.write_scene(scene, "principled_sky")
+    fine = json.loads(json.dumps(scene))
+    fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
+    fine_js = env.write_scene(fine, "principled_sky_fine")
+    ok = True
+    pov = env.povray(env.export(js, "--environment", "light", "--sky-samples", "64", "--glossy-samples", "0"), w, h, "+FE32")
+    ref = env.render(fine_js, "--spp", "64", "--seed", "3")[2::5, 2::5]
+    spheres = {n: sphere_pixels(cam, c, 0.95 * 0.45) for n, c in PRINCIPLED_CENTRES.items()}
+    for n in ("sheen", "coat", "metal", "retro"):
+        ok &= t_test(f"principled {n}: brdf_sky_sampling 64, no glossy rays, vs facet direct", f"{n} sphere",
+                     pov, ref, spheres[n])
+    # The metal (no cosine lobe: metallic 1) through glossy rays that see the floor and the
+    # other spheres lit by the sky: one bounce more than direct, as path max_depth 2 (a sphere
+    # with a cosine lobe would get that bounce in Facet and not in POV-Ray, which leaves it to
+    # radiosity).
+    pov2 = env.povray(env.export(js, "--environment", "light", "--sky-samples", "64", "--glossy-samples", "16"), w, h, "+FE32")
+    ref2 = env.render(fine_js, "--spp", "64", "--seed", "4", "--max-depth", "2", integrator="path")[2::5, 2::5]
+    ok &= t_test("principled metal: 64 sky samples + 16 glossy rays (MIS) vs facet path max_depth 2",
+                 "metal sphere", pov2, ref2, spheres["metal"])
+    return ok
+
+
 def main():
     pov, facet, cmd, args = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2]), sys.argv[3], sys.argv[4:]
     keep = os.environ.get("FACET_CROSSCHECK_KEEP")  # a directory: keep the files there
@@ -956,7 +1077,9 @@ def main():
               "skylight": lambda: cmd_skylight(env),
               "skylight-errors": lambda: cmd_skylight_errors(env),
               "textures": lambda: cmd_textures(env),
-              "texture-errors": lambda: cmd_texture_errors(env)}[cmd]()
+              "texture-errors": lambda: cmd_texture_errors(env),
+              "principled": lambda: cmd_principled(env),
+              "principled-sky": lambda: cmd_principled_sky(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 

@@ -171,7 +171,7 @@ def cmd_lambert(facet):
 
 ERROR_CASES = [
     # (name, finish or light text, expected message regex, expected line)
-    ("empty", "finish { brdf { } }", r"Expected a brdf model \('lambert', 'mirror', 'ggx', 'beckmann', 'blinn', 'composite'\), found '\}' instead", 3),
+    ("empty", "finish { brdf { } }", r"Expected a brdf model \('lambert', 'mirror', 'ggx', 'beckmann', 'blinn', 'composite', 'principled', 'oren_nayar'\), found '\}' instead", 3),
     ("bad_model", "finish { brdf { phong 0.3 } }", r"Expected a brdf model .*found 'phong' instead", 3),
     ("alpha_range", "finish { brdf { ggx\n  alpha 12 } }", r"alpha.*must be in \[0, 10\] \(got 12\)", 4),
     ("typo", "finish { brdf { ggx alpah 0.3 } }", r"unknown parameter 'alpah' for model 'ggx' \(did you mean 'alpha'\?\)", 3),
@@ -185,6 +185,17 @@ ERROR_CASES = [
     ("nan", "finish { brdf { ggx alpha sqrt(-1) } }", r"(alpha|sqrt|Domain)", 3),
     ("no_brace", "finish { brdf lambert }", r"Missing \{ after 'brdf', 'lambert' found instead", 3),
     ("punct", "finish { brdf { ggx , } }", r"Expected a parameter of brdf model 'ggx' or '\}'", 3),
+    # principled (reflection part) and oren_nayar: the registry's ranges and names, the
+    # transmission that POV-Ray's interior does instead, combinations that are not finish models
+    ("principled_range", "finish { brdf { principled\n sheen 1.5 } }", r"parameter 'sheen' of model 'principled': must be in \[0, 1\] \(got 1.5\)", 4),
+    ("principled_colour", "finish { brdf { principled metallic 1 base_color rgb <1.2, 0, 0> } }", r"base_color.*must be in \[0, 1\] \(got 1.2\)", 3),
+    ("principled_typo", "finish { brdf { principled\n\n clearcoat_gloss 0.5 } }", r"unknown parameter 'clearcoat_gloss' for model 'principled'", 5),
+    ("principled_transmission", "finish { brdf { principled roughness 0.2\n transmission 1 } }", r"parameter 'transmission' of model 'principled': the brdf finish is reflection only.*interior", 4),
+    ("principled_word", "finish { brdf { principled distribution beckmann } }", r"distribution: expected 'ggx', 'multi_ggx', found 'beckmann' instead", 3),
+    ("principled_multi_ggx", "finish { brdf { principled\n distribution multi_ggx } }", r"multi_ggx.*not implemented", 4),
+    ("principled_twice", "finish { brdf { principled specular 0.5\n specular 0.2 } }", r"parameter 'specular' given twice", 4),
+    ("oren_nayar_sigma", "finish { brdf { oren_nayar\n sigma -0.5 } }", r"sigma.*must be in \[0, 1\] \(got -0.5\)", 4),
+    ("mix_model", "finish { brdf { mix weight 0.5 } }", r"Expected a brdf model .*found 'mix' instead", 3),
     ("falloff_fade", "}\nlight_source { <0, 5, 0> rgb 1 physical_falloff fade_distance 2 fade_power 2 } #declare Dummy = finish {", r"physical_falloff replaces fade_distance and fade_power", 4),
     ("falloff_parallel", "}\nlight_source { <0, 5, 0> rgb 1 parallel point_at <0,0,0> physical_falloff } #declare Dummy = finish {", r"physical_falloff needs a light with a position", 4),
 ]
@@ -216,7 +227,9 @@ CLASH_NAMES = [
     "reflectance", "diffuse_reflectance", "glossy_reflectance", "mirror_reflectance",
     "distribution", "alpha", "alpha_u", "alpha_v", "exponent", "exponent_u", "exponent_v",
     "fresnel", "ior", "eta", "k", "f0", "energy_compensation", "none", "dielectric",
-    "conductor", "schlick", "samples",
+    "conductor", "schlick", "samples", "principled", "oren_nayar", "sigma", "base_color",
+    "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness", "specular_tint", "anisotropic",
+    "transmission",
 ]
 
 
@@ -268,7 +281,10 @@ def cmd_clash(facet):
               "sphere { <0, -2, 0>, 0.6 finish { brdf { mirror fresnel conductor eta rgb <0.2, 0.9, 1.1> "
               "k rgb <3.9, 2.4, 2.2> } } }\n"
               "sphere { <0, 2, 0>, 0.6 finish { brdf { \"ggx\" alpha_u eta alpha_v k "
-              "energy_compensation on } } }\n")
+              "energy_compensation on } } }\n"
+              "sphere { <0, 0, 2>, 0.6 finish { brdf { principled base_color rgb <0.8, 0.2, 0.1> "
+              "sheen 0.5 clearcoat 1 metallic 0.2 specular 0.3 roughness 0.4 } } }\n"
+              "sphere { <2, 2, 0>, 0.6 pigment { rgb 0.6 } finish { brdf { oren_nayar sigma k } } }\n")
         rc3, err3 = render(facet, scene2, os.path.join(tmp, "c2.png"), 64, 48, ["+WT1", "+GA"], cwd=tmp)
         if rc3 != 0:
             print(f"FAIL brdf blocks with declared names: exit {rc3}\n{err3[-1500:]}")

@@ -134,6 +134,17 @@ class PrincipledBxDF {
     float multiscatter_albedo(float mu) const;
     float multiscatter_albedo_average() const { return m_ms_e_avg; }
 
+    // Whether the model has the lobe (of non-zero weight), and whether it is a delta lobe.
+    bool has_lobe(Lobe lobe) const;
+    bool lobe_is_delta(Lobe lobe) const { return has_lobe(lobe) && is_delta(lobe); }
+    // The same model with only the lobes whose bit (1 << Lobe) is set in `lobes`; the two
+    // glass lobes stay or go together (they share the macro-normal Fresnel split). f of the
+    // whole model is the sum of f over a partition of its lobes (each lobe's f does not depend
+    // on the others); sampling renormalises the selection over the lobes kept. For front ends
+    // that estimate lobes separately (povray-facet: the cosine lobe by lights and radiosity,
+    // the glossy lobes by rays, the delta lobes by mirror rays).
+    PrincipledBxDF only(unsigned lobes) const;
+
   private:
     // What depends on wo (in the frame mirrored to wo's side): the glass split and the lobe
     // selection probabilities.
@@ -153,6 +164,8 @@ class PrincipledBxDF {
     bool is_delta(int lobe) const { return (m_delta_mask >> lobe) & 1u; }
     // The multiscatter shape and compensation of the specular lobe (after m_spec_dist).
     void setup_multiscatter();
+    // m_flags from the lobes present.
+    void set_flags();
     // Rotation of the anisotropic specular's tangent (into its rotated frame).
     Vec3 to_spec(const Vec3& w) const {
         return {m_rot_c * w.x + m_rot_s * w.y, -m_rot_s * w.x + m_rot_c * w.y, w.z};

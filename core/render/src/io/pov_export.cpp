@@ -704,9 +704,12 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
                                const glm::dvec3& emission) {
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
-    // The one parameter the pigment carries (the patch's tinting rule): lambert's reflectance,
-    // composite's diffuse_reflectance.
-    const std::string diffuse_param = m.model == "lambert"     ? "reflectance"
+    // The one parameter the pigment carries (the patch's tinting rule): the reflectance of
+    // lambert and oren_nayar (povray-facet multiplies it into their f), composite's
+    // diffuse_reflectance; white for principled, whose colours are its own parameters (the
+    // pigment then only scales emission, emission_of).
+    const std::string diffuse_param = m.model == "lambert" || m.model == "oren_nayar"
+                                          ? "reflectance"
                                       : m.model == "composite" ? "diffuse_reflectance"
                                                                : "";
     // Textured parameters: only the pigment can vary over a surface (a uv_mapping pigment,
@@ -761,10 +764,21 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         fail(pointer + "/model",
              "'add' sums two materials, which POV-Ray cannot express exactly (its average "
              "texture_map normalises the weights to a mean)");
-    if (m.model == "oren_nayar")
-        fail(pointer + "/model",
-             "'oren_nayar' cannot be exported to POV-Ray yet (povray-facet's brdf finish shades "
-             "lambert, microfacet and mirror lobes only; stock POV-Ray has no Oren-Nayar)");
+    // principled: povray-facet's brdf finish shades its reflection part (the core's lobes);
+    // transmission would be POV-Ray's interior and refraction, which is not the model's glass
+    // lobes (rough refraction, the Fresnel split of Cycles, 1/eta^2), so it is reported.
+    if (m.model == "principled") {
+        const Material pm = make_material(m.model, m.params);
+        if (pm.transmissive())
+            fail(pointer + "/transmission",
+                 "principled transmission cannot be exported to POV-Ray exactly (the brdf "
+                 "finish is its reflection part; POV-Ray's interior/refraction is not its "
+                 "glass lobes)");
+        if (pm.anisotropic())
+            fail(pointer + "/anisotropic",
+                 "anisotropic lobes need a surface tangent, which POV-Ray does not provide "
+                 "(povray-facet would orient the lobe by an arbitrary frame)");
+    }
     // POV-Ray's own refraction (interior ior, fresnel reflection) neither scales radiance by
     // 1/eta^2 nor sums a thin pane's inter-reflections: not exact, so not exported.
     if (make_material(m.model, m.params).transmissive())
@@ -772,10 +786,6 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
              fmt::format("'{}' transmits light, which POV-Ray cannot express exactly (the brdf "
                          "finish is reflection only; POV-Ray's interior/refraction differs)",
                          m.model));
-    if (m.model == "principled")
-        fail(pointer + "/model",
-             "'principled' has no povray-facet brdf finish yet, so it cannot be exported "
-             "exactly (docs/principled.md)");
     glm::dvec3 pigment(1.0);
     std::string pigment_sdl;  // a textured pigment (uv_pigment), or "" for the constant one
     std::string brdf = m.model;
@@ -826,8 +836,8 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         else
             brdf += std::get<bool>(value) ? "on" : "off";
     }
-    const bool glossy =
-        m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" || m.model == "composite";
+    const bool glossy = m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" ||
+                        m.model == "composite" || m.model == "principled";
     if (glossy) brdf += " samples " + std::to_string(m_opt.glossy_samples);
     if (pigment_sdl.empty()) pigment_sdl = "pigment { " + pov_rgb(pigment) + " }";
     return "texture { " + pigment_sdl + " finish { ambient 0" +
