@@ -68,6 +68,17 @@ SCENES = {
                         ref_spp=None, cycles_ref_spp=1024),
     "big_mesh": dict(size=(128, 96), ladder=[4, 8, 16, 32, 64, 128, 256, 512, 1024],
                      ref_spp=2048, cycles_ref_spp=1024),
+    # Issue 25's new scenes (issue 21's textured benchmark): the scene of
+    # time_error/new_scenes.py (a real glTF asset with three 2048^2 textures, normal map
+    # included, under Blender's studio.exr) and scenes/glass.json. Cycles renders the same files
+    # through a twin built directly in Blender (time_error/cycles_new_scenes.py; Blender's glTF
+    # importer for the asset), so Facet inside Blender, whose importer does not take glTF
+    # shapes, is not a contender; nor are the variants that the rounds never time.
+    "textured_asset": dict(size=(96, 64), ladder=[32, 64, 128, 256, 512, 1024],
+                           ref_spp=2048, cycles_ref_spp=1024, twin="direct",
+                           build="textured_asset", only=("facet path sobol", "cycles")),
+    "glass": dict(size=(96, 64), ladder=[32, 64, 128, 256, 512, 1024], ref_spp=2048,
+                  cycles_ref_spp=1024, twin="direct", only=("facet path sobol", "cycles")),
 }
 QUICK = dict(size_div=2, ladder=[4, 8, 16, 32, 64], ref_spp=256, cycles_ref_spp=64)
 
@@ -99,6 +110,8 @@ def contenders(scene):
              [("facet in blender", "blender", "FACET"), ("cycles", "blender", "CYCLES")])
     if ARGS.contenders:
         every = [c for c in every if c[0] in ARGS.contenders]
+    if "only" in SCENES.get(scene, {}):
+        every = [c for c in every if c[0] in SCENES[scene]["only"]]
     return every
 
 
@@ -203,9 +216,15 @@ def file_digest(path):
 
 
 def bench_scene(name, cfg):
-    """scenes/<name>.json at the benchmark's size, written into the run's scene directory."""
-    with open(os.path.join(ROOT, "scenes", name + ".json")) as f:
-        data = json.load(f)
+    """scenes/<name>.json (or the scene time_error/new_scenes.py builds) at the benchmark's
+    size, written into the run's scene directory."""
+    if cfg.get("build"):
+        sys.path.insert(0, HERE)
+        import new_scenes
+        data = getattr(new_scenes, cfg["build"])(os.path.join(ARGS.out_root, "assets"))
+    else:
+        with open(os.path.join(ROOT, "scenes", name + ".json")) as f:
+            data = json.load(f)
     data["camera"]["width"], data["camera"]["height"] = cfg["size"]
     path = os.path.join(ARGS.out, "scenes", name + ".json")
     os.makedirs(os.path.dirname(path), exist_ok=True)
@@ -321,8 +340,16 @@ class Blender:
         self.p.wait(timeout=60)
 
 
+def blender_load(blender, cfg, scene_path):
+    """Loads the scene into the worker: through the Facet importer and cycles_twin, or for the
+    scenes with twin="direct" through cycles_new_scenes."""
+    extra = {"twin": cfg["twin"]} if cfg.get("twin") else {}
+    return blender.call(cmd="load", scene=scene_path, threads=ARGS.threads, **extra)
+
+
 def cycles_reference(name, scene_path, cfg, blender):
     key = digest(file_digest(scene_path), file_digest(os.path.join(HERE, "cycles_twin.py")),
+                 file_digest(os.path.join(HERE, "cycles_new_scenes.py")),
                  file_digest(os.path.join(ROOT, "tests", "support", "python", "facet_testsupport",
                                           "cycles_scene.py")),
                  blender.info.get("blender"), cfg["cycles_ref_spp"], REF_SEEDS)
@@ -403,7 +430,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
     scene_path, data = bench_scene(name, cfg)
     log("== %s (%dx%d)" % (name, cfg["size"][0], cfg["size"][1]))
     if blender:
-        r = blender.call(cmd="load", scene=scene_path, threads=ARGS.threads)
+        r = blender_load(blender, cfg, scene_path)
         for note in r.get("notes", []):
             log("  cycles twin: " + note)
     if cfg["ref_spp"] is None:
@@ -451,6 +478,7 @@ def run_scene(name, cfg, blender, rows, summary, checks):
                 continue
             out = os.path.join(imgdir, "%s_%d.exr" % (cname.replace(" ", "_"), spp))
             budget, row_spp = "", spp
+            LAST_CPU[0] = float("nan")
             if kind == "cli":
                 sec = run_cli(scene_path, spp, SEED, opt, out)
             elif kind == "pov":
@@ -462,11 +490,14 @@ def run_scene(name, cfg, blender, rows, summary, checks):
                 row_spp = rung[3] ** 2 + 1 if rung[3] > 1 else 1
                 budget = rad_budget(rung)
             else:
-                sec = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
-                                   integrator=data.get("render", {}).get("integrator", "path"))["seconds"]
+                r = blender.call(cmd="render", engine=opt, spp=spp, seed=SEED, out=out,
+                                 integrator=data.get("render", {}).get("integrator", "path"))
+                sec = r["seconds"]
+                LAST_CPU[0] = r.get("cpu_seconds", float("nan"))
             x = read(out)
             m = metrics(x, ref, ref_var)
             row = dict(scene=name, contender=cname, spp=row_spp, seconds=round(sec, 4),
+                       cpu_seconds=("" if math.isnan(LAST_CPU[0]) else round(LAST_CPU[0], 4)),
                        rmse=m["rmse"], relmse=m["relmse"], rmse_raw=m["rmse_raw"],
                        relmse_raw=m["relmse_raw"], rmse_self="", budget=budget)
             if cname == "cycles" and cref is not None:
@@ -518,14 +549,14 @@ def run_scene(name, cfg, blender, rows, summary, checks):
 
 
 CSV_FIELDS = ["scene", "contender", "spp", "seconds", "rmse", "relmse", "rmse_raw", "relmse_raw",
-              "rmse_self", "budget"]
+              "rmse_self", "budget", "cpu_seconds"]
 
 
 def write_csv(rows):
     with open(os.path.join(ARGS.publish, "time_error.csv"), "w", newline="") as f:
         w = csv.DictWriter(f, CSV_FIELDS)
         w.writeheader()
-        for r in rows:
+        for r in KEPT["csv"] + rows:
             w.writerow({k: ("%.6g" % r.get(k, "") if isinstance(r.get(k, ""), float)
                             else r.get(k, "")) for k in CSV_FIELDS})
 
@@ -660,7 +691,7 @@ def timing_phase(names, rows, blender, reps):
         else:
             ref, ref_var, _ = facet_reference(name, scene_path, cfg)
         cref, cref_var = cycles_reference(name, scene_path, cfg, blender)
-        blender.call(cmd="load", scene=scene_path, threads=ARGS.threads)
+        blender_load(blender, cfg, scene_path)
         jobs = []
         extrapolated = False
         main = "facet direct sobol" if name == "point_plane" else "facet path sobol"
@@ -738,13 +769,14 @@ def timing_phase(names, rows, blender, reps):
                 name, cname, spp, errs[cname], " ".join("%.2f" % v for v in times[cname]), t,
                 t / tc, per_round, " ".join("%.2f" % v for v in cpus[cname]), cpu_ratio,
                 verdict))
-    mode = "a" if ARGS.reps_append else "w"
-    with open(os.path.join(ARGS.publish, "time_error_reps.csv"), mode, newline="") as f:
+    mode = "a" if ARGS.reps_append or ARGS.merge else "w"
+    with open(os.path.join(ARGS.publish, "time_error_reps.csv"),
+              "w" if ARGS.merge else mode, newline="") as f:
         w = csv.DictWriter(f, ["scene", "contender", "round", "spp", "seconds", "cpu_seconds",
                                "rmse"])
-        if mode == "w":
+        if mode == "w" or ARGS.merge:
             w.writeheader()
-        for r in out_rows:
+        for r in KEPT["reps"] + out_rows:
             w.writerow({k: ("%.6g" % v if isinstance(v, float) else v) for k, v in r.items()})
     head = ["| scene | contender | spp reaching the level | RMSE there | seconds per round | "
             "median | ratio of medians to Cycles | median per-round ratio | CPU seconds per "
@@ -813,7 +845,10 @@ def read_rows():
 
 
 def write_summary(summary, checks, path, meta):
-    lines = ["# Time against error (bench/time_error.py)", "", meta, "",
+    title = "# Time against error (bench/time_error.py)"
+    if ARGS.merge:
+        title = "## Scenes %s (a --merge run, appended)" % ", ".join(sorted(CFG))
+    lines = [title, "", meta, "",
              "Ladder: one render per budget, the time to the level interpolated on the log-log "
              "curve; the timing rounds (time_error_ratios.md) measure it again, repeated, and "
              "decide the targets.", "",
@@ -833,11 +868,12 @@ def write_summary(summary, checks, path, meta):
         lines.append("| %s (RMSE %.4g) | %s | %s%.2f s | %s | %s |"
                      % (s["scene"], s["target_rmse"], s["contender"], mark, s["seconds"], ratio,
                         target))
-    lines += ["", "## Reference check: Facet's reference against Cycles'", ""]
+    lines += ["", "%s Reference check: Facet's reference against Cycles'"
+              % ("###" if ARGS.merge else "##"), ""]
     for c in checks:
         lines += c
     with open(path, "w") as f:
-        f.write("\n".join(lines) + "\n")
+        f.write(KEPT["summary"] + "\n".join(lines) + "\n")
 
 
 def main():
@@ -874,6 +910,10 @@ def main():
     ap.add_argument("--replot", action="store_true", help="only redraw the plot from the "
                     "published CSV (no rendering)")
     ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--merge", action="store_true", help="keep the published results of the "
+                    "scenes not in --scenes: their CSV and timing-round rows stay, the summary "
+                    "and the rounds' table gain this run's sections, the plot and the fit cover "
+                    "all (e.g. --scenes textured_asset,glass --merge)")
     ap.add_argument("--check", action="store_true", help="smoke test (CTest): exit 1 unless "
                     "every Sobol Facet contender's error falls with the budget and point_plane's "
                     "converges to the analytic reference")
@@ -922,6 +962,19 @@ def main():
     for s in names:
         if s not in SCENES:
             sys.exit("time_error: unknown scene %r (have %s)" % (s, ", ".join(SCENES)))
+    if ARGS.merge:
+        if ARGS.reps_only or ARGS.resummarize or ARGS.quick:
+            ap.error("--merge: only for a run that renders (not --reps-only, --resummarize, "
+                     "--quick)")
+        for key, fname in (("csv", "time_error.csv"), ("reps", "time_error_reps.csv")):
+            path = os.path.join(ARGS.publish, fname)
+            if os.path.exists(path):
+                with open(path) as f:
+                    KEPT[key] = [r for r in csv.DictReader(f) if r["scene"] not in names]
+        path = os.path.join(ARGS.publish, "time_error_summary.md")
+        if os.path.exists(path):
+            with open(path) as f:
+                KEPT["summary"] = f.read().rstrip("\n") + "\n\n"
     blender = None
     if not ARGS.no_blender:
         if not os.path.exists(ARGS.addon_zip):
@@ -942,7 +995,10 @@ def main():
             CFG[name] = cfg
             if not (ARGS.reps_only or ARGS.resummarize):
                 all_curves[name] = run_scene(name, cfg, blender, rows, summary, checks)
-                plot(all_curves, os.path.join(ARGS.publish, "time_error.png"))
+                if ARGS.merge:
+                    replot()
+                else:
+                    plot(all_curves, os.path.join(ARGS.publish, "time_error.png"))
         if ARGS.resummarize:
             summary, checks = resummarize(names, blender)
             write_summary(summary, checks, os.path.join(ARGS.publish, "time_error_summary.md"),
@@ -1020,6 +1076,8 @@ def check(rows):
 
 ARGS = None
 CFG = {}
+# --merge: the published rows and summary of the scenes this run does not render
+KEPT = {"csv": [], "reps": [], "summary": ""}
 REF_MEAN = {}
 CUR = {}
 TARGETS = {}

@@ -80,21 +80,22 @@ def fit(points):
                 regime=regime, floor_rmse=min(e for _, e, _ in pts))
 
 
-def ladder_fits(rows, min_spp):
-    """{(scene, contender): fit} over the ladder rows at budgets >= min_spp."""
+def ladder_fits(rows, min_spp, clock="seconds"):
+    """{(scene, contender): fit} over the ladder rows at budgets >= min_spp; clock: the time
+    column ("seconds": wall, "cpu_seconds": user + system of all threads)."""
     groups = {}
     for r in rows:
-        if not r.get("spp") or not r.get("seconds"):
+        if not r.get("spp") or not r.get(clock):
             continue
         n = float(r["spp"])
         if n < min_spp:
             continue
         groups.setdefault((r["scene"], r["contender"]), []).append(
-            (n, noise(r), float(r["seconds"])))
+            (n, noise(r), float(r[clock])))
     return {key: f for key, pts in groups.items() if (f := fit(sorted(pts))) is not None}
 
 
-def round_ratios(reps):
+def round_ratios(reps, clock="seconds"):
     """{(scene, contender): [k_contender / k_cycles per round]} from the timing rounds."""
     by = {}
     for r in reps:
@@ -104,11 +105,13 @@ def round_ratios(reps):
         ref = contenders.get(REFERENCE)
         if ref is None:
             continue
-        k_ref = float(ref["rmse"]) ** 2 * float(ref["seconds"])
+        if not ref.get(clock) or ref[clock] == "nan":
+            continue
+        k_ref = float(ref["rmse"]) ** 2 * float(ref[clock])
         for name, r in contenders.items():
-            if name == REFERENCE or k_ref <= 0:
+            if name == REFERENCE or k_ref <= 0 or not r.get(clock):
                 continue
-            k = float(r["rmse"]) ** 2 * float(r["seconds"])
+            k = float(r["rmse"]) ** 2 * float(r[clock])
             out.setdefault((scene, name), []).append(k / k_ref)
     return out
 
@@ -152,8 +155,11 @@ def table(fits, rounds):
 
 def write_fit(csv_path, reps_path, out_path, min_spp=256):
     """Reads the ladder and the rounds, writes the Markdown table to out_path; returns it."""
-    fits = ladder_fits(read_csv(csv_path), min_spp)
-    rounds = round_ratios(read_csv(reps_path)) if os.path.exists(reps_path) else {}
+    rows = read_csv(csv_path)
+    reps = read_csv(reps_path) if os.path.exists(reps_path) else []
+    fits = ladder_fits(rows, min_spp)
+    rounds = round_ratios(reps)
+    cpu_fits = ladder_fits(rows, min_spp, "cpu_seconds")
     text = ("# Equal-error time ratios from noise² × time fits (bench/time_error_fit.py)\n\n"
             "Source: `%s` (ladder, budgets ≥ %g spp) and `%s` (timing rounds). "
             "k = RMSE² × wall seconds; a contender reaches Cycles' error e in k / e² seconds, "
@@ -163,6 +169,17 @@ def write_fit(csv_path, reps_path, out_path, min_spp=256):
                                                os.path.basename(reps_path), SLOPE_FLOOR,
                                                SLOPE_FAST)
             + table(fits, rounds) + "\n")
+    if cpu_fits:
+        # The ladders that recorded CPU seconds (runs since the column was added): the same fit
+        # with user + system seconds of all threads, which a loaded machine disturbs far less
+        # than wall time (Facet: the whole process; Cycles: Blender's process time around
+        # render.render()).
+        text += ("\n## The same with CPU seconds\n\nk = RMSE² × CPU seconds (user + system, all "
+                 "threads; Facet's whole process, Cycles' render call), for the ladders that "
+                 "recorded them; per-round ratios from the rounds' CPU seconds.\n\n"
+                 + table(cpu_fits, round_ratios(
+                     [r for r in reps if (r["scene"], r["contender"]) in cpu_fits],
+                     "cpu_seconds")) + "\n")
     with open(out_path, "w") as f:
         f.write(text)
     return text

@@ -7,6 +7,9 @@ Reads one JSON request per line on stdin and answers each with one line `TE_REPL
 stdout (Blender's own output goes there too; the driver reads only the reply lines):
   {"cmd": "load", "scene": path, "threads": 2}   import the JSON scene (File > Import > Facet
                                                  scene) and build its Cycles node twin
+  {"cmd": "load", "scene": path, "threads": 2, "twin": "direct"}   build the Cycles twin
+      directly (time_error/cycles_new_scenes.py: glTF shapes through Blender's glTF importer);
+      no Facet engine then: the Facet importer does not import glTF shapes
   {"cmd": "render", "engine": "FACET"|"CYCLES", "spp": n, "seed": s, "out": path.exr}
       F12 with that engine; "seconds" is the time of bpy.ops.render.render() (scene
       export/sync, BVH build and sampling; not Blender's start-up, not the EXR write)
@@ -27,6 +30,7 @@ import bpy
 HERE = os.path.dirname(os.path.abspath(__file__))
 sys.path.insert(0, HERE)
 import cycles_twin  # noqa: E402  (the JSON scene -> Cycles nodes conversion)
+import cycles_new_scenes  # noqa: E402  (the new scenes' twins, built without the importer)
 
 STATE = {}
 
@@ -44,8 +48,16 @@ def install(zip_path):
 
 
 def load(req):
-    bpy.ops.wm.read_homefile(use_empty=True)
     path = os.path.abspath(req["scene"])
+    if req.get("twin") == "direct":
+        with open(path) as f:
+            data = json.load(f)
+        scene = cycles_new_scenes.build(data, os.path.dirname(path), int(req.get("threads", 2)))
+        im = scene.render.image_settings
+        im.file_format, im.color_depth, im.color_mode, im.exr_codec = 'OPEN_EXR', '32', 'RGB', 'ZIP'
+        STATE["scene"] = scene
+        return {"notes": ["Cycles twin built directly (bench/time_error/cycles_new_scenes.py)"]}
+    bpy.ops.wm.read_homefile(use_empty=True)
     res = bpy.ops.import_scene.facet(filepath=path)
     if res != {'FINISHED'}:
         raise RuntimeError("import of %s failed: %s" % (path, res))

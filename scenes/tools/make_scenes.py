@@ -332,6 +332,31 @@ def showcase():
     write("showcase.json", s)
 
 
+# --- glass: issue 25's glass benchmark (bench/time_error.py) -------------------------------------
+def glass():
+    s = header("A smooth and a rough (alpha 0.15) glass sphere, ior 1.5, over a checker disc under "
+               "Blender's studio HDRI (CC0): issue 25's glass benchmark scene (bench/time_error.py).",
+               {"position": [3.2, -4.0, 2.4], "look_at": [0, 0, 0.4], "up": [0, 0, 1], "fov": 35,
+                "width": 192, "height": 128},
+               {"integrator": "path", "spp": 16, "max_depth": 16, "seed": 1})
+    s["materials"] = {
+        "floor": {"model": "lambert", "reflectance": {
+            "checker": {"colors": [[0.6, 0.6, 0.6], [0.2, 0.2, 0.25]], "scale": 4}}},
+        "smooth": {"model": "dielectric", "ior": 1.5},
+        "rough": {"model": "dielectric", "ior": 1.5, "alpha": 0.15},
+    }
+    s["lights"] = [{"type": "environment",
+                    "file": "/usr/share/blender/datafiles/studiolights/world/studio.exr",
+                    "radiance": 1}]
+    s["shapes"] = [
+        {"type": "sphere", "center": [-0.8, 0.6, 0.2], "radius": 0.7, "material": "smooth"},
+        {"type": "sphere", "center": [0.9, -0.4, 0.2], "radius": 0.7, "material": "rough"},
+        {"type": "disc", "center": [0, 0, -0.5], "normal": [0, 0, 1], "radius": 6,
+         "material": "floor"},
+    ]
+    write("glass.json", s)
+
+
 if __name__ == "__main__":
     cornell()
     furnace()
@@ -342,3 +367,4 @@ if __name__ == "__main__":
     showcase()
     glossy()
     brushed()
+    glass()
