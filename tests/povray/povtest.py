@@ -192,7 +192,6 @@ ERROR_CASES = [
     ("principled_typo", "finish { brdf { principled\n\n clearcoat_gloss 0.5 } }", r"unknown parameter 'clearcoat_gloss' for model 'principled'", 5),
     ("principled_transmission", "finish { brdf { principled roughness 0.2\n transmission 1 } }", r"parameter 'transmission' of model 'principled': the brdf finish is reflection only.*interior", 4),
     ("principled_word", "finish { brdf { principled distribution beckmann } }", r"distribution: expected 'ggx', 'multi_ggx', found 'beckmann' instead", 3),
-    ("principled_multi_ggx", "finish { brdf { principled\n distribution multi_ggx } }", r"multi_ggx.*not implemented", 4),
     ("principled_twice", "finish { brdf { principled specular 0.5\n specular 0.2 } }", r"parameter 'specular' given twice", 4),
     ("oren_nayar_sigma", "finish { brdf { oren_nayar\n sigma -0.5 } }", r"sigma.*must be in \[0, 1\] \(got -0.5\)", 4),
     ("mix_model", "finish { brdf { mix weight 0.5 } }", r"Expected a brdf model .*found 'mix' instead", 3),
