@@ -35,9 +35,10 @@ import tempfile
 
 import bpy
 
-SIZE = 48  # pixels per side
-SCALE = 2.4  # orthographic scale: the view spans [-1.2, 1.2]^2
-MASK_RADIUS = 0.9
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_sphere  # noqa: E402  (the scene and Cycles' settings, shared with principled_cycles.py)
+from cycles_sphere import MASK_RADIUS, SCALE, SIZE  # noqa: E402
+
 RINGS = [0.0, 0.3, 0.5, 0.65, 0.8, 0.9]
 SPP = 256
 SEEDS = 4
@@ -69,70 +70,26 @@ GRID["sun_glossy_white_r0.5"] = ("sun", "glossy", {"color": WHITE, "roughness": 
 
 NODES = {"principled": "ShaderNodeBsdfPrincipled", "glossy": "ShaderNodeBsdfGlossy",
          "glass": "ShaderNodeBsdfGlass"}
-BLENDER_NAMES = {
-    "base_color": "Base Color", "roughness": "Roughness", "metallic": "Metallic",
-    "transmission": "Transmission", "anisotropic": "Anisotropic", "color": "Color",
-    "ior": "IOR",
-}
-
-
 def setup_scene():
-    scene = bpy.context.scene
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=7, radius=1.0, location=(0, 0, 0))
-    sphere = bpy.context.active_object
-    bpy.ops.object.shade_smooth()
-    cam_data = bpy.data.cameras.new("cam")
-    cam_data.type = "ORTHO"
-    cam_data.ortho_scale = SCALE
-    cam = bpy.data.objects.new("cam", cam_data)
-    cam.location = (0, 0, 5)
-    cam.rotation_euler = (0, 0, 0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    """The shared sphere scene plus a sun lamp (not yet linked: set_lighting links it)."""
+    scene, sphere, world = cycles_sphere.setup_scene(SPP)
     sun_data = bpy.data.lights.new("sun", type="SUN")
     sun_data.energy = 1.0  # irradiance normal to the sun's direction
     sun_data.angle = 0.0
     sun = bpy.data.objects.new("sun", sun_data)
     sun.rotation_euler = (0, 0, 0)  # shines along -z: from behind the camera
-    world = bpy.data.worlds.new("white")
-    world.use_nodes = True
-    scene.world = world
-    scene.render.engine = "CYCLES"
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = SPP
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.blur_glossy = 0.0
-    c.caustics_reflective = True
-    c.caustics_refractive = True
-    for key in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-                "volume_bounces", "transparent_max_bounces"):
-        setattr(c, key, 64)
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = 2
     return scene, sphere, sun, world
 
 
 def set_lighting(scene, sun, world, kind):
-    bg = world.node_tree.nodes["Background"]
     if kind == "env":
-        bg.inputs["Color"].default_value = (1, 1, 1, 1)
+        cycles_sphere.set_background(world, 1.0)
         if sun.name in scene.collection.objects:
             scene.collection.objects.unlink(sun)
     else:
-        bg.inputs["Color"].default_value = (0, 0, 0, 1)
+        cycles_sphere.set_background(world, 0.0)
         if sun.name not in scene.collection.objects:
             scene.collection.objects.link(sun)
-    bg.inputs["Strength"].default_value = 1.0
 
 
 def set_material(sphere, node_kind, params, distribution):
@@ -144,10 +101,7 @@ def set_material(sphere, node_kind, params, distribution):
             nodes.remove(n)
     node = nodes.new(NODES[node_kind])
     node.distribution = distribution
-    for key, value in params.items():
-        if isinstance(value, list):
-            value = (*value, 1.0)
-        node.inputs[BLENDER_NAMES[key]].default_value = value
+    cycles_sphere.set_inputs(node, params)
     out = nodes["Material Output"]
     mat.node_tree.links.new(node.outputs[0], out.inputs["Surface"])
     sphere.data.materials.clear()
@@ -156,28 +110,20 @@ def set_material(sphere, node_kind, params, distribution):
 
 def statistics(path):
     """Mean over the mask and per ring, per channel."""
-    img = bpy.data.images.load(path)
-    px = list(img.pixels)
-    bpy.data.images.remove(img)
     mask = [0.0] * 3
     n_mask = 0
     rings = [[0.0] * 3 for _ in RINGS[1:]]
     n_rings = [0] * (len(RINGS) - 1)
-    for j in range(SIZE):
-        for i in range(SIZE):
-            x = ((i + 0.5) / SIZE - 0.5) * SCALE
-            y = ((j + 0.5) / SIZE - 0.5) * SCALE
-            rho = math.hypot(x, y)
-            k = 4 * (j * SIZE + i)
-            if rho < MASK_RADIUS:
+    for rho, rgb in cycles_sphere.pixels(path):
+        if rho < MASK_RADIUS:
+            for ch in range(3):
+                mask[ch] += rgb[ch]
+            n_mask += 1
+        for b in range(len(RINGS) - 1):
+            if RINGS[b] <= rho < RINGS[b + 1]:
                 for ch in range(3):
-                    mask[ch] += px[k + ch]
-                n_mask += 1
-            for b in range(len(RINGS) - 1):
-                if RINGS[b] <= rho < RINGS[b + 1]:
-                    for ch in range(3):
-                        rings[b][ch] += px[k + ch]
-                    n_rings[b] += 1
+                    rings[b][ch] += rgb[ch]
+                n_rings[b] += 1
     return ([m / n_mask for m in mask],
             [[v / n for v in ring] for ring, n in zip(rings, n_rings)])
 
@@ -225,7 +171,7 @@ def main():
                     "blender": bpy.app.version_string,
                     "scene": {"size": SIZE, "ortho_scale": SCALE, "mask_radius": MASK_RADIUS,
                               "rings": RINGS,
-                              "sphere": "icosphere, 7 subdivisions, radius 1, smooth",
+                              "sphere": cycles_sphere.SPHERE,
                               "environment": 1.0, "sun": {"strength": 1.0, "angle": 0.0,
                                                           "direction": [0, 0, -1]},
                               "spp": SPP, "seeds": SEEDS, "max_bounces": 64},

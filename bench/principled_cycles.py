@@ -23,9 +23,10 @@ import tempfile
 
 import bpy
 
-SIZE = 48  # pixels per side
-SCALE = 2.4  # orthographic scale: the view spans [-1.2, 1.2]^2
-MASK_RADIUS = 0.9
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import cycles_sphere  # noqa: E402  (the scene and Cycles' settings, shared with multiscatter_cycles.py)
+from cycles_sphere import MASK_RADIUS, SCALE, SIZE  # noqa: E402
+
 SPP = 256
 SEEDS = 4
 BASE = [0.8, 0.4, 0.2]
@@ -51,94 +52,30 @@ GRID["transmission_r0.5"] = {"base_color": BASE, "roughness": 0.5, "transmission
 GRID["half_transmission"] = {"base_color": BASE, "roughness": 0.5, "transmission": 0.5,
                              "transmission_roughness": 0.3}
 
-BLENDER_NAMES = {
-    "base_color": "Base Color", "roughness": "Roughness", "metallic": "Metallic",
-    "specular": "Specular", "specular_tint": "Specular Tint", "sheen": "Sheen",
-    "sheen_tint": "Sheen Tint", "clearcoat": "Clearcoat",
-    "clearcoat_roughness": "Clearcoat Roughness", "anisotropic": "Anisotropic",
-    "transmission": "Transmission", "transmission_roughness": "Transmission Roughness",
-    "ior": "IOR",
-}
-
-
-def setup_scene():
-    scene = bpy.context.scene
-    for obj in list(bpy.data.objects):
-        bpy.data.objects.remove(obj)
-    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=7, radius=1.0, location=(0, 0, 0))
-    sphere = bpy.context.active_object
-    bpy.ops.object.shade_smooth()
-    cam_data = bpy.data.cameras.new("cam")
-    cam_data.type = "ORTHO"
-    cam_data.ortho_scale = SCALE
-    cam = bpy.data.objects.new("cam", cam_data)
-    cam.location = (0, 0, 5)
-    cam.rotation_euler = (0, 0, 0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
-    world = bpy.data.worlds.new("white")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1, 1, 1, 1)
-    bg.inputs["Strength"].default_value = 1.0
-    scene.world = world
-    scene.render.engine = "CYCLES"
-    scene.render.resolution_x = scene.render.resolution_y = SIZE
-    scene.render.resolution_percentage = 100
-    scene.render.image_settings.file_format = "OPEN_EXR"
-    scene.render.image_settings.color_depth = "32"
-    c = scene.cycles
-    c.device = "CPU"
-    c.samples = SPP
-    c.use_adaptive_sampling = False
-    c.use_denoising = False
-    c.sample_clamp_direct = 0.0
-    c.sample_clamp_indirect = 0.0
-    c.blur_glossy = 0.0
-    c.caustics_reflective = True
-    c.caustics_refractive = True
-    for key in ("max_bounces", "diffuse_bounces", "glossy_bounces", "transmission_bounces",
-                "volume_bounces", "transparent_max_bounces"):
-        setattr(c, key, 64)
-    scene.render.threads_mode = "FIXED"
-    scene.render.threads = 2
-    return scene, sphere
-
-
 def set_material(sphere, params):
     mat = bpy.data.materials.new("p")
     mat.use_nodes = True
-    node = mat.node_tree.nodes["Principled BSDF"]
-    for key, value in params.items():
-        if isinstance(value, list):
-            value = (*value, 1.0)
-        node.inputs[BLENDER_NAMES[key]].default_value = value
+    cycles_sphere.set_inputs(mat.node_tree.nodes["Principled BSDF"], params)
     sphere.data.materials.clear()
     sphere.data.materials.append(mat)
 
 
 def masked_mean(path):
-    img = bpy.data.images.load(path)
-    px = list(img.pixels)
-    bpy.data.images.remove(img)
     total = [0.0, 0.0, 0.0]
     n = 0
-    for j in range(SIZE):
-        for i in range(SIZE):
-            x = ((i + 0.5) / SIZE - 0.5) * SCALE
-            y = ((j + 0.5) / SIZE - 0.5) * SCALE
-            if math.hypot(x, y) >= MASK_RADIUS:
-                continue
-            k = 4 * (j * SIZE + i)
-            for ch in range(3):
-                total[ch] += px[k + ch]
-            n += 1
+    for rho, rgb in cycles_sphere.pixels(path):
+        if rho >= MASK_RADIUS:
+            continue
+        for ch in range(3):
+            total[ch] += rgb[ch]
+        n += 1
     return [t / n for t in total], n
 
 
 def main():
     out = sys.argv[sys.argv.index("--") + 1]
-    scene, sphere = setup_scene()
+    scene, sphere, world = cycles_sphere.setup_scene(SPP)
+    cycles_sphere.set_background(world, 1.0)
     tmp = tempfile.mkdtemp()
     points = []
     for name, params in GRID.items():
@@ -160,7 +97,7 @@ def main():
         "generator": "bench/principled_cycles.py",
         "blender": bpy.app.version_string,
         "scene": {"size": SIZE, "ortho_scale": SCALE, "mask_radius": MASK_RADIUS,
-                  "sphere": "icosphere, 7 subdivisions, radius 1, smooth", "environment": 1.0,
+                  "sphere": cycles_sphere.SPHERE, "environment": 1.0,
                   "spp": SPP, "seeds": SEEDS, "max_bounces": 64},
         "points": points,
     }

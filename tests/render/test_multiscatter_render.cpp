@@ -25,6 +25,7 @@
 
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "cycles_sphere.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -66,68 +67,14 @@ nlohmann::json facet_material(const nlohmann::json& p) {
     return m;
 }
 
-struct Stats {
-    double mean[3], se[3];
-    std::vector<std::array<double, 3>> rings;
-};
-
-Stats render_point(const nlohmann::json& scene, const nlohmann::json& p, int spp, int seeds) {
-    const int size = scene["size"];
-    const double scale = scene["ortho_scale"], mask = scene["mask_radius"];
-    const std::vector<double> edges = scene["rings"];
-    const bool sun = p["scene"] == "sun";
-    std::ostringstream body;
-    body << R"("camera": {"type": "orthographic", "position": [0, 0, 5], "look_at": [0, 0, 0],
-                "up": [0, 1, 0], "scale": )"
-         << scale << R"(, "width": )" << size << R"(, "height": )" << size << R"(},
-        "render": {"integrator": "path", "max_depth": )"
-         << int(scene["max_bounces"]) << R"(},
-        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )"
-         << facet_material(p).dump() << "}], \"lights\": [";
-    if (sun)
-        body << R"({"type": "directional", "direction": [0, 0, -1], "irradiance": 1}])";
-    else
-        body << R"({"type": "environment", "radiance": )" << double(scene["environment"]) << "}]";
-    const fr::Scene s = fr::testing::scene_from(body.str());
-    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-    Stats r{};
-    r.rings.assign(edges.size() - 1, {0, 0, 0});
-    std::vector<int> ring_n(edges.size() - 1, 0);
-    for (int seed = 0; seed < seeds; ++seed) {
-        const fr::Image img = fr::render(s, fr::testing::test_options("path", spp, 301 + seed));
-        double m[3] = {0, 0, 0};
-        int n = 0;
-        for (int y = 0; y < size; ++y) {
-            for (int x = 0; x < size; ++x) {
-                const double px = ((x + 0.5) / size - 0.5) * scale;
-                const double py = ((y + 0.5) / size - 0.5) * scale;
-                const double rho = std::hypot(px, py);
-                const Rgb& v = img.at(x, y);
-                if (rho < mask) {
-                    for (int c = 0; c < 3; ++c) m[c] += v[c];
-                    ++n;
-                }
-                for (std::size_t b = 0; b + 1 < edges.size(); ++b) {
-                    if (rho < edges[b] || rho >= edges[b + 1]) continue;
-                    for (int c = 0; c < 3; ++c) r.rings[b][c] += v[c];
-                    ++ring_n[b];
-                }
-            }
-        }
-        for (int c = 0; c < 3; ++c) {
-            m[c] /= n;
-            sum[c] += m[c], sum2[c] += m[c] * m[c];
-        }
-    }
-    for (std::size_t b = 0; b < r.rings.size(); ++b)
-        for (int c = 0; c < 3; ++c) r.rings[b][c] /= ring_n[b];
-    for (int c = 0; c < 3; ++c) {
-        r.mean[c] = sum[c] / seeds;
-        const double var =
-            std::max(0.0, sum2[c] / seeds - r.mean[c] * r.mean[c]) * seeds / (seeds - 1);
-        r.se[c] = std::sqrt(var / seeds);
-    }
-    return r;
+fr::testing::CyclesSphereStats render_point(const nlohmann::json& scene, const nlohmann::json& p,
+                                           int spp, int seeds) {
+    const std::string lights =
+        p["scene"] == "sun"
+            ? R"([{"type": "directional", "direction": [0, 0, -1], "irradiance": 1}])"
+            : R"([{"type": "environment", "radiance": )" +
+                  std::to_string(double(scene["environment"])) + "}]";
+    return fr::testing::render_cycles_sphere(scene, facet_material(p), lights, spp, seeds, 301);
 }
 
 // The points the white furnace (or identical single-scattering lobes) decides; header comment.
@@ -162,7 +109,7 @@ TEST(MultiscatterRender, MatchesCyclesWhereTheWhiteFurnaceDecides) {
     for (const nlohmann::json& p : ref["points"]) {
         const std::string name = p["name"], dist = p["distribution"];
         const bool check = must_agree(p);
-        const Stats f = render_point(ref["scene"], p, spp, seeds);
+        const fr::testing::CyclesSphereStats f = render_point(ref["scene"], p, spp, seeds);
         std::printf("%-24s %-9s Facet/Cycles", name.c_str(), dist.c_str());
         for (int c = 0; c < 3; ++c) {
             const double cy = p["mean"][c], cy_se = p["se"][c];

@@ -14,6 +14,7 @@
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
+#include "cycles_sphere.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -26,55 +27,14 @@ nlohmann::json references() {
     return nlohmann::json::parse(in);
 }
 
-struct MeanSe {
-    double mean[3], se[3];
-};
-
 // The Cycles script's scene in Facet's format: the same sphere, camera, environment, bounces.
-MeanSe render_point(const nlohmann::json& scene, const nlohmann::json& params, int spp, int seeds) {
-    const int size = scene["size"];
-    const double scale = scene["ortho_scale"], mask = scene["mask_radius"];
+fr::testing::CyclesSphereStats render_point(const nlohmann::json& scene,
+                                            const nlohmann::json& params, int spp, int seeds) {
     nlohmann::json material = params;
     material["model"] = "principled";
-    std::ostringstream body;
-    body << R"("camera": {"type": "orthographic", "position": [0, 0, 5], "look_at": [0, 0, 0],
-                "up": [0, 1, 0], "scale": )"
-         << scale << R"(, "width": )" << size << R"(, "height": )" << size << R"(},
-        "render": {"integrator": "path", "max_depth": )"
-         << int(scene["max_bounces"]) << R"(},
-        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": )"
-         << material.dump() << R"(}],
-        "lights": [{"type": "environment", "radiance": )"
-         << double(scene["environment"]) << "}]";
-    const fr::Scene s = fr::testing::scene_from(body.str());
-    double sum[3] = {0, 0, 0}, sum2[3] = {0, 0, 0};
-    for (int seed = 0; seed < seeds; ++seed) {
-        const fr::Image img = fr::render(s, fr::testing::test_options("path", spp, 101 + seed));
-        double m[3] = {0, 0, 0};
-        int n = 0;
-        for (int y = 0; y < size; ++y) {
-            for (int x = 0; x < size; ++x) {
-                const double px = ((x + 0.5) / size - 0.5) * scale;
-                const double py = ((y + 0.5) / size - 0.5) * scale;
-                if (std::hypot(px, py) >= mask) continue;
-                const Rgb& p = img.at(x, y);
-                for (int c = 0; c < 3; ++c) m[c] += p[c];
-                ++n;
-            }
-        }
-        for (int c = 0; c < 3; ++c) {
-            m[c] /= n;
-            sum[c] += m[c], sum2[c] += m[c] * m[c];
-        }
-    }
-    MeanSe r;
-    for (int c = 0; c < 3; ++c) {
-        r.mean[c] = sum[c] / seeds;
-        const double var =
-            std::max(0.0, sum2[c] / seeds - r.mean[c] * r.mean[c]) * seeds / (seeds - 1);
-        r.se[c] = std::sqrt(var / seeds);
-    }
-    return r;
+    const std::string lights = R"([{"type": "environment", "radiance": )" +
+                               std::to_string(double(scene["environment"])) + "}]";
+    return fr::testing::render_cycles_sphere(scene, material, lights, spp, seeds, 101);
 }
 
 // Tolerance per channel: 4 combined standard errors (Facet's from its seeds, Cycles' from the
@@ -99,7 +59,7 @@ TEST(PrincipledRender, MatchesCyclesOnASphereInAConstantEnvironment) {
     const int seeds = 4;
     for (const nlohmann::json& p : ref["points"]) {
         const std::string name = p["name"];
-        const MeanSe f = render_point(ref["scene"], p["params"], spp, seeds);
+        const fr::testing::CyclesSphereStats f = render_point(ref["scene"], p["params"], spp, seeds);
         std::printf("%-20s Facet/Cycles", name.c_str());
         for (int c = 0; c < 3; ++c) {
             const double cy = p["mean"][c], cy_se = p["se"][c];
