@@ -158,6 +158,7 @@ struct Scene::Impl {
     std::vector<MeshGeom> meshes;
     std::vector<AnalyticPrim> prims;
     std::vector<PlaneGeom> planes;
+    bool plane_cutouts = false;  // some plane has an opacity (set by build)
     std::vector<PrototypeGeom> prototypes;
     std::vector<InstanceGeom> instances;
     std::unique_ptr<EmbreeBackend> backend;
