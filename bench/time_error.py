@@ -33,7 +33,10 @@ and channels, relative MSE = mean((x - r)^2 / (r^2 + 1e-2)). The error level of 
 the RMSE of Cycles' top-budget (1024-spp) render, measured against Cycles' own reference (its
 noise, not the conversion differences between the two renderers, which reference_check.md
 states); each contender's time to that level is interpolated on its log-log curve of RMSE
-against seconds, and the summary gives its ratio to Cycles' time.
+against seconds, and the summary gives its ratio to Cycles' time. time_error_fit.md gives the
+equal-error ratios from noise² × time fits, and time_error_bias.md each contender's bias apart
+from its noise (difference of means with its z-score, blockwise bias maps:
+bench/time_error_bias.py).
 """
 import argparse
 import csv
@@ -1023,6 +1026,9 @@ def main():
     time_error_fit.write_fit(os.path.join(ARGS.publish, "time_error.csv"),
                              os.path.join(ARGS.publish, "time_error_reps.csv"),
                              os.path.join(ARGS.publish, "time_error_fit.md"))
+    # Bias apart from noise (issue 25): difference of means and blockwise maps per contender.
+    import time_error_bias
+    log("  bias: " + time_error_bias.write_bias(ARGS.out, ARGS.ref, ARGS.publish))
     log(meta)
     for s in summary:
         log("  %-12s %-28s %s%.2f s  ratio %.3f" % (s["scene"], s["contender"], s["flag"],
