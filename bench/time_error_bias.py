@@ -56,8 +56,8 @@ def bias(x, ref):
     h, w = dl.shape[0] // BLOCK * BLOCK, dl.shape[1] // BLOCK * BLOCK
     blocks = dl[:h, :w].reshape(h // BLOCK, BLOCK, w // BLOCK, BLOCK).swapaxes(1, 2)
     blocks = blocks.reshape(h // BLOCK, w // BLOCK, BLOCK * BLOCK)
-    bsd = blocks.std(axis=2)
-    bz = np.where(bsd > 0, blocks.mean(axis=2) / (bsd / BLOCK + 1e-300), 0.0)
+    bse = blocks.std(axis=2) / BLOCK  # standard error of a block's mean: BLOCK^2 pixels
+    bz = np.divide(blocks.mean(axis=2), bse, out=np.zeros_like(bse), where=bse > 0)
     return dict(mean_rel=float(x.mean() / ref.mean() - 1.0), z=float(z), block_z=bz,
                 max_block_z=float(np.abs(bz).max()) if bz.size else 0.0,
                 biased_blocks=float((np.abs(bz) > Z_BIAS).mean()) if bz.size else 0.0)

@@ -23,9 +23,9 @@
 #include <string>
 #include <vector>
 
+#include "cycles_sphere.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
-#include "cycles_sphere.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -68,7 +68,7 @@ nlohmann::json facet_material(const nlohmann::json& p) {
 }
 
 fr::testing::CyclesSphereStats render_point(const nlohmann::json& scene, const nlohmann::json& p,
-                                           int spp, int seeds) {
+                                            int spp, int seeds) {
     const std::string lights =
         p["scene"] == "sun"
             ? R"([{"type": "directional", "direction": [0, 0, -1], "irradiance": 1}])"

@@ -10,11 +10,11 @@
 #include <sstream>
 #include <string>
 
+#include "cycles_sphere.h"
 #include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
-#include "cycles_sphere.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -59,7 +59,8 @@ TEST(PrincipledRender, MatchesCyclesOnASphereInAConstantEnvironment) {
     const int seeds = 4;
     for (const nlohmann::json& p : ref["points"]) {
         const std::string name = p["name"];
-        const fr::testing::CyclesSphereStats f = render_point(ref["scene"], p["params"], spp, seeds);
+        const fr::testing::CyclesSphereStats f =
+            render_point(ref["scene"], p["params"], spp, seeds);
         std::printf("%-20s Facet/Cycles", name.c_str());
         for (int c = 0; c < 3; ++c) {
             const double cy = p["mean"][c], cy_se = p["se"][c];

@@ -179,8 +179,8 @@ void opacity_filter(const RTCFilterFunctionNArguments* args) {
 
 // A cut-out primitive's hit, given its nearest root t: the nearest root its opacity keeps (a
 // sphere's far root when the near one is let through), or -1. Texture coordinates as
-// fill_analytic computes them. Out of line and cold: inlined, its spills cost opaque spheres'
-// intersections +13% instructions (bench/untextured_speed.py).
+// fill_analytic computes them. Out of line and cold, so that its register spills stay out of
+// every opaque sphere's and disc's intersection.
 [[gnu::noinline, gnu::cold]] double cutout_root(const AnalyticPrim& prim, std::uint32_t index,
                                                 const glm::dvec3& o, const glm::dvec3& d,
                                                 const glm::dvec3& o_world,
@@ -278,20 +278,9 @@ void analytic_occluded(const RTCOccludedFunctionNArguments* args) {
     }
 }
 
-// Whether cut-out plane `index` keeps the hit at o + t d: the uv of fill (complete_hit) and the
-// hit's random number.
-[[gnu::noinline, gnu::cold]] bool plane_cutout_keeps(const PlaneGeom& pl, std::uint32_t index,
-                                                     const glm::dvec3& o, const glm::dvec3& d,
-                                                     double t) {
-    // o and d are the float ray's, widened: converting back is exact.
-    return opacity_blocks(pl.opacity.alpha(plane_uv(pl, o + t * d)),
-                          hit_uniform(Vec3(o), Vec3(d), kPlaneTag, index));
-}
-
 // Nearest plane hit with t in (0, tmax) in double, or -1; sets `which`. kCutouts: some plane
-// has an opacity (Impl::plane_cutouts). Without it the loop is the one from before cut-outs
-// existed: the cut-out call's spills in the prologue cost +45% instructions per call on
-// point_plane (bench/untextured_speed.py).
+// has an opacity (Impl::plane_cutouts). Without it the loop has no cut-out call, whose register
+// spills would otherwise fall on every opaque plane test.
 template <bool kCutouts>
 double intersect_planes(const std::vector<PlaneGeom>& planes, const Ray& ray, double tmax,
                         std::size_t& which) {
@@ -304,7 +293,10 @@ double intersect_planes(const std::vector<PlaneGeom>& planes, const Ray& ray, do
         double t = glm::dot(pl.point - o, pl.normal) / dn;
         if (t > 0.0 && t < tmax) {
             if constexpr (kCutouts) {
-                if (pl.opacity.active() && !plane_cutout_keeps(pl, std::uint32_t(i), o, d, t))
+                // A cut-out plane: the uv of fill (complete_hit) and the hit's random number.
+                if (pl.opacity.active() &&
+                    !opacity_blocks(pl.opacity.alpha(plane_uv(pl, o + t * d)),
+                                    hit_uniform(ray.o, ray.d, kPlaneTag, std::uint32_t(i))))
                     continue;
             }
             tmax = t;
@@ -322,7 +314,7 @@ double intersect_planes(const std::vector<PlaneGeom>& planes, const Ray& ray, do
 }
 
 [[gnu::always_inline]] inline double intersect_planes(const Scene::Impl& impl, const Ray& ray,
-                                                     double tmax, std::size_t& which) {
+                                                      double tmax, std::size_t& which) {
     if (impl.planes.empty()) return -1.0;
     return impl.plane_cutouts ? intersect_cutout_planes(impl.planes, ray, tmax, which)
                               : intersect_planes<false>(impl.planes, ray, tmax, which);
