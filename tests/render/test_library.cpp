@@ -478,3 +478,46 @@ TEST(SceneScale, CoordinatesBeyondTheRangeAreErrorsNamingTheShape) {
               0u)
         << build_error(d);
 }
+
+// The film's float-to-fixed conversion: the int64 fast path (|v| < 2^(63 - kFixedFracBits))
+// against the bit arithmetic that serves every magnitude, and both against values worked out by
+// hand. Exact integers: any difference is a bug (sums would no longer merge bit for bit).
+TEST(Film, ToFixedFastPathEqualsTheBitArithmetic) {
+    using fr::FixedSum;
+    const FixedSum one = FixedSum(1) << fr::kFixedFracBits;
+    EXPECT_TRUE(fr::to_fixed(1.f) == one);
+    EXPECT_TRUE(fr::to_fixed(-0.5f) == -(one >> 1));
+    EXPECT_TRUE(fr::to_fixed(0x1.8p-60f) == 1);    // 1.5 units: truncated toward zero
+    EXPECT_TRUE(fr::to_fixed(-0x1.8p-60f) == -1);  // ... on both sides
+    EXPECT_TRUE(fr::to_fixed(0x1p-61f) == 0);
+    EXPECT_TRUE(fr::to_fixed(-0.f) == 0);
+    EXPECT_TRUE(fr::to_fixed(8.f) == FixedSum(8) * one);  // the first value past the fast path
+    // Every exponent, both signs, a spread of mantissas (and denormals), and the neighbours of
+    // the fast path's limit.
+    std::vector<float> values = {std::nextafter(8.f, 0.f),
+                                 -std::nextafter(8.f, 0.f),
+                                 8.f,
+                                 -8.f,
+                                 std::nextafter(fr::kMaxSampleValue, 0.f),
+                                 1e-45f,
+                                 -1e-45f};
+    std::uint32_t state = 12345u;
+    for (int e = 0; e < 255; ++e) {
+        for (int i = 0; i < 64; ++i) {
+            state = state * 1664525u + 1013904223u;
+            const std::uint32_t bits = (std::uint32_t(e) << 23) | (state >> 9);
+            float v;
+            std::memcpy(&v, &bits, 4);
+            if (std::fabs(v) < fr::kMaxSampleValue) {
+                values.push_back(v);
+                values.push_back(-v);
+            }
+        }
+    }
+    int checked_fast = 0;
+    for (float v : values) {
+        ASSERT_TRUE(fr::to_fixed(v) == fr::to_fixed_bits(v)) << "v = " << v;
+        checked_fast += std::fabs(v) < 8.f;
+    }
+    EXPECT_GT(checked_fast, 1000);  // the fast path was exercised, not only the bit path
+}

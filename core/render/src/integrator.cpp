@@ -439,29 +439,41 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
     const std::uint32_t block = 1u + std::uint32_t(lights.size());
 
     Rgb L(0.f), beta(1.f);
-    SurfaceHit hit = first_hit;
+    // The hit being shaded: the caller's record at depth 0 (read in place: the record is large
+    // and most kernels shade one hit per sample), `next` for mirror bounces and for a textured
+    // hit whose shading normal is changed.
+    const SurfaceHit* hp = &first_hit;
+    [[maybe_unused]] SurfaceHit next;
     if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex
         L += scene.camera_lamps(ray.o, ray.d, found ? first_hit.t : kInfinity);
     for (int depth = 0;; ++depth) {
-        if (depth > 0) found = scene.intersect(ray, hit);
+        if constexpr (kSpecular) {
+            if (depth > 0) {
+                found = scene.intersect(ray, next);
+                hp = &next;
+            }
+        }
         if (!found) {
             if constexpr (kEmission) {
                 if (const Light* env = scene.environment()) L += beta * env->le_escape(ray.d);
             }
             break;
         }
-        if constexpr (kEmission) L += beta * hit.emitted_radiance;
+        if constexpr (kEmission) L += beta * hp->emitted_radiance;
         // A textured hit's material is built for it (only in the textured kernel, as in
         // path_vertex).
-        const Material* mp = hit.material;
+        const Material* mp = hp->material;
         [[maybe_unused]] std::optional<Material> textured;
         if constexpr (kTextured) {
-            if (hit.textured >= 0) {
-                scene.shade_normal(hit, -ray.d);  // normal map (nothing without one)
+            if (hp->textured >= 0) {
+                if (hp != &next) next = *hp;
+                hp = &next;
+                scene.shade_normal(next, -ray.d);  // normal map (nothing without one)
                 mp = &textured.emplace(scene.material_at(
-                    hit, scene.texture_footprint(hit, depth == 0 ? &ray : nullptr)));
+                    next, scene.texture_footprint(next, depth == 0 ? &ray : nullptr)));
             }
         }
+        const SurfaceHit& hit = *hp;
         const Material& m = *mp;
         Shading sh;
         bool transmissive = false;

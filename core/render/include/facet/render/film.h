@@ -44,9 +44,8 @@ struct FixedRgb {
     bool operator==(const FixedRgb&) const = default;
 };
 
-// Exact fixed-point value of a float with |v| < 2^(127 - kFixedFracBits), truncated toward zero
-// below 2^-kFixedFracBits. Bit arithmetic: no float-to-int128 library call per sample.
-inline FixedSum to_fixed(float v) {
+// to_fixed by bit arithmetic: for every |v| < 2^(127 - kFixedFracBits) (see to_fixed).
+inline FixedSum to_fixed_bits(float v) {
     std::uint32_t bits;
     __builtin_memcpy(&bits, &v, 4);
     const int e = int((bits >> 23) & 0xffu);
@@ -59,6 +58,19 @@ inline FixedSum to_fixed(float v) {
     else if (shift > -32)
         r = FixedSum(m >> -shift);
     return (bits >> 31) ? -r : r;
+}
+
+// Exact fixed-point value of a float with |v| < 2^(127 - kFixedFracBits), truncated toward zero
+// below 2^-kFixedFracBits, with no float-to-int128 library call per sample. Below
+// 2^(63 - kFixedFracBits) (the common case) v 2^kFixedFracBits fits an int64 and the double
+// product is exact (a float times a power of two), so the hardware's truncating conversion gives
+// the integer to_fixed_bits gives; larger values take the bit arithmetic.
+inline FixedSum to_fixed(float v) {
+    constexpr float kInt64Limit = float(std::int64_t(1) << (63 - kFixedFracBits));
+    constexpr double kScale = double(std::int64_t(1) << kFixedFracBits);
+    if (std::fabs(v) < kInt64Limit) [[likely]]
+        return FixedSum(std::int64_t(double(v) * kScale));
+    return to_fixed_bits(v);
 }
 double from_fixed(FixedSum s);  // s * 2^-kFixedFracBits, correctly rounded to double
 
