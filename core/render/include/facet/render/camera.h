@@ -50,6 +50,7 @@
 //    the centre pixel's angular step about the direction to p).
 #pragma once
 
+#include <cmath>
 #include <cstdint>
 #include <optional>
 
@@ -120,6 +121,30 @@ struct Camera {
     // [0,1)^2 (a random-number argument; ignored without a lens).
     Ray generate_ray(Vec2 film_pos, Vec2 u_lens) const;
 
+    // Window coordinates of film positions (conventions) and the perspective lens-centre
+    // direction, normalize(f + s_x r + s_y u) as glm::normalize computes it (v times
+    // 1 / sqrt(dot(v, v))). Written once for generate_ray (T = float) and for packets of
+    // camera rays (T a GCC vector of floats, `sqrt` its square root): the same operations lane
+    // by lane, so every lane gets generate_ray's bits.
+    template <class T>
+    T window_x(T film_x) const {
+        return (2.f * film_x / float(width) - 1.f) * tan_half_x + center_x;
+    }
+    template <class T>
+    T window_y(T film_y) const {
+        return (1.f - 2.f * film_y / float(height)) * tan_half_y + center_y;
+    }
+    template <class T, class Sqrt>
+    void perspective_direction(T sx, T sy, T& dx, T& dy, T& dz, Sqrt sqrt) const {
+        dx = forward.x + sx * right.x + sy * true_up.x;
+        dy = forward.y + sx * right.y + sy * true_up.y;
+        dz = forward.z + sx * right.z + sy * true_up.z;
+        const T inv = 1.f / sqrt(dx * dx + dy * dy + dz * dz);
+        dx *= inv;
+        dy *= inv;
+        dz *= inv;
+    }
+
     // The lens point (r, u coordinates, scene units) of lens sample u: uniform on the aperture.
     Vec2 sample_aperture(Vec2 u) const;
 
@@ -143,12 +168,13 @@ struct Camera {
 inline Ray Camera::generate_ray(Vec2 film_pos) const {
     // Window coordinates: x from left to right, y from bottom to top (film y grows downward).
     // The centre offsets are 0 without lens shift, which leaves every value unchanged.
-    float sx = (2.f * film_pos.x / float(width) - 1.f) * tan_half_x + center_x;
-    float sy = (1.f - 2.f * film_pos.y / float(height)) * tan_half_y + center_y;
+    const float sx = window_x(film_pos.x);
+    const float sy = window_y(film_pos.y);
     Ray ray;
     if (projection == Projection::Perspective) {
         ray.o = position;
-        ray.d = glm::normalize(forward + sx * right + sy * true_up);
+        perspective_direction(sx, sy, ray.d.x, ray.d.y, ray.d.z,
+                              [](float v) { return std::sqrt(v); });
     } else {
         ray.o = position + sx * right + sy * true_up;
         ray.d = forward;

@@ -138,4 +138,11 @@ using TileKernel = void (*)(const Scene& scene, const TileJob& job, FixedRgb* su
 // The kernel function for a choice (never null).
 TileKernel kernel_function(const KernelChoice& choice);
 
+// The lens-centre camera rays of a packet's lanes k < n (n <= RayPacket::kSize), at film
+// positions (x0 + k + film_x[k], y + film_y[k]) (arrays of RayPacket::kSize): bit for bit the
+// rays cam.generate_ray gives, computed several lanes at once for a perspective camera. The
+// lanes from n on may be overwritten.
+void camera_packet(const Camera& cam, int x0, int y, const float* film_x, const float* film_y,
+                   std::size_t n, RayPacket& rays);
+
 }  // namespace facet::render
