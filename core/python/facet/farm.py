@@ -43,6 +43,7 @@ import os
 import pathlib
 import re
 import shutil
+import signal
 import sys
 import tempfile
 import threading
@@ -235,6 +236,10 @@ worker_scene_builds = 0
 
 # Set by the client on Ctrl-C: in-process workers' renders stop within a pass.
 _cancel = threading.Event()
+# Set by main()'s SIGINT handler. Its KeyboardInterrupt can land inside a finalizer (Dask's
+# Future.__del__ runs on the main thread), where Python prints "Exception ignored" and drops it;
+# run_jobs checks this flag after every result so a dropped Ctrl-C still cancels the job.
+_sigint = threading.Event()
 
 
 def _worker_scene(payload: ScenePayload):
@@ -480,6 +485,8 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
                     futures[f] = (j, r)
         tiles_left = {j: len(job.regions) for j, job in enumerate(jobs)}
         for future in as_completed(list(futures), loop=client.loop):
+            if _sigint.is_set():
+                raise KeyboardInterrupt
             j, r = futures.pop(future)
             try:
                 part = future.result()
@@ -578,8 +585,6 @@ def quiet_logs():
 def dask_setup(worker):
     """Preload of the local cluster's worker processes: they ignore SIGINT, which a terminal's
     Ctrl-C sends to the whole process group; the client cancels the job and closes them."""
-    import signal
-
     if threading.current_thread() is threading.main_thread():
         signal.signal(signal.SIGINT, signal.SIG_IGN)
 
@@ -697,6 +702,12 @@ def _parser():
 def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     quiet_logs()
+    _sigint.clear()
+    if threading.current_thread() is threading.main_thread():
+        def on_sigint(signum, frame):
+            _sigint.set()
+            raise KeyboardInterrupt
+        signal.signal(signal.SIGINT, on_sigint)
     try:
         render_files(args.scenes, args.output, scheduler=args.scheduler,
                      tile_size=args.tile_size, sample_chunk=args.sample_chunk, spp=args.spp,
