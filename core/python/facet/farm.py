@@ -703,11 +703,21 @@ def main(argv: Sequence[str] | None = None) -> int:
     args = _parser().parse_args(argv)
     quiet_logs()
     _sigint.clear()
+    previous = None
     if threading.current_thread() is threading.main_thread():
         def on_sigint(signum, frame):
             _sigint.set()
             raise KeyboardInterrupt
-        signal.signal(signal.SIGINT, on_sigint)
+        previous = signal.signal(signal.SIGINT, on_sigint)
+    try:
+        return _main(args)
+    finally:
+        if previous is not None:  # main() called in-process: leave SIGINT as it was
+            signal.signal(signal.SIGINT, previous)
+        _sigint.clear()
+
+
+def _main(args) -> int:
     try:
         render_files(args.scenes, args.output, scheduler=args.scheduler,
                      tile_size=args.tile_size, sample_chunk=args.sample_chunk, spp=args.spp,
