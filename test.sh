@@ -14,10 +14,12 @@ ctest --test-dir build --output-on-failure -j"$jobs"
 # (POV-Ray itself is not built under the sanitizers: povray-facet and its `povray` tests run in
 # the Release tree above; the bridge's logic is the core's, which the ASan tree tests.)
 echo "== Debug + ASan/UBSan build and tests"
+# The libFuzzer sub-build (clang, ASan+UBSan already) and its time-limited runs are the Release
+# tree's; this tree still replays the fuzz corpora under GCC's sanitizers (*_fuzz_replay).
 # The Python module is tested in the Release tree only: under ASan it would need libasan
 # preloaded into /usr/bin/python3 (and leak checks off for the interpreter).
 cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=Debug -DFACET_SANITIZE=ON -DFACET_BUILD_BENCH=OFF \
-  -DFACET_BUILD_PYTHON=OFF -DFACET_BUILD_POVRAY=OFF -DFACET_BUILD_BLENDER=OFF
+  -DFACET_BUILD_PYTHON=OFF -DFACET_BUILD_POVRAY=OFF -DFACET_BUILD_BLENDER=OFF -DFACET_FUZZ=OFF
 cmake --build build-asan -j"$jobs"
 # Stress and convergence tests scale their query counts down under sanitizers (see tests/).
 FACET_STRESS_SCALE=0.1 ASAN_OPTIONS=detect_leaks=1 UBSAN_OPTIONS=print_stacktrace=1 \
