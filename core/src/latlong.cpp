@@ -1,17 +1,21 @@
 // The latitude-longitude mapping and its piecewise-constant density (conventions in latlong.h).
 #include "facet/latlong.h"
 
+#include "facet/cdf_search.h"
+
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
 
 namespace facet {
 
 namespace {
 
-// Index of the interval of u in a cdf (the first i with u < cdf[i], the last one at most),
-// and u's position within it, in [0, 1).
-std::size_t sample_cdf(const float* cdf, std::size_t n, float u, float& offset) {
-    const std::size_t i = std::min(std::size_t(std::upper_bound(cdf, cdf + n, u) - cdf), n - 1);
+// Index of the interval of u in a cdf with its cutpoint guide (facet/cdf_search.h), and u's
+// position within it, in [0, 1).
+std::size_t sample_cdf(const float* cdf, const std::uint32_t* guide, std::size_t n, float u,
+                       float& offset) {
+    const std::size_t i = find_cdf_interval(cdf, guide, n, u);
     const float lo = i == 0 ? 0.f : cdf[i - 1];
     const float w = cdf[i] - lo;
     offset = w > 0.f ? std::clamp((u - lo) / w, 0.f, kOneMinusEpsilon) : 0.5f;
@@ -77,6 +81,12 @@ LatLongDistribution::LatLongDistribution(int width, int height,
     // Exactly 1 at the end so that every u < 1 selects a row (trailing zero rows keep width 0).
     const float last = m_row_cdf[std::size_t(H - 1)];
     for (int y = H; y-- > 0 && m_row_cdf[std::size_t(y)] == last;) m_row_cdf[std::size_t(y)] = 1.f;
+    m_row_guide.resize(std::size_t(H));
+    m_col_guide.resize(n);
+    build_cdf_guide(m_row_cdf.data(), std::size_t(H), m_row_guide.data());
+    for (int y = 0; y < H; ++y)
+        build_cdf_guide(&m_col_cdf[std::size_t(y) * W], std::size_t(W),
+                        &m_col_guide[std::size_t(y) * W]);
 }
 
 float LatLongDistribution::pdf(Vec2 uv) const {
@@ -93,8 +103,9 @@ LatLongDistribution::Sample LatLongDistribution::sample(Vec2 u) const {
     if (m_black) return s;
     float dv = 0.f, du = 0.f;
     const std::size_t W = std::size_t(m_width);
-    const int y = int(sample_cdf(m_row_cdf.data(), m_row_cdf.size(), u.y, dv));
-    const int x = int(sample_cdf(&m_col_cdf[std::size_t(y) * W], W, u.x, du));
+    const int y = int(sample_cdf(m_row_cdf.data(), m_row_guide.data(), m_row_cdf.size(), u.y, dv));
+    const std::size_t row = std::size_t(y) * W;
+    const int x = int(sample_cdf(&m_col_cdf[row], &m_col_guide[row], W, u.x, du));
     s.uv = Vec2((float(x) + du) / float(m_width), (float(y) + dv) / float(m_height));
     const float sin_theta = std::sin(kPi * s.uv.y);
     if (!(sin_theta > 0.f)) return s;

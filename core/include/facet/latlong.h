@@ -23,6 +23,7 @@
 #pragma once
 
 #include <cstddef>
+#include <cstdint>
 #include <vector>
 
 #include "facet/types.h"
@@ -62,6 +63,8 @@ class LatLongDistribution {
     // (m_row_cdf[H - 1] = 1); m_col_cdf[y * W + x] likewise within row y; m_cell_pdf the cell
     // density p(u, v).
     std::vector<float> m_row_cdf, m_col_cdf, m_cell_pdf;
+    // Cutpoint tables of the cdfs (facet/cdf_search.h): H entries, and W per row.
+    std::vector<std::uint32_t> m_row_guide, m_col_guide;
     bool m_black = true;
 };
 
