@@ -70,10 +70,14 @@ class FinalSession:
         threads = scene.render.threads if scene.render.threads_mode == 'FIXED' else 0
         x, y, w, h = pixels.border_rect(scene.render, width, height)
         region = None if (w, h) == (width, height) else pixels.core_region(x, y, w, h, height)
-        session = native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
-                                 max_depth=rs["max_depth"], integrator=rs["integrator"],
-                                 time_budget=rs.get("time_budget", 0.0), region=region,
-                                 light_selection=scene.facet.light_selection)
+        denoise = self._denoise_plan(engine, scene, rs, region)
+        # Denoising renders the samples in two halves [0, n/2) and [n/2, n): the half-buffers.
+        ranges = [(0, rs["spp"] // 2), (rs["spp"] // 2, rs["spp"])] if denoise else [None]
+        sessions = [native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
+                                   max_depth=rs["max_depth"], integrator=rs["integrator"],
+                                   time_budget=rs.get("time_budget", 0.0), region=region,
+                                   light_selection=scene.facet.light_selection, samples=r)
+                    for r in ranges]
         t_export = time.perf_counter() - t0
         # With a border, Blender's render rectangle is the border: result coordinates are
         # relative to it.
@@ -81,24 +85,33 @@ class FinalSession:
         combined = result.layers[0].passes["Combined"]
 
         upload = [0.0]
+        current = [0]
 
         def on_pass(done, target, elapsed, eta):
             if engine.test_break() or (hooks.test_break is not None and hooks.test_break()):
                 return False
             tu = time.perf_counter()
-            combined.rect.foreach_set(pixels.to_blender_rect(session.image()))
+            combined.rect.foreach_set(pixels.to_blender_rect(sessions[current[0]].image()))
             engine.update_result(result)
             upload[0] += time.perf_counter() - tu
-            engine.update_progress(done / max(1, target))
-            engine.update_stats("", "Facet | Sample %d/%d | Time %.1f s | Remaining %.1f s"
-                                % (done, target, elapsed, eta))
+            share = (current[0] + done / max(1, target)) / len(sessions)
+            engine.update_progress(share)
+            engine.update_stats("", "Facet | %sSample %d/%d | Time %.1f s | Remaining %.1f s"
+                                % ("Half %d/2 | " % (current[0] + 1) if denoise else "",
+                                   done, target, elapsed, eta))
             return True
 
         tr = time.perf_counter()
-        finished = session.render(on_pass)
+        finished = True
+        for i, session in enumerate(sessions):
+            current[0] = i
+            finished = finished and session.render(on_pass)
         t_render = time.perf_counter() - tr
         tu = time.perf_counter()
-        img = session.image()
+        img = sessions[0].image()
+        if denoise and finished:
+            engine.update_stats("", "Facet | Denoising")
+            img = self._denoised(fscene, sessions, rs, threads)
         combined.rect.foreach_set(pixels.to_blender_rect(img))
         if finished and not engine.is_preview:
             # The view layer's other passes (passes.py): only those enabled, each computed once.
@@ -115,3 +128,28 @@ class FinalSession:
         engine.update_stats("", "Facet | %s in %.2f s (export and build %.2f s)"
                             % ("Done" if finished else "Cancelled",
                                time.perf_counter() - t0, t_export))
+
+    def _denoise_plan(self, engine, scene, rs, region):
+        """Whether this render is denoised: Render Properties > Facet > Denoise, for final
+        renders of the whole image at a fixed sample count (a denoiser is not split-invariant:
+        it needs both halves of every pixel's samples); otherwise reported, never dropped."""
+        if not scene.facet.denoise or engine.is_preview:
+            return False
+        why = ("a render region (Render > Region) is set" if region is not None else
+               "a time budget is set" if rs.get("time_budget", 0.0) > 0 else
+               "it needs at least 2 samples per pixel" if rs["spp"] < 2 else None)
+        if why:
+            msg = "Denoise is off for this render: %s" % why
+            self.problems.append(msg)
+            engine.report({'WARNING'}, "Facet: " + msg)
+            return False
+        return True
+
+    @staticmethod
+    def _denoised(fscene, sessions, rs, threads):
+        """The denoised image (facet/render/denoise.h) of the two half sessions, with the
+        features at the render's spp and seed (as `facet render --denoise`)."""
+        a, b = sessions[0].image(), sessions[1].image()
+        f = native.render_aovs(fscene, ["albedo", "normal", "depth"], spp=rs["spp"],
+                               seed=rs["seed"], threads=threads)
+        return native.denoise(a, b, f["albedo"], f["normal"], f["depth"], threads=threads)

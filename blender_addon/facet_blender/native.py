@@ -369,14 +369,23 @@ def render_aovs(scene, passes, spp=16, seed=0, threads=0):
                                           threads=int(threads)).items()}
 
 
+def denoise(half_a, half_b, albedo, normal, depth, threads=0):
+    """The core's denoiser (facet/render/denoise.h) on float32 (h, w, 3) arrays, top row
+    first: two half-buffers and the albedo, normal and depth passes."""
+    return np.asarray(facet.denoise(half_a, half_b, albedo, normal, depth,
+                                    threads=int(threads)), dtype=np.float32)
+
+
 class Session:
     """A facet.RenderSession; render() releases the GIL (the binding does) and calls
     on_pass(samples_done, samples_target, elapsed_s, eta_s) -> bool after each pass on the
     calling thread."""
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
-                 time_budget=None, region=None, light_selection=None):
+                 time_budget=None, region=None, light_selection=None, samples=None):
         kw = {"threads": int(threads)}
+        if samples is not None:
+            kw["samples"] = tuple(int(v) for v in samples)  # [s0, s1) of the spp-sample render
         if light_selection is not None:
             kw["light_selection"] = light_selection  # "view" | "power" | "uniform"
         if region is not None:

@@ -32,6 +32,11 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                ("uniform", "Uniform", "choose every light equally often, as Cycles 3.4 does "
                                       "for lamps")])
     seed: IntProperty(name="Seed", default=0, min=0, description="sampler seed")
+    denoise: BoolProperty(name="Denoise", default=False,
+                          description="denoise the final render (feature-guided, no trained "
+                                      "weights): two half-buffers and the albedo, normal and "
+                                      "depth of the first hit; the image is then no longer an "
+                                      "unbiased estimate and can blur detail no feature shows")
     viewport_spp: IntProperty(name="Viewport Samples", default=256, min=1, max=1 << 20,
                               description="samples per pixel the viewport refines to")
     animated_seed: BoolProperty(name="Animated Seed", default=False,

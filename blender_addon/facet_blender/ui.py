@@ -78,6 +78,7 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.prop(fs, "time_budget")
         lay.prop(fs, "max_depth")
         lay.prop(fs, "light_selection")
+        lay.prop(fs, "denoise")
         row = lay.row(align=True)
         row.prop(fs, "seed")
         row.prop(fs, "animated_seed", text="", icon='TIME')

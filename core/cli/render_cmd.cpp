@@ -20,6 +20,7 @@
 #include <vector>
 
 #include "commands.h"
+#include "facet/render/denoise.h"
 #include "facet/render/gltf.h"
 #include "facet/render/image.h"
 #include "facet/render/render.h"
@@ -47,6 +48,9 @@ struct RenderCmdOptions {
     std::string region;   // "x0,y0,x1,y1"
     std::string samples;  // "s0:s1"
     double texture_memory_mib = double(render::kDefaultTextureMemory >> 20);
+    bool denoise = false;
+    std::string denoise_raw;       // the undenoised image
+    std::string denoise_features;  // prefix of <prefix>.albedo.exr, .normal.exr, .depth.exr
 };
 
 // Parses "a<sep>b<sep>..." into exactly n non-negative integers, or throws naming the flag.
@@ -115,6 +119,11 @@ render::Scene load_scene_or_gltf(const std::string& path, const render::SceneLim
     return render::build_scene(desc, path, limits);
 }
 
+void report_render(const render::Scene& scene, const render::RenderStats& st,
+                   const RenderCmdOptions& o);
+void render_denoised(const render::Scene& scene, const render::RenderOptions& ro,
+                     const render::ResolvedSettings& rs, const RenderCmdOptions& o);
+
 void run_render(const RenderCmdOptions& o) {
     if (o.outputs.empty() && !o.explain)
         throw std::runtime_error("render: no output: give -o out.exr and/or -o out.png");
@@ -179,9 +188,16 @@ void run_render(const RenderCmdOptions& o) {
         if (o.outputs.empty()) return;
     }
 
+    if (o.denoise) {
+        render_denoised(scene, ro, rs, o);
+        return;
+    }
+    if (!o.denoise_raw.empty() || !o.denoise_features.empty())
+        throw std::runtime_error(std::string("render: ") +
+                                 (o.denoise_raw.empty() ? "--denoise-features" : "--denoise-raw") +
+                                 ": needs --denoise");
     render::RenderSession session(scene, ro);
     session.render();
-    const render::RenderStats& st = session.stats();
     const render::Image image = session.image();
     for (const auto& out : o.outputs) {
         if (extension_of(out) == ".fpart")
@@ -189,7 +205,12 @@ void run_render(const RenderCmdOptions& o) {
         else
             render::write_image(image, out);
     }
+    report_render(scene, session.stats(), o);
+}
 
+// Texture cache use, --stats-json and the dropped-sample warning of a finished render.
+void report_render(const render::Scene& scene, const render::RenderStats& st,
+                   const RenderCmdOptions& o) {
     const render::TextureMemoryStats tm = scene.texture_memory();
     const double hit_rate =
         tm.hits + tm.misses > 0 ? double(tm.hits) / double(tm.hits + tm.misses) : 1.0;
@@ -233,6 +254,31 @@ void run_render(const RenderCmdOptions& o) {
                      "facet: render: warning: %llu samples were NaN/inf (or beyond 7e13) and were "
                      "dropped\n",
                      static_cast<unsigned long long>(st.nonfinite));
+}
+
+// --denoise: render::render_denoised (denoise.h) and its images.
+void render_denoised(const render::Scene& scene, const render::RenderOptions& ro,
+                     const render::ResolvedSettings& rs, const RenderCmdOptions& o) {
+    for (const auto& out : o.outputs)
+        if (extension_of(out) == ".fpart")
+            throw std::runtime_error("render: --denoise: -o " + out +
+                                     ": a part cannot be denoised (denoise after the merge)");
+    render::DenoiseOptions dopt;
+    dopt.threads = rs.threads;
+    render::DenoisedRender r;
+    try {
+        r = render::render_denoised(scene, ro, dopt);
+    } catch (const std::invalid_argument& e) {
+        throw std::runtime_error(std::string("render: --") + e.what());
+    }
+    for (const auto& out : o.outputs) render::write_image(r.image, out);
+    if (!o.denoise_raw.empty()) render::write_image(r.raw, o.denoise_raw);
+    if (!o.denoise_features.empty()) {
+        render::write_image(r.features.albedo, o.denoise_features + ".albedo.exr");
+        render::write_image(r.features.normal, o.denoise_features + ".normal.exr");
+        render::write_image(r.features.depth, o.denoise_features + ".depth.exr");
+    }
+    report_render(scene, r.stats, o);
 }
 
 void run_merge(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
@@ -300,6 +346,14 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--samples", o->samples,
                     "render only samples [s0, s1) of every pixel (of the spp-sample render): "
                     "s0:s1; write the part with -o part.fpart and assemble with facet merge");
+    cmd->add_flag("--denoise", o->denoise,
+                  "denoise the image (denoise.h: feature-guided, from two half-buffers and the "
+                  "albedo, normal and depth AOVs; no longer an unbiased estimate)");
+    cmd->add_option("--denoise-raw", o->denoise_raw,
+                    "with --denoise: also write the image before denoising (.exr or .png)");
+    cmd->add_option("--denoise-features", o->denoise_features,
+                    "with --denoise: also write the features as PREFIX.albedo.exr, "
+                    "PREFIX.normal.exr and PREFIX.depth.exr");
     cmd->callback([o] { run_render(*o); });
 
     auto inputs = std::make_shared<std::vector<std::string>>();

@@ -24,6 +24,7 @@
 #include "bindings.h"
 #include "facet/registry.h"
 #include "facet/render/aov.h"
+#include "facet/render/denoise.h"
 #include "facet/render/film.h"
 #include "facet/render/image.h"
 #include "facet/render/render.h"
@@ -492,15 +493,35 @@ void bind_render(py::module_& m) {
     m.def(
         "render",
         [](py::handle scene, py::kwargs kw) {
+            bool denoised = false;
+            if (kw.contains("denoise")) {
+                denoised = option_value<bool>(kw["denoise"], "denoise", "a bool");
+                PyDict_DelItemString(kw.ptr(), "denoise");
+            }
             py::object progress = py::none();
             const RenderOptions options = options_from(kw, "render", &progress);
+            if (denoised) {
+                if (!progress.is_none())
+                    bad_argument("progress", "not available with denoise=True");
+                const SceneHandle& sh = scene_arg(scene);
+                DenoiseOptions d;
+                d.threads = options.threads;
+                Image image;
+                {
+                    py::gil_scoped_release release;
+                    image = render_denoised(*sh.scene, options, d).image;
+                }
+                return image_array(std::move(image));
+            }
             PySession s(scene_arg(scene), options);
             s.run(progress);
             return image_array(s.session->image());
         },
         py::arg("scene"),
         "Renders the scene (or its region / sample range) and returns the image, float32 "
-        "(h, w, 3). Options: spp, threads, seed, integrator, max_depth, region=(x0, y0, x1, y1), "
+        "(h, w, 3). denoise=True: the whole image denoised (render_denoised, "
+        "facet/render/denoise.h; not with region, samples, time_budget or progress). "
+        "Options: spp, threads, seed, integrator, max_depth, region=(x0, y0, x1, y1), "
         "samples=(s0, s1), time_budget, tile_size, pass_seconds, force_general_kernel, "
         "light_selection ('view' | 'power' | 'uniform'), uniform_light_selection (True = "
         "'uniform'), independent_samples; progress=callable(PassInfo) -> bool "
@@ -548,6 +569,32 @@ void bind_render(py::module_& m) {
         "shading normal facing the viewer, 'depth': distance along the camera's view axis, "
         "1e10 where nothing is hit, 'emission': emitted radiance), averaged over spp camera "
         "samples per pixel; deterministic for a seed");
+
+    m.def(
+        "denoise",
+        [](py::handle half_a, py::handle half_b, py::handle albedo, py::handle normal,
+           py::handle depth, int radius, int threads) {
+            const Image a = image_from_array(half_a, "half_a");
+            const Image b = image_from_array(half_b, "half_b");
+            const Image al = image_from_array(albedo, "albedo");
+            const Image n = image_from_array(normal, "normal");
+            const Image z = image_from_array(depth, "depth");
+            DenoiseOptions o;
+            o.radius = radius;
+            o.threads = threads;
+            Image out;
+            {
+                py::gil_scoped_release release;
+                out = denoise({&a, &b, &al, &n, &z}, o);
+            }
+            return image_array(std::move(out));
+        },
+        py::arg("half_a"), py::arg("half_b"), py::arg("albedo"), py::arg("normal"),
+        py::arg("depth"), py::arg("radius") = 6, py::arg("threads") = 0,
+        "The denoised beauty (facet/render/denoise.h) from two half-buffers (renders of the "
+        "sample ranges (0, n/2) and (n/2, n)) and render_aovs' albedo, normal and depth, all "
+        "float32 (h, w, 3) of one size; ValueError naming the argument for a missing, "
+        "mismatched or non-finite input");
 
     m.def(
         "write_image",

@@ -1,0 +1,157 @@
+#!/usr/bin/python3
+"""The denoiser (core/render/include/facet/render/denoise.h): MSE against time, with and
+without denoising, and the time to denoise a 1920 x 1080 frame. Registered nowhere; run by hand:
+
+    PYTHONPATH=build/core/python /usr/bin/python3 bench/denoise_bench.py \
+        [--scenes cornell_box showcase] [--size 320] [--ref-spp 4096] [--threads 2] \
+        [--plot docs/img/denoise_mse_time.png]
+
+For each scene (scaled to --size pixels wide), a reference of --ref-spp samples per pixel (its
+own MSE, estimated from two halves of it, is printed and is far below every row's), then for
+spp in 4 .. 128 the plain render (facet.render) and the denoised one (facet.render with
+denoise=True: two half-buffers, the albedo/normal/depth AOVs at the same spp, denoise()): the
+wall time of each call and its MSE against the reference. The denoised time includes the AOV
+pass and the denoiser. A table in Markdown, the ratio 'plain MSE at 8x spp / denoised MSE at
+spp' for the targets, and a log-log plot.
+
+The 1080p row: facet.denoise on 1920 x 1080 arrays (noise over a checker with edges), the
+median of --reps runs, beside the time of numpy's copy of the same five arrays (the peer that
+shows how loaded the machine is).
+"""
+import argparse
+import json
+import os
+import pathlib
+import statistics
+import sys
+import time
+
+import numpy as np
+
+import facet
+
+ROOT = pathlib.Path(__file__).resolve().parents[1]
+SPPS = (4, 8, 16, 32, 64, 128)
+
+
+def load(name, width):
+    desc = facet.read_scene_description(str(ROOT / "scenes" / f"{name}.json"))
+    cam = desc.camera
+    height = max(1, round(width * cam.height / cam.width))
+    cam.width, cam.height = width, height
+    desc.camera = cam
+    return facet.build_scene(desc, name=name)
+
+
+def mse(x, ref):
+    return float(np.mean((x.astype(np.float64) - ref) ** 2))
+
+
+def timed(fn):
+    t0 = time.perf_counter()
+    out = fn()
+    return out, time.perf_counter() - t0
+
+
+def scene_rows(name, args):
+    scene = load(name, args.size)
+    ref_a = facet.render(scene, spp=args.ref_spp // 2, seed=1000, threads=args.threads)
+    ref_b = facet.render(scene, spp=args.ref_spp // 2, seed=2000, threads=args.threads)
+    ref = (ref_a.astype(np.float64) + ref_b) / 2
+    ref_own = mse(ref_a, ref_b) / 4  # the MSE of the mean of two independent halves
+    rows = []
+    for spp in SPPS:
+        plain, tp = timed(lambda: facet.render(scene, spp=spp, seed=7, threads=args.threads))
+        den, td = timed(lambda: facet.render(scene, spp=spp, seed=7, threads=args.threads,
+                                             denoise=True))
+        rows.append({"spp": spp, "plain_s": tp, "plain_mse": mse(plain, ref), "denoised_s": td,
+                     "denoised_mse": mse(den, ref)})
+    return {"scene": name, "size": list(ref.shape[1::-1]), "ref_spp": args.ref_spp,
+            "ref_mse": ref_own, "rows": rows}
+
+
+def frame_timing(args):
+    h, w = 1080, 1920
+    rng = np.random.default_rng(3)
+    yy, xx = np.mgrid[0:h, 0:w]
+    albedo = np.where(((xx // 64 + yy // 64) % 2 == 0)[..., None], 0.8, 0.2).astype(np.float32)
+    albedo = np.repeat(albedo, 3, axis=2)
+    normal = np.zeros((h, w, 3), np.float32)
+    normal[..., 2] = 1
+    depth = np.full((h, w, 3), 5.0, np.float32)
+    a = (albedo + rng.normal(0, 0.1, albedo.shape)).astype(np.float32)
+    b = (albedo + rng.normal(0, 0.1, albedo.shape)).astype(np.float32)
+    den, cpy = [], []
+    for _ in range(args.reps):
+        _, t = timed(lambda: facet.denoise(a, b, albedo, normal, depth, threads=args.threads))
+        den.append(t)
+        _, t = timed(lambda: [x.copy() for x in (a, b, albedo, normal, depth)])
+        cpy.append(t)
+    return {"denoise_s": statistics.median(den), "copy_s": statistics.median(cpy),
+            "reps": args.reps}
+
+
+def print_tables(results, frame):
+    for r in results:
+        print(f"\n### {r['scene']} ({r['size'][0]} x {r['size'][1]}), reference {r['ref_spp']} "
+              f"spp (its own MSE {r['ref_mse']:.3g})\n")
+        print("| spp | plain s | plain MSE | denoised s | denoised MSE | plain MSE / denoised |")
+        print("|---:|---:|---:|---:|---:|---:|")
+        by_spp = {row["spp"]: row for row in r["rows"]}
+        for row in r["rows"]:
+            print(f"| {row['spp']} | {row['plain_s']:.2f} | {row['plain_mse']:.3g} | "
+                  f"{row['denoised_s']:.2f} | {row['denoised_mse']:.3g} | "
+                  f"{row['plain_mse'] / row['denoised_mse']:.1f} |")
+        if 16 in by_spp and 128 in by_spp:
+            ratio = by_spp[128]["plain_mse"] / by_spp[16]["denoised_mse"]
+            print(f"\nplain 128 spp MSE / denoised 16 spp MSE = {ratio:.2f} "
+                  f"(target >= 1, goal: 16 spp denoised at most the 256-spp plain MSE)")
+    print(f"\n1920 x 1080 denoise: median {frame['denoise_s']:.2f} s over {frame['reps']} runs "
+          f"(numpy copy of the inputs: {frame['copy_s']:.3f} s)")
+
+
+def plot(results, path):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    fig, axes = plt.subplots(1, len(results), figsize=(5 * len(results), 4), squeeze=False)
+    for ax, r in zip(axes[0], results):
+        rows = r["rows"]
+        ax.loglog([x["plain_s"] for x in rows], [x["plain_mse"] for x in rows], "o-",
+                  label="plain")
+        ax.loglog([x["denoised_s"] for x in rows], [x["denoised_mse"] for x in rows], "s-",
+                  label="denoised")
+        for x in rows:
+            ax.annotate(str(x["spp"]), (x["denoised_s"], x["denoised_mse"]), fontsize=7)
+            ax.annotate(str(x["spp"]), (x["plain_s"], x["plain_mse"]), fontsize=7)
+        ax.set_title(f"{r['scene']} {r['size'][0]}x{r['size'][1]}")
+        ax.set_xlabel("wall time (s)")
+        ax.set_ylabel("MSE against the reference")
+        ax.legend()
+    fig.tight_layout()
+    fig.savefig(path, dpi=100)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--scenes", nargs="+", default=["cornell_box", "showcase"])
+    ap.add_argument("--size", type=int, default=320)
+    ap.add_argument("--ref-spp", type=int, default=4096)
+    ap.add_argument("--threads", type=int, default=2)
+    ap.add_argument("--reps", type=int, default=3)
+    ap.add_argument("--plot", default="")
+    ap.add_argument("--json", default="")
+    args = ap.parse_args()
+    results = [scene_rows(s, args) for s in args.scenes]
+    frame = frame_timing(args)
+    print_tables(results, frame)
+    if args.plot:
+        plot(results, args.plot)
+    if args.json:
+        pathlib.Path(args.json).write_text(json.dumps({"scenes": results, "frame": frame},
+                                                      indent=1))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,78 @@
+// A denoiser that needs no trained weights: feature-guided non-local means on two
+// half-buffers, with a per-pixel choice between filter strengths by an unbiased error estimate
+// (Rousselle, Manzi & Zwicker 2013, "Robust denoising using feature and color information";
+// the half-buffer cross-validation of Bitterli et al. 2016, "Nonlinearly weighted first-order
+// regression for denoising Monte Carlo renderings").
+//
+// Conventions:
+//  - Inputs are linear RGB images of one size W x H (Image: top row first):
+//      half_a, half_b  two independent estimates of the beauty, each the mean of one half of a
+//                      pixel's samples (a render's sample ranges [0, n/2) and [n/2, n));
+//      albedo, normal, depth  the first-hit features of render_aovs (aov.h), treated as noise
+//                      free (at least as many AOV samples as beauty samples keeps them so).
+//    Every value must be finite (depth may be kMissDepth where no surface is hit).
+//  - Output: the denoised estimate of (half_a + half_b) / 2. It is not an unbiased estimate:
+//    a pixel becomes a weighted mean of its neighbours, so detail that no feature shows
+//    (shadow edges, caustics, glossy reflections of small objects) can blur.
+//  - Method, per half X with the other half Y (both divided by the albedo where it exceeds
+//    kMinAlbedo (denoise.cpp), so that texture detail is not filtered and is multiplied back at the
+//    end):
+//      V(p)        the variance of one half's value, (X - Y)^2 / 2 averaged over channels and
+//                  over a 3 x 3 box;
+//      d(p, q)     = mean over channels of ((X_p - X_q)^2 - (V_p + min(V_p, V_q))) /
+//                    (kEpsilon + V_p + V_q), averaged over 3 x 3 patches around p and q
+//                  (non-local means with variance cancellation, Rousselle et al. 2012);
+//      f(p, q)     = |a_p - a_q|^2 / s_a^2 + |n_p - n_q|^2 / s_n^2 + (z_p - z_q)^2 / (s_z z_p)^2
+//                  over albedo a, normal n and depth z (bandwidths in denoise.cpp);
+//      w_k(p, q)   = min(exp(-max(0, d) / k^2), exp(-f)) over the (2r + 1)^2 window;
+//      F_k(p)      = sum_q w_k X_q / sum_q w_k for the strengths k of kStrengths (denoise.cpp);
+//      E_k(p)      = (F_k(p) - Y_p)^2 - V_p, an unbiased estimate of F_k's squared error (Y is
+//                  independent of X), averaged over a (2 * kErrorRadius + 1)^2 box.
+//    Each pixel keeps the F_k of least E_k; the output is the mean of the two halves' choices,
+//    times the albedo divided out.
+//  - Deterministic: every output pixel is a fixed function of the inputs, whatever the thread
+//    count. Working memory: the planar copies of the inputs and results, about 100 bytes per
+//    pixel, plus per band of kBandRows rows a few rows of scratch.
+#pragma once
+
+#include "facet/render/aov.h"
+#include "facet/render/image.h"
+#include "facet/render/render.h"
+
+namespace facet::render {
+
+struct DenoiseOptions {
+    int radius = 6;   // search window (2 radius + 1)^2, 1..20
+    int threads = 0;  // 0 = every hardware thread
+};
+
+struct DenoiseInput {
+    const Image* half_a = nullptr;
+    const Image* half_b = nullptr;
+    const Image* albedo = nullptr;
+    const Image* normal = nullptr;
+    const Image* depth = nullptr;
+};
+
+// The denoised beauty (conventions). Throws std::invalid_argument naming the argument for a
+// missing (null or empty) input, a size that differs from half_a's, a non-finite value (with
+// its pixel) or a radius outside 1..20.
+Image denoise(const DenoiseInput& input, const DenoiseOptions& options = {});
+
+// A render and its denoised image, as `facet render --denoise`, Python's
+// render(denoise=True) and facet-farm use it.
+struct DenoisedRender {
+    Image image;        // denoised
+    Image raw;          // the plain render: bit for bit the image of one render of `options`
+    Aovs features;      // albedo, normal, depth at the render's spp and seed
+    RenderStats stats;  // of both halves together
+};
+// Renders `options` as two sessions over the sample ranges [0, n/2) and [n/2, n) of its n
+// samples per pixel (the half-buffers), the features, and denoises. The whole image at a fixed
+// sample count only: throws std::invalid_argument starting "denoise: " for a time budget, a
+// region, a sample range or fewer than 2 samples per pixel (a denoiser is not split-invariant:
+// parts are merged first and the merged halves denoised).
+DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
+                               const DenoiseOptions& denoise_options = {});
+
+}  // namespace facet::render

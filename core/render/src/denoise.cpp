@@ -1,0 +1,400 @@
+// Feature-guided non-local means on two half-buffers (conventions in denoise.h).
+#include "facet/render/denoise.h"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <cstring>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace facet::render {
+
+namespace {
+
+// Below this albedo a channel is not divided out (black surfaces, the background).
+constexpr float kMinAlbedo = 1e-3f;
+// Keeps d finite where both variances are 0 (a noise-free input): any colour difference then
+// gives a weight of 0, so such an image passes through.
+constexpr float kEpsilon = 1e-10f;
+// Filter strengths k (Rousselle et al. 2012 use 0.45; the stronger one serves flat regions).
+constexpr std::array<float, 2> kStrengths{0.45f, 1.0f};
+constexpr int kCandidates = int(kStrengths.size());
+// Feature bandwidths: albedo and normal absolute (unit normals differ by 0.2 at 11.5 degrees),
+// depth relative to the pixel's own depth.
+constexpr float kAlbedoBandwidth = 0.1f, kNormalBandwidth = 0.2f, kDepthBandwidth = 0.05f;
+// Radius of the box over which the candidates' error estimates are averaged.
+constexpr int kErrorRadius = 3;
+// Rows per band (the unit of parallel work and of scratch memory).
+constexpr int kBandRows = 16;
+
+// exp(x) for x <= 0 (x below -80 gives exp(-80) ~ 1.8e-35): 2^t as 2^floor(t) times a degree-5
+// polynomial of 2^f on [0, 1) (relative error below 1e-6), branch-free so that loops over it
+// vectorise. Weights need no more accuracy, and libm's expf would not vectorise here.
+inline float exp_neg(float x) {
+    x = std::max(x, -80.f);
+    const float t = x * 1.44269504f + 128.f;  // in [12.5, 128]: int() is floor()
+    const int i = int(t);
+    const float f = t - float(i);
+    const float p =
+        1.f + f * (0.69314718f +
+                   f * (0.24022652f + f * (0.05550411f + f * (0.00961813f + f * 0.00133336f))));
+    const std::uint32_t bits = std::uint32_t(i - 1) << 23;  // 2^(i - 128), exponent i - 1
+    float s;
+    std::memcpy(&s, &bits, sizeof s);
+    return p * s;
+}
+
+// Planar float images: plane k is data[k * n, (k + 1) * n).
+struct Planes {
+    std::size_t n = 0;
+    std::vector<float> data;
+    Planes(std::size_t pixels, int count) : n(pixels), data(pixels * std::size_t(count), 0.f) {}
+    float* operator[](int k) { return data.data() + std::size_t(k) * n; }
+    const float* operator[](int k) const { return data.data() + std::size_t(k) * n; }
+};
+
+// out = the mean of in over the (2r + 1)^2 box around each pixel, clipped to the image.
+void box_mean(const float* in, float* out, int w, int h, int r) {
+    std::vector<float> rows(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y) {
+        const float* src = in + std::size_t(y) * w;
+        float* dst = rows.data() + std::size_t(y) * w;
+        for (int x = 0; x < w; ++x) {
+            const int x0 = std::max(0, x - r), x1 = std::min(w - 1, x + r);
+            float s = 0.f;
+            for (int k = x0; k <= x1; ++k) s += src[k];
+            dst[x] = s / float(x1 - x0 + 1);
+        }
+    }
+    for (int y = 0; y < h; ++y) {
+        const int y0 = std::max(0, y - r), y1 = std::min(h - 1, y + r);
+        float* dst = out + std::size_t(y) * w;
+        for (int x = 0; x < w; ++x) dst[x] = 0.f;
+        for (int k = y0; k <= y1; ++k) {
+            const float* src = rows.data() + std::size_t(k) * w;
+            for (int x = 0; x < w; ++x) dst[x] += src[x];
+        }
+        const float inv = 1.f / float(y1 - y0 + 1);
+        for (int x = 0; x < w; ++x) dst[x] *= inv;
+    }
+}
+
+void check_input(const Image* img, const char* name, const Image& ref) {
+    if (img == nullptr || img->width() == 0 || img->height() == 0)
+        throw std::invalid_argument(std::string("denoise: ") + name + ": missing (empty image)");
+    if (img->width() != ref.width() || img->height() != ref.height())
+        throw std::invalid_argument(
+            std::string("denoise: ") + name + ": " + std::to_string(img->width()) + " x " +
+            std::to_string(img->height()) + " pixels, but half_a is " +
+            std::to_string(ref.width()) + " x " + std::to_string(ref.height()));
+    for (int y = 0; y < img->height(); ++y)
+        for (int x = 0; x < img->width(); ++x) {
+            const Rgb& c = img->at(x, y);
+            if (!is_finite(c))
+                throw std::invalid_argument(std::string("denoise: ") + name + ": pixel (" +
+                                            std::to_string(x) + ", " + std::to_string(y) +
+                                            ") is not finite");
+        }
+}
+
+// The inputs in planar form (see denoise.h for the symbols).
+struct Prepared {
+    int w, h;
+    Planes half;  // 0..2: X_a / m, 3..5: X_b / m
+    Planes var;   // 0: V
+    Planes feat;  // 0..2 albedo / s_a, 3..5 normal / s_n, 6 depth, 7 1 / (s_z z)
+    Planes mod;   // 0..2 the albedo divided out (1 where below kMinAlbedo)
+    Prepared(int w_, int h_)
+        : w(w_),
+          h(h_),
+          half(std::size_t(w_) * h_, 6),
+          var(std::size_t(w_) * h_, 1),
+          feat(std::size_t(w_) * h_, 8),
+          mod(std::size_t(w_) * h_, 3) {}
+};
+
+void prepare(const DenoiseInput& in, Prepared& p) {
+    const int w = p.w, h = p.h;
+    std::vector<float> raw_var(std::size_t(w) * h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const Rgb a = in.albedo->at(x, y), n = in.normal->at(x, y);
+            const Rgb xa = in.half_a->at(x, y), xb = in.half_b->at(x, y);
+            float v = 0.f;
+            for (int c = 0; c < 3; ++c) {
+                const float m = a[c] > kMinAlbedo ? a[c] : 1.f;
+                p.mod[c][i] = m;
+                p.half[c][i] = xa[c] / m;
+                p.half[3 + c][i] = xb[c] / m;
+                const float d = (xa[c] - xb[c]) / m;
+                v += 0.5f * d * d;
+                p.feat[c][i] = a[c] / kAlbedoBandwidth;
+                p.feat[3 + c][i] = n[c] / kNormalBandwidth;
+            }
+            raw_var[i] = v / 3.f;
+            const float z = in.depth->at(x, y).r;
+            p.feat[6][i] = z;
+            const float s = kDepthBandwidth * std::max(std::fabs(z), 1e-6f);
+            p.feat[7][i] = 1.f / (s * s);
+        }
+    box_mean(raw_var.data(), p.var[0], w, h, 1);
+}
+
+// The filtered halves F_k of one band of rows [y0, y1) into out (planes (half * kCandidates +
+// k) * 3 + c).
+void filter_band(const Prepared& p, int radius, int y0, int y1, Planes& out) {
+    const int w = p.w, h = p.h;
+    const int m0 = std::max(0, y0 - 1), m1 = std::min(h, y1 + 1);
+    const int mrows = m1 - m0, rows = y1 - y0;
+    const std::size_t ms = std::size_t(mrows) * w, bs = std::size_t(rows) * w;
+    // d for each half over the margin rows, then its horizontal and vertical 3-box.
+    std::vector<float> d(2 * ms), dh(2 * ms), dp(2 * bs);
+    // Accumulators: weight sums (2 halves x kCandidates) and weighted values (x 3 channels).
+    std::vector<float> wsum(2 * kCandidates * bs, 0.f), vsum(2 * kCandidates * 3 * bs, 0.f);
+    float inv_k2[kCandidates];
+    for (int k = 0; k < kCandidates; ++k) inv_k2[k] = 1.f / (kStrengths[k] * kStrengths[k]);
+    const float* V = p.var[0];
+
+    for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+            // d(p, p + (dx, dy)) with the neighbour clamped into the image (the patch's
+            // border), per half.
+            for (int y = m0; y < m1; ++y) {
+                const int qy = std::clamp(y + dy, 0, h - 1);
+                for (int hh = 0; hh < 2; ++hh) {
+                    const float* X0 = p.half[3 * hh] + std::size_t(y) * w;
+                    const float* X1 = p.half[3 * hh + 1] + std::size_t(y) * w;
+                    const float* X2 = p.half[3 * hh + 2] + std::size_t(y) * w;
+                    const float* Q0 = p.half[3 * hh] + std::size_t(qy) * w;
+                    const float* Q1 = p.half[3 * hh + 1] + std::size_t(qy) * w;
+                    const float* Q2 = p.half[3 * hh + 2] + std::size_t(qy) * w;
+                    const float* Vp = V + std::size_t(y) * w;
+                    const float* Vq = V + std::size_t(qy) * w;
+                    float* D = d.data() + hh * ms + std::size_t(y - m0) * w;
+                    for (int x = 0; x < w; ++x) {
+                        const int qx = std::clamp(x + dx, 0, w - 1);
+                        const float a = X0[x] - Q0[qx], b = X1[x] - Q1[qx], c = X2[x] - Q2[qx];
+                        const float vp = Vp[x], vq = Vq[qx];
+                        D[x] = ((a * a + b * b + c * c) * (1.f / 3.f) - (vp + std::min(vp, vq))) /
+                               (kEpsilon + vp + vq);
+                    }
+                }
+            }
+            for (int hh = 0; hh < 2; ++hh) {
+                for (int y = 0; y < mrows; ++y) {
+                    const float* D = d.data() + hh * ms + std::size_t(y) * w;
+                    float* H = dh.data() + hh * ms + std::size_t(y) * w;
+                    if (w == 1) {
+                        H[0] = D[0];
+                        continue;
+                    }
+                    H[0] = 0.5f * (D[0] + D[1]);
+                    for (int x = 1; x + 1 < w; ++x)
+                        H[x] = (D[x - 1] + D[x] + D[x + 1]) * (1.f / 3.f);
+                    H[w - 1] = 0.5f * (D[w - 2] + D[w - 1]);
+                }
+                for (int y = y0; y < y1; ++y) {
+                    const int a = std::max(y - 1, m0), b = std::min(y + 1, m1 - 1);
+                    float* P = dp.data() + hh * bs + std::size_t(y - y0) * w;
+                    const float inv = 1.f / float(b - a + 1);
+                    for (int x = 0; x < w; ++x) P[x] = 0.f;
+                    for (int r = a; r <= b; ++r) {
+                        const float* H = dh.data() + hh * ms + std::size_t(r - m0) * w;
+                        for (int x = 0; x < w; ++x) P[x] += H[x];
+                    }
+                    for (int x = 0; x < w; ++x) P[x] *= inv;
+                }
+            }
+            // Weights and sums for the pixels whose neighbour lies inside the image.
+            const int x_lo = std::max(0, -dx), x_hi = std::min(w, w - dx);
+            for (int y = y0; y < y1; ++y) {
+                const int qy = y + dy;
+                if (qy < 0 || qy >= h) continue;
+                const std::size_t row = std::size_t(y) * w, qrow = std::size_t(qy) * w + dx;
+                const std::size_t brow = std::size_t(y - y0) * w;
+                const float* F[8];
+                const float* G[7];
+                for (int f = 0; f < 8; ++f) F[f] = p.feat[f] + row;
+                for (int f = 0; f < 7; ++f) G[f] = p.feat[f] + qrow;
+                for (int hh = 0; hh < 2; ++hh) {
+                    const float* P = dp.data() + hh * bs + brow;
+                    const float* Q0 = p.half[3 * hh] + qrow;
+                    const float* Q1 = p.half[3 * hh + 1] + qrow;
+                    const float* Q2 = p.half[3 * hh + 2] + qrow;
+                    for (int k = 0; k < kCandidates; ++k) {
+                        const int slot = hh * kCandidates + k;
+                        float* W = wsum.data() + slot * bs + brow;
+                        float* S0 = vsum.data() + (3 * slot) * bs + brow;
+                        float* S1 = vsum.data() + (3 * slot + 1) * bs + brow;
+                        float* S2 = vsum.data() + (3 * slot + 2) * bs + brow;
+                        const float ik = inv_k2[k];
+#pragma GCC ivdep
+                        for (int x = x_lo; x < x_hi; ++x) {
+                            float f = 0.f;
+                            for (int c = 0; c < 6; ++c) {
+                                const float e = F[c][x] - G[c][x];
+                                f += e * e;
+                            }
+                            const float ez = F[6][x] - G[6][x];
+                            f += ez * ez * F[7][x];
+                            const float wf = exp_neg(-f);
+                            const float wc = exp_neg(-std::max(0.f, P[x]) * ik);
+                            const float wt = std::min(wc, wf);
+                            W[x] += wt;
+                            S0[x] += wt * Q0[x];
+                            S1[x] += wt * Q1[x];
+                            S2[x] += wt * Q2[x];
+                        }
+                    }
+                }
+            }
+        }
+    for (int slot = 0; slot < 2 * kCandidates; ++slot)
+        for (int y = y0; y < y1; ++y)
+            for (int x = 0; x < w; ++x) {
+                const std::size_t b = std::size_t(y - y0) * w + x, i = std::size_t(y) * w + x;
+                // The centre's own weight is 1 (f = 0, d <= 0), so the sum is positive.
+                const float inv = 1.f / wsum[slot * bs + b];
+                for (int c = 0; c < 3; ++c)
+                    out[3 * slot + c][i] = vsum[(3 * slot + c) * bs + b] * inv;
+            }
+}
+
+template <class F>
+void run_parallel(int threads, int count, const F& body) {
+    auto work = [&] {
+        tbb::parallel_for(tbb::blocked_range<int>(0, count, 1),
+                          [&](const tbb::blocked_range<int>& r) {
+                              for (int i = r.begin(); i < r.end(); ++i) body(i);
+                          });
+    };
+    if (threads > 0) {
+        tbb::task_arena arena(threads);
+        arena.execute(work);
+    } else {
+        work();
+    }
+}
+
+}  // namespace
+
+Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
+    if (in.half_a == nullptr || in.half_a->width() == 0 || in.half_a->height() == 0)
+        throw std::invalid_argument("denoise: half_a: missing (empty image)");
+    const Image& ref = *in.half_a;
+    check_input(in.half_a, "half_a", ref);
+    check_input(in.half_b, "half_b", ref);
+    check_input(in.albedo, "albedo", ref);
+    check_input(in.normal, "normal", ref);
+    check_input(in.depth, "depth", ref);
+    if (o.radius < 1 || o.radius > 20)
+        throw std::invalid_argument("denoise: radius: expected 1..20, got " +
+                                    std::to_string(o.radius));
+    if (o.threads < 0)
+        throw std::invalid_argument("denoise: threads: expected >= 0, got " +
+                                    std::to_string(o.threads));
+    const int w = ref.width(), h = ref.height();
+    const std::size_t n = std::size_t(w) * h;
+    Prepared p(w, h);
+    prepare(in, p);
+
+    Planes filtered(n, 2 * kCandidates * 3);
+    const int bands = (h + kBandRows - 1) / kBandRows;
+    run_parallel(o.threads, bands, [&](int b) {
+        filter_band(p, o.radius, b * kBandRows, std::min(h, (b + 1) * kBandRows), filtered);
+    });
+
+    // Error estimates E_k per half against the other half, averaged over a box.
+    Planes err(n, 2 * kCandidates), err_box(n, 2 * kCandidates);
+    for (int hh = 0; hh < 2; ++hh)
+        for (int k = 0; k < kCandidates; ++k) {
+            const int slot = hh * kCandidates + k;
+            float* E = err[slot];
+            for (std::size_t i = 0; i < n; ++i) {
+                float e = 0.f;
+                for (int c = 0; c < 3; ++c) {
+                    const float r = filtered[3 * slot + c][i] - p.half[3 * (1 - hh) + c][i];
+                    e += r * r;
+                }
+                E[i] = e;
+            }
+        }
+    run_parallel(o.threads, 2 * kCandidates,
+                 [&](int slot) { box_mean(err[slot], err_box[slot], w, h, kErrorRadius); });
+
+    Image out(w, h);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            Rgb sum(0.f);
+            for (int hh = 0; hh < 2; ++hh) {
+                int best = 0;
+                for (int k = 1; k < kCandidates; ++k)
+                    if (err_box[hh * kCandidates + k][i] < err_box[hh * kCandidates + best][i])
+                        best = k;
+                const int slot = hh * kCandidates + best;
+                for (int c = 0; c < 3; ++c) sum[c] += filtered[3 * slot + c][i];
+            }
+            for (int c = 0; c < 3; ++c) out.at(x, y)[c] = 0.5f * sum[c] * p.mod[c][i];
+        }
+    return out;
+}
+
+DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
+                               const DenoiseOptions& denoise_options) {
+    if (options.region.has_value() || options.sample_begin != 0 || options.sample_end != 0)
+        throw std::invalid_argument(
+            "denoise: renders the whole image and every sample (no region or sample range): a "
+            "denoiser is not split-invariant, so denoise the merged halves");
+    const ResolvedSettings rs = resolve_settings(scene, options);
+    if (rs.time_budget_s > 0.0)
+        throw std::invalid_argument(
+            "denoise: needs a fixed spp, not a time budget: the two half-buffers must hold the "
+            "same number of samples");
+    if (rs.spp < 2)
+        throw std::invalid_argument("denoise: needs at least 2 samples per pixel, got " +
+                                    std::to_string(rs.spp));
+    DenoisedRender out;
+    std::vector<RenderPart> halves;
+    for (const auto [begin, end] : {std::pair{0, rs.spp / 2}, std::pair{rs.spp / 2, rs.spp}}) {
+        RenderOptions h = options;
+        h.spp = rs.spp;
+        h.sample_begin = begin;
+        h.sample_end = end;
+        RenderSession session(scene, h);
+        session.render();
+        halves.push_back(session.part());
+        const RenderStats& st = session.stats();
+        out.stats.kernel = st.kernel;
+        out.stats.seconds += st.seconds;
+        out.stats.passes += st.passes;
+        out.stats.threads = st.threads;
+        out.stats.paths += st.paths;
+        out.stats.rays += st.rays;
+        out.stats.shadow_rays += st.shadow_rays;
+        out.stats.nonfinite += st.nonfinite;
+        out.stats.cancelled = out.stats.cancelled || st.cancelled;
+    }
+    out.stats.spp = rs.spp;
+    const Image a = halves[0].film.resolve(), b = halves[1].film.resolve();
+    out.raw = merge_parts(halves, {"first half", "second half"}).resolve();
+    AovOptions ao;
+    ao.which = kAovAlbedo | kAovNormal | kAovDepth;
+    ao.spp = rs.spp;
+    ao.seed = rs.seed;
+    ao.threads = rs.threads;
+    out.features = render_aovs(scene, ao);
+    out.image = denoise({&a, &b, &out.features.albedo, &out.features.normal, &out.features.depth},
+                        denoise_options);
+    return out;
+}
+
+}  // namespace facet::render

@@ -1,0 +1,75 @@
+# The denoiser from Python (facet.denoise on arrays, facet.render(denoise=True)) and from the
+# CLI (facet render --denoise): the same function as the C++ tests check (denoise.h), so these
+# check the bindings: pass-through of a constant, errors naming the argument, and that the
+# render option and the CLI give one image that is closer to a high-spp reference than the
+# plain render of the same samples.
+import subprocess
+
+import numpy as np
+import pytest
+
+import facet
+import tiny_scenes as ts
+
+
+def constant(h, w, value):
+    return np.full((h, w, 3), value, dtype=np.float32)
+
+
+def features(h, w):
+    return constant(h, w, 0.5), np.dstack([np.zeros((h, w)), np.zeros((h, w)), np.ones((h, w))]).astype(np.float32), constant(h, w, 2.0)
+
+
+def test_constant_arrays_pass_through():
+    albedo, normal, depth = features(12, 17)
+    c = constant(12, 17, 0.3)
+    out = facet.denoise(c, c, albedo, normal, depth)
+    assert out.shape == (12, 17, 3) and out.dtype == np.float32
+    # 1e-5 relative: float rounding of normalised weighted sums (denoise.h)
+    np.testing.assert_allclose(out, c, rtol=1e-5)
+
+
+def test_bad_arrays_name_the_argument():
+    albedo, normal, depth = features(8, 8)
+    c = constant(8, 8, 1.0)
+    with pytest.raises(ValueError, match="normal: 4 x 8 pixels, but half_a is 8 x 8"):
+        facet.denoise(c, c, albedo, normal[:, :4], depth)
+    with pytest.raises(ValueError, match="depth"):
+        facet.denoise(c, c, albedo, normal, np.zeros((8, 8)))
+    bad = c.copy()
+    bad[2, 5, 1] = np.inf
+    with pytest.raises(ValueError, match=r"half_b: pixel \(5, 2\) is not finite"):
+        facet.denoise(c, bad, albedo, normal, depth)
+    with pytest.raises(ValueError, match="radius"):
+        facet.denoise(c, c, albedo, normal, depth, radius=0)
+
+
+def test_render_option_and_cli_agree_and_reduce_the_error(tmp_path, facet_cli):
+    scene = facet.load_scene_from_string(ts.scene_json(16, 64, 48), name="tiny")
+    reference = facet.render(scene, spp=1024, threads=2, seed=5)
+    plain = facet.render(scene, spp=16, threads=2, seed=1)
+    den = facet.render(scene, spp=16, threads=2, seed=1, denoise=True)
+    assert np.isfinite(den).all()
+    mse = lambda x: float(np.mean((x.astype(np.float64) - reference) ** 2))  # noqa: E731
+    assert mse(den) < mse(plain) / 2, (mse(den), mse(plain))
+    # The CLI writes the same image (EXR is lossless float) and the raw one equals plain.
+    path = tmp_path / "tiny.json"
+    path.write_text(ts.scene_json(16, 64, 48))
+    subprocess.run([str(facet_cli), "render", str(path), "--spp", "16", "--seed", "1",
+                    "--threads", "2", "--denoise", "-q", "-o", str(tmp_path / "d.exr"),
+                    "--denoise-raw", str(tmp_path / "raw.exr"),
+                    "--denoise-features", str(tmp_path / "f")], check=True)
+    np.testing.assert_array_equal(facet.read_image(str(tmp_path / "d.exr")), den)
+    np.testing.assert_array_equal(facet.read_image(str(tmp_path / "raw.exr")), plain)
+    assert (tmp_path / "f.albedo.exr").exists() and (tmp_path / "f.depth.exr").exists()
+
+
+def test_render_option_rejects_a_split(tmp_path, facet_cli):
+    scene = facet.load_scene_from_string(ts.scene_json(16, 32, 24), name="tiny")
+    with pytest.raises(ValueError, match="not split-invariant"):
+        facet.render(scene, spp=16, samples=(0, 8), denoise=True)
+    path = tmp_path / "tiny.json"
+    path.write_text(ts.scene_json(16, 32, 24))
+    r = subprocess.run([str(facet_cli), "render", str(path), "--denoise", "--samples", "0:8",
+                        "-o", str(tmp_path / "p.fpart")], capture_output=True, text=True)
+    assert r.returncode != 0 and "--denoise" in r.stderr, r.stderr

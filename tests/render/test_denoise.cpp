@@ -1,0 +1,253 @@
+// The denoiser (denoise.h): pass-through of constant and noise-free inputs, edges kept across
+// albedo and normal discontinuities, no NaN/Inf from degenerate inputs, errors naming the
+// argument, determinism over thread counts, and an error reduction on a real render (the
+// Cornell box) against a high-spp reference.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "facet/render/aov.h"
+#include "facet/render/denoise.h"
+#include "facet/render/render.h"
+#include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
+#include "facet/testsupport/render_test_util.h"
+
+using namespace facet;
+using namespace facet::render;
+
+namespace {
+
+const std::string kScenes = FACET_SCENES_DIR;
+
+Image filled(int w, int h, Rgb c) {
+    Image img(w, h);
+    for (Rgb& p : img.pixels()) p = c;
+    return img;
+}
+
+struct Inputs {
+    Image a, b, albedo, normal, depth;
+    DenoiseInput view() const { return {&a, &b, &albedo, &normal, &depth}; }
+};
+
+Inputs constant_inputs(int w, int h, Rgb colour) {
+    return {filled(w, h, colour), filled(w, h, colour), filled(w, h, Rgb(0.5f)),
+            filled(w, h, Rgb(0.f, 0.f, 1.f)), filled(w, h, Rgb(3.f))};
+}
+
+double mse(const Image& x, const Image& ref) {
+    double s = 0.0;
+    for (std::size_t i = 0; i < x.pixels().size(); ++i)
+        for (int c = 0; c < 3; ++c) {
+            const double d = double(x.pixels()[i][c]) - double(ref.pixels()[i][c]);
+            s += d * d;
+        }
+    return s / double(3 * x.pixels().size());
+}
+
+bool all_finite(const Image& img) {
+    for (const Rgb& p : img.pixels())
+        if (!is_finite(p)) return false;
+    return true;
+}
+
+std::string error_of(const DenoiseInput& in, const DenoiseOptions& o = {}) {
+    try {
+        denoise(in, o);
+    } catch (const std::invalid_argument& e) {
+        return e.what();
+    }
+    return "";
+}
+
+// A split scene: the left half albedo `left`, the right half `right` (a sharp albedo edge at
+// x = w / 2), lit evenly (true radiance = albedo), with Gaussian noise of deviation sigma per
+// half-buffer.
+Inputs albedo_edge(int w, int h, Rgb left, Rgb right, float sigma, Image& truth) {
+    Inputs in = constant_inputs(w, h, Rgb(0.f));
+    truth = Image(w, h);
+    std::mt19937 rng(5);
+    std::normal_distribution<float> N(0.f, sigma);
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const Rgb a = x < w / 2 ? left : right;
+            in.albedo.at(x, y) = a;
+            truth.at(x, y) = a;
+            in.a.at(x, y) = a + Rgb(N(rng), N(rng), N(rng));
+            in.b.at(x, y) = a + Rgb(N(rng), N(rng), N(rng));
+        }
+    return in;
+}
+
+// Root-mean-square error over the pixel columns next to x = w / 2 (two on each side).
+double edge_rmse(const Image& x, const Image& truth) {
+    double s = 0.0;
+    int n = 0;
+    for (int y = 0; y < x.height(); ++y)
+        for (int c = x.width() / 2 - 2; c < x.width() / 2 + 2; ++c)
+            for (int k = 0; k < 3; ++k) {
+                const double d = double(x.at(c, y)[k]) - double(truth.at(c, y)[k]);
+                s += d * d;
+                ++n;
+            }
+    return std::sqrt(s / n);
+}
+
+}  // namespace
+
+// Every weight multiplies the same value, so the mean is the value up to float rounding of
+// the normalised sums (1e-5 relative: ~100 float additions of terms near 1).
+TEST(Denoise, ConstantImagePassesThrough) {
+    const Rgb c(0.25f, 1.5f, 40.f);
+    const Inputs in = constant_inputs(37, 23, c);
+    const Image out = denoise(in.view());
+    for (const Rgb& p : out.pixels())
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(p[k], c[k], 1e-5 * c[k]);
+}
+
+// Equal halves mean zero variance: any colour difference then gives a neighbour the weight
+// exp(-d) with d >= (difference^2) / 1e-10, so only neighbours within ~1e-5 of the pixel's own
+// value count; 1e-4 relative allows that and float rounding.
+TEST(Denoise, NoiseFreeRenderPassesThrough) {
+    SceneDescription d = read_scene_description(kScenes + "/cornell_box.json");
+    d.camera.width = 48;
+    d.camera.height = 48;
+    const Scene scene = build_scene(d, "cornell_box.json");
+    RenderSession session(scene, facet::render::testing::test_options("path", 16, 1));
+    session.render();
+    const Image img = session.image();
+    AovOptions ao;
+    ao.which = kAovAlbedo | kAovNormal | kAovDepth;
+    ao.spp = 4;
+    const Aovs f = render_aovs(scene, ao);
+    const DenoiseInput in{&img, &img, &f.albedo, &f.normal, &f.depth};
+    const Image out = denoise(in);
+    for (std::size_t i = 0; i < out.pixels().size(); ++i)
+        for (int k = 0; k < 3; ++k)
+            EXPECT_NEAR(out.pixels()[i][k], img.pixels()[i][k], 1e-4 * img.pixels()[i][k] + 1e-7)
+                << "pixel " << i;
+}
+
+// A sharp albedo edge (0.8 against 0.1) under noise of deviation 0.1 per half: the albedo
+// feature keeps the two sides apart, so the RMSE at the four columns around the edge falls
+// below the noise of the mean of the halves (0.1 / sqrt 2 = 0.071); blurring across the edge
+// would put an error of ~0.35 on those columns. Bound: a third of the raw noise.
+TEST(Denoise, AlbedoEdgeIsKept) {
+    Image truth;
+    const Inputs in = albedo_edge(64, 48, Rgb(0.8f), Rgb(0.1f), 0.1f, truth);
+    const Image out = denoise(in.view());
+    EXPECT_LT(edge_rmse(out, truth), 0.071 / 3.0);
+    EXPECT_LT(mse(out, truth), mse(in.a, truth) / 10.0);  // the flat sides are denoised
+}
+
+// A normal crease: constant albedo, the left half facing +z with radiance 0.6 and the right
+// half facing +x with radiance 0.2 (two faces of a box), the same noise: the normal feature
+// must keep them apart (same bound as above).
+TEST(Denoise, NormalCreaseIsKept) {
+    Image truth;
+    Inputs in = albedo_edge(64, 48, Rgb(0.6f), Rgb(0.2f), 0.1f, truth);
+    for (int y = 0; y < 48; ++y)
+        for (int x = 0; x < 64; ++x) {
+            in.albedo.at(x, y) = Rgb(0.5f);
+            in.normal.at(x, y) = x < 32 ? Rgb(0.f, 0.f, 1.f) : Rgb(1.f, 0.f, 0.f);
+        }
+    const Image out = denoise(in.view());
+    EXPECT_LT(edge_rmse(out, truth), 0.071 / 3.0);
+}
+
+// The test above can fail: without the normal feature (both faces with one normal) the same
+// input blurs across the crease.
+TEST(Denoise, WithoutTheFeatureTheCreaseBlurs) {
+    Image truth;
+    Inputs in = albedo_edge(64, 48, Rgb(0.6f), Rgb(0.2f), 0.1f, truth);
+    for (Rgb& a : in.albedo.pixels()) a = Rgb(0.5f);
+    const Image out = denoise(in.view());
+    EXPECT_GT(edge_rmse(out, truth), 0.071 / 3.0);
+}
+
+// Zero variance, an all-black image, a 1e4 firefly over a dim image, zero albedo and depth at
+// kMissDepth: finite output everywhere, black stays black.
+TEST(Denoise, DegenerateInputsGiveFiniteOutput) {
+    Inputs black = constant_inputs(20, 20, Rgb(0.f));
+    black.albedo = filled(20, 20, Rgb(0.f));
+    black.depth = filled(20, 20, Rgb(kMissDepth));
+    black.normal = filled(20, 20, Rgb(0.f));
+    const Image out = denoise(black.view());
+    for (const Rgb& p : out.pixels()) EXPECT_EQ(p, Rgb(0.f));
+
+    Image truth;
+    Inputs fire = albedo_edge(32, 32, Rgb(0.1f), Rgb(0.1f), 0.05f, truth);
+    fire.a.at(10, 10) = Rgb(1e4f);
+    fire.b.at(20, 5) = Rgb(1e4f, 0.f, 1e3f);
+    fire.depth.at(3, 3) = Rgb(kMissDepth);
+    fire.albedo.at(4, 4) = Rgb(0.f);
+    const Image fo = denoise(fire.view());
+    EXPECT_TRUE(all_finite(fo));
+}
+
+TEST(Denoise, BadInputNamesTheArgument) {
+    Inputs in = constant_inputs(8, 8, Rgb(1.f));
+    Image small = filled(4, 8, Rgb(0.f));
+    DenoiseInput v = in.view();
+    v.normal = &small;
+    EXPECT_NE(error_of(v).find("normal: 4 x 8 pixels, but half_a is 8 x 8"), std::string::npos)
+        << error_of(v);
+    v = in.view();
+    v.depth = nullptr;
+    EXPECT_NE(error_of(v).find("depth: missing"), std::string::npos) << error_of(v);
+    Image empty;
+    v = in.view();
+    v.albedo = &empty;
+    EXPECT_NE(error_of(v).find("albedo: missing"), std::string::npos) << error_of(v);
+    in.b.at(3, 5) = Rgb(0.f, std::nanf(""), 0.f);
+    EXPECT_NE(error_of(in.view()).find("half_b: pixel (3, 5) is not finite"), std::string::npos)
+        << error_of(in.view());
+    in.b.at(3, 5) = Rgb(0.f);
+    DenoiseOptions o;
+    o.radius = 0;
+    EXPECT_NE(error_of(in.view(), o).find("radius: expected 1..20, got 0"), std::string::npos);
+}
+
+TEST(Denoise, SameImageOnOneAndTwoThreads) {
+    Image truth;
+    const Inputs in = albedo_edge(50, 70, Rgb(0.3f, 0.5f, 0.7f), Rgb(0.9f), 0.2f, truth);
+    DenoiseOptions one, two;
+    one.threads = 1;
+    two.threads = 2;
+    EXPECT_EQ(denoise(in.view(), one).pixels(), denoise(in.view(), two).pixels());
+}
+
+// A real render: the Cornell box at 64 x 64. Its 16-spp render denoised has a lower MSE
+// against a 1024-spp reference (path tracing; its own noise is 1/64 of the 16-spp render's
+// variance) than the plain 64-spp render, i.e. the denoiser is worth more than 4x the samples
+// (the benchmark bench/denoise_bench measures the ratio at full size).
+TEST(Denoise, CornellBox16SppDenoisedBeats64SppPlain) {
+    const double scale = facet::render::testing::stress_scale();
+    SceneDescription d = read_scene_description(kScenes + "/cornell_box.json");
+    d.camera.width = 64;
+    d.camera.height = 64;
+    const Scene scene = build_scene(d, "cornell_box.json");
+    const int ref_spp = scale < 1.0 ? 256 : 1024;
+    auto render = [&](int spp, int begin, int end, std::uint64_t seed) {
+        RenderOptions o = facet::render::testing::test_options("path", spp, seed);
+        o.sample_begin = begin;
+        o.sample_end = end;
+        RenderSession s(scene, o);
+        s.render();
+        return s.image();
+    };
+    const Image ref = render(ref_spp, 0, 0, 99);
+    const Image plain64 = render(64, 0, 0, 7);
+    const Image a = render(16, 0, 8, 7), b = render(16, 8, 16, 7);
+    AovOptions ao;
+    ao.which = kAovAlbedo | kAovNormal | kAovDepth;
+    ao.spp = 16;
+    const Aovs f = render_aovs(scene, ao);
+    const Image out = denoise({&a, &b, &f.albedo, &f.normal, &f.depth});
+    const double m_den = mse(out, ref), m64 = mse(plain64, ref);
+    EXPECT_LT(m_den, m64) << "denoised 16 spp " << m_den << ", plain 64 spp " << m64;
+}
