@@ -62,8 +62,6 @@ NODES = {
 }
 
 INPUTS = {
-    ('ShaderNodeBsdfDiffuse', 'Roughness'): (0.0, "Oren-Nayar is not in Facet's core yet; "
-                                                  "converted as Lambert"),
     ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
                                                       "Facet's core; Cycles' diffuse fallback "
                                                       "(base colour mixed with Subsurface "

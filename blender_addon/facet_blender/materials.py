@@ -20,7 +20,7 @@ differences of the conversions below are documented here and in docs/blender.md,
 per material (they would fire on every default material).
 
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar): the core's
-  oren_nayar (sigma = Roughness) when the core has it, else reported and converted as Lambert.
+  oren_nayar (sigma = Roughness, clamped to 1 as Cycles does).
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -524,28 +524,14 @@ def _aniso(alpha, anisotropy):
 
 
 def _diffuse(ctx, node, path):
-    """Lambert; with Roughness > 0, the core's `oren_nayar` with sigma = Roughness (Cycles'
-    Oren-Nayar takes the roughness as its sigma) when the core has that model (issue 23's
-    model; until it lands, Lambert and the report of gaps.INPUTS)."""
+    """Lambert; with Roughness > 0, the core's `oren_nayar` with sigma = Roughness, clamped to 1
+    (Cycles 3.4's Diffuse BSDF: Oren-Nayar with sigma = saturate(Roughness), Lambert at 0)."""
     color = _rgb(ctx.param(node, 'Color', path))
     rough = ctx.value(node, 'Roughness', path)
-    if isinstance(rough, float) and rough > 0.0 and _model_has("oren_nayar", "sigma"):
-        ctx.exact.add((node.name, 'Roughness'))
+    if isinstance(rough, float) and rough > 0.0:
         return {"model": "oren_nayar", "reflectance": color,
                 "sigma": min(rough, 1.0)}, None
     return {"model": "lambert", "reflectance": color}, None
-
-
-_MODEL_PARAMS = {}
-
-
-def _model_has(model, param):
-    """Whether the core's model table (the native module's) has `model` with `param`."""
-    if not _MODEL_PARAMS:
-        from . import native
-        for m in native.models():
-            _MODEL_PARAMS[m["name"]] = {p["name"] for p in m["params"]}
-    return param in _MODEL_PARAMS.get(model, ())
 
 
 def _glossy_model(ctx, node):

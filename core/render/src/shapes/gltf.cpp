@@ -11,15 +11,16 @@
 //    transform is its "matrix" or T * R * S.
 //  - Materials: base colour b, metallic m, roughness r -> composite with
 //    diffuse_reflectance = b (1 - m), a GGX lobe of alpha = r^2, Schlick Fresnel with
-//    f0 = 0.04 (1 - m) + b m (the Blender addon's Principled conversion with Specular 0.5);
+//    f0 = 0.04 (1 - m) + b m (glTF 2.0 spec, Appendix B: F0 = mix(0.04, b, m));
 //    emission = emissiveFactor x KHR_materials_emissive_strength (radiance);
 //    two_sided = doubleSided (and the shape's "two_sided").
 //  - Textures (docs/gltf.md): TEXCOORD_0 as the mesh's uvs, v -> 1 - v; base colour, metallic-
 //    roughness and emissive textures times their factors, with their samplers and
 //    KHR_texture_transform; images from files, .glb buffer views and data: URIs (decoded from
 //    memory by the texture layer); alphaMode MASK / BLEND as the material's opacity.
-//  - Nothing is dropped silently: what is not converted (occlusion textures, other UV sets,
-//    vertex colours, skins, morph targets, animations, cameras, lights, extensions) is reported
+//  - Vertex colours: COLOR_0 multiplies the base colour (glTF 3.9.2).
+//  - Nothing is dropped silently: what is not converted (occlusion textures, other UV and
+//    colour sets, skins, morph targets, animations, cameras, lights, extensions) is reported
 //    once per material or extension as "<file>#<glTF JSON pointer>: ...", a warning of the
 //    build; bad data and unknown required extensions are errors of the same form.
 #define TINYGLTF_NO_STB_IMAGE

@@ -73,8 +73,8 @@ inline double area_lamp_area(bool round, double size, double size_y) {
 
 // Radiance (W sr^-1 m^-2) of Blender's area lamp of power P (W) and area A (area_lamp_area):
 // L = P / (4 A) (Cycles 3.4: eval_fac = 1/4 invarea), so the emitted flux is pi L A = pi P / 4.
-// The Blender addon converts through this function too (the Python module's
-// facet.area_lamp_radiance).
+// The `area` light kind applies it to its `power` (lights/area.cpp), so the Blender addon
+// passes Blender's Power through unchanged and converts nothing itself (units.py).
 inline glm::dvec3 area_lamp_radiance(const glm::dvec3& power, double area) {
     return power / (4.0 * area);
 }
