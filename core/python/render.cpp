@@ -590,7 +590,7 @@ void bind_render(py::module_& m) {
             return image_array(std::move(out));
         },
         py::arg("half_a"), py::arg("half_b"), py::arg("albedo"), py::arg("normal"),
-        py::arg("depth"), py::arg("radius") = 6, py::arg("threads") = 0,
+        py::arg("depth"), py::arg("radius") = 4, py::arg("threads") = 0,
         "The denoised beauty (facet/render/denoise.h) from two half-buffers (renders of the "
         "sample ranges (0, n/2) and (n/2, n)) and render_aovs' albedo, normal and depth, all "
         "float32 (h, w, 3) of one size; ValueError naming the argument for a missing, "

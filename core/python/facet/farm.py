@@ -315,6 +315,14 @@ def chunks(spp: int, chunk: int):
     return [(s, min(s + chunk, spp)) for s in range(0, spp, chunk)]
 
 
+def half_chunks(spp: int, chunk: int | None):
+    """chunks() of each half-buffer, [0, spp/2) and [spp/2, spp): no sample range straddles
+    the halves, so the tiles of each half sum on their own (denoising)."""
+    h = spp // 2
+    return ([(a, b) for a, b in chunks(h, chunk or h)] +
+            [(h + a, h + b) for a, b in chunks(spp - h, chunk or spp - h)])
+
+
 def plan_still(width: int, height: int, spp: int, slots: int, tile_size: int | None = None,
                sample_chunk: int | None = None):
     """(regions, sample ranges) of a still, in the order the tasks are submitted (Dask runs
@@ -396,6 +404,30 @@ def _place(job, part):
     job.image[y0:y1, x0:x1] = part.image()
 
 
+def _place_halves(job, tile):
+    """Pastes a complete tile's two half-buffers (the sums of its parts below and above
+    spp/2) into job.halves."""
+    p = job.payload
+    h = p.spp // 2
+    if job.halves is None:
+        job.halves = [np.zeros((p.height, p.width, 3), dtype=np.float32) for _ in range(2)]
+    x0, y0, x1, y1 = tile[0].region
+    for k, part in enumerate((_sum_parts([t for t in tile if t.samples[1] <= h]),
+                              _sum_parts([t for t in tile if t.samples[0] >= h]))):
+        job.halves[k][y0:y1, x0:x1] = part.image()
+
+
+def _denoised(job):
+    """The merged half-buffers denoised on the client, with the features of the scene at the
+    render's spp and seed: `facet render --denoise`'s image, bit for bit. Denoising runs after
+    the merge because a denoiser is not split-invariant (a pixel's result depends on its
+    neighbours, which another tile may hold)."""
+    p = job.payload
+    scene = _worker_scene(p)
+    f = facet.render_aovs(scene, ["albedo", "normal", "depth"], spp=p.spp, seed=p.seed)
+    return facet.denoise(job.halves[0], job.halves[1], f["albedo"], f["normal"], f["depth"])
+
+
 @dataclasses.dataclass
 class Job:
     """One image: a payload, its pieces and where the merged image goes."""
@@ -407,6 +439,9 @@ class Job:
     label: str = ""
     image: np.ndarray | None = None
     fingerprint: int | None = None  # of the first part (scene + render settings)
+    denoise: bool = False           # samples split at spp/2; halves kept; denoised at the end
+    raw_outputs: list = dataclasses.field(default_factory=list)  # the image before denoising
+    halves: list | None = None      # the two half-buffer images (denoise)
 
     @property
     def tasks(self) -> int:
@@ -504,6 +539,8 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             tile.append(part)
             if len(tile) == len(jobs[j].samples):
                 _place(jobs[j], _sum_parts(tile))
+                if jobs[j].denoise:
+                    _place_halves(jobs[j], tile)
                 del pending[j][r]
                 tiles_left[j] -= 1
             if progress:
@@ -511,6 +548,9 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             if tiles_left[j] == 0:
                 job = jobs[j]
                 tiles_left[j] = -1
+                if job.denoise:
+                    _write(job.image, job.raw_outputs)
+                    job.image, job.halves = _denoised(job), None
                 _write(job.image, job.outputs)
                 if len(jobs) > 1 and job.outputs:
                     job.image = None  # animations: written, dropped
@@ -613,19 +653,26 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
                  tile_size: int | None = None, sample_chunk: int | None = None,
                  spp: int | None = None, seed: int | None = None, workers: int | None = None,
                  threads: int | None = None, task_threads: int = 1, timeout: float = 10.0,
-                 progress: bool | None = None, client=None, stats: dict | None = None):
+                 progress: bool | None = None, client=None, stats: dict | None = None,
+                 denoise: bool = False, denoise_raw: Sequence[str] = ()):
     """Renders scene files (one still, or the frames of an animation) on Dask; see main()."""
     if not scenes:
         raise FarmError("no scene given")
     if not outputs:
         raise FarmError("-o: give at least one output (.exr or .png)")
+    if denoise_raw and not denoise:
+        raise FarmError("--denoise-raw: needs --denoise")
     animation = len(scenes) > 1
-    if animation and not all("#" in o for o in outputs):
+    if animation and not all("#" in o for o in list(outputs) + list(denoise_raw)):
         raise FarmError("-o: an animation needs a frame pattern in every output "
                         "(out/frame_####.exr)")
     t0 = time.monotonic()
     # Validate every scene here first: a bad one is one error, before any cluster starts.
     payloads = [load_payload(s, spp=spp, seed=seed, validate=True) for s in scenes]
+    for payload in payloads:
+        if denoise and payload.spp < 2:
+            raise FarmError(f"{payload.name}: --denoise: needs at least 2 samples per pixel, "
+                            f"got {payload.spp}")
     t_load = time.monotonic()
     cluster = None
     own_client = client is None
@@ -648,9 +695,13 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
             else:
                 regions, samples = plan_still(payload.width, payload.height, payload.spp, slots,
                                               tile_size, sample_chunk)
+            if denoise:
+                samples = half_chunks(payload.spp, sample_chunk)
             number = frame_number(payload.name, k + 1)
-            outs = [frame_outputs(o, number) for o in outputs] if animation else list(outputs)
-            jobs.append(Job(payload, regions, samples, outs, label=str(number)))
+            name = (lambda o: frame_outputs(o, number)) if animation else (lambda o: o)
+            jobs.append(Job(payload, regions, samples, [name(o) for o in outputs],
+                            label=str(number), denoise=denoise,
+                            raw_outputs=[name(o) for o in denoise_raw]))
         total = sum(j.tasks for j in jobs)
         unit = "frames" if animation and total == len(jobs) else "tiles"
         bar = Progress(total, unit, progress)
@@ -693,6 +744,11 @@ def _parser():
                    help="render threads of each task (default 1: one task per core)")
     r.add_argument("--timeout", type=float, default=10.0,
                    help="seconds to wait for the scheduler (default 10)")
+    r.add_argument("--denoise", action="store_true",
+                   help="denoise each image after its tiles are merged (docs/denoise.md): the "
+                   "image of `facet render --denoise`")
+    r.add_argument("--denoise-raw", action="append", default=[],
+                   help="with --denoise: also write the image before denoising; repeatable")
     r.add_argument("--progress", dest="progress", action="store_true", default=None,
                    help="progress bar even when stderr is not a terminal")
     r.add_argument("--no-progress", dest="progress", action="store_false")
@@ -723,7 +779,8 @@ def _main(args) -> int:
                      tile_size=args.tile_size, sample_chunk=args.sample_chunk, spp=args.spp,
                      seed=args.seed, workers=args.workers, threads=args.threads,
                      task_threads=args.task_threads,
-                     timeout=args.timeout, progress=args.progress)
+                     timeout=args.timeout, progress=args.progress, denoise=args.denoise,
+                     denoise_raw=args.denoise_raw)
     except FarmError as e:
         print(f"facet-farm: error: {e}", file=sys.stderr)
         return 1

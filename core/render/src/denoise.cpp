@@ -1,6 +1,8 @@
 // Feature-guided non-local means on two half-buffers (conventions in denoise.h).
 #include "facet/render/denoise.h"
 
+#include "facet/render/aov.h"
+
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
@@ -26,9 +28,12 @@ constexpr float kEpsilon = 1e-10f;
 // Filter strengths k (Rousselle et al. 2012 use 0.45; the stronger one serves flat regions).
 constexpr std::array<float, 2> kStrengths{0.45f, 1.0f};
 constexpr int kCandidates = int(kStrengths.size());
-// Feature bandwidths: albedo and normal absolute (unit normals differ by 0.2 at 11.5 degrees),
-// depth relative to the pixel's own depth.
-constexpr float kAlbedoBandwidth = 0.1f, kNormalBandwidth = 0.2f, kDepthBandwidth = 0.05f;
+// Feature bandwidths: albedo and normal absolute (unit normals differ by 0.2 at 11.5 degrees);
+// inverse depth relative to the pixel's own, after its first-order prediction (see prepare).
+constexpr float kAlbedoBandwidth = 0.1f, kNormalBandwidth = 0.2f, kDepthBandwidth = 0.02f;
+// Ridge on the first-order fit's slopes, relative to the weight sum (a pixel's squared
+// offset; see filter_band).
+constexpr double kRidge = 0.05;
 // Radius of the box over which the candidates' error estimates are averaged.
 constexpr int kErrorRadius = 3;
 // Rows per band (the unit of parallel work and of scratch memory).
@@ -109,14 +114,16 @@ struct Prepared {
     int w, h;
     Planes half;  // 0..2: X_a / m, 3..5: X_b / m
     Planes var;   // 0: V
-    Planes feat;  // 0..2 albedo / s_a, 3..5 normal / s_n, 6 depth, 7 1 / (s_z z)
-    Planes mod;   // 0..2 the albedo divided out (1 where below kMinAlbedo)
+    // 0..2 albedo / s_a, 3..5 normal / s_n, 6 inverse depth u, 7 1 / (s_z u)^2, 8..9 du/dx,
+    // du/dy
+    Planes feat;
+    Planes mod;  // 0..2 the albedo divided out (1 where below kMinAlbedo)
     Prepared(int w_, int h_)
         : w(w_),
           h(h_),
           half(std::size_t(w_) * h_, 6),
           var(std::size_t(w_) * h_, 1),
-          feat(std::size_t(w_) * h_, 8),
+          feat(std::size_t(w_) * h_, 10),
           mod(std::size_t(w_) * h_, 3) {}
 };
 
@@ -140,12 +147,31 @@ void prepare(const DenoiseInput& in, Prepared& p) {
                 p.feat[3 + c][i] = n[c] / kNormalBandwidth;
             }
             raw_var[i] = v / 3.f;
+            // Inverse depth u = 1 / z (0 where nothing is hit): affine in screen position over
+            // a plane seen by a perspective camera, so a plane predicts its neighbours exactly.
             const float z = in.depth->at(x, y).r;
-            p.feat[6][i] = z;
-            const float s = kDepthBandwidth * std::max(std::fabs(z), 1e-6f);
+            const float u = z > 0.f && z < 0.5f * kMissDepth ? 1.f / z : 0.f;
+            p.feat[6][i] = u;
+            const float s = kDepthBandwidth * std::max(u, 1e-12f);
             p.feat[7][i] = 1.f / (s * s);
         }
     box_mean(raw_var.data(), p.var[0], w, h, 1);
+    // du/dx and du/dy: of the two one-sided differences the smaller (a surface's own slope,
+    // not the jump to the surface behind an edge).
+    const float* u = p.feat[6];
+    auto slope = [](float back, float fwd) {
+        return std::fabs(back) < std::fabs(fwd) ? back : fwd;
+    };
+    for (int y = 0; y < h; ++y)
+        for (int x = 0; x < w; ++x) {
+            const std::size_t i = std::size_t(y) * w + x;
+            const float r = x + 1 < w ? u[i + 1] - u[i] : 0.f;
+            const float l = x > 0 ? u[i] - u[i - 1] : r;
+            const float b = y + 1 < h ? u[i + w] - u[i] : 0.f;
+            const float t = y > 0 ? u[i] - u[i - w] : b;
+            p.feat[8][i] = slope(l, x + 1 < w ? r : l);
+            p.feat[9][i] = slope(t, y + 1 < h ? b : t);
+        }
 }
 
 // The filtered halves F_k of one band of rows [y0, y1) into out (planes (half * kCandidates +
@@ -157,8 +183,12 @@ void filter_band(const Prepared& p, int radius, int y0, int y1, Planes& out) {
     const std::size_t ms = std::size_t(mrows) * w, bs = std::size_t(rows) * w;
     // d for each half over the margin rows, then its horizontal and vertical 3-box.
     std::vector<float> d(2 * ms), dh(2 * ms), dp(2 * bs);
-    // Accumulators: weight sums (2 halves x kCandidates) and weighted values (x 3 channels).
-    std::vector<float> wsum(2 * kCandidates * bs, 0.f), vsum(2 * kCandidates * 3 * bs, 0.f);
+    // Accumulators of the weighted first-order fit, per slot (2 halves x kCandidates): the
+    // weight moments sum w (1, dx, dy, dx^2, dy^2, dx dy) and the value moments sum w X_c
+    // (1, dx, dy) per channel.
+    constexpr int kMoments = 6 + 9;
+    std::vector<float> acc(std::size_t(2 * kCandidates * kMoments) * bs, 0.f);
+    std::vector<float> wf_row(static_cast<std::size_t>(w), 0.f);
     float inv_k2[kCandidates];
     for (int k = 0; k < kCandidates; ++k) inv_k2[k] = 1.f / (kStrengths[k] * kStrengths[k]);
     const float* V = p.var[0];
@@ -184,7 +214,7 @@ void filter_band(const Prepared& p, int radius, int y0, int y1, Planes& out) {
                         const float a = X0[x] - Q0[qx], b = X1[x] - Q1[qx], c = X2[x] - Q2[qx];
                         const float vp = Vp[x], vq = Vq[qx];
                         D[x] = ((a * a + b * b + c * c) * (1.f / 3.f) - (vp + std::min(vp, vq))) /
-                               (kEpsilon + vp + vq);
+                               (kEpsilon + vp + std::min(vp, vq));
                     }
                 }
             }
@@ -214,58 +244,93 @@ void filter_band(const Prepared& p, int radius, int y0, int y1, Planes& out) {
                 }
             }
             // Weights and sums for the pixels whose neighbour lies inside the image.
+            const float fdx = float(dx), fdy = float(dy);
             const int x_lo = std::max(0, -dx), x_hi = std::min(w, w - dx);
             for (int y = y0; y < y1; ++y) {
                 const int qy = y + dy;
                 if (qy < 0 || qy >= h) continue;
                 const std::size_t row = std::size_t(y) * w, qrow = std::size_t(qy) * w + dx;
                 const std::size_t brow = std::size_t(y - y0) * w;
-                const float* F[8];
+                const float* F[10];
                 const float* G[7];
-                for (int f = 0; f < 8; ++f) F[f] = p.feat[f] + row;
+                for (int f = 0; f < 10; ++f) F[f] = p.feat[f] + row;
                 for (int f = 0; f < 7; ++f) G[f] = p.feat[f] + qrow;
+                float* WF = wf_row.data();
+#pragma GCC ivdep
+                for (int x = x_lo; x < x_hi; ++x) {
+                    float f = 0.f;
+                    for (int c = 0; c < 6; ++c) {
+                        const float e = F[c][x] - G[c][x];
+                        f += e * e;
+                    }
+                    const float ez = G[6][x] - F[6][x] - F[8][x] * fdx - F[9][x] * fdy;
+                    f += ez * ez * F[7][x];
+                    WF[x] = exp_neg(-f);
+                }
                 for (int hh = 0; hh < 2; ++hh) {
                     const float* P = dp.data() + hh * bs + brow;
                     const float* Q0 = p.half[3 * hh] + qrow;
                     const float* Q1 = p.half[3 * hh + 1] + qrow;
                     const float* Q2 = p.half[3 * hh + 2] + qrow;
                     for (int k = 0; k < kCandidates; ++k) {
-                        const int slot = hh * kCandidates + k;
-                        float* W = wsum.data() + slot * bs + brow;
-                        float* S0 = vsum.data() + (3 * slot) * bs + brow;
-                        float* S1 = vsum.data() + (3 * slot + 1) * bs + brow;
-                        float* S2 = vsum.data() + (3 * slot + 2) * bs + brow;
+                        float* A =
+                            acc.data() + std::size_t((hh * kCandidates + k) * kMoments) * bs + brow;
+                        float* M[kMoments];
+                        for (int m = 0; m < kMoments; ++m) M[m] = A + std::size_t(m) * bs;
                         const float ik = inv_k2[k];
 #pragma GCC ivdep
                         for (int x = x_lo; x < x_hi; ++x) {
-                            float f = 0.f;
-                            for (int c = 0; c < 6; ++c) {
-                                const float e = F[c][x] - G[c][x];
-                                f += e * e;
-                            }
-                            const float ez = F[6][x] - G[6][x];
-                            f += ez * ez * F[7][x];
-                            const float wf = exp_neg(-f);
                             const float wc = exp_neg(-std::max(0.f, P[x]) * ik);
-                            const float wt = std::min(wc, wf);
-                            W[x] += wt;
-                            S0[x] += wt * Q0[x];
-                            S1[x] += wt * Q1[x];
-                            S2[x] += wt * Q2[x];
+                            const float wt = std::min(wc, WF[x]);
+                            const float wx = wt * fdx, wy = wt * fdy;
+                            M[0][x] += wt;
+                            M[1][x] += wx;
+                            M[2][x] += wy;
+                            M[3][x] += wx * fdx;
+                            M[4][x] += wy * fdy;
+                            M[5][x] += wx * fdy;
+                            const float q0 = Q0[x], q1 = Q1[x], q2 = Q2[x];
+                            M[6][x] += wt * q0;
+                            M[7][x] += wx * q0;
+                            M[8][x] += wy * q0;
+                            M[9][x] += wt * q1;
+                            M[10][x] += wx * q1;
+                            M[11][x] += wy * q1;
+                            M[12][x] += wt * q2;
+                            M[13][x] += wx * q2;
+                            M[14][x] += wy * q2;
                         }
                     }
                 }
             }
         }
-    for (int slot = 0; slot < 2 * kCandidates; ++slot)
+    // The fit's value at the pixel: the constant of the weighted least-squares plane
+    // c + a dx + b dy through the neighbours (first-order regression in screen space, which
+    // follows a gradient of the lighting without the bias a weighted mean has where the
+    // weights are lopsided). The slopes get a small ridge (kRidge times the weight sum) so that
+    // a neighbourhood on a line stays solvable; the centre's own weight is 1 (f = 0, d <= 0),
+    // so the weight sum is at least 1.
+    for (int slot = 0; slot < 2 * kCandidates; ++slot) {
+        const float* A = acc.data() + std::size_t(slot * kMoments) * bs;
         for (int y = y0; y < y1; ++y)
             for (int x = 0; x < w; ++x) {
                 const std::size_t b = std::size_t(y - y0) * w + x, i = std::size_t(y) * w + x;
-                // The centre's own weight is 1 (f = 0, d <= 0), so the sum is positive.
-                const float inv = 1.f / wsum[slot * bs + b];
-                for (int c = 0; c < 3; ++c)
-                    out[3 * slot + c][i] = vsum[(3 * slot + c) * bs + b] * inv;
+                auto m = [&](int k) { return double(A[std::size_t(k) * bs + b]); };
+                const double s0 = m(0), sx = m(1), sy = m(2);
+                const double sxx = m(3) + kRidge * s0, syy = m(4) + kRidge * s0, sxy = m(5);
+                // First row of the inverse of [[s0 sx sy] [sx sxx sxy] [sy sxy syy]].
+                const double c0 = sxx * syy - sxy * sxy, c1 = sy * sxy - sx * syy,
+                             c2 = sx * sxy - sy * sxx;
+                const double det = s0 * c0 + sx * c1 + sy * c2;
+                for (int c = 0; c < 3; ++c) {
+                    const double v0 = m(6 + 3 * c), vx = m(7 + 3 * c), vy = m(8 + 3 * c);
+                    const double fit = det > 1e-9 * s0 * c0 && c0 > 0.0
+                                           ? (c0 * v0 + c1 * vx + c2 * vy) / det
+                                           : v0 / s0;
+                    out[3 * slot + c][i] = float(fit);
+                }
             }
+    }
 }
 
 template <class F>
@@ -364,7 +429,7 @@ DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
                                     std::to_string(rs.spp));
     DenoisedRender out;
     std::vector<RenderPart> halves;
-    for (const auto [begin, end] : {std::pair{0, rs.spp / 2}, std::pair{rs.spp / 2, rs.spp}}) {
+    for (const auto& [begin, end] : {std::pair{0, rs.spp / 2}, std::pair{rs.spp / 2, rs.spp}}) {
         RenderOptions h = options;
         h.spp = rs.spp;
         h.sample_begin = begin;

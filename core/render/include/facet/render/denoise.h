@@ -20,19 +20,26 @@
 //      V(p)        the variance of one half's value, (X - Y)^2 / 2 averaged over channels and
 //                  over a 3 x 3 box;
 //      d(p, q)     = mean over channels of ((X_p - X_q)^2 - (V_p + min(V_p, V_q))) /
-//                    (kEpsilon + V_p + V_q), averaged over 3 x 3 patches around p and q
+//                    (kEpsilon + V_p + min(V_p, V_q)), averaged over 3 x 3 patches around p
+//                  and q (a bright outlier q, of large V_q, does not pass for p's neighbour)
 //                  (non-local means with variance cancellation, Rousselle et al. 2012);
-//      f(p, q)     = |a_p - a_q|^2 / s_a^2 + |n_p - n_q|^2 / s_n^2 + (z_p - z_q)^2 / (s_z z_p)^2
-//                  over albedo a, normal n and depth z (bandwidths in denoise.cpp);
-//      w_k(p, q)   = min(exp(-max(0, d) / k^2), exp(-f)) over the (2r + 1)^2 window;
-//      F_k(p)      = sum_q w_k X_q / sum_q w_k for the strengths k of kStrengths (denoise.cpp);
-//      E_k(p)      = (F_k(p) - Y_p)^2 - V_p, an unbiased estimate of F_k's squared error (Y is
-//                  independent of X), averaged over a (2 * kErrorRadius + 1)^2 box.
+//      f(p, q)     = |a_p - a_q|^2 / s_a^2 + |n_p - n_q|^2 / s_n^2 + r^2 / (s_u u_p)^2 over
+//                  albedo a, normal n and inverse depth u = 1 / z, with r = u_q - u_p - (du/dx,
+//                  du/dy) . (q - p) the miss of u's first-order prediction (0 on a plane);
+//                  bandwidths in denoise.cpp;
+//      w_k(p, q)   = min(exp(-max(0, d) / k^2), exp(-f)) over the (2 radius + 1)^2 window;
+//      F_k(p)      the value at p of the plane c + a dx + b dy fitted to the neighbours' X_q
+//                  by least squares with weights w_k (first-order regression in screen space,
+//                  as NFOR fits in feature space: it follows lighting gradients without the
+//                  bias of a weighted mean), for the strengths k of kStrengths (denoise.cpp);
+//      E_k(p)      = (F_k(p) - Y_p)^2, which estimates F_k's squared error up to the same
+//                  constant Var(Y_p) for every k (Y is independent of X), averaged over a
+//                  (2 kErrorRadius + 1)^2 box.
 //    Each pixel keeps the F_k of least E_k; the output is the mean of the two halves' choices,
 //    times the albedo divided out.
 //  - Deterministic: every output pixel is a fixed function of the inputs, whatever the thread
 //    count. Working memory: the planar copies of the inputs and results, about 100 bytes per
-//    pixel, plus per band of kBandRows rows a few rows of scratch.
+//    pixel, plus per band of kBandRows rows about 60 floats per pixel of the band.
 #pragma once
 
 #include "facet/render/aov.h"
@@ -42,7 +49,7 @@
 namespace facet::render {
 
 struct DenoiseOptions {
-    int radius = 6;   // search window (2 radius + 1)^2, 1..20
+    int radius = 4;   // search window (2 radius + 1)^2, 1..20
     int threads = 0;  // 0 = every hardware thread
 };
 
