@@ -526,11 +526,20 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     seen = {}  # (object name, geometry, is instance) -> (_Placed, shape name)
     empty = []  # objects whose own mesh is empty (reported unless they place instances)
     instancers = set()
+    # Settings and object flags that change Cycles' image and are not converted (gaps.py).
+    view_layer = depsgraph.view_layer
+    problems.extend(gaps.scene_lines(scene, view_layer))
+    flagged = set()  # objects whose flags, type and particle hair were reported
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
         if inst.is_instance and inst.parent is not None:
             instancers.add(inst.parent.original.name)
+        if obj.original.name not in flagged:
+            # The original's settings: an evaluated copy made before a Python property (such
+            # as object.cycles') changed keeps the old value until the object is re-evaluated.
+            flagged.add(obj.original.name)
+            problems.extend(gaps.object_lines(obj.original, view_layer))
         if obj.type == 'LIGHT':
             orig = obj.original
             stored = None if inst.is_instance else _stored(orig, "facet_light",
