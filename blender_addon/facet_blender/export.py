@@ -485,6 +485,68 @@ def _area_light(obj, lt, m, pos, problems):
     return out
 
 
+class ClipCheck:
+    """Whether the scene camera's Clip Start or Clip End cuts an exported object off
+    (gaps.CLIP_START, gaps.CLIP_END): add() each placement's bounding box, lines() after, in
+    one numpy pass over every placement. Cycles clips at two planes along the view axis, for
+    perspective cameras too (kernel/camera/camera.h: the ray starts at depth clip_start and
+    ends at depth clip_end), and a box's extreme depths are at its corners."""
+
+    def __init__(self, cam_obj):
+        c = cam_obj.data
+        m = cam_obj.matrix_world
+        self.name = cam_obj.name
+        self.pos = np.array([m[i][3] for i in range(3)])
+        fwd = np.array([-m[i][2] for i in range(3)])
+        self.fwd = fwd / np.linalg.norm(fwd)
+        self.start, self.end = float(c.clip_start), float(c.clip_end)
+        self.corners = {}  # geometry key -> (8, 3) local bounding box corners
+        self.placed = []  # (geometry key, object name, 4x4 matrix)
+
+    def add(self, obj, matrix, key):
+        """A placement of `obj`'s geometry (`key`: the same for the same geometry). A mesh
+        object's box is its bound_box; other types' come from their exported arrays (points()):
+        Blender 3.4 leaks the box it allocates for the bound_box of the evaluated mesh a curve,
+        surface, metaball or text object becomes."""
+        if key not in self.corners and obj.original.type == 'MESH':
+            self.corners[key] = np.array([tuple(v) for v in obj.bound_box], np.float64)
+        self.placed.append((key, obj.original.name, np.array(matrix, np.float64)))
+
+    def points(self, key, arrays):
+        """The box of the exported vertices (a MeshArrays or None) of a non-mesh geometry."""
+        if key in self.corners or arrays is None or not len(arrays.positions):
+            return
+        lo, hi = arrays.positions.min(axis=0), arrays.positions.max(axis=0)
+        self.corners[key] = np.array([[(lo, hi)[(i >> a) & 1][a] for a in range(3)]
+                                      for i in range(8)], np.float64)
+
+    def lines(self):
+        placed = [p for p in self.placed if p[0] in self.corners]
+        if not placed:
+            return []
+        corners = np.stack([self.corners[k] for k, _, _ in placed])  # (n, 8, 3)
+        mats = np.stack([m for _, _, m in placed])  # (n, 4, 4)
+        world = np.einsum("nij,nkj->nki", mats[:, :3, :3], corners) + mats[:, None, :3, 3]
+        rel = world - self.pos
+        depth = rel @ self.fwd  # (n, 8)
+        seen = depth.max(axis=1) > 0.0  # not wholly behind the camera
+        far, near = depth.max(axis=1), np.maximum(depth.min(axis=1), 0.0)
+        out = []
+        far = np.where(seen, far, -np.inf)
+        i = int(np.argmax(far))
+        if far[i] > self.end:
+            out.append(self._line(gaps.CLIP_END, self.end, placed[i][1], far[i]))
+        near = np.where(seen, near, np.inf)
+        i = int(np.argmin(near))
+        if self.start > gaps.CLIP_START_FACTORY * (1.0 + 1e-6) and near[i] < self.start:
+            out.append(self._line(gaps.CLIP_START, self.start, placed[i][1], near[i]))
+        return out
+
+    def _line(self, entry, value, name, reach):
+        return ("camera '%s': %s = %.4g: %s (object '%s' reaches %.4g)"
+                % (self.name, entry[0], value, entry[1], name, reach))
+
+
 class _Placed:
     """One mesh (one evaluated geometry with one set of materials) and its placements: the
     shapes of its material slots in object space, and (transform rows, name) per placement."""
@@ -530,6 +592,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     view_layer = depsgraph.view_layer
     problems.extend(gaps.scene_lines(scene, view_layer))
     flagged = set()  # objects whose flags, type and particle hair were reported
+    # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
+    clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
+        scene.camera.type == 'CAMERA' else None
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
@@ -558,6 +623,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             continue
         orig = obj.original
         data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
+        clip_key = data_ptr or (orig.name, inst.is_instance)
+        if clip is not None:
+            clip.add(obj, matrix, clip_key)
         again = seen.get((orig.name, data_ptr, inst.is_instance)) if data_ptr else None
         if again is not None:
             # Another placement of an object converted above (same object, same geometry:
@@ -608,6 +676,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 hooks.export_stats["meshes"] += 1
             rec = placed[gkey] = _placed_mesh(mesh_cache[key], obj, slots, uv_layer, mats,
                                                problems)
+            if clip is not None and orig.type != 'MESH':
+                clip.points(clip_key, mesh_cache[key])
         if data_ptr:
             seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
         if not rec.templates:
@@ -616,6 +686,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             continue
         rec.placements.append((_placement(matrix), name))
         order.append(rec)
+    if clip is not None:
+        problems.extend(clip.lines())
     # An instancer's own geometry may be empty (geometry nodes outputting only instances).
     problems.extend("object '%s': empty mesh (no faces); skipped" % name for name in empty
                     if name not in instancers)

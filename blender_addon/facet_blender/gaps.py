@@ -603,6 +603,14 @@ def object_lines(obj, view_layer):
     return lines
 
 
+# The scene camera's clipping (export.py, ClipCheck): Facet's camera clips nothing. A line when
+# an exported object's bounding box reaches past Clip End, or nearer than a Clip Start raised
+# above Blender's factory 0.1, along the view axis (where Cycles' clipping planes are).
+CLIP_START_FACTORY = 0.1
+CLIP_END = ("Clip End", "Cycles cuts off what lies farther; Facet's camera does not clip")
+CLIP_START = ("Clip Start", "Cycles cuts off what lies nearer; Facet's camera does not clip")
+
+
 # Whole families of the same structs that do not change the image, by path prefix.
 UNCHANGED_PREFIXES = {
     "render.use_stamp": OUTPUT, "render.bake_": BAKE, "render.use_bake_": BAKE,

@@ -403,10 +403,47 @@ def case_object_flags():
              "an object only transmission rays see: not exported, one line: %s" % lines)
 
 
+def case_camera_clip():
+    """The scene camera's Clip Start / Clip End (planes along the view axis, as Cycles clips):
+    reported when they cut the cube off. The factory camera looks at the origin (11.26 away)
+    along about (-0.654, 0.615, -0.440), so the cube's (+-1) corners lie at depths 11.26 -+
+    1.71: 9.55 to 12.97."""
+    fresh()
+    cam = bpy.data.objects["Camera"].data
+
+    def clip_lines():
+        return [p for p in export()[1] if p.startswith("camera 'Camera'")]
+    bt.check(not clip_lines(), "the factory clipping (0.1, 100) gives no line")
+    for start, end, want in ((0.1, 13.5, None), (0.1, 12.5, "Clip End = 12.5"),
+                             (9.4, 100.0, None), (9.7, 100.0, "Clip Start = 9.7")):
+        cam.clip_start, cam.clip_end = start, end
+        lines = clip_lines()
+        if want is None:
+            bt.check(not lines, "clip %g..%g cuts nothing off: no line: %s" % (start, end, lines))
+        else:
+            bt.check(len(lines) == 1 and want in lines[0] and "object 'Cube'" in lines[0],
+                     "clip %g..%g cuts the cube: '%s': %s" % (start, end, want, lines))
+    # A text object (its box from the exported vertices, not bound_box) 40 further along the
+    # view axis: cut off by Clip End 30, which leaves the cube whole.
+    fwd = -bpy.data.objects["Camera"].matrix_world.col[2].xyz.normalized()
+    _op(lambda: bpy.ops.object.text_add(location=tuple(40.0 * fwd)))
+    bpy.context.active_object.name = "Far"
+    cam.clip_start, cam.clip_end = 0.1, 30.0
+    lines = clip_lines()
+    bt.check(len(lines) == 1 and "object 'Far'" in lines[0], "a far text object: %s" % lines)
+    bpy.data.objects.remove(bpy.data.objects["Far"])
+    cam.type = 'ORTHO'  # the same planes
+    cam.clip_start, cam.clip_end = 0.1, 12.9
+    lines = clip_lines()
+    bt.check(len(lines) == 1 and "Clip End = 12.9" in lines[0], "orthographic: %s" % lines)
+    cam.clip_end = 13.0
+    bt.check(not clip_lines(), "orthographic, the cube within 13: no line: %s" % clip_lines())
+
+
 def main():
     bt.enable_addon()
     for case in (case_object_types, case_particle_hair, case_volume_material, case_settings,
-                 case_object_flags):
+                 case_object_flags, case_camera_clip):
         print("--", case.__name__)
         case()
 
