@@ -487,50 +487,56 @@ def _area_light(obj, lt, m, pos, problems):
 
 class ClipCheck:
     """Whether the scene camera's Clip Start or Clip End cuts an exported object off
-    (gaps.CLIP_START, gaps.CLIP_END): add() each placement's bounding box, lines() after, in
-    one numpy pass over every placement. Cycles clips at two planes along the view axis, for
-    perspective cameras too (kernel/camera/camera.h: the ray starts at depth clip_start and
-    ends at depth clip_end), and a box's extreme depths are at its corners."""
+    (gaps.CLIP_START, gaps.CLIP_END): add() each placement, lines() after, in one numpy pass.
+    Cycles clips at two planes along the view axis, for perspective cameras too
+    (kernel/camera/camera.h: the ray starts at depth clip_start and ends at depth clip_end).
+    A placement's depths are d(x) = f . (M x + t - p) for x in its local bounding box (centre
+    c, half extents h), so with w = M^T f they span w . c + f . (t - p) -+ |w| . h."""
 
     def __init__(self, cam_obj):
+        from mathutils import Vector
         c = cam_obj.data
         m = cam_obj.matrix_world
         self.name = cam_obj.name
-        self.pos = np.array([m[i][3] for i in range(3)])
-        fwd = np.array([-m[i][2] for i in range(3)])
-        self.fwd = fwd / np.linalg.norm(fwd)
+        self.fwd = Vector([-m[i][2] for i in range(3)]).normalized()
+        self.base = self.fwd.dot(m.translation)
         self.start, self.end = float(c.clip_start), float(c.clip_end)
-        self.corners = {}  # geometry key -> (8, 3) local bounding box corners
-        self.placed = []  # (geometry key, object name, 4x4 matrix)
+        self.boxes = {}  # geometry key -> (centre, half extents) of its local bounding box
+        self.placed = []  # (geometry key, object name, w, f . t - f . p)
 
     def add(self, obj, matrix, key):
         """A placement of `obj`'s geometry (`key`: the same for the same geometry). A mesh
         object's box is its bound_box; other types' come from their exported arrays (points()):
         Blender 3.4 leaks the box it allocates for the bound_box of the evaluated mesh a curve,
         surface, metaball or text object becomes."""
-        if key not in self.corners and obj.original.type == 'MESH':
-            self.corners[key] = np.array([tuple(v) for v in obj.bound_box], np.float64)
-        self.placed.append((key, obj.original.name, np.array(matrix, np.float64)))
+        if key not in self.boxes and obj.original.type == 'MESH':
+            corners = np.array([tuple(v) for v in obj.bound_box], np.float64)
+            self._box(key, corners.min(axis=0), corners.max(axis=0))
+        w = self.fwd @ matrix.to_3x3()  # the row vector f^T M = (M^T f)^T
+        self.placed.append((key, obj.original.name, tuple(w),
+                            self.fwd.dot(matrix.translation) - self.base))
 
     def points(self, key, arrays):
         """The box of the exported vertices (a MeshArrays or None) of a non-mesh geometry."""
-        if key in self.corners or arrays is None or not len(arrays.positions):
+        if key in self.boxes or arrays is None or not len(arrays.positions):
             return
-        lo, hi = arrays.positions.min(axis=0), arrays.positions.max(axis=0)
-        self.corners[key] = np.array([[(lo, hi)[(i >> a) & 1][a] for a in range(3)]
-                                      for i in range(8)], np.float64)
+        self._box(key, arrays.positions.min(axis=0), arrays.positions.max(axis=0))
+
+    def _box(self, key, lo, hi):
+        lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+        self.boxes[key] = (0.5 * (lo + hi), 0.5 * (hi - lo))
 
     def lines(self):
-        placed = [p for p in self.placed if p[0] in self.corners]
+        placed = [p for p in self.placed if p[0] in self.boxes]
         if not placed:
             return []
-        corners = np.stack([self.corners[k] for k, _, _ in placed])  # (n, 8, 3)
-        mats = np.stack([m for _, _, m in placed])  # (n, 4, 4)
-        world = np.einsum("nij,nkj->nki", mats[:, :3, :3], corners) + mats[:, None, :3, 3]
-        rel = world - self.pos
-        depth = rel @ self.fwd  # (n, 8)
-        seen = depth.max(axis=1) > 0.0  # not wholly behind the camera
-        far, near = depth.max(axis=1), np.maximum(depth.min(axis=1), 0.0)
+        centre = np.array([self.boxes[p[0]][0] for p in placed])  # (n, 3)
+        half = np.array([self.boxes[p[0]][1] for p in placed])
+        w = np.array([p[2] for p in placed])
+        mid = (w * centre).sum(axis=1) + np.array([p[3] for p in placed])
+        reach = (np.abs(w) * half).sum(axis=1)
+        far, near = mid + reach, np.maximum(mid - reach, 0.0)
+        seen = far > 0.0  # not wholly behind the camera
         out = []
         far = np.where(seen, far, -np.inf)
         i = int(np.argmax(far))
