@@ -15,9 +15,12 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
   are not converted: (path, Blender's label, the quiet values, what Facet does). Away from
   every quiet value (Blender's factory value, and the value Facet renders as Cycles does when
   there is one) the setting gives a report line.
-- CONVERTED and UNCHANGED: the other settings of the same structs, each with where it is
-  converted or why it does not change the image; tests/blender/test_silent_drops.py walks
-  Blender's properties and fails on one in none of these tables.
+- CONVERTED and UNCHANGED (UNCHANGED_PREFIXES): the other settings of the same structs, each
+  with where it is converted or why it does not change the image;
+  tests/blender/test_silent_drops.py walks Blender's properties and fails on one in none of
+  these tables (classify()).
+- CLIP_START, CLIP_END: the scene camera's clipping when it cuts an exported object off
+  (export.ClipCheck).
 """
 
 # Any other node, or a node nodevalues.py could not evaluate (an unknown mode, a math domain
@@ -568,7 +571,7 @@ def object_lines(obj, view_layer):
     if obj.type == 'LIGHT':
         return _flag_lines(obj, LAMP_FLAGS, "light '%s'" % obj.name)
     lines = []
-    if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):
+    if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):  # export.GEOMETRY_TYPES
         if obj.type in OBJECT_TYPES:
             what = OBJECT_TYPES[obj.type]
         else:
