@@ -611,6 +611,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             # as object.cycles') changed keeps the old value until the object is re-evaluated.
             flagged.add(obj.original.name)
             problems.extend(gaps.object_lines(obj.original, view_layer))
+        if obj.type != obj.original.type and (obj.original.name, obj.type) not in flagged:
+            # A component of another type in an object's evaluated geometry (geometry nodes'
+            # Mesh to Points, Mesh to Volume, ...), placed as an instance of that type.
+            flagged.add((obj.original.name, obj.type))
+            problems.extend(gaps.component_lines(obj, view_layer))
         if obj.type == 'LIGHT':
             orig = obj.original
             stored = None if inst.is_instance else _stored(orig, "facet_light",

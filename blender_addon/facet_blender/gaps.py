@@ -606,6 +606,19 @@ def object_lines(obj, view_layer):
     return lines
 
 
+def component_lines(obj, view_layer):
+    """Report lines for an evaluated geometry component whose type differs from its object's
+    (a point cloud or volume made by geometry nodes from a mesh, ...): OBJECT_TYPES' line for
+    its type, naming the object."""
+    what = OBJECT_TYPES.get(obj.type, UNKNOWN_TYPE % obj.type) \
+        if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT', 'LIGHT') else None
+    if what is None or (obj.type == 'CURVES' and not view_layer.use_strand) or (
+            obj.type == 'VOLUME' and not view_layer.use_volumes):
+        return []
+    return ["object '%s': its evaluated geometry has a %s component (geometry nodes): %s"
+            % (obj.original.name, obj.type.lower().replace("pointcloud", "point cloud"), what)]
+
+
 # The scene camera's clipping (export.py, ClipCheck): Facet's camera clips nothing. A line when
 # an exported object's bounding box reaches past Clip End, or nearer than a Clip Start raised
 # above Blender's factory 0.1, along the view axis (where Cycles' clipping planes are).

@@ -193,6 +193,29 @@ def case_object_types():
     bt.check("FUTURE" in gaps.UNKNOWN_TYPE % "FUTURE", "the generic line names the type")
 
 
+def case_components():
+    """Geometry nodes turning the cube into points or a volume: the component is named."""
+    fresh()
+    cube = bpy.data.objects["Cube"]
+    ng = bpy.data.node_groups.new("gn", 'GeometryNodeTree')
+    ng.inputs.new('NodeSocketGeometry', 'Geometry')
+    ng.outputs.new('NodeSocketGeometry', 'Geometry')
+    gi, go = ng.nodes.new('NodeGroupInput'), ng.nodes.new('NodeGroupOutput')
+    cube.modifiers.new("gn", 'NODES').node_group = ng
+    for kind, want in (('GeometryNodeMeshToPoints', "a pointcloud component"),
+                       ('GeometryNodeMeshToVolume', "a volume component")):
+        for n in [n for n in ng.nodes if n not in (gi, go)]:
+            ng.nodes.remove(n)
+        n = ng.nodes.new(kind)
+        ng.links.new(gi.outputs[0], n.inputs[0])
+        ng.links.new(n.outputs[0], go.inputs[0])
+        _, problems = export()
+        lines = [p for p in problems if p.startswith("object 'Cube'") and "component" in p]
+        want = want.replace("pointcloud", "point cloud")
+        bt.check(len(lines) == 1 and want in lines[0] and "not in Facet's core" in lines[0],
+                 "%s: the component is reported: %s" % (kind, lines))
+
+
 def _mesh():
     me = bpy.data.meshes.new("x")
     me.from_pydata([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [], [(0, 1, 2)])
@@ -443,7 +466,7 @@ def case_camera_clip():
 def main():
     bt.enable_addon()
     for case in (case_object_types, case_particle_hair, case_volume_material, case_settings,
-                 case_object_flags, case_camera_clip):
+                 case_object_flags, case_camera_clip, case_components):
         print("--", case.__name__)
         case()
 
