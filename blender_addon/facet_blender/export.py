@@ -485,6 +485,74 @@ def _area_light(obj, lt, m, pos, problems):
     return out
 
 
+class ClipCheck:
+    """Whether the scene camera's Clip Start or Clip End cuts an exported object off
+    (gaps.CLIP_START, gaps.CLIP_END): add() each placement, lines() after, in one numpy pass.
+    Cycles clips at two planes along the view axis, for perspective cameras too
+    (kernel/camera/camera.h: the ray starts at depth clip_start and ends at depth clip_end).
+    A placement's depths are d(x) = f . (M x + t - p) for x in its local bounding box (centre
+    c, half extents h), so with w = M^T f they span w . c + f . (t - p) -+ |w| . h."""
+
+    def __init__(self, cam_obj):
+        from mathutils import Vector
+        c = cam_obj.data
+        m = cam_obj.matrix_world
+        self.name = cam_obj.name
+        self.fwd = Vector([-m[i][2] for i in range(3)]).normalized()
+        self.base = self.fwd.dot(m.translation)
+        self.start, self.end = float(c.clip_start), float(c.clip_end)
+        self.boxes = {}  # geometry key -> (centre, half extents) of its local bounding box
+        self.placed = []  # (geometry key, object name, w, f . t - f . p)
+
+    def add(self, obj, matrix, key):
+        """A placement of `obj`'s geometry (`key`: the same for the same geometry). A mesh
+        object's box is its bound_box; other types' come from their exported arrays (points()):
+        Blender 3.4 leaks the box it allocates for the bound_box of the evaluated mesh a curve,
+        surface, metaball or text object becomes."""
+        if key not in self.boxes and obj.original.type == 'MESH':
+            corners = np.array([tuple(v) for v in obj.bound_box], np.float64)
+            self._box(key, corners.min(axis=0), corners.max(axis=0))
+        w = self.fwd @ matrix.to_3x3()  # the row vector f^T M = (M^T f)^T
+        self.placed.append((key, obj.original.name, tuple(w),
+                            self.fwd.dot(matrix.translation) - self.base))
+
+    def points(self, key, arrays):
+        """The box of the exported vertices (a MeshArrays or None) of a non-mesh geometry."""
+        if key in self.boxes or arrays is None or not len(arrays.positions):
+            return
+        self._box(key, arrays.positions.min(axis=0), arrays.positions.max(axis=0))
+
+    def _box(self, key, lo, hi):
+        lo, hi = np.asarray(lo, np.float64), np.asarray(hi, np.float64)
+        self.boxes[key] = (0.5 * (lo + hi), 0.5 * (hi - lo))
+
+    def lines(self):
+        placed = [p for p in self.placed if p[0] in self.boxes]
+        if not placed:
+            return []
+        centre = np.array([self.boxes[p[0]][0] for p in placed])  # (n, 3)
+        half = np.array([self.boxes[p[0]][1] for p in placed])
+        w = np.array([p[2] for p in placed])
+        mid = (w * centre).sum(axis=1) + np.array([p[3] for p in placed])
+        reach = (np.abs(w) * half).sum(axis=1)
+        far, near = mid + reach, np.maximum(mid - reach, 0.0)
+        seen = far > 0.0  # not wholly behind the camera
+        out = []
+        far = np.where(seen, far, -np.inf)
+        i = int(np.argmax(far))
+        if far[i] > self.end:
+            out.append(self._line(gaps.CLIP_END, self.end, placed[i][1], far[i]))
+        near = np.where(seen, near, np.inf)
+        i = int(np.argmin(near))
+        if self.start > gaps.CLIP_START_FACTORY * (1.0 + 1e-6) and near[i] < self.start:
+            out.append(self._line(gaps.CLIP_START, self.start, placed[i][1], near[i]))
+        return out
+
+    def _line(self, entry, value, name, reach):
+        return ("camera '%s': %s = %.4g: %s (object '%s' reaches %.4g)"
+                % (self.name, entry[0], value, entry[1], name, reach))
+
+
 class _Placed:
     """One mesh (one evaluated geometry with one set of materials) and its placements: the
     shapes of its material slots in object space, and (transform rows, name) per placement."""
@@ -526,11 +594,28 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     seen = {}  # (object name, geometry, is instance) -> (_Placed, shape name)
     empty = []  # objects whose own mesh is empty (reported unless they place instances)
     instancers = set()
+    # Settings and object flags that change Cycles' image and are not converted (gaps.py).
+    view_layer = depsgraph.view_layer
+    problems.extend(gaps.scene_lines(scene, view_layer))
+    flagged = set()  # objects whose flags, type and particle hair were reported
+    # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
+    clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
+        scene.camera.type == 'CAMERA' else None
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
         if inst.is_instance and inst.parent is not None:
             instancers.add(inst.parent.original.name)
+        if obj.original.name not in flagged:
+            # The original's settings: an evaluated copy made before a Python property (such
+            # as object.cycles') changed keeps the old value until the object is re-evaluated.
+            flagged.add(obj.original.name)
+            problems.extend(gaps.object_lines(obj.original, view_layer))
+        if obj.type != obj.original.type and (obj.original.name, obj.type) not in flagged:
+            # A component of another type in an object's evaluated geometry (geometry nodes'
+            # Mesh to Points, Mesh to Volume, ...), placed as an instance of that type.
+            flagged.add((obj.original.name, obj.type))
+            problems.extend(gaps.component_lines(obj, view_layer))
         if obj.type == 'LIGHT':
             orig = obj.original
             stored = None if inst.is_instance else _stored(orig, "facet_light",
@@ -549,6 +634,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             continue
         orig = obj.original
         data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
+        clip_key = data_ptr or (orig.name, inst.is_instance)
+        if clip is not None:
+            clip.add(obj, matrix, clip_key)
         again = seen.get((orig.name, data_ptr, inst.is_instance)) if data_ptr else None
         if again is not None:
             # Another placement of an object converted above (same object, same geometry:
@@ -599,6 +687,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 hooks.export_stats["meshes"] += 1
             rec = placed[gkey] = _placed_mesh(mesh_cache[key], obj, slots, uv_layer, mats,
                                                problems)
+            if clip is not None and orig.type != 'MESH':
+                clip.points(clip_key, mesh_cache[key])
         if data_ptr:
             seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
         if not rec.templates:
@@ -607,6 +697,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             continue
         rec.placements.append((_placement(matrix), name))
         order.append(rec)
+    if clip is not None:
+        problems.extend(clip.lines())
     # An instancer's own geometry may be empty (geometry nodes outputting only instances).
     problems.extend("object '%s': empty mesh (no faces); skipped" % name for name in empty
                     if name not in instancers)

@@ -8,6 +8,19 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
   does not read at all (Normal, Tangent, ...) are reported when linked (materials.py).
 - LIGHTS: lamp settings the exporter ignores or approximates, by lamp type (LIGHTS_ALL: every
   type): (attribute, Blender's label, the value converted exactly, what Facet does otherwise).
+- OBJECT_TYPES: what becomes of each Blender object type that the exporter does not turn into
+  Facet shapes or lights; PARTICLE_HAIR: particle hair systems.
+- SETTINGS, OBJECT_FLAGS, LAMP_FLAGS, COLLECTION_FLAGS: scene, render, Cycles, view layer and
+  world settings and per-object (per-lamp, per-collection) flags that change Cycles' image and
+  are not converted: (path, Blender's label, the quiet values, what Facet does). Away from
+  every quiet value (Blender's factory value, and the value Facet renders as Cycles does when
+  there is one) the setting gives a report line.
+- CONVERTED and UNCHANGED (UNCHANGED_PREFIXES): the other settings of the same structs, each
+  with where it is converted or why it does not change the image;
+  tests/blender/test_silent_drops.py walks Blender's properties and fails on one in none of
+  these tables (classify()).
+- CLIP_START, CLIP_END: the scene camera's clipping when it cuts an exported object off
+  (export.ClipCheck).
 """
 
 # Any other node, or a node nodevalues.py could not evaluate (an unknown mode, a math domain
@@ -133,9 +146,10 @@ def light_gaps(light):
 
 def _subject(line):
     """The subject a report line starts with ("material 'Wood'", "object 'Rock'", "light
-    'Sun'", "world 'World'", "camera ..."), or "scene" for the core's build warnings."""
+    'Sun'", "world 'World'", "camera ...", "collection 'Props'", "view layer 'ViewLayer'"), or
+    "scene" for the core's build warnings and the render settings."""
     head = line.split(": ", 1)[0]
-    for kind in ("material", "object", "light", "world", "camera"):
+    for kind in ("material", "object", "light", "world", "camera", "collection", "view layer"):
         if head.startswith(kind + " "):
             return head
     if head.startswith("blender") and "/materials/" in line:
@@ -175,3 +189,466 @@ def summary(groups):
     n = sum(len(ls) for _, ls in groups)
     return "%d conversion note%s: %s" % (n, "" if n == 1 else "s",
                                          ", ".join("%s %d" % (s, len(ls)) for s, ls in groups))
+
+
+# --- object types, settings and flags (export.py: scene_lines, object_lines) -----------------
+
+# Object types the exporter does not turn into shapes or lights (export.GEOMETRY_TYPES, LIGHT)
+# -> the report line, or None: Cycles renders nothing of it either (or Blender draws it
+# itself), so there is nothing to convert.
+OBJECT_TYPES = {
+    'CURVES': "hair curves (Curves objects) are not in Facet's core yet; not rendered",
+    'POINTCLOUD': "point clouds are not in Facet's core yet; not rendered",
+    'VOLUME': "volume objects (OpenVDB grids) are not in Facet's core yet; not rendered",
+    # Blender draws grease pencil over any render engine's final result, Facet's as Cycles'
+    # (source/blender/render/intern/engine.cc: DRW_render_gpencil after the engine's render).
+    'GPENCIL': None,
+    'EMPTY': None, 'ARMATURE': None, 'LATTICE': None, 'LIGHT_PROBE': None, 'SPEAKER': None,
+    'CAMERA': None,
+}
+# A type that is in none of the tables (a newer Blender's).
+UNKNOWN_TYPE = "object type %s is not known to Facet's exporter; not rendered"
+
+PARTICLE_HAIR = ("particle hair is not in Facet's core yet; the strands are not rendered "
+                 "(the emitting mesh is)")
+
+MOTION_BLUR = "motion blur is not in Facet's core yet: rendered sharp at the current frame"
+VOLUME_STEPS = "only with volumes, which are reported"
+ONLY_MOTION = "only with Motion Blur, which is reported"
+ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
+ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"
+ONLY_HAIR = "only with hair, which is reported"
+NOISE = ("Cycles' sampling and noise: Facet's own samples, seed and time limit "
+         "(Render Properties > Facet) apply")
+DEVICE = "Cycles' device, memory and speed: not the image"
+OUTPUT = "saving and stamping the result (Blender): not the rendered image"
+BAKE = "baking (Render > Bake), not rendering"
+PASS = "a render pass, not the Combined image (Facet's passes: docs/blender.md)"
+EEVEE = "Eevee's and Workbench's setting; Cycles does not read it"
+POST = "post-processing Blender applies to any engine's result"
+
+
+def _facet_bounces(scene, v):
+    """Whether Cycles' bounces `v` are Facet's depth: max_depth - 1 bounces (as
+    tests/support/python/facet_testsupport/cycles_scene.py matches Cycles to Facet)."""
+    fs = getattr(scene, "facet", None)
+    return fs is not None and v == fs.max_depth - 1
+
+
+def _bounces(attr, label, factory):
+    return ("cycles." + attr, "Light Paths > Max Bounces > " + label, (factory, _facet_bounces),
+            "Facet's own Max Bounces (Render Properties > Facet) applies to every ray")
+
+
+# (path from the scene ("view_layer." from the view layer), Blender's label, the quiet values
+# (a value, or a tuple of values and of callables (scene, value) -> bool), what Facet does).
+SETTINGS = (
+    ("render.film_transparent", "Film > Transparent",
+     False, "Facet's image has no alpha channel yet: the world is rendered behind the scene"),
+    ("render.use_motion_blur", "Motion Blur", False, MOTION_BLUR),
+    ("render.use_multiview", "Stereoscopy", False,
+     "not converted: every view renders the scene camera"),
+    ("cycles.film_exposure", "Film > Exposure", 1.0,
+     "not converted: the image is rendered at exposure 1 (Color Management > Exposure "
+     "applies to Facet's image too)"),
+    ("cycles.pixel_filter_type", "Film > Pixel Filter", ('BLACKMAN_HARRIS', 'BOX'),
+     "Facet's pixel filter is a box of one pixel"),
+    ("cycles.filter_width", "Film > Pixel Filter > Width", (1.5, 1.0),
+     "Facet's pixel filter is a box of one pixel"),
+    ("cycles.caustics_reflective", "Light Paths > Caustics > Reflective", True,
+     "Facet renders reflective caustics"),
+    ("cycles.caustics_refractive", "Light Paths > Caustics > Refractive", True,
+     "Facet renders refractive caustics"),
+    ("cycles.blur_glossy", "Light Paths > Caustics > Filter Glossy", (1.0, 0.0),
+     "Facet does not blur glossy reflections after a diffuse or rough bounce"),
+    ("cycles.sample_clamp_direct", "Light Paths > Clamping > Direct Light", 0.0,
+     "Facet does not clamp samples"),
+    ("cycles.sample_clamp_indirect", "Light Paths > Clamping > Indirect Light", (10.0, 0.0),
+     "Facet does not clamp samples"),
+    _bounces("max_bounces", "Total", 12), _bounces("diffuse_bounces", "Diffuse", 4),
+    _bounces("glossy_bounces", "Glossy", 4),
+    _bounces("transmission_bounces", "Transmission", 12),
+    _bounces("volume_bounces", "Volume", 0),
+    _bounces("transparent_max_bounces", "Transparent", 8),
+    ("cycles.use_fast_gi", "Light Paths > Fast GI Approximation", False,
+     "not in Facet's core: full global illumination"),
+    ("cycles.texture_limit_render", "Simplify > Render > Texture Limit", 'OFF',
+     "not converted: Facet reads the images at full resolution"),
+    ("view_layer.use_solid", "View Layer > Filter > Surfaces", True,
+     "not converted: Facet renders the surfaces"),
+    ("view_layer.use_sky", "View Layer > Filter > Environment", True,
+     "not converted: camera rays see the world"),
+    ("view_layer.material_override", "View Layer > Material Override", None,
+     "not converted: the objects' own materials are rendered"),
+    ("world.cycles.max_bounces", "World > Settings > Max Bounces", 1024,
+     "not in Facet's core: the scene's max depth applies"),
+    ("world.cycles.is_caustics_light", "World > Settings > Shadow Caustics", False,
+     "shadow caustics (MNEE) are not in Facet's core"),
+    ("world.cycles_visibility.camera", "World > Ray Visibility > Camera", True,
+     "per-ray visibility is not in Facet's core yet: camera rays see the world"),
+    ("world.cycles_visibility.diffuse", "World > Ray Visibility > Diffuse", True,
+     "per-ray visibility is not in Facet's core yet: diffuse rays see the world"),
+    ("world.cycles_visibility.glossy", "World > Ray Visibility > Glossy", True,
+     "per-ray visibility is not in Facet's core yet: glossy rays see the world"),
+    ("world.cycles_visibility.transmission", "World > Ray Visibility > Transmission", True,
+     "per-ray visibility is not in Facet's core yet: transmitted rays see the world"),
+    ("world.cycles_visibility.scatter", "World > Ray Visibility > Volume Scatter", True,
+     "per-ray visibility is not in Facet's core yet"),
+    ("world.cycles_visibility.shadow", "World > Ray Visibility > Shadow", True,
+     "per-ray visibility is not in Facet's core yet"),
+)
+
+# Per object (any type exported as shapes): (attribute path, Blender's label, quiet, what
+# Facet does). An object with none of Camera, Diffuse, Glossy and Shadow is not exported
+# (export.py), so those lines are left out for it.
+RAY = "per-object ray visibility is not in Facet's core yet: the object is seen by %s rays"
+OBJECT_FLAGS = (
+    ("visible_camera", "Visibility > Ray Visibility > Camera", True, RAY % "camera"),
+    ("visible_diffuse", "Visibility > Ray Visibility > Diffuse", True, RAY % "diffuse"),
+    ("visible_glossy", "Visibility > Ray Visibility > Glossy", True, RAY % "glossy"),
+    ("visible_transmission", "Visibility > Ray Visibility > Transmission", True,
+     RAY % "transmitted"),
+    ("visible_volume_scatter", "Visibility > Ray Visibility > Volume Scatter", True,
+     RAY % "volume-scatter"),
+    ("visible_shadow", "Visibility > Ray Visibility > Shadow", True,
+     "per-object ray visibility is not in Facet's core yet: the object casts shadows"),
+    ("is_shadow_catcher", "Visibility > Shadow Catcher", False,
+     "the shadow catcher is not in Facet's core yet: rendered as an ordinary object"),
+    ("is_holdout", "Visibility > Holdout", False,
+     "holdout is not in Facet's core yet: rendered as an ordinary object"),
+    ("cycles.use_camera_cull", "Visibility > Culling > Camera Cull", False,
+     "culling is not converted: Facet renders the whole object"),
+    ("cycles.use_distance_cull", "Visibility > Culling > Distance Cull", False,
+     "culling is not converted: Facet renders the whole object"),
+    ("cycles.use_adaptive_subdivision", "Adaptive Subdivision", False,
+     "not converted: the mesh is rendered as Blender evaluates it"),
+    ("cycles.shadow_terminator_offset", "Shading > Shadow Terminator > Shading Offset", 0.0,
+     "not in Facet's core"),
+    ("cycles.shadow_terminator_geometry_offset",
+     "Shading > Shadow Terminator > Geometry Offset", 0.1, "not in Facet's core"),
+    ("cycles.is_caustics_caster", "Shading > Caustics > Cast Shadow Caustics", False,
+     "shadow caustics (MNEE) are not in Facet's core"),
+    ("cycles.is_caustics_receiver", "Shading > Caustics > Receive Shadow Caustics", False,
+     "shadow caustics (MNEE) are not in Facet's core"),
+)
+# Per lamp object: Facet's lamps are seen by camera rays only as area lamps with Camera on
+# (converted: camera_visible), and by no reflected ray (FORMAT.md); they light every surface.
+LAMP = "per-lamp ray visibility is not in Facet's core yet: the lamp lights %s"
+LAMP_FLAGS = (
+    ("visible_camera", "Visibility > Ray Visibility > Camera", (False, lambda obj, v:
+                                                              obj.data.type == 'AREA'),
+     "Facet's point, spot and sun lamps are not seen by camera rays"),
+    ("visible_diffuse", "Visibility > Ray Visibility > Diffuse", True,
+     LAMP % "diffuse surfaces"),
+    ("visible_glossy", "Visibility > Ray Visibility > Glossy", True,
+     LAMP % "glossy surfaces"),
+    ("visible_transmission", "Visibility > Ray Visibility > Transmission", True,
+     LAMP % "through transmission"),
+    ("visible_volume_scatter", "Visibility > Ray Visibility > Volume Scatter", True,
+     "per-lamp ray visibility is not in Facet's core yet"),
+)
+# Per collection of the view layer (its layer collection's restriction toggles).
+COLLECTION_FLAGS = (
+    ("holdout", "Holdout", False,
+     "holdout is not in Facet's core yet: its objects are rendered as ordinary objects"),
+    ("indirect_only", "Indirect Only", False,
+     "not in Facet's core: its objects are seen by camera rays too"),
+)
+
+# Settings of the same structs that are converted (where) ...
+CONVERTED = {
+    "render.resolution_x": "the camera's width (export_camera)",
+    "render.resolution_y": "the camera's height (export_camera)",
+    "render.resolution_percentage": "the camera's width and height (export_camera)",
+    "render.pixel_aspect_x": "reported by export_camera when not square",
+    "render.pixel_aspect_y": "reported by export_camera when not square",
+    "render.use_border": "the render region (final.py, pixels.border_rect)",
+    "render.border_min_x": "the render region (final.py, pixels.border_rect)",
+    "render.border_min_y": "the render region (final.py, pixels.border_rect)",
+    "render.border_max_x": "the render region (final.py, pixels.border_rect)",
+    "render.border_max_y": "the render region (final.py, pixels.border_rect)",
+    "object.hide_render": "Blender's render depsgraph leaves the object out",
+    "collection.exclude": "Blender's render depsgraph leaves the collection out",
+    "lamp.visible_camera": "an area lamp's camera_visible (export.py, _area_light)",
+}
+# ... or do not change the image (why).
+UNCHANGED = {
+    "render.preview_pixel_size": "the viewport's drawing resolution",
+    "render.fps": "animation timing: Blender sets the frame, Facet renders it",
+    "render.fps_base": "animation timing: Blender sets the frame, Facet renders it",
+    "render.frame_map_old": "animation timing: Blender sets the frame, Facet renders it",
+    "render.frame_map_new": "animation timing: Blender sets the frame, Facet renders it",
+    "render.dither_intensity": POST,
+    "render.filter_size": EEVEE,
+    "render.use_freestyle": "Blender draws Freestyle strokes over any engine's result",
+    "render.line_thickness_mode": "Freestyle (drawn by Blender)",
+    "render.line_thickness": "Freestyle (drawn by Blender)",
+    "render.threads": "the number of threads (final.py passes it on), not the image",
+    "render.threads_mode": "the number of threads (final.py passes it on), not the image",
+    "render.motion_blur_shutter": ONLY_MOTION,
+    "render.hair_type": EEVEE, "render.hair_subdiv": EEVEE,
+    "render.use_high_quality_normals": EEVEE,
+    "render.use_crop_to_border": "Blender crops the result to the render region",
+    "render.use_placeholder": OUTPUT, "render.use_overwrite": OUTPUT,
+    "render.use_file_extension": OUTPUT, "render.filepath": OUTPUT,
+    "render.use_render_cache": OUTPUT, "render.use_lock_interface": "the user interface",
+    "render.use_compositing": POST, "render.use_sequencer": POST,
+    "render.metadata_input": OUTPUT, "render.stamp_note_text": OUTPUT,
+    "render.stamp_font_size": OUTPUT, "render.stamp_foreground": OUTPUT,
+    "render.stamp_background": OUTPUT,
+    "render.sequencer_gl_preview": "the sequencer's preview",
+    "render.use_sequencer_override_scene_strip": "the sequencer's preview",
+    "render.use_single_layer": "which view layers Blender renders",
+    "render.views_format": "only with Stereoscopy, which is reported",
+    "render.engine": "the render engine itself",
+    "render.use_simplify": "Blender's depsgraph applies it to the meshes Facet exports",
+    "render.simplify_subdivision_render": "Blender's depsgraph applies it to the meshes "
+                                          "Facet exports",
+    "render.simplify_subdivision": "the viewport's", "render.simplify_child_particles":
+    "the viewport's", "render.simplify_child_particles_render": ONLY_HAIR,
+    "render.simplify_volumes": VOLUME_STEPS,
+    "render.use_persistent_data": DEVICE,
+    "cycles.device": DEVICE, "cycles.feature_set": ONLY_ADAPTIVE,
+    "cycles.shading_system": "Open Shading Language runs the same nodes",
+    "cycles.preview_pause": "the viewport's",
+    "cycles.film_transparent_glass": "only with Film > Transparent, which is reported",
+    "cycles.film_transparent_roughness": "only with Film > Transparent, which is reported",
+    "cycles.motion_blur_position": ONLY_MOTION, "cycles.rolling_shutter_type": ONLY_MOTION,
+    "cycles.rolling_shutter_duration": ONLY_MOTION,
+    "cycles.fast_gi_method": ONLY_FAST_GI, "cycles.ao_bounces_render": ONLY_FAST_GI,
+    "cycles.ao_bounces": "the viewport's Fast GI",
+    "cycles.texture_limit": "the viewport's",
+    "cycles.use_camera_cull": "acts through objects' Camera Cull, reported per object",
+    "cycles.use_distance_cull": "acts through objects' Distance Cull, reported per object",
+    "cycles.camera_cull_margin": "acts through objects' Camera Cull, reported per object",
+    "cycles.distance_cull_margin": "acts through objects' Distance Cull, reported per object",
+    "cycles.dicing_rate": ONLY_ADAPTIVE, "cycles.preview_dicing_rate": ONLY_ADAPTIVE,
+    "cycles.max_subdivisions": ONLY_ADAPTIVE, "cycles.dicing_camera": ONLY_ADAPTIVE,
+    "cycles.offscreen_dicing_scale": ONLY_ADAPTIVE,
+    "cycles.volume_step_rate": VOLUME_STEPS, "cycles.volume_preview_step_rate": VOLUME_STEPS,
+    "cycles.volume_max_steps": VOLUME_STEPS,
+    "cycles.bake_type": BAKE,
+    "cycles_curves.shape": ONLY_HAIR, "cycles_curves.subdivisions": ONLY_HAIR,
+    "view_layer.samples": NOISE, "view_layer.pass_alpha_threshold": PASS,
+    "view_layer.active_aov_index": "the user interface",
+    "view_layer.active_lightgroup_index": "the user interface",
+    "view_layer.active_layer_collection": "the user interface",
+    "view_layer.use_ao": EEVEE,
+    "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is reported)",
+    "view_layer.use_volumes": "off, Cycles renders no volumes either (then no volume object "
+                              "is reported)",
+    "view_layer.use_motion_blur": "off, Cycles renders no motion blur either (then Motion Blur "
+                                  "is not reported)",
+    "view_layer.use": "which view layers Blender renders",
+    "view_layer.use_freestyle": "Freestyle (drawn by Blender)",
+    "view_layer.cycles.use_denoising": NOISE,
+    "view_layer.cycles.denoising_store_passes": PASS,
+    "world.cycles.sampling_method": NOISE, "world.cycles.sample_map_resolution": NOISE,
+    "world.cycles.homogeneous_volume": VOLUME_STEPS,
+    "world.cycles.volume_sampling": VOLUME_STEPS,
+    "world.cycles.volume_interpolation": VOLUME_STEPS,
+    "world.cycles.volume_step_size": VOLUME_STEPS,
+    "world.light_settings.use_ambient_occlusion": ONLY_FAST_GI,
+    "world.light_settings.ao_factor": ONLY_FAST_GI,
+    "world.light_settings.distance": ONLY_FAST_GI,
+    "object.cycles.use_motion_blur": ONLY_MOTION, "object.cycles.use_deform_motion": ONLY_MOTION,
+    "object.cycles.motion_steps": ONLY_MOTION,
+    "object.cycles.dicing_rate": ONLY_ADAPTIVE,
+    "object.cycles.ao_distance": ONLY_FAST_GI,
+    "collection.hide_viewport": "the viewport's",
+    "lamp.visible_shadow": "Cast Shadow (Light > Settings) is the lamp's own, reported there",
+    "lamp.is_holdout": "Cycles applies it to geometry only (Object > Visibility shows it for "
+                       "none of a lamp's)",
+    "lamp.is_shadow_catcher": "Cycles applies it to geometry only (Object > Visibility shows "
+                              "it for none of a lamp's)",
+}
+for _k in ("samples", "preview_samples", "sample_offset", "time_limit", "sampling_pattern",
+           "scrambling_distance", "preview_scrambling_distance", "auto_scrambling_distance",
+           "use_layer_samples", "light_sampling_threshold", "use_adaptive_sampling",
+           "adaptive_threshold", "adaptive_min_samples", "use_preview_adaptive_sampling",
+           "preview_adaptive_threshold", "preview_adaptive_min_samples",
+           "direct_light_sampling_type", "min_light_bounces", "min_transparent_bounces",
+           "seed", "use_animated_seed", "use_denoising", "denoiser", "denoising_prefilter",
+           "denoising_input_passes", "use_preview_denoising", "preview_denoiser",
+           "preview_denoising_prefilter", "preview_denoising_input_passes",
+           "preview_denoising_start_sample", "use_guiding", "use_deterministic_guiding",
+           "guiding_distribution_type", "use_surface_guiding", "surface_guiding_probability",
+           "use_volume_guiding", "guiding_training_samples", "volume_guiding_probability",
+           "use_guiding_direct_light", "use_guiding_mis_weights"):
+    UNCHANGED["cycles." + _k] = NOISE
+for _k in ("use_auto_tile", "tile_size", "debug_bvh_type", "debug_use_spatial_splits",
+           "debug_use_hair_bvh", "debug_use_compact_bvh", "debug_bvh_time_steps",
+           "debug_use_cpu_avx2", "debug_use_cpu_avx", "debug_use_cpu_sse41",
+           "debug_use_cpu_sse3", "debug_use_cpu_sse2", "debug_bvh_layout",
+           "debug_use_cuda_adaptive_compile", "debug_use_optix_debug"):
+    UNCHANGED["cycles." + _k] = DEVICE
+
+
+def _resolve(root, path):
+    """(the struct holding the path's last attribute, the attribute), or (None, name)."""
+    parts = path.split(".")
+    for part in parts[:-1]:
+        root = getattr(root, part, None) if root is not None else None
+    return root, parts[-1]
+
+
+def quiet(value, quiets, owner):
+    """Whether `value` is one of the quiet values (a value, or a tuple of values and of
+    callables (owner, value) -> bool)."""
+    for q in (quiets if isinstance(quiets, tuple) else (quiets,)):
+        if callable(q):
+            if q(owner, value):
+                return True
+        elif isinstance(q, float) and isinstance(value, (int, float)):
+            if abs(value - q) <= 1e-6 * max(1.0, abs(q)):
+                return True
+        elif value == q:
+            return True
+    return False
+
+
+def _shown(v):
+    if isinstance(v, bool):
+        return "on" if v else "off"
+    if isinstance(v, float):
+        return "%.4g" % v
+    if isinstance(v, str):
+        return v.replace("_", " ").title()
+    if v is None:
+        return "none"
+    return getattr(v, "name", str(v))
+
+
+def _flag_lines(owner, table, subject):
+    out = []
+    for path, label, quiets, what in table:
+        struct, attr = _resolve(owner, path)
+        if struct is None or not hasattr(struct, attr):
+            continue
+        v = getattr(struct, attr)
+        if not quiet(v, quiets, owner):
+            out.append("%s: %s = %s: %s" % (subject, label, _shown(v), what))
+    return out
+
+
+def scene_lines(scene, view_layer):
+    """Report lines for the scene's render, Cycles, view layer and world settings (SETTINGS)
+    away from their quiet values, and for its collections' flags (COLLECTION_FLAGS)."""
+    lines = []
+    for path, label, quiets, what in SETTINGS:
+        if path.startswith("view_layer."):
+            struct, attr = _resolve(view_layer, path[len("view_layer."):])
+        else:
+            struct, attr = _resolve(scene, path)
+        if struct is None or not hasattr(struct, attr):
+            continue
+        v = getattr(struct, attr)
+        if path == "render.use_motion_blur" and not view_layer.use_motion_blur:
+            continue  # the view layer's Filter > Motion Blur off: Cycles renders it sharp too
+        if not quiet(v, quiets, scene):
+            subject = ("world '%s'" % scene.world.name if path.startswith("world.")
+                       else "view layer '%s'" % view_layer.name
+                       if path.startswith("view_layer.") else "render")
+            lines.append("%s: %s = %s: %s" % (subject, label, _shown(v), what))
+
+    def walk(lc):
+        for child in lc.children:
+            if not child.exclude:
+                lines.extend(_flag_lines(child, COLLECTION_FLAGS,
+                                         "collection '%s'" % child.name))
+                walk(child)
+    walk(view_layer.layer_collection)
+    return lines
+
+
+def object_lines(obj, view_layer):
+    """Report lines for one object (the original): its type when not exported
+    (OBJECT_TYPES), its flags (OBJECT_FLAGS, LAMP_FLAGS) away from their quiet values and its
+    particle hair (PARTICLE_HAIR)."""
+    subject = "object '%s'" % obj.name
+    if obj.type == 'LIGHT':
+        return _flag_lines(obj, LAMP_FLAGS, "light '%s'" % obj.name)
+    lines = []
+    if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):  # export.GEOMETRY_TYPES
+        if obj.type in OBJECT_TYPES:
+            what = OBJECT_TYPES[obj.type]
+        else:
+            what = UNKNOWN_TYPE % obj.type
+        if what is None:
+            return lines
+        if obj.type == 'CURVES' and not view_layer.use_strand:
+            return lines
+        if obj.type == 'VOLUME' and not view_layer.use_volumes:
+            return lines
+        lines.append("%s: %s" % (subject, what))
+    flags = OBJECT_FLAGS
+    if not (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
+            or obj.visible_shadow):
+        # Not exported (export.py); Cycles still shows it to the rays left on.
+        flags = [f for f in flags if not f[0].startswith("visible_")]
+        if obj.visible_transmission or obj.visible_volume_scatter:
+            lines.append("%s: seen only by transmission or volume-scatter rays: not exported "
+                         "(Cycles shows it through glass and in volumes)" % subject)
+    lines.extend(_flag_lines(obj, flags, subject))
+    if view_layer.use_strand:
+        for mod in obj.modifiers:
+            if mod.type != 'PARTICLE_SYSTEM' or not mod.show_render:
+                continue
+            ps = mod.particle_system
+            st = ps.settings
+            if st.type == 'HAIR' and st.render_type == 'PATH':
+                children = (" and %d children each" % st.rendered_child_count
+                            if st.child_type != 'NONE' else "")
+                lines.append("%s: particle system '%s' (%d hairs%s): %s"
+                             % (subject, ps.name, st.count, children, PARTICLE_HAIR))
+    return lines
+
+
+def component_lines(obj, view_layer):
+    """Report lines for an evaluated geometry component whose type differs from its object's
+    (a point cloud or volume made by geometry nodes from a mesh, ...): OBJECT_TYPES' line for
+    its type, naming the object."""
+    what = OBJECT_TYPES.get(obj.type, UNKNOWN_TYPE % obj.type) \
+        if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT', 'LIGHT') else None
+    if what is None or (obj.type == 'CURVES' and not view_layer.use_strand) or (
+            obj.type == 'VOLUME' and not view_layer.use_volumes):
+        return []
+    return ["object '%s': its evaluated geometry has a %s component (geometry nodes): %s"
+            % (obj.original.name, obj.type.lower().replace("pointcloud", "point cloud"), what)]
+
+
+# The scene camera's clipping (export.py, ClipCheck): Facet's camera clips nothing. A line when
+# an exported object's bounding box reaches past Clip End, or nearer than a Clip Start raised
+# above Blender's factory 0.1, along the view axis (where Cycles' clipping planes are).
+CLIP_START_FACTORY = 0.1
+CLIP_END = ("Clip End", "Cycles cuts off what lies farther; Facet's camera does not clip")
+CLIP_START = ("Clip Start", "Cycles cuts off what lies nearer; Facet's camera does not clip")
+
+
+# Whole families of the same structs that do not change the image, by path prefix.
+UNCHANGED_PREFIXES = {
+    "render.use_stamp": OUTPUT, "render.bake_": BAKE, "render.use_bake_": BAKE,
+    "render.simplify_gpencil": "grease pencil (drawn by Blender)",
+    "view_layer.use_pass_": PASS, "view_layer.pass_cryptomatte_": PASS,
+    "view_layer.cycles.use_pass_": PASS, "view_layer.cycles.pass_": PASS,
+    # Colour management: Blender maps the linear Combined pass of any engine for display and
+    # for saving.
+    "view_settings.": POST, "display_settings.": POST,
+}
+
+
+def classify(path):
+    """What becomes of a setting or flag, by its path in these tables ("object.", "lamp." and
+    "collection." for OBJECT_FLAGS, LAMP_FLAGS, COLLECTION_FLAGS): a list of ("reported",
+    label) / ("converted", where) / ("unchanged", why); empty when it is in no table."""
+    out = []
+    for prefix, table in (("", SETTINGS), ("object.", OBJECT_FLAGS), ("lamp.", LAMP_FLAGS),
+                          ("collection.", COLLECTION_FLAGS)):
+        out.extend(("reported", label) for p, label, _, _ in table if prefix + p == path)
+    if path in CONVERTED:
+        out.append(("converted", CONVERTED[path]))
+    if path in UNCHANGED:
+        out.append(("unchanged", UNCHANGED[path]))
+    out.extend(("unchanged", why) for prefix, why in UNCHANGED_PREFIXES.items()
+               if path.startswith(prefix))
+    return out

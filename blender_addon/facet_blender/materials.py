@@ -64,7 +64,9 @@ per material (they would fire on every default material).
   reported and the first's kept.
 - Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
   conversion does not read (Tangent, ...) and the Material Output's Volume
-  and Displacement are reported when something is linked to them.
+  and Displacement are reported when something is linked to them. A Volume linked with
+  nothing on the Surface: a transparent surface (opacity 0), as Cycles renders it, the volume
+  named in the report.
 - No node tree: lambert with the viewport Diffuse Color.
 - Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """
@@ -129,13 +131,29 @@ def convert(mat, obj=None):
                             % mat.name)
         return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
     feeds = "the Material Output"
-    for name in ('Volume', 'Displacement'):
-        ctx.ignored_input(out, name, (), feeds)
     src = ctx.walker.input(out, 'Surface')
     if isinstance(src, nodegraph.Const) and src.value is None:
-        ctx.problems.append("material '%s': nothing connected to the output's Surface; using "
-                            "grey lambert" % mat.name)
-        return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
+        vol = ctx.walker.input(out, 'Volume')
+        if isinstance(vol, nodegraph.Const) and vol.value is None:
+            ctx.problems.append("material '%s': nothing connected to the output's Surface; "
+                                "using grey lambert" % mat.name)
+            ctx.ignored_input(out, 'Displacement', (), feeds)
+            return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided,
+                             problems=ctx.finish())
+        # A volume alone: Cycles' surface is then transparent (no surface closure), so Facet's
+        # is too (opacity 0); the volume itself is not rendered.
+        shown = (vol.label() if isinstance(vol, nodegraph.Out)
+                 else "a value linked into it (an emission volume)")
+        reason = (gaps.node_reason(vol.node) if isinstance(vol, nodegraph.Out) else None) \
+            or "volumes are not in Facet's core"
+        ctx.problems.append("material '%s': the output's Volume (%s) is not rendered by Facet "
+                            "(%s); nothing is connected to its Surface, so the surface is "
+                            "transparent, as in Cycles" % (mat.name, shown, reason))
+        ctx.ignored_input(out, 'Displacement', (), feeds)
+        return Converted(dict(DEFAULT_MATERIAL, opacity=0.0), two_sided=two_sided,
+                         problems=ctx.finish())
+    for name in ('Volume', 'Displacement'):
+        ctx.ignored_input(out, name, (), feeds)
     data, emission = ctx.shader(src, "the Material Output's Surface")
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
     conv.baked = ctx.baked
