@@ -47,11 +47,12 @@ Vec3 apply_bump(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, float h, floa
 // 2 dot(n', wo) dot(n', ng) - dot(ng, wo) is at least t and dot(n', ng) is at most 1.
 Vec3 valid_reflection_normal(const Vec3& ng, const Vec3& wo, const Vec3& n);
 
-// The shading normal of a hit as the integrators use it (SurfaceHit::ns): ns (unit, in ng's
-// hemisphere) turned with ng to the side of wo (the unit direction toward the ray's origin),
-// bent there by valid_reflection_normal, and turned back, so that it stays in ng's hemisphere.
-// An interpolated or mapped normal that faces away from a grazing viewer then never makes the
-// hit black: Cycles flips both normals to the ray's side and applies ensure_valid_reflection.
+// The shading normal of a hit as the integrators use it (SurfaceHit::ns): ns (unit; an
+// interpolated normal is in ng's hemisphere, a mapped one may not be) turned with ng to the side
+// of wo (the unit direction toward the ray's origin), bent there by valid_reflection_normal, and
+// turned back. An ns in ng's hemisphere stays there and, seen from wo's side, faces the viewer
+// (valid_reflection_normal), so a Lambertian frame never sees wo below its horizon: Cycles flips
+// both normals to the ray's side and applies ensure_valid_reflection.
 Vec3 ray_side_valid_normal(const Vec3& ng, const Vec3& wo, const Vec3& ns);
 
 }  // namespace facet::render
