@@ -15,7 +15,9 @@
 
 #include "facet/render/gltf.h"
 #include "facet/render/pov_export.h"
+#include "facet/render/render.h"
 #include "facet/render/scene_description.h"
+#include "facet/testsupport/render_test_util.h"
 
 using namespace facet;
 using namespace facet::render;
@@ -198,6 +200,33 @@ TEST(Gltf, EmissivePartsAreLightsAndMaterialReplacesTheFiles) {
     EXPECT_NE(
         build_error(scene_json("modes.gltf", R"(, "emission": 1)")).find("/shapes/0/emission"),
         std::string::npos);
+}
+
+// A glTF's emissive material is a light source for the scene check: a scene with no "lights"
+// key whose only light is box.gltf's emissive (1, 0.5, 0) x 3 builds, with the box as its one
+// light, and renders it: the centre pixel sees the box's emitted radiance (the convex box
+// lights nothing of itself, so the direct integrator adds nothing to it; tolerance: float
+// sums of one term). A glTF without emission alone is refused at /lights.
+TEST(Gltf, AnEmissiveGltfAloneIsALightSource) {
+    auto alone = [](const std::string& file) {
+        return R"({"format": "facet-scene", "version": 1,
+          "camera": {"position": [0, -8, 0], "look_at": [0, 0, 0], "up": [0, 0, 1],
+                     "fov": 40, "width": 9, "height": 9},
+          "shapes": [{"type": "gltf", "file": ")" +
+               file + R"("}]})";
+    };
+    const Scene s = load_scene_from_string(alone("box.gltf"), "t.json", kDir);
+    ASSERT_EQ(s.lights().size(), 1u);
+    EXPECT_EQ(s.shapes()[0].parts[0].light, 0);
+    const Image img =
+        facet::render::render(s, facet::render::testing::test_options("direct", 4, 1, 1));
+    const Rgb c = img.at(4, 4);
+    EXPECT_NEAR(c.r, 3.f, 1e-5f);
+    EXPECT_NEAR(c.g, 1.5f, 1e-5f);
+    EXPECT_EQ(c.b, 0.f);
+    EXPECT_EQ(build_error(alone("modes.gltf")),
+              "t.json: /lights: the scene has no light source (no entry in \"lights\" and no "
+              "shape that emits: \"emission\" or a glTF emissive material)");
 }
 
 // Bad data: each error names the file and the glTF pointer.

@@ -302,6 +302,43 @@ TEST(GltfTextures, BlendAlphaIsTheTexturesAlpha) {
     EXPECT_FALSE(part_of(s, 0).opacity.active());
 }
 
+// An emissive texture is a light source for the scene check: BoxTextured (Debian's
+// assimp-testmodels) with its base colour texture as emissiveTexture (factor 1) and no
+// "lights" key builds with the box as its one light, and camera rays see the texture's
+// emission: the middle 4 x 4 pixels, all on the box, are above 0 (the logo image has no black
+// texel; nothing else lights the scene).
+TEST(GltfTextures, AnEmissiveTextureAloneIsALightSource) {
+    REQUIRE_ASSET("BoxTextured-glTF/BoxTextured.gltf");
+    const std::string dir =
+        (std::filesystem::temp_directory_path() / ("facet_gltf_emit_" + std::to_string(getpid())))
+            .string();
+    std::filesystem::create_directories(dir);
+    for (const char* f : {"BoxTextured0.bin", "CesiumLogoFlat.png"})
+        std::filesystem::copy_file(kAssimp + "BoxTextured-glTF/" + f, dir + "/" + f,
+                                   std::filesystem::copy_options::overwrite_existing);
+    nlohmann::json j =
+        nlohmann::json::parse(std::ifstream(kAssimp + "BoxTextured-glTF/BoxTextured.gltf"));
+    nlohmann::json& m = j["materials"][0];
+    m["emissiveTexture"] = m["pbrMetallicRoughness"]["baseColorTexture"];
+    m["emissiveFactor"] = {1.0, 1.0, 1.0};
+    std::ofstream(dir + "/emissive.gltf") << j.dump();
+    const std::string json =
+        R"({"format": "facet-scene", "version": 1,
+            "camera": {"position": [2, -3, 2], "look_at": [0, 0, 0], "up": [0, 0, 1],
+                       "fov": 20, "width": 8, "height": 8},
+            "shapes": [{"type": "gltf", "file": "emissive.gltf"}]})";
+    const fr::Scene s = fr::load_scene_from_string(json, "t.json", dir);
+    ASSERT_EQ(s.lights().size(), 1u);
+    ASSERT_EQ(s.shapes()[0].parts.size(), 1u);
+    EXPECT_EQ(s.shapes()[0].parts[0].light, 0);
+    const fr::Image img = fr::render(s, fr::testing::test_options("direct", 4, 1, 1));
+    for (int y = 2; y < 6; ++y)
+        for (int x = 2; x < 6; ++x) {
+            const Rgb px = img.at(x, y);
+            EXPECT_GT(px.r + px.g + px.b, 0.f) << x << ", " << y;
+        }
+}
+
 // alphaMode MASK on a constant base colour alpha: 0.3 below the cutoff 0.5 is a hole (opacity 0,
 // camera rays see the environment), 0.7 above it is opaque (not even a cut-out); BLEND keeps
 // 0.3. The box.gltf of make_gltf_tests.py, edited here. Also: the occlusion texture is reported

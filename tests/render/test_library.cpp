@@ -204,7 +204,7 @@ TEST(BuildScene, MaterialsLightsCameraAndTransforms) {
     d.lights.clear();
     EXPECT_EQ(build_error(d),
               "desc: /lights: the scene has no light source (no entry in \"lights\" and no shape "
-              "with \"emission\")");
+              "that emits: \"emission\" or a glTF emissive material)");
     d = mesh_scene(kQuad, kQuadIdx);
     d.materials.push_back({"white", {"lambert", {}, {}}});
     EXPECT_EQ(build_error(d), "desc: /materials/white: duplicate material name 'white'");

@@ -140,6 +140,40 @@ TEST(SceneLoader, MaterialErrorsNameTheParameter) {
     EXPECT_NE(e.find("did you mean 'alpha'"), std::string::npos) << e;
 }
 
+// A shape's `emission` is a light source by itself: a scene without a "lights" key whose only
+// light is an emitting sphere, or one with an emission texture, builds with that one light; without
+// any, the error names /lights whether the key is there or not.
+TEST(SceneLoader, AnEmittingShapeAloneIsALightSource) {
+    auto without_lights_key = [](const std::string& shapes) {
+        return R"({"format": "facet-scene", "version": 1,
+          "camera": {"position": [0, 1, 5], "look_at": [0, 0, 0], "fov": 40, "width": 8, "height": 6},
+          "shapes": )" +
+               shapes + "}";
+    };
+    const Scene s = load_scene_from_string(
+        without_lights_key(
+            R"([{"type": "sphere", "center": [0,0,0], "radius": 1, "emission": 2}])"),
+        "t.json");
+    ASSERT_EQ(s.lights().size(), 1u);
+    EXPECT_EQ(s.shapes()[0].light, 0);
+    const Scene t = load_scene_from_string(
+        without_lights_key(R"([{"type": "sphere", "center": [0,0,0], "radius": 1,
+                                "emission": {"checker": {"colors": [1, 0.5], "scale": 4}}}])"),
+        "t.json");
+    ASSERT_EQ(t.lights().size(), 1u);
+    EXPECT_EQ(t.shapes()[0].light, 0);
+    const std::string none =
+        "t.json: /lights: the scene has no light source (no entry in \"lights\" and no shape that "
+        "emits: \"emission\" or a glTF emissive material)";
+    EXPECT_EQ(
+        error_of(without_lights_key(
+            R"([{"type": "sphere", "center": [0,0,0], "radius": 1, "material": {"model": "lambert"}}])")),
+        none);
+    EXPECT_EQ(error_of(without_lights_key(R"([{"type": "sphere", "center": [0,0,0], "radius": 1,
+                                               "material": {"model": "lambert"}, "emission": 0}])")),
+              none);
+}
+
 TEST(SceneLoader, StructuralErrors) {
     EXPECT_EQ(error_of(R"({"format": "facet-scene", "version": 2})"),
               "t.json: /version: unsupported version 2 (this build reads version 1)");
@@ -148,7 +182,7 @@ TEST(SceneLoader, StructuralErrors) {
     EXPECT_EQ(error_of(R"([1, 2])"), "t.json: /: expected an object, got an array");
     EXPECT_EQ(error_of(scene_with(kSphere, "[]")),
               "t.json: /lights: the scene has no light source (no entry in \"lights\" and no "
-              "shape with \"emission\")");
+              "shape that emits: \"emission\" or a glTF emissive material)");
     EXPECT_EQ(error_of(scene_with(R"([{"type": "sphere", "center": [0,0,0], "radius": 1}])")),
               "t.json: /shapes/0: missing required key 'material' (only emissive shapes may "
               "omit it)");

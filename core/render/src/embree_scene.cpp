@@ -12,6 +12,7 @@
 #include <mutex>
 
 #include "facet/render/sampler.h"
+#include "facet/render/shading_normal.h"
 #include "scene_impl.h"
 
 namespace facet::render {
@@ -644,9 +645,35 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     }
 }
 
+// Below this length an interpolated vertex normal (of unit corner normals that nearly cancel)
+// is left as ng: the interpolation's rounding, a few 1e-8 per component, is then over 5% of
+// the vector, so its direction is noise; and near float's smallest normal numbers its length
+// would round too coarsely to normalise it.
+constexpr float kMinInterpolatedNormal = 1e-6f;
+
+namespace {
+
+// The shading normal of a hit at barycentrics (u, v) on a smooth triangle (its record's corner
+// normals) with geometric normal ng: interpolated, turned into ng's hemisphere and, for a world
+// ray (kWorld), bent for it (SurfaceHit::ns). Out of line: the call keeps the closest-hit path
+// of flat meshes as short as it was.
+template <bool kWorld>
+[[gnu::noinline]] Vec3 smooth_normal(const MeshGeom::SmoothRecord& rec, const Ray& ray, float u,
+                                     float v, const Vec3& ng) {
+    Vec3 ns = (1.f - u - v) * rec.n[0] + u * rec.n[1] + v * rec.n[2];
+    const float l = glm::length(ns);
+    if (!(l > kMinInterpolatedNormal && std::isfinite(l))) return ng;
+    ns /= l;
+    ns = glm::dot(ns, ng) < 0.f ? -ns : ns;
+    if constexpr (kWorld) ns = ray_side_valid_normal(ng, -ray.d, ns);
+    return ns;
+}
+
+}  // namespace
+
 // Inline: called once per closest hit, only from Scene::intersect below. kUv: compute the
 // texture coordinates of meshes that have them (EmbreeBackend::surface_extras).
-template <bool kUv>
+template <bool kUv, bool kWorld>
 [[gnu::always_inline]] inline void Scene::Impl::fill_triangle(const MeshGeom& mg, std::uint32_t tri,
                                                               const Ray& ray, float u, float v,
                                                               float t, SurfaceHit& hit) const {
@@ -677,16 +704,8 @@ template <bool kUv>
     const U4 abs_mask = U4{} + 0x7fffffffu;
     const F4 e = gamma_bound(1) * F4(U4(p4) & abs_mask) + k * F4(U4(n4) & abs_mask);
     hit.p_err = Vec3(e[0], e[1], e[2]);
-    hit.ns = hit.ng;
-    if (!mg.records.empty()) {
-        const Vec3* n = mg.records[tri].n;
-        Vec3 ns = (1.f - u - v) * n[0] + u * n[1] + v * n[2];
-        float l = glm::length(ns);
-        if (l > 0.f && std::isfinite(l)) {
-            ns /= l;
-            hit.ns = glm::dot(ns, hit.ng) < 0.f ? -ns : ns;
-        }
-    }
+    hit.ns =
+        mg.records.empty() ? hit.ng : smooth_normal<kWorld>(mg.records[tri], ray, u, v, hit.ng);
     hit.dpdu = mg.tangent;
     hit.shape = mg.shape;
     if constexpr (kUv) {
@@ -743,7 +762,7 @@ template <bool kUv>
     local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
-    fill_triangle<kUv>(mg, tri, local, u, v, t, hit);
+    fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
@@ -759,6 +778,8 @@ template <bool kUv>
     if (glm::dot(ns, ng) < 0.0) ns = -ns;
     hit.ng = Vec3(ng);
     hit.ns = Vec3(ns);
+    // Bent in world space, where the ray's angles are those the integrators shade with.
+    if (!mg.records.empty()) hit.ns = ray_side_valid_normal(hit.ng, -ray.d, hit.ns);
     hit.dpdu = Vec3(lin * glm::dvec3(hit.dpdu));
     hit.tangent_sign *= in.handedness;
     if constexpr (kUv) {
@@ -839,7 +860,7 @@ template <bool kSurfaceExtras>
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
         const MeshGeom& mg = impl.meshes[std::size_t(be.geom_to_mesh[geom])];
-        impl.fill_triangle<kSurfaceExtras>(mg, prim, ray, u, v, t, hit);
+        impl.fill_triangle<kSurfaceExtras, true>(mg, prim, ray, u, v, t, hit);
         if constexpr (kSurfaceExtras) part = mg.part;
     }
     const ShapeInfo& shape = m_shapes[hit.shape];

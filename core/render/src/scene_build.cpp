@@ -101,8 +101,8 @@ class Builder final : public BuildChecks {
         }
         if (m_builder.lights().empty()) {
             fail("/lights",
-                 "the scene has no light source (no entry in \"lights\" and no shape with "
-                 "\"emission\")");
+                 "the scene has no light source (no entry in \"lights\" and no shape that "
+                 "emits: \"emission\" or a glTF emissive material)");
         }
         check_precision(m_builder, m_desc, m_name);  // scene_precision.h
         build_render();

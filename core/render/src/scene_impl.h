@@ -174,7 +174,9 @@ struct Scene::Impl {
     void fill_instance(const InstanceGeom& inst, std::uint32_t geom, std::uint32_t tri,
                        const Ray& ray, float u, float v, float t, SurfaceHit& hit,
                        std::int32_t& part) const;
-    template <bool kUv>
+    // kWorld: `ray` is the world ray (the smooth normal is bent for it: SurfaceHit::ns);
+    // false inside an instance, whose caller bends it once in world space.
+    template <bool kUv, bool kWorld>
     void fill_triangle(const MeshGeom& mesh, std::uint32_t tri, const Ray& ray, float u, float v,
                        float t, SurfaceHit& hit) const;
 };

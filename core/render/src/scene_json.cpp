@@ -158,15 +158,8 @@ class Reader {
                 d.lights.push_back(read_light(lights[i], "/lights/" + std::to_string(i)));
             }
         }
-        // build_scene says the same, at /lights; a file without the key gets the root pointer.
-        bool emitter = !d.lights.empty();
-        for (const ShapeDesc& s : d.shapes)
-            emitter |= s.emission != Rgb(0.f) || s.emission_texture.has_value();
-        if (!emitter && !root.contains("lights")) {
-            fail("",
-                 "the scene has no light source (no entry in \"lights\" and no shape with "
-                 "\"emission\")");
-        }
+        // Whether anything emits is build_scene's question: a glTF shape's materials are read
+        // there (a scene lit only by an emissive glTF has no "lights" and no "emission").
         if (root.contains("render")) read_render(root["render"], "/render", d.render);
         return d;
     }

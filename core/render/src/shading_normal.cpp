@@ -76,6 +76,13 @@ Vec3 valid_reflection_normal(const Vec3& ng, const Vec3& wo, const Vec3& n) {
     return best == Vec3(0.f) ? ng : best;
 }
 
+Vec3 ray_side_valid_normal(const Vec3& ng, const Vec3& wo, const Vec3& ns) {
+    // On the viewer's side (make_shading turns both normals toward the viewer the same way).
+    const bool front = glm::dot(ng, wo) > 0.f;
+    const Vec3 bent = valid_reflection_normal(front ? ng : -ng, wo, front ? ns : -ns);
+    return front ? bent : -bent;
+}
+
 Vec3 apply_bump(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, float h, float hu, float hv,
                 float step, float distance, float strength) {
     const Vec3 rx = glm::cross(step * dpdv, n), ry = glm::cross(n, step * dpdu);
@@ -107,11 +114,7 @@ void Scene::shade_normal(SurfaceHit& hit, const Vec3& wo) const {
                        tm.bump_strength);
     }
     if (n == hit.ns) return;  // unchanged: keep the normal bit for bit
-    // On the viewer's side (make_shading turns both normals toward the viewer the same way).
-    const bool front = glm::dot(hit.ng, wo) > 0.f;
-    const Vec3 ng = front ? hit.ng : -hit.ng;
-    const Vec3 bent = valid_reflection_normal(ng, wo, front ? n : -n);
-    hit.ns = front ? bent : -bent;
+    hit.ns = ray_side_valid_normal(hit.ng, wo, n);
 }
 
 }  // namespace facet::render

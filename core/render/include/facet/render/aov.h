@@ -10,8 +10,8 @@
 //    sample index, seed), so the result is deterministic and independent of the thread count.
 //    Thin-lens cameras take their lens sample as the integrator does (kLensDimension).
 //  - At the first surface a camera ray hits (after opacity, as the renderer sees it), with the
-//    shading normal after normal and bump maps, turned toward the viewer (Cycles' backfacing
-//    flip):
+//    shading normal after normal and bump maps and the valid-reflection bend (scene.h),
+//    turned toward the viewer (Cycles' backfacing flip):
 //      albedo   = rho(wo) = integral of f(wo, wi) |cos theta_i| over the sphere: the fraction of
 //                 light from the viewer's direction the material sends back (reflection and
 //                 transmission), estimated with one BSDF sample per camera sample

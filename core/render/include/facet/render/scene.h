@@ -11,7 +11,9 @@
 //    reflects and emits toward its centre). Transforms never turn a shape inside out: a
 //    mirroring transform (negative determinant) keeps the authored front side. `ns` is the unit
 //    shading normal (interpolated vertex normals for meshes that have
-//    them, else ns = ng), always in ng's hemisphere. `dpdu` is a tangent hint for anisotropic
+//    them, else ns = ng), always in ng's hemisphere; an interpolated one is bent for the ray that
+//    found the hit (ray_side_valid_normal, shading_normal.h) so that its reflection of the view
+//    direction leaves the surface: no hit shades black because of its normal. `dpdu` is a tangent hint for anisotropic
 //    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
 //    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent). On shapes
 //    whose material has a normal map (ShapeInfo::needs_tangent) it is the tangent of the UV

@@ -40,9 +40,19 @@ Vec3 apply_bump(const Vec3& n, const Vec3& dpdu, const Vec3& dpdv, float h, floa
 
 // A shading normal n (unit, any side) bent toward ng, within the plane of n and ng, just enough
 // that the mirror reflection of wo about it leaves the geometric surface at least as steeply as
-// min(0.9 dot(ng, wo), 0.01) (Cycles' ensure_valid_reflection, kernel/closure/bsdf_util.h: the
-// same criterion; the closed form is derived in shading_normal.cpp). Returns n itself when it
-// already satisfies that, ng when no bend does.
+// t = min(0.9 dot(ng, wo), 0.01) (Cycles' ensure_valid_reflection, kernel/closure/bsdf_util.h:
+// the same criterion; the closed form is derived in shading_normal.cpp). Returns n itself when
+// it already satisfies that, ng when no bend does. The result n' then faces the viewer:
+// dot(n', wo) >= (t + dot(ng, wo)) / 2 > 0, because the reflection's height
+// 2 dot(n', wo) dot(n', ng) - dot(ng, wo) is at least t and dot(n', ng) is at most 1.
 Vec3 valid_reflection_normal(const Vec3& ng, const Vec3& wo, const Vec3& n);
+
+// The shading normal of a hit as the integrators use it (SurfaceHit::ns): ns (unit; an
+// interpolated normal is in ng's hemisphere, a mapped one may not be) turned with ng to the side
+// of wo (the unit direction toward the ray's origin), bent there by valid_reflection_normal, and
+// turned back. An ns in ng's hemisphere stays there and, seen from wo's side, faces the viewer
+// (valid_reflection_normal), so a Lambertian frame never sees wo below its horizon: Cycles flips
+// both normals to the ray's side and applies ensure_valid_reflection.
+Vec3 ray_side_valid_normal(const Vec3& ng, const Vec3& wo, const Vec3& ns);
 
 }  // namespace facet::render
