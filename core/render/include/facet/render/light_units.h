@@ -1,5 +1,8 @@
-// Light unit conversions: one function per quantity, used by the renderer's lights (light.cpp)
-// and by every exporter (`facet export-pov`), so that a unit is converted in exactly one place.
+// Light unit conversions: one function per quantity, used by the renderer's light types
+// (lights/*.cpp), by every exporter (`facet export-pov`) and, through the Python module under
+// the same names (point_intensity, spot_intensity, cycles_spot_intensity,
+// cycles_spot_attenuation), by the Blender addon's units.py, so that a unit is converted in
+// exactly one place.
 //
 // Conventions:
 //  - Facet's units are scenes/FORMAT.md's: point and spot lights by radiant power Phi (W),
@@ -73,8 +76,7 @@ inline double area_lamp_area(bool round, double size, double size_y) {
 
 // Radiance (W sr^-1 m^-2) of Blender's area lamp of power P (W) and area A (area_lamp_area):
 // L = P / (4 A) (Cycles 3.4: eval_fac = 1/4 invarea), so the emitted flux is pi L A = pi P / 4.
-// The Blender addon converts through this function too (the Python module's
-// facet.area_lamp_radiance).
+// The Blender addon passes Blender's power and the core converts it (lights/area.cpp).
 inline glm::dvec3 area_lamp_radiance(const glm::dvec3& power, double area) {
     return power / (4.0 * area);
 }
