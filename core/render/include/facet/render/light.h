@@ -1,8 +1,8 @@
 // Light sources of the renderer, in physical units, and their sampling as seen from a point.
 //
 // Structure: a Light holds one light TYPE's parameters (a struct of facet/render/lights/<type>.h,
-// listed in the table light_types.h) and dispatches to it by std::visit in Light's members:
-// the one place that goes from a light to its type. Each type's unit under
+// listed in the table light_types.h, a std::variant) and dispatches to it in Light::visit: the
+// one place that goes from a light to its type. Each type's unit under
 // core/render/src/lights/ holds its sampling (sample_li, pdf_li), its emission (le,
 // le_escape), its power and its factory below (the members every type has: light_sample.h);
 // the type's header holds its parameters and the functions small enough to inline (kInline:
