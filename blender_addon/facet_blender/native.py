@@ -58,6 +58,24 @@ def check_material(model, params):
     facet.make_material(model, **params)
 
 
+# --- light units -------------------------------------------------------------------------
+# The core's conversions (light_units.h) under their C++ names; units.py converts through them.
+
+def point_intensity(power):
+    """Intensity (W/sr, [r, g, b]) of an isotropic point light of power Phi: Phi / (4 pi)."""
+    return list(facet.point_intensity(power))
+
+
+def spot_intensity(power, inner_deg, outer_deg):
+    """On-axis intensity I0 ([r, g, b]) of Facet's linear spot of power Phi (FORMAT.md)."""
+    return list(facet.spot_intensity(power, inner_deg, outer_deg))
+
+
+def cycles_spot_intensity(power, outer_deg, blend):
+    """K ([r, g, b]) of Facet's spot in Blender's form (Cycles 3.4's fall-off) of power Phi."""
+    return list(facet.cycles_spot_intensity(power, outer_deg, blend))
+
+
 # --- scene data <-> SceneDescription --------------------------------------------------------
 
 _SHAPE_KEYS = {

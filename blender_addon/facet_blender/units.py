@@ -18,6 +18,9 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
   I0 is matched to Cycles' on the axis, P / (4 pi), and the fade range to Cycles'. An
   approximation: off the axis Facet's spot is brighter by 1 / cos (1.07 at 20 degrees, 1.31 at
   40), and linear instead of smoothstep in the blend range.
+  The cone integrals (Facet's power for an on-axis intensity, linear or Cycles' fall-off) are
+  the core's alone (light_units.h: spot_intensity, cycles_spot_intensity), called through the
+  native module; this file only inverts them (they are linear in the power).
 - sun of Strength S: irradiance S W/m^2 on a surface facing it (Cycles' sun angle, for soft
   shadows, is ignored).
 - area light of Power P: Facet's "area" lamp takes the same P; its radiance L = P / (4 A)
@@ -28,6 +31,8 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
 - world background: radiance = Color x Strength.
 """
 import math
+
+from . import native
 
 # --- lights --------------------------------------------------------------------------------
 
@@ -60,33 +65,37 @@ def spot_cone_to_blender(outer_deg, inner_deg):
     return 2.0 * outer, max(0.0, min(1.0, blend))
 
 
-def _spot_power_factor(outer_deg, inner_deg):
-    """Facet spot: Phi = 2 pi I0 [(1 - cos inner) + (cos inner - cos outer) / 2] (FORMAT.md);
-    returns Phi / I0."""
-    ci, co = math.cos(math.radians(inner_deg)), math.cos(math.radians(outer_deg))
-    return 2.0 * math.pi * ((1.0 - ci) + 0.5 * (ci - co))
+def _spot_power_per_intensity(outer_deg, inner_deg):
+    """Facet's linear spot: Phi / I0 (sr), from the core's spot_intensity (I0 of 1 W); 0 for a
+    cone of zero width."""
+    i0 = native.spot_intensity(1.0, inner_deg, outer_deg)[0]
+    return 1.0 / i0 if i0 > 0.0 else 0.0
+
+
+def _blender_intensity(color, power_w):
+    """Cycles' spot (and point) intensity of colour x Power P: P / (4 pi) per channel."""
+    return [native.point_intensity(float(c) * float(power_w))[0] for c in color]
 
 
 def spot_power_from_blender(color, power_w, outer_deg, inner_deg):
     """Blender spot (colour, Power) -> Facet spot power: I0 = P / (4 pi) in the cone."""
-    factor = _spot_power_factor(outer_deg, inner_deg) / (4.0 * math.pi)
-    return [float(c) * float(power_w) * factor for c in color]
+    factor = _spot_power_per_intensity(outer_deg, inner_deg)
+    return [i * factor for i in _blender_intensity(color, power_w)]
 
 
 def spot_power_to_blender(power_rgb, outer_deg, inner_deg):
     """Facet spot power (W, RGB) -> (colour, Power in W) for Blender."""
-    factor = _spot_power_factor(outer_deg, inner_deg) / (4.0 * math.pi)
-    return _split_colour([p / factor for p in power_rgb])
+    per_watt = _blender_intensity([1.0], 1.0)[0] * _spot_power_per_intensity(outer_deg, inner_deg)
+    return _split_colour([p / per_watt for p in power_rgb])
 
 
 def spot_blend_power_from_blender(color, power_w, outer_deg, blend):
-    """Blender spot (colour, Power P, half-angle outer, spot_blend b) -> the power of Facet's
-    spot in Blender's form (FORMAT.md, spot): K = P / (4 pi) and
-    Phi = 2 pi K [(1 - (c + s)^2) / 2 + s (c / 2 + 0.35 s)], c = cos outer, s = (1 - c) b."""
-    c = math.cos(math.radians(outer_deg))
-    s = (1.0 - c) * float(blend)
-    factor = 0.5 * ((1.0 - (c + s) ** 2) / 2.0 + s * (c / 2.0 + 0.35 * s))
-    return [float(col) * float(power_w) * factor for col in color]
+    """Blender spot (colour, Power P, half-angle outer, spot_blend b) -> the power Phi of Facet's
+    spot in Blender's form (FORMAT.md, spot) with K = P / (4 pi): the core's
+    cycles_spot_intensity gives K for a power, linearly, so Phi = K / K(1 W)."""
+    k1 = native.cycles_spot_intensity(1.0, outer_deg, blend)[0]
+    k = _blender_intensity(color, power_w)
+    return [ki / k1 if k1 > 0.0 else 0.0 for ki in k]
 
 
 def sun_irradiance_from_blender(color, strength):

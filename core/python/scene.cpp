@@ -28,6 +28,7 @@
 
 #include "bindings.h"
 #include "facet/render/kinds.h"
+#include "facet/render/light_units.h"
 #include "facet/render/pov_export.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
@@ -452,6 +453,48 @@ void bind_scene(py::module_& m) {
         },
         "{light kind: (its keys, the LightDesc attributes, in the kind table's order)}: what a "
         "front end copies between a LightDesc and its own data (the Blender addon).");
+
+    // Light unit conversions (light_units.h), for front ends that convert a light's units (the
+    // Blender addon's units.py): the core's functions under their C++ names, so that each
+    // formula exists once. Powers are per channel: a number or [r, g, b]; results are
+    // (r, g, b) tuples.
+    const auto rgb3 = [](const glm::dvec3& v) { return py::make_tuple(v.x, v.y, v.z); };
+    const auto dvec = [](const py::object& o) {
+        if (py::isinstance<py::sequence>(o) && !py::isinstance<py::str>(o)) {
+            const py::sequence q = o.cast<py::sequence>();
+            if (q.size() != 3) throw py::value_error("power: expected a number or [r, g, b]");
+            return glm::dvec3(q[0].cast<double>(), q[1].cast<double>(), q[2].cast<double>());
+        }
+        return glm::dvec3(o.cast<double>());
+    };
+    m.def(
+        "point_intensity",
+        [=](const py::object& power) { return rgb3(point_intensity(dvec(power))); },
+        py::arg("power"),
+        "Radiant intensity (W/sr) of an isotropic point light of power Phi: Phi / (4 pi) "
+        "(light_units.h).");
+    m.def(
+        "spot_intensity",
+        [=](const py::object& power, double inner_deg, double outer_deg) {
+            return rgb3(spot_intensity(dvec(power), inner_deg, outer_deg));
+        },
+        py::arg("power"), py::arg("inner_deg"), py::arg("outer_deg"),
+        "On-axis intensity I0 (W/sr) of Facet's spot of power Phi, linear in cos theta between "
+        "the inner and the outer half-angle (degrees): Phi = 2 pi I0 [(1 - cos inner) + "
+        "(cos inner - cos outer) / 2] (light_units.h).");
+    m.def(
+        "cycles_spot_intensity",
+        [=](const py::object& power, double outer_deg, double blend) {
+            return rgb3(cycles_spot_intensity(dvec(power), outer_deg, blend));
+        },
+        py::arg("power"), py::arg("outer_deg"), py::arg("blend"),
+        "K (W/sr) of a spot in Blender's form (Cycles 3.4's fall-off I = K g(cos theta)) of "
+        "power Phi, half-angle outer (degrees, <= 90) and spot_blend: Phi = 2 pi K int_c^1 g "
+        "(light_units.h).");
+    m.def("cycles_spot_attenuation", &cycles_spot_attenuation, py::arg("mu"), py::arg("c"),
+          py::arg("smooth"),
+          "Cycles 3.4's spot fall-off g(mu) for c = cos(spot_size / 2) and smooth = (1 - c) "
+          "spot_blend (light_units.h).");
 
     py::class_<CameraDesc>(m, "CameraDesc",
                            "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "

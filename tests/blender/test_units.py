@@ -1,11 +1,21 @@
-"""units.py (no Blender needed): each conversion against its formula and its inverse."""
+"""units.py (no Blender needed): each conversion against its formula and its inverse, and the
+spot conversions against the core's own (the facet module on PYTHONPATH)."""
+import ast
 import math
 import os
+import random
 import sys
+import types
 
-sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..",
-                                "blender_addon", "facet_blender"))
-import units  # noqa: E402
+ADDON = os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "..", "blender_addon",
+                     "facet_blender")
+# The addon's package without its __init__ (which needs bpy): units and native only.
+_pkg = types.ModuleType("facet_blender")
+_pkg.__path__ = [ADDON]
+sys.modules["facet_blender"] = _pkg
+from facet_blender import native, units  # noqa: E402
+
+facet = native.facet
 
 
 def close(a, b, tol=1e-12):
@@ -40,6 +50,45 @@ def test_spot():
         assert abs(s2 - size) < 1e-12 and abs(b2 - blend) < 1e-9
         col, p = units.spot_power_to_blender([phi] * 3, o, i)
         assert abs(p - 100.0) < 1e-9
+
+
+def test_spot_through_the_core():
+    # The addon's spot conversions are the core's (light_units.h through the facet module): a
+    # Blender spot of Power P has K = P / (4 pi) (Cycles 3.4), and the power the addon writes
+    # must give exactly that K in the core's own formula, cycles_spot_intensity (Blender's
+    # form), or I0 in spot_intensity (the linear form). Tolerance 1e-12 relative: one division
+    # and one multiplication of round-off apart; a different formula (another integral, a
+    # missing blend term) is off by far more (the 0.35 s^2 term alone is >= 1e-4 here).
+    rng = random.Random(7)
+    for _ in range(200):
+        outer = rng.uniform(0.5, 90.0)
+        blend = rng.choice([0.0, 1.0, rng.random()])
+        p = rng.uniform(0.1, 1000.0)
+        col = [rng.random() for _ in range(3)]
+        phi = units.spot_blend_power_from_blender(col, p, outer, blend)
+        k = facet.cycles_spot_intensity(phi, outer, blend)
+        for c, ki in zip(col, k):
+            assert abs(ki - c * p / (4 * math.pi)) <= 1e-12 * c * p, (outer, blend, ki)
+        inner = rng.uniform(0.0, outer)
+        phi = units.spot_power_from_blender(col, p, outer, inner)
+        i0 = facet.spot_intensity(phi, inner, outer)
+        for c, ii in zip(col, i0):
+            assert abs(ii - c * p / (4 * math.pi)) <= 1e-12 * c * p, (outer, inner, ii)
+        assert abs(units.spot_power_to_blender(phi, outer, inner)[1] - p * max(col)) <= 1e-9 * p
+
+
+def test_no_spot_formula_in_the_addon():
+    # The cone integrals live in the core only: no function of units.py named for spots calls
+    # math.cos (their only trigonometry is the cone angle conversion of spot_cone_*).
+    tree = ast.parse(open(os.path.join(ADDON, "units.py")).read())
+    for fn in tree.body:
+        if not isinstance(fn, ast.FunctionDef) or "spot" not in fn.name:
+            continue
+        if fn.name.startswith("spot_cone_"):
+            continue
+        for node in ast.walk(fn):
+            if isinstance(node, ast.Attribute) and node.attr in ("cos", "sin", "acos"):
+                raise AssertionError("units.%s computes a cone formula itself" % fn.name)
 
 
 def test_sun_area_emission():

@@ -311,7 +311,7 @@ TEST(LightSelection, EnvironmentByBsdfSamplingMatchesLightSampling) {
             "render": {"spp": 64, "max_depth": 1})");
         ASSERT_EQ(scene.lights().size(), 2u);
         const fr::LightDistribution& d = scene.light_distribution();
-        const std::size_t env = scene.lights()[0].kind() == fr::Light::Kind::Environment ? 0 : 1;
+        const std::size_t env = scene.lights()[0].type_name() == "environment" ? 0 : 1;
         EXPECT_EQ(d.pmf(env), 0.f);
         EXPECT_EQ(d.pmf(1 - env), 1.f);
         const fr::Image path = render(scene, 64, kPower, 31);
@@ -366,7 +366,7 @@ TEST(LightSelection, ViewSelectionFollowsTheCameraAndKeepsTheMean) {
         "render": {"spp": 16, "max_depth": 2})");
     ASSERT_EQ(scene.lights().size(), 2u);
     // Light 0 is the emissive quad (shape lights first) or the sun: find the area light.
-    const std::size_t area = scene.lights()[0].kind() == fr::Light::Kind::Area ? 0 : 1;
+    const std::size_t area = scene.lights()[0].type_name() == "emissive_parallelogram" ? 0 : 1;
     const double p_power = scene.light_distribution().pmf(area);
     const double p_view = scene.view_light_distribution().pmf(area);
     std::printf("area light pmf: power %.4f, view %.4f\n", p_power, p_view);
@@ -426,4 +426,41 @@ TEST(LightSelection, ViewSelectionSingleLightDeterminismAndFloor) {
                 a.light_distribution().pmf(1), va.pmf(1), floor);
     EXPECT_NEAR(va.pmf(1), floor, 1e-6);  // the pilot saw none of its light
     EXPECT_GT(va.pmf(0), 0.5);
+}
+
+// The light type table (light_types.h): every factory makes a light of its type, with its
+// type's fixed properties (hittable: rays find it; nee: light selection may sample it). Fails
+// when a factory builds the wrong type or a type's flags change.
+TEST(LightTypes, FactoriesMakeTheirTypes) {
+    const Vec3 a(0, 0, 0), b(1, 0, 0), c(1, 1, 0), d(0, 1, 0), m(0.5f, 0.5f, 0.2f);
+    struct Case {
+        fr::Light light;
+        const char* name;
+        bool hittable, nee;
+    };
+    const std::vector<Case> cases = {
+        {fr::Light::point({0, 1, 0}, Rgb(1.f)), "point", false, true},
+        {fr::Light::spot({0, 1, 0}, {0, -1, 0}, Rgb(1.f), 10.f, 20.f), "spot", false, true},
+        {fr::Light::spot_blend({0, 1, 0}, {0, -1, 0}, Rgb(1.f), 20.f, 0.5f), "spot", false, true},
+        {fr::Light::directional({0, -1, 0}, Rgb(1.f)), "directional", false, true},
+        {fr::Light::environment(Rgb(1.f)), "environment", true, false},
+        {fr::Light::area_triangles({a, b, c, a, c, d}, Rgb(1.f), 0), "emissive_parallelogram", true,
+         true},
+        {fr::Light::area_triangles({a, b, m, b, c, m, c, d, m}, Rgb(1.f), 0), "emissive_triangles",
+         true, true},
+        {fr::Light::area_sphere({0, 0, 0}, 1.f, Rgb(1.f), 0), "emissive_sphere", true, true},
+        {fr::Light::area_disc({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, Rgb(1.f), 0), "emissive_disc", true,
+         true},
+        {fr::Light::area_lamp({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, Rgb(1.f), false), "area_lamp", false,
+         true}};
+    for (const Case& k : cases) {
+        EXPECT_EQ(k.light.type_name(), k.name);
+        EXPECT_EQ(k.light.hittable(), k.hittable) << k.name;
+        EXPECT_EQ(fr::nee_samples(k.light), k.nee) << k.name;
+    }
+    // Only emissive shapes name a shape; only the environment map has a map.
+    EXPECT_EQ(cases[0].light.shape(), UINT32_MAX);
+    EXPECT_EQ(cases[9].light.shape(), UINT32_MAX);
+    EXPECT_EQ(cases[5].light.shape(), 0u);
+    EXPECT_EQ(cases[4].light.map(), nullptr);
 }

@@ -260,10 +260,11 @@ TEST(SceneLoader, EveryShapeKindAndTransform) {
     ASSERT_EQ(s.lights().size(), 3u);
     EXPECT_EQ(s.shapes()[3].light, 0);
     EXPECT_EQ(s.shapes()[4].light, 1);
-    EXPECT_EQ(s.lights()[0].kind(), Light::Kind::Area);
+    EXPECT_EQ(s.lights()[0].type_name(), "emissive_parallelogram");  // the quad
     EXPECT_EQ(s.lights()[0].shape(), 3u);
     EXPECT_EQ(s.lights()[0].emission(), Rgb(1, 2, 3));
-    EXPECT_EQ(s.lights()[2].kind(), Light::Kind::Point);
+    EXPECT_EQ(s.lights()[1].type_name(), "emissive_disc");
+    EXPECT_EQ(s.lights()[2].type_name(), "point");
     // quad area 1, disc area pi r^2
     EXPECT_NEAR(s.lights()[0].area(), 1.f, 1e-6f);
     EXPECT_NEAR(s.lights()[1].area(), kPi * 0.25f, 1e-6f);

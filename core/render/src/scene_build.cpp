@@ -1523,28 +1523,12 @@ class Builder final : public BuildChecks {
         f.has_specular = any(f.lobes & BxDFFlags::Specular);
         f.has_transmission = is_transmissive(f.lobes);
         for (const Light& l : scene.lights()) {
-            switch (l.kind()) {
-                case Light::Kind::Point:
-                    f.has_point = true;
-                    break;
-                case Light::Kind::Spot:
-                    f.has_spot = true;
-                    break;
-                case Light::Kind::Directional:
-                    f.has_directional = true;
-                    break;
-                case Light::Kind::Area:
-                    f.has_area = true;
-                    break;
-                case Light::Kind::Environment:
-                    f.has_environment = true;
-                    f.emitter_visible = true;  // escaping camera rays see it
-                    break;
-            }
+            l.note(f);
             if (!l.is_delta()) f.any_non_delta_light = true;
             if (l.hittable()) f.any_hittable_light = true;
         }
         f.all_lights_delta = !f.any_non_delta_light;
+        if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
     }
 
     // Counts triangles against the limit before they are generated.

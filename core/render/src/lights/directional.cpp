@@ -1,7 +1,16 @@
-// Light kind "directional": parallel light of a given irradiance (a distant sun).
+// Light kind "directional": parallel light of a given irradiance (a distant sun), and its
+// light type.
+//
+// Sampling (light.h conventions): the delta light gives li = E (the irradiance on a surface
+// facing the light), dist = +inf. With an angular diameter 2 delta > 0 (Blender's sun angle) it
+// is a cone of directions of uniform radiance L = E / (pi sin^2 delta) about -direction, so that
+// a surface facing it receives E = int_cone L cos = pi L sin^2 delta exactly; wi is uniform in
+// the cone, li = L. No ray finds the sun (not hittable): pdf_li is 0. Its power for the light
+// choice is E times the cross-section pi R^2 of the scene's bounding sphere (pbrt-v4).
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
 #include "facet/render/light_units.h"
+#include "sampling.h"
 
 namespace facet::render {
 
@@ -38,6 +47,45 @@ void pov(PovLightOut& o) {
 }
 
 }  // namespace
+
+std::optional<LightLiSample> DirectionalLight::sample_li(const LightSampleContext&, Vec2 u) const {
+    LightLiSample s;
+    if (sized) {
+        // Uniform in the cone of half-angle delta about -direction.
+        s.wi = Vec3(sample_cone(-direction, one_minus_cos, u));
+        s.li = size_radiance;
+        s.pdf = float(1.0 / (2.0 * kPiD * one_minus_cos));
+        s.dist = kInfinity;
+        return s;
+    }
+    s.wi = -direction;
+    s.li = irradiance;
+    s.pdf = 1.f;
+    s.dist = kInfinity;
+    s.delta = true;
+    return s;
+}
+
+void DirectionalLight::note(SceneFeatures& f) {
+    f.has_directional = true;
+}
+
+Light Light::directional(const Vec3& direction, const Rgb& irradiance, float angle_deg) {
+    DirectionalLight l;
+    l.direction = glm::normalize(direction);
+    l.irradiance = irradiance;
+    // 1 - cos delta = 2 sin^2(delta / 2) and sin^2 delta = omc (2 - omc), delta = angle / 2.
+    // Below omc = 1e-30 (angles under ~1e-13 degrees) the cone's pdf and L would overflow a
+    // float: such a sun is the parallel light it equals to float precision.
+    const double quarter = 0.25 * double(angle_deg) * kPiD / 180.0;
+    const double omc = 2.0 * std::sin(quarter) * std::sin(quarter);
+    if (omc > 1e-30) {
+        l.sized = true;
+        l.one_minus_cos = omc;
+        l.size_radiance = Rgb(glm::dvec3(irradiance) / (kPiD * omc * (2.0 - omc)));
+    }
+    return make(l, {.emission = irradiance, .delta = !l.sized});
+}
 
 extern const LightKindDef kDirectionalLightKind{
     LightKind::Directional,

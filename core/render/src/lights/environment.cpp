@@ -1,6 +1,13 @@
 // Light kind "environment": radiance arriving from every direction that escapes the scene (at
 // most one per scene): a constant, or an equirectangular image (environment_map.h) oriented by
-// "up" and "rotate".
+// "up" and "rotate". The constant environment's light type is here; the map's is in
+// environment_map.cpp.
+//
+// Sampling (light.h conventions): the constant environment samples the cosine-weighted
+// hemisphere about ctx.n (the whole sphere uniformly when n = 0); li = L. Next-event estimation
+// does not sample it (nee = false, light.h nee_samples: BSDF sampling finds it). Its power for
+// the light choice is L from every direction through a disc of the scene's cross-section,
+// 4 pi^2 R^2 L (R the scene's bounding radius).
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <cctype>
@@ -12,6 +19,7 @@
 #include "../kind_build.h"
 #include "facet/render/environment_map.h"
 #include "facet/render/texel_image.h"
+#include "sampling.h"
 
 namespace facet::render {
 
@@ -206,6 +214,37 @@ void pov(PovLightOut& o) {
 }
 
 }  // namespace
+
+std::optional<LightLiSample> ConstantEnvironment::sample_li(const LightSampleContext& ctx,
+                                                            Vec2 u) const {
+    LightLiSample s;
+    if (ctx.n != Vec3(0.f)) {
+        Vec3 local = sample_cosine_hemisphere(u);
+        s.pdf = cosine_hemisphere_pdf(local.z);
+        s.wi = Frame::from_z(ctx.n).from_local(local);
+    } else {
+        s.wi = sample_uniform_sphere(u);
+        s.pdf = uniform_sphere_pdf();
+    }
+    if (!(s.pdf > 0.f)) return std::nullopt;
+    s.li = radiance;
+    s.dist = kInfinity;
+    return s;
+}
+
+float ConstantEnvironment::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3&,
+                                  const Vec3&) const {
+    if (ctx.n != Vec3(0.f)) return cosine_hemisphere_pdf(glm::dot(ctx.n, wi));
+    return uniform_sphere_pdf();
+}
+
+void ConstantEnvironment::note(SceneFeatures& f) {
+    f.has_environment = true;
+}
+
+Light Light::environment(const Rgb& radiance) {
+    return make(ConstantEnvironment{radiance}, {.emission = radiance});
+}
 
 extern const LightKindDef kEnvironmentLightKind{
     LightKind::Environment,

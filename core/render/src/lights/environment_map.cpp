@@ -1,9 +1,14 @@
-// The environment map's lookup and importance sampling (conventions in environment_map.h).
+// The environment map's lookup and importance sampling (conventions in environment_map.h), and
+// its light type: sample_li and pdf_li use the map's importance density over the whole sphere
+// (ctx is ignored), le_escape looks the map up, emission() is its mean radiance. Its power for
+// the light choice is the mean radiance's, 4 pi^2 R^2 L (lights/environment.cpp).
 #include "facet/render/environment_map.h"
 
 #include <algorithm>
 #include <cmath>
 
+#include "facet/render/light.h"
+#include "facet/render/scene.h"
 #include "facet/render/texel_image.h"
 
 namespace facet::render {
@@ -96,6 +101,27 @@ EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
     s.pdf = t.pdf;
     s.radiance = lookup(t.uv);
     return s;
+}
+
+std::optional<LightLiSample> EnvironmentMapLight::sample_li(const LightSampleContext&,
+                                                            Vec2 u) const {
+    const EnvironmentMap::Sample e = m->sample(u);
+    if (!(e.pdf > 0.f)) return std::nullopt;
+    LightLiSample s;
+    s.wi = e.wi;
+    s.pdf = e.pdf;
+    s.li = e.radiance;
+    s.dist = kInfinity;
+    return s;
+}
+
+void EnvironmentMapLight::note(SceneFeatures& f) {
+    f.has_environment = true;
+}
+
+Light Light::environment_map(std::shared_ptr<const EnvironmentMap> map) {
+    const Rgb mean = map->mean_radiance();
+    return make(EnvironmentMapLight{std::move(map)}, {.emission = mean});
 }
 
 }  // namespace facet::render

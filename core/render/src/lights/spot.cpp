@@ -1,12 +1,26 @@
 // Light kind "spot": a point light restricted to a cone, with a linear fall-off between the
-// inner and the outer half-angle.
+// inner and the outer half-angle (or Blender's), and its light type.
+//
+// Sampling (light.h conventions): the delta spot gives li = I(theta) / r^2 with I(theta) = I0
+// falloff(cos theta), where falloff is 1 inside the inner cone, 0 outside the outer cone and
+// LINEAR IN cos theta between them, so Phi = 2 pi I0 [(1 - cos_in) + (cos_in - cos_out) / 2]
+// holds exactly (light_units.h, spot_intensity); Blender's form uses Cycles' fall-off instead
+// (cycles_spot_attenuation, cycles_spot_intensity). With a radius it is the point light's
+// sphere (lights/point.cpp) of on-axis radiance L = I0 / (pi r^2), whose radiance along w (from
+// the sphere toward the receiver) is L falloff(w . axis).
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
 #include "facet/render/light_units.h"
+#include "sampling.h"
 
 namespace facet::render {
 
 namespace {
+
+Light make_spot(SpotLight& l, const Vec3& position, float radius) {
+    const bool sphere = set_emitter_radius(l.e, radius);
+    return Light::make(l, {.emission = l.e.power, .position = position, .delta = !sphere});
+}
 
 void build(LightBuild& b) {
     const LightDesc& l = b.light;
@@ -63,6 +77,53 @@ void pov(PovLightOut& o) {
 }
 
 }  // namespace
+
+float SpotLight::falloff(float cos_theta) const {
+    if (smooth < 0.f) {
+        if (cos_theta >= cos_inner) return 1.f;
+        if (cos_theta <= cos_outer) return 0.f;
+        return (cos_theta - cos_outer) / (cos_inner - cos_outer);
+    }
+    return float(cycles_spot_attenuation(double(cos_theta), double(cos_outer), double(smooth)));
+}
+
+std::optional<LightLiSample> SpotLight::sample_li(const LightSampleContext& ctx, Vec2 u) const {
+    const auto f = [this](const Vec3& wi) { return falloff(-glm::dot(wi, direction)); };
+    if (e.radius > 0.f) return sample_emitter_sphere(e, ctx, u, f);
+    return sample_emitter_point(e, ctx, f);
+}
+
+void SpotLight::note(SceneFeatures& f) {
+    f.has_spot = true;
+}
+
+Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
+                  float inner_half_angle_deg, float outer_half_angle_deg, float radius) {
+    SpotLight l;
+    l.e.position = position;
+    l.e.power = power;
+    l.direction = glm::normalize(direction);
+    l.cos_inner = float(std::cos(double(inner_half_angle_deg) * kPiD / 180.0));
+    l.cos_outer = float(std::cos(double(outer_half_angle_deg) * kPiD / 180.0));
+    // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu (light_units.h, shared with the exporters).
+    l.e.intensity = Rgb(spot_intensity(glm::dvec3(power), double(inner_half_angle_deg),
+                                       double(outer_half_angle_deg)));
+    return make_spot(l, position, radius);
+}
+
+Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
+                        float outer_half_angle_deg, float blend, float radius) {
+    SpotLight l;
+    l.e.position = position;
+    l.e.power = power;
+    l.direction = glm::normalize(direction);
+    const double c = std::cos(double(outer_half_angle_deg) * kPiD / 180.0);
+    l.cos_inner = l.cos_outer = float(c);
+    l.smooth = float((1.0 - c) * double(blend));
+    l.e.intensity =
+        Rgb(cycles_spot_intensity(glm::dvec3(power), double(outer_half_angle_deg), double(blend)));
+    return make_spot(l, position, radius);
+}
 
 extern const LightKindDef kSpotLightKind{
     LightKind::Spot,

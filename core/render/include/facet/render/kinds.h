@@ -12,6 +12,11 @@
 //    checks that the file holds them).
 // Adding a kind: its enum value below, one unit, its line in the table (kinds.cpp), its tests.
 //
+// The renderer's light TYPES (light.h "Structure": how a light samples and evaluates itself)
+// have their table in light_types.h: a light kind of the format builds lights of one or more
+// types (a spot with and without Blender's fall-off is one type; an emissive shape is a light
+// of an emissive_* type, built by its shape kind).
+//
 // Conventions: a Field names a member of the description struct; the member's default value
 // (ShapeDesc{} / LightDesc{}) is the format's default, and `default_text` documents it. Keys
 // every shape has (type, name, material, emission, two_sided, transform, flip_normals) are the

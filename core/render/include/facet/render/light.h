@@ -1,65 +1,49 @@
 // Light sources of the renderer, in physical units, and their sampling as seen from a point.
 //
+// Structure: a Light holds one light TYPE's parameters (a struct of facet/render/lights/<type>.h,
+// listed in the table light_types.h, a std::variant) and dispatches to it in Light::visit: the
+// one place that goes from a light to its type. Each type's unit under
+// core/render/src/lights/ holds its sampling (sample_li, pdf_li), its emission (le,
+// le_escape), its power and its factory below (the members every type has: light_sample.h);
+// the type's header holds its parameters and the functions small enough to inline (kInline:
+// Light::sample_li inlines the type's sample_li into the integrators). Nothing
+// else knows a type: the integrators, the light selection (LightDistribution) and the scene
+// builder see only Light. The types:
+//   point, spot, directional   (lights/point.cpp, spot.cpp, directional.cpp)
+//   environment                (lights/environment.cpp: the constant environment)
+//   environment_map            (lights/environment_map.cpp)
+//   area_lamp                  (lights/area.cpp: Blender's area lamp, the "area" light kind)
+//   emissive_triangles, emissive_parallelogram, emissive_sphere, emissive_disc
+//                              (lights/emissive_*.cpp: shapes with an "emission")
+// A type's math (fall-offs, sized lights, the shapes' sampling densities) is documented in its
+// unit; light_units.h holds the unit conversions the units and the exporters share.
+//
 // Conventions:
 //  - Units: point and spot lights are given by their radiant power Phi (W, per RGB channel),
 //    directional lights by the irradiance E (W/m^2) on a surface facing them, area lights
-//    (emissive shapes) and the environment by their radiance L (W sr^-1 m^-2).
+//    (emissive shapes, area lamps) and the environment by their radiance L (W sr^-1 m^-2).
 //  - `sample_li(ctx, u)` picks a direction wi (unit, world space, from ctx.p TOWARD the light)
 //    and returns `li` such that the direct-lighting estimate at ctx.p is
 //        f(wo, wi) * li * |cos theta_i| / pdf.
-//    For area lights and the environment `li` is the incident radiance and `pdf` is per unit
-//    solid angle of wi. For the delta lights `pdf` = 1 and `delta` is true, and li is
-//      point:       Phi / (4 pi r^2)                 so li |cos| = Phi cos / (4 pi r^2),
-//                                                    Cohen & Wallace eq. 2.40;
-//      spot:        I(theta) / r^2, I(theta) = I0 * falloff(cos theta), where falloff is 1
-//                   inside the inner cone, 0 outside the outer cone and LINEAR IN cos theta
-//                   between them, so Phi = 2 pi I0 [(1 - cos_in) + (cos_in - cos_out) / 2]
-//                   holds exactly;
-//      directional: E (the irradiance on a surface facing the light), dist = +inf.
-//  - Lights with size (Blender's lamp radius and sun angle). A point or spot light of radius
-//    r > 0 is a SPHERE of uniform radiance L = I0 / (pi r^2) (I0 its on-axis intensity as
-//    above: Phi / (4 pi) for a point), so its intensity pi r^2 L = I0 and its power Phi are
-//    those of the point light (Cycles 3.4's point lamp: radiance Phi / (4 pi^2 r^2)); a spot
-//    sphere's radiance along w (from the sphere toward the receiver) is L falloff(w . axis).
-//    From outside, sample_li draws wi uniformly in the cone the sphere subtends (pdf per solid
-//    angle 1 / (2 pi (1 - cos theta_max)), sin theta_max = r / d; pbrt-v4's SampleSphere, Cycles'
-//    sphere light) and li = L; from inside (d <= r) the point sees L from every direction and
-//    wi is cosine-weighted about ctx.n (uniform over the sphere when n = 0). A directional
-//    light of angular diameter 2 delta > 0 (the sun) is a cone of directions of uniform
-//    radiance L = E / (pi sin^2 delta) about -direction, so that a surface facing it receives
-//    E = int_cone L cos = pi L sin^2 delta exactly; wi is uniform in the cone, li = L. These
-//    lights are NOT in the ray-traced geometry: no camera or BSDF ray finds them (Blender 3.4
-//    shows no lamp to camera rays), so their samples are not delta (a random u is drawn) but
-//    take no MIS weight (Light::hittable() is false); pdf_li is 0 for them.
+//    For lights with extent `li` is the incident radiance and `pdf` is per unit solid angle of
+//    wi. For the delta lights (point, spot and directional lights without size) `pdf` = 1,
+//    `delta` is true and li is the radiance's equivalent (the unit says which): then
+//    li |cos theta_i| is the irradiance the light gives.
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
 //    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
 //  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
 //    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
-//    multiple importance sampling of BSDF-sampled rays. 0 for delta lights.
-//  - Area lights emit only from the FRONT side of their shape (the side the geometric normal of
-//    the shape points to, see scene.h); `le(n_light, w)` is the radiance leaving toward w.
+//    multiple importance sampling of BSDF-sampled rays. 0 for lights no ray can hit.
+//  - hittable(): rays can hit the light (emissive shapes, the environment). Only then does MIS
+//    weigh its samples against BSDF samples; a sample of any other light (delta lights, lights
+//    with size that are not in the traced geometry: a sized point or spot, the sun, an area
+//    lamp) is the only estimate of its light and takes weight 1.
+//  - Emissive shapes emit only from the FRONT side of their shape (the side the geometric normal
+//    of the shape points to, see scene.h); `le(n_light, w)` is the radiance leaving toward w.
 //  - `ctx.n` is the (unit) shading normal on the side being lit, used by the constant
-//    environment to sample the cosine-weighted hemisphere; pass n = 0 for a point not on a
-//    surface (then the constant environment is sampled uniformly over the sphere). An
-//    environment map ignores ctx and samples its own importance density over the whole sphere
-//    (environment_map.h). Spheres are sampled in the cone they
-//    subtend (pdf per solid angle), triangles, quads, boxes, meshes and discs uniformly by area
-//    (converted to solid angle: pdf = r^2 / (A |cos theta_l|)). A light of exactly two triangles
-//    that form a parallelogram (a quad light) maps u straight onto the parallelogram,
-//    p = o + u.x e1 + u.y e2: the same density, no triangle search, and u's 2D stratification
-//    carries over to the whole light.
-//  - Area lamps (Blender's, the "area" kind: Light::area_lamp). A rectangle lamp is sampled
-//    uniformly in the solid angle it subtends (Urena, Fajardo & King 2013, "An Area-Preserving
-//    Parametrization for Spherical Rectangles"; pdf = 1 / Omega), in double precision. A disc or
-//    ellipse lamp is sampled the same way over its bounding rectangle when the point is near
-//    (height h above its plane below kLampEllipseNear = 1 times its larger half-axis); a sample
-//    that falls outside the ellipse is lost (nullopt), so the density over the ellipse is
-//    exactly 1 / Omega_rect, unbiased, with pi/4 of the samples kept far off (more near);
-//    farther away the ellipse is sampled uniformly by area, whose solid-angle density is then
-//    nearly uniform (see light.cpp for the measured crossover). Either shape falls back to
-//    area sampling when Omega < kLampMinSolidAngle (precision: Omega is a sum of four angles
-//    minus 2 pi). Lamps emit from the front only: from behind or in the plane, nullopt.
+//    environment and the inside of sized lights to sample the cosine-weighted hemisphere; pass
+//    n = 0 for a point not on a surface (then they sample the sphere uniformly).
 //  - Choosing a light for next-event estimation: LightDistribution, in proportion to power(),
 //    or (LightDistribution::view) to each light's contribution measured at the points the
 //    camera sees.
@@ -71,9 +55,12 @@
 #include <memory>
 #include <optional>
 #include <span>
+#include <string_view>
 #include <vector>
 
 #include "facet/render/environment_map.h"
+#include "facet/render/light_sample.h"
+#include "facet/render/light_types.h"
 #include "facet/render/precision.h"
 #include "facet/types.h"
 
@@ -81,31 +68,44 @@ namespace facet::render {
 
 class Scene;
 
-struct LightSampleContext {
-    Vec3 p{0.f};  // the shaded point (world space)
-    Vec3 n{0.f};  // unit shading normal on the lit side, or 0 (see conventions)
-};
-
-struct LightLiSample {
-    Rgb li{0.f};        // see conventions: radiance, or the delta lights' equivalent
-    Vec3 wi{0.f};       // unit, from p toward the light
-    float pdf = 0.f;    // per unit solid angle; 1 for delta lights
-    float dist = 0.f;   // distance from p to the sampled point; +inf for directional/environment
-    Vec3 p_light{0.f};  // sampled point on the light (area lights; position for point/spot)
-    Vec3 n_light{0.f};  // unit geometric normal there (area lights), else 0
-    // Error box of p_light (precision.h): p_light +- p_light_err contains a point of the
-    // light's surface as the scene traces it. 0 for point and spot lights (not on a surface).
-    Vec3 p_light_err{0.f};
-    bool delta = false;  // true for point, spot and directional lights without size
-};
-
 class Light {
-  public:
-    enum class Kind : std::uint8_t { Point, Spot, Directional, Area, Environment };
+    template <std::size_t I, class F>
+    [[gnu::always_inline]] decltype(auto) visit_from(F& f) const {
+        if constexpr (I + 1 == std::variant_size_v<LightTypes>) {
+            return f(*std::get_if<I>(&m_state));
+        } else {
+            if (m_state.index() == I) return f(*std::get_if<I>(&m_state));
+            return visit_from<I + 1>(f);
+        }
+    }
 
-    // Factories. Arguments are validated by the scene loader (finite, non-negative power,
-    // unit directions, 0 <= inner <= outer < 180 degrees...), not here.
-    // `radius` > 0 makes a sphere light of the same power (see conventions); 0 = a point.
+    // The inline part of sample_li: the types with kInline tested in the table's order, every
+    // other type through one out-of-line call (cold()).
+    template <std::size_t I, class F, class G>
+    [[gnu::always_inline]] decltype(auto) visit_inline_from(F& f, G& cold) const {
+        if constexpr (I == std::variant_size_v<LightTypes>) {
+            return cold();
+        } else {
+            if constexpr (std::variant_alternative_t<I, LightTypes>::kInline) {
+                if (m_state.index() == I) return f(*std::get_if<I>(&m_state));
+            }
+            return visit_inline_from<I + 1>(f, cold);
+        }
+    }
+
+  public:
+    // f(the type's parameters): the dispatch to the light's type, an inline test of the type
+    // index in the table's order (std::visit's own dispatch is an out-of-line call in
+    // libstdc++, which costs the hot emissive_parallelogram its inlining).
+    template <class F>
+    [[gnu::always_inline]] decltype(auto) visit(F&& f) const {
+        return visit_from<0>(f);
+    }
+
+    // Factories, one per type, each defined in its type's unit (see "Structure"). Arguments
+    // are validated by the scene loader (finite, non-negative power, unit directions, 0 <=
+    // inner <= outer < 180 degrees...), not here. `radius` > 0 makes a point or spot light a
+    // sphere of the same power (lights/point.cpp); 0 = a point.
     static Light point(const Vec3& position, const Rgb& power, float radius = 0.f);
     // `direction` is the cone axis (unit, the way the light shines); angles are half-angles.
     static Light spot(const Vec3& position, const Vec3& direction, const Rgb& power,
@@ -124,7 +124,8 @@ class Light {
     static Light environment_map(std::shared_ptr<const EnvironmentMap> map);
     // Area light over world-space triangles (p0, p1, p2 per triangle, front side by the
     // counter-clockwise winding: n = normalize(cross(p1 - p0, p2 - p0))). Degenerate triangles
-    // are dropped; at least one must remain.
+    // are dropped; at least one must remain. Two triangles that form a parallelogram make an
+    // emissive_parallelogram.
     static Light area_triangles(std::vector<Vec3> triangle_vertices, const Rgb& radiance,
                                 std::uint32_t shape);
     // Area light on an exact sphere. Outward normals emit (sampled by the subtended cone from
@@ -138,182 +139,112 @@ class Light {
                            std::uint32_t shape);
     // Blender's area lamp (the "area" kind, no shape): a rectangle c + a e1 + b e2 (|a|, |b| <=
     // 1) or, with `ellipse`, the ellipse a^2 + b^2 <= 1, where e1 and e2 are PERPENDICULAR
-    // half-axes; front normal normalize(cross(e1, e2)). Sampled by solid angle (see
-    // conventions, "Area lamps"). With `camera_visible`, camera rays see it (lamp_hit).
+    // half-axes; front normal normalize(cross(e1, e2)). Sampled by solid angle (lights/area.cpp).
+    // With `camera_visible`, camera rays see it (camera_hit).
     static Light area_lamp(const Vec3& center, const Vec3& e1, const Vec3& e2, const Rgb& radiance,
                            bool ellipse, bool camera_visible = false);
 
-    Kind kind() const { return m_kind; }
-    // A delta light: sample_li ignores u (point, spot and directional lights without size).
-    bool is_delta() const { return m_delta; }
-    // Whether rays can hit the light (emissive shapes, the environment): only then does MIS
-    // weigh its samples against BSDF samples; a sample of any other light (including an
-    // "area" lamp, which is no shape) is the only estimate of its light and takes weight 1.
-    bool hittable() const {
-        return (m_kind == Kind::Area && m_shape != UINT32_MAX) || m_kind == Kind::Environment;
+    // What every light has besides its type's parameters (the factories fill it).
+    struct Common {
+        Rgb emission{0.f};   // Phi, E or L depending on the type (emission())
+        Vec3 position{0.f};  // position(): point, spot; a shape light's or lamp's centre
+        float area = 0.f;    // area(): emitting surfaces
+        bool delta = false;  // is_delta()
+        std::uint32_t shape = UINT32_MAX;  // shape()
+        bool camera_visible = false;       // camera_visible()
+    };
+    // For the types' factories: a light of type T (a type of light_types.h).
+    template <class T>
+    static Light make(T state, const Common& common) {
+        return Light(LightTypes(std::in_place_type<T>, std::move(state)), common, T::kHittable,
+                     T::kNee);
     }
+
+    // The name of the light's type (its kName: "point", "emissive_parallelogram", ...).
+    std::string_view type_name() const;
+    // The parameters of type T, or null when the light is of another type.
+    template <class T>
+    const T* get() const {
+        return std::get_if<T>(&m_state);
+    }
+    // A delta light: sample_li ignores u (point, spot and directional lights without size).
+    bool is_delta() const { return m_common.delta; }
+    // Whether rays can hit the light (conventions).
+    bool hittable() const { return m_hittable; }
+    // Whether next-event estimation may sample it (its type's kNee; see nee_samples).
+    bool nee_type() const { return m_nee; }
     // An area light whose radiance is a texture (a shape's textured "emission"): next-event
     // estimation does not sample it (nee_samples), BSDF rays find it with MIS weight 1, and
     // the radiance at a hit comes from the texture (SurfaceHit::emitted_radiance); emission()
     // is the texture's largest value, which only sets power() for --explain.
     void set_textured_emission() { m_textured = true; }
     bool textured_emission() const { return m_textured; }
-    // The shape index (scene.h, SurfaceHit::shape) of an area light; UINT32_MAX otherwise
-    // (also for the "area" light kind, a lamp that is no shape).
-    std::uint32_t shape() const { return m_shape; }
+    // The shape index (scene.h, SurfaceHit::shape) of an emissive shape; UINT32_MAX otherwise
+    // (also for the area lamp, which is no shape).
+    std::uint32_t shape() const { return m_common.shape; }
 
-    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;
+    // Inline: it runs at every path vertex. Types with kInline (the emissive parallelogram,
+    // the usual area light) sample inline, the others through one out-of-line call.
+    [[gnu::always_inline]] std::optional<LightLiSample> sample_li(const LightSampleContext& ctx,
+                                                                  Vec2 u) const {
+        const auto f = [&](const auto& t) __attribute__((always_inline)) {
+            return t.sample_li(ctx, u);
+        };
+        const auto cold = [&] { return sample_li_out_of_line(ctx, u); };
+        return visit_inline_from<0>(f, cold);
+    }
+    std::optional<LightLiSample> sample_li_out_of_line(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
                  const Vec3& n_light) const;
-
-    // Area light: radiance leaving the light at a point with geometric normal n_light toward
-    // direction w (unit, pointing away from the light); 0 on the back side. Other kinds: 0.
+    // Emission: radiance leaving the light's surface at a point of geometric normal n_light
+    // toward the unit w (pointing away from the light; 0 on its back side), and radiance
+    // arriving along a ray that escapes the scene in direction d. 0 for types without.
     Rgb le(const Vec3& n_light, const Vec3& w) const;
-    // Environment: radiance arriving along a ray that escapes the scene in direction d. Others: 0.
     Rgb le_escape(const Vec3& d) const;
-
-    // Total emitted power (W per channel) for choosing lights in proportion to power.
-    // Directional and environment lights need the radius of the scene's bounding sphere.
+    // Total emitted power (W per channel) for choosing lights in proportion to power; lights at
+    // infinity (directional, environment) use the radius of the scene's bounding sphere.
     Rgb power(float scene_radius) const;
+    // Sets the SceneFeatures flags of the light's type.
+    void note(SceneFeatures& f) const;
 
-    // The environment's map, or null (a constant environment or another kind).
-    const EnvironmentMap* map() const { return m_map.get(); }
+    // The environment's map, or null (a constant environment or another type).
+    const EnvironmentMap* map() const;
 
-    // An area lamp that camera rays see ("camera_visible"): the distance t > 0 along the unit
-    // d at which the ray o + t d meets the lamp's front side, or +inf (a miss, its back side, or
-    // any other light). The radiance seen there is emission().
-    bool camera_visible() const { return m_camera_visible; }
-    float lamp_hit(const Vec3& o, const Vec3& d) const;
+    // A light that camera rays see ("camera_visible" area lamps): the distance t > 0 along the
+    // unit d at which the ray o + t d meets it, or +inf. The radiance seen there is emission().
+    bool camera_visible() const { return m_common.camera_visible; }
+    float camera_hit(const Vec3& o, const Vec3& d) const;
 
-    // Parameters, for exporters, tests and --explain.
-    const Vec3& position() const { return m_position; }    // point, spot; sphere/disc centre
-    const Vec3& direction() const { return m_direction; }  // spot axis, directional travel dir
-    const Rgb& emission() const { return m_emission; }     // Phi, E or L depending on kind
-    float cos_inner() const { return m_cos_inner; }
-    float cos_outer() const { return m_cos_outer; }
-    float area() const { return m_area; }      // area lights: total area
-    float radius() const { return m_radius; }  // sphere area lights, point and spot spheres
+    // Parameters, for tests and --explain.
+    const Vec3& position() const { return m_common.position; }
+    const Rgb& emission() const { return m_common.emission; }  // Phi, E or L depending on type
+    float area() const { return m_common.area; }               // emitting surfaces: total area
 
   private:
-    // area_triangles: switch to AreaShape::Parallelogram when the two triangles form one.
-    void detect_parallelogram();
-    Vec3 sphere_sample_error(const Vec3& p) const;
-    // sample_li for every light but the parallelogram (quad) light, which is inline below.
-    std::optional<LightLiSample> sample_li_other(const LightSampleContext& ctx, Vec2 u) const;
-    // The end of sample_li for lights sampled uniformly by area (triangles, parallelograms,
-    // discs): direction, distance and solid-angle pdf of s.p_light (normal s.n_light) from ctx.p.
-    std::optional<LightLiSample> finish_area_sample(const LightSampleContext& ctx,
-                                                    LightLiSample& s) const;
-
-    // Area lamps (LampRect, LampEllipse): sample_li (see conventions, "Area lamps"), and the
-    // solid-angle pdf 1 / Omega of its spherical-rectangle branch from p: 0 from behind, -1
-    // when p is sampled by area instead (pdf_li then takes area_to_solid_angle_pdf).
-    std::optional<LightLiSample> sample_lamp(const LightSampleContext& ctx, Vec2 u) const;
-    float pdf_lamp(const Vec3& p) const;
-
-    // The spot's intensity relative to K (linear or Cycles' form) at cos theta from the axis.
-    float spot_falloff(float cos_theta) const;
-    // Point and spot factories: radius > 0 (and L = I0 / (pi r^2) finite) makes the sphere.
-    void set_sphere(float radius);
-    // The sphere of a point or spot light with a radius (conventions): sample_li from p.
-    std::optional<LightLiSample> sample_sphere_light(const LightSampleContext& ctx, Vec2 u) const;
-
-    Kind m_kind = Kind::Point;
-    bool m_delta = true;
+    Light(LightTypes state, const Common& common, bool hittable, bool nee)
+        : m_state(std::move(state)), m_common(common), m_hittable(hittable), m_nee(nee) {}
+    LightTypes m_state;
+    Common m_common;
+    bool m_hittable = false;
+    bool m_nee = true;
     bool m_textured = false;
-    bool m_camera_visible = false;  // area lamps: seen by camera rays (lamp_hit)
-    std::uint32_t m_shape = UINT32_MAX;
-    Vec3 m_position{0.f};
-    Vec3 m_direction{0.f, 0.f, -1.f};
-    Rgb m_emission{0.f};   // Phi (point/spot), E (directional), L (area/environment)
-    Rgb m_intensity{0.f};  // I0 = radiant intensity on the axis (point, spot)
-    float m_cos_inner = 1.f, m_cos_outer = 1.f;
-    // Spot with Blender's fall-off (spot_blend): (1 - cos outer) blend; < 0: the linear form.
-    float m_spot_smooth = -1.f;
-    // Sized point/spot (sphere, radius m_radius) and directional lights: their radiance L, and
-    // the sun's 1 - cos delta (delta its half-angle), in double for narrow cones.
-    Rgb m_size_radiance{0.f};
-    double m_sun_one_minus_cos = 0.0;
-    // Area lights.
-    enum class AreaShape : std::uint8_t {
-        Triangles,
-        Parallelogram,  // two triangles forming a parallelogram (a quad)
-        Sphere,
-        Disc,
-        LampRect,    // area lamp rectangle: centre m_position, half-axes m_e1, m_e2
-        LampEllipse  // area lamp ellipse: the same frame
-    } m_area_shape = AreaShape::Triangles;
-    float m_radius = 0.f;   // sphere (area light, or a point/spot light with a radius)
-    bool m_inward = false;  // sphere turned inside out
-    // Disc: the ellipse's axes; parallelogram: its edges from the corner m_corner.
-    Vec3 m_e1{0.f}, m_e2{0.f};
-    Vec3 m_normal{0.f};  // disc and parallelogram: unit front normal
-    Vec3 m_corner{0.f};  // parallelogram
-    // Parallelogram and disc: the error box of every sample (a constant, set by
-    // detect_parallelogram and area_disc; light.cpp).
-    Vec3 m_sample_err{0.f};
-    float m_area = 0.f;
-    float m_inv_area = 0.f;
-    std::vector<Vec3> m_tri;                      // 3 vertices per triangle
-    std::vector<Vec3> m_tri_n;                    // unit front normal per triangle
-    std::vector<float> m_tri_cdf;                 // running area fraction, last = 1
-    std::shared_ptr<const EnvironmentMap> m_map;  // environment map (shared by copies)
 };
 
-// Solid-angle pdf of a point sampled uniformly by area: r^2 / (A cos theta_l) (area-to-solid-
-// angle Jacobian, Cohen & Wallace eq. 2.11). 0 on the back side of the one-sided emitter.
-[[gnu::always_inline]] inline float area_to_solid_angle_pdf(const Vec3& p, const Vec3& wi,
-                                                            const Vec3& p_light,
-                                                            const Vec3& n_light, float inv_area) {
-    float cos_l = -glm::dot(n_light, wi);
-    if (!(cos_l > 0.f)) return 0.f;
-    Vec3 v = p_light - p;
-    float pdf = glm::dot(v, v) * inv_area / cos_l;
-    return std::isfinite(pdf) ? pdf : 0.f;
-}
-
-[[gnu::always_inline]] inline std::optional<LightLiSample> Light::finish_area_sample(
-    const LightSampleContext& ctx, LightLiSample& s) const {
-    Vec3 v = s.p_light - ctx.p;
-    float d2 = glm::dot(v, v);
-    if (!(d2 > 0.f)) return std::nullopt;
-    s.dist = std::sqrt(d2);
-    s.wi = v / s.dist;
-    s.pdf = area_to_solid_angle_pdf(ctx.p, s.wi, s.p_light, s.n_light, m_inv_area);
-    if (!(s.pdf > 0.f)) return std::nullopt;
-    s.li = m_emission;
-    return s;
-}
-
-// Inline for quad lights (the usual area light, the Cornell box's): it runs at every path
-// vertex. p = corner + u.x e1 + u.y e2, uniform by area.
-[[gnu::always_inline]] inline std::optional<LightLiSample> Light::sample_li(
-    const LightSampleContext& ctx, Vec2 u) const {
-    if (m_kind != Kind::Area || m_area_shape != AreaShape::Parallelogram)
-        return sample_li_other(ctx, u);
-    LightLiSample s;
-    s.p_light = m_corner + u.x * m_e1 + u.y * m_e2;
-    s.n_light = m_normal;
-    s.p_light_err = m_sample_err;
-    return finish_area_sample(ctx, s);
-}
-
-// Whether next-event estimation samples this light. Every light but the constant environment
-// (an environment map is sampled by its importance density, combined with the BSDF sample by
-// MIS: a small bright sun is found by the light sample, the BSDF sample would rarely hit it).
-// The constant environment's radiance is constant, so the BSDF sample that continues a path already
-// draws wi in proportion to f cos L up to visibility (the best a light sample could do), while a
-// light sample of it goes cosine-weighted about the normal (blind to a glossy lobe: on the brushed
-// scene's near-specular floor almost every such shadow ray fell outside the lobe) and takes the
-// shadow ray from the lights that need it (56% of the brushed scene's, by power). The path
-// integrator therefore finds the environment by BSDF sampling alone: its selection pmf is 0, so
-// the MIS weight of an escaping BSDF ray is 1 (power heuristic with a zero light pdf). The
-// `direct` integrator, which has no BSDF rays, still samples it (Light::sample_li).
-// A textured emitter is not sampled either (Light::set_textured_emission): its light samples
-// would need the texture at the sampled point; BSDF sampling finds it unbiasedly.
+// Whether next-event estimation samples this light (its type's kNee, and no textured emission).
+// Every light but the constant environment (an environment map is sampled by its importance
+// density, combined with the BSDF sample by MIS: a small bright sun is found by the light sample,
+// the BSDF sample would rarely hit it). The constant environment's radiance is constant, so the
+// BSDF sample that continues a path already draws wi in proportion to f cos L up to visibility (the
+// best a light sample could do), while a light sample of it goes cosine-weighted about the normal
+// (blind to a glossy lobe: on the brushed scene's near-specular floor almost every such shadow ray
+// fell outside the lobe) and takes the shadow ray from the lights that need it (56% of the brushed
+// scene's, by power). The path integrator therefore finds the environment by BSDF sampling alone:
+// its selection pmf is 0, so the MIS weight of an escaping BSDF ray is 1 (power heuristic with a
+// zero light pdf). The `direct` integrator, which has no BSDF rays, still samples it
+// (Light::sample_li). A textured emitter is not sampled either (Light::set_textured_emission): its
+// light samples would need the texture at the sampled point; BSDF sampling finds it unbiasedly.
 inline bool nee_samples(const Light& light) {
-    return (light.kind() != Light::Kind::Environment || light.map() != nullptr) &&
-           !light.textured_emission();
+    return light.nee_type() && !light.textured_emission();
 }
 
 // The discrete distribution next-event estimation chooses lights from: probability in

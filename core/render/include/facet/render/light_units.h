@@ -1,5 +1,8 @@
-// Light unit conversions: one function per quantity, used by the renderer's lights (light.cpp)
-// and by every exporter (`facet export-pov`), so that a unit is converted in exactly one place.
+// Light unit conversions: one function per quantity, used by the renderer's light types
+// (lights/*.cpp), by every exporter (`facet export-pov`) and, through the Python module under
+// the same names (point_intensity, spot_intensity, cycles_spot_intensity,
+// cycles_spot_attenuation), by the Blender addon's units.py, so that a unit is converted in
+// exactly one place.
 //
 // Conventions:
 //  - Facet's units are scenes/FORMAT.md's: point and spot lights by radiant power Phi (W),

@@ -378,7 +378,7 @@ class Scene {
     Rgb camera_lamps(const Vec3& o, const Vec3& d, float t_hit) const {
         Rgb l(0.f);
         for (std::uint32_t i : m_camera_lamps)
-            if (m_lights[i].lamp_hit(o, d) < t_hit) l += m_lights[i].emission();
+            if (m_lights[i].camera_hit(o, d) < t_hit) l += m_lights[i].emission();
         return l;
     }
     bool has_camera_lamps() const { return !m_camera_lamps.empty(); }
