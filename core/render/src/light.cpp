@@ -192,6 +192,8 @@ void LightDistribution::build(const std::vector<double>& weights) {
     for (std::size_t i = n; i-- > 0 && m_cdf[i] == last;) m_cdf[i] = 1.f;
     // pmf as the selection actually happens: the width of each light's interval of u.
     for (std::size_t i = 0; i < n; ++i) m_pmf[i] = m_cdf[i] - (i > 0 ? m_cdf[i - 1] : 0.f);
+    m_guide.resize(n);
+    build_cdf_guide(m_cdf.data(), n, m_guide.data());
 }
 
 }  // namespace facet::render

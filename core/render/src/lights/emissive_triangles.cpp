@@ -9,6 +9,7 @@
 // whole light. One-sided: the front is the counter-clockwise winding's normal. Power: pi A L.
 #include <algorithm>
 
+#include "facet/cdf_search.h"
 #include "sampling.h"
 
 namespace facet::render {
@@ -64,8 +65,7 @@ std::optional<LightLiSample> EmissiveTriangles::sample_li(const LightSampleConte
     if (tri_cdf.empty()) return std::nullopt;
     LightLiSample s;
     // Pick a triangle in proportion to its area, then reuse u.x within it.
-    auto it = std::upper_bound(tri_cdf.begin(), tri_cdf.end(), u.x);
-    std::size_t i = std::min<std::size_t>(it - tri_cdf.begin(), tri_cdf.size() - 1);
+    const std::size_t i = find_cdf_interval(tri_cdf.data(), tri_guide.data(), tri_cdf.size(), u.x);
     float lo = i == 0 ? 0.f : tri_cdf[i - 1];
     float w = tri_cdf[i] - lo;
     float ux = w > 0.f ? std::min((u.x - lo) / w, kOneMinusEpsilon) : 0.5f;
@@ -116,6 +116,8 @@ Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uin
         l.tri_cdf[i] = float(run / total);
     }
     if (!l.tri_cdf.empty()) l.tri_cdf.back() = 1.f;
+    l.tri_guide.resize(l.tri_cdf.size());
+    build_cdf_guide(l.tri_cdf.data(), l.tri_cdf.size(), l.tri_guide.data());
     l.inv_area = total > 0.0 ? float(1.0 / total) : 0.f;
     l.tri_n.resize(areas.size());
     for (std::size_t i = 0; i < areas.size(); ++i) {

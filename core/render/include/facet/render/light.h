@@ -58,6 +58,7 @@
 #include <string_view>
 #include <vector>
 
+#include "facet/cdf_search.h"
 #include "facet/render/environment_map.h"
 #include "facet/render/light_sample.h"
 #include "facet/render/light_types.h"
@@ -287,7 +288,7 @@ class LightDistribution {
         if (n <= 8) {
             while (i + 1 < n && !(u < m_cdf[i])) ++i;
         } else {
-            i = std::size_t(std::upper_bound(m_cdf.begin(), m_cdf.end() - 1, u) - m_cdf.begin());
+            i = find_cdf_interval(m_cdf.data(), m_guide.data(), n, u);
         }
         pmf = m_pmf[i];
         return std::uint32_t(i);
@@ -299,8 +300,9 @@ class LightDistribution {
     // weights[i] < 0 marks a light that is not a candidate (pmf 0 even in the uniform case).
     void build(const std::vector<double>& weights);
     bool m_empty = true;
-    std::vector<float> m_cdf;  // running probability, last = 1
-    std::vector<float> m_pmf;  // m_cdf[i] - m_cdf[i - 1], exactly as sample() selects
+    std::vector<float> m_cdf;            // running probability, last = 1
+    std::vector<float> m_pmf;            // m_cdf[i] - m_cdf[i - 1], exactly as sample() selects
+    std::vector<std::uint32_t> m_guide;  // m_cdf's cutpoint table (facet/cdf_search.h)
 };
 
 }  // namespace facet::render

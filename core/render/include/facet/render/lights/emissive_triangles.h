@@ -2,6 +2,7 @@
 // core/render/src/lights/emissive_triangles.cpp, math there).
 #pragma once
 
+#include <cstdint>
 #include <vector>
 
 #include "facet/render/light_sample.h"
@@ -12,9 +13,10 @@ struct EmissiveTriangles {
     static constexpr std::string_view kName = "emissive_triangles";
     static constexpr bool kHittable = true, kNee = true;
     static constexpr bool kInline = false;
-    std::vector<Vec3> tri;       // 3 vertices per triangle
-    std::vector<Vec3> tri_n;     // unit front normal per triangle
-    std::vector<float> tri_cdf;  // running area fraction, last = 1
+    std::vector<Vec3> tri;                 // 3 vertices per triangle
+    std::vector<Vec3> tri_n;               // unit front normal per triangle
+    std::vector<float> tri_cdf;            // running area fraction, last = 1
+    std::vector<std::uint32_t> tri_guide;  // tri_cdf's cutpoint table (facet/cdf_search.h)
     Rgb radiance{0.f};
     float area = 0.f, inv_area = 0.f;
 
