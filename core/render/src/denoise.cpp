@@ -6,6 +6,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <xmmintrin.h>
 
 #include <algorithm>
 #include <array>
@@ -55,6 +56,20 @@ inline float exp_neg(float x) {
     std::memcpy(&s, &bits, sizeof s);
     return p * s;
 }
+
+// Flush-to-zero and denormals-are-zero on this thread while alive (the render threads run so,
+// for Embree): the denoiser's bits then do not depend on the floating-point mode of the process
+// or thread that calls it (a value below 1.2e-38 would otherwise round differently).
+class FlushDenormals {
+  public:
+    FlushDenormals() : m_saved(_mm_getcsr()) { _mm_setcsr(m_saved | 0x8040u); }
+    ~FlushDenormals() { _mm_setcsr(m_saved); }
+    FlushDenormals(const FlushDenormals&) = delete;
+    FlushDenormals& operator=(const FlushDenormals&) = delete;
+
+  private:
+    unsigned m_saved;
+};
 
 // Planar float images: plane k is data[k * n, (k + 1) * n).
 struct Planes {
@@ -338,6 +353,7 @@ void run_parallel(int threads, int count, const F& body) {
     auto work = [&] {
         tbb::parallel_for(tbb::blocked_range<int>(0, count, 1),
                           [&](const tbb::blocked_range<int>& r) {
+                              const FlushDenormals ftz;
                               for (int i = r.begin(); i < r.end(); ++i) body(i);
                           });
     };
@@ -368,6 +384,7 @@ Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
                                     std::to_string(o.threads));
     const int w = ref.width(), h = ref.height();
     const std::size_t n = std::size_t(w) * h;
+    const FlushDenormals ftz;
     Prepared p(w, h);
     prepare(in, p);
 
