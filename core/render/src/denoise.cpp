@@ -10,6 +10,7 @@
 
 #include <algorithm>
 #include <array>
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -44,17 +45,15 @@ constexpr int kBandRows = 16;
 // polynomial of 2^f on [0, 1) (relative error below 1e-6), branch-free so that loops over it
 // vectorise. Weights need no more accuracy, and libm's expf would not vectorise here.
 inline float exp_neg(float x) {
-    x = std::max(x, -80.f);
+    x = x > -80.f ? x : -80.f;
     const float t = x * 1.44269504f + 128.f;  // in [12.5, 128]: int() is floor()
     const int i = int(t);
     const float f = t - float(i);
     const float p =
         1.f + f * (0.69314718f +
                    f * (0.24022652f + f * (0.05550411f + f * (0.00961813f + f * 0.00133336f))));
-    const std::uint32_t bits = std::uint32_t(i - 1) << 23;  // 2^(i - 128), exponent i - 1
-    float s;
-    std::memcpy(&s, &bits, sizeof s);
-    return p * s;
+    // 2^(i - 128), exponent field i - 1
+    return p * std::bit_cast<float>(static_cast<std::uint32_t>(i - 1) << 23);
 }
 
 // Flush-to-zero and denormals-are-zero on this thread while alive (the render threads run so,
@@ -295,8 +294,9 @@ void filter_band(const Prepared& p, int radius, int y0, int y1, Planes& out) {
                         const float ik = inv_k2[k];
 #pragma GCC ivdep
                         for (int x = x_lo; x < x_hi; ++x) {
-                            const float wc = exp_neg(-std::max(0.f, P[x]) * ik);
-                            const float wt = std::min(wc, WF[x]);
+                            const float d = P[x] > 0.f ? P[x] : 0.f;
+                            const float wc = exp_neg(-d * ik);
+                            const float wt = wc < WF[x] ? wc : WF[x];
                             const float wx = wt * fdx, wy = wt * fdy;
                             M[0][x] += wt;
                             M[1][x] += wx;
