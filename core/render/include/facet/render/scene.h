@@ -13,11 +13,11 @@
 //    shading normal (interpolated vertex normals for meshes that have
 //    them, else ns = ng), always in ng's hemisphere; an interpolated one is bent for the ray that
 //    found the hit (ray_side_valid_normal, shading_normal.h) so that its reflection of the view
-//    direction leaves the surface: no hit shades black because of its normal. `dpdu` is a tangent hint for anisotropic
-//    models (sphere: direction of increasing longitude about the shape's local z axis; planes,
-//    quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent). On shapes
-//    whose material has a normal map (ShapeInfo::needs_tangent) it is the tangent of the UV
-//    map instead, with `tangent_sign` (scenes/FORMAT.md, "Normal maps"): the unit dp/du of an
+//    direction leaves the surface: no hit shades black because of its normal. `dpdu` is a tangent
+//    hint for anisotropic models (sphere: direction of increasing longitude about the shape's local
+//    z axis; planes, quads, discs and boxes: the shape's local x axis; meshes: 0, use any tangent).
+//    On shapes whose material has a normal map (ShapeInfo::needs_tangent) it is the tangent of the
+//    UV map instead, with `tangent_sign` (scenes/FORMAT.md, "Normal maps"): the unit dp/du of an
 //    analytic shape's UVs, or a mesh's interpolated per-corner tangent (given, or MikkTSpace's:
 //    mesh.h), so that the bitangent along +v is tangent_sign * cross(ns, dpdu).
 //  - `uv` holds the shape's texture coordinates (scenes/FORMAT.md, "UV coordinates") only on
