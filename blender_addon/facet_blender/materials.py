@@ -21,6 +21,8 @@ per material (they would fire on every default material).
 
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar): the core's
   oren_nayar (sigma = Roughness, clamped to 1 as Cycles does).
+- Translucent BSDF -> translucent (transmittance = Color); Velvet BSDF -> velvet (Color, Sigma).
+- Transparent BSDF -> the material's opacity (resolve_transparent, _mix_transparent).
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
   reflectance = Color). Multiscatter GGX -> ggx with energy_compensation (Kulla & Conty 2017
@@ -155,6 +157,11 @@ def convert(mat, obj=None):
     for name in ('Volume', 'Displacement'):
         ctx.ignored_input(out, name, (), feeds)
     data, emission = ctx.shader(src, "the Material Output's Surface")
+    if is_transparent(data):
+        notes = []
+        data = resolve_transparent(data, notes)
+        for note in notes:
+            ctx.gap(src, note, "feeds the Material Output's Surface")
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
     conv.baked = ctx.baked
     conv.tangents = ctx.tangents
@@ -450,6 +457,15 @@ def combine(parts, fac):
     lists what is not exact (reported by the caller)."""
     (d1, e1), (d2, e2) = parts
     notes = []
+    if is_transparent(d1) or is_transparent(d2):
+        if fac is not None and _black(e1) and _black(e2):
+            data = _mix_transparent(d1, d2, fac, notes)
+            if data is not None:
+                return data, None, notes
+        notes.append("a Transparent BSDF converts only as a Mix Shader's side with a BSDF and "
+                     "no emission (the core's opacity), a textured Fac only with a white "
+                     "Transparent first (or second with a Checker); here it is opaque black")
+        d1, d2 = (dict(BLACK) if is_transparent(d) else d for d in (d1, d2))
     if any("opacity" in d for d in (d1, d2)):
         d1, d2 = ({k: v for k, v in d.items() if k != "opacity"} for d in (d1, d2))
         notes.append("the Alpha of a shader inside a Mix or Add Shader is not converted (the "
@@ -550,6 +566,94 @@ def _diffuse(ctx, node, path):
         return {"model": "oren_nayar", "reflectance": color,
                 "sigma": min(rough, 1.0)}, None
     return {"model": "lambert", "reflectance": color}, None
+
+
+# A Transparent BSDF inside the walker: a marker with its Color, resolved into the core's
+# opacity (FORMAT.md "Opacity") by combine() and at the Surface (resolve_transparent); it never
+# reaches the core.
+TRANSPARENT = "(transparent)"
+
+
+def _transparent(ctx, node, path):
+    return {"model": TRANSPARENT, "color": _rgb(ctx.param(node, 'Color', path))}, None
+
+
+def is_transparent(d):
+    return d.get("model") == TRANSPARENT
+
+
+def _transparent_grey(d, notes):
+    """The pass-through fraction g of a Transparent marker: its grey Color; a coloured or
+    textured one is reported and read as its luminance (or white)."""
+    c = d["color"]
+    if is_texture(c):
+        notes.append("a textured Transparent Color is not converted (the core's opacity is "
+                     "grey); fully transparent")
+        return 1.0
+    if max(c) - min(c) > 1e-6:
+        notes.append("a coloured Transparent BSDF is not converted (the core's opacity is "
+                     "grey); its luminance is used")
+        return sum(w * v for w, v in zip(nodegraph.RGB_TO_Y, c))
+    return min(max(c[0], 0.0), 1.0)
+
+
+def resolve_transparent(data, notes):
+    """A Transparent BSDF alone at the Surface: passes g of the light, reflects nothing, which
+    is the core's opacity 1 - g on a black surface (opacity 0 on grey lambert when g = 1, as a
+    surface with nothing connected)."""
+    if not is_transparent(data):
+        return data
+    g = _transparent_grey(data, notes)
+    if g >= 1.0:
+        return dict(DEFAULT_MATERIAL, opacity=0.0)
+    return dict(BLACK, opacity=1.0 - g)
+
+
+def _mix_transparent(d1, d2, fac, notes):
+    """A Mix Shader with a Transparent BSDF on one side (weight w_t) and a BSDF X on the other
+    (weight w_x = 1 - w_t): Cycles passes w_t g of the light and reflects w_x X. The core's
+    opacity a with material M passes 1 - a and reflects a M, so a = 1 - w_t g and
+    M = mix(black, X, w_x / a) (X itself when g = 1). A textured Fac converts when g = 1 and the
+    Transparent is the first input (a = Fac), or the second with a Checker Fac (a = 1 - Fac,
+    its colours inverted); otherwise None (the caller reports it)."""
+    first = is_transparent(d1)
+    tr, x = (d1, d2) if first else (d2, d1)
+    if is_transparent(x) or "opacity" in x:
+        return None
+    g = _transparent_grey(tr, notes)
+    if is_texture(fac):
+        if g < 1.0:
+            return None
+        if first:
+            return dict(x, opacity=fac)
+        if ("checker" in fac and "scale" not in fac
+                and all(isinstance(c, float) for c in fac["checker"]["colors"])):
+            inv = dict(fac)
+            inv["checker"] = dict(fac["checker"])
+            inv["checker"]["colors"] = [1.0 - c for c in fac["checker"]["colors"]]
+            return dict(x, opacity=inv)
+        return None
+    w_t = (1.0 - fac) if first else fac
+    alpha = 1.0 - w_t * g
+    if alpha <= 0.0:
+        return dict(DEFAULT_MATERIAL, opacity=0.0)
+    w = (1.0 - w_t) / alpha
+    data = dict(x) if w >= 1.0 - 1e-9 else {"model": "mix", "materials": [dict(BLACK), dict(x)],
+                                             "weight": w}
+    data["opacity"] = alpha
+    return data
+
+
+def _translucent(ctx, node, path):
+    """Cycles' Translucent BSDF: the core's `translucent` (Lambertian transmission, f = Color/pi
+    on the far side)."""
+    return {"model": "translucent", "transmittance": _rgb(ctx.param(node, 'Color', path))}, None
+
+
+def _velvet(ctx, node, path):
+    """Cycles' Velvet BSDF: the core's `velvet` (Ashikhmin velvet, Sigma as Cycles reads it)."""
+    return {"model": "velvet", "reflectance": _rgb(ctx.param(node, 'Color', path)),
+            "sigma": ctx.param(node, 'Sigma', path)}, None
 
 
 def _glossy_model(ctx, node):
@@ -730,6 +834,9 @@ _NODE_CONVERTERS = {
     'ShaderNodeEmission': _emission,
     'ShaderNodeBsdfGlass': _glass,
     'ShaderNodeBsdfRefraction': _glass,
+    'ShaderNodeBsdfTranslucent': _translucent,
+    'ShaderNodeBsdfVelvet': _velvet,
+    'ShaderNodeBsdfTransparent': _transparent,
 }
 _READS = {
     'ShaderNodeBsdfDiffuse': ('Color', 'Roughness'),
@@ -740,4 +847,7 @@ _READS = {
     'ShaderNodeEmission': ('Color', 'Strength'),
     'ShaderNodeBsdfGlass': ('Color', 'Roughness', 'IOR'),
     'ShaderNodeBsdfRefraction': ('Color', 'Roughness', 'IOR'),
+    'ShaderNodeBsdfTranslucent': ('Color',),
+    'ShaderNodeBsdfVelvet': ('Color', 'Sigma'),
+    'ShaderNodeBsdfTransparent': ('Color',),
 }

@@ -217,6 +217,7 @@ void bind_brdf(py::module_& m) {
         .def_property_readonly("type", [](const ParamInfo& p) { return param_type_name(p.type); })
         .def_readonly("default", &ParamInfo::default_value)
         .def_readonly("doc", &ParamInfo::doc)
+        .def_readonly("choices", &ParamInfo::choices)
         .def("__repr__", [](const ParamInfo& p) {
             return "facet.ParamInfo('" + p.name + "', " + param_type_name(p.type) + ", default " +
                    p.default_value + ")";
@@ -225,6 +226,9 @@ void bind_brdf(py::module_& m) {
         .def_readonly("name", &ModelInfo::name)
         .def_readonly("summary", &ModelInfo::summary)
         .def_readonly("params", &ModelInfo::params)
+        .def_readonly("children", &ModelInfo::children)
+        .def_readonly("diffuse_param", &ModelInfo::diffuse_param)
+        .def_readonly("pov_finish", &ModelInfo::pov_finish)
         .def("__repr__", [](const ModelInfo& i) { return "facet.ModelInfo('" + i.name + "')"; });
 
     m.def(

@@ -121,8 +121,7 @@ Material::Material(const DielectricBxDF& dielectric)
 Material::Material(const ThinDielectricBxDF& thin)
     : m_thin(thin), m_flags(thin.flags()), m_special(true) {}
 
-Material::Material(const OrenNayarReflection& oren_nayar)
-    : m_oren_nayar(oren_nayar), m_flags(oren_nayar.flags()), m_special(true) {}
+Material::Material(const InlineBxDF& unit) : m_unit(unit), m_flags(unit.flags()), m_special(true) {}
 
 Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
                        float weight) {
@@ -209,7 +208,7 @@ inline bool child_flipped(const Material& parent, const Material& child, const V
 BSDFEval Material::special_eval(const Vec3& wo, const Vec3& wi, Mode mode) const {
     if (m_dielectric) return m_dielectric->eval(wo, wi, mode);
     if (m_principled) return m_principled->eval(wo, wi, mode);
-    if (m_oren_nayar) return {m_oren_nayar->f(wo, wi), m_oren_nayar->pdf(wo, wi)};
+    if (m_unit) return m_unit->eval(wo, wi);
     if (!m_combination) return {};  // the thin pane: deltas only
     const Combination& c = *m_combination;
     BSDFEval e;
@@ -229,7 +228,7 @@ std::optional<BSDFSample> Material::special_sample_f(const Vec3& wo, float uc, V
     if (m_dielectric) return m_dielectric->sample_f(wo, uc, u, mode);
     if (m_principled) return m_principled->sample_f(wo, uc, u, mode);
     if (m_thin) return m_thin->sample_f(wo, uc, u, mode);
-    if (m_oren_nayar) return m_oren_nayar->sample_f(wo, uc, u);
+    if (m_unit) return m_unit->sample_f(wo, uc, u);
     const Combination& c = *m_combination;
     // Choose a child with uc, then stretch the used part of uc back to [0, 1) for it.
     const bool first = uc < c.prob_a;

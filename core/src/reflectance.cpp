@@ -86,10 +86,11 @@ Rgb delta_reflectance(const Material& m, const Vec3& fixed) {
     return r;
 }
 
-// Oren-Nayar and combinations, which the lobe-specific routines below do not see: a
-// combination's reflectance is linear in its children's, c_a R_a + c_b R_b (values and
-// errors), recursing with `of`; Oren-Nayar is smooth over the hemisphere (a kink where
-// cos(phi) changes sign), integrated through the cosine map at Q(order) and Q(2 order).
+// Model units' lobes (facet/inline_bxdf.h) and combinations, which the lobe-specific routines
+// below do not see: a combination's reflectance is linear in its children's, c_a R_a + c_b R_b
+// (values and errors), recursing with `of`; a unit's reflection lobe (Oren-Nayar: smooth over
+// the hemisphere with a kink where cos(phi) changes sign; velvet) is integrated through the
+// cosine map at Q(order) and Q(2 order) with that error estimate.
 // nullopt for the other materials.
 Reflectance with_error_of(const Material& m, const Vec3& fixed, bool fixed_is_wo, int order);
 template <class Of>
@@ -101,7 +102,7 @@ std::optional<Reflectance> special_reflectance(const Material& m, const Vec3& fi
                            double(c->coef_a) * a.error + double(c->coef_b) * b.error,
                            a.evaluations + b.evaluations};
     }
-    if (m.oren_nayar()) return with_error_of(m, fixed, fixed_is_wo, order);
+    if (m.unit() && !m.transmissive()) return with_error_of(m, fixed, fixed_is_wo, order);
     return std::nullopt;
 }
 

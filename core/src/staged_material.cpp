@@ -1,6 +1,8 @@
 // Staged material build: see facet/staged_material.h.
 #include "facet/staged_material.h"
 
+#include "facet/registry.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -60,25 +62,40 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
                                                    std::span<const Range> ranges) {
     StagedMaterial s(base);
     using F = Family;
-    if (model == "lambert" && base.diffuse())
-        s.m_family = F::Lambert;
-    else if (model == "oren_nayar" && base.oren_nayar())
-        s.m_family = F::OrenNayar;
-    else if (model == "principled" && base.principled())
-        s.m_family = F::Principled;
-    else if (model == "mirror" && base.mirror())
-        s.m_family = F::Mirror;
-    else if ((model == "ggx" || model == "beckmann" || model == "blinn") && base.glossy())
-        s.m_family = F::Microfacet;
-    else if (model == "dielectric" && base.dielectric())
-        s.m_family = F::Dielectric;
-    else if (model == "thin_dielectric" && base.thin_dielectric())
-        s.m_family = F::ThinDielectric;
-    else if (model == "composite" && !base.combination() && !base.transmissive())
-        s.m_family = F::Composite;
-    else
-        return std::nullopt;
-
+    // The model's unit names its family (facet/registry.h); the base must be that model.
+    const ModelInfo* info = find_model(model);
+    const StagedFamily family = info ? info->staged : StagedFamily::None;
+    bool matches = false;
+    switch (family) {
+        case StagedFamily::Lambert:
+            matches = bool(base.diffuse());
+            break;
+        case StagedFamily::OrenNayar:
+            matches = base.oren_nayar() != nullptr;
+            break;
+        case StagedFamily::Principled:
+            matches = bool(base.principled());
+            break;
+        case StagedFamily::Mirror:
+            matches = bool(base.mirror());
+            break;
+        case StagedFamily::Microfacet:
+            matches = bool(base.glossy());
+            break;
+        case StagedFamily::Dielectric:
+            matches = bool(base.dielectric());
+            break;
+        case StagedFamily::ThinDielectric:
+            matches = bool(base.thin_dielectric());
+            break;
+        case StagedFamily::Composite:
+            matches = !base.combination() && !base.transmissive();
+            break;
+        case StagedFamily::None:
+            break;
+    }
+    if (!matches) return std::nullopt;
+    s.m_family = family;
     const F f = s.m_family;
     const Fresnel::Kind fresnel_kind = f == F::Mirror       ? base.mirror()->fresnel().kind()
                                        : f == F::Microfacet ? base.glossy()->fresnel().kind()
@@ -392,7 +409,7 @@ Material StagedMaterial::at(std::span<const DVec3> values) const {
         case Family::Lambert:
             return Material(LambertReflection(v.rho), std::nullopt, std::nullopt);
         case Family::OrenNayar:
-            return Material(OrenNayarReflection(v.rho, v.sigma));
+            return Material(InlineBxDF(OrenNayarReflection(v.rho, v.sigma)));
         case Family::Mirror:
             return Material(std::nullopt, std::nullopt, MirrorReflection(v.fr, v.rho));
         case Family::Microfacet: {

@@ -32,7 +32,8 @@ namespace facet_pov {
 //    into the cosine lobe (Disney diffuse + sheen), the non-delta specular + clearcoat, and
 //    each delta lobe alone (f of the model is the sum of the parts). Its colours are its own
 //    parameters (base_color, ...): the pigment does not tint it.
-//  - oren_nayar: the diffuse part alone, tinted by the pigment (f is linear in rho).
+//  - a model unit's lobe (facet/inline_bxdf.h: oren_nayar, velvet): the diffuse part alone,
+//    tinted by the pigment (f is linear in its colour, ModelInfo::diffuse_param).
 class Brdf {
   public:
     explicit Brdf(facet::Material m, int samples) : m_material(std::move(m)), m_samples(samples) {
@@ -40,12 +41,14 @@ class Brdf {
             init_principled(*p);
             return;
         }
-        if (m_material.oren_nayar()) {
+        if (m_material.unit()) {
+            // A model unit's one reflection lobe (oren_nayar, velvet): the diffuse part.
             m_split = true;
             m_tinted = true;
             m_diffuse_part.emplace(m_material);
-            m_diffuse = facet::max_component(m_material.oren_nayar()->rho()) > 0.f;
             init_albedo_table();
+            m_diffuse = false;
+            for (const facet::Rgb& a : m_albedo) m_diffuse |= facet::max_component(a) > 0.f;
             return;
         }
         const auto& g = m_material.glossy();
@@ -63,7 +66,7 @@ class Brdf {
     bool diffuse() const { return m_diffuse; }
     int samples() const { return m_samples; }
 
-    // The split parts (split() true: principled, oren_nayar).
+    // The split parts (split() true: principled, a model unit's lobe).
     bool split() const { return m_split; }
     bool tinted() const { return m_tinted; }
     const std::optional<facet::Material>& diffuse_part() const { return m_diffuse_part; }
@@ -177,10 +180,7 @@ std::string quoted_list(const std::vector<std::string>& names) {
 bool reflection_model(const std::string& name) {
     // Combinations (mix, add) need sub-materials, which the finish syntax does not give.
     const facet::ModelInfo* m = facet::find_model(name);
-    if (m && m->children > 0) return false;
-    if (name == "principled") return true;
-    const facet::Material mat = facet::make_material(name, {});
-    return !mat.transmissive();
+    return m && m->pov_finish;
 }
 
 }  // namespace
@@ -226,11 +226,9 @@ ParamKind param_kind(const char* model, const char* param, std::string& message)
 }
 
 std::string word_choices(const char* model, const char* param) {
-    std::string p = param;
-    if (p == "fresnel") return "'none', 'dielectric', 'conductor', 'schlick'";
-    if (p == "distribution" && std::string(model) == "principled") return "'ggx', 'multi_ggx'";
-    if (p == "distribution") return "'ggx', 'beckmann', 'blinn'";
-    return "";
+    const facet::ModelInfo* m = facet::find_model(model);
+    const facet::ParamInfo* p = m ? m->param(param) : nullptr;
+    return p ? quoted_list(p->choices) : std::string();
 }
 
 struct BrdfBuilder::Impl {
@@ -273,11 +271,9 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
         facet::ParamSet params = m_impl->params;
         // In POV-Ray the pigment is the diffuse reflectance (as with classic `diffuse`): the
         // diffuse reflectance parameter is a factor on it, 1 unless given.
-        if ((m_impl->model == "lambert" || m_impl->model == "oren_nayar") &&
-            !params.has("reflectance"))
-            params.set("reflectance", 1.0);
-        if (m_impl->model == "composite" && !params.has("diffuse_reflectance"))
-            params.set("diffuse_reflectance", 1.0);
+        const facet::ModelInfo* info = facet::find_model(m_impl->model);
+        if (info && !info->diffuse_param.empty() && !params.has(info->diffuse_param))
+            params.set(info->diffuse_param, 1.0);
         facet::Material m = facet::make_material(m_impl->model, params);
         // The brdf finish is reflection only; transmission in POV-Ray stays with its own
         // interior (docs/povray.md).

@@ -305,6 +305,24 @@ def reports():
              and not c.problems, "Diffuse Roughness 0.5 -> oren_nayar: %s %s"
              % (c.data, c.problems))
 
+    # Translucent and Velvet: the core's model units, Color (and Sigma) by Cycles' names.
+    mat6, nt6, out6 = new_material("translucent")
+    t = nt6.nodes.new("ShaderNodeBsdfTranslucent")
+    t.inputs["Color"].default_value = (0.5, 0.25, 1.0, 1.0)
+    nt6.links.new(t.outputs[0], out6.inputs["Surface"])
+    c = materials.convert(mat6)
+    bt.check(c.data == {"model": "translucent", "transmittance": [0.5, 0.25, 1.0]}
+             and not c.problems, "Translucent -> translucent: %s %s" % (c.data, c.problems))
+    mat7, nt7, out7 = new_material("velvet")
+    v = nt7.nodes.new("ShaderNodeBsdfVelvet")
+    v.inputs["Color"].default_value = (0.5, 0.25, 1.0, 1.0)
+    v.inputs["Sigma"].default_value = 0.25
+    nt7.links.new(v.outputs[0], out7.inputs["Surface"])
+    c = materials.convert(mat7)
+    bt.check(c.data.get("model") == "velvet" and c.data["reflectance"] == [0.5, 0.25, 1.0]
+             and abs(c.data["sigma"] - 0.25) < 1e-6 and not c.problems,
+             "Velvet -> velvet: %s %s" % (c.data, c.problems))
+
 
 def scene_reports():
     """Lamps and the world through the exporter."""

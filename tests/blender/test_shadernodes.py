@@ -338,6 +338,78 @@ def render_mix(outdir):
              "without the textured Fac the difference grows: %.4f (vs %.4f)" % (d2, d))
 
 
+def render_units(outdir):
+    """The model units Velvet and Translucent against Cycles: a velvet sphere (Sigma 0.3), a
+    translucent sphere and a translucent pane lit by the sun from above and the grey world (the
+    pane shows what it transmits from below). Means within 2% and mean |diff| < 0.02, as the
+    mix spheres (the same two-seed noise); with plain Diffuse BSDFs in their place the
+    difference must grow more than twofold (ability to fail)."""
+    scene = _scene(3)
+    mat, nt, out = new_material("velvet")
+    v = node(nt, "ShaderNodeBsdfVelvet", Sigma=0.3, Color=(0.8, 0.6, 0.4, 1))
+    nt.links.new(v.outputs[0], out.inputs["Surface"])
+    _sphere(0.5, mat)
+    mat2, nt2, out2 = new_material("translucent")
+    t = node(nt2, "ShaderNodeBsdfTranslucent", Color=(0.3, 0.8, 0.5, 1))
+    nt2.links.new(t.outputs[0], out2.inputs["Surface"])
+    _sphere(1.5, mat2)
+    _plane(2.5, mat2)
+    a, b, d, problems = _compare(scene, outdir, "shadernodes_units")
+    bt.check(not problems, "velvet and translucent convert without a note: %s" % problems)
+    bt.check(abs(a.mean() / b.mean() - 1.0) < 0.02 and d < 0.02,
+             "velvet/translucent: means %.4f / %.4f within 2%%, mean |diff| %.4f < 0.02"
+             % (a.mean(), b.mean(), d))
+    for tree, n in ((nt, v), (nt2, t)):
+        dn = diffuse(tree, tuple(n.inputs["Color"].default_value)[:3])
+        tree.links.new(dn.outputs[0], (out if tree is nt else out2).inputs["Surface"])
+    a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, "shadernodes_units_diffuse.exr"),
+                      seed=1)
+    d2 = np.abs(a2 - b).mean()
+    bt.check(d2 > 2.0 * d, "as Diffuse BSDFs the difference grows: %.4f (vs %.4f)" % (d2, d))
+
+
+def render_transparent(outdir):
+    """Transparent BSDFs against Cycles, as the core's opacity: a leaf cut-out (Mix Shader of a
+    Transparent and a Diffuse by a Checker Fac) and a plane of Mix(Transparent Color 0.5,
+    Diffuse, 0.4) over a red floor, seen from above. Means within 2% and mean |diff| < 0.02;
+    with the transparent planes opaque (Diffuse alone) the difference must grow more than
+    twofold (ability to fail)."""
+    scene = _scene(2)
+    floor = bpy.ops.mesh.primitive_plane_add(size=4.0, location=(1.0, 0.5, -0.5))
+    floor = bpy.context.active_object
+    mf, ntf, outf = new_material("floor")
+    ntf.links.new(diffuse(ntf, (0.8, 0.1, 0.1)).outputs[0], outf.inputs["Surface"])
+    floor.data.materials.append(mf)
+    mat, nt, out = new_material("leaf")
+    leaf_d = diffuse(nt, (0.1, 0.6, 0.1))
+    m = mix(nt, node(nt, "ShaderNodeBsdfTransparent"), leaf_d, checker(nt))
+    nt.links.new(m.outputs[0], out.inputs["Surface"])
+    _plane(0.5, mat)
+    mat2, nt2, out2 = new_material("veil")
+    veil_d = diffuse(nt2, (0.7, 0.7, 0.9))
+    m2 = mix(nt2, node(nt2, "ShaderNodeBsdfTransparent", Color=(0.5, 0.5, 0.5, 1)), veil_d, 0.4)
+    nt2.links.new(m2.outputs[0], out2.inputs["Surface"])
+    _plane(1.5, mat2)
+    from facet_blender import materials
+    c = materials.convert(mat)
+    bt.check(c.data.get("opacity", {}).get("checker") is not None and not c.problems,
+             "leaf: the diffuse with the Checker as its opacity: %s %s" % (c.data, c.problems))
+    c2 = materials.convert(mat2)
+    bt.check(abs(c2.data.get("opacity", 0) - 0.7) < 1e-6 and c2.data["model"] == "mix"
+             and abs(c2.data["weight"] - 0.4 / 0.7) < 1e-6,
+             "veil: opacity 1 - 0.6 x 0.5, mix(black, diffuse, 0.4 / 0.7): %s" % c2.data)
+    a, b, d, problems = _compare(scene, outdir, "shadernodes_transparent")
+    bt.check(not problems, "transparent mixes convert without a note: %s" % problems)
+    bt.check(abs(a.mean() / b.mean() - 1.0) < 0.02 and d < 0.02,
+             "transparent: means %.4f / %.4f within 2%%, mean |diff| %.4f < 0.02"
+             % (a.mean(), b.mean(), d))
+    nt.links.new(leaf_d.outputs[0], out.inputs["Surface"])
+    nt2.links.new(veil_d.outputs[0], out2.inputs["Surface"])
+    a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, "shadernodes_opaque.exr"), seed=1)
+    d2 = np.abs(a2 - b).mean()
+    bt.check(d2 > 2.0 * d, "opaque planes differ more: %.4f (vs %.4f)" % (d2, d))
+
+
 def render_normals(outdir):
     """Per region (x thirds: the normal-mapped plane, the normal-mapped sphere, the bumped
     plane) the mean |Facet - Cycles| must stay below 0.015 (maps) and 0.02 (bump), and the
@@ -388,6 +460,8 @@ def main():
     tangents_exported()
     report_grouping()
     render_mix(outdir)
+    render_units(outdir)
+    render_transparent(outdir)
     render_normals(outdir)
 
 

@@ -153,6 +153,8 @@ inline std::vector<MaterialSpec> material_corners() {
          {"alpha", 10.0},
          {"ior", 1.0001},
          {"diffuse_reflectance", 1.0}});
+    add("velvet_default", "velvet", {});
+    add("velvet_narrow", "velvet", {{"sigma", 0.15}, {"reflectance", Rgb(0.9f, 0.4f, 0.2f)}});
     return v;
 }
 

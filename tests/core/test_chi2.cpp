@@ -23,8 +23,8 @@ namespace {
 using test::Chi2Options;
 using test::Chi2Result;
 
+using test::kDeg;
 constexpr double kAlpha = 0.01;
-constexpr double kDeg = kPiD / 180.0;
 
 Vec3 wo_at(double theta_deg, double phi_deg) {
     double t = theta_deg * kDeg, p = phi_deg * kDeg;

@@ -15,6 +15,8 @@ Usage: povtest.py POVRAY_FACET COMMAND [ARGS]
                             (with the facet CLI: to the core's albedo table)
   threads                   glossy images do not depend on the thread count
   light FACET_CLI           diffuse + glossy lobes under a light = pi f cos I / d^2 of the core
+  models FACET_CLI          every model of the core's table renders as a brdf finish or is a
+                            parse error that leaves it out of the finish's model list
 """
 import os
 import re
@@ -171,7 +173,7 @@ def cmd_lambert(facet):
 
 ERROR_CASES = [
     # (name, finish or light text, expected message regex, expected line)
-    ("empty", "finish { brdf { } }", r"Expected a brdf model \('lambert', 'mirror', 'ggx', 'beckmann', 'blinn', 'composite', 'principled', 'oren_nayar'\), found '\}' instead", 3),
+    ("empty", "finish { brdf { } }", r"Expected a brdf model \('lambert', 'mirror', 'ggx', 'beckmann', 'blinn', 'composite', 'principled', 'oren_nayar', 'velvet'\), found '\}' instead", 3),
     ("bad_model", "finish { brdf { phong 0.3 } }", r"Expected a brdf model .*found 'phong' instead", 3),
     ("alpha_range", "finish { brdf { ggx\n  alpha 12 } }", r"alpha.*must be in \[0, 10\] \(got 12\)", 4),
     ("typo", "finish { brdf { ggx alpah 0.3 } }", r"unknown parameter 'alpah' for model 'ggx' \(did you mean 'alpha'\?\)", 3),
@@ -228,8 +230,51 @@ CLASH_NAMES = [
     "fresnel", "ior", "eta", "k", "f0", "energy_compensation", "none", "dielectric",
     "conductor", "schlick", "samples", "principled", "oren_nayar", "sigma", "base_color",
     "sheen", "sheen_tint", "clearcoat", "clearcoat_roughness", "specular_tint", "anisotropic",
-    "transmission",
+    "transmission", "velvet",
 ]
+
+
+# Models the brdf finish does not take: transmissive ones (POV-Ray's interior refracts) and
+# combinations (the finish gives no sub-materials).
+NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "mix", "add"}
+
+
+def cmd_models(facet, cli):
+    """Every model of the core's table (`facet brdf models --markdown`) either renders as
+    `brdf { model }` or is a parse error at its name whose list of models leaves it out; the
+    list is exactly the models that render, and those are all but NOT_FINISH_MODELS."""
+    out = subprocess.run([cli, "brdf", "models", "--markdown"], capture_output=True, text=True,
+                         check=True).stdout
+    models = re.findall(r"^#### `([a-z_0-9]+)`", out, re.M)
+    failures, rendered, listed = 0, set(), None
+    with tempfile.TemporaryDirectory() as tmp:
+        for m in models:
+            scene = os.path.join(tmp, f"{m}.pov")
+            write(scene, "#version 3.7;\nlight_source { <2, 4, -3>, 1 }\n"
+                  f"sphere {{ 0, 1 pigment {{ rgb 0.8 }}\n finish {{ brdf {{ {m} }} }} }}\n")
+            rc, err = render(facet, scene, os.path.join(tmp, f"{m}.png"), 8, 8, ["+GA"], cwd=tmp)
+            err = err.replace("\n", "")
+            if rc == 0:
+                rendered.add(m)
+                continue
+            e = re.search(r"File '.*\.pov' line 4:.*Expected a brdf model \(([^)]*)\), found "
+                          rf"'{m}' instead", err)
+            if not e:
+                print(f"FAIL {m}: neither renders nor a parse error at its name:\n{err[-800:]}")
+                failures += 1
+                continue
+            listed = set(re.findall(r"'([a-z_0-9]+)'", e.group(1)))
+            print(f"ok   {m}: a parse error at line 4, not in the finish's list")
+    expected = set(models) - NOT_FINISH_MODELS
+    if rendered != expected:
+        print(f"FAIL the finish renders {sorted(rendered)}, expected {sorted(expected)}")
+        failures += 1
+    if listed is not None and listed != rendered:
+        print(f"FAIL the error lists {sorted(listed)}, but {sorted(rendered)} render")
+        failures += 1
+    print(f"{len(models)} models: {len(rendered)} render as brdf finishes, "
+          f"{len(models) - len(rendered)} are parse errors")
+    return failures
 
 
 def cmd_clash(facet):
@@ -414,6 +459,9 @@ LIGHT_CASES = [
     ("ggx alpha 0.2 fresnel conductor", ["--model", "ggx", "--alpha", "0.2", "--fresnel", "conductor"]),
     ("beckmann alpha 0.4 fresnel schlick f0 rgb <0.9, 0.5, 0.2>",
      ["--model", "beckmann", "--alpha", "0.4", "--fresnel", "schlick", "--f0", "0.9,0.5,0.2"]),
+    # A model unit's lobe: the bridge's diffuse part, its colour 1 under the white pigment (the
+    # path velvet takes too; velvet reflects too little toward wo = normal to be seen here).
+    ("oren_nayar sigma 0.8", ["--model", "oren_nayar", "--sigma", "0.8", "--reflectance", "1"]),
 ]
 
 
@@ -499,6 +547,7 @@ def main():
         "falloff": lambda: cmd_falloff(facet),
         "glossy": lambda: cmd_glossy(facet, os.path.abspath(args[0]) if args else None),
         "light": lambda: cmd_light(facet, os.path.abspath(args[0])),
+        "models": lambda: cmd_models(facet, os.path.abspath(args[0])),
         "threads": lambda: cmd_threads(facet),
     }
     try:

@@ -19,7 +19,8 @@
 //    reflection lobes are symmetric and ignore it.
 //  - A principled material (facet/principled.h) is that one model and nothing else; with
 //    transmission it follows the transmissive conventions above.
-//  - `oren_nayar` is one OrenNayarReflection lobe alone (facet/oren_nayar.h).
+//  - A model unit's BxDF (facet/inline_bxdf.h: `oren_nayar`, `translucent`, `velvet`, ...) is
+//    that one BxDF alone; with Transmission it follows the transmissive conventions above.
 //  - Combinations (`mix`, `add`; Material::mix, Material::add) hold two child materials:
 //        mix:  f = (1 - w) f_a + w f_b,   add:  f = f_a + f_b,
 //    chosen for sampling with probabilities p_a = 1 - w, p_b = w (mix) and 1/2, 1/2 (add);
@@ -41,6 +42,7 @@
 
 #include "facet/bxdf.h"
 #include "facet/dielectric.h"
+#include "facet/inline_bxdf.h"
 #include "facet/lambert.h"
 #include "facet/microfacet.h"
 #include "facet/mirror.h"
@@ -92,7 +94,8 @@ class Material {
     explicit Material(const ThinDielectricBxDF& thin);
     // Blender's Principled BSDF (facet/principled.h), alone.
     explicit Material(const PrincipledBxDF& principled);
-    explicit Material(const OrenNayarReflection& oren_nayar);
+    // A model unit's BxDF (facet/inline_bxdf.h), alone.
+    explicit Material(const InlineBxDF& unit);
 
     // Combinations (header comment). mix() with weight 0 or 1 returns a copy of a or b itself.
     enum class Combine : std::uint8_t { Mix, Add };
@@ -118,7 +121,11 @@ class Material {
     // Some lobe reads the tangent direction (an anisotropic microfacet lobe, here or in a child).
     bool anisotropic() const { return m_anisotropic; }
     const Combination* combination() const { return m_combination.get(); }
-    const std::optional<OrenNayarReflection>& oren_nayar() const { return m_oren_nayar; }
+    // The model unit's BxDF (facet/inline_bxdf.h), if the material is one.
+    const std::optional<InlineBxDF>& unit() const { return m_unit; }
+    const OrenNayarReflection* oren_nayar() const {
+        return m_unit ? m_unit->get<OrenNayarReflection>() : nullptr;
+    }
 
     const std::optional<DielectricBxDF>& dielectric() const { return m_dielectric; }
     const std::optional<ThinDielectricBxDF>& thin_dielectric() const { return m_thin; }
@@ -154,7 +161,7 @@ class Material {
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
     std::array<float, 3> lobe_probabilities(const Vec3& wo) const;
     Rgb diffuse_scale(float mu) const { return Rgb(1.f) - specular_albedo(mu); }
-    // The rare kinds (dielectric, thin pane, Oren-Nayar, combinations), out of the fast path.
+    // The rare kinds (dielectric, thin pane, unit BxDFs, combinations), out of the fast path.
     BSDFEval special_eval(const Vec3& wo, const Vec3& wi, Mode mode) const;
     std::optional<BSDFSample> special_sample_f(const Vec3& wo, float uc, Vec2 u, Mode mode) const;
 
@@ -164,7 +171,7 @@ class Material {
     std::optional<DielectricBxDF> m_dielectric;
     std::optional<ThinDielectricBxDF> m_thin;
     std::optional<PrincipledBxDF> m_principled;
-    std::optional<OrenNayarReflection> m_oren_nayar;
+    std::optional<InlineBxDF> m_unit;
     std::shared_ptr<const Combination> m_combination;
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_special = false;  // one of the rare kinds: f, pdf and sample_f go to special_*

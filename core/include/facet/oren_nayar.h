@@ -47,6 +47,7 @@ class OrenNayarReflection {
         if (!(p > 0.f)) return std::nullopt;
         return BSDFSample{f(wo, wi), wi, p, BxDFFlags::Diffuse};
     }
+    BSDFEval eval(const Vec3& wo, const Vec3& wi) const { return {f(wo, wi), pdf(wo, wi)}; }
     BxDFFlags flags() const { return BxDFFlags::Diffuse; }
     const Rgb& rho() const { return m_rho; }
     float a() const { return m_a; }

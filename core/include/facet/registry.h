@@ -10,6 +10,7 @@
 //  - Colours are linear RGB; a number given where a colour is expected means grey.
 #pragma once
 
+#include <cstdint>
 #include <initializer_list>
 #include <map>
 #include <memory>
@@ -61,15 +62,59 @@ enum class ParamType { Number, Color, String, Bool, Materials };
 struct ParamInfo {
     std::string name;
     ParamType type;
-    std::string default_value;  // as text, for docs and --help
-    std::string doc;            // one line, with the valid range
+    std::string default_value;              // as text, for docs and --help
+    std::string doc;                        // one line, with the valid range
+    std::vector<std::string> choices = {};  // a String parameter's values (the reader checks)
 };
 
+// How a model's textured parameters are set per hit without the registry
+// (facet/staged_material.h): the staged build's family, or None (built from its ParamSet).
+enum class StagedFamily : std::uint8_t {
+    None,
+    Lambert,
+    OrenNayar,
+    Principled,
+    Mirror,
+    Microfacet,
+    Dielectric,
+    ThinDielectric,
+    Composite
+};
+
+class ParamReader;  // a ParamSet read against a model's table (core/src/models/model_unit.h)
+using Children = std::span<const std::shared_ptr<const Material>>;
+
+// One model: a unit core/src/models/<model>.cpp defines its ModelInfo, and registry.cpp lists
+// it. Everything that deals in models reads these fields instead of comparing names: the JSON
+// reader and writer and build_scene (parameters, children), `facet brdf models` and
+// docs/models.md (the table), the staged build (`staged`), export-pov and the POV-Ray bridge
+// (`diffuse_param`, `pov_finish`, `pov_samples`).
 struct ModelInfo {
     std::string name;
     std::string summary;
     std::vector<ParamInfo> params;
     int children = 0;  // number of sub-materials (mix, add: 2), passed to make_material()
+    // The unit's builder: the material from its parameters (read and range-checked through
+    // `r`, which throws ParamError) and its `children` (already counted).
+    Material (*build)(ParamReader& r, Children children) = nullptr;
+    // The parameter that is the model's diffuse reflectance, or "": the one a POV-Ray pigment
+    // carries (the brdf finish multiplies the pigment into it; 1 when not given).
+    std::string diffuse_param = {};
+    // The model's material has a Lambert lobe whose rho is `diffuse_param`'s value exactly:
+    // a texture on that parameter alone only replaces the lobe's rho per hit
+    // (Material::with_diffuse_reflectance). diffuse_black_ok: also at rho = 0 (a composite
+    // leaves out a black diffuse lobe, so it is rebuilt there).
+    bool diffuse_lobe = false, diffuse_black_ok = false;
+    StagedFamily staged = StagedFamily::None;
+    // POV-Ray's brdf finish takes the model (reflection only: a transmissive material built
+    // from it is an error there), and its `samples` (the glossy lobe's sample count) applies.
+    bool pov_finish = true, pov_samples = false;
+
+    const ParamInfo* param(std::string_view n) const {
+        for (const ParamInfo& p : params)
+            if (p.name == n) return &p;
+        return nullptr;
+    }
 };
 
 // Every model the core knows, in documentation order.

@@ -48,6 +48,7 @@
 #include <vector>
 
 #include "facet/material.h"
+#include "facet/registry.h"
 
 namespace facet {
 
@@ -68,16 +69,7 @@ class StagedMaterial {
     Material at(std::span<const DVec3> values) const;
 
   private:
-    enum class Family : std::uint8_t {
-        Lambert,
-        OrenNayar,
-        Principled,
-        Mirror,
-        Microfacet,
-        Dielectric,
-        ThinDielectric,
-        Composite
-    };
+    using Family = StagedFamily;
     enum class Param : std::uint8_t {
         Reflectance,  // lambert, oren_nayar, mirror, ggx/beckmann/blinn: the lobe's scale/rho
         Sigma,

@@ -32,13 +32,8 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
     if (which & kAovDepth) sums.depth += double(glm::dot(hit.p - cam.position, cam.forward));
     if (which & kAovEmission) sums.emission += hit.emitted_radiance;
     if (!(which & (kAovAlbedo | kAovNormal))) return;
-    const Material* mp = hit.material;
     std::optional<Material> textured;
-    if (hit.textured >= 0) {
-        scene.shade_normal(hit, -ray.d);  // normal and bump maps (nothing without one)
-        if (which & kAovAlbedo)
-            mp = &textured.emplace(scene.material_at(hit, scene.texture_footprint(hit, &ray)));
-    }
+    const Material& m = scene.bsdf_at(hit, ray, true, textured);
     // Turned toward the viewer by the geometric normal (Cycles' backfacing flip).
     const bool front = glm::dot(hit.ng, ray.d) < 0.f;
     const Vec3 ns = front ? hit.ns : -hit.ns;
@@ -47,7 +42,6 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
     // A transmissive material's frame is its own (outside = the normal's side), as the
     // integrators shade it; a reflecting one's faces the viewer. One-sided backs reflect
     // nothing (the integrators stop there).
-    const Material& m = *mp;
     const bool transmissive = m.transmissive();
     if (!front && !hit.two_sided && !transmissive) return;
     const Vec3 z = transmissive ? hit.ns : ns;

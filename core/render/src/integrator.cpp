@@ -283,7 +283,7 @@ template <std::uint32_t F>
     return true;
 }
 
-// A hit on a textured material: the material built for it (Scene::material_at), out of line so
+// A hit on a textured material: the material built for it (Scene::bsdf_at), out of line so
 // that the untextured path keeps its code and its stack frame as before.
 template <std::uint32_t F>
 [[gnu::noinline]] bool path_scatter_textured(const Scene& scene,
@@ -293,10 +293,8 @@ template <std::uint32_t F>
                                              RayPacket& shadow, int depth, int max_depth,
                                              KernelCounters& c, const Ray& ray) {
     SurfaceHit h = hit;
-    scene.shade_normal(h, -ray.d);  // normal map (nothing without one)
-    // The texture footprint: exact for camera rays, as the camera sees p further on.
-    const Material m =
-        scene.material_at(h, scene.texture_footprint(h, depth == 0 ? &ray : nullptr));
+    std::optional<Material> textured;
+    const Material& m = scene.bsdf_at(h, ray, depth == 0, textured);
     const Vec3& ray_d = ray.d;
     return path_scatter<F>(scene, light_dist, p, rays, k, h, s, has_shadow, shadow, depth,
                            max_depth, c, ray_d, m);
@@ -472,9 +470,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
             if (hp->textured >= 0) {
                 if (hp != &next) next = *hp;
                 hp = &next;
-                scene.shade_normal(next, -ray.d);  // normal map (nothing without one)
-                mp = &textured.emplace(scene.material_at(
-                    next, scene.texture_footprint(next, depth == 0 ? &ray : nullptr)));
+                mp = &scene.bsdf_at(next, ray, depth == 0, textured);
             }
         }
         const SurfaceHit& hit = *hp;

@@ -722,12 +722,12 @@ class Builder final : public BuildChecks {
                 im ? double(std::max(im->width, im->height)) : 1000.0 * td.checker_scale;
             tm.bump_step = float(0.5 / (cells * per_uv));
         }
-        if (!tm.convert && tm.slots.size() == 1 &&
-            ((m.model == "lambert" && tm.slots[0].name == "reflectance") ||
-             (m.model == "composite" && tm.slots[0].name == "diffuse_reflectance")) &&
-            m_builder.materials().back()->diffuse()) {
+        // A texture on the diffuse reflectance alone of a model with that Lambert lobe
+        // (ModelInfo::diffuse_lobe): only the lobe's rho changes per hit.
+        if (!tm.convert && tm.slots.size() == 1 && info.diffuse_lobe &&
+            tm.slots[0].name == info.diffuse_param && m_builder.materials().back()->diffuse()) {
             tm.diffuse_base = m_builder.materials().back().get();
-            tm.diffuse_black_ok = m.model == "lambert";
+            tm.diffuse_black_ok = info.diffuse_black_ok;
         }
         m_builder.textured().push_back(std::move(tm));
         return {m_builder.materials().back().get(), std::int32_t(m_builder.textured().size() - 1),

@@ -708,10 +708,7 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     // lambert and oren_nayar (povray-facet multiplies it into their f), composite's
     // diffuse_reflectance; white for principled, whose colours are its own parameters (the
     // pigment then only scales emission, emission_of).
-    const std::string diffuse_param = m.model == "lambert" || m.model == "oren_nayar"
-                                          ? "reflectance"
-                                      : m.model == "composite" ? "diffuse_reflectance"
-                                                               : "";
+    const std::string& diffuse_param = info->diffuse_param;
     // Textured parameters: only the pigment can vary over a surface (a uv_mapping pigment,
     // uv_pigment); povray-facet's brdf block takes constants, so any other textured parameter
     // is an error, never a silent constant. Vertex colours: a mesh2 texture_list blends whole
@@ -836,9 +833,7 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
         else
             brdf += std::get<bool>(value) ? "on" : "off";
     }
-    const bool glossy = m.model == "ggx" || m.model == "beckmann" || m.model == "blinn" ||
-                        m.model == "composite" || m.model == "principled";
-    if (glossy) brdf += " samples " + std::to_string(m_opt.glossy_samples);
+    if (info->pov_samples) brdf += " samples " + std::to_string(m_opt.glossy_samples);
     if (pigment_sdl.empty()) pigment_sdl = "pigment { " + pov_rgb(pigment) + " }";
     return "texture { " + pigment_sdl + " finish { ambient 0" +
            emission_of(emission, pigment, pointer) + " brdf { " + brdf + " } } }";

@@ -74,7 +74,7 @@ enum KernelFeature : std::uint32_t {
     // they leave to. Only the general kernel of each integrator is instantiated with it.
     kFeatTransmission = 1u << 6,
     // Some surface's material depends on the hit (SceneFeatures::has_textured): hits with
-    // SurfaceHit::textured >= 0 build their material with Scene::material_at. Only kernels with
+    // SurfaceHit::textured >= 0 build their material with Scene::bsdf_at. Only kernels with
     // this bit test it, so an untextured scene's kernel has no such branch (the general kernel
     // of each integrator, with or without Transmission, is instantiated with it).
     kFeatTextured = 1u << 7

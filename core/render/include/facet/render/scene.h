@@ -392,6 +392,18 @@ class Scene {
     const std::string& name() const { return m_name; }
     // fingerprint() of the SceneDescription it was built from (scene_description.h).
     std::uint64_t fingerprint() const { return m_fingerprint; }
+    // The one entry from a hit to its BSDF, for every integrator and the AOV pass: a hit with
+    // hit.textured >= 0 gets its shading normal (shade_normal: normal and bump maps), its
+    // texture footprint (texture_footprint: exact from `ray` when `camera_ray`, else as the
+    // camera sees p) and its material (material_at); the result is stored in `storage`. Other
+    // hits return *hit.material untouched. Never throws.
+    const Material& bsdf_at(SurfaceHit& hit, const Ray& ray, bool camera_ray,
+                            std::optional<Material>& storage) const {
+        if (hit.textured < 0) return *hit.material;
+        shade_normal(hit, -ray.d);
+        return storage.emplace(
+            material_at(hit, texture_footprint(hit, camera_ray ? &ray : nullptr)));
+    }
     // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
     // model built from them (never throws: build_scene checked every texture's range against
     // the model's). Hits with textured < 0 use *hit.material.

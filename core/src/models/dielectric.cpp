@@ -1,0 +1,85 @@
+// dielectric and thin_dielectric: transmissive interfaces (facet/dielectric.h). Inside is the
+// side opposite the shape's normal.
+#include "model_unit.h"
+
+namespace facet {
+
+namespace {
+
+ParamInfo ior_param() {
+    return models::number("ior", "1.5",
+                          "relative index of refraction eta = n_inside / n_outside (the outside "
+                          "is the side the shape's normal points to), in [0.001, 100]");
+}
+ParamInfo transmittance_param() {
+    return models::color("transmittance", "1", "scale on the transmitted light (tint), in [0, 1]");
+}
+
+}  // namespace
+
+const ModelInfo& dielectric_model() {
+    static const ModelInfo m{
+        .name = "dielectric",
+        .summary =
+            "interface between two media (glass, water): exact Fresnel reflection + "
+            "refraction, radiance scaled by 1/eta'^2 across it; smooth (alpha = 0: two "
+            "delta lobes) or rough (Walter et al. 2007, Smith G, visible-normal sampling)",
+        .params = {ior_param(), transmittance_param(),
+                   models::number("alpha", "0",
+                                  "isotropic roughness alpha, in [0, 10]; below 1e-4 the "
+                                  "interface is smooth"),
+                   models::number("alpha_u", "-",
+                                  "roughness along the tangent u (anisotropic; give with "
+                                  "alpha_v)"),
+                   models::number("alpha_v", "-",
+                                  "roughness along the bitangent v (anisotropic; give with "
+                                  "alpha_u)"),
+                   models::distribution_param("microfacet D of a rough interface: ggx or "
+                                              "beckmann",
+                                              {"ggx", "beckmann"}),
+                   models::flag("energy_compensation", "false",
+                                "rough, isotropic interfaces: add the multiple-scattering lobe "
+                                "(Kulla & Conty 2017 extended to refraction, "
+                                "facet/dielectric.h): reflection + transmission conserve energy "
+                                "at transmittance 1")},
+        .build =
+            [](ParamReader& r, Children) {
+                const float eta = float(r.number("ior", 1.5, 1e-3, models::kMaxIor));
+                const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
+                const std::string kind = r.choice("distribution");
+                auto [au, av] = r.roughness_pair("alpha", 0.0, models::kMaxAlpha);
+                const bool ec = r.boolean("energy_compensation", false);
+                if (ec && au != av)
+                    throw r.error(
+                        "energy_compensation",
+                        "is not available for anisotropic dielectrics (alpha_u != alpha_v)");
+                return Material(DielectricBxDF(eta, tr,
+                                               kind == "ggx"
+                                                   ? MicrofacetDistribution::ggx(au, av)
+                                                   : MicrofacetDistribution::beckmann(au, av),
+                                               ec));
+            },
+        .staged = StagedFamily::Dielectric,
+        .pov_finish = false};
+    return m;
+}
+
+const ModelInfo& thin_dielectric_model() {
+    static const ModelInfo m{
+        .name = "thin_dielectric",
+        .summary =
+            "thin pane (window glass): both interfaces' reflections summed, R' = R + "
+            "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
+        .params = {ior_param(), transmittance_param()},
+        .build =
+            [](ParamReader& r, Children) {
+                const float eta = float(r.number("ior", 1.5, 1e-3, models::kMaxIor));
+                const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
+                return Material(ThinDielectricBxDF(eta, tr));
+            },
+        .staged = StagedFamily::ThinDielectric,
+        .pov_finish = false};
+    return m;
+}
+
+}  // namespace facet

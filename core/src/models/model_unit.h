@@ -1,0 +1,82 @@
+// What a model unit (core/src/models/<model>.cpp) uses to declare its parameters and read them:
+// the ParamInfo helpers, the parameter groups several models share (Fresnel, roughness), and
+// ParamReader, a ParamSet read against the model's table. Private to facet::core.
+//
+// Conventions: facet/registry.h (names, ranges, errors as ParamError naming the parameter).
+#pragma once
+
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "facet/registry.h"
+
+namespace facet {
+
+namespace models {
+
+constexpr double kMaxAlpha = 10.0;    // GGX/Beckmann alpha = RMS slope-ish; > 10 is meaningless
+constexpr double kMaxExponent = 1e9;  // Blinn kappa; 1e9 is far past the mirror threshold
+constexpr double kMaxIor = 100.0;
+
+inline ParamInfo number(std::string name, std::string def, std::string doc) {
+    return {std::move(name), ParamType::Number, std::move(def), std::move(doc)};
+}
+inline ParamInfo color(std::string name, std::string def, std::string doc) {
+    return {std::move(name), ParamType::Color, std::move(def), std::move(doc)};
+}
+inline ParamInfo text(std::string name, std::string def, std::string doc,
+                      std::vector<std::string> choices) {
+    return {std::move(name), ParamType::String, std::move(def), std::move(doc), std::move(choices)};
+}
+inline ParamInfo flag(std::string name, std::string def, std::string doc) {
+    return {std::move(name), ParamType::Bool, std::move(def), std::move(doc)};
+}
+std::vector<ParamInfo> concat(std::vector<std::vector<ParamInfo>> parts);
+
+// fresnel (none | dielectric | conductor | schlick, default `default_kind`), ior, eta, k, f0.
+std::vector<ParamInfo> fresnel_params(const std::string& default_kind);
+// alpha, alpha_u, alpha_v (default alpha 0.2).
+std::vector<ParamInfo> alpha_params();
+// exponent, exponent_u, exponent_v (Blinn).
+std::vector<ParamInfo> exponent_params();
+// distribution (`choices`, default ggx).
+ParamInfo distribution_param(std::string doc, std::vector<std::string> choices);
+ParamInfo energy_compensation_param();
+// The sub-materials [a, b] of a combination.
+ParamInfo materials_param();
+
+}  // namespace models
+
+class ParamReader {
+  public:
+    // Throws ParamError for a parameter the model does not have (with a "did you mean").
+    ParamReader(const ModelInfo& model, const ParamSet& params);
+
+    bool has(const std::string& name) const { return m_params.has(name); }
+    double number(const std::string& name, double def, double lo, double hi);
+    Rgb color(const std::string& name, Rgb def, double lo, double hi);
+    // A String parameter: one of its ParamInfo::choices, its default when not given.
+    std::string choice(const std::string& name);
+    bool boolean(const std::string& name, bool def);
+    // Parameters that were given but that the chosen options make meaningless are errors:
+    // silently ignoring "ior" under fresnel = conductor hides a user's mistake.
+    void forbid(const std::string& name, const std::string& because);
+    ParamError error(const std::string& name, const std::string& what) const;
+
+    // The shared groups (models::fresnel_params, alpha_params, exponent_params).
+    Fresnel fresnel();
+    // The pair (x, x_u/x_v): either the isotropic value or both anisotropic ones.
+    std::pair<float, float> roughness_pair(const std::string& base, double def, double hi);
+    // The microfacet distribution of kind ggx, beckmann or blinn from its roughness group.
+    MicrofacetDistribution distribution(const std::string& kind);
+
+  private:
+    const ParamValue* find(const std::string& name) const;
+    void check_range(const std::string& name, double v, double lo, double hi) const;
+
+    const ModelInfo& m_model;
+    const ParamSet& m_params;
+};
+
+}  // namespace facet

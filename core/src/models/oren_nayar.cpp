@@ -1,0 +1,28 @@
+// oren_nayar: rough diffuse reflection as Cycles' Diffuse BSDF (facet/oren_nayar.h).
+#include "model_unit.h"
+
+namespace facet {
+
+const ModelInfo& oren_nayar_model() {
+    static const ModelInfo m{
+        .name = "oren_nayar",
+        .summary =
+            "rough diffuse reflection as Cycles' Diffuse BSDF with roughness: f = rho (A "
+            "+ B t), A = 1 / (pi + (3 pi - 4) / 6 sigma), B = sigma A, t = s / "
+            "max(cos_i, cos_o) for s = wi.wo - cos_i cos_o > 0, else s (Fujii 2012)",
+        .params = {models::color("reflectance", "0.5", "diffuse reflectance rho, in [0, 1]"),
+                   models::number("sigma", "0.5",
+                                  "roughness as Blender's Diffuse BSDF Roughness (not radians), "
+                                  "in [0, 1]; 0 is Lambert")},
+        .build =
+            [](ParamReader& r, Children) {
+                const Rgb rho = r.color("reflectance", Rgb(0.5f), 0.0, 1.0);
+                return Material(
+                    InlineBxDF(OrenNayarReflection(rho, float(r.number("sigma", 0.5, 0.0, 1.0)))));
+            },
+        .diffuse_param = "reflectance",
+        .staged = StagedFamily::OrenNayar};
+    return m;
+}
+
+}  // namespace facet
