@@ -20,7 +20,6 @@ shows how loaded the machine is).
 """
 import argparse
 import json
-import os
 import pathlib
 import statistics
 import sys
@@ -29,18 +28,10 @@ import time
 import numpy as np
 
 import facet
+from scaled_scene import load
 
 ROOT = pathlib.Path(__file__).resolve().parents[1]
 SPPS = (4, 8, 16, 32, 64, 128)
-
-
-def load(name, width):
-    desc = facet.read_scene_description(str(ROOT / "scenes" / f"{name}.json"))
-    cam = desc.camera
-    height = max(1, round(width * cam.height / cam.width))
-    cam.width, cam.height = width, height
-    desc.camera = cam
-    return facet.build_scene(desc, name=name)
 
 
 def mse(x, ref):

@@ -76,7 +76,8 @@ class FinalSession:
         sessions = [native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                    max_depth=rs["max_depth"], integrator=rs["integrator"],
                                    time_budget=rs.get("time_budget", 0.0), region=region,
-                                   light_selection=scene.facet.light_selection, samples=r)
+                                   light_selection=scene.facet.light_selection, samples=r,
+                                   adaptive_threshold=0.0 if denoise else None)
                     for r in ranges]
         t_export = time.perf_counter() - t0
         # With a border, Blender's render rectangle is the border: result coordinates are
@@ -137,7 +138,14 @@ class FinalSession:
             return False
         why = ("a render region (Render > Region) is set" if region is not None else
                "a time budget is set" if rs.get("time_budget", 0.0) > 0 else
-               "it needs at least 2 samples per pixel" if rs["spp"] < 2 else None)
+               "it needs at least 2 samples per pixel" if rs["spp"] < 2 else
+               None)
+        if why is None and rs.get("adaptive_threshold", 0.0) > 0:
+            # The denoiser's half-buffers are sample ranges; an adaptive render has none.
+            msg = ("Noise Threshold (adaptive sampling) is off for this render: Denoise renders "
+                   "two half-buffers of fixed sample counts")
+            self.problems.append(msg)
+            engine.report({'WARNING'}, "Facet: " + msg)
         if why:
             msg = "Denoise is off for this render: %s" % why
             self.problems.append(msg)
@@ -149,7 +157,5 @@ class FinalSession:
     def _denoised(fscene, sessions, rs, threads):
         """The denoised image (facet/render/denoise.h) of the two half sessions, with the
         features at the render's spp and seed (as `facet render --denoise`)."""
-        a, b = sessions[0].image(), sessions[1].image()
-        f = native.render_aovs(fscene, ["albedo", "normal", "depth"], spp=rs["spp"],
-                               seed=rs["seed"], threads=threads)
-        return native.denoise(a, b, f["albedo"], f["normal"], f["depth"], threads=threads)
+        return native.denoise_halves(fscene, sessions[0].image(), sessions[1].image(),
+                                     rs["spp"], rs["seed"], threads=threads)

@@ -26,7 +26,7 @@ test_break = None
 # published by the worker, sessions started, and the mean of the latest image.
 viewport_stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
 
-# Counters of the exporter: meshes converted by export.mesh_arrays (the viewport converts
+# Counters of the exporter: meshes converted by sync_mesh.mesh_arrays (the viewport converts
 # only the changed ones again).
 export_stats = {"meshes": 0}
 

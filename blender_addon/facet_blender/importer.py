@@ -15,7 +15,7 @@ import bpy
 import numpy as np
 from mathutils import Matrix, Vector
 
-from . import export, materials, properties, units
+from . import materials, properties, sync_light, sync_state, units
 
 PLANE_DISPLAY_HALF_SIZE = 50.0  # the infinite plane is drawn as a square of this half size
 MAX_DISPLAY_SUBDIVISIONS = 4    # icospheres are drawn at most this fine
@@ -234,7 +234,7 @@ def import_scene(context, data, collection=None, problems=None):
     scene.camera = co
     context.view_layer.update()
     co["facet_camera"] = _json(cam)
-    co["facet_state"] = export.object_state(co) + "|" + export.render_state(scene)
+    co["facet_state"] = sync_state.object_state(co) + "|" + sync_state.render_state(scene)
 
     for i, s in enumerate(data.get("shapes", [])):
         name = s.get("name") or "%s %d" % (s["type"], i)
@@ -256,7 +256,7 @@ def import_scene(context, data, collection=None, problems=None):
                   if k not in ("material", "positions", "indices", "normals")}
         ob["facet_shape"] = _json(stored)
         context.view_layer.update()
-        ob["facet_state"] = export.object_state(ob)
+        ob["facet_state"] = sync_state.object_state(ob)
 
     for i, lt in enumerate(data.get("lights", [])):
         kind = lt["type"]
@@ -270,7 +270,7 @@ def import_scene(context, data, collection=None, problems=None):
             if lt.get("file"):
                 _environment_world(world, lt, rad, i, problems)
             world["facet_environment"] = _json(lt)
-            world["facet_state"] = export.world_state(world)
+            world["facet_state"] = sync_state.world_state(world)
             continue
         if kind == "point":
             ld = bpy.data.lights.new("Point %d" % i, 'POINT')
@@ -295,7 +295,7 @@ def import_scene(context, data, collection=None, problems=None):
             m = _direction_matrix(lt["position"], d)
         elif kind == "area":
             ld = bpy.data.lights.new("Area %d" % i, 'AREA')
-            ld.shape = {v: k for k, v in export.AREA_SHAPES.items()}[lt.get("shape", "square")]
+            ld.shape = {v: k for k, v in sync_light.AREA_SHAPES.items()}[lt.get("shape", "square")]
             ld.size = lt["size"]
             if "size_y" in lt:
                 ld.size_y = lt["size_y"]
@@ -317,7 +317,7 @@ def import_scene(context, data, collection=None, problems=None):
         coll.objects.link(lo)
         context.view_layer.update()
         lo["facet_light"] = _json(lt)
-        lo["facet_state"] = export.object_state(lo)
+        lo["facet_state"] = sync_state.object_state(lo)
 
     rs = data.get("render", {})
     fs = scene.facet
@@ -326,5 +326,7 @@ def import_scene(context, data, collection=None, problems=None):
     fs.time_budget = float(rs.get("time_budget", 0.0))
     fs.max_depth = int(rs.get("max_depth", 8))
     fs.seed = int(rs.get("seed", 0))
+    fs.adaptive_threshold = float(rs.get("adaptive_threshold", 0.0))
+    fs.adaptive_min_samples = int(rs.get("adaptive_min_samples", 0))
     fs.animated_seed = False
     return coll

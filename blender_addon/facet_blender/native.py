@@ -243,6 +243,9 @@ def to_description(data):
         r.max_depth = int(rs["max_depth"])
     if "seed" in rs:
         r.seed = int(rs["seed"])
+    if "adaptive_threshold" in rs:
+        r.adaptive_threshold = float(rs["adaptive_threshold"])
+        r.adaptive_min_samples = int(rs.get("adaptive_min_samples", 0))
     d.render = r
     return d
 
@@ -333,6 +336,9 @@ def from_description(d):
     data["render"] = {"integrator": r.integrator, "spp": int(r.spp),
                       "time_budget": float(r.time_budget_s), "max_depth": int(r.max_depth),
                       "seed": int(r.seed)}
+    if r.adaptive_threshold > 0.0:
+        data["render"]["adaptive_threshold"] = float(r.adaptive_threshold)
+        data["render"]["adaptive_min_samples"] = int(r.adaptive_min_samples)
     return data
 
 
@@ -387,11 +393,12 @@ def render_aovs(scene, passes, spp=16, seed=0, threads=0):
                                           threads=int(threads)).items()}
 
 
-def denoise(half_a, half_b, albedo, normal, depth, threads=0):
-    """The core's denoiser (facet/render/denoise.h) on float32 (h, w, 3) arrays, top row
-    first: two half-buffers and the albedo, normal and depth passes."""
-    return np.asarray(facet.denoise(half_a, half_b, albedo, normal, depth,
-                                    threads=int(threads)), dtype=np.float32)
+def denoise_halves(scene, half_a, half_b, spp, seed, threads=0):
+    """The core's denoiser (facet/render/denoise.h, denoise_halves) on the two half-buffers
+    (float32 (h, w, 3), top row first) of a render of the built scene at spp and seed: its
+    features rendered, then denoised."""
+    return np.asarray(facet.denoise_halves(scene, half_a, half_b, int(spp), int(seed),
+                                           threads=int(threads)), dtype=np.float32)
 
 
 class Session:
@@ -400,8 +407,11 @@ class Session:
     calling thread."""
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
-                 time_budget=None, region=None, light_selection=None, samples=None):
+                 time_budget=None, region=None, light_selection=None, samples=None,
+                 adaptive_threshold=None):
         kw = {"threads": int(threads)}
+        if adaptive_threshold is not None:  # None: the scene's (its render settings)
+            kw["adaptive_threshold"] = float(adaptive_threshold)
         if samples is not None:
             kw["samples"] = tuple(int(v) for v in samples)  # [s0, s1) of the spp-sample render
         if light_selection is not None:

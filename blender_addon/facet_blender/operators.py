@@ -3,7 +3,7 @@ import bpy
 from bpy.props import StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import bake, export, importer, native
+from . import bake, export, importer, native, sync_state
 
 
 class FACET_OT_import_scene(bpy.types.Operator, ImportHelper):
@@ -81,7 +81,7 @@ class FACET_OT_bake_inputs(bpy.types.Operator):
     def execute(self, context):
         try:
             export.export_scene(context.evaluated_depsgraph_get())  # collects bake.PENDING
-        except export.ExportError:
+        except sync_state.ExportError:
             pass  # no camera: the materials were still collected
         todo = list(bake.PENDING)
         if not todo:

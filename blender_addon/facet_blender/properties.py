@@ -18,6 +18,16 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
     time_budget: FloatProperty(name="Time Budget", default=0.0, min=0.0, unit='TIME_ABSOLUTE',
                                description="seconds; > 0 renders until the budget is spent")
     max_depth: IntProperty(name="Max Bounces", default=8, min=0, max=1024)
+    # Adaptive sampling (RenderOptions::adaptive_threshold): Cycles' Noise Threshold measure,
+    # decided per tile of 16 x 16 pixels (docs/performance.md).
+    adaptive_threshold: FloatProperty(
+        name="Noise Threshold", default=0.0, min=0.0, max=1.0, precision=4,
+        description="adaptive sampling: a 16 x 16 tile stops taking samples once its pixels' "
+                    "noise estimate (as Cycles measures it) is below this on average (root mean "
+                    "square) and nowhere 4 times above; 0 = off")
+    adaptive_min_samples: IntProperty(
+        name="Min Samples", default=0, min=0, max=1 << 20,
+        description="adaptive sampling: samples every pixel takes first (0 = automatic)")
     # The path integrator's choice of the light for each shadow ray (RenderOptions::
     # light_selection). View, the default, measures each light's contribution from the camera
     # when the scene is built; Power is pbrt's; Uniform is Cycles 3.4's for lamps

@@ -76,6 +76,11 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.prop(fs, "spp")
         lay.prop(fs, "viewport_spp")
         lay.prop(fs, "time_budget")
+        col = lay.column(align=True)
+        col.prop(fs, "adaptive_threshold")
+        sub = col.row()
+        sub.active = fs.adaptive_threshold > 0.0
+        sub.prop(fs, "adaptive_min_samples")
         lay.prop(fs, "max_depth")
         lay.prop(fs, "light_selection")
         lay.prop(fs, "denoise")

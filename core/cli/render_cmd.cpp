@@ -49,8 +49,10 @@ struct RenderCmdOptions {
     std::string samples;  // "s0:s1"
     double texture_memory_mib = double(render::kDefaultTextureMemory >> 20);
     bool denoise = false;
-    std::string denoise_raw;       // the undenoised image
-    std::string denoise_features;  // prefix of <prefix>.albedo.exr, .normal.exr, .depth.exr
+    std::string denoise_raw;           // the undenoised image
+    std::string denoise_features;      // prefix of <prefix>.albedo.exr, .normal.exr, .depth.exr
+    double adaptive_threshold = -1.0;  // < 0: the scene's
+    int adaptive_min_samples = -1;
 };
 
 // Parses "a<sep>b<sep>..." into exactly n non-negative integers, or throws naming the flag.
@@ -161,6 +163,8 @@ void run_render(const RenderCmdOptions& o) {
                          : o.light_selection == "power" ? render::LightSelection::Power
                                                         : render::LightSelection::View;
     ro.independent_samples = o.sampler == "independent";
+    if (o.adaptive_threshold >= 0.0) ro.adaptive_threshold = o.adaptive_threshold;
+    ro.adaptive_min_samples = o.adaptive_min_samples;
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
     if (!o.region.empty()) {
         const std::vector<int> r = parse_ints(o.region, ',', 4, "--region", "x0,y0,x1,y1");
@@ -226,6 +230,7 @@ void report_render(const render::Scene& scene, const render::RenderStats& st,
                          {"integrator", render::integrator_name(st.kernel.integrator)},
                          {"seconds", st.seconds},
                          {"spp", st.spp},
+                         {"mean_spp", st.mean_spp},
                          {"passes", st.passes},
                          {"threads", st.threads},
                          {"paths", st.paths},
@@ -346,6 +351,15 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--samples", o->samples,
                     "render only samples [s0, s1) of every pixel (of the spp-sample render): "
                     "s0:s1; write the part with -o part.fpart and assemble with facet merge");
+    cmd->add_option("--adaptive-threshold", o->adaptive_threshold,
+                    "adaptive sampling: stop sampling a tile once its pixels' noise estimate "
+                    "(Cycles' Noise Threshold measure) is below this in root mean square and "
+                    "nowhere 4 times above, in [0, 1]; 0 = off (default: the scene's)")
+        ->check(CLI::Range(0.0, 1.0));
+    cmd->add_option("--adaptive-min-samples", o->adaptive_min_samples,
+                    "adaptive sampling: samples every pixel takes first (0 = automatic, "
+                    "max(16, ceil(2 / sqrt(threshold))); default: the scene's)")
+        ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--denoise", o->denoise,
                   "denoise the image (denoise.h: feature-guided, from two half-buffers and the "
                   "albedo, normal and depth AOVs; no longer an unbiased estimate)");

@@ -5,7 +5,8 @@
 //    meaning "the scene's setting": spp, threads (0 = every hardware thread), seed, integrator
 //    ('path' | 'direct'), max_depth, region=(x0, y0, x1, y1), samples=(s0, s1), time_budget (s),
 //    tile_size, pass_seconds, force_general_kernel, uniform_light_selection,
-//    independent_samples. Bad values raise ValueError naming the option.
+//    independent_samples, adaptive_threshold, adaptive_min_samples. Bad values raise ValueError
+//    naming the option.
 //  - The GIL is released while a pass renders. Between passes the session calls back into
 //    Python with the GIL held: it checks for signals (Ctrl-C), then calls the progress callable
 //    (if any) with a PassInfo; a False return cancels. A KeyboardInterrupt (or any exception of
@@ -46,6 +47,20 @@ py::array_t<float> image_array(Image&& image) {
         {h, w, py::ssize_t(3)},
         {py::ssize_t(w * sizeof(Rgb)), py::ssize_t(sizeof(Rgb)), py::ssize_t(sizeof(float))},
         reinterpret_cast<const float*>(owned->pixels().data()), base);
+}
+
+// The image `run(options)` returns (a denoiser call) with the GIL released, as an array.
+template <class Run>
+py::array_t<float> denoised_array(int radius, int threads, const Run& run) {
+    DenoiseOptions o;
+    o.radius = radius;
+    o.threads = threads;
+    Image out;
+    {
+        py::gil_scoped_release release;
+        out = run(o);
+    }
+    return image_array(std::move(out));
 }
 
 Image image_from_array(py::handle obj, const char* what) {
@@ -97,7 +112,9 @@ const char* const kOptionNames[] = {"spp",
                                     "force_general_kernel",
                                     "uniform_light_selection",
                                     "light_selection",
-                                    "independent_samples"};
+                                    "independent_samples",
+                                    "adaptive_threshold",
+                                    "adaptive_min_samples"};
 
 template <class T>
 T option_value(py::handle v, const char* name, const char* expected) {
@@ -173,6 +190,10 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
                              "expected 'view', 'power' or 'uniform', got '" + s + "'");
         } else if (k == "independent_samples")
             o.independent_samples = option_value<bool>(value, k.c_str(), "a bool");
+        else if (k == "adaptive_threshold")
+            o.adaptive_threshold = option_value<double>(value, k.c_str(), "a number >= 0");
+        else if (k == "adaptive_min_samples")
+            o.adaptive_min_samples = option_value<int>(value, k.c_str(), "an int >= 0");
         else {
             std::vector<std::string> names(std::begin(kOptionNames), std::end(kOptionNames));
             if (progress) names.push_back("progress");
@@ -289,6 +310,7 @@ void bind_render(py::module_& m) {
         .def_property_readonly("kernel", [](const RenderStats& s) { return s.kernel.name; })
         .def_readonly("seconds", &RenderStats::seconds)
         .def_readonly("spp", &RenderStats::spp)
+        .def_readonly("mean_spp", &RenderStats::mean_spp)
         .def_readonly("passes", &RenderStats::passes)
         .def_readonly("threads", &RenderStats::threads)
         .def_readonly("paths", &RenderStats::paths)
@@ -579,15 +601,9 @@ void bind_render(py::module_& m) {
             const Image al = image_from_array(albedo, "albedo");
             const Image n = image_from_array(normal, "normal");
             const Image z = image_from_array(depth, "depth");
-            DenoiseOptions o;
-            o.radius = radius;
-            o.threads = threads;
-            Image out;
-            {
-                py::gil_scoped_release release;
-                out = denoise({&a, &b, &al, &n, &z}, o);
-            }
-            return image_array(std::move(out));
+            return denoised_array(radius, threads, [&](const DenoiseOptions& o) {
+                return denoise({&a, &b, &al, &n, &z}, o);
+            });
         },
         py::arg("half_a"), py::arg("half_b"), py::arg("albedo"), py::arg("normal"),
         py::arg("depth"), py::arg("radius") = 4, py::arg("threads") = 0,
@@ -595,6 +611,23 @@ void bind_render(py::module_& m) {
         "sample ranges (0, n/2) and (n/2, n)) and render_aovs' albedo, normal and depth, all "
         "float32 (h, w, 3) of one size; ValueError naming the argument for a missing, "
         "mismatched or non-finite input");
+
+    m.def(
+        "denoise_halves",
+        [](py::handle scene, py::handle half_a, py::handle half_b, int spp, std::uint64_t seed,
+           int radius, int threads) {
+            const SceneHandle& sh = scene_arg(scene);
+            const Image a = image_from_array(half_a, "half_a");
+            const Image b = image_from_array(half_b, "half_b");
+            return denoised_array(radius, threads, [&](const DenoiseOptions& o) {
+                return denoise_halves(*sh.scene, a, b, spp, seed, o).image;
+            });
+        },
+        py::arg("scene"), py::arg("half_a"), py::arg("half_b"), py::arg("spp"), py::arg("seed") = 0,
+        py::arg("radius") = 4, py::arg("threads") = 0,
+        "The last step of render(denoise=True) for callers that rendered the two half-buffers "
+        "themselves: the scene's albedo, normal and depth at spp and seed, then denoise() "
+        "(facet/render/denoise.h: denoise_halves)");
 
     m.def(
         "write_image",

@@ -531,9 +531,10 @@ void bind_scene(py::module_& m) {
                    ")";
         });
 
-    py::class_<RenderSettings>(m, "RenderSettings",
-                               "The scene's render settings: integrator ('path' | 'direct'), spp, "
-                               "time_budget_s, max_depth, seed")
+    py::class_<RenderSettings>(
+        m, "RenderSettings",
+        "The scene's render settings: integrator ('path' | 'direct'), spp, "
+        "time_budget_s, max_depth, seed, adaptive_threshold, adaptive_min_samples")
         .def(py::init(
             [](py::kwargs kw) { return from_kwargs<RenderSettings>(kw, "RenderSettings"); }))
         .def_readwrite("integrator", &RenderSettings::integrator)
@@ -541,6 +542,8 @@ void bind_scene(py::module_& m) {
         .def_readwrite("time_budget_s", &RenderSettings::time_budget_s)
         .def_readwrite("max_depth", &RenderSettings::max_depth)
         .def_readwrite("seed", &RenderSettings::seed)
+        .def_readwrite("adaptive_threshold", &RenderSettings::adaptive_threshold)
+        .def_readwrite("adaptive_min_samples", &RenderSettings::adaptive_min_samples)
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height)
         .def(py::self == py::self)

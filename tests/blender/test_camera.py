@@ -15,9 +15,9 @@ from facet_testsupport import blender_harness as bt  # noqa: E402
 
 
 def exported(scene):
-    from facet_blender import export
+    from facet_blender import sync_camera
     problems = []
-    cam = export.export_camera(bpy.context.evaluated_depsgraph_get(), scene, problems)
+    cam = sync_camera.export_camera(bpy.context.evaluated_depsgraph_get(), scene, problems)
     return cam, problems
 
 

@@ -5,7 +5,10 @@ half-buffers and the features and denoises them. Checks:
 - it is closer to a 1024-spp reference than the plain render of the same 16 samples (MSE at
   most half: the C++ tests hold the denoiser's own bounds, this checks it is applied);
 - with a render region (where a denoiser cannot run: it is not split-invariant) the render is
-  not denoised and the report says why.
+  not denoised and the report says why;
+- Noise Threshold (adaptive sampling): F12 equals facet.render of the exported scene (which
+  carries the threshold in its render settings) bit for bit, and with Denoise on the render is
+  not adaptive and the report says so.
 """
 import os
 import sys
@@ -53,6 +56,26 @@ def main():
     _, problems = bt.render(scene)
     bt.check(any("Denoise is off for this render: a render region" in p for p in problems),
              "a region render says why it is not denoised (%s)" % problems)
+
+    rd.use_border = False
+    scene.facet.adaptive_threshold = 0.05
+    scene.facet.adaptive_min_samples = 4
+    _, problems = bt.render(scene)
+    bt.check(den is not None and any("Noise Threshold (adaptive sampling) is off" in p
+                                     for p in problems),
+             "Denoise with a Noise Threshold: not adaptive, reported (%s)" % problems)
+    scene.facet.denoise = False
+    adaptive, problems = bt.render(scene)
+    data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    bt.check(abs(data["render"].get("adaptive_threshold", 0) - 0.05) < 1e-7,
+             "the threshold is exported in the render settings: %s" % data["render"])
+    fscene, _ = native.build(data, name="adaptive")
+    session = native.facet.RenderSession(fscene, threads=2)
+    session.render()
+    bt.check(np.array_equal(adaptive, np.asarray(session.image()))
+             and session.stats.mean_spp < 16,
+             "F12 with Noise Threshold 0.05 equals the core's adaptive render (mean %.1f spp of "
+             "16)" % session.stats.mean_spp)
 
 
 bt.run(main)

@@ -367,7 +367,7 @@ def scene_reports():
 def world_mix():
     """A world Mix Shader of two Backgrounds (a Fac of 0.25 through a reroute) is the exact
     mix of their radiances; an Add Shader adds an Emission."""
-    from facet_blender import export
+    from facet_blender import export, sync_world
     bt.factory_scene(8, 8)
     world = bpy.context.scene.world
     nt = world.node_tree
@@ -390,7 +390,7 @@ def world_mix():
     nt.links.new(e.outputs[0], add.inputs[1])
     nt.links.new(add.outputs[0], out.inputs["Surface"])
     problems = []
-    env = export.export_environment(bpy.context.scene, problems)
+    env = sync_world.export_environment(bpy.context.scene, problems)
     # 0.75 (2, 1, 0.5) + 0.25 (0.5, 0.5, 0.5) + (0, 0, 0.5)
     bt.check(env["radiance"] == [1.625, 0.875, 1.0] and problems == [],
              "world Mix Shader of Backgrounds + Emission: exact: %s %s" % (env, problems))

@@ -212,3 +212,33 @@ def test_images_round_trip_through_files(scene, tmp_path):
         facet.write_image(image[:, :, 0], str(tmp_path / "b.exr"))
     with pytest.raises(RuntimeError, match="nope.exr"):
         facet.read_image(str(tmp_path / "nope.exr"))
+
+
+def test_adaptive_sampling_from_python_and_the_scene_settings():
+    """adaptive_threshold as an option and as the scene's render setting (JSON round trip):
+    fewer mean samples than the cap, the same image either way, and bad values name the
+    option."""
+    d = ts.numpy_description()
+    r = d.render
+    r.spp = 64
+    d.render = r
+    scene = facet.build_scene(d, name="plain")
+    s = facet.RenderSession(scene, threads=2, adaptive_threshold=0.05, adaptive_min_samples=8)
+    s.render()
+    assert 8 <= s.stats.mean_spp < 64
+    r.adaptive_threshold, r.adaptive_min_samples = 0.05, 8
+    d.render = r
+    twin = facet.parse_scene_description(d.to_json(), name="twin")
+    assert twin.render.adaptive_threshold == 0.05 and twin.render.adaptive_min_samples == 8
+    np.testing.assert_array_equal(facet.render(facet.build_scene(twin, name="a"), threads=1),
+                                  np.asarray(s.image()))
+    # The option overrides the scene's: 0 turns it off.
+    off = facet.RenderSession(facet.build_scene(twin, name="b"), threads=2, adaptive_threshold=0)
+    off.render()
+    assert off.stats.mean_spp == 64
+    with pytest.raises(ValueError, match=r"^adaptive_threshold: must be in \[0, 1\]"):
+        facet.render(scene, adaptive_threshold=-1)
+    with pytest.raises(ValueError, match="region"):
+        facet.render(scene, adaptive_threshold=0.05, samples=(0, 8))
+    with pytest.raises(ValueError, match="adaptive"):
+        facet.render(scene, adaptive_threshold=0.05, denoise=True)

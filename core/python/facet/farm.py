@@ -424,8 +424,7 @@ def _denoised(job):
     neighbours, which another tile may hold)."""
     p = job.payload
     scene = _worker_scene(p)
-    f = facet.render_aovs(scene, ["albedo", "normal", "depth"], spp=p.spp, seed=p.seed)
-    return facet.denoise(job.halves[0], job.halves[1], f["albedo"], f["normal"], f["depth"])
+    return facet.denoise_halves(scene, job.halves[0], job.halves[1], p.spp, p.seed)
 
 
 @dataclasses.dataclass

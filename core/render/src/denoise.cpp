@@ -436,6 +436,10 @@ DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
         throw std::invalid_argument(
             "denoise: renders the whole image and every sample (no region or sample range): a "
             "denoiser is not split-invariant, so denoise the merged halves");
+    if (resolve_settings(scene, options).adaptive_threshold > 0.0)
+        throw std::invalid_argument(
+            "denoise: cannot be combined with adaptive sampling (adaptive_threshold): the two "
+            "half-buffers are sample ranges, which an adaptive render does not split into");
     const ResolvedSettings rs = resolve_settings(scene, options);
     if (rs.time_budget_s > 0.0)
         throw std::invalid_argument(
@@ -468,14 +472,26 @@ DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
     out.stats.spp = rs.spp;
     const Image a = halves[0].film.resolve(), b = halves[1].film.resolve();
     out.raw = merge_parts(halves, {"first half", "second half"}).resolve();
+    DenoiseOptions d = denoise_options;
+    d.threads = rs.threads;
+    DenoisedHalves dh = denoise_halves(scene, a, b, rs.spp, rs.seed, d);
+    out.image = std::move(dh.image);
+    out.features = std::move(dh.features);
+    return out;
+}
+
+DenoisedHalves denoise_halves(const Scene& scene, const Image& half_a, const Image& half_b, int spp,
+                              std::uint64_t seed, const DenoiseOptions& options) {
+    DenoisedHalves out;
     AovOptions ao;
     ao.which = kAovAlbedo | kAovNormal | kAovDepth;
-    ao.spp = rs.spp;
-    ao.seed = rs.seed;
-    ao.threads = rs.threads;
+    ao.spp = spp;
+    ao.seed = seed;
+    ao.threads = options.threads;
     out.features = render_aovs(scene, ao);
-    out.image = denoise({&a, &b, &out.features.albedo, &out.features.normal, &out.features.depth},
-                        denoise_options);
+    out.image =
+        denoise({&half_a, &half_b, &out.features.albedo, &out.features.normal, &out.features.depth},
+                options);
     return out;
 }
 

@@ -873,12 +873,18 @@ TileKernel kernel_function(const KernelChoice& choice) {
         default:
             break;
     }
+#ifdef FACET_GENERAL_KERNELS_ONLY
+    // Sanitizer trees (CMakeLists.txt, FACET_ALL_KERNELS): the general kernel for every scene.
+    return path ? &render_tile<IntegratorKind::Path, kPathGeneral>
+                : &render_tile<IntegratorKind::Direct, kDirectGeneral>;
+#else
     static constexpr std::array<TileKernel, kTableSize> kPath =
         make_table<IntegratorKind::Path, kPathMask>(std::make_index_sequence<kTableSize>{});
     static constexpr std::array<TileKernel, kTableSize> kDirect =
         make_table<IntegratorKind::Direct, kDirectMask>(std::make_index_sequence<kTableSize>{});
     const std::size_t i = choice.features & (kTableSize - 1);
     return path ? kPath[i] : kDirect[i];
+#endif
 }
 
 }  // namespace facet::render

@@ -62,7 +62,9 @@ bool SceneDescription::operator==(const SceneDescription& o) const {
            shapes == o.shapes && prototypes == o.prototypes && lights == o.lights &&
            render.integrator == o.render.integrator && render.spp == o.render.spp &&
            render.time_budget_s == o.render.time_budget_s &&
-           render.max_depth == o.render.max_depth && render.seed == o.render.seed;
+           render.max_depth == o.render.max_depth && render.seed == o.render.seed &&
+           render.adaptive_threshold == o.render.adaptive_threshold &&
+           render.adaptive_min_samples == o.render.adaptive_min_samples;
 }
 
 namespace {
@@ -249,6 +251,10 @@ class Builder final : public BuildChecks {
             check_range(r.time_budget_s, ptr + "/time_budget", 0.0, 1e7, "in [0, 1e7] seconds");
         s.max_depth = int(check_int(r.max_depth, ptr + "/max_depth", 0, detail::kMaxDepth));
         s.seed = r.seed;
+        s.adaptive_threshold = check_range(r.adaptive_threshold, ptr + "/adaptive_threshold", 0.0,
+                                           1.0, "in [0, 1] (0 = off)");
+        s.adaptive_min_samples = int(
+            check_int(r.adaptive_min_samples, ptr + "/adaptive_min_samples", 0, detail::kMaxSpp));
         s.width = m_builder.camera().width;
         s.height = m_builder.camera().height;
     }

@@ -350,7 +350,14 @@ class Reader {
 
     void read_render(const json& r, const std::string& ptr, RenderSettings& s) const {
         expect_object(r, ptr);
-        check_keys(r, ptr, {"integrator", "spp", "time_budget", "max_depth", "seed"});
+        check_keys(r, ptr,
+                   {"integrator", "spp", "time_budget", "max_depth", "seed", "adaptive_threshold",
+                    "adaptive_min_samples"});
+        if (r.contains("adaptive_threshold"))
+            s.adaptive_threshold = get_number(r["adaptive_threshold"], ptr + "/adaptive_threshold");
+        if (r.contains("adaptive_min_samples"))
+            s.adaptive_min_samples = int(get_int(
+                r["adaptive_min_samples"], ptr + "/adaptive_min_samples", 0, detail::kMaxSpp));
         if (r.contains("integrator"))
             s.integrator = get_string(r["integrator"], ptr + "/integrator");
         if (r.contains("spp")) s.spp = int(get_int(r["spp"], ptr + "/spp", 1, detail::kMaxSpp));
@@ -1038,6 +1045,11 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
                       {"time_budget", r.time_budget_s},
                       {"max_depth", r.max_depth},
                       {"seed", r.seed}};
+    // Adaptive sampling only when on: scenes without it keep their files as they were.
+    if (r.adaptive_threshold > 0.0) {
+        root["render"]["adaptive_threshold"] = r.adaptive_threshold;
+        root["render"]["adaptive_min_samples"] = r.adaptive_min_samples;
+    }
     return root;
 }
 

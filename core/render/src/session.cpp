@@ -9,6 +9,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <stdexcept>
 #include <vector>
 
@@ -21,6 +22,10 @@ namespace {
 struct Tile {
     Region r;
     int next = 0;  // the first sample this tile has not taken yet
+    // Adaptive sampling (render.h): the tile's previous and next checkpoints, and whether it
+    // has converged (it then takes no more samples).
+    int last_checkpoint = 0, checkpoint = 0;
+    bool converged = false;
     // The kernel's counters for this tile, summed over the tiles when render() returns: written
     // only by the thread rendering the tile, where shared atomics took 4 contended read-modify-
     // writes per tile-pass (32 per tile in a 32-pass session).
@@ -82,7 +87,42 @@ ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& o) {
     if (r.time_budget_s > 0.0 && (r.sample_begin != 0 || r.sample_end != r.spp)) {
         throw std::invalid_argument("--samples: cannot be combined with a time budget (--time)");
     }
+    r.adaptive_threshold = o.adaptive_threshold ? *o.adaptive_threshold : s.adaptive_threshold;
+    if (!(r.adaptive_threshold >= 0.0 && r.adaptive_threshold <= 1.0))
+        throw std::invalid_argument("--adaptive-threshold: must be in [0, 1] (0 = off)");
+    if (o.adaptive_min_samples < -1)
+        throw std::invalid_argument("--adaptive-min-samples: must be >= 0 (0 = automatic)");
+    const int min_samples =
+        o.adaptive_min_samples >= 0 ? o.adaptive_min_samples : s.adaptive_min_samples;
+    r.adaptive_min_samples = 0;
+    if (r.adaptive_threshold > 0.0) {
+        if (r.sample_begin != 0 || r.sample_end != r.spp)
+            throw std::invalid_argument(
+                "--samples: an adaptive render cannot be split by sample range (its tiles stop at "
+                "sample counts of their own); split it by --region");
+        r.adaptive_min_samples =
+            min_samples > 0 ? min_samples
+                            : std::max(16, int(std::ceil(2.0 / std::sqrt(r.adaptive_threshold))));
+        r.adaptive_min_samples = std::max(r.adaptive_min_samples, 2);
+    }
     return r;
+}
+
+// Adaptive sampling (render.h): how far above the threshold a tile's worst pixel may lie.
+constexpr double kAdaptiveWorst = 4.0;
+
+// Adaptive sampling's per-pixel error (render.h): sums over the samples [0, a) and [0, n).
+double adaptive_error(const FixedRgb& sum_a, int a, const FixedRgb& sum_n, int n) {
+    double difference = 0.0, intensity = 0.0;
+    for (int c = 0; c < 3; ++c) {
+        const double first = from_fixed(sum_a.c[c]) / double(a);
+        const double second = from_fixed(sum_n.c[c] - sum_a.c[c]) / double(n - a);
+        difference += std::fabs(first - second);
+        intensity += from_fixed(sum_n.c[c]) / double(n);
+    }
+    difference *= std::sqrt(double(a) * double(n - a)) / double(n);
+    const double normalize = intensity < 1.0 ? std::sqrt(std::max(intensity, 0.0)) : intensity;
+    return difference / (1e-4 + normalize);
 }
 
 std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
@@ -95,6 +135,11 @@ std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
     h = mix(h, (o.independent_samples ? 1u : 0u) | (std::uint64_t(o.light_selection) << 3) |
                    (o.light_selection == LightSelection::Uniform ? 2u : 0u) |
                    (o.force_general_kernel ? 4u : 0u));
+    if (rs.adaptive_threshold > 0.0) {
+        std::uint64_t bits;
+        std::memcpy(&bits, &rs.adaptive_threshold, sizeof bits);
+        h = mix(mix(h, bits), std::uint64_t(rs.adaptive_min_samples));
+    }
     return h;
 }
 
@@ -107,6 +152,8 @@ struct RenderSession::State {
     LightDistribution light_dist;
     std::vector<Tile> tiles;
     Film film;
+    // Adaptive sampling: each pixel's sum at its tile's last checkpoint (film layout).
+    std::vector<FixedRgb> checkpoint_sums;
     RenderStats stats;
     int target = 0;  // sample end the session renders toward
     // Read before every tile: kept off the cache lines the render loop writes.
@@ -131,10 +178,41 @@ struct RenderSession::State {
         }
     }
 
+    // Where a tile stands toward the target: a converged tile is done.
+    int done_at(const Tile& t) const { return t.converged ? target : t.next; }
     int min_next() const {
         int m = target;
-        for (const Tile& t : tiles) m = std::min(m, t.next);
+        for (const Tile& t : tiles) m = std::min(m, done_at(t));
         return m;
+    }
+
+    bool adaptive() const { return rs.adaptive_threshold > 0.0; }
+    // Adaptive sampling at a tile's checkpoint (render.h): at the first, the sums are kept; at
+    // the others the tile converges when every pixel's error is below the threshold.
+    void at_checkpoint(Tile& t) {
+        const int n = t.checkpoint, a = t.last_checkpoint;
+        const std::size_t w = std::size_t(rs.region.width());
+        double sum_sq = 0.0, worst = 0.0;
+        for (int y = t.r.y0; y < t.r.y1; ++y) {
+            const std::size_t row = std::size_t(y - rs.region.y0) * w;
+            for (int x = t.r.x0; x < t.r.x1; ++x) {
+                const std::size_t i = row + std::size_t(x - rs.region.x0);
+                const FixedRgb& now = film.sums()[i];
+                if (a > 0) {
+                    const double e = adaptive_error(checkpoint_sums[i], a, now, n);
+                    sum_sq += e * e;
+                    worst = std::max(worst, e);
+                }
+                checkpoint_sums[i] = now;
+            }
+        }
+        // Each pixel's error is one draw of |A - B|: the tile's root mean square is its typical
+        // pixel's, and its worst pixel may lie up to kAdaptiveWorst times above (render.h).
+        const double pixels = double(t.r.width()) * double(t.r.height());
+        t.converged = a > 0 && std::sqrt(sum_sq / pixels) < rs.adaptive_threshold &&
+                      worst < kAdaptiveWorst * rs.adaptive_threshold;
+        t.last_checkpoint = n;
+        t.checkpoint = n + std::max(4, n / 4);
     }
 
     // Takes every tile with next < end to `end` (unless cancelled first).
@@ -154,21 +232,26 @@ struct RenderSession::State {
                 [&](const tbb::blocked_range<std::size_t>& range) {
                     for (std::size_t t = range.begin(); t != range.end(); ++t) {
                         Tile& tile = tiles[t];
-                        if (tile.next >= end || cancel.load(std::memory_order_relaxed)) continue;
-                        TileJob job = proto;
-                        job.x0 = tile.r.x0;
-                        job.y0 = tile.r.y0;
-                        job.x1 = tile.r.x1;
-                        job.y1 = tile.r.y1;
-                        job.first_sample = tile.next;
-                        job.end_sample = end;
-                        KernelCounters c;  // on this thread's stack while the kernel runs
-                        kernel(scene, job, film.sums(), c);
-                        tile.counters += c;
-                        const std::uint32_t added = std::uint32_t(end - tile.next);
-                        tile.next = end;
-                        progress.add(std::uint64_t(tile.r.width()) *
-                                     std::uint64_t(tile.r.height()) * added);
+                        // Adaptive: the tile-pass stops at each checkpoint it reaches.
+                        while (!tile.converged && tile.next < end &&
+                               !cancel.load(std::memory_order_relaxed)) {
+                            const int stop = adaptive() ? std::min(end, tile.checkpoint) : end;
+                            TileJob job = proto;
+                            job.x0 = tile.r.x0;
+                            job.y0 = tile.r.y0;
+                            job.x1 = tile.r.x1;
+                            job.y1 = tile.r.y1;
+                            job.first_sample = tile.next;
+                            job.end_sample = stop;
+                            KernelCounters c;  // on this thread's stack while the kernel runs
+                            kernel(scene, job, film.sums(), c);
+                            tile.counters += c;
+                            const std::uint32_t added = std::uint32_t(stop - tile.next);
+                            tile.next = stop;
+                            progress.add(std::uint64_t(tile.r.width()) *
+                                         std::uint64_t(tile.r.height()) * added);
+                            if (adaptive() && stop == tile.checkpoint) at_checkpoint(tile);
+                        }
                     }
                 },
                 tbb::simple_partitioner());
@@ -202,10 +285,12 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
             t.r = Region{std::max(gx, reg.x0), std::max(gy, reg.y0), std::min(gx + ts, reg.x1),
                          std::min(gy + ts, reg.y1)};
             t.next = s.rs.sample_begin;
+            t.checkpoint = s.rs.adaptive_min_samples;
             s.tiles.push_back(t);
         }
     }
     s.film = Film(reg);
+    if (s.adaptive()) s.checkpoint_sums.assign(s.film.sum_values().size(), FixedRgb{});
     s.target = s.rs.sample_end;
     s.stats.kernel = s.choice;
     s.stats.threads = s.rs.threads;
@@ -300,6 +385,14 @@ bool RenderSession::render(const PassCallback& on_pass) {
     RenderStats& st = s.stats;
     st.seconds = elapsed_before + seconds;
     st.spp = s.min_next() - rs.sample_begin;
+    if (s.adaptive()) {
+        st.spp = s.target - rs.sample_begin;
+        for (const Tile& t : s.tiles) st.spp = std::min(st.spp, t.next - rs.sample_begin);
+    }
+    double taken = 0.0;
+    for (const Tile& t : s.tiles)
+        taken += double(t.next - rs.sample_begin) * double(t.r.width()) * double(t.r.height());
+    st.mean_spp = taken / double(pixels);
     KernelCounters total;
     for (const Tile& t : s.tiles) total += t.counters;
     st.paths = total.camera_rays;
@@ -307,12 +400,15 @@ bool RenderSession::render(const PassCallback& on_pass) {
     st.shadow_rays = total.shadow_rays;
     st.nonfinite = total.nonfinite;
     st.cancelled = !completed;
-    char summary[256];
+    char adaptive[64] = "";
+    if (s.adaptive())
+        std::snprintf(adaptive, sizeof adaptive, " (adaptive: mean %.3g spp)", st.mean_spp);
+    char summary[320];
     std::snprintf(summary, sizeof summary,
-                  "%d spp, %.3g M paths/s, %.3g M rays/s (+%.3g M shadow rays/s), kernel %s%s",
-                  st.spp, double(st.paths) / st.seconds * 1e-6, double(st.rays) / st.seconds * 1e-6,
-                  double(st.shadow_rays) / st.seconds * 1e-6, s.choice.name.c_str(),
-                  completed ? "" : " (cancelled)");
+                  "%d spp%s, %.3g M paths/s, %.3g M rays/s (+%.3g M shadow rays/s), kernel %s%s",
+                  st.spp, adaptive, double(st.paths) / st.seconds * 1e-6,
+                  double(st.rays) / st.seconds * 1e-6, double(st.shadow_rays) / st.seconds * 1e-6,
+                  s.choice.name.c_str(), completed ? "" : " (cancelled)");
     progress.finish(summary);
     return completed;
 }
@@ -337,8 +433,13 @@ int RenderSession::samples_done() const {
 
 RenderPart RenderSession::part() const {
     const State& s = *m;
+    if (s.adaptive())
+        throw std::invalid_argument(
+            "part: an adaptive render's pixels have sample counts of their own, which part files "
+            "do not carry; render it whole (a --region render gives the same pixels as the "
+            "whole image's)");
     for (const Tile& t : s.tiles) {
-        if (t.next != s.target)
+        if (s.done_at(t) != s.target)
             throw std::logic_error("RenderSession::part: the render is incomplete (cancelled)");
     }
     RenderPart p;

@@ -74,6 +74,16 @@ struct DenoisedRender {
     Aovs features;      // albedo, normal, depth at the render's spp and seed
     RenderStats stats;  // of both halves together
 };
+// The last step of render_denoised for front ends that rendered the two half-buffers themselves
+// (Blender's two sessions, facet-farm's merged halves): the features of `scene` at `spp` and
+// `seed` (render_aovs on `options.threads`) and the denoised image. Throws as denoise().
+struct DenoisedHalves {
+    Image image;
+    Aovs features;
+};
+DenoisedHalves denoise_halves(const Scene& scene, const Image& half_a, const Image& half_b, int spp,
+                              std::uint64_t seed, const DenoiseOptions& options = {});
+
 // Renders `options` as two sessions over the sample ranges [0, n/2) and [n/2, n) of its n
 // samples per pixel (the half-buffers), the features, and denoises. The whole image at a fixed
 // sample count only: throws std::invalid_argument starting "denoise: " for a time budget, a

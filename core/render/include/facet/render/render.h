@@ -23,6 +23,20 @@
 //    and render() returns false. The film keeps every completed tile-pass: the image is then
 //    valid (each pixel the mean of the samples it has), and a later render() continues from
 //    exactly there.
+//  - Adaptive sampling (RenderOptions::adaptive_threshold > 0): a tile stops taking samples
+//    once it has converged: with Cycles 3.4's per-pixel error e (film/adaptive_sampling.h:
+//    |I - A| summed over RGB, over sqrt(R + G + B) below 1 and R + G + B above), the root mean
+//    square of e over the tile is below the threshold and no pixel's e is above 4 times it
+//    (each e is one draw of a noisy difference: requiring every one of 256 below the threshold
+//    took 2-9 times the samples Cycles' per-pixel test needs). The decisions are taken at fixed sample
+//    counts of each tile (checkpoints: the minimum samples m, then n + max(4, n / 4)), from the
+//    tile's own samples: the mean of [0, a) against that of [a, n), a the previous checkpoint,
+//    scaled to the expected |I - A| of Cycles' half buffer (sqrt(a (n - a)) / n). So an
+//    adaptive image is the same whatever the threads, passes, cancellations and continuations,
+//    and a region render on the tile grid gives the whole render's pixels there (a tile the
+//    region cuts decides on its pixels inside). Each pixel is the mean of the
+//    samples its tile took (film counts); parts (part()) and sample ranges (--samples) refuse
+//    it, as they carry no per-pixel counts.
 //  - Constructors validate options and throw std::invalid_argument naming the option
 //    ("--spp: must be >= 1"); after that nothing throws (but the callback may), allocates or
 //    logs per sample.
@@ -73,6 +87,10 @@ struct RenderOptions {
     int sample_begin = 0, sample_end = 0;
     // Target duration of a pass when a callback watches the session (seconds).
     double pass_seconds = 0.25;
+    // Adaptive sampling (conventions): the noise threshold (0 = off; Cycles' Noise Threshold)
+    // and the samples every pixel takes first (0 = automatic: max(16, ceil(2 / sqrt(t)))).
+    std::optional<double> adaptive_threshold;  // unset = scene setting; --adaptive-threshold
+    int adaptive_min_samples = -1;             // < 0 = scene setting; --adaptive-min-samples
 };
 
 struct RenderStats {
@@ -85,6 +103,8 @@ struct RenderStats {
     std::uint64_t rays = 0;         // closest-hit rays (camera + continuation)
     std::uint64_t shadow_rays = 0;  // occlusion rays
     std::uint64_t nonfinite = 0;    // samples dropped: NaN/inf or beyond film.h's kMaxSampleValue
+    double mean_spp = 0;            // samples per pixel taken, averaged over the region
+                                    // (below spp where adaptive sampling stopped tiles early)
     bool cancelled = false;
 };
 
@@ -96,6 +116,8 @@ struct ResolvedSettings {
     std::uint64_t seed;
     Region region;
     int sample_begin, sample_end;
+    double adaptive_threshold;  // 0: off
+    int adaptive_min_samples;   // resolved (>= 2 when adaptive)
 };
 ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& options);
 
@@ -133,7 +155,8 @@ class RenderSession {
     Image image() const;
     const Film& film() const;
     // The part this session has rendered (requires every tile to be complete: throws
-    // std::logic_error after a cancellation that left some tile behind).
+    // std::logic_error after a cancellation that left some tile behind; std::invalid_argument
+    // for an adaptive render, conventions).
     RenderPart part() const;
     const RenderStats& stats() const;
     const ResolvedSettings& settings() const;

@@ -103,6 +103,10 @@ struct RenderSettings {
     double time_budget_s = 0.0;       // > 0: render until the budget is spent (spp is then a cap)
     int max_depth = 8;  // maximum path depth in bounces (>= 0; 0 = only what camera rays see)
     std::uint64_t seed = 0;
+    // Adaptive sampling (render.h): the noise threshold (0 = off) and the samples every pixel
+    // takes first (0 = automatic).
+    double adaptive_threshold = 0.0;
+    int adaptive_min_samples = 0;
     int width = 0, height = 0;  // copied from the camera
     bool operator==(const RenderSettings&) const = default;
 };

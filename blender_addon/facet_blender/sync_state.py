@@ -1,0 +1,53 @@
+"""State snapshots of objects imported from a Facet JSON scene (export.py: while an object's
+Blender state is unchanged, its original description is exported as it was read), and the
+export's error."""
+import json
+
+
+class ExportError(Exception):
+    pass
+
+
+def _floats(vals):
+    return ",".join(repr(float(v)) for v in vals)
+
+
+def object_state(obj, matrix=None):
+    m = obj.matrix_world if matrix is None else matrix
+    parts = [_floats(v for row in m for v in row)]
+    if obj.type == 'CAMERA':
+        c = obj.data
+        parts.append(_floats((c.lens, c.sensor_width, c.sensor_height, c.shift_x, c.shift_y,
+                              c.ortho_scale)))
+        parts.append(c.sensor_fit + c.type)
+        d = c.dof
+        parts.append("%s%s" % (d.use_dof, d.focus_object.name if d.focus_object else "")
+                     + _floats((d.focus_distance, d.aperture_fstop, d.aperture_blades,
+                                d.aperture_rotation, d.aperture_ratio)))
+    elif obj.type == 'LIGHT':
+        lt = obj.data
+        parts.append(lt.type + _floats(list(lt.color) + [lt.energy]))
+        if lt.type == 'SPOT':
+            parts.append(_floats((lt.spot_size, lt.spot_blend)))
+        if lt.type == 'SUN':
+            parts.append(_floats((lt.angle,)))
+        if lt.type == 'AREA':
+            parts.append(lt.shape + _floats((lt.size, lt.size_y)))
+    return ";".join(parts)
+
+
+def render_state(scene):
+    r = scene.render
+    return "%d,%d,%d,%s,%s" % (r.resolution_x, r.resolution_y, r.resolution_percentage,
+                              repr(float(r.pixel_aspect_x)), repr(float(r.pixel_aspect_y)))
+
+
+def world_state(world):
+    return _floats(world.color) + ";%s" % world.use_nodes
+
+
+def _stored(id_block, key, state):
+    """The original description stored at import, when the block is unchanged since."""
+    if key in id_block and id_block.get("facet_state") == state:
+        return json.loads(id_block[key])
+    return None
