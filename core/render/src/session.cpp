@@ -108,6 +108,8 @@ ResolvedSettings resolve_settings(const Scene& scene, const RenderOptions& o) {
     return r;
 }
 
+namespace {
+
 // Adaptive sampling (render.h): how far above the threshold a tile's worst pixel may lie.
 constexpr double kAdaptiveWorst = 4.0;
 
@@ -124,6 +126,8 @@ double adaptive_error(const FixedRgb& sum_a, int a, const FixedRgb& sum_n, int n
     const double normalize = intensity < 1.0 ? std::sqrt(std::max(intensity, 0.0)) : intensity;
     return difference / (1e-4 + normalize);
 }
+
+}  // namespace
 
 std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
                                const RenderOptions& o) {

@@ -28,9 +28,9 @@
 //    |I - A| summed over RGB, over sqrt(R + G + B) below 1 and R + G + B above), the root mean
 //    square of e over the tile is below the threshold and no pixel's e is above 4 times it
 //    (each e is one draw of a noisy difference: requiring every one of 256 below the threshold
-//    took 2-9 times the samples Cycles' per-pixel test needs). The decisions are taken at fixed sample
-//    counts of each tile (checkpoints: the minimum samples m, then n + max(4, n / 4)), from the
-//    tile's own samples: the mean of [0, a) against that of [a, n), a the previous checkpoint,
+//    took 2-9 times the samples Cycles' per-pixel test needs). The decisions are taken at fixed
+//    sample counts of each tile (checkpoints: the minimum samples m, then n + max(4, n / 4)), from
+//    the tile's own samples: the mean of [0, a) against that of [a, n), a the previous checkpoint,
 //    scaled to the expected |I - A| of Cycles' half buffer (sqrt(a (n - a)) / n). So an
 //    adaptive image is the same whatever the threads, passes, cancellations and continuations,
 //    and a region render on the tile grid gives the whole render's pixels there (a tile the
