@@ -175,12 +175,19 @@ double ClassicConversion::diffuse_at(double mu) const {
     return std::min(diffuse, std::max(0.0, 1.0 - s));
 }
 
+double ClassicConversion::glossy_albedo_at(double mu) const {
+    const double x = std::clamp(mu, 0.0, 1.0) * (kAlbedoNodes - 1);
+    const int k = std::min(int(x), kAlbedoNodes - 2);
+    const double t = x - k;
+    return glossy_albedo[k] * (1.0 - t) + glossy_albedo[k + 1] * t;
+}
+
 ClassicConversion convert_classic(const ClassicFinish& f) {
     using Level = ClassicNote::Level;
     ClassicConversion c;
     if (f.subsurface) {
         c.converted = false;
-        note(c, Level::Reported, "subsurface (kept classic)");
+        note(c, Level::Reported, "subsurface kept classic");
         return c;
     }
 
@@ -191,10 +198,10 @@ ClassicConversion convert_classic(const ClassicFinish& f) {
         c.diffuse *= 2.0 / (std::max(0.0, f.brilliance) + 1.0);
         note(c, Level::Approximated, "brilliance");
     }
-    if (f.diffuse_back > 0.0) note(c, Level::Reported, "diffuse backside (dropped)");
-    if (f.crand > 0.0) note(c, Level::Reported, "crand (dropped)");
-    if (f.irid > 0.0) note(c, Level::Reported, "irid (dropped)");
-    if (f.reflection_exponent != 1.0) note(c, Level::Reported, "reflection exponent (dropped)");
+    if (f.diffuse_back > 0.0) note(c, Level::Reported, "diffuse backside dropped");
+    if (f.crand > 0.0) note(c, Level::Reported, "crand dropped");
+    if (f.irid > 0.0) note(c, Level::Reported, "irid dropped");
+    if (f.reflection_exponent != 1.0) note(c, Level::Reported, "reflection exponent dropped");
 
     // Highlights: one blinn lobe with POV-Ray's albedo at normal incidence. specular's own
     // lobe is (n.h)^kappa, as the blinn D; phong's exponent is fitted (fit_phong_exponent).
@@ -210,9 +217,9 @@ ClassicConversion convert_classic(const ClassicFinish& f) {
             // Both: one lobe of their summed albedo at the albedo-weighted mean log exponent.
             kappa = std::exp((e_phong * std::log(k_phong) + e_spec * std::log(k_spec)) /
                              (e_phong + e_spec));
-            note(c, Level::Approximated, "phong and specular (one lobe)");
+            note(c, Level::Approximated, "phong and specular as one lobe");
         }
-        if (has_phong) note(c, Level::Approximated, "phong (fitted lobe)");
+        if (has_phong) note(c, Level::Approximated, "phong as a fitted lobe");
         c.glossy_exponent = kappa;
         c.glossy_reflectance = (e_phong + e_spec) / blinn_albedo(kappa, 1.0);
         c.metallic = std::clamp(f.metallic, 0.0, 1.0);
@@ -252,7 +259,7 @@ ClassicConversion convert_classic(const ClassicFinish& f) {
                     lo[k] += delta[k] * (mean - scale / 21.0);
                     m.colour[k] = delta[k] * scale;
                 }
-                note(c, Level::Approximated, "reflection falloff (Schlick)");
+                note(c, Level::Approximated, "reflection falloff as Schlick");
             }
             if (max3(m.colour) > 0.0) c.mirrors.push_back(m);
         }
@@ -265,45 +272,47 @@ ClassicConversion convert_classic(const ClassicFinish& f) {
 
     // Energy: the specular lobes' albedo S(mu) at the nodes; above 1, every specular lobe is
     // scaled down by its maximum. The diffuse lobe takes what is left (diffuse_at).
-    auto specular_at = [&](double mu) {
-        double s = c.glossy_reflectance > 0.0
-                       ? c.glossy_reflectance * blinn_albedo(c.glossy_exponent, mu)
-                       : 0.0;
-        for (const ClassicMirror& m : c.mirrors) s += max3(m.colour) * mirror_weight(m, mu);
-        return s;
-    };
     double s_max = 0.0;
     for (int k = 0; k < ClassicConversion::kAlbedoNodes; ++k) {
         const double mu = double(k) / (ClassicConversion::kAlbedoNodes - 1);
-        c.specular_albedo[k] = specular_at(mu);
+        c.glossy_albedo[k] = c.glossy_reflectance > 0.0
+                                 ? c.glossy_reflectance * blinn_albedo(c.glossy_exponent, mu)
+                                 : 0.0;
+        c.specular_albedo[k] = c.glossy_albedo[k];
+        for (const ClassicMirror& m : c.mirrors)
+            c.specular_albedo[k] += max3(m.colour) * mirror_weight(m, mu);
         s_max = std::max(s_max, c.specular_albedo[k]);
     }
-    if (s_max > 1.0) {
-        const double scale = 1.0 / s_max;
+    // Above 1 every specular lobe is scaled down by the maximum; a blinn reflectance above 1
+    // (POV-Ray's albedo above the lobe's own, which loses some to shadowing) is capped at the
+    // model's range [0, 1].
+    const double scale = std::min(s_max > 1.0 ? 1.0 / s_max : 1.0,
+                                  c.glossy_reflectance > 1.0 ? 1.0 / c.glossy_reflectance : 1.0);
+    if (scale < 1.0) {
         c.glossy_reflectance *= scale;
         for (ClassicMirror& m : c.mirrors)
             for (double& x : m.colour) x *= scale;
         for (double& s : c.specular_albedo) s *= scale;
-        note(c, Level::Approximated, "energy (specular scaled down)");
-    }
-    if (c.glossy_reflectance > 1.0) {
-        // (only with s_max <= 1 through a lobe that loses energy to shadowing: the model's
-        // parameter range is [0, 1])
-        for (double& s : c.specular_albedo) s *= 1.0 / c.glossy_reflectance;
-        c.glossy_reflectance = 1.0;
-        note(c, Level::Approximated, "energy (specular scaled down)");
+        for (double& s : c.glossy_albedo) s *= scale;
+        note(c, Level::Approximated, "energy: specular scaled down");
     }
     for (int k = 0; k < ClassicConversion::kAlbedoNodes; ++k)
         if (c.diffuse + c.specular_albedo[k] > 1.0 + 1e-9) {
-            note(c, Level::Approximated, "energy (diffuse reduced)");
+            note(c, Level::Approximated, "energy: diffuse reduced");
             break;
         }
 
-    // Glossy rays for the reflection of other objects: round(32 E) for a lobe of albedo E at
-    // normal incidence, at most 8 (a lobe of E <= 1.5% traces none; lights still light it).
+    // How the blinn lobe reflects other objects (lights always shade it): on the mirror ray
+    // when there is one, else by one glossy ray at camera hits for an albedo of 10% or more.
     if (c.glossy_reflectance > 0.0) {
-        const double e = c.glossy_reflectance * blinn_albedo(c.glossy_exponent, 1.0);
-        c.glossy_samples = int(std::clamp(std::round(32.0 * e), 0.0, 8.0));
+        if (!c.mirrors.empty()) {
+            c.glossy_folded = true;
+            note(c, Level::Approximated, "glossy reflection on the mirror ray");
+        } else if (c.glossy_albedo.back() >= 0.1) {
+            c.glossy_samples = 1;
+        } else {
+            note(c, Level::Approximated, "glossy reflection below 10% not traced");
+        }
     }
     return c;
 }

@@ -8,13 +8,16 @@
 #include <cmath>
 #include <cstdint>
 #include <cstring>
+#include <map>
 #include <memory>
 #include <mutex>
 #include <optional>
+#include <set>
 #include <vector>
 
 #include "facet/frame.h"
 #include "facet/material.h"
+#include "facet/pov_classic.h"
 #include "facet/quadrature.h"
 #include "facet/registry.h"
 #include "facet/render/sampler.h"  // header-only part: the renderer's Owen-scrambled Sobol
@@ -60,7 +63,40 @@ class Brdf {
         const auto& d = m_material.diffuse();
         m_diffuse = d && facet::max_component(d->rho()) > 0.f;
     }
+    // A converted classic finish (facet/pov_classic.h): the split parts of its lobes.
+    Brdf(facet::pov::ClassicConversion c, facet::pov::ClassicLobes lobes)
+        : m_material(lobes.diffuse), m_samples(c.glossy_samples), m_classic(std::move(c)) {
+        m_split = true;
+        m_tinted = true;
+        if (m_classic->diffuse > 0.0) m_diffuse_part.emplace(std::move(lobes.diffuse));
+        if (lobes.glossy) m_glossy_part.emplace(std::move(*lobes.glossy));
+        m_mirror_parts = std::move(lobes.mirrors);
+        m_diffuse = m_diffuse_part.has_value();
+        m_glossy = m_glossy_part.has_value();
+        m_mirror = !m_mirror_parts.empty();
+        m_albedo.fill(facet::Rgb(1.f));  // Lambert rho = 1: albedo 1 at every angle
+    }
     const facet::Material& material() const { return m_material; }
+    // The conversion of a classic finish, or none for a brdf block.
+    const std::optional<facet::pov::ClassicConversion>& classic() const { return m_classic; }
+    // The diffuse part's factor at cos theta_o = mu beyond the pigment (classic: diffuse_at).
+    float diffuse_scale(float mu) const {
+        return m_classic ? float(m_classic->diffuse_at(mu)) : 1.f;
+    }
+    // The mirror part k's colour (classic: its reflection colour; else 1).
+    facet::Rgb mirror_colour(std::size_t k) const {
+        if (!m_classic) return facet::Rgb(1.f);
+        const auto& c = m_classic->mirrors[k].colour;
+        return facet::Rgb(float(c[0]), float(c[1]), float(c[2]));
+    }
+    // POV-Ray's metallic tint of the glossy lobe lit from cos theta_i (1 for a brdf block).
+    facet::Rgb glossy_tint(const float pigment[3], float cos_i) const {
+        if (!m_classic || m_classic->metallic <= 0.0) return facet::Rgb(1.f);
+        facet::Rgb t;
+        for (int c = 0; c < 3; ++c)
+            t[c] = float(facet::pov::metallic_tint(m_classic->metallic, pigment[c], cos_i));
+        return t;
+    }
     bool glossy() const { return m_glossy; }  // a non-delta glossy lobe
     bool mirror() const { return m_mirror; }  // a mirror lobe or a smooth glossy lobe
     bool diffuse() const { return m_diffuse; }
@@ -140,6 +176,7 @@ class Brdf {
     std::optional<facet::Material> m_diffuse_part, m_glossy_part;
     std::vector<facet::Material> m_mirror_parts;
     std::array<facet::Rgb, kAlbedoNodes> m_albedo{};
+    std::optional<facet::pov::ClassicConversion> m_classic;
 };
 
 namespace {
@@ -153,6 +190,12 @@ std::vector<std::unique_ptr<Brdf>>& all_brdfs() {
 }
 
 constexpr int kDefaultGlossySamples = 8;
+
+const Brdf* keep(std::unique_ptr<Brdf> b) {
+    std::lock_guard<std::mutex> lock(g_mutex);
+    all_brdfs().push_back(std::move(b));
+    return all_brdfs().back().get();
+}
 
 facet::Vec3 to_vec(const double v[3]) {
     return {float(v[0]), float(v[1]), float(v[2])};
@@ -286,10 +329,7 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
             throw facet::ParamError("", "model '" + m_impl->model +
                                             "' transmits light: the brdf finish is reflection "
                                             "only (use POV-Ray's interior and refraction)");
-        auto b = std::make_unique<Brdf>(std::move(m), m_impl->samples);
-        std::lock_guard<std::mutex> lock(g_mutex);
-        all_brdfs().push_back(std::move(b));
-        return all_brdfs().back().get();
+        return keep(std::make_unique<Brdf>(std::move(m), m_impl->samples));
     } catch (const facet::ParamError& e) {
         message = e.what();
         param = e.param();
@@ -298,6 +338,104 @@ const Brdf* BrdfBuilder::build(std::string& message, std::string& param) {
         param.clear();
     }
     return nullptr;
+}
+
+const Brdf* convert_classic(const ClassicFinish& f, std::vector<ClassicNote>& notes) {
+    facet::pov::ClassicFinish in;
+    in.diffuse = f.diffuse;
+    in.diffuse_back = f.diffuse_back;
+    in.brilliance = f.brilliance;
+    in.phong = f.phong;
+    in.phong_size = f.phong_size;
+    in.specular = f.specular;
+    in.specular_exponent = f.specular_exponent;
+    in.metallic = f.metallic;
+    for (int c = 0; c < 3; ++c) {
+        in.reflection_min[c] = f.reflection_min[c];
+        in.reflection_max[c] = f.reflection_max[c];
+    }
+    in.reflection_fresnel = f.reflection_fresnel;
+    in.reflection_falloff = f.reflection_falloff;
+    in.reflection_exponent = f.reflection_exponent;
+    in.ior = f.ior;
+    in.irid = f.irid;
+    in.crand = f.crand;
+    in.subsurface = f.subsurface;
+    // Scenes copy a few finishes many times (a macro's texture per object): equal inputs share
+    // one conversion.
+    static std::map<std::vector<double>, std::pair<const Brdf*, std::vector<ClassicNote>>> done;
+    const std::vector<double> key = {in.diffuse,
+                                     in.diffuse_back,
+                                     in.brilliance,
+                                     in.phong,
+                                     in.phong_size,
+                                     in.specular,
+                                     in.specular_exponent,
+                                     in.metallic,
+                                     in.reflection_min[0],
+                                     in.reflection_min[1],
+                                     in.reflection_min[2],
+                                     in.reflection_max[0],
+                                     in.reflection_max[1],
+                                     in.reflection_max[2],
+                                     double(in.reflection_fresnel),
+                                     in.reflection_falloff,
+                                     in.reflection_exponent,
+                                     in.ior,
+                                     in.irid,
+                                     in.crand,
+                                     double(in.subsurface)};
+    {
+        std::lock_guard<std::mutex> lock(g_mutex);
+        if (auto it = done.find(key); it != done.end()) {
+            notes = it->second.second;
+            return it->second.first;
+        }
+    }
+    facet::pov::ClassicConversion c = facet::pov::convert_classic(in);
+    notes.clear();
+    for (const facet::pov::ClassicNote& n : c.notes)
+        notes.push_back({n.level == facet::pov::ClassicNote::Level::Approximated, n.kind});
+    const Brdf* b = nullptr;
+    if (c.converted) {
+        facet::pov::ClassicLobes lobes = facet::pov::classic_lobes(c);
+        b = keep(std::make_unique<Brdf>(std::move(c), std::move(lobes)));
+    }
+    std::lock_guard<std::mutex> lock(g_mutex);
+    done.emplace(key, std::make_pair(b, notes));
+    return b;
+}
+
+void folded_glossy_weight(const Brdf* b, const double n[3], const double wo[3],
+                          const float pigment[3], float out[3]) {
+    out[0] = out[1] = out[2] = 0.f;
+    const auto& c = b->classic();
+    if (!c || !c->glossy_folded) return;
+    const float mu = glm::dot(to_vec(n), to_vec(wo));
+    if (!(mu > 0.f)) return;
+    const facet::Rgb w = float(c->glossy_albedo_at(mu)) * b->glossy_tint(pigment, mu);
+    out[0] = w.x;
+    out[1] = w.y;
+    out[2] = w.z;
+}
+
+const char* intern(const char* text) {
+    static std::set<std::string> texts;
+    std::lock_guard<std::mutex> lock(g_mutex);
+    return texts.insert(text).first->c_str();
+}
+
+bool is_converted(const Brdf* b) {
+    return b->classic().has_value();
+}
+
+void glossy_tint(const Brdf* b, const double n[3], const double wi[3], const float pigment[3],
+                 float out[3]) {
+    const float cos_i = glm::dot(to_vec(n), to_vec(wi));
+    const facet::Rgb t = b->glossy_tint(pigment, cos_i);
+    out[0] = t.x;
+    out[1] = t.y;
+    out[2] = t.z;
 }
 
 bool lit_by_lights(const Brdf* b) {
@@ -320,9 +458,9 @@ void shade(const Brdf* b, const double n[3], const double wo[3], const double wi
     facet::Rgb r(0.f);
     if (b->split()) {
         if (const auto& d = b->diffuse_part())
-            r += d->f(o, i) *
+            r += d->f(o, i) * b->diffuse_scale(o.z) *
                  (b->tinted() ? facet::Rgb(tint[0], tint[1], tint[2]) : facet::Rgb(1.f));
-        if (glossy && b->glossy()) r += b->glossy_part()->f(o, i);
+        if (glossy && b->glossy()) r += b->glossy_part()->f(o, i) * b->glossy_tint(tint, i.z);
     } else {
         if (m.diffuse()) r += m.diffuse_f(o, i) * facet::Rgb(tint[0], tint[1], tint[2]);
         if (glossy && b->glossy()) r += m.glossy()->f(o, i);
@@ -342,7 +480,7 @@ void diffuse_albedo(const Brdf* b, const double n[3], const double wo[3], const 
     float mu = std::clamp(glm::dot(nn, o), 0.f, 1.f);
     if (b->split()) {
         if (!b->diffuse_part()) return;
-        const facet::Rgb a = b->diffuse_part_albedo(mu);
+        const facet::Rgb a = b->diffuse_part_albedo(mu) * b->diffuse_scale(mu);
         for (int c = 0; c < 3; ++c) out[c] = std::max(0.f, a[c] * (b->tinted() ? tint[c] : 1.f));
         return;
     }
@@ -363,10 +501,10 @@ void mirror_weight(const Brdf* b, const double n[3], const double wo[3], float o
         const facet::Frame frame = facet::Frame::from_z(to_vec(n));
         const facet::Vec3 o = frame.to_local(to_vec(wo));
         if (o.z > 0.f)
-            for (const facet::Material& part : b->mirror_parts())
-                if (auto s = part.sample_f(o, 0.5f, facet::Vec2(0.5f));
+            for (std::size_t k = 0; k < b->mirror_parts().size(); ++k)
+                if (auto s = b->mirror_parts()[k].sample_f(o, 0.5f, facet::Vec2(0.5f));
                     s && s->pdf > 0.f && s->wi.z > 0.f) {
-                    const facet::Rgb r = s->f * (s->wi.z / s->pdf);
+                    const facet::Rgb r = s->f * (s->wi.z / s->pdf) * b->mirror_colour(k);
                     if (facet::is_finite(r)) w += r;
                 }
         out[0] = w.x;
@@ -416,6 +554,9 @@ double glossy_pdf(const Brdf* b, const double n[3], const double wo[3], const do
 int glossy_ray_count(const Brdf* b, unsigned trace_level) {
     if (!b->glossy()) return 0;
     if (b->samples() == 0) return 0;
+    // A converted classic finish traces its glossy rays at camera hits only (classic scenes are
+    // tuned for mirror rays alone; a glossy ray per deeper hit doubles their tree per level).
+    if (b->classic()) return trace_level <= 1 ? b->samples() : 0;
     return trace_level <= 1 ? b->samples() : 1;
 }
 

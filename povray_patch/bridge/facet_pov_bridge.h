@@ -10,6 +10,7 @@
 #pragma once
 
 #include <string>
+#include <vector>
 
 namespace facet_pov {
 
@@ -53,6 +54,45 @@ class BrdfBuilder {
     struct Impl;
     Impl* m_impl;
 };
+
+// ---- brdf_convert_classic: a classic finish as a brdf (facet/pov_classic.h) -------------
+
+// POV-Ray's FINISH fields as POV-Ray stores them (Roughness is 1 / roughness there), and the
+// object's interior IOR over the atmosphere's (1 without an interior).
+struct ClassicFinish {
+    double diffuse, diffuse_back, brilliance;
+    double phong, phong_size, specular, specular_exponent, metallic;
+    double reflection_min[3], reflection_max[3];
+    bool reflection_fresnel;
+    double reflection_falloff, reflection_exponent, ior, irid, crand;
+    bool subsurface;
+};
+
+// One approximation or dropped term of a conversion: `approximated` false means reported
+// (dropped or kept classic); `kind` is a short fixed text ("brilliance", "irid (dropped)").
+struct ClassicNote {
+    bool approximated;
+    std::string kind;
+};
+
+// The brdf of a classic finish: Lambert (rho = diffuse, tinted by the pigment, taking what the
+// specular lobes leave), one blinn lobe for phong and specular (tinted by `metallic` as POV-Ray
+// tints its highlights, glossy_tint), mirror lobes for reflection. nullptr when the finish
+// stays classic (subsurface); `notes` say what is not exact.
+const Brdf* convert_classic(const ClassicFinish& finish, std::vector<ClassicNote>& notes);
+// A converted finish's blinn lobe as it reflects other objects on the mirror ray (with a
+// mirror lobe: facet::pov::ClassicConversion::glossy_folded): its albedo at wo, tinted by its
+// `metallic` at the mirror angle; 0 for anything else. Added to mirror_weight's.
+void folded_glossy_weight(const Brdf* b, const double n[3], const double wo[3],
+                          const float pigment[3], float out[3]);
+// A stable copy of `text` for the life of the process (file names in POV-Ray's FINISH).
+const char* intern(const char* text);
+// True for a Brdf made by convert_classic (POV-Ray's reflection `metallic` tint applies).
+bool is_converted(const Brdf* b);
+// The factor of the glossy lobe toward wi for a pigment (POV-Ray's `metallic` tint; 1 for a
+// brdf block): multiplies the glossy rays' weights (shade() applies it to lights itself).
+void glossy_tint(const Brdf* b, const double n[3], const double wi[3], const float pigment[3],
+                 float out[3]);
 
 // ---- shading -------------------------------------------------------------------------------
 

@@ -138,10 +138,10 @@ TEST(PovClassic, ReflectionFalloff) {
     ASSERT_EQ(c.mirrors.size(), 2u);
     EXPECT_EQ(c.mirrors[0].weight, ClassicMirror::Weight::Schlick);
     EXPECT_NEAR(c.mirrors[0].colour[0], 0.5, 1e-12);
-    EXPECT_FALSE(has_note(c, "reflection falloff (Schlick)"));
+    EXPECT_FALSE(has_note(c, "reflection falloff as Schlick"));
     f.reflection_falloff = 1.0;
     c = facet::pov::convert_classic(f);
-    EXPECT_TRUE(has_note(c, "reflection falloff (Schlick)"));
+    EXPECT_TRUE(has_note(c, "reflection falloff as Schlick"));
     // mean of POV's r(mu) = 0.1 + 0.5 (1 - mu) weighted by 2 mu dmu: 0.1 + 0.5 / 3
     double mean = 0.0;
     for (const ClassicMirror& m : c.mirrors)
@@ -240,7 +240,7 @@ TEST(PovClassic, SubsurfaceStaysClassic) {
     f.subsurface = true;
     const auto c = facet::pov::convert_classic(f);
     EXPECT_FALSE(c.converted);
-    EXPECT_TRUE(has_note(c, "subsurface (kept classic)"));
+    EXPECT_TRUE(has_note(c, "subsurface kept classic"));
 }
 
 }  // namespace

@@ -63,17 +63,24 @@ struct ClassicConversion {
     double glossy_exponent = 0.0, glossy_reflectance = 0.0;  // blinn; reflectance 0: none
     double metallic = 0.0;  // the blinn lobe's tint, metallic_tint()
     std::vector<ClassicMirror> mirrors;
-    int glossy_samples = 0;  // glossy rays at a camera hit (the brdf block's `samples`)
+    // How the blinn lobe reflects other objects: with a mirror lobe, its albedo at theta_o rides
+    // on the mirror ray (glossy_folded: sharp, no extra ray); without one, glossy_samples rays
+    // at a camera hit (1 for an albedo >= 10% at normal incidence, else 0).
+    bool glossy_folded = false;
+    int glossy_samples = 0;
     // The blinn and mirror lobes' albedo (max over channels) at cos(theta_o) = k / (n - 1),
     // n = kAlbedoNodes: the diffuse lobe is scaled by min(1, (1 - S) / rho) at each view so
     // that the sum never exceeds 1 (linear in cos theta_o between nodes).
     static constexpr int kAlbedoNodes = 17;
     std::array<double, kAlbedoNodes> specular_albedo{};
+    std::array<double, kAlbedoNodes> glossy_albedo{};  // the blinn lobe's alone
     std::vector<ClassicNote> notes;
 
     // The diffuse rho in effect at cos(theta_o) = mu (see specular_albedo; the larger of the
     // two neighbouring nodes, an upper bound of S where it is monotone between them).
     double diffuse_at(double mu) const;
+    // The blinn lobe's albedo at cos(theta_o) = mu (linear between the nodes).
+    double glossy_albedo_at(double mu) const;
 };
 
 ClassicConversion convert_classic(const ClassicFinish& finish);
