@@ -1,9 +1,14 @@
 #!/usr/bin/python3
-"""Renders scenes/pov/showcase.pov twice — stock POV-Ray finishes with /usr/bin/povray
-(Declare=Classic=1) and `brdf` finishes with povray-facet — and writes them side by side.
+"""Renders a scene twice and writes the two images side by side.
 
-Usage: povray_patch/side_by_side.py POVRAY_FACET OUT.png [WIDTH HEIGHT]
-Also writes OUT's stem + _stock.png and _brdf.png.
+  povray_patch/side_by_side.py POVRAY_FACET OUT.png [WIDTH HEIGHT]
+      scenes/pov/showcase.pov with stock POV-Ray finishes by /usr/bin/povray
+      (Declare=Classic=1), and with `brdf` finishes by povray-facet
+  povray_patch/side_by_side.py POVRAY_FACET OUT.png WIDTH HEIGHT --convert SCENE.pov
+      a stock scene by povray-facet as written, and with `brdf_convert_classic on` injected by
+      +HI (docs/povray.md, "Classic finishes")
+
+Also writes OUT's stem + _stock.png and _brdf.png (the left and right images).
 """
 import os
 import struct
@@ -29,10 +34,10 @@ def write_png(path, width, height, rows):
                 + chunk(b"IDAT", zlib.compress(raw, 9)) + chunk(b"IEND", b""))
 
 
-def render(binary, out, w, h, extra):
+def render(binary, out, w, h, extra, scene=SCENE):
     tmp = os.path.dirname(out)
     # +L: the scene's image files are relative to its directory.
-    cmd = [binary, f"+I{os.path.abspath(SCENE)}", f"+L{os.path.dirname(os.path.abspath(SCENE))}",
+    cmd = [binary, f"+I{os.path.abspath(scene)}", f"+L{os.path.dirname(os.path.abspath(scene))}",
            f"+O{out}", f"+W{w}", f"+H{h}", "-D", "-V",
            "-GA", "+GF", "+FN8", "+A0.05", "+AM2", "+R2"] + extra
     p = subprocess.run(cmd, cwd=tmp, env=dict(os.environ, HOME=tmp),
@@ -44,11 +49,19 @@ def render(binary, out, w, h, extra):
 def main():
     facet, out = os.path.abspath(sys.argv[1]), os.path.abspath(sys.argv[2])
     w, h = (int(sys.argv[3]), int(sys.argv[4])) if len(sys.argv) > 4 else (480, 270)
+    convert = sys.argv[6] if len(sys.argv) > 6 and sys.argv[5] == "--convert" else None
     stem = os.path.splitext(out)[0]
     with tempfile.TemporaryDirectory() as tmp:
         a, b = os.path.join(tmp, "stock.png"), os.path.join(tmp, "brdf.png")
-        render("/usr/bin/povray", a, w, h, ["Declare=Classic=1"])
-        render(facet, b, w, h, [])
+        if convert:
+            header = os.path.join(tmp, "convert.inc")
+            with open(header, "w") as f:
+                f.write("global_settings { brdf_convert_classic on }\n")
+            render(facet, a, w, h, [], convert)
+            render(facet, b, w, h, [f"+HI{header}"], convert)
+        else:
+            render("/usr/bin/povray", a, w, h, ["Declare=Classic=1"])
+            render(facet, b, w, h, [])
         ia, ib = read_png(a), read_png(b)
         for img, name in ((ia, "_stock.png"), (ib, "_brdf.png")):
             ch = img[2]

@@ -176,7 +176,21 @@ def cmd_units(env):
           re.search(r"first at \S+\.pov:5\)", s["approx_text"]) is not None,
           f"summary with places: {s}")
 
-    # 6. brdf_convert_lights: a point light 4 units from the plane's look_at point keeps its
+    # 6. A value that is not on/off/a number: POV-Ray's own parse error, with file and line.
+    bad = os.path.join(env.tmp, "bad.pov")
+    with open(bad, "w") as f:
+        f.write("#version 3.7;\nglobal_settings { assumed_gamma 1 brdf_convert_classic maybe }\n"
+                "sphere { 0, 1 pigment { rgb 1 } }\n")
+    p = subprocess.run([env.pov, f"+I{bad}", "-D", "-V", "+W8", "+H8", f"+O{bad}.png"],
+                       cwd=env.tmp, env=dict(os.environ, HOME=env.tmp), capture_output=True,
+                       text=True, timeout=60)
+    err = p.stderr.replace("\n", "")
+    check(p.returncode != 0 and re.search(r"File '[^']*bad\.pov' line 2: Parse Error: No matching "
+                                          r"\} in 'global_settings', undeclared identifier "
+                                          r"'maybe' found instead", err) is not None,
+          f"bad value: exit {p.returncode}, POV-Ray parse error at line 2")
+
+    # 7. brdf_convert_lights: a point light 4 units from the plane's look_at point keeps its
     # light there (colour x 16, 1/d^2) and falls off physically elsewhere.
     scene = PLANE.format(ambient_light=0, settings="brdf_convert_lights on", size=8,
                          lights="light_source { <0, 0, -4> color rgb 0.5 }", pigment="rgb 1",
