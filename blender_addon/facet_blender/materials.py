@@ -54,8 +54,10 @@ per material (they would fire on every default material).
   walk: same energy, a white glass sphere renders the environment in both).
 - Emission: the shape's emission = Color x Strength (radiance), black material. A colour or
   value linked straight into a shader socket is an Emission (Cycles' conversion).
-- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1], or a texture / bake of the Fac)
-  -> the core's `mix`, Add Shader -> `add` (combine()), nested as the tree nests them; t = 0
+- Mix Shader (weights 1 - t, t; t = Fac clamped to [0, 1], or a texture / bake of the Fac;
+  a Fac straight from a Fresnel node or a Layer Weight node's Fresnel / Facing output with a
+  constant IOR / Blend and no Normal link: the core's view-dependent `factor`, as Cycles
+  evaluates it per shading point) -> the core's `mix`, Add Shader -> `add` (combine()), nested as the tree nests them; t = 0
   or 1 is that side alone, a black side only weights the other, and two BSDFs of one linear
   model (lambert, mirror, ggx, beckmann without energy compensation) differing only in
   reflectance merge into one while the reflectance stays <= 1. Emissions add with the same
@@ -360,9 +362,13 @@ class NodeContext:
         of the shaders exactly (Cycles skips the other); any other t, or a Fac that is a
         texture or a bake, is the core's `mix` (mix())."""
         node, path = src.node, src.path
-        fac = self.param(node, 'Fac', path)
         label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
         ins = [s for s in node.inputs if s.type == 'SHADER']
+        view = self._view_factor(node, path)
+        if view is not None:  # Fresnel / Layer Weight: the core's view-dependent mix weight
+            sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+            return self._combined(sides, view, src, feeds)
+        fac = self.param(node, 'Fac', path)
         if not is_texture(fac):
             t = min(max(float(fac), 0.0), 1.0)
             if t in (0.0, 1.0):
@@ -370,6 +376,31 @@ class NodeContext:
             fac = t
         sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
         return self._combined(sides, fac, src, feeds)
+
+    def _view_factor(self, node, path):
+        """A Mix Shader's Fac straight from a Fresnel node's Fac or a Layer Weight node's
+        Fresnel or Facing output, with a constant IOR / Blend and the default normal: the
+        core's mix `factor` ({"factor": ..., "ior" or "blend": ...}); else None."""
+        src = self.walker.input(node, 'Fac', path)
+        if not isinstance(src, nodegraph.Out) or src.convs:
+            return None
+        n = src.node
+        kind = {('ShaderNodeFresnel', 'Fac'): ("fresnel", 'IOR', "ior"),
+                ('ShaderNodeLayerWeight', 'Fresnel'): ("layer_fresnel", 'Blend', "blend"),
+                ('ShaderNodeLayerWeight', 'Facing'): ("layer_facing", 'Blend', "blend")}.get(
+                    (n.bl_idname, src.socket.identifier))
+        if kind is None:
+            return None
+        factor, inp, key = kind
+        value, _ = self.walker.fold(self.walker.input(n, inp, src.path))
+        normal = self.walker.input(n, 'Normal', src.path)
+        if value is None or isinstance(normal, nodegraph.Out):
+            return None  # a textured IOR / Blend or a custom normal: reported as before
+        if factor == "fresnel":
+            value = max(float(value), 0.0)
+        else:
+            value = min(max(float(value), 0.0), 1.0)
+        return {"factor": factor, key: value}
 
     def _add_shader(self, src, feeds):
         """Both sides summed: the core's `add` (emissions added)."""
@@ -457,8 +488,9 @@ def combine(parts, fac):
     lists what is not exact (reported by the caller)."""
     (d1, e1), (d2, e2) = parts
     notes = []
+    view = isinstance(fac, dict) and "factor" in fac  # a weight from the view (Fresnel, ...)
     if is_transparent(d1) or is_transparent(d2):
-        if fac is not None and _black(e1) and _black(e2):
+        if fac is not None and not view and _black(e1) and _black(e2):
             data = _mix_transparent(d1, d2, fac, notes)
             if data is not None:
                 return data, None, notes
@@ -470,14 +502,15 @@ def combine(parts, fac):
         d1, d2 = ({k: v for k, v in d.items() if k != "opacity"} for d in (d1, d2))
         notes.append("the Alpha of a shader inside a Mix or Add Shader is not converted (the "
                      "core's opacity is a whole material's); opaque")
-    textured = is_texture(fac)
+    textured = is_texture(fac) or view
     w1, w2 = (1.0, 1.0) if fac is None else (None, None) if textured else (1.0 - fac, fac)
     if textured:
         emission = None
         if not (_black(e1) and _black(e2)):  # (1 - w) e1 + w e2, w a texture: no texture
             emission = next((e for e in (e1, e2) if is_texture(e)), None) or \
                 _add_emission(e1, e2, 0.5, 0.5)
-            notes.append("an emission weighted by a textured Fac is not converted; the "
+            notes.append("an emission weighted by a textured or view-dependent Fac is not "
+                         "converted; the "
                          "emissions are averaged (weight 0.5)")
     else:
         try:
@@ -497,7 +530,9 @@ def combine(parts, fac):
             return merged, emission, notes
     children, normal = _hoist_normals([d1, d2], notes)
     data = {"model": "add" if fac is None else "mix", "materials": children}
-    if fac is not None:
+    if view:
+        data.update(fac)
+    elif fac is not None:
         data["weight"] = fac
     data.update(normal)
     return data, emission, notes

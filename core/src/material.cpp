@@ -137,6 +137,54 @@ Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const 
     return m;
 }
 
+Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
+                       MixWeight weight, float param) {
+    if (weight == MixWeight::Constant) return mix(std::move(a), std::move(b), param);
+    Material m = mix(a, b, 0.5f);
+    m.m_combination = std::make_shared<const Combination>(
+        Combination{Combine::Mix, a, b, 0.5f, 0.5f, 0.5f, weight, param});
+    return m;
+}
+
+float mix_weight(Material::MixWeight kind, float param, const Vec3& wo) {
+    using W = Material::MixWeight;
+    // Cycles 3.4 (svm_node_fresnel, svm_node_layer_weight): |cos| of the view with the
+    // shading normal; the relative IOR inverted on the back side.
+    const float c = std::min(std::abs(wo.z), 1.f);
+    const bool back = wo.z < 0.f;
+    float w = param;
+    switch (kind) {
+        case W::Constant:
+            break;
+        case W::Fresnel: {
+            const float eta = std::max(param, 1e-5f);
+            w = fresnel_dielectric(c, back ? 1.f / eta : eta);
+            break;
+        }
+        case W::LayerFresnel: {
+            const float eta = std::max(1.f - param, 1e-5f);
+            w = fresnel_dielectric(c, back ? eta : 1.f / eta);
+            break;
+        }
+        case W::LayerFacing: {
+            float f = c;
+            if (param != 0.5f) {
+                const float b = std::clamp(param, 0.f, 1.f - 1e-5f);
+                f = std::pow(f, b < 0.5f ? 2.f * b : 0.5f / (1.f - b));
+            }
+            w = 1.f - f;
+            break;
+        }
+    }
+    return std::clamp(w, 0.f, 1.f);
+}
+
+Material::Combination::At Material::Combination::at(const Vec3& wo) const {
+    if (weight == MixWeight::Constant) return {coef_a, coef_b, prob_a};
+    const float w = mix_weight(weight, weight_param, wo);
+    return {1.f - w, w, 1.f - w};
+}
+
 Material Material::add(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b) {
     Material m(std::nullopt, std::nullopt, std::nullopt);
     // Sampling 50/50: a per-direction albedo estimate of arbitrary children would cost a
@@ -210,10 +258,11 @@ BSDFEval Material::special_eval(const Vec3& wo, const Vec3& wi, Mode mode) const
     if (m_principled) return m_principled->eval(wo, wi, mode);
     if (m_unit) return m_unit->eval(wo, wi);
     if (!m_combination) return {};  // the thin pane: deltas only
-    const Combination& c = *m_combination;
+    const Combination& cm = *m_combination;
+    const Combination::At c = cm.at(wo);
     BSDFEval e;
     for (int k = 0; k < 2; ++k) {
-        const Material& child = k == 0 ? *c.a : *c.b;
+        const Material& child = k == 0 ? *cm.a : *cm.b;
         const bool flip = child_flipped(*this, child, wo);
         const BSDFEval ce =
             flip ? child.eval(flip_z(wo), flip_z(wi), mode) : child.eval(wo, wi, mode);
@@ -229,14 +278,15 @@ std::optional<BSDFSample> Material::special_sample_f(const Vec3& wo, float uc, V
     if (m_principled) return m_principled->sample_f(wo, uc, u, mode);
     if (m_thin) return m_thin->sample_f(wo, uc, u, mode);
     if (m_unit) return m_unit->sample_f(wo, uc, u);
-    const Combination& c = *m_combination;
+    const Combination& cm = *m_combination;
+    const Combination::At c = cm.at(wo);
     // Choose a child with uc, then stretch the used part of uc back to [0, 1) for it.
     const bool first = uc < c.prob_a;
     const float p = first ? c.prob_a : 1.f - c.prob_a;
     if (!(p > 0.f)) return std::nullopt;
     const float uc_child =
         std::max(std::min((first ? uc : uc - c.prob_a) / p, kOneMinusEpsilon), 0.f);
-    const Material& child = first ? *c.a : *c.b;
+    const Material& child = first ? *cm.a : *cm.b;
     const bool flip = child_flipped(*this, child, wo);
     std::optional<BSDFSample> s = child.sample_f(flip ? flip_z(wo) : wo, uc_child, u, mode);
     if (!s) return std::nullopt;

@@ -96,10 +96,14 @@ Reflectance with_error_of(const Material& m, const Vec3& fixed, bool fixed_is_wo
 template <class Of>
 std::optional<Reflectance> special_reflectance(const Material& m, const Vec3& fixed,
                                                bool fixed_is_wo, int order, const Of& of) {
-    if (const Material::Combination* c = m.combination()) {
-        const Reflectance a = of(*c->a), b = of(*c->b);
-        return Reflectance{double(c->coef_a) * a.value + double(c->coef_b) * b.value,
-                           double(c->coef_a) * a.error + double(c->coef_b) * b.error,
+    if (const Material::Combination* cm = m.combination()) {
+        // A view-dependent weight is constant only when wo is the fixed direction.
+        if (cm->weight != Material::MixWeight::Constant && !fixed_is_wo)
+            return with_error_of(m, fixed, fixed_is_wo, order);
+        const Material::Combination::At c = cm->at(fixed);
+        const Reflectance a = of(*cm->a), b = of(*cm->b);
+        return Reflectance{double(c.coef_a) * a.value + double(c.coef_b) * b.value,
+                           double(c.coef_a) * a.error + double(c.coef_b) * b.error,
                            a.evaluations + b.evaluations};
     }
     if (m.unit() && !m.transmissive()) return with_error_of(m, fixed, fixed_is_wo, order);

@@ -453,6 +453,38 @@ def render_normals(outdir):
              % (["%.4f" % x for x in d2], ["%.4f" % x for x in dr]))
 
 
+def render_view_factor(outdir):
+    """The classic pre-Principled materials: Mix Shader(Diffuse, Glossy) by a Fresnel node
+    (IOR 1.45), by a Layer Weight's Fresnel (Blend 0.3) and by its Facing (Blend 0.6), one
+    sphere each, against Cycles: converted with no note, means within 2% and mean |diff| <
+    0.02 (the mix spheres' bounds); with the Fac cut to its default constant 0.5 the difference
+    must grow more than twofold (ability to fail)."""
+    scene = _scene(3)
+    mixes = []
+    for x, (idname, out_name, inp, value) in enumerate((
+            ("ShaderNodeFresnel", "Fac", "IOR", 1.45),
+            ("ShaderNodeLayerWeight", "Fresnel", "Blend", 0.3),
+            ("ShaderNodeLayerWeight", "Facing", "Blend", 0.6))):
+        mat, nt, out = new_material("view_%s_%s" % (idname[10:].lower(), out_name.lower()))
+        f = node(nt, idname, **{inp: value})
+        m = mix(nt, diffuse(nt, (0.7, 0.25, 0.1)),
+                node(nt, "ShaderNodeBsdfGlossy", Roughness=0.2, Color=(0.9, 0.9, 0.9, 1)), 0.5)
+        nt.links.new(f.outputs[out_name], m.inputs["Fac"])
+        nt.links.new(m.outputs[0], out.inputs["Surface"])
+        _sphere(x + 0.5, mat)
+        mixes.append((nt, m))
+    a, b, d, problems = _compare(scene, outdir, "shadernodes_view")
+    bt.check(not problems, "Fresnel / Layer Weight factors convert without a note: %s" % problems)
+    bt.check(abs(a.mean() / b.mean() - 1.0) < 0.02 and d < 0.02,
+             "view factors: means %.4f / %.4f within 2%%, mean |diff| %.4f < 0.02"
+             % (a.mean(), b.mean(), d))
+    for nt, m in mixes:
+        nt.links.remove(m.inputs["Fac"].links[0])
+    a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, "shadernodes_view_flat.exr"), seed=1)
+    d2 = np.abs(a2 - b).mean()
+    bt.check(d2 > 2.0 * d, "with a constant Fac the difference grows: %.4f (vs %.4f)" % (d2, d))
+
+
 def main():
     bt.enable_addon()
     outdir = bt.args()[0]
@@ -462,6 +494,7 @@ def main():
     render_mix(outdir)
     render_units(outdir)
     render_transparent(outdir)
+    render_view_factor(outdir)
     render_normals(outdir)
 
 

@@ -28,6 +28,12 @@ Material mix(const Ptr& a, const Ptr& b, double w) {
     const std::vector<Ptr> kids{a, b};
     return make_material("mix", ParamSet{{"weight", w}}, kids);
 }
+// A mix whose weight comes from the view (factor fresnel, layer_fresnel, layer_facing).
+Material mix_by(const Ptr& a, const Ptr& b, const std::string& factor, const std::string& param,
+                double value) {
+    const std::vector<Ptr> kids{a, b};
+    return make_material("mix", ParamSet{{"factor", factor}, {param, value}}, kids);
+}
 Material add(const Ptr& a, const Ptr& b) {
     const std::vector<Ptr> kids{a, b};
     return make_material("add", {}, kids);
@@ -165,6 +171,9 @@ std::vector<ComboCase> combo_cases() {
          },
          20.0},
         {"oren_nayar", [] { return *oren(0.9, 0.6); }, 70.0},
+        {"mix_fresnel_lambert_ggx", [] { return mix_by(lambert(0.7), ggx(0.2), "fresnel", "ior", 1.45); }, 60.0},
+        {"mix_layer_facing_lambert_mirror",
+         [] { return mix_by(lambert(0.6), mirror(), "layer_facing", "blend", 0.3); }, 45.0},
     };
 }
 
@@ -190,6 +199,77 @@ INSTANTIATE_TEST_SUITE_P(Cases, ComboChi2, ::testing::ValuesIn(combo_cases()),
                          [](const ::testing::TestParamInfo<ComboCase>& info) {
                              return info.param.name;
                          });
+
+// Cycles 3.4's Fresnel and Layer Weight outputs, written out here from Cycles' kernel
+// (svm_fresnel.h, fresnel_dielectric_cos): w of b at wo, front side.
+double cycles_fresnel(double cosi, double eta) {
+    const double c = std::abs(cosi);
+    double g = eta * eta - 1.0 + c * c;
+    if (g <= 0.0) return 1.0;
+    g = std::sqrt(g);
+    const double a = (g - c) / (g + c), b = (c * (g + c) - 1.0) / (c * (g - c) + 1.0);
+    return 0.5 * a * a * (1.0 + b * b);
+}
+double cycles_facing(double cosi, double blend) {
+    double f = std::abs(cosi);
+    if (blend != 0.5) {
+        blend = std::clamp(blend, 0.0, 1.0 - 1e-5);
+        f = std::pow(f, blend < 0.5 ? 2.0 * blend : 0.5 / (1.0 - blend));
+    }
+    return 1.0 - f;
+}
+
+// f = (1 - w(wo)) f_a + w(wo) f_b with Cycles' w, for each factor; float arithmetic: 2e-6.
+TEST(Mix, ViewDependentWeightsAreCycles) {
+    const Ptr a = lambert(0.8), b = ggx(0.3);
+    struct Case {
+        std::string factor, param;
+        double value;
+        std::function<double(double)> w;
+    };
+    const std::vector<Case> cases = {
+        {"fresnel", "ior", 1.45, [](double c) { return cycles_fresnel(c, 1.45); }},
+        {"fresnel", "ior", 3.0, [](double c) { return cycles_fresnel(c, 3.0); }},
+        {"layer_fresnel", "blend", 0.3, [](double c) { return cycles_fresnel(c, 1.0 / 0.7); }},
+        {"layer_facing", "blend", 0.5, [](double c) { return cycles_facing(c, 0.5); }},
+        {"layer_facing", "blend", 0.2, [](double c) { return cycles_facing(c, 0.2); }},
+        {"layer_facing", "blend", 0.8, [](double c) { return cycles_facing(c, 0.8); }},
+    };
+    for (const Case& k : cases) {
+        const Material m = mix_by(a, b, k.factor, k.param, k.value);
+        for (double to : {0.0, 20.0, 45.0, 70.0, 85.0}) {
+            const Vec3 wo = dir(to, 10.0), wi = dir(35.0, 200.0);
+            const double w = k.w(std::cos(to * kDeg));
+            const Rgb expect = float(1.0 - w) * a->f(wo, wi) + float(w) * b->f(wo, wi);
+            const Rgb got = m.f(wo, wi);
+            for (int c = 0; c < 3; ++c)
+                EXPECT_NEAR(got[c], expect[c], 2e-6 * (1.0 + std::abs(expect[c])))
+                    << k.factor << " " << k.value << " theta_o " << to;
+        }
+    }
+    // Able to fail: the weight does change with the view.
+    const Material m = mix_by(a, b, "fresnel", "ior", 1.45);
+    EXPECT_GT(std::abs(m.f(dir(80.0, 0.0), dir(80.0, 180.0)).x -
+                       mix(a, b, 0.5).f(dir(80.0, 0.0), dir(80.0, 180.0)).x), 0.01);
+}
+
+// Parameters that the factor does not use are errors naming them.
+TEST(Mix, ViewDependentWeightParameters) {
+    const std::vector<Ptr> kids{lambert(0.5), lambert(0.2)};
+    for (auto [set, bad] : std::vector<std::pair<ParamSet, std::string>>{
+             {ParamSet{{"factor", std::string("fresnel")}, {"weight", 0.3}}, "weight"},
+             {ParamSet{{"factor", std::string("layer_facing")}, {"ior", 1.5}}, "ior"},
+             {ParamSet{{"blend", 0.4}}, "blend"},
+             {ParamSet{{"factor", std::string("layer_fresnel")}, {"blend", 1.5}}, "blend"},
+             {ParamSet{{"factor", std::string("sideways")}}, "factor"}}) {
+        try {
+            make_material("mix", set, kids);
+            ADD_FAILURE() << bad << " accepted";
+        } catch (const ParamError& e) {
+            EXPECT_EQ(e.param(), bad) << e.what();
+        }
+    }
+}
 
 // The chi-square test can fail on a combination: a tilted pdf is rejected.
 TEST(Mix, ChiSquareRejectsAWrongPdf) {

@@ -38,6 +38,8 @@ ParamSet context_for(const ModelInfo& model, const std::string& name) {
     if (name == "mirror_reflectance") p.set("glossy_reflectance", 0.5);  // sum <= 1
     if (model.name == "composite" && name.rfind("exponent", 0) == 0)
         p.set("distribution", std::string("blinn"));
+    if (model.name == "mix" && name == "ior") p.set("factor", std::string("fresnel"));
+    if (model.name == "mix" && name == "blend") p.set("factor", std::string("layer_facing"));
     return p;
 }
 

@@ -99,14 +99,27 @@ class Material {
 
     // Combinations (header comment). mix() with weight 0 or 1 returns a copy of a or b itself.
     enum class Combine : std::uint8_t { Mix, Add };
+    // A mix's weight w of b: constant, or from the view as Cycles' Fresnel and Layer Weight
+    // nodes give a Mix Shader's Fac (mix_weight()): w depends on wo alone, so f is not
+    // reciprocal, as in Cycles.
+    enum class MixWeight : std::uint8_t { Constant, Fresnel, LayerFresnel, LayerFacing };
     struct Combination {
         Combine kind;
         std::shared_ptr<const Material> a, b;
-        float coef_a, coef_b;  // f = coef_a f_a + coef_b f_b
+        float coef_a, coef_b;  // f = coef_a f_a + coef_b f_b (MixWeight::Constant)
         float prob_a;          // probability of sampling a (b: 1 - prob_a)
+        MixWeight weight = MixWeight::Constant;
+        float weight_param = 0.f;  // Fresnel: the IOR; Layer*: the blend
+        struct At {
+            float coef_a, coef_b, prob_a;
+        };
+        // The coefficients at wo (the constant ones, or those of the view-dependent weight).
+        At at(const Vec3& wo) const;
     };
     static Material mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
                         float weight);
+    static Material mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
+                        MixWeight weight, float param);
     static Material add(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b);
 
     using Mode = TransportMode;
@@ -180,5 +193,8 @@ class Material {
     std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
     Rgb m_inv_one_minus_es_avg{1.f};     // 1 / (1 - Es_avg), per channel
 };
+
+// The weight w of b of a view-dependent mix at wo (Material::MixWeight; Constant: param).
+float mix_weight(Material::MixWeight kind, float param, const Vec3& wo);
 
 }  // namespace facet
