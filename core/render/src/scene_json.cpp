@@ -110,7 +110,7 @@ class Reader {
         expect_object(root, "");
         check_keys(root, "",
                    {"format", "version", "description", "camera", "materials", "shapes",
-                    "prototypes", "lights", "render"});
+                    "prototypes", "lights", "media", "world_medium", "render"});
         std::string fmt = get_string(require(root, "", "format"), "/format");
         if (fmt != "facet-scene") fail("/format", "expected \"facet-scene\", got \"" + fmt + "\"");
         std::int64_t version = get_int(require(root, "", "version"), "/version", 0, 1 << 30);
@@ -157,6 +157,17 @@ class Reader {
             for (std::size_t i = 0; i < lights.size(); ++i) {
                 d.lights.push_back(read_light(lights[i], "/lights/" + std::to_string(i)));
             }
+        }
+        if (root.contains("media")) {
+            const json& media = root["media"];
+            expect_object(media, "/media");
+            for (const auto& [mname, m] : media.items())
+                d.media.emplace_back(mname,
+                                     read_medium(m, "/media/" + escape_pointer_token(mname)));
+        }
+        if (root.contains("world_medium")) {
+            d.world_medium = get_string(root["world_medium"], "/world_medium");
+            if (d.world_medium.empty()) fail("/world_medium", "must name a medium of \"media\"");
         }
         // Whether anything emits is build_scene's question: a glTF shape's materials are read
         // there (a scene lit only by an emissive glTF has no "lights" and no "emission").
@@ -805,6 +816,29 @@ class Reader {
         return d;
     }
 
+    MediumDesc read_medium(const json& m, const std::string& ptr) const {
+        expect_object(m, ptr);
+        const std::string kind = get_string(require(m, ptr, "kind"), ptr + "/kind");
+        const MediumKindDef* k = find_medium_kind(kind);
+        if (!k) {
+            std::string msg = "unknown medium kind '" + kind + "'";
+            const std::string g = closest_name(kind, medium_kind_names());
+            if (!g.empty()) {
+                msg += " (did you mean '" + g + "'?)";
+            } else {
+                msg += " (expected one of:";
+                for (const std::string& n : medium_kind_names()) msg += " " + n;
+                msg += ")";
+            }
+            fail(ptr + "/kind", msg);
+        }
+        MediumDesc d;
+        d.kind = k->kind;
+        check_keys_v(m, ptr, kind_keys(*k, {"kind"}));
+        for (const Field<MediumDesc>& f : k->fields) read_field(m, ptr, f, d);
+        return d;
+    }
+
     std::string m_name, m_base;
 };
 
@@ -1030,6 +1064,20 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         }
         root["prototypes"] = protos;
     }
+    // Media only when there are any: files without media (and their fingerprints) are
+    // unchanged.
+    if (!d.media.empty()) {
+        json media = json::object();
+        for (const auto& [mname, m] : d.media) {
+            json j = json::object();
+            const MediumKindDef& k = medium_kind(m.kind);
+            j["kind"] = k.name;
+            for (const Field<MediumDesc>& f : k.fields) write_field(j, f, m, hashed_arrays);
+            media[mname] = j;
+        }
+        root["media"] = media;
+    }
+    if (!d.world_medium.empty()) root["world_medium"] = d.world_medium;
     json lights = json::array();
     for (const LightDesc& l : d.lights) {
         json j = json::object();
