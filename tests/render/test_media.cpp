@@ -11,6 +11,7 @@
 #include <vector>
 
 #include "facet/render/integrator.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
@@ -354,4 +355,33 @@ TEST(MediaErrors, NameTheJsonPointer) {
             << "expected " << c.pointer << ", got: " << e;
         EXPECT_NE(e.find(c.words), std::string::npos) << "expected '" << c.words << "' in: " << e;
     }
+}
+
+// export-pov does not drop media silently: the world medium and an interior are errors naming
+// their pointers.
+TEST(MediaErrors, PovExportRefusesMedia) {
+    const std::string head =
+        R"({"format": "facet-scene", "version": 1,
+            "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 30, "width": 8,
+                       "height": 8},
+            "lights": [{"type": "point", "position": [0, 3, 3], "power": 10}],
+            "media": {"fog": {"kind": "homogeneous", "sigma_s": 1}},)";
+    auto pov_error = [&](const std::string& body) {
+        try {
+            fr::export_pov(fr::parse_scene_description(head + body + "}", "pov.json"),
+                           "pov.json");
+        } catch (const fr::SceneError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(pov_error(R"("world_medium": "fog",
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                    "material": {"model": "lambert"}}])")
+                  .find("pov.json: /world_medium: media cannot be exported"),
+              std::string::npos);
+    EXPECT_NE(pov_error(R"("materials": {"g": {"model": "dielectric", "interior": "fog"}},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "g"}])")
+                  .find("pov.json: /materials/g/interior: media cannot be exported"),
+              std::string::npos);
 }
