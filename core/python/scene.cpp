@@ -309,6 +309,14 @@ void def_kind_fields(py::class_<Desc>& cls, const Kinds& kinds) {
     }
 }
 
+// The kind table's entry of a light or medium kind.
+const LightKindDef& kind_def(LightKind k) {
+    return light_kind(k);
+}
+const MediumKindDef& kind_def(MediumKind k) {
+    return medium_kind(k);
+}
+
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
     "name",      "material_ref", "material", "emission", "emission_texture",
@@ -342,6 +350,31 @@ void set_fields(py::object self, const py::kwargs& kw, const char* type) {
     }
 }
 
+// A light or medium description class: Desc(kind, **fields) (the fields checked against the
+// kind's), `kind` as a name or enum value, ==, repr, and the kind table's fields as attributes.
+template <class Desc, class Kind, class Kinds>
+void def_kind_desc(py::class_<Desc>& cls, const char* type, const char* what, const Kinds& kinds) {
+    const std::string name = type;
+    cls.def(py::init([name](py::object kind, py::kwargs kw) {
+                py::object self = py::cast(Desc{});
+                if (!kind.is_none()) {
+                    self.attr("kind") = kind;
+                    check_kind_keywords(kw, kind_def(self.cast<const Desc&>().kind), {},
+                                        name.c_str());
+                }
+                set_fields(self, kw, name.c_str());
+                return self.cast<Desc>();
+            }),
+            py::arg("kind") = py::none())
+        .def_property(
+            "kind", [](const Desc& d) { return d.kind; },
+            [what](Desc& d, py::handle v) { d.kind = kind_from<Kind>(v, what); })
+        .def(py::self == py::self)
+        .def("__repr__",
+             [name](const Desc& d) { return "facet." + name + "('" + kind_name(d.kind) + "')"; });
+    def_kind_fields(cls, kinds);
+}
+
 template <class T>
 T from_kwargs(const py::kwargs& kw, const char* type) {
     py::object self = py::cast(T{});
@@ -361,7 +394,7 @@ struct PySceneDescription {
     py::list lights;      // [LightDesc]
     py::dict media;       // str -> MediumDesc (scenes/FORMAT.md, "Media")
     std::string world_medium;
-    py::object render;    // RenderSettings
+    py::object render;  // RenderSettings
     std::string base_dir = ".";
 
     PySceneDescription() : camera(py::cast(CameraDesc{})), render(py::cast(RenderSettings{})) {}
@@ -947,49 +980,13 @@ void bind_scene(py::module_& m) {
         m, "LightDesc",
         "One light (scenes/FORMAT.md; `facet scene-format` lists the kinds and their fields): "
         "kind and its fields");
-    light_desc
-        .def(py::init([](py::object kind, py::kwargs kw) {
-                 py::object self = py::cast(LightDesc{});
-                 if (!kind.is_none()) {
-                     self.attr("kind") = kind;
-                     check_kind_keywords(kw, light_kind(self.cast<const LightDesc&>().kind), {},
-                                         "LightDesc");
-                 }
-                 set_fields(self, kw, "LightDesc");
-                 return self.cast<LightDesc>();
-             }),
-             py::arg("kind") = py::none())
-        .def_property(
-            "kind", [](const LightDesc& l) { return l.kind; },
-            [](LightDesc& l, py::handle v) { l.kind = kind_from<LightKind>(v, "light kind"); })
-        .def(py::self == py::self)
-        .def("__repr__",
-             [](const LightDesc& l) { return "facet.LightDesc('" + kind_name(l.kind) + "')"; });
-    def_kind_fields(light_desc, light_kinds());
+    def_kind_desc<LightDesc, LightKind>(light_desc, "LightDesc", "light kind", light_kinds());
 
     py::class_<MediumDesc> medium_desc(
         m, "MediumDesc",
         "One medium (scenes/FORMAT.md, \"Media\"; `facet scene-format` lists the kinds and "
         "their fields): kind and its fields");
-    medium_desc
-        .def(py::init([](py::object kind, py::kwargs kw) {
-                 py::object self = py::cast(MediumDesc{});
-                 if (!kind.is_none()) {
-                     self.attr("kind") = kind;
-                     check_kind_keywords(kw, medium_kind(self.cast<const MediumDesc&>().kind), {},
-                                         "MediumDesc");
-                 }
-                 set_fields(self, kw, "MediumDesc");
-                 return self.cast<MediumDesc>();
-             }),
-             py::arg("kind") = py::none())
-        .def_property(
-            "kind", [](const MediumDesc& d) { return d.kind; },
-            [](MediumDesc& d, py::handle v) { d.kind = kind_from<MediumKind>(v, "medium kind"); })
-        .def(py::self == py::self)
-        .def("__repr__",
-             [](const MediumDesc& d) { return "facet.MediumDesc('" + kind_name(d.kind) + "')"; });
-    def_kind_fields(medium_desc, medium_kinds());
+    def_kind_desc<MediumDesc, MediumKind>(medium_desc, "MediumDesc", "medium kind", medium_kinds());
 
     py::class_<PySceneDescription>(
         m, "SceneDescription",

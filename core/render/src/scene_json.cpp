@@ -641,6 +641,17 @@ class Reader {
             f.member);
     }
 
+    // "unknown <what> 'name'" with a did-you-mean among `names`, or the list of them.
+    static std::string unknown_name(const char* what, const std::string& name,
+                                    const std::vector<std::string>& names) {
+        std::string msg = "unknown " + std::string(what) + " '" + name + "'";
+        const std::string g = closest_name(name, names);
+        if (!g.empty()) return msg + " (did you mean '" + g + "'?)";
+        msg += " (expected one of:";
+        for (const std::string& n : names) msg += " " + n;
+        return msg + ")";
+    }
+
     // Keys of an element: the common ones, then the kind's (mesh arrays are three keys).
     template <class Def>
     static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
@@ -658,18 +669,7 @@ class Reader {
         expect_object(s, ptr);
         std::string type = get_string(require(s, ptr, "type"), ptr + "/type");
         const ShapeKindDef* k = find_shape_kind(type);
-        if (!k) {
-            std::string msg = "unknown shape type '" + type + "'";
-            std::string g = closest_name(type, shape_kind_names());
-            if (!g.empty()) {
-                msg += " (did you mean '" + g + "'?)";
-            } else {
-                msg += " (expected one of:";
-                for (const std::string& n : shape_kind_names()) msg += " " + n;
-                msg += ")";
-            }
-            fail(ptr + "/type", msg);
-        }
+        if (!k) fail(ptr + "/type", unknown_name("shape type", type, shape_kind_names()));
         ShapeDesc d;
         d.kind = k->kind;
         std::vector<const char*> keys;
@@ -820,18 +820,7 @@ class Reader {
         expect_object(m, ptr);
         const std::string kind = get_string(require(m, ptr, "kind"), ptr + "/kind");
         const MediumKindDef* k = find_medium_kind(kind);
-        if (!k) {
-            std::string msg = "unknown medium kind '" + kind + "'";
-            const std::string g = closest_name(kind, medium_kind_names());
-            if (!g.empty()) {
-                msg += " (did you mean '" + g + "'?)";
-            } else {
-                msg += " (expected one of:";
-                for (const std::string& n : medium_kind_names()) msg += " " + n;
-                msg += ")";
-            }
-            fail(ptr + "/kind", msg);
-        }
+        if (!k) fail(ptr + "/kind", unknown_name("medium kind", kind, medium_kind_names()));
         MediumDesc d;
         d.kind = k->kind;
         check_keys_v(m, ptr, kind_keys(*k, {"kind"}));
