@@ -96,6 +96,36 @@ TEST(MediaBeerLambert, AbsorbingBoxIsExact) {
                               expected, 1e-5, std::string(integrator) + " " + std::to_string(spp));
 }
 
+// Emission (radiance per unit length) of an absorbing medium, in closed form: a box of depth 2
+// in front of the emitter adds e (1 - exp(-2 sigma_a)) / sigma_a to 2 exp(-2 sigma_a); an
+// infinite world medium seen by a ray that escapes gives e / sigma_a. Exact as above.
+TEST(MediaEmission, AbsorbingEmittingMediaAreExact) {
+    const std::string media =
+        R"("media": {"glow": {"kind": "homogeneous", "sigma_a": [0.5, 1, 2],
+                              "emission": [1, 0.5, 0.25]}},
+           "materials": {"boundary": {"model": "null", "interior": "glow"}},)";
+    const Rgb e(1.f, 0.5f, 0.25f);
+    Rgb box_expected, world_expected;
+    for (int c = 0; c < 3; ++c) {
+        const double s = double(kSigmaA[c]);
+        box_expected[c] =
+            float(2.0 * std::exp(-2.0 * s) + double(e[c]) * -std::expm1(-2.0 * s) / s);
+        world_expected[c] = float(double(e[c]) / s);
+    }
+    const fr::Scene box_scene =
+        fr::testing::scene_from(std::string(kOrthoCamera) + media + R"("shapes": [)" +
+                                box("boundary") + ", " + kEmitterBehind + "]");
+    expect_all_pixels(fr::render(box_scene, fr::testing::test_options("path", 1, 3)), box_expected,
+                      1e-5, "emitting box");
+    // Looking away from the emitter (up +z) through the world medium: nothing but the medium.
+    const fr::Scene world = fr::testing::scene_from(
+        R"("camera": {"type": "orthographic", "scale": 1, "position": [0, 0, 5],
+                      "look_at": [0, 0, 10], "width": 16, "height": 16},)" +
+        media + R"("world_medium": "glow", "shapes": [)" + kEmitterBehind + "]");
+    expect_all_pixels(fr::render(world, fr::testing::test_options("path", 1, 3)), world_expected,
+                      1e-5, "emitting world medium");
+}
+
 // The world medium: the camera at z = 5 sees the emitter 8 away through it; a null box with a
 // clear interior (sigma 0) in the way takes 2 of those 8 out (the stack pushes the box's
 // medium on entry and pops it on exit); a camera inside an absorbing box (the boundary found
@@ -344,6 +374,9 @@ TEST(MediaErrors, NameTheJsonPointer) {
         {R"("media": {"fog": {"kind": "homogeneous", "sigma_s": 1}},
             "materials": {"b": {"model": "null", "interior": 3}})",
          "/materials/b/interior", "name of a medium"},
+        {R"("media": {"glow": {"kind": "homogeneous", "emission": [0, 1, 0], "sigma_a": [0, 0, 1]}},
+            "world_medium": "glow")",
+         "/world_medium", "infinite emission"},
         {R"("materials": {"b": {"model": "null"}},
             "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "b",
                         "emission": 1}])",
@@ -368,8 +401,7 @@ TEST(MediaErrors, PovExportRefusesMedia) {
             "media": {"fog": {"kind": "homogeneous", "sigma_s": 1}},)";
     auto pov_error = [&](const std::string& body) {
         try {
-            fr::export_pov(fr::parse_scene_description(head + body + "}", "pov.json"),
-                           "pov.json");
+            fr::export_pov(fr::parse_scene_description(head + body + "}", "pov.json"), "pov.json");
         } catch (const fr::SceneError& e) {
             return std::string(e.what());
         }

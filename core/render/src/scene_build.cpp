@@ -304,6 +304,15 @@ class Builder final : public BuildChecks {
             if (it == m_medium_index.end())
                 fail("/world_medium", unknown_medium(m_desc.world_medium));
             m_builder.world_medium() = it->second;
+            // An escaping ray crosses the world medium over an infinite length: its emission
+            // would be infinite where nothing attenuates it.
+            const Medium& w = m_builder.media()[std::size_t(it->second)];
+            for (int c = 0; c < 3; ++c)
+                if (w.emission()[c] > 0.f && !(w.sigma_t()[c] > 0.f))
+                    fail("/world_medium",
+                         "the world medium '" + m_desc.world_medium +
+                             "' emits where it neither absorbs nor scatters: rays that escape "
+                             "would gather infinite emission");
         }
     }
 
