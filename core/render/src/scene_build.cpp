@@ -1600,6 +1600,8 @@ class Builder final : public BuildChecks {
                     f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;
                 if (su.textured >= 0) f.has_textured = true;
+                // A surface that bounds a medium or lets rays through (an unused one is not).
+                if (scene.medium_interface(su.material)) f.has_media = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
             };
             if (s.parts.empty()) surface(s);
@@ -1619,7 +1621,7 @@ class Builder final : public BuildChecks {
             if (l.hittable()) f.any_hittable_light = true;
         }
         f.all_lights_delta = !f.any_non_delta_light;
-        f.has_media = scene.world_medium() >= 0 || !m_builder.interfaces().empty();
+        if (scene.world_medium() >= 0) f.has_media = true;
         if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
     }
 
