@@ -234,16 +234,21 @@ py::array mesh_view(std::span<const T> s, const MeshData& mesh, py::ssize_t cols
 // Kind names come from the kind table (facet/render/kinds.h).
 template <class E>
 E kind_from(py::handle v, const char* what) {
-    constexpr bool shape = std::is_same_v<E, ShapeKind>;
     if (py::isinstance<py::str>(v)) {
         const std::string s = v.cast<std::string>();
-        if constexpr (shape) {
+        std::vector<std::string> names;
+        if constexpr (std::is_same_v<E, ShapeKind>) {
             if (const ShapeKindDef* k = find_shape_kind(s)) return k->kind;
-        } else {
+            names = shape_kind_names();
+        } else if constexpr (std::is_same_v<E, LightKind>) {
             if (const LightKindDef* k = find_light_kind(s)) return k->kind;
+            names = light_kind_names();
+        } else {
+            if (const MediumKindDef* k = find_medium_kind(s)) return k->kind;
+            names = medium_kind_names();
         }
         std::string msg = "unknown " + std::string(what) + " '" + s + "'";
-        const std::string guess = closest_name(s, shape ? shape_kind_names() : light_kind_names());
+        const std::string guess = closest_name(s, names);
         if (!guess.empty()) msg += " (did you mean '" + guess + "'?)";
         throw py::value_error(msg);
     }
@@ -260,6 +265,10 @@ std::string kind_name(ShapeKind kind) {
 }
 std::string kind_name(LightKind kind) {
     const LightKindDef* k = find_light_kind(kind);
+    return k ? std::string(k->name) : "?";
+}
+std::string kind_name(MediumKind kind) {
+    const MediumKindDef* k = find_medium_kind(kind);
     return k ? std::string(k->name) : "?";
 }
 
@@ -300,6 +309,14 @@ void def_kind_fields(py::class_<Desc>& cls, const Kinds& kinds) {
     }
 }
 
+// The kind table's entry of a light or medium kind.
+const LightKindDef& kind_def(LightKind k) {
+    return light_kind(k);
+}
+const MediumKindDef& kind_def(MediumKind k) {
+    return medium_kind(k);
+}
+
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
     "name",      "material_ref", "material", "emission", "emission_texture",
@@ -333,6 +350,31 @@ void set_fields(py::object self, const py::kwargs& kw, const char* type) {
     }
 }
 
+// A light or medium description class: Desc(kind, **fields) (the fields checked against the
+// kind's), `kind` as a name or enum value, ==, repr, and the kind table's fields as attributes.
+template <class Desc, class Kind, class Kinds>
+void def_kind_desc(py::class_<Desc>& cls, const char* type, const char* what, const Kinds& kinds) {
+    const std::string name = type;
+    cls.def(py::init([name](py::object kind, py::kwargs kw) {
+                py::object self = py::cast(Desc{});
+                if (!kind.is_none()) {
+                    self.attr("kind") = kind;
+                    check_kind_keywords(kw, kind_def(self.cast<const Desc&>().kind), {},
+                                        name.c_str());
+                }
+                set_fields(self, kw, name.c_str());
+                return self.cast<Desc>();
+            }),
+            py::arg("kind") = py::none())
+        .def_property(
+            "kind", [](const Desc& d) { return d.kind; },
+            [what](Desc& d, py::handle v) { d.kind = kind_from<Kind>(v, what); })
+        .def(py::self == py::self)
+        .def("__repr__",
+             [name](const Desc& d) { return "facet." + name + "('" + kind_name(d.kind) + "')"; });
+    def_kind_fields(cls, kinds);
+}
+
 template <class T>
 T from_kwargs(const py::kwargs& kw, const char* type) {
     py::object self = py::cast(T{});
@@ -350,7 +392,9 @@ struct PySceneDescription {
     py::list shapes;      // [ShapeDesc]
     py::dict prototypes;  // str -> [ShapeDesc] (instancing: scenes/FORMAT.md, "Instances")
     py::list lights;      // [LightDesc]
-    py::object render;    // RenderSettings
+    py::dict media;       // str -> MediumDesc (scenes/FORMAT.md, "Media")
+    std::string world_medium;
+    py::object render;  // RenderSettings
     std::string base_dir = ".";
 
     PySceneDescription() : camera(py::cast(CameraDesc{})), render(py::cast(RenderSettings{})) {}
@@ -395,6 +439,13 @@ SceneDescription to_cpp(const PySceneDescription& d) {
     for (std::size_t i = 0; i < d.lights.size(); ++i)
         s.lights.push_back(
             element<LightDesc>(d.lights[i], "lights[" + std::to_string(i) + "]", "LightDesc"));
+    for (auto [key, value] : d.media) {
+        if (!py::isinstance<py::str>(key)) throw py::type_error("media: keys must be strings");
+        const std::string name = key.cast<std::string>();
+        s.media.emplace_back(name,
+                             element<MediumDesc>(value, "media['" + name + "']", "MediumDesc"));
+    }
+    s.world_medium = d.world_medium;
     return s;
 }
 
@@ -407,6 +458,8 @@ PySceneDescription from_cpp(SceneDescription&& s) {
     for (auto& [name, mat] : s.materials) d.materials[py::str(name)] = py::cast(std::move(mat));
     for (auto& shape : s.shapes) d.shapes.append(py::cast(std::move(shape)));
     for (auto& light : s.lights) d.lights.append(py::cast(std::move(light)));
+    for (auto& [name, medium] : s.media) d.media[py::str(name)] = py::cast(std::move(medium));
+    d.world_medium = std::move(s.world_medium);
     for (auto& [name, list] : s.prototypes) {
         py::list shapes;
         for (auto& shape : list) shapes.append(py::cast(std::move(shape)));
@@ -440,6 +493,9 @@ void bind_scene(py::module_& m) {
     py::enum_<LightKind> light_kind_enum(m, "LightKind",
                                          "Light types (the scene format's \"type\")");
     for (const LightKindDef* k : light_kinds()) light_kind_enum.value(k->name.data(), k->kind);
+    py::enum_<MediumKind> medium_kind_enum(m, "MediumKind",
+                                           "Medium kinds (the scene format's media \"kind\")");
+    for (const MediumKindDef* k : medium_kinds()) medium_kind_enum.value(k->name.data(), k->kind);
     m.def(
         "light_kind_keys",
         [] {
@@ -491,6 +547,17 @@ void bind_scene(py::module_& m) {
         "K (W/sr) of a spot in Blender's form (Cycles 3.4's fall-off I = K g(cos theta)) of "
         "power Phi, half-angle outer (degrees, <= 90) and spot_blend: Phi = 2 pi K int_c^1 g "
         "(light_units.h).");
+    m.def(
+        "cycles_volume",
+        [=](double density, const py::object& color, const py::object& absorption_color) {
+            const MediumCoefficients c =
+                cycles_volume(density, Rgb(dvec(color)), Rgb(dvec(absorption_color)));
+            return py::make_tuple(rgb3(glm::dvec3(c.sigma_a)), rgb3(glm::dvec3(c.sigma_s)));
+        },
+        py::arg("density"), py::arg("color"), py::arg("absorption_color"),
+        "(sigma_a, sigma_s) per scene unit of Cycles' Principled Volume (Blender 3.4): sigma_s = "
+        "density color, sigma_a = density max(1 - color, 0) max(1 - sqrt(absorption_color), 0) "
+        "(medium.h).");
     m.def("cycles_spot_attenuation", &cycles_spot_attenuation, py::arg("mu"), py::arg("c"),
           py::arg("smooth"),
           "Cycles 3.4's spot fall-off g(mu) for c = cos(spot_size / 2) and smooth = (1 - c) "
@@ -913,32 +980,21 @@ void bind_scene(py::module_& m) {
         m, "LightDesc",
         "One light (scenes/FORMAT.md; `facet scene-format` lists the kinds and their fields): "
         "kind and its fields");
-    light_desc
-        .def(py::init([](py::object kind, py::kwargs kw) {
-                 py::object self = py::cast(LightDesc{});
-                 if (!kind.is_none()) {
-                     self.attr("kind") = kind;
-                     check_kind_keywords(kw, light_kind(self.cast<const LightDesc&>().kind), {},
-                                         "LightDesc");
-                 }
-                 set_fields(self, kw, "LightDesc");
-                 return self.cast<LightDesc>();
-             }),
-             py::arg("kind") = py::none())
-        .def_property(
-            "kind", [](const LightDesc& l) { return l.kind; },
-            [](LightDesc& l, py::handle v) { l.kind = kind_from<LightKind>(v, "light kind"); })
-        .def(py::self == py::self)
-        .def("__repr__",
-             [](const LightDesc& l) { return "facet.LightDesc('" + kind_name(l.kind) + "')"; });
-    def_kind_fields(light_desc, light_kinds());
+    def_kind_desc<LightDesc, LightKind>(light_desc, "LightDesc", "light kind", light_kinds());
+
+    py::class_<MediumDesc> medium_desc(
+        m, "MediumDesc",
+        "One medium (scenes/FORMAT.md, \"Media\"; `facet scene-format` lists the kinds and "
+        "their fields): kind and its fields");
+    def_kind_desc<MediumDesc, MediumKind>(medium_desc, "MediumDesc", "medium kind", medium_kinds());
 
     py::class_<PySceneDescription>(
         m, "SceneDescription",
         "The plain-data scene (scene_description.h): description, camera (CameraDesc), materials "
         "(dict name -> MaterialDesc), shapes (list of ShapeDesc), prototypes (dict name -> list "
         "of ShapeDesc, placed by ShapeDesc('instance', of=name, transform=M)), lights (list of "
-        "LightDesc), render (RenderSettings), base_dir. Mutable in place; build it with "
+        "LightDesc), media (dict name -> MediumDesc), world_medium (a name of media or ''), "
+        "render (RenderSettings), base_dir. Mutable in place; build it with "
         "build_scene().")
         .def(py::init([](py::kwargs kw) {
             py::object self = py::cast(PySceneDescription{});
@@ -970,6 +1026,10 @@ void bind_scene(py::module_& m) {
         .def_property(
             "lights", [](const PySceneDescription& d) { return d.lights; },
             [](PySceneDescription& d, py::iterable v) { d.lights = py::list(v); })
+        .def_property(
+            "media", [](const PySceneDescription& d) { return d.media; },
+            [](PySceneDescription& d, py::dict v) { d.media = v; })
+        .def_readwrite("world_medium", &PySceneDescription::world_medium)
         .def_readwrite("base_dir", &PySceneDescription::base_dir)
         .def("__eq__",
              [](const PySceneDescription& a, py::handle b) -> py::object {

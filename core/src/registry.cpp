@@ -25,6 +25,7 @@ const ModelInfo& add_model();
 const ModelInfo& thin_dielectric_model();
 const ModelInfo& translucent_model();
 const ModelInfo& velvet_model();
+const ModelInfo& null_model();
 
 namespace {
 
@@ -50,7 +51,7 @@ const std::vector<ModelInfo>& model_table() {
         lambert_model(),     mirror_model(),    ggx_model(),        beckmann_model(),
         blinn_model(),       composite_model(), dielectric_model(), principled_model(),
         oren_nayar_model(),  mix_model(),       add_model(),        thin_dielectric_model(),
-        translucent_model(), velvet_model()};
+        translucent_model(), velvet_model(),    null_model()};
     return table;
 }
 

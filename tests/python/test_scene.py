@@ -487,3 +487,34 @@ def test_every_model_of_the_table_through_json_python_and_a_render():
                 if not info.children:
                     facet.make_material(info.name, **{p.name: c})
     assert {"translucent", "velvet", "oren_nayar", "principled"} <= set(names)
+
+
+def test_media_from_python():
+    # Media, the world medium and a material's interior, as the JSON format has them
+    # (scenes/FORMAT.md, "Media"), with the kind table's fields as attributes.
+    d = facet.SceneDescription()
+    d.camera = facet.CameraDesc(position=(0, 0, 5), look_at=(0, 0, 0), fov=30, width=8, height=8)
+    d.media = {"fog": facet.MediumDesc("homogeneous", sigma_s=(1, 2, 3), g=0.5),
+               "smoke": facet.MediumDesc("homogeneous", density=2.0, color=(0.8, 0.5, 0.2))}
+    d.world_medium = "fog"
+    d.materials = {"b": facet.MaterialDesc("null", interior="smoke")}
+    d.shapes = [facet.ShapeDesc("sphere", center=(0, 0, 0), radius=1, material_ref="b")]
+    d.lights = [facet.LightDesc("environment", radiance=(1, 1, 1))]
+    again = facet.parse_scene_description(d.to_json(), name="media")
+    assert again == d
+    assert again.media["fog"].g == pytest.approx(0.5)
+    assert again.media["smoke"].density == pytest.approx(2.0)
+    assert again.world_medium == "fog"
+    scene = facet.build_scene(d, name="media")
+    assert scene is not None
+    with pytest.raises(TypeError, match="no field 'sigma_z'"):
+        facet.MediumDesc("homogeneous", sigma_z=1)
+    with pytest.raises(ValueError, match="did you mean 'homogeneous'"):
+        facet.MediumDesc("homogenous")
+    d.media["fog"].g = 2.0
+    with pytest.raises(Exception, match="/media/fog/g"):
+        facet.build_scene(d, name="media")
+    # Cycles' Principled Volume, through the core's one conversion.
+    sigma_a, sigma_s = facet.cycles_volume(2.0, (0.8, 0.5, 0.2), 0.25)
+    assert sigma_s == pytest.approx((1.6, 1.0, 0.4))
+    assert sigma_a == pytest.approx((0.2, 0.5, 0.8))

@@ -109,6 +109,9 @@ struct ModelInfo {
     // POV-Ray's brdf finish takes the model (reflection only: a transmissive material built
     // from it is an error there), and its `samples` (the glossy lobe's sample count) applies.
     bool pov_finish = true, pov_samples = false;
+    // The surface is invisible, only a medium's boundary (`null`): the media kernel crosses it
+    // without a vertex and lets shadow rays through (facet/render/medium.h).
+    bool pass_through = false;
 
     const ParamInfo* param(std::string_view n) const {
         for (const ParamInfo& p : params)

@@ -545,6 +545,333 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
     return L;
 }
 
+// ---- media: volumetric path tracing (kFeatMedia; integrator.h conventions, "Media") ----
+
+// The media a path is in: medium indices (Scene::media()), innermost last, above the world
+// medium. Crossing a boundary against its normal enters the interior (pushed); along it leaves
+// (the innermost entry of that medium is removed). Deeper nesting than kMax replaces the
+// innermost entry (never reached by sensible scenes: a glass of water in fog is 2).
+struct MediumStack {
+    static constexpr int kMax = 8;
+    std::array<std::int32_t, kMax> m{};
+    int n = 0;
+    std::int32_t world = -1;
+
+    std::int32_t current() const { return n > 0 ? m[std::size_t(n - 1)] : world; }
+    void cross(std::int32_t interior, bool entering) {
+        if (interior < 0) return;
+        if (entering) {
+            m[std::size_t(n < kMax ? n++ : kMax - 1)] = interior;
+            return;
+        }
+        for (int i = n - 1; i >= 0; --i) {
+            if (m[std::size_t(i)] != interior) continue;
+            for (int j = i; j + 1 < n; ++j) m[std::size_t(j)] = m[std::size_t(j + 1)];
+            --n;
+            return;
+        }
+    }
+};
+
+// Dimensions of one segment of a media path (sampler.h; a block of its own per segment):
+// light choice (1D), light position (2D), lobe choice (1D), direction (2D: BSDF or phase
+// function), roulette (1D), channel choice (1D), free-flight distance (1D).
+constexpr std::uint32_t kMediaDimsPerSegment = 9;
+// A path crosses at most this many `null` surfaces in a row, and a shadow ray this many
+// boundaries: a bound against rays that float error traps between two coincident surfaces.
+constexpr int kMaxNullCrossings = 64;
+
+// Whether a ray crossing a surface of geometric normal ng along d enters its interior.
+inline bool entering(const Vec3& d, const Vec3& ng) {
+    return glm::dot(d, ng) < 0.f;
+}
+
+// Transmittance of shadow ray r (Scene::shadow_ray_from) that starts in the media `stack`:
+// the product of each medium's transmittance over the part of the ray inside it; `null`
+// surfaces are crossed, any other surface blocks it (0). For a heterogeneous kind this is where
+// ratio tracking goes (Novák et al. 2014), segment by segment as here.
+Rgb shadow_transmittance(const Scene& scene, Ray r, MediumStack stack, KernelCounters& c) {
+    if (!(r.tmax > 0.f)) return Rgb(1.f);
+    const std::span<const Medium> media = scene.media();
+    const bool finite = std::isfinite(r.tmax);
+    const Vec3 end = finite ? r.o + r.d * r.tmax : Vec3(0.f);
+    Rgb tr(1.f);
+    for (int i = 0; i <= kMaxNullCrossings; ++i) {
+        SurfaceHit h;
+        ++c.shadow_rays;
+        const bool hit = scene.intersect(r, h);
+        if (const std::int32_t med = stack.current(); med >= 0)
+            tr *= media[std::size_t(med)].transmittance(hit ? h.t : r.tmax);
+        if (!hit) return tr;
+        if (!(max3(tr) > 0.f)) return Rgb(0.f);
+        const MediumInterface* mi = scene.medium_interface(h.material);
+        if (!mi || !mi->pass_through) return Rgb(0.f);
+        stack.cross(mi->interior, entering(r.d, h.ng));
+        r.o = offset_ray_origin(h.p, h.p_err, h.ng, r.d);
+        if (finite) {
+            r.tmax = glm::dot(end - r.o, r.d);
+            if (!(r.tmax > 0.f)) return tr;
+        }
+    }
+    return Rgb(0.f);
+}
+
+// The media the camera is in: the boundaries a ray from the camera position leaves before it
+// has entered them are around the camera (innermost first found). Once per tile.
+MediumStack camera_media(const Scene& scene) {
+    MediumStack s;
+    s.world = scene.world_medium();
+    Ray r{scene.camera().position, scene.camera().forward, kInfinity};
+    std::array<std::int32_t, MediumStack::kMax> entered{}, around{};
+    int n_entered = 0, n_around = 0;
+    for (int i = 0; i <= kMaxNullCrossings; ++i) {
+        SurfaceHit h;
+        if (!scene.intersect(r, h)) break;
+        if (const MediumInterface* mi = scene.medium_interface(h.material);
+            mi && mi->interior >= 0) {
+            if (entering(r.d, h.ng)) {
+                if (n_entered < MediumStack::kMax) entered[std::size_t(n_entered++)] = mi->interior;
+            } else {
+                int k = n_entered - 1;
+                while (k >= 0 && entered[std::size_t(k)] != mi->interior) --k;
+                if (k >= 0) {
+                    for (int j = k; j + 1 < n_entered; ++j)
+                        entered[std::size_t(j)] = entered[std::size_t(j + 1)];
+                    --n_entered;
+                } else if (n_around < MediumStack::kMax) {
+                    around[std::size_t(n_around++)] = mi->interior;
+                }
+            }
+        }
+        r = Scene::spawn_ray(h, r.d);
+    }
+    // The outermost boundary is found last: push from there inward.
+    for (int i = n_around - 1; i >= 0; --i) s.cross(around[std::size_t(i)], true);
+    return s;
+}
+
+// Russian roulette for the media kernel, as path_scatter's: from kRouletteDepth on a path
+// survives with probability sqrt(max beta) and survivors are reweighted. False: the path ends.
+inline bool roulette(Rgb& beta, int depth, float u) {
+    if (!(max3(beta) > 0.f)) return false;
+    if (depth + 1 >= kRouletteDepth) {
+        const float q = std::max(0.f, 1.f - std::sqrt(max3(beta)));
+        if (q > 0.f) {
+            if (u < q) return false;
+            beta /= 1.f - q;
+        }
+    }
+    return true;
+}
+
+// Free-flight sampling on a segment of length t_max (+inf when the ray escapes) in medium
+// `med`, with the segment's samples u_channel, u_dist: the distance to a scattering event
+// (returned, < t_max), or t_max when the ray reaches the segment's end. beta takes the
+// estimator's weight: T(t) sigma_s / p(t) at an event, T(t_max) / P(t >= t_max) at the end,
+// with p the channel-MIS density (integrator.h). L gains the medium's emission on the segment.
+float sample_segment(const Medium& med, float t_max, float u_channel, float u_dist, Rgb& beta,
+                     Rgb& L) {
+    if (med.emits()) L += beta * med.emitted(t_max);
+    if (med.absorbing_only()) {
+        beta *= med.transmittance(t_max);
+        return t_max;
+    }
+    const float sum = beta.r + beta.g + beta.b;
+    if (!(sum > 0.f)) {
+        beta = Rgb(0.f);
+        return t_max;
+    }
+    const Rgb pc = beta / sum;  // channel probabilities, in proportion to the throughput
+    const int ch = u_channel < pc.r ? 0 : u_channel < pc.r + pc.g ? 1 : 2;
+    const float st = med.sigma_t()[ch];
+    const float t = st > 0.f ? -std::log1p(-u_dist) / st : kInfinity;
+    const Rgb& sigma_t = med.sigma_t();
+    if (t < t_max) {
+        const Rgb tr = med.transmittance(t);
+        const float pdf = glm::dot(pc, sigma_t * tr);
+        beta *= tr * med.sigma_s() / pdf;
+        return t;
+    }
+    const Rgb tr = med.transmittance(t_max);
+    const float p_pass = glm::dot(pc, tr);
+    beta = p_pass > 0.f ? beta * tr / p_pass : Rgb(0.f);
+    return t_max;
+}
+
+// The radiance along camera ray `ray` (closest hit `first` when `found`, traced by the
+// caller) through the scene's media; `s` starts at dimension 1.
+template <std::uint32_t F>
+Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, bool found,
+                  const SurfaceHit& first, MediumStack stack, Sampler& s, int max_depth,
+                  KernelCounters& c) {
+    const std::span<const Light> lights = scene.lights();
+    const std::span<const Medium> media = scene.media();
+    const int num_lights = int(lights.size());
+    Rgb L(0.f), beta(1.f);
+    bool specular_bounce = false;
+    float prev_pdf = 0.f;
+    LightSampleContext prev_ctx;
+    SurfaceHit hit = first;
+    if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex (not attenuated)
+        L += scene.camera_lamps(ray.o, ray.d, found ? first.t : kInfinity);
+    int depth = 0, nulls = 0;
+    for (std::uint32_t segment = 0;; ++segment) {
+        if (segment > 0) {
+            found = scene.intersect(ray, hit);
+            ++c.rays;
+        }
+        const std::uint32_t base = 1u + kMediaDimsPerSegment * segment;
+        const float t_hit = found ? hit.t : kInfinity;
+        float t = t_hit;
+        if (const std::int32_t mi = stack.current(); mi >= 0) {
+            s.set_dimension(base + 7u);
+            const float u_channel = s.get_1d(), u_dist = s.get_1d();
+            t = sample_segment(media[std::size_t(mi)], t_hit, u_channel, u_dist, beta, L);
+            if (!(max3(beta) > 0.f)) break;
+        }
+        const bool in_medium = t < t_hit;
+        const Vec3 wo_w = -ray.d;
+
+        if (!in_medium) {
+            // The segment's end: emission found by the ray (full weight from the camera and
+            // after a delta lobe; otherwise MIS-weighted against light sampling).
+            if (!found) {
+                if (const Light* env = scene.environment()) {
+                    const Rgb le = env->le_escape(ray.d);
+                    if (depth == 0 || specular_bounce) {
+                        L += beta * le;
+                    } else {
+                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
+                                         env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                        L += beta * le * power_heuristic(prev_pdf, lp);
+                    }
+                }
+                break;
+            }
+            // An invisible boundary: cross it without a vertex.
+            const MediumInterface* iface = scene.medium_interface(hit.material);
+            if (iface && iface->pass_through) {
+                if (++nulls > kMaxNullCrossings) break;
+                stack.cross(iface->interior, entering(ray.d, hit.ng));
+                ray = Scene::spawn_ray(hit, ray.d);
+                continue;
+            }
+            nulls = 0;
+            if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
+                if (depth == 0 || specular_bounce) {
+                    L += beta * hit.emitted_radiance;
+                } else {
+                    const std::size_t li = std::size_t(hit.light);
+                    const float lp =
+                        light_dist.pmf(li) * lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
+                    L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
+                }
+            }
+            if (depth >= max_depth) break;
+
+            // A surface vertex: its material (textured hits build theirs), shading frame,
+            // light sample with the shadow ray's transmittance, BSDF sample.
+            std::optional<Material> textured;
+            const Material& m = scene.bsdf_at(hit, ray, depth == 0, textured);
+            Shading sh;
+            const bool transmissive = m.transmissive();
+            if (transmissive)
+                make_transmissive_shading(hit, m, ray.d, sh);
+            else if (!make_shading<F>(hit, m, ray.d, sh))
+                break;
+            const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
+            const std::int32_t interior = iface ? iface->interior : -1;
+            // The media on the side a direction w leaves to.
+            auto stack_toward = [&](const Vec3& w) {
+                MediumStack st = stack;
+                if (glm::dot(w, hit.ng) * glm::dot(wo_w, hit.ng) < 0.f)
+                    st.cross(interior, entering(w, hit.ng));
+                return st;
+            };
+            s.set_dimension(base);
+            const float u_light_choice = s.get_1d();
+            const Vec2 u_light = s.get_2d();
+            const float u_lobe = s.get_1d();
+            const Vec2 u_bsdf = s.get_2d();
+            const float u_roulette = s.get_1d();
+            if (!light_dist.empty() && has_non_specular<F>(m)) {
+                float select_pmf = 1.f;
+                std::uint32_t light_index = 0;
+                if (num_lights > 1) light_index = light_dist.sample(u_light_choice, select_pmf);
+                const Light& light = lights[light_index];
+                if (auto ls = light.sample_li(ctx, u_light)) {
+                    const Vec3 wi = sh.frame.to_local(ls->wi);
+                    if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
+                        const BSDFEval e = bsdf_eval<F>(m, sh.wo, wi);
+                        const Rgb contrib = e.f * std::fabs(wi.z) * ls->li;
+                        if (max3(contrib) > 0.f) {
+                            const Ray sr = Scene::shadow_ray_from(
+                                offset_ray_origin(hit.p, hit.p_err, hit.ng, ls->wi), *ls);
+                            const Rgb tr = shadow_transmittance(scene, sr, stack_toward(ls->wi), c);
+                            const float lp = select_pmf * ls->pdf;
+                            const float w = light.hittable() ? power_heuristic(lp, e.pdf) : 1.f;
+                            L += beta * contrib * tr * (w / lp);
+                        }
+                    }
+                }
+            }
+            const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, u_lobe, u_bsdf);
+            if (!bs || !(bs->pdf > 0.f)) break;
+            const Vec3 wi_w = sh.frame.from_local(bs->wi);
+            if (!valid_side(sh, transmissive, wi_w, bs->wi.z)) break;
+            beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+            specular_bounce = bs->is_specular();
+            prev_pdf = bs->pdf;
+            prev_ctx = ctx;
+            stack = stack_toward(wi_w);
+            ray = Scene::spawn_ray(hit, wi_w);
+            if (!roulette(beta, depth, u_roulette)) break;
+        } else {
+            // A scattering event in the medium: light sample through the media, then the
+            // phase function's direction.
+            nulls = 0;
+            if (depth >= max_depth) break;
+            const Medium& med = media[std::size_t(stack.current())];
+            const Vec3 p = ray.o + ray.d * t;
+            const LightSampleContext ctx{p, Vec3(0.f)};
+            s.set_dimension(base);
+            const float u_light_choice = s.get_1d();
+            const Vec2 u_light = s.get_2d();
+            s.get_1d();  // the lobe choice: no lobes in a medium
+            const Vec2 u_dir = s.get_2d();
+            const float u_roulette = s.get_1d();
+            if (!light_dist.empty()) {
+                float select_pmf = 1.f;
+                std::uint32_t light_index = 0;
+                if (num_lights > 1) light_index = light_dist.sample(u_light_choice, select_pmf);
+                const Light& light = lights[light_index];
+                if (auto ls = light.sample_li(ctx, u_light); ls && ls->pdf > 0.f) {
+                    const float ph = med.phase().eval(wo_w, ls->wi);
+                    const Rgb contrib = ph * ls->li;
+                    if (max3(contrib) > 0.f) {
+                        const Rgb tr =
+                            shadow_transmittance(scene, Scene::shadow_ray_from(p, *ls), stack, c);
+                        const float lp = select_pmf * ls->pdf;
+                        const float w = light.hittable() ? power_heuristic(lp, ph) : 1.f;
+                        L += beta * contrib * tr * (w / lp);
+                    }
+                }
+            }
+            const std::optional<PhaseSample> ps = med.phase().sample(wo_w, u_dir);
+            if (!ps || !(ps->pdf > 0.f)) break;
+            beta *= ps->p / ps->pdf;
+            specular_bounce = false;
+            prev_pdf = ps->pdf;
+            prev_ctx = ctx;
+            ray = Ray{p, ps->wi, kInfinity};
+            if (!roulette(beta, depth, u_roulette)) break;
+        }
+        ++depth;
+        ++c.rays;
+    }
+    return L;
+}
+
 // ---- tile loop ----
 
 template <IntegratorKind I, std::uint32_t F>
@@ -563,6 +890,8 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
     // (render.h); lanes outside the tile are traced and not written.
     const int gx_begin = job.x0 - job.x0 % int(kLanes);
+    [[maybe_unused]] MediumStack camera_stack;
+    if constexpr ((F & kFeatMedia) != 0) camera_stack = camera_media(scene);
     const std::uint32_t seed_hash = Sampler::render_seed_hash(job.seed);
     // The column half of the pixel-seed hash (Sampler::column_seed_hash) is the same in every
     // row: it is computed once per tile for the packets' first kSeedColumns pixels (a
@@ -636,7 +965,14 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 scene.intersect_packet(rays, n, hits.data(), found.data());
                 c.camera_rays += n;
                 c.rays += n;
-                if constexpr (I == IntegratorKind::Path) {
+                if constexpr ((F & kFeatMedia) != 0) {
+                    for (std::size_t k = 0; k < n; ++k) {
+                        Sampler s(ss[k], index, 1u);
+                        L[k] =
+                            media_path_li<F>(scene, *job.light_distribution, rays.get(k), found[k],
+                                             hits[k], camera_stack, s, job.max_depth, c);
+                    }
+                } else if constexpr (I == IntegratorKind::Path) {
                     path_packet<F>(scene, *job.light_distribution, n, rays, hits, found, ss, index,
                                    job.max_depth, c, L.data());
                 } else {
@@ -695,6 +1031,7 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
     add(f & kFeatTransmission, "transmission", "");
     add(f & kFeatTextured, "textured", "");
     add(f & kFeatSpecular, "specular", "no-specular");
+    add(f & kFeatMedia, "media", "");
     if (kind == IntegratorKind::Path) {
         add(f & kFeatMis, "mis", "no-mis");
         add(f & kFeatEmission, "emission", "no-emission");
@@ -758,6 +1095,19 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
     k.integrator = integrator;
     k.max_depth = max_depth;
     k.general = force_general;
+    if (sf.has_media) {
+        // One kernel for every scene with media (kernel_function), whichever integrator.
+        k.features =
+            (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured | kFeatMedia;
+        k.chosen.push_back(
+            "media: the volumetric path kernel (free-flight sampling, light samples through "
+            "media and null surfaces, MIS with the phase function), one path at a time" +
+            std::string(integrator == IntegratorKind::Direct
+                            ? "; `direct` is path tracing here (media scatter light)"
+                            : ""));
+        k.name = std::string("path<") + feature_list(IntegratorKind::Path, k.features) + ">";
+        return k;
+    }
     const bool path = integrator == IntegratorKind::Path;
     if (force_general) {
         k.features = path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
@@ -860,6 +1210,8 @@ TileKernel kernel_function(const KernelChoice& choice) {
     constexpr std::uint32_t kDirectGeneral = kDirectMask & ~kFeatLambertOnly;
     constexpr std::uint32_t kT = kFeatTransmission, kX = kFeatTextured;
     const bool path = choice.integrator == IntegratorKind::Path;
+    if ((choice.features & kFeatMedia) != 0)
+        return &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kFeatMedia>;
     switch (choice.features & (kT | kX)) {
         case kT:
             return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT>

@@ -16,6 +16,7 @@ extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKin
     kIcosphereKind, kGridKind, kGltfKind, kInstanceKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
+extern const MediumKindDef kHomogeneousMediumKind;
 
 namespace {
 
@@ -25,6 +26,7 @@ const std::array<const ShapeKindDef*, 10> kShapeKinds = {
 const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};
+const std::array<const MediumKindDef*, 1> kMediumKinds = {&kHomogeneousMediumKind};
 const std::array<std::string_view, 7> kCommonShapeKeys = {
     "type", "name", "material", "emission", "two_sided", "transform", "flip_normals"};
 
@@ -132,6 +134,21 @@ std::vector<std::string> shape_kind_names() {
 std::vector<std::string> light_kind_names() {
     return names(kLightKinds);
 }
+std::span<const MediumKindDef* const> medium_kinds() {
+    return kMediumKinds;
+}
+const MediumKindDef* find_medium_kind(std::string_view name) {
+    return find_in(kMediumKinds, name);
+}
+const MediumKindDef* find_medium_kind(MediumKind kind) {
+    return find_in(kMediumKinds, kind);
+}
+const MediumKindDef& medium_kind(MediumKind kind) {
+    return by_kind(kMediumKinds, kind, "medium");
+}
+std::vector<std::string> medium_kind_names() {
+    return names(kMediumKinds);
+}
 std::span<const std::string_view> common_shape_keys() {
     return kCommonShapeKeys;
 }
@@ -161,6 +178,8 @@ std::string kinds_markdown() {
     for (const ShapeKindDef* k : kShapeKinds) kind_table(s, *k);
     s << "### Light kinds\n\n";
     for (const LightKindDef* k : kLightKinds) kind_table(s, *k);
+    s << "### Medium kinds\n\n";
+    for (const MediumKindDef* k : kMediumKinds) kind_table(s, *k);
     return s.str();
 }
 

@@ -60,6 +60,7 @@ bool MeshData::operator==(const MeshData& o) const {
 bool SceneDescription::operator==(const SceneDescription& o) const {
     return description == o.description && camera == o.camera && materials == o.materials &&
            shapes == o.shapes && prototypes == o.prototypes && lights == o.lights &&
+           media == o.media && world_medium == o.world_medium &&
            render.integrator == o.render.integrator && render.spp == o.render.spp &&
            render.time_budget_s == o.render.time_budget_s &&
            render.max_depth == o.render.max_depth && render.seed == o.render.seed &&
@@ -93,6 +94,7 @@ class Builder final : public BuildChecks {
                              std::to_string(m_limits.texture_memory) +
                              " bytes is below the smallest, 1 MiB (SceneLimits::texture_memory)");
         build_camera();
+        build_media();
         build_materials();
         for (std::size_t i = 0; i < m_desc.shapes.size(); ++i) {
             build_shape(m_desc.shapes[i], std::uint32_t(i), "/shapes/" + std::to_string(i), -1);
@@ -268,7 +270,68 @@ class Builder final : public BuildChecks {
         std::int32_t textured = -1;
         std::shared_ptr<const Material> shared = {};  // the same material, for combinations
         Opacity opacity = {};                         // the material's "opacity" and "alpha_cutoff"
+        std::int32_t interior = -1;                   // its "interior" medium (Scene::media())
     };
+
+    // --- media ---------------------------------------------------------------------------------
+
+    // "unknown medium 'x'" with a did-you-mean among the scene's medium names.
+    std::string unknown_medium(const std::string& name) const {
+        std::vector<std::string> names;
+        for (const auto& [n, _] : m_desc.media) names.push_back(n);
+        std::string msg = "unknown medium '" + name + "'";
+        const std::string g = closest_name(name, names);
+        if (!g.empty()) {
+            msg += " (did you mean '" + g + "'?)";
+        } else if (names.empty()) {
+            msg += " (the scene defines no \"media\")";
+        }
+        return msg;
+    }
+
+    // The named media (their kinds validate them) and the world medium.
+    void build_media() {
+        for (const auto& [name, m] : m_desc.media) {
+            const std::string ptr = "/media/" + escape_pointer_token(name);
+            if (m_medium_index.count(name)) fail(ptr, "duplicate medium name '" + name + "'");
+            const MediumKindDef* k = find_medium_kind(m.kind);
+            if (!k) fail(ptr + "/kind", "unknown medium kind");
+            m_medium_index[name] = std::int32_t(m_builder.media().size());
+            m_builder.media().push_back(k->build(m, ptr, *this));
+        }
+        if (!m_desc.world_medium.empty()) {
+            const auto it = m_medium_index.find(m_desc.world_medium);
+            if (it == m_medium_index.end())
+                fail("/world_medium", unknown_medium(m_desc.world_medium));
+            m_builder.world_medium() = it->second;
+            // An escaping ray crosses the world medium over an infinite length: its emission
+            // would be infinite where nothing attenuates it.
+            const Medium& w = m_builder.media()[std::size_t(it->second)];
+            for (int c = 0; c < 3; ++c)
+                if (w.emission()[c] > 0.f && !(w.sigma_t()[c] > 0.f))
+                    fail("/world_medium",
+                         "the world medium '" + m_desc.world_medium +
+                             "' emits where it neither absorbs nor scatters: rays that escape "
+                             "would gather infinite emission");
+        }
+    }
+
+    // The key "interior" of a material (scenes/FORMAT.md, "Media"): the name of the medium its
+    // shapes bound, taken out of `m` (it belongs to no reflection model).
+    std::int32_t take_interior(MaterialDesc& m, const std::string& ptr) {
+        const auto it = m.params.values().find("interior");
+        if (it == m.params.values().end()) return -1;
+        const std::string p = ptr + "/interior";
+        const std::string* name = std::get_if<std::string>(&it->second);
+        if (!name) fail(p, "expected the name of a medium of \"media\"");
+        const auto found = m_medium_index.find(*name);
+        if (found == m_medium_index.end()) fail(p, unknown_medium(*name));
+        ParamSet rest;
+        for (const auto& [key, v] : m.params.values())
+            if (key != "interior") rest.set(key, v);
+        m.params = std::move(rest);
+        return found->second;
+    }
 
     // The keys "opacity" (a number or a texture) and "alpha_cutoff" of a material, which belong
     // to no reflection model (scenes/FORMAT.md, "Opacity"): validated, and taken out of `m`.
@@ -551,8 +614,24 @@ class Builder final : public BuildChecks {
                                  const MaterialConversion* conversion = nullptr) {
         MaterialDesc m = desc;
         const Opacity opacity = build_opacity(m, ptr);
+        const std::int32_t interior = take_interior(m, ptr);
         BuiltMaterial built = build_model(m, ptr, conversion);
         built.opacity = opacity;
+        built.interior = interior;
+        // A medium's boundary must let rays in: a transmissive model, or `null`.
+        const ModelInfo* info = find_model(m.model);
+        const bool pass_through = info && info->pass_through;
+        if (interior >= 0 && !pass_through && !built.material->transmissive())
+            fail(ptr + "/interior",
+                 "model '" + m.model +
+                     "' cannot bound a medium: rays never cross it (use a transmissive model "
+                     "such as dielectric, or \"null\" for an invisible boundary)");
+        if (interior >= 0 && opacity.active())
+            fail(ptr + "/interior",
+                 "a medium's boundary cannot be a cut-out (opacity < 1): rays passing through "
+                 "the holes would not know they entered");
+        if (interior >= 0 || pass_through)
+            m_builder.interfaces().push_back({built.material, interior, pass_through});
         return built;
     }
 
@@ -908,6 +987,12 @@ class Builder final : public BuildChecks {
 
         info.needs_uv = needs_uv(info);
         info.needs_color = needs_color(info);
+        // An invisible boundary cannot emit: rays cross it without a vertex.
+        if (emissive) {
+            if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);
+                mi && mi->pass_through)
+                fail(ptr + "/material", "an emitting shape cannot have a null material");
+        }
         // Light sampling would count a cut-out emitter's light in full where rays see it with
         // probability alpha: not supported rather than biased.
         if (emissive && info.opacity.active())
@@ -1515,6 +1600,8 @@ class Builder final : public BuildChecks {
                     f.lambert_only = false;
                 if (reflects(*su.material)) f.can_reflect = true;
                 if (su.textured >= 0) f.has_textured = true;
+                // A surface that bounds a medium or lets rays through (an unused one is not).
+                if (scene.medium_interface(su.material)) f.has_media = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
             };
             if (s.parts.empty()) surface(s);
@@ -1534,6 +1621,7 @@ class Builder final : public BuildChecks {
             if (l.hittable()) f.any_hittable_light = true;
         }
         f.all_lights_delta = !f.any_non_delta_light;
+        if (scene.world_medium() >= 0) f.has_media = true;
         if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
     }
 
@@ -1554,6 +1642,7 @@ class Builder final : public BuildChecks {
     Scene::Builder m_builder;
     std::map<std::string, BuiltMaterial> m_named;
     std::map<std::string, const MaterialDesc*> m_named_desc;  // every named material
+    std::map<std::string, std::int32_t> m_medium_index;       // medium name -> Scene::media()
     std::vector<std::string> m_building;  // named materials being built (cycle detection)
     TexelImageCache m_images;             // an image used twice is read once
     const Material* m_black = nullptr;
@@ -1580,6 +1669,7 @@ std::string SceneFeatures::describe() const {
       << yn(has_environment) << "); all delta: " << yn(all_lights_delta) << "\n";
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
+    if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
     return s.str();
 }
 

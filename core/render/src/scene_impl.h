@@ -200,6 +200,9 @@ struct Scene::Builder {
     LightDistribution& light_distribution() { return scene.m_light_distribution; }
     LightDistribution& view_light_distribution() { return scene.m_view_light_distribution; }
     std::int32_t& environment() { return scene.m_environment; }
+    std::vector<Medium>& media() { return scene.m_media; }
+    std::int32_t& world_medium() { return scene.m_world_medium; }
+    std::vector<MediumInterface>& interfaces() { return scene.m_interfaces; }
     std::vector<std::uint32_t>& camera_lamps() { return scene.m_camera_lamps; }
     Bounds3& bounds() { return scene.m_bounds; }
     Impl& impl() { return *scene.m_impl; }

@@ -110,7 +110,7 @@ class Reader {
         expect_object(root, "");
         check_keys(root, "",
                    {"format", "version", "description", "camera", "materials", "shapes",
-                    "prototypes", "lights", "render"});
+                    "prototypes", "lights", "media", "world_medium", "render"});
         std::string fmt = get_string(require(root, "", "format"), "/format");
         if (fmt != "facet-scene") fail("/format", "expected \"facet-scene\", got \"" + fmt + "\"");
         std::int64_t version = get_int(require(root, "", "version"), "/version", 0, 1 << 30);
@@ -157,6 +157,17 @@ class Reader {
             for (std::size_t i = 0; i < lights.size(); ++i) {
                 d.lights.push_back(read_light(lights[i], "/lights/" + std::to_string(i)));
             }
+        }
+        if (root.contains("media")) {
+            const json& media = root["media"];
+            expect_object(media, "/media");
+            for (const auto& [mname, m] : media.items())
+                d.media.emplace_back(mname,
+                                     read_medium(m, "/media/" + escape_pointer_token(mname)));
+        }
+        if (root.contains("world_medium")) {
+            d.world_medium = get_string(root["world_medium"], "/world_medium");
+            if (d.world_medium.empty()) fail("/world_medium", "must name a medium of \"media\"");
         }
         // Whether anything emits is build_scene's question: a glTF shape's materials are read
         // there (a scene lit only by an emissive glTF has no "lights" and no "emission").
@@ -630,6 +641,17 @@ class Reader {
             f.member);
     }
 
+    // "unknown <what> 'name'" with a did-you-mean among `names`, or the list of them.
+    static std::string unknown_name(const char* what, const std::string& name,
+                                    const std::vector<std::string>& names) {
+        std::string msg = "unknown " + std::string(what) + " '" + name + "'";
+        const std::string g = closest_name(name, names);
+        if (!g.empty()) return msg + " (did you mean '" + g + "'?)";
+        msg += " (expected one of:";
+        for (const std::string& n : names) msg += " " + n;
+        return msg + ")";
+    }
+
     // Keys of an element: the common ones, then the kind's (mesh arrays are three keys).
     template <class Def>
     static std::vector<const char*> kind_keys(const Def& k, std::vector<const char*> keys) {
@@ -647,18 +669,7 @@ class Reader {
         expect_object(s, ptr);
         std::string type = get_string(require(s, ptr, "type"), ptr + "/type");
         const ShapeKindDef* k = find_shape_kind(type);
-        if (!k) {
-            std::string msg = "unknown shape type '" + type + "'";
-            std::string g = closest_name(type, shape_kind_names());
-            if (!g.empty()) {
-                msg += " (did you mean '" + g + "'?)";
-            } else {
-                msg += " (expected one of:";
-                for (const std::string& n : shape_kind_names()) msg += " " + n;
-                msg += ")";
-            }
-            fail(ptr + "/type", msg);
-        }
+        if (!k) fail(ptr + "/type", unknown_name("shape type", type, shape_kind_names()));
         ShapeDesc d;
         d.kind = k->kind;
         std::vector<const char*> keys;
@@ -802,6 +813,18 @@ class Reader {
             }
         }
         for (const Field<LightDesc>& f : k->fields) read_field(l, ptr, f, d);
+        return d;
+    }
+
+    MediumDesc read_medium(const json& m, const std::string& ptr) const {
+        expect_object(m, ptr);
+        const std::string kind = get_string(require(m, ptr, "kind"), ptr + "/kind");
+        const MediumKindDef* k = find_medium_kind(kind);
+        if (!k) fail(ptr + "/kind", unknown_name("medium kind", kind, medium_kind_names()));
+        MediumDesc d;
+        d.kind = k->kind;
+        check_keys_v(m, ptr, kind_keys(*k, {"kind"}));
+        for (const Field<MediumDesc>& f : k->fields) read_field(m, ptr, f, d);
         return d;
     }
 
@@ -1030,6 +1053,20 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         }
         root["prototypes"] = protos;
     }
+    // Media only when there are any: files without media (and their fingerprints) are
+    // unchanged.
+    if (!d.media.empty()) {
+        json media = json::object();
+        for (const auto& [mname, m] : d.media) {
+            json j = json::object();
+            const MediumKindDef& k = medium_kind(m.kind);
+            j["kind"] = k.name;
+            for (const Field<MediumDesc>& f : k.fields) write_field(j, f, m, hashed_arrays);
+            media[mname] = j;
+        }
+        root["media"] = media;
+    }
+    if (!d.world_medium.empty()) root["world_medium"] = d.world_medium;
     json lights = json::array();
     for (const LightDesc& l : d.lights) {
         json j = json::object();

@@ -1006,13 +1006,19 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
     // only written for scenes that `facet render` accepts.
     (void)build_scene(desc, name);
     // Opacity (cut-outs) is not exported yet: POV-Ray's pigment transmit would blend where
-    // Facet chooses stochastically (the same expectation), unchecked against it. An error.
+    // Facet chooses stochastically (the same expectation), unchecked against it. Nor are media
+    // (POV-Ray's `media` is not checked against Facet's yet). Errors, never a silent drop.
+    const char* const no_media =
+        ": media cannot be exported to POV-Ray yet (remove it, or render with Facet)";
+    if (!desc.world_medium.empty()) throw SceneError(name + ": /world_medium" + no_media);
     auto no_opacity = [&](const MaterialDesc& m, const std::string& pointer) {
         for (const char* key : {"opacity", "alpha_cutoff"})
             if (m.params.has(key) || m.textures.count(key))
                 throw SceneError(name + ": " + pointer + "/" + key +
                                  ": opacity (cut-outs) cannot be exported to POV-Ray exactly "
                                  "yet (remove it, or render with Facet)");
+        if (m.params.has("interior"))
+            throw SceneError(name + ": " + pointer + "/interior" + no_media);
     };
     for (const auto& [mname, m] : desc.materials)
         no_opacity(m, "/materials/" + detail::escape_pointer_token(mname));

@@ -39,6 +39,28 @@
 //    dimension (1 + number of lights); `path` with the lobe dimension. Russian roulette, NEE
 //    and MIS are unchanged: delta lobes skip NEE and MIS (specular bounce), rough dielectrics
 //    are non-delta lobes like any other.
+//  - Media (kFeatMedia; facet/render/medium.h, scenes/FORMAT.md "Media"): volumetric path
+//    tracing, one path at a time (no packets), for `path` and `direct` alike. A path carries
+//    the media it is in (a small stack: the world medium below, a shape's interior medium
+//    pushed when a ray crosses its boundary against the normal, removed when it leaves). On
+//    each segment: the medium's emission along the segment in closed form, then free-flight
+//    sampling of the distance, analytic for homogeneous media: a channel c is chosen in
+//    proportion to the throughput, t ~ sigma_t,c exp(-sigma_t,c t), and the throughput is
+//    weighted by the one-sample MIS (balance heuristic) pdf over the channels, sum_c P(c)
+//    sigma_t,c exp(-sigma_t,c t) (pbrt-v4 §14.2.2's spectral MIS with RGB for wavelengths;
+//    Cycles' channel choice by throughput). A purely absorbing medium is not sampled: its
+//    transmittance is applied exactly. A scattering event is a vertex like a surface's: next-
+//    event estimation with the phase function and the transmittance of the shadow ray (which
+//    crosses `null` surfaces, multiplying the transmittance of each medium it passes; any
+//    other surface blocks it), MIS (power heuristic) against phase-function sampling for
+//    lights that rays can hit, then a new direction from the phase function. `null` surfaces
+//    are crossed without a vertex (max_depth counts surface and medium vertices only). An
+//    infinite ray in a world medium with sigma_t > 0 in every channel never reaches the
+//    environment (transmittance 0), as in Cycles; a channel with sigma_t = 0 sees it. The
+//    camera's media are found once per tile by a ray from the camera position (the
+//    boundaries it leaves before entering them again). Sample dimensions: their own block
+//    per segment, kMediaDimsPerSegment wide (a `null` crossing is a segment). Area lamps
+//    that camera rays see are not attenuated by media.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
@@ -77,7 +99,11 @@ enum KernelFeature : std::uint32_t {
     // SurfaceHit::textured >= 0 build their material with Scene::bsdf_at. Only kernels with
     // this bit test it, so an untextured scene's kernel has no such branch (the general kernel
     // of each integrator, with or without Transmission, is instantiated with it).
-    kFeatTextured = 1u << 7
+    kFeatTextured = 1u << 7,
+    // The scene has media (SceneFeatures::has_media): the volumetric path kernel (see the
+    // conventions' "Media"), instantiated once, with every other feature of the general path
+    // kernel. Scenes without media never run it, and the other kernels have no media code.
+    kFeatMedia = 1u << 8
 };
 
 enum class IntegratorKind { Direct, Path };

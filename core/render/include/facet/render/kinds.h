@@ -71,6 +71,7 @@ class ShapeBuild;   // what a kind's builder gets (core/render/src/shapes/shape_
 class PovShapeOut;  // what a kind's POV-Ray exporter gets (core/render/src/io/pov_writer.h)
 class LightBuild;
 class PovLightOut;
+class BuildChecks;  // value checks naming JSON pointers (core/render/src/kind_build.h)
 
 struct ShapeKindDef {
     ShapeKind kind;
@@ -104,6 +105,16 @@ struct LightKindDef {
     void (*pov)(PovLightOut&);
 };
 
+// A medium kind (medium.h): one unit per kind in core/render/src/media/<kind>.cpp.
+struct MediumKindDef {
+    MediumKind kind;
+    std::string_view name;
+    std::string_view summary;
+    std::vector<Field<MediumDesc>> fields;
+    // Validates the description (errors name `ptr` + "/key" through `checks`) and builds it.
+    Medium (*build)(const MediumDesc& desc, const std::string& ptr, const BuildChecks& checks);
+};
+
 // The tables, in the scene format's documented order.
 std::span<const ShapeKindDef* const> shape_kinds();
 std::span<const LightKindDef* const> light_kinds();
@@ -117,6 +128,11 @@ const ShapeKindDef* find_shape_kind(ShapeKind kind);
 const LightKindDef* find_light_kind(LightKind kind);
 std::vector<std::string> shape_kind_names();
 std::vector<std::string> light_kind_names();
+std::span<const MediumKindDef* const> medium_kinds();
+const MediumKindDef* find_medium_kind(std::string_view name);
+const MediumKindDef* find_medium_kind(MediumKind kind);
+const MediumKindDef& medium_kind(MediumKind kind);
+std::vector<std::string> medium_kind_names();
 
 // Keys every shape accepts besides its kind's fields.
 std::span<const std::string_view> common_shape_keys();

@@ -61,6 +61,7 @@
 #include "facet/registry.h"
 #include "facet/render/camera.h"
 #include "facet/render/light.h"
+#include "facet/render/medium.h"
 #include "facet/render/precision.h"
 #include "facet/render/texture.h"
 #include "facet/staged_material.h"
@@ -253,6 +254,10 @@ struct SceneFeatures {
     // Some surface's material is textured (ShapeSurface::textured >= 0): only then do kernels
     // test SurfaceHit::textured and build per-hit materials (kFeatTextured).
     bool has_textured = false;
+    // The scene has a world medium or a surface that bounds a medium or lets rays through (a
+    // material with an "interior", or the `null` model): only then does the media kernel run
+    // (integrator.h, kFeatMedia).
+    bool has_media = false;
     bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
@@ -272,6 +277,17 @@ struct SceneFeatures {
 
     // Multi-line human-readable summary for --explain.
     std::string describe() const;
+};
+
+// What a surface is to media (scenes/FORMAT.md, "Media"), by its material: the medium its
+// shape bounds (`interior`, an index into Scene::media(), or -1) and whether rays pass straight
+// through it (`pass_through`: the `null` model, an invisible boundary; camera, continuation
+// and shadow rays cross it without a vertex). A ray that crosses the surface against its
+// geometric normal (dot(d, ng) < 0) enters the interior, along it leaves.
+struct MediumInterface {
+    const Material* material = nullptr;
+    std::int32_t interior = -1;
+    bool pass_through = false;
 };
 
 // Axis-aligned bounds of the finite geometry (planes excluded).
@@ -386,6 +402,18 @@ class Scene {
         return l;
     }
     bool has_camera_lamps() const { return !m_camera_lamps.empty(); }
+    // The media (scenes/FORMAT.md, "Media"), indexed by MediumInterface::interior.
+    std::span<const Medium> media() const { return m_media; }
+    // The index of the medium the camera and escaping rays are in, or -1 (vacuum).
+    std::int32_t world_medium() const { return m_world_medium; }
+    // The medium interface of a hit's material (SurfaceHit::material), or null for a surface
+    // that neither bounds a medium nor lets rays through. A linear search over the few
+    // boundary materials: called only by the media kernel.
+    const MediumInterface* medium_interface(const Material* m) const {
+        for (const MediumInterface& i : m_interfaces)
+            if (i.material == m) return &i;
+        return nullptr;
+    }
     const RenderSettings& settings() const { return m_settings; }
     const SceneFeatures& features() const { return m_features; }
     std::span<const ShapeInfo> shapes() const { return m_shapes; }
@@ -487,6 +515,9 @@ class Scene {
     LightDistribution m_view_light_distribution;
     std::vector<std::uint32_t> m_camera_lamps;  // indices of lights with camera_visible()
     std::int32_t m_environment = -1;
+    std::vector<Medium> m_media;
+    std::int32_t m_world_medium = -1;
+    std::vector<MediumInterface> m_interfaces;
     Bounds3 m_bounds;
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
 };

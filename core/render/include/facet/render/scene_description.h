@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "facet/registry.h"
+#include "facet/render/medium.h"
 #include "facet/render/scene.h"
 #include "facet/render/texture.h"
 #include "facet/types.h"
@@ -188,6 +189,20 @@ struct LightDesc {
     bool operator==(const LightDesc&) const = default;
 };
 
+// One element of "media" (scenes/FORMAT.md, "Media"): a named participating medium. Only the
+// fields of `kind` are read (kinds.h, MediumKindDef). The coefficients are given either as
+// sigma_a and sigma_s, or in Cycles' Principled Volume terms (`density` set; cycles_volume(),
+// medium.h), never both.
+struct MediumDesc {
+    MediumKind kind = MediumKind::Homogeneous;
+    Vec3 sigma_a{0.f}, sigma_s{0.f};              // per scene unit, RGB
+    double g = 0.0;                               // Henyey-Greenstein anisotropy, in (-1, 1)
+    Vec3 emission{0.f};                           // radiance per unit length
+    std::optional<double> density;                // Cycles: density (instead of sigma_a, sigma_s)
+    std::optional<Vec3> color, absorption_color;  // Cycles: with density (defaults 0.5, 0)
+    bool operator==(const MediumDesc&) const = default;
+};
+
 struct SceneDescription {
     std::string description;  // free text
     CameraDesc camera;
@@ -201,6 +216,12 @@ struct SceneDescription {
     // space; they may not emit, hold instances, or be analytic (sphere, disc, plane).
     std::vector<std::pair<std::string, std::vector<ShapeDesc>>> prototypes;
     std::vector<LightDesc> lights;
+    // Named media ("media": {name: {...}}), in the order they are written (the JSON reader
+    // gives them sorted by name), and the medium the camera and every escaping ray are in
+    // ("world_medium": a name of `media`; "" = vacuum). A material names its interior medium
+    // with the key "interior" (a string parameter in MaterialDesc::params).
+    std::vector<std::pair<std::string, MediumDesc>> media;
+    std::string world_medium;
     RenderSettings render;  // width/height are ignored (the camera's)
     // Directory that relative mesh "file" and texture paths are resolved against (not part of
     // equality).

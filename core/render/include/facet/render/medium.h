@@ -1,0 +1,113 @@
+// Participating media: what a medium is to the integrator, and the Cycles conversion.
+//
+// Conventions:
+//  - Coefficients are per scene unit of length, per RGB channel: absorption sigma_a, scattering
+//    sigma_s, extinction sigma_t = sigma_a + sigma_s (1/length). Emission is radiance per unit
+//    length (W sr^-1 m^-2 per scene unit), Cycles' volume emission: a segment of length l of a
+//    purely emitting medium adds emission * l to the radiance along it. The radiative transfer
+//    equation integrated along a ray (pbrt-v4 §11.1, eq. 11.13) is then
+//      L(o, w) = int_0^t T(s) [emission + sigma_s int p L_i] ds + T(t) L_surface,
+//    with T(s) = exp(-int_0^s sigma_t) the transmittance (Beer-Lambert).
+//  - Phase function: Henyey-Greenstein (facet/henyey_greenstein.h), Cycles' anisotropy g.
+//  - A medium kind (kinds.h, MediumKindDef: one unit per kind in core/render/src/media/) builds
+//    a Medium from its description. Today's kind is `homogeneous` (constant coefficients, so
+//    every integral along a segment is closed-form). The integrator asks a medium only what
+//    this interface offers — its majorant over a segment and the transmittance of a segment —
+//    so that a heterogeneous kind (a `grid`) plugs in with delta tracking against its
+//    majorant and ratio tracking for transmittance (Novák et al. 2014), which for a
+//    homogeneous medium degenerate to the closed forms below.
+//  - Media are never evaluated per sample in a scene without any (SceneFeatures::has_media:
+//    the render kernel with media is chosen only then; integrator.h).
+#pragma once
+
+#include <cmath>
+#include <cstdint>
+
+#include "facet/henyey_greenstein.h"
+#include "facet/types.h"
+
+namespace facet::render {
+
+enum class MediumKind : std::uint8_t { Homogeneous };
+
+class Medium {
+  public:
+    Medium() = default;
+    // A homogeneous medium (coefficients >= 0, |g| < 1: the builder checks).
+    static Medium homogeneous(const Rgb& sigma_a, const Rgb& sigma_s, float g,
+                              const Rgb& emission) {
+        Medium m;
+        m.m_kind = MediumKind::Homogeneous;
+        m.m_sigma_a = sigma_a;
+        m.m_sigma_s = sigma_s;
+        m.m_sigma_t = sigma_a + sigma_s;
+        m.m_phase = HenyeyGreenstein(g);
+        m.m_emission = emission;
+        return m;
+    }
+
+    MediumKind kind() const { return m_kind; }
+    const Rgb& sigma_a() const { return m_sigma_a; }
+    const Rgb& sigma_s() const { return m_sigma_s; }
+    // The extinction coefficient; for a heterogeneous kind the majorant of a segment.
+    const Rgb& sigma_t() const { return m_sigma_t; }
+    const Rgb& emission() const { return m_emission; }
+    const HenyeyGreenstein& phase() const { return m_phase; }
+    bool emits() const { return m_emission != Rgb(0.f); }
+    // Nothing scatters: free-flight sampling is not needed, the transmittance is the whole
+    // answer (a purely absorbing medium renders exactly, without noise).
+    bool absorbing_only() const { return m_sigma_s == Rgb(0.f); }
+
+    // Transmittance exp(-sigma_t t) of a segment of length t >= 0 (t may be +inf: 0 in every
+    // channel with sigma_t > 0, 1 where sigma_t = 0).
+    Rgb transmittance(float t) const {
+        return {channel_transmittance(m_sigma_t.r, t), channel_transmittance(m_sigma_t.g, t),
+                channel_transmittance(m_sigma_t.b, t)};
+    }
+    // The emission a segment [0, t] adds to the radiance at its start, before the throughput:
+    // int_0^t T(s) emission ds = emission (1 - exp(-sigma_t t)) / sigma_t per channel
+    // (emission t where sigma_t = 0; a segment of infinite length in a medium with sigma_t = 0
+    // and emission > 0 gives +inf, which the film drops and counts).
+    Rgb emitted(float t) const {
+        Rgb e;
+        for (int c = 0; c < 3; ++c) {
+            const float s = m_sigma_t[c];
+            e[c] = s > 0.f ? m_emission[c] * (-std::expm1(-s * t)) / s : m_emission[c] * t;
+        }
+        return e;
+    }
+
+  private:
+    static float channel_transmittance(float sigma_t, float t) {
+        return sigma_t > 0.f ? std::exp(-sigma_t * t) : 1.f;
+    }
+    MediumKind m_kind = MediumKind::Homogeneous;
+    Rgb m_sigma_a{0.f}, m_sigma_s{0.f}, m_sigma_t{0.f}, m_emission{0.f};
+    HenyeyGreenstein m_phase;
+};
+
+// Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,
+// absorption_color = 0) as coefficients, the one place this conversion is written (the scene
+// format's Cycles keys and the Blender addon both use it):
+//   sigma_s = density * color,
+//   sigma_a = density * max(1 - color, 0) * max(1 - sqrt(absorption_color), 0),
+// with color and absorption_color clamped to >= 0 first, as Cycles does (its node takes the
+// square root of the absorption colour so that the control feels linear). Emission is
+// emission_strength * emission_color, independent of density (Cycles).
+struct MediumCoefficients {
+    Rgb sigma_a{0.f}, sigma_s{0.f};
+};
+inline MediumCoefficients cycles_volume(double density, const Rgb& color,
+                                        const Rgb& absorption_color) {
+    MediumCoefficients m;
+    const float d = float(density);
+    for (int c = 0; c < 3; ++c) {
+        const float col = std::fmax(color[c], 0.f);
+        const float abs_col = std::sqrt(std::fmax(absorption_color[c], 0.f));
+        m.sigma_s[c] = d * col;
+        m.sigma_a[c] = d * std::fmax(1.f - col, 0.f) * std::fmax(1.f - abs_col, 0.f);
+    }
+    return m;
+}
+
+}  // namespace facet::render
