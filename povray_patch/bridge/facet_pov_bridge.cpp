@@ -363,31 +363,11 @@ const Brdf* convert_classic(const ClassicFinish& f, std::vector<ClassicNote>& no
     in.subsurface = f.subsurface;
     // Scenes copy a few finishes many times (a macro's texture per object): equal inputs share
     // one conversion.
-    static std::map<std::vector<double>, std::pair<const Brdf*, std::vector<ClassicNote>>> done;
-    const std::vector<double> key = {in.diffuse,
-                                     in.diffuse_back,
-                                     in.brilliance,
-                                     in.phong,
-                                     in.phong_size,
-                                     in.specular,
-                                     in.specular_exponent,
-                                     in.metallic,
-                                     in.reflection_min[0],
-                                     in.reflection_min[1],
-                                     in.reflection_min[2],
-                                     in.reflection_max[0],
-                                     in.reflection_max[1],
-                                     in.reflection_max[2],
-                                     double(in.reflection_fresnel),
-                                     in.reflection_falloff,
-                                     in.reflection_exponent,
-                                     in.ior,
-                                     in.irid,
-                                     in.crand,
-                                     double(in.subsurface)};
+    static std::map<facet::pov::ClassicFinish, std::pair<const Brdf*, std::vector<ClassicNote>>>
+        done;
     {
         std::lock_guard<std::mutex> lock(g_mutex);
-        if (auto it = done.find(key); it != done.end()) {
+        if (auto it = done.find(in); it != done.end()) {
             notes = it->second.second;
             return it->second.first;
         }
@@ -402,7 +382,7 @@ const Brdf* convert_classic(const ClassicFinish& f, std::vector<ClassicNote>& no
         b = keep(std::make_unique<Brdf>(std::move(c), std::move(lobes)));
     }
     std::lock_guard<std::mutex> lock(g_mutex);
-    done.emplace(key, std::make_pair(b, notes));
+    done.emplace(in, std::make_pair(b, notes));
     return b;
 }
 

@@ -20,6 +20,7 @@
 #pragma once
 
 #include <array>
+#include <compare>
 #include <optional>
 #include <string>
 #include <vector>
@@ -40,6 +41,8 @@ struct ClassicFinish {
     double ior = 1.0;  // the interior's IOR over the atmosphere's (1: no interior given)
     double irid = 0.0, crand = 0.0;
     bool subsurface = false;
+
+    auto operator<=>(const ClassicFinish&) const = default;  // equal finishes share a conversion
 };
 
 // What a converted finish is made of. A mirror lobe is `colour` times w(theta_o).
