@@ -236,6 +236,7 @@ INEXPRESSIBLE = {
     "big_mesh": "/lights/0",
     "brushed": "/materials/brushed floor/alpha_u",  # anisotropic (bench/time_error.py's scene)
     "glass": "/materials/rough/model",          # a dielectric transmits: POV's interior differs
+    "fog_box": "/materials/fog_boundary/interior",  # media (docs/media.md)
 }
 
 

@@ -224,7 +224,8 @@ def cmd_parse_errors(facet):
 
 # Every model, parameter and bare-word value of the core's registry plus the patch's own words.
 CLASH_NAMES = [
-    "brdf", "physical_falloff", "brdf_sky_sampling", "lambert", "mirror", "ggx", "beckmann", "blinn", "composite",
+    "brdf", "physical_falloff", "brdf_sky_sampling", "brdf_convert_classic", "brdf_convert_lights",
+    "null", "lambert", "mirror", "ggx", "beckmann", "blinn", "composite",
     "reflectance", "diffuse_reflectance", "glossy_reflectance", "mirror_reflectance",
     "distribution", "alpha", "alpha_u", "alpha_v", "exponent", "exponent_u", "exponent_v",
     "fresnel", "ior", "eta", "k", "f0", "energy_compensation", "none", "dielectric",
@@ -236,7 +237,7 @@ CLASH_NAMES = [
 
 # Models the brdf finish does not take: transmissive ones (POV-Ray's interior refracts) and
 # combinations (the finish gives no sub-materials).
-NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "mix", "add"}
+NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "null", "mix", "add"}
 
 
 def cmd_models(facet, cli):
