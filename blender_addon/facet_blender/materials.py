@@ -137,7 +137,10 @@ def convert(mat, obj=None):
             model, params = material_params(fs)
             data = {"model": model}
             data.update(params)
-        return Converted(data, list(fs.emission), fs.two_sided)
+        conv = Converted(data, list(fs.emission), fs.two_sided)
+        if "interior" in data and "facet_medium" in mat:  # imported with its medium
+            conv.medium = json.loads(mat["facet_medium"])
+        return conv
     two_sided = True if fs is None else fs.two_sided
     if not mat.use_nodes or mat.node_tree is None:
         return Converted({"model": "lambert", "reflectance": list(mat.diffuse_color)[:3]},
