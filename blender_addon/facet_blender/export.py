@@ -19,15 +19,17 @@ import json
 
 import numpy as np
 
-from . import bake, gaps, hooks, materials
+from . import bake, gaps, hooks, materials, units
 # By data type, as Cycles' sync (blender_camera.cpp, blender_mesh.cpp, blender_light.cpp, ...).
-from .sync_camera import export_camera, resolution  # noqa: F401 (export.resolution: tests)
+from . import sync_camera
+from .sync_camera import export_camera
 from .sync_light import _light_data
 from .sync_mesh import _imported_mesh_arrays, mesh_arrays
 from .sync_state import _stored, object_state
-from .sync_world import export_environment
+from .sync_world import export_environment, export_world_medium
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
+resolution = sync_camera.resolution  # export.resolution (tests and callers)
 DEFAULT_MATERIAL_NAME = "facet_default"
 
 
@@ -305,8 +307,36 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     if env is not None:
         data["lights"].append(env)
     data["materials"] = mats.data()
+    # Media (FORMAT.md "media"): each volume material's, named as the material (its data's
+    # "interior"), and the world's Volume as the world medium.
+    media = {mats.by_name[n].data["interior"]: mats.by_name[n].medium for n in mats.order
+             if mats.by_name[n].medium}
+    world_medium, wname = export_world_medium(scene, problems), None
+    if world_medium is not None:
+        wname = scene.world.name
+    elif "facet_world_medium" in scene:  # imported from a JSON scene
+        stored = json.loads(scene["facet_world_medium"])
+        world_medium, wname = stored["medium"], stored["name"]
+    if world_medium is not None:
+        while wname in media:
+            wname += " (world)"
+        media[wname] = world_medium
+        data["world_medium"] = wname
+    if media:
+        data["media"] = media
+        if any(_scatters(m) for m in media.values()):
+            line = gaps.volume_bounce_line(scene)
+            if line is not None:
+                problems.append(line)
     data["render"] = export_render_settings(scene)
     return data, problems
+
+
+def _scatters(medium):
+    """Whether a medium dict (FORMAT.md "media", either parametrisation) scatters."""
+    if "density" in medium:
+        return medium["density"] > 0.0 and max(units.rgb3(medium.get("color", 0.5))) > 0.0
+    return max(units.rgb3(medium.get("sigma_s", 0.0))) > 0.0
 
 
 def _placed_mesh(arrays, obj, slots, uv_layer, mats, problems):

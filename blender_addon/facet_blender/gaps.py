@@ -34,6 +34,9 @@ UNKNOWN = "Facet does not convert this node yet"
 TEXTURE_HERE = ("a texture converts only straight into a colour input of Diffuse, Glossy, "
                 "Glass, Refraction, Emission or Principled Base Color")
 
+VOLUME_ON_SURFACE = ("a volume shader converts only on a Material or World Output's Volume "
+                     "(a homogeneous medium)")
+
 NODES = {
     'ShaderNodeTexImage': TEXTURE_HERE,
     'ShaderNodeTexChecker': TEXTURE_HERE,
@@ -53,9 +56,11 @@ NODES = {
     'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
     'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
     'ShaderNodeHoldout': "holdout is not in Facet's core",
-    'ShaderNodeVolumeAbsorption': "volumes are not in Facet's core",
-    'ShaderNodeVolumeScatter': "volumes are not in Facet's core",
-    'ShaderNodeVolumePrincipled': "volumes are not in Facet's core",
+    # Converted on a Volume output (materials.NodeContext.volume); on a Surface nothing
+    # converts them.
+    'ShaderNodeVolumeAbsorption': VOLUME_ON_SURFACE,
+    'ShaderNodeVolumeScatter': VOLUME_ON_SURFACE,
+    'ShaderNodeVolumePrincipled': VOLUME_ON_SURFACE,
     'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
     'ShaderNodeMapping': "Mapping converts only between a UV map and a texture",
     'ShaderNodeTexCoord': "Texture Coordinate converts only as a texture's UV (or the "
@@ -78,6 +83,9 @@ INPUTS = {
                                                       "Color) is used"),
     ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
                                                      "ignored"),
+    ('ShaderNodeVolumePrincipled', 'Blackbody Intensity'): (
+        0.0, "blackbody emission (Temperature, Blackbody Tint) is not converted; the medium "
+             "emits only Emission Strength x Emission Color"),
 }
 
 RADIUS_NOTE = ("converted to a sphere of uniform radiance and the same power (Cycles 4, pbrt); "
@@ -120,6 +128,28 @@ def node_reason(node):
             'ShaderNodeEeveeSpecular'):
         return "this shader is not in Facet's core"
     return None
+
+
+def volume_bounce_line(scene):
+    """A line when the scene's media scatter and Cycles' Volume bounces are at their factory 0
+    (single scattering in Cycles) while Facet's Max Bounces - 1 is not 0 (Facet counts a
+    scattering event as a bounce: max_depth 1 is single scattering); other values are the
+    SETTINGS row's. None otherwise."""
+    c = getattr(scene, "cycles", None)
+    if c is None or getattr(c, "volume_bounces", None) != 0 or _facet_bounces(scene, 0):
+        return None
+    return ("render: Light Paths > Max Bounces > Volume = 0: Cycles scatters once in a volume "
+            "(single scattering); Facet's Max Bounces (%d) applies to media"
+            % scene.facet.max_depth)
+
+
+def volume_reason(node):
+    """Why a node feeding a Volume output gives no medium."""
+    idname = node.bl_idname
+    if idname.startswith(('ShaderNodeBsdf', 'ShaderNodeSubsurface', 'ShaderNodeHoldout')) or \
+            idname in ('ShaderNodeBackground', 'ShaderNodeEeveeSpecular'):
+        return "a surface shader on a Volume output (Cycles makes no volume of it)"
+    return node_reason(node) or UNKNOWN
 
 
 def light_gaps(light):
@@ -196,7 +226,8 @@ def summary(groups):
 OBJECT_TYPES = {
     'CURVES': "hair curves (Curves objects) are not in Facet's core yet; not rendered",
     'POINTCLOUD': "point clouds are not in Facet's core yet; not rendered",
-    'VOLUME': "volume objects (OpenVDB grids) are not in Facet's core yet; not rendered",
+    'VOLUME': "volume object: OpenVDB grids are not converted (not in Facet's core yet: it "
+              "has homogeneous media only); not rendered",
     # Blender draws grease pencil over any render engine's final result, Facet's as Cycles'
     # (source/blender/render/intern/engine.cc: DRW_render_gpencil after the engine's render).
     'GPENCIL': None,
@@ -210,7 +241,8 @@ PARTICLE_HAIR = ("particle hair is not in Facet's core yet; the strands are not 
                  "(the emitting mesh is)")
 
 MOTION_BLUR = "motion blur is not in Facet's core yet: rendered sharp at the current frame"
-VOLUME_STEPS = "only with volumes, which are reported"
+VOLUME_STEPS = ("only for volumes Cycles ray-marches (heterogeneous: grids, textured inputs, "
+                "which are reported); homogeneous media render alike in both")
 ONLY_MOTION = "only with Motion Blur, which is reported"
 ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
 ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"

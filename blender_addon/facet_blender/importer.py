@@ -219,6 +219,18 @@ def import_scene(context, data, collection=None, problems=None):
     if collection is None:
         scene.collection.children.link(coll)
     mats = {name: _material(name, m) for name, m in data.get("materials", [])}
+    # Media (FORMAT.md "media") travel with what names them: a material's interior medium on
+    # the material, the world medium on the scene (export.py exports them while unchanged).
+    media = data.get("media") or {}
+    for mat in mats.values():
+        interior = json.loads(mat["facet_material"]).get("interior")
+        if interior in media:
+            mat["facet_medium"] = _json(media[interior])
+    if data.get("world_medium") in media:
+        scene["facet_world_medium"] = _json({"name": data["world_medium"],
+                                             "medium": media[data["world_medium"]]})
+    elif "facet_world_medium" in scene:
+        del scene["facet_world_medium"]
 
     cam = data["camera"]
     r = scene.render

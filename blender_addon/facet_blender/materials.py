@@ -67,10 +67,22 @@ per material (they would fire on every default material).
   bumps move to the combination (the core applies a combination's own); different ones are
   reported and the first's kept.
 - Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
-  conversion does not read (Tangent, ...) and the Material Output's Volume
-  and Displacement are reported when something is linked to them. A Volume linked with
-  nothing on the Surface: a transparent surface (opacity 0), as Cycles renders it, the volume
-  named in the report.
+  conversion does not read (Tangent, ...) and the Material Output's Displacement are reported
+  when something is linked to them.
+- Volume output (NodeContext.volume) -> a homogeneous medium named as the material
+  (FORMAT.md "media"), units.py's conversions: Principled Volume (the core's cycles_volume of
+  Density, Color, Absorption Color; Anisotropy -> g; Emission Strength x Emission Color),
+  Volume Scatter (sigma_s = Density Color), Volume Absorption (sigma_a = Density (1 - Color)),
+  Emission (Color x Strength per unit length), Mix Shader (constant Fac: the sides' sigmas and
+  emissions weighted) and Add Shader (summed) of them. Nothing on the Surface: the `null`
+  model with the medium as its "interior" (Cycles renders the surface of a volume-only
+  material as an invisible boundary); a surface rays cross (crosses(): Glass, Principled
+  Transmission > 0, ...): that material with the "interior"; an opaque surface: the volume is
+  unreachable, in Cycles too, reported, the surface alone. Reported: textured inputs (the
+  input's value), Blackbody Intensity > 0, a Density / Color Attribute the mesh has, an Add of
+  scattering volumes of different Anisotropy (the first's), a surface shader on the Volume.
+  Density 0 and no emission: no medium (a transparent surface when nothing is on the
+  Surface).
 - No node tree: lambert with the viewport Diffuse Color.
 - Worlds (export.py) use the same NodeContext: Background = Color x Strength, as an Emission.
 """
@@ -97,6 +109,9 @@ class Converted:
         self.baked = False  # an input baked over the UVs of the object it was converted for
         self.tangents = False  # a normal map: the mesh needs the tangents of its UV map
         self.color_attributes = set()  # colour attributes read by Color Attribute nodes
+        # The medium inside (FORMAT.md "media": a homogeneous medium dict, named as the
+        # material in the scene's media and the data's "interior"), or None.
+        self.medium = None
 
     def emits(self):
         return is_texture(self.emission) or any(c > 0.0 for c in self.emission)
@@ -122,7 +137,10 @@ def convert(mat, obj=None):
             model, params = material_params(fs)
             data = {"model": model}
             data.update(params)
-        return Converted(data, list(fs.emission), fs.two_sided)
+        conv = Converted(data, list(fs.emission), fs.two_sided)
+        if "interior" in data and "facet_medium" in mat:  # imported with its medium
+            conv.medium = json.loads(mat["facet_medium"])
+        return conv
     two_sided = True if fs is None else fs.two_sided
     if not mat.use_nodes or mat.node_tree is None:
         return Converted({"model": "lambert", "reflectance": list(mat.diffuse_color)[:3]},
@@ -136,35 +154,46 @@ def convert(mat, obj=None):
         return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided, problems=ctx.problems)
     feeds = "the Material Output"
     src = ctx.walker.input(out, 'Surface')
+    vol = ctx.walker.input(out, 'Volume')
+    no_volume = isinstance(vol, nodegraph.Const) and vol.value is None
+    ctx.ignored_input(out, 'Displacement', (), feeds)
     if isinstance(src, nodegraph.Const) and src.value is None:
-        vol = ctx.walker.input(out, 'Volume')
-        if isinstance(vol, nodegraph.Const) and vol.value is None:
-            ctx.problems.append("material '%s': nothing connected to the output's Surface; "
-                                "using grey lambert" % mat.name)
-            ctx.ignored_input(out, 'Displacement', (), feeds)
+        if no_volume:
+            ctx.problems.append("material '%s': nothing connected to the output's Surface or "
+                                "Volume; using grey lambert" % mat.name)
             return Converted(dict(DEFAULT_MATERIAL), two_sided=two_sided,
                              problems=ctx.finish())
-        # A volume alone: Cycles' surface is then transparent (no surface closure), so Facet's
-        # is too (opacity 0); the volume itself is not rendered.
-        shown = (vol.label() if isinstance(vol, nodegraph.Out)
-                 else "a value linked into it (an emission volume)")
-        reason = (gaps.node_reason(vol.node) if isinstance(vol, nodegraph.Out) else None) \
-            or "volumes are not in Facet's core"
-        ctx.problems.append("material '%s': the output's Volume (%s) is not rendered by Facet "
-                            "(%s); nothing is connected to its Surface, so the surface is "
-                            "transparent, as in Cycles" % (mat.name, shown, reason))
-        ctx.ignored_input(out, 'Displacement', (), feeds)
-        return Converted(dict(DEFAULT_MATERIAL, opacity=0.0), two_sided=two_sided,
+        # A volume alone: Cycles' surface is then an invisible boundary (no surface closure),
+        # the core's `null` model with the medium as its interior (FORMAT.md "media").
+        medium = ctx.volume(vol, "the Material Output's Volume")
+        if medium is None:  # nothing to render inside (density 0, ...): a transparent surface
+            return Converted(dict(DEFAULT_MATERIAL, opacity=0.0), two_sided=two_sided,
+                             problems=ctx.finish())
+        conv = Converted({"model": "null", "interior": mat.name}, two_sided=two_sided,
                          problems=ctx.finish())
-    for name in ('Volume', 'Displacement'):
-        ctx.ignored_input(out, name, (), feeds)
+        conv.medium = medium
+        return conv
     data, emission = ctx.shader(src, "the Material Output's Surface")
     if is_transparent(data):
         notes = []
         data = resolve_transparent(data, notes)
         for note in notes:
             ctx.gap(src, note, "feeds the Material Output's Surface")
+    medium = None
+    if not no_volume:
+        if crosses(data):  # a glass of fog: the medium is the surface's interior
+            medium = ctx.volume(vol, "the Material Output's Volume")
+            if medium is not None:
+                data = dict(data, interior=mat.name)
+        else:  # rays never enter: Cycles renders no volume inside an opaque surface either
+            ctx.problems.append(
+                "material '%s': the output's Volume (%s) is not rendered: the Surface is "
+                "opaque (model '%s'), so no ray enters the volume, in Cycles as in Facet; "
+                "the surface is converted alone"
+                % (mat.name, vol.label() if isinstance(vol, nodegraph.Out) else "a value",
+                   data.get("model")))
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
+    conv.medium = medium
     conv.baked = ctx.baked
     conv.tangents = ctx.tangents
     conv.color_attributes = ctx.color_attributes
@@ -356,6 +385,81 @@ class NodeContext:
         self.gap(src, gaps.node_reason(node) or gaps.UNKNOWN,
                  "feeds %s; using grey lambert" % feeds)
         return dict(DEFAULT_MATERIAL), None
+
+    # --- volumes: the Material Output's (or the World Output's) Volume -> a medium ---------
+
+    def volume(self, src, feeds):
+        """A Volume socket's value -> the core's homogeneous medium (FORMAT.md "media":
+        sigma_a, sigma_s per scene unit, g, emission), or None when nothing is there to render
+        (no closure, density 0 and no emission). Constant inputs convert exactly (units.py,
+        through the core's cycles_volume); textured inputs, blackbody emission and anything
+        else are reported by material, node and input, with what was used."""
+        part = self._volume_part(src, feeds)
+        if part is None:
+            return None
+        sa, ss, g, em = part
+        if not any(c > 0.0 for c in sa + ss + em):
+            return None
+        medium = {"kind": "homogeneous", "sigma_a": sa, "sigma_s": ss}
+        if g is not None and g != 0.0 and any(c > 0.0 for c in ss):
+            medium["g"] = g
+        if any(c != 0.0 for c in em):
+            medium["emission"] = em
+        return medium
+
+    def _volume_part(self, src, feeds):
+        """(sigma_a, sigma_s, g or None, emission) of a Volume socket's value, or None."""
+        zero = [0.0, 0.0, 0.0]
+        if isinstance(src, nodegraph.Const):
+            if isinstance(src.value, tuple) and src.value and src.value[0] == "EMISSION":
+                # A colour or value linked into a shader socket: Cycles' Emission, here a
+                # volume emission (radiance per unit length).
+                return zero, zero, None, units.emission_from_blender(src.value[1],
+                                                                     src.value[2])
+            return None
+        node, path = src.node, src.path
+        if src.convs:  # a colour or value output into the socket: an emission
+            v, blockers = self.walker.fold(src)
+            if v is not None:
+                return zero, zero, None, units.emission_from_blender(v[1], v[2])
+            for b in blockers:
+                self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN,
+                         "feeds %s as an emission; no emission" % feeds)
+            return None
+        conv = _VOLUME_CONVERTERS.get(node.bl_idname)
+        if conv is not None:
+            part = conv(self, node, path)
+            self.check_inputs(node, path, _VOLUME_READS[node.bl_idname])
+            return part
+        label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+        ins = [s for s in node.inputs if s.type == 'SHADER']
+        if node.bl_idname == 'ShaderNodeMixShader':
+            # Cycles weights each side's closures by (1 - t, t), t = Fac clamped: densities
+            # and emissions scale, and a sum of homogeneous media is one (sigmas add).
+            t = self.value(node, 'Fac', path)  # a texture: reported, its own value used
+            t = min(max(float(t), 0.0), 1.0)
+            if t in (0.0, 1.0):
+                return self._volume_part(self.walker.input(node, ins[int(t)], path), label)
+            weights = (1.0 - t, t)
+        elif node.bl_idname == 'ShaderNodeAddShader':
+            weights = (1.0, 1.0)
+        else:
+            self.gap(src, gaps.volume_reason(node), "feeds %s; no medium from it" % feeds)
+            return None
+        parts = [(w, self._volume_part(self.walker.input(node, s, path), label))
+                 for w, s in zip(weights, ins)]
+        parts = [(w, p) for w, p in parts if p is not None]
+        if not parts:
+            return None
+        sa, ss, em = ([sum(w * p[i][c] for w, p in parts) for c in range(3)]
+                      for i in (0, 1, 3))
+        gs = [p[2] for _, p in parts if p[2] is not None and any(c > 0.0 for c in p[1])]
+        if any(g != gs[0] for g in gs):
+            self.gap(src, "the medium's Henyey-Greenstein phase has one anisotropy: a sum of "
+                     "scattering volumes of different Anisotropy (%s) is not one"
+                     % ", ".join(_fmt(g) for g in gs),
+                     "feeds %s; the first one's %s is used" % (feeds, _fmt(gs[0])))
+        return sa, ss, (gs[0] if gs else None), em
 
     def _mix_shader(self, src, feeds):
         """Cycles mixes with weights (1 - t, t), t = Fac clamped to [0, 1]: t = 0 or 1 is one
@@ -856,6 +960,102 @@ def _glass(ctx, node, path):
             elif dist == 'MULTI_GGX':
                 data["energy_compensation"] = True
     return data, None
+
+
+# --- volume shaders -> (sigma_a, sigma_s, g, emission) (NodeContext.volume) ----------------
+
+# Cycles' Henyey-Greenstein anisotropy (volume_henyey_greenstein_setup clamps |g| to 1 - 1e-3,
+# the core's range).
+_G_MAX = 0.999
+
+
+def _anisotropy(ctx, node, path):
+    return min(max(float(ctx.value(node, 'Anisotropy', path)), -_G_MAX), _G_MAX)
+
+
+def _principled_volume(ctx, node, path):
+    """Cycles' Principled Volume: the core's cycles_volume of Density, Color, Absorption Color;
+    g = Anisotropy; emission = Emission Strength x Emission Color (not scaled by the density,
+    as in Cycles; nothing for a Strength <= 0). Blackbody Intensity > 0 is reported
+    (gaps.INPUTS); a Density or Color Attribute naming an attribute of the mesh is reported
+    (Cycles multiplies by it; a mesh without it leaves the input as it is, as here)."""
+    density = ctx.value(node, 'Density', path)
+    color = ctx.value(node, 'Color', path)
+    absorption = ctx.value(node, 'Absorption Color', path)
+    sa, ss = units.principled_volume_from_blender(density, color, absorption)
+    strength = float(ctx.value(node, 'Emission Strength', path))
+    em = units.emission_from_blender(ctx.value(node, 'Emission Color', path), strength) \
+        if strength > 0.0 else [0.0, 0.0, 0.0]
+    attrs = getattr(getattr(ctx.obj, "data", None), "attributes", None)
+    for name in ('Density Attribute', 'Color Attribute'):
+        sock = next((s for s in node.inputs if s.name == name), None)
+        want = getattr(sock, "default_value", "") if sock is not None else ""
+        if want and attrs is not None and want in attrs:
+            ctx.problems.append("%s: %s '%s' input '%s' = '%s': the mesh's attribute is not "
+                                "read (Facet's media are homogeneous); the constant is used"
+                                % (ctx.what, nodegraph.node_type_label(node), node.name, name,
+                                   want))
+    return sa, ss, _anisotropy(ctx, node, path), em
+
+
+def _volume_scatter(ctx, node, path):
+    """Cycles' Volume Scatter: sigma_s = Density x Color, no absorption; g = Anisotropy."""
+    sa, ss = units.volume_scatter_from_blender(ctx.value(node, 'Density', path),
+                                               ctx.value(node, 'Color', path))
+    return sa, ss, _anisotropy(ctx, node, path), [0.0, 0.0, 0.0]
+
+
+def _volume_absorption(ctx, node, path):
+    """Cycles' Volume Absorption: sigma_a = Density x (1 - Color)."""
+    sa = units.volume_absorption_from_blender(ctx.value(node, 'Density', path),
+                                              ctx.value(node, 'Color', path))
+    return sa, [0.0, 0.0, 0.0], None, [0.0, 0.0, 0.0]
+
+
+def _volume_emission(ctx, node, path):
+    """An Emission (or the world's Background) on a Volume output: emission = Color x Strength
+    per unit length, Cycles' volume emission."""
+    strength = float(ctx.value(node, 'Strength', path))
+    z = [0.0, 0.0, 0.0]
+    return z, z, None, units.emission_from_blender(ctx.value(node, 'Color', path), strength)
+
+
+_VOLUME_CONVERTERS = {
+    'ShaderNodeVolumePrincipled': _principled_volume,
+    'ShaderNodeVolumeScatter': _volume_scatter,
+    'ShaderNodeVolumeAbsorption': _volume_absorption,
+    'ShaderNodeEmission': _volume_emission,
+}
+_VOLUME_READS = {
+    # Blackbody Tint and Temperature act only with Blackbody Intensity > 0 (reported); the
+    # attribute names are checked by _principled_volume.
+    'ShaderNodeVolumePrincipled': ('Color', 'Density', 'Anisotropy', 'Absorption Color',
+                                   'Emission Strength', 'Emission Color', 'Blackbody Tint',
+                                   'Temperature', 'Color Attribute', 'Density Attribute',
+                                   'Temperature Attribute'),
+    'ShaderNodeVolumeScatter': ('Color', 'Density', 'Anisotropy'),
+    'ShaderNodeVolumeAbsorption': ('Color', 'Density'),
+    'ShaderNodeEmission': ('Color', 'Strength'),
+}
+
+# Models rays cross (the core's transmissive models, FORMAT.md "media"): only these bound a
+# medium; a combination does when a child does.
+_CROSSED_MODELS = ("dielectric", "thin_dielectric", "translucent", "null")
+
+
+def crosses(data):
+    """Whether rays cross a converted surface (so a volume behind it is reachable): a
+    transmissive model, a principled with Transmission > 0 (or textured), or a mix / add with
+    such a child."""
+    model = data.get("model")
+    if model in _CROSSED_MODELS:
+        return True
+    if model == "principled":
+        t = data.get("transmission", 0.0)
+        return is_texture(t) or t > 0.0
+    if model in ("mix", "add"):
+        return any(isinstance(c, dict) and crosses(c) for c in data.get("materials", ()))
+    return False
 
 
 # bl_idname -> conversion(ctx, node, path) -> (data, emission or None); _READS: the inputs it

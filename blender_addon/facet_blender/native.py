@@ -76,6 +76,14 @@ def cycles_spot_intensity(power, outer_deg, blend):
     return list(facet.cycles_spot_intensity(power, outer_deg, blend))
 
 
+def cycles_volume(density, color, absorption_color):
+    """(sigma_a, sigma_s) ([r, g, b] each, per scene unit) of Cycles' Principled Volume
+    (medium.h: cycles_volume)."""
+    sa, ss = facet.cycles_volume(float(density), [float(c) for c in color],
+                                 [float(c) for c in absorption_color])
+    return [float(c) for c in sa], [float(c) for c in ss]
+
+
 # --- scene data <-> SceneDescription --------------------------------------------------------
 
 _SHAPE_KEYS = {
@@ -231,6 +239,13 @@ def to_description(data):
                 setattr(ld, k, lt[k])
         lights.append(ld)
     d.lights = lights
+    media = data.get("media") or {}
+    if media:
+        d.media = {name: facet.MediumDesc(m["kind"], **{k: v for k, v in m.items()
+                                                         if k != "kind"})
+                   for name, m in media.items()}
+    if data.get("world_medium"):
+        d.world_medium = data["world_medium"]
     r = d.render
     rs = data.get("render", {})
     if "integrator" in rs:
@@ -332,6 +347,10 @@ def from_description(d):
         if kind == "environment" and lt.get("file"):
             lt["file"] = os.path.join(d.base_dir, lt["file"])  # as the meshes' files
         data["lights"].append(lt)
+    if d.media:
+        data["media"] = {name: _medium_data(m) for name, m in d.media.items()}
+    if d.world_medium:
+        data["world_medium"] = d.world_medium
     r = d.render
     data["render"] = {"integrator": r.integrator, "spp": int(r.spp),
                       "time_budget": float(r.time_budget_s), "max_depth": int(r.max_depth),
@@ -340,6 +359,20 @@ def from_description(d):
         data["render"]["adaptive_threshold"] = float(r.adaptive_threshold)
         data["render"]["adaptive_min_samples"] = int(r.adaptive_min_samples)
     return data
+
+
+# The keys of the homogeneous medium (FORMAT.md "media"), as the JSON writer names them.
+_MEDIUM_KEYS = ("sigma_a", "sigma_s", "g", "emission", "density", "color", "absorption_color")
+
+
+def _medium_data(m):
+    """facet.MediumDesc -> a medium dict of the scene format (the fields that are set)."""
+    out = {"kind": str(m.kind).split(".")[-1].lower()}
+    for k in _MEDIUM_KEYS:
+        v = getattr(m, k, None)
+        if v is not None:
+            out[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+    return out
 
 
 def _texture_values(raw, base_dir):

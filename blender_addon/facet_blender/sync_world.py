@@ -116,7 +116,26 @@ def _world_radiance(world, problems):
     out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
     if out is None:
         return None
-    ctx.ignored_input(out, 'Volume', (), "the World Output")
     _, rad = ctx.shader(ctx.walker.input(out, 'Surface'), "the World Output's Surface")
     problems.extend(ctx.finish())
     return rad
+
+
+def export_world_medium(scene, problems):
+    """The World Output's Volume -> the world medium (FORMAT.md "media", "world_medium"): the
+    same conversion as a material's Volume (materials.NodeContext.volume), or None. Inside it,
+    as in Cycles, the environment is not seen where the medium's extinction is > 0 (an infinite
+    ray's transmittance is 0) and sun lamps do not reach in."""
+    world = scene.world
+    if world is None or not world.use_nodes or world.node_tree is None:
+        return None
+    out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
+    if out is None:
+        return None
+    ctx = materials.NodeContext("world", world.name, world.node_tree)
+    vol = ctx.walker.input(out, 'Volume')
+    medium = None
+    if not (isinstance(vol, nodegraph.Const) and vol.value is None):
+        medium = ctx.volume(vol, "the World Output's Volume")
+    problems.extend(ctx.finish())
+    return medium

@@ -124,6 +124,33 @@ def emission_from_blender(color, strength):
     return [float(c) * float(strength) for c in color[:3]]
 
 
+# --- media (volumes) ------------------------------------------------------------------------
+# Density is per unit length: Blender's scene unit is the core's (the exporter writes Blender's
+# coordinates as they are), so sigma = density per Blender unit with no scale factor. The
+# coefficients are the core's conversion (medium.h: cycles_volume) or FORMAT.md's documented
+# JSON form; these functions only choose which.
+
+
+def principled_volume_from_blender(density, color, absorption_color):
+    """Cycles' Principled Volume (Density clamped at 0 as Cycles does, Color, Absorption Color)
+    -> (sigma_a, sigma_s) per scene unit: the core's cycles_volume."""
+    return native.cycles_volume(max(float(density), 0.0), color[:3], absorption_color[:3])
+
+
+def volume_scatter_from_blender(density, color):
+    """Cycles' Volume Scatter (Color, Density) -> (sigma_a, sigma_s): Cycles' extinction is
+    Color x Density, all of it scattering (svm_node_closure_volume), which is cycles_volume with
+    absorption_color 1 (its absorption term is then 0)."""
+    return principled_volume_from_blender(density, color, (1.0, 1.0, 1.0))
+
+
+def volume_absorption_from_blender(density, color):
+    """Cycles' Volume Absorption (Color, Density) -> sigma_a = Density x (1 - Color), Color
+    clamped to [0, 1] (FORMAT.md "Cycles' parameters"; svm_node_closure_volume)."""
+    d = max(float(density), 0.0)
+    return [d * (1.0 - min(max(float(c), 0.0), 1.0)) for c in color[:3]]
+
+
 def rgb3(v):
     """A colour of the scene format (a number or [r, g, b]) as [r, g, b]."""
     return [float(v)] * 3 if isinstance(v, (int, float)) else [float(c) for c in v]
