@@ -221,7 +221,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             if stored is not None:
                 data["lights"].append(stored)
                 continue
-            light = _light_data(obj, matrix, problems)
+            light = _light_data(obj, matrix, problems, scene.facet.lamp_model)
             if light is not None:
                 data["lights"].append(light)
             continue

@@ -88,18 +88,22 @@ INPUTS = {
              "emits only Emission Strength x Emission Color"),
 }
 
-RADIUS_NOTE = ("converted to a sphere of uniform radiance and the same power (Cycles 4, pbrt); "
-               "Cycles 3.4 renders a disc facing each shaded point instead, d^2/(d^2+R^2) as "
-               "bright at distance d (measured 0.7995 at d = 2R)")
-SUN_ANGLE_NOTE = ("converted to a cone of uniform radiance with the irradiance kept; Cycles 3.4's "
-                  "sun loses irradiance as the angle grows (measured x0.983 at 30 deg, x0.829 "
-                  "at 90 deg)")
+# With Lamp Model "Physical" (Scene.facet.lamp_model); with "Cycles 3.4", the default, both are
+# converted exactly to the core's Cycles 3.4 models (radius_model, angle_model: no line).
+RADIUS_NOTE = ("converted to a sphere of uniform radiance and the same power (Lamp Model "
+               "Physical: Cycles 4, pbrt); Cycles 3.4 renders a disc facing each shaded point "
+               "instead, d^2/(d^2+R^2) as bright at distance d (Lamp Model Cycles 3.4)")
+SUN_ANGLE_NOTE = ("converted to a cone of uniform radiance with the irradiance kept (Lamp Model "
+                  "Physical); Cycles 3.4's sun loses irradiance as the angle grows (x0.982 at "
+                  "30 deg, x0.828 at 90 deg; Lamp Model Cycles 3.4)")
+# The settings Lamp Model "Cycles 3.4" converts exactly.
+LAMP_MODEL_ATTRS = ("shadow_soft_size", "angle")
 # (attribute path, Blender's UI label, the value converted exactly, shown in degrees, what
 # Facet does otherwise); Cycles' own light settings are under light.cycles.
 LIGHTS = {
-    # Radius (point, spot) and the Sun's Angle are converted (export.py, _light_data) to the
-    # core's sphere light and sun cone; Cycles 3.4's own models of them differ, measured
-    # (docs/blender.md), so a non-zero value is reported with the difference.
+    # Radius (point, spot) and the Sun's Angle are converted (sync_light.py, _light_data) to
+    # the core's Cycles 3.4 models; with Lamp Model "Physical" to the sphere light and the sun
+    # cone, which differ from Cycles 3.4 (docs/blender.md): a non-zero value is then reported.
     'POINT': (("shadow_soft_size", "Radius", 0.0, False, RADIUS_NOTE),),
     'SPOT': (("shadow_soft_size", "Radius", 0.0, False, RADIUS_NOTE),),
     'SUN': (("angle", "Angle", 0.0, True, SUN_ANGLE_NOTE),),
@@ -152,11 +156,13 @@ def volume_reason(node):
     return node_reason(node) or UNKNOWN
 
 
-def light_gaps(light):
+def light_gaps(light, lamp_model="cycles34"):
     """[(Blender's label, the value as shown, what Facet does)] for a Blender light's settings
-    that are not converted exactly."""
+    that are not converted exactly (Radius and Angle only with lamp_model "physical")."""
     out = []
     for attr, label, exact, degrees, what in LIGHTS.get(light.type, ()) + LIGHTS_ALL:
+        if lamp_model == "cycles34" and attr in LAMP_MODEL_ATTRS:
+            continue
         obj = light
         for part in attr.split(".")[:-1]:
             obj = getattr(obj, part, None)

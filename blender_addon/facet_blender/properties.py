@@ -41,6 +41,18 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                                   "power"),
                ("uniform", "Uniform", "choose every light equally often, as Cycles 3.4 does "
                                       "for lamps")])
+    # What a lamp's Radius (point, spot) and the Sun's Angle become (sync_light.py): Cycles 3.4's
+    # models, the default (Blender 3.4 renders them), or the physical ones (Cycles 4's sphere
+    # lamp; a sun cone of uniform radiance keeping the irradiance), reported per lamp
+    # (gaps.light_gaps; docs/blender.md).
+    lamp_model: EnumProperty(
+        name="Lamp Model", default="cycles34",
+        items=[("cycles34", "Cycles 3.4", "a point or spot lamp's Radius is a disc facing each "
+                                          "shaded point and the Sun's Angle darkens the sun, as "
+                                          "Blender 3.4's Cycles renders them"),
+               ("physical", "Physical", "a point or spot lamp's Radius is a sphere of uniform "
+                                        "radiance (Cycles 4) and the Sun's Angle a cone of "
+                                        "uniform radiance with the irradiance kept")])
     seed: IntProperty(name="Seed", default=0, min=0, description="sampler seed")
     denoise: BoolProperty(name="Denoise", default=False,
                           description="denoise the final render (feature-guided, no trained "

@@ -9,20 +9,27 @@ from . import gaps, units
 AREA_SHAPES = {'SQUARE': "square", 'RECTANGLE': "rectangle", 'DISK': "disc", 'ELLIPSE': "ellipse"}
 
 
-def _light_data(obj, matrix, problems):
-    """A Blender lamp -> one light of the scene format (None: not supported, reported)."""
+def _light_data(obj, matrix, problems, lamp_model="cycles34"):
+    """A Blender lamp -> one light of the scene format (None: not supported, reported).
+    `lamp_model` (Scene.facet.lamp_model): "cycles34" gives a Radius and a Sun's Angle Cycles
+    3.4's models, "physical" the sphere lamp and the uniform sun cone."""
     lt = obj.data
-    for label, value, what in gaps.light_gaps(lt):
+    cycles34 = lamp_model == "cycles34"
+    for label, value, what in gaps.light_gaps(lt, lamp_model):
         problems.append("light '%s': %s light %s = %s: %s" % (obj.name, lt.type.lower(), label,
                                                              value, what))
     m = matrix
     pos = [m[i][3] for i in range(3)]
     axis = [-m[i][2] for i in range(3)]  # Blender lights point along local -Z
-    # Sizes as Cycles 3.4 defines them: a point or spot lamp's Radius is the radius of a sphere
-    # of uniform radiance with the lamp's power (Facet's "radius"), the Sun's Angle its full
-    # angular diameter (Facet's "angle", degrees) with the irradiance unchanged.
+    # Sizes as Cycles 3.4 defines them: a point or spot lamp's Radius is the radius of a disc
+    # centred on the lamp facing each shaded point, of radiance P / (4 pi) / (pi R^2) (Facet's
+    # "radius" with "radius_model": "cycles34_disc"; "physical": the sphere of that radiance),
+    # the Sun's Angle its full angular diameter (Facet's "angle", degrees) with Cycles 3.4's
+    # sampling ("angle_model": "cycles34"; "physical": the cone keeping the irradiance).
     size = {"radius": float(lt.shadow_soft_size)} if lt.type in ('POINT', 'SPOT') and \
         lt.shadow_soft_size > 0.0 else {}
+    if size and cycles34:
+        size["radius_model"] = "cycles34_disc"
     if lt.type == 'POINT':
         return {"type": "point", "position": pos, **size,
                  "power": units.point_power_from_blender(lt.color, lt.energy)}
@@ -36,6 +43,8 @@ def _light_data(obj, matrix, problems):
                                                               lt.spot_blend)}
     if lt.type == 'SUN':
         sun = {"angle": math.degrees(lt.angle)} if lt.angle > 0.0 else {}
+        if sun and cycles34:
+            sun["angle_model"] = "cycles34"
         return {"type": "directional", "direction": axis, **sun,
                  "irradiance": units.sun_irradiance_from_blender(lt.color, lt.energy)}
     if lt.type == 'AREA':

@@ -83,6 +83,7 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         sub.prop(fs, "adaptive_min_samples")
         lay.prop(fs, "max_depth")
         lay.prop(fs, "light_selection")
+        lay.prop(fs, "lamp_model")
         lay.prop(fs, "denoise")
         row = lay.row(align=True)
         row.prop(fs, "seed")

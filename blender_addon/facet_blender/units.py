@@ -7,8 +7,10 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
 
 - point light of Power P: intensity I = P / (4 pi) W/sr in every direction (Cycles divides by
   4 pi, then by the area pi r^2 of its emitting disc). A Facet point light of power Phi has
-  I = Phi / (4 pi), so Phi = P. Cycles' radius (soft shadows) has no Facet equivalent: Facet's
-  point light is the r -> 0 limit, which has the same intensity.
+  I = Phi / (4 pi), so Phi = P. A Radius R keeps P: Cycles 3.4 spreads I over a disc of radius
+  R facing the shaded point (radiance P / (4 pi) / (pi R^2)), which the core's
+  "radius_model": "cycles34_disc" is (sync_light.py chooses it; the sphere of the same
+  radiance with Lamp Model Physical).
 - spot light: Cycles gives the cone the point light's intensity P / (4 pi) (no normalisation by
   the cone's solid angle) times cos(angle from the axis) -- measured by render in
   tests/blender/test_cycles_lights.py: Cycles / (P / (4 pi)) = cos to 1e-3 across the cone --
@@ -21,8 +23,10 @@ intern/cycles/scene/light.cpp and blender/light.cpp):
   The cone integrals (Facet's power for an on-axis intensity, linear or Cycles' fall-off) are
   the core's alone (light_units.h: spot_intensity, cycles_spot_intensity), called through the
   native module; this file only inverts them (they are linear in the power).
-- sun of Strength S: irradiance S W/m^2 on a surface facing it (Cycles' sun angle, for soft
-  shadows, is ignored).
+- sun of Strength S: irradiance S W/m^2 on a surface facing it when its Angle is 0. With an
+  Angle the same S is Cycles 3.4's strength (every light sample carries S: the core's
+  "angle_model": "cycles34", whose facing surface receives S 2 (sqrt(1 + T^2) - 1) / T^2,
+  T = tan(Angle / 2)); with Lamp Model Physical, the irradiance of a uniform cone.
 - area light of Power P: Facet's "area" lamp takes the same P; its radiance L = P / (4 A)
   (Cycles' eval_fac = 0.25 / area; A = size_x size_y, pi/4 of that for round lights) is the
   core's conversion alone (light_units.h: area_lamp_area, area_lamp_radiance), one-sided,

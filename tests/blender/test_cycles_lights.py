@@ -11,8 +11,8 @@ point p is rho/pi E(p), the irradiance E (Cycles' units, units.py):
   cone, 0 outside (measured: the ratio to P/(4 pi) is cos to 1e-3 in every ring); the addon
   exports Blender's form of Facet's spot (outer_angle + spot_blend), which has the same
   fall-off, so both are checked against it;
-- point of Power P and Radius R (Facet's sphere light): Facet's E is the point light's (a
-  sphere wholly above the horizon), Cycles 3.4's E d^2 / (d^2 + R^2) (a disc facing the point);
+- point of Power P and Radius R: Cycles 3.4's disc facing the point, E d^2 / (d^2 + R^2), in
+  both (the addon's default Lamp Model, Facet's "radius_model": "cycles34_disc");
 - sun of Strength S tilted 30 degrees: E = S cos 30;
 - square area light of Power P and size a: radiance L = P / (4 a^2) one-sided, E = pi L F with
   F the form factor of a differential area to a parallel rectangle (corner decomposition);
@@ -181,19 +181,16 @@ def main():
     E = P / (4 * math.pi) * h / r2 ** 1.5
     run_case("point", scene, (RHO / math.pi * E).mean(axis=2), 16, out)
 
-    # point light of radius 0.5 (a sphere light in Facet): a sphere of uniform radiance wholly
-    # above the plane's horizon gives exactly the point light's E; Cycles 3.4 renders the lamp
-    # as a disc of radius R facing each shaded point, a circular cone too, so its E is exactly
-    # E d^2 / (d^2 + R^2) (measured 0.7995 against 0.8000 at d = 2R; Cycles 4 has spheres).
-    # Each renderer against its own model, and Facet - Cycles against the models' difference.
+    # point light of radius 0.5: Cycles 3.4 renders the lamp as a disc of radius R facing each
+    # shaded point, a circular cone, so its E is exactly E d^2 / (d^2 + R^2) (measured 0.7995
+    # against 0.8000 at d = 2R; Cycles 4 has spheres); the addon's default Lamp Model gives
+    # Facet the same disc (test_cycles34_lamps.py: the Physical model's sphere).
     scene = base_scene()
     Rs = 0.5
     add_light(scene, 'POINT', P, (lx, ly, h), shadow_soft_size=Rs)
     r2 = (x - lx) ** 2 + (y - ly) ** 2 + h * h
     E = P / (4 * math.pi) * h / r2 ** 1.5
-    run_case("sphere", scene, {'FACET': (RHO / math.pi * E).mean(axis=2),
-                               'CYCLES': (RHO / math.pi * E * r2 / (r2 + Rs * Rs)).mean(axis=2)},
-             64, out)
+    run_case("disc", scene, (RHO / math.pi * E * r2 / (r2 + Rs * Rs)).mean(axis=2), 64, out)
 
     # spot light, half-angle 40 degrees, blend 0
     scene = base_scene()

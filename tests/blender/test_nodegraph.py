@@ -342,7 +342,19 @@ def scene_reports():
         scene.collection.objects.link(ob)
     bpy.data.lights["spot"].cycles.cast_shadow = False
     bpy.context.view_layer.update()
+    # The default Lamp Model (Cycles 3.4) converts Radius and Angle exactly: no line, the
+    # core's Cycles 3.4 models named.
     data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    bt.check(not any("Radius" in p or "Angle" in p for p in problems),
+             "Cycles 3.4 lamp models: Radius and Angle are not reported: %s" % problems)
+    models = sorted((lt["type"], lt.get("radius_model", lt.get("angle_model")))
+                    for lt in data["lights"] if lt["type"] in ("point", "directional"))
+    bt.check(models == [("directional", "cycles34"), ("point", "cycles34_disc")],
+             "the lamps name the Cycles 3.4 models: %s" % models)
+    # Lamp Model Physical: the sphere and the uniform cone, each reported.
+    scene.facet.lamp_model = "physical"
+    data, problems = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    scene.facet.lamp_model = "cycles34"
     for who, what in (("light 'Light'", "Radius = 0.1: converted to a sphere"),
                       ("light 'sun'", "Angle = 5.73 deg: converted to a cone"),
                       ("light 'spot'", "Cast Shadow = False"),

@@ -196,12 +196,38 @@ class LightBuild : public BuildChecks {
         return float(check_range(*light.radius, ptr + "/radius", 0.0,
                                  double(std::numeric_limits<float>::max()), ">= 0"));
     }
+    // A point or spot light's "radius_model" (kLightRadiusModelField): sphere if absent.
+    RadiusModel radius_model() const {
+        const std::string& m = light.radius_model;
+        if (m.empty() || m == "sphere") return RadiusModel::Sphere;
+        if (m != "cycles34_disc")
+            fail(ptr + "/radius_model",
+                 "unknown radius model '" + m + "' (expected sphere or cycles34_disc)");
+        return RadiusModel::Cycles34Disc;
+    }
+    // A directional light's "angle_model": uniform if absent.
+    SunAngleModel angle_model() const {
+        const std::string& m = light.angle_model;
+        if (m.empty() || m == "uniform") return SunAngleModel::Uniform;
+        if (m != "cycles34")
+            fail(ptr + "/angle_model",
+                 "unknown angle model '" + m + "' (expected uniform or cycles34)");
+        return SunAngleModel::Cycles34;
+    }
 };
 
 // The "radius" key of the point and spot kinds (the sphere light, light.h).
 inline const Field<LightDesc> kLightRadiusField = {
     "radius", FieldType::Number,
     false,    &LightDesc::radius,
-    "0",      "radius of the emitting sphere in scene units, >= 0 (0: a point)"};
+    "0",      "radius of the emitting sphere (or disc, see radius_model) in scene units, >= 0 "
+              "(0: a point)"};
+
+// The "radius_model" key of the point and spot kinds (RadiusModel, lights/point.h).
+inline const Field<LightDesc> kLightRadiusModelField = {
+    "radius_model", FieldType::Text, false, &LightDesc::radius_model, "sphere",
+    "what a light with a radius is: `sphere` (a sphere of uniform radiance, Cycles 4) or "
+    "`cycles34_disc` (Blender 3.4's Cycles: a disc of the radius centred on the light, facing "
+    "each lit point; on-axis irradiance I₀ / (d² + R²))"};
 
 }  // namespace facet::render

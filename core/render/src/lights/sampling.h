@@ -68,9 +68,10 @@ inline Vec3 sphere_sample_error(const Vec3& p, const Vec3& c, float r) {
 // relative to I0 toward the receiver (wi from the receiver to the light), or nullptr for the
 // isotropic point light.
 
-// Sets the sphere's radiance for radius r: L = I0 / (pi r^2). Zero when r is so small that L
+// Sets the sphere's (or disc's) radiance for radius r: L = I0 / (pi r^2). Zero when r is so small that L
 // overflows a float: the light stays a point. Returns whether the light is a sphere (not delta).
-inline bool set_emitter_radius(PointEmitter& e, float r) {
+inline bool set_emitter_radius(PointEmitter& e, float r, RadiusModel model) {
+    e.disc = model == RadiusModel::Cycles34Disc;
     const glm::dvec3 l = glm::dvec3(e.intensity) / (kPiD * double(r) * double(r));
     const Rgb lf(l);
     e.size_radiance = r > 0.f && is_finite(lf) ? lf : Rgb(0.f);
@@ -146,6 +147,42 @@ std::optional<LightLiSample> sample_emitter_sphere(const PointEmitter& e,
         const float f = falloff(s.wi);
         if (f == 0.f) return std::nullopt;
         s.li *= f;
+    }
+    if (!(s.pdf > 0.f) || !std::isfinite(s.pdf) || !(s.dist > 0.f)) return std::nullopt;
+    return s;
+}
+
+// Cycles 3.4's point lamp with a radius (RadiusModel::Cycles34Disc, lights/point.cpp): the disc
+// of radius r centred on the light whose normal n points to ctx.p, at distance d, sampled
+// uniformly over its area (concentric map, density 1 / (pi r^2)). In solid angle about ctx.p
+// the density is t^2 / (cos_l pi r^2) with t the distance to the sampled point and cos_l =
+// n . (-wi) = d / t (ctx.p lies on n at distance d from the disc's plane): t^3 / (d pi r^2),
+// finite and > 0 for every d > 0. li = L (falloff along -wi for the spot).
+template <class Falloff>
+std::optional<LightLiSample> sample_emitter_disc(const PointEmitter& e,
+                                                 const LightSampleContext& ctx, Vec2 u,
+                                                 Falloff falloff) {
+    const glm::dvec3 p(ctx.p);
+    const glm::dvec3 c(e.position);
+    const glm::dvec3 from_c = p - c;
+    const double d = glm::length(from_c);
+    if (!(d > 0.0)) return std::nullopt;
+    const Vec2 q = sample_uniform_disk_concentric(u);
+    const Frame f = Frame::from_z(Vec3(from_c / d));
+    const double r = double(e.radius);
+    const glm::dvec3 x = c + r * (glm::dvec3(f.x) * double(q.x) + glm::dvec3(f.y) * double(q.y));
+    const glm::dvec3 v = x - p;
+    const double t = glm::length(v);
+    LightLiSample s;
+    s.wi = Vec3(v / t);
+    s.dist = float(t);
+    s.p_light = Vec3(x);  // not on traced geometry: no error box, no normal
+    s.pdf = float(t * t * t / (d * kPiD * r * r));
+    s.li = e.size_radiance;
+    if constexpr (!std::is_same_v<Falloff, std::nullptr_t>) {
+        const float fo = falloff(s.wi);
+        if (fo == 0.f) return std::nullopt;
+        s.li *= fo;
     }
     if (!(s.pdf > 0.f) || !std::isfinite(s.pdf) || !(s.dist > 0.f)) return std::nullopt;
     return s;

@@ -7,7 +7,10 @@
 // holds exactly (light_units.h, spot_intensity); Blender's form uses Cycles' fall-off instead
 // (cycles_spot_attenuation, cycles_spot_intensity). With a radius it is the point light's
 // sphere (lights/point.cpp) of on-axis radiance L = I0 / (pi r^2), whose radiance along w (from
-// the sphere toward the receiver) is L falloff(w . axis).
+// the sphere toward the receiver) is L falloff(w . axis). With "radius_model": "cycles34_disc" it
+// is the point light's Cycles 3.4 disc facing the lit point instead (lights/point.cpp), whose
+// radiance toward the lit point along w is likewise L falloff(w . axis) (Cycles 3.4 attenuates
+// each disc sample by the spot's fall-off along its own direction).
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
 #include "facet/render/light_units.h"
@@ -17,8 +20,8 @@ namespace facet::render {
 
 namespace {
 
-Light make_spot(SpotLight& l, const Vec3& position, float radius) {
-    const bool sphere = set_emitter_radius(l.e, radius);
+Light make_spot(SpotLight& l, const Vec3& position, float radius, RadiusModel model) {
+    const bool sphere = set_emitter_radius(l.e, radius, model);
     return Light::make(l, {.emission = l.e.power, .position = position, .delta = !sphere});
 }
 
@@ -44,13 +47,15 @@ void build(LightBuild& b) {
             b.fail(ptr + "/outer_angle",
                    "must be <= 90 degrees with spot_blend (Blender's "
                    "spot_size <= 180)");
-        b.add_light(Light::spot_blend(p, dir, phi, float(outer), float(blend), b.light_radius()));
+        b.add_light(Light::spot_blend(p, dir, phi, float(outer), float(blend), b.light_radius(),
+                                      b.radius_model()));
         return;
     }
     const double inner = l.inner_angle ? b.check_range(*l.inner_angle, ptr + "/inner_angle", 0.0,
                                                        outer, "in [0, outer_angle] degrees")
                                        : outer;
-    b.add_light(Light::spot(p, dir, phi, float(inner), float(outer), b.light_radius()));
+    b.add_light(
+        Light::spot(p, dir, phi, float(inner), float(outer), b.light_radius(), b.radius_model()));
 }
 
 void pov(PovLightOut& o) {
@@ -89,7 +94,10 @@ float SpotLight::falloff(float cos_theta) const {
 
 std::optional<LightLiSample> SpotLight::sample_li(const LightSampleContext& ctx, Vec2 u) const {
     const auto f = [this](const Vec3& wi) { return falloff(-glm::dot(wi, direction)); };
-    if (e.radius > 0.f) return sample_emitter_sphere(e, ctx, u, f);
+    if (e.radius > 0.f) {
+        if (e.disc) return sample_emitter_disc(e, ctx, u, f);
+        return sample_emitter_sphere(e, ctx, u, f);
+    }
     return sample_emitter_point(e, ctx, f);
 }
 
@@ -98,7 +106,8 @@ void SpotLight::note(SceneFeatures& f) {
 }
 
 Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
-                  float inner_half_angle_deg, float outer_half_angle_deg, float radius) {
+                  float inner_half_angle_deg, float outer_half_angle_deg, float radius,
+                  RadiusModel model) {
     SpotLight l;
     l.e.position = position;
     l.e.power = power;
@@ -108,11 +117,12 @@ Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
     // Phi = 2 pi I0 int_{cos_out}^{1} falloff(mu) dmu (light_units.h, shared with the exporters).
     l.e.intensity = Rgb(spot_intensity(glm::dvec3(power), double(inner_half_angle_deg),
                                        double(outer_half_angle_deg)));
-    return make_spot(l, position, radius);
+    return make_spot(l, position, radius, model);
 }
 
 Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
-                        float outer_half_angle_deg, float blend, float radius) {
+                        float outer_half_angle_deg, float blend, float radius,
+                        RadiusModel model) {
     SpotLight l;
     l.e.position = position;
     l.e.power = power;
@@ -122,7 +132,7 @@ Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& 
     l.smooth = float((1.0 - c) * double(blend));
     l.e.intensity =
         Rgb(cycles_spot_intensity(glm::dvec3(power), double(outer_half_angle_deg), double(blend)));
-    return make_spot(l, position, radius);
+    return make_spot(l, position, radius, model);
 }
 
 extern const LightKindDef kSpotLightKind{
@@ -151,7 +161,8 @@ extern const LightKindDef kSpotLightKind{
       "half-angle of the cone, degrees, in (0, 180)"},
      {"spot_blend", FieldType::Number, false, &LightDesc::spot_blend, "-",
       "Blender's spot_blend in [0, 1], instead of inner_angle (Blender's form, see above)"},
-     kLightRadiusField},
+     kLightRadiusField,
+     kLightRadiusModelField},
     {{"direction", "look_at"}},
     build,
     pov};

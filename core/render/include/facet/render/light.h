@@ -106,19 +106,25 @@ class Light {
     // Factories, one per type, each defined in its type's unit (see "Structure"). Arguments
     // are validated by the scene loader (finite, non-negative power, unit directions, 0 <=
     // inner <= outer < 180 degrees...), not here. `radius` > 0 makes a point or spot light a
-    // sphere of the same power (lights/point.cpp); 0 = a point.
-    static Light point(const Vec3& position, const Rgb& power, float radius = 0.f);
+    // sphere of the same power, or with RadiusModel::Cycles34Disc Cycles 3.4's disc facing the
+    // lit point (lights/point.cpp); 0 = a point.
+    static Light point(const Vec3& position, const Rgb& power, float radius = 0.f,
+                       RadiusModel model = RadiusModel::Sphere);
     // `direction` is the cone axis (unit, the way the light shines); angles are half-angles.
     static Light spot(const Vec3& position, const Vec3& direction, const Rgb& power,
-                      float inner_half_angle_deg, float outer_half_angle_deg, float radius = 0.f);
+                      float inner_half_angle_deg, float outer_half_angle_deg, float radius = 0.f,
+                      RadiusModel model = RadiusModel::Sphere);
     // A spot with Blender's (Cycles 3.4) fall-off: I(theta) = K g(cos theta) with
     // g = cycles_spot_attenuation (light_units.h) for the cone of half-angle outer (<= 90
     // degrees) and blend in [0, 1]; K set so that the total power is Phi (cycles_spot_intensity).
     static Light spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
-                            float outer_half_angle_deg, float blend, float radius = 0.f);
+                            float outer_half_angle_deg, float blend, float radius = 0.f,
+                            RadiusModel model = RadiusModel::Sphere);
     // `direction` is the way the light TRAVELS (unit); wi = -direction. `angle_deg` in [0, 180)
-    // is the full angular diameter of the light's disc of directions (Blender's sun angle).
-    static Light directional(const Vec3& direction, const Rgb& irradiance, float angle_deg = 0.f);
+    // is the full angular diameter of the light's disc of directions (Blender's sun angle);
+    // `model` what the sized sun is (lights/directional.cpp).
+    static Light directional(const Vec3& direction, const Rgb& irradiance, float angle_deg = 0.f,
+                             SunAngleModel model = SunAngleModel::Uniform);
     static Light environment(const Rgb& radiance);
     // Environment map (environment_map.h): le_escape looks the map up, sample_li and pdf_li use
     // its importance density; emission() is its mean radiance.

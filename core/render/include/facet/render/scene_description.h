@@ -173,6 +173,9 @@ struct LightDesc {
     Rgb irradiance{0.f};                // directional: W/m^2
     std::optional<double> radius;       // point, spot: sphere radius; none = 0 (a point)
     std::optional<double> angle;        // directional: full angular diameter, degrees; none = 0
+    // point, spot: "sphere" | "cycles34_disc"; directional: "uniform" | "cycles34" ("" = the
+    // first; lights/point.h RadiusModel, lights/directional.h SunAngleModel).
+    std::string radius_model, angle_model;
     // Area lamp: shape, size (x), size_y (rectangle, ellipse), up (its local +y); position,
     // direction | look_at (the way it emits, its local -z) and power as above.
     std::string shape = "square";

@@ -1,9 +1,17 @@
 // Light type "directional" (unit: core/render/src/lights/directional.cpp, math there).
 #pragma once
 
+#include <cstdint>
+
 #include "facet/render/light_sample.h"
 
 namespace facet::render {
+
+// What a directional light with an angle is (the kind's "angle_model", lights/directional.cpp).
+enum class SunAngleModel : std::uint8_t {
+    Uniform,   // "uniform": a cone of uniform radiance, E on a facing surface (the default)
+    Cycles34,  // "cycles34": Cycles 3.4's sun, darker on a facing surface as the angle grows
+};
 
 struct DirectionalLight {
     static constexpr std::string_view kName = "directional";
@@ -16,6 +24,10 @@ struct DirectionalLight {
     bool sized = false;
     Rgb size_radiance{0.f};
     double one_minus_cos = 0.0;
+    // Cycles 3.4's sun ("angle_model": "cycles34", lights/directional.cpp): directions through
+    // the disc of radius tan delta at distance 1, radiance E / (pi tan^2 delta cos^3 theta).
+    bool cycles34 = false;
+    double tan_delta = 0.0;
 
     std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_li(const LightSampleContext&, const Vec3&, const Vec3&, const Vec3&) const {
