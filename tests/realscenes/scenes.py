@@ -39,11 +39,12 @@ SRGB8 = (r"Image Texture .*Cycles interpolates an 8-bit sRGB image before decodi
 NEGATIVE_HDRI = r"negative colour values \(down to -(0\.00[0-9]+|[0-9.]+e-0[5-9])\) clamped to 0"  # every studio
 # HDRI has some (down to -0.0039): a radiance difference of at most 0.004 against the maps'
 # means of 0.2 to 1.5 (the addon's textures.nonnegative_radiance_file).
-SUN_ANGLE = r"sun light Angle = [0-9.]+ deg: converted to a cone"  # Cycles 3.4 loses
-# irradiance as the angle grows: x0.983 at 30 deg (measured by the lightspov branch), far less
-# at the 2 deg used here (the loss grows about as the angle squared: ~1e-4).
-POINT_RADIUS = r"point light Radius = [0-9.]+: converted to a sphere"  # Cycles 3.4: a disc
-# facing the shading point, d^2 / (d^2 + R^2) as bright: R / d is given per scene.
+SUN_ANGLE = r"sun light Angle = [0-9.]+ deg: converted to a cone"  # only under Render >
+# Facet > Lamp Model "Physical" (the default "Cycles 3.4" converts the Angle exactly, no line):
+# Cycles 3.4 loses irradiance as the angle grows, x0.983 at 30 deg, ~1e-4 at the 2 deg here.
+POINT_RADIUS = r"point light Radius = [0-9.]+: converted to a sphere"  # only under "Physical"
+# (the default converts the Radius as Cycles 3.4's facing disc, no line); the sphere is
+# (d^2 + R^2) / d^2 as bright as that disc: R / d is given per scene.
 ZERO_AREA = r"dropped [0-9]+ zero-area triangles?$"  # degenerate triangles of a CAD asset: no
 # area, so no surface for any ray to hit in either renderer (Facet's builder drops them).
 MIRROR_EXTEND = (r"mirrored on U, extension Extend on the other")  # glTF MIRRORED_REPEAT x

@@ -87,8 +87,8 @@ class Medium {
 };
 
 // Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,
-// absorption_color = 0) as coefficients, the one place this conversion is written (the scene
-// format's Cycles keys and the Blender addon both use it):
+// absorption_color = 1: no absorption) as coefficients, the one place this conversion is written
+// (the scene format's Cycles keys and the Blender addon both use it):
 //   sigma_s = density * color,
 //   sigma_a = density * max(1 - color, 0) * max(1 - sqrt(absorption_color), 0),
 // with color and absorption_color clamped to >= 0 first, as Cycles does (its node takes the
