@@ -171,7 +171,8 @@ std::vector<ComboCase> combo_cases() {
          },
          20.0},
         {"oren_nayar", [] { return *oren(0.9, 0.6); }, 70.0},
-        {"mix_fresnel_lambert_ggx", [] { return mix_by(lambert(0.7), ggx(0.2), "fresnel", "ior", 1.45); }, 60.0},
+        {"mix_fresnel_lambert_ggx",
+         [] { return mix_by(lambert(0.7), ggx(0.2), "fresnel", "ior", 1.45); }, 60.0},
         {"mix_layer_facing_lambert_mirror",
          [] { return mix_by(lambert(0.6), mirror(), "layer_facing", "blend", 0.3); }, 45.0},
     };
@@ -250,7 +251,8 @@ TEST(Mix, ViewDependentWeightsAreCycles) {
     // Able to fail: the weight does change with the view.
     const Material m = mix_by(a, b, "fresnel", "ior", 1.45);
     EXPECT_GT(std::abs(m.f(dir(80.0, 0.0), dir(80.0, 180.0)).x -
-                       mix(a, b, 0.5).f(dir(80.0, 0.0), dir(80.0, 180.0)).x), 0.01);
+                       mix(a, b, 0.5).f(dir(80.0, 0.0), dir(80.0, 180.0)).x),
+              0.01);
 }
 
 // Parameters that the factor does not use are errors naming them.

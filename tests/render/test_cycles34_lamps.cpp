@@ -74,8 +74,8 @@ double disc_quadrature(double radius, G g, int n_r = 600, int n_phi = 1200) {
 
 // Two unit vectors perpendicular to the unit n and to each other.
 void basis(const glm::dvec3& n, glm::dvec3& a, glm::dvec3& b) {
-    a = glm::normalize(glm::cross(n, std::fabs(n.x) < 0.9 ? glm::dvec3(1, 0, 0)
-                                                           : glm::dvec3(0, 1, 0)));
+    a = glm::normalize(
+        glm::cross(n, std::fabs(n.x) < 0.9 ? glm::dvec3(1, 0, 0) : glm::dvec3(0, 1, 0)));
     b = glm::cross(n, a);
 }
 
@@ -244,8 +244,7 @@ TEST(Cycles34Lamps, SpotDiscFollowsTheFalloffPerDirection) {
     };
     for (const glm::dvec3& p : {glm::dvec3(0, 0, 0), glm::dvec3(0.8, 0, 0.3)}) {
         SCOPED_TRACE(p.x);
-        const double quad =
-            disc_irradiance(p, {0, 1, 0}, c, r, k / (kPiD * r * r), falloff);
+        const double quad = disc_irradiance(p, {0, 1, 0}, c, r, k / (kPiD * r * r), falloff);
         ASSERT_GT(quad, 0.0);
         const LightSampleContext ctx{Vec3(p), {0, 1, 0}};
         expect_mc(mc(scaled(40000), [&](Vec2 u) { return irradiance(l, ctx, u); }), quad);
@@ -266,8 +265,8 @@ TEST(Cycles34Lamps, SunIrradianceMatchesTheQuadratureOfTheModel) {
         SCOPED_TRACE(angle);
         const double delta = 0.5 * angle * kPiD / 180.0, tan_d = std::tan(delta);
         const glm::dvec3 axis(0, 1, 0);  // toward the sun
-        const Light sun = Light::directional({0, -1, 0}, Rgb(float(e)), float(angle),
-                                             SunAngleModel::Cycles34);
+        const Light sun =
+            Light::directional({0, -1, 0}, Rgb(float(e)), float(angle), SunAngleModel::Cycles34);
         EXPECT_FALSE(sun.is_delta());
         EXPECT_FALSE(sun.hittable());
         for (double tau_deg : {0.0, 40.0, 80.0}) {
@@ -291,8 +290,8 @@ TEST(Cycles34Lamps, SunIrradianceMatchesTheQuadratureOfTheModel) {
             quad *= (delta / nt) * (2.0 * kPiD / np);
             (void)axis;
             if (tau_deg == 0.0) {
-                const double closed = e * 2.0 * (std::sqrt(1.0 + tan_d * tan_d) - 1.0) /
-                                      (tan_d * tan_d);
+                const double closed =
+                    e * 2.0 * (std::sqrt(1.0 + tan_d * tan_d) - 1.0) / (tan_d * tan_d);
                 EXPECT_NEAR(quad / closed, 1.0, 1e-6);
                 EXPECT_LT(closed, e);
             }
@@ -405,7 +404,8 @@ TEST(Cycles34Lamps, WithoutTheKeysNothingChanges) {
     }
 
     const auto render_of = [](const std::string& lights) {
-        const Scene s = build_scene(parse_scene_description(scene_text(lights), "t.json"), "t.json");
+        const Scene s =
+            build_scene(parse_scene_description(scene_text(lights), "t.json"), "t.json");
         RenderOptions o;
         o.threads = 2;
         return facet::render::render(s, o);

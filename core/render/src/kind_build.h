@@ -218,14 +218,21 @@ class LightBuild : public BuildChecks {
 
 // The "radius" key of the point and spot kinds (the sphere light, light.h).
 inline const Field<LightDesc> kLightRadiusField = {
-    "radius", FieldType::Number,
-    false,    &LightDesc::radius,
-    "0",      "radius of the emitting sphere (or disc, see radius_model) in scene units, >= 0 "
-              "(0: a point)"};
+    "radius",
+    FieldType::Number,
+    false,
+    &LightDesc::radius,
+    "0",
+    "radius of the emitting sphere (or disc, see radius_model) in scene units, >= 0 "
+    "(0: a point)"};
 
 // The "radius_model" key of the point and spot kinds (RadiusModel, lights/point.h).
 inline const Field<LightDesc> kLightRadiusModelField = {
-    "radius_model", FieldType::Text, false, &LightDesc::radius_model, "sphere",
+    "radius_model",
+    FieldType::Text,
+    false,
+    &LightDesc::radius_model,
+    "sphere",
     "what a light with a radius is: `sphere` (a sphere of uniform radiance, Cycles 4) or "
     "`cycles34_disc` (Blender 3.4's Cycles: a disc of the radius centred on the light, facing "
     "each lit point; on-axis irradiance I₀ / (d² + R²))"};

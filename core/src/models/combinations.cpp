@@ -12,13 +12,14 @@ const ModelInfo& mix_model() {
         .params = {models::materials_param(),
                    models::number("weight", "0.5",
                                   "the weight w of b, in [0, 1] (factor = constant)"),
-                   models::text("factor", "constant",
-                                "where w comes from: constant (weight), or the view as a Mix "
-                                "Shader's Fac linked to Blender's Fresnel node (fresnel: w = "
-                                "F(abs(cos theta_o), ior)) or Layer Weight node (layer_fresnel: w = "
-                                "F(abs(cos theta_o), 1 / (1 - blend)); layer_facing: w = 1 - abs(cos "
-                                "theta_o)^b, b = 2 blend below 0.5, 0.5 / (1 - blend) above)",
-                                {"constant", "fresnel", "layer_fresnel", "layer_facing"}),
+                   models::text(
+                       "factor", "constant",
+                       "where w comes from: constant (weight), or the view as a Mix "
+                       "Shader's Fac linked to Blender's Fresnel node (fresnel: w = "
+                       "F(abs(cos theta_o), ior)) or Layer Weight node (layer_fresnel: w = "
+                       "F(abs(cos theta_o), 1 / (1 - blend)); layer_facing: w = 1 - abs(cos "
+                       "theta_o)^b, b = 2 blend below 0.5, 0.5 / (1 - blend) above)",
+                       {"constant", "fresnel", "layer_fresnel", "layer_facing"}),
                    models::number("ior", "1.45",
                                   "the Fresnel node's IOR (factor = fresnel), in [0, 100]"),
                    models::number("blend", "0.5",

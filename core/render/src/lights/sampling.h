@@ -68,8 +68,9 @@ inline Vec3 sphere_sample_error(const Vec3& p, const Vec3& c, float r) {
 // relative to I0 toward the receiver (wi from the receiver to the light), or nullptr for the
 // isotropic point light.
 
-// Sets the sphere's (or disc's) radiance for radius r: L = I0 / (pi r^2). Zero when r is so small that L
-// overflows a float: the light stays a point. Returns whether the light is a sphere (not delta).
+// Sets the sphere's (or disc's) radiance for radius r: L = I0 / (pi r^2). Zero when r is so small
+// that L overflows a float: the light stays a point. Returns whether the light is a sphere (not
+// delta).
 inline bool set_emitter_radius(PointEmitter& e, float r, RadiusModel model) {
     e.disc = model == RadiusModel::Cycles34Disc;
     const glm::dvec3 l = glm::dvec3(e.intensity) / (kPiD * double(r) * double(r));

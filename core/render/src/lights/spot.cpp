@@ -121,8 +121,7 @@ Light Light::spot(const Vec3& position, const Vec3& direction, const Rgb& power,
 }
 
 Light Light::spot_blend(const Vec3& position, const Vec3& direction, const Rgb& power,
-                        float outer_half_angle_deg, float blend, float radius,
-                        RadiusModel model) {
+                        float outer_half_angle_deg, float blend, float radius, RadiusModel model) {
     SpotLight l;
     l.e.position = position;
     l.e.power = power;
