@@ -18,6 +18,7 @@
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
 #include "facet/sampling.h"
+#include "facet/testsupport/light_test_util.h"
 #include "facet/testsupport/render_test_util.h"
 
 using namespace facet;
@@ -25,33 +26,14 @@ using namespace facet::render;
 
 namespace {
 
-int scaled(int n) {
-    const char* s = std::getenv("FACET_STRESS_SCALE");
-    const double f = s ? std::max(0.05, std::atof(s)) : 1.0;
-    return std::max(2000, int(n * f));
-}
-
 using Mc = facet::render::testing::McResult;
+using facet::render::testing::expect_mc;
+using facet::render::testing::irradiance;
+using facet::render::testing::scaled;
 
-// The mean of f(u) over n independent uniform points u of [0, 1)^2, and its standard error.
 template <class F>
 Mc mc(int n, F f) {
-    std::mt19937 rng(12345);
-    std::uniform_real_distribution<float> u(0.f, 1.f);
-    return facet::render::testing::mc(n, [&](int) { return f(Vec2(u(rng), u(rng))); });
-}
-
-void expect_mc(const Mc& m, double expected) {
-    EXPECT_NEAR(m.mean, expected, 4.0 * m.stderr_ + 1e-6 * std::fabs(expected))
-        << "mean " << m.mean << " +- " << m.stderr_;
-}
-
-// Irradiance estimate of one light sample on a surface of normal ctx.n (red channel).
-double irradiance(const Light& l, const LightSampleContext& ctx, Vec2 u) {
-    const auto s = l.sample_li(ctx, u);
-    if (!s) return 0.0;
-    const double c = glm::dot(s->wi, ctx.n);
-    return c > 0.0 ? double(s->li.r) * c / double(s->pdf) : 0.0;
+    return facet::render::testing::mc_unit_square(n, 12345, f);
 }
 
 std::string scene_text(const std::string& lights, const std::string& shapes = "[]") {
