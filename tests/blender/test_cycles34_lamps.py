@@ -77,18 +77,6 @@ def base_scene():
     return scene
 
 
-def add_light(scene, kind, energy, location, rotation=(0.0, 0.0, 0.0), **props):
-    ld = bpy.data.lights.new(kind, kind)
-    ld.energy = energy
-    for k, v in props.items():
-        setattr(ld, k, v)
-    ob = bpy.data.objects.new(kind, ld)
-    ob.location = location
-    ob.rotation_euler = rotation
-    ob.visible_camera = False  # Cycles 3.4 would show a radius lamp's disc to the camera
-    scene.collection.objects.link(ob)
-
-
 def measure(scene, name, out):
     """{model: (mean ratio, block RMSE / floor)} for Facet's two lamp models against Cycles."""
     c1 = cs.render(scene, 'CYCLES', os.path.join(out, "lamps34_%s_cycles1.exr" % name), 1)[0]
@@ -133,13 +121,15 @@ def main():
     bt.enable_addon()
 
     scene = base_scene()
+    # Hidden from the camera: Cycles 3.4 would show a radius lamp's disc to it.
     for x, y in ((-1.8, -1.8), (1.8, -1.8), (-1.8, 1.8), (1.8, 1.8), (0.0, 0.0)):
-        add_light(scene, 'POINT', 150.0, (x, y, 1.2), shadow_soft_size=1.0)
+        cs.add_light(scene, 'POINT', 150.0, (x, y, 1.2), shadow_soft_size=1.0,
+                     visible_camera=False)
     check("five", measure(scene, "five", out))
 
     scene = base_scene()
-    add_light(scene, 'SUN', 3.0, (0.0, 0.0, 3.0), rotation=(math.radians(30.0), 0.0, 0.0),
-              angle=math.radians(30.0))
+    cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 3.0), rotation=(math.radians(30.0), 0.0, 0.0),
+                 angle=math.radians(30.0), visible_camera=False)
     check("sun", measure(scene, "sun", out))
 
 

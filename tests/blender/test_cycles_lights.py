@@ -99,17 +99,6 @@ def base_scene():
     return scene
 
 
-def add_light(scene, kind, energy, location, rotation=(0.0, 0.0, 0.0), **props):
-    ld = bpy.data.lights.new(kind, kind)
-    ld.energy = energy
-    for k, v in props.items():
-        setattr(ld, k, v)
-    ob = bpy.data.objects.new(kind, ld)
-    ob.location = location
-    ob.rotation_euler = rotation
-    scene.collection.objects.link(ob)
-
-
 def quad_scene(out, L, a, h):
     """A Facet JSON scene: the plane, the camera and an emissive quad (a mesh light)."""
     hx = 0.5 * a
@@ -176,7 +165,7 @@ def main():
     # point light
     scene = base_scene()
     P, lx, ly = 100.0, 0.3, -0.2
-    add_light(scene, 'POINT', P, (lx, ly, h), shadow_soft_size=0.0)
+    cs.add_light(scene, 'POINT', P, (lx, ly, h), shadow_soft_size=0.0)
     r2 = (x - lx) ** 2 + (y - ly) ** 2 + h * h
     E = P / (4 * math.pi) * h / r2 ** 1.5
     run_case("point", scene, (RHO / math.pi * E).mean(axis=2), 16, out)
@@ -187,7 +176,7 @@ def main():
     # Facet the same disc (test_cycles34_lamps.py: the Physical model's sphere).
     scene = base_scene()
     Rs = 0.5
-    add_light(scene, 'POINT', P, (lx, ly, h), shadow_soft_size=Rs)
+    cs.add_light(scene, 'POINT', P, (lx, ly, h), shadow_soft_size=Rs)
     r2 = (x - lx) ** 2 + (y - ly) ** 2 + h * h
     E = P / (4 * math.pi) * h / r2 ** 1.5
     run_case("disc", scene, (RHO / math.pi * E * r2 / (r2 + Rs * Rs)).mean(axis=2), 64, out)
@@ -195,8 +184,8 @@ def main():
     # spot light, half-angle 40 degrees, blend 0
     scene = base_scene()
     half = math.radians(40.0)
-    add_light(scene, 'SPOT', P, (0.0, 0.0, h), spot_size=2 * half, spot_blend=0.0,
-              shadow_soft_size=0.0)
+    cs.add_light(scene, 'SPOT', P, (0.0, 0.0, h), spot_size=2 * half, spot_blend=0.0,
+                 shadow_soft_size=0.0)
     r2 = x ** 2 + y ** 2 + h * h
     inside = h / np.sqrt(r2) > math.cos(half)
     E = np.where(inside, P / (4 * math.pi) * h / r2 ** 1.5, 0.0)
@@ -213,8 +202,8 @@ def main():
     # sun tilted 30 degrees about x
     scene = base_scene()
     S = 3.0
-    add_light(scene, 'SUN', S, (0.0, 0.0, h), rotation=(math.radians(30.0), 0.0, 0.0),
-              angle=0.0)
+    cs.add_light(scene, 'SUN', S, (0.0, 0.0, h), rotation=(math.radians(30.0), 0.0, 0.0),
+                 angle=0.0)
     E = np.full(x.shape, S * math.cos(math.radians(30.0)))
     run_case("sun", scene, (RHO / math.pi * E).mean(axis=2), 4, out)
 
@@ -222,7 +211,7 @@ def main():
     a, Pa = 1.0, 50.0
     for shape in ('SQUARE', 'DISK'):
         scene = base_scene()
-        add_light(scene, 'AREA', Pa, (0.0, 0.0, h), shape=shape, size=a)
+        cs.add_light(scene, 'AREA', Pa, (0.0, 0.0, h), shape=shape, size=a)
         if shape == 'SQUARE':
             L = Pa / (4 * a * a)
             F = rect_ff(x, y, h, -a / 2, a / 2, -a / 2, a / 2)

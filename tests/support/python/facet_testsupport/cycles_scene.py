@@ -455,6 +455,22 @@ def cycles_settings(scene, samples=None, seed=None, max_depth=None):
     _exr(scene)
 
 
+
+def add_light(scene, kind, energy, location, rotation=(0.0, 0.0, 0.0), visible_camera=True,
+              **props):
+    """A lamp object of Blender type `kind` ('POINT', 'SUN', 'SPOT', 'AREA') linked into
+    `scene`, with `energy` (W, or W/m^2 for a sun) and the light data's other `props`."""
+    ld = bpy.data.lights.new(kind, kind)
+    ld.energy = energy
+    for k, v in props.items():
+        setattr(ld, k, v)
+    ob = bpy.data.objects.new(kind, ld)
+    ob.location = location
+    ob.rotation_euler = rotation
+    ob.visible_camera = visible_camera
+    scene.collection.objects.link(ob)
+    return ob
+
 def _exr(scene):
     s = scene.render.image_settings
     s.file_format = 'OPEN_EXR'
