@@ -78,6 +78,11 @@ void add_export_pov_command(CLI::App& app) {
                     "background only (it then lights no surface: an approximation)")
         ->check(CLI::IsMember({"error", "background", "light"}))
         ->capture_default_str();
+    cmd->add_option("--media-intervals", o->pov.media_intervals,
+                    "media: POV-Ray intervals per medium along a ray (two samples each; exact "
+                    "for absorption, a quadrature of the lit scattering)")
+        ->check(CLI::Range(1, 200))
+        ->capture_default_str();
     cmd->add_option("--sky-samples", o->pov.sky_samples,
                     "with --environment light: sky samples per camera-ray hit "
                     "(brdf_sky_sampling N; 1 at deeper hits)")

@@ -1088,10 +1088,11 @@ void bind_scene(py::module_& m) {
         "export_pov",
         [](py::handle desc, const std::string& path, int area_grid, int glossy_samples,
            const std::string& environment, const std::string& radiosity, const std::string& ini,
-           const std::string& name, const std::string& mipmap) {
+           const std::string& name, const std::string& mipmap, int media_intervals) {
             const SceneDescription d = description_arg(desc);
             PovExportOptions o;
             o.mipmap = mipmap;
+            o.media_intervals = media_intervals;
             o.area_grid = area_grid;
             o.glossy_samples = glossy_samples;
             o.environment = environment;
@@ -1101,7 +1102,7 @@ void bind_scene(py::module_& m) {
         },
         py::arg("desc"), py::arg("path"), py::arg("area_grid") = 8, py::arg("glossy_samples") = 0,
         py::arg("environment") = "error", py::arg("radiosity") = "off", py::arg("ini") = "",
-        py::arg("name") = "python", py::arg("mipmap") = "error",
+        py::arg("name") = "python", py::arg("mipmap") = "error", py::arg("media_intervals") = 128,
         "Writes the description as POV-Ray SDL for povray-facet (facet export-pov; "
         "docs/povray.md). What POV-Ray cannot express raises ValueError naming the JSON path; a "
         "bad option raises ValueError naming it.");

@@ -29,6 +29,10 @@ usage: crosscheck.py POVRAY_FACET FACET_CLI COMMAND [ARGS]
   principled   principled spheres (sheen, clearcoat, metallic, Disney diffuse retro-reflection)
                on an oren_nayar floor under point lights: povray-facet's brdf finish against
                facet direct (deterministic, REL_TOL); a wrong parameter in the export fails
+  media        homogeneous media as POV-Ray media (docs/povray.md, "Media"): an absorbing and
+               emitting interior exactly; scattering fog in a null box and a world medium
+               within noise (t-test), with a control whose anisotropy sign is flipped that
+               must fail; the media export errors
   principled-sky  the same materials lit by an HDR sky (brdf_sky_sampling): the diffuse, glossy
                and mirror parts of the split finish against facet within noise (t-test)
 
@@ -236,7 +240,7 @@ INEXPRESSIBLE = {
     "big_mesh": "/lights/0",
     "brushed": "/materials/brushed floor/alpha_u",  # anisotropic (bench/time_error.py's scene)
     "glass": "/materials/rough/model",          # a dielectric transmits: POV's interior differs
-    "fog_box": "/materials/fog_boundary/interior",  # media (docs/media.md)
+    "fog_box": "/render/max_depth",             # media: POV-Ray's scatter once (max_depth 1)
 }
 
 
@@ -1020,6 +1024,150 @@ def cmd_principled(env):
     return ok and retro
 
 
+def media_scene(media, materials, shapes, w=48, h=36, position=(0, 1.3, 5), look_at=(0, 0.6, 0),
+                world=None):
+    """A media test scene: a grey Lambert floor and the given shapes under a point light at
+    (-1.1, 2.2, 1), 60 W, max_depth 1 (POV-Ray's media scatter once)."""
+    s = {"format": "facet-scene", "version": 1,
+         "camera": {"position": list(position), "look_at": list(look_at), "up": [0, 1, 0], "fov": 40,
+                    "width": w, "height": h},
+         "media": media,
+         "materials": dict({"floor": {"model": "lambert", "reflectance": 0.5}}, **materials),
+         "shapes": [{"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor"}] + shapes,
+         "lights": [{"type": "point", "position": [-1.1, 2.2, 1.0], "power": 60}],
+         "render": {"max_depth": 1}}
+    if world:
+        s["world_medium"] = world
+    return s
+
+
+def media_blocks(name, pov, quad, ref):
+    """POV-Ray's media (pov) against Facet's noisy render at 5x resolution (ref, the middle
+    pixel of each 5x5 group), by 4x4 blocks of the luminance difference d. Allowed per block,
+    each term derived:
+      5 se         Facet's noise: the standard error of d over the block's 16 pixels;
+      quad         POV-Ray's quadrature error, |P_200 - P_100| of the luminance: its media sum
+                   takes each interval's samples over the first sampleCount/(sampleCount + 1)
+                   of it (interior/media.cpp, ComputeMediaAdaptiveSampling), a bias falling as
+                   1/intervals (measured: +1.9%, +0.42%, +0.08% at 16, 64, 200 intervals on a
+                   fog column), so the error at N is about P_{N/2} - P_N;
+      footprint    Facet's pixel is a box 1/5 of POV-Ray's pixel wide around its centre, whose
+                   average differs from the centre value by (1/5)^2 |Laplacian| / 24 (the box
+                   filter's second-order term; Laplacian of POV-Ray's image, per pixel^2);
+      1e-5 |ref|   float rounding (32-bit EXR from POV-Ray's double, Facet's float).
+    Passes when >= 97% of the blocks and the image mean are within."""
+    lum = lambda x: x.mean(axis=2)
+    d, q, r = lum(pov) - lum(ref), quad, lum(ref)
+    lp = lum(pov)
+    lap = np.zeros(lp.shape)
+    lap[1:-1, 1:-1] = np.abs(lp[1:-1, :-2] + lp[1:-1, 2:] + lp[:-2, 1:-1] + lp[2:, 1:-1] - 4 * lp[1:-1, 1:-1])
+    q = q + lap * 0.04 / 24
+    h, w = d.shape
+    within, worst = [], []
+    for y0 in range(0, h - 3, 4):
+        for x0 in range(0, w - 3, 4):
+            b = np.s_[y0:y0 + 4, x0:x0 + 4]
+            se = d[b].std(ddof=1) / 4.0
+            allowed = 5 * se + q[b].mean() + 1e-5 * abs(r[b].mean())
+            within.append(abs(d[b].mean()) <= allowed)
+            worst.append((abs(d[b].mean()) / max(allowed, 1e-30), x0, y0, d[b].mean(), se, q[b].mean()))
+    frac = np.mean(within)
+    se_all = d.std(ddof=1) / math.sqrt(d.size)
+    ok_mean = abs(d.mean()) <= 5 * se_all + q.mean() + 1e-5 * abs(r.mean())
+    ok = frac >= 0.97 and ok_mean
+    print(f"{'ok  ' if ok else 'FAIL'} {name}: {100 * frac:.1f}% of {len(within)} 4x4 blocks "
+          f"within 5 se + quadrature + float (required 97%); image mean povray-facet "
+          f"{lum(pov).mean():.5f}, facet {r.mean():.5f} (ratio {lum(pov).mean() / r.mean():.4f}, "
+          f"difference {d.mean():.2e}, se {se_all:.2e}, quadrature {q.mean():.2e})")
+    for ratio, x0, y0, dm, se, qm in sorted(worst, reverse=True)[:3]:
+        print(f"      block ({x0}, {y0}): difference {dm:.2e}, se {se:.2e}, quadrature {qm:.2e} "
+              f"({ratio:.2f} of the allowed)")
+    return ok
+
+
+def cmd_media(env):
+    """Homogeneous media through export-pov (docs/povray.md, "Media"), against facet render."""
+    ok = True
+    box = {"type": "box", "min": [-1.7, 0.001, -0.6], "max": [-0.5, 1.2, 0.6], "material": "boundary"}
+    ball = {"type": "sphere", "center": [0.6, 0.5, -0.3], "radius": 0.5, "material": "red"}
+    red = {"model": "lambert", "reflectance": [0.6, 0.1, 0.1]}
+    # (1) Absorption only: both renderers are exact (Facet's closed form at one sample through
+    # the pixel centre, POV-Ray's constant media), so the deterministic 1e-3 per-pixel check
+    # of the other scenes applies, shadows through the box included.
+    s = media_scene({"juice": {"kind": "homogeneous", "sigma_a": [0.5, 1.0, 2.0]}},
+                    {"boundary": {"model": "null", "interior": "juice"}, "red": red}, [box, ball])
+    js = env.write_scene(s, "absorb")
+    w, h = s["camera"]["width"], s["camera"]["height"]
+    ref = env.render(js, "--spp", "1")
+    ok &= compare("media: an absorbing interior", env.povray(env.export(js), w, h), ref)
+    # (2) Scattering fog in a null box (sigma_t 3.1, forward g 0.3) and (3) a world medium
+    # (backward g -0.4) seen from above, so that every camera ray ends on a surface, against
+    # Facet's path at 128 spp. Facet renders at 5x the resolution and the middle pixel of each
+    # 5x5 group is taken (as in cmd_glossy: POV-Ray samples pixel centres, Facet averages over
+    # its pixel). The control exports the anisotropy with the opposite sign (g -> -g: forward
+    # and backward scattering swapped), which must fail.
+    fog = media_scene({"fog": {"kind": "homogeneous", "sigma_s": 3.0, "sigma_a": 0.1, "g": 0.3}},
+                      {"boundary": {"model": "null", "interior": "fog"}}, [box])
+    air = media_scene({"air": {"kind": "homogeneous", "sigma_s": 0.3, "sigma_a": 0.02, "g": -0.4}},
+                      {"red": red}, [ball], position=(0, 4, 3), look_at=(0, 0, 0), world="air")
+    for name, scene in (("fog in a null box", fog), ("world medium", air)):
+        js = env.write_scene(scene, "media")
+        pov_file = env.export(js, "--media-intervals", "200")
+        pov = env.povray(pov_file, w, h, fmt="+FE32")
+        half = env.povray(env.export(js, "--media-intervals", "100"), w, h, fmt="+FE32")
+        fine = json.loads(json.dumps(scene))
+        fine["camera"]["width"], fine["camera"]["height"] = 5 * w, 5 * h
+        ref = env.render(env.write_scene(fine, "media_fine"), "--spp", "128", "--seed", "3",
+                         integrator="path")[2::5, 2::5]
+        quad = np.abs(half.mean(axis=2) - pov.mean(axis=2))
+        ok &= media_blocks(f"media: {name}", pov, quad, ref)
+        text = open(pov_file).read()
+        g = re.search(r"eccentricity (\S+) ", text).group(1)
+        flipped = env.path("flipped.pov")
+        with open(flipped, "w") as fl:
+            fl.write(text.replace(f"eccentricity {g} ", f"eccentricity {-float(g)!r} "))
+        bad = media_blocks(f"media: {name}, control with the anisotropy's sign flipped (must fail)",
+                           env.povray(flipped, w, h, fmt="+FE32"), quad, ref)
+        print(f"{'ok  ' if not bad else 'FAIL'} the flipped control fails")
+        ok &= not bad
+    # (4) What cannot be exported exactly is an error naming the JSON path (or the flag).
+    open_mesh = {"type": "quad", "vertices": [[-1, 0.5, -1], [1, 0.5, -1], [1, 0.5, 1], [-1, 0.5, 1]],
+                 "material": "boundary"}
+    deep = json.loads(json.dumps(fog))
+    deep["render"]["max_depth"] = 2
+    both = json.loads(json.dumps(air))
+    both["materials"]["boundary"] = {"model": "null", "interior": "air"}
+    both["shapes"].append(box)
+    escaping = json.loads(json.dumps(air))
+    escaping["camera"].update(position=[0, 1.3, 5], look_at=[0, 0.6, 0])
+    mirror = json.loads(json.dumps(fog))
+    mirror["materials"]["red"] = {"model": "mirror"}
+    mirror["shapes"].append(dict(ball))
+    cases = [("max_depth above 1", deep, [], "/render/max_depth: media (/materials/boundary/interior)"),
+             ("an open mesh as a boundary", media_scene(fog["media"], fog["materials"], [open_mesh]), [],
+              "/shapes/1: a medium boundary"),
+             ("an interior in a world medium", both, [], "/materials/boundary/interior: an interior medium in a scene with a world medium"),
+             ("escaping camera rays in a world medium", escaping, [], "/world_medium: the camera ray of pixel (0, 0) leaves the scene"),
+             ("a null boundary and a mirror", mirror, [], "/materials/boundary: a null boundary in a scene with mirror reflection"),
+             ("an emitting medium", media_scene({"glow": {"kind": "homogeneous", "sigma_a": 1, "emission": 0.5}},
+                                                {"boundary": {"model": "null", "interior": "glow"}}, [box]), [],
+              "/media/glow/emission: an emitting medium")]
+    for title, scene, extra, want in cases:
+        js = env.write_scene(scene, "err")
+        p = env.run([env.facet, "export-pov", js, "-o", env.path("err.pov")] + extra, check=False)
+        good = p.returncode == 1 and f"{js}: {want}" in p.stderr
+        print(f"{'ok  ' if good else 'FAIL'} {title}: rc {p.returncode}: {p.stderr.strip()}")
+        ok &= good
+    js = env.write_scene(fog, "flag")
+    for args, want in ((["--media-intervals", "0"], "--media-intervals"), (["--media-intervals", "201"], "--media-intervals"),
+                       (["--radiosity", "low"], "--radiosity: not with media")):
+        p = env.run([env.facet, "export-pov", js, "-o", env.path("f.pov")] + args, check=False)
+        good = p.returncode != 0 and want in p.stderr
+        print(f"{'ok  ' if good else 'FAIL'} {' '.join(args)}: rc {p.returncode}: {p.stderr.strip()}")
+        ok &= good
+    return ok
+
+
 def cmd_principled_sky(env):
     """The principled materials of principled_scene lit by the HDR sky of sky_map through
     brdf_sky_sampling, 64 x 32 (the light comes from everywhere, so every lobe of the split
@@ -1081,7 +1229,8 @@ def main():
               "textures": lambda: cmd_textures(env),
               "texture-errors": lambda: cmd_texture_errors(env),
               "principled": lambda: cmd_principled(env),
-              "principled-sky": lambda: cmd_principled_sky(env)}[cmd]()
+              "principled-sky": lambda: cmd_principled_sky(env),
+              "media": lambda: cmd_media(env)}[cmd]()
     sys.exit(0 if ok else 1)
 
 

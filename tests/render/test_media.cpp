@@ -391,9 +391,10 @@ TEST(MediaErrors, NameTheJsonPointer) {
     }
 }
 
-// export-pov does not drop media silently: the world medium and an interior are errors naming
-// their pointers.
-TEST(MediaErrors, PovExportRefusesMedia) {
+// export-pov writes media only where POV-Ray renders them as Facet does (docs/povray.md,
+// "Media"; the images are compared in tests/povray/crosscheck.py `media`); everything else is
+// an error naming its pointer, never a silent drop.
+TEST(MediaErrors, PovExportNamesWhatItCannotWrite) {
     const std::string head =
         R"({"format": "facet-scene", "version": 1,
             "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 30, "width": 8,
@@ -408,15 +409,27 @@ TEST(MediaErrors, PovExportRefusesMedia) {
         }
         return std::string();
     };
-    EXPECT_NE(pov_error(R"("world_medium": "fog",
-        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
-                    "material": {"model": "lambert"}}])")
-                  .find("pov.json: /world_medium: media cannot be exported"),
+    const std::string sphere = R"("shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                    "material": {"model": "lambert"}}])";
+    // POV-Ray's media scatter once: max_depth 1 only.
+    EXPECT_NE(pov_error(R"("world_medium": "fog", )" + sphere)
+                  .find("pov.json: /render/max_depth: media (/world_medium)"),
               std::string::npos);
+    // Camera rays past the sphere leave the scene through POV-Ray's unbounded atmosphere.
+    EXPECT_NE(pov_error(R"("world_medium": "fog", "render": {"max_depth": 1}, )" + sphere)
+                  .find("pov.json: /world_medium: the camera ray of pixel (0, 0) leaves"),
+              std::string::npos);
+    // A glass with an interior: the glass itself is what POV-Ray cannot express.
     EXPECT_NE(pov_error(R"("materials": {"g": {"model": "dielectric", "interior": "fog"}},
+        "render": {"max_depth": 1},
         "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "g"}])")
-                  .find("pov.json: /materials/g/interior: media cannot be exported"),
+                  .find("pov.json: /materials/g/model: 'dielectric' transmits light"),
               std::string::npos);
+    // A null boundary with the medium inside exports.
+    EXPECT_EQ(pov_error(R"("materials": {"b": {"model": "null", "interior": "fog"}},
+        "render": {"max_depth": 1},
+        "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "b"}])"),
+              "");
 }
 
 namespace {

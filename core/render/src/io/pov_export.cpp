@@ -6,10 +6,13 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <map>
+#include <span>
 #include <sstream>
 #include <stdexcept>
 
@@ -18,6 +21,8 @@
 #include "facet/registry.h"
 #include "facet/render/kinds.h"
 #include "facet/render/light_units.h"
+#include "facet/render/medium.h"
+#include "facet/render/scene.h"
 #include "facet/render/texel_image.h"
 #include "pov_writer.h"
 
@@ -93,13 +98,40 @@ std::string pov_matrix(const glm::dmat4& m) {
     return s;
 }
 
+// The name of a material's interior medium ("interior", scenes/FORMAT.md "Media"), or "".
+std::string interior_of(const MaterialDesc& m) {
+    const auto it = m.params.values().find("interior");
+    if (it == m.params.values().end()) return "";
+    const std::string* name = std::get_if<std::string>(&it->second);
+    return name ? *name : "";
+}
+
+// The material without its "interior" (which belongs to no reflection model).
+MaterialDesc without_interior(const MaterialDesc& m) {
+    MaterialDesc c = m;
+    ParamSet rest;
+    for (const auto& [key, v] : m.params.values())
+        if (key != "interior") rest.set(key, v);
+    c.params = std::move(rest);
+    return c;
+}
+
+// Whether the material is an invisible boundary (the `null` model: ModelInfo::pass_through).
+bool is_pass_through(const MaterialDesc& m) {
+    const ModelInfo* info = find_model(m.model);
+    return info && info->pass_through;
+}
+
 class PovWriter {
   public:
-    PovWriter(const SceneDescription& desc, std::string name, const PovExportOptions& opt)
+    // `media`: the built scene's media, in the order of desc.media (build_scene).
+    PovWriter(const SceneDescription& desc, std::string name, const PovExportOptions& opt,
+              std::span<const Medium> media)
         : m_desc(desc),
           m_name(std::move(name)),
           m_opt(opt),
-          m_rad(parse_radiosity(opt.radiosity)) {}
+          m_rad(parse_radiosity(opt.radiosity)),
+          m_media(media) {}
 
     std::string write();
 
@@ -140,11 +172,19 @@ class PovWriter {
     std::string prototype_id(const std::string& name) const;
     std::string emission_of(const glm::dvec3& emission, const glm::dvec3& pigment,
                             const std::string& pointer) const;
+    // POV-Ray `media { ... }` of medium `name` (scenes/FORMAT.md "Media"; docs/povray.md).
+    std::string media_sdl(const std::string& name, const std::string& pointer) const;
+    // What follows a shape's texture for its material's medium interface: "hollow" for a null
+    // boundary without an interior (the surrounding medium goes on inside it), "hollow" and
+    // the interior's `interior { media }`, or "".
+    std::string interior_sdl(const ShapeDesc& s, const std::string& pointer) const;
+    bool has_media() const { return !m_media.empty(); }
 
     const SceneDescription& m_desc;
     std::string m_name;
     const PovExportOptions& m_opt;
     RadiosityPreset m_rad;
+    std::span<const Medium> m_media;
     std::ostringstream m_out;
     std::vector<std::string> m_material_ids;  // POV identifier of m_desc.materials[i]
     long long m_cells = 0;
@@ -180,7 +220,9 @@ class ShapeOut final : public PovShapeOut {
 class LightOut final : public PovLightOut {
   public:
     LightOut(PovWriter& w, const LightDesc& l, std::size_t index)
-        : PovLightOut(l, "/lights/" + std::to_string(index), w.m_opt, w.m_desc.base_dir), m_w(w) {}
+        : PovLightOut(l, "/lights/" + std::to_string(index), w.m_opt, w.m_desc.base_dir,
+                      w.has_media()),
+          m_w(w) {}
     [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
         m_w.fail(p, m);
     }
@@ -196,12 +238,31 @@ constexpr const char* kTwinTexture =
     "  texture { pigment { rgb 0 } finish { ambient 0 diffuse 0 } }\n  no_image "
     "no_reflection no_shadow\n";
 
+// Every edge of the mesh is shared by exactly two triangles (positions compared exactly).
+bool closed_mesh(const TriangleMesh& m) {
+    std::map<std::pair<std::array<float, 3>, std::array<float, 3>>, int> edges;
+    auto key = [&](std::uint32_t i) {
+        const Vec3& p = m.positions[i];
+        return std::array<float, 3>{p.x, p.y, p.z};
+    };
+    for (std::size_t t = 0; t < m.num_triangles(); ++t)
+        for (int e = 0; e < 3; ++e) {
+            auto a = key(m.indices[3 * t + e]), b = key(m.indices[3 * t + (e + 1) % 3]);
+            if (b < a) std::swap(a, b);
+            ++edges[{a, b}];
+        }
+    for (const auto& [edge, n] : edges)
+        if (n != 2) return false;
+    return !edges.empty();
+}
+
 void ShapeOut::object(const std::string& head, bool inside_front) {
     // Only spheres reach here with UVs (their u, v span [0, 1]^2).
     if (reads_uv) m_w.check_clamp(shape, pointer, glm::dvec2(0.0), glm::dvec2(1.0));
     std::ostringstream& out = m_w.m_out;
     out << head << "\n  " << m_w.shape_texture(shape, pointer, inside_front) << "\n"
-        << (emits ? "  no_shadow\n" : "") << (twin() ? "  no_radiosity\n" : "") << xf() << "}\n";
+        << m_w.interior_sdl(shape, pointer) << (emits ? "  no_shadow\n" : "")
+        << (twin() ? "  no_radiosity\n" : "") << xf() << "}\n";
     if (twin()) out << head << "\n" << kTwinTexture << xf() << "}\n";
 }
 
@@ -263,7 +324,16 @@ void ShapeOut::triangles(bool parallelogram_cells) {
              << m.indices[3 * t + 1] << ">";
     body << " }\n";
     std::ostringstream& out = m_w.m_out;
+    const std::string interior = m_w.interior_sdl(shape, pointer);
+    // A mesh2 has an inside only with an inside_vector, and only a closed one has a true
+    // inside (POV-Ray counts crossings along that vector).
+    if (!interior.empty() && !closed_mesh(m))
+        fail(pointer,
+             "a medium boundary (a null material or an interior) must be a closed mesh "
+             "for POV-Ray (every edge shared by two triangles): POV-Ray decides "
+             "inside and outside by crossings, Facet by each surface's normal");
     out << body.str() << "  " << m_w.shape_texture(shape, pointer, false) << "\n"
+        << (interior.empty() ? "" : "  inside_vector <0, 0, 1>\n" + interior)
         << (emits ? "  no_shadow\n" : "") << (twin() ? "  no_radiosity\n" : "") << "}\n";
     if (twin()) out << body.str() << kTwinTexture << "}\n";
     if (!emits) return;
@@ -418,7 +488,40 @@ void PovWriter::global_settings() {
     for (const auto& [pname, shapes] : m_desc.prototypes)
         for (const ShapeDesc& s : shapes)
             if (s.material) mirrors = mirrors || has_mirror(*s.material);
-    const int depth = mirrors ? m_desc.render.max_depth : std::min(m_desc.render.max_depth, 255);
+    // Null boundaries (media, docs/media.md): POV-Ray spends a trace level on each crossing of
+    // a transparent surface, Facet none; the limit grows by two per boundary the camera and
+    // mirror rays may cross, so that it cannot also bound mirror bounces as max_depth does.
+    long long crossings = 0;
+    std::string null_pointer;
+    auto count_nulls = [&](const ShapeDesc& s, const std::string& p, long long times) {
+        std::string mp;
+        if (const MaterialDesc* m = shape_material(s, p, mp); m && is_pass_through(*m)) {
+            crossings += 2 * times;
+            if (null_pointer.empty()) null_pointer = mp;
+        }
+    };
+    std::map<std::string, long long> placed;  // instances per prototype
+    for (const ShapeDesc& s : m_desc.shapes)
+        if (!s.of.empty()) ++placed[s.of];
+    for (std::size_t i = 0; i < m_desc.shapes.size(); ++i)
+        count_nulls(m_desc.shapes[i], "/shapes/" + std::to_string(i), 1);
+    for (const auto& [pname, shapes] : m_desc.prototypes)
+        for (std::size_t k = 0; k < shapes.size(); ++k)
+            count_nulls(
+                shapes[k],
+                "/prototypes/" + detail::escape_pointer_token(pname) + "/" + std::to_string(k),
+                placed[pname]);
+    if (!m_desc.world_medium.empty() && mirrors)
+        fail("/world_medium",
+             "a world medium in a scene with mirror reflection: a mirror ray that leaves the "
+             "scene would cross POV-Ray's atmosphere over an unbounded length");
+    if (crossings > 0 && mirrors)
+        fail(null_pointer,
+             "a null boundary in a scene with mirror reflection: POV-Ray spends a trace level on "
+             "each crossing, so max_trace_level could not bound the mirror bounces as "
+             "max_depth does");
+    int depth = mirrors ? m_desc.render.max_depth : std::min(m_desc.render.max_depth, 255);
+    if (crossings > 0) depth = int(std::min<long long>(depth + crossings, 255));
     if (depth + 1 > 256)
         fail("/render/max_depth", fmt::format("{} bounces: POV-Ray traces at most 255 (its "
                                               "max_trace_level is at most 256)",
@@ -488,7 +591,8 @@ bool PovWriter::has_mirror(const MaterialDesc& m) const {
         }
         return false;
     }
-    return make_material(m.model, m.params).mirror().has_value();
+    if (is_pass_through(m)) return false;
+    return make_material(m.model, without_interior(m).params).mirror().has_value();
 }
 
 // " emission rgb <...>" giving the radiance `emission` on a surface of that pigment: POV-Ray
@@ -702,8 +806,16 @@ std::string PovWriter::uv_pigment(const TextureDesc& t, const std::string& point
 // other parameters go into the brdf block under their core names.
 std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer,
                                const glm::dvec3& emission) {
+    if (m.params.has("interior")) return texture(without_interior(m), pointer, emission);
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    // null: an invisible boundary, wholly transparent on both sides (POV-Ray's transmit 1
+    // passes camera and shadow rays unchanged), reflecting and emitting nothing.
+    if (info->pass_through) {
+        if (emission != glm::dvec3(0.0))
+            fail(pointer, "a null boundary cannot emit (it has no surface to glow)");
+        return "texture { pigment { rgbt 1 } finish { ambient 0 diffuse 0 } }";
+    }
     // The one parameter the pigment carries (the patch's tinting rule): the reflectance of
     // lambert and oren_nayar (povray-facet multiplies it into their f), composite's
     // diffuse_reflectance; white for principled, whose colours are its own parameters (the
@@ -899,12 +1011,62 @@ std::string PovWriter::shape_texture(const ShapeDesc& s, const std::string& poin
         return "texture { pigment { rgb 1 } finish { ambient 0 diffuse 0" +
                emission_of(e, glm::dvec3(1.0), pointer) + " } }";
     };
+    // A null boundary is invisible from both sides, one-sided or not (the media kernel crosses
+    // it without a vertex).
+    if (m && is_pass_through(*m)) return tex(le);
     std::string front = tex(le);
     std::string back = s.two_sided ? tex(glm::dvec3(0.0)) : black;
     if (inside_front) std::swap(front, back);
     if (!emits && s.two_sided) return front;
     // interior_texture takes the body of a texture: strip "texture { ... }".
     return front + "\n  interior_texture { " + back.substr(10, back.size() - 12) + " }";
+}
+
+std::string PovWriter::media_sdl(const std::string& name, const std::string& pointer) const {
+    std::size_t index = 0;
+    while (index < m_desc.media.size() && m_desc.media[index].first != name) ++index;
+    if (index >= m_media.size())
+        throw std::logic_error("export_pov: unknown medium (build_scene checks the names)");
+    const Medium& md = m_media[index];
+    if (md.kind() != MediumKind::Homogeneous)
+        fail("/media/" + detail::escape_pointer_token(name) + "/kind",
+             "only homogeneous media are exported to POV-Ray");
+    // POV-Ray's media emission is seen along rays but lights no surface (its media scatter
+    // only light sources' light), where Facet's lights what its paths reach.
+    if (md.emits())
+        fail("/media/" + detail::escape_pointer_token(name) + "/emission",
+             "an emitting medium cannot be exported exactly: POV-Ray's media emission lights no "
+             "surface");
+    auto rgb = [](const Rgb& c, double k) { return pov_rgb(glm::dvec3(c.r, c.g, c.b) * k); };
+    // POV-Ray's constant media (interior/media.cpp): absorption is Facet's coefficient per
+    // unit length. Its scattering adds Sc * k * (light colour at the point)
+    // with k = 1 isotropic and k = (1 - g^2) / (1 + g^2 - 2 g cos)^1.5 for Henyey-Greenstein
+    // (type 5, cos between the directions to the light and along the ray: g > 0 forward, as
+    // Facet's), i.e. 4 pi times the normalised phase function; the light colour of a
+    // physical_falloff light is I / (pi d^2) (light_units.h). So Sc = sigma_s / 4 reflects
+    // sigma_s p(cos) I / d^2, and `extinction 4` keeps sigma_s as the extinction it adds.
+    // Constant media are sampled at `intervals` equal steps with two samples each (no jitter):
+    // exact for absorption, a quadrature of the lit scattering.
+    std::ostringstream o;
+    o << "media {  // " << pointer << " ('" << comment_text(name) << "')\n"
+      << "    method 3 intervals " << m_opt.media_intervals << " samples 2, 2 jitter 0\n";
+    if (md.sigma_a() != Rgb(0.f)) o << "    absorption " << rgb(md.sigma_a(), 1.0) << "\n";
+    if (md.sigma_s() != Rgb(0.f))
+        o << "    scattering { 5, " << rgb(md.sigma_s(), 0.25) << " eccentricity "
+          << pov_num(md.phase().g()) << " extinction 4 }\n";
+    o << "  }";
+    return o.str();
+}
+
+std::string PovWriter::interior_sdl(const ShapeDesc& s, const std::string& pointer) const {
+    std::string mpointer;
+    const MaterialDesc* m = shape_material(s, pointer, mpointer);
+    if (!m) return "";
+    const std::string interior = interior_of(*m);
+    if (interior.empty()) return is_pass_through(*m) ? "  hollow\n" : "";
+    // POV-Ray computes an object's interior media only when it is hollow (and then its
+    // atmosphere too: export_pov refuses a world medium with interiors).
+    return "  hollow\n  interior { " + media_sdl(interior, mpointer + "/interior") + " }\n";
 }
 
 void ShapeOut::instance(const std::string& prototype) {
@@ -945,6 +1107,10 @@ std::string PovWriter::write() {
           << "#version 3.7;\n\n";
     global_settings();
     camera();
+    // The world medium: POV-Ray's atmospheric media, everywhere outside non-hollow objects.
+    if (!m_desc.world_medium.empty())
+        m_out << "// The world medium (/world_medium)\n"
+              << media_sdl(m_desc.world_medium, "/world_medium") << "\n\n";
     materials();
     for (std::size_t i = 0; i < m_desc.lights.size(); ++i) {
         LightOut out(*this, m_desc.lights[i], i);
@@ -974,6 +1140,26 @@ std::string PovWriter::write() {
 
 }  // namespace
 
+// The first pixel whose centre ray leaves the scene (after crossing null boundaries), or -1.
+// POV-Ray integrates its atmosphere along an escaping ray over an unbounded length
+// (interior/media.cpp samples the ray up to POV-Ray's "infinite" distance), where Facet's
+// integral converges: such pixels cannot be exported with a world medium.
+long long first_escaping_pixel(const Scene& scene) {
+    const Camera& cam = scene.camera();
+    for (int y = 0; y < cam.height; ++y)
+        for (int x = 0; x < cam.width; ++x) {
+            Ray ray = cam.generate_ray({float(x) + 0.5f, float(y) + 0.5f});
+            SurfaceHit hit;
+            for (int crossing = 0;; ++crossing) {
+                if (!scene.intersect(ray, hit)) return (long long)y * cam.width + x;
+                const MediumInterface* mi = scene.medium_interface(hit.material);
+                if (!mi || !mi->pass_through || crossing > 64) break;
+                ray = Scene::spawn_ray(hit, ray.d);
+            }
+        }
+    return -1;
+}
+
 void check_pov_options(const PovExportOptions& o) {
     (void)parse_radiosity(o.radiosity);
     if (o.area_grid < 1 || o.area_grid > 64)
@@ -994,6 +1180,9 @@ void check_pov_options(const PovExportOptions& o) {
             "so the sky would light diffuse surfaces twice");
     if (o.mipmap != "error" && o.mipmap != "linear")
         throw std::invalid_argument("--mipmap: expected error or linear, got '" + o.mipmap + "'");
+    if (o.media_intervals < 1 || o.media_intervals > 200)
+        throw std::invalid_argument(
+            fmt::format("--media-intervals: must be in [1, 200] (got {})", o.media_intervals));
     if (o.sky_samples < 1 || o.sky_samples > 4096)
         throw std::invalid_argument(
             fmt::format("--sky-samples: must be in [1, 4096] (got {})", o.sky_samples));
@@ -1004,21 +1193,22 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
     check_pov_options(options);
     // Validate everything the renderer would (ranges, names, meshes) before writing: the SDL is
     // only written for scenes that `facet render` accepts.
-    (void)build_scene(desc, name);
+    const Scene scene = build_scene(desc, name);
     // Opacity (cut-outs) is not exported yet: POV-Ray's pigment transmit would blend where
-    // Facet chooses stochastically (the same expectation), unchecked against it. Nor are media
-    // (POV-Ray's `media` is not checked against Facet's yet). Errors, never a silent drop.
-    const char* const no_media =
-        ": media cannot be exported to POV-Ray yet (remove it, or render with Facet)";
-    if (!desc.world_medium.empty()) throw SceneError(name + ": /world_medium" + no_media);
+    // Facet chooses stochastically (the same expectation), unchecked against it. Errors, never
+    // a silent drop.
+    // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
+    // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path
+    // with media is traced whichever integrator is asked).
+    std::string interior_pointer;  // the first material with an interior medium
     auto no_opacity = [&](const MaterialDesc& m, const std::string& pointer) {
         for (const char* key : {"opacity", "alpha_cutoff"})
             if (m.params.has(key) || m.textures.count(key))
                 throw SceneError(name + ": " + pointer + "/" + key +
                                  ": opacity (cut-outs) cannot be exported to POV-Ray exactly "
                                  "yet (remove it, or render with Facet)");
-        if (m.params.has("interior"))
-            throw SceneError(name + ": " + pointer + "/interior" + no_media);
+        if (m.params.has("interior") && interior_pointer.empty())
+            interior_pointer = pointer + "/interior";
     };
     for (const auto& [mname, m] : desc.materials)
         no_opacity(m, "/materials/" + detail::escape_pointer_token(mname));
@@ -1031,7 +1221,42 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
                 no_opacity(*shapes[k].material, "/prototypes/" +
                                                     detail::escape_pointer_token(pname) + "/" +
                                                     std::to_string(k) + "/material");
-    return PovWriter(desc, name, options).write();
+    const std::string media_pointer =
+        !desc.world_medium.empty() ? "/world_medium" : interior_pointer;
+    if (!media_pointer.empty()) {
+        if (desc.render.max_depth != 1)
+            throw SceneError(name + ": /render/max_depth: media (" + media_pointer +
+                             ") are exported with max_depth 1 only: POV-Ray's media scatter "
+                             "light once and its surfaces see direct light, which is Facet's "
+                             "path with media at max_depth 1 (got " +
+                             std::to_string(desc.render.max_depth) + ")");
+        if (!desc.world_medium.empty()) {
+            const Camera& cam = scene.camera();
+            if (const long long px = first_escaping_pixel(scene); px >= 0)
+                throw SceneError(fmt::format(
+                    "{}: /world_medium: the camera ray of pixel ({}, {}) leaves the scene, and "
+                    "POV-Ray's atmosphere would integrate it over an unbounded length: close "
+                    "the scene around the camera's view (or put the medium inside a null "
+                    "boundary's interior)",
+                    name, px % cam.width, px / cam.width));
+            for (const LightDesc& l : desc.lights)
+                if (l.kind == LightKind::Environment)
+                    throw SceneError(name +
+                                     ": /world_medium: an environment light seen through a "
+                                     "world medium (POV-Ray's sky would be attenuated over an "
+                                     "unbounded length)");
+        }
+        if (!desc.world_medium.empty() && !interior_pointer.empty())
+            throw SceneError(name + ": " + interior_pointer +
+                             ": an interior medium in a scene with a world medium: POV-Ray "
+                             "computes interior media only in hollow objects, which its "
+                             "atmosphere fills too, where Facet's interior replaces the world "
+                             "medium");
+        if (parse_radiosity(options.radiosity).count > 0)
+            throw std::invalid_argument("--radiosity: not with media (" + media_pointer +
+                                        "): POV-Ray's radiosity ignores media");
+    }
+    return PovWriter(desc, name, options, scene.media()).write();
 }
 
 void export_pov_file(const SceneDescription& desc, const std::string& name, const std::string& path,

@@ -16,6 +16,11 @@ namespace facet::render {
 std::string pov_num(double v);
 std::string pov_vec(const glm::dvec3& v);
 std::string pov_rgb(const glm::dvec3& c);
+// " media_attenuation on" for the light sources of a scene with media (POV-Ray's default is
+// off: a light would reach a point unattenuated by the media between), else "".
+inline const char* media_keywords_for(bool media) {
+    return media ? " media_attenuation on" : "";
+}
 
 class PovShapeOut {
   public:
@@ -61,16 +66,21 @@ class PovShapeOut {
 
 class PovLightOut {
   public:
-    PovLightOut(const LightDesc& l, std::string p, const PovExportOptions& o, std::string dir)
-        : light(l), pointer(std::move(p)), options(o), base_dir(std::move(dir)) {}
+    PovLightOut(const LightDesc& l, std::string p, const PovExportOptions& o, std::string dir,
+                bool media)
+        : light(l), pointer(std::move(p)), options(o), base_dir(std::move(dir)), in_media(media) {}
     virtual ~PovLightOut() = default;
     const LightDesc& light;
     const std::string pointer;  // "/lights/<index>"
     const PovExportOptions& options;
     const std::string base_dir;  // resolves relative image files (SceneDescription::base_dir)
+    // The scene has media: every light_source ends with media_keywords(), so that its light
+    // is attenuated by the media it crosses as Facet's shadow rays are.
+    const bool in_media;
     [[noreturn]] virtual void fail(const std::string& pointer,
                                    const std::string& message) const = 0;
     virtual std::ostream& out() = 0;
+    const char* media_keywords() const { return media_keywords_for(in_media); }
     // Point and spot lights: a sphere light (radius > 0) has no exact POV-Ray equivalent.
     void check_no_radius() const {
         if (light.radius && *light.radius > 0.0)

@@ -54,7 +54,7 @@ void pov(PovLightOut& o) {
     const glm::dvec3 dir = glm::normalize(glm::dvec3(*l.direction));
     const glm::dvec3 c = pov_parallel_colour(glm::dvec3(l.irradiance));
     o.out() << "light_source { " << pov_vec(-1e9 * dir) << " " << pov_rgb(c)
-            << " parallel point_at <0, 0, 0> }"
+            << " parallel point_at <0, 0, 0>" << o.media_keywords() << " }"
             << "  // " << o.pointer << ": directional, irradiance "
             << pov_vec(glm::dvec3(l.irradiance)) << " W/m^2\n";
 }

@@ -47,8 +47,8 @@ void pov(PovLightOut& o) {
     o.check_no_radius();
     const glm::dvec3 c = pov_light_colour(point_intensity(glm::dvec3(l.power)));
     o.out() << "light_source { " << pov_vec(glm::dvec3(l.position)) << " " << pov_rgb(c)
-            << " physical_falloff }  // " << o.pointer << ": point, power "
-            << pov_vec(glm::dvec3(l.power)) << " W\n";
+            << " physical_falloff" << o.media_keywords() << " }  // " << o.pointer
+            << ": point, power " << pov_vec(glm::dvec3(l.power)) << " W\n";
 }
 
 }  // namespace

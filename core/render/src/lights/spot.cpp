@@ -78,7 +78,8 @@ void pov(PovLightOut& o) {
     const glm::dvec3 c = pov_light_colour(spot_intensity(glm::dvec3(l.power), inner, outer));
     o.out() << "light_source { " << pov_vec(pos) << " " << pov_rgb(c) << " spotlight point_at "
             << pov_vec(pos + glm::normalize(dir)) << " radius " << pov_num(outer) << " falloff "
-            << pov_num(outer) << " tightness 0 physical_falloff }  // " << o.pointer << "\n";
+            << pov_num(outer) << " tightness 0 physical_falloff" << o.media_keywords() << " }  // "
+            << o.pointer << "\n";
 }
 
 }  // namespace

@@ -33,6 +33,10 @@
 //    space and UV transform), on objects whose POV-Ray UVs are the core's: mesh2 with
 //    uv_vectors, spheres with their axes swapped (docs/povray.md, "Textures"). Every other
 //    textured parameter, normal and bump maps are errors;
+//  - media (scene max_depth 1 only: single scattering): a homogeneous medium is POV-Ray
+//    `media` (absorption, Henyey-Greenstein scattering; no emission) inside its boundary's object,
+//    or atmospheric media for the world medium; lights get media_attenuation; a `null`
+//    boundary is a transmit-1 surface (docs/povray.md, "Media");
 //  - radiosity: a `radiosity {}` block; emitters are then `no_radiosity` with a black twin that
 //    only radiosity rays see, because the cell lights already count their light.
 #pragma once
@@ -68,6 +72,10 @@ struct PovExportOptions {
     // is the core's mipmap wherever the texture is magnified (MIP level <= 0) and sharper where
     // it is minified (an approximation; docs/povray.md).
     std::string mipmap = "error";
+    // Media: POV-Ray `intervals` per medium along a ray (equal steps, two samples each), in
+    // [1, 200] (POV-Ray holds at most 256 per ray): exact for absorption, a quadrature
+    // of the lit scattering.
+    int media_intervals = 128;
 };
 
 // Checks the options alone (throws std::invalid_argument naming the option).
