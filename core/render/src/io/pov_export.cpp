@@ -533,9 +533,11 @@ void PovWriter::global_settings() {
     const int level = std::max(depth + 1, rad_level);
     m_out << "global_settings {\n"
           << "  assumed_gamma 1.0\n"
-          << "  max_trace_level " << level << "  // camera ray + max_depth " << depth
-          << " mirror bounces" << (level > depth + 1 ? "; radiosity recursion needs more" : "")
-          << "\n"
+          << "  max_trace_level " << level << "  // camera ray + "
+          << (crossings > 0 ? fmt::format("max_depth {} + {} null boundary crossings",
+                                          m_desc.render.max_depth, crossings)
+                            : fmt::format("max_depth {} mirror bounces", depth))
+          << (level > depth + 1 ? "; radiosity recursion needs more" : "") << "\n"
           << "  adc_bailout 0\n"
           << "  ambient_light 0\n";
     // --environment light: brdf finishes sample the sky_sphere (povray-facet's keyword).
