@@ -2,7 +2,8 @@
 """`global_settings { brdf_convert_classic on }` in povray-facet (CTest label `povray`).
 
 Usage: convert_classic.py POVRAY_FACET FACET_CLI COMMAND
-  units   the exact parts of the mapping are exact in POV-Ray (diffuse, Fresnel reflection
+  units   the exact parts of the mapping are exact in POV-Ray (diffuse, also on an object
+          with POV-Ray's own interior media, Fresnel reflection
           against the classic render and against the bridge's own brdf mirror, ambient as
           emission), the fitted highlight keeps POV-Ray's energy and metallic tint, lights
           convert to physical falloff normalised at the look_at point, and the summary names
@@ -116,6 +117,31 @@ def cmd_units(env):
           f"diffuse: summary {s}")
     d = np.abs(a - b).max()
     check(d < 1e-5 * max(1.0, a.max()), f"diffuse 0.7: converted = classic (largest difference {d:.2e}, tolerance 1e-5 relative)")
+
+    # 1b. POV-Ray's own interior media on an object with a brdf finish: a partly transmitting
+    # hollow sphere filled with absorbing and scattering media, in front of a lit plane, its
+    # light attenuated by the media (media_attenuation). The converted render (Lambert brdf,
+    # exact as above) equals the classic one: the media along camera and shadow rays are POV-
+    # Ray's in both. Without the media the image differs (the check can fail).
+    media_scene = """#version 3.7;
+global_settings {{ assumed_gamma 1.0 ambient_light 0 }}
+camera {{ location <0, 0.5, -4> look_at <0, 0.3, 0> }}
+light_source {{ <-2, 4, -3> color rgb 1 media_attenuation on }}
+plane {{ y, -1 pigment {{ checker rgb 0.8 rgb 0.2 }} finish {{ ambient 0 diffuse 0.7 }} }}
+sphere {{ <0, 0.3, 0>, 1 hollow
+  pigment {{ rgbt <0.8, 0.5, 0.3, 0.6> }} finish {{ ambient 0 diffuse 0.7 }}
+  interior {{ {media} }} }}
+"""
+    with_media = media_scene.format(media="media { absorption 0.6 scattering { 1, 0.8 } intervals 20 samples 2, 2 jitter 0 }")
+    a, _, _ = env.render(with_media, w=48, h=48)
+    b, err, _ = env.render(with_media, w=48, h=48, header=ON)
+    c, _, _ = env.render(media_scene.format(media=""), w=48, h=48, header=ON)
+    s = summary(err)
+    check(s is not None and s["converted"] == 2 and s["approximated"] == 0, f"interior media: summary {s}")
+    d, dm = np.abs(a - b).max(), np.abs(b - c).max()
+    check(d < 1e-5 * max(1.0, a.max()) and dm > 1e-2,
+          f"brdf finish with POV-Ray's interior media: converted = classic (largest difference {d:.2e}, "
+          f"tolerance 1e-5 relative); the media change the image by {dm:.2e} (> 1e-2)")
 
     # 2. reflection { 0, 1 fresnel on } with ior 1.5: the core's Fresnel = POV-Ray's formula;
     # the converted render equals the classic one and the bridge's own brdf mirror.
