@@ -1,7 +1,7 @@
-// The `gltf` shape kind (core/render/src/shapes/gltf.cpp): geometry, node transforms, the
-// Y-up -> Z-up turn, materials, parts with their own materials, reports and errors. The
-// files under tests/render/gltf are written by make_gltf_tests.py (an independent writer);
-// the real and malformed assets are Debian's assimp-testmodels (skipped when absent).
+// The `gltf` shape kind (core/render/src/shapes/gltf.cpp, io/gltf_import.cpp): geometry, node
+// transforms, the Y-up -> Z-up turn, materials, parts with their own materials, reports and errors.
+// The files under tests/render/gltf are written by make_gltf_tests.py (an independent writer); the
+// real and malformed assets are Debian's assimp-testmodels (skipped when absent).
 #include <gtest/gtest.h>
 
 #include <glm/glm.hpp>

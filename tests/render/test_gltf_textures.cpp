@@ -1,4 +1,4 @@
-// glTF textures (core/render/src/shapes/gltf.cpp): TEXCOORD_0 turned bottom-left, base colour
+// glTF textures (core/render/src/io/gltf_import.cpp): TEXCOORD_0 turned bottom-left, base colour
 // texels against the image read directly with OpenImageIO, images from files, .glb buffer views
 // and data: URIs alike, KHR_texture_transform as Facet's uv transform (the same texel), alpha
 // modes as opacity, and the reports. The real assets are Debian's assimp-testmodels (skipped

@@ -1,4 +1,4 @@
-// libFuzzer entry point for the glTF import (core/render/src/shapes/gltf.cpp) from bytes in
+// libFuzzer entry point for the glTF import (core/render/src/io/gltf_import.cpp) from bytes in
 // memory (.gltf JSON or .glb; external files refused): any input must import or throw
 // std::runtime_error naming the file. tinygltf itself is Debian's uninstrumented shared
 // library, so coverage guides through Facet's checks of what it returns.

@@ -1,4 +1,5 @@
-// glTF 2.0 import (the `gltf` shape kind, core/render/src/shapes/gltf.cpp; docs/gltf.md).
+// glTF 2.0 import (core/render/src/io/gltf_import.cpp, for the `gltf` shape kind of
+// shapes/gltf.cpp and a bare file's scene, io/gltf_scene.cpp; docs/gltf.md).
 //
 // Conventions:
 //  - Everything is in the shape's object space: glTF's right-handed Y-up metres turned Z-up,

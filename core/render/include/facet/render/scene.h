@@ -195,7 +195,7 @@ struct TexturedMaterial {
         bool color;  // a colour parameter (else a number: the texture's r channel)
     };
     std::vector<Slot> slots;
-    // A kind's own parameterisation (glTF's metallic-roughness: shapes/gltf.cpp): `params` and
+    // A kind's own parameterisation (glTF's metallic-roughness: io/gltf_import.cpp): `params` and
     // the slots then hold its source values, which `convert` maps onto the model's parameters
     // at every hit (pure, never throws). Null: the slots are the model's parameters.
     using Convert = ParamSet (*)(const ParamSet&);
