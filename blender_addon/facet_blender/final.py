@@ -35,13 +35,15 @@ class FinalSession:
             self.engine.report({'ERROR'}, msg)
             self.engine.error_set(msg)
 
-    def _report(self, engine, problems, warnings, users):
+    def _report(self, engine, problems, warnings, users, lamp_line=None):
         """One report per render: each line once, grouped by material (with the objects using
         it) and object, after a count (gaps.grouped, gaps.summary); the preview scene's own
         materials are not the user's."""
         groups = gaps.grouped(list(problems) + list(warnings), users)
         for _, lines in groups:
             self.problems.extend(lines)
+        if not engine.is_preview and lamp_line:  # what is in use, not a gap: INFO
+            engine.report({'INFO'}, "Facet: " + lamp_line)
         if groups and not engine.is_preview:
             engine.report({'WARNING'}, "Facet: " + gaps.summary(groups))
             for subject, lines in groups:
@@ -63,7 +65,7 @@ class FinalSession:
         try:
             fscene, warnings = native.build(data, name="blender")
         finally:  # the conversion's report also when the build fails
-            self._report(engine, problems, warnings, users)
+            self._report(engine, problems, warnings, users, gaps.lamp_model_line(data["lights"]))
         rs = data["render"]
         if engine.is_preview:
             rs["spp"] = min(rs["spp"], PREVIEW_SPP)

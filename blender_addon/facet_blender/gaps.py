@@ -156,6 +156,27 @@ def volume_reason(node):
     return node_reason(node) or UNKNOWN
 
 
+def lamp_model_line(lights):
+    """The report line (INFO) that says which lamp model the exported `lights` (the scene
+    description's) use for a Radius or a Sun's Angle, or None when no lamp has a size: Cycles
+    3.4's disc and sun sampling (Lamp Model "Cycles 3.4") or the physical sphere and cone
+    ("Physical")."""
+    sized = [lt for lt in lights if lt.get("radius", 0.0) > 0.0 or lt.get("angle", 0.0) > 0.0]
+    if not sized:
+        return None
+    cycles34 = sum(1 for lt in sized if lt.get("radius_model") == "cycles34_disc" or
+                   lt.get("angle_model") == "cycles34")
+    physical = len(sized) - cycles34
+    parts = []
+    if cycles34:
+        parts.append("%d as Cycles 3.4 renders them (a disc facing each shaded point; the sun's "
+                     "angle as Cycles 3.4 samples it)" % cycles34)
+    if physical:
+        parts.append("%d as the physical sphere or cone (Cycles 4, pbrt)" % physical)
+    return ("Lamp Model: of the lamps with a Radius or an Angle, " + "; ".join(parts) +
+            " (Render Properties > Facet > Lamp Model)")
+
+
 def light_gaps(light, lamp_model="cycles34"):
     """[(Blender's label, the value as shown, what Facet does)] for a Blender light's settings
     that are not converted exactly (Radius and Angle only with lamp_model "physical")."""

@@ -126,6 +126,15 @@ def main():
         cs.add_light(scene, 'POINT', 150.0, (x, y, 1.2), shadow_soft_size=1.0,
                      visible_camera=False)
     check("five", measure(scene, "five", out))
+    # The report says which lamp model is in use (an INFO line of the final render).
+    from facet_blender import export, gaps
+    for model, want in (("cycles34", "5 as Cycles 3.4 renders them"),
+                        ("physical", "5 as the physical sphere or cone")):
+        scene.facet.lamp_model = model
+        data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get())
+        line = gaps.lamp_model_line(data["lights"])
+        bt.check(line is not None and want in line, "Lamp Model %s: report line %r" % (model, line))
+    scene.facet.lamp_model = "cycles34"
 
     scene = base_scene()
     cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 3.0), rotation=(math.radians(30.0), 0.0, 0.0),
