@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """Light selection for next-event estimation: view (the default: each light's contribution
 measured from the camera at load time, LightDistribution::view) against power (pbrt-v4's
-estimate: Phi, pi A L, pi r^2 E, 4 pi^2 r^2 L for the environment, r the scene's bounding radius)
-and uniform (Cycles 3.4's), on the scenes where the choice matters.
+estimate: Phi, pi A L, pi r^2 E, 4 pi^2 r^2 L for the environment, r the scene's bounding radius),
+uniform (Cycles 3.4's) and tree (the light tree, light_tree.h: per shaded point), on the scenes
+where the choice matters.
 
   PYTHONPATH=build/core/python /usr/bin/python3 bench/light_selection_bench.py \
       [--facet build/core/cli/facet] [--spp 64] [--reps 3] [--out /tmp/light-selection]
@@ -39,7 +40,7 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT / "bench"))
 import facet  # noqa: E402
 
-MODES = ("uniform", "power", "view")
+MODES = ("uniform", "power", "view", "tree")
 
 
 def base(width, height, camera):
@@ -151,10 +152,10 @@ def main():
     names = a.scenes or list(files)
     print(f"{w}x{h}, {a.spp} spp, 1 thread, {a.reps} reps of two seeds per mode, alternating "
           "modes in each rep\n")
-    print("| scene | pmfs power → view | noise²·time / uniform's: power | view | "
-          "noise² (uniform, power, view) | CPU s (uniform, power, view) | "
+    print("| scene | pmfs power → view | noise²·time / uniform's: power | view | tree | "
+          "noise² (uniform, power, view, tree) | CPU s (uniform, power, view, tree) | "
           "means: max |z| between modes |")
-    print("|---|---|---|---|---|---|---|")
+    print("|---|---|---|---|---|---|---|---|")
     for name in names:
         scene = files[name]
         rel = {m: [] for m in MODES}
@@ -186,9 +187,9 @@ def main():
                                      f"{p[1][:4]}{'…' if len(p[1]) > 4 else ''}")
         med = lambda v: statistics.median(v)
         print(f"| {name} | {ptxt} | {med(rel['power']):.3f} | {med(rel['view']):.3f} | "
-              f"{med(noise['uniform']):.3g}, {med(noise['power']):.3g}, "
-              f"{med(noise['view']):.3g} | {med(cpu['uniform']):.2f}, {med(cpu['power']):.2f}, "
-              f"{med(cpu['view']):.2f} | {zmax:.2f} |")
+              f"{med(rel['tree']):.3f} | "
+              + ", ".join(f"{med(noise[m]):.3g}" for m in MODES) + " | "
+              + ", ".join(f"{med(cpu[m]):.2f}" for m in MODES) + f" | {zmax:.2f} |")
         sys.stdout.flush()
 
 

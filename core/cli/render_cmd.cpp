@@ -1,6 +1,6 @@
 // `facet render scene.json -o out.exr [-o out.png] [-o part.fpart] [--spp N] [--time S]
 //  [--threads N] [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
-//  [--light-selection power|uniform] [--region x0,y0,x1,y1] [--samples s0:s1] [--explain]
+//  [--light-selection view|power|uniform|tree] [--region x0,y0,x1,y1] [--samples s0:s1] [--explain]
 //  [--quiet] [--stats-json FILE]`
 // `facet merge part.fpart ... -o out.exr [-o out.png]`
 //
@@ -161,6 +161,7 @@ void run_render(const RenderCmdOptions& o) {
     ro.force_general_kernel = o.kernel == "general";
     ro.light_selection = o.light_selection == "uniform" ? render::LightSelection::Uniform
                          : o.light_selection == "power" ? render::LightSelection::Power
+                         : o.light_selection == "tree"  ? render::LightSelection::Tree
                                                         : render::LightSelection::View;
     ro.independent_samples = o.sampler == "independent";
     if (o.adaptive_threshold >= 0.0) ro.adaptive_threshold = o.adaptive_threshold;
@@ -330,8 +331,9 @@ void add_render_command(CLI::App& app) {
         ->capture_default_str();
     cmd->add_option("--light-selection", o->light_selection,
                     "path: choose the light for each shadow ray in proportion to its "
-                    "contribution measured from the camera (view), to its power, or uniformly")
-        ->check(CLI::IsMember({"view", "power", "uniform"}))
+                    "contribution measured from the camera (view), to its power, uniformly, or "
+                    "by the light tree (tree: per shaded point; for many lights)")
+        ->check(CLI::IsMember({"view", "power", "uniform", "tree"}))
         ->capture_default_str();
     cmd->add_option("--sampler", o->sampler,
                     "sobol: Owen-scrambled Sobol samples; independent: independent uniform "

@@ -185,9 +185,11 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
                 o.light_selection = LightSelection::Power;
             else if (s == "uniform")
                 o.light_selection = LightSelection::Uniform;
+            else if (s == "tree")
+                o.light_selection = LightSelection::Tree;
             else
                 bad_argument("light_selection",
-                             "expected 'view', 'power' or 'uniform', got '" + s + "'");
+                             "expected 'view', 'power', 'uniform' or 'tree', got '" + s + "'");
         } else if (k == "independent_samples")
             o.independent_samples = option_value<bool>(value, k.c_str(), "a bool");
         else if (k == "adaptive_threshold")

@@ -1151,7 +1151,9 @@ void bind_scene(py::module_& m) {
                     d = LightDistribution::uniform(sc.lights());
                 else
                     bad_argument("selection",
-                                 "expected 'view', 'power' or 'uniform', got '" + selection + "'");
+                                 "expected 'view', 'power' or 'uniform' (the tree's choice "
+                                 "depends on the shaded point), got '" +
+                                     selection + "'");
                 std::vector<float> p(sc.lights().size(), 0.f);
                 if (!d.empty())
                     for (std::size_t i = 0; i < p.size(); ++i) p[i] = d.pmf(i);

@@ -216,9 +216,10 @@ template <std::uint32_t F>
         // dimension, so skipping one does not shift the others.
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
-        if (num_lights > 1) light_index = light_dist.sample(s.light_choice, select_pmf);
+        if (num_lights > 1) light_index = light_dist.sample(ctx, s.light_choice, select_pmf);
         const Light& light = lights[light_index];
-        if (auto ls = light.sample_li(ctx, s.light)) {
+        // (select_pmf is 0 only when the light tree finds no light that can reach ctx.)
+        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, s.light) : std::nullopt) {
             // Reflection: the light must be on the viewer's side of the surface; transmission:
             // on either side (valid_side).
             const Vec3 wi = sh.frame.to_local(ls->wi);
@@ -331,8 +332,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     if (depth == 0 || p.specular_bounce) {
                         p.L += p.beta * le;
                     } else {
-                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
+                        const float lp =
+                            light_dist.pmf(p.prev_ctx, std::size_t(env - lights.data())) *
+                            env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
                         p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
                     }
                 }
@@ -341,8 +343,8 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     p.L += p.beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp =
-                        light_dist.pmf(li) * lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
+                    const float lp = light_dist.pmf(p.prev_ctx, li) *
+                                     lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
                     p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
@@ -741,8 +743,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     if (depth == 0 || specular_bounce) {
                         L += beta * le;
                     } else {
-                        const float lp = light_dist.pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                        const float lp =
+                            light_dist.pmf(prev_ctx, std::size_t(env - lights.data())) *
+                            env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
                         L += beta * le * power_heuristic(prev_pdf, lp);
                     }
                 }
@@ -762,8 +765,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     L += beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp =
-                        light_dist.pmf(li) * lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
+                    const float lp = light_dist.pmf(prev_ctx, li) *
+                                     lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
                     L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
                 }
             }
@@ -797,9 +800,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (!light_dist.empty() && has_non_specular<F>(m)) {
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
-                if (num_lights > 1) light_index = light_dist.sample(u_light_choice, select_pmf);
+                if (num_lights > 1)
+                    light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = light.sample_li(ctx, u_light)) {
+                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
                         const BSDFEval e = bsdf_eval<F>(m, sh.wo, wi);
@@ -843,9 +847,11 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (!light_dist.empty()) {
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
-                if (num_lights > 1) light_index = light_dist.sample(u_light_choice, select_pmf);
+                if (num_lights > 1)
+                    light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = light.sample_li(ctx, u_light); ls && ls->pdf > 0.f) {
+                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+                    ls && ls->pdf > 0.f) {
                     const float ph = med.phase().eval(wo_w, ls->wi);
                     const Rgb contrib = ph * ls->li;
                     if (max3(contrib) > 0.f) {

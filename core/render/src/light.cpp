@@ -61,6 +61,15 @@ const EnvironmentMap* Light::map() const {
     });
 }
 
+std::optional<LightBounds> Light::bounds() const {
+    return visit([&](const auto& t) -> std::optional<LightBounds> {
+        if constexpr (requires { t.bounds(); })
+            return t.bounds();
+        else
+            return std::nullopt;
+    });
+}
+
 float Light::camera_hit(const Vec3& o, const Vec3& d) const {
     if (!m_common.camera_visible) return kInfinity;
     return visit([&](const auto& t) {
@@ -164,6 +173,16 @@ LightDistribution LightDistribution::view(const Scene& scene) {
     }
     LightDistribution d;
     d.build(w);
+    return d;
+}
+
+LightDistribution LightDistribution::tree(std::span<const Light> lights, float scene_radius) {
+    LightDistribution d(lights, scene_radius);
+    std::size_t candidates = 0;
+    for (std::size_t i = 0; i < lights.size(); ++i) candidates += d.pmf(i) > 0.f ? 1 : 0;
+    if (candidates < 2) return d;
+    d.m_tree = std::make_shared<const LightTree>(lights,
+                                                 [&](std::uint32_t i) { return d.m_pmf[i] > 0.f; });
     return d;
 }
 

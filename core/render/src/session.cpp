@@ -278,6 +278,9 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
             break;
         case LightSelection::Uniform:
             s.light_dist = LightDistribution::uniform(scene.lights());
+            break;
+        case LightSelection::Tree:
+            s.light_dist = LightDistribution::tree(scene.lights(), scene.radius());
     }
     if (!(options.pass_seconds > 0.0)) throw std::invalid_argument("pass_seconds must be > 0");
     const Region& reg = s.rs.region;

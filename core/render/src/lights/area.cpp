@@ -315,4 +315,8 @@ extern const LightKindDef kAreaLightKind{
     build,
     pov};
 
+std::optional<LightBounds> AreaLamp::bounds() const {
+    return flat_bounds(center, e1, e2, normal, power(0.f));
+}
+
 }  // namespace facet::render

@@ -42,4 +42,8 @@ Light Light::area_disc(const Vec3& center, const Vec3& e1, const Vec3& e2, const
     return make(l, {.emission = radiance, .position = center, .area = area, .shape = shape});
 }
 
+std::optional<LightBounds> EmissiveDisc::bounds() const {
+    return flat_bounds(center, e1, e2, normal, power(0.f));
+}
+
 }  // namespace facet::render

@@ -83,4 +83,10 @@ Light Light::area_sphere(const Vec3& center, float radius, const Rgb& radiance, 
     return make(l, {.emission = radiance, .position = center, .area = area, .shape = shape});
 }
 
+// Every direction (its normals cover the sphere; turned inward, too).
+std::optional<LightBounds> EmissiveSphere::bounds() const {
+    const Vec3 r(radius);
+    return light_bounds(center - r, center + r, power(0.f), Vec3(0.f, 0.f, 1.f), -1.f, 0.f);
+}
+
 }  // namespace facet::render

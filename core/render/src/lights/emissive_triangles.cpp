@@ -142,4 +142,35 @@ Light Light::area_triangles(std::vector<Vec3> tri, const Rgb& radiance, std::uin
     return make(std::move(l), common);
 }
 
+// The box of every vertex; the cone about the area-weighted mean normal that holds every
+// triangle's normal (all directions when they disagree too much to have a mean).
+std::optional<LightBounds> EmissiveTriangles::bounds() const {
+    if (tri.empty()) return std::nullopt;
+    Vec3 lo = tri[0], hi = tri[0];
+    for (const Vec3& v : tri) {
+        lo = glm::min(lo, v);
+        hi = glm::max(hi, v);
+    }
+    Vec3 sum(0.f);
+    for (std::size_t t = 0; t < tri_n.size(); ++t)
+        sum += tri_n[t] * (0.5f * glm::length(glm::cross(tri[3 * t + 1] - tri[3 * t],
+                                                         tri[3 * t + 2] - tri[3 * t])));
+    const float len = glm::length(sum);
+    Vec3 w(0.f, 0.f, 1.f);
+    float cos_o = -1.f;
+    if (len > 0.f && std::isfinite(len)) {
+        w = sum / len;
+        cos_o = 1.f;
+        for (const Vec3& n : tri_n) cos_o = std::min(cos_o, glm::dot(n, w));
+        cos_o = std::max(-1.f, cos_o - 1e-4f);  // float round-off of the normals
+    }
+    return light_bounds(lo, hi, power(0.f), w, cos_o, 0.f);
+}
+
+std::optional<LightBounds> EmissiveParallelogram::bounds() const {
+    const Vec3 a = corner, b = corner + e1, c = corner + e2, d = corner + e1 + e2;
+    return light_bounds(glm::min(glm::min(a, b), glm::min(c, d)),
+                        glm::max(glm::max(a, b), glm::max(c, d)), power(0.f), normal, 1.f, 0.f);
+}
+
 }  // namespace facet::render

@@ -97,4 +97,8 @@ extern const LightKindDef kPointLightKind{
     build,
     pov};
 
+std::optional<LightBounds> PointLight::bounds() const {
+    return point_bounds(e);
+}
+
 }  // namespace facet::render

@@ -18,6 +18,35 @@ namespace facet::render {
 // a near-hemispherical cone whose samples land at distance ~0 (no shadow ray can block them).
 // The excluded shell is 1e-4 r thick: far above float round-off (~1e-7 r), and the light it
 // would receive is at grazing angles over a cap of that size.
+// Light tree bounds (LightBounds, light_sample.h): the box lo..hi, phi = the mean of the
+// power's channels (as the power light selection weighs lights), and the emission cone.
+inline LightBounds light_bounds(const Vec3& lo, const Vec3& hi, const Rgb& power, const Vec3& w,
+                                float cos_theta_o, float cos_theta_e, bool two_sided = false) {
+    LightBounds b;
+    b.lo = lo;
+    b.hi = hi;
+    b.phi = (power.r + power.g + power.b) / 3.f;
+    b.w = w;
+    b.cos_theta_o = cos_theta_o;
+    b.cos_theta_e = cos_theta_e;
+    b.two_sided = two_sided;
+    return b;
+}
+
+// A point's, sphere's or facing disc's box: p +- r in every axis.
+inline LightBounds point_bounds(const PointEmitter& e) {
+    const Vec3 r(e.radius);
+    return light_bounds(e.position - r, e.position + r, e.power, Vec3(0.f, 0.f, 1.f), -1.f, 0.f);
+}
+
+// A flat emitter c +- e1 +- e2 (half-axes) facing n: one-sided, Lambertian (theta_o = 0,
+// theta_e = pi/2).
+inline LightBounds flat_bounds(const Vec3& c, const Vec3& e1, const Vec3& e2, const Vec3& n,
+                               const Rgb& power) {
+    const Vec3 ext = glm::abs(e1) + glm::abs(e2);
+    return light_bounds(c - ext, c + ext, power, n, 1.f, 0.f);
+}
+
 inline constexpr double kSphereOutside2 = (1.0 + 1e-4) * (1.0 + 1e-4);
 
 // 1 - cos(theta_max) of the cone subtended by a sphere seen at distance^2 dc2 > r^2, written

@@ -11,6 +11,8 @@
 // is the point light's Cycles 3.4 disc facing the lit point instead (lights/point.cpp), whose
 // radiance toward the lit point along w is likewise L falloff(w . axis) (Cycles 3.4 attenuates
 // each disc sample by the spot's fall-off along its own direction).
+#include <algorithm>
+
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
 #include "facet/render/light_units.h"
@@ -166,5 +168,18 @@ extern const LightKindDef kSpotLightKind{
     {{"direction", "look_at"}},
     build,
     pov};
+
+// Full intensity inside the inner cone and none beyond the outer one (linear fall-off), or
+// Cycles' smooth fall-off from the axis to the outer cone.
+std::optional<LightBounds> SpotLight::bounds() const {
+    LightBounds b = point_bounds(e);
+    b.w = direction;
+    const float outer = std::acos(std::clamp(cos_outer, -1.f, 1.f));
+    const float inner = smooth < 0.f ? std::acos(std::clamp(cos_inner, -1.f, 1.f)) : 0.f;
+    b.cos_theta_o = std::cos(inner);
+    // (1e-3 rad wider: the fall-off's own float test of the cone's edge may round the other way)
+    b.cos_theta_e = std::cos(std::max(0.f, outer - inner) + 1e-3f);
+    return b;
+}
 
 }  // namespace facet::render

@@ -61,6 +61,7 @@
 #include "facet/cdf_search.h"
 #include "facet/render/environment_map.h"
 #include "facet/render/light_sample.h"
+#include "facet/render/light_tree.h"
 #include "facet/render/light_types.h"
 #include "facet/render/precision.h"
 #include "facet/types.h"
@@ -211,6 +212,9 @@ class Light {
     // Total emitted power (W per channel) for choosing lights in proportion to power; lights at
     // infinity (directional, environment) use the radius of the scene's bounding sphere.
     Rgb power(float scene_radius) const;
+    // Where the light emits (light_sample.h, LightBounds), for the light tree; nullopt for
+    // lights at infinity (directional, environment), which the tree samples apart.
+    std::optional<LightBounds> bounds() const;
     // Sets the SceneFeatures flags of the light's type.
     void note(SceneFeatures& f) const;
 
@@ -281,6 +285,9 @@ class LightDistribution {
     // candidates, when the pilot's budget (kViewBudget light samples) allows fewer than 96
     // receivers (many lights) or when it measured nothing. Deterministic (fixed sample points).
     static LightDistribution view(const Scene& scene);
+    // The light tree (light_tree.h): the choice depends on the shaded point. With fewer than
+    // two candidates, the power distribution (one light is always chosen with probability 1).
+    static LightDistribution tree(std::span<const Light> lights, float scene_radius);
     static constexpr double kViewPowerShare = 0.2;
     static constexpr std::size_t kViewBudget = std::size_t(1) << 17;
 
@@ -301,6 +308,20 @@ class LightDistribution {
     }
     // Probability of choosing light i (what sample() returns for it).
     float pmf(std::size_t i) const { return m_pmf[i]; }
+    // The choice for the shaded point ctx (the integrators' calls): the light tree's when
+    // there is one, else sample(u, pmf) / pmf(i). With a tree, pmf may be 0: no light chosen.
+    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx, float u,
+                                                float& pmf) const {
+        if (m_tree) [[unlikely]]
+            return m_tree->sample(ctx.p, ctx.n, u, pmf);
+        return sample(u, pmf);
+    }
+    [[gnu::always_inline]] float pmf(const LightSampleContext& ctx, std::size_t i) const {
+        if (m_tree) [[unlikely]]
+            return m_tree->pmf(ctx.p, ctx.n, std::uint32_t(i));
+        return m_pmf[i];
+    }
+    bool has_tree() const { return m_tree != nullptr; }
 
   private:
     // weights[i] < 0 marks a light that is not a candidate (pmf 0 even in the uniform case).
@@ -309,6 +330,7 @@ class LightDistribution {
     std::vector<float> m_cdf;            // running probability, last = 1
     std::vector<float> m_pmf;            // m_cdf[i] - m_cdf[i - 1], exactly as sample() selects
     std::vector<std::uint32_t> m_guide;  // m_cdf's cutpoint table (facet/cdf_search.h)
+    std::shared_ptr<const LightTree> m_tree;  // LightSelection::Tree
 };
 
 }  // namespace facet::render

@@ -59,6 +59,21 @@ struct LightLiSample {
     return s;
 }
 
+// What a light with a position emits where, for the light tree (light_tree.h; pbrt-v4's
+// LightBounds, after Conty Estevez & Kulla 2018): a box containing the emitter, its power
+// `phi` (the luminance of power(): the tree weighs lights by it), and a cone of directions: it
+// emits only along directions within theta_o + theta_e of `w` (theta_o bounds the surface
+// normals, or a spot's full-intensity cone; theta_e how far beyond that it still emits: pi/2
+// for a Lambertian surface). `two_sided`: the cone about -w too. Bounds may be loose, never
+// tight: a light must emit nothing where the tree's importance is 0.
+struct LightBounds {
+    Vec3 lo{0.f}, hi{0.f};
+    float phi = 0.f;
+    Vec3 w{0.f, 0.f, 1.f};  // unit
+    float cos_theta_o = -1.f, cos_theta_e = 0.f;
+    bool two_sided = false;
+};
+
 // The members every light type T (light.h "Structure") has, in its header
 // facet/render/lights/<type>.h; the functions are defined in its unit unless small enough to be
 // inline:
@@ -75,5 +90,7 @@ struct LightLiSample {
 //   Rgb le_escape(const Vec3& d) const;                radiance of an escaping ray
 //   float camera_hit(const Vec3& o, const Vec3& d) const;  a camera ray's hit, not traced
 //   const EnvironmentMap* map() const;
+//   std::optional<LightBounds> bounds() const;        where it emits (lights with a position;
+//                                                     the others are "infinite" to the tree)
 
 }  // namespace facet::render

@@ -60,7 +60,7 @@ namespace facet::render {
 inline constexpr int kDefaultTileSize = 16;
 inline constexpr int kMaxPassSpp = 16;
 
-enum class LightSelection : std::uint8_t { View, Power, Uniform };
+enum class LightSelection : std::uint8_t { View, Power, Uniform, Tree };
 
 struct RenderOptions {
     std::string integrator;               // "" = scene setting; "direct" | "path"

@@ -25,6 +25,7 @@ struct AreaLamp {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
     Rgb power(float) const { return radiance * (kPi * area); }
+    std::optional<LightBounds> bounds() const;
     float camera_hit(const Vec3& o, const Vec3& d) const;
     static void note(SceneFeatures& f);
 };

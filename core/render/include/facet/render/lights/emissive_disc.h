@@ -25,6 +25,7 @@ struct EmissiveDisc {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
     Rgb power(float) const { return radiance * (kPi * area); }
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 

@@ -22,6 +22,7 @@ struct EmissiveSphere {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
     Rgb power(float) const { return radiance * (kPi * area); }
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 

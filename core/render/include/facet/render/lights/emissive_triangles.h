@@ -30,6 +30,7 @@ struct EmissiveTriangles {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
     Rgb power(float) const { return radiance * (kPi * area); }  // one-sided Lambertian: pi A L
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 
@@ -61,6 +62,7 @@ struct EmissiveParallelogram {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
     Rgb power(float) const { return radiance * (kPi * area); }
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 

@@ -37,6 +37,7 @@ struct PointLight {
         return 0.f;
     }
     Rgb power(float) const { return e.power; }
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 

@@ -22,6 +22,7 @@ struct SpotLight {
         return 0.f;
     }
     Rgb power(float) const { return e.power; }
+    std::optional<LightBounds> bounds() const;
     static void note(SceneFeatures& f);
 };
 
