@@ -38,8 +38,9 @@
 //    Each pixel keeps the F_k of least E_k; the output is the mean of the two halves' choices,
 //    times the albedo divided out.
 //  - Deterministic: every output pixel is a fixed function of the inputs, whatever the thread
-//    count. Working memory: the planar copies of the inputs and results, about 100 bytes per
-//    pixel, plus per band of kBandRows rows about 60 floats per pixel of the band.
+//    count. Working memory: the planar copies of the inputs, the candidates F_k and their
+//    errors, about 150 bytes per pixel, plus per thread the scratch of one tile of
+//    kBandRows x kTileCols pixels (denoise.cpp), about 350 bytes per pixel of the tile.
 #pragma once
 
 #include "facet/render/aov.h"
