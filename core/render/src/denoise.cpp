@@ -172,13 +172,15 @@ void box_mean(const float* in, float* out, int w, int h, int r) {
     }
 }
 
-void check_input(const Image* img, const char* name, const Image& ref) {
+// A variance (nonnegative = true) must also be >= 0.
+void check_input(const Image* img, const char* name, const Image& ref, const char* ref_name,
+                 bool nonnegative = false) {
     if (img == nullptr || img->width() == 0 || img->height() == 0)
         throw std::invalid_argument(std::string("denoise: ") + name + ": missing (empty image)");
     if (img->width() != ref.width() || img->height() != ref.height())
         throw std::invalid_argument(
             std::string("denoise: ") + name + ": " + std::to_string(img->width()) + " x " +
-            std::to_string(img->height()) + " pixels, but half_a is " +
+            std::to_string(img->height()) + " pixels, but " + ref_name + " is " +
             std::to_string(ref.width()) + " x " + std::to_string(ref.height()));
     for (int y = 0; y < img->height(); ++y)
         for (int x = 0; x < img->width(); ++x) {
@@ -187,12 +189,20 @@ void check_input(const Image* img, const char* name, const Image& ref) {
                 throw std::invalid_argument(std::string("denoise: ") + name + ": pixel (" +
                                             std::to_string(x) + ", " + std::to_string(y) +
                                             ") is not finite");
+            if (nonnegative && (c.r < 0.f || c.g < 0.f || c.b < 0.f))
+                throw std::invalid_argument(std::string("denoise: ") + name + ": pixel (" +
+                                            std::to_string(x) + ", " + std::to_string(y) +
+                                            ") is negative (a variance)");
         }
 }
 
 // The inputs in planar form (see denoise.h for the symbols).
 struct Prepared {
     int w, h;
+    // Images filtered: 2 (half_a, half_b) or 1 (color, with its variance).
+    int nh;
+    // Whether any feature variance was given (fvar holds them, else it is empty).
+    bool has_fvar;
     // 0..2: X_a / m, 3..5: X_b / m, rows of ws = w + 2 kPad floats with the image at columns
     // [kPad, kPad + w) and zeros around it, so that the filter's 8-pixel loads at a neighbour
     // offset stay inside the plane (their weight is 0 outside the image).
@@ -203,14 +213,20 @@ struct Prepared {
     // du/dy
     Planes feat;
     Planes mod;  // 0..2 the albedo divided out (1 where below kMinAlbedo)
-    Prepared(int w_, int h_)
+    // 0 sum of the albedo's channel variances / s_a^2, 1 the same for the normal / s_n^2,
+    // 2 the variance of u (a pixel's own, for the cancellation in f)
+    Planes fvar;
+    Prepared(int w_, int h_, int nh_, bool has_fvar_)
         : w(w_),
           h(h_),
+          nh(nh_),
+          has_fvar(has_fvar_),
           ws(w_ + 2 * kPad),
-          half(std::size_t(ws) * h_ * 6),
+          half(std::size_t(ws) * h_ * 3 * nh_),
           var(std::size_t(w_) * h_, 1),
           feat(std::size_t(w_) * h_, 10),
-          mod(std::size_t(w_) * h_, 3) {}
+          mod(std::size_t(w_) * h_, 3),
+          fvar(has_fvar_ ? std::size_t(w_) * h_ : 0, 3) {}
     // Row y of half plane k, indexed by column x in [-kPad, w + kPad).
     float* hrow(int k, int y) { return half.data() + (std::size_t(k) * h + y) * ws + kPad; }
     const float* hrow(int k, int y) const {
@@ -225,15 +241,21 @@ void prepare(const DenoiseInput& in, Prepared& p, int threads) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
             const Rgb a = in.albedo->at(x, y), n = in.normal->at(x, y);
-            const Rgb xa = in.half_a->at(x, y), xb = in.half_b->at(x, y);
             float v = 0.f;
             for (int c = 0; c < 3; ++c) {
                 const float m = a[c] > kMinAlbedo ? a[c] : 1.f;
                 p.mod[c][i] = m;
-                p.hrow(c, y)[x] = xa[c] / m;
-                p.hrow(3 + c, y)[x] = xb[c] / m;
-                const float d = (xa[c] - xb[c]) / m;
-                v += 0.5f * d * d;
+                if (p.nh == 2) {
+                    // V of one half: E[(X - Y)^2] / 2, X and Y independent of one variance.
+                    const float xa = in.half_a->at(x, y)[c], xb = in.half_b->at(x, y)[c];
+                    p.hrow(c, y)[x] = xa / m;
+                    p.hrow(3 + c, y)[x] = xb / m;
+                    const float d = (xa - xb) / m;
+                    v += 0.5f * d * d;
+                } else {
+                    p.hrow(c, y)[x] = in.color->at(x, y)[c] / m;
+                    v += in.variance->at(x, y)[c] / (m * m);
+                }
                 p.feat[c][i] = a[c] / kAlbedoBandwidth;
                 p.feat[3 + c][i] = n[c] / kNormalBandwidth;
             }
@@ -245,6 +267,22 @@ void prepare(const DenoiseInput& in, Prepared& p, int threads) {
             p.feat[6][i] = u;
             const float s = kDepthBandwidth * std::max(u, 1e-12f);
             p.feat[7][i] = 1.f / (s * s);
+            if (p.has_fvar) {
+                // Feature variances in the units of f: per channel / bandwidth^2, summed; for
+                // u = 1 / z, Var(u) ~ Var(z) / z^4 (first order). The depth term's scale
+                // widens by the pixel's own variance.
+                auto sum = [&](const Image* img) {
+                    if (img == nullptr) return 0.f;
+                    const Rgb& c = img->at(x, y);
+                    return c.r + c.g + c.b;
+                };
+                p.fvar[0][i] = sum(in.albedo_variance) / (kAlbedoBandwidth * kAlbedoBandwidth);
+                p.fvar[1][i] = sum(in.normal_variance) / (kNormalBandwidth * kNormalBandwidth);
+                const float vz = in.depth_variance != nullptr ? in.depth_variance->at(x, y).r : 0.f;
+                const float vu = u > 0.f ? vz * (u * u) * (u * u) : 0.f;
+                p.fvar[2][i] = vu;
+                p.feat[7][i] = 1.f / (s * s + vu);
+            }
         }
     });
     box_mean(raw_var.data(), p.var[0], w, h, 1);
@@ -350,7 +388,7 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
             // border), per half.
             for (int y = m0; y < m1; ++y) {
                 const int qy = std::clamp(y + dy, 0, h - 1);
-                for (int hh = 0; hh < 2; ++hh) {
+                for (int hh = 0; hh < p.nh; ++hh) {
                     const float* X0 = p.hrow(3 * hh, y);
                     const float* X1 = p.hrow(3 * hh + 1, y);
                     const float* X2 = p.hrow(3 * hh + 2, y);
@@ -383,7 +421,7 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
                         one(x, std::clamp(x + dx, 0, w - 1));
                 }
             }
-            for (int hh = 0; hh < 2; ++hh) {
+            for (int hh = 0; hh < p.nh; ++hh) {
                 for (int y = 0; y < mrows; ++y) {
                     // D at column x is Dm[x - c0], H at x is Hm[x - x0].
                     const float* Dm = s.d.data() + hh * ms + std::size_t(y) * mw;
@@ -427,16 +465,51 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
                 for (int f = 0; f < 10; ++f) F[f] = p.feat[f] + row;
                 for (int f = 0; f < 7; ++f) G[f] = p.feat[f] + qrow;
                 float* FD = s.feat.data() + (std::size_t(di) * rows + (y - y0)) * tp;
+                if (!p.has_fvar) {
+#pragma GCC ivdep
+                    for (int j = j_lo; j < j_hi; ++j) {
+                        // Grouped as below, so that zero feature variances give the same bits.
+                        float t[2];
+                        for (int g = 0; g < 2; ++g) {
+                            float e = 0.f;
+                            for (int c = 3 * g; c < 3 * g + 3; ++c) {
+                                const float d = F[c][j] - G[c][j];
+                                e += d * d;
+                            }
+                            t[g] = e;
+                        }
+                        const float ez = G[6][j] - F[6][j] - F[8][j] * fdx - F[9][j] * fdy;
+                        FD[j] = t[0] + t[1] + ez * ez * F[7][j];
+                    }
+                    continue;
+                }
+                // Noisy features: each term's squared difference less the variance it expects
+                // from noise (Var_p + min(Var_p, Var_q), as for the colour), over its
+                // bandwidth widened by the pixel's own variance (in units of the bandwidth
+                // here: 1 + Var_p).
+                const float* VP[3];
+                const float* VQ[3];
+                for (int f = 0; f < 3; ++f) {
+                    VP[f] = p.fvar[f] + row;
+                    VQ[f] = p.fvar[f] + qrow;
+                }
 #pragma GCC ivdep
                 for (int j = j_lo; j < j_hi; ++j) {
-                    float f = 0.f;
-                    for (int c = 0; c < 6; ++c) {
-                        const float e = F[c][j] - G[c][j];
-                        f += e * e;
+                    float t[2];
+                    for (int g = 0; g < 2; ++g) {
+                        float e = 0.f;
+                        for (int c = 3 * g; c < 3 * g + 3; ++c) {
+                            const float d = F[c][j] - G[c][j];
+                            e += d * d;
+                        }
+                        const float vp = VP[g][j], vq = VQ[g][j];
+                        const float excess = e - (vp + (vp < vq ? vp : vq));
+                        t[g] = (excess > 0.f ? excess : 0.f) / (1.f + vp);
                     }
                     const float ez = G[6][j] - F[6][j] - F[8][j] * fdx - F[9][j] * fdy;
-                    f += ez * ez * F[7][j];
-                    FD[j] = f;
+                    const float vp = VP[2][j], vq = VQ[2][j];
+                    const float excess = ez * ez - (vp + (vp < vq ? vp : vq));
+                    FD[j] = t[0] + t[1] + (excess > 0.f ? excess : 0.f) * F[7][j];
                 }
             }
         }
@@ -447,7 +520,7 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
             const int qy = y + dy;
             if (qy < 0 || qy >= h) continue;
             const std::size_t brow = std::size_t(y - y0) * tp;
-            for (int hh = 0; hh < 2; ++hh) {
+            for (int hh = 0; hh < p.nh; ++hh) {
                 const float* Q0 = p.hrow(3 * hh, qy) + x0;
                 const float* Q1 = p.hrow(3 * hh + 1, qy) + x0;
                 const float* Q2 = p.hrow(3 * hh + 2, qy) + x0;
@@ -508,7 +581,7 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
     // weights are lopsided). The slopes get a small ridge (kRidge times the weight sum) so that
     // a neighbourhood on a line stays solvable; the centre's own weight is 1 (f = 0, d <= 0),
     // so the weight sum is at least 1.
-    for (int slot = 0; slot < 2 * kCandidates; ++slot) {
+    for (int slot = 0; slot < p.nh * kCandidates; ++slot) {
         const float* A = s.acc.data() + std::size_t(slot * kMoments) * bs;
         const int other = 3 * (1 - slot / kCandidates);
         for (int y = y0; y < y1; ++y)
@@ -522,16 +595,21 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
                 const double e0 = sxx * syy - sxy * sxy, e1 = sy * sxy - sx * syy,
                              e2 = sx * sxy - sy * sxx;
                 const double det = s0 * e0 + sx * e1 + sy * e2;
+                const bool plane = det > 1e-9 * s0 * e0 && e0 > 0.0;
                 float e = 0.f;
                 for (int c = 0; c < 3; ++c) {
                     const double v0 = m(6 + 3 * c), vx = m(7 + 3 * c), vy = m(8 + 3 * c);
-                    const double fit = det > 1e-9 * s0 * e0 && e0 > 0.0
-                                           ? (e0 * v0 + e1 * vx + e2 * vy) / det
-                                           : v0 / s0;
+                    const double fit = plane ? (e0 * v0 + e1 * vx + e2 * vy) / det : v0 / s0;
                     out[3 * slot + c][i] = float(fit);
-                    const float r = float(fit) - p.hrow(other + c, y)[x];
+                    const float r = float(fit) - p.hrow(p.nh == 2 ? other + c : c, y)[x];
                     e += r * r;
                 }
+                // One image: (F - X)^2 is biased low by 2 Var(X) dF/dX_p; Stein's unbiased
+                // risk estimate adds it back, with dF/dX_p the fit's weight on the pixel's own
+                // value (the hat matrix' diagonal: the centre's weight is 1 and its offset 0,
+                // so it is the (0, 0) entry of the moment matrix' inverse), the weights held
+                // fixed. Var(X) summed over channels is 3 V.
+                if (p.nh == 1) e += 2.f * float(plane ? e0 / det : 1.0 / s0) * 3.f * V[i];
                 err[slot][i] = e;
             }
     }
@@ -540,14 +618,39 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
 }  // namespace
 
 Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
-    if (in.half_a == nullptr || in.half_a->width() == 0 || in.half_a->height() == 0)
-        throw std::invalid_argument("denoise: half_a: missing (empty image)");
-    const Image& ref = *in.half_a;
-    check_input(in.half_a, "half_a", ref);
-    check_input(in.half_b, "half_b", ref);
-    check_input(in.albedo, "albedo", ref);
-    check_input(in.normal, "normal", ref);
-    check_input(in.depth, "depth", ref);
+    // The beauty: two half-buffers, or the colour and its variance.
+    const bool halves = in.color == nullptr && in.variance == nullptr;
+    if (!halves && (in.half_a != nullptr || in.half_b != nullptr))
+        throw std::invalid_argument(
+            std::string("denoise: ") + (in.color != nullptr ? "color" : "variance") +
+            ": give either half_a and half_b, or color and variance, not both");
+    if (!halves && in.color == nullptr)
+        throw std::invalid_argument(
+            "denoise: color: missing (variance given without the colour it belongs to)");
+    const Image* first = halves ? in.half_a : in.color;
+    const char* first_name = halves ? "half_a" : "color";
+    if (first == nullptr || first->width() == 0 || first->height() == 0)
+        throw std::invalid_argument(std::string("denoise: ") + first_name +
+                                    ": missing (empty image)");
+    const Image& ref = *first;
+    if (halves) {
+        check_input(in.half_a, "half_a", ref, first_name);
+        check_input(in.half_b, "half_b", ref, first_name);
+    } else {
+        check_input(in.color, "color", ref, first_name);
+        check_input(in.variance, "variance", ref, first_name, true);
+    }
+    check_input(in.albedo, "albedo", ref, first_name);
+    check_input(in.normal, "normal", ref, first_name);
+    check_input(in.depth, "depth", ref, first_name);
+    if (in.albedo_variance != nullptr)
+        check_input(in.albedo_variance, "albedo_variance", ref, first_name, true);
+    if (in.normal_variance != nullptr)
+        check_input(in.normal_variance, "normal_variance", ref, first_name, true);
+    if (in.depth_variance != nullptr)
+        check_input(in.depth_variance, "depth_variance", ref, first_name, true);
+    const bool has_fvar = in.albedo_variance != nullptr || in.normal_variance != nullptr ||
+                          in.depth_variance != nullptr;
     if (o.radius < 1 || o.radius > 20)
         throw std::invalid_argument("denoise: radius: expected 1..20, got " +
                                     std::to_string(o.radius));
@@ -557,12 +660,13 @@ Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
     const int w = ref.width(), h = ref.height();
     const std::size_t n = std::size_t(w) * h;
     const FlushDenormals ftz;
-    Prepared p(w, h);
+    const int nh = halves ? 2 : 1;
+    Prepared p(w, h, nh, has_fvar);
     prepare(in, p, o.threads);
 
     // The candidates F_k and their error estimates E_k per half against the other half,
     // then E_k averaged over a box (in place).
-    Planes filtered(n, 2 * kCandidates * 3), err(n, 2 * kCandidates);
+    Planes filtered(n, nh * kCandidates * 3), err(n, nh * kCandidates);
     const int bands = (h + kBandRows - 1) / kBandRows, cols = (w + kTileCols - 1) / kTileCols;
     tbb::enumerable_thread_specific<TileScratch> scratch;
     run_parallel(o.threads, bands * cols, [&](int t) {
@@ -570,7 +674,7 @@ Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
         filter_tile(p, o.radius, b * kBandRows, std::min(h, (b + 1) * kBandRows), c * kTileCols,
                     std::min(w, (c + 1) * kTileCols), filtered, err, scratch.local());
     });
-    run_parallel(o.threads, 2 * kCandidates,
+    run_parallel(o.threads, nh * kCandidates,
                  [&](int slot) { box_mean(err[slot], err[slot], w, h, kErrorRadius); });
 
     Image out(w, h);
@@ -578,14 +682,15 @@ Image denoise(const DenoiseInput& in, const DenoiseOptions& o) {
         for (int x = 0; x < w; ++x) {
             const std::size_t i = std::size_t(y) * w + x;
             Rgb sum(0.f);
-            for (int hh = 0; hh < 2; ++hh) {
+            for (int hh = 0; hh < nh; ++hh) {
                 int best = 0;
                 for (int k = 1; k < kCandidates; ++k)
                     if (err[hh * kCandidates + k][i] < err[hh * kCandidates + best][i]) best = k;
                 const int slot = hh * kCandidates + best;
                 for (int c = 0; c < 3; ++c) sum[c] += filtered[3 * slot + c][i];
             }
-            for (int c = 0; c < 3; ++c) out.at(x, y)[c] = 0.5f * sum[c] * p.mod[c][i];
+            const float scale = nh == 2 ? 0.5f : 1.f;
+            for (int c = 0; c < 3; ++c) out.at(x, y)[c] = scale * sum[c] * p.mod[c][i];
         }
     });
     return out;
