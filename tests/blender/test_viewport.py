@@ -2,7 +2,8 @@
 view_draw draw a non-empty image, and the image changes after the cube is moved (a screenshot
 test) without re-exporting the cube's mesh; with Denoise Viewport on, the image shown once
 refinement ends is the denoised one (smoother than the merged halves, same mean); then the
-material tab's previews are rendered by Facet. Runs with the UI: `xvfb-run blender --factory-startup --python test_viewport.py`."""
+material tab's previews are rendered by Facet. Runs with the UI:
+`xvfb-run blender --factory-startup --python test_viewport.py`."""
 import os
 import sys
 import time
