@@ -465,21 +465,21 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
                 for (int f = 0; f < 10; ++f) F[f] = p.feat[f] + row;
                 for (int f = 0; f < 7; ++f) G[f] = p.feat[f] + qrow;
                 float* FD = s.feat.data() + (std::size_t(di) * rows + (y - y0)) * tp;
+                // Named rows (not arrays of pointers) so that GCC vectorises the loops.
+                const float *A0 = F[0], *A1 = F[1], *A2 = F[2], *N0 = F[3], *N1 = F[4], *N2 = F[5],
+                            *U = F[6], *S = F[7], *Ux = F[8], *Uy = F[9];
+                const float *B0 = G[0], *B1 = G[1], *B2 = G[2], *M0 = G[3], *M1 = G[4], *M2 = G[5],
+                            *Uq = G[6];
                 if (!p.has_fvar) {
 #pragma GCC ivdep
                     for (int j = j_lo; j < j_hi; ++j) {
                         // Grouped as below, so that zero feature variances give the same bits.
-                        float t[2];
-                        for (int g = 0; g < 2; ++g) {
-                            float e = 0.f;
-                            for (int c = 3 * g; c < 3 * g + 3; ++c) {
-                                const float d = F[c][j] - G[c][j];
-                                e += d * d;
-                            }
-                            t[g] = e;
-                        }
-                        const float ez = G[6][j] - F[6][j] - F[8][j] * fdx - F[9][j] * fdy;
-                        FD[j] = t[0] + t[1] + ez * ez * F[7][j];
+                        const float a0 = A0[j] - B0[j], a1 = A1[j] - B1[j], a2 = A2[j] - B2[j];
+                        const float n0 = N0[j] - M0[j], n1 = N1[j] - M1[j], n2 = N2[j] - M2[j];
+                        const float ea = a0 * a0 + a1 * a1 + a2 * a2;
+                        const float en = n0 * n0 + n1 * n1 + n2 * n2;
+                        const float ez = Uq[j] - U[j] - Ux[j] * fdx - Uy[j] * fdy;
+                        FD[j] = ea + en + ez * ez * S[j];
                     }
                     continue;
                 }
@@ -487,29 +487,21 @@ void filter_tile(const Prepared& p, int radius, int y0, int y1, int x0, int x1, 
                 // from noise (Var_p + min(Var_p, Var_q), as for the colour), over its
                 // bandwidth widened by the pixel's own variance (in units of the bandwidth
                 // here: 1 + Var_p).
-                const float* VP[3];
-                const float* VQ[3];
-                for (int f = 0; f < 3; ++f) {
-                    VP[f] = p.fvar[f] + row;
-                    VQ[f] = p.fvar[f] + qrow;
-                }
+                const float *Wa = p.fvar[0] + row, *Wn = p.fvar[1] + row, *Wu = p.fvar[2] + row;
+                const float *Qa = p.fvar[0] + qrow, *Qn = p.fvar[1] + qrow, *Qu = p.fvar[2] + qrow;
 #pragma GCC ivdep
                 for (int j = j_lo; j < j_hi; ++j) {
-                    float t[2];
-                    for (int g = 0; g < 2; ++g) {
-                        float e = 0.f;
-                        for (int c = 3 * g; c < 3 * g + 3; ++c) {
-                            const float d = F[c][j] - G[c][j];
-                            e += d * d;
-                        }
-                        const float vp = VP[g][j], vq = VQ[g][j];
-                        const float excess = e - (vp + (vp < vq ? vp : vq));
-                        t[g] = (excess > 0.f ? excess : 0.f) / (1.f + vp);
-                    }
-                    const float ez = G[6][j] - F[6][j] - F[8][j] * fdx - F[9][j] * fdy;
-                    const float vp = VP[2][j], vq = VQ[2][j];
-                    const float excess = ez * ez - (vp + (vp < vq ? vp : vq));
-                    FD[j] = t[0] + t[1] + (excess > 0.f ? excess : 0.f) * F[7][j];
+                    const float a0 = A0[j] - B0[j], a1 = A1[j] - B1[j], a2 = A2[j] - B2[j];
+                    const float n0 = N0[j] - M0[j], n1 = N1[j] - M1[j], n2 = N2[j] - M2[j];
+                    const float ea = a0 * a0 + a1 * a1 + a2 * a2;
+                    const float en = n0 * n0 + n1 * n1 + n2 * n2;
+                    const float ez = Uq[j] - U[j] - Ux[j] * fdx - Uy[j] * fdy;
+                    const float va = Wa[j], vn = Wn[j], vu = Wu[j];
+                    const float xa = ea - (va + (va < Qa[j] ? va : Qa[j]));
+                    const float xn = en - (vn + (vn < Qn[j] ? vn : Qn[j]));
+                    const float xz = ez * ez - (vu + (vu < Qu[j] ? vu : Qu[j]));
+                    FD[j] = (xa > 0.f ? xa : 0.f) / (1.f + va) +
+                            (xn > 0.f ? xn : 0.f) / (1.f + vn) + (xz > 0.f ? xz : 0.f) * S[j];
                 }
             }
         }
