@@ -16,7 +16,6 @@
 
 #include <algorithm>
 #include <array>
-#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstring>
@@ -52,21 +51,6 @@ constexpr int kBandRows = 16, kTileCols = 64;
 // Zero columns on each side of the padded half planes (Prepared): the largest radius plus the
 // lanes a tile's last vector reads past the image.
 constexpr int kPad = 20 + 8;
-
-// exp(x) for x <= 0 (x below -80 gives exp(-80) ~ 1.8e-35): 2^t as 2^floor(t) times a degree-5
-// polynomial of 2^f on [0, 1) (relative error below 1e-6), branch-free so that loops over it
-// vectorise. Weights need no more accuracy, and libm's expf would not vectorise here.
-inline float exp_neg(float x) {
-    x = x > -80.f ? x : -80.f;
-    const float t = x * 1.44269504f + 128.f;  // in [12.5, 128]: int() is floor()
-    const int i = int(t);
-    const float f = t - float(i);
-    const float p =
-        1.f + f * (0.69314718f +
-                   f * (0.24022652f + f * (0.05550411f + f * (0.00961813f + f * 0.00133336f))));
-    // 2^(i - 128), exponent field i - 1
-    return p * std::bit_cast<float>(static_cast<std::uint32_t>(i - 1) << 23);
-}
 
 // Flush-to-zero and denormals-are-zero on this thread while alive (the render threads run so,
 // for Embree): the denoiser's bits then do not depend on the floating-point mode of the process
@@ -323,8 +307,10 @@ constexpr int kLanes = 8;
     return V8{} + x;
 }
 
-// exp(x) for x <= 0 as exp_neg, lane-wise, and exactly 0 for x <= -80 (exp(-80) ~ 1.8e-35:
-// a weight of 0 marks a neighbour outside the image).
+// exp(x) for x <= 0, lane-wise: 2^t as 2^floor(t) times a degree-5 polynomial of 2^f on
+// [0, 1) (relative error below 1e-6), and exactly 0 for x <= -80 (exp(-80) ~ 1.8e-35: a weight
+// of 0 marks a neighbour outside the image). Weights need no more accuracy; libm's expf would
+// not vectorise.
 [[gnu::always_inline]] inline V8 exp_neg8(V8 x) {
     const V8 lo = splat8(-80.f);
     const I8 keep = x > lo;
