@@ -4,7 +4,7 @@ without denoising, and the time to denoise a 1920 x 1080 frame. Registered nowhe
 
     PYTHONPATH=build/core/python /usr/bin/python3 bench/denoise_bench.py \
         [--scenes cornell_box showcase] [--size 320] [--ref-spp 4096] [--threads 2] \
-        [--plot docs/img/denoise_mse_time.png]
+        [--realscenes cubes_4mats] [--plot docs/img/denoise_mse_time.png]
 
 For each scene (scaled to --size pixels wide), a reference of --ref-spp samples per pixel (its
 own MSE, estimated from two halves of it, is printed and is far below every row's), then for
@@ -14,15 +14,21 @@ wall time of each call and its MSE against the reference. The denoised time incl
 pass and the denoiser. A table in Markdown, the ratio 'plain MSE at 8x spp / denoised MSE at
 spp' for the targets, and a log-log plot.
 
+--realscenes adds scenes of the real-scene suite (tests/realscenes/scenes.py) at their bench
+size, staged and exported in headless Blender (bench/denoise_realscene.py).
+
 The 1080p row: facet.denoise on 1920 x 1080 arrays (noise over a checker with edges), the
 median of --reps runs, beside the time of numpy's copy of the same five arrays (the peer that
 shows how loaded the machine is).
 """
 import argparse
 import json
+import os
 import pathlib
 import statistics
+import subprocess
 import sys
+import tempfile
 import time
 
 import numpy as np
@@ -34,8 +40,21 @@ ROOT = pathlib.Path(__file__).resolve().parents[1]
 SPPS = (4, 8, 16, 32, 64, 128)
 
 
-def mse(x, ref):
-    return float(np.mean((x.astype(np.float64) - ref) ** 2))
+def mse(x, ref, keep=None):
+    e = np.mean((x.astype(np.float64) - ref) ** 2, axis=2)
+    return float(np.mean(e if keep is None else e[keep]))
+
+
+def off_emitters(scene, threads):
+    """The pixels farther than one pixel from any emitter seen (the emission AOV): the MSE
+    without the coverage noise of a light's outline, which both half-buffers share."""
+    em = np.asarray(facet.render_aovs(scene, ["emission"], spp=16, threads=threads)["emission"])
+    lit = em.max(axis=2) > 0
+    grown = lit.copy()
+    for dy in (-1, 0, 1):
+        for dx in (-1, 0, 1):
+            grown |= np.roll(np.roll(lit, dy, 0), dx, 1)
+    return ~grown
 
 
 def timed(fn):
@@ -44,21 +63,44 @@ def timed(fn):
     return out, time.perf_counter() - t0
 
 
-def scene_rows(name, args):
-    scene = load(name, args.size)
+def scene_rows(name, args, scene=None):
+    """The rows of one scene: a shipped one by name (scaled to --size), or `scene` (built)."""
+    scene = scene if scene is not None else load(name, args.size)
     ref_a = facet.render(scene, spp=args.ref_spp // 2, seed=1000, threads=args.threads)
     ref_b = facet.render(scene, spp=args.ref_spp // 2, seed=2000, threads=args.threads)
     ref = (ref_a.astype(np.float64) + ref_b) / 2
     ref_own = mse(ref_a, ref_b) / 4  # the MSE of the mean of two independent halves
+    keep = off_emitters(scene, args.threads)
     rows = []
     for spp in SPPS:
         plain, tp = timed(lambda: facet.render(scene, spp=spp, seed=7, threads=args.threads))
         den, td = timed(lambda: facet.render(scene, spp=spp, seed=7, threads=args.threads,
                                              denoise=True))
         rows.append({"spp": spp, "plain_s": tp, "plain_mse": mse(plain, ref), "denoised_s": td,
-                     "denoised_mse": mse(den, ref)})
+                     "denoised_mse": mse(den, ref), "plain_mse_off": mse(plain, ref, keep),
+                     "denoised_mse_off": mse(den, ref, keep)})
     return {"scene": name, "size": list(ref.shape[1::-1]), "ref_spp": args.ref_spp,
-            "ref_mse": ref_own, "rows": rows}
+            "ref_mse": ref_own, "outline_share": float(1 - keep.mean()), "rows": rows}
+
+
+def realscene_rows(name, args):
+    """A scene of the real-scene suite (tests/realscenes/scenes.py), staged in headless Blender
+    at its bench size (Scene.bench) and exported by the addon: bench/denoise_realscene.py runs
+    scene_rows there. Needs the addon installed as tests/blender installs it (`ctest
+    --test-dir build -R blender.install`)."""
+    bdir = os.path.join(args.build, "tests", "blender")
+    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(bdir, "user_scripts"),
+               BLENDER_USER_CONFIG=os.path.join(bdir, "user_config"), PYTHONNOUSERSITE="1")
+    with tempfile.TemporaryDirectory() as tmp:
+        out = os.path.join(tmp, "rows.json")
+        cmd = ["blender", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
+               "--python", str(ROOT / "bench" / "denoise_realscene.py"), "--", name, out,
+               str(args.ref_spp), str(args.threads)]
+        r = subprocess.run(cmd, env=env, capture_output=True, text=True)
+        if r.returncode != 0 or not os.path.exists(out):
+            raise RuntimeError("%s failed (exit %d):\n%s" % (name, r.returncode,
+                                                             r.stdout[-3000:] + r.stderr[-3000:]))
+        return json.loads(pathlib.Path(out).read_text())
 
 
 def frame_timing(args):
@@ -86,17 +128,22 @@ def print_tables(results, frame):
     for r in results:
         print(f"\n### {r['scene']} ({r['size'][0]} x {r['size'][1]}), reference {r['ref_spp']} "
               f"spp (its own MSE {r['ref_mse']:.3g})\n")
-        print("| spp | plain s | plain MSE | denoised s | denoised MSE | plain MSE / denoised |")
-        print("|---:|---:|---:|---:|---:|---:|")
+        print("| spp | plain s | plain MSE | denoised s | denoised MSE | plain / denoised | "
+              "off emitters: plain MSE | denoised MSE |")
+        print("|---:|---:|---:|---:|---:|---:|---:|---:|")
         by_spp = {row["spp"]: row for row in r["rows"]}
         for row in r["rows"]:
             print(f"| {row['spp']} | {row['plain_s']:.2f} | {row['plain_mse']:.3g} | "
                   f"{row['denoised_s']:.2f} | {row['denoised_mse']:.3g} | "
-                  f"{row['plain_mse'] / row['denoised_mse']:.1f} |")
+                  f"{row['plain_mse'] / row['denoised_mse']:.1f} | "
+                  f"{row['plain_mse_off']:.3g} | {row['denoised_mse_off']:.3g} |")
         if 16 in by_spp and 128 in by_spp:
-            ratio = by_spp[128]["plain_mse"] / by_spp[16]["denoised_mse"]
-            print(f"\nplain 128 spp MSE / denoised 16 spp MSE = {ratio:.2f} "
-                  f"(target >= 1, goal: 16 spp denoised at most the 256-spp plain MSE)")
+            for label, key in (("", "_mse"), (" off emitters", "_mse_off")):
+                r128, r64 = by_spp[128]["plain" + key], by_spp[64]["plain" + key]
+                d16 = by_spp[16]["denoised" + key]
+                print(f"\n{label}: plain 128 spp / denoised 16 spp = {r128 / d16:.2f} "
+                      f"(target >= 1), plain 64 spp / denoised 16 spp = {r64 / d16:.2f}")
+        print(f"\npixels within one pixel of an emitter: {100 * r['outline_share']:.2f}%")
     print(f"\n1920 x 1080 denoise: median {frame['denoise_s']:.2f} s over {frame['reps']} runs "
           f"(numpy copy of the inputs: {frame['copy_s']:.3f} s)")
 
@@ -126,6 +173,9 @@ def plot(results, path):
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--scenes", nargs="+", default=["cornell_box", "showcase"])
+    ap.add_argument("--realscenes", nargs="*", default=[],
+                    help="scenes of tests/realscenes/scenes.py, at their bench size")
+    ap.add_argument("--build", default=str(ROOT / "build"))
     ap.add_argument("--size", type=int, default=320)
     ap.add_argument("--ref-spp", type=int, default=4096)
     ap.add_argument("--threads", type=int, default=2)
@@ -134,6 +184,7 @@ def main():
     ap.add_argument("--json", default="")
     args = ap.parse_args()
     results = [scene_rows(s, args) for s in args.scenes]
+    results += [realscene_rows(s, args) for s in args.realscenes]
     frame = frame_timing(args)
     print_tables(results, frame)
     if args.plot:

@@ -23,8 +23,10 @@ preview_renders = 0  # material preview renders so far
 test_break = None
 
 # Counters of the viewport (Rendered shading): view_draw calls that drew an image, images
-# published by the worker, sessions started, and the mean of the latest image.
-viewport_stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0}
+# published by the worker, sessions started, the mean of the latest image, and denoised images
+# published (Denoise Viewport); viewport_denoised: the last (merged halves, denoised) pair.
+viewport_stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0, "denoised": 0}
+viewport_denoised = None
 
 # Counters of the exporter: meshes converted by sync_mesh.mesh_arrays (the viewport converts
 # only the changed ones again).

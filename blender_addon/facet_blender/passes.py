@@ -15,6 +15,10 @@ when enabled (nothing is computed otherwise):
   and transmission), a one-BSDF-sample estimate per camera sample (exact for Lambert).
   Cycles' nearest pass, Denoising Albedo, sums its closures' albedo estimates, which agrees
   for Lambert and differs for glossy lobes.
+- Denoising Data (View Layer > Passes > Data > Denoising Data, Cycles' toggle
+  denoising_store_passes, under Cycles' names): Denoising Normal, Denoising Albedo and
+  Denoising Depth, the features the denoiser (Render Properties > Facet > Denoise) uses: the
+  same values as Normal, Albedo and Depth above.
 """
 import numpy as np
 
@@ -26,6 +30,9 @@ PASSES = (
     ("Normal", "normal", 3, "XYZ", 'VECTOR', "use_pass_normal"),
     ("Emit", "emission", 3, "RGB", 'COLOR', "use_pass_emit"),
     ("Albedo", "albedo", 3, "RGB", 'COLOR', "facet.use_pass_albedo"),
+    ("Denoising Normal", "normal", 3, "XYZ", 'VECTOR', "cycles.denoising_store_passes"),
+    ("Denoising Albedo", "albedo", 3, "RGB", 'COLOR', "cycles.denoising_store_passes"),
+    ("Denoising Depth", "depth", 1, "Z", 'VALUE', "cycles.denoising_store_passes"),
 )
 
 
@@ -57,7 +64,7 @@ def write(result, fscene, view_layer, spp, seed, threads, crop):
     want = [p for p in enabled(view_layer)]
     if not want:
         return []
-    imgs = native.render_aovs(fscene, [p[1] for p in want], spp=spp, seed=seed,
+    imgs = native.render_aovs(fscene, sorted({p[1] for p in want}), spp=spp, seed=seed,
                               threads=threads)
     x0, y0, x1, y1 = crop
     layer = result.layers[0]

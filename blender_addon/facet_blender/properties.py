@@ -61,6 +61,11 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                                       "unbiased estimate and can blur detail no feature shows")
     viewport_spp: IntProperty(name="Viewport Samples", default=256, min=1, max=1 << 20,
                               description="samples per pixel the viewport refines to")
+    viewport_denoise: BoolProperty(name="Denoise Viewport", default=False,
+                                   description="denoise the viewport image once refinement "
+                                               "ends (all Viewport Samples done): the samples "
+                                               "are rendered as two half-buffers, shown merged "
+                                               "while refining")
     animated_seed: BoolProperty(name="Animated Seed", default=False,
                                 description="add the frame number to the seed")
     bake: BoolProperty(name="Bake", default=True,

@@ -85,6 +85,7 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.prop(fs, "light_selection")
         lay.prop(fs, "lamp_model")
         lay.prop(fs, "denoise")
+        lay.prop(fs, "viewport_denoise")
         row = lay.row(align=True)
         row.prop(fs, "seed")
         row.prop(fs, "animated_seed", text="", icon='TIME')
@@ -113,6 +114,8 @@ class FACET_PT_passes(FacetPanel, bpy.types.Panel):
         col.prop(vl, "use_pass_normal")
         col.prop(vl, "use_pass_emit", text="Emission")
         col.prop(vl.facet, "use_pass_albedo")
+        if hasattr(vl, "cycles"):  # Cycles' toggle (its addon is on in a default Blender)
+            col.prop(vl.cycles, "denoising_store_passes", text="Denoising Data")
 
 
 class FACET_PT_context_material(FacetPanel, bpy.types.Panel):

@@ -7,6 +7,10 @@ uploads the latest finished pass and draws it.
   view or the region size changed (Blender calls only view_draw for zoom, orbit and resize).
   A new post cancels the running session within a pass; the worker builds the new scene (GIL
   released) and renders.
+- Denoise Viewport (Render Properties > Facet): the samples are rendered as two sessions over
+  [0, n/2) and [n/2, n), the half-buffers; while the second refines, the image shown is the
+  two merged (weighted by their sample counts). Once refinement ends, the core's denoiser
+  (denoise_halves, as F12) replaces it. A restart before the end skips the denoiser.
 - The worker never touches the engine or any bpy object: it publishes images under a lock.
   view_draw asks for another redraw (tag_redraw) while the render is still refining. stop()
   joins the worker; it is called from the engine's __del__ (which may run twice) and before
@@ -59,6 +63,7 @@ class ViewportSession:
         self._version = 0
         self._busy = False
         self.data = None       # the last exported scene data (main thread)
+        self.denoise = False   # Denoise Viewport at the last view_update (main thread)
         self.mesh_cache = {}   # export.export_scene's arrays per object (main thread)
         self.camera = None
         self.errors = []
@@ -76,6 +81,7 @@ class ViewportSession:
             data, problems = export.export_scene(depsgraph, camera=view_camera(context),
                                                  mesh_cache=self.mesh_cache)
             data["render"]["spp"] = depsgraph.scene.facet.viewport_spp
+            self.denoise = depsgraph.scene.facet.viewport_denoise
             self.update(data)
         except Exception as e:
             traceback.print_exc()
@@ -96,7 +102,7 @@ class ViewportSession:
         data = dict(self.data)
         data["camera"] = self.camera
         with self._lock:
-            self._pending = data
+            self._pending = (data, self.denoise)
             self._busy = True
             self._wake.notify()
 
@@ -148,29 +154,53 @@ class ViewportSession:
                     self._wake.wait()
                 if self._quit:
                     return
-                data, self._pending = self._pending, None
+                (data, denoise), self._pending = self._pending, None
             hooks.viewport_stats["restarts"] += 1
             try:
-                scene, _ = native.build(data, name="viewport")
-                rs = data["render"]
-                session = native.Session(scene, spp=rs["spp"], threads=0, seed=rs["seed"],
-                                         max_depth=rs["max_depth"],
-                                         integrator=rs["integrator"])
-
-                def on_pass(done, target, elapsed, eta):
-                    rect = pixels.to_blender_rect(session.image())
-                    h, w = data["camera"]["height"], data["camera"]["width"]
-                    with self._lock:
-                        self._image = rect.reshape(h, w, 4)
-                        self._version += 1
-                        hooks.viewport_stats["images"] += 1
-                        hooks.viewport_stats["mean"] = float(rect[:, :3].mean())
-                        return self._pending is None and not self._quit
-
-                session.render(on_pass)
+                self._render(data, denoise)
             except Exception as e:  # shown by view_draw's engine as a report
                 traceback.print_exc()
                 self.errors.append(str(e))
             with self._lock:
                 if self._pending is None:
                     self._busy = False
+
+    def _publish(self, img, data):
+        """Makes img (float32 (h, w, 3), top row first) the image view_draw shows; False when
+        the render should stop (a newer post, or quit)."""
+        rect = pixels.to_blender_rect(img)
+        h, w = data["camera"]["height"], data["camera"]["width"]
+        with self._lock:
+            self._image = rect.reshape(h, w, 4)
+            self._version += 1
+            hooks.viewport_stats["images"] += 1
+            hooks.viewport_stats["mean"] = float(rect[:, :3].mean())
+            return self._pending is None and not self._quit
+
+    def _render(self, data, denoise):
+        scene, _ = native.build(data, name="viewport")
+        rs = data["render"]
+        n = rs["spp"]
+        denoise = denoise and n >= 2
+        ranges = [(0, n // 2), (n // 2, n)] if denoise else [None]
+        halves = []
+        for r in ranges:
+            session = native.Session(scene, spp=n, threads=0, seed=rs["seed"],
+                                     max_depth=rs["max_depth"], integrator=rs["integrator"],
+                                     samples=r)
+
+            def on_pass(done, target, elapsed, eta, session=session):
+                img = session.image()
+                if halves:  # the second half: shown merged with the first, by sample counts
+                    first = n // 2
+                    img = (halves[0] * first + img * done) / (first + done)
+                return self._publish(img, data)
+
+            if not session.render(on_pass):
+                return  # restarted or stopped: no denoising of a partial image
+            halves.append(session.image())
+        if denoise:
+            img = native.denoise_halves(scene, halves[0], halves[1], n, rs["seed"])
+            if self._publish(img, data):
+                hooks.viewport_stats["denoised"] += 1
+                hooks.viewport_denoised = ((halves[0] + halves[1]) / 2, img)

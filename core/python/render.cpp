@@ -597,22 +597,46 @@ void bind_render(py::module_& m) {
     m.def(
         "denoise",
         [](py::handle half_a, py::handle half_b, py::handle albedo, py::handle normal,
-           py::handle depth, int radius, int threads) {
-            const Image a = image_from_array(half_a, "half_a");
-            const Image b = image_from_array(half_b, "half_b");
+           py::handle depth, int radius, int threads, py::handle color, py::handle variance,
+           py::handle albedo_variance, py::handle normal_variance, py::handle depth_variance) {
+            // None leaves an input out (a null pointer: denoise() names what is missing).
+            auto opt = [](py::handle h, const char* what) {
+                return h.is_none() ? std::optional<Image>() : image_from_array(h, what);
+            };
+            const std::optional<Image> a = opt(half_a, "half_a"), b = opt(half_b, "half_b"),
+                                       c = opt(color, "color"), v = opt(variance, "variance"),
+                                       av = opt(albedo_variance, "albedo_variance"),
+                                       nv = opt(normal_variance, "normal_variance"),
+                                       zv = opt(depth_variance, "depth_variance");
             const Image al = image_from_array(albedo, "albedo");
             const Image n = image_from_array(normal, "normal");
             const Image z = image_from_array(depth, "depth");
-            return denoised_array(radius, threads, [&](const DenoiseOptions& o) {
-                return denoise({&a, &b, &al, &n, &z}, o);
-            });
+            auto ptr = [](const std::optional<Image>& i) { return i ? &*i : nullptr; };
+            DenoiseInput in;
+            in.half_a = ptr(a);
+            in.half_b = ptr(b);
+            in.color = ptr(c);
+            in.variance = ptr(v);
+            in.albedo = &al;
+            in.normal = &n;
+            in.depth = &z;
+            in.albedo_variance = ptr(av);
+            in.normal_variance = ptr(nv);
+            in.depth_variance = ptr(zv);
+            return denoised_array(radius, threads,
+                                  [&](const DenoiseOptions& o) { return denoise(in, o); });
         },
-        py::arg("half_a"), py::arg("half_b"), py::arg("albedo"), py::arg("normal"),
-        py::arg("depth"), py::arg("radius") = 4, py::arg("threads") = 0,
+        py::arg("half_a") = py::none(), py::arg("half_b") = py::none(), py::arg("albedo"),
+        py::arg("normal"), py::arg("depth"), py::arg("radius") = 4, py::arg("threads") = 0,
+        py::kw_only(), py::arg("color") = py::none(), py::arg("variance") = py::none(),
+        py::arg("albedo_variance") = py::none(), py::arg("normal_variance") = py::none(),
+        py::arg("depth_variance") = py::none(),
         "The denoised beauty (facet/render/denoise.h) from two half-buffers (renders of the "
-        "sample ranges (0, n/2) and (n/2, n)) and render_aovs' albedo, normal and depth, all "
-        "float32 (h, w, 3) of one size; ValueError naming the argument for a missing, "
-        "mismatched or non-finite input");
+        "sample ranges (0, n/2) and (n/2, n)), or from color= and its per-pixel variance= "
+        "(of the mean, per channel) instead, and render_aovs' albedo, normal and depth, all "
+        "float32 (h, w, 3) of one size; albedo_variance=, normal_variance=, depth_variance= "
+        "(optional) down-weight noisy features. ValueError naming the argument for a missing, "
+        "mismatched, non-finite or negative-variance input");
 
     m.def(
         "denoise_halves",

@@ -6,12 +6,18 @@ half-buffers and the features and denoises them. Checks:
   most half: the C++ tests hold the denoiser's own bounds, this checks it is applied);
 - with a render region (where a denoiser cannot run: it is not split-invariant) the render is
   not denoised and the report says why;
+- View Layer > Passes > Denoising Data (Cycles' toggle): the Render Layers node offers
+  Denoising Normal, Denoising Albedo and Denoising Depth, and a File Output node writes the
+  core's normal, albedo and depth (render_aovs at the render's spp and seed) into them, to
+  1e-6 (EXR float32 round trip of the same floats; a wrong pass or a flipped image differs
+  by ~1);
 - Noise Threshold (adaptive sampling): F12 equals facet.render of the exported scene (which
   carries the threshold in its render settings) bit for bit, and with Denoise on the render is
   not adaptive and the report says so.
 """
 import os
 import sys
+import tempfile
 
 import bpy
 import numpy as np
@@ -48,6 +54,40 @@ def main():
     m_plain = float(np.mean((plain - ref) ** 2))
     m_den = float(np.mean((den - ref) ** 2))
     bt.check(m_den < m_plain / 2, "denoised MSE %.3g < half the plain MSE %.3g" % (m_den, m_plain))
+
+    # Denoising Data passes through the compositor.
+    names = ["Denoising Normal", "Denoising Albedo", "Denoising Depth"]
+    scene.use_nodes = True
+    tree = scene.node_tree
+    for n in list(tree.nodes):
+        tree.nodes.remove(n)
+    rl = tree.nodes.new("CompositorNodeRLayers")
+    bt.check(not any(n in [o.name for o in rl.outputs if o.enabled] for n in names),
+             "no Denoising Data outputs while the toggle is off")
+    scene.view_layers[0].cycles.denoising_store_passes = True
+    bt.check(all(n in [o.name for o in rl.outputs if o.enabled] for n in names),
+             "Denoising Data offers %s: %s" % (names, [o.name for o in rl.outputs if o.enabled]))
+    comp = tree.nodes.new("CompositorNodeComposite")
+    tree.links.new(rl.outputs["Image"], comp.inputs["Image"])
+    fo = tree.nodes.new("CompositorNodeOutputFile")
+    outdir = tempfile.mkdtemp(prefix="facet_denoise_passes_")
+    fo.base_path = outdir
+    fo.format.file_format = 'OPEN_EXR'
+    fo.format.color_depth = '32'
+    fo.format.color_mode = 'RGB'
+    fo.file_slots.clear()
+    for i, n in enumerate(names):
+        fo.file_slots.new("p%d_" % i)
+        tree.links.new(rl.outputs[n], fo.inputs["p%d_" % i])
+    bt.render(scene)
+    got = [bt.load_exr(os.path.join(outdir, "p%d_%04d.exr" % (i, scene.frame_current)))
+           for i in range(3)]
+    aovs = native.render_aovs(fscene, ["normal", "albedo", "depth"], spp=16, seed=3, threads=2)
+    for n, g, want in zip(names, got, (aovs["normal"], aovs["albedo"], aovs["depth"][:, :, :1])):
+        err = float(np.max(np.abs(g[:, :, :want.shape[2]] - want)))
+        bt.check(err <= 1e-6, "%s equals the core's pass (max difference %.3g)" % (n, err))
+    scene.view_layers[0].cycles.denoising_store_passes = False
+    scene.use_nodes = False
 
     rd = scene.render
     rd.use_border = rd.use_crop_to_border = True

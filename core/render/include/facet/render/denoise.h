@@ -8,10 +8,18 @@
 //  - Inputs are linear RGB images of one size W x H (Image: top row first):
 //      half_a, half_b  two independent estimates of the beauty, each the mean of one half of a
 //                      pixel's samples (a render's sample ranges [0, n/2) and [n/2, n));
-//      albedo, normal, depth  the first-hit features of render_aovs (aov.h), treated as noise
-//                      free (at least as many AOV samples as beauty samples keeps them so).
-//    Every value must be finite (depth may be kMissDepth where no surface is hit).
-//  - Output: the denoised estimate of (half_a + half_b) / 2. It is not an unbiased estimate:
+//    or instead of the halves
+//      color, variance the beauty (the mean of all of a pixel's samples) and the variance of
+//                      that mean per channel (the samples' variance / their count);
+//      albedo, normal, depth  the first-hit features of render_aovs (aov.h);
+//      albedo_variance, normal_variance, depth_variance  optional: the variance of each
+//                      feature's mean per channel (depth in .r), where the features are noisy
+//                      (depth of field, motion blur, glossy or rough first hits); a missing one
+//                      is treated as 0 (a noise-free feature).
+//    Every value must be finite (depth may be kMissDepth where no surface is hit), every
+//    variance >= 0.
+//  - Output: the denoised estimate of (half_a + half_b) / 2, or of color. It is not an unbiased
+//  estimate:
 //    a pixel becomes a weighted mean of its neighbours, so detail that no feature shows
 //    (shadow edges, caustics, glossy reflections of small objects) can blur.
 //  - Method, per half X with the other half Y (both divided by the albedo where it exceeds
@@ -26,7 +34,10 @@
 //      f(p, q)     = |a_p - a_q|^2 / s_a^2 + |n_p - n_q|^2 / s_n^2 + r^2 / (s_u u_p)^2 over
 //                  albedo a, normal n and inverse depth u = 1 / z, with r = u_q - u_p - (du/dx,
 //                  du/dy) . (q - p) the miss of u's first-order prediction (0 on a plane);
-//                  bandwidths in denoise.cpp;
+//                  bandwidths in denoise.cpp. With feature variances W (summed over
+//                  channels; for u, Var(z) / z^4) each term becomes
+//                  max(0, D^2 - (W_p + min(W_p, W_q))) / (s^2 + W_p): the difference noise
+//                  explains is cancelled and a noisy feature's bandwidth widens;
 //      w_k(p, q)   = min(exp(-max(0, d) / k^2), exp(-f)) over the (2 radius + 1)^2 window;
 //      F_k(p)      the value at p of the plane c + a dx + b dy fitted to the neighbours' X_q
 //                  by least squares with weights w_k (first-order regression in screen space,
@@ -37,9 +48,15 @@
 //                  (2 kErrorRadius + 1)^2 box.
 //    Each pixel keeps the F_k of least E_k; the output is the mean of the two halves' choices,
 //    times the albedo divided out.
+//    With color and variance there is one image X (colour / albedo), V is the variance input
+//    (divided by the albedo squared, averaged over channels and over a 3 x 3 box), and E_k is
+//    Stein's unbiased risk estimate (F_k(p) - X_p)^2 + 2 Var(X_p) dF_k(p)/dX_p, with the
+//    derivative the fit's weight on the pixel's own value (the weights held fixed). Two
+//    halves give the better estimate: their E_k needs no derivative.
 //  - Deterministic: every output pixel is a fixed function of the inputs, whatever the thread
-//    count. Working memory: the planar copies of the inputs and results, about 100 bytes per
-//    pixel, plus per band of kBandRows rows about 60 floats per pixel of the band.
+//    count. Working memory: the planar copies of the inputs, the candidates F_k and their
+//    errors, about 150 bytes per pixel, plus per thread the scratch of one tile of
+//    kBandRows x kTileCols pixels (denoise.cpp), about 350 bytes per pixel of the tile.
 #pragma once
 
 #include "facet/render/aov.h"
@@ -59,11 +76,19 @@ struct DenoiseInput {
     const Image* albedo = nullptr;
     const Image* normal = nullptr;
     const Image* depth = nullptr;
+    // Instead of half_a and half_b (conventions).
+    const Image* color = nullptr;
+    const Image* variance = nullptr;
+    // Optional (null: noise free).
+    const Image* albedo_variance = nullptr;
+    const Image* normal_variance = nullptr;
+    const Image* depth_variance = nullptr;
 };
 
 // The denoised beauty (conventions). Throws std::invalid_argument naming the argument for a
-// missing (null or empty) input, a size that differs from half_a's, a non-finite value (with
-// its pixel) or a radius outside 1..20.
+// missing (null or empty) input, both or neither of the halves and color/variance, a size
+// that differs from half_a's (color's), a non-finite value or negative variance (with its
+// pixel) or a radius outside 1..20.
 Image denoise(const DenoiseInput& input, const DenoiseOptions& options = {});
 
 // A render and its denoised image, as `facet render --denoise`, Python's
