@@ -13,8 +13,10 @@ state them (test_cycles34_lamps.py):
 - |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
 - block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
   noise floor (the same between Cycles seeds 1 and 2).
-Ability to fail: Facet with the export's motion removed (the sharp cube at frame 1.5, what the
-addon rendered before) must break a bound, and does (numbers printed)."""
+Ability to fail: Facet with the export's motion removed (the sharp cube at the frame, what the
+addon rendered before) must break a bound, and does (numbers printed). The same for a cube
+turning 90 degrees per frame about z (rotation: slerped steps) and for the still cube seen from
+a camera moving 1 unit per frame sideways (camera motion)."""
 import os
 import sys
 
@@ -182,11 +184,63 @@ def case_render(out):
              "test can fail" % (ratio, rel))
 
 
+def case_rotate_and_camera(out):
+    """A cube turning 90 degrees per frame about z (a 45 degree sweep over the shutter:
+    slerped steps in both renderers), then the still cube seen from a camera moving 1 unit
+    per frame sideways: the same bounds and the same sharp control."""
+    from facet_blender import sync_motion
+    scene, cube = moving_scene()
+    cube.animation_data_clear()
+    cube.location = (0.0, 0.0, 0.0)
+    cube.scale = (1.0, 0.4, 0.4)
+    for frame, angle in ((0, -90.0), (2, 90.0)):
+        cube.rotation_euler = (0.0, 0.0, angle * 3.141592653589793 / 180.0)
+        cube.keyframe_insert("rotation_euler", frame=frame)
+    for fc in cube.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    cam = scene.camera
+    cases = [("rotating", None)]
+
+    def camera_moves():
+        cube.animation_data_clear()
+        cube.rotation_euler = (0.0, 0.0, 0.3)
+        x0 = cam.location.x
+        for frame, dx in ((0, -1.0), (2, 1.0)):
+            cam.location.x = x0 + dx
+            cam.keyframe_insert("location", frame=frame)
+        for fc in cam.animation_data.action.fcurves:
+            for kp in fc.keyframe_points:
+                kp.interpolation = 'LINEAR'
+    cases.append(("camera", camera_moves))
+    for name, setup in cases:
+        if setup is not None:
+            setup()
+        scene.frame_set(1)
+        imgs = renders(scene, name, out)
+        c1, c2 = imgs['CYCLES']
+        ratio, rel = compare(name, imgs['FACET'][0], c1, c2)
+        bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+                 "%s: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+                 % (name, ratio, MEAN_TOL, rel, RMSE_FACTOR))
+        saved = sync_motion.add_motion
+        sync_motion.add_motion = lambda *a, **k: None
+        try:
+            sharp = renders(scene, name + "_sharp", out, engines=('FACET',))['FACET'][0]
+        finally:
+            sync_motion.add_motion = saved
+        ratio, rel = compare(name + "/sharp", sharp, c1, c2)
+        bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+                 "%s without motion breaks a bound (mean ratio %.4f, block RMSE %.2f x floor)"
+                 % (name, ratio, rel))
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
     case_export()
     case_render(out)
+    case_rotate_and_camera(out)
 
 
 bt.run(main)
