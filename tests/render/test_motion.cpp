@@ -161,6 +161,20 @@ TEST(Motion, MovingQuadGivesTheAnalyticCoverageProfile) {
     EXPECT_LT(worst_column(direct, 1.5, {}, where), column_tolerance()) << "column " << where;
 }
 
+// The media kernel with time: the moving quad in a world medium that neither absorbs nor
+// scatters gives the same analytic profile (its rays, continuation and shadow rays carry the
+// path's time as the surface kernels' do).
+TEST(Motion, MediaKernelTracesAtTheShutterTime) {
+    std::string body = quad_scene(kMoveRight, R"({"shutter": 0.5})");
+    body += R"(, "media": {"air": {"kind": "homogeneous", "sigma_a": 0, "sigma_s": 0}},
+               "world_medium": "air")";
+    const fr::Scene s = scene_of(body);
+    ASSERT_TRUE(s.features().has_motion && s.features().has_media);
+    const fr::Image img = fr::render(s, fr::testing::test_options("path", spp(), 3));
+    int where = -1;
+    EXPECT_LT(worst_column(img, 1.5, {}, where), column_tolerance()) << "column " << where;
+}
+
 // A shutter curve open only over the second half of the interval: the quad is seen between
 // 0.75 and 1.5 of its travel, as the analytic profile with that density says; the uniform
 // shutter's profile is far off it (control).
