@@ -793,25 +793,23 @@ template <bool kUv, bool kWorld>
 // (test Motion.RotatingInstanceHitsLieWithinTheirErrorBox measures the actual difference).
 constexpr double kMotionSlack = 1e-4;
 
+namespace {
+
+// fill_instance's body for placement `in`; `moving`: `in` is a moving instance's placement at
+// the ray's time, whose error box grows by kMotionSlack.
 template <bool kUv>
-[[gnu::noinline]] void Scene::Impl::fill_instance(const InstanceGeom& placed, std::uint32_t geom,
-                                                  std::uint32_t tri, const Ray& ray, float time,
-                                                  float u, float v, float t, SurfaceHit& hit,
-                                                  std::int32_t& part) const {
-    InstanceGeom at_time;
-    if (!placed.motion.empty()) {
-        at_time.prototype = placed.prototype;
-        at_time.place(interpolate_motion(placed.motion, double(time)));
-    }
-    const InstanceGeom& in = placed.motion.empty() ? placed : at_time;
-    const PrototypeGeom& pg = prototypes[in.prototype];
+[[gnu::always_inline]] inline void fill_placed(const Scene::Impl& impl, const InstanceGeom& in,
+                                               bool moving, std::uint32_t geom, std::uint32_t tri,
+                                               const Ray& ray, float u, float v, float t,
+                                               SurfaceHit& hit, std::int32_t& part) {
+    const PrototypeGeom& pg = impl.prototypes[in.prototype];
     const MeshGeom& mg =
-        pg.meshes[std::size_t(backend->prototype_geom_to_mesh[in.prototype][geom])];
+        pg.meshes[std::size_t(impl.backend->prototype_geom_to_mesh[in.prototype][geom])];
     Ray local;
     local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
-    fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
+    impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
@@ -822,7 +820,7 @@ template <bool kUv>
                                   in.offset) +
         kDoubleSlack * largest_magnitude(pw);
     hit.p_err = Vec3(in.abs_linear * glm::dvec3(hit.p_err) + shift) + rounding_error(hit.p);
-    if (!placed.motion.empty())
+    if (moving)
         hit.p_err +=
             Vec3(float(kMotionSlack * (in.linear_norm * largest_magnitude(po) + in.offset)));
     const glm::dvec3 ng = glm::normalize(in.normal_to_world * glm::dvec3(hit.ng));
@@ -839,6 +837,33 @@ template <bool kUv>
         hit.dpdv_uv = Vec3(lin * glm::dvec3(hit.dpdv_uv));
         part = mg.part;
     }
+}
+
+// A moving instance's hit: its placement at the ray's time (motion.h), then as a still one's.
+// Out of line and cold, so that still instances' hits build no placement.
+template <bool kUv>
+[[gnu::noinline, gnu::cold]] void fill_moving(const Scene::Impl& impl, const InstanceGeom& placed,
+                                              std::uint32_t geom, std::uint32_t tri, const Ray& ray,
+                                              float time, float u, float v, float t,
+                                              SurfaceHit& hit, std::int32_t& part) {
+    InstanceGeom at_time;
+    at_time.prototype = placed.prototype;
+    at_time.place(interpolate_motion(placed.motion, double(time)));
+    fill_placed<kUv>(impl, at_time, true, geom, tri, ray, u, v, t, hit, part);
+}
+
+}  // namespace
+
+template <bool kUv>
+[[gnu::noinline]] void Scene::Impl::fill_instance(const InstanceGeom& placed, std::uint32_t geom,
+                                                  std::uint32_t tri, const Ray& ray, float time,
+                                                  float u, float v, float t, SurfaceHit& hit,
+                                                  std::int32_t& part) const {
+    if (!placed.motion.empty()) [[unlikely]] {
+        fill_moving<kUv>(*this, placed, geom, tri, ray, time, u, v, t, hit, part);
+        return;
+    }
+    fill_placed<kUv>(*this, placed, false, geom, tri, ray, u, v, t, hit, part);
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -994,9 +1019,9 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     } else {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<false>(rays.get(k), 0.f, rh.hit.instID[0][k],
-                                           rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
-                                           rh.hit.v[k], rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<false>(rays.get(k), 0.f, rh.hit.instID[0][k], rh.hit.geomID[k],
+                                           rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
+                                           rh.ray.tfar[k], hits[k]);
         }
     }
 }

@@ -271,7 +271,7 @@ class Builder final : public BuildChecks {
         if (m_motion_on) m_builder.shutter() = ShutterCurve(mb->curve);
     }
 
-    // Motion steps beyond this are an error (Blender's motion steps give 2^(steps-1)+1 <= 129).
+    // Motion steps beyond this are an error (Blender's Steps 1..7 give 2^Steps + 1 <= 129).
     static constexpr std::size_t kMaxMotionSteps = 1024;
     static constexpr std::size_t kMaxShutterCurve = 65536;
 
