@@ -21,7 +21,7 @@ import numpy as np
 
 from . import bake, gaps, hooks, materials, units
 # By data type, as Cycles' sync (blender_camera.cpp, blender_mesh.cpp, blender_light.cpp, ...).
-from . import sync_camera
+from . import sync_camera, sync_motion
 from .sync_camera import export_camera
 from .sync_light import _light_data
 from .sync_mesh import _imported_mesh_arrays, mesh_arrays
@@ -162,7 +162,8 @@ class _Placed:
         self.placements = []
 
 
-def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing=True):
+def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing=True,
+                 frame_set=None):
     """Evaluated depsgraph -> (scene data, [problem lines]). Raises ExportError when the
     scene cannot be rendered at all (no camera, ...). `camera` (scene-data camera) replaces the
     scene's camera (the viewport's view). `mesh_cache` (a dict kept by the caller) reuses the
@@ -177,7 +178,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     shape. Where the core's instancing cannot take a mesh the placements are expanded into
     mesh shapes (exact, one copy each) and reported: an emitting mesh (the core's prototypes
     cannot emit) and Facet shapes imported from JSON (analytic kinds). Blender's nested
-    instances arrive as one level already (the depsgraph composes their matrices)."""
+    instances arrive as one level already (the depsgraph composes their matrices).
+
+    Motion blur (sync_motion.py): with the scene's Motion Blur on, the render's settings, and
+    with `frame_set` (RenderEngine.frame_set: final renders) the camera's and the objects'
+    motion over the shutter; the viewport renders without motion blur, as Cycles' does."""
     scene = depsgraph.scene
     problems = []
     bake.PENDING.clear()  # this export's bake requests (facet.bake_inputs bakes them)
@@ -300,7 +305,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     # An instancer's own geometry may be empty (geometry nodes outputting only instances).
     problems.extend("object '%s': empty mesh (no faces); skipped" % name for name in empty
                     if name not in instancers)
-    data["shapes"], prototypes = _place(order, placed, instancing, problems)
+    data["shapes"], prototypes, owners = _place(order, placed, instancing, problems)
     if prototypes:
         data["prototypes"] = prototypes
     env = export_environment(scene, problems)
@@ -329,6 +334,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             if line is not None:
                 problems.append(line)
     data["render"] = export_render_settings(scene)
+    blur = sync_motion.settings(scene, view_layer) if camera is None else None
+    if blur is not None:
+        data["render"]["motion_blur"] = blur
+        if frame_set is not None:
+            sync_motion.add_motion(depsgraph, data, frame_set, owners, problems)
     return data, problems
 
 
@@ -396,21 +406,26 @@ def _place(order, placed, instancing, problems):
         prototypes[pname] = [dict(t, name=rec.name + suffix) for suffix, t in rec.templates]
         proto_of[id(rec)] = pname
     shapes = []
+    owners = []  # per shape: the object whose own placement it is (None: an instance's)
     next_placement = {}
     for entry in order:
         if not isinstance(entry, _Placed):
             shapes.append(entry)
+            owners.append(None)
             continue
         i = next_placement.get(id(entry), 0)
         next_placement[id(entry)] = i + 1
         rows, name = entry.placements[i]
+        owner = None if name.endswith(" (instance)") else name
         pname = proto_of.get(id(entry))
         if pname is not None:
             shapes.append({"type": "instance", "of": pname, "transform": rows, "name": name})
+            owners.append(owner)
             continue
         for suffix, t in entry.templates:
             shapes.append(dict(t, transform=rows, name=name + suffix))
-    return shapes, prototypes
+            owners.append(owner)
+    return shapes, prototypes, owners
 
 
 def _color_attribute_read(obj, slots, mats, problems):

@@ -56,7 +56,9 @@ class FinalSession:
         t0 = time.perf_counter()
         engine.update_stats("", "Facet | Exporting scene")
         users = {}
-        data, problems = export.export_scene(depsgraph, users=users)
+        data, problems = export.export_scene(depsgraph, users=users,
+                                             frame_set=None if engine.is_preview else
+                                             engine.frame_set)
         if engine.is_preview:
             hooks.preview_started()
         width, height = data["camera"]["width"], data["camera"]["height"]

@@ -267,10 +267,9 @@ UNKNOWN_TYPE = "object type %s is not known to Facet's exporter; not rendered"
 PARTICLE_HAIR = ("particle hair is not in Facet's core yet; the strands are not rendered "
                  "(the emitting mesh is)")
 
-MOTION_BLUR = "motion blur is not in Facet's core yet: rendered sharp at the current frame"
+MOTION = "motion blur (sync_motion.py: shutter, position, curve, motion steps)"
 VOLUME_STEPS = ("only for volumes Cycles ray-marches (heterogeneous: grids, textured inputs, "
                 "which are reported); homogeneous media render alike in both")
-ONLY_MOTION = "only with Motion Blur, which is reported"
 ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
 ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"
 ONLY_HAIR = "only with hair, which is reported"
@@ -301,7 +300,8 @@ def _bounces(attr, label, factory):
 SETTINGS = (
     ("render.film_transparent", "Film > Transparent",
      False, "Facet's image has no alpha channel yet: the world is rendered behind the scene"),
-    ("render.use_motion_blur", "Motion Blur", False, MOTION_BLUR),
+    ("cycles.rolling_shutter_type", "Motion Blur > Rolling Shutter", 'NONE',
+     "not converted: every row of the image is exposed over the same shutter interval"),
     ("render.use_multiview", "Stereoscopy", False,
      "not converted: every view renders the scene camera"),
     ("cycles.film_exposure", "Film > Exposure", 1.0,
@@ -426,6 +426,8 @@ CONVERTED = {
     "object.hide_render": "Blender's render depsgraph leaves the object out",
     "collection.exclude": "Blender's render depsgraph leaves the collection out",
     "lamp.visible_camera": "an area lamp's camera_visible (export.py, _area_light)",
+    "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
+    "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,
 }
 # ... or do not change the image (why).
 UNCHANGED = {
@@ -441,7 +443,6 @@ UNCHANGED = {
     "render.line_thickness": "Freestyle (drawn by Blender)",
     "render.threads": "the number of threads (final.py passes it on), not the image",
     "render.threads_mode": "the number of threads (final.py passes it on), not the image",
-    "render.motion_blur_shutter": ONLY_MOTION,
     "render.hair_type": EEVEE, "render.hair_subdiv": EEVEE,
     "render.use_high_quality_normals": EEVEE,
     "render.use_crop_to_border": "Blender crops the result to the render region",
@@ -469,8 +470,8 @@ UNCHANGED = {
     "cycles.preview_pause": "the viewport's",
     "cycles.film_transparent_glass": "only with Film > Transparent, which is reported",
     "cycles.film_transparent_roughness": "only with Film > Transparent, which is reported",
-    "cycles.motion_blur_position": ONLY_MOTION, "cycles.rolling_shutter_type": ONLY_MOTION,
-    "cycles.rolling_shutter_duration": ONLY_MOTION,
+    "cycles.rolling_shutter_duration": "only with Motion Blur > Rolling Shutter, which is "
+                                       "reported",
     "cycles.fast_gi_method": ONLY_FAST_GI, "cycles.ao_bounces_render": ONLY_FAST_GI,
     "cycles.ao_bounces": "the viewport's Fast GI",
     "cycles.texture_limit": "the viewport's",
@@ -493,8 +494,7 @@ UNCHANGED = {
     "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is reported)",
     "view_layer.use_volumes": "off, Cycles renders no volumes either (then no volume object "
                               "is reported)",
-    "view_layer.use_motion_blur": "off, Cycles renders no motion blur either (then Motion Blur "
-                                  "is not reported)",
+    "view_layer.use_motion_blur": MOTION,
     "view_layer.use": "which view layers Blender renders",
     "view_layer.use_freestyle": "Freestyle (drawn by Blender)",
     "view_layer.cycles.use_denoising": NOISE,
@@ -507,8 +507,12 @@ UNCHANGED = {
     "world.light_settings.use_ambient_occlusion": ONLY_FAST_GI,
     "world.light_settings.ao_factor": ONLY_FAST_GI,
     "world.light_settings.distance": ONLY_FAST_GI,
-    "object.cycles.use_motion_blur": ONLY_MOTION, "object.cycles.use_deform_motion": ONLY_MOTION,
-    "object.cycles.motion_steps": ONLY_MOTION,
+    "object.cycles.use_motion_blur": "read with Motion Blur for objects that move "
+                                     "(sync_motion.py); a still object renders alike",
+    "object.cycles.motion_steps": "read with Motion Blur for objects that move "
+                                  "(sync_motion.py); a still object renders alike",
+    "object.cycles.use_deform_motion": "deformation motion is not converted; a deforming "
+                                       "object that moves is reported (sync_motion.py)",
     "object.cycles.dicing_rate": ONLY_ADAPTIVE,
     "object.cycles.ao_distance": ONLY_FAST_GI,
     "collection.hide_viewport": "the viewport's",
@@ -599,8 +603,6 @@ def scene_lines(scene, view_layer):
         if struct is None or not hasattr(struct, attr):
             continue
         v = getattr(struct, attr)
-        if path == "render.use_motion_blur" and not view_layer.use_motion_blur:
-            continue  # the view layer's Filter > Motion Blur off: Cycles renders it sharp too
         if not quiet(v, quiets, scene):
             subject = ("world '%s'" % scene.world.name if path.startswith("world.")
                        else "view layer '%s'" % view_layer.name

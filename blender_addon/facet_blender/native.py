@@ -154,6 +154,8 @@ def _shape_desc(s):
         sd.name = s.get("name", "")
         if s.get("transform") is not None:
             sd.transform = np.asarray(s["transform"], dtype=np.float64)
+        if s.get("motion"):
+            sd.motion = [np.asarray(m, dtype=np.float64) for m in s["motion"]]
         return sd
     sd.kind = s["type"]
     sd.name = s.get("name", "")
@@ -170,6 +172,8 @@ def _shape_desc(s):
     sd.flip_normals = bool(s.get("flip_normals", False))
     if s.get("transform") is not None:
         sd.transform = np.asarray(s["transform"], dtype=np.float64)
+    if s.get("motion"):
+        sd.motion = [np.asarray(m, dtype=np.float64) for m in s["motion"]]
     for k in _SHAPE_KEYS[s["type"]]:
         if k in s:
             setattr(sd, k, s[k])
@@ -207,6 +211,9 @@ def to_description(data):
     for key in CAMERA_OPTIONAL:
         if key in cam:
             setattr(c, key, cam[key])
+    if cam.get("motion"):
+        c.motion = [facet.CameraStep(position=list(st["position"]), look_at=list(st["look_at"]),
+                                     up=list(st.get("up", cam["up"]))) for st in cam["motion"]]
     d.camera = c
     d.materials = {name: _material_desc(m) for name, m in data.get("materials", [])}
     shapes = []
@@ -261,6 +268,10 @@ def to_description(data):
     if "adaptive_threshold" in rs:
         r.adaptive_threshold = float(rs["adaptive_threshold"])
         r.adaptive_min_samples = int(rs.get("adaptive_min_samples", 0))
+    mb = rs.get("motion_blur")
+    if mb is not None:
+        r.motion_blur = facet.MotionBlur(enabled=mb) if isinstance(mb, bool) else \
+            facet.MotionBlur(**{k: (list(v) if k == "curve" else v) for k, v in mb.items()})
     d.render = r
     return d
 
@@ -295,6 +306,8 @@ def _shape_data(sd, base_dir):
         s["material"] = sd.material_ref
     t = sd.transform
     s["transform"] = None if t is None else np.asarray(t, dtype=np.float64).tolist()
+    if sd.motion:
+        s["motion"] = [np.asarray(m, dtype=np.float64).tolist() for m in sd.motion]
     for k in _SHAPE_KEYS[kind]:
         v = getattr(sd, k)
         if k == "vertices":
@@ -332,6 +345,9 @@ def from_description(d):
         v = getattr(c, key)
         if v is not None and v != _CAMERA_DEFAULTS.get(key):
             cam[key] = v
+    if c.motion:
+        cam["motion"] = [{"position": _vec(st.position), "look_at": _vec(st.look_at),
+                          "up": _vec(st.up)} for st in c.motion]
     data["shapes"] = [_shape_data(sd, d.base_dir) for sd in d.shapes]
     if d.prototypes:
         data["prototypes"] = {name: [_shape_data(sd, d.base_dir) for sd in shapes]
@@ -358,6 +374,13 @@ def from_description(d):
     if r.adaptive_threshold > 0.0:
         data["render"]["adaptive_threshold"] = float(r.adaptive_threshold)
         data["render"]["adaptive_min_samples"] = int(r.adaptive_min_samples)
+    if r.motion_blur is not None:
+        mb = r.motion_blur
+        data["render"]["motion_blur"] = {"enabled": bool(mb.enabled),
+                                         "shutter": float(mb.shutter),
+                                         "position": mb.position}
+        if mb.curve:
+            data["render"]["motion_blur"]["curve"] = [float(v) for v in mb.curve]
     return data
 
 

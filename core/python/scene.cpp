@@ -319,8 +319,8 @@ const MediumKindDef& kind_def(MediumKind k) {
 
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
-    "name",      "material_ref", "material", "emission", "emission_texture",
-    "two_sided", "flip_normals", "transform"};
+    "name",      "material_ref", "material",  "emission", "emission_texture",
+    "two_sided", "flip_normals", "transform", "motion"};
 
 // TypeError for a keyword that is no field of the kind (a typo, or another kind's key).
 template <class Def>
@@ -563,6 +563,38 @@ void bind_scene(py::module_& m) {
           "Cycles 3.4's spot fall-off g(mu) for c = cos(spot_size / 2) and smooth = (1 - c) "
           "spot_blend (light_units.h).");
 
+    py::class_<CameraDesc::Step>(m, "CameraStep",
+                                 "One step of a camera motion (scenes/FORMAT.md, Motion blur): "
+                                 "position, look_at, up.")
+        .def(
+            py::init([](py::kwargs kw) { return from_kwargs<CameraDesc::Step>(kw, "CameraStep"); }))
+        .def_readwrite("position", &CameraDesc::Step::position)
+        .def_readwrite("look_at", &CameraDesc::Step::look_at)
+        .def_readwrite("up", &CameraDesc::Step::up)
+        .def(py::self == py::self)
+        .def("__repr__", [](const CameraDesc::Step& c) {
+            return "facet.CameraStep(position=" + vec_str(c.position) +
+                   ", look_at=" + vec_str(c.look_at) + ", up=" + vec_str(c.up) + ")";
+        });
+
+    py::class_<RenderSettings::MotionBlur>(
+        m, "MotionBlur",
+        "Motion blur settings (scenes/FORMAT.md, Motion blur): enabled, shutter (frames, > 0), "
+        "position ('start' | 'center' | 'end'), curve (shutter curve weights; [] = uniform).")
+        .def(py::init([](py::kwargs kw) {
+            return from_kwargs<RenderSettings::MotionBlur>(kw, "MotionBlur");
+        }))
+        .def_readwrite("enabled", &RenderSettings::MotionBlur::enabled)
+        .def_readwrite("shutter", &RenderSettings::MotionBlur::shutter)
+        .def_readwrite("position", &RenderSettings::MotionBlur::position)
+        .def_readwrite("curve", &RenderSettings::MotionBlur::curve)
+        .def(py::self == py::self)
+        .def("__repr__", [](const RenderSettings::MotionBlur& b) {
+            return std::string("facet.MotionBlur(enabled=") + (b.enabled ? "True" : "False") +
+                   ", shutter=" + std::to_string(b.shutter) + ", position='" + b.position +
+                   "', curve=[" + std::to_string(b.curve.size()) + " values])";
+        });
+
     py::class_<CameraDesc>(m, "CameraDesc",
                            "The camera (scenes/FORMAT.md): position, look_at, up, fov (full "
                            "vertical, degrees), width, height; type ('perspective' | "
@@ -587,6 +619,9 @@ void bind_scene(py::module_& m) {
         .def_readwrite("focus_distance", &CameraDesc::focus_distance)
         .def_readwrite("blades", &CameraDesc::blades)
         .def_readwrite("rotation", &CameraDesc::rotation)
+        .def_readwrite("motion", &CameraDesc::motion,
+                       "camera motion: a list of >= 2 facet.CameraStep at uniform steps over the "
+                       "open shutter (scenes/FORMAT.md, Motion blur); [] = none")
         .def(py::self == py::self)
         .def("__repr__", [](const CameraDesc& c) {
             return "facet.CameraDesc(position=" + vec_str(c.position) +
@@ -611,6 +646,8 @@ void bind_scene(py::module_& m) {
         .def_readwrite("seed", &RenderSettings::seed)
         .def_readwrite("adaptive_threshold", &RenderSettings::adaptive_threshold)
         .def_readwrite("adaptive_min_samples", &RenderSettings::adaptive_min_samples)
+        .def_readwrite("motion_blur", &RenderSettings::motion_blur,
+                       "a facet.MotionBlur, or None (no motion blur)")
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height)
         .def(py::self == py::self)
@@ -968,6 +1005,10 @@ void bind_scene(py::module_& m) {
         .def_readwrite("two_sided", &ShapeDesc::two_sided)
         .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
         .def_readwrite("transform", &ShapeDesc::transform)
+        .def_readwrite("motion", &ShapeDesc::motion,
+                       "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "
+                       "at uniform steps over the open shutter (scenes/FORMAT.md, Motion blur); "
+                       "with motion blur on it replaces `transform`; [] = none")
         .def(py::self == py::self)
         .def("__repr__", [](const ShapeDesc& s) {
             return "facet.ShapeDesc('" + kind_name(s.kind) + "'" +

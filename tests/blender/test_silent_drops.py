@@ -35,6 +35,9 @@ PREREQ = {
     "render.border_min_y": {"render.use_border": True},
     "render.border_max_x": {"render.use_border": True},
     "render.border_max_y": {"render.use_border": True},
+    "render.motion_blur_shutter": {"render.use_motion_blur": True},
+    "cycles.motion_blur_position": {"render.use_motion_blur": True},
+    "view_layer.use_motion_blur": {"render.use_motion_blur": True},
 }
 
 

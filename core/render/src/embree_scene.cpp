@@ -57,6 +57,10 @@ struct EmbreeBackend {
     std::vector<ScenePtr> prototype_scenes;
     std::vector<std::vector<std::int32_t>> prototype_geom_to_mesh;
     std::vector<std::int32_t> geom_to_instance;
+    // Some instance moves (InstanceGeom::motion): rays then hand Embree their time
+    // (RayPacket::time, the timed single-ray queries); otherwise Embree gets time 0, as before
+    // motion blur existed.
+    bool has_motion = false;
 };
 
 namespace {
@@ -364,9 +368,9 @@ void packet_valid(int (&valid)[8], std::size_t n, const bool* active) {
 }
 
 // Embree's copy of a packet: the rays' arrays, and the fields Facet never varies (tnear 0, time
-// 0, every mask bit, no flags). Field by field in one loop, which GCC turns into 16-byte moves;
-// a memcpy of the 384 bytes compiles to `rep movsq`, whose start-up cost is high at this size
-// (profile in docs/performance.md, "Renderer").
+// 0, every mask bit, no flags); scenes that move then set the time (copy_times). Field by field in
+// one loop, which GCC turns into 16-byte moves; a memcpy of the 384 bytes compiles to `rep movsq`,
+// whose start-up cost is high at this size (profile in docs/performance.md, "Renderer").
 void copy_rays(RTCRay8& r, const RayPacket& rays) {
     for (std::size_t k = 0; k < 8; ++k) {
         r.org_x[k] = rays.ox[k];
@@ -382,6 +386,11 @@ void copy_rays(RTCRay8& r, const RayPacket& rays) {
         r.id[k] = unsigned(k);
         r.flags[k] = 0u;
     }
+}
+
+// The lanes' shutter times, for scenes with moving instances (EmbreeBackend::has_motion).
+void copy_times(RTCRay8& r, const RayPacket& rays) {
+    for (std::size_t k = 0; k < 8; ++k) r.time[k] = rays.time[k];
 }
 
 // The closest-hit packet of `rays`: the rays as they are, and a hit record that says "no hit
@@ -547,8 +556,11 @@ void Scene::Impl::build(const std::string& name) {
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
     for (const PrototypeGeom& pg : prototypes)
         be.surface_extras_instanced |= std::any_of(pg.meshes.begin(), pg.meshes.end(), mesh_extras);
+    // (Scenes with moving instances take the extras' path too: only it hands fill_instance the
+    // lanes' times, so that the other path passes time 0 and loads nothing for it.)
     be.surface_extras =
-        be.surface_extras_instanced || std::any_of(meshes.begin(), meshes.end(), mesh_extras) ||
+        be.surface_extras_instanced || be.has_motion ||
+        std::any_of(meshes.begin(), meshes.end(), mesh_extras) ||
         std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
         std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
     plane_cutouts = std::any_of(planes.begin(), planes.end(),
@@ -580,11 +592,35 @@ void Scene::Impl::build_instances(const std::string& name) {
         const InstanceGeom& in = instances[i];
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, be.prototype_scenes[in.prototype].get());
-        rtcSetGeometryTimeStepCount(g, 1);
-        float m[12];  // 3x4 column major: the linear part's columns, then the translation
-        for (int c = 0; c < 4; ++c)
-            for (int r = 0; r < 3; ++r) m[3 * c + r] = float(in.to_world[c][r]);
-        rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        if (in.motion.empty()) {
+            rtcSetGeometryTimeStepCount(g, 1);
+            float m[12];  // 3x4 column major: the linear part's columns, then the translation
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 3; ++r) m[3 * c + r] = float(in.to_world[c][r]);
+            rtcSetGeometryTransform(g, 0, RTC_FORMAT_FLOAT3X4_COLUMN_MAJOR, m);
+        } else {
+            // Embree's motion blur: one transform per uniform time step over the ray time
+            // [0, 1], given decomposed so that Embree interpolates as motion.h does (T and S
+            // linearly, R by slerp) instead of blending matrices.
+            be.has_motion = true;
+            rtcSetGeometryTimeStepCount(g, unsigned(in.motion.size()));
+            for (std::size_t k = 0; k < in.motion.size(); ++k) {
+                const DecomposedTransform& d = in.motion[k];
+                RTCQuaternionDecomposition qd;
+                rtcInitQuaternionDecomposition(&qd);
+                rtcQuaternionDecompositionSetScale(&qd, float(d.scale[0][0]), float(d.scale[1][1]),
+                                                   float(d.scale[2][2]));
+                // S's entries above the diagonal (glm: s[column][row]).
+                rtcQuaternionDecompositionSetSkew(&qd, float(d.scale[1][0]), float(d.scale[2][0]),
+                                                  float(d.scale[2][1]));
+                rtcQuaternionDecompositionSetQuaternion(&qd, float(d.rotation.w),
+                                                        float(d.rotation.x), float(d.rotation.y),
+                                                        float(d.rotation.z));
+                rtcQuaternionDecompositionSetTranslation(
+                    &qd, float(d.translation.x), float(d.translation.y), float(d.translation.z));
+                rtcSetGeometryTransformQuaternion(g, unsigned(k), &qd);
+            }
+        }
         rtcCommitGeometry(g);
         const unsigned id = rtcAttachGeometry(be.scene.get(), g);
         rtcReleaseGeometry(g);
@@ -750,19 +786,30 @@ template <bool kUv, bool kWorld>
 // copy of the transform and its float transform of spawned rays work at (the surface Embree
 // traces differs from the double placement, and a ray leaving p is moved into object space in
 // float: both shift it by a few u of those magnitudes).
+// A moving instance (InstanceGeom::motion) is placed at the ray's time by motion.h's
+// interpolation, which Embree's float interpolation of the same decomposed steps follows only
+// to its own rounding and approximations (which it does not report): the error box then grows
+// by kMotionSlack of the magnitudes involved, a safety margin as the triangles' is
+// (test Motion.RotatingInstanceHitsLieWithinTheirErrorBox measures the actual difference).
+constexpr double kMotionSlack = 1e-4;
+
+namespace {
+
+// fill_instance's body for placement `in`; `moving`: `in` is a moving instance's placement at
+// the ray's time, whose error box grows by kMotionSlack.
 template <bool kUv>
-[[gnu::noinline]] void Scene::Impl::fill_instance(const InstanceGeom& in, std::uint32_t geom,
-                                                  std::uint32_t tri, const Ray& ray, float u,
-                                                  float v, float t, SurfaceHit& hit,
-                                                  std::int32_t& part) const {
-    const PrototypeGeom& pg = prototypes[in.prototype];
+[[gnu::always_inline]] inline void fill_placed(const Scene::Impl& impl, const InstanceGeom& in,
+                                               bool moving, std::uint32_t geom, std::uint32_t tri,
+                                               const Ray& ray, float u, float v, float t,
+                                               SurfaceHit& hit, std::int32_t& part) {
+    const PrototypeGeom& pg = impl.prototypes[in.prototype];
     const MeshGeom& mg =
-        pg.meshes[std::size_t(backend->prototype_geom_to_mesh[in.prototype][geom])];
+        pg.meshes[std::size_t(impl.backend->prototype_geom_to_mesh[in.prototype][geom])];
     Ray local;
     local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
-    fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
+    impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
@@ -773,6 +820,9 @@ template <bool kUv>
                                   in.offset) +
         kDoubleSlack * largest_magnitude(pw);
     hit.p_err = Vec3(in.abs_linear * glm::dvec3(hit.p_err) + shift) + rounding_error(hit.p);
+    if (moving)
+        hit.p_err +=
+            Vec3(float(kMotionSlack * (in.linear_norm * largest_magnitude(po) + in.offset)));
     const glm::dvec3 ng = glm::normalize(in.normal_to_world * glm::dvec3(hit.ng));
     glm::dvec3 ns = glm::normalize(in.normal_to_world * glm::dvec3(hit.ns));
     if (glm::dot(ns, ng) < 0.0) ns = -ns;
@@ -787,6 +837,33 @@ template <bool kUv>
         hit.dpdv_uv = Vec3(lin * glm::dvec3(hit.dpdv_uv));
         part = mg.part;
     }
+}
+
+// A moving instance's hit: its placement at the ray's time (motion.h), then as a still one's.
+// Out of line and cold, so that still instances' hits build no placement.
+template <bool kUv>
+[[gnu::noinline, gnu::cold]] void fill_moving(const Scene::Impl& impl, const InstanceGeom& placed,
+                                              std::uint32_t geom, std::uint32_t tri, const Ray& ray,
+                                              float time, float u, float v, float t,
+                                              SurfaceHit& hit, std::int32_t& part) {
+    InstanceGeom at_time;
+    at_time.prototype = placed.prototype;
+    at_time.place(interpolate_motion(placed.motion, double(time)));
+    fill_placed<kUv>(impl, at_time, true, geom, tri, ray, u, v, t, hit, part);
+}
+
+}  // namespace
+
+template <bool kUv>
+[[gnu::noinline]] void Scene::Impl::fill_instance(const InstanceGeom& placed, std::uint32_t geom,
+                                                  std::uint32_t tri, const Ray& ray, float time,
+                                                  float u, float v, float t, SurfaceHit& hit,
+                                                  std::int32_t& part) const {
+    if (!placed.motion.empty()) [[unlikely]] {
+        fill_moving<kUv>(*this, placed, geom, tri, ray, time, u, v, t, hit, part);
+        return;
+    }
+    fill_placed<kUv>(*this, placed, false, geom, tri, ray, u, v, t, hit, part);
 }
 
 // --- Scene ------------------------------------------------------------------------------------
@@ -811,10 +888,27 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     init_rayhit(rh, ray);
     rtcIntersect1(be.scene.get(), &ctx, &rh);
     return be.surface_extras
-               ? complete_hit<true>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                    rh.hit.v, rh.ray.tfar, hit)
-               : complete_hit<false>(ray, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID, rh.hit.u,
-                                     rh.hit.v, rh.ray.tfar, hit);
+               ? complete_hit<true>(ray, 0.f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
+                                    rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
+               : complete_hit<false>(ray, 0.f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
+                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
+}
+
+bool Scene::intersect(const Ray& ray, float time, SurfaceHit& hit) const {
+    const Impl& impl = *m_impl;
+    if (!impl.backend) return false;
+    const EmbreeBackend& be = *impl.backend;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRayHit rh;
+    init_rayhit(rh, ray);
+    rh.ray.time = time;
+    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    return be.surface_extras
+               ? complete_hit<true>(ray, time, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
+                                    rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
+               : complete_hit<false>(ray, time, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
+                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit);
 }
 
 // The part of a closest-hit query after Embree: infinite planes (tested here, outside the BVH),
@@ -822,9 +916,9 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
 // kSurfaceExtras (EmbreeBackend::surface_extras): parts, texture coordinates and textured
 // emission; without it a hit reads its shape's own surface only.
 template <bool kSurfaceExtras>
-[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, unsigned inst, unsigned geom,
-                                                       unsigned prim, float u, float v, float t,
-                                                       SurfaceHit& hit) const {
+[[gnu::always_inline]] inline bool Scene::complete_hit(const Ray& ray, float time, unsigned inst,
+                                                       unsigned geom, unsigned prim, float u,
+                                                       float v, float t, SurfaceHit& hit) const {
     const Impl& impl = *m_impl;
     const EmbreeBackend& be = *impl.backend;
     const float tfar = geom != RTC_INVALID_GEOMETRY_ID ? t : ray.tmax;
@@ -855,7 +949,7 @@ template <bool kSurfaceExtras>
         return false;
     } else if (inst != RTC_INVALID_GEOMETRY_ID) [[unlikely]] {
         const InstanceGeom& in = impl.instances[std::size_t(be.geom_to_instance[inst])];
-        impl.fill_instance<kSurfaceExtras>(in, geom, prim, ray, u, v, t, hit, part);
+        impl.fill_instance<kSurfaceExtras>(in, geom, prim, ray, time, u, v, t, hit, part);
     } else if (geom == be.analytic_geom) {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
     } else {
@@ -899,6 +993,8 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     packet_valid(valid, n, active);
     RTCRayHit8 rh;
     init_rayhit8(rh, rays);
+    if (impl.backend->has_motion) [[unlikely]]
+        copy_times(rh.ray, rays);
     rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     // The hit records read per-triangle data that Embree's traversal did not touch (its leaves
     // hold their own vertex copies): on a large mesh these are cache misses. Ask for all lanes'
@@ -916,14 +1012,14 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     if (impl.backend->surface_extras) {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<true>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
-                                          rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
-                                          rh.ray.tfar[k], hits[k]);
+            found[k] = complete_hit<true>(rays.get(k), rays.time[k], rh.hit.instID[0][k],
+                                          rh.hit.geomID[k], rh.hit.primID[k], rh.hit.u[k],
+                                          rh.hit.v[k], rh.ray.tfar[k], hits[k]);
         }
     } else {
         for (std::size_t k = 0; k < n; ++k) {
             if (!valid[k]) continue;
-            found[k] = complete_hit<false>(rays.get(k), rh.hit.instID[0][k], rh.hit.geomID[k],
+            found[k] = complete_hit<false>(rays.get(k), 0.f, rh.hit.instID[0][k], rh.hit.geomID[k],
                                            rh.hit.primID[k], rh.hit.u[k], rh.hit.v[k],
                                            rh.ray.tfar[k], hits[k]);
         }
@@ -941,7 +1037,8 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
     for (std::size_t k = 0; k < n; ++k) {
         blocked[k] = false;
         if (!active[k] || !(rays.tmax[k] > 0.f) || !impl.backend) continue;
-        if (plane_blocks(impl, rays.get(k))) {
+        // (Planes tested first: the lane's Ray is built only when there are planes.)
+        if (!impl.planes.empty() && plane_blocks(impl, rays.get(k))) {
             blocked[k] = true;
             continue;
         }
@@ -955,6 +1052,8 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
     packet_valid(valid, n, trace);
     RTCRay8 r;
     copy_rays(r, rays);
+    if (impl.backend->has_motion) [[unlikely]]
+        copy_times(r, rays);
     rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
         if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
@@ -980,6 +1079,19 @@ bool Scene::occluded_ray(const Ray& r) const {
     init_ray(ray, r, r.tmax);
     rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
     return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
+}
+
+bool Scene::occluded_ray_at(const Ray& r, float time) const {
+    const Impl& impl = *m_impl;
+    if (!impl.backend) return false;
+    if (plane_blocks(impl, r)) return true;
+    RTCIntersectContext ctx;
+    rtcInitIntersectContext(&ctx);
+    RTCRay ray;
+    init_ray(ray, r, r.tmax);
+    ray.time = time;
+    rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
+    return ray.tfar < 0.f;
 }
 
 std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) const {

@@ -20,6 +20,26 @@ namespace facet::render {
 
 namespace {
 
+// Lane k's shutter time in the motion kernels, 0 in the others (which never read it).
+template <std::uint32_t F>
+[[gnu::always_inline]] inline float lane_time(const RayPacket& rays, std::size_t k) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return rays.time[k];
+    else
+        return 0.f;
+}
+
+// The closest hit of `ray` at its path's shutter time `time` in the motion kernels; the other
+// kernels trace at time 0, exactly as before motion blur existed.
+template <std::uint32_t F>
+[[gnu::always_inline]] inline bool trace(const Scene& scene, const Ray& ray,
+                                         [[maybe_unused]] float time, SurfaceHit& hit) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return scene.intersect(ray, time, hit);
+    else
+        return scene.intersect(ray, hit);
+}
+
 // ---- BSDF access: the Material, or its single Lambertian lobe in the Lambert-only kernel ----
 
 template <std::uint32_t F>
@@ -389,6 +409,9 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
     VertexSampleLanes samples;
     std::array<bool, kLanes> alive, has_shadow, blocked;
     RayPacket shadow;
+    // Shadow rays at their paths' times (set() keeps a lane's time).
+    if constexpr ((F & kFeatMotion) != 0)
+        std::copy(std::begin(rays.time), std::end(rays.time), std::begin(shadow.time));
     alive.fill(false);
     std::fill(alive.begin(), alive.begin() + std::ptrdiff_t(n), true);
     for (int depth = 0;; ++depth) {
@@ -398,7 +421,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
             if (live == 0) break;
             if (live < kMinPacketLanes) {
                 for (std::size_t k = 0; k < n; ++k)
-                    if (alive[k]) found[k] = scene.intersect(rays.get(k), hits[k]);
+                    if (alive[k])
+                        found[k] = trace<F>(scene, rays.get(k), lane_time<F>(rays, k), hits[k]);
             } else {
                 scene.intersect_packet(rays, n, hits.data(), found.data(), alive.data());
             }
@@ -430,8 +454,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
 // The radiance along camera ray `ray`, whose closest hit the caller traced (`first_hit` when
 // `found`); `s` starts at dimension 1.
 template <std::uint32_t F>
-Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_hit, Sampler& s,
-              int max_depth, KernelCounters& c) {
+Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool found,
+              const SurfaceHit& first_hit, Sampler& s, int max_depth, KernelCounters& c) {
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kArea = (F & kFeatAreaSampling) != 0;
@@ -453,7 +477,7 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
     for (int depth = 0;; ++depth) {
         if constexpr (kSpecular) {
             if (depth > 0) {
-                found = scene.intersect(ray, next);
+                found = trace<F>(scene, ray, time, next);
                 hp = &next;
             }
         }
@@ -510,7 +534,12 @@ Rgb direct_li(const Scene& scene, Ray ray, bool found, const SurfaceHit& first_h
                 if (!(max3(contrib) > 0.f)) continue;
                 ++c.shadow_rays;
                 // occluded() starts the shadow ray on the light's side of the surface.
-                if (!scene.occluded(hit, *ls)) L += beta * contrib / ls->pdf;
+                bool blocked;
+                if constexpr ((F & kFeatMotion) != 0)
+                    blocked = scene.occluded(hit, *ls, time);
+                else
+                    blocked = scene.occluded(hit, *ls);
+                if (!blocked) L += beta * contrib / ls->pdf;
             }
         }
         // Perfect mirror recursion through the delta lobe.
@@ -592,7 +621,9 @@ inline bool entering(const Vec3& d, const Vec3& ng) {
 // the product of each medium's transmittance over the part of the ray inside it; `null`
 // surfaces are crossed, any other surface blocks it (0). For a heterogeneous kind this is where
 // ratio tracking goes (Novák et al. 2014), segment by segment as here.
-Rgb shadow_transmittance(const Scene& scene, Ray r, MediumStack stack, KernelCounters& c) {
+template <std::uint32_t F>
+Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stack,
+                         KernelCounters& c) {
     if (!(r.tmax > 0.f)) return Rgb(1.f);
     const std::span<const Medium> media = scene.media();
     const bool finite = std::isfinite(r.tmax);
@@ -601,7 +632,7 @@ Rgb shadow_transmittance(const Scene& scene, Ray r, MediumStack stack, KernelCou
     for (int i = 0; i <= kMaxNullCrossings; ++i) {
         SurfaceHit h;
         ++c.shadow_rays;
-        const bool hit = scene.intersect(r, h);
+        const bool hit = trace<F>(scene, r, time, h);
         if (const std::int32_t med = stack.current(); med >= 0)
             tr *= media[std::size_t(med)].transmittance(hit ? h.t : r.tmax);
         if (!hit) return tr;
@@ -703,8 +734,8 @@ float sample_segment(const Medium& med, float t_max, float u_channel, float u_di
 // The radiance along camera ray `ray` (closest hit `first` when `found`, traced by the
 // caller) through the scene's media; `s` starts at dimension 1.
 template <std::uint32_t F>
-Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, bool found,
-                  const SurfaceHit& first, MediumStack stack, Sampler& s, int max_depth,
+Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, float time,
+                  bool found, const SurfaceHit& first, MediumStack stack, Sampler& s, int max_depth,
                   KernelCounters& c) {
     const std::span<const Light> lights = scene.lights();
     const std::span<const Medium> media = scene.media();
@@ -719,7 +750,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     int depth = 0, nulls = 0;
     for (std::uint32_t segment = 0;; ++segment) {
         if (segment > 0) {
-            found = scene.intersect(ray, hit);
+            found = trace<F>(scene, ray, time, hit);
             ++c.rays;
         }
         const std::uint32_t base = 1u + kMediaDimsPerSegment * segment;
@@ -811,7 +842,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                         if (max3(contrib) > 0.f) {
                             const Ray sr = Scene::shadow_ray_from(
                                 offset_ray_origin(hit.p, hit.p_err, hit.ng, ls->wi), *ls);
-                            const Rgb tr = shadow_transmittance(scene, sr, stack_toward(ls->wi), c);
+                            const Rgb tr =
+                                shadow_transmittance<F>(scene, sr, time, stack_toward(ls->wi), c);
                             const float lp = select_pmf * ls->pdf;
                             const float w = light.hittable() ? power_heuristic(lp, e.pdf) : 1.f;
                             L += beta * contrib * tr * (w / lp);
@@ -855,8 +887,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     const float ph = med.phase().eval(wo_w, ls->wi);
                     const Rgb contrib = ph * ls->li;
                     if (max3(contrib) > 0.f) {
-                        const Rgb tr =
-                            shadow_transmittance(scene, Scene::shadow_ray_from(p, *ls), stack, c);
+                        const Rgb tr = shadow_transmittance<F>(
+                            scene, Scene::shadow_ray_from(p, *ls), time, stack, c);
                         const float lp = select_pmf * ls->pdf;
                         const float w = light.hittable() ? power_heuristic(lp, ph) : 1.f;
                         L += beta * contrib * tr * (w / lp);
@@ -891,6 +923,7 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     // zero seeds, and their values are never read.
     std::array<std::uint32_t, kLanes> seeds{}, sample_seeds{};
     alignas(32) std::array<float, kLanes> film_x, film_y, lens_x, lens_y;
+    [[maybe_unused]] alignas(32) std::array<float, kLanes> times;
     std::array<Rgb, kLanes> L;
     // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
@@ -961,12 +994,28 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 if (cam.has_lens()) {
                     // The lens point: its own dimension pair (integrator.h), only with a lens.
                     sample_2d_lanes(ss, index, kLensDimension, lens_x.data(), lens_y.data());
-                    for (std::size_t k = 0; k < n; ++k) {
-                        const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
-                        rays.set(k, cam.generate_ray(film, Vec2(lens_x[k], lens_y[k])));
+                    if constexpr ((F & kFeatMotion) == 0) {
+                        for (std::size_t k = 0; k < n; ++k) {
+                            const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
+                            rays.set(k, cam.generate_ray(film, Vec2(lens_x[k], lens_y[k])));
+                        }
                     }
-                } else {
+                } else if constexpr ((F & kFeatMotion) == 0) {
                     camera_packet(cam, x0, y, film_x.data(), film_y.data(), n, rays);
+                }
+                if constexpr ((F & kFeatMotion) != 0) {
+                    // The shutter time: its own dimension (integrator.h), drawn from the
+                    // shutter curve; the camera ray from the camera at that time.
+                    sample_1d_lanes(ss, index, kTimeDimension, times.data());
+                    const CameraMotion& motion = scene.camera_motion();
+                    for (std::size_t k = 0; k < n; ++k) {
+                        const float tau = scene.shutter().sample(times[k]);
+                        const Vec2 film(float(x0 + int(k)) + film_x[k], float(y) + film_y[k]);
+                        const Vec2 lens(cam.has_lens() ? Vec2(lens_x[k], lens_y[k]) : Vec2(0.f));
+                        rays.set(k, motion.moves() ? motion.at(tau).generate_ray(film, lens)
+                                                   : cam.generate_ray(film, lens));
+                        rays.time[k] = tau;
+                    }
                 }
                 scene.intersect_packet(rays, n, hits.data(), found.data());
                 c.camera_rays += n;
@@ -974,9 +1023,9 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 if constexpr ((F & kFeatMedia) != 0) {
                     for (std::size_t k = 0; k < n; ++k) {
                         Sampler s(ss[k], index, 1u);
-                        L[k] =
-                            media_path_li<F>(scene, *job.light_distribution, rays.get(k), found[k],
-                                             hits[k], camera_stack, s, job.max_depth, c);
+                        L[k] = media_path_li<F>(scene, *job.light_distribution, rays.get(k),
+                                                lane_time<F>(rays, k), found[k], hits[k],
+                                                camera_stack, s, job.max_depth, c);
                     }
                 } else if constexpr (I == IntegratorKind::Path) {
                     path_packet<F>(scene, *job.light_distribution, n, rays, hits, found, ss, index,
@@ -985,8 +1034,8 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                     for (std::size_t k = 0; k < n; ++k) {
                         // Dimension 0 was the film position; direct_li sets every other.
                         Sampler s(ss[k], index, 1u);
-                        L[k] = direct_li<F>(scene, rays.get(k), found[k], hits[k], s, job.max_depth,
-                                            c);
+                        L[k] = direct_li<F>(scene, rays.get(k), lane_time<F>(rays, k), found[k],
+                                            hits[k], s, job.max_depth, c);
                     }
                 }
                 for (std::size_t k = 0; k < n; ++k) {
@@ -1038,6 +1087,7 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
     add(f & kFeatTextured, "textured", "");
     add(f & kFeatSpecular, "specular", "no-specular");
     add(f & kFeatMedia, "media", "");
+    add(f & kFeatMotion, "motion", "");
     if (kind == IntegratorKind::Path) {
         add(f & kFeatMis, "mis", "no-mis");
         add(f & kFeatEmission, "emission", "no-emission");
@@ -1101,10 +1151,15 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
     k.integrator = integrator;
     k.max_depth = max_depth;
     k.general = force_general;
+    const std::uint32_t motion = sf.has_motion ? std::uint32_t(kFeatMotion) : 0u;
+    if (sf.has_motion)
+        k.chosen.push_back(
+            "motion blur: a shutter time per camera sample, the moving camera and instances "
+            "traced at it (the general kernel with time, whatever is chosen below)");
     if (sf.has_media) {
         // One kernel for every scene with media (kernel_function), whichever integrator.
-        k.features =
-            (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured | kFeatMedia;
+        k.features = (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured |
+                     kFeatMedia | motion;
         k.chosen.push_back(
             "media: the volumetric path kernel (free-flight sampling, light samples through "
             "media and null surfaces, MIS with the phase function), one path at a time" +
@@ -1204,6 +1259,14 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
     } else {
         k.skipped.push_back("per-hit materials: no material is textured");
     }
+    if (sf.has_motion) {
+        // Motion: the general kernel with transmission, textures and time (kernel_function).
+        k.features = (path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
+                           : (kFeatSpecular | kFeatEmission | kFeatAreaSampling)) |
+                     kFeatTransmission | kFeatTextured | kFeatMotion;
+    } else {
+        k.skipped.push_back("shutter time on rays: nothing moves (or motion blur is off)");
+    }
     k.name = std::string(integrator_name(integrator)) + "<" + feature_list(integrator, k.features) +
              ">" + (force_general ? " (general)" : "");
     return k;
@@ -1216,8 +1279,14 @@ TileKernel kernel_function(const KernelChoice& choice) {
     constexpr std::uint32_t kDirectGeneral = kDirectMask & ~kFeatLambertOnly;
     constexpr std::uint32_t kT = kFeatTransmission, kX = kFeatTextured;
     const bool path = choice.integrator == IntegratorKind::Path;
+    constexpr std::uint32_t kM = kFeatMotion;
     if ((choice.features & kFeatMedia) != 0)
-        return &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kFeatMedia>;
+        return (choice.features & kM) != 0
+                   ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kFeatMedia | kM>
+                   : &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kFeatMedia>;
+    if ((choice.features & kM) != 0)
+        return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kM>
+                    : &render_tile<IntegratorKind::Direct, kDirectGeneral | kT | kX | kM>;
     switch (choice.features & (kT | kX)) {
         case kT:
             return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT>

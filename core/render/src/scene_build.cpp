@@ -65,7 +65,8 @@ bool SceneDescription::operator==(const SceneDescription& o) const {
            render.time_budget_s == o.render.time_budget_s &&
            render.max_depth == o.render.max_depth && render.seed == o.render.seed &&
            render.adaptive_threshold == o.render.adaptive_threshold &&
-           render.adaptive_min_samples == o.render.adaptive_min_samples;
+           render.adaptive_min_samples == o.render.adaptive_min_samples &&
+           render.motion_blur == o.render.motion_blur;
 }
 
 namespace {
@@ -93,6 +94,7 @@ class Builder final : public BuildChecks {
             throw SceneError(m_name + ": the texture memory bound of " +
                              std::to_string(m_limits.texture_memory) +
                              " bytes is below the smallest, 1 MiB (SceneLimits::texture_memory)");
+        build_motion();
         build_camera();
         build_media();
         build_materials();
@@ -198,15 +200,80 @@ class Builder final : public BuildChecks {
             fail(ptr, "the image has too many pixels (limit " +
                           std::to_string(m_limits.max_pixels) + ")");
         }
-        glm::dvec3 f = glm::dvec3(c.look_at) - glm::dvec3(c.position);
-        double flen = glm::length(f);
-        if (!(flen > 0.0)) fail(ptr + "/look_at", "must differ from the camera position");
-        glm::dvec3 cr = glm::cross(f / flen, glm::dvec3(c.up));
-        if (!(glm::length(cr) > 1e-6 * glm::length(glm::dvec3(c.up)))) {
-            fail(ptr + "/up", "must not be zero or parallel to the view direction");
-        }
+        // A frame (position, look_at, up) at `p`: look_at away from position, up not parallel.
+        auto check_frame = [&](const Vec3& position, const Vec3& look_at, const Vec3& up,
+                               const std::string& p) {
+            glm::dvec3 f = glm::dvec3(look_at) - glm::dvec3(position);
+            double flen = glm::length(f);
+            if (!(flen > 0.0)) fail(p + "/look_at", "must differ from the camera position");
+            glm::dvec3 cr = glm::cross(f / flen, glm::dvec3(up));
+            if (!(glm::length(cr) > 1e-6 * glm::length(glm::dvec3(up)))) {
+                fail(p + "/up", "must not be zero or parallel to the view direction");
+            }
+        };
+        check_frame(c.position, c.look_at, c.up, ptr);
         m_builder.camera() = Camera::make(c.position, c.look_at, c.up, float(fov), w, h, o);
+        if (c.motion.empty()) return;
+        if (c.motion.size() < 2)
+            fail(ptr + "/motion",
+                 "needs at least 2 steps (the camera at shutter open and close), got " +
+                     std::to_string(c.motion.size()));
+        if (c.motion.size() > kMaxMotionSteps)
+            fail(ptr + "/motion", "at most " + std::to_string(kMaxMotionSteps) + " steps");
+        std::vector<Camera> steps;
+        for (std::size_t i = 0; i < c.motion.size(); ++i) {
+            const CameraDesc::Step& st = c.motion[i];
+            const std::string sp = ptr + "/motion/" + std::to_string(i);
+            check_finite(st.position, sp + "/position");
+            check_finite(st.look_at, sp + "/look_at");
+            check_finite(st.up, sp + "/up");
+            for (const Vec3* v : {&st.position, &st.look_at})
+                if (max_abs(glm::dvec3(*v)) > Scene::kMaxCoordinate)
+                    fail(sp + (v == &st.position ? "/position" : "/look_at"),
+                         "beyond the renderer's coordinate range");
+            check_frame(st.position, st.look_at, st.up, sp);
+            steps.push_back(Camera::make(st.position, st.look_at, st.up, float(fov), w, h, o));
+        }
+        // Without motion blur the still camera renders (position, look_at, up).
+        if (!m_motion_on) return;
+        m_builder.camera_motion().steps = std::move(steps);
+        m_camera_moves = true;
     }
+
+    // "render"/"motion_blur" (scenes/FORMAT.md, "Motion blur"): checked whether on or off;
+    // the shutter curve when on.
+    void build_motion() {
+        const std::optional<RenderSettings::MotionBlur>& mb = m_desc.render.motion_blur;
+        if (!mb) return;
+        const std::string ptr = "/render/motion_blur";
+        check_finite(mb->shutter, ptr + "/shutter");
+        if (!(mb->shutter > 0.0))
+            fail(ptr + "/shutter", "must be > 0 (the time the shutter is open, in frames)");
+        const std::vector<std::string> positions = {"start", "center", "end"};
+        if (std::find(positions.begin(), positions.end(), mb->position) == positions.end()) {
+            std::string msg = "unknown shutter position '" + mb->position + "'";
+            const std::string g = closest_name(mb->position, positions);
+            msg += g.empty() ? " (expected start, center or end)" : " (did you mean '" + g + "'?)";
+            fail(ptr + "/position", msg);
+        }
+        if (mb->curve.size() > kMaxShutterCurve)
+            fail(ptr + "/curve", "at most " + std::to_string(kMaxShutterCurve) + " values");
+        double total = 0.0;
+        for (std::size_t i = 0; i < mb->curve.size(); ++i) {
+            const std::string cp = ptr + "/curve/" + std::to_string(i);
+            check_finite(mb->curve[i], cp);
+            if (!(mb->curve[i] >= 0.0)) fail(cp, "must be >= 0 (a weight of the shutter curve)");
+            total += mb->curve[i];
+        }
+        if (!mb->curve.empty() && !(total > 0.0 && std::isfinite(total)))
+            fail(ptr + "/curve", "the shutter curve is zero everywhere (no time to sample)");
+        m_motion_on = mb->enabled;
+        if (m_motion_on) m_builder.shutter() = ShutterCurve(mb->curve);
+    }
+
+    // Motion steps beyond this are an error (Blender's Steps 1..7 give 2^Steps + 1 <= 129).
+    static constexpr std::size_t kMaxMotionSteps = 1024;
+    static constexpr std::size_t kMaxShutterCurve = 65536;
 
     // The thin lens's radius (scene units) from aperture_radius, or fstop and focal_length
     // (mm) as Cycles computes it (blender/camera.cpp): focal_length 1e-3 / (2 fstop), i.e.
@@ -259,6 +326,7 @@ class Builder final : public BuildChecks {
             check_int(r.adaptive_min_samples, ptr + "/adaptive_min_samples", 0, detail::kMaxSpp));
         s.width = m_builder.camera().width;
         s.height = m_builder.camera().height;
+        s.motion_blur = r.motion_blur;
     }
 
     // --- materials -----------------------------------------------------------------------------
@@ -1017,11 +1085,28 @@ class Builder final : public BuildChecks {
                 fail(tp, "the transform is singular (zero scale?) or not finite");
             }
         }
+        const std::vector<DecomposedTransform> motion = shape_motion(s, ptr, proto, emissive);
         ShapeContext ctx(*this, s, index, ptr, info, proto);
         ctx.emission = info.emission;
         ctx.emissive = emissive;
         ctx.xf = xf;
+        const bool places = shape_kind(s.kind).places_prototype;
+        if (!motion.empty()) {
+            // A moving shape: an instance moves its placement; a triangle shape goes into a
+            // prototype of its own (object space), placed by its motion.
+            ctx.xf = places ? motion[0].matrix() : glm::dmat4(1.0);
+            if (!places) ctx.build_into(ctx.add_local_prototype());
+        }
+        const std::size_t pending = m_pending.size();
         shape_kind(s.kind).build(ctx);
+        if (!motion.empty()) {
+            if (places) {
+                if (m_pending.size() == pending + 1) m_pending.back().motion = motion;
+            } else {
+                m_pending.push_back({index, std::uint32_t(ctx.local_prototype()),
+                                     motion[0].matrix(), false, motion});
+            }
+        }
         if (proto >= 0) {
             // Object-space extent of the prototype; the scene's grows by its instances.
             Bounds3& pb = m_builder.impl().prototypes[std::size_t(proto)].bounds;
@@ -1034,6 +1119,53 @@ class Builder final : public BuildChecks {
         }
         m_shape_bounds.push_back(ctx.bounds);
         m_builder.shapes().push_back(info);
+    }
+
+    // A shape's `motion` (scenes/FORMAT.md, "Motion blur"), checked, decomposed (motion.h);
+    // empty when it has none or motion blur is off (the still `transform` then renders).
+    std::vector<DecomposedTransform> shape_motion(const ShapeDesc& s, const std::string& ptr,
+                                                  std::int32_t proto, bool emissive) {
+        if (s.motion.empty()) return {};
+        const std::string mp = ptr + "/motion";
+        if (proto >= 0) fail(mp, "a prototype's shapes cannot move (give the instance a motion)");
+        if (s.motion.size() < 2)
+            fail(mp, "needs at least 2 steps (the transforms at shutter open and close), got " +
+                         std::to_string(s.motion.size()));
+        if (s.motion.size() > kMaxMotionSteps)
+            fail(mp, "at most " + std::to_string(kMaxMotionSteps) + " steps");
+        switch (s.kind) {
+            case ShapeKind::Box:
+            case ShapeKind::Quad:
+            case ShapeKind::Mesh:
+            case ShapeKind::Icosphere:
+            case ShapeKind::Grid:
+            case ShapeKind::Instance:
+                break;
+            default:
+                fail(mp,
+                     "only triangle shapes (box, quad, mesh, icosphere, grid) and instances "
+                     "can move, not a '" +
+                         std::string(shape_kind(s.kind).name) + "'");
+        }
+        if (emissive)
+            fail(mp, "an emitting shape cannot move (light sampling places emitters at one time)");
+        std::vector<DecomposedTransform> out;
+        for (std::size_t i = 0; i < s.motion.size(); ++i) {
+            const glm::dmat4& m = s.motion[i];
+            const std::string tp = mp + "/" + std::to_string(i);
+            for (int c = 0; c < 4; ++c)
+                for (int r = 0; r < 4; ++r)
+                    if (!std::isfinite(m[c][r])) fail(tp, "the transform is not finite");
+            if (m[0][3] != 0.0 || m[1][3] != 0.0 || m[2][3] != 0.0 || m[3][3] != 1.0)
+                fail(tp, "the last row must be [0, 0, 0, 1] (affine transforms only)");
+            const double det = glm::determinant(glm::dmat3(m));
+            if (!(std::fabs(det) > 1e-300) || !std::isfinite(det))
+                fail(tp, "the transform is singular (zero scale?) or not finite");
+            out.push_back(DecomposedTransform::decompose(m));
+        }
+        if (!m_motion_on) return {};
+        m_shapes_move = true;
+        return out;
     }
 
     // What a shape kind's builder adds to the scene (kind_build.h).
@@ -1187,6 +1319,13 @@ class Builder final : public BuildChecks {
         void place_prototype(std::uint32_t prototype, const glm::dmat4& local) override {
             m_b.m_pending.push_back({index, prototype, xf * local, false});
         }
+        // A moving shape (shape_motion): everything it adds goes to its own prototype, in
+        // object space.
+        void build_into(std::uint32_t prototype) {
+            m_proto = std::int32_t(prototype);
+            m_local = true;
+        }
+        std::int32_t local_prototype() const { return m_proto; }
 
       private:
         // The shape's own triangles (part -1) or one of its parts: transformed, validated,
@@ -1422,38 +1561,37 @@ class Builder final : public BuildChecks {
         std::uint32_t shape, prototype;
         glm::dmat4 xf;
         bool described;  // prototype indexes the description's prototypes (else Impl's)
+        std::vector<DecomposedTransform> motion = {};  // a moving placement (InstanceGeom)
     };
 
-    // Instance `pi` (its transform checked by build_shape: finite, affine, not singular).
+    // Instance `pi` (its transforms checked by build_shape: finite, affine, not singular).
     void place_instance(const PendingInstance& pi) {
         InstanceGeom in;
         in.prototype = std::uint32_t(pi.described ? m_prototype_base + pi.prototype : pi.prototype);
-        in.to_world = pi.xf;
-        in.to_object = glm::inverse(pi.xf);
-        const glm::dmat3 lin(pi.xf), inv(in.to_object);
-        in.normal_to_world = glm::transpose(inv);
-        in.handedness = glm::determinant(lin) < 0.0 ? -1.f : 1.f;
-        for (int c = 0; c < 3; ++c)
-            for (int r = 0; r < 3; ++r) in.abs_linear[c][r] = std::fabs(lin[c][r]);
-        auto norm = [](const glm::dmat3& m) {  // infinity norm: the largest row sum of |m|
-            double best = 0.0;
-            for (int r = 0; r < 3; ++r)
-                best = std::max(best, std::fabs(m[0][r]) + std::fabs(m[1][r]) + std::fabs(m[2][r]));
-            return best;
-        };
-        in.linear_norm = norm(lin);
-        in.inverse_norm = norm(inv);
-        in.offset = largest_magnitude(glm::dvec3(pi.xf[3]));
-        in.inverse_offset = largest_magnitude(glm::dvec3(in.to_object[3]));
+        in.place(pi.xf);
+        in.motion = pi.motion;
         const Bounds3& pb = m_builder.impl().prototypes[in.prototype].bounds;
         if (pb.empty()) return;  // a glTF mesh without triangles: nothing to place
+        // The world extent of every step's placement; a moving instance's also of its
+        // interpolated placements, sampled finely (rotations swing corners outside the steps'
+        // boxes). The scene's bounds serve light sampling and precision checks, not tracing
+        // (Embree bounds the motion itself).
         Bounds3 wb;
-        for (int i = 0; i < 8; ++i) {
-            const glm::dvec3 c(i & 1 ? pb.hi.x : pb.lo.x, i & 2 ? pb.hi.y : pb.lo.y,
-                               i & 4 ? pb.hi.z : pb.lo.z);
-            const Vec3 w(glm::dvec3(pi.xf * glm::dvec4(c, 1.0)));
-            wb.lo = glm::min(wb.lo, w);
-            wb.hi = glm::max(wb.hi, w);
+        auto add_corners = [&](const glm::dmat4& m) {
+            for (int i = 0; i < 8; ++i) {
+                const glm::dvec3 c(i & 1 ? pb.hi.x : pb.lo.x, i & 2 ? pb.hi.y : pb.lo.y,
+                                   i & 4 ? pb.hi.z : pb.lo.z);
+                const Vec3 w(glm::dvec3(m * glm::dvec4(c, 1.0)));
+                wb.lo = glm::min(wb.lo, w);
+                wb.hi = glm::max(wb.hi, w);
+            }
+        };
+        add_corners(pi.xf);
+        if (!in.motion.empty()) {
+            constexpr int kBoundSamples = 64;  // per motion segment
+            const int n = kBoundSamples * int(in.motion.size() - 1);
+            for (int i = 0; i <= n; ++i)
+                add_corners(interpolate_motion(in.motion, double(i) / double(n)));
         }
         if (!is_finite(wb.lo) || !is_finite(wb.hi))
             fail(shape_place(pi.shape), "the instance's extent overflows float");
@@ -1623,6 +1761,8 @@ class Builder final : public BuildChecks {
         f.all_lights_delta = !f.any_non_delta_light;
         if (scene.world_medium() >= 0) f.has_media = true;
         if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
+        f.has_motion = m_camera_moves || m_shapes_move;
+        if (m_camera_moves) f.emitter_visible = true;  // the frustum test is the still camera's
     }
 
     // Counts triangles against the limit before they are generated.
@@ -1649,6 +1789,9 @@ class Builder final : public BuildChecks {
     std::vector<Bounds3> m_shape_bounds;
     std::vector<std::string> m_places;       // shape_place() per Scene::shapes() index
     std::vector<PendingInstance> m_pending;  // instances, placed once their prototypes are built
+    bool m_motion_on = false;                // "motion_blur" given and enabled
+    bool m_camera_moves = false;             // with motion blur on: the camera has a motion
+    bool m_shapes_move = false;              // with motion blur on: some shape has a motion
     std::size_t m_prototype_base = 0;        // Impl::prototypes index of the first described
 };
 
@@ -1670,6 +1813,7 @@ std::string SceneFeatures::describe() const {
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
+    if (has_motion) s << "motion blur: yes (a moving camera or shapes)\n";
     return s.str();
 }
 

@@ -148,6 +148,31 @@ struct InstanceGeom {
     // of their translations (the hit's error box: embree_scene.cpp, fill_instance).
     double linear_norm = 1.0, inverse_norm = 1.0, offset = 0.0, inverse_offset = 0.0;
     float handedness = 1.f;
+    // A moving instance (motion.h): its transform per motion step, decomposed (empty: static).
+    // The fields above are then those of the first step; a hit recomputes them at its ray's
+    // time (placed_at).
+    std::vector<DecomposedTransform> motion;
+
+    // Sets the transform and every field derived from it (M: affine, invertible).
+    void place(const glm::dmat4& m) {
+        to_world = m;
+        to_object = glm::inverse(m);
+        const glm::dmat3 lin(m), inv(to_object);
+        normal_to_world = glm::transpose(inv);
+        handedness = glm::determinant(lin) < 0.0 ? -1.f : 1.f;
+        for (int c = 0; c < 3; ++c)
+            for (int r = 0; r < 3; ++r) abs_linear[c][r] = std::fabs(lin[c][r]);
+        auto norm = [](const glm::dmat3& a) {  // infinity norm: the largest row sum of |a|
+            double best = 0.0;
+            for (int r = 0; r < 3; ++r)
+                best = std::max(best, std::fabs(a[0][r]) + std::fabs(a[1][r]) + std::fabs(a[2][r]));
+            return best;
+        };
+        linear_norm = norm(lin);
+        inverse_norm = norm(inv);
+        offset = largest_magnitude(glm::dvec3(m[3]));
+        inverse_offset = largest_magnitude(glm::dvec3(to_object[3]));
+    }
 };
 
 struct EmbreeBackend;  // embree_scene.cpp
@@ -172,7 +197,7 @@ struct Scene::Impl {
     // A hit inside instance `inst` (Impl::instances) on its prototype's Embree geometry `geom`.
     template <bool kUv>
     void fill_instance(const InstanceGeom& inst, std::uint32_t geom, std::uint32_t tri,
-                       const Ray& ray, float u, float v, float t, SurfaceHit& hit,
+                       const Ray& ray, float time, float u, float v, float t, SurfaceHit& hit,
                        std::int32_t& part) const;
     // kWorld: `ray` is the world ray (the smooth normal is bent for it: SurfaceHit::ns);
     // false inside an instance, whose caller bends it once in world space.
@@ -188,6 +213,8 @@ struct Scene::Builder {
     std::uint64_t& fingerprint() { return scene.m_fingerprint; }
     std::vector<std::string>& warnings() { return scene.m_warnings; }
     Camera& camera() { return scene.m_camera; }
+    CameraMotion& camera_motion() { return scene.m_camera_motion; }
+    ShutterCurve& shutter() { return scene.m_shutter; }
     RenderSettings& settings() { return scene.m_settings; }
     SceneFeatures& features() { return scene.m_features; }
     std::vector<std::shared_ptr<Material>>& materials() { return scene.m_materials; }

@@ -320,7 +320,7 @@ class Reader {
         check_keys(c, ptr,
                    {"position", "look_at", "up", "fov", "width", "height", "type", "scale",
                     "shift_x", "shift_y", "aperture_radius", "fstop", "focal_length",
-                    "focus_distance", "blades", "rotation"});
+                    "focus_distance", "blades", "rotation", "motion"});
         CameraDesc d;
         d.position = get_vec3(require(c, ptr, "position"), ptr + "/position");
         d.look_at = get_vec3(require(c, ptr, "look_at"), ptr + "/look_at");
@@ -353,6 +353,22 @@ class Reader {
         opt_number("focus_distance", d.focus_distance);
         if (c.contains("blades")) d.blades = int(get_int(c["blades"], ptr + "/blades", 0, 1024));
         if (c.contains("rotation")) d.rotation = get_number(c["rotation"], ptr + "/rotation");
+        if (c.contains("motion")) {
+            const json& m = c["motion"];
+            const std::string mp = ptr + "/motion";
+            if (!m.is_array()) fail(mp, "expected an array of camera steps, got " + type_name(m));
+            for (std::size_t i = 0; i < m.size(); ++i) {
+                const json& st = m[i];
+                const std::string sp = mp + "/" + std::to_string(i);
+                expect_object(st, sp);
+                check_keys(st, sp, {"position", "look_at", "up"});
+                CameraDesc::Step step;
+                step.position = get_vec3(require(st, sp, "position"), sp + "/position");
+                step.look_at = get_vec3(require(st, sp, "look_at"), sp + "/look_at");
+                step.up = st.contains("up") ? get_vec3(st["up"], sp + "/up") : d.up;
+                d.motion.push_back(step);
+            }
+        }
         d.width = int(get_int(require(c, ptr, "width"), ptr + "/width", 1, detail::kMaxImageSide));
         d.height =
             int(get_int(require(c, ptr, "height"), ptr + "/height", 1, detail::kMaxImageSide));
@@ -363,7 +379,30 @@ class Reader {
         expect_object(r, ptr);
         check_keys(r, ptr,
                    {"integrator", "spp", "time_budget", "max_depth", "seed", "adaptive_threshold",
-                    "adaptive_min_samples"});
+                    "adaptive_min_samples", "motion_blur"});
+        if (r.contains("motion_blur")) {
+            const json& m = r["motion_blur"];
+            const std::string mp = ptr + "/motion_blur";
+            RenderSettings::MotionBlur mb;
+            if (m.is_boolean()) {
+                mb.enabled = m.get<bool>();
+            } else {
+                expect_object(m, mp);
+                check_keys(m, mp, {"enabled", "shutter", "position", "curve"});
+                if (m.contains("enabled")) mb.enabled = get_bool(m["enabled"], mp + "/enabled");
+                if (m.contains("shutter")) mb.shutter = get_number(m["shutter"], mp + "/shutter");
+                if (m.contains("position"))
+                    mb.position = get_string(m["position"], mp + "/position");
+                if (m.contains("curve")) {
+                    const json& c = m["curve"];
+                    if (!c.is_array())
+                        fail(mp + "/curve", "expected an array of numbers, got " + type_name(c));
+                    for (std::size_t i = 0; i < c.size(); ++i)
+                        mb.curve.push_back(get_number(c[i], mp + "/curve/" + std::to_string(i)));
+                }
+            }
+            s.motion_blur = mb;
+        }
         if (r.contains("adaptive_threshold"))
             s.adaptive_threshold = get_number(r["adaptive_threshold"], ptr + "/adaptive_threshold");
         if (r.contains("adaptive_min_samples"))
@@ -701,6 +740,13 @@ class Reader {
         }
         if (s.contains("transform"))
             d.transform = read_transform(s["transform"], ptr + "/transform");
+        if (s.contains("motion")) {
+            const json& m = s["motion"];
+            if (!m.is_array())
+                fail(ptr + "/motion", "expected an array of transforms, got " + type_name(m));
+            for (std::size_t i = 0; i < m.size(); ++i)
+                d.motion.push_back(read_transform(m[i], ptr + "/motion/" + std::to_string(i)));
+        }
         for (const Field<ShapeDesc>& f : k->fields) read_field(s, ptr, f, d);
         return d;
     }
@@ -1019,6 +1065,14 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (v->has_value()) cam[key] = **v;
     if (c.blades != 0) cam["blades"] = c.blades;
     if (c.rotation != 0.0) cam["rotation"] = c.rotation;
+    if (!c.motion.empty()) {
+        json steps = json::array();
+        for (const CameraDesc::Step& st : c.motion)
+            steps.push_back({{"position", vec_json(st.position)},
+                             {"look_at", vec_json(st.look_at)},
+                             {"up", vec_json(st.up)}});
+        cam["motion"] = steps;
+    }
     root["camera"] = cam;
     json mats = json::object();
     for (const auto& [name, m] : d.materials) mats[name] = material_json(m, hashed_arrays);
@@ -1036,6 +1090,11 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.transform) j["transform"] = matrix_json(*s.transform);
+        if (!s.motion.empty()) {
+            json steps = json::array();
+            for (const glm::dmat4& m : s.motion) steps.push_back(matrix_json(m));
+            j["motion"] = steps;
+        }
         for (const Field<ShapeDesc>& f : shape_kind(s.kind).fields)
             write_field(j, f, s, hashed_arrays);
         return j;
@@ -1086,6 +1145,13 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
     if (r.adaptive_threshold > 0.0) {
         root["render"]["adaptive_threshold"] = r.adaptive_threshold;
         root["render"]["adaptive_min_samples"] = r.adaptive_min_samples;
+    }
+    // Motion blur only when given: scenes without it keep their files as they were.
+    if (r.motion_blur) {
+        const RenderSettings::MotionBlur& mb = *r.motion_blur;
+        json m = {{"enabled", mb.enabled}, {"shutter", mb.shutter}, {"position", mb.position}};
+        if (!mb.curve.empty()) m["curve"] = mb.curve;
+        root["render"]["motion_blur"] = m;
     }
     return root;
 }

@@ -1199,6 +1199,19 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
     // Opacity (cut-outs) is not exported yet: POV-Ray's pigment transmit would blend where
     // Facet chooses stochastically (the same expectation), unchecked against it. Errors, never
     // a silent drop.
+    // Motion blur: POV-Ray traces one instant (its clock is per frame, not per ray), so a scene
+    // that moves with motion blur on has no SDL; with it off the still scene is exported.
+    if (desc.render.motion_blur && desc.render.motion_blur->enabled) {
+        std::string moving;
+        if (!desc.camera.motion.empty()) moving = "/camera/motion";
+        for (std::size_t i = 0; i < desc.shapes.size() && moving.empty(); ++i)
+            if (!desc.shapes[i].motion.empty()) moving = "/shapes/" + std::to_string(i) + "/motion";
+        if (!moving.empty())
+            throw SceneError(name + ": " + moving +
+                             ": motion blur is not expressible in POV-Ray (it renders one "
+                             "instant per frame); set /render/motion_blur/enabled to false to "
+                             "export the still scene, or render with Facet");
+    }
     // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
     // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path
     // with media is traced whichever integrator is asked).

@@ -58,7 +58,10 @@
 
 namespace facet::render {
 
-// A ray o + t d, t in (0, tmax]. d is a unit vector.
+// A ray o + t d, t in (0, tmax]. d is a unit vector. Its shutter time (motion blur,
+// facet/render/motion.h) travels beside it: RayPacket::time, and the `time` argument of the
+// scene's single-ray queries for scenes that move; a Ray alone is traced at time 0, so the
+// rays of scenes that do not move are exactly what they were before motion blur existed.
 struct Ray {
     Vec3 o{0.f};
     Vec3 d{0.f, 0.f, 1.f};

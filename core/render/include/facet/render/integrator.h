@@ -77,6 +77,9 @@ namespace facet::render {
 inline constexpr int kDimsPerVertex = 7;
 // The thin lens's 2D sample (see conventions).
 inline constexpr std::uint32_t kLensDimension = 0xFFFFFFF0u;
+// The shutter time's 1D sample (kFeatMotion), reserved as the lens's is: scenes that do not
+// move draw exactly the samples they drew before motion blur existed.
+inline constexpr std::uint32_t kTimeDimension = 0xFFFFFFF2u;
 // Russian roulette starts after this many bounces; earlier vertices carry most of the image.
 // A path then survives each bounce with probability sqrt(max beta) (survivors reweighted by its
 // inverse), as Cycles does, instead of max beta: the roulette's kill-or-double decisions are
@@ -103,7 +106,14 @@ enum KernelFeature : std::uint32_t {
     // The scene has media (SceneFeatures::has_media): the volumetric path kernel (see the
     // conventions' "Media"), instantiated once, with every other feature of the general path
     // kernel. Scenes without media never run it, and the other kernels have no media code.
-    kFeatMedia = 1u << 8
+    kFeatMedia = 1u << 8,
+    // Motion blur is on and something moves (SceneFeatures::has_motion): each camera sample
+    // draws a shutter time (kTimeDimension, ShutterCurve), its camera ray comes from the camera
+    // at that time, and every ray of its path carries it (RayPacket::time, the
+    // timed single-ray queries). Instantiated for the
+    // general kernel of each integrator (with transmission and textures) and the media kernel;
+    // static scenes never run it, and the other kernels draw no time.
+    kFeatMotion = 1u << 9
 };
 
 enum class IntegratorKind { Direct, Path };

@@ -51,6 +51,7 @@
 
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <span>
 #include <stdexcept>
 #include <string>
@@ -62,6 +63,7 @@
 #include "facet/render/camera.h"
 #include "facet/render/light.h"
 #include "facet/render/medium.h"
+#include "facet/render/motion.h"
 #include "facet/render/precision.h"
 #include "facet/render/texture.h"
 #include "facet/staged_material.h"
@@ -109,6 +111,19 @@ struct RenderSettings {
     double adaptive_threshold = 0.0;
     int adaptive_min_samples = 0;
     int width = 0, height = 0;  // copied from the camera
+    // Motion blur (scenes/FORMAT.md, "Motion blur"; facet/render/motion.h). Absent or not
+    // `enabled`: every motion is rendered at the frame's time (a still). `shutter`: the open
+    // time in frames (> 0); `position`: where the frame's time lies in it ("start", "center",
+    // "end", as Blender's Position); `curve`: the shutter curve's weights on equal cells of
+    // the open interval (empty: uniform). The motion steps span the open interval.
+    struct MotionBlur {
+        bool enabled = true;
+        double shutter = 0.5;
+        std::string position = "center";
+        std::vector<double> curve;
+        bool operator==(const MotionBlur&) const = default;
+    };
+    std::optional<MotionBlur> motion_blur;
     bool operator==(const RenderSettings&) const = default;
 };
 
@@ -258,6 +273,9 @@ struct SceneFeatures {
     // material with an "interior", or the `null` model): only then does the media kernel run
     // (integrator.h, kFeatMedia).
     bool has_media = false;
+    // Motion blur is on and something moves (a camera or shape `motion`): only then do rays
+    // carry a time and the motion kernels run (integrator.h, kFeatMotion).
+    bool has_motion = false;
     bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
@@ -305,10 +323,14 @@ struct RayPacket {
     static constexpr std::size_t kSize = 8;
     alignas(32) float ox[kSize], oy[kSize], oz[kSize];
     float dx[kSize], dy[kSize], dz[kSize], tmax[kSize];
+    // Each lane's shutter time (motion.h). set() and get() leave it: a lane keeps the time of
+    // its path while its rays change (the motion kernels set it once per camera sample).
+    // Embree reads it only in scenes that move (Scene::intersect_packet).
+    float time[kSize];
 
     RayPacket() {
         for (std::size_t k = 0; k < kSize; ++k) {
-            ox[k] = oy[k] = oz[k] = dx[k] = dy[k] = tmax[k] = 0.f;
+            ox[k] = oy[k] = oz[k] = dx[k] = dy[k] = tmax[k] = time[k] = 0.f;
             dz[k] = 1.f;
         }
     }
@@ -338,6 +360,9 @@ class Scene {
     // Closest hit along the ray with t in (0, ray.tmax]. Fills `hit` and returns true, or
     // returns false and leaves `hit` untouched.
     bool intersect(const Ray& ray, SurfaceHit& hit) const;
+    // The same at shutter time `time` in [0, 1) (motion blur, motion.h: moving instances are
+    // placed at that time).
+    bool intersect(const Ray& ray, float time, SurfaceHit& hit) const;
     // Closest hits of the first n <= kPacketSize rays of a packet in one Embree packet query
     // (rtcIntersect8): found[k] and hits[k] as intersect(rays.get(k), hits[k]) would give them,
     // for the rays with active[k] (every ray when `active` is null; the others' entries are left
@@ -375,12 +400,22 @@ class Scene {
         const Ray r = shadow_ray(hit, ls);
         return r.tmax > 0.f && occluded_ray(r);
     }
+    // The same at shutter time `time` (motion blur: RayPacket::time).
+    bool occluded(const SurfaceHit& hit, const LightLiSample& ls, float time) const {
+        const Ray r = shadow_ray(hit, ls);
+        return r.tmax > 0.f && occluded_ray_at(r, time);
+    }
     // Shadow ray from an exactly known point p (error box: its own rounding) with geometric
     // normal ng toward unit direction wi over distance dist (may be +inf; a finite ray stops
     // kShadowEpsilon of dist short of its end). True when something blocks it.
     bool occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) const;
 
     const Camera& camera() const { return m_camera; }
+    // Motion blur (motion.h), read by the motion kernels only (SceneFeatures::has_motion): the
+    // camera's steps (none when it does not move; camera() is then the camera) and the density
+    // the ray time is drawn from.
+    const CameraMotion& camera_motion() const { return m_camera_motion; }
+    const ShutterCurve& shutter() const { return m_shutter; }
     std::span<const Light> lights() const { return m_lights; }
     // Next-event estimation's choice of light, in proportion to power (light.h).
     const LightDistribution& light_distribution() const { return m_light_distribution; }
@@ -489,18 +524,23 @@ class Scene {
     friend struct Builder;
     // Any hit with t in (0, r.tmax) (planes outside Embree, then Embree's occlusion query).
     bool occluded_ray(const Ray& r) const;
-    // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray`;
-    // `inst`: the instance's Embree id when the hit is inside an instance (else invalid).
+    // The same at shutter time `time` (motion blur).
+    bool occluded_ray_at(const Ray& r, float time) const;
+    // Planes, then the hit record, after Embree reported (geom, prim, u, v, t) for `ray` at
+    // shutter time `time`; `inst`: the instance's Embree id when the hit is inside an instance
+    // (else invalid).
     // kSurfaceExtras: the scene has shape parts or texture coordinates (embree_scene.cpp);
     // without them the hit record skips their look-ups.
     template <bool kSurfaceExtras>
-    [[gnu::always_inline]] bool complete_hit(const Ray& ray, unsigned inst, unsigned geom,
-                                             unsigned prim, float u, float v, float t,
-                                             SurfaceHit& hit) const;
+    [[gnu::always_inline]] bool complete_hit(const Ray& ray, float time, unsigned inst,
+                                             unsigned geom, unsigned prim, float u, float v,
+                                             float t, SurfaceHit& hit) const;
     std::string m_name;
     std::uint64_t m_fingerprint = 0;
     std::vector<std::string> m_warnings;
     Camera m_camera;
+    CameraMotion m_camera_motion;
+    ShutterCurve m_shutter;
     RenderSettings m_settings;
     SceneFeatures m_features;
     // Stable addresses; shared with the combinations (mix, add) that hold them as children.

@@ -56,6 +56,16 @@ struct CameraDesc {
     std::optional<double> focus_distance;  // along the view direction; required with a lens
     int blades = 0;                        // 0 = round, else >= 3 (polygonal aperture)
     double rotation = 0.0;                 // polygon rotation, degrees
+    // Camera motion (scenes/FORMAT.md, "Motion blur"): the camera's position, look_at and up
+    // at each of >= 2 uniform steps over the open shutter. Rendered only with motion blur on,
+    // instead of position, look_at and up (which are the still camera).
+    struct Step {
+        Vec3 position{0.f};
+        Vec3 look_at{0.f, 0.f, -1.f};
+        Vec3 up{0.f, 1.f, 0.f};
+        bool operator==(const Step&) const = default;
+    };
+    std::vector<Step> motion;
     bool operator==(const CameraDesc&) const = default;
 };
 
@@ -132,6 +142,10 @@ struct ShapeDesc {
     bool two_sided = true;
     bool flip_normals = false;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
+    // Transformation motion (scenes/FORMAT.md, "Motion blur"): the object-to-world transform
+    // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces
+    // `transform` (the still placement). Triangle kinds and instances only.
+    std::vector<glm::dmat4> motion;
 
     Vec3 center{0.f};                         // sphere, disc, icosphere
     double radius = 1.0;                      // sphere, disc, icosphere

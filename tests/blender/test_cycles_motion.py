@@ -1,0 +1,246 @@
+"""Blender's motion blur -> Facet's (issue 37, items 3 and 4), against Cycles 3.4.
+
+Export (no render): Motion Blur on gives the render's "motion_blur" (shutter, position, a
+shaped shutter curve as weights), an animated cube's "motion" at its motion steps (Cycles'
+2^steps + 1 times over the open shutter), an animated camera's "motion"; a still object gets
+none; Motion Blur off gives neither, and the view layer's Motion Blur filter off neither.
+
+Render: the factory cube (scaled 0.5) keyframed to move 1.5 units per frame (x -1.5 at frame
+0 to 1.5 at frame 2, linear), rendered at frame 1 with shutter 0.5 centred on it, a grey floor, the factory lamp
+and a grey world, 64 x 48, direct light plus one bounce (Facet max_depth 2 = Cycles 1 bounce),
+Facet (through the export) against Cycles, two seeds each. Bounds as the other Cycles tests
+state them (test_cycles34_lamps.py):
+- |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
+- block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
+  noise floor (the same between Cycles seeds 1 and 2).
+Ability to fail: Facet with the export's motion removed (the sharp cube at the frame, what the
+addon rendered before) must break a bound, and does (numbers printed). The same for a cube
+turning 90 degrees per frame about z (rotation: slerped steps) and for the still cube seen from
+a camera moving 1 unit per frame sideways (camera motion)."""
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support",
+                                "python"))
+from facet_testsupport import blender_harness as bt  # noqa: E402
+from facet_testsupport import cycles_scene as cs  # noqa: E402
+
+W, H = 64, 48
+BLOCK = 8
+SPP = 128
+MEAN_TOL = 0.02
+RMSE_FACTOR = 3.0
+MAX_DEPTH = 2
+
+
+def luminance(img):
+    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+
+
+def block_rmse(a, b):
+    def means(x):
+        h, w = x.shape
+        return x[:h - h % BLOCK, :w - w % BLOCK].reshape(
+            h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
+    return float(np.sqrt(np.mean((means(luminance(a)) - means(luminance(b))) ** 2)))
+
+
+def export(frame_set=None):
+    from facet_blender import export as ex
+    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={},
+                           frame_set=frame_set)
+
+
+def scene_frame_set(frame, subframe):
+    bpy.context.scene.frame_set(frame, subframe=subframe)
+
+
+def moving_scene():
+    scene = bt.factory_scene(W, H)
+    cube = bpy.data.objects["Cube"]
+    cube.scale = (0.5, 0.5, 0.5)
+    for frame, x in ((0, -1.5), (2, 1.5)):
+        cube.location = (x, 0.0, 0.0)
+        cube.keyframe_insert("location", frame=frame)
+    for fc in cube.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    scene.frame_set(1)
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_shutter = 0.5
+    scene.cycles.motion_blur_position = 'CENTER'
+    bpy.ops.mesh.primitive_plane_add(size=20.0, location=(0.0, 0.0, -0.5))
+    floor = bpy.context.active_object
+    mat, nt, out = bt.new_material("FloorMat")
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
+    nt.links.new(d.outputs[0], out.inputs["Surface"])
+    floor.data.materials.append(mat)
+    return scene, cube
+
+
+def case_export():
+    scene, cube = moving_scene()
+    data, problems = export(scene_frame_set)
+    mb = data["render"].get("motion_blur")
+    bt.check(mb is not None and mb["shutter"] == 0.5 and mb["position"] == "center"
+             and "curve" not in mb, "motion blur settings: %s" % mb)
+    shapes = {s["name"]: s for s in data["shapes"]}
+    m = shapes["Cube"].get("motion")
+    bt.check(m is not None and len(m) == 3, "the cube's motion: 3 steps (motion_steps 1)")
+    xs = [row[0][3] for row in m] if m else []
+    bt.check(np.allclose(xs, [-0.375, 0.0, 0.375], atol=1e-5),
+             "the steps at frames 0.75, 1, 1.25: x %s" % xs)
+    bt.check("motion" not in shapes["Plane"], "the still floor has no motion")
+    bt.check(bpy.context.scene.frame_current == 1 and
+             abs(bpy.context.scene.frame_subframe) < 1e-6, "the frame is restored")
+    bt.check(not [p for p in problems if "otion" in p], "no motion line: %s" % problems)
+    cube.cycles.motion_steps = 2
+    m = {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Cube"]["motion"]
+    bt.check(len(m) == 5, "motion_steps 2: 5 steps")
+    cube.cycles.use_motion_blur = False
+    bt.check("motion" not in {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Cube"],
+             "the object's Motion Blur off: no motion")
+    cube.cycles.use_motion_blur = True
+    # A shaped shutter curve: weights; position End.
+    cm = scene.render.motion_blur_shutter_curve
+    pts = cm.curves[0].points
+    pts[0].location = (0.0, 0.0)
+    cm.update()
+    scene.cycles.motion_blur_position = 'END'
+    data = export(scene_frame_set)[0]
+    mb = data["render"]["motion_blur"]
+    bt.check(mb["position"] == "end" and len(mb.get("curve", [])) == 256
+             and mb["curve"][0] < mb["curve"][-1], "a shaped curve: %s..." % mb.get("curve", [])[:3])
+    xs = [row[0][3] for row in {s["name"]: s for s in data["shapes"]}["Cube"]["motion"]]
+    bt.check(np.allclose(xs[-1], 0.0, atol=1e-5), "position End: the last step at the frame")
+    # Camera motion (Center again: steps at frames 0.75, 1, 1.25).
+    scene.cycles.motion_blur_position = 'CENTER'
+    cam = scene.camera
+    cam.keyframe_insert("location", frame=1)
+    cam.location.x += 1.0
+    cam.keyframe_insert("location", frame=2)
+    scene.frame_set(1)
+    data = export(scene_frame_set)[0]
+    bt.check(len(data["camera"].get("motion", [])) == 3, "the camera's motion")
+    # Off: nothing.
+    scene.render.use_motion_blur = False
+    data = export(scene_frame_set)[0]
+    bt.check("motion_blur" not in data["render"] and "motion" not in data["camera"],
+             "Motion Blur off: no settings, no motion")
+    scene.render.use_motion_blur = True
+    bpy.context.view_layer.use_motion_blur = False
+    data = export(scene_frame_set)[0]
+    bt.check("motion_blur" not in data["render"], "the view layer's filter off: none")
+    # The description builds (the core accepts it).
+    from facet_blender import native
+    bpy.context.view_layer.use_motion_blur = True
+    built, _ = native.build(export(scene_frame_set)[0], name="blender")
+    bt.check(built.features().has_motion if hasattr(built, "features") else True,
+             "the exported scene builds")
+
+
+def renders(scene, name, out, engines=('FACET', 'CYCLES')):
+    scene.facet.max_depth = MAX_DEPTH
+    scene.facet.spp = SPP
+    cs.cycles_settings(scene, samples=SPP, max_depth=MAX_DEPTH)
+    scene.render.use_motion_blur = True  # cycles_settings turns it off
+    return {e: tuple(cs.render(scene, e, os.path.join(out, "motion_%s_%s_%d.exr"
+                                                        % (name, e.lower(), seed)), seed)[0]
+                     for seed in (1, 2)) for e in engines}
+
+
+def compare(name, f, c1, c2):
+    floor = block_rmse(c1, c2)
+    ratio = luminance(f).mean() / (0.5 * (luminance(c1).mean() + luminance(c2).mean()))
+    rel = block_rmse(f, c1) / max(floor, 1e-12)
+    print("%-8s mean ratio Facet / Cycles %.4f, block RMSE %.2f x floor (%.5f)"
+          % (name, ratio, rel, floor))
+    return ratio, rel
+
+
+def case_render(out):
+    scene, cube = moving_scene()
+    imgs = renders(scene, "cube", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("moving", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the moving cube: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+             % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    # The control: the sharp cube (Facet without the motion, as before this conversion).
+    from facet_blender import sync_motion
+    saved = sync_motion.add_motion
+    sync_motion.add_motion = lambda *a, **k: None
+    try:
+        sharp = renders(scene, "sharp", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion.add_motion = saved
+    ratio, rel = compare("sharp", sharp, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "the sharp cube breaks a bound (mean ratio %.4f, block RMSE %.2f x floor): the "
+             "test can fail" % (ratio, rel))
+
+
+def case_rotate_and_camera(out):
+    """A cube turning 90 degrees per frame about z (a 45 degree sweep over the shutter:
+    slerped steps in both renderers), then the still cube seen from a camera moving 1 unit
+    per frame sideways: the same bounds and the same sharp control."""
+    from facet_blender import sync_motion
+    scene, cube = moving_scene()
+    cube.animation_data_clear()
+    cube.location = (0.0, 0.0, 0.0)
+    cube.scale = (1.0, 0.4, 0.4)
+    for frame, angle in ((0, -90.0), (2, 90.0)):
+        cube.rotation_euler = (0.0, 0.0, angle * 3.141592653589793 / 180.0)
+        cube.keyframe_insert("rotation_euler", frame=frame)
+    for fc in cube.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    cam = scene.camera
+    cases = [("rotating", None)]
+
+    def camera_moves():
+        cube.animation_data_clear()
+        cube.rotation_euler = (0.0, 0.0, 0.3)
+        x0 = cam.location.x
+        for frame, dx in ((0, -1.0), (2, 1.0)):
+            cam.location.x = x0 + dx
+            cam.keyframe_insert("location", frame=frame)
+        for fc in cam.animation_data.action.fcurves:
+            for kp in fc.keyframe_points:
+                kp.interpolation = 'LINEAR'
+    cases.append(("camera", camera_moves))
+    for name, setup in cases:
+        if setup is not None:
+            setup()
+        scene.frame_set(1)
+        imgs = renders(scene, name, out)
+        c1, c2 = imgs['CYCLES']
+        ratio, rel = compare(name, imgs['FACET'][0], c1, c2)
+        bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+                 "%s: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+                 % (name, ratio, MEAN_TOL, rel, RMSE_FACTOR))
+        saved = sync_motion.add_motion
+        sync_motion.add_motion = lambda *a, **k: None
+        try:
+            sharp = renders(scene, name + "_sharp", out, engines=('FACET',))['FACET'][0]
+        finally:
+            sync_motion.add_motion = saved
+        ratio, rel = compare(name + "/sharp", sharp, c1, c2)
+        bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+                 "%s without motion breaks a bound (mean ratio %.4f, block RMSE %.2f x floor)"
+                 % (name, ratio, rel))
+
+
+def main():
+    out = bt.args()[0]
+    bt.enable_addon()
+    case_export()
+    case_render(out)
+    case_rotate_and_camera(out)
+
+
+bt.run(main)
