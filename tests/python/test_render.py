@@ -85,7 +85,11 @@ def test_light_selection_option_and_pmfs(tmp_path):
     np.testing.assert_array_equal(images["view"], facet.render(scene, seed=1))  # the default
     np.testing.assert_array_equal(facet.render(scene, uniform_light_selection=True, seed=1),
                                   facet.render(scene, light_selection="uniform", seed=1))
-    with pytest.raises(ValueError, match=r"^light_selection: expected 'view', 'power' or"):
+    # The light tree (per shaded point) is taken too; its choice is not a pmf per scene.
+    tree = facet.render(scene, light_selection="tree", seed=1)
+    assert tree.shape == images["view"].shape and np.isfinite(tree).all()
+    with pytest.raises(ValueError,
+                       match=r"^light_selection: expected 'view', 'power', 'uniform' or 'tree'"):
         facet.render(scene, light_selection="pwr")
     with pytest.raises(ValueError, match="selection"):
         scene.light_pmfs("pwr")
