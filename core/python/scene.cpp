@@ -673,7 +673,7 @@ void bind_scene(py::module_& m) {
             [](Vec3 c0, Vec3 c1, double cells, std::array<float, 2> uv_scale,
                std::array<float, 2> uv_offset, double uv_rotation, double value_scale) {
                 TextureDesc d;
-                d.checker = true;
+                d.kind = "checker";
                 d.colors = {Rgb(c0), Rgb(c1)};
                 d.checker_scale = cells;
                 d.uv_scale = {uv_scale[0], uv_scale[1]};
@@ -690,7 +690,7 @@ void bind_scene(py::module_& m) {
             "vertex_color",
             [](std::string channel, double scale) {
                 TextureDesc d;
-                d.vertex_color = true;
+                d.kind = "vertex_color";
                 d.channel = std::move(channel);
                 d.scale = scale;
                 return d;
@@ -705,9 +705,9 @@ void bind_scene(py::module_& m) {
         .def_readonly("scale", &TextureDesc::scale)
         .def(py::self == py::self)
         .def("__repr__", [](const TextureDesc& d) {
-            return d.vertex_color ? "facet.Texture.vertex_color('" + d.channel + "')"
-                   : d.checker    ? std::string("facet.Texture.checker(...)")
-                                  : "facet.Texture('" + d.file + "')";
+            return d.kind == "vertex_color" ? "facet.Texture.vertex_color('" + d.channel + "')"
+                   : d.kind == "checker"    ? std::string("facet.Texture.checker(...)")
+                                            : "facet.Texture('" + d.file + "')";
         });
 
     // A combination's sub-materials (mix, add): names (str) or MaterialDesc objects.

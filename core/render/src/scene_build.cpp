@@ -21,6 +21,7 @@
 #include "scene_checks.h"
 #include "scene_impl.h"
 #include "scene_precision.h"
+#include "textures/texture_build.h"
 
 namespace facet::render {
 
@@ -351,13 +352,13 @@ class Builder final : public BuildChecks {
         if (auto it = m.textures.find("opacity"); it != m.textures.end()) {
             const std::string op = ptr + "/opacity";
             const TextureDesc& td = it->second;
-            if (td.vertex_color || td.times_vertex_color)
+            if (td.kind == "vertex_color" || td.times_vertex_color)
                 fail(op,
                      "a vertex colour cannot be an opacity (cut-outs are decided during "
                      "traversal, before the hit's colour is known)");
             TexelImageOptions linear;
             linear.color_space = ColorSpace::Linear;
-            if (!td.checker && td.channel == "a" && !td.file.empty() &&
+            if (td.kind == "image" && td.channel == "a" && !td.file.empty() &&
                 (m_limits.allow_files || td.bytes || td.image) &&
                 load_image(td, linear, op)->alpha_channel < 0) {
                 // The alpha of an image without one is 1 (opaque), as glTF and Blender read it:
@@ -510,101 +511,46 @@ class Builder final : public BuildChecks {
         check_color(d.color_scale, ptr + "/scale", "a colour multiplier");
         if (!color && (d.color_scale.r != d.color_scale.g || d.color_scale.r != d.color_scale.b))
             fail(ptr + "/scale", "a number parameter needs a number (or grey) scale");
-        auto& textures = m_builder.textures();
-        if (d.vertex_color) {
-            // The hit's vertex colour (texture.h): no image, no UVs; `channel` as for images.
-            int channel = Texture::kAllChannels;
-            if (!d.channel.empty()) {
-                const std::vector<std::string> allowed = {"r", "g", "b", "a", "luminance"};
-                const auto it = std::find(allowed.begin(), allowed.end(), d.channel);
-                if (it == allowed.end())
-                    fail(ptr + "/channel",
-                         "unknown value '" + d.channel + "' (expected one of r g b a luminance)");
-                channel = int(it - allowed.begin());
-            } else if (!color) {
-                fail(ptr + "/channel",
-                     "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
-                     "luminance) for the vertex colour");
-            }
-            textures.push_back(std::make_unique<Texture>(Texture::vertex_color(d, channel)));
-            return textures.back().get();
-        }
-        if (d.checker) {
-            const std::string cp = ptr + "/checker";
-            for (int i = 0; i < 2; ++i)
-                check_color(d.colors[std::size_t(i)], cp + "/colors/" + std::to_string(i),
-                            "a checker colour");
-            if (!color && (d.colors[0].r != d.colors[0].g || d.colors[0].r != d.colors[0].b ||
-                           d.colors[1].r != d.colors[1].g || d.colors[1].r != d.colors[1].b))
-                fail(cp + "/colors", "a number parameter needs grey (single-number) colours");
-            check_range(d.checker_scale, cp + "/scale", 1e-30, 1e30, "> 0");
-            textures.push_back(std::make_unique<Texture>(Texture::checker(d)));
-            return textures.back().get();
-        }
-        auto choose = [&](const std::string& key, const std::string& value,
-                          const std::vector<std::string>& allowed) {
-            const auto it = std::find(allowed.begin(), allowed.end(), value);
-            if (it != allowed.end()) return int(it - allowed.begin());
-            std::string msg = "unknown value '" + value + "' (expected one of";
-            for (const auto& a : allowed) msg += " " + a;
-            msg += ")";
-            const std::string g = closest_name(value, allowed);
+        const TextureKindDef* kind = find_texture_kind(d.kind);
+        if (!kind) {
+            std::string msg = "unknown texture kind '" + d.kind + "'";
+            const std::string g = closest_name(d.kind, texture_kind_names());
             if (!g.empty()) msg += " (did you mean '" + g + "'?)";
-            fail(ptr + "/" + key, msg);
-        };
-        if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
-        if (!m_limits.allow_files && !d.bytes && !d.image)
-            fail(ptr + "/texture", "image files are disabled here");
-        const int filter =
-            d.filter.empty() ? 2 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
-        const int wrap = d.wrap.empty() ? 0 : choose("wrap", d.wrap, {"repeat", "clamp", "mirror"});
-        TexelImageOptions opt;
-        opt.reject_negative = radiance;
-        if (!d.colorspace.empty())
-            opt.color_space = choose("colorspace", d.colorspace, {"srgb", "linear"}) == 0
-                                  ? ColorSpace::Srgb
-                                  : ColorSpace::Linear;
-        else if (!color)
-            opt.color_space = ColorSpace::Linear;
-        const std::shared_ptr<const TexelImage> img = load_image(d, opt, ptr);
-        int channel = Texture::kAllChannels;
-        if (!d.channel.empty()) {
-            channel = choose("channel", d.channel, {"r", "g", "b", "a", "luminance"});
-            const bool has = channel == 4 ? true
-                             : channel == 3
-                                 ? img->alpha_channel >= 0
-                                 : channel < img->channels && !(channel == img->alpha_channel);
-            if (!has) {
-                fail(ptr + "/channel", "the image '" + d.file + "' has no channel '" + d.channel +
-                                           "' (" + std::to_string(img->channels) + " channel" +
-                                           (img->channels == 1 ? "" : "s") + ")");
-            }
-            if (channel == 3) channel = img->alpha_channel;
-        } else if (!color && img->channels - (img->alpha_channel >= 0 ? 1 : 0) > 1) {
-            fail(ptr + "/channel",
-                 "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
-                 "luminance) for the colour image '" +
-                     d.file + "'");
+            fail(ptr, msg);
         }
-        std::shared_ptr<const std::vector<TexelImage>> mips;
-        if (filter == 2) {
-            try {
-                mips = m_images.mip_levels(img, ptr + "/texture");
-            } catch (const TexelImageError& e) {
-                throw SceneError(m_name + ": " + e.what());
-            }
-        }
-        textures.push_back(
-            std::make_unique<Texture>(Texture::image(std::move(img),
-                                                     filter == 0   ? TextureFilter::Closest
-                                                     : filter == 1 ? TextureFilter::Linear
-                                                                   : TextureFilter::Mipmap,
-                                                     wrap == 0   ? TextureWrap::Repeat
-                                                     : wrap == 1 ? TextureWrap::Clamp
-                                                                 : TextureWrap::Mirror,
-                                                     channel, d, std::move(mips))));
-        return textures.back().get();
+        if (!kind->procedural &&
+            (!d.params.values().empty() || !d.coordinates.empty() || d.mapping != glm::dmat4(1.0)))
+            fail(ptr,
+                 "a " + d.kind + " texture has no procedural parameters, coordinates or mapping");
+        TextureContext ctx(*this, d, ptr, color, radiance);
+        m_builder.textures().push_back(std::make_unique<Texture>(kind->build(ctx)));
+        return m_builder.textures().back().get();
     }
+
+    // What a texture kind's builder gets (textures/texture_build.h).
+    class TextureContext final : public TextureBuild {
+      public:
+        TextureContext(Builder& b, const TextureDesc& d, const std::string& p, bool c, bool r)
+            : TextureBuild(d, p, c, r), m_b(b) {}
+        [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+            m_b.fail(p, m);
+        }
+        bool files_allowed() const override { return m_b.m_limits.allow_files; }
+        std::shared_ptr<const TexelImage> load_image(const TexelImageOptions& opt) override {
+            return m_b.load_image(desc, opt, ptr);
+        }
+        std::shared_ptr<const std::vector<TexelImage>> mip_levels(
+            const std::shared_ptr<const TexelImage>& img) override {
+            try {
+                return m_b.m_images.mip_levels(img, ptr + "/texture");
+            } catch (const TexelImageError& e) {
+                throw SceneError(m_b.m_name + ": " + e.what());
+            }
+        }
+
+      private:
+        Builder& m_b;
+    };
 
     // Builds a material; parameter errors from the registry name the parameter, which becomes
     // part of the pointer. A material with textured parameters also gets its TexturedMaterial:
@@ -779,7 +725,7 @@ class Builder final : public BuildChecks {
             tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
         for (const auto* map : {m.normal_map ? &m.normal_map->texture : nullptr,
                                 m.bump ? &m.bump->texture : nullptr}) {
-            if (map && (map->vertex_color || map->times_vertex_color))
+            if (map && (map->kind == "vertex_color" || map->times_vertex_color))
                 fail(ptr + (map == &m.bump->texture ? "/bump" : "/normal_map"),
                      "a vertex colour cannot be a normal or bump map (they need texture "
                      "coordinates)");
