@@ -368,6 +368,10 @@ class Builder final : public BuildChecks {
                 m.textures.erase(it);
             } else {
                 o.texture = build_texture(td, op, false, false);
+                if (o.texture->uses_position())
+                    fail(op,
+                         "an opacity reads UVs only (cut-outs are decided during traversal): "
+                         "give the procedural texture \"coordinates\": \"uv\"");
                 if (!(o.texture->min_value().r >= 0.f) || !(o.texture->max_value().r <= 1.f))
                     fail(op, "the texture's values must lie in [0, 1]");
                 m.textures.erase(it);
@@ -675,12 +679,14 @@ class Builder final : public BuildChecks {
             tm.slots.push_back({key, build_texture(td, p, color, false), color});
             tm.uses_uv = tm.uses_uv || tm.slots.back().texture->uses_uv();
             tm.uses_color = tm.uses_color || tm.slots.back().texture->uses_vertex_color();
+            tm.uses_position = tm.uses_position || tm.slots.back().texture->uses_position();
         }
         for (const BuiltMaterial& c : children) {
             if (c.textured < 0) continue;
             const TexturedMaterial& ct = m_builder.textured()[std::size_t(c.textured)];
             tm.uses_uv = tm.uses_uv || ct.uses_uv;
             tm.uses_color = tm.uses_color || ct.uses_color;
+            tm.uses_position = tm.uses_position || ct.uses_position;
         }
         // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
         // The model's own parameters are checked per value (both ends); a conversion mixes its
@@ -736,11 +742,19 @@ class Builder final : public BuildChecks {
             TextureDesc td = m.normal_map->texture;
             if (td.colorspace.empty()) td.colorspace = "linear";
             tm.normal_map = build_texture(td, ptr + "/normal_map", true, false);
+            if (tm.normal_map->uses_position())
+                fail(ptr + "/normal_map",
+                     "a normal map reads UVs only: give the procedural texture "
+                     "\"coordinates\": \"uv\"");
             tm.normal_strength = float(m.normal_map->strength);
             tm.normal_xy_scale = float(m.normal_map->xy_scale);
         }
         if (bump) {
             tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
+            if (tm.bump->uses_position())
+                fail(ptr + "/bump",
+                     "a bump map reads UVs only: give the procedural texture \"coordinates\": "
+                     "\"uv\"");
             tm.bump_distance = float(m.bump->distance);
             tm.bump_strength = float(m.bump->strength);
             // Forward-difference step in uv: half a texel of the image (or a thousandth of a
@@ -853,6 +867,40 @@ class Builder final : public BuildChecks {
                (s.emission_texture && s.emission_texture->uses_uv()) ||
                s.opacity.texture != nullptr;
     }
+    // The texture space of shape `s` (ShapeDesc::texture_space; default its object-space box
+    // `bounds`, as Blender's automatic texture space: centre and half size, a zero half size
+    // counting as 1 and one below 1e-5 as 1e-5): generated = (po - (centre - half)) / (2 half).
+    void set_texture_space(ShapeInfo& info, const ShapeDesc& s, const Bounds3& bounds,
+                           const std::string& ptr) {
+        Vec3 loc(0.f), size(1.f);
+        if (s.texture_space) {
+            const std::string tp = ptr + "/texture_space";
+            check_finite(s.texture_space->location, tp + "/location");
+            check_finite(s.texture_space->size, tp + "/size");
+            loc = s.texture_space->location;
+            size = s.texture_space->size;
+            for (int i = 0; i < 3; ++i)
+                if (size[i] == 0.f) fail(tp + "/size/" + std::to_string(i), "must be non-zero");
+        } else if (!bounds.empty()) {
+            loc = 0.5f * (bounds.lo + bounds.hi);
+            size = 0.5f * (bounds.hi - bounds.lo);
+            for (int i = 0; i < 3; ++i) {
+                if (size[i] == 0.f)
+                    size[i] = 1.f;
+                else if (size[i] > 0.f && size[i] < 1e-5f)
+                    size[i] = 1e-5f;
+            }
+        }
+        info.texture_lo = loc - size;
+        info.texture_inv = 0.5f / size;
+    }
+
+    // Whether hits on a surface compute the object-space point: a procedural texture of its
+    // material or emission reads object or generated coordinates.
+    bool needs_position(const ShapeSurface& s) {
+        return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_position) ||
+               (s.emission_texture && s.emission_texture->uses_position());
+    }
     // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
     bool needs_color(const ShapeSurface& s) {
         return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
@@ -933,6 +981,7 @@ class Builder final : public BuildChecks {
 
         info.needs_uv = needs_uv(info);
         info.needs_color = needs_color(info);
+        info.needs_position = needs_position(info);
         // An invisible boundary cannot emit: rays cross it without a vertex.
         if (emissive) {
             if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);
@@ -968,6 +1017,13 @@ class Builder final : public BuildChecks {
         ctx.emissive = emissive;
         ctx.xf = xf;
         shape_kind(s.kind).build(ctx);
+        for (const ShapeSurface& part : info.parts)
+            info.needs_position = info.needs_position || needs_position(part);
+        if (info.needs_position) {
+            info.to_object = glm::inverse(xf);
+            m_builder.impl().position_extras = true;
+        }
+        set_texture_space(info, s, ctx.object_bounds, ptr);
         if (proto >= 0) {
             // Object-space extent of the prototype; the scene's grows by its instances.
             Bounds3& pb = m_builder.impl().prototypes[std::size_t(proto)].bounds;
@@ -988,7 +1044,8 @@ class Builder final : public BuildChecks {
         ShapeContext(Builder& b, const ShapeDesc& s, std::uint32_t i, const std::string& p,
                      ShapeInfo& info, std::int32_t proto)
             : ShapeBuild(s, i, p), m_b(b), m_info(info), m_proto(proto) {}
-        Bounds3 bounds;  // world extent of what was added
+        Bounds3 bounds;         // world extent of what was added
+        Bounds3 object_bounds;  // object-space extent of what was added (meshes, spheres, discs)
 
         [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
             m_b.fail(p, m);
@@ -1017,6 +1074,9 @@ class Builder final : public BuildChecks {
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
                 grow(glm::dvec3(prim.to_world * glm::dvec4(c, 1.0)));
+                const Vec3 o(glm::dvec3(local * glm::dvec4(c, 1.0)));
+                object_bounds.lo = glm::min(object_bounds.lo, o);
+                object_bounds.hi = glm::max(object_bounds.hi, o);
             }
             std::vector<AnalyticPrim>& prims = m_b.m_builder.impl().prims;
             prims.push_back(prim);
@@ -1139,6 +1199,10 @@ class Builder final : public BuildChecks {
         // degenerate triangles dropped, an area light when it emits; UVs as add_triangles says.
         void add_mesh(TriangleMesh mesh, const Vec3& tangent, std::int32_t part, bool emits,
                       const Rgb& radiance, const glm::dmat4* sphere) {
+            for (const Vec3& p : mesh.positions) {
+                object_bounds.lo = glm::min(object_bounds.lo, p);
+                object_bounds.hi = glm::max(object_bounds.hi, p);
+            }
             const glm::dmat3 lin(xf);
             const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
             // A mirroring transform reverses the winding: undo it so the authored front stays

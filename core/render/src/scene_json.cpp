@@ -741,6 +741,16 @@ class Reader {
         if (s.contains("flip_normals")) {
             d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
         }
+        if (s.contains("texture_space")) {
+            const std::string tp = ptr + "/texture_space";
+            const json& t = s["texture_space"];
+            expect_object(t, tp);
+            check_keys(t, tp, {"location", "size"});
+            ShapeDesc::TextureSpace ts;
+            ts.location = get_vec3(require(t, tp, "location"), tp + "/location");
+            ts.size = get_vec3(require(t, tp, "size"), tp + "/size");
+            d.texture_space = ts;
+        }
         if (s.contains("emission")) {
             if (s["emission"].is_object())
                 d.emission_texture = read_texture(s["emission"], ptr + "/emission");
@@ -1113,6 +1123,9 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture, hashed_arrays);
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
+        if (s.texture_space)
+            j["texture_space"] = {{"location", vec_json(s.texture_space->location)},
+                                  {"size", vec_json(s.texture_space->size)}};
         if (s.transform) j["transform"] = matrix_json(*s.transform);
         for (const Field<ShapeDesc>& f : shape_kind(s.kind).fields)
             write_field(j, f, s, hashed_arrays);

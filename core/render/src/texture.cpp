@@ -92,19 +92,18 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
-    return textured_material(std::size_t(hit.textured), hit.uv, fp, hit.color);
+    return textured_material(std::size_t(hit.textured), texture_point(hit, fp));
 }
 
-Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                                  const glm::vec4& color) const {
+Material Scene::textured_material(std::size_t index, const TexturePoint& p) const {
     const TexturedMaterial& tm = m_textured[index];
     if (tm.diffuse_base) {
         // A textured diffuse reflectance alone: the base material with its diffuse lobe
         // replaced, the same bits as make_material gives. Composite leaves out a zero diffuse
         // lobe, so a black value takes the general path below.
         const TexturedMaterial::Slot& s = tm.slots[0];
-        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
-                                 s.texture->max_value());
+        const Rgb v =
+            glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
@@ -114,33 +113,33 @@ Material Scene::textured_material(std::size_t index, Vec2 uv, const UvFootprint&
         if (tm.convert_values) std::copy(tm.sources.begin(), tm.sources.end(), in.begin());
         for (std::size_t i = 0; i < tm.slots.size(); ++i) {
             const TexturedMaterial::Slot& s = tm.slots[i];
-            const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
-                                     s.texture->max_value());
+            const Rgb v =
+                glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
             (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
                 s.color ? DVec3(v) : DVec3(double(v.r));
         }
         if (tm.convert_values) tm.convert_values(in.data(), out.data());
         return tm.staged->at(std::span(out.data(), tm.num_staged));
     }
-    return textured_material_rebuilt(index, uv, fp, color);
+    return textured_material_rebuilt(index, p);
 }
 
-Material Scene::textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                                          const glm::vec4& color) const {
+Material Scene::textured_material_rebuilt(std::size_t index, const TexturePoint& p) const {
     const TexturedMaterial& tm = m_textured[index];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
-        const Rgb v = glm::clamp(s.texture->eval(uv, fp, color), s.texture->min_value(),
-                                 s.texture->max_value());
+        const Rgb v =
+            glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
-    // A combination's textured children are built at the same uv (one allocation each).
+    // A combination's textured children are built at the same point (one allocation each).
     std::array<std::shared_ptr<const Material>, 2> children;
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] = c.textured >= 0 ? std::make_shared<const Material>(textured_material(
-                                            std::size_t(c.textured), uv, fp, color))
-                                      : c.constant;
+        children[k] =
+            c.textured >= 0
+                ? std::make_shared<const Material>(textured_material(std::size_t(c.textured), p))
+                : c.constant;
     }
     try {
         return make_material(
