@@ -735,12 +735,13 @@ void bind_scene(py::module_& m) {
             },
             "A procedural texture (scenes/FORMAT.md, Procedural textures): "
             "Texture.procedural('noise', coordinates='object', mapping=[[1, 0, 0, 0], [0, 1, 0, "
-            "0], [0, 0, 1, 0]], scale=1, detail=2, ...): the kind's parameters as keywords "
+            "0], [0, 0, 1, 0]], value_scale=1, scale=5, detail=2, ...): the kind's parameters as "
+            "keywords "
             "(numbers or names; checked by build_scene against the kind's table), the point "
             "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
-            "and a value multiplier.",
+            "and a value multiplier (the JSON's \"scale\" beside the kind's object).",
             py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),
-            py::arg("scale") = 1.0)
+            py::arg("value_scale") = 1.0)
         .def_static(
             "mapping_point",
             [](Vec3 location, Vec3 rotation, Vec3 scale) {
