@@ -55,6 +55,17 @@ for dims in ("1D", "2D", "3D", "4D"):
                                "exponent": 1.3, "randomness": 0.9, "w": 0.23,
                                "feature": feature.lower(), "distance": metric.lower(),
                                "output": out.lower()}))
+for dims in ("1D", "2D", "3D", "4D"):
+    for mtype in ("FBM", "MULTIFRACTAL", "HETERO_TERRAIN", "HYBRID_MULTIFRACTAL",
+                  "RIDGED_MULTIFRACTAL"):
+        for detail in (2.0, 3.7):
+            CASES.append(("musgrave", "ShaderNodeTexMusgrave",
+                          {"musgrave_dimensions": dims, "musgrave_type": mtype},
+                          {"Scale": 1.9, "Detail": detail, "Dimension": 1.6,
+                           "Lacunarity": 2.1, "Offset": 0.8, "Gain": 1.3, "W": 0.44}, "Fac",
+                          {"dimensions": int(dims[0]), "type": mtype.lower(), "scale": 1.9,
+                           "detail": detail, "dimension": 1.6, "lacunarity": 2.1,
+                           "offset": 0.8, "gain": 1.3, "w": 0.44}))
 for gtype in ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE",
               "RADIAL"):
     CASES.append(("gradient", "ShaderNodeTexGradient", {"gradient_type": gtype}, {}, "Fac",

@@ -729,7 +729,8 @@ def _affine(walker, src, state):
 
 # --- procedural textures ----------------------------------------------------------------------
 #
-# Noise, White Noise, Gradient and Voronoi Texture nodes with constant inputs -> the core's
+# Noise, White Noise, Gradient, Voronoi and Musgrave (Ridged Multifractal: the one type whose
+# values are never negative) Texture nodes with constant inputs -> the core's
 # procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
 # per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
 # nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
@@ -750,6 +751,11 @@ PROCEDURAL = {
     'ShaderNodeTexWhiteNoise': (
         "white_noise", {'Value': "value", 'Color': "color"}, {'W': "w"},
         {'noise_dimensions': ("dimensions", None)}),
+    'ShaderNodeTexMusgrave': (
+        "musgrave", {'Fac': None},
+        {'Scale': "scale", 'Detail': "detail", 'Dimension': "dimension",
+         'Lacunarity': "lacunarity", 'Offset': "offset", 'Gain': "gain", 'W': "w"},
+        {'musgrave_dimensions': ("dimensions", None), 'musgrave_type': ("type", None)}),
     'ShaderNodeTexGradient': (
         "gradient", {'Fac': "fac", 'Color': "color"}, {},
         {'gradient_type': ("type", None)}),
@@ -765,10 +771,13 @@ PROCEDURAL = {
 def _procedural(walker, src, to_number):
     node = src.node
     kind, outputs, inputs, props = PROCEDURAL[node.bl_idname]
-    out = outputs.get(src.socket.identifier)
-    if out is None:
+    if src.socket.identifier not in outputs:
         raise Unsupported(src, "the %s output of %s is not converted"
                           % (src.socket.name, node.bl_idname[10:]))
+    out = outputs[src.socket.identifier]
+    if kind == "musgrave" and node.musgrave_type != 'RIDGED_MULTIFRACTAL':
+        raise Unsupported(src, "a Musgrave Texture of type %s can be negative (only Ridged "
+                          "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
     if to_number and out == "color" and kind != "gradient":
         raise Unsupported(src, "a colour output into a number input (Cycles' luminance of the "
                           "colour) is not converted")
@@ -788,7 +797,8 @@ def _procedural(walker, src, to_number):
         params[key] = float(v)
     if kind == "gradient" and out == "color":
         out = "fac"  # the same grey value
-    params["output"] = out
+    if out is not None:  # (Musgrave: Fac only)
+        params["output"] = out
     data = {kind: params}
     uv_map = None
     dims = params.get("dimensions", 3)

@@ -2,7 +2,7 @@
 noise, voronoi, gradient and white_noise kinds, FORMAT.md "Procedural textures"): no bake.
 
 1. Exported data: each node converts to its kind with its parameters, coordinates and mapping,
-   without a report and without a bake; a Musgrave Texture (not a core kind) is reported by
+   without a report and without a bake; a Magic Texture (not a core kind) is reported by
    name for the bake.
 2. Renders against Cycles: a strip of emission quads (one object, one material per face, the
    object moved and rotated so that Object coordinates differ from world space), one texture
@@ -101,6 +101,11 @@ QUADS = [
     ("voronoi_edge", lambda nt: voronoi(nt, None, 'DISTANCE_TO_EDGE').outputs["Distance"]),
     ("voronoi_f1_colour", lambda nt: voronoi(nt, coords(nt, "Object")).outputs["Color"]),
     ("voronoi_radius", lambda nt: voronoi(nt, None, 'N_SPHERE_RADIUS').outputs["Radius"]),
+    ("musgrave_ridged_object",
+     lambda nt: tex(nt, "ShaderNodeTexMusgrave", coords(nt, "Object"),
+                    {"musgrave_type": 'RIDGED_MULTIFRACTAL'},
+                    {"Scale": 1.5, "Detail": 2.5, "Dimension": 1.2, "Lacunarity": 2.0,
+                     "Offset": 1.0, "Gain": 1.0}).outputs["Fac"]),
     ("white_noise_1d",
      lambda nt: tex(nt, "ShaderNodeTexWhiteNoise", None, {"noise_dimensions": '1D'},
                     {"W": 0.37}).outputs["Color"]),
@@ -164,17 +169,17 @@ def exported():
     c = materials.convert(bpy.data.materials["proc_noise3d_generated"])
     bt.check(c.emission["coordinates"] == "generated" and "mapping" not in c.emission
              and c.generated, "unlinked Vector: Generated coordinates: %s" % c.emission)
-    # A Musgrave Texture has no core kind yet: the bake path (Bake Procedural Inputs) still
+    # A Magic Texture has no core kind yet: the bake path (Bake Procedural Inputs) still
     # serves it, and the report names the node.
-    mat, nt, out = new_material("musgrave")
+    mat, nt, out = new_material("magic")
     e = nt.nodes.new("ShaderNodeEmission")
-    m = nt.nodes.new("ShaderNodeTexMusgrave")
+    m = nt.nodes.new("ShaderNodeTexMagic")
     nt.links.new(m.outputs["Fac"], e.inputs["Color"])
     nt.links.new(e.outputs[0], out.inputs["Surface"])
     me.materials.append(mat)
     c = materials.convert(mat, bpy.data.objects["strip"])
-    bt.check(any("Musgrave Texture" in p and "Bake" in p for p in c.problems),
-             "Musgrave is reported by name, for the bake: %s" % c.problems)
+    bt.check(any("Magic Texture" in p and "Bake" in p for p in c.problems),
+             "Magic is reported by name, for the bake: %s" % c.problems)
 
 
 def rendered(outdir):

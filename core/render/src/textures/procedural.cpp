@@ -3,6 +3,7 @@
 
 #include <cmath>
 #include <sstream>
+#include <stdexcept>
 
 namespace facet::render {
 
@@ -91,6 +92,35 @@ Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
                                 : kTextureReadsPosition;
     return Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
                    hi * (float(d.scale) * d.color_scale), inputs);
+}
+
+namespace {
+
+// Builds outside a scene: no images, errors as std::invalid_argument.
+class StandaloneBuild final : public TextureBuild {
+  public:
+    using TextureBuild::TextureBuild;
+    [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+        throw std::invalid_argument(p + ": " + m);
+    }
+    bool files_allowed() const override { return false; }
+    std::shared_ptr<const TexelImage> load_image(const TexelImageOptions&) override {
+        fail(ptr, "no images outside a scene");
+    }
+    std::shared_ptr<const std::vector<TexelImage>> mip_levels(
+        const std::shared_ptr<const TexelImage>&) override {
+        fail(ptr, "no images outside a scene");
+    }
+};
+
+}  // namespace
+
+Texture build_procedural_texture(const TextureDesc& desc, bool color, const std::string& ptr) {
+    const TextureKindDef* kind = find_texture_kind(desc.kind);
+    if (!kind || !kind->procedural)
+        throw std::invalid_argument(ptr + ": '" + desc.kind + "' is no procedural texture kind");
+    StandaloneBuild b(desc, ptr, color, false);
+    return kind->build(b);
 }
 
 const TextureParamDef* find_texture_param(const TextureKindDef& kind, std::string_view name) {

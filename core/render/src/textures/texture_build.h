@@ -22,6 +22,7 @@ extern const TextureKindDef kNoiseTexture;        // textures/noise.cpp
 extern const TextureKindDef kWhiteNoiseTexture;   // textures/white_noise.cpp
 extern const TextureKindDef kGradientTexture;     // textures/gradient.cpp
 extern const TextureKindDef kVoronoiTexture;      // textures/voronoi.cpp
+extern const TextureKindDef kMusgraveTexture;     // textures/musgrave.cpp
 
 class TextureBuild : public BuildChecks {
   public:

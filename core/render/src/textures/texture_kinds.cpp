@@ -9,7 +9,7 @@ namespace facet::render {
 std::span<const TextureKindDef* const> texture_kinds() {
     static const TextureKindDef* const kinds[] = {
         &kImageTexture,   &kCheckerTexture,  &kVertexColorTexture, &kNoiseTexture,
-        &kVoronoiTexture, &kGradientTexture, &kWhiteNoiseTexture,
+        &kVoronoiTexture, &kMusgraveTexture, &kGradientTexture,    &kWhiteNoiseTexture,
     };
     return kinds;
 }

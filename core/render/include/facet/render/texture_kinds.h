@@ -52,6 +52,10 @@ const TextureKindDef* find_texture_kind(std::string_view name);
 std::vector<std::string> texture_kind_names();
 // A procedural kind's parameter by name (nullptr: none).
 const TextureParamDef* find_texture_param(const TextureKindDef& kind, std::string_view name);
+// A procedural texture alone, outside a scene (tests, previews): validated as build_scene
+// validates it (errors throw std::invalid_argument "<ptr>/...: message"); `color`: it feeds a
+// colour (else a number). Throws std::invalid_argument for a kind that is not procedural.
+Texture build_procedural_texture(const TextureDesc& desc, bool color, const std::string& ptr = "");
 // Markdown tables of the procedural kinds (scenes/FORMAT.md holds this text between the
 // markers `<!-- texture-kinds:begin -->` and `<!-- texture-kinds:end -->`).
 std::string texture_kinds_markdown();
