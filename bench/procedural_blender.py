@@ -66,6 +66,27 @@ for dims in ("1D", "2D", "3D", "4D"):
                           {"dimensions": int(dims[0]), "type": mtype.lower(), "scale": 1.9,
                            "detail": detail, "dimension": 1.6, "lacunarity": 2.1,
                            "offset": 0.8, "gain": 1.3, "w": 0.44}))
+for wtype, dirs in (("BANDS", ("X", "Y", "Z", "DIAGONAL")), ("RINGS", ("X", "Y", "Z",
+                                                                    "SPHERICAL"))):
+    for d in dirs:
+        for profile in ("SIN", "SAW", "TRI"):
+            for dist in (0.0, 2.5):
+                prop = "bands_direction" if wtype == "BANDS" else "rings_direction"
+                CASES.append(("wave", "ShaderNodeTexWave",
+                              {"wave_type": wtype, prop: d, "wave_profile": profile},
+                              {"Scale": 0.7, "Distortion": dist, "Detail": 2.5,
+                               "Detail Scale": 1.3, "Detail Roughness": 0.6,
+                               "Phase Offset": 0.4}, "Fac",
+                              {"type": wtype.lower(), prop.replace("wave_", ""): d.lower(),
+                               "profile": profile.lower(), "scale": 0.7, "distortion": dist,
+                               "detail": 2.5, "detail_scale": 1.3, "detail_roughness": 0.6,
+                               "phase": 0.4}))
+for depth in (0, 1, 2, 3, 5, 7, 10):
+    for out in ("Fac", "Color"):
+        CASES.append(("magic", "ShaderNodeTexMagic", {"turbulence_depth": depth},
+                      {"Scale": 1.3, "Distortion": 1.7}, out,
+                      {"depth": depth, "scale": 1.3, "distortion": 1.7,
+                       "output": out.lower()}))
 for gtype in ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRATIC_SPHERE",
               "RADIAL"):
     CASES.append(("gradient", "ShaderNodeTexGradient", {"gradient_type": gtype}, {}, "Fac",

@@ -729,16 +729,17 @@ def _affine(walker, src, state):
 
 # --- procedural textures ----------------------------------------------------------------------
 #
-# Noise, White Noise, Gradient, Voronoi and Musgrave (Ridged Multifractal: the one type whose
-# values are never negative) Texture nodes with constant inputs -> the core's
+# Noise, White Noise, Gradient, Voronoi, Wave, Magic and Musgrave (Ridged Multifractal: the one
+# type whose values are never negative) Texture nodes with constant inputs -> the core's
 # procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
 # per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
 # nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
 # through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
 # Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
 # Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi
-# Distance / Color / Radius. A colour output into a number input (Cycles' luminance of it) is
-# not a procedural kind's output: Unsupported (baked), except the Gradient's grey colour.
+# Distance / Color / Radius, Wave and Magic Fac / Color, Musgrave Fac. A colour output into a
+# number input (Cycles' luminance of it) is not a procedural kind's output: Unsupported
+# (baked), except the Gradient's and the Wave's grey colours.
 
 # bl_idname -> (kind, {output identifier: core output}, {input name: core parameter},
 #               {node property: (core parameter, {Blender value: core value} or None)})
@@ -756,6 +757,17 @@ PROCEDURAL = {
         {'Scale': "scale", 'Detail': "detail", 'Dimension': "dimension",
          'Lacunarity': "lacunarity", 'Offset': "offset", 'Gain': "gain", 'W': "w"},
         {'musgrave_dimensions': ("dimensions", None), 'musgrave_type': ("type", None)}),
+    'ShaderNodeTexWave': (
+        "wave", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Distortion': "distortion", 'Detail': "detail",
+         'Detail Scale': "detail_scale", 'Detail Roughness': "detail_roughness",
+         'Phase Offset': "phase"},
+        {'wave_type': ("type", None), 'bands_direction': ("bands_direction", None),
+         'rings_direction': ("rings_direction", None), 'wave_profile': ("profile", None)}),
+    'ShaderNodeTexMagic': (
+        "magic", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Distortion': "distortion"},
+        {'turbulence_depth': ("depth", None)}),
     'ShaderNodeTexGradient': (
         "gradient", {'Fac': "fac", 'Color': "color"}, {},
         {'gradient_type': ("type", None)}),
@@ -778,13 +790,14 @@ def _procedural(walker, src, to_number):
     if kind == "musgrave" and node.musgrave_type != 'RIDGED_MULTIFRACTAL':
         raise Unsupported(src, "a Musgrave Texture of type %s can be negative (only Ridged "
                           "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
-    if to_number and out == "color" and kind != "gradient":
+    if to_number and out == "color" and kind not in ("gradient", "wave"):
         raise Unsupported(src, "a colour output into a number input (Cycles' luminance of the "
                           "colour) is not converted")
     params = {}
     for prop, (key, _) in props.items():
         v = getattr(node, prop)
-        params[key] = int(v[0]) if key == "dimensions" else str(v).lower()
+        params[key] = (int(v[0]) if key == "dimensions" else int(v) if isinstance(v, int)
+                       else str(v).lower())
     for name, key in inputs.items():
         sock = next((x for x in node.inputs if x.name == name and x.enabled), None)
         if sock is None:
@@ -795,7 +808,7 @@ def _procedural(walker, src, to_number):
                               "feeds the %s's %s (only constants convert)"
                               % (node.bl_idname[10:], name))
         params[key] = float(v)
-    if kind == "gradient" and out == "color":
+    if kind in ("gradient", "wave") and out == "color":
         out = "fac"  # the same grey value
     if out is not None:  # (Musgrave: Fac only)
         params["output"] = out

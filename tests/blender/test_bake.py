@@ -1,8 +1,8 @@
 """The bake fallback (facet_blender/bake.py) in headless Blender:
 
-1. A Magic Texture (on its default Generated coordinates; a pattern without a core kind) into
-   an Emission's Color, a Magic Texture into a Principled BSDF's Base Color and Roughness, and
-   a Magic Fac into an Emission
+1. A Brick Texture (on its default Generated coordinates; a pattern without a core kind) into
+   an Emission's Color, a Brick Texture into a Principled BSDF's Base Color and Roughness, and
+   a Brick Fac into an Emission
    and a Glossy Roughness (alpha = Fac^2 exactly): before baking, the export reports each as not
    baked yet (naming material, node and input); Render Properties > Facet > Bake Procedural
    Inputs (facet.bake_inputs) bakes them; the export then uses the baked EXRs (the emission
@@ -16,10 +16,11 @@
    baked image's in Facet. Tolerance: the means agree within 1% and the mean |difference| per
    pixel < 0.01: the bake samples the texture at texel centres (4 x 4 per pixel) and Facet
    interpolates between them, so they differ only by the texture's variation inside a texel
-   (the Magic Texture at Scale 2 on a 2 m plane: bands of several texels) and the sampling
-   noise of 16 jittered samples. Measured: means 0.44809 / 0.44810, mean |difference| 0.0069
-   (a Noise Texture at Scale 5, before it converted natively: 0.0008). A view-transformed bake (Image.save(), found while writing) gave
-   a mean of 0.73 and a mean |difference| of 0.23.
+   (the Brick Texture at Scale 2, of contrast 0.1, is flat inside bricks and steps at their
+   edges) and the sampling noise of 16 jittered samples. Measured: means 0.50750 / 0.50514,
+   mean |difference| 0.0053 (a Noise Texture at Scale 5, before it converted natively:
+   0.0008). A view-transformed bake (Image.save(), found while writing) gave a mean of 0.73
+   and a mean |difference| of 0.23.
 """
 import os
 import sys
@@ -37,10 +38,14 @@ SPP = 16
 
 def noise_material(name, target):
     mat, nt, out = bt.new_material(name)
-    # A Magic Texture: no core kind (Noise, Voronoi, Gradient and White Noise convert natively,
-    # test_procedural.py), so the bake serves it.
-    noise = nt.nodes.new("ShaderNodeTexMagic")
+    # A Brick Texture: no core kind (Noise, Voronoi, Gradient, White Noise, Wave, Magic and
+    # ridged Musgrave convert natively, test_procedural.py), so the bake serves it. Low
+    # contrast (bricks 0.5 / 0.55, mortar 0.45): the bake's bilinear texels blur its edges.
+    noise = nt.nodes.new("ShaderNodeTexBrick")
     noise.inputs["Scale"].default_value = 2.0
+    noise.inputs["Color1"].default_value = (0.5, 0.5, 0.5, 1.0)
+    noise.inputs["Color2"].default_value = (0.55, 0.55, 0.55, 1.0)
+    noise.inputs["Mortar"].default_value = (0.45, 0.45, 0.45, 1.0)
     if target == "emission":
         sh = nt.nodes.new("ShaderNodeEmission")
         nt.links.new(noise.outputs["Color"], sh.inputs["Color"])
@@ -103,7 +108,7 @@ def main():
 
     data, problems = export()
     for mat, inp in (("noise_emission", "input 'Color'"), ("noise_base", "input 'Base Color'")):
-        bt.check(any("'%s'" % mat in p and "Magic Texture 'Magic Texture'" in p and inp in p
+        bt.check(any("'%s'" % mat in p and "Brick Texture 'Brick Texture'" in p and inp in p
                      and "not baked yet" in p for p in problems),
                  "before baking, %s's %s is reported as not baked yet: %s" % (mat, inp, problems))
     bt.check(any("object 'NoUV' has no UV map" in p and "'noise_nouv'" in p for p in problems),
@@ -130,7 +135,7 @@ def main():
              and isinstance(mats["noise_base"]["roughness"], dict),
              "Principled Base Color and Roughness -> baked base_color and roughness "
              "textures: %s" % mats["noise_base"])
-    bt.check(sum("baked: Magic Texture 'Magic Texture'" in p for p in problems) == 5
+    bt.check(sum("baked: Brick Texture 'Brick Texture'" in p for p in problems) == 5
              and not any("not baked yet" in p for p in problems),
              "what was baked is reported: %s" % problems)
     bt.check(bpy.ops.facet.bake_inputs() == {'FINISHED'} and bake.PENDING == []
@@ -151,7 +156,7 @@ def main():
     err = np.abs(alp - np.clip(fac, 0, 1) ** 2).max()
     bt.check(mats["noise_rough"]["model"] == "ggx" and alpha["channel"] == "r"
              and fac.std() > 0.02 and err < 1e-5,
-             "Glossy Roughness <- Magic: alpha baked as Fac^2 (max error %.3g), channel r: %s"
+             "Glossy Roughness <- Brick: alpha baked as Fac^2 (max error %.3g), channel r: %s"
              % (err, alpha))
     fscene, warnings = native.build(data)
     bt.check(fscene is not None and warnings == [],

@@ -2,7 +2,7 @@
 noise, voronoi, gradient and white_noise kinds, FORMAT.md "Procedural textures"): no bake.
 
 1. Exported data: each node converts to its kind with its parameters, coordinates and mapping,
-   without a report and without a bake; a Magic Texture (not a core kind) is reported by
+   without a report and without a bake; a Brick Texture (not a core kind) is reported by
    name for the bake.
 2. Renders against Cycles: a strip of emission quads (one object, one material per face, the
    object moved and rotated so that Object coordinates differ from world space), one texture
@@ -106,6 +106,15 @@ QUADS = [
                     {"musgrave_type": 'RIDGED_MULTIFRACTAL'},
                     {"Scale": 1.5, "Detail": 2.5, "Dimension": 1.2, "Lacunarity": 2.0,
                      "Offset": 1.0, "Gain": 1.0}).outputs["Fac"]),
+    ("wave_rings_distorted",
+     lambda nt: tex(nt, "ShaderNodeTexWave", coords(nt, "Object"),
+                    {"wave_type": 'RINGS', "rings_direction": 'SPHERICAL',
+                     "wave_profile": 'SIN'},
+                    {"Scale": 0.35, "Distortion": 1.5, "Detail": 2.0, "Detail Scale": 1.0,
+                     "Detail Roughness": 0.5, "Phase Offset": 0.3}).outputs["Color"]),
+    ("magic_generated",
+     lambda nt: tex(nt, "ShaderNodeTexMagic", None, {"turbulence_depth": 2},
+                    {"Scale": 0.6, "Distortion": 1.0}).outputs["Color"]),
     ("white_noise_1d",
      lambda nt: tex(nt, "ShaderNodeTexWhiteNoise", None, {"noise_dimensions": '1D'},
                     {"W": 0.37}).outputs["Color"]),
@@ -169,17 +178,17 @@ def exported():
     c = materials.convert(bpy.data.materials["proc_noise3d_generated"])
     bt.check(c.emission["coordinates"] == "generated" and "mapping" not in c.emission
              and c.generated, "unlinked Vector: Generated coordinates: %s" % c.emission)
-    # A Magic Texture has no core kind yet: the bake path (Bake Procedural Inputs) still
+    # A Brick Texture has no core kind yet: the bake path (Bake Procedural Inputs) still
     # serves it, and the report names the node.
-    mat, nt, out = new_material("magic")
+    mat, nt, out = new_material("brick")
     e = nt.nodes.new("ShaderNodeEmission")
-    m = nt.nodes.new("ShaderNodeTexMagic")
+    m = nt.nodes.new("ShaderNodeTexBrick")
     nt.links.new(m.outputs["Fac"], e.inputs["Color"])
     nt.links.new(e.outputs[0], out.inputs["Surface"])
     me.materials.append(mat)
     c = materials.convert(mat, bpy.data.objects["strip"])
-    bt.check(any("Magic Texture" in p and "Bake" in p for p in c.problems),
-             "Magic is reported by name, for the bake: %s" % c.problems)
+    bt.check(any("Brick Texture" in p and "Bake" in p for p in c.problems),
+             "Brick is reported by name, for the bake: %s" % c.problems)
 
 
 def rendered(outdir):

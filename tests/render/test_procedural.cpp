@@ -1,4 +1,5 @@
-// Procedural texture kinds (texture_kinds.h: noise, white noise, voronoi, gradient, musgrave)
+// Procedural texture kinds (texture_kinds.h: noise, white noise, voronoi, gradient, musgrave,
+// wave, magic)
 // against Blender 3.4's own evaluation of the same
 // nodes at the same points (procedural_blender.json, made by bench/procedural_blender.py:
 // Geometry Nodes evaluate each texture node at 44 points, through Blender's CPU port of Cycles'
@@ -90,9 +91,9 @@ TEST(Procedural, MatchesBlender) {
             fr::TexturePoint p;
             p.object = Vec3(float(points[i][0]), float(points[i][1]), float(points[i][2]));
             const Rgb got = t->eval(p);
-            // Musgrave's values are unclamped: its range (for the validation and the clamp where
-            // a material reads it) must hold every value.
-            if (c["kind"] == "musgrave") {
+            // Musgrave's and Magic's values are unclamped: their ranges (for the validation and
+            // the clamp where a material reads them) must hold every value.
+            if (c["kind"] == "musgrave" || c["kind"] == "magic" || c["kind"] == "wave") {
                 EXPECT_GE(got.r, t->min_value().r) << pr.dump() << " point " << i;
                 EXPECT_LE(got.r, t->max_value().r) << pr.dump() << " point " << i;
             }

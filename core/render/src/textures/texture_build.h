@@ -23,6 +23,8 @@ extern const TextureKindDef kWhiteNoiseTexture;   // textures/white_noise.cpp
 extern const TextureKindDef kGradientTexture;     // textures/gradient.cpp
 extern const TextureKindDef kVoronoiTexture;      // textures/voronoi.cpp
 extern const TextureKindDef kMusgraveTexture;     // textures/musgrave.cpp
+extern const TextureKindDef kWaveTexture;         // textures/wave.cpp
+extern const TextureKindDef kMagicTexture;        // textures/magic.cpp
 
 class TextureBuild : public BuildChecks {
   public:

@@ -8,8 +8,9 @@ namespace facet::render {
 
 std::span<const TextureKindDef* const> texture_kinds() {
     static const TextureKindDef* const kinds[] = {
-        &kImageTexture,   &kCheckerTexture,  &kVertexColorTexture, &kNoiseTexture,
-        &kVoronoiTexture, &kMusgraveTexture, &kGradientTexture,    &kWhiteNoiseTexture,
+        &kImageTexture,    &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
+        &kVoronoiTexture,  &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
+        &kGradientTexture, &kWhiteNoiseTexture,
     };
     return kinds;
 }
