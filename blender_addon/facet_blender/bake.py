@@ -1,5 +1,7 @@
 """The bake fallback: a subgraph feeding a BSDF colour input that Facet cannot express
-(procedural Noise, Voronoi, Wave, math chains on them, ...) is baked by Blender itself into an
+(a Brick Texture, a ColorRamp or Math chain on a texture, a procedural texture with a linked
+parameter, ...; textures.py converts Noise, Voronoi, Wave, Magic, Gradient, White Noise and
+ridged Musgrave natively) is baked by Blender itself into an
 image over the object's UV map, and the material renders with that image.
 
 - What: the output socket feeding the input (materials.NodeContext.param, after the folding and

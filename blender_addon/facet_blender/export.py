@@ -378,6 +378,8 @@ def _placed_mesh(arrays, obj, slots, uv_layer, mats, problems):
         if arrays.colors is not None:
             shape["colors"] = arrays.colors
         _add_material(shape, slot_mat, mats, obj)
+        if _reads_generated(slot_mat, mats, obj):
+            shape["texture_space"] = _texture_space(obj)
         templates.append(("" if len(used) == 1 else " [slot %d]" % mi, shape))
     emits = any(materials.is_texture(t.get("emission")) or any(t.get("emission") or [])
                 for _, t in templates)
@@ -470,6 +472,25 @@ def _uv_layer(obj, slots, mats, problems):
         if line not in problems:  # once, however many placements
             problems.append(line)
     return wanted[0] if wanted else None
+
+
+def _reads_generated(mat, mats, obj):
+    """Whether the material's procedural textures read Generated coordinates."""
+    if mat is not None and mat.get("facet_cycles_only"):
+        return False
+    return getattr(mats.get(mat, obj)[1], "generated", False)
+
+
+def _texture_space(obj):
+    """The object's texture space (Cycles' Generated coordinates: its evaluated mesh's
+    texspace_location and texspace_size, the automatic one its bounding box), as the shape's
+    "texture_space" (FORMAT.md): every material slot's shape shares the object's."""
+    data = obj.data
+    loc = getattr(data, "texspace_location", None)
+    size = getattr(data, "texspace_size", None)
+    if loc is None or size is None:
+        return {"location": [0.0, 0.0, 0.0], "size": [1.0, 1.0, 1.0]}
+    return {"location": [float(x) for x in loc], "size": [float(x) for x in size]}
 
 
 def _add_material(shape, mat, mats, obj=None):

@@ -109,6 +109,7 @@ class Converted:
         self.baked = False  # an input baked over the UVs of the object it was converted for
         self.tangents = False  # a normal map: the mesh needs the tangents of its UV map
         self.color_attributes = set()  # colour attributes read by Color Attribute nodes
+        self.generated = False  # a procedural texture reads Generated coordinates
         # The medium inside (FORMAT.md "media": a homogeneous medium dict, named as the
         # material in the scene's media and the data's "interior"), or None.
         self.medium = None
@@ -197,6 +198,7 @@ def convert(mat, obj=None):
     conv.baked = ctx.baked
     conv.tangents = ctx.tangents
     conv.color_attributes = ctx.color_attributes
+    conv.generated = ctx.generated
     return conv
 
 
@@ -232,6 +234,7 @@ class NodeContext:
         self.baked = False
         self.tangents = False  # a normal map: the mesh exports its UV map's tangents
         self.color_attributes = set()  # colour attributes read ("" the default one)
+        self.generated = False  # a procedural texture reads Generated coordinates
 
     def gap(self, src, reason, feeds):
         """Reports the node of `src` (an Out), once per node; `feeds` says which input it
@@ -307,8 +310,10 @@ class NodeContext:
             return res.const * scale
         if res.color_attribute is not None:  # a Color Attribute node: no UVs
             self.color_attributes.add(res.color_attribute)
-        else:
+        elif res.uv_map is not None:  # (procedural textures of Generated / Object: no UVs)
             self.uv_maps.add(res.uv_map)
+        if res.data.get("coordinates") == "generated":
+            self.generated = True  # the mesh exports its texture space (export.py)
         tex = dict(res.data)
         if scale != 1.0:
             tex["scale"] = tex.get("scale", 1.0) * scale

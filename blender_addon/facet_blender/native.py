@@ -106,6 +106,13 @@ def texture(t):
     """A scene-format texture dict (FORMAT.md, Textures) -> facet.Texture."""
     if t.get("vertex_color"):
         return facet.Texture.vertex_color(t.get("channel", ""), float(t.get("scale", 1.0)))
+    kind = next((k for k, v in t.items() if isinstance(v, dict) and k not in (
+        "checker", "mapping")), None)
+    if kind is not None:  # a procedural kind: {"noise": {params}, "coordinates", "mapping"}
+        m = t.get("mapping")
+        return facet.Texture.procedural(kind, coordinates=t.get("coordinates", ""),
+                                        mapping=m["matrix"] if m else None,
+                                        value_scale=float(t.get("scale", 1.0)), **t[kind])
     uv = {"uv_scale": tuple(t.get("uv_scale", (1.0, 1.0))),
           "uv_offset": tuple(t.get("uv_offset", (0.0, 0.0))),
           "uv_rotation": float(t.get("uv_rotation", 0.0))}
@@ -170,6 +177,9 @@ def _shape_desc(s):
         sd.emission = _rgb(s["emission"])
     sd.two_sided = bool(s.get("two_sided", True))
     sd.flip_normals = bool(s.get("flip_normals", False))
+    if "texture_space" in s:
+        ts = s["texture_space"]
+        sd.texture_space = (_rgb(ts["location"]), _rgb(ts["size"]))
     if s.get("transform") is not None:
         sd.transform = np.asarray(s["transform"], dtype=np.float64)
     if s.get("motion"):

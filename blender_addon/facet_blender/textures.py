@@ -110,6 +110,8 @@ def convert(walker, src, number):
         return _checker(walker, src, to_number)
     if node.bl_idname == 'ShaderNodeVertexColor':
         return _color_attribute(src, to_number)
+    if node.bl_idname in PROCEDURAL:
+        return _procedural(walker, src, to_number)
     if node.bl_idname in SEPARATE:
         return _separate(walker, src)
     if node.bl_idname in COMBINE and not to_number:
@@ -547,6 +549,9 @@ def _vector(walker, src, data, checker):
         cur = None  # an Image Texture's unlinked Vector: the render UV map
     state = {"uv": None, "mirror": set()}
     rows = _affine(walker, cur, state) if cur is not None else _IDENTITY
+    if state.get("coords") not in (None, "uv"):
+        raise Unsupported(src, "its vector is %s coordinates, not a UV map (only procedural "
+                          "textures read them)" % state["coords"].title())
     uv_map = state["uv"] or ""
     if cur is not None and state["uv"] is None:
         raise Unsupported(src, "its vector is a constant, not a UV map")
@@ -619,15 +624,29 @@ def _affine(walker, src, state):
         return [[0.0, 0.0, 0.0, float(c)] for c in vals]
     n, ident, path = src.node, src.socket.identifier, src.path
     idname = n.bl_idname
-    if idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
+    if idname == 'ShaderNodeTexCoord' and ident in ('Generated', 'Object'):
+        # Procedural textures only (_procedural): the hit's generated / object coordinates.
+        if ident == 'Object' and n.object is not None:
+            raise Unsupported(src, "Object coordinates of another object are not converted")
+        if n.from_instancer:
+            raise Unsupported(src, "coordinates from the instancer are not converted")
+        coords = ident.lower()
+        if state.get("coords") not in (None, coords) or state["uv"] is not None:
+            raise Unsupported(src, "two kinds of texture coordinates in one texture's vector")
+        state["coords"] = coords
+        rows = [list(r) for r in _IDENTITY]
+    elif idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
         if idname == 'ShaderNodeTexCoord' and ident != 'UV':
-            raise Unsupported(src, "texture coordinates other than UV maps are not converted")
+            raise Unsupported(src, "texture coordinates other than UV maps, Generated and "
+                              "Object are not converted")
         if n.from_instancer:
             raise Unsupported(src, "UVs from the instancer are not converted")
         name = n.uv_map if idname == 'ShaderNodeUVMap' else ""
-        if state["uv"] not in (None, name):
-            raise Unsupported(src, "two UV maps in one texture's vector")
+        if state["uv"] not in (None, name) or state.get("coords") not in (None, "uv"):
+            raise Unsupported(src, "two UV maps (or kinds of coordinates) in one texture's "
+                              "vector")
         state["uv"] = name
+        state["coords"] = "uv"
         rows = [list(r) for r in _IDENTITY]
     elif idname == 'ShaderNodeMapping':
         vals = []
@@ -706,3 +725,112 @@ def _affine(walker, src, state):
         elif to in ('VECTOR', 'RGBA') and len(rows) == 1:
             rows = [list(rows[0]) for _ in range(3)]
     return rows
+
+
+# --- procedural textures ----------------------------------------------------------------------
+#
+# Noise, White Noise, Gradient, Voronoi, Wave, Magic and Musgrave (Ridged Multifractal: the one
+# type whose values are never negative) Texture nodes with constant inputs -> the core's
+# procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
+# per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
+# nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
+# through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
+# Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
+# Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi
+# Distance / Color / Radius, Wave and Magic Fac / Color, Musgrave Fac. A colour output into a
+# number input (Cycles' luminance of it) is not a procedural kind's output: Unsupported
+# (baked), except the Gradient's and the Wave's grey colours.
+
+# bl_idname -> (kind, {output identifier: core output}, {input name: core parameter},
+#               {node property: (core parameter, {Blender value: core value} or None)})
+PROCEDURAL = {
+    'ShaderNodeTexNoise': (
+        "noise", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Detail': "detail", 'Roughness': "roughness",
+         'Distortion': "distortion", 'W': "w"},
+        {'noise_dimensions': ("dimensions", None)}),
+    'ShaderNodeTexWhiteNoise': (
+        "white_noise", {'Value': "value", 'Color': "color"}, {'W': "w"},
+        {'noise_dimensions': ("dimensions", None)}),
+    'ShaderNodeTexMusgrave': (
+        "musgrave", {'Fac': None},
+        {'Scale': "scale", 'Detail': "detail", 'Dimension': "dimension",
+         'Lacunarity': "lacunarity", 'Offset': "offset", 'Gain': "gain", 'W': "w"},
+        {'musgrave_dimensions': ("dimensions", None), 'musgrave_type': ("type", None)}),
+    'ShaderNodeTexWave': (
+        "wave", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Distortion': "distortion", 'Detail': "detail",
+         'Detail Scale': "detail_scale", 'Detail Roughness': "detail_roughness",
+         'Phase Offset': "phase"},
+        {'wave_type': ("type", None), 'bands_direction': ("bands_direction", None),
+         'rings_direction': ("rings_direction", None), 'wave_profile': ("profile", None)}),
+    'ShaderNodeTexMagic': (
+        "magic", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Distortion': "distortion"},
+        {'turbulence_depth': ("depth", None)}),
+    'ShaderNodeTexGradient': (
+        "gradient", {'Fac': "fac", 'Color': "color"}, {},
+        {'gradient_type': ("type", None)}),
+    'ShaderNodeTexVoronoi': (
+        "voronoi", {'Distance': "distance", 'Color': "color", 'Radius': "radius"},
+        {'Scale': "scale", 'Smoothness': "smoothness", 'Exponent': "exponent",
+         'Randomness': "randomness", 'W': "w"},
+        {'voronoi_dimensions': ("dimensions", None), 'feature': ("feature", None),
+         'distance': ("distance", None)}),
+}
+
+
+def _procedural(walker, src, to_number):
+    node = src.node
+    kind, outputs, inputs, props = PROCEDURAL[node.bl_idname]
+    if src.socket.identifier not in outputs:
+        raise Unsupported(src, "the %s output of %s is not converted"
+                          % (src.socket.name, node.bl_idname[10:]))
+    out = outputs[src.socket.identifier]
+    if kind == "musgrave" and node.musgrave_type != 'RIDGED_MULTIFRACTAL':
+        raise Unsupported(src, "a Musgrave Texture of type %s can be negative (only Ridged "
+                          "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
+    if to_number and out == "color" and kind not in ("gradient", "wave"):
+        raise Unsupported(src, "a colour output into a number input (Cycles' luminance of the "
+                          "colour) is not converted")
+    params = {}
+    for prop, (key, _) in props.items():
+        v = getattr(node, prop)
+        params[key] = (int(v[0]) if key == "dimensions" else int(v) if isinstance(v, int)
+                       else str(v).lower())
+    for name, key in inputs.items():
+        sock = next((x for x in node.inputs if x.name == name and x.enabled), None)
+        if sock is None:
+            continue
+        v, blockers = walker.fold(walker.input(node, sock, src.path))
+        if v is None:
+            raise Unsupported(blockers[0] if blockers else src,
+                              "feeds the %s's %s (only constants convert)"
+                              % (node.bl_idname[10:], name))
+        params[key] = float(v)
+    if kind in ("gradient", "wave") and out == "color":
+        out = "fac"  # the same grey value
+    if out is not None:  # (Musgrave: Fac only)
+        params["output"] = out
+    data = {kind: params}
+    uv_map = None
+    dims = params.get("dimensions", 3)
+    vsock = next((x for x in node.inputs if x.name == "Vector" and x.enabled), None)
+    cur = walker.input(node, vsock, src.path) if vsock is not None and dims != 1 else None
+    if cur is None or isinstance(cur, nodegraph.Const):
+        # Unlinked: Cycles' default vector of these nodes is Generated coordinates.
+        data["coordinates"] = "generated"
+    else:
+        state = {"uv": None, "mirror": set()}
+        rows = _affine(walker, cur, state)
+        if state["mirror"]:
+            raise Unsupported(src, "a Ping-Pong vector is not converted")
+        coords = state.get("coords")
+        if coords is None:
+            raise Unsupported(src, "its vector is a constant, not texture coordinates")
+        data["coordinates"] = coords
+        if coords == "uv":
+            uv_map = state["uv"] or ""
+        if rows != _IDENTITY:
+            data["mapping"] = {"matrix": [[float(x) for x in r] for r in rows]}
+    return Result(data, uv_map)

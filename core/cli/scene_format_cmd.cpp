@@ -7,6 +7,7 @@
 
 #include "commands.h"
 #include "facet/render/kinds.h"
+#include "facet/render/texture_kinds.h"
 
 namespace facet::cli {
 
@@ -17,9 +18,13 @@ void add_scene_format_command(CLI::App& app) {
         "Print the scene format's shape and light kinds: keys, types, defaults (the tables of "
         "scenes/FORMAT.md)");
     cmd->add_flag("--markdown", *markdown, "print Markdown tables (for scenes/FORMAT.md)");
-    cmd->callback([markdown] {
+    auto textures = std::make_shared<bool>(false);
+    cmd->add_flag("--textures", *textures,
+                  "print the procedural texture kinds' tables instead (scenes/FORMAT.md, "
+                  "\"Procedural textures\")");
+    cmd->callback([markdown, textures] {
         // The Markdown is also the plain-text form: tables read well in a terminal.
-        std::cout << render::kinds_markdown();
+        std::cout << (*textures ? render::texture_kinds_markdown() : render::kinds_markdown());
     });
 }
 

@@ -32,6 +32,7 @@
 #include "facet/render/pov_export.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
+#include "facet/render/texture_kinds.h"
 
 namespace facet::python {
 
@@ -320,7 +321,7 @@ const MediumKindDef& kind_def(MediumKind k) {
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
     "name",      "material_ref", "material",  "emission", "emission_texture",
-    "two_sided", "flip_normals", "transform", "motion"};
+    "two_sided", "flip_normals", "transform", "motion",   "texture_space"};
 
 // TypeError for a keyword that is no field of the kind (a typo, or another kind's key).
 template <class Def>
@@ -710,7 +711,7 @@ void bind_scene(py::module_& m) {
             [](Vec3 c0, Vec3 c1, double cells, std::array<float, 2> uv_scale,
                std::array<float, 2> uv_offset, double uv_rotation, double value_scale) {
                 TextureDesc d;
-                d.checker = true;
+                d.kind = "checker";
                 d.colors = {Rgb(c0), Rgb(c1)};
                 d.checker_scale = cells;
                 d.uv_scale = {uv_scale[0], uv_scale[1]};
@@ -727,7 +728,7 @@ void bind_scene(py::module_& m) {
             "vertex_color",
             [](std::string channel, double scale) {
                 TextureDesc d;
-                d.vertex_color = true;
+                d.kind = "vertex_color";
                 d.channel = std::move(channel);
                 d.scale = scale;
                 return d;
@@ -735,16 +736,77 @@ void bind_scene(py::module_& m) {
             "The mesh's interpolated vertex colour as a texture (the JSON {\"vertex_color\": "
             "true}): channel '' (RGB) or 'r', 'g', 'b', 'a', 'luminance'; times scale.",
             py::arg("channel") = "", py::arg("scale") = 1.0)
+        .def_static(
+            "procedural",
+            [](const std::string& kind, const std::string& coordinates, const py::object& mapping,
+               double scale, const py::kwargs& params) {
+                TextureDesc d;
+                const TextureKindDef* k = find_texture_kind(kind);
+                if (!k || !k->procedural) {
+                    std::string names;
+                    for (const TextureKindDef* x : texture_kinds())
+                        if (x->procedural) names += " " + std::string(x->name);
+                    bad_argument("Texture.procedural",
+                                 "unknown procedural kind '" + kind + "' (one of" + names + ")");
+                }
+                d.kind = kind;
+                d.coordinates = coordinates;
+                d.scale = scale;
+                if (!mapping.is_none()) {
+                    const auto rows = mapping.cast<std::vector<std::vector<double>>>();
+                    if (rows.size() != 3 || rows[0].size() != 4 || rows[1].size() != 4 ||
+                        rows[2].size() != 4)
+                        bad_argument("Texture.procedural",
+                                     "mapping: expected 3 rows of 4 numbers (an affine map)");
+                    for (int r = 0; r < 3; ++r)
+                        for (int c = 0; c < 4; ++c) d.mapping[c][r] = rows[r][c];
+                }
+                for (const auto& [key, value] : params) {
+                    const std::string name = py::str(key);
+                    if (py::isinstance<py::str>(value))
+                        d.params.set(name, value.cast<std::string>());
+                    else
+                        d.params.set(name, value.cast<double>());
+                }
+                return d;
+            },
+            "A procedural texture (scenes/FORMAT.md, Procedural textures): "
+            "Texture.procedural('noise', coordinates='object', mapping=[[1, 0, 0, 0], [0, 1, 0, "
+            "0], [0, 0, 1, 0]], value_scale=1, scale=5, detail=2, ...): the kind's parameters as "
+            "keywords "
+            "(numbers or names; checked by build_scene against the kind's table), the point "
+            "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
+            "and a value multiplier (the JSON's \"scale\" beside the kind's object).",
+            py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),
+            py::arg("value_scale") = 1.0)
+        .def_static(
+            "mapping_point",
+            [](Vec3 location, Vec3 rotation, Vec3 scale) {
+                const glm::dmat4 m = mapping_point_matrix(glm::dvec3(location),
+                                                          glm::dvec3(rotation), glm::dvec3(scale));
+                std::vector<std::vector<double>> rows(3, std::vector<double>(4));
+                for (int r = 0; r < 3; ++r)
+                    for (int c = 0; c < 4; ++c) rows[r][c] = m[c][r];
+                return rows;
+            },
+            "Blender's Mapping node of type Point as the rows of an affine map (rotation in "
+            "radians, Euler XYZ): the `mapping` of Texture.procedural.",
+            py::arg("location"), py::arg("rotation"), py::arg("scale"))
         .def_readonly("file", &TextureDesc::file)
-        .def_readonly("is_checker", &TextureDesc::checker)
-        .def_readonly("is_vertex_color", &TextureDesc::vertex_color)
+        .def_readonly("kind", &TextureDesc::kind)
+        .def_readonly("coordinates", &TextureDesc::coordinates)
+        .def_property_readonly("is_checker",
+                               [](const TextureDesc& d) { return d.kind == "checker"; })
+        .def_property_readonly("is_vertex_color",
+                               [](const TextureDesc& d) { return d.kind == "vertex_color"; })
         .def_readonly("channel", &TextureDesc::channel)
         .def_readonly("scale", &TextureDesc::scale)
         .def(py::self == py::self)
         .def("__repr__", [](const TextureDesc& d) {
-            return d.vertex_color ? "facet.Texture.vertex_color('" + d.channel + "')"
-                   : d.checker    ? std::string("facet.Texture.checker(...)")
-                                  : "facet.Texture('" + d.file + "')";
+            return d.kind == "vertex_color" ? "facet.Texture.vertex_color('" + d.channel + "')"
+                   : d.kind == "checker"    ? std::string("facet.Texture.checker(...)")
+                   : d.kind != "image"      ? "facet.Texture.procedural('" + d.kind + "', ...)"
+                                            : "facet.Texture('" + d.file + "')";
         });
 
     // A combination's sub-materials (mix, add): names (str) or MaterialDesc objects.
@@ -1009,6 +1071,22 @@ void bind_scene(py::module_& m) {
                        "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "
                        "at uniform steps over the open shutter (scenes/FORMAT.md, Motion blur); "
                        "with motion blur on it replaces `transform`; [] = none")
+        .def_property(
+            "texture_space",
+            [](const ShapeDesc& s) -> py::object {
+                if (!s.texture_space) return py::none();
+                return py::make_tuple(s.texture_space->location, s.texture_space->size);
+            },
+            [](ShapeDesc& s, const py::object& v) {
+                if (v.is_none()) {
+                    s.texture_space.reset();
+                    return;
+                }
+                const auto t = v.cast<std::pair<Vec3, Vec3>>();
+                s.texture_space = ShapeDesc::TextureSpace{t.first, t.second};
+            },
+            "(location, size): the Generated coordinates' texture space (Blender's "
+            "texspace_location, texspace_size), or None: the shape's bounding box")
         .def(py::self == py::self)
         .def("__repr__", [](const ShapeDesc& s) {
             return "facet.ShapeDesc('" + kind_name(s.kind) + "'" +

@@ -83,8 +83,8 @@ def main():
     m, n = node_material("PX", "ShaderNodeBsdfPrincipled", Clearcoat=0.5, Sheen=0.3,
                          Transmission=0.2, Subsurface=0.1)
     n.distribution = 'MULTI_GGX'
-    tex = m.node_tree.nodes.new("ShaderNodeTexNoise")
-    m.node_tree.links.new(tex.outputs[1], n.inputs["Base Color"])
+    tex = m.node_tree.nodes.new("ShaderNodeTexBrick")  # no core kind: reported
+    m.node_tree.links.new(tex.outputs["Color"], n.inputs["Base Color"])
     c = conv(m)
     bt.check(close(c.data["clearcoat"], 0.5) and close(c.data["sheen"], 0.3)
              and close(c.data["transmission"], 0.2) and close(c.data["subsurface"], 0.1),
@@ -95,7 +95,7 @@ def main():
              and not any("MULTI_GGX" in p or "Multiscatter" in p for p in c.problems)
              and not any("Clearcoat" in p or "Sheen" in p or "Transmission" in p
                          for p in c.problems)
-             and any("PX" in p and "Base Color" in p and "Noise Texture" in p
+             and any("PX" in p and "Base Color" in p and "Brick Texture" in p
                      for p in c.problems),
              "Principled: subsurface fallback and linked inputs named, multiscatter converted "
              "silently (Specular Tint 0): %s"

@@ -154,7 +154,10 @@ TEST(GltfTextures, KhrTextureTransformSamplesTheSameTexel) {
             const double su = s.x * u, sv = s.y * v;
             const double tu = std::cos(r) * su - std::sin(r) * sv + o.x;
             const double tv = std::sin(r) * su + std::cos(r) * sv + o.y;
-            const Vec2 got = tex.transform(facet_uv(u, v));
+            glm::mat2 ta;
+            Vec2 tb;
+            fr::uv_transform(d, ta, tb);
+            const Vec2 got = ta * facet_uv(u, v) + tb;
             EXPECT_NEAR(got.x, tu, 1e-5);
             EXPECT_NEAR(got.y, 1.0 - tv, 1e-5);
             // The texel glTF reads: x = floor(tu W), y = floor(tv H) (row 0 at the top), wrapped.
@@ -380,7 +383,7 @@ TEST(GltfTextures, MaskCutsAtTheCutoffAndOcclusionIsReported) {
 // A colour "scale" multiplies a colour texture per channel, and survives the JSON round trip.
 TEST(GltfTextures, ColourScaleMultipliesPerChannelAndRoundTrips) {
     fr::TextureDesc d;
-    d.checker = true;
+    d.kind = "checker";
     d.colors = {Rgb(0.5f), Rgb(1.f)};
     d.color_scale = Rgb(1.f, 0.5f, 0.25f);
     const fr::Texture t = fr::Texture::checker(d);

@@ -12,6 +12,7 @@
 #include "facet/render/kinds.h"
 #include "facet/render/pov_export.h"
 #include "facet/render/scene_description.h"
+#include "facet/render/texture_kinds.h"
 
 using namespace facet;
 using namespace facet::render;
@@ -79,6 +80,19 @@ TEST(Kinds, FormatDocHoldsTheGeneratedTables) {
     ASSERT_NE(b, std::string::npos);
     EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()), kinds_markdown())
         << "regenerate: facet scene-format --markdown";
+}
+
+// Likewise the procedural texture kinds' tables (texture_kinds.h), `facet scene-format
+// --textures`.
+TEST(Kinds, FormatDocHoldsTheTextureKindTables) {
+    const std::string doc = read_text(std::string(FACET_SCENES_DIR) + "/FORMAT.md");
+    const std::string begin = "<!-- texture-kinds:begin -->\n", end = "<!-- texture-kinds:end -->";
+    const auto a = doc.find(begin), b = doc.find(end);
+    ASSERT_NE(a, std::string::npos);
+    ASSERT_NE(b, std::string::npos);
+    EXPECT_EQ(doc.substr(a + begin.size(), b - a - begin.size()),
+              facet::render::texture_kinds_markdown())
+        << "regenerate: facet scene-format --textures";
 }
 
 // Each kind's fields are what the JSON reader accepts and the writer writes: a scene with one

@@ -173,7 +173,7 @@ TEST(VertexColors, JsonRoundTripKeepsColoursAndTheTexture) {
     const fr::SceneDescription d = fr::parse_scene_description(text, "vc.json", temp_dir());
     ASSERT_EQ(d.shapes[0].mesh.colors.size(), 12u);
     const fr::TextureDesc& t = d.shapes[0].material->textures.at("reflectance");
-    EXPECT_TRUE(t.vertex_color);
+    EXPECT_EQ(t.kind, "vertex_color");
     EXPECT_EQ(t.scale, 0.5);
     const fr::SceneDescription back =
         fr::parse_scene_description(fr::write_scene_json(d), "vc.json", temp_dir());

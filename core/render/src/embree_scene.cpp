@@ -562,7 +562,8 @@ void Scene::Impl::build(const std::string& name) {
         be.surface_extras_instanced || be.has_motion ||
         std::any_of(meshes.begin(), meshes.end(), mesh_extras) ||
         std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
-        std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; });
+        std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; }) ||
+        position_extras;
     plane_cutouts = std::any_of(planes.begin(), planes.end(),
                                 [](const PlaneGeom& p) { return p.opacity.active(); });
     rtcCommitScene(be.scene.get());
@@ -812,6 +813,7 @@ template <bool kUv>
     impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
+    hit.po = hit.p;  // in the prototype's frame (complete_hit takes it to object space)
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
     hit.p = Vec3(pw);
     const double shift =
@@ -958,6 +960,15 @@ template <bool kSurfaceExtras>
         if constexpr (kSurfaceExtras) part = mg.part;
     }
     const ShapeInfo& shape = m_shapes[hit.shape];
+    if constexpr (kSurfaceExtras) {
+        if (shape.needs_position) {
+            // The object-space point: an instance's hit is in its prototype's frame already.
+            const glm::dvec3 p(inst != RTC_INVALID_GEOMETRY_ID && !(tp > 0.0 && float(tp) <= tfar)
+                                   ? hit.po
+                                   : hit.p);
+            hit.po = Vec3(glm::dvec3(shape.to_object * glm::dvec4(p, 1.0)));
+        }
+    }
     const ShapeSurface& s = part < 0 ? shape : shape.parts[std::size_t(part)];
     hit.material = s.material;
     hit.two_sided = s.two_sided;
@@ -971,7 +982,7 @@ template <bool kSurfaceExtras>
         if constexpr (kSurfaceExtras) {
             if (s.emission_texture)
                 hit.emitted_radiance =
-                    s.emission_texture->eval(hit.uv, texture_footprint(hit, nullptr), hit.color);
+                    s.emission_texture->eval(texture_point(hit, texture_footprint(hit, nullptr)));
         }
     }
     return true;

@@ -28,7 +28,8 @@ const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpot
                                                         &kEnvironmentLightKind};
 const std::array<const MediumKindDef*, 1> kMediumKinds = {&kHomogeneousMediumKind};
 const std::array<std::string_view, 8> kCommonShapeKeys = {
-    "type", "name", "material", "emission", "two_sided", "transform", "flip_normals", "motion"};
+    "type",      "name",         "material", "emission",     "two_sided",
+    "transform", "flip_normals", "motion",   "texture_space"};
 
 // Linear searches: the tables hold a handful of kinds.
 template <class Def, std::size_t N, class Key>

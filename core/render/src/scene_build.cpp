@@ -21,6 +21,7 @@
 #include "scene_checks.h"
 #include "scene_impl.h"
 #include "scene_precision.h"
+#include "textures/texture_build.h"
 
 namespace facet::render {
 
@@ -419,13 +420,13 @@ class Builder final : public BuildChecks {
         if (auto it = m.textures.find("opacity"); it != m.textures.end()) {
             const std::string op = ptr + "/opacity";
             const TextureDesc& td = it->second;
-            if (td.vertex_color || td.times_vertex_color)
+            if (td.kind == "vertex_color" || td.times_vertex_color)
                 fail(op,
                      "a vertex colour cannot be an opacity (cut-outs are decided during "
                      "traversal, before the hit's colour is known)");
             TexelImageOptions linear;
             linear.color_space = ColorSpace::Linear;
-            if (!td.checker && td.channel == "a" && !td.file.empty() &&
+            if (td.kind == "image" && td.channel == "a" && !td.file.empty() &&
                 (m_limits.allow_files || td.bytes || td.image) &&
                 load_image(td, linear, op)->alpha_channel < 0) {
                 // The alpha of an image without one is 1 (opaque), as glTF and Blender read it:
@@ -435,6 +436,10 @@ class Builder final : public BuildChecks {
                 m.textures.erase(it);
             } else {
                 o.texture = build_texture(td, op, false, false);
+                if (o.texture->uses_position())
+                    fail(op,
+                         "an opacity reads UVs only (cut-outs are decided during traversal): "
+                         "give the procedural texture \"coordinates\": \"uv\"");
                 if (!(o.texture->min_value().r >= 0.f) || !(o.texture->max_value().r <= 1.f))
                     fail(op, "the texture's values must lie in [0, 1]");
                 m.textures.erase(it);
@@ -578,101 +583,46 @@ class Builder final : public BuildChecks {
         check_color(d.color_scale, ptr + "/scale", "a colour multiplier");
         if (!color && (d.color_scale.r != d.color_scale.g || d.color_scale.r != d.color_scale.b))
             fail(ptr + "/scale", "a number parameter needs a number (or grey) scale");
-        auto& textures = m_builder.textures();
-        if (d.vertex_color) {
-            // The hit's vertex colour (texture.h): no image, no UVs; `channel` as for images.
-            int channel = Texture::kAllChannels;
-            if (!d.channel.empty()) {
-                const std::vector<std::string> allowed = {"r", "g", "b", "a", "luminance"};
-                const auto it = std::find(allowed.begin(), allowed.end(), d.channel);
-                if (it == allowed.end())
-                    fail(ptr + "/channel",
-                         "unknown value '" + d.channel + "' (expected one of r g b a luminance)");
-                channel = int(it - allowed.begin());
-            } else if (!color) {
-                fail(ptr + "/channel",
-                     "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
-                     "luminance) for the vertex colour");
-            }
-            textures.push_back(std::make_unique<Texture>(Texture::vertex_color(d, channel)));
-            return textures.back().get();
-        }
-        if (d.checker) {
-            const std::string cp = ptr + "/checker";
-            for (int i = 0; i < 2; ++i)
-                check_color(d.colors[std::size_t(i)], cp + "/colors/" + std::to_string(i),
-                            "a checker colour");
-            if (!color && (d.colors[0].r != d.colors[0].g || d.colors[0].r != d.colors[0].b ||
-                           d.colors[1].r != d.colors[1].g || d.colors[1].r != d.colors[1].b))
-                fail(cp + "/colors", "a number parameter needs grey (single-number) colours");
-            check_range(d.checker_scale, cp + "/scale", 1e-30, 1e30, "> 0");
-            textures.push_back(std::make_unique<Texture>(Texture::checker(d)));
-            return textures.back().get();
-        }
-        auto choose = [&](const std::string& key, const std::string& value,
-                          const std::vector<std::string>& allowed) {
-            const auto it = std::find(allowed.begin(), allowed.end(), value);
-            if (it != allowed.end()) return int(it - allowed.begin());
-            std::string msg = "unknown value '" + value + "' (expected one of";
-            for (const auto& a : allowed) msg += " " + a;
-            msg += ")";
-            const std::string g = closest_name(value, allowed);
+        const TextureKindDef* kind = find_texture_kind(d.kind);
+        if (!kind) {
+            std::string msg = "unknown texture kind '" + d.kind + "'";
+            const std::string g = closest_name(d.kind, texture_kind_names());
             if (!g.empty()) msg += " (did you mean '" + g + "'?)";
-            fail(ptr + "/" + key, msg);
-        };
-        if (d.file.empty()) fail(ptr + "/texture", "must name an image file");
-        if (!m_limits.allow_files && !d.bytes && !d.image)
-            fail(ptr + "/texture", "image files are disabled here");
-        const int filter =
-            d.filter.empty() ? 2 : choose("filter", d.filter, {"closest", "linear", "mipmap"});
-        const int wrap = d.wrap.empty() ? 0 : choose("wrap", d.wrap, {"repeat", "clamp", "mirror"});
-        TexelImageOptions opt;
-        opt.reject_negative = radiance;
-        if (!d.colorspace.empty())
-            opt.color_space = choose("colorspace", d.colorspace, {"srgb", "linear"}) == 0
-                                  ? ColorSpace::Srgb
-                                  : ColorSpace::Linear;
-        else if (!color)
-            opt.color_space = ColorSpace::Linear;
-        const std::shared_ptr<const TexelImage> img = load_image(d, opt, ptr);
-        int channel = Texture::kAllChannels;
-        if (!d.channel.empty()) {
-            channel = choose("channel", d.channel, {"r", "g", "b", "a", "luminance"});
-            const bool has = channel == 4 ? true
-                             : channel == 3
-                                 ? img->alpha_channel >= 0
-                                 : channel < img->channels && !(channel == img->alpha_channel);
-            if (!has) {
-                fail(ptr + "/channel", "the image '" + d.file + "' has no channel '" + d.channel +
-                                           "' (" + std::to_string(img->channels) + " channel" +
-                                           (img->channels == 1 ? "" : "s") + ")");
-            }
-            if (channel == 3) channel = img->alpha_channel;
-        } else if (!color && img->channels - (img->alpha_channel >= 0 ? 1 : 0) > 1) {
-            fail(ptr + "/channel",
-                 "a number parameter reads one channel: give \"channel\" (r, g, b, a or "
-                 "luminance) for the colour image '" +
-                     d.file + "'");
+            fail(ptr, msg);
         }
-        std::shared_ptr<const std::vector<TexelImage>> mips;
-        if (filter == 2) {
-            try {
-                mips = m_images.mip_levels(img, ptr + "/texture");
-            } catch (const TexelImageError& e) {
-                throw SceneError(m_name + ": " + e.what());
-            }
-        }
-        textures.push_back(
-            std::make_unique<Texture>(Texture::image(std::move(img),
-                                                     filter == 0   ? TextureFilter::Closest
-                                                     : filter == 1 ? TextureFilter::Linear
-                                                                   : TextureFilter::Mipmap,
-                                                     wrap == 0   ? TextureWrap::Repeat
-                                                     : wrap == 1 ? TextureWrap::Clamp
-                                                                 : TextureWrap::Mirror,
-                                                     channel, d, std::move(mips))));
-        return textures.back().get();
+        if (!kind->procedural &&
+            (!d.params.values().empty() || !d.coordinates.empty() || d.mapping != glm::dmat4(1.0)))
+            fail(ptr,
+                 "a " + d.kind + " texture has no procedural parameters, coordinates or mapping");
+        TextureContext ctx(*this, d, ptr, color, radiance);
+        m_builder.textures().push_back(std::make_unique<Texture>(kind->build(ctx)));
+        return m_builder.textures().back().get();
     }
+
+    // What a texture kind's builder gets (textures/texture_build.h).
+    class TextureContext final : public TextureBuild {
+      public:
+        TextureContext(Builder& b, const TextureDesc& d, const std::string& p, bool c, bool r)
+            : TextureBuild(d, p, c, r), m_b(b) {}
+        [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+            m_b.fail(p, m);
+        }
+        bool files_allowed() const override { return m_b.m_limits.allow_files; }
+        std::shared_ptr<const TexelImage> load_image(const TexelImageOptions& opt) override {
+            return m_b.load_image(desc, opt, ptr);
+        }
+        std::shared_ptr<const std::vector<TexelImage>> mip_levels(
+            const std::shared_ptr<const TexelImage>& img) override {
+            try {
+                return m_b.m_images.mip_levels(img, ptr + "/texture");
+            } catch (const TexelImageError& e) {
+                throw SceneError(m_b.m_name + ": " + e.what());
+            }
+        }
+
+      private:
+        Builder& m_b;
+    };
 
     // Builds a material; parameter errors from the registry name the parameter, which becomes
     // part of the pointer. A material with textured parameters also gets its TexturedMaterial:
@@ -797,12 +747,14 @@ class Builder final : public BuildChecks {
             tm.slots.push_back({key, build_texture(td, p, color, false), color});
             tm.uses_uv = tm.uses_uv || tm.slots.back().texture->uses_uv();
             tm.uses_color = tm.uses_color || tm.slots.back().texture->uses_vertex_color();
+            tm.uses_position = tm.uses_position || tm.slots.back().texture->uses_position();
         }
         for (const BuiltMaterial& c : children) {
             if (c.textured < 0) continue;
             const TexturedMaterial& ct = m_builder.textured()[std::size_t(c.textured)];
             tm.uses_uv = tm.uses_uv || ct.uses_uv;
             tm.uses_color = tm.uses_color || ct.uses_color;
+            tm.uses_position = tm.uses_position || ct.uses_position;
         }
         // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
         // The model's own parameters are checked per value (both ends); a conversion mixes its
@@ -847,7 +799,7 @@ class Builder final : public BuildChecks {
             tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
         for (const auto* map : {m.normal_map ? &m.normal_map->texture : nullptr,
                                 m.bump ? &m.bump->texture : nullptr}) {
-            if (map && (map->vertex_color || map->times_vertex_color))
+            if (map && (map->kind == "vertex_color" || map->times_vertex_color))
                 fail(ptr + (map == &m.bump->texture ? "/bump" : "/normal_map"),
                      "a vertex colour cannot be a normal or bump map (they need texture "
                      "coordinates)");
@@ -858,11 +810,19 @@ class Builder final : public BuildChecks {
             TextureDesc td = m.normal_map->texture;
             if (td.colorspace.empty()) td.colorspace = "linear";
             tm.normal_map = build_texture(td, ptr + "/normal_map", true, false);
+            if (tm.normal_map->uses_position())
+                fail(ptr + "/normal_map",
+                     "a normal map reads UVs only: give the procedural texture "
+                     "\"coordinates\": \"uv\"");
             tm.normal_strength = float(m.normal_map->strength);
             tm.normal_xy_scale = float(m.normal_map->xy_scale);
         }
         if (bump) {
             tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
+            if (tm.bump->uses_position())
+                fail(ptr + "/bump",
+                     "a bump map reads UVs only: give the procedural texture \"coordinates\": "
+                     "\"uv\"");
             tm.bump_distance = float(m.bump->distance);
             tm.bump_strength = float(m.bump->strength);
             // Forward-difference step in uv: half a texel of the image (or a thousandth of a
@@ -975,6 +935,40 @@ class Builder final : public BuildChecks {
                (s.emission_texture && s.emission_texture->uses_uv()) ||
                s.opacity.texture != nullptr;
     }
+    // The texture space of shape `s` (ShapeDesc::texture_space; default its object-space box
+    // `bounds`, as Blender's automatic texture space: centre and half size, a zero half size
+    // counting as 1 and one below 1e-5 as 1e-5): generated = (po - (centre - half)) / (2 half).
+    void set_texture_space(ShapeInfo& info, const ShapeDesc& s, const Bounds3& bounds,
+                           const std::string& ptr) {
+        Vec3 loc(0.f), size(1.f);
+        if (s.texture_space) {
+            const std::string tp = ptr + "/texture_space";
+            check_finite(s.texture_space->location, tp + "/location");
+            check_finite(s.texture_space->size, tp + "/size");
+            loc = s.texture_space->location;
+            size = s.texture_space->size;
+            for (int i = 0; i < 3; ++i)
+                if (size[i] == 0.f) fail(tp + "/size/" + std::to_string(i), "must be non-zero");
+        } else if (!bounds.empty()) {
+            loc = 0.5f * (bounds.lo + bounds.hi);
+            size = 0.5f * (bounds.hi - bounds.lo);
+            for (int i = 0; i < 3; ++i) {
+                if (size[i] == 0.f)
+                    size[i] = 1.f;
+                else if (size[i] > 0.f && size[i] < 1e-5f)
+                    size[i] = 1e-5f;
+            }
+        }
+        info.texture_lo = loc - size;
+        info.texture_inv = 0.5f / size;
+    }
+
+    // Whether hits on a surface compute the object-space point: a procedural texture of its
+    // material or emission reads object or generated coordinates.
+    bool needs_position(const ShapeSurface& s) {
+        return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_position) ||
+               (s.emission_texture && s.emission_texture->uses_position());
+    }
     // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
     bool needs_color(const ShapeSurface& s) {
         return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
@@ -1055,6 +1049,7 @@ class Builder final : public BuildChecks {
 
         info.needs_uv = needs_uv(info);
         info.needs_color = needs_color(info);
+        info.needs_position = needs_position(info);
         // An invisible boundary cannot emit: rays cross it without a vertex.
         if (emissive) {
             if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);
@@ -1107,6 +1102,13 @@ class Builder final : public BuildChecks {
                                      motion[0].matrix(), false, motion});
             }
         }
+        for (const ShapeSurface& part : info.parts)
+            info.needs_position = info.needs_position || needs_position(part);
+        if (info.needs_position) {
+            info.to_object = glm::inverse(xf);
+            m_builder.impl().position_extras = true;
+        }
+        set_texture_space(info, s, ctx.object_bounds, ptr);
         if (proto >= 0) {
             // Object-space extent of the prototype; the scene's grows by its instances.
             Bounds3& pb = m_builder.impl().prototypes[std::size_t(proto)].bounds;
@@ -1174,7 +1176,8 @@ class Builder final : public BuildChecks {
         ShapeContext(Builder& b, const ShapeDesc& s, std::uint32_t i, const std::string& p,
                      ShapeInfo& info, std::int32_t proto)
             : ShapeBuild(s, i, p), m_b(b), m_info(info), m_proto(proto) {}
-        Bounds3 bounds;  // world extent of what was added
+        Bounds3 bounds;         // world extent of what was added
+        Bounds3 object_bounds;  // object-space extent of what was added (meshes, spheres, discs)
 
         [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
             m_b.fail(p, m);
@@ -1203,6 +1206,9 @@ class Builder final : public BuildChecks {
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
                 grow(glm::dvec3(prim.to_world * glm::dvec4(c, 1.0)));
+                const Vec3 o(glm::dvec3(local * glm::dvec4(c, 1.0)));
+                object_bounds.lo = glm::min(object_bounds.lo, o);
+                object_bounds.hi = glm::max(object_bounds.hi, o);
             }
             std::vector<AnalyticPrim>& prims = m_b.m_builder.impl().prims;
             prims.push_back(prim);
@@ -1332,6 +1338,10 @@ class Builder final : public BuildChecks {
         // degenerate triangles dropped, an area light when it emits; UVs as add_triangles says.
         void add_mesh(TriangleMesh mesh, const Vec3& tangent, std::int32_t part, bool emits,
                       const Rgb& radiance, const glm::dmat4* sphere) {
+            for (const Vec3& p : mesh.positions) {
+                object_bounds.lo = glm::min(object_bounds.lo, p);
+                object_bounds.hi = glm::max(object_bounds.hi, p);
+            }
             const glm::dmat3 lin(xf);
             const glm::dmat3 normal_mat = glm::transpose(glm::inverse(lin));
             // A mirroring transform reverses the winding: undo it so the authored front stays

@@ -184,6 +184,9 @@ struct Scene::Impl {
     std::vector<AnalyticPrim> prims;
     std::vector<PlaneGeom> planes;
     bool plane_cutouts = false;  // some plane has an opacity (set by build)
+    // Some shape's hits compute the object-space point (ShapeInfo::needs_position): the
+    // closest-hit path then fills surface extras (set by the scene builder before build).
+    bool position_extras = false;
     std::vector<PrototypeGeom> prototypes;
     std::vector<InstanceGeom> instances;
     std::unique_ptr<EmbreeBackend> backend;

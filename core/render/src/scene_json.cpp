@@ -15,6 +15,7 @@
 
 #include "facet/render/kinds.h"
 #include "facet/render/scene_description.h"
+#include "facet/render/texture_kinds.h"
 #include "scene_checks.h"
 
 namespace facet::render {
@@ -427,6 +428,44 @@ class Reader {
         }
     }
 
+    // The procedural kind a texture object names by its key (texture_kinds.h), or null.
+    static const TextureKindDef* procedural_kind_of(const json& t) {
+        for (const TextureKindDef* k : texture_kinds())
+            if (k->procedural && t.contains(std::string(k->name))) return k;
+        return nullptr;
+    }
+
+    // A procedural texture's "mapping" (texture.h): Blender's Mapping node of type Point,
+    // {"location": [x, y, z], "rotation": [x, y, z] (degrees, Euler XYZ), "scale": [x, y, z]}:
+    // p' = T(location) Rz Ry Rx diag(scale) p; or {"matrix": [[4 numbers] x 3]}, the rows of
+    // an affine map.
+    glm::dmat4 read_mapping(const json& m, const std::string& ptr) const {
+        expect_object(m, ptr);
+        if (m.contains("matrix")) {
+            check_keys(m, ptr, {"matrix"});
+            const json& rows = m["matrix"];
+            const std::string mp = ptr + "/matrix";
+            if (!rows.is_array() || rows.size() != 3)
+                fail(mp, "expected 3 rows of 4 numbers, got " + type_name(rows));
+            glm::dmat4 x(1.0);
+            for (int r = 0; r < 3; ++r) {
+                const json& row = rows[std::size_t(r)];
+                const std::string rp = mp + "/" + std::to_string(r);
+                if (!row.is_array() || row.size() != 4)
+                    fail(rp, "expected a row of 4 numbers, got " + type_name(row));
+                for (int c = 0; c < 4; ++c)
+                    x[c][r] = get_number(row[std::size_t(c)], rp + "/" + std::to_string(c));
+            }
+            return x;
+        }
+        check_keys(m, ptr, {"location", "rotation", "scale"});
+        glm::dvec3 loc(0.0), rot(0.0), scl(1.0);
+        if (m.contains("location")) loc = glm::dvec3(get_vec3(m["location"], ptr + "/location"));
+        if (m.contains("rotation")) rot = glm::dvec3(get_vec3(m["rotation"], ptr + "/rotation"));
+        if (m.contains("scale")) scl = glm::dvec3(get_vec3(m["scale"], ptr + "/scale"));
+        return mapping_point_matrix(loc, glm::radians(rot), scl);
+    }
+
     // A texture value (texture.h): {"texture": file, ...options} or {"checker": {...}}. Value
     // checks (ranges, names of filters...) are build_scene's; here types and keys.
     TextureDesc read_texture(const json& t, const std::string& ptr,
@@ -444,7 +483,7 @@ class Reader {
             if (!get_bool(t["vertex_color"], ptr + "/vertex_color"))
                 fail(ptr + "/vertex_color",
                      "must be true (omit the key for an image or checker texture)");
-            d.vertex_color = true;
+            d.kind = "vertex_color";
             if (t.contains("channel")) d.channel = get_string(t["channel"], ptr + "/channel");
         } else if (t.contains("checker")) {
             std::vector<const char*> keys = {"checker", "uv_scale", "uv_offset", "uv_rotation",
@@ -455,7 +494,7 @@ class Reader {
             const std::string cp = ptr + "/checker";
             expect_object(c, cp);
             check_keys(c, cp, {"colors", "scale"});
-            d.checker = true;
+            d.kind = "checker";
             const json& cols = require(c, cp, "colors");
             if (!cols.is_array() || cols.size() != 2)
                 fail(cp + "/colors", "expected two colours [c0, c1], got " + type_name(cols));
@@ -463,6 +502,28 @@ class Reader {
                 d.colors[i] =
                     get_color(cols[i], cp + "/colors/" + std::to_string(i), "a checker colour");
             if (c.contains("scale")) d.checker_scale = get_number(c["scale"], cp + "/scale");
+        } else if (const TextureKindDef* kind = procedural_kind_of(t)) {
+            // A procedural kind (texture_kinds.h): {"<kind>": {params}, "coordinates": ...,
+            // "mapping": ...}. Parameter names and ranges are build_scene's (the kind's table).
+            std::vector<const char*> keys = {kind->name.data(), "coordinates", "mapping", "scale"};
+            keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
+            check_keys_v(t, ptr, keys);
+            d.kind = std::string(kind->name);
+            const std::string kp = ptr + "/" + d.kind;
+            const json& params = t[d.kind];
+            expect_object(params, kp);
+            for (const auto& [key, v] : params.items()) {
+                const std::string p = kp + "/" + escape_pointer_token(key);
+                if (v.is_number())
+                    d.params.set(key, get_number(v, p));
+                else if (v.is_string())
+                    d.params.set(key, v.get<std::string>());
+                else
+                    fail(p, "expected a number or a name, got " + type_name(v));
+            }
+            if (t.contains("coordinates"))
+                d.coordinates = get_string(t["coordinates"], ptr + "/coordinates");
+            if (t.contains("mapping")) d.mapping = read_mapping(t["mapping"], ptr + "/mapping");
         } else {
             std::vector<const char*> keys = {"texture",     "colorspace", "filter",
                                              "wrap",        "uv_scale",   "uv_offset",
@@ -719,6 +780,16 @@ class Reader {
         if (s.contains("flip_normals")) {
             d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
         }
+        if (s.contains("texture_space")) {
+            const std::string tp = ptr + "/texture_space";
+            const json& t = s["texture_space"];
+            expect_object(t, tp);
+            check_keys(t, tp, {"location", "size"});
+            ShapeDesc::TextureSpace ts;
+            ts.location = get_vec3(require(t, tp, "location"), tp + "/location");
+            ts.size = get_vec3(require(t, tp, "size"), tp + "/size");
+            d.texture_space = ts;
+        }
         if (s.contains("emission")) {
             if (s["emission"].is_object())
                 d.emission_texture = read_texture(s["emission"], ptr + "/emission");
@@ -902,12 +973,29 @@ json texture_json(const TextureDesc& d, bool hashed) {
     }
     if (d.times_vertex_color)
         throw SceneError(d.file + ": an importer's vertex-tinted texture cannot be written");
-    if (d.vertex_color) {
+    if (d.kind == "vertex_color") {
         j["vertex_color"] = true;
         if (!d.channel.empty()) j["channel"] = d.channel;
-    } else if (d.checker) {
+    } else if (d.kind == "checker") {
         j["checker"] = {{"colors", json::array({vec_json(d.colors[0]), vec_json(d.colors[1])})},
                         {"scale", d.checker_scale}};
+    } else if (d.kind != "image") {
+        json params = json::object();
+        for (const auto& [key, v] : d.params.values()) {
+            if (const double* x = std::get_if<double>(&v))
+                params[key] = *x;
+            else if (const std::string* t = std::get_if<std::string>(&v))
+                params[key] = *t;
+        }
+        j[d.kind] = params;
+        if (!d.coordinates.empty()) j["coordinates"] = d.coordinates;
+        if (d.mapping != glm::dmat4(1.0)) {
+            json rows = json::array();
+            for (int r = 0; r < 3; ++r)
+                rows.push_back(json::array(
+                    {d.mapping[0][r], d.mapping[1][r], d.mapping[2][r], d.mapping[3][r]}));
+            j["mapping"] = {{"matrix", rows}};
+        }
     } else {
         if (!d.image) j["texture"] = d.file;
         if (!d.colorspace.empty()) j["colorspace"] = d.colorspace;
@@ -1089,6 +1177,9 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture, hashed_arrays);
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
+        if (s.texture_space)
+            j["texture_space"] = {{"location", vec_json(s.texture_space->location)},
+                                  {"size", vec_json(s.texture_space->size)}};
         if (s.transform) j["transform"] = matrix_json(*s.transform);
         if (!s.motion.empty()) {
             json steps = json::array();

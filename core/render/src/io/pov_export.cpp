@@ -618,7 +618,7 @@ std::string PovWriter::emission_of(const glm::dvec3& emission, const glm::dvec3&
 bool PovWriter::reads_uv(const MaterialDesc& m) const {
     if (m.normal_map || m.bump) return true;
     for (const auto& [key, t] : m.textures)
-        if (!t.vertex_color) return true;
+        if (t.kind != "vertex_color") return true;
     for (std::size_t k = 0; k < m.materials.size(); ++k) {
         std::string p;
         if (reads_uv(child(m, k, p))) return true;
@@ -640,7 +640,7 @@ const MaterialDesc* PovWriter::shape_material(const ShapeDesc& s, const std::str
 }
 
 bool PovWriter::shape_reads_uv(const ShapeDesc& s) const {
-    if (s.emission_texture && !s.emission_texture->vertex_color) return true;
+    if (s.emission_texture && s.emission_texture->kind != "vertex_color") return true;
     std::string mp;
     const MaterialDesc* m = shape_material(s, "", mp);
     return m && reads_uv(*m);
@@ -661,7 +661,7 @@ void uv_affine(const TextureDesc& t, glm::dmat2& a, glm::dvec2& b) {
 void PovWriter::check_clamp(const ShapeDesc& s, const std::string& pointer, glm::dvec2 lo,
                             glm::dvec2 hi) const {
     auto check = [&](const TextureDesc& t, const std::string& where) {
-        if (t.wrap != "clamp" || t.checker || t.vertex_color) return;
+        if (t.wrap != "clamp" || t.kind != "image") return;
         glm::dmat2 a;
         glm::dvec2 b;
         uv_affine(t, a, b);
@@ -705,10 +705,14 @@ void PovWriter::check_clamp(const ShapeDesc& s, const std::string& pointer, glm:
 // Object transforms do not move uv_mapping patterns (the UVs are the object's own).
 std::string PovWriter::uv_pigment(const TextureDesc& t, const std::string& pointer,
                                   glm::dvec3& factor) const {
-    if (t.vertex_color || t.times_vertex_color)
+    if (t.kind == "vertex_color" || t.times_vertex_color)
         fail(pointer,
              "a vertex colour cannot be exported to POV-Ray exactly (a mesh2 texture_list "
              "blends whole textures per vertex; povray-facet's brdf takes constants)");
+    if (t.kind != "image" && t.kind != "checker")
+        fail(pointer, "a " + t.kind +
+                          " texture cannot be exported to POV-Ray exactly (its patterns are not "
+                          "Blender's)");
     if (t.image || t.bytes)
         fail(pointer,
              "an image held in memory (a numpy array, or an image inside a .glb) has no file "
@@ -722,7 +726,7 @@ std::string PovWriter::uv_pigment(const TextureDesc& t, const std::string& point
     glm::dvec2 b;
     uv_affine(t, a, b);
     std::string body;
-    if (t.checker) {
+    if (t.kind == "checker") {
         a *= t.checker_scale;
         b *= t.checker_scale;
         body =
@@ -829,9 +833,9 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     // textures per vertex, which the brdf finish (one constant block per texture) does not
     // interpolate.
     for (const auto& [key, td] : m.textures) {
-        if (key == diffuse_param && !td.vertex_color) continue;
+        if (key == diffuse_param && td.kind != "vertex_color") continue;
         fail(pointer + "/" + detail::escape_pointer_token(key),
-             td.vertex_color
+             td.kind == "vertex_color"
                  ? "a vertex colour cannot be exported to POV-Ray exactly (a mesh2 texture_list "
                    "would blend whole textures per vertex; povray-facet's brdf takes constants)"
                  : "a textured '" + key +

@@ -69,7 +69,7 @@ MaterialDesc gltf_vertex_colored(const MaterialDesc& desc) {
         t->second.times_vertex_color = true;
     } else {
         TextureDesc v;
-        v.vertex_color = true;
+        v.kind = "vertex_color";
         v.color_scale = std::get<Rgb>(d.params.values().at("base_color"));
         ParamSet rest;
         for (const auto& [key, value] : d.params.values())

@@ -34,6 +34,10 @@
 //  - `color` is the hit's vertex colour (linear RGBA, barycentric over the triangle's corners:
 //    mesh.h) only on shapes whose material or emission reads one (ShapeInfo::needs_color);
 //    elsewhere it is (1, 1, 1, 1) and not computed.
+//  - `po` is the hit point in the shape's object space (its transform's inverse; for a
+//    prototype's shape, its own frame within the prototype) only on shapes whose material or
+//    emission has a procedural texture reading object or generated coordinates
+//    (ShapeInfo::needs_position); elsewhere it is not computed.
 //  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
 //    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
 //    is always one-sided: only the front side emits (light.h).
@@ -93,6 +97,7 @@ struct SurfaceHit {
     std::int32_t textured = -1;          // index of the textured material, or -1
     Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};     // dp/du and dp/dv (with uv; see conventions)
     glm::vec4 color{1.f};                // vertex colour (see conventions)
+    Vec3 po{0.f};                        // object-space point (see conventions)
 };
 
 // The footprint in uv of pixel footprint fp at a hit with derivatives dpdu, dpdv: the least
@@ -193,6 +198,13 @@ struct ShapeInfo : ShapeSurface {
     bool needs_tangent = false;
     // Hits interpolate the mesh's vertex colours (SurfaceHit::color): a vertex_color texture.
     bool needs_color = false;
+    // Hits compute the object-space point (SurfaceHit::po): a procedural texture reads object
+    // or generated coordinates. `to_object` maps world space (a prototype's shape: the
+    // prototype's frame) to object space; the texture space maps po to Blender's Generated
+    // coordinates, generated = (po - texture_lo) * texture_inv (ShapeDesc::texture_space).
+    bool needs_position = false;
+    glm::dmat4 to_object{1.0};
+    Vec3 texture_lo{-1.f}, texture_inv{0.5f};
 };
 
 // A material some of whose parameters are textures: the model and its constant parameters, and
@@ -258,6 +270,8 @@ struct TexturedMaterial {
     // Whether a slot (or a child's) reads the hit's uv / its vertex colour (Texture::uses_uv,
     // uses_vertex_color; the normal and bump maps always read uv).
     bool uses_uv = false, uses_color = false;
+    // Whether a slot (or a child's) reads the hit's object-space point (Texture::uses_position).
+    bool uses_position = false;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -479,9 +493,22 @@ class Scene {
     // ParamSet by the registry (the reference the staged build is tested against).
     // `color` is the hit's vertex colour (SurfaceHit::color), read by vertex_color textures.
     Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                               const glm::vec4& color = glm::vec4(1.f)) const;
+                               const glm::vec4& color = glm::vec4(1.f)) const {
+        return textured_material(index, TexturePoint{uv, &fp, color});
+    }
+    // Textured material `index` at texture point p (its footprint non-null).
+    Material textured_material(std::size_t index, const TexturePoint& p) const;
     Material textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                                       const glm::vec4& color = glm::vec4(1.f)) const;
+                                       const glm::vec4& color = glm::vec4(1.f)) const {
+        return textured_material_rebuilt(index, TexturePoint{uv, &fp, color});
+    }
+    Material textured_material_rebuilt(std::size_t index, const TexturePoint& p) const;
+    // What textures read at a hit (TexturePoint): its uv, vertex colour, object-space point
+    // and generated coordinates, with footprint fp.
+    TexturePoint texture_point(const SurfaceHit& hit, const UvFootprint& fp) const {
+        const ShapeInfo& s = m_shapes[hit.shape];
+        return {hit.uv, &fp, hit.color, hit.po, (hit.po - s.texture_lo) * s.texture_inv};
+    }
     // The texture footprint of a hit with uv: from the camera ray `camera_ray` that reached it
     // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
     // (Camera::footprint_at).

@@ -146,6 +146,14 @@ struct ShapeDesc {
     // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces
     // `transform` (the still placement). Triangle kinds and instances only.
     std::vector<glm::dmat4> motion;
+    // The texture space of procedural textures' Generated coordinates (texture.h): its centre
+    // and half size in object space (Blender's texspace_location, texspace_size); none = the
+    // shape's object-space bounding box (a zero half size counts as 1, as Blender's).
+    struct TextureSpace {
+        Vec3 location{0.f}, size{1.f};
+        bool operator==(const TextureSpace&) const = default;
+    };
+    std::optional<TextureSpace> texture_space;
 
     Vec3 center{0.f};                         // sphere, disc, icosphere
     double radius = 1.0;                      // sphere, disc, icosphere

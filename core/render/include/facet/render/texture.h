@@ -1,7 +1,13 @@
-// Textures as parameter values: an image (read through TexelImageCache) or a procedural
-// checker, evaluated at a hit's UV coordinates. A material parameter or a shape's emission holds
-// either a constant (the ParamSet / ShapeDesc value) or one of these (scenes/FORMAT.md,
-// "Textures").
+// Textures as parameter values: an image (read through TexelImageCache), a checker, the vertex
+// colour or a procedural pattern (Blender's Noise, Voronoi, ...), evaluated at a hit. A material
+// parameter or a shape's emission holds either a constant (the ParamSet / ShapeDesc value) or
+// one of these (scenes/FORMAT.md, "Textures").
+//
+// Structure: one unit per texture kind (core/render/src/textures/<kind>.cpp) defines its
+// TextureKindDef (texture_kinds.h: name, parameters, builder) and its TextureSource (the
+// evaluation); a Texture is the kind's source with what every kind shares (value range, the
+// inputs it reads, the importer's vertex tint). Adding a kind: one unit and its line in the
+// table (textures/texture_kinds.cpp).
 //
 // Conventions:
 //  - UV: (0, 0) is the bottom-left corner of the image, v grows upward, [0, 1]^2 covers the
@@ -41,6 +47,9 @@
 //    filtering. Its range is [0, scale] per channel (mesh colours lie in [0, 1]).
 //  - Vertex tint (TextureDesc::times_vertex_color, an importer's: glTF's COLOR_0 times its
 //    base colour texture): an image or checker value multiplied per channel by c's RGB.
+//  - Procedural kinds (textures/procedural.h) read a 3D point: the hit's `coordinates`
+//    ("generated", "object" or "uv" as (u, v, 0)), mapped by the affine `mapping` (Blender's
+//    Mapping node and any affine chain before the texture), then the kind's own pattern.
 #pragma once
 
 #include <array>
@@ -49,8 +58,11 @@
 #include <string>
 #include <vector>
 
+#include <glm/mat2x2.hpp>
+#include <glm/mat4x4.hpp>
 #include <glm/vec4.hpp>
 
+#include "facet/registry.h"
 #include "facet/render/texel_image.h"
 #include "facet/types.h"
 
@@ -58,8 +70,9 @@ namespace facet::render {
 
 // A texture as the scene format writes it (plain data, validated by build_scene).
 struct TextureDesc {
-    bool checker = false;       // a procedural checker instead of an image
-    bool vertex_color = false;  // the mesh's vertex colour instead of an image (`channel`, `scale`)
+    // The kind (texture_kinds.h): "image", "checker", "vertex_color" or a procedural kind's
+    // name ("noise", "voronoi", ...).
+    std::string kind = "image";
     // An image or checker multiplied by the vertex colour (glTF's COLOR_0 times its base colour
     // texture; an importer's, never read from or written to JSON).
     bool times_vertex_color = false;
@@ -79,11 +92,20 @@ struct TextureDesc {
     // Checker
     std::array<Rgb, 2> colors{Rgb(0.f), Rgb(1.f)};
     double checker_scale = 1.0;  // cells per unit of uv'
-    // Both
+    // Procedural kinds: the kind's parameters by name (numbers, names), checked against its
+    // table (texture_kinds.h); absent ones take the table's defaults.
+    ParamSet params;
+    // The point a procedural kind reads: "" (the kind's default, "generated"), "generated",
+    // "object" or "uv"; and the affine map applied to it (object to texture space, identity by
+    // default; JSON "mapping").
+    std::string coordinates;
+    glm::dmat4 mapping{1.0};
+    // Image and checker
     Vec2 uv_scale{1.f}, uv_offset{0.f};
     double uv_rotation = 0.0;  // degrees, counter-clockwise
-    double scale = 1.0;        // multiplier on the value
-    Rgb color_scale{1.f};      // per-channel multiplier (JSON "scale": [r, g, b]), times `scale`
+    // All kinds
+    double scale = 1.0;    // multiplier on the value
+    Rgb color_scale{1.f};  // per-channel multiplier (JSON "scale": [r, g, b]), times `scale`
     bool operator==(const TextureDesc&) const = default;
 };
 
@@ -97,13 +119,49 @@ struct UvFootprint {
 
 enum class TextureWrap : std::uint8_t { Repeat, Clamp, Mirror };
 
+// What a texture reads at a hit.
+struct TexturePoint {
+    Vec2 uv{0.f};                            // the hit's uv (shapes that compute it)
+    const UvFootprint* footprint = nullptr;  // the pixel's footprint in uv; null: a point
+    glm::vec4 color{1.f};                    // the vertex colour (linear RGBA)
+    Vec3 object{0.f};                        // the object-space position
+    // The position in the shape's texture space: [0, 1]^3 over its box (Blender's Generated
+    // coordinates; ShapeInfo::texture_space).
+    Vec3 generated{0.f};
+};
+
+// What a texture reads besides its parameters (bits of Texture::inputs()).
+enum TextureInput : unsigned {
+    kTextureReadsUv = 1u,        // TexturePoint::uv (and footprint)
+    kTextureReadsColor = 2u,     // TexturePoint::color
+    kTextureReadsPosition = 4u,  // TexturePoint::object and generated
+};
+
+// One kind's evaluation (immutable, thread-safe, never throws): the value at a point, times the
+// texture's scale.
+class TextureSource {
+  public:
+    virtual ~TextureSource() = default;
+    virtual Rgb eval(const TexturePoint& p) const = 0;
+    // An image's MIP level for footprint fp (0 for the other kinds), its texels, its filter.
+    virtual float mip_level(const UvFootprint&) const { return 0.f; }
+    virtual const TexelImage* texel_image() const { return nullptr; }
+    virtual TextureFilter filter() const { return TextureFilter::Linear; }
+};
+
 // A texture ready to evaluate (immutable, thread-safe). Never throws once built.
 class Texture {
   public:
     // `channel`: -1 all (colour) channels, 0..3 one channel, 4 luminance.
     static constexpr int kAllChannels = -1, kLuminance = 4;
-    // `mips`: the image's MIP levels 1, 2, ... (TexelImageCache::mip_levels), needed by the
-    // Mipmap filter only (null otherwise).
+    // A kind's source, its value range per channel (every value lies in [min, max]), the
+    // inputs it reads (TextureInput bits) and whether its value is tinted by the vertex colour
+    // (TextureDesc::times_vertex_color; then kTextureReadsColor is added).
+    Texture(std::shared_ptr<const TextureSource> source, Rgb min, Rgb max, unsigned inputs,
+            bool tint = false);
+    // The built-in kinds' constructors (their units: textures/image.cpp, checker.cpp,
+    // vertex_color.cpp). `mips`: the image's MIP levels 1, 2, ... (TexelImageCache::
+    // mip_levels), needed by the Mipmap filter only (null otherwise).
     static Texture image(std::shared_ptr<const TexelImage> img, TextureFilter filter,
                          TextureWrap wrap, int channel, const TextureDesc& transform,
                          std::shared_ptr<const std::vector<TexelImage>> mips = nullptr);
@@ -111,62 +169,53 @@ class Texture {
     // The vertex colour (conventions); `channel` as for images.
     static Texture vertex_color(const TextureDesc& desc, int channel);
 
-    // The value at uv (see conventions): a colour (grey for one channel). Without a footprint
-    // the Mipmap filter reads level 0 (bilinear).
-    Rgb eval(Vec2 uv) const;
-    // The value at uv filtered over the pixel footprint `fp` (Mipmap; the other filters and the
-    // checker ignore fp).
-    Rgb eval(Vec2 uv, const UvFootprint& fp) const;
-    // The value at a hit with uv, footprint fp and interpolated vertex colour `color` (linear
-    // RGBA; (1, 1, 1, 1) on surfaces without colours): the only evaluation that serves
-    // vertex-colour textures (the others read them as white).
-    Rgb eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const {
-        if (m_vertex == Vertex::None) [[likely]]
-            return eval(uv, fp);
-        return vertex_eval(uv, fp, color);
+    // The value at point p (see conventions): a colour (grey for one channel).
+    Rgb eval(const TexturePoint& p) const {
+        const Rgb v = m_source->eval(p);
+        return m_tint ? v * Rgb(p.color) : v;
     }
-    // Whether the value depends on the hit's uv (images, checkers) / its vertex colour.
-    bool uses_uv() const { return m_vertex != Vertex::Value; }
-    bool uses_vertex_color() const { return m_vertex != Vertex::None; }
+    // The value at uv alone (no footprint: the Mipmap filter reads level 0; vertex colour
+    // white, positions 0).
+    Rgb eval(Vec2 uv) const { return eval(TexturePoint{uv}); }
+    // The value at uv filtered over the pixel footprint `fp` (Mipmap; the other kinds ignore
+    // fp).
+    Rgb eval(Vec2 uv, const UvFootprint& fp) const { return eval(TexturePoint{uv, &fp}); }
+    // The value at a hit with uv, footprint fp and interpolated vertex colour `color` (linear
+    // RGBA; (1, 1, 1, 1) on surfaces without colours).
+    Rgb eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const {
+        return eval(TexturePoint{uv, &fp, color});
+    }
+    // What the value depends on (TextureInput bits).
+    unsigned inputs() const { return m_inputs; }
+    bool uses_uv() const { return (m_inputs & kTextureReadsUv) != 0; }
+    bool uses_vertex_color() const { return (m_inputs & kTextureReadsColor) != 0; }
+    bool uses_position() const { return (m_inputs & kTextureReadsPosition) != 0; }
     // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
-    float mip_level(const UvFootprint& fp) const;
-    TextureFilter filter() const { return m_filter; }
-    // The transformed coordinates uv' (conventions).
-    Vec2 transform(Vec2 uv) const;
+    float mip_level(const UvFootprint& fp) const { return m_source->mip_level(fp); }
+    TextureFilter filter() const { return m_source->filter(); }
     // Smallest and largest value per channel over the whole texture (every texel, times scale;
     // bilinear values lie between them), for validation against a parameter's range.
     Rgb min_value() const { return m_min; }
     Rgb max_value() const { return m_max; }
-    // The image (null for a checker).
-    const TexelImage* texel_image() const { return m_image.get(); }
+    // The image (null for the other kinds).
+    const TexelImage* texel_image() const { return m_source->texel_image(); }
+    const TextureSource& source() const { return *m_source; }
 
   private:
-    // The texture's value of one texel's channels p (channel choice, times scale).
-    Rgb value(const float* p, int channels) const;
-    // The image's filtered value at uv over footprint fp (null: level 0) through `levels`, the
-    // whole image's or the paged image's (texture.cpp): one code for both, so the same bits.
-    template <class Levels>
-    Rgb lookup(const Levels& levels, Vec2 uv, const UvFootprint* fp) const;
-    template <class Levels>
-    Rgb bilinear(const Levels& levels, int level, Vec2 t) const;
-    Rgb eval_image(Vec2 uv, const UvFootprint* fp) const;
-    enum class Vertex : std::uint8_t { None, Value, Tint };
-    Rgb vertex_eval(Vec2 uv, const UvFootprint& fp, const glm::vec4& color) const;
-    std::shared_ptr<const TexelImage> m_image;              // null for a checker
-    std::shared_ptr<const std::vector<TexelImage>> m_mips;  // levels 1.. (Mipmap only)
-    const PagedImage* m_paged = nullptr;                    // m_image->paged
-    TextureFilter m_filter = TextureFilter::Linear;
-    TextureWrap m_wrap = TextureWrap::Repeat;
-    int m_channel = kAllChannels;
-    Rgb m_scale{1.f};  // scale * color_scale
-    // uv' = m_a * uv + m_b (m_a = R(rotation) diag(uv_scale))
-    glm::mat2 m_a{1.f};
-    Vec2 m_b{0.f};
-    std::array<Rgb, 2> m_colors{};
-    float m_cells = 1.f;
+    std::shared_ptr<const TextureSource> m_source;
     Rgb m_min{0.f}, m_max{0.f};
-    Vertex m_vertex = Vertex::None;
+    unsigned m_inputs = 0;
+    bool m_tint = false;
 };
+
+// The affine map uv' = A uv + b of a UV transform (conventions): A = R(uv_rotation)
+// diag(uv_scale), b = uv_offset.
+void uv_transform(const TextureDesc& d, glm::mat2& a, Vec2& b);
+
+// Blender's Mapping node of type Point as an affine map: p' = T(location) R diag(scale) p, with
+// R = Rz Ry Rx of the Euler angles `rotation` (radians; Cycles' euler_to_transform).
+glm::dmat4 mapping_point_matrix(const glm::dvec3& location, const glm::dvec3& rotation,
+                                const glm::dvec3& scale);
 
 // Wraps texel index i into [0, n) by `wrap` (conventions).
 int wrap_index(int i, int n, TextureWrap wrap);

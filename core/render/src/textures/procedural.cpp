@@ -1,0 +1,132 @@
+// What the procedural texture kinds share (procedural.h).
+#include "procedural.h"
+
+#include <cmath>
+#include <sstream>
+#include <stdexcept>
+
+namespace facet::render {
+
+namespace {
+
+std::string fmt_param(double v) {
+    std::ostringstream s;
+    s << v;
+    return s.str();
+}
+
+}  // namespace
+
+std::string ProceduralParams::pointer(std::string_view name) const {
+    return m_b.ptr + "/" + std::string(m_kind.name) + "/" + std::string(name);
+}
+
+double ProceduralParams::number(std::string_view name) const {
+    const TextureParamDef* def = find_texture_param(m_kind, name);
+    const auto& values = m_b.desc.params.values();
+    const auto it = values.find(std::string(name));
+    if (it == values.end() || !def) return def ? def->default_number : 0.0;
+    return std::get<double>(it->second);  // checked by make_procedural
+}
+
+int ProceduralParams::choice(std::string_view name) const {
+    const TextureParamDef* def = find_texture_param(m_kind, name);
+    if (!def) return 0;
+    const auto& values = m_b.desc.params.values();
+    const auto it = values.find(std::string(name));
+    const std::string v =
+        it == values.end() ? std::string(def->default_text) : std::get<std::string>(it->second);
+    return m_b.choose(std::string(m_kind.name) + "/" + std::string(name), v, def->choices);
+}
+
+Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
+                        std::shared_ptr<ProceduralSource> s, Rgb lo, Rgb hi) {
+    const TextureDesc& d = b.desc;
+    ProceduralParams params(b, kind);
+    for (const auto& [name, value] : d.params.values()) {
+        const std::string p = params.pointer(name);
+        const TextureParamDef* def = find_texture_param(kind, name);
+        if (!def) {
+            std::vector<std::string> names;
+            for (const TextureParamDef& x : kind.params) names.emplace_back(x.name);
+            std::string msg =
+                "unknown parameter '" + name + "' of a " + std::string(kind.name) + " texture";
+            const std::string g = closest_name(name, names);
+            if (!g.empty()) msg += " (did you mean '" + g + "'?)";
+            b.fail(p, msg);
+        }
+        if (def->type == ParamType::Number) {
+            const double* v = std::get_if<double>(&value);
+            if (!v) b.fail(p, "expected a number");
+            b.check_finite(*v, p);
+            if (!(*v >= def->lo && *v <= def->hi)) {
+                std::string range = "in [" + fmt_param(def->lo) + ", " + fmt_param(def->hi) + "]";
+                b.fail(p, detail::number_range_message(*v, range.c_str()));
+            }
+            if (def->integer && std::floor(*v) != *v) b.fail(p, "must be an integer");
+        } else {
+            if (!std::get_if<std::string>(&value)) b.fail(p, "expected a name");
+            params.choice(name);
+        }
+    }
+    if (d.coordinates.empty() || d.coordinates == "generated") {
+        s->m_coordinates = ProceduralSource::Coordinates::Generated;
+    } else {
+        const int c = b.choose("coordinates", d.coordinates, {"generated", "object", "uv"});
+        s->m_coordinates = ProceduralSource::Coordinates(c);
+    }
+    const std::string mp = b.ptr + "/mapping";
+    for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 3; ++r) b.check_finite(d.mapping[c][r], mp);
+    if (d.mapping[0][3] != 0.0 || d.mapping[1][3] != 0.0 || d.mapping[2][3] != 0.0 ||
+        d.mapping[3][3] != 1.0)
+        b.fail(mp, "the last row must be [0, 0, 0, 1] (affine maps only)");
+    s->m_linear = glm::mat3(glm::dmat3(d.mapping));
+    s->m_offset = Vec3(glm::dvec3(d.mapping[3]));
+    s->m_scale = float(d.scale) * d.color_scale;
+    if (!b.color && (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
+        b.fail(params.pointer("output"),
+               "a number parameter needs a grey output (a colour output feeds colours)");
+    const unsigned inputs = s->m_coordinates == ProceduralSource::Coordinates::Uv
+                                ? kTextureReadsUv
+                                : kTextureReadsPosition;
+    return Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
+                   hi * (float(d.scale) * d.color_scale), inputs);
+}
+
+namespace {
+
+// Builds outside a scene: no images, errors as std::invalid_argument.
+class StandaloneBuild final : public TextureBuild {
+  public:
+    using TextureBuild::TextureBuild;
+    [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+        throw std::invalid_argument(p + ": " + m);
+    }
+    bool files_allowed() const override { return false; }
+    std::shared_ptr<const TexelImage> load_image(const TexelImageOptions&) override {
+        fail(ptr, "no images outside a scene");
+    }
+    std::shared_ptr<const std::vector<TexelImage>> mip_levels(
+        const std::shared_ptr<const TexelImage>&) override {
+        fail(ptr, "no images outside a scene");
+    }
+};
+
+}  // namespace
+
+Texture build_procedural_texture(const TextureDesc& desc, bool color, const std::string& ptr) {
+    const TextureKindDef* kind = find_texture_kind(desc.kind);
+    if (!kind || !kind->procedural)
+        throw std::invalid_argument(ptr + ": '" + desc.kind + "' is no procedural texture kind");
+    StandaloneBuild b(desc, ptr, color, false);
+    return kind->build(b);
+}
+
+const TextureParamDef* find_texture_param(const TextureKindDef& kind, std::string_view name) {
+    for (const TextureParamDef& p : kind.params)
+        if (p.name == name) return &p;
+    return nullptr;
+}
+
+}  // namespace facet::render

@@ -1,0 +1,62 @@
+// Private to facet_render: what the procedural texture kinds share (texture.h conventions,
+// "Procedural kinds"): the point they read and their parameters.
+//
+// The point: TexturePoint::generated, ::object or (u, v, 0) by TextureDesc::coordinates, then
+// the affine TextureDesc::mapping, in float as Cycles' Mapping node evaluates it. The value:
+// the kind's pattern at that point, times the texture's scale.
+#pragma once
+
+#include <memory>
+#include <string>
+
+#include "facet/render/texture.h"
+#include "facet/render/texture_kinds.h"
+#include "texture_build.h"
+
+namespace facet::render {
+
+class ProceduralSource : public TextureSource {
+  public:
+    enum class Coordinates : std::uint8_t { Generated, Object, Uv };
+    Rgb eval(const TexturePoint& p) const final { return pattern(point(p)) * m_scale; }
+    // The kind's value at texture-space point x (before the scale).
+    virtual Rgb pattern(const Vec3& x) const = 0;
+    Vec3 point(const TexturePoint& p) const {
+        const Vec3 x = m_coordinates == Coordinates::Generated ? p.generated
+                       : m_coordinates == Coordinates::Object  ? p.object
+                                                               : Vec3(p.uv, 0.f);
+        return m_linear * x + m_offset;
+    }
+
+    Coordinates m_coordinates = Coordinates::Generated;
+    glm::mat3 m_linear{1.f};
+    Vec3 m_offset{0.f};
+    Rgb m_scale{1.f};
+};
+
+// A procedural kind's parameters from TextureDesc::params, checked against the kind's table
+// (errors name ptr/<kind>/<key>).
+class ProceduralParams {
+  public:
+    ProceduralParams(TextureBuild& b, const TextureKindDef& kind) : m_b(b), m_kind(kind) {}
+    // A Number parameter's value (the default when absent).
+    double number(std::string_view name) const;
+    // A String parameter's index in its choices.
+    int choice(std::string_view name) const;
+    std::string pointer(std::string_view name) const;
+
+  private:
+    TextureBuild& m_b;
+    const TextureKindDef& m_kind;
+};
+
+// Checks every parameter of the description against the kind's table (unknown names, types,
+// ranges, choices), fills the shared parts of `source` (coordinates, mapping, scale) and makes
+// the texture, its values in [lo, hi] per channel before the scale.
+Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
+                        std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi);
+
+// The parameters every procedural kind's "output" choice shares.
+inline constexpr std::string_view kOutputDoc = "which output of the node is the value";
+
+}  // namespace facet::render
