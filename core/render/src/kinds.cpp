@@ -27,7 +27,7 @@ const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpot
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};
 const std::array<const MediumKindDef*, 1> kMediumKinds = {&kHomogeneousMediumKind};
-const std::array<std::string_view, 8> kCommonShapeKeys = {
+const std::array<std::string_view, 9> kCommonShapeKeys = {
     "type",      "name",         "material", "emission",     "two_sided",
     "transform", "flip_normals", "motion",   "texture_space"};
 
