@@ -25,7 +25,6 @@ import os
 import sys
 
 import bpy
-import numpy as np
 
 sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support",
                                 "python"))
@@ -39,16 +38,11 @@ MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
 
 
-def luminance(img):
-    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+luminance = cs.luminance
 
 
 def block_rmse(a, b):
-    def means(x):
-        h, w = x.shape
-        return x[:h - h % BLOCK, :w - w % BLOCK].reshape(
-            h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
-    return float(np.sqrt(np.mean((means(luminance(a)) - means(luminance(b))) ** 2)))
+    return cs.block_rmse(a, b, BLOCK)
 
 
 def base_scene():

@@ -36,16 +36,11 @@ RMSE_FACTOR = 3.0
 MAX_DEPTH = 2
 
 
-def luminance(img):
-    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+luminance = cs.luminance
 
 
 def block_rmse(a, b):
-    def means(x):
-        h, w = x.shape
-        return x[:h - h % BLOCK, :w - w % BLOCK].reshape(
-            h // BLOCK, BLOCK, w // BLOCK, BLOCK).mean(axis=(1, 3))
-    return float(np.sqrt(np.mean((means(luminance(a)) - means(luminance(b))) ** 2)))
+    return cs.block_rmse(a, b, BLOCK)
 
 
 def export(frame_set=None):

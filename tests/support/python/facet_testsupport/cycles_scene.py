@@ -456,6 +456,21 @@ def cycles_settings(scene, samples=None, seed=None, max_depth=None):
 
 
 
+def luminance(img):
+    """Rec. 709 luminance of an (h, w, 3+) image."""
+    return img[..., 0] * 0.2126 + img[..., 1] * 0.7152 + img[..., 2] * 0.0722
+
+
+def block_rmse(a, b, block=8):
+    """RMS difference of the luminance's block x block means of two images (the real-scene
+    suite's measure: mean within 2%, block RMSE within 3x the seed-to-seed floor)."""
+    def means(x):
+        h, w = x.shape
+        return x[:h - h % block, :w - w % block].reshape(
+            h // block, block, w // block, block).mean(axis=(1, 3))
+    return float(np.sqrt(np.mean((means(luminance(a)) - means(luminance(b))) ** 2)))
+
+
 def add_light(scene, kind, energy, location, rotation=(0.0, 0.0, 0.0), visible_camera=True,
               **props):
     """A lamp object of Blender type `kind` ('POINT', 'SUN', 'SPOT', 'AREA') linked into
