@@ -1080,17 +1080,8 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
     return occluded_ray(r);
 }
 
-bool Scene::occluded_ray(const Ray& r) const {
-    const Impl& impl = *m_impl;
-    if (!impl.backend) return false;
-    if (plane_blocks(impl, r)) return true;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    RTCRay ray;
-    init_ray(ray, r, r.tmax);
-    rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
-    return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
-}
+// (init_ray's time is 0: a static scene's shadow ray is the timed one at 0.)
+bool Scene::occluded_ray(const Ray& r) const { return occluded_ray_at(r, 0.f); }
 
 bool Scene::occluded_ray_at(const Ray& r, float time) const {
     const Impl& impl = *m_impl;
@@ -1102,7 +1093,7 @@ bool Scene::occluded_ray_at(const Ray& r, float time) const {
     init_ray(ray, r, r.tmax);
     ray.time = time;
     rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
-    return ray.tfar < 0.f;
+    return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
 std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) const {
