@@ -1081,7 +1081,9 @@ bool Scene::occluded(const Vec3& p, const Vec3& ng, const Vec3& wi, float dist) 
 }
 
 // (init_ray's time is 0: a static scene's shadow ray is the timed one at 0.)
-bool Scene::occluded_ray(const Ray& r) const { return occluded_ray_at(r, 0.f); }
+bool Scene::occluded_ray(const Ray& r) const {
+    return occluded_ray_at(r, 0.f);
+}
 
 bool Scene::occluded_ray_at(const Ray& r, float time) const {
     const Impl& impl = *m_impl;
