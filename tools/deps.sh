@@ -6,8 +6,9 @@ packages=(
   build-essential cmake ninja-build ccache pkg-config git
   libglm-dev libembree-dev libtbb-dev libgtest-dev libgmock-dev libbenchmark-dev
   nlohmann-json3-dev libtinyobjloader-dev libopenexr-dev libstb-dev libcli11-dev libfmt-dev
-  # images and textures (OpenImageIO: EXR, HDR, PNG, JPEG, TGA, TIFF; its TextureSystem), glTF
-  libopenimageio-dev openimageio-tools libtinygltf-dev
+  # images and textures (OpenImageIO: EXR, HDR, PNG, JPEG, TGA, TIFF; its TextureSystem), glTF,
+  # OpenVDB grids (grid media)
+  libopenimageio-dev openimageio-tools libtinygltf-dev libopenvdb-dev
   # real assets nobody here made: glTF models (and malformed ones) for the import tests
   assimp-testmodels
   libpcg-cpp-dev libboost-dev clang libclang-rt-14-dev python3

@@ -1106,6 +1106,9 @@ void bind_scene(py::module_& m) {
         "One medium (scenes/FORMAT.md, \"Media\"; `facet scene-format` lists the kinds and "
         "their fields): kind and its fields");
     def_kind_desc<MediumDesc, MediumKind>(medium_desc, "MediumDesc", "medium kind", medium_kinds());
+    medium_desc.def_readwrite("transform", &MediumDesc::transform,
+                              "grid kind: the file's space to world, a (4, 4) affine matrix; "
+                              "None = identity");
 
     py::class_<PySceneDescription>(
         m, "SceneDescription",

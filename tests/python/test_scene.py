@@ -514,6 +514,23 @@ def test_media_from_python():
     d.media["fog"].g = 2.0
     with pytest.raises(Exception, match="/media/fog/g"):
         facet.build_scene(d, name="media")
+    # A grid medium: its file, grid name and placement round-trip; a missing file is an
+    # error naming the pointer (the renders from files are the C++ GridMedia tests).
+    place = np.array([[2, 0, 0, 1], [0, 2, 0, 0], [0, 0, 2, 0], [0, 0, 0, 1]], dtype=float)
+    g = facet.SceneDescription()
+    g.camera = d.camera
+    g.media = {"smoke": facet.MediumDesc("grid", file="no_such.vdb", grid="flame", density=3.0,
+                                         color=(0.9, 0.9, 0.9))}
+    g.media["smoke"].transform = place
+    g.materials = {"b": facet.MaterialDesc("null", interior="smoke")}
+    g.shapes = [facet.ShapeDesc("sphere", center=(0, 0, 0), radius=1, material_ref="b")]
+    g.lights = [facet.LightDesc("environment", radiance=(1, 1, 1))]
+    back = facet.parse_scene_description(g.to_json(), name="grid")
+    assert back == g
+    assert back.media["smoke"].grid == "flame"
+    assert np.array_equal(np.asarray(back.media["smoke"].transform), place)
+    with pytest.raises(Exception, match="/media/smoke/file: .*no_such.vdb.*cannot read"):
+        facet.build_scene(g, name="grid")
     # Cycles' Principled Volume, through the core's one conversion.
     sigma_a, sigma_s = facet.cycles_volume(2.0, (0.8, 0.5, 0.2), 0.25)
     assert sigma_s == pytest.approx((1.6, 1.0, 0.4))

@@ -11,6 +11,8 @@
 #include <immintrin.h>
 #endif
 
+#include <pcg_random.hpp>
+
 #include "facet/frame.h"
 #include "facet/registry.h"
 #include "facet/render/sampler.h"
@@ -606,8 +608,17 @@ struct MediumStack {
 
 // Dimensions of one segment of a media path (sampler.h; a block of its own per segment):
 // light choice (1D), light position (2D), lobe choice (1D), direction (2D: BSDF or phase
-// function), roulette (1D), channel choice (1D), free-flight distance (1D).
-constexpr std::uint32_t kMediaDimsPerSegment = 9;
+// function), roulette (1D), channel choice (1D), free-flight distance (1D), the seed of the
+// segment's tracking generator (grid media: TrackingRng).
+constexpr std::uint32_t kMediaDimsPerSegment = 10;
+
+// The uniform generator of a segment's tracking in grid media (Medium::sample_free_flight,
+// ratio_transmittance): a PCG32 seeded from the sampler (Sampler::get_seed).
+struct TrackingRng {
+    pcg32 rng;
+    explicit TrackingRng(std::uint64_t seed) : rng(seed) {}
+    float operator()() { return float(rng() >> 8) * 0x1p-24f; }
+};
 // A path crosses at most this many `null` surfaces in a row, and a shadow ray this many
 // boundaries: a bound against rays that float error traps between two coincident surfaces.
 constexpr int kMaxNullCrossings = 64;
@@ -623,7 +634,7 @@ inline bool entering(const Vec3& d, const Vec3& ng) {
 // ratio tracking goes (Novák et al. 2014), segment by segment as here.
 template <std::uint32_t F>
 Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stack,
-                         KernelCounters& c) {
+                         TrackingRng& rng, KernelCounters& c) {
     if (!(r.tmax > 0.f)) return Rgb(1.f);
     const std::span<const Medium> media = scene.media();
     const bool finite = std::isfinite(r.tmax);
@@ -633,8 +644,11 @@ Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stac
         SurfaceHit h;
         ++c.shadow_rays;
         const bool hit = trace<F>(scene, r, time, h);
-        if (const std::int32_t med = stack.current(); med >= 0)
-            tr *= media[std::size_t(med)].transmittance(hit ? h.t : r.tmax);
+        if (const std::int32_t med = stack.current(); med >= 0) {
+            const Medium& m = media[std::size_t(med)];
+            const float t = hit ? h.t : r.tmax;
+            tr *= m.heterogeneous() ? m.ratio_transmittance(r.o, r.d, t, rng) : m.transmittance(t);
+        }
         if (!hit) return tr;
         if (!(max3(tr) > 0.f)) return Rgb(0.f);
         const MediumInterface* mi = scene.medium_interface(h.material);
@@ -702,8 +716,9 @@ inline bool roulette(Rgb& beta, int depth, float u) {
 // (returned, < t_max), or t_max when the ray reaches the segment's end. beta takes the
 // estimator's weight: T(t) sigma_s / p(t) at an event, T(t_max) / P(t >= t_max) at the end,
 // with p the channel-MIS density (integrator.h). L gains the medium's emission on the segment.
-float sample_segment(const Medium& med, float t_max, float u_channel, float u_dist, Rgb& beta,
-                     Rgb& L) {
+float sample_segment(const Medium& med, const Ray& ray, float t_max, float u_channel, float u_dist,
+                     TrackingRng& rng, Rgb& beta, Rgb& L) {
+    if (med.heterogeneous()) return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta);
     if (med.emits()) L += beta * med.emitted(t_max);
     if (med.absorbing_only()) {
         beta *= med.transmittance(t_max);
@@ -756,10 +771,13 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
         const std::uint32_t base = 1u + kMediaDimsPerSegment * segment;
         const float t_hit = found ? hit.t : kInfinity;
         float t = t_hit;
+        s.set_dimension(base + 9u);
+        TrackingRng rng(s.get_seed());
         if (const std::int32_t mi = stack.current(); mi >= 0) {
             s.set_dimension(base + 7u);
             const float u_channel = s.get_1d(), u_dist = s.get_1d();
-            t = sample_segment(media[std::size_t(mi)], t_hit, u_channel, u_dist, beta, L);
+            t = sample_segment(media[std::size_t(mi)], ray, t_hit, u_channel, u_dist, rng, beta,
+                               L);
             if (!(max3(beta) > 0.f)) break;
         }
         const bool in_medium = t < t_hit;
@@ -843,7 +861,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                             const Ray sr = Scene::shadow_ray_from(
                                 offset_ray_origin(hit.p, hit.p_err, hit.ng, ls->wi), *ls);
                             const Rgb tr =
-                                shadow_transmittance<F>(scene, sr, time, stack_toward(ls->wi), c);
+                                shadow_transmittance<F>(scene, sr, time, stack_toward(ls->wi), rng, c);
                             const float lp = select_pmf * ls->pdf;
                             const float w = light.hittable() ? power_heuristic(lp, e.pdf) : 1.f;
                             L += beta * contrib * tr * (w / lp);
@@ -888,7 +906,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     const Rgb contrib = ph * ls->li;
                     if (max3(contrib) > 0.f) {
                         const Rgb tr = shadow_transmittance<F>(
-                            scene, Scene::shadow_ray_from(p, *ls), time, stack, c);
+                            scene, Scene::shadow_ray_from(p, *ls), time, stack, rng, c);
                         const float lp = select_pmf * ls->pdf;
                         const float w = light.hittable() ? power_heuristic(lp, ph) : 1.f;
                         L += beta * contrib * tr * (w / lp);

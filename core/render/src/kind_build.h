@@ -167,6 +167,13 @@ class ShapeBuild : public BuildChecks {
     }
 };
 
+// What a medium kind's builder gets.
+class MediumBuild : public BuildChecks {
+  public:
+    virtual bool files_allowed() const = 0;           // SceneLimits::allow_files
+    virtual const std::string& base_dir() const = 0;  // resolves relative grid files
+};
+
 class LightBuild : public BuildChecks {
   public:
     LightBuild(const LightDesc& l, std::string p) : light(l), ptr(std::move(p)) {}

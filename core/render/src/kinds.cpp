@@ -17,6 +17,7 @@ extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKin
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
 extern const MediumKindDef kHomogeneousMediumKind;
+extern const MediumKindDef kGridMediumKind;
 
 namespace {
 
@@ -26,7 +27,8 @@ const std::array<const ShapeKindDef*, 10> kShapeKinds = {
 const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};
-const std::array<const MediumKindDef*, 1> kMediumKinds = {&kHomogeneousMediumKind};
+const std::array<const MediumKindDef*, 2> kMediumKinds = {&kHomogeneousMediumKind,
+                                                          &kGridMediumKind};
 const std::array<std::string_view, 9> kCommonShapeKeys = {
     "type",      "name",         "material", "emission",     "two_sided",
     "transform", "flip_normals", "motion",   "texture_space"};

@@ -366,7 +366,7 @@ class Builder final : public BuildChecks {
             const MediumKindDef* k = find_medium_kind(m.kind);
             if (!k) fail(ptr + "/kind", "unknown medium kind");
             m_medium_index[name] = std::int32_t(m_builder.media().size());
-            m_builder.media().push_back(k->build(m, ptr, *this));
+            m_builder.media().push_back(k->build(m, ptr, MediumContext(*this)));
         }
         if (!m_desc.world_medium.empty()) {
             const auto it = m_medium_index.find(m_desc.world_medium);
@@ -1659,6 +1659,20 @@ class Builder final : public BuildChecks {
         if (!k) fail(ctx.ptr + "/type", "unknown light type");
         k->build(ctx);
     }
+
+    // What a medium kind's builder gets (kind_build.h).
+    class MediumContext final : public MediumBuild {
+      public:
+        explicit MediumContext(Builder& b) : m_b(b) {}
+        [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
+            m_b.fail(p, m);
+        }
+        bool files_allowed() const override { return m_b.m_limits.allow_files; }
+        const std::string& base_dir() const override { return m_b.m_desc.base_dir; }
+
+      private:
+        Builder& m_b;
+    };
 
     // What a light kind's builder adds to the scene (kind_build.h).
     class LightContext final : public LightBuild {

@@ -940,8 +940,13 @@ class Reader {
         if (!k) fail(ptr + "/kind", unknown_name("medium kind", kind, medium_kind_names()));
         MediumDesc d;
         d.kind = k->kind;
-        check_keys_v(m, ptr, kind_keys(*k, {"kind"}));
+        // A grid is placed in the world like a shape ("transform"; a homogeneous medium has
+        // no place).
+        const bool placed = k->kind == MediumKind::Grid;
+        check_keys_v(m, ptr, placed ? kind_keys(*k, {"kind", "transform"}) : kind_keys(*k, {"kind"}));
         for (const Field<MediumDesc>& f : k->fields) read_field(m, ptr, f, d);
+        if (placed && m.contains("transform"))
+            d.transform = read_transform(m["transform"], ptr + "/transform");
         return d;
     }
 
@@ -1212,6 +1217,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
             const MediumKindDef& k = medium_kind(m.kind);
             j["kind"] = k.name;
             for (const Field<MediumDesc>& f : k.fields) write_field(j, f, m, hashed_arrays);
+            if (m.transform) j["transform"] = matrix_json(*m.transform);
             media[mname] = j;
         }
         root["media"] = media;

@@ -9,7 +9,7 @@ namespace facet::render {
 
 namespace {
 
-Medium build(const MediumDesc& m, const std::string& ptr, const BuildChecks& b) {
+Medium build(const MediumDesc& m, const std::string& ptr, const MediumBuild& b) {
     const float g = float(b.check_range(m.g, ptr + "/g", -HenyeyGreenstein::kMaxAbsG,
                                         HenyeyGreenstein::kMaxAbsG,
                                         "in [-0.999, 0.999] (Henyey-Greenstein anisotropy)"));

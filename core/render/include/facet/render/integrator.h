@@ -59,7 +59,9 @@
 //    environment (transmittance 0), as in Cycles; a channel with sigma_t = 0 sees it. The
 //    camera's media are found once per tile by a ray from the camera position (the
 //    boundaries it leaves before entering them again). Sample dimensions: their own block
-//    per segment, kMediaDimsPerSegment wide (a `null` crossing is a segment). Area lamps
+//    per segment, kMediaDimsPerSegment wide (a `null` crossing is a segment). Grid media
+//    track against their majorants (medium.h) with a generator seeded from the segment's last
+//    dimension, so a segment's tracking never shifts another's dimensions. Area lamps
 //    that camera rays see are not attenuated by media.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.

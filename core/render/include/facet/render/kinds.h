@@ -72,6 +72,7 @@ class PovShapeOut;  // what a kind's POV-Ray exporter gets (core/render/src/io/p
 class LightBuild;
 class PovLightOut;
 class BuildChecks;  // value checks naming JSON pointers (core/render/src/kind_build.h)
+class MediumBuild;  // what a medium kind's builder gets (kind_build.h)
 
 struct ShapeKindDef {
     ShapeKind kind;
@@ -112,7 +113,7 @@ struct MediumKindDef {
     std::string_view summary;
     std::vector<Field<MediumDesc>> fields;
     // Validates the description (errors name `ptr` + "/key" through `checks`) and builds it.
-    Medium (*build)(const MediumDesc& desc, const std::string& ptr, const BuildChecks& checks);
+    Medium (*build)(const MediumDesc& desc, const std::string& ptr, const MediumBuild& checks);
 };
 
 // The tables, in the scene format's documented order.

@@ -10,12 +10,14 @@
 //    with T(s) = exp(-int_0^s sigma_t) the transmittance (Beer-Lambert).
 //  - Phase function: Henyey-Greenstein (facet/henyey_greenstein.h), Cycles' anisotropy g.
 //  - A medium kind (kinds.h, MediumKindDef: one unit per kind in core/render/src/media/) builds
-//    a Medium from its description. Today's kind is `homogeneous` (constant coefficients, so
-//    every integral along a segment is closed-form). The integrator asks a medium only what
-//    this interface offers — its majorant over a segment and the transmittance of a segment —
-//    so that a heterogeneous kind (a `grid`) plugs in with delta tracking against its
-//    majorant and ratio tracking for transmittance (Novák et al. 2014), which for a
-//    homogeneous medium degenerate to the closed forms below.
+//    a Medium from its description. `homogeneous` has constant coefficients, so every integral
+//    along a segment is closed-form (transmittance(), emitted()). `grid` scales per-unit-density
+//    coefficients by a DensityGrid (facet/render/density_grid.h); its segments are sampled by
+//    tracking against the grid's majorants: free flights by spectral delta tracking with null
+//    collisions (Kutz et al. 2017, "Spectral and decomposition tracking", §4, with no
+//    absorption events: absorption stays in the weight) and transmittance by ratio tracking
+//    (Novák et al. 2014, eq. 12). Both are unbiased; their random numbers come from a
+//    caller's uniform generator. Directions are unit vectors, so t is a distance.
 //  - Media are never evaluated per sample in a scene without any (SceneFeatures::has_media:
 //    the render kernel with media is chosen only then; integrator.h).
 #pragma once
@@ -23,12 +25,15 @@
 #include <cmath>
 #include <cstdint>
 
+#include <memory>
+
 #include "facet/henyey_greenstein.h"
+#include "facet/render/density_grid.h"
 #include "facet/types.h"
 
 namespace facet::render {
 
-enum class MediumKind : std::uint8_t { Homogeneous };
+enum class MediumKind : std::uint8_t { Homogeneous, Grid };
 
 class Medium {
   public:
@@ -46,7 +51,21 @@ class Medium {
         return m;
     }
 
+    // A heterogeneous medium: coefficients per unit of the grid's density (>= 0, |g| < 1; the
+    // builder checks). No emission.
+    static Medium grid(std::shared_ptr<const DensityGrid> grid, const Rgb& sigma_a,
+                       const Rgb& sigma_s, float g) {
+        Medium m = homogeneous(sigma_a, sigma_s, g, Rgb(0.f));
+        m.m_kind = MediumKind::Grid;
+        m.m_grid = std::move(grid);
+        m.m_sigma_t_max = max_channel(m.m_sigma_t);
+        return m;
+    }
+
     MediumKind kind() const { return m_kind; }
+    bool heterogeneous() const { return m_grid != nullptr; }
+    const DensityGrid& density_grid() const { return *m_grid; }
+    // Homogeneous: the coefficients; grid: per unit density.
     const Rgb& sigma_a() const { return m_sigma_a; }
     const Rgb& sigma_s() const { return m_sigma_s; }
     // The extinction coefficient; for a heterogeneous kind the majorant of a segment.
@@ -77,13 +96,73 @@ class Medium {
         return e;
     }
 
+    // Grid media. Ratio tracking: the transmittance of o + t d, t in [0, t_max), estimated
+    // without bias as the product of (1 - sigma_t(x) / mu) over the tentative collisions with
+    // the grey majorant mu = majorant * max_c sigma_t[c] (>= every channel's sigma_t(x)).
+    template <class Uniform>
+    Rgb ratio_transmittance(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform) const {
+        Rgb tr(1.f);
+        m_grid->march(o, d, t_max, [&](float t0, float t1, float majorant) {
+            const float mu = majorant * m_sigma_t_max;
+            if (!(mu > 0.f)) return true;
+            for (float t = t0;;) {
+                t -= std::log1p(-uniform()) / mu;
+                if (!(t < t1)) return true;
+                const float dens = m_grid->density(o + d * t);
+                for (int c = 0; c < 3; ++c) tr[c] *= std::fmax(1.f - m_sigma_t[c] * dens / mu, 0.f);
+                if (!(max_channel(tr) > 0.f)) return false;
+            }
+        });
+        return tr;
+    }
+    // Spectral delta tracking on o + t d, t in [0, t_max): the distance of a real scattering
+    // collision (< t_max), or t_max. At a tentative collision x with the grey majorant mu, the
+    // collision scatters with probability P_s = <beta, sigma_s(x)> / (<beta, sigma_s(x)> +
+    // <beta, sigma_n(x)>), sigma_n = mu - sigma_t(x) (else it is null), and beta takes
+    // sigma_s(x) / (mu P_s) or sigma_n(x) / (mu (1 - P_s)): the collision estimator of the
+    // null-collision RTE with absorption kept in the weight (the absorbed term has no emission).
+    template <class Uniform>
+    float sample_free_flight(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform,
+                             Rgb& beta) const {
+        float result = t_max;
+        m_grid->march(o, d, t_max, [&](float t0, float t1, float majorant) {
+            const float mu = majorant * m_sigma_t_max;
+            if (!(mu > 0.f)) return true;
+            for (float t = t0;;) {
+                t -= std::log1p(-uniform()) / mu;
+                if (!(t < t1)) return true;
+                const float dens = m_grid->density(o + d * t);
+                const Rgb s_s = m_sigma_s * dens;
+                Rgb s_n;
+                for (int c = 0; c < 3; ++c) s_n[c] = std::fmax(mu - m_sigma_t[c] * dens, 0.f);
+                const float w_s = glm::dot(beta, s_s), w_n = glm::dot(beta, s_n);
+                if (!(w_s + w_n > 0.f)) {  // every channel with throughput is absorbed here
+                    beta = Rgb(0.f);
+                    result = t;
+                    return false;
+                }
+                const float p_s = w_s / (w_s + w_n);
+                if (uniform() < p_s) {
+                    beta *= s_s / (mu * p_s);
+                    result = t;
+                    return false;
+                }
+                beta *= s_n / (mu * (1.f - p_s));
+            }
+        });
+        return result;
+    }
+
   private:
+    static float max_channel(const Rgb& c) { return std::fmax(std::fmax(c.r, c.g), c.b); }
     static float channel_transmittance(float sigma_t, float t) {
         return sigma_t > 0.f ? std::exp(-sigma_t * t) : 1.f;
     }
     MediumKind m_kind = MediumKind::Homogeneous;
     Rgb m_sigma_a{0.f}, m_sigma_s{0.f}, m_sigma_t{0.f}, m_emission{0.f};
     HenyeyGreenstein m_phase;
+    std::shared_ptr<const DensityGrid> m_grid;  // grid kind only
+    float m_sigma_t_max = 0.f;                  // grid kind: max_c sigma_t[c]
 };
 
 // Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,

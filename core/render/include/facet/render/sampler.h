@@ -184,6 +184,15 @@ class Sampler {
         return u;
     }
 
+    // A 64-bit seed for a generator of its own (a tracking loop that needs an unbounded number of
+    // values), consuming one dimension: a hash of the pixel, the sample index and the dimension.
+    std::uint64_t get_seed() {
+        const std::uint32_t a =
+            hash_combine(hash_combine(m_pixel_seed, m_index_reversed), m_dimension);
+        const std::uint32_t b = hash_combine(a, 0x2545f491u ^ m_dimension++);
+        return (std::uint64_t(a) << 32) | b;
+    }
+
     std::uint32_t dimension() const { return m_dimension; }
     void set_dimension(std::uint32_t d) { m_dimension = d; }
 

@@ -225,6 +225,9 @@ struct MediumDesc {
     Vec3 emission{0.f};                           // radiance per unit length
     std::optional<double> density;                // Cycles: density (instead of sigma_a, sigma_s)
     std::optional<Vec3> color, absorption_color;  // Cycles: with density (defaults 0.5, 0)
+    std::string file;                             // grid: an OpenVDB file
+    std::string grid = "density";                 // grid: the float grid's name in `file`
+    std::optional<glm::dmat4> transform;          // grid: the file's space to world; none = identity
     bool operator==(const MediumDesc&) const = default;
 };
 
