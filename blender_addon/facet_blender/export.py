@@ -21,7 +21,7 @@ import numpy as np
 
 from . import bake, gaps, hooks, materials, units
 # By data type, as Cycles' sync (blender_camera.cpp, blender_mesh.cpp, blender_light.cpp, ...).
-from . import sync_camera, sync_motion
+from . import sync_camera, sync_motion, sync_volume
 from .sync_camera import export_camera
 from .sync_light import _light_data
 from .sync_mesh import _imported_mesh_arrays, mesh_arrays
@@ -201,6 +201,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     view_layer = depsgraph.view_layer
     problems.extend(gaps.scene_lines(scene, view_layer))
     flagged = set()  # objects whose flags, type and particle hair were reported
+    volumes = []  # VOLUME objects: (medium name, grid medium, null boundary box) (sync_volume)
     # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
     clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
         scene.camera.type == 'CAMERA' else None
@@ -229,6 +230,14 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             light = _light_data(obj, matrix, problems, scene.facet.lamp_model)
             if light is not None:
                 data["lights"].append(light)
+            continue
+        if obj.type == 'VOLUME':
+            if view_layer.use_volumes and (obj.visible_camera or obj.visible_diffuse or
+                                           obj.visible_glossy or obj.visible_shadow):
+                vol = sync_volume.export_volume(obj, matrix, scene.frame_current, problems,
+                                                len(volumes), scene.render.use_motion_blur)
+                if vol is not None:
+                    volumes.append(vol)
             continue
         if obj.type not in GEOMETRY_TYPES:
             continue
@@ -322,6 +331,13 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     elif "facet_world_medium" in scene:  # imported from a JSON scene
         stored = json.loads(scene["facet_world_medium"])
         world_medium, wname = stored["medium"], stored["name"]
+    for vname, medium, box in volumes:
+        # Each volume's grid medium inside its null box (FORMAT.md "Grids").
+        while vname in media or vname in mats.by_name:
+            vname += "'"
+        media[vname] = medium
+        data["materials"].append((vname, {"model": "null", "interior": vname}))
+        data["shapes"].append(dict(box, material=vname))
     if world_medium is not None:
         while wname in media:
             wname += " (world)"

@@ -253,8 +253,8 @@ def summary(groups):
 OBJECT_TYPES = {
     'CURVES': "hair curves (Curves objects) are not in Facet's core yet; not rendered",
     'POINTCLOUD': "point clouds are not in Facet's core yet; not rendered",
-    'VOLUME': "volume object: OpenVDB grids are not converted (not in Facet's core yet: it "
-              "has homogeneous media only); not rendered",
+    # Converted by sync_volume.py (a grid medium in a null box); what is not, it reports.
+    'VOLUME': None,
     # Blender draws grease pencil over any render engine's final result, Facet's as Cycles'
     # (source/blender/render/intern/engine.cc: DRW_render_gpencil after the engine's render).
     'GPENCIL': None,
@@ -627,7 +627,10 @@ def object_lines(obj, view_layer):
     if obj.type == 'LIGHT':
         return _flag_lines(obj, LAMP_FLAGS, "light '%s'" % obj.name)
     lines = []
-    if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):  # export.GEOMETRY_TYPES
+    if obj.type == 'VOLUME':  # converted (sync_volume.py): its flags as a mesh's
+        if not view_layer.use_volumes:
+            return lines
+    elif obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):  # export.GEOMETRY_TYPES
         if obj.type in OBJECT_TYPES:
             what = OBJECT_TYPES[obj.type]
         else:
@@ -635,8 +638,6 @@ def object_lines(obj, view_layer):
         if what is None:
             return lines
         if obj.type == 'CURVES' and not view_layer.use_strand:
-            return lines
-        if obj.type == 'VOLUME' and not view_layer.use_volumes:
             return lines
         lines.append("%s: %s" % (subject, what))
     flags = OBJECT_FLAGS

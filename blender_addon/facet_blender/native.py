@@ -258,9 +258,7 @@ def to_description(data):
     d.lights = lights
     media = data.get("media") or {}
     if media:
-        d.media = {name: facet.MediumDesc(m["kind"], **{k: v for k, v in m.items()
-                                                         if k != "kind"})
-                   for name, m in media.items()}
+        d.media = {name: _medium_desc(m) for name, m in media.items()}
     if data.get("world_medium"):
         d.world_medium = data["world_medium"]
     r = d.render
@@ -394,8 +392,18 @@ def from_description(d):
     return data
 
 
-# The keys of the homogeneous medium (FORMAT.md "media"), as the JSON writer names them.
-_MEDIUM_KEYS = ("sigma_a", "sigma_s", "g", "emission", "density", "color", "absorption_color")
+# The keys of the media (FORMAT.md "media"), as the JSON writer names them.
+_MEDIUM_KEYS = ("sigma_a", "sigma_s", "g", "emission", "density", "color", "absorption_color",
+                "file", "grid")
+
+
+def _medium_desc(m):
+    """A medium dict of the scene format -> facet.MediumDesc (a grid's `transform`: 4 rows)."""
+    md = facet.MediumDesc(m["kind"], **{k: v for k, v in m.items()
+                                        if k not in ("kind", "transform")})
+    if m.get("transform") is not None:
+        md.transform = np.asarray(m["transform"], dtype=np.float64)
+    return md
 
 
 def _medium_data(m):
@@ -403,8 +411,11 @@ def _medium_data(m):
     out = {"kind": str(m.kind).split(".")[-1].lower()}
     for k in _MEDIUM_KEYS:
         v = getattr(m, k, None)
-        if v is not None:
+        if v is not None and not (isinstance(v, str) and not v):
             out[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
+    t = getattr(m, "transform", None)
+    if t is not None:
+        out["transform"] = np.asarray(t, dtype=np.float64).tolist()
     return out
 
 
