@@ -3,7 +3,7 @@ import bpy
 from bpy.props import StringProperty
 from bpy_extras.io_utils import ExportHelper, ImportHelper
 
-from . import bake, export, importer, native, sync_state
+from . import bake, export, importer, native, sync_state, sync_volume
 
 
 class FACET_OT_import_scene(bpy.types.Operator, ImportHelper):
@@ -42,6 +42,7 @@ class FACET_OT_export_scene(bpy.types.Operator, ExportHelper):
             data, problems = export.export_scene(depsgraph)
             for p in problems:
                 self.report({'WARNING'}, "Facet: " + p)
+            sync_volume.copy_grids_beside(data, self.filepath)
             native.write_scene(data, self.filepath)
         except Exception as e:
             self.report({'ERROR'}, "Facet: %s" % e)

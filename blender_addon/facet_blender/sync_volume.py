@@ -225,3 +225,22 @@ def _medium(mat, subject, names, problems):
                         % what)
     return out_medium, grid
 
+
+
+def copy_grids_beside(data, json_path):
+    """For a JSON export: each grid medium's file (written to the cache directory) copied
+    beside the scene file as "<scene name>_<n>.vdb" and named relative to it, so the exported
+    scene renders wherever it is moved with its files."""
+    import shutil
+    folder = os.path.dirname(os.path.abspath(json_path))
+    stem = os.path.splitext(os.path.basename(json_path))[0]
+    n = 0
+    for medium in (data.get("media") or {}).values():
+        if medium.get("kind") != "grid" or not os.path.isabs(medium.get("file", "")):
+            continue
+        if os.path.dirname(medium["file"]) != textures.CACHE_DIR:
+            continue  # not written by this exporter: left where it is
+        name = "%s_%d.vdb" % (stem, n)
+        n += 1
+        shutil.copyfile(medium["file"], os.path.join(folder, name))
+        medium["file"] = name

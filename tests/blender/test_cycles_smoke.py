@@ -6,7 +6,8 @@ Mesh to Volume modifier from an icosphere: a Principled Volume's coefficients pe
 from the evaluated volume), its transform (the object's world matrix after half a voxel, where
 Cycles centres its voxels; without it the render's block RMSE is 12x the floor) and the null box around
 the object's bounding box; the same grid read back from that file by a file-backed Volume
-object; a volume without a material (Cycles' default Principled Volume); and the lines for
+object; File > Export > Facet copying the grid beside the JSON (loaded back by the core); a
+volume without a material (Cycles' default Principled Volume); and the lines for
 what is not converted: Volume Scatter alone (reads no grid: Cycles renders nothing),
 a Density Attribute naming no grid, Emission Strength > 0, the Surface.
 
@@ -18,6 +19,7 @@ grey floor under a sun. The issue's bounds: the image means within 2%, the block
 blocks of the luminance) within 3x the seed-to-seed floor of Cycles (seeds 1 and 2). Ability
 to fail: Facet with the density halved, and Facet with the grid half a voxel off (OpenVDB's voxel
 centres instead of Cycles'), must each break one of them, and do (numbers printed)."""
+import json
 import math
 import os
 import sys
@@ -120,6 +122,19 @@ def case_conversions(out):
     bt.check(dict(data["materials"])[box["material"]] == {"model": "null",
                                                           "interior": "Smoke (volume)"},
              "the box's material is null with the medium inside")
+
+    # File > Export > Facet: the grid copied beside the scene, named relative to it.
+    jdir = os.path.join(out, "smoke_export")
+    os.makedirs(jdir, exist_ok=True)
+    jpath = os.path.join(jdir, "smoke.json")
+    bpy.ops.export_scene.facet(filepath=jpath)
+    with open(jpath) as fh:
+        written = json.load(fh)["media"]["Smoke (volume)"]
+    bt.check(written["file"] == "smoke_0.vdb" and os.path.isfile(os.path.join(jdir,
+                                                                             "smoke_0.vdb")),
+             "the export writes the grid beside the JSON: %s" % written["file"])
+    import facet
+    facet.load_scene(jpath)  # the core reads the copied grid (raises otherwise)
 
     # A file-backed Volume object reading the written grid: the same medium.
     fv = bpy.data.objects.new("FromFile", bpy.data.volumes.new("fromfile"))
