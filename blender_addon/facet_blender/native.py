@@ -395,6 +395,7 @@ def from_description(d):
 # The keys of the media (FORMAT.md "media"), as the JSON writer names them.
 _MEDIUM_KEYS = ("sigma_a", "sigma_s", "g", "emission", "density", "color", "absorption_color",
                 "file", "grid")
+_GRID_KEYS = ("file", "grid")  # the grid kind's own (a homogeneous medium has none)
 
 
 def _medium_desc(m):
@@ -410,6 +411,8 @@ def _medium_data(m):
     """facet.MediumDesc -> a medium dict of the scene format (the fields that are set)."""
     out = {"kind": str(m.kind).split(".")[-1].lower()}
     for k in _MEDIUM_KEYS:
+        if k in _GRID_KEYS and out["kind"] != "grid":
+            continue
         v = getattr(m, k, None)
         if v is not None and not (isinstance(v, str) and not v):
             out[k] = _vec(v) if isinstance(v, (list, tuple, np.ndarray)) else v
