@@ -373,6 +373,9 @@ def from_description(d):
         data["lights"].append(lt)
     if d.media:
         data["media"] = {name: _medium_data(m) for name, m in d.media.items()}
+        for m in data["media"].values():
+            if m.get("file"):  # a grid's file, absolute as the meshes' files
+                m["file"] = os.path.join(d.base_dir, m["file"])
     if d.world_medium:
         data["world_medium"] = d.world_medium
     r = d.render

@@ -74,14 +74,15 @@ def export_volume(obj, matrix, frame, problems, index=0, use_motion_blur=False):
     if slots:
         mat = slots[0]
         if len({m.name for m in slots}) > 1:
-            problems.append("%s: several materials; Cycles' volume object renders its first "
-                            "('%s'), as Facet" % (subject, mat.name))
+            problems.append("%s: several materials; only the first ('%s') is converted"
+                            % (subject, mat.name))
     medium, grid_name = _medium(mat, subject, names, problems)
     if medium is None:
         return None
     g = grids[names.index(grid_name)]
-    if g.data_type not in ('FLOAT', 'DOUBLE'):
-        problems.append("%s: grid '%s' is %s, not a float density; not rendered"
+    if g.data_type != 'FLOAT':  # the core reads float grids (a double one included)
+        problems.append("%s: grid '%s' is %s, not a float density (Facet reads float grids); "
+                        "not rendered"
                         % (subject, grid_name, g.data_type))
         return None
     if use_motion_blur and any(n in names for n in ('velocity', 'vel', 'v')):
@@ -103,7 +104,7 @@ def export_volume(obj, matrix, frame, problems, index=0, use_motion_blur=False):
     lo, hi = lo - pad, hi + pad
     box = {"type": "box", "min": lo.tolist(), "max": hi.tolist(),
            "transform": [list(map(float, row)) for row in matrix],
-           "name": orig.name}
+           "name": "%s (volume)" % orig.name}
     return "%s (volume)" % orig.name, medium, box
 
 

@@ -4,12 +4,12 @@ Conversions (exported JSON, no render), on a Volume object whose grid is made in
 Mesh to Volume modifier from an icosphere: a Principled Volume's coefficients per unit of the
 "density" grid (Cycles' formulas written here independently), the medium's grid file (written
 from the evaluated volume), its transform (the object's world matrix after half a voxel, where
-Cycles centres its voxels; without it the render's block RMSE is 12x the floor) and the null box around
-the object's bounding box; the same grid read back from that file by a file-backed Volume
-object; File > Export > Facet copying the grid beside the JSON (loaded back by the core); a
-volume without a material (Cycles' default Principled Volume); and the lines for
-what is not converted: Volume Scatter alone (reads no grid: Cycles renders nothing),
-a Density Attribute naming no grid, Emission Strength > 0, the Surface.
+Cycles centres its voxels; without it the render's block RMSE is 12x the floor) and the null
+box around the object's bounding box; File > Export > Facet copying the grid beside the JSON
+(loaded back by the core and by the importer's reader); the same grid read by a file-backed
+Volume object; a volume without a material (Cycles' default Principled Volume); and the lines
+for what is not converted: Volume Scatter alone (reads no grid: Cycles renders nothing), a
+Density Attribute naming no grid, Emission Strength > 0, the Surface.
 
 Render, Facet (through the export) against Cycles (cycles_scene.cycles_settings: box filter, no
 clamping, bounces = Facet's max_depth - 1; Volume step rate 0.1, so that Cycles' ray marching
@@ -50,6 +50,12 @@ def export():
 def close(a, b, tol=1e-6):
     a, b = np.atleast_1d(np.asarray(a, float)), np.atleast_1d(np.asarray(b, float))
     return a.shape == b.shape and np.allclose(a, b, rtol=tol, atol=tol)
+
+
+def written_transform(m):
+    """A medium's transform as the JSON writer writes it ({"matrix": 16 numbers}) -> 4 rows."""
+    t = m["transform"]
+    return np.asarray(t["matrix"] if isinstance(t, dict) else t, float).reshape(4, 4)
 
 
 def principled(density, color, absorption=(0.0, 0.0, 0.0)):
@@ -110,7 +116,7 @@ def case_conversions(out):
     bt.check(close(m["transform"], want, 1e-6),
              "the medium's transform is the object's world matrix after half a voxel: %s"
              % m["transform"])
-    box = next(s for s in data["shapes"] if s.get("name") == "Smoke")
+    box = next(s for s in data["shapes"] if s.get("name") == "Smoke (volume)")
     corners = np.array([tuple(v) for v in vo.evaluated_get(
         bpy.context.evaluated_depsgraph_get()).bound_box])
     bt.check(box["type"] == "box" and np.all(np.asarray(box["min"]) < corners.min(axis=0))
@@ -135,6 +141,12 @@ def case_conversions(out):
              "the export writes the grid beside the JSON: %s" % written["file"])
     import facet
     facet.load_scene(jpath)  # the core reads the copied grid (raises otherwise)
+    from facet_blender import native
+    back = native.read_scene(jpath)["media"]["Smoke (volume)"]
+    bt.check(back["file"] == os.path.join(jdir, "smoke_0.vdb") and close(
+        back["transform"], written_transform(written)),
+             "read back (the importer's reader): the grid's file absolute, its transform: %s"
+             % back)
 
     # A file-backed Volume object reading the written grid: the same medium.
     fv = bpy.data.objects.new("FromFile", bpy.data.volumes.new("fromfile"))
