@@ -268,8 +268,9 @@ PARTICLE_HAIR = ("particle hair is not in Facet's core yet; the strands are not 
                  "(the emitting mesh is)")
 
 MOTION = "motion blur (sync_motion.py: shutter, position, curve, motion steps)"
-VOLUME_STEPS = ("only for volumes Cycles ray-marches (heterogeneous: grids, textured inputs, "
-                "which are reported); homogeneous media render alike in both")
+VOLUME_STEPS = ("Cycles' ray marching of heterogeneous volumes (grids; textured inputs are "
+                "reported): its step's bias; Facet tracks grids without bias, and homogeneous "
+                "media render alike in both")
 ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
 ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"
 ONLY_HAIR = "only with hair, which is reported"

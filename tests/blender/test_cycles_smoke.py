@@ -6,7 +6,8 @@ Mesh to Volume modifier from an icosphere: a Principled Volume's coefficients pe
 from the evaluated volume), its transform (the object's world matrix after half a voxel, where
 Cycles centres its voxels; without it the render's block RMSE is 12x the floor) and the null
 box around the object's bounding box; File > Export > Facet copying the grid beside the JSON
-(loaded back by the core and by the importer's reader); the same grid read by a file-backed
+(loaded back by the core and by the importer's reader); a Volume Displace modifier's grid;
+the same grid read by a file-backed
 Volume object; a volume without a material (Cycles' default Principled Volume); and the lines
 for what is not converted: Volume Scatter alone (reads no grid: Cycles renders nothing), a
 Density Attribute naming no grid, Emission Strength > 0, the Surface.
@@ -160,6 +161,20 @@ def case_conversions(out):
              "a file-backed volume is converted: %s; %s"
              % (f, [p for p in problems if "FromFile" in p]))
     bpy.data.objects.remove(fv)
+
+    # A Volume Displace modifier after the Mesh to Volume: the evaluated (displaced) grid is
+    # what is written, so the box grows.
+    disp = vo.modifiers.new("displace", 'VOLUME_DISPLACE')
+    disp.texture = bpy.data.textures.new("clouds", 'CLOUDS')
+    disp.strength = 1.0
+    data, problems = export()
+    dbox = next(s for s in data["shapes"] if s.get("name") == "Smoke (volume)")
+    grew = np.asarray(dbox["max"]) - np.asarray(dbox["min"]) > \
+        np.asarray(box["max"]) - np.asarray(box["min"]) + 1e-6
+    bt.check("Smoke (volume)" in data["media"] and grew.any(),
+             "Volume Displace: the displaced grid is exported (box %s..%s)"
+             % (dbox["min"], dbox["max"]))
+    vo.modifiers.remove(disp)
 
     # No material: Cycles' default volume shader (Principled Volume, density 1, colour 0.5).
     vo.data.materials.clear()
