@@ -74,12 +74,16 @@ void write_vdb(const std::string& path, openvdb::GridPtrVec grids) {
     f.close();
 }
 
-// A float grid of voxel size `voxel` whose voxels (i, j, k) in [0, n)^3 hold f(i, j, k).
+// A float grid of voxel size `voxel` whose voxels (i, j, k) in [0, n)^3 hold f(i, j, k), voxel
+// (i, j, k) covering [i, i + 1] x [j, j + 1] x [k, k + 1] times `voxel` (OpenVDB puts voxel
+// centres at integer index coordinates: the transform moves them by half a voxel).
 template <class F>
 openvdb::FloatGrid::Ptr float_grid(const std::string& name, int n, double voxel, F f) {
     openvdb::FloatGrid::Ptr g = openvdb::FloatGrid::create(0.f);
     g->setName(name);
-    g->setTransform(openvdb::math::Transform::createLinearTransform(voxel));
+    openvdb::math::Transform::Ptr xf = openvdb::math::Transform::createLinearTransform(voxel);
+    xf->postTranslate(openvdb::Vec3d(0.5 * voxel));
+    g->setTransform(xf);
     auto acc = g->getAccessor();
     for (int k = 0; k < n; ++k)
         for (int j = 0; j < n; ++j)
@@ -118,8 +122,12 @@ TEST(DensityGrid, MajorantPiecesCoverTheBoxAndBoundTheDensity) {
     });
     int pieces = 0, empty = 0;
     for (int n = 0; n < 400; ++n) {
+        // From a random point toward a random point of the box (a quarter of the rays toward
+        // a random point anywhere, most of which miss it).
         const Vec3 o(6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f);
-        const Vec3 d = glm::normalize(Vec3(u(rng) - 0.5f, u(rng) - 0.5f, u(rng) - 0.5f));
+        const Vec3 target = n % 4 == 0 ? Vec3(6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f)
+                                        : lo + (hi - lo) * Vec3(u(rng), u(rng), u(rng));
+        const Vec3 d = glm::normalize(target - o);
         const float t_max = n % 3 == 0 ? 2.f : INFINITY;
         // The box's span along the ray, by the slab test in double.
         double t0 = 0.0, t1 = double(t_max);
@@ -336,7 +344,7 @@ TEST(GridMediaErrors, NameTheJsonPointer) {
         std::string medium, pointer, words;
     };
     const std::vector<Case> cases = {
-        {R"({"kind": "grid", "sigma_s": 1})", "/media/smoke/file", "required"},
+        {R"({"kind": "grid", "sigma_s": 1})", "/media/smoke", "missing required key 'file'"},
         {R"({"kind": "grid", "file": "missing.vdb", "sigma_s": 1})", "/media/smoke/file",
          "cannot read as an OpenVDB file"},
         {R"({"kind": "grid", "file": "garbage.vdb", "sigma_s": 1})", "/media/smoke/file",
