@@ -16,7 +16,9 @@ state them (test_cycles34_lamps.py):
 Ability to fail: Facet with the export's motion removed (the sharp cube at the frame, what the
 addon rendered before) must break a bound, and does (numbers printed). The same for a cube
 turning 90 degrees per frame about z (rotation: slerped steps) and for the still cube seen from
-a camera moving 1 unit per frame sideways (camera motion)."""
+a camera moving 1 unit per frame sideways (camera motion), and for the cube's mesh sliding
+1.5 units per frame by a shape key while the object stays (deformation motion); the export of
+a mesh whose topology changes over the shutter is reported, without deformation steps."""
 import os
 import sys
 
@@ -230,12 +232,100 @@ def case_rotate_and_camera(out):
                  % (name, ratio, rel))
 
 
+def deforming_scene():
+    """The moving cube's scene with the cube still and its mesh sliding instead: a shape key
+    moving every vertex 6 units along object x (1.5 world units per frame at scale 0.5, as the
+    moving cube), keyed 0 at frame 0 to 1 at frame 2, linear; the object at x -1.5, so that
+    at frame 1 the cube is where the moving cube is."""
+    scene, cube = moving_scene()
+    cube.animation_data_clear()
+    cube.location = (-1.5, 0.0, 0.0)
+    cube.shape_key_add(name="Basis")
+    key = cube.shape_key_add(name="Slide")
+    for v in key.data:
+        v.co.x += 6.0
+    for frame, value in ((0, 0.0), (2, 1.0)):
+        key.value = value
+        key.keyframe_insert("value", frame=frame)
+    for fc in cube.data.shape_keys.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    scene.frame_set(1)
+    return scene, cube
+
+
+def case_deform_export():
+    """Deformation motion: the sliding mesh gets "motion_positions" at its 3 steps (no
+    "motion": the object does not move) with the shape key's values 0.375, 0.5, 0.625; the
+    object's Deformation off gives none; a mesh whose topology changes over the shutter (a
+    Build modifier adding faces) gets none and a report line naming it."""
+    scene, cube = deforming_scene()
+    data, problems = export(scene_frame_set)
+    shape = {s["name"]: s for s in data["shapes"]}["Cube"]
+    steps = shape.get("motion_positions")
+    bt.check(steps is not None and len(steps) == 3 and "motion" not in shape,
+             "the sliding cube: 3 deformation steps, no transform motion")
+    if steps is not None:
+        base = np.asarray(shape["positions"], np.float64)
+        dx = [float(np.mean(np.asarray(st, np.float64)[:, 0] - base[:, 0])) for st in steps]
+        # At frame 1 the key is 0.5 (base = +3); the steps at 0.375, 0.5, 0.625: -0.75, 0, 0.75.
+        bt.check(np.allclose(dx, [-0.75, 0.0, 0.75], atol=1e-4), "the steps' offsets: %s" % dx)
+    bt.check(not [p for p in problems if "otion" in p or "topology" in p],
+             "no motion line: %s" % problems)
+    from facet_blender import native
+    built, _ = native.build(data, name="blender")  # the core accepts the steps
+    bt.check(built is not None, "the deforming export builds")
+    cube.cycles.use_deform_motion = False
+    shape = {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Cube"]
+    bt.check("motion_positions" not in shape, "Deformation off: no deformation steps")
+    cube.cycles.use_deform_motion = True
+    # Topology that changes over the shutter: a Build modifier over frames 0 to 2.
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=0.4, location=(0.0, 1.5, 0.0))
+    ico = bpy.context.active_object
+    ico.name = "Growing"
+    build = ico.modifiers.new("Build", 'BUILD')
+    build.frame_start = 0.0
+    build.frame_duration = 2.0
+    scene.frame_set(1)
+    data, problems = export(scene_frame_set)
+    grow = {s["name"]: s for s in data["shapes"]}["Growing"]
+    lines = [p for p in problems if "'Growing'" in p and "topology" in p]
+    bt.check("motion_positions" not in grow and len(lines) == 1,
+             "changing topology: no steps, one line: %s" % lines)
+    bpy.data.objects.remove(ico)
+
+
+def case_deform_render(out):
+    """The sliding mesh against Cycles' deformation blur, with the same bounds as the moving
+    cube, and the sharp mesh (no deformation steps) as the control that must fail."""
+    from facet_blender import sync_motion
+    scene, cube = deforming_scene()
+    imgs = renders(scene, "deform", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("deform", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the deforming cube: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+             % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    saved = sync_motion.add_motion
+    sync_motion.add_motion = lambda *a, **k: None
+    try:
+        sharp = renders(scene, "deform_sharp", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion.add_motion = saved
+    ratio, rel = compare("deform/sharp", sharp, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "the sharp deforming cube breaks a bound (mean ratio %.4f, block RMSE %.2f x "
+             "floor): the test can fail" % (ratio, rel))
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
     case_export()
+    case_deform_export()
     case_render(out)
     case_rotate_and_camera(out)
+    case_deform_render(out)
 
 
 bt.run(main)
