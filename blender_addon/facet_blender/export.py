@@ -205,6 +205,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
     clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
         scene.camera.type == 'CAMERA' else None
+    # Per object placed as itself: how its arrays were read (uv layer, colours) and the arrays,
+    # for its deformation motion (sync_motion.add_motion reads it again at each step).
+    mesh_sources = {}
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
@@ -301,6 +304,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                                                problems)
             if clip is not None and orig.type != 'MESH':
                 clip.points(clip_key, mesh_cache[key])
+        if not inst.is_instance and rec.templates:
+            mesh_sources[orig.name] = (uv_layer, colors, mesh_cache.get(
+                (orig.name, False, 0, uv_layer, tangents, colors)))
         if data_ptr:
             seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
         if not rec.templates:
@@ -354,7 +360,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     if blur is not None:
         data["render"]["motion_blur"] = blur
         if frame_set is not None:
-            sync_motion.add_motion(depsgraph, data, frame_set, owners, problems)
+            sync_motion.add_motion(depsgraph, data, frame_set, owners, problems,
+                                   mesh_sources)
     return data, problems
 
 

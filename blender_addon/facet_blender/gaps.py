@@ -512,8 +512,8 @@ UNCHANGED = {
                                      "(sync_motion.py); a still object renders alike",
     "object.cycles.motion_steps": "read with Motion Blur for objects that move "
                                   "(sync_motion.py); a still object renders alike",
-    "object.cycles.use_deform_motion": "deformation motion is not converted; a deforming "
-                                       "object that moves is reported (sync_motion.py)",
+    "object.cycles.use_deform_motion": "read with Motion Blur for objects that deform "
+                                       "(sync_motion.py); a still mesh renders alike",
     "object.cycles.dicing_rate": ONLY_ADAPTIVE,
     "object.cycles.ao_distance": ONLY_FAST_GI,
     "collection.hide_viewport": "the viewport's",

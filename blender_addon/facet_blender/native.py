@@ -195,6 +195,11 @@ def _shape_desc(s):
                 None if s.get(k) is None else
                 np.ascontiguousarray(s[k], dtype=np.int32 if k == "indices" else np.float32)
                 for k in ("positions", "indices", "normals", "uvs", "tangents", "colors")))
+        # Deformation motion (FORMAT.md "Motion blur"): per step, flat float32 arrays.
+        for k in ("motion_positions", "motion_normals"):
+            if s.get(k):
+                setattr(sd, k, [np.ascontiguousarray(st, dtype=np.float32).ravel()
+                                for st in s[k]])
     return sd
 
 
@@ -333,6 +338,10 @@ def _shape_data(sd, base_dir):
             n = mesh.normals
             s["normals"] = None if n is None or len(n) == 0 else np.array(
                 n, dtype=np.float32).reshape(-1, 3)
+        for k in ("motion_positions", "motion_normals"):
+            steps = getattr(sd, k)
+            if len(steps):
+                s[k] = [np.asarray(st, dtype=np.float32).reshape(-1, 3) for st in steps]
     return s
 
 

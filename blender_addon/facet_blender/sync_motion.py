@@ -5,10 +5,19 @@ objects' matrices at the motion steps -> their "motion" (scenes/FORMAT.md, "Moti
 An object with motion blur (Object Properties > Motion Blur, on by default) is evaluated at
 N = 2^steps + 1 uniform times over the open shutter (its Steps; Cycles' object_motion_steps),
 frame + offset + shutter i / (N - 1) with offset 0, -shutter/2, -shutter for the positions
-Start, Center, End; it moves when its matrices differ. The camera likewise. Deformation (vertex
-positions per step) is not converted: a deforming object moves rigidly, reported."""
+Start, Center, End; it moves when its matrices differ. The camera likewise.
+
+Deformation (Object Properties > Motion Blur > Deformation, Cycles' use_deform_motion): an
+object with Motion Blur and Deformation on that may deform (modifiers, shape keys, an armature
+parent) has its evaluated mesh read again at the same steps, with the same layout as its
+export (sync_mesh.mesh_arrays: the same UV layer and colour attribute); when its positions
+differ between steps, its mesh shapes get "motion_positions" (and "motion_normals" with
+normals). When the topology changes between steps (another vertex count or other triangles),
+it renders without deformation blur, as Cycles does, and the report names the object."""
 
 import math
+
+import numpy as np
 
 CURVE_CELLS = 256  # the shutter curve's cells (Cycles tabulates it as finely: RAMP_TABLE_SIZE)
 
@@ -82,18 +91,71 @@ def _camera_step(m):
             "up": [m[i][1] for i in range(3)]}
 
 
-def add_motion(depsgraph, data, frame_set, shape_objects, problems):
+def deform_blurs(obj):
+    """Motion Blur and its Deformation on (Cycles' use_motion_blur, use_deform_motion)."""
+    cyc = getattr(obj, "cycles", None)
+    return object_blurs(obj) and (cyc is None or bool(getattr(cyc, "use_deform_motion", True)))
+
+
+def may_deform(obj):
+    """Whether the evaluated mesh of `obj` can change with time: modifiers, shape keys, an
+    armature (or lattice, curve) parent deforming it."""
+    if len(getattr(obj, "modifiers", ())):
+        return True
+    if getattr(getattr(obj, "data", None), "shape_keys", None) is not None:
+        return True
+    return obj.parent is not None and obj.parent_type in ('ARMATURE', 'LATTICE', 'CURVE')
+
+
+def _read_step(obj_eval, source):
+    """(positions, normals or None, indices) of the evaluated object, read as its export
+    was (`source`: uv layer, colours, its arrays), or None when it has no triangles."""
+    from .sync_mesh import mesh_arrays
+    uv_layer, colors, _ = source
+    a = mesh_arrays(obj_eval, uv_layer, False, colors)
+    if a is None:
+        return None
+    return (np.array(a.positions, np.float32).reshape(-1, 3),
+            None if a.normals is None else np.array(a.normals, np.float32).reshape(-1, 3),
+            np.array(a.indices).reshape(-1, 3))
+
+
+def _deformation(name, steps, source, problems):
+    """The per-step (positions, normals) of object `name`, or None when it does not deform
+    or its topology changes (reported)."""
+    arrays = source[2]
+    n0 = len(arrays.positions)
+    for st in steps:
+        if st is None or len(st[0]) != n0 or not np.array_equal(
+                st[2], np.asarray(arrays.indices).reshape(-1, 3)) or (
+                (st[1] is None) != (arrays.normals is None)):
+            problems.append("object '%s': its mesh changes topology over the shutter (vertex "
+                            "or triangle count differs between motion steps): rendered "
+                            "without deformation motion blur, as Cycles does" % name)
+            return None
+    if all(np.array_equal(st[0], steps[0][0]) for st in steps[1:]):
+        return None
+    return [st[0] for st in steps], (None if steps[0][1] is None else [st[1] for st in steps])
+
+
+def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources=None):
     """Adds "motion" to the camera and to the shapes of objects that move. `frame_set(frame,
     subframe)` evaluates the depsgraph at another time (RenderEngine.frame_set); it is called
     once per distinct step time and finally at the current frame again. `shape_objects`: per
     entry of data["shapes"], the name of the object it places (None: not an object's own
-    placement, e.g. instances of a collection)."""
+    placement, e.g. instances of a collection). `mesh_sources`: per object, how its mesh was
+    read (export.py), for its deformation motion."""
     scene = depsgraph.scene
+    mesh_sources = mesh_sources or {}
     wanted = {}  # object name -> number of steps
+    deforming = set()  # objects whose meshes are read at every step
     for name in set(n for n in shape_objects if n is not None):
         obj = scene.objects.get(name)
         if obj is not None and object_blurs(obj):
             wanted[name] = step_count(obj)
+            if (deform_blurs(obj) and may_deform(obj) and name in mesh_sources
+                    and mesh_sources[name][2] is not None):
+                deforming.add(name)
     cam = scene.camera
     if cam is not None and object_blurs(cam):
         wanted[cam.name] = step_count(cam)
@@ -105,14 +167,32 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems):
         for i, ft in enumerate(step_frames(scene, n)):
             times.setdefault(ft, []).append((name, i))
     mats = {name: [None] * n for name, n in wanted.items()}
+    meshes = {name: [None] * wanted[name] for name in deforming}
     try:
         for ft, users in sorted(times.items()):
             frame_set(ft[0], ft[1])
             for name, i in users:
                 obj = scene.objects[name].evaluated_get(depsgraph)
                 mats[name][i] = [list(r) for r in obj.matrix_world]
+                if name in deforming:
+                    meshes[name][i] = _read_step(obj, mesh_sources[name])
     finally:
         frame_set(frame0[0], frame0[1])
+    for name in sorted(deforming):
+        d = _deformation(name, meshes[name], mesh_sources[name], problems)
+        if d is None:
+            continue
+        for k, owner in enumerate(shape_objects):
+            shape = data["shapes"][k]
+            if owner != name or shape.get("type") != "mesh":
+                continue
+            if _emits(shape):
+                problems.append("object '%s': emits light and deforms: rendered still at the "
+                                "frame (Facet's emitters do not move yet)" % name)
+                continue
+            shape["motion_positions"] = d[0]
+            if d[1] is not None and shape.get("normals") is not None:
+                shape["motion_normals"] = d[1]
     for name, steps in mats.items():
         if all(m == steps[0] for m in steps):
             continue  # still over the shutter
@@ -129,11 +209,6 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems):
                                 "frame (Facet's emitters do not move yet)" % name)
                 continue
             shape["motion"] = steps
-        cyc = getattr(obj, "cycles", None)
-        if getattr(cyc, "use_deform_motion", False) and (
-                len(obj.modifiers) or getattr(getattr(obj, "data", None), "shape_keys", None)):
-            problems.append("object '%s': deformation motion is not converted: the object "
-                            "moves rigidly over the shutter" % name)
 
 
 def _emits(shape):

@@ -320,8 +320,33 @@ const MediumKindDef& kind_def(MediumKind k) {
 
 // Keyword arguments a ShapeDesc / LightDesc of `kind` takes besides its fields.
 const std::set<std::string> kCommonShapeAttributes = {
-    "name",      "material_ref", "material",  "emission", "emission_texture",
-    "two_sided", "flip_normals", "transform", "motion",   "texture_space"};
+    "name",          "material_ref",     "material",
+    "emission",      "emission_texture", "two_sided",
+    "flip_normals",  "transform",        "motion",
+    "texture_space", "motion_positions", "motion_normals"};
+
+// Deformation steps (ShapeDesc::motion_positions, motion_normals): a list of float32 arrays,
+// and back from any iterable of float sequences (each flattened).
+py::list float_steps(const std::vector<std::vector<float>>& steps) {
+    py::list out;
+    for (const std::vector<float>& st : steps) {
+        py::array_t<float> a(py::ssize_t(st.size()));
+        std::copy(st.begin(), st.end(), a.mutable_data());
+        out.append(a);
+    }
+    return out;
+}
+std::vector<std::vector<float>> float_steps(const py::iterable& steps, const char* name) {
+    std::vector<std::vector<float>> out;
+    for (const py::handle& h : steps) {
+        if (py::isinstance<py::str>(h))
+            throw py::type_error(std::string(name) + ": each step is a sequence of numbers");
+        const auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(h);
+        if (!a) throw py::type_error(std::string(name) + ": each step is a sequence of numbers");
+        out.emplace_back(a.data(), a.data() + a.size());
+    }
+    return out;
+}
 
 // TypeError for a keyword that is no field of the kind (a typo, or another kind's key).
 template <class Def>
@@ -1071,6 +1096,21 @@ void bind_scene(py::module_& m) {
                        "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "
                        "at uniform steps over the open shutter (scenes/FORMAT.md, Motion blur); "
                        "with motion blur on it replaces `transform`; [] = none")
+        .def_property(
+            "motion_positions", [](const ShapeDesc& s) { return float_steps(s.motion_positions); },
+            [](ShapeDesc& s, const py::iterable& v) {
+                s.motion_positions = float_steps(v, "motion_positions");
+            },
+            "deformation motion (mesh): a list of >= 2 flat float arrays of 3n object-space "
+            "vertex positions at uniform steps over the open shutter (scenes/FORMAT.md, Motion "
+            "blur); [] = none")
+        .def_property(
+            "motion_normals", [](const ShapeDesc& s) { return float_steps(s.motion_normals); },
+            [](ShapeDesc& s, const py::iterable& v) {
+                s.motion_normals = float_steps(v, "motion_normals");
+            },
+            "the vertex normals per step of `motion_positions` (exactly when the mesh has "
+            "normals); [] = none")
         .def_property(
             "texture_space",
             [](const ShapeDesc& s) -> py::object {

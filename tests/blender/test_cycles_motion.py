@@ -16,7 +16,9 @@ state them (test_cycles34_lamps.py):
 Ability to fail: Facet with the export's motion removed (the sharp cube at the frame, what the
 addon rendered before) must break a bound, and does (numbers printed). The same for a cube
 turning 90 degrees per frame about z (rotation: slerped steps) and for the still cube seen from
-a camera moving 1 unit per frame sideways (camera motion)."""
+a camera moving 1 unit per frame sideways (camera motion), and for the cube's mesh sliding
+1.5 units per frame by a shape key while the object stays (deformation motion); the export of
+a mesh whose topology changes over the shutter is reported, without deformation steps."""
 import os
 import sys
 
@@ -230,12 +232,137 @@ def case_rotate_and_camera(out):
                  % (name, ratio, rel))
 
 
+def deforming_scene():
+    """The moving cube's scene with the cube still and its mesh sliding instead: a shape key
+    moving every vertex 6 units along object x (1.5 world units per frame at scale 0.5, as the
+    moving cube), keyed 0 at frame 0 to 1 at frame 2, linear; the object at x -1.5, so that
+    at frame 1 the cube is where the moving cube is."""
+    scene, cube = moving_scene()
+    cube.animation_data_clear()
+    cube.location = (-1.5, 0.0, 0.0)
+    cube.shape_key_add(name="Basis")
+    key = cube.shape_key_add(name="Slide")
+    for v in key.data:
+        v.co.x += 6.0
+    for frame, value in ((0, 0.0), (2, 1.0)):
+        key.value = value
+        key.keyframe_insert("value", frame=frame)
+    for fc in cube.data.shape_keys.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    scene.frame_set(1)
+    return scene, cube
+
+
+def case_deform_export():
+    """Deformation motion: the sliding mesh gets "motion_positions" at its 3 steps (no
+    "motion": the object does not move) with the shape key's values 0.375, 0.5, 0.625; the
+    object's Deformation off gives none; a mesh whose topology changes over the shutter (a
+    Build modifier adding faces) gets none and a report line naming it."""
+    scene, cube = deforming_scene()
+    data, problems = export(scene_frame_set)
+    shape = {s["name"]: s for s in data["shapes"]}["Cube"]
+    steps = shape.get("motion_positions")
+    bt.check(steps is not None and len(steps) == 3 and "motion" not in shape,
+             "the sliding cube: 3 deformation steps, no transform motion")
+    if steps is not None:
+        base = np.asarray(shape["positions"], np.float64)
+        dx = [float(np.mean(np.asarray(st, np.float64)[:, 0] - base[:, 0])) for st in steps]
+        # At frame 1 the key is 0.5 (base = +3); the steps at 0.375, 0.5, 0.625: -0.75, 0, 0.75.
+        bt.check(np.allclose(dx, [-0.75, 0.0, 0.75], atol=1e-4), "the steps' offsets: %s" % dx)
+    bt.check(not [p for p in problems if "otion" in p or "topology" in p],
+             "no motion line: %s" % problems)
+    from facet_blender import native
+    built, _ = native.build(data, name="blender")  # the core accepts the steps
+    bt.check(built is not None, "the deforming export builds")
+    cube.cycles.use_deform_motion = False
+    shape = {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Cube"]
+    bt.check("motion_positions" not in shape, "Deformation off: no deformation steps")
+    cube.cycles.use_deform_motion = True
+    # A smooth mesh: its normals per step too (a new factory scene).
+    scene, box = twisting_scene(smooth=True)
+    shape = {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Twist"]
+    bt.check(len(shape.get("motion_positions", [])) == 3 and
+             len(shape.get("motion_normals", [])) == 3 and shape.get("normals") is not None,
+             "the smooth twisting box: deformation steps with normals")
+    # Topology that changes over the shutter: a Build modifier over frames 0 to 2.
+    bpy.ops.mesh.primitive_ico_sphere_add(subdivisions=2, radius=0.4, location=(0.0, 1.5, 0.0))
+    ico = bpy.context.active_object
+    ico.name = "Growing"
+    build = ico.modifiers.new("Build", 'BUILD')
+    build.frame_start = 0.0
+    build.frame_duration = 2.0
+    scene.frame_set(1)
+    data, problems = export(scene_frame_set)
+    grow = {s["name"]: s for s in data["shapes"]}["Growing"]
+    lines = [p for p in problems if "'Growing'" in p and "topology" in p]
+    bt.check("motion_positions" not in grow and len(lines) == 1,
+             "changing topology: no steps, one line: %s" % lines)
+    bpy.data.objects.remove(ico)
+
+
+def twisting_scene(smooth=False):
+    """A non-rigid deformation: a box (1 x 0.4 x 0.4, each edge cut in 5; flat shaded, or
+    `smooth`) twisted about x by a Simple Deform modifier whose angle is keyed -360 degrees at
+    frame 0 to 360 at frame 2 (linear): at frame 1 untwisted, over the shutter from -90 to 90
+    degrees end to end."""
+    scene, cube = moving_scene()
+    bpy.data.objects.remove(cube)
+    bpy.ops.mesh.primitive_cube_add(size=1.0, location=(0.0, 0.0, 0.0))
+    box = bpy.context.active_object
+    box.name = "Twist"
+    box.scale = (1.0, 0.4, 0.4)
+    bpy.ops.object.mode_set(mode='EDIT')
+    bpy.ops.mesh.subdivide(number_cuts=4)
+    bpy.ops.object.mode_set(mode='OBJECT')
+    if smooth:
+        bpy.ops.object.shade_smooth()
+    mod = box.modifiers.new("Twist", 'SIMPLE_DEFORM')
+    mod.deform_method = 'TWIST'
+    mod.deform_axis = 'X'
+    for frame, deg in ((0, -360.0), (2, 360.0)):
+        mod.angle = deg * 3.141592653589793 / 180.0
+        box.keyframe_insert('modifiers["Twist"].angle', frame=frame)
+    for fc in box.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    scene.frame_set(1)
+    return scene, box
+
+
+def case_deform_render(out):
+    """The sliding mesh and the twisting box against Cycles' deformation blur, with the same
+    bounds as the moving cube, and each without its deformation steps as the control that must
+    fail."""
+    from facet_blender import sync_motion
+    for name, make in (("deform", deforming_scene), ("twist", twisting_scene)):
+        scene, _ = make()
+        imgs = renders(scene, name, out)
+        c1, c2 = imgs['CYCLES']
+        ratio, rel = compare(name, imgs['FACET'][0], c1, c2)
+        bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+                 "%s: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+                 % (name, ratio, MEAN_TOL, rel, RMSE_FACTOR))
+        saved = sync_motion.add_motion
+        sync_motion.add_motion = lambda *a, **k: None
+        try:
+            sharp = renders(scene, name + "_sharp", out, engines=('FACET',))['FACET'][0]
+        finally:
+            sync_motion.add_motion = saved
+        ratio, rel = compare(name + "/sharp", sharp, c1, c2)
+        bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+                 "%s without its deformation steps breaks a bound (mean ratio %.4f, block "
+                 "RMSE %.2f x floor): the test can fail" % (name, ratio, rel))
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
     case_export()
+    case_deform_export()
     case_render(out)
     case_rotate_and_camera(out)
+    case_deform_render(out)
 
 
 bt.run(main)

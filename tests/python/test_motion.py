@@ -70,3 +70,57 @@ def test_bad_motion_names_the_pointer():
     d.render.motion_blur = facet.MotionBlur(shutter=0.0)
     with pytest.raises(ValueError, match="/render/motion_blur/shutter"):
         facet.build_scene(d, name="bad")
+
+
+def deform_steps():
+    """The tetrahedron's positions and normals at two steps: still, then 0.3 along x."""
+    p, _, n = ts.mesh_arrays()
+    return [p.ravel(), (p + np.float32([0.3, 0, 0])).ravel()], [n.ravel(), n.ravel()]
+
+
+def deforming(d):
+    pos, nrm = deform_steps()
+    d.shapes[2].motion_positions = pos
+    d.shapes[2].motion_normals = nrm
+    d.render.motion_blur = facet.MotionBlur(shutter=0.5)
+    return d
+
+
+def test_deformation_from_python_equals_its_json_twin():
+    built = deforming(ts.numpy_description(spp=4))
+    j = ts.scene_dict(spp=4)
+    pos, nrm = deform_steps()
+    j["shapes"][2]["motion_positions"] = [[float(v) for v in st] for st in pos]
+    j["shapes"][2]["motion_normals"] = [[float(v) for v in st] for st in nrm]
+    j.setdefault("render", {})["motion_blur"] = {"shutter": 0.5}
+    parsed = facet.parse_scene_description(json.dumps(j), name="twin")
+    assert len(parsed.shapes[2].motion_positions) == 2
+    np.testing.assert_array_equal(built.shapes[2].motion_positions[1],
+                                  parsed.shapes[2].motion_positions[1])
+    np.testing.assert_array_equal(built.shapes[2].motion_normals[0],
+                                  parsed.shapes[2].motion_normals[0])
+    a = facet.render(facet.build_scene(built, name="python"), threads=2)
+    b = facet.render(facet.build_scene(parsed, name="twin"), threads=1)
+    np.testing.assert_array_equal(a, b)
+    still = facet.render(facet.build_scene(ts.numpy_description(spp=4), name="still"), threads=2)
+    assert np.abs(a - still).max() > 0.01  # the tetrahedron smears
+    again = facet.parse_scene_description(built.to_json(), name="again")
+    assert len(again.shapes[2].motion_positions) == 2
+
+
+def test_bad_deformation_names_the_pointer():
+    d = deforming(ts.numpy_description(spp=4))
+    pos = d.shapes[2].motion_positions
+    d.shapes[2].motion_positions = [pos[0], pos[1][:-3]]
+    with pytest.raises(ValueError, match="/shapes/2/motion_positions/1"):
+        facet.build_scene(d, name="bad")
+    d = deforming(ts.numpy_description(spp=4))
+    bad = d.shapes[2].motion_positions[1].copy()
+    bad[0] = np.nan
+    d.shapes[2].motion_positions = [d.shapes[2].motion_positions[0], bad]
+    with pytest.raises(ValueError, match="/shapes/2/motion_positions/1/0"):
+        facet.build_scene(d, name="bad")
+    d = deforming(ts.numpy_description(spp=4))
+    d.shapes[2].motion_normals = []
+    with pytest.raises(ValueError, match="/shapes/2/motion_positions.*motion_normals"):
+        facet.build_scene(d, name="bad")

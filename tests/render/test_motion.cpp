@@ -443,3 +443,210 @@ TEST(Motion, PovExportReportsMotionBlur) {
     EXPECT_NO_THROW(sdl = fr::export_pov(still, "motion.json", background));
     EXPECT_NE(sdl.find("camera"), std::string::npos);
 }
+
+// --- deformation motion (ShapeDesc::motion_positions) -----------------------------------------
+
+namespace {
+
+// The quad of quad_scene as a "mesh" whose vertices are translated by dx[k] along x at step k
+// (motion_positions; "" when dx is empty), with an optional shape "motion" and more keys.
+std::string deform_scene(const std::vector<double>& dx, const std::string& blur,
+                         const std::string& motion = "", const std::string& extra = "") {
+    const double base[4][3] = {{-0.5, -1, 0}, {0.5, -1, 0}, {0.5, 1, 0}, {-0.5, 1, 0}};
+    auto positions = [&](double d) {
+        std::string s = "[";
+        for (int i = 0; i < 4; ++i)
+            for (int c = 0; c < 3; ++c)
+                s += (i + c ? ", " : "") + std::to_string(base[i][c] + (c == 0 ? d : 0.0));
+        return s + "]";
+    };
+    std::string steps;
+    for (std::size_t k = 0; k < dx.size(); ++k) steps += (k ? ", " : "") + positions(dx[k]);
+    return camera() + R"(
+      "materials": {"black": {"model": "lambert", "reflectance": 0}},
+      "shapes": [{"type": "mesh", "material": "black", "positions": )" +
+           positions(0.0) + R"(, "indices": [0, 1, 2, 0, 2, 3])" +
+           (dx.empty() ? std::string() : ", \"motion_positions\": [" + steps + "]") +
+           (motion.empty() ? std::string() : ", \"motion\": " + motion) + extra + R"(}],
+      "lights": [{"type": "environment", "radiance": 1}],
+      "render": {"max_depth": 0)" +
+           (blur.empty() ? std::string() : ", \"motion_blur\": " + blur) + "}";
+}
+
+}  // namespace
+
+// A mesh whose vertices translate 1.5 units at constant speed (three steps) gives the analytic
+// coverage profile of the quad moved by transformation motion, and the same image as that
+// quad to within noise; with blur off (the control) the still mesh renders, far off the
+// profile. Deformation and transformation motion compose: 0.75 units of each give the profile
+// of 1.5.
+TEST(Motion, DeformingMeshGivesTheAnalyticCoverageProfile) {
+    const fr::Scene deforming = scene_of(deform_scene({0.0, 0.75, 1.5}, R"({"shutter": 0.5})"));
+    EXPECT_TRUE(deforming.features().has_motion);
+    const fr::Image img = fr::render(deforming, fr::testing::test_options("path", spp(), 3));
+    int where = -1;
+    EXPECT_LT(worst_column(img, 1.5, {}, where), column_tolerance()) << "column " << where;
+    const fr::Image moved = fr::render(scene_of(quad_scene(kMoveRight, R"({"shutter": 0.5})")),
+                                       fr::testing::test_options("path", spp(), 3));
+    const std::vector<double> a = column_means(img), b = column_means(moved);
+    double worst = 0.0;
+    for (std::size_t i = 0; i < a.size(); ++i) worst = std::max(worst, std::fabs(a[i] - b[i]));
+    // Two independent estimates: each within the column tolerance of the same expectation.
+    EXPECT_LT(worst, 2.0 * column_tolerance());
+    const fr::Scene still = scene_of(deform_scene({0.0, 0.75, 1.5}, R"({"enabled": false})"));
+    EXPECT_FALSE(still.features().has_motion);
+    const fr::Image sharp = fr::render(still, fr::testing::test_options("path", spp(), 3));
+    EXPECT_GT(worst_column(sharp, 1.5, {}, where), 0.3);
+    const fr::Scene both =
+        scene_of(deform_scene({0.0, 0.75}, R"({"shutter": 0.5})",
+                              R"([{"translate": [0, 0, 0]}, {"translate": [0.75, 0, 0]}])"));
+    const fr::Image composed = fr::render(both, fr::testing::test_options("path", spp(), 3));
+    EXPECT_LT(worst_column(composed, 1.5, {}, where), column_tolerance()) << "column " << where;
+    // The direct integrator as well.
+    const fr::Image direct = fr::render(deforming, fr::testing::test_options("direct", spp(), 3));
+    EXPECT_LT(worst_column(direct, 1.5, {}, where), column_tolerance()) << "column " << where;
+}
+
+// A deforming mesh's hit at time tau is on the triangle interpolated at tau: a square whose
+// right edge rises (z = 0.5 tau (x + 1) over the shutter, two steps) with vertex normals
+// turning from +z to the tilted plane's normal. Every hit lies within its error box of that
+// plane, its geometric normal is the plane's, and its shading normal the interpolated one.
+TEST(Motion, DeformingMeshHitsAreTheInterpolatedTriangle) {
+    const double k = 0.5;  // the slope at tau = 1
+    const glm::dvec3 n1 = glm::normalize(glm::dvec3(-k, 0.0, 1.0));
+    const std::string body =
+        R"(
+      "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 40,
+                 "width": 8, "height": 8},
+      "materials": {"white": {"model": "lambert", "reflectance": 0.5}},
+      "shapes": [{"type": "mesh", "material": "white",
+                  "positions": [-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0],
+                  "normals": [0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1],
+                  "indices": [0, 1, 2, 0, 2, 3],
+                  "motion_positions": [[-1, -1, 0, 1, -1, 0, 1, 1, 0, -1, 1, 0],
+                                       [-1, -1, 0, 1, -1, 1, 1, 1, 1, -1, 1, 0]],
+                  "motion_normals": [[0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1],
+                                     [)" +
+        [&] {
+            std::string s;
+            for (int i = 0; i < 4; ++i)
+                s += (i ? ", " : "") + std::to_string(n1.x) + ", 0, " + std::to_string(n1.z);
+            return s;
+        }() +
+        R"(]]}],
+      "lights": [{"type": "environment", "radiance": 1}],
+      "render": {"motion_blur": {"shutter": 0.5}})";
+    const fr::Scene s = scene_of(body);
+    ASSERT_TRUE(s.features().has_motion);
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u(-0.9f, 0.9f), ut(0.f, 1.f);
+    int hits = 0;
+    double worst_ratio = 0.0, worst_ns = 0.0;
+    for (int i = 0; i < 4000; ++i) {
+        fr::Ray r;
+        r.o = Vec3(u(rng), u(rng), 5.f);
+        r.d = Vec3(0.f, 0.f, -1.f);
+        const float time = ut(rng);
+        fr::SurfaceHit h;
+        ASSERT_TRUE(s.intersect(r, time, h)) << "t=" << time;
+        ++hits;
+        const double slope = k * double(time);
+        const glm::dvec3 n = glm::normalize(glm::dvec3(-slope, 0.0, 1.0));
+        const glm::dvec3 p0(-1.0, 0.0, 0.0);  // on the plane z = slope (x + 1)
+        EXPECT_GT(glm::dot(glm::dvec3(h.ng), n), 1.0 - 1e-5) << "t=" << time;
+        const glm::dvec3 q = glm::dvec3(r.o) + double(h.t) * glm::dvec3(r.d);
+        const double dist = std::fabs(glm::dot(q - p0, n));
+        const double box = glm::dot(glm::abs(n), glm::dvec3(h.p_err)) + 0x1p-23 * 7.0;
+        worst_ratio = std::max(worst_ratio, dist / box);
+        EXPECT_LE(dist, box) << "t=" << time;
+        EXPECT_LE(std::fabs(glm::dot(glm::dvec3(h.p) - p0, n)), box);
+        // Every corner has the same normal per step: the shading normal is their lerp.
+        const glm::dvec3 ns =
+            glm::normalize((1.0 - time) * glm::dvec3(0.0, 0.0, 1.0) + double(time) * n1);
+        worst_ns = std::max(worst_ns, glm::length(glm::dvec3(h.ns) - ns));
+    }
+    EXPECT_EQ(hits, 4000);
+    EXPECT_LT(worst_ns, 1e-5);
+    RecordProperty("worst_distance_over_box", std::to_string(worst_ratio));
+}
+
+// Deformation keys with motion blur off render the still mesh bit for bit, and choose the
+// still kernels.
+TEST(Motion, DeformationOffRendersTheStillMesh) {
+    const fr::Scene still = scene_of(deform_scene({}, ""));
+    for (const std::string& blur : {std::string(R"({"enabled": false})"), std::string()}) {
+        const fr::Scene off = scene_of(deform_scene({0.0, 1.5}, blur));
+        EXPECT_FALSE(off.features().has_motion);
+        EXPECT_TRUE(identical(fr::render(still, fr::testing::test_options("path", 4, 2)),
+                              fr::render(off, fr::testing::test_options("path", 4, 2))));
+    }
+}
+
+// The JSON writer writes the deformation steps the reader reads; export-pov names them.
+TEST(Motion, DeformationJsonRoundTripAndPovExport) {
+    const fr::SceneDescription d = describe(deform_scene({0.0, 0.5, 1.5}, R"({"shutter": 0.5})"));
+    ASSERT_EQ(d.shapes[0].motion_positions.size(), 3u);
+    const fr::SceneDescription back =
+        fr::parse_scene_description(fr::write_scene_json(d), "back.json");
+    EXPECT_TRUE(back == d);
+    EXPECT_FLOAT_EQ(back.shapes[0].motion_positions[2][0], 1.0f);
+    std::string err;
+    try {
+        fr::export_pov(d, "deform.json", fr::PovExportOptions{.environment = "background"});
+    } catch (const fr::SceneError& e) {
+        err = e.what();
+    }
+    EXPECT_NE(err.find("deform.json: /shapes/0/motion_positions: motion blur is not expressible"),
+              std::string::npos)
+        << err;
+}
+
+// Bad deformation input: an error naming the JSON pointer, checked with motion blur on or off.
+TEST(Motion, BadDeformationNamesThePlace) {
+    auto expect = [](const std::string& err, const std::string& where) {
+        EXPECT_NE(err.find(where), std::string::npos) << err;
+    };
+    for (const std::string blur : {R"({"shutter": 0.5})", R"({"enabled": false})"}) {
+        // Fewer than 2 steps.
+        expect(error_of(deform_scene({0.0}, blur)), "/shapes/0/motion_positions");
+        // A step with the wrong vertex count.
+        expect(error_of(deform_scene({}, blur, "", R"(, "motion_positions": [
+                                         [0, 0, 0, 1, 0, 0, 1, 1, 0, 0, 1, 0],
+                                         [0, 0, 0, 1, 0, 0, 1, 1, 0]])")),
+               "/shapes/0/motion_positions/1: expected 12 numbers");
+        // Step counts that differ from the shape's motion.
+        expect(error_of(deform_scene({0.0, 0.5, 1.0}, blur,
+                                     R"([{"translate": [0, 0, 0]}, {"translate": [1, 0, 0]}])")),
+               "/shapes/0/motion_positions: has 3 steps but the shape's \"motion\" has 2");
+        // Normals: required per step when the mesh has normals, refused when it has none.
+        expect(
+            error_of(deform_scene({}, blur, "", R"(, "motion_normals": [[0, 0, 1], [0, 0, 1]])")),
+            "/shapes/0/motion_normals");
+        expect(error_of(deform_scene({0.0, 1.0}, blur, "",
+                                     R"(, "motion_normals": [[0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1],
+                                                             [0, 0, 1, 0, 0, 1, 0, 0, 1, 0, 0, 1]])")),
+               "/shapes/0/motion_normals: the mesh has no normals");
+        // Wrong JSON types.
+        expect(error_of(deform_scene({}, blur, "", R"(, "motion_positions": 3)")),
+               "/shapes/0/motion_positions");
+        expect(error_of(deform_scene({}, blur, "", R"(, "motion_positions": [[0, "a"]])")),
+               "/shapes/0/motion_positions/0/1");
+    }
+    // Only meshes deform.
+    std::string quad = quad_scene("", R"({"shutter": 0.5})");
+    quad.insert(quad.find("\"vertices\""), R"("motion_positions": [[0], [0]], )");
+    expect(error_of(quad), "/shapes/0/motion_positions");
+    // Not finite (a description built in C++: JSON has no NaN).
+    fr::SceneDescription d = describe(deform_scene({0.0, 1.0}, R"({"shutter": 0.5})"));
+    d.shapes[0].motion_positions[1][4] = std::nanf("");
+    std::string err;
+    try {
+        fr::build_scene(d, "deform.json");
+    } catch (const fr::SceneError& e) {
+        err = e.what();
+    }
+    expect(err, "/shapes/0/motion_positions/1/4: must be a finite number");
+    // An emitter does not deform.
+    expect(error_of(deform_scene({0.0, 1.0}, R"({"shutter": 0.5})", "", R"(, "emission": 1)")),
+           "/shapes/0/motion_positions");
+}

@@ -436,15 +436,27 @@ void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes
     MeshGeom& mg = meshes[m];
     const TriangleMesh& mesh = mg.mesh;
     RTCGeometry g = rtcNewGeometry(device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    // Embree-owned buffers: Embree pads them as its SIMD loads require.
-    auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    // Embree-owned buffers: Embree pads them as its SIMD loads require. A deforming mesh
+    // (MeshGeom::step_positions) has one vertex buffer per uniform time step, which Embree
+    // interpolates linearly at the ray's time; a still one has one.
+    const std::size_t steps = mg.step_positions.size();
+    if (steps >= 2) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+    bool buffers = true;
+    for (std::size_t k = 0; k < std::max<std::size_t>(steps, 1); ++k) {
+        const std::vector<Vec3>& pos = steps >= 2 ? mg.step_positions[k] : mesh.positions;
+        auto* v = static_cast<float*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX,
+                                                              unsigned(k), RTC_FORMAT_FLOAT3,
+                                                              3 * sizeof(float), pos.size()));
+        if (!v) {
+            buffers = false;
+            break;
+        }
+        for (std::size_t i = 0; i < pos.size(); ++i)
+            std::memcpy(v + 3 * i, &pos[i], 3 * sizeof(float));
+    }
     auto* idx = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), mesh.num_triangles()));
-    if (v && idx) {
-        for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
-            std::memcpy(v + 3 * i, &mesh.positions[i], 3 * sizeof(float));
-        }
+    if (buffers && idx) {
         std::memcpy(idx, mesh.indices.data(), mesh.indices.size() * sizeof(unsigned));
         std::vector<glm::vec4> planes(mesh.num_triangles());
         // The hit points' error along the normal (MeshGeom::normal_err): the largest
@@ -483,9 +495,10 @@ void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes
             }
             mg.mesh.normals = {};
         }
-        // Embree holds the data now (the scene keeps the geometry and its buffers alive).
+        // Embree holds the data now (the scene keeps the geometry and its buffers alive); a
+        // deforming mesh's hits read its indices and steps (fill_deformed).
         mg.mesh.positions = {};
-        mg.mesh.indices = {};
+        if (steps < 2) mg.mesh.indices = {};
     }
     if (mg.opacity.active()) {
         // Cut-outs only: every other mesh keeps Embree's filterless path.
@@ -593,6 +606,8 @@ void Scene::Impl::build_instances(const std::string& name) {
         const InstanceGeom& in = instances[i];
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_INSTANCE);
         rtcSetGeometryInstancedScene(g, be.prototype_scenes[in.prototype].get());
+        // (A deforming prototype's time steps are its meshes'; the rays then carry a time.)
+        if (in.deforms) be.has_motion = true;
         if (in.motion.empty()) {
             rtcSetGeometryTimeStepCount(g, 1);
             float m[12];  // 3x4 column major: the linear part's columns, then the translation
@@ -796,13 +811,93 @@ constexpr double kMotionSlack = 1e-4;
 
 namespace {
 
+// A hit on a deforming mesh (MeshGeom::step_positions) at shutter time `time`: the triangle's
+// corners, and a smooth mesh's corner normals, interpolated linearly between the two steps
+// around the time (as Embree interpolates the vertex buffers), in double; then as fill_triangle
+// on that triangle: the point projected onto its plane, the error box from its plane's
+// deviation, plus kMotionSlack of its coordinates for Embree's own float interpolation (as a
+// moving instance's). UVs and colours are per corner as on a still mesh; dp/du and dp/dv of
+// the UVs are the interpolated triangle's; tangents (normal maps) are the still mesh's.
+template <bool kUv>
+[[gnu::noinline]] void fill_deformed(const MeshGeom& mg, std::uint32_t tri, const Ray& ray,
+                                     float time, float u, float v, float t, SurfaceHit& hit) {
+    const std::size_t steps = mg.step_positions.size();
+    const double x = std::clamp(double(time), 0.0, 1.0) * double(steps - 1);
+    const std::size_t i = std::min(std::size_t(x), steps - 2);
+    const double f = x - double(i);
+    std::uint32_t ix[3];
+    for (int j = 0; j < 3; ++j) ix[j] = mg.mesh.indices[3 * std::size_t(tri) + std::size_t(j)];
+    const std::vector<Vec3>& a = mg.step_positions[i];
+    const std::vector<Vec3>& b = mg.step_positions[i + 1];
+    std::array<glm::dvec3, 3> p;
+    for (int j = 0; j < 3; ++j)
+        p[std::size_t(j)] = (1.0 - f) * glm::dvec3(a[ix[j]]) + f * glm::dvec3(b[ix[j]]);
+    const glm::dvec3 c = glm::cross(p[1] - p[0], p[2] - p[0]);
+    const double len = glm::length(c);
+    const Vec3 n = len > 0.0 ? Vec3(c / len) : Vec3(0.f, 0.f, 1.f);
+    const glm::dvec3 nd(n);
+    const double w = double(float(glm::dot(nd, p[0])));
+    double plane_dev = 0.0, max_edge = 0.0, max_coord = 0.0;
+    const double inv_len = 1.0 / glm::length(nd);
+    for (int j = 0; j < 3; ++j) {
+        const std::size_t k = std::size_t(j);
+        plane_dev = std::max(plane_dev, std::fabs(glm::dot(nd, p[k]) - w) * inv_len);
+        max_edge = std::max(max_edge, glm::length(p[(k + 1) % 3] - p[k]));
+        max_coord = std::max(max_coord, largest_magnitude(p[k]));
+    }
+    hit.t = t;
+    hit.ng = n;
+    glm::dvec3 pt = glm::dvec3(ray.o) + double(t) * glm::dvec3(ray.d);
+    const double s = glm::dot(pt, nd) - w;
+    pt -= s * nd;
+    hit.p = Vec3(pt);
+    const float k = triangle_normal_error(plane_dev, max_edge, max_coord) +
+                    float(kMotionSlack * max_coord) + gamma_bound(3) * float(std::fabs(s));
+    hit.p_err = rounding_error(hit.p) + k * glm::abs(n);
+    hit.ns = hit.ng;
+    if (!mg.step_normals.empty()) {
+        const std::vector<Vec3>& na = mg.step_normals[i];
+        const std::vector<Vec3>& nb = mg.step_normals[i + 1];
+        const float ff = float(f);
+        auto corner = [&](int j) { return (1.f - ff) * na[ix[j]] + ff * nb[ix[j]]; };
+        Vec3 ns = (1.f - u - v) * corner(0) + u * corner(1) + v * corner(2);
+        const float l = glm::length(ns);
+        if (l > kMinInterpolatedNormal && std::isfinite(l)) {
+            ns /= l;
+            hit.ns = glm::dot(ns, hit.ng) < 0.f ? -ns : ns;
+        }
+    }
+    hit.dpdu = mg.tangent;
+    hit.shape = mg.shape;
+    if constexpr (kUv) {
+        if (!mg.tri_colors.empty()) {
+            const std::array<glm::vec4, 3>& col = mg.tri_colors[tri];
+            hit.color = (1.f - u - v) * col[0] + u * col[1] + v * col[2];
+        }
+        if (!mg.tri_uvs.empty()) {
+            hit.uv = triangle_uv(mg, tri, u, v, pt);
+            const std::array<Vec3, 2> d = triangle_uv_derivatives(p, mg.tri_uvs[tri]);
+            hit.dpdu_uv = d[0];
+            hit.dpdv_uv = d[1];
+            if (!mg.tri_tangents.empty()) {
+                const std::array<glm::vec4, 3>& tt = mg.tri_tangents[tri];
+                const glm::vec4 tan = (1.f - u - v) * tt[0] + u * tt[1] + v * tt[2];
+                hit.dpdu = Vec3(tan);
+                hit.tangent_sign = tan.w;
+            }
+        }
+    }
+}
+
 // fill_instance's body for placement `in`; `moving`: `in` is a moving instance's placement at
 // the ray's time, whose error box grows by kMotionSlack.
+// `timed`: the hit may be on a deforming mesh, filled at the ray's `time` (fill_deformed).
 template <bool kUv>
 [[gnu::always_inline]] inline void fill_placed(const Scene::Impl& impl, const InstanceGeom& in,
-                                               bool moving, std::uint32_t geom, std::uint32_t tri,
-                                               const Ray& ray, float u, float v, float t,
-                                               SurfaceHit& hit, std::int32_t& part) {
+                                               bool moving, bool timed, std::uint32_t geom,
+                                               std::uint32_t tri, const Ray& ray, float time,
+                                               float u, float v, float t, SurfaceHit& hit,
+                                               std::int32_t& part) {
     const PrototypeGeom& pg = impl.prototypes[in.prototype];
     const MeshGeom& mg =
         pg.meshes[std::size_t(impl.backend->prototype_geom_to_mesh[in.prototype][geom])];
@@ -810,7 +905,10 @@ template <bool kUv>
     local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
-    impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
+    if (timed && !mg.step_positions.empty())
+        fill_deformed<kUv>(mg, tri, local, time, u, v, t, hit);
+    else
+        impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
     hit.po = hit.p;  // in the prototype's frame (complete_hit takes it to object space)
@@ -841,17 +939,22 @@ template <bool kUv>
     }
 }
 
-// A moving instance's hit: its placement at the ray's time (motion.h), then as a still one's.
-// Out of line and cold, so that still instances' hits build no placement.
+// A moving or deforming instance's hit: its placement at the ray's time (motion.h) and its
+// deforming meshes' triangles at that time (fill_deformed), then as a still one's. Out of line
+// and cold, so that still instances' hits build no placement.
 template <bool kUv>
 [[gnu::noinline, gnu::cold]] void fill_moving(const Scene::Impl& impl, const InstanceGeom& placed,
                                               std::uint32_t geom, std::uint32_t tri, const Ray& ray,
                                               float time, float u, float v, float t,
                                               SurfaceHit& hit, std::int32_t& part) {
+    if (placed.motion.empty()) {
+        fill_placed<kUv>(impl, placed, false, true, geom, tri, ray, time, u, v, t, hit, part);
+        return;
+    }
     InstanceGeom at_time;
     at_time.prototype = placed.prototype;
     at_time.place(interpolate_motion(placed.motion, double(time)));
-    fill_placed<kUv>(impl, at_time, true, geom, tri, ray, u, v, t, hit, part);
+    fill_placed<kUv>(impl, at_time, true, true, geom, tri, ray, time, u, v, t, hit, part);
 }
 
 }  // namespace
@@ -861,11 +964,11 @@ template <bool kUv>
                                                   std::uint32_t tri, const Ray& ray, float time,
                                                   float u, float v, float t, SurfaceHit& hit,
                                                   std::int32_t& part) const {
-    if (!placed.motion.empty()) [[unlikely]] {
+    if (!placed.motion.empty() || placed.deforms) [[unlikely]] {
         fill_moving<kUv>(*this, placed, geom, tri, ray, time, u, v, t, hit, part);
         return;
     }
-    fill_placed<kUv>(*this, placed, false, geom, tri, ray, u, v, t, hit, part);
+    fill_placed<kUv>(*this, placed, false, false, geom, tri, ray, time, u, v, t, hit, part);
 }
 
 // --- Scene ------------------------------------------------------------------------------------

@@ -1081,16 +1081,20 @@ class Builder final : public BuildChecks {
             }
         }
         const std::vector<DecomposedTransform> motion = shape_motion(s, ptr, proto, emissive);
+        const bool deforms = shape_deformation(s, ptr, proto, emissive);
         ShapeContext ctx(*this, s, index, ptr, info, proto);
         ctx.emission = info.emission;
         ctx.emissive = emissive;
         ctx.xf = xf;
+        ctx.deform_steps = !s.motion_positions.empty();  // checked by add_mesh, on or off
         const bool places = shape_kind(s.kind).places_prototype;
-        if (!motion.empty()) {
+        if (!motion.empty() || deforms) {
             // A moving shape: an instance moves its placement; a triangle shape goes into a
-            // prototype of its own (object space), placed by its motion.
+            // prototype of its own (object space), placed by its motion. A deforming mesh
+            // likewise (its steps in object space), placed by its motion or its transform.
             ctx.xf = places ? motion[0].matrix() : glm::dmat4(1.0);
             if (!places) ctx.build_into(ctx.add_local_prototype());
+            ctx.deform = deforms;
         }
         const std::size_t pending = m_pending.size();
         shape_kind(s.kind).build(ctx);
@@ -1101,6 +1105,8 @@ class Builder final : public BuildChecks {
                 m_pending.push_back({index, std::uint32_t(ctx.local_prototype()),
                                      motion[0].matrix(), false, motion});
             }
+        } else if (deforms) {
+            m_pending.push_back({index, std::uint32_t(ctx.local_prototype()), xf, false});
         }
         for (const ShapeSurface& part : info.parts)
             info.needs_position = info.needs_position || needs_position(part);
@@ -1169,6 +1175,44 @@ class Builder final : public BuildChecks {
         m_shapes_move = true;
         return out;
     }
+
+    // A shape's deformation motion (`motion_positions`, `motion_normals`; scenes/FORMAT.md,
+    // "Motion blur"): its structure checked here (the kind, the step count), its values by
+    // add_mesh against the mesh. True when it renders (motion blur on).
+    bool shape_deformation(const ShapeDesc& s, const std::string& ptr, std::int32_t proto,
+                           bool emissive) {
+        const std::string mp = ptr + "/motion_positions";
+        if (s.motion_positions.empty()) {
+            if (!s.motion_normals.empty())
+                fail(ptr + "/motion_normals", "given without \"motion_positions\"");
+            return false;
+        }
+        if (s.kind != ShapeKind::Mesh)
+            fail(mp,
+                 "only a 'mesh' can deform, not a '" + std::string(shape_kind(s.kind).name) + "'");
+        if (proto >= 0) fail(mp, "a prototype's shapes cannot deform");
+        if (s.motion_positions.size() < 2)
+            fail(mp, "needs at least 2 steps (the positions at shutter open and close), got " +
+                         std::to_string(s.motion_positions.size()));
+        if (s.motion_positions.size() > kMaxDeformSteps)
+            fail(mp, "at most " + std::to_string(kMaxDeformSteps) + " steps");
+        if (!s.motion.empty() && s.motion.size() != s.motion_positions.size())
+            fail(mp, "has " + std::to_string(s.motion_positions.size()) +
+                         " steps but the shape's \"motion\" has " +
+                         std::to_string(s.motion.size()) + " (give both the same steps)");
+        if (!s.motion_normals.empty() && s.motion_normals.size() != s.motion_positions.size())
+            fail(ptr + "/motion_normals", "has " + std::to_string(s.motion_normals.size()) +
+                                              " steps but \"motion_positions\" has " +
+                                              std::to_string(s.motion_positions.size()));
+        if (emissive)
+            fail(mp,
+                 "an emitting shape cannot deform (light sampling places emitters at one time)");
+        if (!m_motion_on) return false;
+        m_shapes_move = true;
+        return true;
+    }
+    // Embree's limit on a geometry's time steps (RTC_MAX_TIME_STEP_COUNT).
+    static constexpr std::size_t kMaxDeformSteps = 129;
 
     // What a shape kind's builder adds to the scene (kind_build.h).
     class ShapeContext final : public ShapeBuild {
@@ -1332,6 +1376,10 @@ class Builder final : public BuildChecks {
             m_local = true;
         }
         std::int32_t local_prototype() const { return m_proto; }
+        // The shape has `motion_positions` (checked against its mesh by add_mesh); `deform`:
+        // they render (motion blur on; the mesh then goes to its own prototype).
+        bool deform_steps = false;
+        bool deform = false;
 
       private:
         // The shape's own triangles (part -1) or one of its parts: transformed, validated,
@@ -1370,9 +1418,14 @@ class Builder final : public BuildChecks {
                     std::swap(mesh.indices[i + 1], mesh.indices[i + 2]);
                 }
             }
+            std::vector<std::vector<Vec3>> step_positions, step_normals;
+            if (deform_steps && part < 0)
+                deformation_steps(mesh, normal_mat, step_positions, step_normals);
             check_finite_bounds();
             if (std::string err = validate_mesh(mesh); !err.empty()) fail(place(), err);
-            m_b.drop_degenerate(mesh, index);
+            // A deforming mesh keeps every triangle: one of zero area at the still time may not
+            // be at another (Embree's test misses it while it is degenerate).
+            if (step_positions.empty()) m_b.drop_degenerate(mesh, index);
             if (m_info.needs_tangent && !sphere) {
                 if (mesh.uvs.empty())
                     fail(ptr + (shape.file.empty() ? "/uvs" : "/file"),
@@ -1446,6 +1499,8 @@ class Builder final : public BuildChecks {
             mesh.uvs = {};
             mesh.tangents = {};
             g.mesh = std::move(mesh);
+            g.step_positions = std::move(step_positions);
+            g.step_normals = std::move(step_normals);
             if (tangent != Vec3(0.f)) g.tangent = Vec3(lin * glm::dvec3(tangent));
             if (m_proto >= 0) {
                 m_b.m_builder.impl().prototypes[std::size_t(m_proto)].meshes.push_back(
@@ -1453,6 +1508,63 @@ class Builder final : public BuildChecks {
             } else {
                 m_b.m_builder.impl().meshes.push_back(std::move(g));
             }
+        }
+
+        // The shape's `motion_positions` and `motion_normals` against `mesh` (as given: n
+        // vertices, normals or none): every step 3n finite numbers, normals per step exactly
+        // when the mesh has normals, none zero. With `deform`, the steps through the shape's
+        // transform (positions) and its inverse transpose (normals, normalised), and the
+        // shape's extent grown by them; otherwise checked only.
+        void deformation_steps(const TriangleMesh& mesh, const glm::dmat3& normal_mat,
+                               std::vector<std::vector<Vec3>>& positions,
+                               std::vector<std::vector<Vec3>>& normals) {
+            const std::size_t n = mesh.positions.size();
+            const std::string mp = ptr + "/motion_positions";
+            const std::string np = ptr + "/motion_normals";
+            auto steps = [&](const std::vector<std::vector<float>>& in, const std::string& p,
+                             const char* what, bool unit) {
+                std::vector<std::vector<Vec3>> out;
+                for (std::size_t k = 0; k < in.size(); ++k) {
+                    const std::string sp = p + "/" + std::to_string(k);
+                    if (in[k].size() != 3 * n)
+                        fail(sp, "expected " + std::to_string(3 * n) + " numbers (3 per vertex: " +
+                                     "the mesh has " + std::to_string(n) + " vertices), got " +
+                                     std::to_string(in[k].size()));
+                    for (std::size_t i = 0; i < in[k].size(); ++i)
+                        if (!std::isfinite(in[k][i]))
+                            fail(sp + "/" + std::to_string(i), "must be a finite number");
+                    std::vector<Vec3> v(n);
+                    for (std::size_t i = 0; i < n; ++i) {
+                        v[i] = Vec3(in[k][3 * i], in[k][3 * i + 1], in[k][3 * i + 2]);
+                        if (unit && !(glm::length(v[i]) > 0.f))
+                            fail(sp + "/" + std::to_string(3 * i),
+                                 std::string(what) + " " + std::to_string(i) + " is zero");
+                    }
+                    out.push_back(std::move(v));
+                }
+                return out;
+            };
+            std::vector<std::vector<Vec3>> p = steps(shape.motion_positions, mp, "position", false);
+            if (mesh.normals.empty() && !shape.motion_normals.empty())
+                fail(np, "the mesh has no normals (give \"normals\" too, or no motion_normals)");
+            if (!mesh.normals.empty() && shape.motion_normals.empty())
+                fail(mp,
+                     "the mesh has normals: give its \"motion_normals\" too (one per vertex "
+                     "per step)");
+            std::vector<std::vector<Vec3>> nn = steps(shape.motion_normals, np, "normal", true);
+            if (!deform) return;
+            for (std::vector<Vec3>& step : p)
+                for (Vec3& q : step) {
+                    q = Vec3(glm::dvec3(xf * glm::dvec4(glm::dvec3(q), 1.0)));
+                    grow(glm::dvec3(q));
+                }
+            for (std::vector<Vec3>& step : nn)
+                for (Vec3& q : step) {
+                    const glm::dvec3 w = normal_mat * glm::dvec3(q);
+                    q = Vec3(w / glm::length(w));
+                }
+            positions = std::move(p);
+            normals = std::move(nn);
         }
 
         // Prototypes hold triangles only: their hits are filled as meshes' are.
@@ -1580,7 +1692,10 @@ class Builder final : public BuildChecks {
         in.prototype = std::uint32_t(pi.described ? m_prototype_base + pi.prototype : pi.prototype);
         in.place(pi.xf);
         in.motion = pi.motion;
-        const Bounds3& pb = m_builder.impl().prototypes[in.prototype].bounds;
+        const PrototypeGeom& proto = m_builder.impl().prototypes[in.prototype];
+        in.deforms = std::any_of(proto.meshes.begin(), proto.meshes.end(),
+                                 [](const MeshGeom& g) { return !g.step_positions.empty(); });
+        const Bounds3& pb = proto.bounds;
         if (pb.empty()) return;  // a glTF mesh without triangles: nothing to place
         // The world extent of every step's placement; a moving instance's also of its
         // interpolated placements, sampled finely (rotations swing corners outside the steps'
@@ -1837,7 +1952,7 @@ std::string SceneFeatures::describe() const {
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
-    if (has_motion) s << "motion blur: yes (a moving camera or shapes)\n";
+    if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
     return s.str();
 }
 

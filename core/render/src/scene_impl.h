@@ -55,6 +55,13 @@ struct MeshGeom {
     std::vector<std::array<glm::vec4, 3>> tri_tangents;
     float tangent_sign = 0.f;         // icosphere: non-zero when tangents are needed
     glm::dmat3 sphere_to_world{1.0};  // icosphere: linear part of to_object's inverse
+    // Deformation motion (ShapeDesc::motion_positions): the vertex positions, and for a smooth
+    // mesh the unit vertex normals, at each of >= 2 uniform time steps (motion.h), in the
+    // mesh's frame; Embree gets one vertex buffer per step, and `mesh.indices` stay for the
+    // hits, which interpolate the triangle at the ray's time (embree_scene.cpp,
+    // fill_deformed). `planes` and `records` are the still mesh's. Empty: a still mesh.
+    std::vector<std::vector<Vec3>> step_positions;
+    std::vector<std::vector<Vec3>> step_normals;
     const glm::vec4& plane(std::size_t tri) const {
         return records.empty() ? planes[tri] : records[tri].plane;
     }
@@ -152,6 +159,9 @@ struct InstanceGeom {
     // The fields above are then those of the first step; a hit recomputes them at its ray's
     // time (placed_at).
     std::vector<DecomposedTransform> motion;
+    // Its prototype holds a deforming mesh (MeshGeom::step_positions): hits are filled at the
+    // ray's time.
+    bool deforms = false;
 
     // Sets the transform and every field derived from it (M: affine, invertible).
     void place(const glm::dmat4& m) {

@@ -28,6 +28,9 @@ using detail::escape_pointer_token;
 // The keys of a mesh kind's MeshArrays field (ShapeDesc::mesh).
 constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  "normals",
                                                        "uvs",       "tangents", "colors"};
+// A mesh kind's deformation motion (ShapeDesc::motion_positions, motion_normals), with the
+// arrays or a "file".
+constexpr std::array<const char*, 2> kMeshMotionKeys = {"motion_positions", "motion_normals"};
 
 std::string type_name(const json& v) {
     switch (v.type()) {
@@ -758,6 +761,7 @@ class Reader {
         for (const auto& f : k.fields) {
             if (f.type == FieldType::MeshArrays) {
                 keys.insert(keys.end(), kMeshArrayKeys.begin(), kMeshArrayKeys.end());
+                keys.insert(keys.end(), kMeshMotionKeys.begin(), kMeshMotionKeys.end());
             } else {
                 keys.push_back(f.key.data());
             }
@@ -819,6 +823,29 @@ class Reader {
                 d.motion.push_back(read_transform(m[i], ptr + "/motion/" + std::to_string(i)));
         }
         for (const Field<ShapeDesc>& f : k->fields) read_field(s, ptr, f, d);
+        // Deformation motion: arrays of per-step flat arrays (their sizes and values are
+        // build_scene's to check against the mesh).
+        auto read_steps = [&](const char* key, std::vector<std::vector<float>>& out) {
+            if (!s.contains(key)) return;
+            const json& a = s[key];
+            const std::string p = ptr + "/" + key;
+            if (!a.is_array())
+                fail(p, "expected an array of steps (each a flat array of 3n numbers), got " +
+                            type_name(a));
+            for (std::size_t step = 0; step < a.size(); ++step) {
+                const json& st = a[step];
+                const std::string sp = p + "/" + std::to_string(step);
+                if (!st.is_array())
+                    fail(sp, "expected a flat array of 3n numbers (x0, y0, z0, x1, ...), got " +
+                                 type_name(st));
+                std::vector<float> v(st.size());
+                for (std::size_t i = 0; i < st.size(); ++i)
+                    v[i] = float(get_number(st[i], sp + "/" + std::to_string(i)));
+                out.push_back(std::move(v));
+            }
+        };
+        read_steps("motion_positions", d.motion_positions);
+        read_steps("motion_normals", d.motion_normals);
         return d;
     }
 
@@ -1193,6 +1220,14 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         }
         for (const Field<ShapeDesc>& f : shape_kind(s.kind).fields)
             write_field(j, f, s, hashed_arrays);
+        auto steps_json = [&](const std::vector<std::vector<float>>& steps) {
+            json a = json::array();
+            for (const std::vector<float>& st : steps)
+                a.push_back(array_json(std::span<const float>(st), hashed_arrays));
+            return a;
+        };
+        if (!s.motion_positions.empty()) j["motion_positions"] = steps_json(s.motion_positions);
+        if (!s.motion_normals.empty()) j["motion_normals"] = steps_json(s.motion_normals);
         return j;
     };
     json shapes = json::array();

@@ -1209,7 +1209,10 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
         std::string moving;
         if (!desc.camera.motion.empty()) moving = "/camera/motion";
         for (std::size_t i = 0; i < desc.shapes.size() && moving.empty(); ++i)
-            if (!desc.shapes[i].motion.empty()) moving = "/shapes/" + std::to_string(i) + "/motion";
+            if (!desc.shapes[i].motion.empty())
+                moving = "/shapes/" + std::to_string(i) + "/motion";
+            else if (!desc.shapes[i].motion_positions.empty())
+                moving = "/shapes/" + std::to_string(i) + "/motion_positions";
         if (!moving.empty())
             throw SceneError(name + ": " + moving +
                              ": motion blur is not expressible in POV-Ray (it renders one "

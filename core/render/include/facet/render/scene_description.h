@@ -146,6 +146,14 @@ struct ShapeDesc {
     // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces
     // `transform` (the still placement). Triangle kinds and instances only.
     std::vector<glm::dmat4> motion;
+    // Deformation motion (mesh kind from arrays or a file; scenes/FORMAT.md, "Motion blur"):
+    // the vertex positions at each of >= 2 uniform steps over the open shutter, each a flat
+    // array of 3n floats in object space (n: the mesh's vertex count, the same indices), and,
+    // exactly when the mesh has normals, its vertex normals per step likewise. With motion blur
+    // on they replace the mesh's still positions (and normals); with `motion` too, both have
+    // the same step count.
+    std::vector<std::vector<float>> motion_positions;
+    std::vector<std::vector<float>> motion_normals;
     // The texture space of procedural textures' Generated coordinates (texture.h): its centre
     // and half size in object space (Blender's texspace_location, texspace_size); none = the
     // shape's object-space bounding box (a zero half size counts as 1, as Blender's).
