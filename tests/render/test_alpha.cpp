@@ -15,6 +15,7 @@
 
 #include "facet/render/film.h"
 #include "facet/render/image.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/render/scene_description.h"
@@ -336,4 +337,63 @@ TEST(Alpha, JsonKeysRoundTripAndErrorsNameThePlace) {
     } catch (const fr::SceneError& e) {
         EXPECT_NE(std::string(e.what()).find("/shapes/0/holdout"), std::string::npos) << e.what();
     }
+}
+
+// export-pov refuses what POV-Ray cannot render, naming the place (never a silent drop).
+TEST(Alpha, ExportPovRefusesTransparencyAndHoldouts) {
+    auto error_of = [](const std::string& body) {
+        try {
+            fr::export_pov(fr::parse_scene_description(
+                               R"({"format": "facet-scene", "version": 1, )" + body + "}", "a"),
+                           "a.json");
+        } catch (const fr::SceneError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(
+        error_of(sphere_scene(R"({"film_transparent": true})")).find("/render/film_transparent"),
+        std::string::npos);
+    const std::string holdout_shape =
+        std::string(kOrtho) +
+        R"("shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "holdout": true,
+                       "material": {"model": "lambert"}}],
+           "lights": [{"type": "point", "position": [0, 0, 6], "power": 1}])";
+    EXPECT_NE(error_of(holdout_shape).find("/shapes/0/holdout"), std::string::npos);
+    const std::string holdout_material =
+        std::string(kOrtho) +
+        R"("shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                       "material": {"model": "holdout"}}],
+           "lights": [{"type": "point", "position": [0, 0, 6], "power": 1}])";
+    EXPECT_NE(error_of(holdout_material).find("holdout cannot be exported"), std::string::npos)
+        << error_of(holdout_material);
+    // Control: the same scene with an ordinary material exports.
+    EXPECT_EQ(error_of(sphere_scene(R"({})")), "");
+}
+
+// Media: a camera ray crossing a `null`-bounded box of scattering fog (sigma_s 1, depth 1)
+// without scattering stays see-through; one that scatters covers. Alpha is then the
+// probability of scattering, 1 - exp(-1) = 0.632, each sample a Bernoulli of it: over the 8 x 8
+// central pixels x 64 samples, sigma 0.0075; the tolerance is 5 of those. No fog (alpha 0) or
+// the box opaque (alpha 1) fails.
+TEST(Alpha, FogCoversByItsScatteringProbability) {
+    const fr::Scene sc = scene_of(
+        R"("camera": {"type": "orthographic", "position": [0, 0, 5], "look_at": [0, 0, 0],
+                      "up": [0, 1, 0], "scale": 2, "width": 32, "height": 32},
+           "materials": {"fogbox": {"model": "null", "interior": "fog"}},
+           "media": {"fog": {"kind": "homogeneous", "sigma_a": 0, "sigma_s": 1}},
+           "shapes": [{"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5],
+                       "material": "fogbox"}],
+           "lights": [{"type": "environment", "radiance": 1}],
+           "render": {"film_transparent": true})");
+    fr::RenderStats st;
+    const fr::Image img = fr::render(sc, fr::testing::test_options("path", 64, 3), &st);
+    EXPECT_NE(st.kernel.name.find("media"), std::string::npos) << st.kernel.name;
+    ASSERT_TRUE(img.has_alpha());
+    double sum = 0.0;
+    for (int y = 12; y < 20; ++y)
+        for (int x = 12; x < 20; ++x) sum += img.alpha()[std::size_t(y * 32 + x)];
+    const double p = 1.0 - std::exp(-1.0);
+    EXPECT_NEAR(sum / 64.0, p, 5.0 * std::sqrt(p * (1.0 - p) / (64.0 * 64.0)));
+    EXPECT_EQ(img.alpha()[0], 0.f);  // outside the box: the background
 }
