@@ -208,6 +208,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     # Per object placed as itself: how its arrays were read (uv layer, colours) and the arrays,
     # for its deformation motion (sync_motion.add_motion reads it again at each step).
     mesh_sources = {}
+    held_out = holdout_objects(view_layer)
     for inst in depsgraph.object_instances:
         obj = inst.object
         matrix = inst.matrix_world.copy()
@@ -280,6 +281,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 shape["positions"], shape["indices"], shape["normals"] = arrays
             slot_mat = obj.material_slots[0].material if obj.material_slots else None
             _add_material(shape, slot_mat, mats, obj)
+            if _is_holdout(obj, held_out):
+                shape["holdout"] = True
             order.append(shape)
             continue
         slots = [s.material for s in obj.material_slots] or [None]
@@ -290,9 +293,10 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         colors = _color_attribute_read(obj, slots, mats, problems)
         # The same evaluated geometry (a pointer compared while this depsgraph lives) with the
         # same materials is one mesh however often it is placed; other kinds: per object.
+        holdout = _is_holdout(obj, held_out)
         gkey = (data_ptr or orig.name, inst.is_instance if not data_ptr else None,
                 tuple(m.name if m is not None else None for m in slots), uv_layer, tangents,
-                colors)
+                colors, holdout)
         rec = placed.get(gkey)
         if rec is None:
             key = (orig.name, inst.is_instance, data_ptr if inst.is_instance else 0, uv_layer,
@@ -302,6 +306,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 hooks.export_stats["meshes"] += 1
             rec = placed[gkey] = _placed_mesh(mesh_cache[key], obj, slots, uv_layer, mats,
                                                problems)
+            if holdout:  # Object > Visibility > Holdout, or a Holdout collection
+                rec.templates = [(s, dict(t, holdout=True)) for s, t in rec.templates]
             if clip is not None and orig.type != 'MESH':
                 clip.points(clip_key, mesh_cache[key])
         if not inst.is_instance and rec.templates:
@@ -363,6 +369,28 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             sync_motion.add_motion(depsgraph, data, frame_set, owners, problems,
                                    mesh_sources)
     return data, problems
+
+
+def holdout_objects(view_layer):
+    """Names of the objects in the view layer's Holdout collections (Outliner's Holdout
+    toggle, LayerCollection.holdout), which Cycles holds out as it does Object > Visibility >
+    Holdout."""
+    names = set()
+
+    def walk(lc):
+        for child in lc.children:
+            if child.exclude:
+                continue
+            if child.holdout:
+                names.update(o.name for o in child.collection.all_objects)
+            walk(child)
+    walk(view_layer.layer_collection)
+    return names
+
+
+def _is_holdout(obj, held_out):
+    """Whether the object is a holdout (FORMAT.md "Film transparency and holdouts")."""
+    return bool(getattr(obj.original, "is_holdout", False)) or obj.original.name in held_out
 
 
 def _scatters(medium):
@@ -541,4 +569,6 @@ def export_render_settings(scene, frame=None):
     if fs.adaptive_threshold > 0.0:
         out["adaptive_threshold"] = fs.adaptive_threshold
         out["adaptive_min_samples"] = fs.adaptive_min_samples
+    if scene.render.film_transparent:  # Film > Transparent: an RGBA image (FORMAT.md)
+        out["film_transparent"] = True
     return out

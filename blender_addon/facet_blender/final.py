@@ -12,6 +12,8 @@ image and still exit 0 in `blender -b`.
 import time
 import traceback
 
+import numpy as np
+
 from . import export, gaps, hooks, native, passes, pixels
 
 PREVIEW_SPP = 16  # material preview renders: small images, seen while editing
@@ -161,5 +163,9 @@ class FinalSession:
     def _denoised(fscene, sessions, rs, threads):
         """The denoised image (facet/render/denoise.h) of the two half sessions, with the
         features at the render's spp and seed (as `facet render --denoise`)."""
-        return native.denoise_halves(fscene, sessions[0].image(), sessions[1].image(),
-                                     rs["spp"], rs["seed"], threads=threads)
+        a, b = sessions[0].image(), sessions[1].image()
+        out = native.denoise_halves(fscene, a[:, :, :3], b[:, :, :3], rs["spp"], rs["seed"],
+                                    threads=threads)
+        if a.shape[2] == 4:  # alpha: the mean of the halves (the denoiser reads colour only)
+            out = np.dstack([out, 0.5 * (a[:, :, 3] + b[:, :, 3])]).astype(np.float32)
+        return out

@@ -55,7 +55,6 @@ NODES = {
     'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
     'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
     'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
-    'ShaderNodeHoldout': "holdout is not in Facet's core",
     # Converted on a Volume output (materials.NodeContext.volume); on a Surface nothing
     # converts them.
     'ShaderNodeVolumeAbsorption': VOLUME_ON_SURFACE,
@@ -299,8 +298,10 @@ def _bounces(attr, label, factory):
 # (path from the scene ("view_layer." from the view layer), Blender's label, the quiet values
 # (a value, or a tuple of values and of callables (scene, value) -> bool), what Facet does).
 SETTINGS = (
-    ("render.film_transparent", "Film > Transparent",
-     False, "Facet's image has no alpha channel yet: the world is rendered behind the scene"),
+    ("cycles.film_transparent_glass", "Film > Transparent > Transparent Glass",
+     (False, lambda scene, v: not scene.render.film_transparent),
+     "not converted: glass and other transmission are opaque in Facet's alpha channel (the "
+     "world seen through them stays in the colour)"),
     ("cycles.rolling_shutter_type", "Motion Blur > Rolling Shutter", 'NONE',
      "not converted: every row of the image is exposed over the same shutter interval"),
     ("render.use_multiview", "Stereoscopy", False,
@@ -371,8 +372,6 @@ OBJECT_FLAGS = (
      "per-object ray visibility is not in Facet's core yet: the object casts shadows"),
     ("is_shadow_catcher", "Visibility > Shadow Catcher", False,
      "the shadow catcher is not in Facet's core yet: rendered as an ordinary object"),
-    ("is_holdout", "Visibility > Holdout", False,
-     "holdout is not in Facet's core yet: rendered as an ordinary object"),
     ("cycles.use_camera_cull", "Visibility > Culling > Camera Cull", False,
      "culling is not converted: Facet renders the whole object"),
     ("cycles.use_distance_cull", "Visibility > Culling > Distance Cull", False,
@@ -406,8 +405,6 @@ LAMP_FLAGS = (
 )
 # Per collection of the view layer (its layer collection's restriction toggles).
 COLLECTION_FLAGS = (
-    ("holdout", "Holdout", False,
-     "holdout is not in Facet's core yet: its objects are rendered as ordinary objects"),
     ("indirect_only", "Indirect Only", False,
      "not in Facet's core: its objects are seen by camera rays too"),
 )
@@ -427,6 +424,10 @@ CONVERTED = {
     "object.hide_render": "Blender's render depsgraph leaves the object out",
     "collection.exclude": "Blender's render depsgraph leaves the collection out",
     "lamp.visible_camera": "an area lamp's camera_visible (export.py, _area_light)",
+    "render.film_transparent": "the alpha channel (export_render_settings: the scene's "
+                               "render.film_transparent)",
+    "object.is_holdout": "the shape's holdout (export.py, _is_holdout)",
+    "collection.holdout": "its objects' shapes are holdouts (export.py, holdout_objects)",
     "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
     "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,
 }
@@ -469,8 +470,7 @@ UNCHANGED = {
     "cycles.device": DEVICE, "cycles.feature_set": ONLY_ADAPTIVE,
     "cycles.shading_system": "Open Shading Language runs the same nodes",
     "cycles.preview_pause": "the viewport's",
-    "cycles.film_transparent_glass": "only with Film > Transparent, which is reported",
-    "cycles.film_transparent_roughness": "only with Film > Transparent, which is reported",
+    "cycles.film_transparent_roughness": "only with Transparent Glass, which is reported",
     "cycles.rolling_shutter_duration": "only with Motion Blur > Rolling Shutter, which is "
                                        "reported",
     "cycles.fast_gi_method": ONLY_FAST_GI, "cycles.ao_bounces_render": ONLY_FAST_GI,

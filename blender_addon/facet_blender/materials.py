@@ -788,6 +788,12 @@ def _mix_transparent(d1, d2, fac, notes):
     return data
 
 
+def _holdout(ctx, node, path):
+    """Cycles' Holdout: the core's `holdout` (alpha 0 and colour 0 where camera rays see it;
+    inside a Mix Shader its share)."""
+    return {"model": "holdout"}, None
+
+
 def _translucent(ctx, node, path):
     """Cycles' Translucent BSDF: the core's `translucent` (Lambertian transmission, f = Color/pi
     on the far side)."""
@@ -1077,6 +1083,7 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfTranslucent': _translucent,
     'ShaderNodeBsdfVelvet': _velvet,
     'ShaderNodeBsdfTransparent': _transparent,
+    'ShaderNodeHoldout': _holdout,
 }
 _READS = {
     'ShaderNodeBsdfDiffuse': ('Color', 'Roughness'),
@@ -1090,4 +1097,5 @@ _READS = {
     'ShaderNodeBsdfTranslucent': ('Color',),
     'ShaderNodeBsdfVelvet': ('Color', 'Sigma'),
     'ShaderNodeBsdfTransparent': ('Color',),
+    'ShaderNodeHoldout': (),
 }

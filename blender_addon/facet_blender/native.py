@@ -177,6 +177,7 @@ def _shape_desc(s):
         sd.emission = _rgb(s["emission"])
     sd.two_sided = bool(s.get("two_sided", True))
     sd.flip_normals = bool(s.get("flip_normals", False))
+    sd.holdout = bool(s.get("holdout", False))
     if "texture_space" in s:
         ts = s["texture_space"]
         sd.texture_space = (_rgb(ts["location"]), _rgb(ts["size"]))
@@ -281,6 +282,8 @@ def to_description(data):
     if "adaptive_threshold" in rs:
         r.adaptive_threshold = float(rs["adaptive_threshold"])
         r.adaptive_min_samples = int(rs.get("adaptive_min_samples", 0))
+    if rs.get("film_transparent", False):
+        r.film_transparent = True
     mb = rs.get("motion_blur")
     if mb is not None:
         r.motion_blur = facet.MotionBlur(enabled=mb) if isinstance(mb, bool) else \
@@ -313,6 +316,8 @@ def _shape_data(sd, base_dir):
     kind = str(sd.kind).split(".")[-1].lower()
     s = {"type": kind, "name": sd.name, "two_sided": bool(sd.two_sided),
          "flip_normals": bool(sd.flip_normals), "emission": _vec(sd.emission)}
+    if sd.holdout:
+        s["holdout"] = True
     if sd.material is not None:
         s["material"] = _material_data(sd.material)
     elif sd.material_ref:
@@ -394,6 +399,8 @@ def from_description(d):
     if r.adaptive_threshold > 0.0:
         data["render"]["adaptive_threshold"] = float(r.adaptive_threshold)
         data["render"]["adaptive_min_samples"] = int(r.adaptive_min_samples)
+    if r.film_transparent:
+        data["render"]["film_transparent"] = True
     if r.motion_blur is not None:
         mb = r.motion_blur
         data["render"]["motion_blur"] = {"enabled": bool(mb.enabled),

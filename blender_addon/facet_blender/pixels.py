@@ -6,11 +6,12 @@ import numpy as np
 
 def to_blender_rect(img):
     """float32 (h, w, 3) top row first -> float32 (w*h, 4) RGBA, rows bottom to top (what
-    RenderPass.rect.foreach_set takes in one call)."""
+    RenderPass.rect.foreach_set takes in one call); an (h, w, 4) image (film transparency,
+    holdouts: premultiplied colour and alpha, as Cycles' Combined) keeps its alpha."""
     h, w = img.shape[:2]
     rgba = np.empty((h, w, 4), np.float32)
-    rgba[:, :, :3] = img[::-1]
-    rgba[:, :, 3] = 1.0
+    rgba[:, :, :3] = img[::-1, :, :3]
+    rgba[:, :, 3] = img[::-1, :, 3] if img.shape[2] == 4 else 1.0
     return rgba.reshape(h * w, 4)
 
 

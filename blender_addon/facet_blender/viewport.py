@@ -19,6 +19,8 @@ uploads the latest finished pass and draws it.
 import threading
 import traceback
 
+import numpy as np
+
 from . import export, hooks, native, pixels, units
 
 
@@ -200,7 +202,10 @@ class ViewportSession:
                 return  # restarted or stopped: no denoising of a partial image
             halves.append(session.image())
         if denoise:
-            img = native.denoise_halves(scene, halves[0], halves[1], n, rs["seed"])
+            img = native.denoise_halves(scene, halves[0][:, :, :3], halves[1][:, :, :3], n,
+                                        rs["seed"])
+            if halves[0].shape[2] == 4:  # Film > Transparent: the alpha is not denoised
+                img = np.dstack([img, 0.5 * (halves[0][:, :, 3] + halves[1][:, :, 3])])
             if self._publish(img, data):
                 hooks.viewport_stats["denoised"] += 1
                 hooks.viewport_denoised = ((halves[0] + halves[1]) / 2, img)

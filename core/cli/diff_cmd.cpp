@@ -102,9 +102,14 @@ void run_convert(const std::string& in, const std::string& out) {
     const auto dot = out.find_last_of('.');
     std::string ext = dot == std::string::npos ? "" : out.substr(dot);
     for (char& c : ext) c = char(std::tolower(static_cast<unsigned char>(c)));
-    if (ext == ".pfm")
+    if (ext == ".pfm") {
+        if (image.has_alpha())
+            std::fprintf(stderr,
+                         "facet: convert: warning: %s: PFM has no alpha channel; %s's "
+                         "alpha is not written\n",
+                         out.c_str(), in.c_str());
         write_pfm(image, out);
-    else
+    } else
         render::write_image(image, out);
 }
 

@@ -38,8 +38,22 @@ namespace {
 
 static_assert(sizeof(Rgb) == 3 * sizeof(float), "Image pixels must be packed float RGB");
 
-// The image as a (h, w, 3) float32 array owning it (no copy).
+// The image as a (h, w, 3) float32 array owning it (no copy); an image with alpha (film
+// transparency, holdouts) as an (h, w, 4) RGBA array, colour premultiplied (a copy).
 py::array_t<float> image_array(Image&& image) {
+    if (image.has_alpha()) {
+        const py::ssize_t h = image.height(), w = image.width();
+        py::array_t<float> out({h, w, py::ssize_t(4)});
+        float* d = out.mutable_data();
+        for (std::size_t i = 0; i < image.pixels().size(); ++i) {
+            const Rgb& c = image.pixels()[i];
+            d[4 * i + 0] = c.r;
+            d[4 * i + 1] = c.g;
+            d[4 * i + 2] = c.b;
+            d[4 * i + 3] = image.alpha()[i];
+        }
+        return out;
+    }
     auto* owned = new Image(std::move(image));
     py::capsule base(owned, [](void* p) { delete static_cast<Image*>(p); });
     const py::ssize_t h = owned->height(), w = owned->width();
@@ -69,11 +83,21 @@ Image image_from_array(py::handle obj, const char* what) {
     const char kind = a.dtype().kind();
     if (kind != 'f' && kind != 'i' && kind != 'u')
         bad_argument(what, "dtype " + std::string(py::str(a.dtype())) + ", expected float32");
-    if (a.ndim() != 3 || a.shape(2) != 3)
+    if (a.ndim() != 3 || (a.shape(2) != 3 && a.shape(2) != 4))
         bad_argument(what, "shape " + std::string(py::str(py::tuple(a.attr("shape")))) +
-                               ", expected (h, w, 3)");
+                               ", expected (h, w, 3) or (h, w, 4)");
     auto f = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
     Image image(int(f.shape(1)), int(f.shape(0)));
+    if (a.shape(2) == 4) {
+        // RGBA (premultiplied colour and alpha, image.h).
+        image.add_alpha();
+        const float* d = f.data();
+        for (std::size_t i = 0; i < image.pixels().size(); ++i) {
+            image.pixels()[i] = Rgb(d[4 * i], d[4 * i + 1], d[4 * i + 2]);
+            image.alpha()[i] = d[4 * i + 3];
+        }
+        return image;
+    }
     if (f.size() > 0)
         std::memcpy(image.pixels().data(), f.data(), std::size_t(f.size()) * sizeof(float));
     return image;
@@ -375,10 +399,11 @@ void bind_render(py::module_& m) {
                     i.sample_begin, i.sample_end, i.seed, p.name,
                     raw_bytes(f.sum_values().data(), f.sum_values().size() * sizeof(FixedRgb)),
                     raw_bytes(f.count_values().data(),
-                              f.count_values().size() * sizeof(std::uint32_t)));
+                              f.count_values().size() * sizeof(std::uint32_t)),
+                    raw_bytes(f.alpha_values().data(), f.alpha_values().size() * sizeof(FixedSum)));
             },
             [](py::tuple t) {
-                if (t.size() != 11) throw std::runtime_error("RenderPart: bad pickle state");
+                if (t.size() != 12) throw std::runtime_error("RenderPart: bad pickle state");
                 PyPart p;
                 PartInfo& i = p.part.info;
                 i.scene = t[0].cast<std::string>();
@@ -393,12 +418,15 @@ void bind_render(py::module_& m) {
                 p.name = t[8].cast<std::string>();
                 const std::string sums = t[9].cast<std::string>();
                 const std::string counts = t[10].cast<std::string>();
-                p.part.film = Film(i.region);
+                const std::string alpha = t[11].cast<std::string>();
+                p.part.film = Film(i.region, !alpha.empty());
                 Film& f = p.part.film;
                 if (sums.size() != f.sum_values().size() * sizeof(FixedRgb) ||
-                    counts.size() != f.count_values().size() * sizeof(std::uint32_t))
+                    counts.size() != f.count_values().size() * sizeof(std::uint32_t) ||
+                    alpha.size() != f.alpha_values().size() * sizeof(FixedSum))
                     throw std::runtime_error("RenderPart: pickle state does not fit its region");
                 if (!sums.empty()) std::memcpy(f.sums(), sums.data(), sums.size());
+                if (!alpha.empty()) std::memcpy(f.alpha_sums(), alpha.data(), alpha.size());
                 if (!counts.empty()) std::memcpy(f.counts(), counts.data(), counts.size());
                 return p;
             }))
@@ -663,7 +691,8 @@ void bind_render(py::module_& m) {
             write_image(img, path);
         },
         py::arg("image"), py::arg("path"),
-        "Writes (h, w, 3) linear RGB: .exr (float) or .png (sRGB 8-bit)");
+        "Writes (h, w, 3) linear RGB or (h, w, 4) RGBA (premultiplied): .exr (float) or .png "
+        "(sRGB 8-bit)");
     m.def(
         "read_image",
         [](const std::string& path) {
@@ -674,7 +703,8 @@ void bind_render(py::module_& m) {
             }
             return image_array(std::move(img));
         },
-        py::arg("path"), "Reads .exr or .png as linear RGB float32 (h, w, 3)");
+        py::arg("path"),
+        "Reads .exr or .png as linear RGB float32 (h, w, 3); an EXR with alpha as (h, w, 4)");
 }
 
 }  // namespace facet::python

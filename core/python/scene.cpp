@@ -323,7 +323,7 @@ const std::set<std::string> kCommonShapeAttributes = {
     "name",          "material_ref",     "material",
     "emission",      "emission_texture", "two_sided",
     "flip_normals",  "transform",        "motion",
-    "texture_space", "motion_positions", "motion_normals"};
+    "texture_space", "motion_positions", "motion_normals", "holdout"};
 
 // Deformation steps (ShapeDesc::motion_positions, motion_normals): a list of float32 arrays,
 // and back from any iterable of float sequences (each flattened).
@@ -674,6 +674,9 @@ void bind_scene(py::module_& m) {
         .def_readwrite("adaptive_min_samples", &RenderSettings::adaptive_min_samples)
         .def_readwrite("motion_blur", &RenderSettings::motion_blur,
                        "a facet.MotionBlur, or None (no motion blur)")
+        .def_readwrite("film_transparent", &RenderSettings::film_transparent,
+                       "Film > Transparent: the environment seen by camera rays is left out and "
+                       "images are RGBA (h, w, 4), colour premultiplied")
         .def_readonly("width", &RenderSettings::width)
         .def_readonly("height", &RenderSettings::height)
         .def(py::self == py::self)
@@ -1091,6 +1094,8 @@ void bind_scene(py::module_& m) {
             "a facet.Texture instead of `emission` (scenes/FORMAT.md, Textures), or None")
         .def_readwrite("two_sided", &ShapeDesc::two_sided)
         .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
+        .def_readwrite("holdout", &ShapeDesc::holdout,
+                       "a holdout: alpha 0 and colour 0 where camera rays see it")
         .def_readwrite("transform", &ShapeDesc::transform)
         .def_readwrite("motion", &ShapeDesc::motion,
                        "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "

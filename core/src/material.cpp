@@ -134,6 +134,7 @@ Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const 
     m.m_flags = a->flags() | b->flags();
     m.m_special = true;
     m.m_anisotropic = a->anisotropic() || b->anisotropic();
+    m.m_holdout = std::max(a->m_holdout, b->m_holdout);
     return m;
 }
 
@@ -194,7 +195,24 @@ Material Material::add(std::shared_ptr<const Material> a, std::shared_ptr<const 
     m.m_flags = a->flags() | b->flags();
     m.m_special = true;
     m.m_anisotropic = a->anisotropic() || b->anisotropic();
+    m.m_holdout = a->m_holdout + b->m_holdout;
     return m;
+}
+
+Material Material::holdout() {
+    Material m(LambertReflection(Rgb(0.f)), std::nullopt, std::nullopt);
+    m.m_holdout = 1.f;
+    return m;
+}
+
+float Material::holdout_weight(const Vec3& wo) const {
+    if (!(m_holdout > 0.f)) return 0.f;
+    if (!m_combination) return m_holdout;
+    const Combination& c = *m_combination;
+    const Combination::At at = c.at(wo);
+    // (Cycles clamps nothing here either; an `add` of two holdouts is 2, which the film's
+    // alpha, clamped to [0, 1], absorbs.)
+    return at.coef_a * c.a->holdout_weight(wo) + at.coef_b * c.b->holdout_weight(wo);
 }
 
 Material::Material(const PrincipledBxDF& principled)

@@ -39,6 +39,8 @@ PREREQ = {
     "render.motion_blur_shutter": {"render.use_motion_blur": True},
     "cycles.motion_blur_position": {"render.use_motion_blur": True},
     "view_layer.use_motion_blur": {"render.use_motion_blur": True},
+    # Reported only with Film > Transparent on.
+    "cycles.film_transparent_glass": {"render.film_transparent": True},
 }
 
 
@@ -55,12 +57,13 @@ def export():
 
 def fingerprint():
     """What the render is made of, without the mesh arrays: camera, shape kinds, materials,
-    lights, render settings and the render region."""
+    lights, render settings, holdouts and the render region."""
     from facet_blender import export as ex, pixels
     data, problems = export()
     scene = bpy.context.scene
     w, h = ex.resolution(scene)
-    shapes = [(s["type"], s.get("name"), s.get("material")) for s in data["shapes"]]
+    shapes = [(s["type"], s.get("name"), s.get("material"), s.get("holdout", False))
+              for s in data["shapes"]]
     return repr((data["camera"], shapes, data["lights"], data["materials"], data["render"],
                  pixels.border_rect(scene.render, w, h))), problems
 
@@ -341,6 +344,8 @@ def case_settings():
         if "reported" in kinds:
             row = reported_row(gaps.SETTINGS, path)
             scene = fresh()
+            for p, pv in PREREQ.get(path, {}).items():
+                setattr(*resolve(p), pv)
             struct, attr = resolve(path)
             v = away(struct, attr, prop, row[2], scene)
             bt.check(v is not None, "%s: a value away from the quiet ones" % path)

@@ -65,6 +65,22 @@ def test_animation_per_frame_or_per_tile(client, tmp_path):
         assert_same(facet.read_image(str(tmp_path / "out" / f"frame_{n:04d}.exr")), refs[k])
 
 
+def test_film_transparent_alpha_bit_identical(client, tmp_path):
+    """Film transparency (FORMAT.md "Film transparency and holdouts"): the farm's RGBA image,
+    tiles and sample chunks summed with their alpha, is the CLI's bit for bit."""
+    def edit(d):
+        d["render"]["film_transparent"] = True
+        for s in d["shapes"]:
+            if s.get("name") == "tall block":  # a holdout: alpha 0 where it is seen
+                s["holdout"] = True
+    scene = write_scene(tmp_path / "alpha.json", 48, 32, 6, edit=edit)
+    ref = cli_render(scene, tmp_path / "ref.exr")
+    assert ref.shape == (32, 48, 4) and (ref[:, :, 3] == 0.0).any() and (ref[:, :, 3] == 1).any()
+    [image] = farm.render_files([str(scene)], [str(tmp_path / "o.exr")], client=client,
+                                tile_size=16, sample_chunk=2)
+    assert_same(image, ref)
+
+
 def test_command_still_exr_and_png(still, tmp_path):
     scene, ref = still
     exr, png = tmp_path / "a.exr", tmp_path / "a.png"

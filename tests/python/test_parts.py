@@ -1,6 +1,7 @@
 # Split and merge from Python: regions and sample ranges rendered separately (also on threads,
 # through part files and through pickle) merge into exactly the image of one render.
 import concurrent.futures
+import json
 import pickle
 
 import numpy as np
@@ -81,3 +82,31 @@ def test_bad_merges_name_the_part(scene):
         facet.merge_parts([a, c])
     with pytest.raises(ValueError, match="names: expected one name per part"):
         facet.merge_parts([a, c], names=["x"])
+
+
+def test_film_transparent_is_rgba_and_merges(tmp_path):
+    """Film > Transparent (FORMAT.md "Film transparency and holdouts"): RGBA arrays, colour
+    premultiplied; parts with alpha merge (files, pickle) into the single render's RGBA; a
+    holdout shape is alpha 0 and black."""
+    d = ts.scene_dict(SPP)
+    d["render"]["film_transparent"] = True
+    d["shapes"][1]["holdout"] = True  # the gold sphere
+    sc = facet.load_scene_from_string(json.dumps(d), name="tiny alpha")
+    whole = facet.render(sc)
+    assert whole.shape == (ts.HEIGHT, ts.WIDTH, 4)
+    a = whole[:, :, 3]
+    assert a.min() >= 0.0 and a.max() <= 1.0
+    # Some pixels see the sky (the camera looks over the floor) or the holdout: alpha 0, black.
+    holes = a == 0.0
+    assert holes.any() and (a == 1.0).any()
+    assert np.all(whole[holes][:, :3] == 0.0)
+    parts = [part(sc, samples=s) for s in [(0, 2), (2, SPP)]]
+    np.testing.assert_array_equal(facet.merge_parts(parts), whole)
+    parts[0].write(str(tmp_path / "a.fpart"))
+    again = [facet.read_part(str(tmp_path / "a.fpart")), pickle.loads(pickle.dumps(parts[1]))]
+    np.testing.assert_array_equal(facet.merge_parts(again), whole)
+    # The description's attributes.
+    desc = facet.read_scene_description(str(ts.write_scene(tmp_path)))
+    assert desc.render.film_transparent is False and desc.shapes[0].holdout is False
+    desc.render.film_transparent = True
+    assert facet.render(facet.build_scene(desc, name="t")).shape[2] == 4

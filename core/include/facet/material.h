@@ -131,6 +131,15 @@ class Material {
                                        Mode mode = Mode::Radiance) const;
     BxDFFlags flags() const { return m_flags; }
     bool transmissive() const { return is_transmissive(m_flags); }
+    // Holdout (the `holdout` model, Blender's Holdout shader): the fraction of the surface that
+    // is a hole in the image where camera rays reach it (facet/render/integrator.h). The model
+    // is a black surface of holdout weight 1; a combination's weight is its children's,
+    // weighted by their coefficients at wo (local frame), as Cycles sums its holdout closures.
+    // Its BSDF is unchanged by this: the holdout part reflects nothing.
+    bool has_holdout() const { return m_holdout > 0.f; }
+    float holdout_weight(const Vec3& wo) const;
+    // The `holdout` model: black, holdout weight 1.
+    static Material holdout();
     // Some lobe reads the tangent direction (an anisotropic microfacet lobe, here or in a child).
     bool anisotropic() const { return m_anisotropic; }
     const Combination* combination() const { return m_combination.get(); }
@@ -189,6 +198,9 @@ class Material {
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_special = false;  // one of the rare kinds: f, pdf and sample_f go to special_*
     bool m_anisotropic = false;
+    // Holdout weight: the model's 1; for a combination an upper bound (0: none in it), its
+    // weight at wo comes from the children (holdout_weight).
+    float m_holdout = 0.f;
     bool m_has_table = false;            // false for single-lobe materials
     std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
     Rgb m_inv_one_minus_es_avg{1.f};     // 1 / (1 - Es_avg), per channel

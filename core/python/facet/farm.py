@@ -379,6 +379,13 @@ def _sum_parts(parts):
         sums[:, 1] += other[:, 1] + carry
         sums[:, 0] = lo
         counts += np.frombuffer(s[10], dtype=np.uint32)
+        if first[11]:  # alpha (film transparency): its 128-bit sums, added the same way
+            alpha = np.frombuffer(first[11], dtype=np.uint64).reshape(-1, 2).copy()
+            oa = np.frombuffer(s[11], dtype=np.uint64).reshape(-1, 2)
+            lo = alpha[:, 0] + oa[:, 0]
+            alpha[:, 1] += oa[:, 1] + (lo < alpha[:, 0]).astype(np.uint64)
+            alpha[:, 0] = lo
+            first[11] = alpha.tobytes()
     first[6] = end
     first[9] = sums.tobytes()
     first[10] = counts.tobytes()
@@ -398,10 +405,11 @@ def _place(job, part):
             (part.width, part.height) != (p.width, p.height) or part.samples != (0, p.spp):
         raise FarmError(f"{p.name}: internal: part {part.name} does not belong to this render "
                         f"(fingerprint, seed, size or samples {part.samples} differ)")
+    img = part.image()  # (h, w, 3), or RGBA with film transparency
     if job.image is None:
-        job.image = np.zeros((p.height, p.width, 3), dtype=np.float32)
+        job.image = np.zeros((p.height, p.width, img.shape[2]), dtype=np.float32)
     x0, y0, x1, y1 = part.region
-    job.image[y0:y1, x0:x1] = part.image()
+    job.image[y0:y1, x0:x1] = img
 
 
 def _place_halves(job, tile):
@@ -410,7 +418,8 @@ def _place_halves(job, tile):
     p = job.payload
     h = p.spp // 2
     if job.halves is None:
-        job.halves = [np.zeros((p.height, p.width, 3), dtype=np.float32) for _ in range(2)]
+        job.halves = [np.zeros((p.height, p.width, tile[0].image().shape[2]), dtype=np.float32)
+                      for _ in range(2)]
     x0, y0, x1, y1 = tile[0].region
     for k, part in enumerate((_sum_parts([t for t in tile if t.samples[1] <= h]),
                               _sum_parts([t for t in tile if t.samples[0] >= h]))):
@@ -424,7 +433,11 @@ def _denoised(job):
     neighbours, which another tile may hold)."""
     p = job.payload
     scene = _worker_scene(p)
-    return facet.denoise_halves(scene, job.halves[0], job.halves[1], p.spp, p.seed)
+    out = facet.denoise_halves(scene, job.halves[0][:, :, :3], job.halves[1][:, :, :3], p.spp,
+                               p.seed)
+    if job.image.shape[2] == 4:  # alpha is not denoised: the merged render's (as the CLI)
+        out = np.dstack([out, job.image[:, :, 3]]).astype(np.float32)
+    return out
 
 
 @dataclasses.dataclass

@@ -720,6 +720,8 @@ DenoisedRender render_denoised(const Scene& scene, const RenderOptions& options,
     d.threads = rs.threads;
     DenoisedHalves dh = denoise_halves(scene, a, b, rs.spp, rs.seed, d);
     out.image = std::move(dh.image);
+    // Alpha (film transparency, holdouts) is not denoised: the render's own.
+    if (out.raw.has_alpha()) out.image.alpha() = out.raw.alpha();
     out.features = std::move(dh.features);
     return out;
 }

@@ -3,6 +3,7 @@
 
 #include <nlohmann/json.hpp>
 
+#include <algorithm>
 #include <bit>
 #include <cstring>
 #include <fstream>
@@ -19,6 +20,15 @@ static_assert(kFixedFracBits == 60, "from_fixed's scale");
 
 Image Film::resolve() const {
     Image img(width(), height());
+    if (has_alpha()) {
+        img.add_alpha(0.f);
+        for (std::size_t i = 0; i < m_alpha.size(); ++i) {
+            const std::uint32_t n = m_counts[i];
+            if (n == 0) continue;
+            const double a = from_fixed(m_alpha[i]) / double(n);
+            img.alpha()[i] = float(std::clamp(a, 0.0, 1.0));
+        }
+    }
     for (std::size_t i = 0; i < m_sums.size(); ++i) {
         const std::uint32_t n = m_counts[i];
         if (n == 0) continue;  // black
@@ -34,6 +44,8 @@ void Film::add(const Film& o) {
     const Region& r = o.m_region;
     if (r.x0 < m_region.x0 || r.y0 < m_region.y0 || r.x1 > m_region.x1 || r.y1 > m_region.y1)
         throw std::logic_error("Film::add: region outside the film");
+    if (has_alpha() != o.has_alpha())
+        throw std::logic_error("Film::add: one film has alpha and the other not");
     for (int y = r.y0; y < r.y1; ++y) {
         for (int x = r.x0; x < r.x1; ++x) {
             const std::size_t src =
@@ -42,6 +54,7 @@ void Film::add(const Film& o) {
                 std::size_t(y - m_region.y0) * std::size_t(width()) + std::size_t(x - m_region.x0);
             m_sums[dst] += o.m_sums[src];
             m_counts[dst] += o.m_counts[src];
+            if (!m_alpha.empty()) m_alpha[dst] += o.m_alpha[src];
         }
     }
 }
@@ -49,6 +62,7 @@ void Film::add(const Film& o) {
 namespace {
 
 constexpr const char* kPartMagic = "FACETPART 1";
+constexpr const char* kPartMagicAlpha = "FACETPART 2";
 
 std::string region_text(const Region& r) {
     return "[" + std::to_string(r.x0) + ", " + std::to_string(r.y0) + ", " + std::to_string(r.x1) +
@@ -59,8 +73,9 @@ std::string region_text(const Region& r) {
 
 void write_part(const RenderPart& part, const std::string& path) {
     const PartInfo& p = part.info;
+    const bool alpha = part.film.has_alpha();
     nlohmann::json h{{"format", "facet-part"},
-                     {"version", 1},
+                     {"version", alpha ? 2 : 1},
                      {"scene", p.scene},
                      {"fingerprint", p.fingerprint},
                      {"width", p.width},
@@ -71,11 +86,16 @@ void write_part(const RenderPart& part, const std::string& path) {
                      {"fixed_point_fraction_bits", kFixedFracBits}};
     std::ofstream out(path, std::ios::binary);
     if (!out) throw std::runtime_error(path + ": cannot create the part file");
-    out << kPartMagic << "\n" << h.dump() << "\n";
+    if (alpha) h["alpha"] = true;
+    out << (alpha ? kPartMagicAlpha : kPartMagic) << "\n" << h.dump() << "\n";
     // Little-endian: the host's order on every platform Facet builds for (x86-64, aarch64).
     static_assert(std::endian::native == std::endian::little);
-    for (const FixedRgb& s : part.film.sum_values()) {
-        out.write(reinterpret_cast<const char*>(s.c), sizeof s.c);
+    const std::vector<FixedRgb>& sums = part.film.sum_values();
+    for (std::size_t i = 0; i < sums.size(); ++i) {
+        out.write(reinterpret_cast<const char*>(sums[i].c), sizeof sums[i].c);
+        if (alpha)
+            out.write(reinterpret_cast<const char*>(&part.film.alpha_values()[i]),
+                      sizeof(FixedSum));
     }
     if (!out) throw std::runtime_error(path + ": cannot write the part file");
 }
@@ -87,13 +107,16 @@ RenderPart read_part(const std::string& path) {
         return std::runtime_error(path + ": not a valid Facet part file: " + why);
     };
     std::string magic, header;
-    if (!std::getline(in, magic) || magic != kPartMagic) throw bad("missing 'FACETPART 1' line");
+    if (!std::getline(in, magic) || (magic != kPartMagic && magic != kPartMagicAlpha))
+        throw bad("missing 'FACETPART 1' (or 2) line");
+    const bool alpha = magic == kPartMagicAlpha;
     if (!std::getline(in, header)) throw bad("missing header line");
     RenderPart part;
     PartInfo& p = part.info;
     try {
         const nlohmann::json h = nlohmann::json::parse(header);
-        if (h.at("format") != "facet-part" || h.at("version") != 1)
+        if (h.at("format") != "facet-part" || h.at("version") != (alpha ? 2 : 1) ||
+            h.value("alpha", false) != alpha)
             throw bad("unsupported format or version");
         if (h.at("fixed_point_fraction_bits") != kFixedFracBits)
             throw bad("fixed-point format differs from this build's");
@@ -118,11 +141,13 @@ RenderPart read_part(const std::string& path) {
                   std::to_string(p.width) + "x" + std::to_string(p.height) + " image");
     if (p.sample_begin < 0 || p.sample_end <= p.sample_begin)
         throw bad("empty or negative sample range");
-    part.film = Film(r);
+    part.film = Film(r, alpha);
     const std::size_t n = std::size_t(r.width()) * std::size_t(r.height());
     FixedRgb* sums = part.film.sums();
+    FixedSum* alpha_sums = part.film.alpha_sums();
     for (std::size_t i = 0; i < n; ++i) {
-        if (!in.read(reinterpret_cast<char*>(sums[i].c), sizeof sums[i].c))
+        if (!in.read(reinterpret_cast<char*>(sums[i].c), sizeof sums[i].c) ||
+            (alpha && !in.read(reinterpret_cast<char*>(&alpha_sums[i]), sizeof(FixedSum))))
             throw bad("truncated: expected " + std::to_string(n) + " pixels");
     }
     if (in.peek() != std::char_traits<char>::eof()) throw bad("trailing data after the pixels");
@@ -153,6 +178,10 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
                                      name(0) + " (scene '" + p.scene + "' vs '" + first.scene +
                                      "')");
         const Film& f = parts[i].film;
+        if (f.has_alpha() != parts[0].film.has_alpha())
+            throw std::runtime_error(name(i) + (f.has_alpha() ? " has" : " has no") +
+                                     " alpha channel, " + name(0) +
+                                     (f.has_alpha() ? " has none" : " has one"));
         if (!(f.region() == p.region))
             throw std::runtime_error(name(i) + ": film does not match its region");
         for (std::uint32_t c : f.count_values()) {
@@ -175,7 +204,7 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
             }
         }
     }
-    Film out(Region{0, 0, first.width, first.height});
+    Film out(Region{0, 0, first.width, first.height}, parts[0].film.has_alpha());
     for (const RenderPart& p : parts) out.add(p.film);
     const std::vector<std::uint32_t>& counts = out.count_values();
     for (std::size_t i = 0; i < counts.size(); ++i) {

@@ -51,6 +51,7 @@ void write_exr(const Image& image, const std::string& path) {
         Imf::Header header(image.width(), image.height());
         header.compression() = Imf::ZIP_COMPRESSION;
         for (const char* c : {"R", "G", "B"}) header.channels().insert(c, Imf::Channel(Imf::FLOAT));
+        if (image.has_alpha()) header.channels().insert("A", Imf::Channel(Imf::FLOAT));
         Imf::OutputFile file(path.c_str(), header);
         Imf::FrameBuffer fb;
         // Rgb is three packed floats: x stride = sizeof(Rgb), y stride = one row.
@@ -59,6 +60,11 @@ void write_exr(const Image& image, const std::string& path) {
         fb.insert("R", Imf::Slice(Imf::FLOAT, base + 0 * sizeof(float), xs, ys));
         fb.insert("G", Imf::Slice(Imf::FLOAT, base + 1 * sizeof(float), xs, ys));
         fb.insert("B", Imf::Slice(Imf::FLOAT, base + 2 * sizeof(float), xs, ys));
+        if (image.has_alpha()) {
+            char* a = const_cast<char*>(reinterpret_cast<const char*>(image.alpha().data()));
+            fb.insert("A", Imf::Slice(Imf::FLOAT, a, sizeof(float),
+                                      sizeof(float) * size_t(image.width())));
+        }
         file.setFrameBuffer(fb);
         file.writePixels(image.height());
     } catch (const std::exception& e) {
@@ -90,6 +96,13 @@ Image read_exr(const std::string& path) {
         } else {
             fb.insert("Y", Imf::Slice(Imf::FLOAT, base, xs, ys));
         }
+        if (ch.findChannel("A")) {
+            image.add_alpha();
+            char* a = reinterpret_cast<char*>(image.alpha().data());
+            const size_t as = sizeof(float), ays = sizeof(float) * size_t(w);
+            a -= (ptrdiff_t(dw.min.x) * ptrdiff_t(as) + ptrdiff_t(dw.min.y) * ptrdiff_t(ays));
+            fb.insert("A", Imf::Slice(Imf::FLOAT, a, as, ays));
+        }
         file.setFrameBuffer(fb);
         file.readPixels(dw.min.y, dw.max.y);
         if (!has_rgb)
@@ -103,16 +116,23 @@ Image read_exr(const std::string& path) {
 void write_png(const Image& image, const std::string& path) {
     const int w = image.width(), h = image.height();
     if (w <= 0 || h <= 0) throw std::runtime_error(path + ": cannot write PNG: empty image");
-    std::vector<std::uint8_t> bytes(size_t(w) * size_t(h) * 3);
+    const int n = image.has_alpha() ? 4 : 3;
+    std::vector<std::uint8_t> bytes(size_t(w) * size_t(h) * size_t(n));
     for (size_t i = 0; i < image.pixels().size(); ++i) {
-        const Rgb& p = image.pixels()[i];
+        Rgb p = image.pixels()[i];
+        if (n == 4) {
+            // PNG's alpha is straight: un-premultiply (a pixel of alpha 0 is black).
+            const float a = std::fmin(std::fmax(image.alpha()[i], 0.f), 1.f);
+            p = a > 0.f ? p / a : Rgb(0.f);
+            bytes[4 * i + 3] = std::uint8_t(std::lround(a * 255.f));
+        }
         for (int c = 0; c < 3; ++c) {
             // NaN maps to 0 (fmax drops it); round to nearest 8-bit code.
             float v = std::fmin(std::fmax(p[c], 0.f), 1.f);
-            bytes[3 * i + c] = std::uint8_t(std::lround(srgb_encode(v) * 255.f));
+            bytes[size_t(n) * i + size_t(c)] = std::uint8_t(std::lround(srgb_encode(v) * 255.f));
         }
     }
-    if (!stbi_write_png(path.c_str(), w, h, 3, bytes.data(), w * 3))
+    if (!stbi_write_png(path.c_str(), w, h, n, bytes.data(), w * n))
         throw std::runtime_error(path + ": cannot write PNG");
 }
 

@@ -42,6 +42,28 @@ template <std::uint32_t F>
         return scene.intersect(ray, hit);
 }
 
+// ---- alpha (kFeatAlpha; integrator.h conventions, "Alpha") ----
+
+// The holdout weight of a see-through hit: 1 on a holdout shape, else its material's.
+[[gnu::noinline]] float holdout_at(const Scene& scene, const SurfaceHit& hit, const Vec3& ray_d) {
+    if (scene.shapes()[hit.shape].holdout) return 1.f;
+    const Material& m = *hit.material;
+    if (!m.has_holdout()) return 0.f;
+    const Vec3 wo_w = -ray_d;
+    const Vec3 n = glm::dot(hit.ng, wo_w) >= 0.f ? hit.ns : -hit.ns;
+    return m.holdout_weight(Frame::from_z(n).to_local(wo_w));
+}
+
+// The transparency a path's throughput beta carries (Cycles: the average over channels).
+inline float mean3(const Rgb& c) {
+    return (c.r + c.g + c.b) * (1.f / 3.f);
+}
+
+// Whether a BSDF sample is a straight pass-through (a transparent surface, `null`).
+inline bool passes_straight(const BSDFSample& bs, const Vec3& wo) {
+    return bs.is_specular() && bs.wi == -wo;
+}
+
 // ---- BSDF access: the Material, or its single Lambertian lobe in the Lambert-only kernel ----
 
 template <std::uint32_t F>
@@ -160,6 +182,9 @@ struct PathState {
     // Next-event estimation at the current vertex: what L gains when the shadow ray (traced
     // with the other lanes' after every lane has shaded its vertex) is not blocked.
     Rgb nee{0.f};
+    // Alpha kernels: whether the path is still see-through, and its transparency T.
+    bool see_through = true;
+    float transparent = 0.f;
 };
 
 // The sample values one path vertex may use (integrator.h: the dimensions of a vertex), drawn
@@ -288,6 +313,8 @@ template <std::uint32_t F>
     if (!valid_side(sh, transmissive, wi_w, bs->wi.z)) return false;
     p.beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
     if (!(max3(p.beta) > 0.f)) return false;
+    if constexpr ((F & kFeatAlpha) != 0)
+        p.see_through = p.see_through && passes_straight(*bs, sh.wo);
     if constexpr (kSpecular) p.specular_bounce = bs->is_specular();
     p.prev_bsdf_pdf = bs->pdf;
     p.prev_ctx = ctx;
@@ -343,6 +370,21 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
     // Area lamps that camera rays see (transparent: the path goes on behind them).
     if (depth == 0 && scene.has_camera_lamps()) [[unlikely]]
         p.L += scene.camera_lamps(rays.origin(k), ray_d, found ? hit.t : kInfinity);
+
+    // Alpha: the background or a holdout seen through nothing but transparent surfaces.
+    if constexpr ((F & kFeatAlpha) != 0) {
+        if (p.see_through) {
+            if (!found) {
+                if (scene.settings().film_transparent) {
+                    p.transparent += mean3(p.beta);
+                    return false;
+                }
+            } else if (const float h = holdout_at(scene, hit, ray_d); h > 0.f) {
+                p.transparent += h * mean3(p.beta);
+                if (h >= 1.f) return false;
+            }
+        }
+    }
 
     // Emission reached by this ray: full weight from the camera or after a delta lobe (light
     // sampling cannot produce those paths); MIS-weighted against NEE otherwise.
@@ -402,7 +444,7 @@ template <std::uint32_t F>
 void path_packet(const Scene& scene, const LightDistribution& light_dist, std::size_t n,
                  RayPacket& rays, std::array<SurfaceHit, kLanes>& hits,
                  std::array<bool, kLanes>& found, const std::uint32_t* seeds, std::uint32_t index,
-                 int max_depth, KernelCounters& c, Rgb* L) {
+                 int max_depth, KernelCounters& c, Rgb* L, float* T) {
     static_assert(kLanes == kSamplerLanes);
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
@@ -449,6 +491,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
         }
     }
     for (std::size_t k = 0; k < n; ++k) L[k] = paths[k].L;
+    if constexpr ((F & kFeatAlpha) != 0)
+        for (std::size_t k = 0; k < n; ++k) T[k] = paths[k].transparent;
 }
 
 // ---- direct: local illumination (C&W eq. 2.42) + perfect mirror recursion ----
@@ -457,7 +501,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
 // `found`); `s` starts at dimension 1.
 template <std::uint32_t F>
 Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool found,
-              const SurfaceHit& first_hit, Sampler& s, int max_depth, KernelCounters& c) {
+              const SurfaceHit& first_hit, Sampler& s, int max_depth, KernelCounters& c,
+              [[maybe_unused]] float& T) {
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
     constexpr bool kEmission = (F & kFeatEmission) != 0;
     constexpr bool kArea = (F & kFeatAreaSampling) != 0;
@@ -474,6 +519,7 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
     // hit whose shading normal is changed.
     const SurfaceHit* hp = &first_hit;
     [[maybe_unused]] SurfaceHit next;
+    [[maybe_unused]] bool see_through = true;   // alpha (as in path_vertex)
     if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex
         L += scene.camera_lamps(ray.o, ray.d, found ? first_hit.t : kInfinity);
     for (int depth = 0;; ++depth) {
@@ -481,6 +527,19 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
             if (depth > 0) {
                 found = trace<F>(scene, ray, time, next);
                 hp = &next;
+            }
+        }
+        if constexpr ((F & kFeatAlpha) != 0) {
+            if (see_through) {
+                if (!found) {
+                    if (scene.settings().film_transparent) {
+                        T += mean3(beta);
+                        break;
+                    }
+                } else if (const float h = holdout_at(scene, *hp, ray.d); h > 0.f) {
+                    T += h * mean3(beta);
+                    if (h >= 1.f) break;
+                }
             }
         }
         if (!found) {
@@ -566,6 +625,8 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
                 if (!ms || !ms->is_specular()) break;
                 const Vec3 wi_w = sh.frame.from_local(ms->wi);
                 if (!valid_side(sh, transmissive, wi_w, ms->wi.z)) break;
+                if constexpr ((F & kFeatAlpha) != 0)
+                    see_through = see_through && passes_straight(*ms, sh.wo);
                 beta *= ms->f * (std::fabs(ms->wi.z) / ms->pdf);
                 if (!(max3(beta) > 0.f)) break;
                 ray = Scene::spawn_ray(hit, wi_w);
@@ -751,7 +812,7 @@ float sample_segment(const Medium& med, const Ray& ray, float t_max, float u_cha
 template <std::uint32_t F>
 Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, float time,
                   bool found, const SurfaceHit& first, MediumStack stack, Sampler& s, int max_depth,
-                  KernelCounters& c) {
+                  KernelCounters& c, [[maybe_unused]] float& T) {
     const std::span<const Light> lights = scene.lights();
     const std::span<const Medium> media = scene.media();
     const int num_lights = int(lights.size());
@@ -760,6 +821,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     float prev_pdf = 0.f;
     LightSampleContext prev_ctx;
     SurfaceHit hit = first;
+    [[maybe_unused]] bool see_through = true;   // alpha (as in path_vertex)
     if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex (not attenuated)
         L += scene.camera_lamps(ray.o, ray.d, found ? first.t : kInfinity);
     int depth = 0, nulls = 0;
@@ -784,6 +846,23 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
         const Vec3 wo_w = -ray.d;
 
         if (!in_medium) {
+            // Alpha: nothing but `null` crossings and media so far (as in path_vertex).
+            if constexpr ((F & kFeatAlpha) != 0) {
+                if (see_through) {
+                    if (!found) {
+                        if (scene.settings().film_transparent) {
+                            T += mean3(beta);
+                            break;
+                        }
+                    } else if (const MediumInterface* mi = scene.medium_interface(hit.material);
+                               !(mi && mi->pass_through)) {
+                        if (const float h = holdout_at(scene, hit, ray.d); h > 0.f) {
+                            T += h * mean3(beta);
+                            if (h >= 1.f) break;
+                        }
+                    }
+                }
+            }
             // The segment's end: emission found by the ray (full weight from the camera and
             // after a delta lobe; otherwise MIS-weighted against light sampling).
             if (!found) {
@@ -875,6 +954,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (!valid_side(sh, transmissive, wi_w, bs->wi.z)) break;
             beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
             specular_bounce = bs->is_specular();
+            if constexpr ((F & kFeatAlpha) != 0)
+                see_through = see_through && passes_straight(*bs, sh.wo);
             prev_pdf = bs->pdf;
             prev_ctx = ctx;
             stack = stack_toward(wi_w);
@@ -917,6 +998,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (!ps || !(ps->pdf > 0.f)) break;
             beta *= ps->p / ps->pdf;
             specular_bounce = false;
+            see_through = false;
             prev_pdf = ps->pdf;
             prev_ctx = ctx;
             ray = Ray{p, ps->wi, kInfinity};
@@ -943,6 +1025,7 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     alignas(32) std::array<float, kLanes> film_x, film_y, lens_x, lens_y;
     [[maybe_unused]] alignas(32) std::array<float, kLanes> times;
     std::array<Rgb, kLanes> L;
+    [[maybe_unused]] std::array<float, kLanes> T;  // transparency (alpha kernels)
     // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
     // (render.h); lanes outside the tile are traced and not written.
@@ -1041,19 +1124,21 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 if constexpr ((F & kFeatMedia) != 0) {
                     for (std::size_t k = 0; k < n; ++k) {
                         Sampler s(ss[k], index, 1u);
+                        T[k] = 0.f;
                         L[k] = media_path_li<F>(scene, *job.light_distribution, rays.get(k),
                                                 lane_time<F>(rays, k), found[k], hits[k],
-                                                camera_stack, s, job.max_depth, c);
+                                                camera_stack, s, job.max_depth, c, T[k]);
                     }
                 } else if constexpr (I == IntegratorKind::Path) {
                     path_packet<F>(scene, *job.light_distribution, n, rays, hits, found, ss, index,
-                                   job.max_depth, c, L.data());
+                                   job.max_depth, c, L.data(), T.data());
                 } else {
                     for (std::size_t k = 0; k < n; ++k) {
                         // Dimension 0 was the film position; direct_li sets every other.
                         Sampler s(ss[k], index, 1u);
+                        T[k] = 0.f;
                         L[k] = direct_li<F>(scene, rays.get(k), lane_time<F>(rays, k), found[k],
-                                            hits[k], s, job.max_depth, c);
+                                            hits[k], s, job.max_depth, c, T[k]);
                     }
                 }
                 for (std::size_t k = 0; k < n; ++k) {
@@ -1070,6 +1155,17 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                     px.c[0] += to_fixed(L[k].x);
                     px.c[1] += to_fixed(L[k].y);
                     px.c[2] += to_fixed(L[k].z);
+                }
+                if constexpr ((F & kFeatAlpha) != 0) {
+                    // Coverage 1 - T (film.h), when the film keeps it (a transparent film; a
+                    // holdout in an opaque one only blacks out); a non-finite T counts as
+                    // covered.
+                    if (!job.alpha) continue;
+                    FixedSum* const alpha_px = job.alpha + (film_px - sums);
+                    for (std::size_t k = k0; k < k1; ++k) {
+                        const float a = 1.f - T[k];
+                        alpha_px[k - k0] += to_fixed(std::fabs(a) < kMaxSampleValue ? a : 1.f);
+                    }
                 }
             }
         }
@@ -1106,6 +1202,7 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
     add(f & kFeatSpecular, "specular", "no-specular");
     add(f & kFeatMedia, "media", "");
     add(f & kFeatMotion, "motion", "");
+    add(f & kFeatAlpha, "alpha", "");
     if (kind == IntegratorKind::Path) {
         add(f & kFeatMis, "mis", "no-mis");
         add(f & kFeatEmission, "emission", "no-emission");
@@ -1174,10 +1271,15 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.chosen.push_back(
             "motion blur: a shutter time per camera sample, the moving camera and instances "
             "traced at it (the general kernel with time, whatever is chosen below)");
+    const std::uint32_t alpha = sf.needs_alpha ? std::uint32_t(kFeatAlpha) : 0u;
+    if (sf.needs_alpha)
+        k.chosen.push_back(
+            "alpha (film transparency or a holdout): the general kernel with each sample's "
+            "coverage, whatever is chosen below");
     if (sf.has_media) {
         // One kernel for every scene with media (kernel_function), whichever integrator.
         k.features = (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured |
-                     kFeatMedia | motion;
+                     kFeatMedia | motion | alpha;
         k.chosen.push_back(
             "media: the volumetric path kernel (free-flight sampling, light samples through "
             "media and null surfaces, MIS with the phase function), one path at a time" +
@@ -1285,6 +1387,14 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
     } else {
         k.skipped.push_back("shutter time on rays: nothing moves (or motion blur is off)");
     }
+    if (sf.needs_alpha) {
+        // Alpha: the general kernel with transmission, textures (and time) and coverage.
+        k.features = (path ? (kFeatSpecular | kFeatMis | kFeatEmission | kFeatIndirect)
+                           : (kFeatSpecular | kFeatEmission | kFeatAreaSampling)) |
+                     kFeatTransmission | kFeatTextured | motion | kFeatAlpha;
+    } else {
+        k.skipped.push_back("alpha: the film is opaque and nothing is a holdout");
+    }
     k.name = std::string(integrator_name(integrator)) + "<" + feature_list(integrator, k.features) +
              ">" + (force_general ? " (general)" : "");
     return k;
@@ -1297,7 +1407,18 @@ TileKernel kernel_function(const KernelChoice& choice) {
     constexpr std::uint32_t kDirectGeneral = kDirectMask & ~kFeatLambertOnly;
     constexpr std::uint32_t kT = kFeatTransmission, kX = kFeatTextured;
     const bool path = choice.integrator == IntegratorKind::Path;
-    constexpr std::uint32_t kM = kFeatMotion;
+    constexpr std::uint32_t kM = kFeatMotion, kA = kFeatAlpha;
+    if ((choice.features & kA) != 0) {
+        constexpr std::uint32_t kMedia = kPathGeneral | kT | kX | kFeatMedia | kA;
+        if ((choice.features & kFeatMedia) != 0)
+            return (choice.features & kM) != 0 ? &render_tile<IntegratorKind::Path, kMedia | kM>
+                                               : &render_tile<IntegratorKind::Path, kMedia>;
+        if ((choice.features & kM) != 0)
+            return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kM | kA>
+                        : &render_tile<IntegratorKind::Direct, kDirectGeneral | kT | kX | kM | kA>;
+        return path ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kA>
+                    : &render_tile<IntegratorKind::Direct, kDirectGeneral | kT | kX | kA>;
+    }
     if ((choice.features & kFeatMedia) != 0)
         return (choice.features & kM) != 0
                    ? &render_tile<IntegratorKind::Path, kPathGeneral | kT | kX | kFeatMedia | kM>

@@ -67,7 +67,8 @@ bool SceneDescription::operator==(const SceneDescription& o) const {
            render.max_depth == o.render.max_depth && render.seed == o.render.seed &&
            render.adaptive_threshold == o.render.adaptive_threshold &&
            render.adaptive_min_samples == o.render.adaptive_min_samples &&
-           render.motion_blur == o.render.motion_blur;
+           render.motion_blur == o.render.motion_blur &&
+           render.film_transparent == o.render.film_transparent;
 }
 
 namespace {
@@ -328,6 +329,7 @@ class Builder final : public BuildChecks {
         s.width = m_builder.camera().width;
         s.height = m_builder.camera().height;
         s.motion_blur = r.motion_blur;
+        s.film_transparent = r.film_transparent;
     }
 
     // --- materials -----------------------------------------------------------------------------
@@ -1005,11 +1007,13 @@ class Builder final : public BuildChecks {
                 fail(ptr + "/emission", "an instance cannot emit (its prototype's shapes do not)");
             if (!s.two_sided) fail(ptr + "/two_sided", "give it on the prototype's shapes");
             if (s.flip_normals) fail(ptr + "/flip_normals", "give it on the prototype's shapes");
+            if (s.holdout) fail(ptr + "/holdout", "give it on the prototype's shapes");
         }
 
         ShapeInfo info;
         info.kind = s.kind;
         info.two_sided = s.two_sided;
+        info.holdout = s.holdout;
         info.emission = check_color(s.emission, ptr + "/emission", "an emitted radiance");
         if (s.emission_texture) {
             if (info.emission != Rgb(0.f))
@@ -1879,10 +1883,12 @@ class Builder final : public BuildChecks {
                 if (su.textured >= 0) f.has_textured = true;
                 // A surface that bounds a medium or lets rays through (an unused one is not).
                 if (scene.medium_interface(su.material)) f.has_media = true;
+                if (su.material->has_holdout()) f.has_holdout = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
             };
             if (s.parts.empty()) surface(s);
             for (const ShapeSurface& p : s.parts) surface(p);
+            if (s.holdout) f.has_holdout = true;
             f.num_triangles += s.triangles;
             if (s.kind == ShapeKind::Sphere) ++f.num_spheres;
             if (s.kind == ShapeKind::Plane) ++f.num_planes;
@@ -1901,6 +1907,7 @@ class Builder final : public BuildChecks {
         if (scene.world_medium() >= 0) f.has_media = true;
         if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
         f.has_motion = m_camera_moves || m_shapes_move;
+        f.needs_alpha = m_desc.render.film_transparent || f.has_holdout;
         if (m_camera_moves) f.emitter_visible = true;  // the frustum test is the still camera's
     }
 
@@ -1953,6 +1960,8 @@ std::string SceneFeatures::describe() const {
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
     if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
+    if (needs_alpha)
+        s << "alpha: yes (" << (has_holdout ? "a holdout" : "film transparent") << ")\n";
     return s.str();
 }
 

@@ -383,7 +383,9 @@ class Reader {
         expect_object(r, ptr);
         check_keys(r, ptr,
                    {"integrator", "spp", "time_budget", "max_depth", "seed", "adaptive_threshold",
-                    "adaptive_min_samples", "motion_blur"});
+                    "adaptive_min_samples", "motion_blur", "film_transparent"});
+        if (r.contains("film_transparent"))
+            s.film_transparent = get_bool(r["film_transparent"], ptr + "/film_transparent");
         if (r.contains("motion_blur")) {
             const json& m = r["motion_blur"];
             const std::string mp = ptr + "/motion_blur";
@@ -784,6 +786,7 @@ class Reader {
         if (s.contains("flip_normals")) {
             d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
         }
+        if (s.contains("holdout")) d.holdout = get_bool(s["holdout"], ptr + "/holdout");
         if (s.contains("texture_space")) {
             const std::string tp = ptr + "/texture_space";
             const json& t = s["texture_space"];
@@ -1209,6 +1212,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (s.emission_texture) j["emission"] = texture_json(*s.emission_texture, hashed_arrays);
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
+        if (s.holdout) j["holdout"] = true;
         if (s.texture_space)
             j["texture_space"] = {{"location", vec_json(s.texture_space->location)},
                                   {"size", vec_json(s.texture_space->size)}};
@@ -1278,6 +1282,8 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         root["render"]["adaptive_threshold"] = r.adaptive_threshold;
         root["render"]["adaptive_min_samples"] = r.adaptive_min_samples;
     }
+    // Film transparency only when on: scenes without it keep their files (and fingerprints).
+    if (r.film_transparent) root["render"]["film_transparent"] = true;
     // Motion blur only when given: scenes without it keep their files as they were.
     if (r.motion_blur) {
         const RenderSettings::MotionBlur& mb = *r.motion_blur;

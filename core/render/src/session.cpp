@@ -230,6 +230,7 @@ struct RenderSession::State {
         proto.max_depth = choice.max_depth;
         proto.light_distribution = &light_dist;
         proto.independent_samples = options.independent_samples;
+        proto.alpha = film.alpha_sums();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
@@ -296,7 +297,7 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
             s.tiles.push_back(t);
         }
     }
-    s.film = Film(reg);
+    s.film = Film(reg, scene.settings().film_transparent);
     if (s.adaptive()) s.checkpoint_sums.assign(s.film.sum_values().size(), FixedRgb{});
     s.target = s.rs.sample_end;
     s.stats.kernel = s.choice;

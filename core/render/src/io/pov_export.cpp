@@ -815,6 +815,8 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     if (m.params.has("interior")) return texture(without_interior(m), pointer, emission);
     const ModelInfo* info = find_model(m.model);
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
+    if (info->name == "holdout")
+        fail(pointer + "/model", "a holdout cannot be exported to POV-Ray (render with Facet)");
     // null: an invisible boundary, wholly transparent on both sides (POV-Ray's transmit 1
     // passes camera and shadow rays unchanged), reflecting and emitting nothing.
     if (info->pass_through) {
@@ -1219,6 +1221,18 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
                              "instant per frame); set /render/motion_blur/enabled to false to "
                              "export the still scene, or render with Facet");
     }
+    // Film transparency and holdouts (FORMAT.md): POV-Ray's +UA alpha treats the background
+    // alone, and it has no holdout; errors, never a silent drop.
+    if (desc.render.film_transparent)
+        throw SceneError(name +
+                         ": /render/film_transparent: film transparency is not exported to "
+                         "POV-Ray (set it to false to export the opaque scene, or render with "
+                         "Facet)");
+    for (std::size_t i = 0; i < desc.shapes.size(); ++i)
+        if (desc.shapes[i].holdout)
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/holdout: a holdout cannot be exported to POV-Ray (render with "
+                             "Facet)");
     // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
     // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path
     // with media is traced whichever integrator is asked).

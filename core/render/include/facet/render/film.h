@@ -14,6 +14,11 @@
 //    With at most 2^20 samples per pixel a sum then stays below 2^66, far from overflow.
 //  - The image is sum * 2^-kFixedFracBits (exact, in double) / count per pixel, rounded to float;
 //    pixels with no samples are black.
+//  - Alpha (film transparency and holdouts, integrator.h): a film made with alpha also sums each
+//    sample's coverage (1 - the background's share, a float in [0, 1]) in the same fixed
+//    point, so alpha splits and merges exactly as the colour does. The image's alpha is the
+//    mean, clamped to [0, 1] (0 where no sample was taken). A film without alpha has no such
+//    sums and costs nothing more.
 //  - A Film covers `region` (half-open pixel rectangle of the full image), row-major inside it.
 //    Each pixel is written by one tile at a time; no synchronisation is needed.
 #pragma once
@@ -96,10 +101,11 @@ struct Region {
 class Film {
   public:
     Film() = default;
-    explicit Film(const Region& region)
+    explicit Film(const Region& region, bool alpha = false)
         : m_region(region),
           m_sums(std::size_t(region.width()) * std::size_t(region.height())),
-          m_counts(m_sums.size(), 0u) {}
+          m_counts(m_sums.size(), 0u),
+          m_alpha(alpha ? m_sums.size() : 0u, FixedSum(0)) {}
 
     const Region& region() const { return m_region; }
     int width() const { return m_region.width(); }
@@ -109,16 +115,22 @@ class Film {
     const std::vector<FixedRgb>& sum_values() const { return m_sums; }
     std::uint32_t* counts() { return m_counts.data(); }
     const std::vector<std::uint32_t>& count_values() const { return m_counts; }
+    // The coverage sums (see conventions), same layout; null / empty without alpha.
+    bool has_alpha() const { return !m_alpha.empty(); }
+    FixedSum* alpha_sums() { return m_alpha.empty() ? nullptr : m_alpha.data(); }
+    const std::vector<FixedSum>& alpha_values() const { return m_alpha; }
 
     // Mean radiance per pixel of the region (black where no sample was taken).
     Image resolve() const;
-    // Adds another film's sums and counts over its region, which must lie inside this one's.
+    // Adds another film's sums and counts over its region, which must lie inside this one's;
+    // both have alpha or neither.
     void add(const Film& other);
 
   private:
     Region m_region;
     std::vector<FixedRgb> m_sums;
     std::vector<std::uint32_t> m_counts;
+    std::vector<FixedSum> m_alpha;
 };
 
 // What a part covers and which render it belongs to; merge() checks these.
@@ -139,6 +151,8 @@ struct RenderPart {
 // Part files ("facet-part" version 1, extension .fpart): the line "FACETPART 1", one line of
 // JSON with the PartInfo fields, then per pixel of the region, row-major, three little-endian
 // signed 128-bit sums (R, G, B; low 64 bits first) — counts are implied by the sample range.
+// A film with alpha is written as version 2: the header adds "alpha": true and each pixel a
+// fourth sum (the coverage) after B. Films without alpha are still written as version 1.
 // Errors throw std::runtime_error naming the file.
 void write_part(const RenderPart& part, const std::string& path);
 RenderPart read_part(const std::string& path);

@@ -63,6 +63,16 @@
 //    track against their majorants (medium.h) with a generator seeded from the segment's last
 //    dimension, so a segment's tracking never shifts another's dimensions. Area lamps
 //    that camera rays see are not attenuated by media.
+//  - Alpha (kFeatAlpha), as Cycles defines it: a camera path is "see-through" until its first
+//    vertex that is not a straight pass-through (a delta transmission with wi = -wo: the `null`
+//    model, a transparent surface; a `null` crossing in the media kernel). Its transparency T
+//    gains the mean over RGB of the path's throughput where a see-through ray escapes (only
+//    with RenderSettings::film_transparent, and the environment then adds nothing to the
+//    colour) and, at a see-through hit, that throughput times the hit's holdout weight (1 on a
+//    shape with `holdout`, else Material::holdout_weight); a full holdout ends the path before
+//    its emission. The sample's coverage is 1 - T (film.h sums it beside the colour, only
+//    for a transparent film: in an opaque one a holdout only blacks out, as in Cycles). Area
+//    lamps seen by camera rays add colour and leave alpha alone, as Cycles' lamps do.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
@@ -115,7 +125,12 @@ enum KernelFeature : std::uint32_t {
     // timed single-ray queries). Instantiated for the
     // general kernel of each integrator (with transmission and textures) and the media kernel;
     // static scenes never run it, and the other kernels draw no time.
-    kFeatMotion = 1u << 9
+    kFeatMotion = 1u << 9,
+    // The image has alpha (SceneFeatures::needs_alpha: film transparency or a holdout; see the
+    // conventions' "Alpha"): each camera sample also yields its coverage. Instantiated for the
+    // general kernel of each integrator (with transmission and textures, with or without
+    // motion) and the media kernel; other scenes never run it and keep their images bit for bit.
+    kFeatAlpha = 1u << 10
 };
 
 enum class IntegratorKind { Direct, Path };
@@ -169,6 +184,9 @@ struct TileJob {
     const LightDistribution* light_distribution;
     // Independent uniform samples instead of the Sobol sequence (RenderOptions).
     bool independent_samples = false;
+    // The film's coverage sums (film.h, same layout as `sums`), written by the alpha kernels
+    // only (kFeatAlpha) and only with a transparent film; null otherwise.
+    FixedSum* alpha = nullptr;
 };
 using TileKernel = void (*)(const Scene& scene, const TileJob& job, FixedRgb* sums,
                             KernelCounters& counters);

@@ -129,6 +129,10 @@ struct RenderSettings {
         bool operator==(const MotionBlur&) const = default;
     };
     std::optional<MotionBlur> motion_blur;
+    // Film > Transparent (scenes/FORMAT.md, "Film transparency and holdouts"): the environment
+    // that camera rays see directly or through transparent surfaces is left out of the colour
+    // and the image gets an alpha channel, 1 - the fraction of the pixel where it shows.
+    bool film_transparent = false;
     bool operator==(const RenderSettings&) const = default;
 };
 
@@ -180,6 +184,7 @@ struct ShapeSurface {
     std::int32_t textured = -1;  // index of its textured material (Scene::material_at), or -1
     const Texture* emission_texture = nullptr;  // textured emission (times nothing), or null
     Opacity opacity;                            // its material's (Opacity::active: a cut-out)
+    bool holdout = false;  // the shape's `holdout` flag (read by the alpha kernels only)
 };
 
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
@@ -290,6 +295,14 @@ struct SceneFeatures {
     // Motion blur is on and something moves (a camera or shape `motion`): only then do rays
     // carry a time and the motion kernels run (integrator.h, kFeatMotion).
     bool has_motion = false;
+    // A holdout: a material with a `holdout` part (Material::has_holdout) or a shape with
+    // `holdout` (ShapeInfo::holdout).
+    bool has_holdout = false;
+    // The film is transparent or the scene has a holdout: only then do the alpha kernels run
+    // (integrator.h, kFeatAlpha). The image has an alpha channel (the film keeps coverage
+    // sums) only with RenderSettings::film_transparent: without it holdouts are black, as
+    // Cycles' are ("the Holdout shader can only create alpha when Film > Transparent is on").
+    bool needs_alpha = false;
     bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;

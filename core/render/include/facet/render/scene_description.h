@@ -141,6 +141,11 @@ struct ShapeDesc {
     std::optional<TextureDesc> emission_texture;  // instead of `emission` (texture.h)
     bool two_sided = true;
     bool flip_normals = false;
+    // A holdout (Blender's object Holdout, Cycles' is_holdout): where camera rays (directly or
+    // through transparent surfaces) hit it, the pixel becomes transparent (alpha 0, colour 0);
+    // other rays see its material as usual (scenes/FORMAT.md, "Film transparency and
+    // holdouts").
+    bool holdout = false;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
     // Transformation motion (scenes/FORMAT.md, "Motion blur"): the object-to-world transform
     // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces
