@@ -147,6 +147,7 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
     read (export.py), for its deformation motion."""
     scene = depsgraph.scene
     mesh_sources = mesh_sources or {}
+    _report_instances(scene, data, shape_objects, problems)
     wanted = {}  # object name -> number of steps
     deforming = set()  # objects whose meshes are read at every step
     for name in set(n for n in shape_objects if n is not None):
@@ -209,6 +210,34 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
                                 "frame (Facet's emitters do not move yet)" % name)
                 continue
             shape["motion"] = steps
+
+
+def _animated(obj):
+    """Whether `obj` or a parent of it is animated (an action or drivers), or its mesh may
+    deform: what could move it over the shutter."""
+    o = obj
+    while o is not None:
+        ad = getattr(o, "animation_data", None)
+        if ad is not None and (ad.action is not None or len(ad.drivers)):
+            return True
+        o = o.parent
+    return may_deform(obj)
+
+
+def _report_instances(scene, data, shape_objects, problems):
+    """Instances (a collection instance's, particles', geometry nodes') carry no motion: each
+    instanced object with Motion Blur on that is animated or may deform is named once."""
+    named = set()
+    for k, owner in enumerate(shape_objects):
+        name = data["shapes"][k].get("name", "")
+        if owner is not None or not name.endswith(" (instance)"):
+            continue
+        obj = scene.objects.get(name[:-len(" (instance)")])
+        if obj is None or obj.name in named or not object_blurs(obj) or not _animated(obj):
+            continue
+        named.add(obj.name)
+        problems.append("object '%s': its instances are rendered without motion blur (the "
+                        "motion of instances is not converted)" % obj.name)
 
 
 def _emits(shape):

@@ -95,6 +95,23 @@ def case_export():
     bt.check(bpy.context.scene.frame_current == 1 and
              abs(bpy.context.scene.frame_subframe) < 1e-6, "the frame is restored")
     bt.check(not [p for p in problems if "otion" in p], "no motion line: %s" % problems)
+    # Instances carry no motion: an instance of the moving cube (a collection instance) is
+    # named in the report.
+    coll = bpy.data.collections.new("Moving")
+    coll.objects.link(cube)
+    holder = bpy.data.objects.new("Holder", None)
+    holder.instance_type = 'COLLECTION'
+    holder.instance_collection = coll
+    holder.location = (0.0, 3.0, 0.0)
+    scene.collection.objects.link(holder)
+    problems = export(scene_frame_set)[1]
+    bt.check([p for p in problems
+              if "'Cube': its instances are rendered without motion blur" in p],
+             "the moving cube's instance is reported: %s" % problems)
+    bpy.data.objects.remove(holder)
+    bpy.data.collections.remove(coll)
+    problems = export(scene_frame_set)[1]
+    bt.check(not [p for p in problems if "otion" in p], "no motion line again: %s" % problems)
     cube.cycles.motion_steps = 2
     m = {s["name"]: s for s in export(scene_frame_set)[0]["shapes"]}["Cube"]["motion"]
     bt.check(len(m) == 5, "motion_steps 2: 5 steps")
