@@ -732,10 +732,16 @@ DenoisedHalves denoise_halves(const Scene& scene, const Image& half_a, const Ima
     ao.spp = spp;
     ao.seed = seed;
     ao.threads = options.threads;
+    ao.variances = options.feature_variances;
     out.features = render_aovs(scene, ao);
-    out.image =
-        denoise({&half_a, &half_b, &out.features.albedo, &out.features.normal, &out.features.depth},
-                options);
+    const Aovs& f = out.features;
+    DenoiseInput in{&half_a, &half_b, &f.albedo, &f.normal, &f.depth};
+    if (options.feature_variances) {
+        in.albedo_variance = &f.albedo_variance;
+        in.normal_variance = &f.normal_variance;
+        in.depth_variance = &f.depth_variance;
+    }
+    out.image = denoise(in, options);
     return out;
 }
 

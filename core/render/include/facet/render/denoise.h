@@ -68,6 +68,9 @@ namespace facet::render {
 struct DenoiseOptions {
     int radius = 4;   // search window (2 radius + 1)^2, 1..20
     int threads = 0;  // 0 = every hardware thread
+    // denoise_halves and render_denoised: pass the renderer's feature variances (aov.h) to
+    // denoise(). false treats the features as noise free (for comparisons).
+    bool feature_variances = true;
 };
 
 struct DenoiseInput {
@@ -96,12 +99,14 @@ Image denoise(const DenoiseInput& input, const DenoiseOptions& options = {});
 struct DenoisedRender {
     Image image;        // denoised
     Image raw;          // the plain render: bit for bit the image of one render of `options`
-    Aovs features;      // albedo, normal, depth at the render's spp and seed
+    Aovs features;      // albedo, normal, depth at the render's spp and seed, and their
+                        // variances (with DenoiseOptions::feature_variances)
     RenderStats stats;  // of both halves together
 };
 // The last step of render_denoised for front ends that rendered the two half-buffers themselves
 // (Blender's two sessions, facet-farm's merged halves): the features of `scene` at `spp` and
-// `seed` (render_aovs on `options.threads`) and the denoised image. Throws as denoise().
+// `seed` (render_aovs on `options.threads`), with their variances unless
+// options.feature_variances is false, and the denoised image. Throws as denoise().
 struct DenoisedHalves {
     Image image;
     Aovs features;
