@@ -540,11 +540,14 @@ TEST(Denoise, FeatureVariancesDoNotDependOnTheThreadsOrTheRegion) {
 
 // Depth of field: the red sphere in front of the checker wall is out of focus, so its
 // silhouette's pixels mix the sphere and the wall, and their features vary between samples;
-// the feature variances are non-zero there. Without them the feature noise of those pixels
-// (16 samples) keeps the filter from averaging them; with them that noise is cancelled. The
-// error against a 1024-spp reference (its own MSE a 64th of the 16-spp render's, the same for
-// both) over the pixels of non-zero normal variance must be lower with the variances, and
-// over the whole image no higher (deterministic: fixed seeds).
+// the feature variances are non-zero there (and over the curved sphere). Without them the
+// feature noise of those pixels (16 samples) keeps the filter from averaging them, and their
+// noisy albedo is divided out and multiplied back; with them that noise is cancelled and such
+// an albedo is left in. Error against a 1024-spp reference (its own MSE a 64th of the 16-spp
+// render's, the same for both). Measured: over the pixels of non-zero normal variance 4.95e-5
+// with the variances against 7.53e-5 without (0.66), over the image 2.57e-5 against 3.73e-5
+// (0.69). Bounds: 0.8 and 0.85 (the images are deterministic; the margin is for a change of
+// the renderer's sampling, which moves both).
 TEST(Denoise, DefocusedEdgesDenoiseBetterWithFeatureVariances) {
     const Scene scene = lens_scene(kCheckerWall, true);
     auto render = [&](int spp, int begin, int end, std::uint64_t seed) {
@@ -584,9 +587,8 @@ TEST(Denoise, DefocusedEdgesDenoiseBetterWithFeatureVariances) {
     const double edge_without = region_mse(without, true).first;
     const double all_with = region_mse(with, false).first,
                  all_without = region_mse(without, false).first;
-    std::printf("edge pixels %d: MSE with %.4g, without %.4g; image: with %.4g, without %.4g\n",
-                edge_pixels, edge_with, edge_without, all_with, all_without);
-    EXPECT_GT(edge_pixels, 100);  // the sphere's blurred rim (r ~ 13 px, blur radius 3.8 px)
-    EXPECT_LT(edge_with, edge_without);
-    EXPECT_LE(all_with, all_without);
+    EXPECT_GT(edge_pixels, 100);  // the sphere (r ~ 16 px) and its blurred rim (3.8 px)
+    EXPECT_LT(edge_with, 0.8 * edge_without)
+        << "with " << edge_with << ", without " << edge_without;
+    EXPECT_LT(all_with, 0.85 * all_without) << "with " << all_with << ", without " << all_without;
 }

@@ -31,6 +31,12 @@ namespace {
 
 // Below this albedo a channel is not divided out (black surfaces, the background).
 constexpr float kMinAlbedo = 1e-3f;
+// Nor where the albedo's mean is noisier than this, relative (albedo_variance above
+// kAlbedoNoise^2 a^2): the output is multiplied back by the albedo, so its noise would pass
+// into the image unfiltered (edges, depth of field, glossy albedo estimates). Measured on the
+// defocused sphere of test_denoise.cpp (16 spp): 0.02, 0.05, 0.1 and 0.2 gave image MSEs of
+// 2.78, 2.54, 3.04 and 3.87e-5 (never: 3.63e-5).
+constexpr float kAlbedoNoise = 0.05f;
 // Keeps d finite where both variances are 0 (a noise-free input): any colour difference then
 // gives a weight of 0, so such an image passes through.
 constexpr float kEpsilon = 1e-10f;
@@ -227,7 +233,12 @@ void prepare(const DenoiseInput& in, Prepared& p, int threads) {
             const Rgb a = in.albedo->at(x, y), n = in.normal->at(x, y);
             float v = 0.f;
             for (int c = 0; c < 3; ++c) {
-                const float m = a[c] > kMinAlbedo ? a[c] : 1.f;
+                // Divided out only where the albedo is known well (see kAlbedoNoise).
+                const float av =
+                    in.albedo_variance != nullptr ? in.albedo_variance->at(x, y)[c] : 0.f;
+                const float m = a[c] > kMinAlbedo && av <= kAlbedoNoise * kAlbedoNoise * a[c] * a[c]
+                                    ? a[c]
+                                    : 1.f;
                 p.mod[c][i] = m;
                 if (p.nh == 2) {
                     // V of one half: E[(X - Y)^2] / 2, X and Y independent of one variance.
