@@ -542,12 +542,12 @@ TEST(Denoise, FeatureVariancesDoNotDependOnTheThreadsOrTheRegion) {
 // silhouette's pixels mix the sphere and the wall, and their features vary between samples;
 // the feature variances are non-zero there (and over the curved sphere). Without them the
 // feature noise of those pixels (16 samples) keeps the filter from averaging them, and their
-// noisy albedo is divided out and multiplied back; with them that noise is cancelled and such
-// an albedo is left in. Error against a 1024-spp reference (its own MSE a 64th of the 16-spp
-// render's, the same for both). Measured: over the pixels of non-zero normal variance 4.95e-5
-// with the variances against 7.53e-5 without (0.66), over the image 2.57e-5 against 3.73e-5
-// (0.69). Bounds: 0.8 and 0.85 (the images are deterministic; the margin is for a change of
-// the renderer's sampling, which moves both).
+// noisy albedo is divided out and multiplied back; with them that noise is cancelled and the
+// albedo of a pixel whose normal or depth varies is left in. Error against a 1024-spp reference
+// (its own MSE a 64th of the 16-spp render's, the same for both). Measured: over the pixels of
+// non-zero normal variance 4.40e-5 with the variances against 7.53e-5 without (0.58), over the
+// image 2.44e-5 against 3.73e-5 (0.65). Bounds: 0.8 and 0.85 (the images are deterministic;
+// the margin is for a change of the renderer's sampling, which moves both).
 TEST(Denoise, DefocusedEdgesDenoiseBetterWithFeatureVariances) {
     const Scene scene = lens_scene(kCheckerWall, true);
     auto render = [&](int spp, int begin, int end, std::uint64_t seed) {

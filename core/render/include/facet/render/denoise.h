@@ -23,9 +23,9 @@
 //    a pixel becomes a weighted mean of its neighbours, so detail that no feature shows
 //    (shadow edges, caustics, glossy reflections of small objects) can blur.
 //  - Method, per half X with the other half Y (both divided by the albedo where it exceeds
-//    kMinAlbedo and, given albedo_variance, that variance is at most (kAlbedoNoise a)^2
-//    (denoise.cpp), so that texture detail is not filtered and is multiplied back at the end,
-//    and a noisy albedo's noise is not):
+//    kMinAlbedo and, given normal_variance or depth_variance, where both are 0 (denoise.cpp),
+//    so that texture detail is not filtered and is multiplied back at the end, and the noisy
+//    albedo of a pixel whose samples hit different normals or depths is not):
 //      V(p)        the variance of one half's value, (X - Y)^2 / 2 averaged over channels and
 //                  over a 3 x 3 box;
 //      d(p, q)     = mean over channels of ((X_p - X_q)^2 - (V_p + min(V_p, V_q))) /
