@@ -4,7 +4,7 @@ without denoising, and the time to denoise a 1920 x 1080 frame. Registered nowhe
 
     PYTHONPATH=build/core/python /usr/bin/python3 bench/denoise_bench.py \
         [--scenes cornell_box showcase] [--size 320] [--ref-spp 4096] [--threads 2] \
-        [--realscenes cubes_4mats] [--plot docs/img/denoise_mse_time.png]
+        [--realscenes cubes_4mats] [--plot docs/img/denoise_mse_time.png] [--breakdown]
 
 For each scene (scaled to --size pixels wide), a reference of --ref-spp samples per pixel (its
 own MSE, estimated from two halves of it, is printed and is far below every row's), then for
@@ -16,6 +16,10 @@ spp' for the targets, and a log-log plot.
 
 --realscenes adds scenes of the real-scene suite (tests/realscenes/scenes.py) at their bench
 size, staged and exported in headless Blender (bench/denoise_realscene.py).
+
+--breakdown instead: where the 16-spp denoised image's error lies, by pixel class (emitter
+outlines, the brightest pixels, geometric and texture edges, the rest), with and without the
+renderer's feature variances, beside plain 16, 64 and 128 spp (breakdown()).
 
 The 1080p row: facet.denoise on 1920 x 1080 arrays (noise over a checker with edges), the
 median of --reps runs, beside the time of numpy's copy of the same five arrays (the peer that
@@ -83,6 +87,106 @@ def scene_rows(name, args, scene=None):
             "ref_mse": ref_own, "outline_share": float(1 - keep.mean()), "rows": rows}
 
 
+def pixel_classes(scene, ref, threads):
+    """Exclusive pixel classes for the error breakdown, first match wins: 'emitter outline'
+    (within one pixel of an emitter seen, off_emitters), 'brightest 1%' (of the reference's
+    mean over channels), 'geometric edges' (within one pixel of a depth change above 2% or a
+    normal change above 0.2 between 4-neighbours, or of a hit next to a miss), 'texture edges'
+    (the same for an albedo change above 0.1 in a channel) and 'smooth' (the rest). Features
+    from render_aovs at 64 spp."""
+    f = facet.render_aovs(scene, ["albedo", "normal", "depth"], spp=64, seed=5, threads=threads)
+    albedo, normal = np.asarray(f["albedo"]), np.asarray(f["normal"])
+    z = np.asarray(f["depth"])[..., 0]
+    miss = z > 1e9
+
+    def grow(mask):
+        out = mask.copy()
+        for dy in (-1, 0, 1):
+            for dx in (-1, 0, 1):
+                out |= np.roll(np.roll(mask, dy, 0), dx, 1)
+        return out
+
+    def jumps(diff):
+        """Pixels whose lower or right neighbour differs (diff(axis): a boolean per pixel and
+        its next one along axis; np.roll wraps, so the last row / column is left out)."""
+        m = np.zeros(z.shape, bool)
+        for axis in (0, 1):
+            d = diff(axis)
+            if axis == 0:
+                d[-1, :] = False
+            else:
+                d[:, -1] = False
+            m |= d
+        return m
+
+    def pair(a, axis):
+        return a, np.roll(a, -1, axis)
+
+    def geo(axis):
+        z0, z1 = pair(z, axis)
+        m0, m1 = pair(miss, axis)
+        n0, n1 = pair(normal, axis)
+        dz = np.abs(z0 - z1) > 0.02 * np.minimum(z0, z1)
+        return (m0 != m1) | (~m0 & ~m1 & (dz | (np.linalg.norm(n0 - n1, axis=2) > 0.2)))
+
+    def tex(axis):
+        a0, a1 = pair(albedo, axis)
+        return np.abs(a0 - a1).max(axis=2) > 0.1
+
+    lum = ref.mean(axis=2)
+    classes = {"emitter outline": ~off_emitters(scene, threads),
+               "brightest 1%": lum >= np.quantile(lum, 0.99),
+               "geometric edges": grow(jumps(geo)),
+               "texture edges": grow(jumps(tex))}
+    taken = np.zeros(z.shape, bool)
+    out = {}
+    for name, m in classes.items():
+        out[name] = m & ~taken
+        taken |= m
+    out["smooth"] = ~taken
+    return out
+
+
+def breakdown(name, args, scene=None):
+    """Where the 16-spp denoised image's error is: per pixel class (pixel_classes), the share
+    of the pixels and, for the denoised 16-spp image with and without the renderer's feature
+    variances and the plain 16, 64 and 128-spp renders, the class's squared error summed and
+    divided by the image's pixel count (so the classes add up to the image's MSE)."""
+    scene = scene if scene is not None else load(name, args.size)
+    ref_a = facet.render(scene, spp=args.ref_spp // 2, seed=1000, threads=args.threads)
+    ref_b = facet.render(scene, spp=args.ref_spp // 2, seed=2000, threads=args.threads)
+    ref = (ref_a.astype(np.float64) + ref_b) / 2
+    spp = 16
+    halves = [facet.render(scene, spp=spp, samples=s, seed=7, threads=args.threads)
+              for s in ((0, spp // 2), (spp // 2, spp))]
+    images = {
+        "denoised 16, feature variances": facet.denoise_halves(
+            scene, halves[0], halves[1], spp, 7, threads=args.threads),
+        "denoised 16, none": facet.denoise_halves(
+            scene, halves[0], halves[1], spp, 7, threads=args.threads, feature_variances=False)}
+    for n in (16, 64, 128):
+        images[f"plain {n}"] = facet.render(scene, spp=n, seed=7, threads=args.threads)
+    classes = pixel_classes(scene, ref, args.threads)
+    err = {k: np.mean((v.astype(np.float64) - ref) ** 2, axis=2) for k, v in images.items()}
+    table = {c: {"pixels": float(m.mean()),
+                 **{k: float(e[m].sum() / m.size) for k, e in err.items()}}
+             for c, m in classes.items()}
+    table["image"] = {"pixels": 1.0, **{k: float(e.mean()) for k, e in err.items()}}
+    return {"scene": name, "size": list(ref.shape[1::-1]), "ref_spp": args.ref_spp,
+            "ref_mse": mse(ref_a, ref_b) / 4, "breakdown": table}
+
+
+def print_breakdown(r):
+    print(f"\n### {r['scene']} ({r['size'][0]} x {r['size'][1]}), reference {r['ref_spp']} "
+          f"spp (its own MSE {r['ref_mse']:.3g}): squared error per class / image pixels\n")
+    cols = [k for k in r["breakdown"]["image"] if k != "pixels"]
+    print("| class | pixels | " + " | ".join(cols) + " |")
+    print("|---|---:|" + "---:|" * len(cols))
+    for c, row in r["breakdown"].items():
+        print(f"| {c} | {100 * row['pixels']:.1f}% | " +
+              " | ".join(f"{row[k]:.3g}" for k in cols) + " |")
+
+
 def realscene_rows(name, args):
     """A scene of the real-scene suite (tests/realscenes/scenes.py), staged in headless Blender
     at its bench size (Scene.bench) and exported by the addon: bench/denoise_realscene.py runs
@@ -95,7 +199,7 @@ def realscene_rows(name, args):
         out = os.path.join(tmp, "rows.json")
         cmd = ["blender", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
                "--python", str(ROOT / "bench" / "denoise_realscene.py"), "--", name, out,
-               str(args.ref_spp), str(args.threads)]
+               str(args.ref_spp), str(args.threads), "breakdown" if args.breakdown else "rows"]
         r = subprocess.run(cmd, env=env, capture_output=True, text=True)
         if r.returncode != 0 or not os.path.exists(out):
             raise RuntimeError("%s failed (exit %d):\n%s" % (name, r.returncode,
@@ -172,7 +276,7 @@ def plot(results, path):
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    ap.add_argument("--scenes", nargs="+", default=["cornell_box", "showcase"])
+    ap.add_argument("--scenes", nargs="*", default=["cornell_box", "showcase"])
     ap.add_argument("--realscenes", nargs="*", default=[],
                     help="scenes of tests/realscenes/scenes.py, at their bench size")
     ap.add_argument("--build", default=str(ROOT / "build"))
@@ -182,7 +286,17 @@ def main():
     ap.add_argument("--reps", type=int, default=3)
     ap.add_argument("--plot", default="")
     ap.add_argument("--json", default="")
+    ap.add_argument("--breakdown", action="store_true",
+                    help="only the error breakdown of the 16-spp denoised image by pixel class")
     args = ap.parse_args()
+    if args.breakdown:
+        results = [breakdown(s, args) for s in args.scenes]
+        results += [realscene_rows(s, args) for s in args.realscenes]
+        for r in results:
+            print_breakdown(r)
+        if args.json:
+            pathlib.Path(args.json).write_text(json.dumps(results, indent=1))
+        return 0
     results = [scene_rows(s, args) for s in args.scenes]
     results += [realscene_rows(s, args) for s in args.realscenes]
     frame = frame_timing(args)

@@ -1,11 +1,11 @@
 """A real-scene row of bench/denoise_bench.py, run inside Blender:
 
     blender -b --factory-startup --python bench/denoise_realscene.py -- \
-        NAME OUT.json REF_SPP THREADS
+        NAME OUT.json REF_SPP THREADS [rows | breakdown]
 
 Stages scene NAME of tests/realscenes/scenes.py at its bench size (Scene.bench), with its light
 selection and max depth, exports it with the Facet addon, and writes denoise_bench.scene_rows
-of the exported scene (JSON) to OUT.json.
+of the exported scene (JSON) to OUT.json, or denoise_bench.breakdown with "breakdown".
 """
 import json
 import os
@@ -44,7 +44,9 @@ def main():
     data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get())
     fscene, _ = native.build(data, name=name)
     import denoise_bench  # imports facet: the addon's module, on sys.path once it is enabled
-    rows = denoise_bench.scene_rows(name, Args(ref_spp, threads), scene=fscene)
+    mode = bt.args()[4] if len(bt.args()) > 4 else "rows"
+    run = denoise_bench.breakdown if mode == "breakdown" else denoise_bench.scene_rows
+    rows = run(name, Args(ref_spp, threads), scene=fscene)
     with open(out, "w") as f:
         json.dump(rows, f)
 

@@ -283,6 +283,11 @@ void render_denoised(const render::Scene& scene, const render::RenderOptions& ro
         render::write_image(r.features.albedo, o.denoise_features + ".albedo.exr");
         render::write_image(r.features.normal, o.denoise_features + ".normal.exr");
         render::write_image(r.features.depth, o.denoise_features + ".depth.exr");
+        render::write_image(r.features.albedo_variance,
+                            o.denoise_features + ".albedo_variance.exr");
+        render::write_image(r.features.normal_variance,
+                            o.denoise_features + ".normal_variance.exr");
+        render::write_image(r.features.depth_variance, o.denoise_features + ".depth_variance.exr");
     }
     report_render(scene, r.stats, o);
 }
@@ -364,12 +369,14 @@ void add_render_command(CLI::App& app) {
         ->check(CLI::NonNegativeNumber);
     cmd->add_flag("--denoise", o->denoise,
                   "denoise the image (denoise.h: feature-guided, from two half-buffers and the "
-                  "albedo, normal and depth AOVs; no longer an unbiased estimate)");
+                  "albedo, normal and depth AOVs and their per-pixel variances; no longer an "
+                  "unbiased estimate)");
     cmd->add_option("--denoise-raw", o->denoise_raw,
                     "with --denoise: also write the image before denoising (.exr or .png)");
     cmd->add_option("--denoise-features", o->denoise_features,
                     "with --denoise: also write the features as PREFIX.albedo.exr, "
-                    "PREFIX.normal.exr and PREFIX.depth.exr");
+                    "PREFIX.normal.exr and PREFIX.depth.exr, and the variances of their means "
+                    "as PREFIX.albedo_variance.exr, .normal_variance.exr, .depth_variance.exr");
     cmd->callback([o] { run_render(*o); });
 
     auto inputs = std::make_shared<std::vector<std::string>>();

@@ -582,7 +582,7 @@ void bind_render(py::module_& m) {
     m.def(
         "render_aovs",
         [](py::handle scene, const std::vector<std::string>& passes, int spp, std::uint64_t seed,
-           int threads) {
+           int threads, bool variances, std::optional<std::vector<int>> region) {
             const SceneHandle& sh = scene_arg(scene);
             static const std::pair<const char*, std::uint32_t> kNames[] = {
                 {"albedo", kAovAlbedo},
@@ -602,6 +602,11 @@ void bind_render(py::module_& m) {
             o.spp = spp;
             o.seed = seed;
             o.threads = threads;
+            o.variances = variances;
+            if (region) {
+                if (region->size() != 4) bad_argument("region", "expected (x0, y0, x1, y1)");
+                o.region = Region{(*region)[0], (*region)[1], (*region)[2], (*region)[3]};
+            }
             Aovs a;
             {
                 py::gil_scoped_release release;
@@ -612,15 +617,28 @@ void bind_render(py::module_& m) {
             if (o.which & kAovNormal) out["normal"] = image_array(std::move(a.normal));
             if (o.which & kAovDepth) out["depth"] = image_array(std::move(a.depth));
             if (o.which & kAovEmission) out["emission"] = image_array(std::move(a.emission));
+            if (variances) {
+                if (o.which & kAovAlbedo)
+                    out["albedo_variance"] = image_array(std::move(a.albedo_variance));
+                if (o.which & kAovNormal)
+                    out["normal_variance"] = image_array(std::move(a.normal_variance));
+                if (o.which & kAovDepth)
+                    out["depth_variance"] = image_array(std::move(a.depth_variance));
+            }
             return out;
         },
         py::arg("scene"), py::arg("passes"), py::arg("spp") = 16, py::arg("seed") = 0,
-        py::arg("threads") = 0,
+        py::arg("threads") = 0, py::kw_only(), py::arg("variances") = false,
+        py::arg("region") = py::none(),
         "First-hit render passes (facet/render/aov.h): {name: float32 (h, w, 3)} for each of "
         "passes ('albedo': directional albedo of the material seen, 'normal': world-space "
         "shading normal facing the viewer, 'depth': distance along the camera's view axis, "
         "1e10 where nothing is hit, 'emission': emitted radiance), averaged over spp camera "
-        "samples per pixel; deterministic for a seed");
+        "samples per pixel; deterministic for a seed. variances=True adds "
+        "'albedo_variance', 'normal_variance', 'depth_variance' for those requested: the "
+        "variance of each pixel's mean per channel (the denoiser's feature variances). "
+        "region=(x0, y0, x1, y1): only those pixels, arrays of the region's size, equal to "
+        "that part of the whole image's");
 
     m.def(
         "denoise",
@@ -669,18 +687,21 @@ void bind_render(py::module_& m) {
     m.def(
         "denoise_halves",
         [](py::handle scene, py::handle half_a, py::handle half_b, int spp, std::uint64_t seed,
-           int radius, int threads) {
+           int radius, int threads, bool feature_variances) {
             const SceneHandle& sh = scene_arg(scene);
             const Image a = image_from_array(half_a, "half_a");
             const Image b = image_from_array(half_b, "half_b");
-            return denoised_array(radius, threads, [&](const DenoiseOptions& o) {
+            return denoised_array(radius, threads, [&](DenoiseOptions o) {
+                o.feature_variances = feature_variances;
                 return denoise_halves(*sh.scene, a, b, spp, seed, o).image;
             });
         },
         py::arg("scene"), py::arg("half_a"), py::arg("half_b"), py::arg("spp"), py::arg("seed") = 0,
-        py::arg("radius") = 4, py::arg("threads") = 0,
+        py::arg("radius") = 4, py::arg("threads") = 0, py::kw_only(),
+        py::arg("feature_variances") = true,
         "The last step of render(denoise=True) for callers that rendered the two half-buffers "
-        "themselves: the scene's albedo, normal and depth at spp and seed, then denoise() "
+        "themselves: the scene's albedo, normal and depth at spp and seed with their per-pixel "
+        "variances (feature_variances=False: treated as noise free), then denoise() "
         "(facet/render/denoise.h: denoise_halves)");
 
     m.def(

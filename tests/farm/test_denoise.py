@@ -1,6 +1,7 @@
 # facet-farm --denoise: the merged half-buffers denoised after the merge give `facet render
 # --denoise`'s image bit for bit, whatever the tiles and sample chunks (chunks never straddle the
-# halves), and --denoise-raw the plain render's; a render that cannot be denoised is an error.
+# halves), and --denoise-raw the plain render's; the features and their variances rendered per
+# tile are the single render's; a render that cannot be denoised is an error.
 import subprocess
 
 import pytest
@@ -39,6 +40,23 @@ def test_farm_denoise_equals_the_cli(refs, client, tmp_path, tile, chunk):
     assert_same(image, den)
     assert_same(facet.read_image(str(tmp_path / "o.exr")), den)
     assert_same(facet.read_image(str(tmp_path / "raw.exr")), plain)
+
+
+def test_tiled_features_and_variances_equal_the_single_render(refs):
+    # The features and their variances the workers render per tile (feature_piece), pasted,
+    # are the single render's (render_aovs over the whole image, which `facet render
+    # --denoise` uses), bit for bit; the Cornell box's edges give non-zero variances.
+    scene, _, _ = refs
+    payload = farm.load_payload(str(scene))
+    job = farm.Job(payload, [], [], [], denoise=True)
+    for region in farm.tiles(W, H, 19):
+        farm._place_features(job, region, farm.feature_piece(payload, region, 1))
+    whole = facet.render_aovs(farm._worker_scene(payload), list(farm.FEATURES), spp=SPP, seed=4,
+                              variances=True)
+    assert sorted(job.features) == sorted(whole)
+    for k, v in whole.items():
+        assert_same(job.features[k], v)
+    assert (whole["normal_variance"] > 0).any() and (whole["depth_variance"] > 0).any()
 
 
 def test_command_denoise_and_errors(refs, tmp_path):

@@ -64,6 +64,34 @@ def test_render_option_and_cli_agree_and_reduce_the_error(tmp_path, facet_cli):
     assert (tmp_path / "f.albedo.exr").exists() and (tmp_path / "f.depth.exr").exists()
 
 
+def test_render_option_and_cli_pass_the_feature_variances(tmp_path, facet_cli):
+    # render(denoise=True) is denoise() of its two half-buffers with render_aovs' features AND
+    # their variances (aov.h), bit for bit; without the variances the image differs (the tiny
+    # scene's edges give non-zero variances); the CLI writes the variances it used.
+    scene = facet.load_scene_from_string(ts.scene_json(16, 64, 48), name="tiny")
+    den = facet.render(scene, spp=16, threads=2, seed=1, denoise=True)
+    a = facet.render(scene, spp=16, samples=(0, 8), threads=2, seed=1)
+    b = facet.render(scene, spp=16, samples=(8, 16), threads=2, seed=1)
+    f = facet.render_aovs(scene, ["albedo", "normal", "depth"], spp=16, seed=1, variances=True)
+    assert sorted(f) == ["albedo", "albedo_variance", "depth", "depth_variance", "normal",
+                         "normal_variance"]
+    assert (f["normal_variance"] > 0).any() and (f["depth_variance"] >= 0).all()
+    kw = {k: f[k] for k in ("albedo_variance", "normal_variance", "depth_variance")}
+    np.testing.assert_array_equal(
+        facet.denoise(a, b, f["albedo"], f["normal"], f["depth"], **kw), den)
+    np.testing.assert_array_equal(facet.denoise_halves(scene, a, b, 16, 1), den)
+    none = facet.denoise_halves(scene, a, b, 16, 1, feature_variances=False)
+    np.testing.assert_array_equal(none, facet.denoise(a, b, f["albedo"], f["normal"], f["depth"]))
+    assert not np.array_equal(none, den)
+    path = tmp_path / "tiny.json"
+    path.write_text(ts.scene_json(16, 64, 48))
+    subprocess.run([str(facet_cli), "render", str(path), "--spp", "16", "--seed", "1",
+                    "--threads", "2", "--denoise", "-q", "-o", str(tmp_path / "d.exr"),
+                    "--denoise-features", str(tmp_path / "f")], check=True)
+    for k in kw:
+        np.testing.assert_array_equal(facet.read_image(str(tmp_path / f"f.{k}.exr")), f[k])
+
+
 def test_render_option_rejects_a_split(tmp_path, facet_cli):
     scene = facet.load_scene_from_string(ts.scene_json(16, 32, 24), name="tiny")
     with pytest.raises(ValueError, match="not split-invariant"):

@@ -299,6 +299,19 @@ def render_piece(payload: ScenePayload, region, samples, threads: int):
     return part
 
 
+FEATURES = ("albedo", "normal", "depth")
+
+
+def feature_piece(payload: ScenePayload, region, threads: int):
+    """The Dask task of a denoised render: the denoiser's features of `region` at the render's
+    spp and seed, with their variances (facet.render_aovs(variances=True)): {name: array of
+    the region's size}. Not split by sample range: a pixel's variance needs the sums of all
+    its samples, and a region's values are the whole image's pixels there, bit for bit."""
+    scene = _worker_scene(payload)
+    return facet.render_aovs(scene, list(FEATURES), spp=payload.spp, seed=payload.seed,
+                             threads=threads, variances=True, region=tuple(region))
+
+
 # ---------------------------------------------------------------------------------------------
 # Client side: plans, merging, the job loop
 
@@ -426,15 +439,25 @@ def _place_halves(job, tile):
         job.halves[k][y0:y1, x0:x1] = part.image()
 
 
-def _denoised(job):
-    """The merged half-buffers denoised on the client, with the features of the scene at the
-    render's spp and seed: `facet render --denoise`'s image, bit for bit. Denoising runs after
-    the merge because a denoiser is not split-invariant (a pixel's result depends on its
-    neighbours, which another tile may hold)."""
+def _place_features(job, region, features):
+    """Pastes a region's features and their variances (feature_piece) into job.features."""
     p = job.payload
-    scene = _worker_scene(p)
-    out = facet.denoise_halves(scene, job.halves[0][:, :, :3], job.halves[1][:, :, :3], p.spp,
-                               p.seed)
+    if job.features is None:
+        job.features = {k: np.zeros((p.height, p.width, 3), dtype=np.float32) for k in features}
+    x0, y0, x1, y1 = region
+    for k, v in features.items():
+        job.features[k][y0:y1, x0:x1] = v
+
+
+def _denoised(job):
+    """The merged half-buffers denoised on the client with the features and their variances
+    the workers rendered per tile: `facet render --denoise`'s image, bit for bit. Denoising
+    runs after the merge because a denoiser is not split-invariant (a pixel's result depends
+    on its neighbours, which another tile may hold)."""
+    f = job.features
+    out = facet.denoise(job.halves[0][:, :, :3], job.halves[1][:, :, :3],
+                        *(f[k] for k in FEATURES),
+                        **{k + "_variance": f[k + "_variance"] for k in FEATURES})
     if job.image.shape[2] == 4:  # alpha is not denoised: the merged render's (as the CLI)
         out = np.dstack([out, job.image[:, :, 3]]).astype(np.float32)
     return out
@@ -454,10 +477,12 @@ class Job:
     denoise: bool = False           # samples split at spp/2; halves kept; denoised at the end
     raw_outputs: list = dataclasses.field(default_factory=list)  # the image before denoising
     halves: list | None = None      # the two half-buffer images (denoise)
+    features: dict | None = None    # features and their variances (denoise: feature_piece)
 
     @property
     def tasks(self) -> int:
-        return len(self.regions) * len(self.samples)
+        """Render pieces, and with denoise one feature piece per region."""
+        return len(self.regions) * (len(self.samples) + int(self.denoise))
 
 
 class Progress:
@@ -529,12 +554,18 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
                 for r in job.regions:
                     f = client.submit(render_piece, scattered, r, s, threads_per_task,
                                       pure=False, retries=0)
-                    futures[f] = (j, r)
-        tiles_left = {j: len(job.regions) for j, job in enumerate(jobs)}
+                    futures[f] = (j, r, False)
+            if job.denoise:
+                for r in job.regions:
+                    f = client.submit(feature_piece, scattered, r, threads_per_task,
+                                      pure=False, retries=0)
+                    futures[f] = (j, r, True)
+        # Pieces still to come per job: the tiles, and with denoise their features.
+        tiles_left = {j: len(job.regions) * (1 + int(job.denoise)) for j, job in enumerate(jobs)}
         for future in as_completed(list(futures), loop=client.loop):
             if _sigint.is_set():
                 raise KeyboardInterrupt
-            j, r = futures.pop(future)
+            j, r, is_features = futures.pop(future)
             try:
                 part = future.result()
             except KilledWorker as e:
@@ -545,16 +576,20 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             except Exception as e:  # the task's own error, re-raised by Dask
                 raise FarmError(f"{jobs[j].payload.name}: {type(e).__name__}: {e}") from None
             del future
-            if on_result:
-                on_result(part)
-            tile = pending[j][r]
-            tile.append(part)
-            if len(tile) == len(jobs[j].samples):
-                _place(jobs[j], _sum_parts(tile))
-                if jobs[j].denoise:
-                    _place_halves(jobs[j], tile)
-                del pending[j][r]
+            if is_features:
+                _place_features(jobs[j], r, part)
                 tiles_left[j] -= 1
+            else:
+                if on_result:
+                    on_result(part)
+                tile = pending[j][r]
+                tile.append(part)
+                if len(tile) == len(jobs[j].samples):
+                    _place(jobs[j], _sum_parts(tile))
+                    if jobs[j].denoise:
+                        _place_halves(jobs[j], tile)
+                    del pending[j][r]
+                    tiles_left[j] -= 1
             if progress:
                 progress.step()
             if tiles_left[j] == 0:
@@ -562,7 +597,7 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
                 tiles_left[j] = -1
                 if job.denoise:
                     _write(job.image, job.raw_outputs)
-                    job.image, job.halves = _denoised(job), None
+                    job.image, job.halves, job.features = _denoised(job), None, None
                 _write(job.image, job.outputs)
                 if len(jobs) > 1 and job.outputs:
                     job.image = None  # animations: written, dropped

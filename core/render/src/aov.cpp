@@ -5,10 +5,14 @@
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
 
+#include <algorithm>
+#include <cmath>
 #include <optional>
 #include <stdexcept>
+#include <string>
 
 #include "facet/frame.h"
+#include "facet/render/film.h"
 #include "facet/render/integrator.h"
 #include "facet/render/sampler.h"
 
@@ -16,28 +20,68 @@ namespace facet::render {
 
 namespace {
 
+// Depths are clamped to this before they are squared (aov.h): z^2 2^kFixedFracBits times 2^20
+// samples then stays below 2^120, far from the fixed-point sums' 2^127.
+constexpr double kMaxSquaredDepth = 0x1p20;
+// A sample variance at most this fraction of the mean square is rounding, not noise (aov.h):
+// per-sample float rounding spreads a value by ~2^-24 of itself (a variance of 2^-48 of its
+// square) and the double sums round at 2^-53; 2^-44 is 16 times the first.
+constexpr double kVarianceFloor = 0x1p-44;
+
+// Exact fixed-point value (film.h) of a double with |v| < 2^63, truncated below
+// 2^-kFixedFracBits: the integer part and the fraction are converted separately (both exact).
+FixedSum fixed_from_double(double v) {
+    constexpr double kScale = double(std::int64_t(1) << kFixedFracBits);
+    if (std::fabs(v) < 8.0) return FixedSum(std::int64_t(v * kScale));
+    const double whole = std::trunc(v);
+    return (FixedSum(std::int64_t(whole)) << kFixedFracBits) +
+           FixedSum(std::int64_t((v - whole) * kScale));
+}
+
+void add_fixed(FixedRgb& sum, const Rgb& v) {
+    for (int c = 0; c < 3; ++c) sum.c[c] += to_fixed(v[c]);
+}
+// Adds v^2 per channel, squared in double (exact for a float).
+void add_squares(FixedRgb& sum, const Rgb& v) {
+    for (int c = 0; c < 3; ++c) sum.c[c] += fixed_from_double(double(v[c]) * double(v[c]));
+}
+
+// One pixel's sums (film.h's fixed point: exact, whatever the order).
 struct PixelSums {
-    Rgb albedo{0.f}, normal{0.f}, emission{0.f};
-    double depth = 0.0;
-    int hits = 0;
+    FixedRgb albedo, normal, emission;
+    FixedRgb albedo_sq, normal_sq;  // with AovOptions::variances
+    FixedSum depth = 0, depth_sq = 0;
+    std::uint32_t hits = 0;
 };
 
 // One camera sample's first hit added to `sums` (aov.h conventions).
-void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t which,
+void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t which, bool variances,
                 PixelSums& sums) {
     SurfaceHit hit;
     if (!scene.intersect(ray, hit)) return;
     ++sums.hits;
     const Camera& cam = scene.camera();
-    if (which & kAovDepth) sums.depth += double(glm::dot(hit.p - cam.position, cam.forward));
-    if (which & kAovEmission) sums.emission += hit.emitted_radiance;
+    if (which & kAovDepth) {
+        const float z = glm::dot(hit.p - cam.position, cam.forward);
+        sums.depth += to_fixed(z);
+        if (variances) {
+            const double zc = std::min(double(z), kMaxSquaredDepth);
+            sums.depth_sq += fixed_from_double(zc * zc);
+        }
+    }
+    if ((which & kAovEmission) && film_accepts(hit.emitted_radiance))
+        add_fixed(sums.emission, hit.emitted_radiance);
     if (!(which & (kAovAlbedo | kAovNormal))) return;
     std::optional<Material> textured;
     const Material& m = scene.bsdf_at(hit, ray, true, textured);
     // Turned toward the viewer by the geometric normal (Cycles' backfacing flip).
     const bool front = glm::dot(hit.ng, ray.d) < 0.f;
     const Vec3 ns = front ? hit.ns : -hit.ns;
-    if (which & kAovNormal) sums.normal += Rgb(ns.x, ns.y, ns.z);
+    if (which & kAovNormal) {
+        const Rgb n(ns.x, ns.y, ns.z);
+        add_fixed(sums.normal, n);
+        if (variances) add_squares(sums.normal_sq, n);
+    }
     if (!(which & kAovAlbedo)) return;
     // A transmissive material's frame is its own (outside = the normal's side), as the
     // integrators shade it; a reflecting one's faces the viewer. One-sided backs reflect
@@ -53,7 +97,32 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
     const auto bs = m.sample_f(wo, uc, u);
     if (!bs || !(bs->pdf > 0.f)) return;
     const Rgb v = bs->f * (std::fabs(bs->wi.z) / bs->pdf);
-    if (std::isfinite(v.r) && std::isfinite(v.g) && std::isfinite(v.b)) sums.albedo += v;
+    if (film_accepts(v)) {
+        add_fixed(sums.albedo, v);
+        if (variances) add_squares(sums.albedo_sq, v);
+    }
+}
+
+// The variance of the mean of n samples from their sum and sum of squares (aov.h): the
+// samples' unbiased variance / n; 0 for n < 2 and below the rounding floor.
+float mean_variance(FixedSum sum, FixedSum sum_sq, std::uint32_t n) {
+    if (n < 2) return 0.f;
+    const double inv = 1.0 / double(n);
+    const double mean = from_fixed(sum) * inv, mean_sq = from_fixed(sum_sq) * inv;
+    const double spread = mean_sq - mean * mean;
+    if (!(spread > kVarianceFloor * mean_sq)) return 0.f;
+    return float(spread / double(n - 1));
+}
+
+Rgb mean_variance(const FixedRgb& sum, const FixedRgb& sum_sq, std::uint32_t n) {
+    return Rgb(mean_variance(sum.c[0], sum_sq.c[0], n), mean_variance(sum.c[1], sum_sq.c[1], n),
+               mean_variance(sum.c[2], sum_sq.c[2], n));
+}
+
+Rgb mean(const FixedRgb& sum, std::uint32_t n) {
+    const double inv = 1.0 / double(n);
+    return Rgb(float(from_fixed(sum.c[0]) * inv), float(from_fixed(sum.c[1]) * inv),
+               float(from_fixed(sum.c[2]) * inv));
 }
 
 }  // namespace
@@ -61,40 +130,64 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
 Aovs render_aovs(const Scene& scene, const AovOptions& o) {
     if (o.spp < 1) throw std::invalid_argument("aov spp: must be >= 1");
     const Camera& cam = scene.camera();
-    const int w = cam.width, h = cam.height;
+    const Region r = o.region.value_or(Region{0, 0, cam.width, cam.height});
+    if (r.empty() || r.x0 < 0 || r.y0 < 0 || r.x1 > cam.width || r.y1 > cam.height)
+        throw std::invalid_argument(
+            "aov region: (" + std::to_string(r.x0) + ", " + std::to_string(r.y0) + ", " +
+            std::to_string(r.x1) + ", " + std::to_string(r.y1) + ") is empty or not inside the " +
+            std::to_string(cam.width) + " x " + std::to_string(cam.height) + " image");
+    const int w = r.width(), h = r.height();
+    const bool variances = o.variances;
     Aovs out;
-    auto make = [&](std::uint32_t bit, Image& img) {
-        if (o.which & bit) img = Image(w, h);
+    auto make = [&](std::uint32_t bit, Image& img, Image* var) {
+        if (!(o.which & bit)) return;
+        img = Image(w, h);
+        if (variances && var != nullptr) *var = Image(w, h);
     };
-    make(kAovAlbedo, out.albedo);
-    make(kAovNormal, out.normal);
-    make(kAovDepth, out.depth);
-    make(kAovEmission, out.emission);
+    make(kAovAlbedo, out.albedo, &out.albedo_variance);
+    make(kAovNormal, out.normal, &out.normal_variance);
+    make(kAovDepth, out.depth, &out.depth_variance);
+    make(kAovEmission, out.emission, nullptr);
     if (!o.which) return out;
     const std::uint32_t seed_hash = Sampler::render_seed_hash(o.seed);
-    auto rows = [&](const tbb::blocked_range<int>& r) {
-        for (int y = r.begin(); y < r.end(); ++y) {
+    const std::uint32_t n = std::uint32_t(o.spp);
+    auto rows = [&](const tbb::blocked_range<int>& range) {
+        for (int y = range.begin(); y < range.end(); ++y) {
             for (int x = 0; x < w; ++x) {
-                const std::uint32_t ps = Sampler::pixel_seed_hashed(x, y, seed_hash);
+                const int px = r.x0 + x, py = r.y0 + y;  // in the image
+                const std::uint32_t ps = Sampler::pixel_seed_hashed(px, py, seed_hash);
                 PixelSums sums;
                 for (int i = 0; i < o.spp; ++i) {
                     Sampler s(ps, std::uint32_t(i), 0u);
                     const Vec2 f = o.spp == 1 ? Vec2(0.5f) : s.get_2d();
-                    const Vec2 film(float(x) + f.x, float(y) + f.y);
+                    const Vec2 film(float(px) + f.x, float(py) + f.y);
                     Ray ray = cam.generate_ray(film);
                     if (cam.has_lens()) {
                         Sampler lens(ps, std::uint32_t(i), kLensDimension);
                         ray = cam.generate_ray(film, lens.get_2d());
                     }
-                    add_sample(scene, ray, s, o.which, sums);
+                    add_sample(scene, ray, s, o.which, variances, sums);
                 }
-                const float inv = 1.f / float(o.spp);
-                if (o.which & kAovAlbedo) out.albedo.at(x, y) = sums.albedo * inv;
-                if (o.which & kAovNormal) out.normal.at(x, y) = sums.normal * inv;
-                if (o.which & kAovEmission) out.emission.at(x, y) = sums.emission * inv;
-                if (o.which & kAovDepth)
-                    out.depth.at(x, y) =
-                        Rgb(sums.hits ? float(sums.depth / sums.hits) : kMissDepth);
+                if (o.which & kAovAlbedo) {
+                    out.albedo.at(x, y) = mean(sums.albedo, n);
+                    if (variances)
+                        out.albedo_variance.at(x, y) =
+                            mean_variance(sums.albedo, sums.albedo_sq, n);
+                }
+                if (o.which & kAovNormal) {
+                    out.normal.at(x, y) = mean(sums.normal, n);
+                    if (variances)
+                        out.normal_variance.at(x, y) =
+                            mean_variance(sums.normal, sums.normal_sq, n);
+                }
+                if (o.which & kAovEmission) out.emission.at(x, y) = mean(sums.emission, n);
+                if (o.which & kAovDepth) {
+                    out.depth.at(x, y) = Rgb(
+                        sums.hits ? float(from_fixed(sums.depth) / double(sums.hits)) : kMissDepth);
+                    if (variances)
+                        out.depth_variance.at(x, y) =
+                            Rgb(mean_variance(sums.depth, sums.depth_sq, sums.hits));
+                }
             }
         }
     };

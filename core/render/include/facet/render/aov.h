@@ -23,11 +23,26 @@
 //    Samples that miss every surface add 0 to albedo, normal and emission (the background is
 //    not an emitter here: Blender's Environment pass, not its Emit pass); depth averages the
 //    samples that hit and is kMissDepth (1e10, Cycles' value) where none does.
+//  - Sums are the film's fixed point (film.h): exact, so a pixel's value does not depend on the
+//    order of its samples.
+//  - Variances (AovOptions::variances, for the denoiser: denoise.h): per pixel and channel the
+//    variance of the albedo's, normal's and depth's mean, s^2 / n with s^2 the unbiased sample
+//    variance of the pixel's n samples (for depth: of the n samples that hit), from the sums of
+//    the samples and of their squares (squared in double, exact for a float). They are
+//    non-zero where the first hit varies within a pixel: edges, depth of field, motion blur,
+//    glossy or rough first hits (the albedo's one BSDF sample). 0 for n < 2, and where the
+//    spread is at most 2^-44 of the mean square (rounding: a float's is ~2^-48), so a constant
+//    feature has variance exactly 0. Depths are clamped to 2^20 scene units before they are
+//    squared (fixed-point range), so beyond that their variance is not estimated (0 or low;
+//    the denoiser's inverse depth is below 1e-6 there). The squares are summed only when
+//    asked: the pass without variances does no extra work per sample.
 //  - Images are RGB (depth in all three channels), width x height of the camera, top row first.
 #pragma once
 
 #include <cstdint>
+#include <optional>
 
+#include "facet/render/film.h"
 #include "facet/render/image.h"
 #include "facet/render/scene.h"
 
@@ -47,13 +62,22 @@ struct AovOptions {
     int spp = 16;             // >= 1
     std::uint64_t seed = 0;
     int threads = 0;  // 0 = every hardware thread
+    // Also the variances of the albedo, normal and depth requested (conventions).
+    bool variances = false;
+    // Only these pixels (inside the image): the images are then of the region's size, and
+    // equal that part of the whole image's, bit for bit (a pixel's value depends on its own
+    // samples only). Unset: the whole image.
+    std::optional<Region> region;
 };
 
 struct Aovs {
     Image albedo, normal, depth, emission;  // empty (0 x 0) unless requested
+    // With AovOptions::variances: the variance of each requested feature's mean per channel
+    // (depth's in all three), else empty.
+    Image albedo_variance, normal_variance, depth_variance;
 };
 
-// Throws std::invalid_argument for spp < 1.
+// Throws std::invalid_argument for spp < 1 or a region that is empty or not inside the image.
 Aovs render_aovs(const Scene& scene, const AovOptions& options);
 
 }  // namespace facet::render

@@ -23,8 +23,9 @@
 //    a pixel becomes a weighted mean of its neighbours, so detail that no feature shows
 //    (shadow edges, caustics, glossy reflections of small objects) can blur.
 //  - Method, per half X with the other half Y (both divided by the albedo where it exceeds
-//    kMinAlbedo (denoise.cpp), so that texture detail is not filtered and is multiplied back at the
-//    end):
+//    kMinAlbedo and, given normal_variance or depth_variance, where both are 0 (denoise.cpp),
+//    so that texture detail is not filtered and is multiplied back at the end, and the noisy
+//    albedo of a pixel whose samples hit different normals or depths is not):
 //      V(p)        the variance of one half's value, (X - Y)^2 / 2 averaged over channels and
 //                  over a 3 x 3 box;
 //      d(p, q)     = mean over channels of ((X_p - X_q)^2 - (V_p + min(V_p, V_q))) /
@@ -68,6 +69,9 @@ namespace facet::render {
 struct DenoiseOptions {
     int radius = 4;   // search window (2 radius + 1)^2, 1..20
     int threads = 0;  // 0 = every hardware thread
+    // denoise_halves and render_denoised: pass the renderer's feature variances (aov.h) to
+    // denoise(). false treats the features as noise free (for comparisons).
+    bool feature_variances = true;
 };
 
 struct DenoiseInput {
@@ -96,12 +100,14 @@ Image denoise(const DenoiseInput& input, const DenoiseOptions& options = {});
 struct DenoisedRender {
     Image image;        // denoised
     Image raw;          // the plain render: bit for bit the image of one render of `options`
-    Aovs features;      // albedo, normal, depth at the render's spp and seed
+    Aovs features;      // albedo, normal, depth at the render's spp and seed, and their
+                        // variances (with DenoiseOptions::feature_variances)
     RenderStats stats;  // of both halves together
 };
 // The last step of render_denoised for front ends that rendered the two half-buffers themselves
 // (Blender's two sessions, facet-farm's merged halves): the features of `scene` at `spp` and
-// `seed` (render_aovs on `options.threads`) and the denoised image. Throws as denoise().
+// `seed` (render_aovs on `options.threads`), with their variances unless
+// options.feature_variances is false, and the denoised image. Throws as denoise().
 struct DenoisedHalves {
     Image image;
     Aovs features;
