@@ -19,6 +19,7 @@
 
 #include "facet/render/kinds.h"
 #include "facet/render/light.h"
+#include "facet/render/medium.h"
 #include "facet/render/mesh.h"
 #include "scene_checks.h"
 #include "scene_impl.h"
@@ -172,6 +173,43 @@ class MediumBuild : public BuildChecks {
   public:
     virtual bool files_allowed() const = 0;           // SceneLimits::allow_files
     virtual const std::string& base_dir() const = 0;  // resolves relative grid files
+
+    // A medium's coefficients and anisotropy, checked: sigma_a and sigma_s, or Cycles'
+    // Principled Volume keys converted by cycles_volume(). `density_needed`: a homogeneous
+    // medium takes the Cycles keys only with "density"; a grid's density is a factor that
+    // defaults to 1, so any Cycles key selects them.
+    struct Coefficients {
+        Rgb sigma_a, sigma_s;
+        float g;
+    };
+    Coefficients coefficients(const MediumDesc& m, const std::string& ptr, bool density_needed,
+                              const char* density_range) const {
+        Coefficients c;
+        c.g = float(check_range(m.g, ptr + "/g", -HenyeyGreenstein::kMaxAbsG,
+                                HenyeyGreenstein::kMaxAbsG,
+                                "in [-0.999, 0.999] (Henyey-Greenstein anisotropy)"));
+        const bool cycles = m.density || (!density_needed && (m.color || m.absorption_color));
+        if (!cycles) {
+            const char* cycles_only = "is a Cycles key: give it with \"density\"";
+            if (m.color) fail(ptr + "/color", cycles_only);
+            if (m.absorption_color) fail(ptr + "/absorption_color", cycles_only);
+            c.sigma_a = check_color(m.sigma_a, ptr + "/sigma_a", "an absorption coefficient");
+            c.sigma_s = check_color(m.sigma_s, ptr + "/sigma_s", "a scattering coefficient");
+            return c;
+        }
+        if (m.sigma_a != Vec3(0.f) || m.sigma_s != Vec3(0.f))
+            fail(ptr + (m.sigma_a != Vec3(0.f) ? "/sigma_a" : "/sigma_s"),
+                 "give either sigma_a and sigma_s or Cycles' density and colours, not both");
+        const double density =
+            check_range(m.density.value_or(1.0), ptr + "/density", 0.0, 1e30, density_range);
+        const Rgb color = check_color(m.color.value_or(Vec3(0.5f)), ptr + "/color", "a colour");
+        const Rgb absorption = check_color(m.absorption_color.value_or(Vec3(0.f)),
+                                           ptr + "/absorption_color", "a colour");
+        const MediumCoefficients k = cycles_volume(density, color, absorption);
+        c.sigma_a = k.sigma_a;
+        c.sigma_s = k.sigma_s;
+        return c;
+    }
 };
 
 class LightBuild : public BuildChecks {

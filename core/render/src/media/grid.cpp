@@ -13,30 +13,12 @@ namespace facet::render {
 namespace {
 
 Medium build(const MediumDesc& m, const std::string& ptr, const MediumBuild& b) {
-    const float g = float(b.check_range(m.g, ptr + "/g", -HenyeyGreenstein::kMaxAbsG,
-                                        HenyeyGreenstein::kMaxAbsG,
-                                        "in [-0.999, 0.999] (Henyey-Greenstein anisotropy)"));
+    const MediumBuild::Coefficients c =
+        b.coefficients(m, ptr, false, ">= 0 (a factor on the grid's values)");
     if (m.emission != Vec3(0.f))
         b.fail(ptr + "/emission", "a grid medium does not emit (not supported by this kind)");
     if (m.file.empty()) b.fail(ptr + "/file", "is required: an OpenVDB file (.vdb)");
     if (!b.files_allowed()) b.fail(ptr + "/file", "files are disabled here");
-    Rgb sa, ss;
-    if (!m.density && !m.color && !m.absorption_color) {
-        sa = b.check_color(m.sigma_a, ptr + "/sigma_a", "an absorption coefficient");
-        ss = b.check_color(m.sigma_s, ptr + "/sigma_s", "a scattering coefficient");
-    } else {
-        if (m.sigma_a != Vec3(0.f) || m.sigma_s != Vec3(0.f))
-            b.fail(ptr + (m.sigma_a != Vec3(0.f) ? "/sigma_a" : "/sigma_s"),
-                   "give either sigma_a and sigma_s or Cycles' density and colours, not both");
-        const double density = b.check_range(m.density.value_or(1.0), ptr + "/density", 0.0, 1e30,
-                                             ">= 0 (a factor on the grid's values)");
-        const Rgb color = b.check_color(m.color.value_or(Vec3(0.5f)), ptr + "/color", "a colour");
-        const Rgb absorption = b.check_color(m.absorption_color.value_or(Vec3(0.f)),
-                                             ptr + "/absorption_color", "a colour");
-        const MediumCoefficients c = cycles_volume(density, color, absorption);
-        sa = c.sigma_a;
-        ss = c.sigma_s;
-    }
     const std::string path = resolve_scene_path(m.file, b.base_dir());
     std::optional<VdbDensity> vdb;
     try {
@@ -57,7 +39,8 @@ Medium build(const MediumDesc& m, const std::string& ptr, const MediumBuild& b) 
     }
     const glm::dmat3 inv = glm::inverse(glm::dmat3(world_from_index));
     vdb->grid.set_world_to_grid(glm::mat3(inv), Vec3(-(inv * glm::dvec3(world_from_index[3]))));
-    return Medium::grid(std::make_shared<const DensityGrid>(std::move(vdb->grid)), sa, ss, g);
+    return Medium::grid(std::make_shared<const DensityGrid>(std::move(vdb->grid)), c.sigma_a,
+                        c.sigma_s, c.g);
 }
 
 }  // namespace

@@ -10,28 +10,9 @@ namespace facet::render {
 namespace {
 
 Medium build(const MediumDesc& m, const std::string& ptr, const MediumBuild& b) {
-    const float g = float(b.check_range(m.g, ptr + "/g", -HenyeyGreenstein::kMaxAbsG,
-                                        HenyeyGreenstein::kMaxAbsG,
-                                        "in [-0.999, 0.999] (Henyey-Greenstein anisotropy)"));
+    const MediumBuild::Coefficients c = b.coefficients(m, ptr, true, ">= 0 (per scene unit)");
     const Rgb emission = b.check_color(m.emission, ptr + "/emission", "an emission");
-    if (!m.density) {
-        const char* cycles_only = "is a Cycles key: give it with \"density\"";
-        if (m.color) b.fail(ptr + "/color", cycles_only);
-        if (m.absorption_color) b.fail(ptr + "/absorption_color", cycles_only);
-        const Rgb sa = b.check_color(m.sigma_a, ptr + "/sigma_a", "an absorption coefficient");
-        const Rgb ss = b.check_color(m.sigma_s, ptr + "/sigma_s", "a scattering coefficient");
-        return Medium::homogeneous(sa, ss, g, emission);
-    }
-    if (m.sigma_a != Vec3(0.f) || m.sigma_s != Vec3(0.f))
-        b.fail(ptr + (m.sigma_a != Vec3(0.f) ? "/sigma_a" : "/sigma_s"),
-               "give either sigma_a and sigma_s or Cycles' density and colours, not both");
-    const double density =
-        b.check_range(*m.density, ptr + "/density", 0.0, 1e30, ">= 0 (per scene unit)");
-    const Rgb color = b.check_color(m.color.value_or(Vec3(0.5f)), ptr + "/color", "a colour");
-    const Rgb absorption = b.check_color(m.absorption_color.value_or(Vec3(0.f)),
-                                         ptr + "/absorption_color", "a colour");
-    const MediumCoefficients c = cycles_volume(density, color, absorption);
-    return Medium::homogeneous(c.sigma_a, c.sigma_s, g, emission);
+    return Medium::homogeneous(c.sigma_a, c.sigma_s, c.g, emission);
 }
 
 }  // namespace

@@ -102,16 +102,9 @@ class Medium {
     template <class Uniform>
     Rgb ratio_transmittance(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform) const {
         Rgb tr(1.f);
-        m_grid->march(o, d, t_max, [&](float t0, float t1, float majorant) {
-            const float mu = majorant * m_sigma_t_max;
-            if (!(mu > 0.f)) return true;
-            for (float t = t0;;) {
-                t -= std::log1p(-uniform()) / mu;
-                if (!(t < t1)) return true;
-                const float dens = m_grid->density(o + d * t);
-                for (int c = 0; c < 3; ++c) tr[c] *= std::fmax(1.f - m_sigma_t[c] * dens / mu, 0.f);
-                if (!(max_channel(tr) > 0.f)) return false;
-            }
+        track(o, d, t_max, uniform, [&](float, float dens, float mu) {
+            for (int c = 0; c < 3; ++c) tr[c] *= std::fmax(1.f - m_sigma_t[c] * dens / mu, 0.f);
+            return max_channel(tr) > 0.f;
         });
         return tr;
     }
@@ -125,35 +118,44 @@ class Medium {
     float sample_free_flight(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform,
                              Rgb& beta) const {
         float result = t_max;
+        track(o, d, t_max, uniform, [&](float t, float dens, float mu) {
+            const Rgb s_s = m_sigma_s * dens;
+            Rgb s_n;
+            for (int c = 0; c < 3; ++c) s_n[c] = std::fmax(mu - m_sigma_t[c] * dens, 0.f);
+            const float w_s = glm::dot(beta, s_s), w_n = glm::dot(beta, s_n);
+            if (!(w_s + w_n > 0.f)) {  // every channel with throughput is absorbed here
+                beta = Rgb(0.f);
+                result = t;
+                return false;
+            }
+            const float p_s = w_s / (w_s + w_n);
+            if (uniform() < p_s) {
+                beta *= s_s / (mu * p_s);
+                result = t;
+                return false;
+            }
+            beta *= s_n / (mu * (1.f - p_s));
+            return true;
+        });
+        return result;
+    }
+
+  private:
+    // The tentative collisions of o + t d, t in [0, t_max), with the grey majorant of each
+    // majorant cell (exponential steps of rate mu; cells of majorant 0 are skipped): calls
+    // at(t, density(x), mu) at each, front to back, until it returns false.
+    template <class Uniform, class At>
+    void track(const Vec3& o, const Vec3& d, float t_max, Uniform& uniform, At&& at) const {
         m_grid->march(o, d, t_max, [&](float t0, float t1, float majorant) {
             const float mu = majorant * m_sigma_t_max;
             if (!(mu > 0.f)) return true;
             for (float t = t0;;) {
                 t -= std::log1p(-uniform()) / mu;
                 if (!(t < t1)) return true;
-                const float dens = m_grid->density(o + d * t);
-                const Rgb s_s = m_sigma_s * dens;
-                Rgb s_n;
-                for (int c = 0; c < 3; ++c) s_n[c] = std::fmax(mu - m_sigma_t[c] * dens, 0.f);
-                const float w_s = glm::dot(beta, s_s), w_n = glm::dot(beta, s_n);
-                if (!(w_s + w_n > 0.f)) {  // every channel with throughput is absorbed here
-                    beta = Rgb(0.f);
-                    result = t;
-                    return false;
-                }
-                const float p_s = w_s / (w_s + w_n);
-                if (uniform() < p_s) {
-                    beta *= s_s / (mu * p_s);
-                    result = t;
-                    return false;
-                }
-                beta *= s_n / (mu * (1.f - p_s));
+                if (!at(t, m_grid->density(o + d * t), mu)) return false;
             }
         });
-        return result;
     }
-
-  private:
     static float max_channel(const Rgb& c) { return std::fmax(std::fmax(c.r, c.g), c.b); }
     static float channel_transmittance(float sigma_t, float t) {
         return sigma_t > 0.f ? std::exp(-sigma_t * t) : 1.f;
