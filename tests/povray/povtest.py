@@ -235,9 +235,11 @@ CLASH_NAMES = [
 ]
 
 
-# Models the brdf finish does not take: transmissive ones (POV-Ray's interior refracts) and
-# combinations (the finish gives no sub-materials).
-NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "null", "mix", "add"}
+# Models the brdf finish does not take: transmissive ones (POV-Ray's interior refracts),
+# combinations (the finish gives no sub-materials) and `holdout` (a hole in the film's alpha,
+# which POV-Ray's finishes have no way to make).
+NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "null", "mix", "add",
+                     "holdout"}
 
 
 def cmd_models(facet, cli):
