@@ -323,7 +323,8 @@ const std::set<std::string> kCommonShapeAttributes = {
     "name",          "material_ref",     "material",
     "emission",      "emission_texture", "two_sided",
     "flip_normals",  "transform",        "motion",
-    "texture_space", "motion_positions", "motion_normals", "holdout"};
+    "texture_space", "motion_positions", "motion_normals",
+    "holdout"};
 
 // Deformation steps (ShapeDesc::motion_positions, motion_normals): a list of float32 arrays,
 // and back from any iterable of float sequences (each flattened).

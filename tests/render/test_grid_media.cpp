@@ -125,8 +125,9 @@ TEST(DensityGrid, MajorantPiecesCoverTheBoxAndBoundTheDensity) {
         // From a random point toward a random point of the box (a quarter of the rays toward
         // a random point anywhere, most of which miss it).
         const Vec3 o(6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f);
-        const Vec3 target = n % 4 == 0 ? Vec3(6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f)
-                                        : lo + (hi - lo) * Vec3(u(rng), u(rng), u(rng));
+        const Vec3 target = n % 4 == 0
+                                ? Vec3(6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f, 6.f * u(rng) - 3.f)
+                                : lo + (hi - lo) * Vec3(u(rng), u(rng), u(rng));
         const Vec3 d = glm::normalize(target - o);
         const float t_max = n % 3 == 0 ? 2.f : INFINITY;
         // The box's span along the ray, by the slab test in double.

@@ -694,8 +694,8 @@ inline bool entering(const Vec3& d, const Vec3& ng) {
 // surfaces are crossed, any other surface blocks it (0). For a heterogeneous kind this is where
 // ratio tracking goes (Novák et al. 2014), segment by segment as here.
 template <std::uint32_t F>
-Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stack,
-                         TrackingRng& rng, KernelCounters& c) {
+Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stack, TrackingRng& rng,
+                         KernelCounters& c) {
     if (!(r.tmax > 0.f)) return Rgb(1.f);
     const std::span<const Medium> media = scene.media();
     const bool finite = std::isfinite(r.tmax);
@@ -838,8 +838,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
         if (const std::int32_t mi = stack.current(); mi >= 0) {
             s.set_dimension(base + 7u);
             const float u_channel = s.get_1d(), u_dist = s.get_1d();
-            t = sample_segment(media[std::size_t(mi)], ray, t_hit, u_channel, u_dist, rng, beta,
-                               L);
+            t = sample_segment(media[std::size_t(mi)], ray, t_hit, u_channel, u_dist, rng, beta, L);
             if (!(max3(beta) > 0.f)) break;
         }
         const bool in_medium = t < t_hit;
@@ -939,8 +938,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                         if (max3(contrib) > 0.f) {
                             const Ray sr = Scene::shadow_ray_from(
                                 offset_ray_origin(hit.p, hit.p_err, hit.ng, ls->wi), *ls);
-                            const Rgb tr =
-                                shadow_transmittance<F>(scene, sr, time, stack_toward(ls->wi), rng, c);
+                            const Rgb tr = shadow_transmittance<F>(scene, sr, time,
+                                                                   stack_toward(ls->wi), rng, c);
                             const float lp = select_pmf * ls->pdf;
                             const float w = light.hittable() ? power_heuristic(lp, e.pdf) : 1.f;
                             L += beta * contrib * tr * (w / lp);

@@ -973,7 +973,8 @@ class Reader {
         // A grid is placed in the world like a shape ("transform"; a homogeneous medium has
         // no place).
         const bool placed = k->kind == MediumKind::Grid;
-        check_keys_v(m, ptr, placed ? kind_keys(*k, {"kind", "transform"}) : kind_keys(*k, {"kind"}));
+        check_keys_v(m, ptr,
+                     placed ? kind_keys(*k, {"kind", "transform"}) : kind_keys(*k, {"kind"}));
         for (const Field<MediumDesc>& f : k->fields) read_field(m, ptr, f, d);
         if (placed && m.contains("transform"))
             d.transform = read_transform(m["transform"], ptr + "/transform");

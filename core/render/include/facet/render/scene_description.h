@@ -240,7 +240,7 @@ struct MediumDesc {
     std::optional<Vec3> color, absorption_color;  // Cycles: with density (defaults 0.5, 0)
     std::string file;                             // grid: an OpenVDB file
     std::string grid = "density";                 // grid: the float grid's name in `file`
-    std::optional<glm::dmat4> transform;          // grid: the file's space to world; none = identity
+    std::optional<glm::dmat4> transform;  // grid: the file's space to world; none = identity
     bool operator==(const MediumDesc&) const = default;
 };
 
