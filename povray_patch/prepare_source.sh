@@ -62,7 +62,10 @@ if [ -d libraries ] && [ ! -d libraries.donotuse ]; then mv libraries libraries.
 (cd unix && ./prebuild.sh > "$work/prebuild.log" 2>&1) || { tail -n 40 "$work/prebuild.log"; exit 1; }
 autoreconf -f -i > "$work/autoreconf.log" 2>&1   # dh_autoreconf (debhelper compat 13)
 export DEB_BUILD_MAINT_OPTIONS="hardening=+all"
-cxxflags="$(dpkg-buildflags --get CXXFLAGS) -O3"
+# Debian's flags less -g: debug information never changes the generated code (GCC's rule; the
+# .text of backend/render/trace.cpp is byte-identical with and without it), and leaving it out
+# saves about a fifth of POV-Ray's compile time.
+cxxflags="$(dpkg-buildflags --get CXXFLAGS | sed -E 's/(^| )-g( |$)/ /') -O3"
 ldflags="$(dpkg-buildflags --get LDFLAGS)"
 cppflags="$(dpkg-buildflags --get CPPFLAGS) -I$bridge_dir"
 cxx="g++"
