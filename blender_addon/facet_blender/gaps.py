@@ -271,7 +271,6 @@ VOLUME_STEPS = ("Cycles' ray marching of heterogeneous volumes (grids; textured 
                 "media render alike in both")
 ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
 ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"
-ONLY_HAIR = "only with hair, which is reported"
 NOISE = ("Cycles' sampling and noise: Facet's own samples, seed and time limit "
          "(Render Properties > Facet) apply")
 DEVICE = "Cycles' device, memory and speed: not the image"
@@ -463,7 +462,8 @@ UNCHANGED = {
     "render.simplify_subdivision_render": "Blender's depsgraph applies it to the meshes "
                                           "Facet exports",
     "render.simplify_subdivision": "the viewport's", "render.simplify_child_particles":
-    "the viewport's", "render.simplify_child_particles_render": ONLY_HAIR,
+    "the viewport's", "render.simplify_child_particles_render":
+    "Blender's depsgraph applies it to the child hairs Facet exports",
     "render.simplify_volumes": VOLUME_STEPS,
     "render.use_persistent_data": DEVICE,
     "cycles.device": DEVICE, "cycles.feature_set": ONLY_ADAPTIVE,
@@ -485,13 +485,16 @@ UNCHANGED = {
     "cycles.volume_step_rate": VOLUME_STEPS, "cycles.volume_preview_step_rate": VOLUME_STEPS,
     "cycles.volume_max_steps": VOLUME_STEPS,
     "cycles.bake_type": BAKE,
-    "cycles_curves.shape": ONLY_HAIR, "cycles_curves.subdivisions": ONLY_HAIR,
+    "cycles_curves.shape": "only with hair, whose curves' profile it sets (sync_hair.py: "
+                           "Rounded Ribbons flat, 3D Curves round)",
+    "cycles_curves.subdivisions": "Cycles' own curve intersector's subdivision; Embree's "
+                                  "(Cycles' on the CPU, and Facet's) traces the curves",
     "view_layer.samples": NOISE, "view_layer.pass_alpha_threshold": PASS,
     "view_layer.active_aov_index": "the user interface",
     "view_layer.active_lightgroup_index": "the user interface",
     "view_layer.active_layer_collection": "the user interface",
     "view_layer.use_ao": EEVEE,
-    "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is reported)",
+    "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is exported)",
     "view_layer.use_volumes": "off, Cycles renders no volumes either (then no volume object "
                               "is reported)",
     "view_layer.use_motion_blur": MOTION,
