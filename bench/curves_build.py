@@ -77,7 +77,8 @@ def main():
     print(json.dumps({
         "strands": args.strands, "control_points": int(len(points)),
         "segments": int(args.strands * (args.keys - 3)), "profile": args.profile,
-        "build_s": round(build, 3), "build_cpu_s": round(build_cpu, 3), "bvh_s": round(scene.seconds_bvh, 3),
+        "build_s": round(build, 3), "build_cpu_s": round(build_cpu, 3),
+        "bvh_s": round(scene.seconds_bvh, 3),
         "before_bvh_s": round(scene.seconds_before_bvh, 3),
         "maxrss_before_mib": round(before, 1), "maxrss_after_build_mib": round(after, 1),
         "build_peak_mib": round(after - before, 1),

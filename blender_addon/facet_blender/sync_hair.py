@@ -190,7 +190,8 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
             other = []
         if other:
             problems.append("%s: curves of type %s are rendered through their control points "
-                            "as Catmull-Rom curves, as Cycles 3.4 does" % (subject, ", ".join(other)))
+                            "as Catmull-Rom curves, as Cycles 3.4 does"
+                            % (subject, ", ".join(other)))
     keep = counts_all >= 2
     if not keep.all():
         problems.append("%s: %d curves of fewer than 2 points are left out"
