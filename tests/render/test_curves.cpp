@@ -330,6 +330,10 @@ TEST(Curves, ExportPovWritesSphereSweeps) {
             R"("basis": "bspline", "points": [0, 0, 0,  0, 0, 1,  0, 0, 2,  0, 0, 3], "radius": 0.1)")),
         "c.json", background);
     EXPECT_NE(b.find("sphere_sweep { b_spline 4,"), std::string::npos) << b;
+    // Cubic strands end open in Embree: the sweep's end spheres are clipped off by the planes
+    // of its end circles (here z = 1 and z = 2: a straight strand of constant radius).
+    EXPECT_NE(b.find("difference { sphere_sweep { b_spline 4,"), std::string::npos) << b;
+    EXPECT_NE(b.find("plane { <0, 0, 1>, 1 } plane { <0, 0, -1>, -2 }"), std::string::npos) << b;
     try {
         fr::export_pov(
             describe(curves_scene(

@@ -183,10 +183,50 @@ void build(ShapeBuild& b) {
     b.add_curves(std::move(g), world, object);
 }
 
+// A cubic strand's end (the first segment's start, or the last segment's end) and the clipping
+// plane there: Embree's cubic tubes end with the sweep's circle at the end parameter (open, no
+// cap), while POV-Ray's sphere_sweep closes each end with the end sphere. The circle lies in the
+// plane normal to the axis tangent c' through c - r r' c' / |c'|^2 (the envelope's
+// characteristic circle), which clips the sphere off. `end`: the last segment's u = 1 (else
+// the first's u = 0). Returns the SDL plane that removes what lies beyond the end, or "".
+std::string pov_end_plane(const BasisInfo& basis, const CurveData& c, std::size_t first, bool end) {
+    glm::dvec3 p[4];
+    double r[4];
+    for (std::size_t q = 0; q < 4; ++q) {
+        const std::size_t i = first + q;
+        p[q] = glm::dvec3(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2]);
+        r[q] = c.radius.size() == 1 ? c.radius[0] : c.radius[i];
+    }
+    glm::dvec3 at, d;
+    double ra, dr;
+    if (basis.basis == CurveGeom::Basis::BSpline) {
+        const std::size_t a =
+            end ? 1 : 0;  // c = (p_a + 4 p_a+1 + p_a+2) / 6, c' = (p_a+2 - p_a) / 2
+        at = (p[a] + 4.0 * p[a + 1] + p[a + 2]) / 6.0;
+        ra = (r[a] + 4.0 * r[a + 1] + r[a + 2]) / 6.0;
+        d = 0.5 * (p[a + 2] - p[a]);
+        dr = 0.5 * (r[a + 2] - r[a]);
+    } else {  // Catmull-Rom: c = p_a+1, c' = (p_a+2 - p_a) / 2
+        const std::size_t a = end ? 1 : 0;
+        at = p[a + 1];
+        ra = r[a + 1];
+        d = 0.5 * (p[a + 2] - p[a]);
+        dr = 0.5 * (r[a + 2] - r[a]);
+    }
+    const double len2 = glm::dot(d, d);
+    if (!(len2 > 0.0)) return "";
+    const glm::dvec3 n = d / std::sqrt(len2);
+    const double offset = glm::dot(n, at - ra * dr / len2 * d);
+    // plane { n, o } is the half-space dot(n, x) < o: the root keeps dot(n, x) >= o, the tip
+    // dot(n, x) <= o.
+    return end ? " plane { " + pov_vec(-n) + ", " + pov_num(-offset) + " }"
+               : " plane { " + pov_vec(n) + ", " + pov_num(offset) + " }";
+}
+
 // Each strand as a POV-Ray sphere_sweep of the same spline (its radius interpolated by the same
-// basis, as Embree's), in one union carrying the shape's texture and transform. Checked with
-// stock POV-Ray 3.7 (a finish it knows): the three bases' silhouettes match Facet's render of
-// the same strands (64 x 64: 90.4 vs 88.3 covered pixels, mean |difference| 0.002).
+// basis, as Embree's), a cubic one with its end spheres clipped off (pov_end_plane), in one
+// union carrying the shape's texture and transform. Checked against Facet by povray-facet
+// (tests/povray/curves_hair.json, crosscheck.py).
 void pov(PovShapeOut& o) {
     const ShapeDesc& s = o.shape;
     struct Checks final : BuildChecks {
@@ -209,16 +249,22 @@ void pov(PovShapeOut& o) {
     const bool one = st.count.size() == 1;
     std::string head = one ? "" : "union {\n";
     for (std::size_t k = 0; k < st.count.size(); ++k) {
-        head += std::string(one ? "" : "  ") + "sphere_sweep { " + std::string(st.basis->pov) +
-                " " + std::to_string(st.count[k]);
+        const bool cubic = st.basis->basis != CurveGeom::Basis::Linear;
+        head += std::string(one ? "" : "  ") + (cubic ? "difference { " : "") + "sphere_sweep { " +
+                std::string(st.basis->pov) + " " + std::to_string(st.count[k]);
         for (std::uint32_t j = 0; j < st.count[k]; ++j) {
             const std::size_t i = st.first[k] + j;
             const glm::dvec3 p(c.points[3 * i], c.points[3 * i + 1], c.points[3 * i + 2]);
             head += ", " + pov_vec(p) + ", " +
                     pov_num(c.radius.size() == 1 ? c.radius[0] : c.radius[i]);
         }
-        head += one ? "" : " }\n";
+        head += " }";
+        if (cubic)
+            head += pov_end_plane(*st.basis, c, st.first[k], false) +
+                    pov_end_plane(*st.basis, c, st.first[k] + st.count[k] - 4, true) + " }";
+        head += one ? "" : "\n";
     }
+    if (one) head.erase(head.size() - 2);  // the object's own closing brace is object()'s
     o.object(head, false);
 }
 
