@@ -21,7 +21,7 @@ import numpy as np
 
 from . import bake, gaps, hooks, materials, units
 # By data type, as Cycles' sync (blender_camera.cpp, blender_mesh.cpp, blender_light.cpp, ...).
-from . import sync_camera, sync_motion, sync_volume
+from . import sync_camera, sync_hair, sync_motion, sync_volume
 from .sync_camera import export_camera
 from .sync_light import _light_data
 from .sync_mesh import _imported_mesh_arrays, mesh_arrays
@@ -60,6 +60,12 @@ class _Materials:
         self.by_name = {}  # facet name -> materials.Converted
         self.first_user = {}  # facet name -> the object it was converted for (bakes)
         self.order = []
+
+    def reads_uv(self, mat):
+        """Whether material `mat` (or the default, None) reads a UV map."""
+        if mat is not None and mat.get("facet_cycles_only"):
+            return False
+        return bool(self.get(mat)[1].uv_maps)
 
     def get(self, mat, obj=None):
         name = DEFAULT_MATERIAL_NAME if mat is None else mat.name
@@ -243,11 +249,30 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 if vol is not None:
                     volumes.append(vol)
             continue
+        visible = (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
+                   or obj.visible_shadow)
+        if obj.type == 'CURVES':  # hair curves (sync_hair.py)
+            if view_layer.use_strand and visible:
+                got = sync_hair.export_curves_object(obj, matrix, scene, mats.reads_uv, problems)
+                if got is not None:
+                    order.append(_hair_shape(got[0], got[1], mats, obj, problems))
+            continue
         if obj.type not in GEOMETRY_TYPES:
             continue
-        if not (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
-                or obj.visible_shadow):
+        if not visible:
             continue
+        if obj.type == 'MESH' and view_layer.use_strand and any(
+                m.type == 'PARTICLE_SYSTEM' for m in obj.modifiers):
+            # Particle hair (sync_hair.py): the object's own placement carries it.
+            if not inst.is_instance:
+                for shape, mat in sync_hair.export_particle_hair(
+                        obj, scene, mats.reads_uv, problems, depsgraph.mode == 'RENDER'):
+                    order.append(_hair_shape(shape, mat, mats, obj, problems))
+            elif ("hair", obj.original.name) not in flagged:
+                flagged.add(("hair", obj.original.name))
+                problems.append("object '%s': the particle hair of its instances is not "
+                                "rendered (only the object itself carries its hair)"
+                                % obj.original.name)
         orig = obj.original
         data_ptr = obj.data.as_pointer() if obj.type == 'MESH' and obj.data is not None else 0
         clip_key = data_ptr or (orig.name, inst.is_instance)
@@ -542,6 +567,17 @@ def _texture_space(obj):
     if loc is None or size is None:
         return {"location": [0.0, 0.0, 0.0], "size": [1.0, 1.0, 1.0]}
     return {"location": [float(x) for x in loc], "size": [float(x) for x in size]}
+
+
+def _hair_shape(shape, mat, mats, obj, problems):
+    """A curves shape (sync_hair.py) with its material; an emitting one's emission dropped
+    (reported: curves cannot emit)."""
+    _add_material(shape, mat, mats, obj)
+    if shape.pop("emission", None) is not None:
+        problems.append("object '%s': hair '%s': its material emits, which curves cannot; "
+                        "the emission is not rendered" % (obj.original.name, shape["name"]))
+    shape.pop("two_sided", None)
+    return shape
 
 
 def _add_material(shape, mat, mats, obj=None):

@@ -9,7 +9,7 @@ user sees (never a silent drop), and the entry to delete when Facet's core gains
 - LIGHTS: lamp settings the exporter ignores or approximates, by lamp type (LIGHTS_ALL: every
   type): (attribute, Blender's label, the value converted exactly, what Facet does otherwise).
 - OBJECT_TYPES: what becomes of each Blender object type that the exporter does not turn into
-  Facet shapes or lights; PARTICLE_HAIR: particle hair systems.
+  Facet shapes or lights.
 - SETTINGS, OBJECT_FLAGS, LAMP_FLAGS, COLLECTION_FLAGS: scene, render, Cycles, view layer and
   world settings and per-object (per-lamp, per-collection) flags that change Cycles' image and
   are not converted: (path, Blender's label, the quiet values, what Facet does). Away from
@@ -250,7 +250,8 @@ def summary(groups):
 # -> the report line, or None: Cycles renders nothing of it either (or Blender draws it
 # itself), so there is nothing to convert.
 OBJECT_TYPES = {
-    'CURVES': "hair curves (Curves objects) are not in Facet's core yet; not rendered",
+    # Converted by sync_hair.py (curves shapes); what is not, it reports.
+    'CURVES': None,
     'POINTCLOUD': "point clouds are not in Facet's core yet; not rendered",
     # Converted by sync_volume.py (a grid medium in a null box); what is not, it reports.
     'VOLUME': None,
@@ -263,8 +264,6 @@ OBJECT_TYPES = {
 # A type that is in none of the tables (a newer Blender's).
 UNKNOWN_TYPE = "object type %s is not known to Facet's exporter; not rendered"
 
-PARTICLE_HAIR = ("particle hair is not in Facet's core yet; the strands are not rendered "
-                 "(the emitting mesh is)")
 
 MOTION = "motion blur (sync_motion.py: shutter, position, curve, motion steps)"
 VOLUME_STEPS = ("Cycles' ray marching of heterogeneous volumes (grids; textured inputs are "
@@ -272,7 +271,6 @@ VOLUME_STEPS = ("Cycles' ray marching of heterogeneous volumes (grids; textured 
                 "media render alike in both")
 ONLY_FAST_GI = "only with Fast GI Approximation, which is reported"
 ONLY_ADAPTIVE = "only with an object's Adaptive Subdivision, which is reported"
-ONLY_HAIR = "only with hair, which is reported"
 NOISE = ("Cycles' sampling and noise: Facet's own samples, seed and time limit "
          "(Render Properties > Facet) apply")
 DEVICE = "Cycles' device, memory and speed: not the image"
@@ -464,7 +462,8 @@ UNCHANGED = {
     "render.simplify_subdivision_render": "Blender's depsgraph applies it to the meshes "
                                           "Facet exports",
     "render.simplify_subdivision": "the viewport's", "render.simplify_child_particles":
-    "the viewport's", "render.simplify_child_particles_render": ONLY_HAIR,
+    "the viewport's", "render.simplify_child_particles_render":
+    "Blender's depsgraph applies it to the child hairs Facet exports",
     "render.simplify_volumes": VOLUME_STEPS,
     "render.use_persistent_data": DEVICE,
     "cycles.device": DEVICE, "cycles.feature_set": ONLY_ADAPTIVE,
@@ -486,13 +485,16 @@ UNCHANGED = {
     "cycles.volume_step_rate": VOLUME_STEPS, "cycles.volume_preview_step_rate": VOLUME_STEPS,
     "cycles.volume_max_steps": VOLUME_STEPS,
     "cycles.bake_type": BAKE,
-    "cycles_curves.shape": ONLY_HAIR, "cycles_curves.subdivisions": ONLY_HAIR,
+    "cycles_curves.shape": "only with hair, whose curves' profile it sets (sync_hair.py: "
+                           "Rounded Ribbons flat, 3D Curves round)",
+    "cycles_curves.subdivisions": "Cycles' own curve intersector's subdivision; Embree's "
+                                  "(Cycles' on the CPU, and Facet's) traces the curves",
     "view_layer.samples": NOISE, "view_layer.pass_alpha_threshold": PASS,
     "view_layer.active_aov_index": "the user interface",
     "view_layer.active_lightgroup_index": "the user interface",
     "view_layer.active_layer_collection": "the user interface",
     "view_layer.use_ao": EEVEE,
-    "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is reported)",
+    "view_layer.use_strand": "off, Cycles renders no hair either (then no hair is exported)",
     "view_layer.use_volumes": "off, Cycles renders no volumes either (then no volume object "
                               "is reported)",
     "view_layer.use_motion_blur": MOTION,
@@ -623,7 +625,7 @@ def scene_lines(scene, view_layer):
 def object_lines(obj, view_layer):
     """Report lines for one object (the original): its type when not exported
     (OBJECT_TYPES), its flags (OBJECT_FLAGS, LAMP_FLAGS) away from their quiet values and its
-    particle hair (PARTICLE_HAIR)."""
+    particle hair (converted by sync_hair.py, which reports what is not)."""
     subject = "object '%s'" % obj.name
     if obj.type == 'LIGHT':
         return _flag_lines(obj, LAMP_FLAGS, "light '%s'" % obj.name)
@@ -631,7 +633,7 @@ def object_lines(obj, view_layer):
     if obj.type == 'VOLUME':  # converted (sync_volume.py): its flags as a mesh's
         if not view_layer.use_volumes:
             return lines
-    elif obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT'):  # export.GEOMETRY_TYPES
+    elif obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT', 'CURVES'):  # exported
         if obj.type in OBJECT_TYPES:
             what = OBJECT_TYPES[obj.type]
         else:
@@ -650,17 +652,6 @@ def object_lines(obj, view_layer):
             lines.append("%s: seen only by transmission or volume-scatter rays: not exported "
                          "(Cycles shows it through glass and in volumes)" % subject)
     lines.extend(_flag_lines(obj, flags, subject))
-    if view_layer.use_strand:
-        for mod in obj.modifiers:
-            if mod.type != 'PARTICLE_SYSTEM' or not mod.show_render:
-                continue
-            ps = mod.particle_system
-            st = ps.settings
-            if st.type == 'HAIR' and st.render_type == 'PATH':
-                children = (" and %d children each" % st.rendered_child_count
-                            if st.child_type != 'NONE' else "")
-                lines.append("%s: particle system '%s' (%d hairs%s): %s"
-                             % (subject, ps.name, st.count, children, PARTICLE_HAIR))
     return lines
 
 
@@ -670,7 +661,7 @@ def component_lines(obj, view_layer):
     its type, naming the object."""
     what = OBJECT_TYPES.get(obj.type, UNKNOWN_TYPE % obj.type) \
         if obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT', 'LIGHT') else None
-    if what is None or (obj.type == 'CURVES' and not view_layer.use_strand) or (
+    if what is None or obj.type == 'CURVES' or (
             obj.type == 'VOLUME' and not view_layer.use_volumes):
         return []
     return ["object '%s': its evaluated geometry has a %s component (geometry nodes): %s"

@@ -96,6 +96,7 @@ _SHAPE_KEYS = {
     "grid": ("nx", "ny", "amplitude", "frequency"),
     "mesh": (),
     "instance": ("of",),
+    "curves": ("basis", "profile"),
 }
 # Every light kind's keys, from the core's kind table (kinds.h): sizes, Blender's spot blend,
 # the area lamp and environment maps travel with their lights.
@@ -188,6 +189,15 @@ def _shape_desc(s):
     for k in _SHAPE_KEYS[s["type"]]:
         if k in s:
             setattr(sd, k, s[k])
+    if s["type"] == "curves":  # FORMAT.md "Curves": float32 / uint32 arrays
+        radius = s["radius"]
+        sd.curves = facet.CurveData(
+            points=np.ascontiguousarray(s["points"], dtype=np.float32),
+            radius=float(radius) if isinstance(radius, (int, float)) else
+            np.ascontiguousarray(radius, dtype=np.float32),
+            counts=None if s.get("counts") is None else np.asarray(s["counts"], np.int64),
+            root_uvs=None if s.get("root_uvs") is None else
+            np.ascontiguousarray(s["root_uvs"], dtype=np.float32))
     if s["type"] == "mesh":
         if "file" in s:
             sd.file = s["file"]
@@ -333,6 +343,15 @@ def _shape_data(sd, base_dir):
         elif isinstance(v, (list, tuple, np.ndarray)):
             v = _vec(v)
         s[k] = v
+    if kind == "curves":
+        c = sd.curves
+        s["points"] = np.asarray(c.points, dtype=np.float64).ravel().tolist()
+        s["radius"] = c.radius if isinstance(c.radius, float) else \
+            np.asarray(c.radius, dtype=np.float64).tolist()
+        if c.counts is not None:
+            s["counts"] = [int(x) for x in c.counts]
+        if c.root_uvs is not None:
+            s["root_uvs"] = np.asarray(c.root_uvs, dtype=np.float64).ravel().tolist()
     if kind == "mesh":
         if sd.file:
             s["file"] = os.path.join(base_dir, sd.file)

@@ -274,10 +274,12 @@ std::string kind_name(MediumKind kind) {
 }
 
 // The Python attribute of a kind's field: its JSON key, except the mesh arrays ("mesh", a
-// MeshData).
+// MeshData) and the curve arrays ("curves", a CurveData).
 template <class Desc>
 std::string attribute_name(const Field<Desc>& f) {
-    return f.type == FieldType::MeshArrays ? "mesh" : std::string(f.key);
+    if (f.type == FieldType::MeshArrays) return "mesh";
+    if (f.type == FieldType::CurveArrays) return "curves";
+    return std::string(f.key);
 }
 
 // One read-write property per field key of every kind (fields shared by several kinds, such as
@@ -1033,6 +1035,76 @@ void bind_scene(py::module_& m) {
             return "facet.MeshData(" + std::to_string(d.num_vertices()) + " vertices, " +
                    std::to_string(d.num_triangles()) + " triangles" +
                    (d.normals.empty() ? "" : ", normals") + ")";
+        });
+
+    // Curve arrays (ShapeDesc::curves): copied in and out as float32 / uint32 numpy arrays.
+    auto floats_in = [](py::handle a, const char* name) {
+        if (a.is_none()) return std::vector<float>{};
+        if (py::isinstance<py::str>(a))
+            throw py::type_error(std::string(name) + ": expected a sequence of numbers");
+        const auto arr = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(a);
+        if (!arr) throw py::type_error(std::string(name) + ": expected a sequence of numbers");
+        return std::vector<float>(arr.data(), arr.data() + arr.size());
+    };
+    auto floats_out = [](const std::vector<float>& v, py::ssize_t cols) -> py::object {
+        if (v.empty()) return py::none();
+        py::array_t<float> a(cols > 1 ? std::vector<py::ssize_t>{py::ssize_t(v.size()) / cols, cols}
+                                      : std::vector<py::ssize_t>{py::ssize_t(v.size())});
+        std::copy(v.begin(), v.end(), a.mutable_data());
+        return std::move(a);
+    };
+    py::class_<CurveData>(
+        m, "CurveData",
+        "Curve arrays of a 'curves' shape (scenes/FORMAT.md, \"Curves\"): points float32 (n, 3), "
+        "radius (a number, or float32 (n,): one per point), counts uint32 (strands,) or None "
+        "(the control points of each strand; None: one strand), root_uvs float32 (strands, 2) or "
+        "None (each strand's texture coordinates). Copied in as float32/uint32.")
+        .def(py::init([floats_in](py::handle points, py::handle radius, py::handle counts,
+                                  py::handle root_uvs) {
+                 CurveData c;
+                 c.points = floats_in(points, "points");
+                 if (py::isinstance<py::float_>(radius) || py::isinstance<py::int_>(radius))
+                     c.radius = {radius.cast<float>()};
+                 else
+                     c.radius = floats_in(radius, "radius");
+                 if (!counts.is_none()) {
+                     const auto a =
+                         py::array_t<std::int64_t,
+                                     py::array::c_style | py::array::forcecast>::ensure(counts);
+                     if (!a) throw py::type_error("counts: expected a sequence of integers");
+                     for (py::ssize_t i = 0; i < a.size(); ++i) {
+                         if (a.data()[i] < 0 || a.data()[i] > 0xFFFFFFFFll)
+                             throw py::value_error("counts[" + std::to_string(i) +
+                                                   "]: must be in [0, 2^32)");
+                         c.counts.push_back(std::uint32_t(a.data()[i]));
+                     }
+                 }
+                 c.root_uvs = floats_in(root_uvs, "root_uvs");
+                 return c;
+             }),
+             py::arg("points"), py::arg("radius"), py::arg("counts") = py::none(),
+             py::arg("root_uvs") = py::none())
+        .def_property_readonly("points",
+                               [floats_out](const CurveData& c) { return floats_out(c.points, 3); })
+        .def_property_readonly("radius",
+                               [floats_out](const CurveData& c) -> py::object {
+                                   if (c.radius.size() == 1) return py::float_(c.radius[0]);
+                                   return floats_out(c.radius, 1);
+                               })
+        .def_property_readonly("counts",
+                               [](const CurveData& c) -> py::object {
+                                   if (c.counts.empty()) return py::none();
+                                   py::array_t<std::uint32_t> a(py::ssize_t(c.counts.size()));
+                                   std::copy(c.counts.begin(), c.counts.end(), a.mutable_data());
+                                   return std::move(a);
+                               })
+        .def_property_readonly(
+            "root_uvs", [floats_out](const CurveData& c) { return floats_out(c.root_uvs, 2); })
+        .def_property_readonly("num_points", &CurveData::num_points)
+        .def(py::self == py::self)
+        .def("__repr__", [](const CurveData& c) {
+            return "facet.CurveData(" + std::to_string(c.num_points()) + " points, " +
+                   std::to_string(c.counts.empty() ? 1 : c.counts.size()) + " strands)";
         });
 
     py::class_<ShapeDesc> shape_desc(

@@ -292,7 +292,7 @@ TEST(Instancing, ErrorsNameThePointer) {
     EXPECT_NE(error_of(with(R"({"a": [{"type": "sphere", "material": "w", "center": [0,0,0],
                                        "radius": 1}]})",
                             "[]"))
-                  .find("/prototypes/a/0/type: a prototype holds triangle shapes only"),
+                  .find("/prototypes/a/0/type: a prototype holds triangle shapes and curves only"),
               std::string::npos);
     EXPECT_NE(error_of(with(ok, R"([{"type": "instance", "of": "a", "material": "w"}])"))
                   .find("/shapes/0/material: an instance takes its prototype's materials"),

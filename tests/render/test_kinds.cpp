@@ -51,8 +51,8 @@ TEST(Kinds, EveryEnumValueHasExactlyOneKindWithUniqueKeys) {
         for (const auto& f : k->fields)
             EXPECT_TRUE(keys.insert(f.key).second) << k->name << " " << f.key;
     }
-    EXPECT_EQ(names.size(), 10u);  // ShapeKind has 10 values: each one is in the table
-    for (int e = 0; e < 10; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
+    EXPECT_EQ(names.size(), 11u);  // ShapeKind has 11 values: each one is in the table
+    for (int e = 0; e < 11; ++e) EXPECT_NE(find_shape_kind(ShapeKind(e)), nullptr) << e;
     EXPECT_EQ(find_shape_kind(ShapeKind(200)), nullptr);
     EXPECT_THROW(shape_kind(ShapeKind(200)), std::logic_error);
 
@@ -108,7 +108,10 @@ TEST(Kinds, JsonRoundTripOfEveryKind) {
       {"type": "icosphere", "center": [2, 0, 0], "radius": 0.5, "subdivisions": 1, "material": "white"},
       {"type": "grid", "nx": 2, "ny": 3, "amplitude": 0.1, "frequency": 2, "material": "white"},
       {"type": "gltf", "file": ")" FACET_GLTF_TEST_DIR R"(/modes.gltf"},
-      {"type": "instance", "of": "card", "transform": {"translate": [0, 3, 0]}})";
+      {"type": "instance", "of": "card", "transform": {"translate": [0, 3, 0]}},
+      {"type": "curves", "basis": "catmull_rom", "profile": "flat", "material": "white",
+       "points": [0, 0, 0, 0, 0, 1, 0, 0, 2, 0, 0, 3], "radius": [0.1, 0.2, 0.3, 0.4],
+       "counts": [4], "root_uvs": [0.5, 0.25]})";
     const std::string lights = R"(
       {"type": "point", "position": [0, 5, 0], "power": 100},
       {"type": "spot", "position": [0, 5, 0], "look_at": [0, 0, 0], "power": 10, "outer_angle": 30, "inner_angle": 20},

@@ -11,6 +11,7 @@
 #include <cstring>
 #include <mutex>
 
+#include "facet/frame.h"
 #include "facet/render/sampler.h"
 #include "facet/render/shading_normal.h"
 #include "scene_impl.h"
@@ -172,6 +173,90 @@ void opacity_filter(const RTCFilterFunctionNArguments* args) {
         const std::uint32_t geom = RTCHitN_geomID(args->hit, n, i);
         if (!opacity_blocks(mg->opacity.alpha(uv), hit_uniform(o, d, geom, prim)))
             args->valid[i] = 0;
+    }
+}
+
+// --- curves (scene_impl.h, CurveGeom) ----------------------------------------------------------
+
+// A curve segment at parameter u: its axis point, the axis' derivative and the radius, in
+// double, by the segment's basis (Embree's: uniform cubic B-spline, Catmull-Rom, linear).
+struct CurvePoint {
+    glm::dvec3 c, dc;
+    double r;
+};
+
+CurvePoint eval_curve(const CurveGeom& g, std::uint32_t seg, double u) {
+    const glm::vec4* v = g.vertex + g.segment[seg];
+    double w[4] = {0.0, 0.0, 0.0, 0.0}, dw[4] = {0.0, 0.0, 0.0, 0.0};
+    int n = 4;
+    const double u2 = u * u, u3 = u2 * u;
+    switch (g.basis) {
+        case CurveGeom::Basis::Linear:
+            n = 2;
+            w[0] = 1.0 - u;
+            w[1] = u;
+            dw[0] = -1.0;
+            dw[1] = 1.0;
+            break;
+        case CurveGeom::Basis::BSpline: {
+            const double s = 1.0 - u;
+            w[0] = s * s * s / 6.0;
+            w[1] = (3.0 * u3 - 6.0 * u2 + 4.0) / 6.0;
+            w[2] = (-3.0 * u3 + 3.0 * u2 + 3.0 * u + 1.0) / 6.0;
+            w[3] = u3 / 6.0;
+            dw[0] = -0.5 * s * s;
+            dw[1] = 1.5 * u2 - 2.0 * u;
+            dw[2] = -1.5 * u2 + u + 0.5;
+            dw[3] = 0.5 * u2;
+            break;
+        }
+        case CurveGeom::Basis::CatmullRom:
+            w[0] = 0.5 * (-u3 + 2.0 * u2 - u);
+            w[1] = 0.5 * (3.0 * u3 - 5.0 * u2 + 2.0);
+            w[2] = 0.5 * (-3.0 * u3 + 4.0 * u2 + u);
+            w[3] = 0.5 * (u3 - u2);
+            dw[0] = 0.5 * (-3.0 * u2 + 4.0 * u - 1.0);
+            dw[1] = 0.5 * (9.0 * u2 - 10.0 * u);
+            dw[2] = 0.5 * (-9.0 * u2 + 8.0 * u + 1.0);
+            dw[3] = 0.5 * (3.0 * u2 - 2.0 * u);
+            break;
+    }
+    CurvePoint p{glm::dvec3(0.0), glm::dvec3(0.0), 0.0};
+    for (int i = 0; i < n; ++i) {
+        const glm::dvec3 x(Vec3(v[i]));
+        p.c += w[i] * x;
+        p.dc += dw[i] * x;
+        p.r += w[i] * double(v[i].w);
+    }
+    return p;
+}
+
+// Embree's intersection and occlusion filter on curves: a strand is seen only from outside, so
+// that a ray leaving a hit on it (offset by its error bound to either side) never meets the
+// strand it leaves, as Cycles skips the primitive a ray leaves; in particular rays that a hair
+// BSDF sends through the fibre pass it.
+//  - round: hits where the ray leaves the tube (dot(d, Ng) > 0: Embree's Ng points out of the
+//    swept surface) are dropped;
+//  - flat: a ribbon faces each ray, so a ray from a ribbon would meet that strand's ribbon for
+//    itself at once; hits on a segment whose largest radius (times kFlatSelfReach) reaches the
+//    ray's origin are dropped.
+constexpr float kFlatSelfReach = 2.f;
+
+void curve_filter(const RTCFilterFunctionNArguments* args) {
+    const auto* g = static_cast<const CurveGeom*>(args->geometryUserPtr);
+    const unsigned n = args->N;
+    for (unsigned i = 0; i < n; ++i) {
+        if (args->valid[i] != -1) continue;
+        const glm::vec3 d(RTCRayN_dir_x(args->ray, n, i), RTCRayN_dir_y(args->ray, n, i),
+                          RTCRayN_dir_z(args->ray, n, i));
+        if (!g->flat) {
+            const glm::vec3 ng(RTCHitN_Ng_x(args->hit, n, i), RTCHitN_Ng_y(args->hit, n, i),
+                               RTCHitN_Ng_z(args->hit, n, i));
+            if (glm::dot(d, ng) > 0.f) args->valid[i] = 0;
+            continue;
+        }
+        const float reach = kFlatSelfReach * g->segment_radius[RTCHitN_primID(args->hit, n, i)];
+        if (RTCRayN_tfar(args->ray, n, i) * glm::length(d) <= reach) args->valid[i] = 0;
     }
 }
 
@@ -356,6 +441,8 @@ void init_rayhit(RTCRayHit& rh, const Ray& ray) {
     rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
 }
 
+// Curves keep their along/across parameters in SurfaceHit's padding (scene.h, "Curves").
+static_assert(sizeof(SurfaceHit) == 168, "SurfaceHit grew: static scenes would pay for it");
 static_assert(Scene::kPacketSize == 8, "packet queries are rtcIntersect8 / rtcOccluded8");
 
 // Above this many bytes of per-triangle hit records (a typical L2 cache), closest-hit packets
@@ -517,6 +604,68 @@ void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes
     geom_to_mesh[id] = std::int32_t(m);
 }
 
+// Attaches curves `c` of `curves` to `scene` as Embree curve geometry (its points and radii,
+// its segments' first control points; a round linear strand's segment flags, so that the
+// spheres between its segments are not intersected), with the self-hit filter
+// (curve_filter); `geom_to_mesh` maps the geometry id to -2 - c. Embree holds the arrays then,
+// and hits read its copies.
+void attach_curves(RTCDevice device, RTCScene scene, std::vector<CurveGeom>& curves, std::size_t c,
+                   std::vector<std::int32_t>& geom_to_mesh, const std::string& name) {
+    CurveGeom& cg = curves[c];
+    using B = CurveGeom::Basis;
+    RTCGeometryType type = RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE;
+    switch (cg.basis) {
+        case B::Linear:
+            type = cg.flat ? RTC_GEOMETRY_TYPE_FLAT_LINEAR_CURVE
+                           : RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE;
+            break;
+        case B::BSpline:
+            type = cg.flat ? RTC_GEOMETRY_TYPE_FLAT_BSPLINE_CURVE
+                           : RTC_GEOMETRY_TYPE_ROUND_BSPLINE_CURVE;
+            break;
+        case B::CatmullRom:
+            type = cg.flat ? RTC_GEOMETRY_TYPE_FLAT_CATMULL_ROM_CURVE
+                           : RTC_GEOMETRY_TYPE_ROUND_CATMULL_ROM_CURVE;
+            break;
+    }
+    if (!rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
+        throw SceneError(name + ": embree: built without filter functions, which curves need");
+    RTCGeometry g = rtcNewGeometry(device, type);
+    auto* v = static_cast<glm::vec4*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, sizeof(glm::vec4), cg.vertices.size()));
+    auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
+        g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(std::uint32_t), cg.segments.size()));
+    if (v && idx) {
+        std::memcpy(v, cg.vertices.data(), cg.vertices.size() * sizeof(glm::vec4));
+        std::memcpy(idx, cg.segments.data(), cg.segments.size() * sizeof(std::uint32_t));
+        cg.vertex = v;
+        cg.segment = idx;
+        if (cg.basis == B::Linear && !cg.flat) {
+            auto* f = static_cast<std::uint8_t*>(
+                rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_FLAGS, 0, RTC_FORMAT_UCHAR,
+                                        sizeof(std::uint8_t), cg.segments.size()));
+            if (f) {
+                for (std::size_t k = 0; k + 1 < cg.strand_first.size(); ++k) {
+                    const std::uint32_t a = cg.strand_first[k], b = cg.strand_first[k + 1];
+                    for (std::uint32_t s = a; s < b; ++s)
+                        f[s] = std::uint8_t((s > a ? RTC_CURVE_FLAG_NEIGHBOR_LEFT : 0) |
+                                            (s + 1 < b ? RTC_CURVE_FLAG_NEIGHBOR_RIGHT : 0));
+                }
+            }
+        }
+        cg.vertices = {};
+        cg.segments = {};
+    }
+    rtcSetGeometryUserData(g, &cg);
+    rtcSetGeometryIntersectFilterFunction(g, curve_filter);
+    rtcSetGeometryOccludedFilterFunction(g, curve_filter);
+    rtcCommitGeometry(g);
+    const unsigned id = rtcAttachGeometry(scene, g);
+    rtcReleaseGeometry(g);
+    if (geom_to_mesh.size() <= id) geom_to_mesh.resize(id + 1, -1);
+    geom_to_mesh[id] = -2 - std::int32_t(c);
+}
+
 }  // namespace
 
 // --- Scene::Impl ------------------------------------------------------------------------------
@@ -543,6 +692,8 @@ void Scene::Impl::build(const std::string& name) {
 
     for (std::size_t m = 0; m < meshes.size(); ++m)
         attach_mesh(be.device.get(), be.scene.get(), meshes, m, be.geom_to_mesh, name);
+    for (std::size_t c = 0; c < curves.size(); ++c)
+        attach_curves(be.device.get(), be.scene.get(), curves, c, be.geom_to_mesh, name);
     for (AnalyticPrim& prim : prims) prim.err_floor = analytic_error_floor(prim);
     if (!prims.empty()) {
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_USER);
@@ -567,12 +718,14 @@ void Scene::Impl::build(const std::string& name) {
         record_bytes += mg.planes.size() * sizeof(glm::vec4) +
                         mg.records.size() * sizeof(MeshGeom::SmoothRecord);
     be.prefetch_hit_records = record_bytes > kPrefetchRecordBytes;
+    // (Curves' hits are filled on the extras' path only: scenes without them keep the other.)
     for (const PrototypeGeom& pg : prototypes)
-        be.surface_extras_instanced |= std::any_of(pg.meshes.begin(), pg.meshes.end(), mesh_extras);
+        be.surface_extras_instanced |=
+            !pg.curves.empty() || std::any_of(pg.meshes.begin(), pg.meshes.end(), mesh_extras);
     // (Scenes with moving instances take the extras' path too: only it hands fill_instance the
     // lanes' times, so that the other path passes time 0 and loads nothing for it.)
     be.surface_extras =
-        be.surface_extras_instanced || be.has_motion ||
+        be.surface_extras_instanced || be.has_motion || !curves.empty() ||
         std::any_of(meshes.begin(), meshes.end(), mesh_extras) ||
         std::any_of(prims.begin(), prims.end(), [](const AnalyticPrim& p) { return p.uv; }) ||
         std::any_of(planes.begin(), planes.end(), [](const PlaneGeom& p) { return p.uv; }) ||
@@ -599,6 +752,9 @@ void Scene::Impl::build_instances(const std::string& name) {
         for (std::size_t m = 0; m < prototypes[p].meshes.size(); ++m)
             attach_mesh(be.device.get(), ps.get(), prototypes[p].meshes, m,
                         be.prototype_geom_to_mesh[p], name);
+        for (std::size_t c = 0; c < prototypes[p].curves.size(); ++c)
+            attach_curves(be.device.get(), ps.get(), prototypes[p].curves, c,
+                          be.prototype_geom_to_mesh[p], name);
         rtcCommitScene(ps.get());
         be.prototype_scenes[p] = std::move(ps);
     }
@@ -889,6 +1045,69 @@ template <bool kUv>
     }
 }
 
+// A hit on segment `seg` of curves `g` at Embree's curve parameter u and distance t (scene.h,
+// "Curves"): the axis point, radius and tangent at u in double; round: the normal from the axis
+// point to o + t d, and the point put on the tube there; flat: the ribbon's point, and the
+// normal of the tube it stands for at its position h across the ribbon. The error box: the
+// point's rounding, and Embree's float intersection (its curve parameter and distance) at
+// gamma(16) of the coordinates: a ray leaving the hit cannot meet the same strand anyway
+// (curve_filter), so the bound only keeps it off neighbouring strands' surfaces no more than
+// triangles are.
+[[gnu::noinline]] void fill_curve(const CurveGeom& g, std::uint32_t seg, const Ray& ray, float u,
+                                  float t, SurfaceHit& hit) {
+    const CurvePoint cp = eval_curve(g, seg, double(u));
+    glm::dvec3 tangent = cp.dc;
+    double tl = glm::length(tangent);
+    if (!(tl > 0.0)) {  // coincident control points: the chord of the segment
+        const std::uint32_t k = g.basis == CurveGeom::Basis::Linear ? 1 : 3;
+        const glm::vec4* v = g.vertex + g.segment[seg];
+        tangent = glm::dvec3(Vec3(v[k])) - glm::dvec3(Vec3(v[0]));
+        tl = glm::length(tangent);
+    }
+    const glm::dvec3 T = tl > 0.0 ? tangent / tl : glm::dvec3(0.0, 0.0, 1.0);
+    const glm::dvec3 d(ray.d);
+    glm::dvec3 p = glm::dvec3(ray.o) + double(t) * d;
+    // w: toward the ray origin, normal to the tangent; b = w x T spans the ribbon.
+    glm::dvec3 w = glm::dot(d, T) * T - d;
+    const double wl = glm::length(w);
+    if (wl > 0.0) {
+        w /= wl;
+    } else {  // a ray along the tangent
+        const Frame f = Frame::from_z(Vec3(T));
+        w = glm::dvec3(f.x);
+    }
+    const glm::dvec3 b = glm::cross(w, T);
+    glm::dvec3 n;
+    double h;
+    if (g.flat) {
+        h = std::clamp(glm::dot(p - cp.c, b) / cp.r, -1.0, 1.0);
+        n = std::sqrt(std::max(0.0, 1.0 - h * h)) * w + h * b;
+    } else {
+        const glm::dvec3 r = p - cp.c;
+        const double rl = glm::length(r);
+        n = rl > 0.0 ? r / rl : w;
+        p = cp.c + cp.r * n;
+        h = std::clamp(glm::dot(n, b), -1.0, 1.0);
+    }
+    hit.t = t;
+    hit.p = Vec3(p);
+    hit.p_err = rounding_error(hit.p) + Vec3(gamma_bound(16) * g.max_coord);
+    hit.ng = Vec3(n);
+    hit.ns = hit.ng;
+    hit.dpdu = Vec3(T);
+    hit.shape = g.shape;
+    const std::uint32_t strand = g.segment_strand[seg];
+    const std::uint32_t first = g.strand_first[strand];
+    hit.strand_v =
+        float((double(seg - first) + double(u)) / double(g.strand_first[strand + 1] - first));
+    hit.strand_h = std::int16_t(std::lround(h * 32767.0));
+    if (!g.root_uvs.empty()) {
+        hit.uv = g.root_uvs[strand];
+        hit.dpdu_uv = Vec3(0.f);
+        hit.dpdv_uv = Vec3(0.f);
+    }
+}
+
 // fill_instance's body for placement `in`; `moving`: `in` is a moving instance's placement at
 // the ray's time, whose error box grows by kMotionSlack.
 // `timed`: the hit may be on a deforming mesh, filled at the ray's `time` (fill_deformed).
@@ -899,16 +1118,21 @@ template <bool kUv>
                                                float u, float v, float t, SurfaceHit& hit,
                                                std::int32_t& part) {
     const PrototypeGeom& pg = impl.prototypes[in.prototype];
-    const MeshGeom& mg =
-        pg.meshes[std::size_t(impl.backend->prototype_geom_to_mesh[in.prototype][geom])];
+    const std::int32_t index = impl.backend->prototype_geom_to_mesh[in.prototype][geom];
+    // (A curve's hit: index -2 - its place in PrototypeGeom::curves.)
+    // Without kUv (no surface extras) the prototypes hold no curves (surface_extras_instanced).
+    const MeshGeom* mg = !kUv || index >= 0 ? &pg.meshes[std::size_t(index)] : nullptr;
+    const bool curve = kUv && !mg;
     Ray local;
     local.o = Vec3(glm::dvec3(in.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0)));
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
-    if (timed && !mg.step_positions.empty())
-        fill_deformed<kUv>(mg, tri, local, time, u, v, t, hit);
+    if (curve) [[unlikely]]
+        fill_curve(pg.curves[std::size_t(-2 - index)], tri, local, u, t, hit);
+    else if (timed && !mg->step_positions.empty())
+        fill_deformed<kUv>(*mg, tri, local, time, u, v, t, hit);
     else
-        impl.fill_triangle<kUv, false>(mg, tri, local, u, v, t, hit);
+        impl.fill_triangle<kUv, false>(*mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
     hit.po = hit.p;  // in the prototype's frame (complete_hit takes it to object space)
@@ -929,13 +1153,14 @@ template <bool kUv>
     hit.ng = Vec3(ng);
     hit.ns = Vec3(ns);
     // Bent in world space, where the ray's angles are those the integrators shade with.
-    if (!mg.records.empty()) hit.ns = ray_side_valid_normal(hit.ng, -ray.d, hit.ns);
+    if (!curve && !mg->records.empty()) hit.ns = ray_side_valid_normal(hit.ng, -ray.d, hit.ns);
     hit.dpdu = Vec3(lin * glm::dvec3(hit.dpdu));
+    if (curve) hit.dpdu = glm::normalize(hit.dpdu);  // a curve's tangent is unit
     hit.tangent_sign *= in.handedness;
     if constexpr (kUv) {
         hit.dpdu_uv = Vec3(lin * glm::dvec3(hit.dpdu_uv));
         hit.dpdv_uv = Vec3(lin * glm::dvec3(hit.dpdv_uv));
-        part = mg.part;
+        part = curve ? -1 : mg->part;
     }
 }
 
@@ -1057,6 +1282,9 @@ template <bool kSurfaceExtras>
         impl.fill_instance<kSurfaceExtras>(in, geom, prim, ray, time, u, v, t, hit, part);
     } else if (geom == be.analytic_geom) {
         impl.fill_analytic(impl.prims[prim], ray, t, hit);
+    } else if (kSurfaceExtras && be.geom_to_mesh[geom] < -1) [[unlikely]] {
+        // Curves (geom_to_mesh: -2 - the index), only on the extras' path (surface_extras).
+        fill_curve(impl.curves[std::size_t(-2 - be.geom_to_mesh[geom])], prim, ray, u, t, hit);
     } else {
         const MeshGeom& mg = impl.meshes[std::size_t(be.geom_to_mesh[geom])];
         impl.fill_triangle<kSurfaceExtras, true>(mg, prim, ray, u, v, t, hit);
@@ -1116,7 +1344,7 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     for (std::size_t k = 0; k < n && impl.backend->prefetch_hit_records; ++k) {
         const unsigned geom = rh.hit.geomID[k];
         if (!valid[k] || geom == RTC_INVALID_GEOMETRY_ID || geom == impl.backend->analytic_geom ||
-            rh.hit.instID[0][k] != RTC_INVALID_GEOMETRY_ID)
+            rh.hit.instID[0][k] != RTC_INVALID_GEOMETRY_ID || impl.backend->geom_to_mesh[geom] < 0)
             continue;
         const MeshGeom& mg = impl.meshes[std::size_t(impl.backend->geom_to_mesh[geom])];
         __builtin_prefetch(&mg.plane(rh.hit.primID[k]));

@@ -150,6 +150,11 @@ class ShapeBuild : public BuildChecks {
     virtual void place_prototype(std::uint32_t prototype, const glm::dmat4& local) = 0;
     // A warning for BuildReport::warnings and Scene::warnings() (what the kind approximates).
     virtual void warn(std::string message) = 0;
+    // A curves shape's geometry (shapes/curves.cpp): checked against the shape's surface (no
+    // vertex colours, normal map or cut-out; root UVs when textured) and added, in the space
+    // `xf` maps to, with its extent there (`extent`) and in object space (`object_extent`).
+    virtual void add_curves(CurveGeom curves, const Bounds3& extent,
+                            const Bounds3& object_extent) = 0;
     // The shape's area light (emissive analytic shapes).
     virtual void add_light(Light light) = 0;
     // Checks the shape's world extent (after its geometry is added).

@@ -13,7 +13,7 @@
 namespace facet::render {
 
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
-    kIcosphereKind, kGridKind, kGltfKind, kInstanceKind;
+    kIcosphereKind, kGridKind, kGltfKind, kInstanceKind, kCurvesKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
     kEnvironmentLightKind;
 extern const MediumKindDef kHomogeneousMediumKind;
@@ -21,9 +21,9 @@ extern const MediumKindDef kGridMediumKind;
 
 namespace {
 
-const std::array<const ShapeKindDef*, 10> kShapeKinds = {
-    &kSphereKind, &kPlaneKind,     &kBoxKind,  &kQuadKind, &kDiscKind,
-    &kMeshKind,   &kIcosphereKind, &kGridKind, &kGltfKind, &kInstanceKind};
+const std::array<const ShapeKindDef*, 11> kShapeKinds = {
+    &kSphereKind,    &kPlaneKind, &kBoxKind,  &kQuadKind,     &kDiscKind,  &kMeshKind,
+    &kIcosphereKind, &kGridKind,  &kGltfKind, &kInstanceKind, &kCurvesKind};
 const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
                                                         &kDirectionalLightKind, &kAreaLightKind,
                                                         &kEnvironmentLightKind};
@@ -83,6 +83,7 @@ const char* type_text(FieldType t) {
         case FieldType::Rotation:
             return "rotation {\"axis\": [x, y, z], \"angle\": degrees}";
         case FieldType::MeshArrays:
+        case FieldType::CurveArrays:
             return "arrays";
     }
     return "";

@@ -1333,6 +1333,31 @@ class Builder final : public BuildChecks {
             m_b.m_builder.warnings().push_back(std::move(message));
         }
 
+        void add_curves(CurveGeom g, const Bounds3& extent, const Bounds3& object_extent) override {
+            if (m_info.needs_color) fail_no_colors(m_info.material_name, false);
+            if (m_info.needs_tangent)
+                fail(ptr + "/material",
+                     "the material has a normal map, which needs a surface's tangent space: "
+                     "curves have none");
+            if (m_info.opacity.active())
+                fail(ptr + "/material", "curves cannot have a material with opacity < 1");
+            if (m_info.needs_uv && g.root_uvs.empty())
+                fail(ptr + "/root_uvs",
+                     "the shape's material or emission is textured but the curves have no "
+                     "root_uvs");
+            if (!m_info.needs_uv) g.root_uvs = {};
+            object_bounds.lo = glm::min(object_bounds.lo, object_extent.lo);
+            object_bounds.hi = glm::max(object_bounds.hi, object_extent.hi);
+            grow(glm::dvec3(extent.lo));
+            grow(glm::dvec3(extent.hi));
+            check_finite_bounds();
+            if (m_proto >= 0)
+                m_b.m_builder.impl().prototypes[std::size_t(m_proto)].curves.push_back(
+                    std::move(g));
+            else
+                m_b.m_builder.impl().curves.push_back(std::move(g));
+        }
+
         void add_instance(const std::string& of, const std::string& of_ptr) override {
             if (m_proto >= 0)
                 fail(of_ptr,
@@ -1575,8 +1600,8 @@ class Builder final : public BuildChecks {
         void analytic_in_prototype() const {
             if (m_proto >= 0)
                 fail(ptr + "/type",
-                     "a prototype holds triangle shapes only (box, quad, mesh, icosphere, grid, "
-                     "gltf), not the analytic sphere, disc or plane");
+                     "a prototype holds triangle shapes and curves only (box, quad, mesh, "
+                     "icosphere, grid, gltf, curves), not the analytic sphere, disc or plane");
         }
 
         // A material or emission reads vertex colours the shape does not have: a mesh

@@ -134,10 +134,36 @@ struct PlaneGeom {
     float tangent_sign = 1.f;  // -1 with flip_normals (ey = cross(unflipped normal, ex))
 };
 
+// A curves shape (shapes/curves.cpp) as one Embree curve geometry: its strands' segments, in
+// world space (a prototype's: in the prototype's frame). A hit (embree_scene.cpp, fill_curve)
+// evaluates the segment's basis at Embree's curve parameter in double for the axis point,
+// radius and tangent, and reads the strand's data below.
+struct CurveGeom {
+    enum class Basis : std::uint8_t { Linear, BSpline, CatmullRom };
+    std::uint32_t shape = 0;
+    Basis basis = Basis::Linear;
+    bool flat = false;  // ribbons facing the ray (else round tubes)
+    // Control points (xyz) and radii (w), and each segment's first control point, handed to
+    // Embree's buffers by build(); hits then read Embree's copies (`vertex`, `segment`).
+    std::vector<glm::vec4> vertices;
+    std::vector<std::uint32_t> segments;
+    const glm::vec4* vertex = nullptr;
+    const std::uint32_t* segment = nullptr;
+    // Per segment its strand; per strand its first segment (one more: the end).
+    std::vector<std::uint32_t> segment_strand;
+    std::vector<std::uint32_t> strand_first;
+    std::vector<Vec2> root_uvs;  // per strand, only when the surface needs uv
+    // Flat curves: per segment its largest control radius (the self-hit filter:
+    // embree_scene.cpp, curve_filter).
+    std::vector<float> segment_radius;
+    float max_coord = 0.f;  // largest coordinate magnitude of the control points (error bound)
+};
+
 // A prototype (SceneDescription::prototypes): its triangle meshes in its own object space,
 // traced as one Embree scene that every instance of it shares (a two-level BVH).
 struct PrototypeGeom {
     std::vector<MeshGeom> meshes;
+    std::vector<CurveGeom> curves;
     Bounds3 bounds;  // object-space extent of its meshes
 };
 
@@ -193,6 +219,7 @@ struct Scene::Impl {
     std::vector<MeshGeom> meshes;
     std::vector<AnalyticPrim> prims;
     std::vector<PlaneGeom> planes;
+    std::vector<CurveGeom> curves;
     bool plane_cutouts = false;  // some plane has an opacity (set by build)
     // Some shape's hits compute the object-space point (ShapeInfo::needs_position): the
     // closest-hit path then fills surface extras (set by the scene builder before build).

@@ -28,6 +28,8 @@ using detail::escape_pointer_token;
 // The keys of a mesh kind's MeshArrays field (ShapeDesc::mesh).
 constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  "normals",
                                                        "uvs",       "tangents", "colors"};
+// The keys of a curves kind's CurveArrays field (ShapeDesc::curves).
+constexpr std::array<const char*, 4> kCurveArrayKeys = {"points", "radius", "counts", "root_uvs"};
 // A mesh kind's deformation motion (ShapeDesc::motion_positions, motion_normals), with the
 // arrays or a "file".
 constexpr std::array<const char*, 2> kMeshMotionKeys = {"motion_positions", "motion_normals"};
@@ -703,6 +705,8 @@ class Reader {
         const std::string p = ptr + "/" + key;
         if (f.type == FieldType::MeshArrays)
             return read_mesh(obj, ptr, d.*std::get<MeshData Desc::*>(f.member));
+        if (f.type == FieldType::CurveArrays)
+            return read_curves(obj, ptr, d.*std::get<CurveData Desc::*>(f.member));
         if (!obj.contains(key)) {
             if (f.required) require(obj, ptr, key.c_str());
             return;
@@ -764,6 +768,8 @@ class Reader {
             if (f.type == FieldType::MeshArrays) {
                 keys.insert(keys.end(), kMeshArrayKeys.begin(), kMeshArrayKeys.end());
                 keys.insert(keys.end(), kMeshMotionKeys.begin(), kMeshMotionKeys.end());
+            } else if (f.type == FieldType::CurveArrays) {
+                keys.insert(keys.end(), kCurveArrayKeys.begin(), kCurveArrayKeys.end());
             } else {
                 keys.push_back(f.key.data());
             }
@@ -850,6 +856,41 @@ class Reader {
         read_steps("motion_positions", d.motion_positions);
         read_steps("motion_normals", d.motion_normals);
         return d;
+    }
+
+    // A curves kind's arrays: "points" (3n numbers), "radius" (a number, or an array: one per
+    // point), optional "counts" (control points per strand) and "root_uvs" (a (u, v) pair per
+    // strand). Their lengths against each other and their values are build_scene's to check.
+    void read_curves(const json& s, const std::string& ptr, CurveData& out) const {
+        auto numbers = [&](const json& a, const std::string& p, const char* what) {
+            if (!a.is_array()) fail(p, std::string("expected ") + what + ", got " + type_name(a));
+            std::vector<float> v(a.size());
+            for (std::size_t i = 0; i < a.size(); ++i)
+                v[i] = float(get_number(a[i], p + "/" + std::to_string(i)));
+            return v;
+        };
+        out.points = numbers(require(s, ptr, "points"), ptr + "/points",
+                             "a flat array of 3n numbers (x0, y0, z0, x1, ...)");
+        const json& r = require(s, ptr, "radius");
+        if (r.is_number())
+            out.radius = {float(get_number(r, ptr + "/radius"))};
+        else
+            out.radius =
+                numbers(r, ptr + "/radius", "a number or an array of one radius per point");
+        if (s.contains("counts")) {
+            const json& c = s["counts"];
+            if (!c.is_array())
+                fail(ptr + "/counts",
+                     "expected an array of control-point counts (one per strand), got " +
+                         type_name(c));
+            out.counts.resize(c.size());
+            for (std::size_t i = 0; i < c.size(); ++i)
+                out.counts[i] = std::uint32_t(
+                    get_int(c[i], ptr + "/counts/" + std::to_string(i), 0, 0xFFFFFFFFll));
+        }
+        if (s.contains("root_uvs"))
+            out.root_uvs = numbers(s["root_uvs"], ptr + "/root_uvs",
+                                   "a flat array of one (u, v) pair per strand");
     }
 
     // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
@@ -1152,6 +1193,16 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                     if (!v.tangents.empty()) j["tangents"] = array_json(v.tangents, hashed);
                     if (!v.colors.empty()) j["colors"] = array_json(v.colors, hashed);
                 }
+            } else if constexpr (std::is_same_v<T, CurveData>) {
+                j["points"] = array_json(std::span<const float>(v.points), hashed);
+                if (v.radius.size() == 1 && !hashed)
+                    j["radius"] = double(v.radius[0]);
+                else
+                    j["radius"] = array_json(std::span<const float>(v.radius), hashed);
+                if (!v.counts.empty())
+                    j["counts"] = array_json(std::span<const std::uint32_t>(v.counts), hashed);
+                if (!v.root_uvs.empty())
+                    j["root_uvs"] = array_json(std::span<const float>(v.root_uvs), hashed);
             } else {
                 j[key] = v;
             }

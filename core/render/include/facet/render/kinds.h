@@ -39,17 +39,18 @@ namespace facet::render {
 
 // How a key's value is written in JSON and checked by the reader.
 enum class FieldType : std::uint8_t {
-    Point,      // [x, y, z]
-    Direction,  // [x, y, z], non-zero (normalised by the builder)
-    Color,      // a number (grey) or [r, g, b], >= 0
-    Number,     // a finite number
-    Integer,    // an integer in [lo, hi]
-    Bool,       // true | false
-    Quad,       // 4 points [[x, y, z] x 4]
-    Path,       // a non-empty string (a file, relative to the scene file)
-    Text,       // a non-empty string (a name from a list)
-    Rotation,   // {"axis": [x, y, z], "angle": degrees} (AxisAngle)
-    MeshArrays  // "positions" (required unless "file"), "indices", "normals": flat arrays
+    Point,       // [x, y, z]
+    Direction,   // [x, y, z], non-zero (normalised by the builder)
+    Color,       // a number (grey) or [r, g, b], >= 0
+    Number,      // a finite number
+    Integer,     // an integer in [lo, hi]
+    Bool,        // true | false
+    Quad,        // 4 points [[x, y, z] x 4]
+    Path,        // a non-empty string (a file, relative to the scene file)
+    Text,        // a non-empty string (a name from a list)
+    Rotation,    // {"axis": [x, y, z], "angle": degrees} (AxisAngle)
+    MeshArrays,  // "positions" (required unless "file"), "indices", "normals": flat arrays
+    CurveArrays  // "points" (required), "radius" (a number or an array), "counts", "root_uvs"
 };
 
 template <class Desc>
@@ -57,7 +58,7 @@ struct Field {
     using Member = std::variant<Vec3 Desc::*, std::optional<Vec3> Desc::*, double Desc::*,
                                 std::optional<double> Desc::*, int Desc::*, bool Desc::*,
                                 std::array<Vec3, 4> Desc::*, std::string Desc::*, MeshData Desc::*,
-                                std::optional<AxisAngle> Desc::*>;
+                                std::optional<AxisAngle> Desc::*, CurveData Desc::*>;
     std::string_view key;
     FieldType type;
     bool required;

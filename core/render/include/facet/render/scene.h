@@ -34,6 +34,17 @@
 //  - `color` is the hit's vertex colour (linear RGBA, barycentric over the triangle's corners:
 //    mesh.h) only on shapes whose material or emission reads one (ShapeInfo::needs_color);
 //    elsewhere it is (1, 1, 1, 1) and not computed.
+//  - Curves (ShapeKind::Curves): `ng` = `ns` is the unit normal of the tube at the hit (round:
+//    from the axis point at the hit's curve parameter to the hit point; flat, a ribbon facing
+//    the ray: the normal a round tube of the same radius would have at the hit's position across
+//    the ribbon, as Cycles shades ribbons), `dpdu` the unit tangent of the axis (toward the
+//    tip), `uv` the strand's root texture coordinates (with needs_uv; dp/du and dp/dv of uv are
+//    0: uv is constant along a strand). `strand_v` is the position along the strand (0 at its
+//    first segment's start, 1 at its last segment's end, uniform in the curve parameter per
+//    segment) and `strand_h` = round(32767 h), h = dot(ng, cross(w, dpdu)) in [-1, 1] the
+//    position across it (w: the unit direction toward the ray origin made normal to dpdu;
+//    Chiang et al. 2016's h, Cycles' sign); both are written on curve hits only (they sit in
+//    padding: SurfaceHit keeps its size).
 //  - `po` is the hit point in the shape's object space (its transform's inverse; for a
 //    prototype's shape, its own frame within the prototype) only on shapes whose material or
 //    emission has a procedural texture reading object or generated coordinates
@@ -92,12 +103,17 @@ struct SurfaceHit {
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
+    std::int16_t strand_h = 0;           // curves: across the strand (see conventions)
     std::int32_t light = -1;             // index into Scene::lights() when the shape emits, else -1
     Vec2 uv{0.f};                        // texture coordinates (see conventions)
     std::int32_t textured = -1;          // index of the textured material, or -1
     Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};     // dp/du and dp/dv (with uv; see conventions)
     glm::vec4 color{1.f};                // vertex colour (see conventions)
     Vec3 po{0.f};                        // object-space point (see conventions)
+    float strand_v = 0.f;                // curves: along the strand (see conventions)
+
+    // Curves: the hit's position across its strand, h in [-1, 1] (see conventions).
+    float strand_across() const { return float(strand_h) * (1.f / 32767.f); }
 };
 
 // The footprint in uv of pixel footprint fp at a hit with derivatives dpdu, dpdv: the least
@@ -146,7 +162,8 @@ enum class ShapeKind : std::uint8_t {
     Icosphere,
     Grid,
     Gltf,
-    Instance
+    Instance,
+    Curves
 };
 
 // A surface's opacity (scenes/FORMAT.md, "Opacity"), for cut-outs: the fraction alpha in

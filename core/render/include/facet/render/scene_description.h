@@ -129,6 +129,19 @@ struct MeshData {
     bool operator==(const MeshData& o) const;
 };
 
+// The arrays of a curves shape (scenes/FORMAT.md, "Curves"; shapes/curves.cpp): control points
+// x0 y0 z0 x1 ..., their radius (one number for all of them, or one per point), the number of
+// control points of each strand in order (empty: one strand of all of them) and optionally one
+// (u, v) texture coordinate per strand (its root's).
+struct CurveData {
+    std::vector<float> points;
+    std::vector<float> radius;
+    std::vector<std::uint32_t> counts;
+    std::vector<float> root_uvs;
+    std::size_t num_points() const { return points.size() / 3; }
+    bool operator==(const CurveData&) const = default;
+};
+
 // One element of "shapes". Only the fields of `kind` are read (the table in FORMAT.md).
 struct ShapeDesc {
     ShapeKind kind = ShapeKind::Mesh;
@@ -181,6 +194,9 @@ struct ShapeDesc {
     int nx = 1, ny = 1;                       // grid
     double amplitude = 0.0, frequency = 0.0;  // grid
     std::string of;                           // instance: the prototype's name
+    CurveData curves;                         // curves
+    std::string basis;                        // curves: linear | bspline | catmull_rom
+    std::string profile;                      // curves: round | flat ("" = round)
 
     bool operator==(const ShapeDesc&) const = default;
 };
