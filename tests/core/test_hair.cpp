@@ -32,14 +32,18 @@ Vec3 wo_at(double theta_o_deg, double h) {
 }
 
 // int f |cos_i| dwi over the sphere by adaptive quadrature in (wi.x, phi about x), where the
-// solid angle is d(wi.x) dphi: the fibre's lobes are bands about x. Channel c.
-double sphere_albedo(const Material& m, const Vec3& wo, int c, double rel_tol = 1e-6) {
+// solid angle is d(wi.x) dphi: the fibre's lobes are bands about x. Channel c. The hair model's
+// density per solid angle grows as 1 / cos theta_i at the fibre's poles (integrable), which
+// needs the deeper subdivision (depth 12) for 1e-4.
+double sphere_albedo(const Material& m, const Vec3& wo, int c, double rel_tol = 1e-5,
+                     int depth = 10) {
     auto integrand = [&](double x, double phi) {
         const double r = std::sqrt(std::max(0.0, 1.0 - x * x));
         const Vec3 wi(glm::normalize(DVec3(x, r * std::cos(phi), r * std::sin(phi))));
         return double(m.f(wo, wi)[c]) * std::fabs(double(wi.z));
     };
-    return test::adaptive_integrate_2d(integrand, -1.0, 1.0, 0.0, 2.0 * kPiD, 1e-9, rel_tol, 12, 3);
+    return test::adaptive_integrate_2d(integrand, -1.0, 1.0, 0.0, 2.0 * kPiD, 1e-9, rel_tol, depth,
+                                       3);
 }
 
 // ---- Cycles 3.4's bsdf_hair_principled.h, written again in double ----------------------------
@@ -252,7 +256,7 @@ TEST(PrincipledHair, MatchesCyclesFormulas) {
 
 // White furnace: with no absorption, offset 0 and any roughness, radial roughness, coat and h,
 // int F dwi over the sphere is 1 (header of principled_hair.cpp). By adaptive quadrature (its
-// tolerance 1e-6 relative per cell): within 1e-4. The same albedo by the unit's own sampler
+// tolerance 1e-5 relative per cell): within 1e-4. The same albedo by the unit's own sampler
 // (1e4 weights f |cos| / pdf, which are all 1 here: F is the pdf) must be 1 within 1e-4, which
 // also says that no sample is lost.
 TEST(PrincipledHair, WhiteFurnaceForANonAbsorbingFibre) {
@@ -290,8 +294,8 @@ TEST(PrincipledHair, AbsorbingAndTiltedAlbedoMatchesSampling) {
         const Material m = principled_hair(hc.params);
         for (auto [to, h] : {std::pair{10.0, -0.5}, {60.0, 0.3}}) {
             const Vec3 wo = wo_at(to, h);
-            for (int c = 0; c < 3; ++c) {
-                const double q = sphere_albedo(m, wo, c, 1e-5);
+            for (int c : {0, 2}) {  // red and blue: the least and the most absorbed
+                const double q = sphere_albedo(m, wo, c);
                 const test::SampledAlbedo s = test::sampled_albedo(m, wo, 20000, 11, c);
                 EXPECT_LT(q, 1.0) << hc.name;
                 EXPECT_NEAR(s.mean, q, 5.0 * s.se + 1e-3) << hc.name << " ch " << c;
@@ -324,13 +328,14 @@ TEST(PrincipledHair, SamplingMatchesPdf) {
                  {"roughness", 0.8},
                  {"radial_roughness", 0.4}},
     };
-    const double level = test::sidak_alpha(0.01, int(cases.size()) * 2);
-    for (const ParamSet& p : cases)
-        for (double th : {10.0, 70.0}) {
-            const test::Chi2Result r = test::sphere_chi2(principled_hair(p), th);
-            test::expect_sphere_chi2(r, level);
-            EXPECT_NEAR(r.pdf_integral + double(r.failed) / double(r.n), 1.0, 2e-3) << r.describe();
-        }
+    const std::vector<std::pair<int, double>> runs = {
+        {0, 10.0}, {0, 85.0}, {1, 50.0}, {2, 70.0}, {3, 30.0}};  // (case, theta_o)
+    const double level = test::sidak_alpha(0.01, int(runs.size()));
+    for (auto [i, th] : runs) {
+        const test::Chi2Result r = test::sphere_chi2(principled_hair(cases[i]), th);
+        test::expect_sphere_chi2(r, level);
+        EXPECT_NEAR(r.pdf_integral + double(r.failed) / double(r.n), 1.0, 2e-3) << r.describe();
+    }
 }
 
 // The chi-square catches a wrong pdf: the tilt's Jacobian left out (Cycles' pdf) at offset 10
@@ -553,7 +558,7 @@ TEST(Hair, AlbedoIsTheColourTimesTheKeptDensity) {
                                  {"roughness_v", rv},
                                  {"offset", 0.1}});
                     const Vec3 wo = wo_at(to, h);
-                    const double q = sphere_albedo(m, wo, 0, 1e-5);
+                    const double q = sphere_albedo(m, wo, 0, 1e-5, 12);
                     const test::SampledAlbedo s = test::sampled_albedo(m, wo, 20000, 4, 0);
                     if (!tr) EXPECT_LE(q, 0.7 + 1e-4);
                     EXPECT_NEAR(s.mean, q, 5.0 * s.se + 1e-3) << tr << " " << rv << " " << to;
