@@ -27,8 +27,8 @@
 //    fold at the poles, and the R lobe is drawn with its own (coat) variance: Cycles' pdf leaves
 //    out the tilt's Jacobian and draws R with v, so its pdf is not its sampler's density there.
 //  - Evaluation: the modified Bessel function I0 is evaluated to double precision (Cycles'
-//    float series stops after ten terms and uses a shortened asymptote above 12: up to ~2%
-//    low where cos theta_i cos theta_o / v is near 10), and the exponent of M_p as
+//    float series stops after ten terms, 0.3% low at x = cos theta_i cos theta_o / v = 10 and
+//    2% at 12, and its asymptote above 12 is 0.6% low there), and the exponent of M_p as
 //    (cos(theta_i + theta_o) - 1) / v without cancellation.
 // Conventions: facet/inline_bxdf.h; flagged Transmission (wi on either side: a fibre scatters
 // over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
