@@ -218,7 +218,7 @@ class PrincipledHair {
         return p == 0 ? 2.0 * m_alpha : p == 1 ? -double(m_alpha) : -4.0 * m_alpha;
     }
     double lobe_variance(int p) const {
-        return p == 0 ? double(m_v0) : p == 1 ? 0.25 * m_v : p == 2 ? 4.0 * m_v : 4.0 * m_v;
+        return p == 0 ? double(m_v0) : p == 1 ? 0.25 * m_v : 4.0 * m_v;  // TRT and the rest: 4v
     }
 
     // The density per solid angle at theta_i (cos theta_i = ci) of theta' ~ M(theta') cos theta'
