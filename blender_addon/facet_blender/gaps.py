@@ -53,8 +53,6 @@ NODES = {
     'ShaderNodeAddShader': "a shader converts only into a shader input",
     'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
     'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
-    'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
-    'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
     # Converted on a Volume output (materials.NodeContext.volume); on a Surface nothing
     # converts them.
     'ShaderNodeVolumeAbsorption': VOLUME_ON_SURFACE,

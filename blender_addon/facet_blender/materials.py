@@ -22,6 +22,9 @@ per material (they would fire on every default material).
 - Diffuse BSDF: lambert, reflectance = Color. Roughness > 0 (Oren-Nayar): the core's
   oren_nayar (sigma = Roughness, clamped to 1 as Cycles does).
 - Translucent BSDF -> translucent (transmittance = Color); Velvet BSDF -> velvet (Color, Sigma).
+- Principled Hair BSDF -> principled_hair (every parametrization and input by its own name,
+  constants; _principled_hair says what is reported); Hair BSDF -> hair (Component, Color,
+  Offset, RoughnessU, RoughnessV). Both take the fibre direction from the surface's dp/du.
 - Transparent BSDF -> the material's opacity (resolve_transparent, _mix_transparent).
 - Glossy BSDF: Cycles' glossy has no Fresnel term (F = 1, tinted by Color) and
   alpha = Roughness^2. GGX -> ggx, Beckmann -> beckmann, Sharp -> mirror (all fresnel none,
@@ -806,6 +809,90 @@ def _velvet(ctx, node, path):
             "sigma": ctx.param(node, 'Sigma', path)}, None
 
 
+_HAIR_PARAMETRIZATIONS = {'COLOR': "color", 'MELANIN': "melanin", 'ABSORPTION': "absorption"}
+
+
+def _hair_number(ctx, node, name, path, lo, hi, label=None):
+    """A hair input as a number in [lo, hi] (the core's range): a value outside is reported
+    and clamped."""
+    v = ctx.value(node, name, path)
+    c = min(max(float(v), lo), hi)
+    if c != v:
+        ctx.problems.append("%s: %s '%s' input '%s' = %s is outside the converted range [%s, %s]"
+                            "; %s used" % (ctx.what, nodegraph.node_type_label(node), node.name,
+                                           label or name, _fmt(v), _fmt(lo), _fmt(hi), _fmt(c)))
+    return c
+
+
+def _hair_color(ctx, node, name, path, lo=0.0, hi=1.0):
+    """A hair colour input as [r, g, b] in [lo, hi] per channel (reported and clamped
+    outside)."""
+    v = [float(c) for c in ctx.value(node, name, path)[:3]]
+    c = [min(max(x, lo), hi) for x in v]
+    if c != v:
+        ctx.problems.append("%s: %s '%s' input '%s' = %s is outside the converted range [%s, %s]"
+                            "; %s used" % (ctx.what, nodegraph.node_type_label(node), node.name,
+                                           name, _fmt(tuple(v)), _fmt(lo), _fmt(hi),
+                                           _fmt(tuple(c))))
+    return c
+
+
+def _principled_hair(ctx, node, path):
+    """Cycles' Principled Hair BSDF: the core's `principled_hair` (Cycles 3.4's closure, Chiang
+    et al. 2016) with the node's parametrization (Direct Coloring -> color, Melanin
+    Concentration -> melanin with Tint and Random Color, Absorption Coefficient -> absorption),
+    Roughness, Radial Roughness, Coat, IOR, Offset (radians), Random Roughness and Random, each
+    a constant (a linked input that does not fold is reported by value()). Reported: values
+    outside the core's ranges (clamped; IOR below 1, where Cycles' formulas take the square
+    root of a negative number), and an unlinked Random when it matters (Random Roughness > 0,
+    or Random Color > 0 under Melanin): on hair Cycles reads each strand's own random value
+    there, Facet the input's value for every strand."""
+    kind = _HAIR_PARAMETRIZATIONS[node.parametrization]
+    data = {"model": "principled_hair", "parametrization": kind}
+    if kind == "color":
+        data["color"] = _hair_color(ctx, node, 'Color', path)
+    elif kind == "melanin":
+        data["melanin"] = _hair_number(ctx, node, 'Melanin', path, 0.0, 1.0)
+        data["melanin_redness"] = _hair_number(ctx, node, 'Melanin Redness', path, 0.0, 1.0)
+        data["tint"] = _hair_color(ctx, node, 'Tint', path)
+        # Cycles clamps Random Color to [0, 1]: exact.
+        data["random_color"] = min(max(float(ctx.value(node, 'Random Color', path)), 0.0), 1.0)
+    else:
+        data["absorption_coefficient"] = _hair_color(ctx, node, 'Absorption Coefficient', path,
+                                                     0.0, 1000.0)
+    data["roughness"] = _hair_number(ctx, node, 'Roughness', path, 0.0, 1.0)
+    data["radial_roughness"] = _hair_number(ctx, node, 'Radial Roughness', path, 0.0, 1.0)
+    # Cycles clamps Coat to [0, 1]: exact.
+    data["coat"] = min(max(float(ctx.value(node, 'Coat', path)), 0.0), 1.0)
+    data["ior"] = _hair_number(ctx, node, 'IOR', path, 1.0, 1000.0)
+    data["offset"] = _hair_number(ctx, node, 'Offset', path, -math.pi / 2, math.pi / 2)
+    data["random_roughness"] = _hair_number(ctx, node, 'Random Roughness', path, 0.0, 1.0)
+    data["random"] = _hair_number(ctx, node, 'Random', path, 0.0, 1.0)
+    sock = _input(node, 'Random')
+    random_used = data["random_roughness"] > 0.0 or data.get("random_color", 0.0) > 0.0
+    if random_used and isinstance(ctx.walker.input(node, sock, path), nodegraph.Const):
+        ctx.problems.append("%s: %s '%s' input 'Random' is unlinked: on hair Cycles uses each "
+                            "strand's random value there; Facet uses %s for every strand"
+                            % (ctx.what, nodegraph.node_type_label(node), node.name,
+                               _fmt(data["random"])))
+    return data, None
+
+
+def _hair(ctx, node, path):
+    """Cycles' Hair BSDF: the core's `hair` (Cycles 3.4's hair reflection / transmission
+    closure) with Component, Color, Offset (radians), RoughnessU and RoughnessV; values outside
+    the core's ranges are reported and clamped (Cycles clamps the roughnesses to [0.001, 1]
+    itself). The fibre is the surface's dp/du (a curve's tangent); a linked Tangent is reported
+    (not read). On meshes Cycles uses dp/dv and no Offset instead (docs/blender.md)."""
+    return {"model": "hair",
+            "component": "transmission" if node.component == 'Transmission' else "reflection",
+            "color": _hair_color(ctx, node, 'Color', path),
+            "offset": _hair_number(ctx, node, 'Offset', path, -math.pi / 2, math.pi / 2),
+            # Cycles clamps both to [0.001, 1], the core to [0.001, 1] as well: exact.
+            "roughness_u": min(max(float(ctx.value(node, 'RoughnessU', path)), 0.0), 1.0),
+            "roughness_v": min(max(float(ctx.value(node, 'RoughnessV', path)), 0.0), 1.0)}, None
+
+
 def _glossy_model(ctx, node):
     dist = node.distribution
     if dist == 'SHARP':
@@ -1051,7 +1138,7 @@ _VOLUME_READS = {
 
 # Models rays cross (the core's transmissive models, FORMAT.md "media"): only these bound a
 # medium; a combination does when a child does.
-_CROSSED_MODELS = ("dielectric", "thin_dielectric", "translucent", "null")
+_CROSSED_MODELS = ("dielectric", "thin_dielectric", "translucent", "null", "principled_hair")
 
 
 def crosses(data):
@@ -1061,6 +1148,8 @@ def crosses(data):
     model = data.get("model")
     if model in _CROSSED_MODELS:
         return True
+    if model == "hair":
+        return data.get("component") == "transmission"
     if model == "principled":
         t = data.get("transmission", 0.0)
         return is_texture(t) or t > 0.0
@@ -1082,6 +1171,8 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfRefraction': _glass,
     'ShaderNodeBsdfTranslucent': _translucent,
     'ShaderNodeBsdfVelvet': _velvet,
+    'ShaderNodeBsdfHairPrincipled': _principled_hair,
+    'ShaderNodeBsdfHair': _hair,
     'ShaderNodeBsdfTransparent': _transparent,
     'ShaderNodeHoldout': _holdout,
 }
@@ -1096,6 +1187,11 @@ _READS = {
     'ShaderNodeBsdfRefraction': ('Color', 'Roughness', 'IOR'),
     'ShaderNodeBsdfTranslucent': ('Color',),
     'ShaderNodeBsdfVelvet': ('Color', 'Sigma'),
+    'ShaderNodeBsdfHairPrincipled': ('Color', 'Melanin', 'Melanin Redness', 'Tint',
+                                     'Absorption Coefficient', 'Roughness', 'Radial Roughness',
+                                     'Coat', 'IOR', 'Offset', 'Random Color', 'Random Roughness',
+                                     'Random'),
+    'ShaderNodeBsdfHair': ('Color', 'Offset', 'RoughnessU', 'RoughnessV'),
     'ShaderNodeBsdfTransparent': ('Color',),
     'ShaderNodeHoldout': (),
 }

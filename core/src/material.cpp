@@ -121,7 +121,8 @@ Material::Material(const DielectricBxDF& dielectric)
 Material::Material(const ThinDielectricBxDF& thin)
     : m_thin(thin), m_flags(thin.flags()), m_special(true) {}
 
-Material::Material(const InlineBxDF& unit) : m_unit(unit), m_flags(unit.flags()), m_special(true) {}
+Material::Material(const InlineBxDF& unit)
+    : m_unit(unit), m_flags(unit.flags()), m_special(true), m_anisotropic(unit.reads_tangent()) {}
 
 Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
                        float weight) {

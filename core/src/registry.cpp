@@ -25,6 +25,8 @@ const ModelInfo& add_model();
 const ModelInfo& thin_dielectric_model();
 const ModelInfo& translucent_model();
 const ModelInfo& velvet_model();
+const ModelInfo& principled_hair_model();
+const ModelInfo& hair_model();
 const ModelInfo& null_model();
 const ModelInfo& holdout_model();
 
@@ -49,10 +51,12 @@ size_t edit_distance(std::string_view a, std::string_view b) {
 const std::vector<ModelInfo>& model_table() {
     // Documentation order.
     static const std::vector<ModelInfo> table = {
-        lambert_model(),     mirror_model(),    ggx_model(),        beckmann_model(),
-        blinn_model(),       composite_model(), dielectric_model(), principled_model(),
-        oren_nayar_model(),  mix_model(),       add_model(),        thin_dielectric_model(),
-        translucent_model(), velvet_model(),    null_model(),       holdout_model()};
+        lambert_model(),     mirror_model(),     ggx_model(),
+        beckmann_model(),    blinn_model(),      composite_model(),
+        dielectric_model(),  principled_model(), oren_nayar_model(),
+        mix_model(),         add_model(),        thin_dielectric_model(),
+        translucent_model(), velvet_model(),     principled_hair_model(),
+        hair_model(),        null_model(),       holdout_model()};
     return table;
 }
 

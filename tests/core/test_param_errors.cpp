@@ -40,6 +40,12 @@ ParamSet context_for(const ModelInfo& model, const std::string& name) {
         p.set("distribution", std::string("blinn"));
     if (model.name == "mix" && name == "ior") p.set("factor", std::string("fresnel"));
     if (model.name == "mix" && name == "blend") p.set("factor", std::string("layer_facing"));
+    if (model.name == "principled_hair") {
+        if (name == "melanin" || name == "melanin_redness" || name == "tint" ||
+            name == "random_color")
+            p.set("parametrization", std::string("melanin"));
+        if (name == "absorption_coefficient") p.set("parametrization", std::string("absorption"));
+    }
     return p;
 }
 

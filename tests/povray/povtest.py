@@ -237,9 +237,10 @@ CLASH_NAMES = [
 
 # Models the brdf finish does not take: transmissive ones (POV-Ray's interior refracts),
 # combinations (the finish gives no sub-materials) and `holdout` (a hole in the film's alpha,
-# which POV-Ray's finishes have no way to make).
+# which POV-Ray's finishes have no way to make), and the fibre models `principled_hair` and `hair`
+# (they scatter about the surface's tangent, which POV-Ray does not give a finish).
 NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "null", "mix", "add",
-                     "holdout"}
+                     "holdout", "principled_hair", "hair"}
 
 
 def cmd_models(facet, cli):

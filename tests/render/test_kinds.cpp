@@ -210,3 +210,28 @@ TEST(Kinds, PovExportOptionsAreChecked) {
         EXPECT_NE(std::string(e.what()).find("--area-grid"), std::string::npos);
     }
 }
+
+// The fibre models (principled_hair, hair: no POV-Ray finish, they need the surface's tangent)
+// are an export error naming the material, not a brdf block povray-facet would refuse.
+TEST(Kinds, PovExportRefusesTheFibreModels) {
+    const std::string light = R"({"type": "point", "position": [0, 5, 0], "power": 1})";
+    for (const char* model : {"principled_hair", "hair"}) {
+        const std::string shape = std::string(R"({"type": "sphere", "center": [0, 0, 0],
+            "radius": 1, "material": {"model": ")") +
+                                  model + R"("}})";
+        try {
+            (void)export_pov(scene_with(shape, light), "t.json");
+            FAIL() << model << ": no error";
+        } catch (const SceneError& e) {
+            EXPECT_NE(std::string(e.what()).find("t.json: /shapes/0/material/model: '" +
+                                                 std::string(model) + "' scatters about the"),
+                      std::string::npos)
+                << e.what();
+        }
+    }
+    // Control: the same scene with a lambert exports.
+    EXPECT_NO_THROW((void)export_pov(scene_with(R"({"type": "sphere", "center": [0, 0, 0],
+        "radius": 1, "material": "white"})",
+                                                light),
+                                     "t.json"));
+}

@@ -10,6 +10,9 @@
 //   BSDFEval B::eval(const Vec3& wo, const Vec3& wi) const;            // f and pdf together
 //   std::optional<BSDFSample> B::sample_f(const Vec3& wo, float uc, Vec2 u) const;
 //   BxDFFlags B::flags() const;
+// and may declare `static constexpr bool kReadsTangent = true;` when f depends on the frame's x
+// axis (a fibre's direction: the hair models): the renderer then builds the frame from the
+// surface's dpdu (Frame::from_z_x), as for anisotropic lobes (Material::anisotropic()).
 // A model flagged Transmission follows facet/dielectric.h's frame conventions (z the shape's
 // outward normal, wo on either side). Unit models are symmetric in the transport mode (no
 // refraction scaling), so the mode is not passed.
@@ -41,6 +44,8 @@ class InlineBxDF {
         return m_ops->sample_f(m_storage, wo, uc, u);
     }
     BxDFFlags flags() const { return m_ops->flags(m_storage); }
+    // The unit reads the frame's tangent x (B::kReadsTangent, header comment).
+    bool reads_tangent() const { return m_ops->reads_tangent; }
     // The unit's BxDF when it is a B (tests, the unit's own hooks), else null.
     template <class B>
     const B* get() const {
@@ -52,18 +57,26 @@ class InlineBxDF {
         BSDFEval (*eval)(const void*, const Vec3&, const Vec3&);
         std::optional<BSDFSample> (*sample_f)(const void*, const Vec3&, float, Vec2);
         BxDFFlags (*flags)(const void*);
+        bool reads_tangent;
     };
     template <class B>
     static const B& as(const void* p) {
         return *std::launder(static_cast<const B*>(p));
     }
     template <class B>
+    static constexpr bool reads_tangent_v = [] {
+        if constexpr (requires { B::kReadsTangent; })
+            return bool(B::kReadsTangent);
+        else
+            return false;
+    }();
+    template <class B>
     static constexpr Ops kOps = {
         [](const void* p, const Vec3& wo, const Vec3& wi) { return as<B>(p).eval(wo, wi); },
         [](const void* p, const Vec3& wo, float uc, Vec2 u) {
             return as<B>(p).sample_f(wo, uc, u);
         },
-        [](const void* p) { return as<B>(p).flags(); }};
+        [](const void* p) { return as<B>(p).flags(); }, reads_tangent_v<B>};
 
     alignas(std::max_align_t) std::byte m_storage[kSize];
     const Ops* m_ops;

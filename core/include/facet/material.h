@@ -140,7 +140,8 @@ class Material {
     float holdout_weight(const Vec3& wo) const;
     // The `holdout` model: black, holdout weight 1.
     static Material holdout();
-    // Some lobe reads the tangent direction (an anisotropic microfacet lobe, here or in a child).
+    // Some lobe reads the tangent direction (an anisotropic microfacet lobe or a unit BxDF that
+    // reads it, facet/inline_bxdf.h, here or in a child).
     bool anisotropic() const { return m_anisotropic; }
     const Combination* combination() const { return m_combination.get(); }
     // The model unit's BxDF (facet/inline_bxdf.h), if the material is one.

@@ -817,6 +817,14 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     if (!info) fail(pointer + "/model", "unknown model '" + m.model + "'");
     if (info->name == "holdout")
         fail(pointer + "/model", "a holdout cannot be exported to POV-Ray (render with Facet)");
+    // The fibre models (principled_hair, hair) scatter about the surface's tangent, which
+    // POV-Ray does not give a finish (povray-facet does not take them: ModelInfo::pov_finish).
+    if (!info->pov_finish && info->children == 0 && !info->pass_through &&
+        make_material(m.model, m.params).anisotropic())
+        fail(pointer + "/model",
+             fmt::format("'{}' scatters about the surface's tangent (a hair fibre), which "
+                         "POV-Ray does not provide; not exported (render with Facet)",
+                         m.model));
     // null: an invisible boundary, wholly transparent on both sides (POV-Ray's transmit 1
     // passes camera and shadow rays unchanged), reflecting and emitting nothing.
     if (info->pass_through) {

@@ -1,0 +1,345 @@
+// principled_hair: Blender's Principled Hair BSDF as Cycles 3.4 evaluates it (the closure of
+// bsdf_hair_principled.h: Chiang et al. 2016's near-field fibre model with d'Eon et al. 2011's
+// longitudinal lobes), for a round fibre whose direction is the frame's x axis (the shape's
+// dpdu: a curve's tangent, or a mesh's u direction).
+//
+// The fibre frame (Cycles' thick-curve setup): X = x, Y = normalize(X x wo), Z = X x Y; the offset
+// across the fibre is h = dot(Ng x X, Z) with Ng = z turned toward the viewer; wo has longitude
+// sin theta_o = wo.x and azimuth phi_o = -pi/2 about X. With theta_i, phi_i those of wi,
+//   F(wo, wi) = sum_{p=0..2} A_p M_p(theta_i + shift_p, theta_o) N_p(phi_i - phi_o)
+//             + A_3 M(theta_i, theta_o; 4v) / (2 pi),
+//   A_0 = f, A_1 = (1 - f)^2 T, A_2 = A_1 T f, A_3 = A_2 T f / (1 - T f),
+//   f = Fresnel(cos theta_o cos gamma_o, ior), T = exp(-sigma 2 cos gamma_t / cos theta_t),
+//   shift_0 = 2 alpha, shift_1 = -alpha, shift_2 = -4 alpha (alpha = offset, the cuticle tilt),
+//   M_p: d'Eon's lobe of variance v_0 (the coat-scaled roughness), v/4, 4v,
+//   N_p: a logistic of scale s trimmed to [-pi, pi] about 2 p gamma_t - 2 gamma_o + p pi,
+// with v and s Cycles' maps of roughness and radial_roughness. Cycles' closure returns F as its
+// eval (the cosine included), so f = F / |cos theta_i| about z and f |cos| is exactly F.
+//  - Energy: with alpha = 0 and no absorption each M_p and N_p integrates to 1 and the A_p sum to
+//    1, so the albedo is 1 at every wo (tests/core/test_hair.cpp). The tilt alpha moves the
+//    lobes without renormalising them, as in Cycles.
+//  - Not reciprocal: h, A_p and the N_p centres come from wo alone (Cycles'). Swapping wo and wi
+//    gives the same f only where those agree: wo and wi at the same azimuth about the fibre,
+//    mirrored in its normal plane, with alpha = 0.
+//  - Sampling: the lobe p with probability proportional to the luminance of A_p (Cycles'),
+//    theta from d'Eon's lobe (a von Mises-Fisher marginal) and then tilted, phi from N_p (p < 3)
+//    or uniform. pdf() is the density this draws, including the Jacobian of the tilt and the
+//    fold at the poles, and the R lobe is drawn with its own (coat) variance: Cycles' pdf leaves
+//    out the tilt's Jacobian and draws R with v, so its pdf is not its sampler's density there.
+//  - Evaluation: the modified Bessel function I0 is evaluated to double precision (Cycles'
+//    float series stops after ten terms, 0.3% low at x = cos theta_i cos theta_o / v = 10 and
+//    2% at 12, and its asymptote above 12 is 0.6% low there), and the exponent of M_p as
+//    (cos(theta_i + theta_o) - 1) / v without cancellation.
+// Conventions: facet/inline_bxdf.h; flagged Transmission (wi on either side: a fibre scatters
+// over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
+#include <algorithm>
+#include <cmath>
+
+#include "facet/fresnel.h"
+#include "model_unit.h"
+
+namespace facet {
+
+namespace {
+
+constexpr double kPi2D = 2.0 * kPiD;
+
+// log(I0(x)) - x for x >= 0: the series below 30, the asymptotic expansion to 1/x^3 above
+// (relative error < 2e-7 at 30).
+double log_i0_minus_x(double x) {
+    if (x > 30.0) {
+        const double r = 1.0 / x;
+        return -0.5 * std::log(kPi2D * x) +
+               std::log1p(r * (0.125 + r * (9.0 / 128.0 + r * (225.0 / 3072.0))));
+    }
+    const double q = 0.25 * x * x;
+    double term = 1.0, sum = 1.0;
+    for (int k = 1; k < 200; ++k) {
+        term *= q / (double(k) * double(k));
+        sum += term;
+        if (term < 1e-17 * sum) break;
+    }
+    return std::log(sum) - x;
+}
+
+// d'Eon's longitudinal lobe M(theta_i, theta_o; v) = csch(1/v) / (2 v) exp(-sin_i sin_o / v)
+// I0(cos_i cos_o / v), normalised as int M cos theta_i dtheta_i = 1 over [-pi/2, pi/2].
+double longitudinal(double si, double ci, double so, double co, double v) {
+    const double c = ci * co - si * so, s = si * co + ci * so;
+    const double cos_sum_m1 = c > 0.0 ? -s * s / (1.0 + c) : c - 1.0;  // cos(t_i + t_o) - 1
+    // csch(1/v) / (2 v) = exp(-1/v) / (v (1 - exp(-2/v))); exp(-1/v) joins the exponent.
+    return std::exp(log_i0_minus_x(ci * co / v) + cos_sum_m1 / v) / (v * -std::expm1(-2.0 / v));
+}
+
+double wrap_angle(double a) {
+    return a - kPi2D * std::floor((a + kPiD) / kPi2D);
+}
+
+// The logistic of scale s trimmed to [-pi, pi] (normalised there) at x, and its inverse CDF.
+double trimmed_logistic(double x, double s) {
+    const double e = std::exp(-std::fabs(x) / s);
+    return e / (s * (1.0 + e) * (1.0 + e)) / std::tanh(kPiD / (2.0 * s));
+}
+double sample_trimmed_logistic(double u, double s) {
+    const double c = 1.0 / (1.0 + std::exp(kPiD / s));  // the logistic's CDF at -pi
+    const double y = u * (1.0 - 2.0 * c) + c;
+    return std::clamp(-s * std::log((1.0 - y) / y), -kPiD, kPiD);
+}
+
+// Cycles' map of a roughness in [0, 1] to the logistic variance v.
+double variance_of(double r) {
+    return std::pow(0.726 * r + 0.812 * r * r + 3.700 * std::pow(r, 20.0), 2.0);
+}
+
+class PrincipledHair {
+  public:
+    static constexpr bool kReadsTangent = true;
+
+    // sigma: absorption per unit diameter; roughness, radial roughness, coat in [0, 1] (after
+    // Cycles' randomisation); alpha the tilt in radians; eta >= 1.
+    PrincipledHair(const Rgb& sigma, double roughness, double radial, double coat, double alpha,
+                   double eta)
+        : m_sigma(sigma), m_alpha(float(alpha)), m_eta(float(eta)) {
+        const double r = std::clamp(roughness, 0.001, 1.0), rs = std::clamp(radial, 0.001, 1.0);
+        const double r0 = std::clamp((1.0 - std::clamp(coat, 0.0, 1.0)) * r, 0.001, 1.0);
+        m_v = float(variance_of(r));
+        m_v0 = float(variance_of(r0));
+        m_s = float((0.265 * rs + 1.194 * rs * rs + 5.372 * std::pow(rs, 22.0)) *
+                    std::sqrt(kPiD / 8.0));
+    }
+
+    BSDFEval eval(const Vec3& wo, const Vec3& wi) const {
+        Setup g;
+        if (!setup(wo, g)) return {};
+        const double si = std::clamp(double(wi.x), -1.0, 1.0);
+        const double ci = std::sqrt(double(wi.y) * wi.y + double(wi.z) * wi.z);
+        const double phi = std::atan2(double(glm::dot(wi, g.z)), double(glm::dot(wi, g.y))) +
+                           0.5 * kPiD;  // phi_i - phi_o, phi_o = -pi/2
+        const double theta_i = std::atan2(si, ci);
+        DVec3 F(0.0);
+        double pdf = 0.0;
+        for (int p = 0; p < 3; ++p) {
+            const double shift = lobe_shift(p), v = lobe_variance(p);
+            const double n = trimmed_logistic(
+                wrap_angle(phi - (2.0 * p * g.gamma_t - 2.0 * g.gamma_o + p * kPiD)), m_s);
+            // Cycles' hair_alpha_angles: sin(theta_i + shift), |cos(theta_i + shift)|.
+            const double st = std::sin(theta_i + shift), ct = std::fabs(std::cos(theta_i + shift));
+            F += g.ap[p] * (longitudinal(st, ct, g.sin_o, g.cos_o, v) * n);
+            pdf += g.w[p] * tilted_density(theta_i, ci, -shift, g, v) * n;
+        }
+        const double m3 = longitudinal(si, ci, g.sin_o, g.cos_o, 4.0 * m_v) / kPi2D;
+        F += g.ap[3] * m3;
+        pdf += g.w[3] * m3;
+        const double cos_n = std::fabs(double(wi.z));
+        if (!(cos_n > 0.0)) return {Rgb(0.f), float(pdf)};
+        return {Rgb(F / cos_n), float(pdf)};
+    }
+
+    std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const {
+        Setup g;
+        if (!setup(wo, g)) return std::nullopt;
+        // The lobe, and uc rescaled within its interval for phi.
+        int p = 0;
+        double rest = uc;
+        while (p < 3 && !(rest < g.w[p])) rest -= g.w[p++];
+        if (!(g.w[p] > 0.0)) return std::nullopt;
+        const double u_phi = std::clamp(rest / g.w[p], 0.0, 1.0 - 1e-9);
+        // theta' from d'Eon's lobe: the cosine to its axis (von Mises-Fisher, kappa = 1/v).
+        const double v = lobe_variance(p);
+        const double l = v * std::log(std::max(u.x + (1.0 - u.x) * std::exp(-2.0 / v), 1e-300));
+        const double fac = std::max(1.0 + l, -1.0),
+                     sin_fac = std::sqrt(std::max(0.0, -l * (2.0 + l)));
+        const double st =
+            std::clamp(-fac * g.sin_o + sin_fac * std::cos(kPi2D * u.y) * g.cos_o, -1.0, 1.0);
+        // Tilted: theta_i = theta' - shift, folded at the poles (sin kept, |cos|).
+        const double theta = std::asin(st) - (p < 3 ? lobe_shift(p) : 0.0);
+        const double si = std::sin(theta), ci = std::fabs(std::cos(theta));
+        const double phi = p < 3 ? 2.0 * p * g.gamma_t - 2.0 * g.gamma_o + p * kPiD +
+                                       sample_trimmed_logistic(u_phi, m_s)
+                                 : kPi2D * u_phi;
+        const double phi_i = phi - 0.5 * kPiD;
+        const DVec3 w = DVec3(si, 0.0, 0.0) + (ci * std::cos(phi_i)) * DVec3(g.y) +
+                        (ci * std::sin(phi_i)) * DVec3(g.z);
+        const Vec3 wi(glm::normalize(w));
+        const BSDFEval e = eval(wo, wi);
+        if (!(e.pdf > 0.f) || !(wi.z != 0.f) || !is_finite(e.f)) return std::nullopt;
+        return BSDFSample{e.f, wi, e.pdf, flags()};
+    }
+
+    BxDFFlags flags() const { return BxDFFlags::Glossy | BxDFFlags::Transmission; }
+
+  private:
+    // What depends on wo alone: the fibre frame, the angles and the attenuations.
+    struct Setup {
+        Vec3 y, z;  // the fibre frame's Y and Z in the local frame (X = x)
+        double sin_o, cos_o, gamma_o, gamma_t;
+        DVec3 ap[4];
+        double w[4];  // lobe probabilities (luminance of A_p, normalised)
+    };
+
+    bool setup(const Vec3& wo, Setup& g) const {
+        const double r2 = double(wo.y) * wo.y + double(wo.z) * wo.z;
+        if (!(r2 > 1e-14)) return false;  // wo along the fibre: no frame (as Cycles' zero Y)
+        const double r = std::sqrt(r2);
+        g.y = Vec3(0.f, float(-wo.z / r), float(wo.y / r));
+        g.z = Vec3(0.f, float(-wo.y / r), float(-wo.z / r));
+        const double h = std::clamp((wo.z < 0.f ? 1.0 : -1.0) * wo.y / r, -1.0, 1.0);
+        g.sin_o = std::clamp(double(wo.x), -1.0, 1.0);
+        g.cos_o = std::sqrt(std::max(0.0, 1.0 - g.sin_o * g.sin_o));
+        const double eta = m_eta;
+        const double sin_t = g.sin_o / eta, cos_t = std::sqrt(1.0 - sin_t * sin_t);
+        const double sin_gt = h * g.cos_o / std::sqrt(eta * eta - g.sin_o * g.sin_o);
+        const double cos_go = std::sqrt(std::max(0.0, 1.0 - h * h));
+        const double cos_gt = std::sqrt(std::max(0.0, 1.0 - sin_gt * sin_gt));
+        g.gamma_o = std::asin(h);
+        g.gamma_t = std::asin(std::clamp(sin_gt, -1.0, 1.0));
+        const DVec3 T = glm::exp(-DVec3(m_sigma) * (2.0 * cos_gt / cos_t));
+        const double f = fresnel_dielectric(float(g.cos_o * cos_go), m_eta);
+        g.ap[0] = DVec3(f);
+        DVec3 col = (1.0 - f) * (1.0 - f) * T;
+        g.ap[1] = col;
+        col *= T * f;
+        g.ap[2] = col;
+        const DVec3 tf = T * f;
+        for (int c = 0; c < 3; ++c) col[c] *= tf[c] < 1.0 ? tf[c] / (1.0 - tf[c]) : 0.0;
+        g.ap[3] = col;
+        double total = 0.0;
+        for (int p = 0; p < 4; ++p) {
+            g.w[p] = p == 0 ? f : 0.2126 * g.ap[p].x + 0.7152 * g.ap[p].y + 0.0722 * g.ap[p].z;
+            total += g.w[p];
+        }
+        for (double& w : g.w) w = total > 0.0 ? w / total : 0.0;
+        return total > 0.0;
+    }
+
+    // The tilt of lobe p's peak (Cycles' hair_alpha_angles: R +2 alpha, TT -alpha, TRT -4 alpha
+    // on theta_i) and its variance.
+    double lobe_shift(int p) const {
+        return p == 0 ? 2.0 * m_alpha : p == 1 ? -double(m_alpha) : -4.0 * m_alpha;
+    }
+    double lobe_variance(int p) const {
+        return p == 0 ? double(m_v0) : p == 1 ? 0.25 * m_v : 4.0 * m_v;  // TRT and the rest: 4v
+    }
+
+    // The density per solid angle at theta_i (cos theta_i = ci) of theta' ~ M(theta') cos theta'
+    // on [-pi/2, pi/2] moved to theta' + delta and folded back at the poles (sin kept, cos made
+    // positive): the sum over theta_i's preimages of M cos theta', over cos theta_i.
+    static double tilted_density(double theta_i, double ci, double delta, const Setup& g,
+                                 double v) {
+        if (!(ci > 0.0)) return 0.0;
+        double sum = 0.0;
+        for (double base : {theta_i, kPiD - theta_i}) {
+            double t = base - delta;
+            t -= kPi2D * std::round(t / kPi2D);
+            if (std::fabs(t) <= 0.5 * kPiD) {
+                const double ct = std::cos(t);
+                sum += longitudinal(std::sin(t), ct, g.sin_o, g.cos_o, v) * ct;
+            }
+        }
+        return sum / ci;
+    }
+
+    Rgb m_sigma;
+    float m_v, m_v0, m_s;  // variances of TT (x 1/4), TRT (x 4) and R; logistic scale
+    float m_alpha, m_eta;
+};
+
+// Cycles' absorption of a hair of the given colour at azimuthal roughness x (Chiang et al.'s
+// fit): sigma = (log(c) / (5.969 - 0.215 x + 2.532 x^2 - 10.73 x^3 + 5.574 x^4 + 0.245 x^5))^2;
+// a channel of 0 is taken as 1e-30 (its T is 0 to float precision, as Cycles' log 0).
+DVec3 sigma_from_color(const Rgb& c, double x) {
+    const double fac = (((((0.245 * x) + 5.574) * x - 10.73) * x + 2.532) * x - 0.215) * x + 5.969;
+    DVec3 s;
+    for (int k = 0; k < 3; ++k) {
+        const double l = std::log(std::max(double(c[k]), 1e-30)) / fac;
+        s[k] = l * l;
+    }
+    return s;
+}
+
+}  // namespace
+
+const ModelInfo& principled_hair_model() {
+    static const ModelInfo m{
+        .name = "principled_hair",
+        .summary =
+            "hair fibre as Blender's Principled Hair BSDF (Cycles 3.4, Chiang et al. 2016): R, "
+            "TT, TRT and residual lobes of a round dielectric fibre along the surface's "
+            "tangent (dpdu); transmits (scatters over the whole sphere), not reciprocal",
+        .params = {models::text("parametrization", "color",
+                                "how the absorption is given: color (Blender's Direct Coloring), "
+                                "melanin (Melanin Concentration) or absorption (Absorption "
+                                "Coefficient)",
+                                {"color", "melanin", "absorption"}),
+                   models::color("color", "0.017513 0.005763 0.002059",
+                                 "the hair's colour (parametrization color), in [0, 1]"),
+                   models::number("melanin", "0.8",
+                                  "melanin concentration (parametrization melanin), in [0, 1]"),
+                   models::number("melanin_redness", "1",
+                                  "fraction of pheomelanin (parametrization melanin), in [0, 1]"),
+                   models::color("tint", "1",
+                                 "dye colour added to the melanin (parametrization melanin), in "
+                                 "[0, 1]"),
+                   models::color("absorption_coefficient", "0.245531 0.52 1.365",
+                                 "absorption per unit fibre diameter (parametrization absorption), "
+                                 "in [0, 1000]"),
+                   models::number("roughness", "0.3", "longitudinal roughness, in [0, 1]"),
+                   models::number("radial_roughness", "0.3", "azimuthal roughness, in [0, 1]"),
+                   models::number("coat", "0",
+                                  "smooths the primary reflection R: its roughness is (1 - coat) "
+                                  "roughness, in [0, 1]"),
+                   models::number("ior", "1.55", "index of refraction of the fibre, in [1, 1000]"),
+                   models::number(
+                       "offset", "0.0349066",
+                       "cuticle tilt in radians (Blender's Offset; default 2 degrees), in "
+                       "[-pi/2, pi/2]"),
+                   models::number("random_roughness", "0",
+                                  "scales roughness and radial_roughness by 1 + 2 (random - 0.5) "
+                                  "random_roughness, in [0, 1]"),
+                   models::number("random_color", "0",
+                                  "scales melanin by 1 + 2 (random - 0.5) random_color "
+                                  "(parametrization melanin), in [0, 1]"),
+                   models::number("random", "0",
+                                  "the random value of the strand (Blender's Random), in [0, 1]")},
+        .build =
+            [](ParamReader& r, Children) {
+                const std::string kind = r.choice("parametrization");
+                const std::string because = "with parametrization " + kind;
+                if (kind != "color") r.forbid("color", because);
+                if (kind != "absorption") r.forbid("absorption_coefficient", because);
+                if (kind != "melanin")
+                    for (const char* p : {"melanin", "melanin_redness", "tint", "random_color"})
+                        r.forbid(p, because);
+                const double random = r.number("random", 0.0, 0.0, 1.0);
+                const double factor =
+                    1.0 + 2.0 * (random - 0.5) * r.number("random_roughness", 0.0, 0.0, 1.0);
+                const double roughness = r.number("roughness", 0.3, 0.0, 1.0) * factor;
+                const double radial = r.number("radial_roughness", 0.3, 0.0, 1.0) * factor;
+                DVec3 sigma;
+                if (kind == "absorption") {
+                    sigma = DVec3(r.color("absorption_coefficient", Rgb(0.245531f, 0.52f, 1.365f),
+                                          0.0, 1000.0));
+                } else if (kind == "melanin") {
+                    double melanin = r.number("melanin", 0.8, 0.0, 1.0);
+                    const double redness = r.number("melanin_redness", 1.0, 0.0, 1.0);
+                    melanin *= 1.0 + 2.0 * (random - 0.5) * r.number("random_color", 0.0, 0.0, 1.0);
+                    melanin = -std::log(std::max(1.0 - melanin, 1e-4));
+                    const double eu = melanin * (1.0 - redness), pheo = melanin * redness;
+                    sigma = eu * DVec3(0.506, 0.841, 1.653) + pheo * DVec3(0.343, 0.733, 1.924) +
+                            sigma_from_color(r.color("tint", Rgb(1.f), 0.0, 1.0), radial);
+                } else {
+                    sigma = sigma_from_color(
+                        r.color("color", Rgb(0.017513f, 0.005763f, 0.002059f), 0.0, 1.0), radial);
+                }
+                const double coat = r.number("coat", 0.0, 0.0, 1.0);
+                const double ior = r.number("ior", 1.55, 1.0, 1000.0);
+                const double offset =
+                    r.number("offset", 2.0 * kPiD / 180.0, -0.5 * kPiD, 0.5 * kPiD);
+                return Material(
+                    InlineBxDF(PrincipledHair(Rgb(sigma), roughness, radial, coat, offset, ior)));
+            },
+        .pov_finish = false};
+    return m;
+}
+
+}  // namespace facet
