@@ -54,7 +54,9 @@ inline double intersect_unit_disc(const glm::dvec3& o, const glm::dvec3& d, doub
 }
 
 // Half the object-space extent along z: the primitive lies in [-1, 1]^2 x [-z, z].
-inline double half_depth(Kind kind) { return kind == Kind::Sphere ? 1.0 : 0.0; }
+inline double half_depth(Kind kind) {
+    return kind == Kind::Sphere ? 1.0 : 0.0;
+}
 
 // Texture coordinates at object-space point po on the surface: the sphere's longitude and
 // latitude (sphere_uv), the disc's bounding square [-1, 1]^2 onto [0, 1]^2.
