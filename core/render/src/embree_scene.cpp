@@ -1,8 +1,8 @@
 // The only file that talks to Embree (docs/architecture.md): RAII owners for the device and the
 // scene, the error callback installed right after the device is created, triangle meshes as
-// Embree triangle geometry, exact spheres and discs as one Embree user geometry solved in
-// double precision, and infinite planes tested analytically beside Embree (an infinite plane has
-// no finite bounding box for Embree's BVH).
+// Embree triangle geometry, exact spheres and discs as one Embree user geometry (their geometry,
+// solved in double precision, is shapes/analytic.h's), and infinite planes tested analytically
+// beside Embree (an infinite plane has no finite bounding box for Embree's BVH).
 #include <embree3/rtcore.h>
 
 #include <algorithm>
@@ -15,6 +15,7 @@
 #include "facet/render/sampler.h"
 #include "facet/render/shading_normal.h"
 #include "scene_impl.h"
+#include "shapes/analytic.h"
 
 namespace facet::render {
 
@@ -74,35 +75,6 @@ void embree_error(void* user, RTCError code, const char* message) {
     }
 }
 
-// --- exact analytic primitives (double precision, object space) --------------------------------
-
-// Nearest root t of the unit sphere |o + t d| = 1 in (tnear, tfar), or -1. The discriminant is
-// formed as a (1 - |f|^2), f = o - (b/a) d (Ray Tracing Gems ch. 7), which stays accurate for
-// distant and tiny spheres; roots by the numerically stable quadratic formula.
-double intersect_unit_sphere(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) {
-    double a = glm::dot(d, d);
-    double b = glm::dot(o, d);  // half the linear coefficient
-    glm::dvec3 f = o - (b / a) * d;
-    double disc = a * (1.0 - glm::dot(f, f));
-    if (disc < 0.0) return -1.0;
-    double c = glm::dot(o, o) - 1.0;
-    double q = -(b + std::copysign(std::sqrt(disc), b));
-    double t0 = q != 0.0 ? c / q : 0.0;
-    double t1 = q / a;
-    if (t0 > t1) std::swap(t0, t1);
-    if (t0 > tnear && t0 < tfar) return t0;
-    if (t1 > tnear && t1 < tfar) return t1;
-    return -1.0;
-}
-
-double intersect_unit_disc(const glm::dvec3& o, const glm::dvec3& d, double tnear, double tfar) {
-    if (d.z == 0.0) return -1.0;
-    double t = -o.z / d.z;
-    if (!(t > tnear && t < tfar)) return -1.0;
-    double x = o.x + t * d.x, y = o.y + t * d.y;
-    return x * x + y * y <= 1.0 ? t : -1.0;
-}
-
 // --- texture coordinates (scenes/FORMAT.md, "UV coordinates"), for hits and opacity tests ---
 
 // A triangle's uv at Embree's barycentrics (u, v), or the icosphere's from point p.
@@ -112,14 +84,6 @@ Vec2 triangle_uv(const MeshGeom& mg, std::uint32_t tri, float u, float v, const 
         return (1.f - u - v) * t[0] + u * t[1] + v * t[2];
     }
     return mg.spherical ? sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(p, 1.0))) : Vec2(0.f);
-}
-
-// An analytic primitive's uv at object-space point po (on its surface): the sphere's
-// longitude/latitude, the disc's bounding square [-1, 1]^2 onto [0, 1]^2.
-Vec2 analytic_uv(AnalyticPrim::Kind kind, const glm::dvec3& po) {
-    return kind == AnalyticPrim::Kind::Sphere
-               ? sphere_uv(po)
-               : Vec2(float(0.5 * (po.x + 1.0)), float(0.5 * (po.y + 1.0)));
 }
 
 // A plane's uv at point p (scene units along its axes).
@@ -260,13 +224,6 @@ void curve_filter(const RTCFilterFunctionNArguments* args) {
     }
 }
 
-// The nearest root of the unit sphere or disc along o + t d (object space) in (t0, tfar), or -1.
-[[gnu::always_inline]] inline double solve_prim(const AnalyticPrim& prim, const glm::dvec3& o,
-                                                const glm::dvec3& d, double t0, double tfar) {
-    return prim.kind == AnalyticPrim::Kind::Sphere ? intersect_unit_sphere(o, d, t0, tfar)
-                                                   : intersect_unit_disc(o, d, t0, tfar);
-}
-
 // A cut-out primitive's hit, given its nearest root t: the nearest root its opacity keeps (a
 // sphere's far root when the near one is let through), or -1. Texture coordinates as
 // fill_analytic computes them. Out of line and cold, so that its register spills stay out of
@@ -278,12 +235,12 @@ void curve_filter(const RTCFilterFunctionNArguments* args) {
     for (std::uint32_t root = 0; t > 0.0; ++root) {
         const glm::dvec3 po = o + t * d;
         // (A sphere's point is not projected onto it here: uv depends on its direction only.)
-        const Vec2 uv = prim.opacity.texture ? analytic_uv(prim.kind, po) : Vec2(0.f);
+        const Vec2 uv = prim.opacity.texture ? analytic::uv(prim.kind, po) : Vec2(0.f);
         if (opacity_blocks(
                 prim.opacity.alpha(uv),
                 hit_uniform(glm::vec3(o_world), glm::vec3(d_world), kAnalyticTag + root, index)))
             return t;
-        t = solve_prim(prim, o, d, t, tfar);
+        t = analytic::intersect(prim.kind, o, d, t, tfar);
     }
     return -1.0;
 }
@@ -293,7 +250,7 @@ double intersect_prim(const AnalyticPrim& prim, std::uint32_t index, const glm::
                       const glm::dvec3& d_world, double tnear, double tfar) {
     const glm::dvec3 o = glm::dvec3(prim.to_object * glm::dvec4(o_world, 1.0));
     const glm::dvec3 d = glm::dmat3(prim.to_object) * d_world;
-    const double t = solve_prim(prim, o, d, tnear, tfar);
+    const double t = analytic::intersect(prim.kind, o, d, tnear, tfar);
     if (!prim.opacity.active()) [[likely]]
         return t;
     return cutout_root(prim, index, o, d, o_world, d_world, t, tfar);
@@ -303,7 +260,7 @@ void analytic_bounds(const RTCBoundsFunctionArguments* args) {
     const auto* impl = static_cast<const Scene::Impl*>(args->geometryUserPtr);
     const AnalyticPrim& prim = impl->prims[args->primID];
     glm::dvec3 lo(std::numeric_limits<double>::infinity()), hi(-lo);
-    double zr = prim.kind == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
+    const double zr = analytic::half_depth(prim.kind);
     for (int i = 0; i < 8; ++i) {
         glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
         glm::dvec3 w = glm::dvec3(prim.to_world * glm::dvec4(c, 1.0));
@@ -808,42 +765,27 @@ void Scene::Impl::fill_analytic(const AnalyticPrim& prim, const Ray& ray, float 
     // returned point lies on the exact surface to float round-off.
     glm::dvec3 o = glm::dvec3(prim.to_object * glm::dvec4(glm::dvec3(ray.o), 1.0));
     glm::dvec3 d = glm::dmat3(prim.to_object) * glm::dvec3(ray.d);
-    glm::dvec3 po = o + double(t) * d;
-    glm::dvec3 n_obj, tangent_obj;
-    if (prim.kind == AnalyticPrim::Kind::Sphere) {
-        double len = glm::length(po);
-        po = len > 0.0 ? po / len : glm::dvec3(0.0, 0.0, 1.0);
-        n_obj = po;
-        tangent_obj = glm::dvec3(-po.y, po.x, 0.0);  // d p / d longitude about local z
-    } else {
-        po.z = 0.0;
-        n_obj = glm::dvec3(0.0, 0.0, 1.0);
-        tangent_obj = glm::dvec3(1.0, 0.0, 0.0);
-    }
+    const analytic::SurfacePoint sp = analytic::project(prim.kind, o + double(t) * d);
+    const glm::dvec3& po = sp.p;
     hit.t = t;
     hit.p = Vec3(glm::dvec3(prim.to_world * glm::dvec4(po, 1.0)));
     // The double point lies on the exact surface to kDoubleSlack of the prim's coordinates
     // (err_floor); then one rounding to float.
     hit.p_err = rounding_error(hit.p) + Vec3(prim.err_floor);
-    hit.ng = Vec3(glm::normalize(prim.normal_to_world * n_obj));
+    hit.ng = Vec3(glm::normalize(prim.normal_to_world * sp.n));
     if (prim.flip) hit.ng = -hit.ng;
     hit.ns = hit.ng;
-    hit.dpdu = Vec3(glm::dmat3(prim.to_world) * tangent_obj);
+    hit.dpdu = Vec3(glm::dmat3(prim.to_world) * sp.tangent);
     hit.shape = prim.shape;
     if (prim.uv) {
-        hit.uv = analytic_uv(prim.kind, po);
+        hit.uv = analytic::uv(prim.kind, po);
         // dp/du and dp/dv of the uv map (ray differentials): sphere longitude/latitude, disc
         // bounding square [-1, 1]^2 onto [0, 1]^2.
         const glm::dmat3 lin(prim.to_world);
-        if (prim.kind == AnalyticPrim::Kind::Sphere) {
-            glm::dvec3 du, dv;
-            sphere_uv_derivatives(po, du, dv);
-            hit.dpdu_uv = Vec3(lin * du);
-            hit.dpdv_uv = Vec3(lin * dv);
-        } else {
-            hit.dpdu_uv = Vec3(lin * glm::dvec3(2.0, 0.0, 0.0));
-            hit.dpdv_uv = Vec3(lin * glm::dvec3(0.0, 2.0, 0.0));
-        }
+        glm::dvec3 du, dv;
+        analytic::uv_derivatives(prim.kind, po, du, dv);
+        hit.dpdu_uv = Vec3(lin * du);
+        hit.dpdv_uv = Vec3(lin * dv);
         if (prim.tangent_sign != 0.f) {
             // dp/du of the UVs: along dpdu above; unit (zero at a sphere's poles).
             const float l = glm::length(hit.dpdu);

@@ -21,6 +21,7 @@
 #include "scene_checks.h"
 #include "scene_impl.h"
 #include "scene_precision.h"
+#include "shapes/analytic.h"
 #include "textures/texture_build.h"
 
 namespace facet::render {
@@ -1250,7 +1251,7 @@ class Builder final : public BuildChecks {
             prim.uv = m_info.needs_uv;
             prim.opacity = m_info.opacity;
             if (m_info.needs_tangent) prim.tangent_sign = handedness(prim.to_world);
-            const double zr = k == AnalyticPrim::Kind::Sphere ? 1.0 : 0.0;
+            const double zr = analytic::half_depth(k);
             for (int i = 0; i < 8; ++i) {
                 glm::dvec3 c(i & 1 ? 1.0 : -1.0, i & 2 ? 1.0 : -1.0, i & 4 ? zr : -zr);
                 grow(glm::dvec3(prim.to_world * glm::dvec4(c, 1.0)));
