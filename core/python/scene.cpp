@@ -792,10 +792,39 @@ void bind_scene(py::module_& m) {
                 }
                 for (const auto& [key, value] : params) {
                     const std::string name = py::str(key);
-                    if (py::isinstance<py::str>(value))
+                    if (py::isinstance<py::str>(value)) {
                         d.params.set(name, value.cast<std::string>());
-                    else
+                    } else if (py::isinstance<py::bool_>(value)) {
+                        d.params.set(name, value.cast<bool>());
+                    } else if (py::isinstance<TextureDesc>(value)) {
+                        // A composite kind's input fed by a texture.
+                        d.inputs.push_back({name, value.cast<TextureDesc>()});
+                    } else if (name == "stops") {
+                        // A colour ramp's stops: [(position, (r, g, b[, a])), ...].
+                        for (const auto& st : value.cast<py::list>()) {
+                            const auto pair = st.cast<py::tuple>();
+                            if (pair.size() != 2)
+                                bad_argument("Texture.procedural",
+                                             "stops: expected (position, (r, g, b[, a])) pairs");
+                            TextureStop stop;
+                            stop.position = pair[0].cast<double>();
+                            const auto c = pair[1].cast<std::vector<double>>();
+                            if (c.size() != 3 && c.size() != 4)
+                                bad_argument("Texture.procedural",
+                                             "stops: a colour has 3 or 4 components");
+                            for (std::size_t k = 0; k < c.size(); ++k) stop.color[int(k)] = c[k];
+                            d.stops.push_back(stop);
+                        }
+                    } else if (py::isinstance<py::sequence>(value)) {
+                        const auto c = value.cast<std::vector<double>>();
+                        if (c.size() != 3)
+                            bad_argument("Texture.procedural",
+                                         name + ": expected a number, a name, a colour (r, g, b) "
+                                                "or a Texture");
+                        d.params.set(name, Rgb(float(c[0]), float(c[1]), float(c[2])));
+                    } else {
                         d.params.set(name, value.cast<double>());
+                    }
                 }
                 return d;
             },
@@ -803,7 +832,9 @@ void bind_scene(py::module_& m) {
             "Texture.procedural('noise', coordinates='object', mapping=[[1, 0, 0, 0], [0, 1, 0, "
             "0], [0, 0, 1, 0]], value_scale=1, scale=5, detail=2, ...): the kind's parameters as "
             "keywords "
-            "(numbers or names; checked by build_scene against the kind's table), the point "
+            "(numbers, names, booleans, colours (r, g, b), Textures for a composite kind's inputs "
+            "(math, mix_rgb, color_ramp), a colour ramp's stops=[(position, (r, g, b[, a])), "
+            "...]; checked by build_scene against the kind's table), the point "
             "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
             "and a value multiplier (the JSON's \"scale\" beside the kind's object).",
             py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),

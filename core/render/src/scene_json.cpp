@@ -519,12 +519,41 @@ class Reader {
             expect_object(params, kp);
             for (const auto& [key, v] : params.items()) {
                 const std::string p = kp + "/" + escape_pointer_token(key);
-                if (v.is_number())
+                const TextureParamDef* def = find_texture_param(*kind, key);
+                if (def && def->form == TextureParamForm::Stops && v.is_array()) {
+                    // A colour ramp's stops: [{"position": p, "color": [r, g, b(, a)]}, ...].
+                    for (std::size_t i = 0; i < v.size(); ++i) {
+                        const json& st = v[i];
+                        const std::string sp = p + "/" + std::to_string(i);
+                        expect_object(st, sp);
+                        check_keys(st, sp, {"position", "color"});
+                        TextureStop stop;
+                        stop.position = get_number(require(st, sp, "position"), sp + "/position");
+                        const json& c = require(st, sp, "color");
+                        if (!c.is_array() || (c.size() != 3 && c.size() != 4))
+                            fail(sp + "/color",
+                                 "expected [r, g, b] or [r, g, b, a], got " + type_name(c));
+                        for (std::size_t k = 0; k < c.size(); ++k)
+                            stop.color[int(k)] =
+                                get_number(c[k], sp + "/color/" + std::to_string(k));
+                        d.stops.push_back(stop);
+                    }
+                } else if (v.is_number()) {
                     d.params.set(key, get_number(v, p));
-                else if (v.is_string())
+                } else if (v.is_string()) {
                     d.params.set(key, v.get<std::string>());
-                else
-                    fail(p, "expected a number or a name, got " + type_name(v));
+                } else if (v.is_boolean()) {
+                    d.params.set(key, v.get<bool>());
+                } else if (v.is_array() && v.size() == 3) {
+                    d.params.set(key, Rgb(get_vec3(v, p)));
+                } else if (v.is_object()) {
+                    // An input fed by a texture (a composite kind's; build_scene checks that
+                    // the parameter takes one).
+                    d.inputs.push_back({key, read_texture(v, p)});
+                } else {
+                    fail(p, "expected a number, a name, a colour [r, g, b] or a texture, got " +
+                                type_name(v));
+                }
             }
             if (t.contains("coordinates"))
                 d.coordinates = get_string(t["coordinates"], ptr + "/coordinates");
@@ -1022,6 +1051,20 @@ json texture_json(const TextureDesc& d, bool hashed) {
                 params[key] = *x;
             else if (const std::string* t = std::get_if<std::string>(&v))
                 params[key] = *t;
+            else if (const bool* b = std::get_if<bool>(&v))
+                params[key] = *b;
+            else if (const Rgb* c = std::get_if<Rgb>(&v))
+                params[key] = vec_json(*c);
+        }
+        for (const TextureInputDesc& in : d.inputs)
+            params[in.name] = texture_json(in.texture, hashed);
+        if (!d.stops.empty()) {
+            json stops = json::array();
+            for (const TextureStop& st : d.stops)
+                stops.push_back({{"position", st.position},
+                                 {"color", json::array({st.color.r, st.color.g, st.color.b,
+                                                        st.color.a})}});
+            params["stops"] = stops;
         }
         j[d.kind] = params;
         if (!d.coordinates.empty()) j["coordinates"] = d.coordinates;

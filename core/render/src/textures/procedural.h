@@ -43,12 +43,20 @@ class ProceduralParams {
     double number(std::string_view name) const;
     // A String parameter's index in its choices.
     int choice(std::string_view name) const;
+    // A Bool parameter's value (default: default_number != 0).
+    bool flag(std::string_view name) const;
+    // A Color parameter's constant (a number is grey; default: default_color).
+    Rgb color(std::string_view name) const;
     std::string pointer(std::string_view name) const;
 
   private:
     TextureBuild& m_b;
     const TextureKindDef& m_kind;
 };
+
+// Checks the description's parameters, inputs and stops against the kind's table (unknown
+// names, types, ranges, choices, stop order); errors name ptr/<kind>/<key>.
+void check_texture_params(TextureBuild& b, const TextureKindDef& kind);
 
 // Checks every parameter of the description against the kind's table (unknown names, types,
 // ranges, choices), fills the shared parts of `source` (coordinates, mapping, scale) and makes
