@@ -121,7 +121,8 @@ def texture(t):
             params[k] = v
         return facet.Texture.procedural(kind, coordinates=t.get("coordinates", ""),
                                         mapping=m["matrix"] if m else None,
-                                        value_scale=float(t.get("scale", 1.0)), **params)
+                                        value_scale=float(t.get("scale", 1.0)),
+                                        channel=t.get("channel", ""), **params)
     uv = {"uv_scale": tuple(t.get("uv_scale", (1.0, 1.0))),
           "uv_offset": tuple(t.get("uv_offset", (0.0, 0.0))),
           "uv_rotation": float(t.get("uv_rotation", 0.0))}

@@ -758,9 +758,9 @@ def _affine(walker, src, state):
 # through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
 # Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
 # Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi
-# Distance / Color / Radius, Wave, Magic and Brick Fac / Color, Musgrave Fac. A colour output into a
-# number input (Cycles' luminance of it) is not a procedural kind's output: Unsupported
-# (baked), except the Gradient's and the Wave's grey colours.
+# Distance / Color / Radius, Wave, Magic and Brick Fac / Color, Musgrave Fac. A colour output
+# into a number input is Cycles' luminance of the colour: the texture's "channel" luminance
+# (Facet's weights, reported as for images; the Gradient's and the Wave's colours are grey).
 
 # bl_idname -> (kind, {output identifier: core output}, {input name: core parameter},
 #               {node property: (core parameter, {Blender value: core value} or None)})
@@ -818,9 +818,7 @@ def _procedural(walker, src, to_number):
     if kind == "musgrave" and node.musgrave_type != 'RIDGED_MULTIFRACTAL':
         raise Unsupported(src, "a Musgrave Texture of type %s can be negative (only Ridged "
                           "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
-    if to_number and out == "color" and kind not in ("gradient", "wave"):
-        raise Unsupported(src, "a colour output into a number input (Cycles' luminance of the "
-                          "colour) is not converted")
+    luminance = to_number and out == "color" and kind not in ("gradient", "wave")
     params = {}
     for prop, (key, _) in props.items():
         v = getattr(node, prop)
@@ -861,7 +859,18 @@ def _procedural(walker, src, to_number):
             uv_map = state["uv"] or ""
         if rows != _IDENTITY:
             data["mapping"] = {"matrix": [[float(x) for x in r] for r in rows]}
-    return Result(data, uv_map)
+    res = Result(data, uv_map)
+    if luminance:  # a colour output into a number input: its luminance
+        _luminance(res, src)
+    return res
+
+
+def _luminance(res, src):
+    """A colour texture read by a number input: its "channel" luminance (Cycles' colour ->
+    number conversion, with Facet's weights: reported as for images)."""
+    res.data["channel"] = "luminance"
+    res.notes.append("%s: %s" % (src.label(), LUMINANCE_NOTE))
+    return res
 
 
 # --- nodes between textures: the core's composite kinds ---------------------------------------
@@ -875,9 +884,10 @@ def _procedural(walker, src, to_number):
 # ColorRamp in RGB mode is its stops and interpolation; in HSV or HSL mode Cycles' own table
 # (Blender's ColorRamp.evaluate at i / 255, i = 0..255) as 256 stops, linear (constant when
 # the ramp is Constant): the core tabulates them at the same points, so the table is the same.
-# Not converted (Unsupported, reported, baked when a bake is possible): a colour output (Mix,
-# ColorRamp Color with non-grey stops) into a number input (Cycles' luminance of a texture),
-# the Mix node's Vector mode, and a texture into a number input from a colour output.
+# A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
+# number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
+# as for images, LUMINANCE_NOTE). Not converted (Unsupported, reported, baked when a bake is
+# possible): the Mix node's Vector mode.
 
 # Blender's Math operations the core's kind takes (all of 3.4's, lower case).
 _MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
@@ -950,19 +960,14 @@ def _mix(walker, src, to_number):
     node = src.node
     ins = _Inputs(walker, src)
     if node.bl_idname == 'ShaderNodeMixRGB':
-        if to_number:
-            raise Unsupported(src, "a Mix RGB's colour into a number input (Cycles' luminance "
-                              "of the colour) is not converted")
         params = {"blend_type": node.blend_type.lower(), "fac": ins.get('Fac', True),
                   "color1": ins.get('Color1', False), "color2": ins.get('Color2', False)}
         if node.use_clamp:
             params["use_clamp"] = True
-        return ins.result({"mix_rgb": params})
+        res = ins.result({"mix_rgb": params})
+        return _luminance(res, src) if to_number else res
     dt = node.data_type
     if dt == 'RGBA':
-        if to_number:
-            raise Unsupported(src, "a Mix's colour into a number input (Cycles' luminance of "
-                              "the colour) is not converted")
         params = {"blend_type": node.blend_type.lower(), "fac": ins.get('Factor_Float', True),
                   "color1": ins.get('A_Color', False), "color2": ins.get('B_Color', False)}
         if node.clamp_result:
@@ -974,7 +979,8 @@ def _mix(walker, src, to_number):
         raise Unsupported(src, "the Mix node's %s mode is not converted" % dt.title())
     if not node.clamp_factor:
         params["clamp_factor"] = False
-    return ins.result({"mix_rgb": params})
+    res = ins.result({"mix_rgb": params})
+    return _luminance(res, src) if to_number and dt == 'RGBA' else res
 
 
 RAMP_TABLE_SIZE = 256  # Cycles' RAMP_TABLE_SIZE
@@ -993,13 +999,11 @@ def _color_ramp(walker, src, to_number):
         stops = [{"position": i / n, "color": [float(c) for c in ramp.evaluate(i / n)]}
                  for i in range(RAMP_TABLE_SIZE)]
         interp = "constant" if ramp.interpolation == 'CONSTANT' else "linear"
-    if to_number and not alpha and any(
-            st["color"][0] != st["color"][1] or st["color"][0] != st["color"][2]
-            for st in stops):
-        raise Unsupported(src, "a ColorRamp's colour into a number input (Cycles' luminance "
-                          "of the colour) is not converted")
+    luminance = to_number and not alpha and any(
+        st["color"][0] != st["color"][1] or st["color"][0] != st["color"][2] for st in stops)
     ins = _Inputs(walker, src)
     params = {"fac": ins.get('Fac', True), "interpolation": interp, "stops": stops}
     if alpha:
         params["output"] = "alpha"
-    return ins.result({"color_ramp": params})
+    res = ins.result({"color_ramp": params})
+    return _luminance(res, src) if luminance else res

@@ -768,8 +768,9 @@ void bind_scene(py::module_& m) {
         .def_static(
             "procedural",
             [](const std::string& kind, const std::string& coordinates, const py::object& mapping,
-               double scale, const py::kwargs& params) {
+               double scale, const std::string& channel, const py::kwargs& params) {
                 TextureDesc d;
+                d.channel = channel;
                 const TextureKindDef* k = find_texture_kind(kind);
                 if (!k || !k->procedural) {
                     std::string names;
@@ -819,8 +820,9 @@ void bind_scene(py::module_& m) {
                         const auto c = value.cast<std::vector<double>>();
                         if (c.size() != 3)
                             bad_argument("Texture.procedural",
-                                         name + ": expected a number, a name, a colour (r, g, b) "
-                                                "or a Texture");
+                                         name +
+                                             ": expected a number, a name, a colour (r, g, b) "
+                                             "or a Texture");
                         d.params.set(name, Rgb(float(c[0]), float(c[1]), float(c[2])));
                     } else {
                         d.params.set(name, value.cast<double>());
@@ -836,9 +838,10 @@ void bind_scene(py::module_& m) {
             "(math, mix_rgb, color_ramp), a colour ramp's stops=[(position, (r, g, b[, a])), "
             "...]; checked by build_scene against the kind's table), the point "
             "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
-            "and a value multiplier (the JSON's \"scale\" beside the kind's object).",
+            "a value multiplier (the JSON's \"scale\" beside the kind's object), and an optional "
+            "channel ('r', 'g', 'b' or 'luminance': that channel of the colour, as grey).",
             py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),
-            py::arg("value_scale") = 1.0)
+            py::arg("value_scale") = 1.0, py::arg("channel") = "")
         .def_static(
             "mapping_point",
             [](Vec3 location, Vec3 rotation, Vec3 scale) {

@@ -4,8 +4,8 @@ FORMAT.md "Composite kinds"): evaluated per hit, no bake.
 
 1. Exported data: each quad's emission converts to the kinds, nested as the node tree nests
    them, with no report and no bake; a ColorRamp in HSV mode becomes Cycles' 256-entry table as
-   stops; what is not converted is reported by name (a Mix's colour into a number input; the
-   Mix node's Vector mode).
+   stops; a colour into a number input is its luminance (reported: Facet's weights); the Mix
+   node's Vector mode is reported by name.
 2. Renders against Cycles, as tests/blender/test_procedural.py does: a strip of emission quads,
    one node per quad, orthographic camera, box filter 1 px, 16 spp in both renderers.
    Criterion (issue 35): per quad, mean |Facet - Cycles| <= 1e-3 of Cycles' range over the quad.
@@ -158,6 +158,11 @@ QUADS = [
     ("mix_node_float",
      lambda nt: mix_node(nt, 'FLOAT', 'MIX', gradient(nt).outputs["Fac"],
                          noise(nt, 2.0).outputs["Fac"], noise(nt, 4.0).outputs["Fac"])),
+    # A colour into a number input (the ramp's Fac): its luminance (reported: Facet's weights).
+    ("ramp_of_mix_luminance",
+     lambda nt: ramp(nt, 'LINEAR', mix_rgb(nt, 'MIX', gradient(nt).outputs["Fac"],
+                                           noise(nt, 2.0).outputs["Color"],
+                                           (0.9, 0.2, 0.1, 1.0)).outputs[0]).outputs["Color"]),
     ("brick_color", lambda nt: brick(nt).outputs["Color"]),
     ("brick_fac", lambda nt: brick(nt).outputs["Fac"]),
 ]
@@ -198,6 +203,11 @@ def strip_scene(builders):
     return scene, me
 
 
+def not_luminance(problems):
+    """The report lines other than the luminance notes (a colour into a number input)."""
+    return [p for p in problems if "luminance" not in p]
+
+
 def kinds_of(t, found):
     """The texture kinds of a (nested) texture dict."""
     for k, v in t.items():
@@ -216,8 +226,12 @@ def exported():
     for mat in me.materials:
         c = materials.convert(mat, ob)
         em = c.emission
-        bt.check(isinstance(em, dict) and not c.baked and c.problems == [],
+        bt.check(isinstance(em, dict) and not c.baked and not not_luminance(c.problems),
                  "%s converts natively: %.300s, problems %s" % (mat.name, em, c.problems))
+    c = materials.convert(bpy.data.materials["comp_ramp_of_mix_luminance"], ob)
+    bt.check(c.emission["color_ramp"]["fac"].get("channel") == "luminance"
+             and len(c.problems) == 1 and "luminance" in c.problems[0],
+             "a Mix's colour into a ramp's Fac: its luminance, reported: %s" % c.problems)
     em = materials.convert(bpy.data.materials["comp_ramp_linear"], ob).emission
     bt.check(em["color_ramp"]["interpolation"] == "linear"
              and len(em["color_ramp"]["stops"]) == 3
@@ -239,8 +253,22 @@ def exported():
     nt.links.new(m.outputs[0], p.inputs["Metallic"])
     nt.links.new(p.outputs[0], out.inputs["Surface"])
     c = materials.convert(mat)
-    bt.check(any("Mix" in x and "Metallic" in x for x in c.problems),
-             "a Mix's colour into Metallic is reported: %s" % c.problems)
+    bt.check(c.data["metallic"]["channel"] == "luminance"
+             and any("Mix" in x and "Metallic" in x and "luminance" in x for x in c.problems),
+             "a Mix's colour into Metallic: its luminance, reported: %s" % c.problems)
+    # Reported by name: the Mix node's Vector mode.
+    mat, nt, out = new_material("comp_reported_vector")
+    e = nt.nodes.new("ShaderNodeEmission")
+    m = mix_node(nt, 'RGBA', 'MIX', 0.5, noise(nt).outputs["Color"], (0.2, 0.2, 0.2, 1.0))
+    m.node.data_type = 'VECTOR'
+    nt.links.new(noise(nt).outputs["Color"],
+                 next(x for x in m.node.inputs if x.identifier == "A_Vector"))
+    v = next(x for x in m.node.outputs if x.identifier == "Result_Vector")
+    nt.links.new(v, e.inputs["Color"])
+    nt.links.new(e.outputs[0], out.inputs["Surface"])
+    c = materials.convert(mat)
+    bt.check(any("Mix" in x and "vector" in x.lower() for x in c.problems),
+             "the Mix node's Vector mode is reported: %s" % c.problems)
 
 
 def rendered(outdir):
@@ -248,7 +276,8 @@ def rendered(outdir):
     a, _ = cs.render(scene, 'FACET', os.path.join(outdir, "composite_facet.exr"), seed=1)
     from facet_blender import hooks
     problems = list(hooks.last_problems)
-    bt.check(problems == [], "the strip converts without a report: %s" % problems)
+    bt.check(not_luminance(problems) == [],
+             "the strip converts without a report (but the luminance note): %s" % problems)
     b, _ = cs.render(scene, 'CYCLES', os.path.join(outdir, "composite_cycles.exr"), seed=1)
     # The seed-to-seed floor (Facet seed 2 against seed 1), printed for each quad.
     a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, "composite_facet2.exr"), seed=2)

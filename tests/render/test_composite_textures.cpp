@@ -243,6 +243,34 @@ TEST(CompositeTextures, RampConstantAndSingleStop) {
     EXPECT_EQ(a.max_value().r, 1.f);
 }
 
+// A colour texture read as a number through "channel" (Blender's colour -> number links):
+// the luminance 0.2126 R + 0.7152 G + 0.0722 B (as for images) or one channel, grey, with
+// the range of the ends' luminance.
+TEST(CompositeTextures, ChannelOfAColour) {
+    const json mix = {{"mix_rgb", {{"fac", kX}, {"color1", {1, 0, 0}}, {"color2", {0, 0.5, 1}}}},
+                      {"channel", "luminance"}};
+    const fr::Texture t = fr::build_procedural_texture(composite_desc(mix), false, "/t");
+    for (float x : {0.f, 0.3f, 1.f}) {
+        const float r = 1.f - x, g = 0.5f * x, b = x;
+        EXPECT_NEAR(t.eval(hit_at(x)).r, 0.2126f * r + 0.7152f * g + 0.0722f * b, 1e-6f);
+        EXPECT_EQ(t.eval(hit_at(x)).g, t.eval(hit_at(x)).r);
+    }
+    EXPECT_NEAR(t.min_value().r, 0.f, 1e-7f);
+    EXPECT_NEAR(t.max_value().r, 0.2126f + 0.7152f * 0.5f + 0.0722f, 1e-6f);
+    const fr::Texture g = fr::build_procedural_texture(
+        composite_desc({{"noise", {{"output", "color"}}}, {"channel", "g"}}), false, "/t");
+    EXPECT_EQ(g.min_value().r, 0.f);
+    std::string e =
+        composite_error(json{{"mix_rgb", {{"color1", {1, 0, 0}}}}, {"channel", "a"}}, false);
+    EXPECT_NE(e.find("/t/channel"), std::string::npos) << e;
+    e = composite_error({{"color_ramp",
+                          {{"stops",
+                            {{{"position", 0.2}, {"color", {1, 0, 0}}},
+                             {{"position", 0.8}, {"color", {0, 0, 1}}}}}}}},
+                        false);
+    EXPECT_NE(e.find("/t/color_ramp/output"), std::string::npos) << e;
+}
+
 // Errors name the JSON path of the bad parameter.
 TEST(CompositeTextures, BadInputNamesItsPath) {
     auto has = [](const std::string& s, const std::string& what) {
@@ -295,7 +323,8 @@ TEST(CompositeTextures, JsonRoundTrip) {
                               {{"position", 0.9}, {"color", {0, 0, 1, 1}}}}}}}}},
                         {"color1", {0.2, 0.3, 0.4}},
                         {"color2", {{"math", {{"operation", "sine"}, {"a", kX}}}}}}},
-                      {"scale", 2.0}};
+                      {"scale", 2.0},
+                      {"channel", "luminance"}};
     json s = {{"format", "facet-scene"},
               {"version", 1},
               {"camera",

@@ -510,7 +510,8 @@ class Reader {
         } else if (const TextureKindDef* kind = procedural_kind_of(t)) {
             // A procedural kind (texture_kinds.h): {"<kind>": {params}, "coordinates": ...,
             // "mapping": ...}. Parameter names and ranges are build_scene's (the kind's table).
-            std::vector<const char*> keys = {kind->name.data(), "coordinates", "mapping", "scale"};
+            std::vector<const char*> keys = {kind->name.data(), "coordinates", "mapping", "scale",
+                                             "channel"};
             keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
             check_keys_v(t, ptr, keys);
             d.kind = std::string(kind->name);
@@ -558,6 +559,7 @@ class Reader {
             if (t.contains("coordinates"))
                 d.coordinates = get_string(t["coordinates"], ptr + "/coordinates");
             if (t.contains("mapping")) d.mapping = read_mapping(t["mapping"], ptr + "/mapping");
+            if (t.contains("channel")) d.channel = get_string(t["channel"], ptr + "/channel");
         } else {
             std::vector<const char*> keys = {"texture",     "colorspace", "filter",
                                              "wrap",        "uv_scale",   "uv_offset",
@@ -1061,12 +1063,13 @@ json texture_json(const TextureDesc& d, bool hashed) {
         if (!d.stops.empty()) {
             json stops = json::array();
             for (const TextureStop& st : d.stops)
-                stops.push_back({{"position", st.position},
-                                 {"color", json::array({st.color.r, st.color.g, st.color.b,
-                                                        st.color.a})}});
+                stops.push_back(
+                    {{"position", st.position},
+                     {"color", json::array({st.color.r, st.color.g, st.color.b, st.color.a})}});
             params["stops"] = stops;
         }
         j[d.kind] = params;
+        if (!d.channel.empty()) j["channel"] = d.channel;
         if (!d.coordinates.empty()) j["coordinates"] = d.coordinates;
         if (d.mapping != glm::dmat4(1.0)) {
             json rows = json::array();

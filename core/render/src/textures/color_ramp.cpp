@@ -135,10 +135,11 @@ Texture build_color_ramp(TextureBuild& b) {
         lo = glm::min(lo, c);
         hi = glm::max(hi, c);
     }
-    if (!b.color && !s->m_alpha && (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
+    const bool grey_needed = !b.color && !s->m_alpha && b.desc.channel.empty();
+    if (grey_needed && (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
         b.fail(p.pointer("output"),
                "a number parameter needs a grey ramp or the alpha output (this ramp has colours)");
-    if (!b.color && !s->m_alpha) {
+    if (grey_needed) {
         for (std::size_t i = 0; i < b.desc.stops.size(); ++i) {
             const glm::dvec4& c = b.desc.stops[i].color;
             if (c.r != c.g || c.r != c.b)

@@ -68,12 +68,14 @@ Texture make_composite(TextureBuild& b, const TextureKindDef& kind,
                        fmt(double(lo[c])) + ", " + fmt(double(hi[c])) +
                        "]): bound its inputs or clamp the result");
     }
-    if (!b.color && (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
+    if (!b.color && d.channel.empty() &&
+        (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
         b.fail(b.ptr + "/" + std::string(kind.name),
-               "a number parameter needs a grey value (this texture gives a colour)");
+               "a number parameter needs a grey value (this texture gives a colour; or give "
+               "\"channel\")");
     const Rgb scale = float(d.scale) * d.color_scale;
     s->m_scale = scale;
-    return Texture(std::move(s), lo * scale, hi * scale, reads);
+    return with_channel(b, Texture(std::move(s), lo * scale, hi * scale, reads));
 }
 
 }  // namespace facet::render

@@ -293,9 +293,11 @@ Texture build_mix_rgb(TextureBuild& b) {
     s->m_clamp_factor = p.flag("clamp_factor");
     s->m_clamp = p.flag("use_clamp");
     s->m_fac = p.input("fac", false);
-    // A number texture mixes numbers (grey colours stay grey in every blend).
-    s->m_a = p.input("color1", b.color);
-    s->m_b = p.input("color2", b.color);
+    // A number texture mixes numbers (grey colours stay grey in every blend), unless it
+    // reads a channel of the colour.
+    const bool colours = b.color || !b.desc.channel.empty();
+    s->m_a = p.input("color1", colours);
+    s->m_b = p.input("color2", colours);
     Interval t = s->m_fac.range();
     if (s->m_clamp_factor) t = t.clamped(0.0, 1.0);
     Interval all_a = s->m_a.range(0), all_b = s->m_b.range(0);

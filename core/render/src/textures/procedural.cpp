@@ -148,14 +148,44 @@ Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
     s->m_linear = glm::mat3(glm::dmat3(d.mapping));
     s->m_offset = Vec3(glm::dvec3(d.mapping[3]));
     s->m_scale = float(d.scale) * d.color_scale;
-    if (!b.color && (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
+    if (!b.color && d.channel.empty() &&
+        (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
         b.fail(params.pointer("output"),
-               "a number parameter needs a grey output (a colour output feeds colours)");
+               "a number parameter needs a grey output (a colour output feeds colours; or give "
+               "\"channel\")");
     const unsigned inputs = s->m_coordinates == ProceduralSource::Coordinates::Uv
                                 ? kTextureReadsUv
                                 : kTextureReadsPosition;
-    return Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
-                   hi * (float(d.scale) * d.color_scale), inputs);
+    return with_channel(b, Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
+                                   hi * (float(d.scale) * d.color_scale), inputs));
+}
+
+namespace {
+
+// One channel (or the luminance) of a procedural or composite texture's colour, as grey.
+class ChannelSource final : public TextureSource {
+  public:
+    ChannelSource(Texture t, int channel) : m_texture(std::move(t)), m_channel(channel) {}
+    Rgb eval(const TexturePoint& p) const override { return Rgb(pick(m_texture.eval(p))); }
+    float pick(const Rgb& v) const {
+        return m_channel == Texture::kLuminance ? 0.2126f * v.r + 0.7152f * v.g + 0.0722f * v.b
+                                                : v[m_channel];
+    }
+
+    Texture m_texture;
+    int m_channel;
+};
+
+}  // namespace
+
+Texture with_channel(TextureBuild& b, Texture t) {
+    if (b.desc.channel.empty()) return t;
+    int c = b.choose("channel", b.desc.channel, {"r", "g", "b", "luminance"});
+    if (c == 3) c = Texture::kLuminance;
+    auto s = std::make_shared<ChannelSource>(t, c);
+    // The weights are >= 0: the luminance of the range's ends bounds the luminance.
+    const Rgb lo(s->pick(t.min_value())), hi(s->pick(t.max_value()));
+    return Texture(std::move(s), lo, hi, t.inputs());
 }
 
 namespace {

@@ -64,6 +64,10 @@ void check_texture_params(TextureBuild& b, const TextureKindDef& kind);
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
                         std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi);
 
+// The texture itself, or, when the description has a "channel" (r, g, b or luminance: Rec. 709
+// weights 0.2126, 0.7152, 0.0722, as for images), that channel of its value as grey.
+Texture with_channel(TextureBuild& b, Texture t);
+
 // The parameters every procedural kind's "output" choice shares.
 inline constexpr std::string_view kOutputDoc = "which output of the node is the value";
 
