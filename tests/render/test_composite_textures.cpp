@@ -269,6 +269,14 @@ TEST(CompositeTextures, ChannelOfAColour) {
                              {{"position", 0.8}, {"color", {0, 0, 1}}}}}}}},
                         false);
     EXPECT_NE(e.find("/t/color_ramp/output"), std::string::npos) << e;
+    // A procedural kind's colour output read as a number: needs a channel (its per-channel
+    // range [0, 1] looks grey, its values are not).
+    e = composite_error({{"noise", {{"output", "color"}}}}, false);
+    EXPECT_TRUE(e.find("/t/noise/output") != std::string::npos &&
+                e.find("channel") != std::string::npos)
+        << e;
+    // Gradient's and Wave's colours are grey: read as numbers.
+    EXPECT_EQ(composite_error({{"gradient", {{"output", "color"}}}}, false), "no error");
 }
 
 // Errors name the JSON path of the bad parameter.

@@ -1,6 +1,7 @@
 // What the procedural texture kinds share (procedural.h).
 #include "procedural.h"
 
+#include <algorithm>
 #include <cmath>
 #include <sstream>
 #include <stdexcept>
@@ -148,8 +149,15 @@ Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
     s->m_linear = glm::mat3(glm::dmat3(d.mapping));
     s->m_offset = Vec3(glm::dvec3(d.mapping[3]));
     s->m_scale = float(d.scale) * d.color_scale;
+    // A colour output (not a grey one) read by a number parameter needs a channel.
+    bool colour_output = false;
+    if (const TextureParamDef* out = find_texture_param(kind, "output"); out && !kind.grey_color) {
+        const auto c = std::find(out->choices.begin(), out->choices.end(), "color");
+        colour_output =
+            c != out->choices.end() && params.choice("output") == c - out->choices.begin();
+    }
     if (!b.color && d.channel.empty() &&
-        (lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
+        (colour_output || lo.r != lo.g || lo.r != lo.b || hi.r != hi.g || hi.r != hi.b))
         b.fail(params.pointer("output"),
                "a number parameter needs a grey output (a colour output feeds colours; or give "
                "\"channel\")");

@@ -59,6 +59,8 @@ struct TextureKindDef {
     Texture (*build)(TextureBuild&) = nullptr;
     // A composite kind: its inputs are textures or constants, it reads no point.
     bool composite = false;
+    // Its "color" output is grey (Gradient, Wave): a number parameter may read it.
+    bool grey_color = false;
 };
 
 // The table, in the scene format's documented order.
