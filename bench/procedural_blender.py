@@ -92,6 +92,26 @@ for gtype in ("LINEAR", "QUADRATIC", "EASING", "DIAGONAL", "SPHERICAL", "QUADRAT
     CASES.append(("gradient", "ShaderNodeTexGradient", {"gradient_type": gtype}, {}, "Fac",
                   {"type": gtype.lower()}))
 
+BRICKS = [({"offset": 0.5, "offset_frequency": 2, "squash": 1.0, "squash_frequency": 2},
+           {"Scale": 1.7, "Mortar Size": 0.02, "Mortar Smooth": 0.1, "Bias": 0.0,
+            "Brick Width": 0.5, "Row Height": 0.25}),
+          ({"offset": 0.3, "offset_frequency": 3, "squash": 1.6, "squash_frequency": 2},
+           {"Scale": 2.3, "Mortar Size": 0.05, "Mortar Smooth": 0.0, "Bias": -0.3,
+            "Brick Width": 0.8, "Row Height": 0.35}),
+          ({"offset": 0.75, "offset_frequency": 1, "squash": 0.7, "squash_frequency": 3},
+           {"Scale": 3.1, "Mortar Size": 0.09, "Mortar Smooth": 0.6, "Bias": 0.4,
+            "Brick Width": 0.3, "Row Height": 0.2})]
+BRICK_COLOURS = {"Color1": (0.9, 0.4, 0.2, 1.0), "Color2": (0.1, 0.5, 0.7, 1.0),
+                 "Mortar": (0.3, 0.3, 0.25, 1.0)}
+for props, inputs in BRICKS:
+    for out in ("Fac", "Color"):
+        params = dict(props)
+        params.update({k.lower().replace(" ", "_"): v for k, v in inputs.items()})
+        params.update({k.lower(): list(v[:3]) for k, v in BRICK_COLOURS.items()})
+        params["output"] = out.lower()
+        CASES.append(("brick", "ShaderNodeTexBrick", props, dict(inputs, **BRICK_COLOURS), out,
+                      params))
+
 bpy.ops.wm.read_factory_settings(use_empty=True)
 mesh = bpy.data.meshes.new("points")
 mesh.from_pydata(POINTS, [], [])

@@ -15,7 +15,9 @@ line per material and node, naming the input it feeds and what Facet used instea
 own value, grey lambert, ...). Colour inputs the conversions pass on unchanged (Diffuse, Glossy
 and Glass Color, Emission Color x Strength, Principled Base Color with Metallic and Specular
 Tint 0) also take textures (textures.py: Image and Checker Textures through UV Map and Mapping
-nodes) and, for any other subgraph, the image Blender bakes of it (bake.py). Inherent model
+nodes, the procedural textures, and Math, Mix RGB / Mix and ColorRamp nodes of textures as the
+core's composite kinds, evaluated per hit) and, for any other subgraph, the image Blender bakes
+of it (bake.py). Inherent model
 differences of the conversions below are documented here and in docs/blender.md, not reported
 per material (they would fire on every default material).
 
@@ -311,12 +313,13 @@ class NodeContext:
             self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
         if res.data is None:  # a constant: the Alpha of an opaque image (1), a texture x 0
             return res.const * scale
-        if res.color_attribute is not None:  # a Color Attribute node: no UVs
-            self.color_attributes.add(res.color_attribute)
-        elif res.uv_map is not None:  # (procedural textures of Generated / Object: no UVs)
-            self.uv_maps.add(res.uv_map)
-        if res.data.get("coordinates") == "generated":
-            self.generated = True  # the mesh exports its texture space (export.py)
+        # What the texture (and a composite's inputs) reads: UV layers (none for procedural
+        # textures of Generated / Object), colour attributes (Color Attribute nodes: no UVs),
+        # Generated coordinates (the mesh exports its texture space, export.py).
+        uvs, cas, gen = res.reads()
+        self.uv_maps |= uvs
+        self.color_attributes |= cas
+        self.generated = self.generated or gen
         tex = dict(res.data)
         if scale != 1.0:
             tex["scale"] = tex.get("scale", 1.0) * scale

@@ -111,9 +111,19 @@ def texture(t):
         "checker", "mapping")), None)
     if kind is not None:  # a procedural kind: {"noise": {params}, "coordinates", "mapping"}
         m = t.get("mapping")
+        params = {}
+        for k, v in t[kind].items():
+            if isinstance(v, dict):  # a composite kind's input fed by a texture
+                v = texture(v)
+            elif k == "stops":  # a colour ramp's stops
+                v = [(float(st["position"]), tuple(float(c) for c in st["color"])) for st in v]
+            elif isinstance(v, (list, tuple)):  # a colour
+                v = tuple(float(c) for c in v)
+            params[k] = v
         return facet.Texture.procedural(kind, coordinates=t.get("coordinates", ""),
                                         mapping=m["matrix"] if m else None,
-                                        value_scale=float(t.get("scale", 1.0)), **t[kind])
+                                        value_scale=float(t.get("scale", 1.0)),
+                                        channel=t.get("channel", ""), **params)
     uv = {"uv_scale": tuple(t.get("uv_scale", (1.0, 1.0))),
           "uv_offset": tuple(t.get("uv_offset", (0.0, 0.0))),
           "uv_rotation": float(t.get("uv_rotation", 0.0))}

@@ -92,6 +92,23 @@ class Result:
         # A vertex colour texture: the colour attribute the mesh exports ("" the default
         # one; None: not a vertex colour texture, and then uv_map is the UV layer read).
         self.color_attribute = color_attribute
+        # A composite's (math, mix_rgb, color_ramp): what its input textures read besides
+        # uv_map / color_attribute, and whether one reads Generated coordinates.
+        self.more_uv_maps = set()
+        self.more_color_attributes = set()
+        self.generated = False
+
+    def reads(self):
+        """(UV maps, colour attributes, reads Generated coordinates) of the texture."""
+        uvs, cas = set(self.more_uv_maps), set(self.more_color_attributes)
+        if self.data is not None:
+            if self.color_attribute is not None:
+                cas.add(self.color_attribute)
+            elif self.uv_map is not None:
+                uvs.add(self.uv_map)
+        gen = self.generated or (self.data is not None
+                                 and self.data.get("coordinates") == "generated")
+        return uvs, cas, gen
 
 
 def convert(walker, src, number):
@@ -116,8 +133,12 @@ def convert(walker, src, number):
         return _separate(walker, src)
     if node.bl_idname in COMBINE and not to_number:
         return _combine(walker, src)
-    if node.bl_idname == 'ShaderNodeMath' and 'RGBA' not in types:
-        return _math(walker, src)
+    if node.bl_idname == 'ShaderNodeMath':
+        return _math(walker, src, 'RGBA' in types)
+    if node.bl_idname == 'ShaderNodeValToRGB':
+        return _color_ramp(walker, src, to_number)
+    if node.bl_idname in ('ShaderNodeMixRGB', 'ShaderNodeMix'):
+        return _mix(walker, src, to_number)
     raise Unsupported(src, None)  # not a texture node: the caller reports the folding
 
 
@@ -210,21 +231,21 @@ def _combine(walker, src):
     return convert(walker, first[1], number=False)
 
 
-def _math(walker, src):
-    """Math Multiply of a number texture by a constant."""
+def _math(walker, src, as_color=False):
+    """Math Multiply of a number texture by a constant >= 0: its "scale"; any other Math node
+    of textures: the core's `math` kind (_math_node)."""
     node = src.node
-    if node.operation != 'MULTIPLY' or node.use_clamp:
-        raise Unsupported(src, None)
+    if node.operation != 'MULTIPLY' or node.use_clamp or as_color:
+        return _math_node(walker, src)
     a = walker.input(node, node.inputs[0], src.path)
     b = walker.input(node, node.inputs[1], src.path)
     va, _ = walker.fold(a)
     vb, _ = walker.fold(b)
     if (va is None) == (vb is None):
-        raise Unsupported(src, None)  # both constant (folded) or both textures
+        return _math_node(walker, src)  # both textures (both constant: the folding's)
     c, tex = (va, b) if va is not None else (vb, a)
     if not isinstance(c, float) or not math.isfinite(c) or c < 0.0:
-        raise Unsupported(src, "a texture times %s (only a constant >= 0 scales a texture)"
-                          % (c,))
+        return _math_node(walker, src)
     if c == 0.0:
         return Result(None, const=0.0)  # 0 x a finite texture
     res = convert(walker, tex, number=True)
@@ -729,17 +750,17 @@ def _affine(walker, src, state):
 
 # --- procedural textures ----------------------------------------------------------------------
 #
-# Noise, White Noise, Gradient, Voronoi, Wave, Magic and Musgrave (Ridged Multifractal: the one
-# type whose values are never negative) Texture nodes with constant inputs -> the core's
+# Noise, White Noise, Gradient, Voronoi, Wave, Magic, Brick and Musgrave (Ridged Multifractal:
+# the one type whose values are never negative) Texture nodes with constant inputs -> the core's
 # procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
 # per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
 # nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
 # through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
 # Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
 # Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi
-# Distance / Color / Radius, Wave and Magic Fac / Color, Musgrave Fac. A colour output into a
-# number input (Cycles' luminance of it) is not a procedural kind's output: Unsupported
-# (baked), except the Gradient's and the Wave's grey colours.
+# Distance / Color / Radius, Wave, Magic and Brick Fac / Color, Musgrave Fac. A colour output
+# into a number input is Cycles' luminance of the colour: the texture's "channel" luminance
+# (Facet's weights, reported as for images; the Gradient's and the Wave's colours are grey).
 
 # bl_idname -> (kind, {output identifier: core output}, {input name: core parameter},
 #               {node property: (core parameter, {Blender value: core value} or None)})
@@ -771,6 +792,13 @@ PROCEDURAL = {
     'ShaderNodeTexGradient': (
         "gradient", {'Fac': "fac", 'Color': "color"}, {},
         {'gradient_type': ("type", None)}),
+    'ShaderNodeTexBrick': (
+        "brick", {'Fac': "fac", 'Color': "color"},
+        {'Scale': "scale", 'Mortar Size': "mortar_size", 'Mortar Smooth': "mortar_smooth",
+         'Bias': "bias", 'Brick Width': "brick_width", 'Row Height': "row_height",
+         'Color1': "color1", 'Color2': "color2", 'Mortar': "mortar"},
+        {'offset': ("offset", None), 'offset_frequency': ("offset_frequency", None),
+         'squash': ("squash", None), 'squash_frequency': ("squash_frequency", None)}),
     'ShaderNodeTexVoronoi': (
         "voronoi", {'Distance': "distance", 'Color': "color", 'Radius': "radius"},
         {'Scale': "scale", 'Smoothness': "smoothness", 'Exponent': "exponent",
@@ -790,14 +818,12 @@ def _procedural(walker, src, to_number):
     if kind == "musgrave" and node.musgrave_type != 'RIDGED_MULTIFRACTAL':
         raise Unsupported(src, "a Musgrave Texture of type %s can be negative (only Ridged "
                           "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
-    if to_number and out == "color" and kind not in ("gradient", "wave"):
-        raise Unsupported(src, "a colour output into a number input (Cycles' luminance of the "
-                          "colour) is not converted")
+    luminance = to_number and out == "color" and kind not in ("gradient", "wave")
     params = {}
     for prop, (key, _) in props.items():
         v = getattr(node, prop)
         params[key] = (int(v[0]) if key == "dimensions" else int(v) if isinstance(v, int)
-                       else str(v).lower())
+                       else float(v) if isinstance(v, float) else str(v).lower())
     for name, key in inputs.items():
         sock = next((x for x in node.inputs if x.name == name and x.enabled), None)
         if sock is None:
@@ -807,7 +833,7 @@ def _procedural(walker, src, to_number):
             raise Unsupported(blockers[0] if blockers else src,
                               "feeds the %s's %s (only constants convert)"
                               % (node.bl_idname[10:], name))
-        params[key] = float(v)
+        params[key] = [float(c) for c in v[:3]] if isinstance(v, tuple) else float(v)
     if kind in ("gradient", "wave") and out == "color":
         out = "fac"  # the same grey value
     if out is not None:  # (Musgrave: Fac only)
@@ -833,4 +859,151 @@ def _procedural(walker, src, to_number):
             uv_map = state["uv"] or ""
         if rows != _IDENTITY:
             data["mapping"] = {"matrix": [[float(x) for x in r] for r in rows]}
-    return Result(data, uv_map)
+    res = Result(data, uv_map)
+    if luminance:  # a colour output into a number input: its luminance
+        _luminance(res, src)
+    return res
+
+
+def _luminance(res, src):
+    """A colour texture read by a number input: its "channel" luminance (Cycles' colour ->
+    number conversion, with Facet's weights: reported as for images)."""
+    res.data["channel"] = "luminance"
+    res.notes.append("%s: %s" % (src.label(), LUMINANCE_NOTE))
+    return res
+
+
+# --- nodes between textures: the core's composite kinds ---------------------------------------
+#
+# Math (every operation), Mix RGB and the Mix node (Color mode: every blend type; Float mode:
+# Mix of numbers) and ColorRamp nodes whose inputs are textures (or constants) -> the core's
+# `math`, `mix_rgb` and `color_ramp` kinds (FORMAT.md, "Composite kinds"), evaluated per hit
+# as Cycles 3.4 evaluates the nodes: no bake. Each input is its folded constant or, recursively,
+# its texture (anything convert() converts, including other composites); a constant colour
+# into a number input is Cycles' luminance of it (nodegraph.RGB_TO_Y, folded exactly). A
+# ColorRamp in RGB mode is its stops and interpolation; in HSV or HSL mode Cycles' own table
+# (Blender's ColorRamp.evaluate at i / 255, i = 0..255) as 256 stops, linear (constant when
+# the ramp is Constant): the core tabulates them at the same points, so the table is the same.
+# A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
+# number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
+# as for images, LUMINANCE_NOTE). Not converted (Unsupported, reported, baked when a bake is
+# possible): the Mix node's Vector mode.
+
+# Blender's Math operations the core's kind takes (all of 3.4's, lower case).
+_MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
+             'SQRT', 'INVERSE_SQRT', 'ABSOLUTE', 'EXPONENT', 'MINIMUM', 'MAXIMUM', 'LESS_THAN',
+             'GREATER_THAN', 'SIGN', 'COMPARE', 'SMOOTH_MIN', 'SMOOTH_MAX', 'ROUND', 'FLOOR',
+             'CEIL', 'TRUNC', 'FRACT', 'MODULO', 'WRAP', 'SNAP', 'PINGPONG', 'SINE', 'COSINE',
+             'TANGENT', 'SINH', 'COSH', 'TANH', 'ARCSINE', 'ARCCOSINE', 'ARCTANGENT', 'ARCTAN2',
+             'RADIANS', 'DEGREES'}
+
+
+class _Inputs:
+    """The inputs of one composite node: each a constant or a texture dict; the converted
+    textures' Results kept for what they read and their notes."""
+
+    def __init__(self, walker, src):
+        self.walker, self.src, self.parts = walker, src, []
+
+    def get(self, ident, number):
+        node, walker = self.src.node, self.walker
+        sock = next((x for x in node.inputs if x.identifier == ident), None)
+        if sock is None:
+            raise Unsupported(self.src, "no input %s" % ident)
+        up = walker.input(node, sock, self.src.path)
+        v, blockers = walker.fold(up)
+        if v is not None:
+            if isinstance(v, tuple):
+                c = [float(x) for x in v[:3]]
+                if number:  # Cycles' colour -> float: luminance
+                    return sum(w * x for w, x in zip(nodegraph.RGB_TO_Y, c))
+                return c
+            if isinstance(v, bool):
+                v = float(v)
+            if not isinstance(v, (int, float)):
+                raise Unsupported(self.src, "input %s is %r" % (sock.name, v))
+            return float(v)
+        if isinstance(up, nodegraph.Const):
+            raise Unsupported(blockers[0] if blockers else self.src, None)
+        res = convert(walker, up, number)
+        self.parts.append(res)
+        if res.data is None:
+            return res.const
+        return res.data
+
+    def result(self, data):
+        out = Result(data, None)
+        for r in self.parts:
+            out.notes += r.notes
+            uvs, cas, gen = r.reads()
+            out.more_uv_maps |= uvs
+            out.more_color_attributes |= cas
+            out.generated = out.generated or gen
+        return out
+
+
+def _math_node(walker, src):
+    node = src.node
+    if node.operation not in _MATH_OPS:
+        raise Unsupported(src, "Math %s is not converted" % node.operation.title())
+    ins = _Inputs(walker, src)
+    params = {"operation": node.operation.lower()}
+    if node.use_clamp:
+        params["use_clamp"] = True
+    for key, ident in (("a", "Value"), ("b", "Value_001"), ("c", "Value_002")):
+        params[key] = ins.get(ident, True)
+    return ins.result({"math": params})
+
+
+def _mix(walker, src, to_number):
+    """Mix RGB, and the Mix node in Color or Float mode -> mix_rgb."""
+    node = src.node
+    ins = _Inputs(walker, src)
+    if node.bl_idname == 'ShaderNodeMixRGB':
+        params = {"blend_type": node.blend_type.lower(), "fac": ins.get('Fac', True),
+                  "color1": ins.get('Color1', False), "color2": ins.get('Color2', False)}
+        if node.use_clamp:
+            params["use_clamp"] = True
+        res = ins.result({"mix_rgb": params})
+        return _luminance(res, src) if to_number else res
+    dt = node.data_type
+    if dt == 'RGBA':
+        params = {"blend_type": node.blend_type.lower(), "fac": ins.get('Factor_Float', True),
+                  "color1": ins.get('A_Color', False), "color2": ins.get('B_Color', False)}
+        if node.clamp_result:
+            params["use_clamp"] = True
+    elif dt == 'FLOAT':  # a (1 - t) + b t: the mix blend of numbers
+        params = {"blend_type": "mix", "fac": ins.get('Factor_Float', True),
+                  "color1": ins.get('A_Float', True), "color2": ins.get('B_Float', True)}
+    else:
+        raise Unsupported(src, "the Mix node's %s mode is not converted" % dt.title())
+    if not node.clamp_factor:
+        params["clamp_factor"] = False
+    res = ins.result({"mix_rgb": params})
+    return _luminance(res, src) if to_number and dt == 'RGBA' else res
+
+
+RAMP_TABLE_SIZE = 256  # Cycles' RAMP_TABLE_SIZE
+
+
+def _color_ramp(walker, src, to_number):
+    node = src.node
+    ramp = node.color_ramp
+    alpha = src.socket.identifier == 'Alpha'
+    if ramp.color_mode == 'RGB':
+        stops = [{"position": float(e.position), "color": [float(c) for c in e.color]}
+                 for e in ramp.elements]
+        interp = ramp.interpolation.lower()
+    else:  # Cycles' table of Blender's evaluation, as stops at the table's points
+        n = RAMP_TABLE_SIZE - 1
+        stops = [{"position": i / n, "color": [float(c) for c in ramp.evaluate(i / n)]}
+                 for i in range(RAMP_TABLE_SIZE)]
+        interp = "constant" if ramp.interpolation == 'CONSTANT' else "linear"
+    luminance = to_number and not alpha and any(
+        st["color"][0] != st["color"][1] or st["color"][0] != st["color"][2] for st in stops)
+    ins = _Inputs(walker, src)
+    params = {"fac": ins.get('Fac', True), "interpolation": interp, "stops": stops}
+    if alpha:
+        params["output"] = "alpha"
+    res = ins.result({"color_ramp": params})
+    return _luminance(res, src) if luminance else res

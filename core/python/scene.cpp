@@ -770,8 +770,9 @@ void bind_scene(py::module_& m) {
         .def_static(
             "procedural",
             [](const std::string& kind, const std::string& coordinates, const py::object& mapping,
-               double scale, const py::kwargs& params) {
+               double scale, const std::string& channel, const py::kwargs& params) {
                 TextureDesc d;
+                d.channel = channel;
                 const TextureKindDef* k = find_texture_kind(kind);
                 if (!k || !k->procedural) {
                     std::string names;
@@ -794,10 +795,40 @@ void bind_scene(py::module_& m) {
                 }
                 for (const auto& [key, value] : params) {
                     const std::string name = py::str(key);
-                    if (py::isinstance<py::str>(value))
+                    if (py::isinstance<py::str>(value)) {
                         d.params.set(name, value.cast<std::string>());
-                    else
+                    } else if (py::isinstance<py::bool_>(value)) {
+                        d.params.set(name, value.cast<bool>());
+                    } else if (py::isinstance<TextureDesc>(value)) {
+                        // A composite kind's input fed by a texture.
+                        d.inputs.push_back({name, value.cast<TextureDesc>()});
+                    } else if (name == "stops") {
+                        // A colour ramp's stops: [(position, (r, g, b[, a])), ...].
+                        for (const auto& st : value.cast<py::list>()) {
+                            const auto pair = st.cast<py::tuple>();
+                            if (pair.size() != 2)
+                                bad_argument("Texture.procedural",
+                                             "stops: expected (position, (r, g, b[, a])) pairs");
+                            TextureStop stop;
+                            stop.position = pair[0].cast<double>();
+                            const auto c = pair[1].cast<std::vector<double>>();
+                            if (c.size() != 3 && c.size() != 4)
+                                bad_argument("Texture.procedural",
+                                             "stops: a colour has 3 or 4 components");
+                            for (std::size_t k = 0; k < c.size(); ++k) stop.color[int(k)] = c[k];
+                            d.stops.push_back(stop);
+                        }
+                    } else if (py::isinstance<py::sequence>(value)) {
+                        const auto c = value.cast<std::vector<double>>();
+                        if (c.size() != 3)
+                            bad_argument("Texture.procedural",
+                                         name +
+                                             ": expected a number, a name, a colour (r, g, b) "
+                                             "or a Texture");
+                        d.params.set(name, Rgb(float(c[0]), float(c[1]), float(c[2])));
+                    } else {
                         d.params.set(name, value.cast<double>());
+                    }
                 }
                 return d;
             },
@@ -805,11 +836,14 @@ void bind_scene(py::module_& m) {
             "Texture.procedural('noise', coordinates='object', mapping=[[1, 0, 0, 0], [0, 1, 0, "
             "0], [0, 0, 1, 0]], value_scale=1, scale=5, detail=2, ...): the kind's parameters as "
             "keywords "
-            "(numbers or names; checked by build_scene against the kind's table), the point "
+            "(numbers, names, booleans, colours (r, g, b), Textures for a composite kind's inputs "
+            "(math, mix_rgb, color_ramp), a colour ramp's stops=[(position, (r, g, b[, a])), "
+            "...]; checked by build_scene against the kind's table), the point "
             "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
-            "and a value multiplier (the JSON's \"scale\" beside the kind's object).",
+            "a value multiplier (the JSON's \"scale\" beside the kind's object), and an optional "
+            "channel ('r', 'g', 'b' or 'luminance': that channel of the colour, as grey).",
             py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),
-            py::arg("value_scale") = 1.0)
+            py::arg("value_scale") = 1.0, py::arg("channel") = "")
         .def_static(
             "mapping_point",
             [](Vec3 location, Vec3 rotation, Vec3 scale) {

@@ -1,6 +1,6 @@
 """The bake fallback (facet_blender/bake.py) in headless Blender:
 
-1. A Brick Texture (on its default Generated coordinates; a pattern without a core kind) into
+1. A Brick Texture (on |Generated coordinates|, a vector the conversion does not express) into
    an Emission's Color, a Brick Texture into a Principled BSDF's Base Color and Roughness, and
    a Brick Fac into an Emission
    and a Glossy Roughness (alpha = Fac^2 exactly): before baking, the export reports each as not
@@ -38,10 +38,16 @@ SPP = 16
 
 def noise_material(name, target):
     mat, nt, out = bt.new_material(name)
-    # A Brick Texture: no core kind (Noise, Voronoi, Gradient, White Noise, Wave, Magic and
-    # ridged Musgrave convert natively, test_procedural.py), so the bake serves it. Low
+    # A Brick Texture on |Generated| (Vector Math Absolute: the same point, since Generated
+    # coordinates lie in [0, 1]^3, but not an affine chain the conversion expresses), so the
+    # bake serves it (the procedural kinds convert natively, test_procedural.py). Low
     # contrast (bricks 0.5 / 0.55, mortar 0.45): the bake's bilinear texels blur its edges.
     noise = nt.nodes.new("ShaderNodeTexBrick")
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    vm = nt.nodes.new("ShaderNodeVectorMath")
+    vm.operation = 'ABSOLUTE'
+    nt.links.new(tc.outputs["Generated"], vm.inputs[0])
+    nt.links.new(vm.outputs["Vector"], noise.inputs["Vector"])
     noise.inputs["Scale"].default_value = 2.0
     noise.inputs["Color1"].default_value = (0.5, 0.5, 0.5, 1.0)
     noise.inputs["Color2"].default_value = (0.55, 0.55, 0.55, 1.0)

@@ -83,7 +83,7 @@ def main():
     m, n = node_material("PX", "ShaderNodeBsdfPrincipled", Clearcoat=0.5, Sheen=0.3,
                          Transmission=0.2, Subsurface=0.1)
     n.distribution = 'MULTI_GGX'
-    tex = m.node_tree.nodes.new("ShaderNodeTexBrick")  # no core kind: reported
+    tex = m.node_tree.nodes.new("ShaderNodeTexSky")  # no core kind: reported
     m.node_tree.links.new(tex.outputs["Color"], n.inputs["Base Color"])
     c = conv(m)
     bt.check(close(c.data["clearcoat"], 0.5) and close(c.data["sheen"], 0.3)
@@ -95,7 +95,7 @@ def main():
              and not any("MULTI_GGX" in p or "Multiscatter" in p for p in c.problems)
              and not any("Clearcoat" in p or "Sheen" in p or "Transmission" in p
                          for p in c.problems)
-             and any("PX" in p and "Base Color" in p and "Brick Texture" in p
+             and any("PX" in p and "Base Color" in p and "Sky Texture" in p
                      for p in c.problems),
              "Principled: subsurface fallback and linked inputs named, multiscatter converted "
              "silently (Specular Tint 0): %s"

@@ -2,8 +2,7 @@
 noise, voronoi, gradient and white_noise kinds, FORMAT.md "Procedural textures"): no bake.
 
 1. Exported data: each node converts to its kind with its parameters, coordinates and mapping,
-   without a report and without a bake; a Brick Texture (not a core kind) is reported by
-   name for the bake.
+   without a report and without a bake (a Brick Texture too).
 2. Renders against Cycles: a strip of emission quads (one object, one material per face, the
    object moved and rotated so that Object coordinates differ from world space), one texture
    and coordinate mode per quad, orthographic camera, box filter 1 px, 16 spp in both. A
@@ -178,8 +177,7 @@ def exported():
     c = materials.convert(bpy.data.materials["proc_noise3d_generated"])
     bt.check(c.emission["coordinates"] == "generated" and "mapping" not in c.emission
              and c.generated, "unlinked Vector: Generated coordinates: %s" % c.emission)
-    # A Brick Texture has no core kind yet: the bake path (Bake Procedural Inputs) still
-    # serves it, and the report names the node.
+    # A Brick Texture converts to the core's brick kind (its renders: test_composite.py).
     mat, nt, out = new_material("brick")
     e = nt.nodes.new("ShaderNodeEmission")
     m = nt.nodes.new("ShaderNodeTexBrick")
@@ -187,8 +185,8 @@ def exported():
     nt.links.new(e.outputs[0], out.inputs["Surface"])
     me.materials.append(mat)
     c = materials.convert(mat, bpy.data.objects["strip"])
-    bt.check(any("Brick Texture" in p and "Bake" in p for p in c.problems),
-             "Brick is reported by name, for the bake: %s" % c.problems)
+    bt.check(isinstance(c.emission, dict) and "brick" in c.emission and c.problems == [],
+             "Brick converts natively: %s %s" % (c.emission, c.problems))
 
 
 def rendered(outdir):

@@ -369,6 +369,30 @@ def test_numpy_textures_render_their_texels():
     np.testing.assert_allclose(image, _srgb_decode(codes), rtol=2e-7, atol=0)
 
 
+def test_composite_textures_from_python():
+    """Composite kinds (math, mix_rgb, color_ramp) from Python: textures as inputs, colours as
+    tuples, stops as (position, colour) pairs; they round-trip through JSON, render (a mix of
+    constants is its value: 0.2 + 0.25 (0.8 - 0.2), ..., exact to float rounding as the texel
+    test above), and a bad operation names its JSON pointer."""
+    mix = facet.Texture.procedural('mix_rgb', blend_type='mix', fac=0.25,
+                                   color1=(0.2, 0.4, 0.6), color2=(0.8, 0.8, 0.8))
+    image = facet.render(facet.build_scene(_texel_quad_scene(mix)), spp=1)
+    np.testing.assert_allclose(image, np.broadcast_to([0.35, 0.5, 0.65], image.shape),
+                               rtol=2e-7, atol=0)
+    noise = facet.Texture.procedural('noise', coordinates='object', scale=4.0)
+    ramp = facet.Texture.procedural(
+        'color_ramp', fac=facet.Texture.procedural('math', operation='power', a=noise, b=2.0,
+                                                   use_clamp=True),
+        interpolation='ease', stops=[(0.2, (1.0, 0.0, 0.0)), (0.8, (0.0, 0.0, 1.0, 0.5))])
+    d = _texel_quad_scene(ramp)
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    image = facet.render(facet.build_scene(d), spp=1)
+    assert np.all(np.isfinite(image)) and image.max() > 0
+    bad = facet.Texture.procedural('math', operation='multiplyy', a=noise)
+    with pytest.raises(ValueError, match=r"/shapes/0/material/reflectance/math/operation"):
+        facet.build_scene(_texel_quad_scene(bad), name="py")
+
+
 def test_numpy_texture_bad_input_is_a_clear_error():
     good = np.zeros((2, 2, 3), dtype=np.float32)
     bad = [(np.zeros((2, 2, 3), dtype=np.float64), r"dtype float64, expected float32 or uint8"),

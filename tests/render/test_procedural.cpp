@@ -1,6 +1,5 @@
 // Procedural texture kinds (texture_kinds.h: noise, white noise, voronoi, gradient, musgrave,
-// wave, magic)
-// against Blender 3.4's own evaluation of the same
+// wave, magic, brick) against Blender 3.4's own evaluation of the same
 // nodes at the same points (procedural_blender.json, made by bench/procedural_blender.py:
 // Geometry Nodes evaluate each texture node at 44 points, through Blender's CPU port of Cycles'
 // kernels, code independent of Facet's). Tolerance 2e-5 absolute (values are O(1)): float

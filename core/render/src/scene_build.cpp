@@ -594,7 +594,8 @@ class Builder final : public BuildChecks {
             fail(ptr, msg);
         }
         if (!kind->procedural &&
-            (!d.params.values().empty() || !d.coordinates.empty() || d.mapping != glm::dmat4(1.0)))
+            (!d.params.values().empty() || !d.coordinates.empty() ||
+             d.mapping != glm::dmat4(1.0) || !d.inputs.empty() || !d.stops.empty()))
             fail(ptr,
                  "a " + d.kind + " texture has no procedural parameters, coordinates or mapping");
         TextureContext ctx(*this, d, ptr, color, radiance);
@@ -621,6 +622,9 @@ class Builder final : public BuildChecks {
             } catch (const TexelImageError& e) {
                 throw SceneError(m_b.m_name + ": " + e.what());
             }
+        }
+        Texture build_input(const TextureDesc& d, const std::string& p, bool c) override {
+            return *m_b.build_texture(d, p, c, false);
         }
 
       private:

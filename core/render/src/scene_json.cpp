@@ -512,7 +512,8 @@ class Reader {
         } else if (const TextureKindDef* kind = procedural_kind_of(t)) {
             // A procedural kind (texture_kinds.h): {"<kind>": {params}, "coordinates": ...,
             // "mapping": ...}. Parameter names and ranges are build_scene's (the kind's table).
-            std::vector<const char*> keys = {kind->name.data(), "coordinates", "mapping", "scale"};
+            std::vector<const char*> keys = {kind->name.data(), "coordinates", "mapping", "scale",
+                                             "channel"};
             keys.insert(keys.end(), extra_keys.begin(), extra_keys.end());
             check_keys_v(t, ptr, keys);
             d.kind = std::string(kind->name);
@@ -521,16 +522,46 @@ class Reader {
             expect_object(params, kp);
             for (const auto& [key, v] : params.items()) {
                 const std::string p = kp + "/" + escape_pointer_token(key);
-                if (v.is_number())
+                const TextureParamDef* def = find_texture_param(*kind, key);
+                if (def && def->form == TextureParamForm::Stops && v.is_array()) {
+                    // A colour ramp's stops: [{"position": p, "color": [r, g, b(, a)]}, ...].
+                    for (std::size_t i = 0; i < v.size(); ++i) {
+                        const json& st = v[i];
+                        const std::string sp = p + "/" + std::to_string(i);
+                        expect_object(st, sp);
+                        check_keys(st, sp, {"position", "color"});
+                        TextureStop stop;
+                        stop.position = get_number(require(st, sp, "position"), sp + "/position");
+                        const json& c = require(st, sp, "color");
+                        if (!c.is_array() || (c.size() != 3 && c.size() != 4))
+                            fail(sp + "/color",
+                                 "expected [r, g, b] or [r, g, b, a], got " + type_name(c));
+                        for (std::size_t k = 0; k < c.size(); ++k)
+                            stop.color[int(k)] =
+                                get_number(c[k], sp + "/color/" + std::to_string(k));
+                        d.stops.push_back(stop);
+                    }
+                } else if (v.is_number()) {
                     d.params.set(key, get_number(v, p));
-                else if (v.is_string())
+                } else if (v.is_string()) {
                     d.params.set(key, v.get<std::string>());
-                else
-                    fail(p, "expected a number or a name, got " + type_name(v));
+                } else if (v.is_boolean()) {
+                    d.params.set(key, v.get<bool>());
+                } else if (v.is_array() && v.size() == 3) {
+                    d.params.set(key, Rgb(get_vec3(v, p)));
+                } else if (v.is_object()) {
+                    // An input fed by a texture (a composite kind's; build_scene checks that
+                    // the parameter takes one).
+                    d.inputs.push_back({key, read_texture(v, p)});
+                } else {
+                    fail(p, "expected a number, a name, a colour [r, g, b] or a texture, got " +
+                                type_name(v));
+                }
             }
             if (t.contains("coordinates"))
                 d.coordinates = get_string(t["coordinates"], ptr + "/coordinates");
             if (t.contains("mapping")) d.mapping = read_mapping(t["mapping"], ptr + "/mapping");
+            if (t.contains("channel")) d.channel = get_string(t["channel"], ptr + "/channel");
         } else {
             std::vector<const char*> keys = {"texture",     "colorspace", "filter",
                                              "wrap",        "uv_scale",   "uv_offset",
@@ -1063,8 +1094,23 @@ json texture_json(const TextureDesc& d, bool hashed) {
                 params[key] = *x;
             else if (const std::string* t = std::get_if<std::string>(&v))
                 params[key] = *t;
+            else if (const bool* b = std::get_if<bool>(&v))
+                params[key] = *b;
+            else if (const Rgb* c = std::get_if<Rgb>(&v))
+                params[key] = vec_json(*c);
+        }
+        for (const TextureInputDesc& in : d.inputs)
+            params[in.name] = texture_json(in.texture, hashed);
+        if (!d.stops.empty()) {
+            json stops = json::array();
+            for (const TextureStop& st : d.stops)
+                stops.push_back(
+                    {{"position", st.position},
+                     {"color", json::array({st.color.r, st.color.g, st.color.b, st.color.a})}});
+            params["stops"] = stops;
         }
         j[d.kind] = params;
+        if (!d.channel.empty()) j["channel"] = d.channel;
         if (!d.coordinates.empty()) j["coordinates"] = d.coordinates;
         if (d.mapping != glm::dmat4(1.0)) {
             json rows = json::array();

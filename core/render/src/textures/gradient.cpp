@@ -80,6 +80,8 @@ const TextureKindDef kGradientTexture{
     },
     true,
     build_gradient,
+    false,
+    true,
 };
 
 }  // namespace facet::render

@@ -43,6 +43,10 @@ class ProceduralParams {
     double number(std::string_view name) const;
     // A String parameter's index in its choices.
     int choice(std::string_view name) const;
+    // A Bool parameter's value (default: default_number != 0).
+    bool flag(std::string_view name) const;
+    // A Color parameter's constant (a number is grey; default: default_color).
+    Rgb color(std::string_view name) const;
     std::string pointer(std::string_view name) const;
 
   private:
@@ -50,11 +54,19 @@ class ProceduralParams {
     const TextureKindDef& m_kind;
 };
 
+// Checks the description's parameters, inputs and stops against the kind's table (unknown
+// names, types, ranges, choices, stop order); errors name ptr/<kind>/<key>.
+void check_texture_params(TextureBuild& b, const TextureKindDef& kind);
+
 // Checks every parameter of the description against the kind's table (unknown names, types,
 // ranges, choices), fills the shared parts of `source` (coordinates, mapping, scale) and makes
 // the texture, its values in [lo, hi] per channel before the scale.
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
                         std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi);
+
+// The texture itself, or, when the description has a "channel" (r, g, b or luminance: Rec. 709
+// weights 0.2126, 0.7152, 0.0722, as for images), that channel of its value as grey.
+Texture with_channel(TextureBuild& b, Texture t);
 
 // The parameters every procedural kind's "output" choice shares.
 inline constexpr std::string_view kOutputDoc = "which output of the node is the value";

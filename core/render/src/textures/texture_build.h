@@ -25,6 +25,10 @@ extern const TextureKindDef kVoronoiTexture;      // textures/voronoi.cpp
 extern const TextureKindDef kMusgraveTexture;     // textures/musgrave.cpp
 extern const TextureKindDef kWaveTexture;         // textures/wave.cpp
 extern const TextureKindDef kMagicTexture;        // textures/magic.cpp
+extern const TextureKindDef kBrickTexture;        // textures/brick.cpp
+extern const TextureKindDef kMathTexture;         // textures/math.cpp
+extern const TextureKindDef kMixRgbTexture;       // textures/mix_rgb.cpp
+extern const TextureKindDef kColorRampTexture;    // textures/color_ramp.cpp
 
 class TextureBuild : public BuildChecks {
   public:
@@ -43,6 +47,9 @@ class TextureBuild : public BuildChecks {
     // Its MIP levels 1, 2, ... (shared per image).
     virtual std::shared_ptr<const std::vector<TexelImage>> mip_levels(
         const std::shared_ptr<const TexelImage>& img) = 0;
+    // A composite kind's input texture `d` at pointer `p`, built and validated as any texture
+    // (`color`: it feeds a colour input, else a number one).
+    virtual Texture build_input(const TextureDesc& d, const std::string& p, bool color) = 0;
 
     // The index of `value` in `allowed`, else an error at ptr/key listing them.
     int choose(const std::string& key, const std::string& value,

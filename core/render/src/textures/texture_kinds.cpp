@@ -10,7 +10,8 @@ std::span<const TextureKindDef* const> texture_kinds() {
     static const TextureKindDef* const kinds[] = {
         &kImageTexture,    &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
         &kVoronoiTexture,  &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
-        &kGradientTexture, &kWhiteNoiseTexture,
+        &kGradientTexture, &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
+        &kMixRgbTexture,   &kColorRampTexture,
     };
     return kinds;
 }
@@ -35,7 +36,16 @@ std::string texture_kinds_markdown() {
         s << "| key | default | values | meaning |\n|---|---|---|---|\n";
         for (const TextureParamDef& p : k->params) {
             s << "| `" << p.name << "` | ";
-            if (p.type == ParamType::String) {
+            const char* texture = p.form == TextureParamForm::Input ? ", or a texture" : "";
+            if (p.form == TextureParamForm::Stops) {
+                s << "(none) | a list of stops";
+            } else if (p.type == ParamType::Bool) {
+                s << (p.default_number != 0.0 ? "`true`" : "`false`") << " | `true`, `false`";
+            } else if (p.type == ParamType::Color) {
+                const Rgb& c = p.default_color;
+                s << "[" << c.r << ", " << c.g << ", " << c.b << "] | a colour or a number"
+                  << texture;
+            } else if (p.type == ParamType::String) {
                 s << "`\"" << p.default_text << "\"` | ";
                 for (std::size_t i = 0; i < p.choices.size(); ++i)
                     s << (i ? ", " : "") << "`" << p.choices[i] << "`";
@@ -48,6 +58,7 @@ std::string texture_kinds_markdown() {
                 else
                     s << p.lo << " to " << p.hi;
                 if (p.integer) s << ", integer";
+                s << texture;
             }
             s << " | " << p.doc << " |\n";
         }

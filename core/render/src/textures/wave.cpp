@@ -107,6 +107,8 @@ const TextureKindDef kWaveTexture{
     },
     true,
     build_wave,
+    false,
+    true,
 };
 
 }  // namespace facet::render

@@ -50,6 +50,9 @@
 //  - Procedural kinds (textures/procedural.h) read a 3D point: the hit's `coordinates`
 //    ("generated", "object" or "uv" as (u, v, 0)), mapped by the affine `mapping` (Blender's
 //    Mapping node and any affine chain before the texture), then the kind's own pattern.
+//  - Composite kinds (textures/composite.h: math, mix_rgb, color_ramp) read no point: their
+//    inputs are constants or other textures (TextureDesc::inputs), evaluated at the same hit;
+//    the composite's value is its node's function of theirs.
 #pragma once
 
 #include <array>
@@ -67,6 +70,15 @@
 #include "facet/types.h"
 
 namespace facet::render {
+
+struct TextureInputDesc;
+
+// One stop of a colour ramp (the color_ramp kind): its position in [0, 1] and its linear RGBA.
+struct TextureStop {
+    double position = 0.0;
+    glm::dvec4 color{0.0, 0.0, 0.0, 1.0};
+    bool operator==(const TextureStop&) const = default;
+};
 
 // A texture as the scene format writes it (plain data, validated by build_scene).
 struct TextureDesc {
@@ -100,6 +112,10 @@ struct TextureDesc {
     // default; JSON "mapping").
     std::string coordinates;
     glm::dmat4 mapping{1.0};
+    // Composite kinds: the inputs given as textures, by parameter name (a constant input is a
+    // number or colour in `params`); and a colour ramp's stops, in order.
+    std::vector<TextureInputDesc> inputs;
+    std::vector<TextureStop> stops;
     // Image and checker
     Vec2 uv_scale{1.f}, uv_offset{0.f};
     double uv_rotation = 0.0;  // degrees, counter-clockwise
@@ -107,6 +123,13 @@ struct TextureDesc {
     double scale = 1.0;    // multiplier on the value
     Rgb color_scale{1.f};  // per-channel multiplier (JSON "scale": [r, g, b]), times `scale`
     bool operator==(const TextureDesc&) const = default;
+};
+
+// A composite kind's input fed by a texture (TextureDesc::inputs).
+struct TextureInputDesc {
+    std::string name;  // the kind's parameter
+    TextureDesc texture;
+    bool operator==(const TextureInputDesc&) const = default;
 };
 
 enum class TextureFilter : std::uint8_t { Closest, Linear, Mipmap };

@@ -8,9 +8,13 @@
 // "Textures"), read by scene_json.cpp; a procedural kind's parameters are the keys of the
 // object under its name, {"noise": {"scale": 5, "detail": 2}, "coordinates": "object", ...},
 // each a number or a name from `choices`, absent ones taking `default_number` /
-// `default_text`.
+// `default_text`. A composite kind (composite = true: math, mix_rgb, color_ramp) reads no
+// point: its Input parameters are a constant (a number, or a colour [r, g, b] for a Color one)
+// or a texture object, {"math": {"operation": "add", "a": {"noise": {...}}, "b": 0.5}}, and
+// it has no "coordinates" or "mapping".
 #pragma once
 
+#include <cstdint>
 #include <span>
 #include <string>
 #include <string_view>
@@ -23,16 +27,26 @@ namespace facet::render {
 
 class TextureBuild;  // what a kind's builder gets (core/render/src/textures/texture_build.h)
 
+// How a parameter is given (TextureParamDef::form).
+enum class TextureParamForm : std::uint8_t {
+    Value,  // a constant of its type
+    Input,  // a Number or Color constant, or a texture of that type (composite kinds)
+    Stops,  // a colour ramp's stops: [{"position": p, "color": [r, g, b(, a)]}, ...]
+};
+
 // One parameter of a procedural kind.
 struct TextureParamDef {
     std::string_view name;
-    ParamType type = ParamType::Number;  // Number or String
+    ParamType type = ParamType::Number;  // Number, String, Bool, or Color (an Input)
     double default_number = 0.0;
     std::string_view default_text = {};
     double lo = 0.0, hi = 0.0;              // a Number's range, inclusive
     bool integer = false;                   // a Number that must be an integer
     std::vector<std::string> choices = {};  // a String's values
     std::string_view doc = {};
+    TextureParamForm form = TextureParamForm::Value;
+    // A Color Input's default (a Number Input's is default_number).
+    Rgb default_color{0.f};
 };
 
 struct TextureKindDef {
@@ -43,6 +57,10 @@ struct TextureKindDef {
     bool procedural = false;
     // Validates the description (errors name the JSON pointer) and builds the texture.
     Texture (*build)(TextureBuild&) = nullptr;
+    // A composite kind: its inputs are textures or constants, it reads no point.
+    bool composite = false;
+    // Its "color" output is grey (Gradient, Wave): a number parameter may read it.
+    bool grey_color = false;
 };
 
 // The table, in the scene format's documented order.
