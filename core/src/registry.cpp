@@ -27,6 +27,7 @@ const ModelInfo& translucent_model();
 const ModelInfo& velvet_model();
 const ModelInfo& null_model();
 const ModelInfo& holdout_model();
+const ModelInfo& subsurface_model();
 
 namespace {
 
@@ -52,7 +53,8 @@ const std::vector<ModelInfo>& model_table() {
         lambert_model(),     mirror_model(),    ggx_model(),        beckmann_model(),
         blinn_model(),       composite_model(), dielectric_model(), principled_model(),
         oren_nayar_model(),  mix_model(),       add_model(),        thin_dielectric_model(),
-        translucent_model(), velvet_model(),    null_model(),       holdout_model()};
+        translucent_model(), velvet_model(),    null_model(),       holdout_model(),
+        subsurface_model()};
     return table;
 }
 
