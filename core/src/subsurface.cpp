@@ -86,6 +86,13 @@ SubsurfaceWalk SubsurfaceWalk::make(const Rgb& albedo, const Rgb& radius, float 
         w.alpha[c] = alpha;
         w.entry_weight[c] = weight;
     }
+    return from_coefficients(w.sigma_t, w.alpha, w.entry_weight, g);
+}
+
+SubsurfaceWalk SubsurfaceWalk::from_coefficients(const Rgb& sigma_t, const Rgb& alpha,
+                                                 const Rgb& entry_weight, float g) {
+    SubsurfaceWalk w;
+    w.sigma_t = sigma_t, w.alpha = alpha, w.entry_weight = entry_weight, w.g = g;
     // Dwivedi's diffusion length (d'Eon & Křivánek 2020, eq. 67) for the largest alpha.
     const float a = std::fmax(w.alpha.r, std::fmax(w.alpha.g, w.alpha.b));
     w.diffusion_length =

@@ -81,6 +81,9 @@ struct SubsurfaceWalk {
     float diffusion_length = 1.f, phase_log = 0.f;
     // coefficients from the surface albedo A, effective radius and anisotropy (conventions).
     static SubsurfaceWalk make(const Rgb& albedo, const Rgb& radius, float g);
+    // The walk of a medium given by its coefficients (alpha in (0, 1)); make() ends here.
+    static SubsurfaceWalk from_coefficients(const Rgb& sigma_t, const Rgb& alpha,
+                                            const Rgb& entry_weight, float g);
 };
 
 // The subsurface lobe of a material (Material::subsurface()): the closure's weight, and what the
