@@ -51,7 +51,6 @@ NODES = {
                                     "undisplaced",
     'ShaderNodeMixShader': "a shader converts only into a shader input",
     'ShaderNodeAddShader': "a shader converts only into a shader input",
-    'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
     'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
     'ShaderNodeBsdfHair': "hair BSDFs are not in Facet's core",
     'ShaderNodeBsdfHairPrincipled': "hair BSDFs are not in Facet's core",
@@ -76,10 +75,6 @@ NODES = {
 }
 
 INPUTS = {
-    ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
-                                                      "Facet's core; Cycles' diffuse fallback "
-                                                      "(base colour mixed with Subsurface "
-                                                      "Color) is used"),
     ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
                                                      "ignored"),
     ('ShaderNodeVolumePrincipled', 'Blackbody Intensity'): (

@@ -61,7 +61,8 @@ double diffuse_reflectance_h(double w) {
         double change = 0.0;
         for (std::size_t i = 0; i < n; ++i) {
             double s = 0.0;
-            for (std::size_t j = 0; j < n; ++j) s += q.weights[j] * h[j] / (q.nodes[i] + q.nodes[j]);
+            for (std::size_t j = 0; j < n; ++j)
+                s += q.weights[j] * h[j] / (q.nodes[i] + q.nodes[j]);
             next[i] = 1.0 / (1.0 - 0.5 * w * q.nodes[i] * s);
             change = std::max(change, std::fabs(next[i] - h[i]));
         }
@@ -101,8 +102,8 @@ MeanSe walk_reflectance(const SubsurfaceWalk& w, int n, std::uint64_t seed) {
     double s[3] = {}, s2[3] = {};
     for (int i = 0; i < n; ++i) {
         Rgb beta(1.f);
-        const auto ex = subsurface_random_walk(w, Vec3(0.f), Vec3(0, 0, 1), Vec3(0, 0, 1), beta,
-                                               u, HalfSpace{});
+        const auto ex = subsurface_random_walk(w, Vec3(0.f), Vec3(0, 0, 1), Vec3(0, 0, 1), beta, u,
+                                               HalfSpace{});
         if (!ex) beta = Rgb(0.f);
         for (int c = 0; c < 3; ++c) s[c] += beta[c], s2[c] += double(beta[c]) * beta[c];
     }
@@ -123,8 +124,8 @@ MeanSe walk_reflectance(const SubsurfaceWalk& w, int n, std::uint64_t seed) {
 TEST(SubsurfaceInversion, MatchesCyclesFormulaInDouble) {
     for (double g : {0.0, 0.1, 0.3, 0.5, 0.7, 0.9})
         for (double a = 0.0; a <= 1.0; a += 1.0 / 64.0)
-            EXPECT_NEAR(subsurface_single_scattering_albedo(float(a), float(g)),
-                        remap_double(a, g), 1e-4)
+            EXPECT_NEAR(subsurface_single_scattering_albedo(float(a), float(g)), remap_double(a, g),
+                        1e-4)
                 << "albedo " << a << " g " << g;
 }
 
@@ -143,8 +144,8 @@ TEST(SubsurfaceInversion, DipoleAndRadiusSetup) {
             (rd < a ? lo : hi) = mid;
         }
         EXPECT_NEAR(ap, lo, std::ldexp(1.0, -12)) << a;
-        const Rgb r = subsurface_effective_radius(Rgb(2.f), Rgb(a), 1.4f,
-                                                  SubsurfaceMethod::RandomWalk);
+        const Rgb r =
+            subsurface_effective_radius(Rgb(2.f), Rgb(a), 1.4f, SubsurfaceMethod::RandomWalk);
         EXPECT_NEAR(r.r, 2.0 * std::sqrt(3.0 * (1.0 - ap)), 1e-5) << a;
     }
     const Rgb f = subsurface_effective_radius(Rgb(1.f, 2.f, 4.f), Rgb(0.5f), 1.4f,
@@ -244,9 +245,9 @@ TEST(SubsurfaceModels, BuildTheWalkAndTheFallback) {
     EXPECT_GT(p.subsurface()->probability, 0.f);
     EXPECT_LT(p.subsurface()->probability, 1.f);
     // Metallic 1: no diffuse weight, no walk.
-    EXPECT_EQ(make_material("principled", ParamSet{{"subsurface", 1.0}, {"metallic", 1.0}})
-                  .subsurface(),
-              nullptr);
+    EXPECT_EQ(
+        make_material("principled", ParamSet{{"subsurface", 1.0}, {"metallic", 1.0}}).subsurface(),
+        nullptr);
 }
 
 TEST(SubsurfaceModels, BadInputNamesTheParameter) {
@@ -268,8 +269,8 @@ TEST(SubsurfaceModels, BadInputNamesTheParameter) {
         {"principled", ParamSet{{"subsurface", 0.5}, {"subsurface_radius", Rgb(-1.f)}},
          "subsurface_radius", "must be in"},
         {"principled", ParamSet{{"subsurface_ior", 5.0}}, "subsurface_ior", "3.8"},
-        {"principled", ParamSet{{"subsurface_method", std::string("burley")}},
-         "subsurface_method", "unknown value"},
+        {"principled", ParamSet{{"subsurface_method", std::string("burley")}}, "subsurface_method",
+         "unknown value"},
     };
     for (const Case& c : cases) {
         try {
