@@ -8,8 +8,10 @@
 #include <vector>
 
 #include "facet/render/integrator.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -97,4 +99,34 @@ TEST(SubsurfaceKernel, ThreadsAndRegionsGiveTheSamePixels) {
     double s = 0.0;
     for (const Rgb& px : two.pixels()) s += px.r;
     EXPECT_GT(s, 0.0);
+}
+
+// export-pov: a walk has no POV-Ray equivalent; the error names the JSON pointer (principled:
+// its subsurface parameter). Principled with subsurface 0 exports.
+TEST(SubsurfaceErrors, PovExportNamesThePointer) {
+    const std::string head =
+        R"({"format": "facet-scene", "version": 1,
+            "camera": {"position": [0, 0, 5], "look_at": [0, 0, 0], "fov": 30, "width": 8,
+                       "height": 8},
+            "lights": [{"type": "point", "position": [0, 3, 3], "power": 10}],)";
+    auto pov_error = [&](const std::string& material) {
+        try {
+            fr::export_pov(fr::parse_scene_description(
+                               head + R"("materials": {"m": )" + material + R"(},
+                   "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
+                               "material": "m"}]})",
+                               "pov.json"),
+                           "pov.json");
+        } catch (const fr::SceneError& e) {
+            return std::string(e.what());
+        }
+        return std::string();
+    };
+    EXPECT_NE(pov_error(R"({"model": "principled", "subsurface": 0.5})")
+                  .find("pov.json: /materials/m/subsurface: random-walk subsurface"),
+              std::string::npos);
+    EXPECT_NE(pov_error(R"({"model": "subsurface"})")
+                  .find("pov.json: /materials/m/model: random-walk subsurface"),
+              std::string::npos);
+    EXPECT_EQ(pov_error(R"({"model": "principled"})"), "");
 }
