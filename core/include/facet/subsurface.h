@@ -56,8 +56,7 @@ struct SubsurfaceLimits {
     static constexpr float kMinAlpha = 0.2f;            // subsurface_random_walk_coefficients
     static constexpr float kThroughputEpsilon = 1e-8f;  // VOLUME_THROUGHPUT_EPSILON
     static constexpr int kSimilarityLevel = 9;          // SUBSURFACE_RANDOM_WALK_SIMILARITY_LEVEL
-    static constexpr float kMinIor = 1.01f, kMaxIor = 3.8f;  // Cycles clamps the IOR
-    static constexpr float kMaxAnisotropy = 0.9f;            // and the anisotropy to [0, 0.9]
+    // Cycles clamps the IOR to [1.01, 3.8] and the anisotropy to [0, 0.9]: the models' ranges.
 };
 
 // The fitted single-scattering albedo alpha(A, g) of Cycles' subsurface_random_walk_remap,

@@ -1012,22 +1012,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             const Material* bm = sss ? sss->surface.get() : &m;
             const float p_walk = sss ? sss->probability : 0.f;
             const float p_bsdf = 1.f - p_walk;
-            if (sss && u_lobe < p_walk) {
-                beta *= sss->lobe.weight / p_walk;
-                if (!subsurface_walk<F>(scene, light_dist, hit, wo_w, time, stack, *sss, rng, c,
-                                        beta, L, ray, prev_pdf, prev_ctx))
-                    break;
-                specular_bounce = false;
-                see_through = false;
-                diffuse_ancestor = true;
-                if (!roulette(beta, depth, u_roulette)) break;
-                ++depth;
-                ++c.rays;
-                continue;
-            }
-            if (!bm) break;
-            const Material& mb = *bm;
-            if (!light_dist.empty() && has_non_specular<F>(mb)) {
+            if (bm && !light_dist.empty() && has_non_specular<F>(*bm)) {
+                const Material& mb = *bm;
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
                 if (num_lights > 1)
@@ -1051,6 +1037,22 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     }
                 }
             }
+            // The walk, after the light sample of the closures beside it (Cycles' entry).
+            if (sss && u_lobe < p_walk) {
+                beta *= sss->lobe.weight / p_walk;
+                if (!subsurface_walk<F>(scene, light_dist, hit, wo_w, time, stack, *sss, rng, c,
+                                        beta, L, ray, prev_pdf, prev_ctx))
+                    break;
+                specular_bounce = false;
+                see_through = false;
+                diffuse_ancestor = true;
+                if (!roulette(beta, depth, u_roulette)) break;
+                ++depth;
+                ++c.rays;
+                continue;
+            }
+            if (!bm) break;
+            const Material& mb = *bm;
             const float u_bsdf_lobe =
                 sss ? std::min((u_lobe - p_walk) / p_bsdf, kOneMinusEpsilon) : u_lobe;
             const std::optional<BSDFSample> bs = bsdf_sample<F>(mb, sh.wo, u_bsdf_lobe, u_bsdf);

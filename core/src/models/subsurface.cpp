@@ -39,10 +39,9 @@ std::vector<ParamInfo> subsurface_walk_params(const std::string& prefix) {
 SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefix, float scale) {
     SubsurfaceInputs in;
     const Rgb radius = r.color(prefix + "radius", Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
-    in.ior =
-        float(r.number(prefix + "ior", 1.4, SubsurfaceLimits::kMinIor, SubsurfaceLimits::kMaxIor));
-    in.anisotropy =
-        float(r.number(prefix + "anisotropy", 0.0, 0.0, SubsurfaceLimits::kMaxAnisotropy));
+    // The ranges in double: the float constants (0.9f < 0.9) would reject the values written.
+    in.ior = float(r.number(prefix + "ior", 1.4, 1.01, 3.8));
+    in.anisotropy = float(r.number(prefix + "anisotropy", 0.0, 0.0, 0.9));
     in.method = method_of(r.choice(prefix + "method"));
     in.radius = radius * scale;
     int walked = 0;
