@@ -51,7 +51,6 @@ NODES = {
                                     "undisplaced",
     'ShaderNodeMixShader': "a shader converts only into a shader input",
     'ShaderNodeAddShader': "a shader converts only into a shader input",
-    'ShaderNodeSubsurfaceScattering': "subsurface scattering is not in Facet's core yet",
     'ShaderNodeBsdfToon': "the toon BSDF is not in Facet's core",
     # Converted on a Volume output (materials.NodeContext.volume); on a Surface nothing
     # converts them.
@@ -74,10 +73,6 @@ NODES = {
 }
 
 INPUTS = {
-    ('ShaderNodeBsdfPrincipled', 'Subsurface'): (0.0, "subsurface scattering is not in "
-                                                      "Facet's core; Cycles' diffuse fallback "
-                                                      "(base colour mixed with Subsurface "
-                                                      "Color) is used"),
     ('ShaderNodeBsdfAnisotropic', 'Rotation'): (0.0, "tangent rotation is not converted; "
                                                      "ignored"),
     ('ShaderNodeVolumePrincipled', 'Blackbody Intensity'): (

@@ -49,9 +49,10 @@ per material (they would fire on every default material).
   normals.clearcoat says. Multiscatter GGX -> distribution multi_ggx (the core's Kulla-Conty
   compensation of the specular lobe instead of Cycles' random walk: same energy,
   docs/principled.md gives the measured difference on coloured metals). Reported: Multiscatter
-  GGX glass with Specular Tint > 0 (MULTI_GLASS_NOTE), Subsurface > 0 (Cycles' diffuse fallback
-  instead of subsurface transport), Alpha < 1 on an emitting Principled; Subsurface Radius / IOR
-  / Anisotropy and Tangent when linked (not read). The anisotropic
+  GGX glass with Specular Tint > 0 (MULTI_GLASS_NOTE), Alpha < 1 on an emitting Principled;
+  Tangent when linked (not read). Subsurface, Subsurface Color / Radius / IOR / Anisotropy and
+  the subsurface method -> the core's random walk (_subsurface_walk: Christensen-Burley is
+  converted as Random Walk (Fixed Radius), reported). The anisotropic
   tangent is Facet's surface dp/du, not Cycles' default tangent.
 - Glass / Refraction BSDF: dielectric, ior = IOR, alpha = Roughness^2 (Sharp: smooth), GGX or
   Beckmann, transmittance = Color (see _glass for what is reported). Multiscatter GGX -> ggx
@@ -951,6 +952,56 @@ _PRINCIPLED_FACTORS = (
 _PRINCIPLED_COLOURS = (('Base Color', "base_color"), ('Subsurface Color', "subsurface_color"))
 
 
+# Cycles' subsurface methods -> the core's; Christensen-Burley (Cycles' disk method, which
+# scales the radius by 1 / (4 pi) as Fixed Radius does) is converted as Fixed Radius, reported.
+_SSS_METHODS = {'RANDOM_WALK': "random_walk", 'RANDOM_WALK_FIXED_RADIUS': "random_walk_fixed_radius",
+                'BURLEY': "random_walk_fixed_radius"}
+# Cycles clamps a BSSRDF's IOR to [1.01, 3.8] and its anisotropy to [0, 0.9] (the core's ranges).
+_SSS_IOR = (1.01, 3.8)
+_SSS_ANISOTROPY = (0.0, 0.9)
+
+
+def _subsurface_walk(ctx, node, path, data, prefix, names, method, scale):
+    """A random walk's Radius, IOR, Anisotropy (names) and method into data (keys prefixed):
+    clamped as Cycles clamps them (exact). Reported: Christensen-Burley (converted as Random
+    Walk (Fixed Radius)); a radius channel of 0 beside walked channels (Cycles makes that
+    channel diffuse; Facet walks it at a radius of 1e-4 of the largest, which looks diffuse)."""
+    label = "%s '%s'" % (nodegraph.node_type_label(node), node.name)
+    radius = [max(0.0, float(c)) for c in ctx.value(node, names[0], path)[:3]]
+    ior = float(ctx.value(node, names[1], path))
+    g = float(ctx.value(node, names[2], path))
+    data[prefix + "ior"] = min(max(ior, _SSS_IOR[0]), _SSS_IOR[1])
+    data[prefix + "anisotropy"] = min(max(g, _SSS_ANISOTROPY[0]), _SSS_ANISOTROPY[1])
+    data[prefix + "method"] = _SSS_METHODS.get(method, "random_walk")
+    if method == 'BURLEY':
+        ctx.problems.append("%s: %s Christensen-Burley is not in Facet; converted as Random "
+                            "Walk (Fixed Radius)" % (ctx.what, label))
+    elif method not in _SSS_METHODS:
+        ctx.problems.append("%s: %s subsurface method '%s' is not in Facet; converted as "
+                            "Random Walk" % (ctx.what, label, method))
+    top = max(radius)
+    walked = is_texture(scale) or scale > 0.0
+    if walked and top > 0.0 and min(radius) * (1.0 if is_texture(scale) else scale) < 1e-8:
+        ctx.problems.append("%s: %s %s %s has a channel of 0 beside walked ones: Cycles makes "
+                            "that channel diffuse, Facet walks it at a radius of 1e-4 of the "
+                            "largest" % (ctx.what, label, names[0], _fmt(tuple(radius))))
+        radius = [max(c, 1e-4 * top) for c in radius]
+    data[prefix + "radius"] = radius
+
+
+def _subsurface(ctx, node, path):
+    """Subsurface Scattering node -> subsurface: Color, Scale, Radius, IOR, Anisotropy and the
+    falloff (the core's random walk as Cycles 3.4's, docs/subsurface.md)."""
+    data = {"model": "subsurface"}
+    color = _rgb(ctx.param(node, 'Color', path))
+    data["color"] = color if is_texture(color) else [max(0.0, min(1.0, c)) for c in color]
+    scale = max(0.0, float(ctx.value(node, 'Scale', path)))
+    data["scale"] = scale
+    _subsurface_walk(ctx, node, path, data, "", ('Radius', 'IOR', 'Anisotropy'), node.falloff,
+                     scale)
+    return data, None
+
+
 def _principled(ctx, node, path):
     def val(name):
         return ctx.value(node, name, path)
@@ -967,6 +1018,9 @@ def _principled(ctx, node, path):
     for name, key in _PRINCIPLED_FACTORS:
         v = ctx.param(node, name, path)
         data[key] = v if is_texture(v) else unit(v)
+    _subsurface_walk(ctx, node, path, data, "subsurface_",
+                     ('Subsurface Radius', 'Subsurface IOR', 'Subsurface Anisotropy'),
+                     node.subsurface_method, data["subsurface"])
     rotation = float(val('Anisotropic Rotation'))
     data["anisotropic_rotation"] = rotation - math.floor(rotation)  # periodic (2 pi x rotation)
     data["ior"] = max(1e-3, min(100.0, float(val('IOR'))))
@@ -1178,13 +1232,15 @@ _NODE_CONVERTERS = {
     'ShaderNodeBsdfHair': _hair,
     'ShaderNodeBsdfTransparent': _transparent,
     'ShaderNodeHoldout': _holdout,
+    'ShaderNodeSubsurfaceScattering': _subsurface,
 }
 _READS = {
     'ShaderNodeBsdfDiffuse': ('Color', 'Roughness'),
     'ShaderNodeBsdfGlossy': ('Color', 'Roughness'),
     'ShaderNodeBsdfAnisotropic': ('Color', 'Roughness', 'Anisotropy'),
     'ShaderNodeBsdfPrincipled': tuple(n for n, _ in _PRINCIPLED_COLOURS + _PRINCIPLED_FACTORS)
-    + ('Anisotropic Rotation', 'IOR', 'Emission', 'Emission Strength'),
+    + ('Anisotropic Rotation', 'IOR', 'Emission', 'Emission Strength', 'Subsurface Radius',
+       'Subsurface IOR', 'Subsurface Anisotropy'),
     'ShaderNodeEmission': ('Color', 'Strength'),
     'ShaderNodeBsdfGlass': ('Color', 'Roughness', 'IOR'),
     'ShaderNodeBsdfRefraction': ('Color', 'Roughness', 'IOR'),
@@ -1197,4 +1253,5 @@ _READS = {
     'ShaderNodeBsdfHair': ('Color', 'Offset', 'RoughnessU', 'RoughnessV'),
     'ShaderNodeBsdfTransparent': ('Color',),
     'ShaderNodeHoldout': (),
+    'ShaderNodeSubsurfaceScattering': ('Color', 'Scale', 'Radius', 'IOR', 'Anisotropy'),
 }

@@ -124,6 +124,11 @@ Material::Material(const ThinDielectricBxDF& thin)
 Material::Material(const InlineBxDF& unit)
     : m_unit(unit), m_flags(unit.flags()), m_special(true), m_anisotropic(unit.reads_tangent()) {}
 
+Material Material::with_subsurface(Material fallback, Subsurface s) {
+    fallback.m_subsurface = std::make_shared<const Subsurface>(std::move(s));
+    return fallback;
+}
+
 Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const Material> b,
                        float weight) {
     // The end points are the children themselves: w = 0 renders a exactly, w = 1 b.

@@ -283,6 +283,19 @@ Rgb PrincipledBxDF::glass_fresnel(float cos_ih, float etap) const {
     return interpolate_fresnel(cos_ih, etap, fresnel_dielectric(1.f, etap), m_cspec_glass);
 }
 
+PrincipledBxDF PrincipledBxDF::subsurface_surface(const PrincipledParams& p) {
+    PrincipledParams q = p;
+    q.subsurface = 0.f;  // every lobe takes the unmixed base colour
+    PrincipledBxDF b(q);
+    const Rgb mixed = mix(p.base_color, p.subsurface_color, p.subsurface);
+    const float w_d = diffuse_weight(p);
+    b.m_diffuse = p.roughness > 0.f ? mixed * w_d : Rgb(0.f);
+    b.m_retro_only = true;
+    b.m_cosine = max_component(b.m_diffuse) > 0.f || max_component(b.m_sheen) > 0.f;
+    b.set_flags();
+    return b;
+}
+
 PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
     // wo is above the (mirrored) surface here; etap is the glass's n(other side) / n(wo side).
     AtWo a;
@@ -292,7 +305,10 @@ PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
     // Sheen's sample weight is Cycles' avg_value schlick(cos_o) cos_o, floored so that the
     // cosine lobe keeps a positive probability wherever sheen reflects.
     if (m_cosine)
-        w[kCosine] = average(m_diffuse) + average(m_sheen) * std::max(schlick_weight(c) * c, 1e-3f);
+        w[kCosine] =
+            average(m_diffuse) *
+                (m_retro_only ? std::max(m_params.roughness * schlick_weight(c), 1e-3f) : 1.f) +
+            average(m_sheen) * std::max(schlick_weight(c) * c, 1e-3f);
     if (m_spec) w[kSpecular] = m_spec_weight * average(spec_fresnel(c));
     if (m_clearcoat) w[kClearcoat] = m_cc_weight * fresnel_dielectric(c, kClearcoatIor);
     if (m_glass) {
@@ -334,8 +350,8 @@ void PrincipledBxDF::evaluate(const Vec3& wo, const Vec3& wi, const AtWo& a, Tra
             // Disney diffuse with retro-reflection (Burley 2015; Cycles' PRINCIPLED_DIFFUSE_FULL)
             const float fl = schlick_weight(cos_i), fv = schlick_weight(cos_o);
             const float rr = m_params.roughness * (1.f + glm::dot(wi, wo));
-            const float d =
-                (1.f - 0.5f * fv) * (1.f - 0.5f * fl) + rr * (fl + fv + fl * fv * (rr - 1.f));
+            const float lambert = m_retro_only ? 0.f : (1.f - 0.5f * fv) * (1.f - 0.5f * fl);
+            const float d = lambert + rr * (fl + fv + fl * fv * (rr - 1.f));
             f += m_diffuse * (d * kInvPi) + m_sheen * schlick_weight(cos_ih);
             pdf += a.p[kCosine] * cosine_hemisphere_pdf(cos_i);
         }

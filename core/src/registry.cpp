@@ -29,6 +29,7 @@ const ModelInfo& principled_hair_model();
 const ModelInfo& hair_model();
 const ModelInfo& null_model();
 const ModelInfo& holdout_model();
+const ModelInfo& subsurface_model();
 
 namespace {
 
@@ -56,7 +57,8 @@ const std::vector<ModelInfo>& model_table() {
         dielectric_model(),  principled_model(), oren_nayar_model(),
         mix_model(),         add_model(),        thin_dielectric_model(),
         translucent_model(), velvet_model(),     principled_hair_model(),
-        hair_model(),        null_model(),       holdout_model()};
+        hair_model(),        null_model(),       holdout_model(),
+        subsurface_model()};
     return table;
 }
 

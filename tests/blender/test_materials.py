@@ -91,15 +91,34 @@ def main():
              "Principled: clearcoat, sheen, transmission, subsurface converted: %s" % c.data)
     bt.check(c.data.get("distribution") == "multi_ggx",
              "Principled Multiscatter GGX -> distribution multi_ggx: %s" % c.data)
-    bt.check(any("PX" in p and "Subsurface" in p for p in c.problems)
+    bt.check(c.data.get("subsurface_method") == "random_walk"
+             and close(c.data["subsurface_ior"], 1.4)
+             and all(close(a, b) for a, b in zip(c.data["subsurface_radius"], (1.0, 0.2, 0.1))),
+             "Principled: the subsurface walk's radius, IOR and method converted: %s" % c.data)
+    bt.check(not any("PX" in p and "Subsurface" in p for p in c.problems)
              and not any("MULTI_GGX" in p or "Multiscatter" in p for p in c.problems)
              and not any("Clearcoat" in p or "Sheen" in p or "Transmission" in p
                          for p in c.problems)
              and any("PX" in p and "Base Color" in p and "Sky Texture" in p
                      for p in c.problems),
-             "Principled: subsurface fallback and linked inputs named, multiscatter converted "
+             "Principled: subsurface converted, linked inputs named, multiscatter converted "
              "silently (Specular Tint 0): %s"
              % c.problems)
+    # The Subsurface Scattering node; Christensen-Burley is reported (converted as Fixed Radius).
+    m, n = node_material("SS", "ShaderNodeSubsurfaceScattering", Color=(0.8, 0.5, 0.3, 1.0),
+                         Scale=0.5, Radius=(1.0, 0.5, 0.25), IOR=1.3, Anisotropy=0.95)
+    n.falloff = 'BURLEY'
+    c = conv(m)
+    bt.check(c.data.get("model") == "subsurface" and close(c.data["scale"], 0.5)
+             and close(c.data["ior"], 1.3) and close(c.data["anisotropy"], 0.9)
+             and c.data["method"] == "random_walk_fixed_radius"
+             and any("SS" in p and "Christensen-Burley" in p for p in c.problems),
+             "Subsurface Scattering node -> subsurface (anisotropy clamped as Cycles, Burley "
+             "reported): %s %s" % (c.data, c.problems))
+    n.falloff = 'RANDOM_WALK'
+    c = conv(m)
+    bt.check(c.data["method"] == "random_walk" and not c.problems,
+             "Subsurface Scattering node, Random Walk: exact: %s" % c.problems)
     # Multiscatter glass with Specular Tint: Facet's compensated glass reflection is untinted.
     m, n = node_material("PT", "ShaderNodeBsdfPrincipled", Transmission=1.0, Roughness=0.5,
                          Specular_Tint=0.5)

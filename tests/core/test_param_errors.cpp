@@ -83,7 +83,8 @@ TEST(ParamErrors, EveryModelBuildsFromDefaultsAndFromEachParameterInContext) {
         for (const ParamInfo& p : m.params) {
             ParamSet ps = context_for(m, p.name);
             if (p.type == ParamType::Number || p.type == ParamType::Color) {
-                ps.set(p.name, p.name == "ior" || p.name == "eta" ? 1.5 : 0.5);
+                const bool ior = p.name == "ior" || p.name == "eta" || p.name.ends_with("_ior");
+                ps.set(p.name, ior ? 1.5 : 0.5);
                 EXPECT_NO_THROW(make_material(m.name, ps, children_for(m.name)))
                     << m.name << "/" << p.name;
             }

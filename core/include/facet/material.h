@@ -48,6 +48,7 @@
 #include "facet/mirror.h"
 #include "facet/oren_nayar.h"
 #include "facet/principled.h"
+#include "facet/subsurface.h"
 
 namespace facet {
 
@@ -96,6 +97,22 @@ class Material {
     explicit Material(const PrincipledBxDF& principled);
     // A model unit's BxDF (facet/inline_bxdf.h), alone.
     explicit Material(const InlineBxDF& unit);
+
+    // Subsurface scattering (facet/subsurface.h): a material whose BSDF is Cycles' fallback
+    // (what Cycles renders after a diffuse bounce: the node's Lambert, Principled's diffuse
+    // with the mixed colour) and which, on paths without a diffuse bounce, is instead the
+    // subsurface lobe beside the `surface` closures. Only the path integrators with random
+    // walks read it (facet/render/integrator.h, "Subsurface"); every other consumer (AOVs,
+    // reflectance, POV-Ray, `direct`) sees the fallback.
+    struct Subsurface {
+        SubsurfaceLobe lobe;
+        // The BSDF closures beside the lobe (Principled's specular, sheen, retro-reflection,
+        // ...); null when there are none (the Subsurface Scattering node).
+        std::shared_ptr<const Material> surface;
+        float probability = 1.f;  // of choosing the lobe at a vertex (else `surface`)
+    };
+    static Material with_subsurface(Material fallback, Subsurface s);
+    const Subsurface* subsurface() const { return m_subsurface.get(); }
 
     // Combinations (header comment). mix() with weight 0 or 1 returns a copy of a or b itself.
     enum class Combine : std::uint8_t { Mix, Add };
@@ -196,6 +213,7 @@ class Material {
     std::optional<PrincipledBxDF> m_principled;
     std::optional<InlineBxDF> m_unit;
     std::shared_ptr<const Combination> m_combination;
+    std::shared_ptr<const Subsurface> m_subsurface;
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_special = false;  // one of the rare kinds: f, pdf and sample_f go to special_*
     bool m_anisotropic = false;

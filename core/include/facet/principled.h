@@ -40,9 +40,13 @@
 //  - Clearcoat (clearcoat > 1e-5): 0.25 clearcoat F_diel(wi.h, 1.5) D_GTR1 G / (4 cos_i cos_o),
 //      D_GTR1 = (a2 - 1) / (pi ln(a2) (1 + (a2 - 1) cos_h^2)), a2 = clearcoat_roughness^4
 //      (1 / pi when a2 >= 1), G the GGX G at the fixed alpha 0.25.
-//  - Subsurface: Facet has no subsurface transport; it uses Cycles' own fallback (the one
-//    Cycles takes after a diffuse bounce): C = mix(base_color, subsurface_color, subsurface)
-//    for every lobe, and the diffuse lobe instead of the BSSRDF.
+//  - Subsurface: this model is Cycles' fallback (the one Cycles takes after a diffuse bounce):
+//    C = mix(base_color, subsurface_color, subsurface) for every lobe, and the diffuse lobe
+//    instead of the BSSRDF. The random walk itself is Material::subsurface() (facet/
+//    subsurface.h): its surface closures are subsurface_surface(), the model with the unmixed
+//    base colour for every lobe and, in place of the diffuse lobe, only its retro-reflection
+//    term C_mixed w_d / pi RR (FL + FV + FL FV (RR - 1)) (Cycles' PRINCIPLED_DIFFUSE_RETRO_
+//    REFLECTION, sampled with weight mean(C_mixed w_d) max(roughness FV, 1e-3)).
 //  - Multiscatter GGX (distribution "multi_ggx", Cycles' Multiscatter GGX; docs/principled.md):
 //    for roughness > 0.075 (Cycles' own switch to single scattering below), the specular lobe
 //    takes the height-correlated G (what Cycles' random walk evaluates for its first bounce)
@@ -98,6 +102,14 @@ struct PrincipledParams {
 class PrincipledBxDF {
   public:
     explicit PrincipledBxDF(const PrincipledParams& p);
+    // The closures beside the subsurface lobe when the walk is taken (header comment).
+    static PrincipledBxDF subsurface_surface(const PrincipledParams& p);
+    // The diffuse weight w_d = (1 - metallic)(1 - transmission) and the cut-off below which a
+    // lobe weight is dropped (Cycles' CLOSURE_WEIGHT_CUTOFF).
+    static float diffuse_weight(const PrincipledParams& p) {
+        return (1.f - p.metallic) * (1.f - p.transmission);
+    }
+    static constexpr float kWeightCutoff = 1e-5f;
 
     Rgb f(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
     float pdf(const Vec3& wo, const Vec3& wi, TransportMode mode) const;
@@ -180,8 +192,9 @@ class PrincipledBxDF {
     BxDFFlags m_flags = BxDFFlags::None;
     unsigned m_delta_mask = 0;  // bit per Lobe: the lobe is a delta
 
-    Rgb m_diffuse{0.f};  // C w_d
-    Rgb m_sheen{0.f};    // sheen w_d C_sheen
+    Rgb m_diffuse{0.f};         // C w_d
+    bool m_retro_only = false;  // subsurface_surface(): the retro-reflection term alone
+    Rgb m_sheen{0.f};           // sheen w_d C_sheen
     bool m_cosine = false;
 
     bool m_spec = false;

@@ -772,6 +772,84 @@ inline bool roulette(Rgb& beta, int depth, float u) {
     return true;
 }
 
+// A random walk inside the object of `hit` (integrator.h, "Subsurface"; facet/subsurface.h) and
+// the exit vertex: next-event estimation and a cosine-sampled direction with the exit lobe.
+// beta holds the lobe's weight over its selection probability on entry; on return (true) the
+// path's weight after the exit's sample, L the exit's light sample, `ray` the next ray. False:
+// the walk found no exit (the path ends). The walk's and the exit's random numbers come from
+// `rng` (the number of steps is unbounded).
+template <std::uint32_t F>
+bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, const SurfaceHit& hit,
+                     const Vec3& wo_w, float time, const MediumStack& stack,
+                     const Material::Subsurface& sss, TrackingRng& rng, KernelCounters& c,
+                     Rgb& beta, Rgb& L, Ray& ray, float& prev_pdf, LightSampleContext& prev_ctx) {
+    // The entry's normals on the viewer's side (the walk goes into the other).
+    const bool front = glm::dot(hit.ng, wo_w) > 0.f;
+    const Vec3 n = front ? hit.ns : -hit.ns, ng = front ? hit.ng : -hit.ng;
+    // The nearest surface of the same shape along o + t d (t < t_max); other shapes are passed.
+    SurfaceHit exit;
+    auto intersect = [&](const Vec3& o, const Vec3& d, float t_max, bool first) {
+        Ray r{first ? offset_ray_origin(hit.p, hit.p_err, ng, d) : o, d, t_max};
+        for (int i = 0; i <= kMaxNullCrossings; ++i) {
+            SurfaceHit h;
+            ++c.rays;
+            if (!trace<F>(scene, r, time, h)) return kInfinity;
+            if (h.shape == hit.shape) {
+                exit = h;
+                return glm::dot(h.p - o, d);
+            }
+            const Vec3 o2 = offset_ray_origin(h.p, h.p_err, h.ng, d);
+            r.tmax = t_max - glm::dot(o2 - o, d);
+            if (!(r.tmax > 0.f)) return kInfinity;
+            r.o = o2;
+        }
+        return kInfinity;
+    };
+    const std::optional<SubsurfaceExit> ex =
+        subsurface_random_walk(sss.lobe.walk, hit.p, n, ng, beta, rng, intersect);
+    if (!ex || !(max3(beta) > 0.f)) return false;
+    // The exit vertex, seen from outside (the side the walk's last segment points to).
+    const bool along = glm::dot(exit.ng, ex->d) > 0.f;
+    const Vec3 eng = along ? exit.ng : -exit.ng, ens = along ? exit.ns : -exit.ns;
+    const Frame frame = Frame::from_z(ens);
+    const bool fresnel = sss.lobe.fresnel;
+    const LightSampleContext ctx{exit.p, ens};
+    const float u_light_choice = rng();
+    const Vec2 u_light(rng(), rng());
+    const Vec2 u_dir(rng(), rng());
+    if (!light_dist.empty()) {
+        float select_pmf = 1.f;
+        std::uint32_t light_index = 0;
+        if (scene.lights().size() > 1)
+            light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
+        const Light& light = scene.lights()[light_index];
+        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+            ls && ls->pdf > 0.f) {
+            const float cos_i = glm::dot(ls->wi, ens);
+            if (cos_i > 0.f && glm::dot(ls->wi, eng) > 0.f) {
+                const Rgb contrib = subsurface_exit_f(fresnel, cos_i) * cos_i * ls->li;
+                if (max3(contrib) > 0.f) {
+                    const Ray sr = Scene::shadow_ray_from(
+                        offset_ray_origin(exit.p, exit.p_err, eng, ls->wi), *ls);
+                    const Rgb tr = shadow_transmittance<F>(scene, sr, time, stack, rng, c);
+                    const float lp = select_pmf * ls->pdf;
+                    const float w =
+                        light.hittable() ? power_heuristic(lp, cosine_hemisphere_pdf(cos_i)) : 1.f;
+                    L += beta * contrib * tr * (w / lp);
+                }
+            }
+        }
+    }
+    const Vec3 local = sample_cosine_hemisphere(u_dir);
+    const Vec3 wi = frame.from_local(local);
+    if (!(local.z > 0.f) || !(glm::dot(wi, eng) > 0.f)) return false;
+    beta *= subsurface_exit_f(fresnel, local.z) * kPi;  // f cos / (cos / pi)
+    prev_pdf = cosine_hemisphere_pdf(local.z);
+    prev_ctx = ctx;
+    ray = Ray{offset_ray_origin(exit.p, exit.p_err, eng, wi), wi, kInfinity};
+    return true;
+}
+
 // Free-flight sampling on a segment of length t_max (+inf when the ray escapes) in medium
 // `med`, with the segment's samples u_channel, u_dist: the distance to a scattering event
 // (returned, < t_max), or t_max when the ray reaches the segment's end. beta takes the
@@ -821,7 +899,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     float prev_pdf = 0.f;
     LightSampleContext prev_ctx;
     SurfaceHit hit = first;
-    [[maybe_unused]] bool see_through = true;   // alpha (as in path_vertex)
+    [[maybe_unused]] bool see_through = true;  // alpha (as in path_vertex)
+    // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: after a diffuse bounce (or a walk) materials with a
+    // subsurface lobe are their diffuse fallback.
+    bool diffuse_ancestor = false;
     if (scene.has_camera_lamps()) [[unlikely]]  // as in path_vertex (not attenuated)
         L += scene.camera_lamps(ray.o, ray.d, found ? first.t : kInfinity);
     int depth = 0, nulls = 0;
@@ -924,7 +1005,15 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             const float u_lobe = s.get_1d();
             const Vec2 u_bsdf = s.get_2d();
             const float u_roulette = s.get_1d();
-            if (!light_dist.empty() && has_non_specular<F>(m)) {
+            // Subsurface (integrator.h, "Subsurface"): on a path without a diffuse bounce the
+            // material is its walk beside its surface closures `bm` (chosen with probability
+            // 1 - p_walk; their pdfs carry that factor in MIS).
+            const Material::Subsurface* sss = diffuse_ancestor ? nullptr : m.subsurface();
+            const Material* bm = sss ? sss->surface.get() : &m;
+            const float p_walk = sss ? sss->probability : 0.f;
+            const float p_bsdf = 1.f - p_walk;
+            if (bm && !light_dist.empty() && has_non_specular<F>(*bm)) {
+                const Material& mb = *bm;
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
                 if (num_lights > 1)
@@ -933,7 +1022,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
-                        const BSDFEval e = bsdf_eval<F>(m, sh.wo, wi);
+                        const BSDFEval e = bsdf_eval<F>(mb, sh.wo, wi);
                         const Rgb contrib = e.f * std::fabs(wi.z) * ls->li;
                         if (max3(contrib) > 0.f) {
                             const Ray sr = Scene::shadow_ray_from(
@@ -941,21 +1030,41 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                             const Rgb tr = shadow_transmittance<F>(scene, sr, time,
                                                                    stack_toward(ls->wi), rng, c);
                             const float lp = select_pmf * ls->pdf;
-                            const float w = light.hittable() ? power_heuristic(lp, e.pdf) : 1.f;
+                            const float w =
+                                light.hittable() ? power_heuristic(lp, e.pdf * p_bsdf) : 1.f;
                             L += beta * contrib * tr * (w / lp);
                         }
                     }
                 }
             }
-            const std::optional<BSDFSample> bs = bsdf_sample<F>(m, sh.wo, u_lobe, u_bsdf);
+            // The walk, after the light sample of the closures beside it (Cycles' entry).
+            if (sss && u_lobe < p_walk) {
+                beta *= sss->lobe.weight / p_walk;
+                if (!subsurface_walk<F>(scene, light_dist, hit, wo_w, time, stack, *sss, rng, c,
+                                        beta, L, ray, prev_pdf, prev_ctx))
+                    break;
+                specular_bounce = false;
+                see_through = false;
+                diffuse_ancestor = true;
+                if (!roulette(beta, depth, u_roulette)) break;
+                ++depth;
+                ++c.rays;
+                continue;
+            }
+            if (!bm) break;
+            const Material& mb = *bm;
+            const float u_bsdf_lobe =
+                sss ? std::min((u_lobe - p_walk) / p_bsdf, kOneMinusEpsilon) : u_lobe;
+            const std::optional<BSDFSample> bs = bsdf_sample<F>(mb, sh.wo, u_bsdf_lobe, u_bsdf);
             if (!bs || !(bs->pdf > 0.f)) break;
             const Vec3 wi_w = sh.frame.from_local(bs->wi);
             if (!valid_side(sh, transmissive, wi_w, bs->wi.z)) break;
-            beta *= bs->f * (std::fabs(bs->wi.z) / bs->pdf);
+            beta *= bs->f * (std::fabs(bs->wi.z) / (bs->pdf * p_bsdf));
             specular_bounce = bs->is_specular();
+            if (any(bs->flags & BxDFFlags::Diffuse)) diffuse_ancestor = true;
             if constexpr ((F & kFeatAlpha) != 0)
                 see_through = see_through && passes_straight(*bs, sh.wo);
-            prev_pdf = bs->pdf;
+            prev_pdf = bs->pdf * p_bsdf;
             prev_ctx = ctx;
             stack = stack_toward(wi_w);
             ray = Scene::spawn_ray(hit, wi_w);
@@ -1275,13 +1384,16 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.chosen.push_back(
             "alpha (film transparency or a holdout): the general kernel with each sample's "
             "coverage, whatever is chosen below");
-    if (sf.has_media) {
-        // One kernel for every scene with media (kernel_function), whichever integrator.
+    if (sf.has_media || sf.has_subsurface) {
+        // One kernel for every scene with media or subsurface walks (kernel_function),
+        // whichever integrator.
         k.features = (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured |
                      kFeatMedia | motion | alpha;
         k.chosen.push_back(
             "media: the volumetric path kernel (free-flight sampling, light samples through "
-            "media and null surfaces, MIS with the phase function), one path at a time" +
+            "media and null surfaces, MIS with the phase function" +
+            std::string(sf.has_subsurface ? ", random walks inside subsurface objects" : "") +
+            "), one path at a time" +
             std::string(integrator == IntegratorKind::Direct
                             ? "; `direct` is path tracing here (media scatter light)"
                             : ""));

@@ -859,6 +859,8 @@ class Builder final : public BuildChecks {
     // values (with a conversion: its sources' largest), validated by build_model.
     static void stage(TexturedMaterial& tm, const Material& base,
                       const MaterialConversion* conversion) {
+        // A subsurface walk is built by the model itself (the staged lobes have none).
+        if (base.subsurface()) return;
         using Range = StagedMaterial::Range;
         constexpr std::size_t kMax = TexturedMaterial::kMaxStaged;
         auto value = [](const TexturedMaterial::Slot& s, const Rgb& v) {
@@ -1913,6 +1915,7 @@ class Builder final : public BuildChecks {
                 if (su.textured >= 0) f.has_textured = true;
                 // A surface that bounds a medium or lets rays through (an unused one is not).
                 if (scene.medium_interface(su.material)) f.has_media = true;
+                if (su.material->subsurface()) f.has_subsurface = true;
                 if (su.material->has_holdout()) f.has_holdout = true;
                 if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
             };
@@ -1989,6 +1992,7 @@ std::string SceneFeatures::describe() const {
     s << "emitter visible to the camera: " << yn(emitter_visible)
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
+    if (has_subsurface) s << "subsurface: yes (random walks inside objects)\n";
     if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
     if (needs_alpha)
         s << "alpha: yes (" << (has_holdout ? "a holdout" : "film transparent") << ")\n";

@@ -45,6 +45,8 @@ ParamInfo distribution_param(std::string doc, std::vector<std::string> choices);
 ParamInfo energy_compensation_param();
 // The sub-materials [a, b] of a combination.
 ParamInfo materials_param();
+// A random walk's radius, ior, anisotropy and method, names prefixed (subsurface.cpp).
+std::vector<ParamInfo> subsurface_walk_params(const std::string& prefix);
 
 }  // namespace models
 
@@ -78,5 +80,14 @@ class ParamReader {
     const ModelInfo& m_model;
     const ParamSet& m_params;
 };
+
+// The walk parameters (models::subsurface_walk_params) read and checked; radius times `scale`.
+struct SubsurfaceInputs {
+    Rgb radius{0.f};
+    float ior = 1.4f, anisotropy = 0.f;
+    SubsurfaceMethod method = SubsurfaceMethod::RandomWalk;
+    bool walked = false;  // every channel's radius is above Cycles' minimum (else none is)
+};
+SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefix, float scale);
 
 }  // namespace facet

@@ -892,6 +892,14 @@ std::string PovWriter::texture(const MaterialDesc& m, const std::string& pointer
     // principled: povray-facet's brdf finish shades its reflection part (the core's lobes);
     // transmission would be POV-Ray's interior and refraction, which is not the model's glass
     // lobes (rough refraction, the Fresnel split of Cycles, 1/eta^2), so it is reported.
+    // Random-walk subsurface scattering (facet/subsurface.h): POV-Ray has no equivalent (its
+    // own subsurface light transport is a different model).
+    if (m.model == "subsurface" || m.model == "principled") {
+        if (make_material(m.model, m.params).subsurface())
+            fail(pointer + (m.model == "principled" ? "/subsurface" : "/model"),
+                 "random-walk subsurface scattering cannot be exported to POV-Ray (a brdf "
+                 "finish would render Cycles' diffuse fallback; docs/subsurface.md)");
+    }
     if (m.model == "principled") {
         const Material pm = make_material(m.model, m.params);
         if (pm.transmissive())

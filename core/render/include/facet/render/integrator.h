@@ -63,6 +63,15 @@
 //    track against their majorants (medium.h) with a generator seeded from the segment's last
 //    dimension, so a segment's tracking never shifts another's dimensions. Area lamps
 //    that camera rays see are not attenuated by media.
+//  - Subsurface (SceneFeatures::has_subsurface; facet/subsurface.h, docs/subsurface.md): scenes
+//    with a subsurface material run the media kernel. At a surface vertex of such a material on
+//    a path without a diffuse bounce, the walk is chosen with Material::Subsurface::probability
+//    (the lobe dimension); else its surface closures are sampled (NEE and BSDF pdfs scaled by
+//    the probability of choosing them). The walk runs inside the hit's shape (rays that meet
+//    other shapes pass them), then the exit vertex does NEE and samples its cosine lobe; the
+//    walk and the exit take their random numbers from the segment's tracking generator. Any
+//    diffuse sample (and the walk) sets the path's diffuse ancestor (Cycles' flag): later hits
+//    on subsurface materials see their fallback BSDF.
 //  - Alpha (kFeatAlpha), as Cycles defines it: a camera path is "see-through" until its first
 //    vertex that is not a straight pass-through (a delta transmission with wi = -wo: the `null`
 //    model, a transparent surface; a `null` crossing in the media kernel). Its transparency T

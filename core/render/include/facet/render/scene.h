@@ -309,6 +309,9 @@ struct SceneFeatures {
     // material with an "interior", or the `null` model): only then does the media kernel run
     // (integrator.h, kFeatMedia).
     bool has_media = false;
+    // Some material has a subsurface lobe (Material::subsurface()): the volumetric path kernel
+    // runs, which walks inside such objects (integrator.h, "Subsurface").
+    bool has_subsurface = false;
     // Motion blur is on and something moves (a camera or shape `motion`): only then do rays
     // carry a time and the motion kernels run (integrator.h, kFeatMotion).
     bool has_motion = false;
