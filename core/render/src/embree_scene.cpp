@@ -187,7 +187,7 @@ CurvePoint eval_curve(const CurveGeom& g, std::uint32_t seg, double u) {
     }
     CurvePoint p{glm::dvec3(0.0), glm::dvec3(0.0), 0.0};
     for (int i = 0; i < n; ++i) {
-        const glm::dvec3 x(Vec3(v[i]));
+        const glm::dvec3 x = glm::dvec3(Vec3(v[i]));
         p.c += w[i] * x;
         p.dc += dw[i] * x;
         p.r += w[i] * double(v[i].w);
