@@ -207,6 +207,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     view_layer = depsgraph.view_layer
     problems.extend(gaps.scene_lines(scene, view_layer))
     flagged = set()  # objects whose flags, type and particle hair were reported
+    hair_owners = set()  # objects whose hair or CURVES were exported (their motion: reported)
     volumes = []  # VOLUME objects: (medium name, grid medium, null boundary box) (sync_volume)
     # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
     clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
@@ -256,6 +257,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 got = sync_hair.export_curves_object(obj, matrix, scene, mats.reads_uv, problems)
                 if got is not None:
                     order.append(_hair_shape(got[0], got[1], mats, obj, problems))
+                    hair_owners.add(obj.original.name)
             continue
         if obj.type not in GEOMETRY_TYPES:
             continue
@@ -268,6 +270,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 for shape, mat in sync_hair.export_particle_hair(
                         obj, scene, mats.reads_uv, problems, depsgraph.mode == 'RENDER'):
                     order.append(_hair_shape(shape, mat, mats, obj, problems))
+                    hair_owners.add(obj.original.name)
             elif ("hair", obj.original.name) not in flagged:
                 flagged.add(("hair", obj.original.name))
                 problems.append("object '%s': the particle hair of its instances is not "
@@ -393,6 +396,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         if frame_set is not None:
             sync_motion.add_motion(depsgraph, data, frame_set, owners, problems,
                                    mesh_sources)
+        sync_motion.report_still_hair(scene, hair_owners, problems)
     return data, problems
 
 

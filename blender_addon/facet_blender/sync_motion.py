@@ -240,6 +240,16 @@ def _report_instances(scene, data, shape_objects, problems):
                         "motion of instances is not converted)" % obj.name)
 
 
+def report_still_hair(scene, names, problems):
+    """Curves do not move yet: each object in `names` (objects whose hair or CURVES were
+    exported) with Motion Blur on that is animated or may deform is named once."""
+    for name in sorted(names):
+        obj = scene.objects.get(name)
+        if obj is not None and object_blurs(obj) and _animated(obj):
+            problems.append("object '%s': its hair is rendered without motion blur (curves "
+                            "do not move yet)" % name)
+
+
 def _emits(shape):
     e = shape.get("emission")
     if e is None:

@@ -118,6 +118,22 @@ def case_export():
     bt.check([p for p in problems if "radius 0 (Close Tip" in p], "Close Tip reported: %s"
              % problems)
     mod.particle_system.settings.use_close_tip = False
+    # Curves do not move: the hair of a moving emitter under motion blur is named, not dropped.
+    scene.render.use_motion_blur = True
+    sphere.location = (0.0, 0.0, 0.0)
+    sphere.keyframe_insert("location", frame=1)
+    sphere.location = (0.5, 0.0, 0.0)
+    sphere.keyframe_insert("location", frame=2)
+    scene.frame_set(1)
+    data, problems = export()
+    bt.check([p for p in problems if "'Ball': its hair is rendered without motion blur" in p],
+             "a moving emitter's still hair reported: %s" % problems)
+    sphere.animation_data_clear()
+    sphere.location = (0.0, 0.0, 0.0)
+    scene.render.use_motion_blur = False
+    data, problems = export()
+    bt.check(not [p for p in problems if "without motion blur" in p],
+             "still emitter: no line: %s" % problems)
     # Ribbons.
     scene.cycles_curves.shape = 'RIBBONS'
     h = [s for s in export()[0]["shapes"] if s["type"] == "curves"][0]
