@@ -240,7 +240,7 @@ CLASH_NAMES = [
 # which POV-Ray's finishes have no way to make), and the fibre models `principled_hair` and `hair`
 # (they scatter about the surface's tangent, which POV-Ray does not give a finish).
 NOT_FINISH_MODELS = {"dielectric", "thin_dielectric", "translucent", "null", "mix", "add",
-                     "holdout", "principled_hair", "hair"}
+                     "holdout", "principled_hair", "hair", "subsurface"}
 
 
 def cmd_models(facet, cli):
