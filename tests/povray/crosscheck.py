@@ -241,6 +241,7 @@ INEXPRESSIBLE = {
     "brushed": "/materials/brushed floor/alpha_u",  # anisotropic (bench/time_error.py's scene)
     "glass": "/materials/rough/model",          # a dielectric transmits: POV's interior differs
     "fog_box": "/render/max_depth",             # media: POV-Ray's scatter once (max_depth 1)
+    "subsurface": "/materials/skin/subsurface",  # random-walk SSS: a finish is the fallback
 }
 
 
