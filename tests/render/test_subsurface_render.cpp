@@ -111,12 +111,12 @@ TEST(SubsurfaceErrors, PovExportNamesThePointer) {
             "lights": [{"type": "point", "position": [0, 3, 3], "power": 10}],)";
     auto pov_error = [&](const std::string& material) {
         try {
-            fr::export_pov(fr::parse_scene_description(
-                               head + R"("materials": {"m": )" + material + R"(},
+            fr::export_pov(
+                fr::parse_scene_description(head + R"("materials": {"m": )" + material + R"(},
                    "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1,
                                "material": "m"}]})",
-                               "pov.json"),
-                           "pov.json");
+                                            "pov.json"),
+                "pov.json");
         } catch (const fr::SceneError& e) {
             return std::string(e.what());
         }

@@ -594,8 +594,8 @@ class Builder final : public BuildChecks {
             fail(ptr, msg);
         }
         if (!kind->procedural &&
-            (!d.params.values().empty() || !d.coordinates.empty() ||
-             d.mapping != glm::dmat4(1.0) || !d.inputs.empty() || !d.stops.empty()))
+            (!d.params.values().empty() || !d.coordinates.empty() || d.mapping != glm::dmat4(1.0) ||
+             !d.inputs.empty() || !d.stops.empty()))
             fail(ptr,
                  "a " + d.kind + " texture has no procedural parameters, coordinates or mapping");
         TextureContext ctx(*this, d, ptr, color, radiance);
