@@ -79,6 +79,22 @@ TEST(SubsurfaceKernel, ChosenOnlyForScenesWithSubsurface) {
     EXPECT_FALSE(p.features().has_subsurface);
 }
 
+// A subsurface material inside a combination renders its diffuse fallback: the scene says so
+// (a warning naming the child's pointer), and says nothing for the same material used directly.
+TEST(SubsurfaceWarnings, InsideAMixIsNamed) {
+    const fr::Scene mixed = fr::testing::scene_from(sss_sphere(
+        R"({"model": "mix", "weight": 0.5, "materials": [{"model": "lambert"},
+            {"model": "subsurface"}]})"));
+    bool named = false;
+    for (const std::string& w : mixed.warnings())
+        named = named ||
+                (w.find("/materials/1: a subsurface material inside 'mix'") != std::string::npos);
+    EXPECT_TRUE(named) << "warnings: " << ::testing::PrintToString(mixed.warnings());
+    const fr::Scene direct = fr::testing::scene_from(sss_sphere(R"({"model": "subsurface"})"));
+    for (const std::string& w : direct.warnings())
+        EXPECT_EQ(w.find("subsurface material inside"), std::string::npos) << w;
+}
+
 TEST(SubsurfaceKernel, ThreadsAndRegionsGiveTheSamePixels) {
     const fr::Scene scene = fr::testing::scene_from(sss_sphere(
         R"({"model": "principled", "subsurface": 1, "subsurface_radius": [0.5, 0.2, 0.1],

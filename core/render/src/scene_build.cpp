@@ -564,6 +564,21 @@ class Builder final : public BuildChecks {
                 " (> 1: an energy gain, allowed as in Cycles' Add Shader)");
         }
     }
+    // Warns for each child of a combination that has a subsurface walk: the walk runs only for
+    // a material a shape uses directly; inside mix or add the child is its diffuse fallback
+    // (docs/subsurface.md).
+    void check_nested_subsurface(const MaterialDesc& m, const std::vector<BuiltMaterial>& children,
+                                 const std::string& ptr) {
+        for (std::size_t k = 0; k < children.size(); ++k) {
+            const Material* c = children[k].material;
+            if (c == nullptr || c->subsurface() == nullptr) continue;
+            m_builder.warnings().push_back(
+                m_name + ": " + ptr + "/materials/" + std::to_string(k) +
+                ": a subsurface material inside '" + m.model +
+                "' renders its diffuse fallback (the random walk runs only for a material a "
+                "shape uses directly)");
+        }
+    }
     static std::string fmt_number(double v) {
         std::ostringstream s;
         s.precision(3);
@@ -708,6 +723,7 @@ class Builder final : public BuildChecks {
         const bool bump = m.bump && m.bump->distance != 0.0 && m.bump->strength != 0.0;
         const ModelInfo& info = *find_model(m.model);
         const std::vector<BuiltMaterial> children = build_children(m, info, ptr);
+        check_nested_subsurface(m, children, ptr);
         std::vector<std::shared_ptr<const Material>> kids;
         bool textured_child = false;
         for (const BuiltMaterial& c : children) {
