@@ -57,18 +57,7 @@ def hair_scene(count=300):
     sphere.name = "Ball"
     sphere.data.materials.append(diffuse("Skin", (0.5, 0.5, 0.5)))
     sphere.data.materials.append(diffuse("Fur", (0.8, 0.4, 0.1)))
-    mod = sphere.modifiers.new("Fur", 'PARTICLE_SYSTEM')
-    st = mod.particle_system.settings
-    st.type = 'HAIR'
-    st.count = count
-    st.hair_length = 0.6
-    st.material = 2
-    st.radius_scale = 0.04  # root radius 0.02
-    st.root_radius = 1.0
-    st.tip_radius = 0.5
-    st.shape = 0.0
-    st.use_close_tip = False
-    st.display_step = st.render_step = 3
+    mod = cs.add_fur(sphere, count)
     scene.cycles_curves.shape = 'THICK'  # 3D Curves (the factory setting is Rounded Ribbons)
     cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 5.0), rotation=(0.6, 0.3, 0.0))
     scene.world.use_nodes = True
@@ -99,10 +88,10 @@ def case_export():
              "the system's material slot (Fur): %s" % h["material"])
     pts = np.array(h["points"]).reshape(-1, 3)
     roots = pts[0::11]
-    # (On the UV sphere's faces, 2 pi / 32 by pi / 16: a face's centre is cos(pi / 32)^2 =
-    # 0.990 from the sphere's centre.)
-    bt.check(np.allclose(np.linalg.norm(roots, axis=1), 0.995, atol=0.006),
-             "roots on the sphere's surface: |root| in [%.4f, %.4f]"
+    # (cs.add_fur grows hairs from the UV sphere's vertices, at radius 1 up to float
+    # rounding.)
+    bt.check(np.allclose(np.linalg.norm(roots, axis=1), 1.0, atol=1e-5),
+             "roots on the sphere's vertices: |root| in [%.4f, %.4f]"
              % (np.linalg.norm(roots, axis=1).min(), np.linalg.norm(roots, axis=1).max()))
     tips = pts[10::11]
     lengths = np.linalg.norm(tips - roots, axis=1)

@@ -58,18 +58,7 @@ def hair_scene(node, shape, **inputs):
             n.inputs[k].default_value = v
     nt.links.new(n.outputs[0], out.inputs["Surface"])
     sphere.data.materials.append(fur)
-    mod = sphere.modifiers.new("Fur", 'PARTICLE_SYSTEM')
-    st = mod.particle_system.settings
-    st.type = 'HAIR'
-    st.count = 300
-    st.hair_length = 0.6
-    st.material = 2
-    st.radius_scale = 0.04  # root radius 0.02
-    st.root_radius = 1.0
-    st.tip_radius = 0.5
-    st.shape = 0.0
-    st.use_close_tip = False
-    st.display_step = st.render_step = 3
+    cs.add_fur(sphere, 300)
     scene.cycles_curves.shape = shape
     cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 5.0), rotation=(0.6, 0.3, 0.0))
     scene.world.use_nodes = True
