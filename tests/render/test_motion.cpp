@@ -650,3 +650,219 @@ TEST(Motion, BadDeformationNamesThePlace) {
     expect(error_of(deform_scene({0.0, 1.0}, R"({"shutter": 0.5})", "", R"(, "emission": 1)")),
            "/shapes/0/motion_positions");
 }
+
+// --- Curves under motion blur (scenes/FORMAT.md, "Motion blur" and "Curves") ---------------
+
+namespace {
+
+// A black round strand along y (taller than the view), radius 0.25, in front of the constant
+// environment of quad_scene: a pixel is 1 minus the fraction of its area and of the shutter
+// the tube's silhouette [x - 0.25, x + 0.25] covers. `basis` "linear" (2 points at y = +-1.5)
+// or "catmull_rom" (4 collinear points, y = -4.5, -1.5, 1.5, 4.5: a straight segment from -1.5
+// to 1.5). `points_x`: each point's x (the still points); `extra`: more keys of the shape
+// ("motion", "motion_positions").
+constexpr double kStrandRadius = 0.25;
+
+std::string strand_points(const std::string& basis, double x) {
+    const auto num = [](double v) { return std::to_string(v); };
+    if (basis == "linear") return num(x) + ", -1.5, 0, " + num(x) + ", 1.5, 0";
+    return num(x) + ", -4.5, 0, " + num(x) + ", -1.5, 0, " + num(x) + ", 1.5, 0, " + num(x) +
+           ", 4.5, 0";
+}
+
+std::string strand_scene(const std::string& basis, const std::string& extra,
+                         const std::string& blur) {
+    return camera() + R"(
+      "materials": {"black": {"model": "lambert", "reflectance": 0}},
+      "shapes": [{"type": "curves", "material": "black", "basis": ")" +
+           basis + R"(", "radius": 0.25, "points": [)" + strand_points(basis, 0.0) + "]" + extra +
+           R"(}],
+      "lights": [{"type": "environment", "radiance": 1}],
+      "render": {"max_depth": 0)" +
+           (blur.empty() ? std::string() : ", \"motion_blur\": " + blur) + "}";
+}
+
+// The strand's deformation moving it `D` along x: its points at x = 0 and x = D.
+std::string strand_deformation(const std::string& basis, double D) {
+    return R"(, "motion_positions": [[)" + strand_points(basis, 0.0) + "], [" +
+           strand_points(basis, D) + "]]";
+}
+
+// As worst_column for the strand's silhouette (half width kStrandRadius) moving D over a
+// uniform shutter: the quad's profile with its half width 0.5 replaced (expected_column with
+// x scaled by 0.5 / kStrandRadius maps the strand onto the quad of travel D * 0.5 / r).
+double worst_strand_column(const fr::Image& img, double D, int& where) {
+    const std::vector<double> m = column_means(img);
+    const fr::ShutterCurve uniform;
+    double worst = 0.0;
+    for (int i = 0; i < 64; ++i) {
+        const double x0 = -2.0 + 4.0 * i / 64.0, x1 = x0 + 4.0 / 64.0;
+        const int n = 256;
+        double cover = 0.0;
+        for (int k = 0; k < n; ++k) {
+            const double x = x0 + (x1 - x0) * (k + 0.5) / n;
+            // P(|x - D tau| <= r) for tau uniform in [0, 1].
+            const double lo = std::clamp((x - kStrandRadius) / D, 0.0, 1.0);
+            const double hi = std::clamp((x + kStrandRadius) / D, 0.0, 1.0);
+            cover += hi - lo;
+        }
+        const double e = std::fabs(m[std::size_t(i)] - (1.0 - cover / n));
+        if (e > worst) {
+            worst = e;
+            where = i;
+        }
+    }
+    return worst;
+}
+
+}  // namespace
+
+// A strand moving 1.5 units over the shutter, by its transform's motion (linear and
+// Catmull-Rom strands) and by its points' deformation: each column is the analytic coverage of
+// the moving silhouette box-filtered over the pixel (tolerance as the quad's). The control, the
+// same strands with motion blur off, miss it by far more.
+TEST(Motion, MovingStrandGivesTheAnalyticCoverageProfile) {
+    const std::string blur = R"({"shutter": 0.5})";
+    for (const std::string basis : {"linear", "catmull_rom"}) {
+        for (const std::string& motion :
+             {std::string(", \"motion\": ") + kMoveRight, strand_deformation(basis, 1.5)}) {
+            SCOPED_TRACE(basis + motion.substr(0, 20));
+            const fr::Scene moving = scene_of(strand_scene(basis, motion, blur));
+            EXPECT_TRUE(moving.features().has_motion);
+            const fr::Image img = fr::render(moving, fr::testing::test_options("path", spp(), 3));
+            int where = -1;
+            const double worst = worst_strand_column(img, 1.5, where);
+            EXPECT_LT(worst, column_tolerance()) << "column " << where;
+            RecordProperty(
+                "worst_column_" + basis +
+                    (motion.find("motion_positions") == std::string::npos ? "_motion" : "_deform"),
+                std::to_string(worst));
+            const fr::Scene still = scene_of(strand_scene(basis, motion, R"({"enabled": false})"));
+            EXPECT_FALSE(still.features().has_motion);
+            const fr::Image sharp = fr::render(still, fr::testing::test_options("path", spp(), 3));
+            EXPECT_GT(worst_strand_column(sharp, 1.5, where), 0.3);
+        }
+    }
+}
+
+// Deformation and transformation describing the same motion give the same hits: at each time
+// a ray's hit on the strand lies on the tube the strand's axis at that time defines (x = 1.5
+// tau), within its error box, and the two scenes' images agree but for samples flipping at
+// the silhouette (float rounding of the two placements: at most 4 of spp samples in a pixel,
+// as camera against object motion).
+TEST(Motion, StrandDeformationEqualsTransformation) {
+    const std::string blur = R"({"shutter": 0.5})";
+    for (const std::string basis : {"linear", "catmull_rom"}) {
+        SCOPED_TRACE(basis);
+        const fr::Scene moved =
+            scene_of(strand_scene(basis, std::string(", \"motion\": ") + kMoveRight, blur));
+        const fr::Scene deformed =
+            scene_of(strand_scene(basis, strand_deformation(basis, 1.5), blur));
+        std::mt19937 rng(7);
+        std::uniform_real_distribution<float> ut(0.f, 1.f), off(-0.24f, 0.24f);
+        double worst_ratio = 0.0;
+        for (int i = 0; i < 2000; ++i) {
+            const float time = ut(rng);
+            const double axis = 1.5 * double(time);
+            fr::Ray r;
+            r.o = Vec3(float(axis) + off(rng), 0.1f * off(rng), 5.f);
+            r.d = Vec3(0.f, 0.f, -1.f);
+            const double dx = double(r.o.x) - axis;
+            const glm::dvec3 expected(r.o.x, r.o.y,
+                                      std::sqrt(kStrandRadius * kStrandRadius - dx * dx));
+            for (const fr::Scene* s : {&moved, &deformed}) {
+                fr::SurfaceHit h;
+                ASSERT_TRUE(s->intersect(r, time, h)) << "t=" << time << " x=" << r.o.x;
+                const glm::dvec3 d = glm::abs(glm::dvec3(h.p) - expected);
+                // The tube's point: within the error box (plus Embree's float t on a ray from
+                // z = 5 and the float axis position, 2^-20 of it).
+                const glm::dvec3 box = glm::dvec3(h.p_err) + 0x1p-20 * 5.0;
+                worst_ratio = std::max({worst_ratio, d.x / box.x, d.y / box.y, d.z / box.z});
+                EXPECT_TRUE(d.x <= box.x && d.y <= box.y && d.z <= box.z)
+                    << "t=" << time << " p " << h.p.x << " " << h.p.y << " " << h.p.z
+                    << " expected z " << expected.z << " err " << h.p_err.z;
+                const glm::dvec3 n = (expected - glm::dvec3(axis, expected.y, 0.0)) / kStrandRadius;
+                EXPECT_GT(glm::dot(glm::dvec3(h.ng), n), 1.0 - 1e-4) << "t=" << time;
+            }
+        }
+        RecordProperty("worst_distance_over_box_" + basis, std::to_string(worst_ratio));
+        const int n = 64;
+        const fr::Image a = fr::render(moved, fr::testing::test_options("path", n, 2));
+        const fr::Image b = fr::render(deformed, fr::testing::test_options("path", n, 2));
+        float worst = 0.f;
+        for (std::size_t k = 0; k < a.pixels().size(); ++k)
+            worst = std::max(worst, std::fabs(a.pixels()[k].x - b.pixels()[k].x));
+        EXPECT_LE(worst, 4.f / float(n));
+    }
+}
+
+// Curves' motion keys: bad input names the place; with motion blur off they are checked and
+// the still strand renders bit for bit as without them.
+TEST(Motion, StrandMotionBadInputNamesThePlace) {
+    const std::string on = R"({"shutter": 0.5})";
+    auto expect = [](const std::string& err, const std::string& where) {
+        EXPECT_NE(err.find(where), std::string::npos) << err;
+    };
+    for (const std::string& blur : {on, std::string(R"({"enabled": false})")}) {
+        SCOPED_TRACE(blur);
+        // One step.
+        expect(error_of(strand_scene("linear", R"(, "motion_positions": [[0, -1.5, 0, 0, 1.5, 0]])",
+                                     blur)),
+               "/shapes/0/motion_positions: needs at least 2 steps");
+        // A step of the wrong size.
+        expect(error_of(strand_scene(
+                   "linear", R"(, "motion_positions": [[0, -1.5, 0, 0, 1.5, 0], [0, -1.5, 0]])",
+                   blur)),
+               "/shapes/0/motion_positions/1: expected 6 numbers (3 per control point: the "
+               "curves have 2 points), got 3");
+        // Not finite (1e39 overflows float).
+        expect(error_of(strand_scene(
+                   "linear",
+                   R"(, "motion_positions": [[0, -1.5, 0, 0, 1.5, 0], [0, -1.5, 0, 1e39, 1.5, 0]])",
+                   blur)),
+               "/shapes/0/motion_positions/1/3: must be a finite number");
+        // Steps other than the motion's.
+        expect(error_of(strand_scene("linear",
+                                     std::string(", \"motion\": ") + kMoveRight +
+                                         R"(, "motion_positions": [[0, -1.5, 0, 0, 1.5, 0],
+                                            [0, -1.5, 0, 0, 1.5, 0], [0, -1.5, 0, 0, 1.5, 0]])",
+                                     blur)),
+               "/shapes/0/motion_positions: has 3 steps but the shape's \"motion\" has 2");
+        // Curves have no normals.
+        expect(error_of(strand_scene("linear",
+                                     std::string(strand_deformation("linear", 1.0)) +
+                                         R"(, "motion_normals": [[0, 0, 1, 0, 0, 1],
+                                                                  [0, 0, 1, 0, 0, 1]])",
+                                     blur)),
+               "/shapes/0/motion_normals: unknown key");
+    }
+    // A prototype's curves do not move (the instance does).
+    expect(error_of(camera() + R"(
+      "materials": {"m": {"model": "lambert", "reflectance": 0.5}},
+      "prototypes": {"hair": [{"type": "curves", "material": "m", "basis": "linear",
+                               "radius": 0.1, "points": [0, -1, 0, 0, 1, 0],
+                               "motion_positions": [[0, -1, 0, 0, 1, 0], [1, -1, 0, 1, 1, 0]]}]},
+      "shapes": [{"type": "instance", "of": "hair"}],
+      "render": {"motion_blur": true})"),
+           "/prototypes/hair/0/motion_positions");
+    // Blur off: the still strand, bit for bit.
+    const fr::Scene plain = scene_of(strand_scene("catmull_rom", "", ""));
+    const fr::Scene off = scene_of(strand_scene(
+        "catmull_rom",
+        std::string(", \"motion\": ") + kMoveRight + strand_deformation("catmull_rom", 1.5),
+        R"({"enabled": false})"));
+    EXPECT_FALSE(off.features().has_motion);
+    EXPECT_TRUE(identical(fr::render(plain, fr::testing::test_options("path", 4, 2)),
+                          fr::render(off, fr::testing::test_options("path", 4, 2))));
+}
+
+// The JSON writer writes a strand's motion and deformation as the reader reads them.
+TEST(Motion, StrandMotionJsonRoundTrip) {
+    const fr::SceneDescription d = describe(strand_scene(
+        "linear", std::string(", \"motion\": ") + kMoveRight + strand_deformation("linear", 1.5),
+        R"({"shutter": 0.5})"));
+    ASSERT_EQ(d.shapes[0].motion_positions.size(), 2u);
+    const fr::SceneDescription back =
+        fr::parse_scene_description(fr::write_scene_json(d), "back.json");
+    EXPECT_TRUE(back == d);
+}

@@ -149,12 +149,11 @@ struct CurvePoint {
     double r;
 };
 
-CurvePoint eval_curve(const CurveGeom& g, std::uint32_t seg, double u) {
-    const glm::vec4* v = g.vertex + g.segment[seg];
+CurvePoint eval_curve(CurveGeom::Basis basis, const glm::vec4* v, double u) {
     double w[4] = {0.0, 0.0, 0.0, 0.0}, dw[4] = {0.0, 0.0, 0.0, 0.0};
     int n = 4;
     const double u2 = u * u, u3 = u2 * u;
-    switch (g.basis) {
+    switch (basis) {
         case CurveGeom::Basis::Linear:
             n = 2;
             w[0] = 1.0 - u;
@@ -588,12 +587,27 @@ void attach_curves(RTCDevice device, RTCScene scene, std::vector<CurveGeom>& cur
     if (!rtcGetDeviceProperty(device, RTC_DEVICE_PROPERTY_FILTER_FUNCTION_SUPPORTED))
         throw SceneError(name + ": embree: built without filter functions, which curves need");
     RTCGeometry g = rtcNewGeometry(device, type);
-    auto* v = static_cast<glm::vec4*>(rtcSetNewGeometryBuffer(
-        g, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT4, sizeof(glm::vec4), cg.vertices.size()));
+    // A deforming one (CurveGeom::step_vertices): one vertex buffer per uniform time step,
+    // which Embree interpolates linearly at the ray's time; a still one has one.
+    const std::size_t steps = cg.step_vertices.size();
+    if (steps >= 2) rtcSetGeometryTimeStepCount(g, unsigned(steps));
+    glm::vec4* v = nullptr;
+    for (std::size_t k = 0; k < std::max<std::size_t>(steps, 1); ++k) {
+        const std::vector<glm::vec4>& src = steps >= 2 ? cg.step_vertices[k] : cg.vertices;
+        auto* sv = static_cast<glm::vec4*>(rtcSetNewGeometryBuffer(g, RTC_BUFFER_TYPE_VERTEX,
+                                                                   unsigned(k), RTC_FORMAT_FLOAT4,
+                                                                   sizeof(glm::vec4), src.size()));
+        if (!sv) {
+            v = nullptr;
+            break;
+        }
+        std::memcpy(sv, src.data(), src.size() * sizeof(glm::vec4));
+        if (k == 0) v = sv;
+        if (steps >= 2) cg.step_vertex.push_back(sv);
+    }
     auto* idx = static_cast<std::uint32_t*>(rtcSetNewGeometryBuffer(
         g, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT, sizeof(std::uint32_t), cg.segments.size()));
     if (v && idx) {
-        std::memcpy(v, cg.vertices.data(), cg.vertices.size() * sizeof(glm::vec4));
         std::memcpy(idx, cg.segments.data(), cg.segments.size() * sizeof(std::uint32_t));
         cg.vertex = v;
         cg.segment = idx;
@@ -611,6 +625,7 @@ void attach_curves(RTCDevice device, RTCScene scene, std::vector<CurveGeom>& cur
             }
         }
         cg.vertices = {};
+        cg.step_vertices = {};
         cg.segments = {};
     }
     rtcSetGeometryUserData(g, &cg);
@@ -994,15 +1009,31 @@ template <bool kUv>
 // point's rounding, and Embree's float intersection (its curve parameter and distance) at
 // gamma(16) of the coordinates: a ray leaving the hit cannot meet the same strand anyway
 // (curve_filter), so the bound only keeps it off neighbouring strands' surfaces no more than
-// triangles are.
+// triangles are. Deforming curves (CurveGeom::step_vertices): the segment's control points
+// interpolated linearly between the two steps around the ray's `time` (as Embree interpolates
+// the vertex buffers), in double, and the error box grown by kMotionSlack of the coordinates
+// for Embree's own float interpolation (as a deforming mesh's).
 [[gnu::noinline]] void fill_curve(const CurveGeom& g, std::uint32_t seg, const Ray& ray, float u,
-                                  float t, SurfaceHit& hit) {
-    const CurvePoint cp = eval_curve(g, seg, double(u));
+                                  float t, SurfaceHit& hit, float time = 0.f) {
+    const glm::vec4* v = g.vertex + g.segment[seg];
+    glm::vec4 at_time[4];
+    if (!g.step_vertex.empty()) [[unlikely]] {
+        const std::size_t steps = g.step_vertex.size();
+        const double x = std::clamp(double(time), 0.0, 1.0) * double(steps - 1);
+        const std::size_t i = std::min(std::size_t(x), steps - 2);
+        const double f = x - double(i);
+        const glm::vec4* a = g.step_vertex[i] + g.segment[seg];
+        const glm::vec4* b = g.step_vertex[i + 1] + g.segment[seg];
+        const int n = g.basis == CurveGeom::Basis::Linear ? 2 : 4;
+        for (int q = 0; q < n; ++q)
+            at_time[q] = glm::vec4((1.0 - f) * glm::dvec4(a[q]) + f * glm::dvec4(b[q]));
+        v = at_time;
+    }
+    const CurvePoint cp = eval_curve(g.basis, v, double(u));
     glm::dvec3 tangent = cp.dc;
     double tl = glm::length(tangent);
     if (!(tl > 0.0)) {  // coincident control points: the chord of the segment
         const std::uint32_t k = g.basis == CurveGeom::Basis::Linear ? 1 : 3;
-        const glm::vec4* v = g.vertex + g.segment[seg];
         tangent = glm::dvec3(Vec3(v[k])) - glm::dvec3(Vec3(v[0]));
         tl = glm::length(tangent);
     }
@@ -1034,6 +1065,7 @@ template <bool kUv>
     hit.t = t;
     hit.p = Vec3(p);
     hit.p_err = rounding_error(hit.p) + Vec3(gamma_bound(16) * g.max_coord);
+    if (!g.step_vertex.empty()) hit.p_err += Vec3(float(kMotionSlack * g.max_coord));
     hit.ng = Vec3(n);
     hit.ns = hit.ng;
     hit.dpdu = Vec3(T);
@@ -1070,7 +1102,7 @@ template <bool kUv>
     local.d = Vec3(glm::dmat3(in.to_object) * glm::dvec3(ray.d));
     local.tmax = ray.tmax;
     if (curve) [[unlikely]]
-        fill_curve(pg.curves[std::size_t(-2 - index)], tri, local, u, t, hit);
+        fill_curve(pg.curves[std::size_t(-2 - index)], tri, local, u, t, hit, timed ? time : 0.f);
     else if (timed && !mg->step_positions.empty())
         fill_deformed<kUv>(*mg, tri, local, time, u, v, t, hit);
     else

@@ -99,6 +99,10 @@ class ShapeBuild : public BuildChecks {
     Rgb emission{0.f};      // checked
     bool emissive = false;
     glm::dmat4 xf{1.0};  // object to world (checked: finite, affine, not singular)
+    // The shape's `motion_positions` render (motion blur on): a deforming kind (mesh, curves)
+    // builds its steps through `xf` (the shape is then in a prototype of its own, xf its
+    // object space). Without it they are only checked.
+    bool deform = false;
 
     // "/shapes/3" or "/shapes/3 ('Suzanne')".
     virtual std::string place() const = 0;

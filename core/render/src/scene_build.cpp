@@ -1174,12 +1174,13 @@ class Builder final : public BuildChecks {
             case ShapeKind::Mesh:
             case ShapeKind::Icosphere:
             case ShapeKind::Grid:
+            case ShapeKind::Curves:
             case ShapeKind::Instance:
                 break;
             default:
                 fail(mp,
-                     "only triangle shapes (box, quad, mesh, icosphere, grid) and instances "
-                     "can move, not a '" +
+                     "only triangle shapes (box, quad, mesh, icosphere, grid), curves and "
+                     "instances can move, not a '" +
                          std::string(shape_kind(s.kind).name) + "'");
         }
         if (emissive)
@@ -1214,9 +1215,11 @@ class Builder final : public BuildChecks {
                 fail(ptr + "/motion_normals", "given without \"motion_positions\"");
             return false;
         }
-        if (s.kind != ShapeKind::Mesh)
-            fail(mp,
-                 "only a 'mesh' can deform, not a '" + std::string(shape_kind(s.kind).name) + "'");
+        if (s.kind != ShapeKind::Mesh && s.kind != ShapeKind::Curves)
+            fail(mp, "only a 'mesh' or 'curves' can deform, not a '" +
+                         std::string(shape_kind(s.kind).name) + "'");
+        if (s.kind == ShapeKind::Curves && !s.motion_normals.empty())
+            fail(ptr + "/motion_normals", "curves have no normals (give motion_positions only)");
         if (proto >= 0) fail(mp, "a prototype's shapes cannot deform");
         if (s.motion_positions.size() < 2)
             fail(mp, "needs at least 2 steps (the positions at shutter open and close), got " +
@@ -1428,10 +1431,9 @@ class Builder final : public BuildChecks {
             m_local = true;
         }
         std::int32_t local_prototype() const { return m_proto; }
-        // The shape has `motion_positions` (checked against its mesh by add_mesh); `deform`:
-        // they render (motion blur on; the mesh then goes to its own prototype).
+        // The shape has `motion_positions` (checked against its mesh by add_mesh); `deform`
+        // (ShapeBuild): they render (motion blur on; the mesh then goes to its own prototype).
         bool deform_steps = false;
-        bool deform = false;
 
       private:
         // The shape's own triangles (part -1) or one of its parts: transformed, validated,
@@ -1746,7 +1748,9 @@ class Builder final : public BuildChecks {
         in.motion = pi.motion;
         const PrototypeGeom& proto = m_builder.impl().prototypes[in.prototype];
         in.deforms = std::any_of(proto.meshes.begin(), proto.meshes.end(),
-                                 [](const MeshGeom& g) { return !g.step_positions.empty(); });
+                                 [](const MeshGeom& g) { return !g.step_positions.empty(); }) ||
+                     std::any_of(proto.curves.begin(), proto.curves.end(),
+                                 [](const CurveGeom& g) { return !g.step_vertices.empty(); });
         const Bounds3& pb = proto.bounds;
         if (pb.empty()) return;  // a glTF mesh without triangles: nothing to place
         // The world extent of every step's placement; a moving instance's also of its

@@ -157,6 +157,12 @@ struct CurveGeom {
     // embree_scene.cpp, curve_filter).
     std::vector<float> segment_radius;
     float max_coord = 0.f;  // largest coordinate magnitude of the control points (error bound)
+    // Deformation motion (ShapeDesc::motion_positions): the control points and radii at each of
+    // >= 2 uniform time steps (motion.h), handed to Embree as one vertex buffer per step (it
+    // interpolates them linearly at the ray's time; `vertices` is then unused); hits read
+    // Embree's copies (`step_vertex`) at the ray's time. Empty: the curves are still.
+    std::vector<std::vector<glm::vec4>> step_vertices;
+    std::vector<const glm::vec4*> step_vertex;
 };
 
 // A prototype (SceneDescription::prototypes): its triangle meshes in its own object space,

@@ -31,7 +31,7 @@ constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  
 // The keys of a curves kind's CurveArrays field (ShapeDesc::curves).
 constexpr std::array<const char*, 4> kCurveArrayKeys = {"points", "radius", "counts", "root_uvs"};
 // A mesh kind's deformation motion (ShapeDesc::motion_positions, motion_normals), with the
-// arrays or a "file".
+// arrays or a "file"; a curves kind's is motion_positions alone.
 constexpr std::array<const char*, 2> kMeshMotionKeys = {"motion_positions", "motion_normals"};
 
 std::string type_name(const json& v) {
@@ -801,6 +801,7 @@ class Reader {
                 keys.insert(keys.end(), kMeshMotionKeys.begin(), kMeshMotionKeys.end());
             } else if (f.type == FieldType::CurveArrays) {
                 keys.insert(keys.end(), kCurveArrayKeys.begin(), kCurveArrayKeys.end());
+                keys.push_back(kMeshMotionKeys[0]);  // motion_positions (deformation)
             } else {
                 keys.push_back(f.key.data());
             }

@@ -155,6 +155,35 @@ void build(ShapeBuild& b) {
         world.hi = glm::max(world.hi, Vec3(pw) + rw);
         max_coord = std::max(max_coord, largest_magnitude(pw) + double(rw));
     }
+    // Deformation motion: every step 3n finite numbers (checked with motion blur on or off);
+    // with `deform` the steps' points through xf, each with its point's still radius.
+    const std::string mp = b.ptr + "/motion_positions";
+    for (std::size_t k = 0; k < s.motion_positions.size(); ++k) {
+        const std::vector<float>& in = s.motion_positions[k];
+        const std::string sp = mp + "/" + std::to_string(k);
+        if (in.size() != 3 * n)
+            b.fail(sp, "expected " + std::to_string(3 * n) +
+                           " numbers (3 per control point: the curves have " + std::to_string(n) +
+                           " points), got " + std::to_string(in.size()));
+        for (std::size_t i = 0; i < in.size(); ++i)
+            if (!std::isfinite(in[i]))
+                b.fail(sp + "/" + std::to_string(i), "must be a finite number");
+        if (!b.deform) continue;
+        std::vector<glm::vec4> step(n);
+        for (std::size_t i = 0; i < n; ++i) {
+            const glm::dvec3 po(in[3 * i], in[3 * i + 1], in[3 * i + 2]);
+            const glm::dvec3 pw = glm::dvec3(b.xf * glm::dvec4(po, 1.0));
+            const float rw = g.vertices[i].w;
+            const double r = c.radius.size() == 1 ? c.radius[0] : c.radius[i];
+            step[i] = glm::vec4(Vec3(pw), rw);
+            object.lo = glm::min(object.lo, Vec3(po - r));
+            object.hi = glm::max(object.hi, Vec3(po + r));
+            world.lo = glm::min(world.lo, Vec3(pw) - rw);
+            world.hi = glm::max(world.hi, Vec3(pw) + rw);
+            max_coord = std::max(max_coord, largest_magnitude(pw) + double(rw));
+        }
+        g.step_vertices.push_back(std::move(step));
+    }
     g.max_coord = float(max_coord);
     const std::size_t strands = st.count.size();
     g.segments.reserve(total);
