@@ -207,7 +207,9 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     view_layer = depsgraph.view_layer
     problems.extend(gaps.scene_lines(scene, view_layer))
     flagged = set()  # objects whose flags, type and particle hair were reported
-    hair_owners = set()  # objects whose hair or CURVES were exported (their motion: reported)
+    # Per exported hair shape (by id): what reads its points again at the motion steps
+    # (sync_motion.add_motion): ("particle", object, modifier, render) or ("curves", object).
+    hair_sources = {}
     volumes = []  # VOLUME objects: (medium name, grid medium, null boundary box) (sync_volume)
     # The scene camera's clipping (the viewport's view has its own, and clips what it shows).
     clip = ClipCheck(scene.camera) if camera is None and scene.camera is not None and \
@@ -257,7 +259,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 got = sync_hair.export_curves_object(obj, matrix, scene, mats.reads_uv, problems)
                 if got is not None:
                     order.append(_hair_shape(got[0], got[1], mats, obj, problems))
-                    hair_owners.add(obj.original.name)
+                    hair_sources[id(got[0])] = ("curves", obj.original.name)
             continue
         if obj.type not in GEOMETRY_TYPES:
             continue
@@ -267,10 +269,11 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 m.type == 'PARTICLE_SYSTEM' for m in obj.modifiers):
             # Particle hair (sync_hair.py): the object's own placement carries it.
             if not inst.is_instance:
-                for shape, mat in sync_hair.export_particle_hair(
-                        obj, scene, mats.reads_uv, problems, depsgraph.mode == 'RENDER'):
+                render = depsgraph.mode == 'RENDER'
+                for shape, mat, mod_name in sync_hair.export_particle_hair(
+                        obj, scene, mats.reads_uv, problems, render):
                     order.append(_hair_shape(shape, mat, mats, obj, problems))
-                    hair_owners.add(obj.original.name)
+                    hair_sources[id(shape)] = ("particle", obj.original.name, mod_name, render)
             elif ("hair", obj.original.name) not in flagged:
                 flagged.add(("hair", obj.original.name))
                 problems.append("object '%s': the particle hair of its instances is not "
@@ -395,8 +398,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         data["render"]["motion_blur"] = blur
         if frame_set is not None:
             sync_motion.add_motion(depsgraph, data, frame_set, owners, problems,
-                                   mesh_sources)
-        sync_motion.report_still_hair(scene, hair_owners, problems)
+                                   mesh_sources, hair_sources)
     return data, problems
 
 

@@ -208,6 +208,9 @@ def _shape_desc(s):
             counts=None if s.get("counts") is None else np.asarray(s["counts"], np.int64),
             root_uvs=None if s.get("root_uvs") is None else
             np.ascontiguousarray(s["root_uvs"], dtype=np.float32))
+        if s.get("motion_positions"):  # deformation motion: per step, flat float32 arrays
+            sd.motion_positions = [np.ascontiguousarray(st, dtype=np.float32).ravel()
+                                   for st in s["motion_positions"]]
     if s["type"] == "mesh":
         if "file" in s:
             sd.file = s["file"]
@@ -362,6 +365,9 @@ def _shape_data(sd, base_dir):
             s["counts"] = [int(x) for x in c.counts]
         if c.root_uvs is not None:
             s["root_uvs"] = np.asarray(c.root_uvs, dtype=np.float64).ravel().tolist()
+        if len(sd.motion_positions):
+            s["motion_positions"] = [np.asarray(st, dtype=np.float64).ravel().tolist()
+                                     for st in sd.motion_positions]
     if kind == "mesh":
         if sd.file:
             s["file"] = os.path.join(base_dir, sd.file)

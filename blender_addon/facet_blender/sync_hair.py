@@ -48,22 +48,29 @@ def shape_radius(shape, root, tip, t):
     return r * (root - tip) + tip
 
 
+def _expanded(counts):
+    """Indices of the keys of strands of `counts` keys each with every strand's first and last
+    key repeated (Cycles' Catmull-Rom curves reach their ends so)."""
+    idx = []
+    start = 0
+    for c in counts:
+        idx += [start] + list(range(start, start + c)) + [start + c - 1]
+        start += c
+    return np.array(idx, np.int64)
+
+
+def _flat(points):
+    return [float(v) for v in np.asarray(points, np.float64).ravel()]
+
+
 def _strands_shape(points, radii, counts, profile, uvs=None):
     """A `curves` shape dict of Catmull-Rom strands through `points` (n x 3) with `radii`
     (n), `counts` keys each: every strand's first and last key repeated."""
-    pts, rad = [], []
-    out_counts = []
-    start = 0
-    for c in counts:
-        idx = [start] + list(range(start, start + c)) + [start + c - 1]
-        pts.append(points[idx])
-        rad.append(radii[idx])
-        out_counts.append(c + 2)
-        start += c
+    idx = _expanded(counts)
     shape = {"type": "curves", "basis": "catmull_rom", "profile": profile,
-             "points": [float(v) for v in np.concatenate(pts).ravel()],
-             "radius": [float(v) for v in np.concatenate(rad)],
-             "counts": out_counts}
+             "points": _flat(np.asarray(points)[idx]),
+             "radius": [float(v) for v in np.asarray(radii)[idx]],
+             "counts": [int(c) + 2 for c in counts]}
     if uvs is not None:
         shape["root_uvs"] = [float(v) for v in np.asarray(uvs, np.float64).ravel()]
     return shape
@@ -81,11 +88,45 @@ def _positive(radii, root, subject, problems):
     return radii
 
 
+def _strand_range(ps, render):
+    """The particle numbers of the strands Blender evaluates, and the keys per strand."""
+    st = ps.settings
+    totpart = len(ps.particles)
+    totchild = len(ps.child_particles)
+    if not render:
+        totchild = int(totchild * st.display_percentage / 100.0)
+    first = totpart if (st.child_type != 'NONE' and totchild) else 0
+    steps = 2 ** (st.render_step if render else st.display_step) + 1
+    return range(first, totpart + totchild), steps
+
+
+def particle_step_points(obj, mod_name, render):
+    """The points of the curves shape export_particle_hair made of modifier `mod_name` of the
+    evaluated `obj`, read again (at another time: sync_motion's deformation steps), as a flat
+    list; None when the system or its strands' key counts differ (another topology)."""
+    mod = obj.modifiers.get(mod_name)
+    if mod is None or mod.type != 'PARTICLE_SYSTEM':
+        return None
+    ps = mod.particle_system
+    strands, steps = _strand_range(ps, render)
+    points, counts = [], []
+    for pa in strands:
+        keys = np.array([ps.co_hair(obj, particle_no=pa, step=k) for k in range(steps)],
+                        np.float64)
+        if len(keys) < 2 or not np.isfinite(keys).all():
+            continue
+        points.append(keys)
+        counts.append(len(keys))
+    if not counts:
+        return None
+    return counts, _flat(np.concatenate(points)[_expanded(counts)])
+
+
 def export_particle_hair(obj, scene, reads_uv, problems, render=True):
     """The evaluated mesh object's rendered hair particle systems -> [(shape dict without
-    material, material or None)], world space. `reads_uv(material)`: whether it reads UVs;
-    `render`: the depsgraph is a final render's (else the viewport's: Display Steps and Display
-    Amount, as Cycles' viewport render)."""
+    material, material or None, modifier name)], world space. `reads_uv(material)`: whether it
+    reads UVs; `render`: the depsgraph is a final render's (else the viewport's: Display Steps
+    and Display Amount, as Cycles' viewport render)."""
     out = []
     profile = _profile(scene)
     for mod in obj.modifiers:
@@ -97,11 +138,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
             continue
         subject = "object '%s': particle system '%s'" % (obj.original.name, ps.name)
         totpart = len(ps.particles)
-        totchild = len(ps.child_particles)
-        if not render:
-            totchild = int(totchild * st.display_percentage / 100.0)
-        first = totpart if (st.child_type != 'NONE' and totchild) else 0
-        steps = 2 ** (st.render_step if render else st.display_step) + 1
+        strands, steps = _strand_range(ps, render)
         half = st.radius_scale * 0.5
         root, tip = half * st.root_radius, half * st.tip_radius
         points, radii, counts, uvs = [], [], [], []
@@ -117,7 +154,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
             if uv_index is None:
                 problems.append("%s: the hair material reads UVs but the emitter has none; "
                                 "UV (0, 0), as Cycles" % subject)
-        for pa in range(first, totpart + totchild):
+        for pa in strands:
             keys = np.array([ps.co_hair(obj, particle_no=pa, step=k) for k in range(steps)],
                             np.float64)
             if len(keys) < 2 or not np.isfinite(keys).all():
@@ -148,11 +185,47 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
         shape = _strands_shape(np.concatenate(points), rad, counts, profile,
                                uvs if textured else None)
         shape["name"] = "%s hair '%s'" % (obj.original.name, ps.name)
-        out.append((shape, mat))
+        out.append((shape, mat, mod.name))
     return out
 
 
 _CURVE_TYPES = {0: "Catmull-Rom", 1: "Poly", 2: "Bezier", 3: "NURBS"}
+
+
+def _curves_layout(cv):
+    """(positions n x 3, first point per curve, points per curve) of Curves data `cv`."""
+    n_points = len(cv.points)
+    n_curves = len(cv.curves)
+    pos = np.empty(n_points * 3, np.float32)
+    cv.attributes["position"].data.foreach_get("vector", pos)
+    offsets = np.empty(n_curves, np.int32)
+    cv.curves.foreach_get("first_point_index", offsets)
+    counts = np.empty(n_curves, np.int32)
+    cv.curves.foreach_get("points_length", counts)
+    return pos.reshape(-1, 3).astype(np.float64), offsets, counts
+
+
+def _kept(offsets, counts):
+    """The curves of 2 or more points, and the indices of their points."""
+    keep = counts >= 2
+    idx = np.concatenate([np.arange(o, o + c) for o, c, k in zip(offsets, counts, keep) if k]) \
+        if keep.any() else np.zeros(0, np.int64)
+    return keep, idx
+
+
+def curves_step_points(obj):
+    """The points (object space) of the curves shape export_curves_object made of the
+    evaluated CURVES `obj`, read again (at another time: sync_motion's deformation steps):
+    (strand counts, flat list), or None when it has no curves."""
+    cv = obj.data
+    if len(cv.curves) == 0 or len(cv.points) == 0:
+        return None
+    pos, offsets, counts = _curves_layout(cv)
+    keep, idx = _kept(offsets, counts)
+    if len(idx) == 0:
+        return None
+    kept = [int(c) for c in counts[keep]]
+    return kept, _flat(pos[idx][_expanded(kept)])
 
 
 def export_curves_object(obj, matrix, scene, reads_uv, problems):
@@ -166,9 +239,7 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
     if n_curves == 0 or n_points == 0:
         problems.append("%s: hair curves with no curves; skipped" % subject)
         return None
-    pos = np.empty(n_points * 3, np.float32)
-    cv.attributes["position"].data.foreach_get("vector", pos)
-    pos = pos.reshape(-1, 3).astype(np.float64)
+    pos, offsets, counts_all = _curves_layout(cv)
     attr = cv.attributes.get("radius")
     if attr is not None and attr.domain == 'POINT' and attr.data_type == 'FLOAT':
         rad = np.empty(n_points, np.float32)
@@ -176,10 +247,6 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
         rad = rad.astype(np.float64)
     else:
         rad = np.full(n_points, DEFAULT_CURVES_RADIUS)
-    offsets = np.empty(n_curves, np.int32)
-    cv.curves.foreach_get("first_point_index", offsets)
-    counts_all = np.empty(n_curves, np.int32)
-    cv.curves.foreach_get("points_length", counts_all)
     types = cv.attributes.get("curve_type")
     if types is not None:
         tv = np.empty(n_curves, np.int8)
@@ -192,12 +259,10 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
             problems.append("%s: curves of type %s are rendered through their control points "
                             "as Catmull-Rom curves, as Cycles 3.4 does"
                             % (subject, ", ".join(other)))
-    keep = counts_all >= 2
+    keep, idx = _kept(offsets, counts_all)
     if not keep.all():
         problems.append("%s: %d curves of fewer than 2 points are left out"
                         % (subject, int((~keep).sum())))
-    idx = np.concatenate([np.arange(o, o + c) for o, c, k in zip(offsets, counts_all, keep) if k]) \
-        if keep.any() else np.zeros(0, np.int64)
     if len(idx) == 0:
         return None
     uvs = None

@@ -13,7 +13,15 @@ parent) has its evaluated mesh read again at the same steps, with the same layou
 export (sync_mesh.mesh_arrays: the same UV layer and colour attribute); when its positions
 differ between steps, its mesh shapes get "motion_positions" (and "motion_normals" with
 normals). When the topology changes between steps (another vertex count or other triangles),
-it renders without deformation blur, as Cycles does, and the report names the object."""
+it renders without deformation blur, as Cycles does, and the report names the object.
+
+Hair (sync_hair.py), as Cycles 3.4 samples its curve keys at the motion steps: a CURVES
+object's shape moves by the object's matrices ("motion") and, when it may deform and Deformation
+is on, gets its points at the steps ("motion_positions", object space). Particle hair is
+exported in world space: with Deformation on its keys are read again at the steps (the
+emitter's motion and the hair's own); with it off the still keys follow the emitter's matrices
+rigidly (M_step M_frame^-1 p). Strands that change in number or key count between steps render
+without motion blur (reported, by object and hair)."""
 
 import math
 
@@ -138,15 +146,30 @@ def _deformation(name, steps, source, problems):
     return [st[0] for st in steps], (None if steps[0][1] is None else [st[1] for st in steps])
 
 
-def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources=None):
+def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources=None,
+               hair_sources=None):
     """Adds "motion" to the camera and to the shapes of objects that move. `frame_set(frame,
     subframe)` evaluates the depsgraph at another time (RenderEngine.frame_set); it is called
     once per distinct step time and finally at the current frame again. `shape_objects`: per
     entry of data["shapes"], the name of the object it places (None: not an object's own
     placement, e.g. instances of a collection). `mesh_sources`: per object, how its mesh was
-    read (export.py), for its deformation motion."""
+    read (export.py), for its deformation motion. `hair_sources`: per hair shape (by id) what
+    reads its points again (export.py): ("particle", object, modifier, render) or ("curves",
+    object)."""
     scene = depsgraph.scene
     mesh_sources = mesh_sources or {}
+    shape_objects = list(shape_objects)
+    hair = {}  # shape index -> (source, whether its points are read at every step)
+    for k, shape in enumerate(data["shapes"]):
+        src = (hair_sources or {}).get(id(shape))
+        obj = scene.objects.get(src[1]) if src is not None else None
+        if obj is None or not object_blurs(obj):
+            continue
+        if src[0] == "curves":
+            shape_objects[k] = src[1]  # placed by the object's matrix: it moves by them
+            if not (deform_blurs(obj) and may_deform(obj)):
+                continue
+        hair[k] = (src, src[0] == "curves" or deform_blurs(obj))
     _report_instances(scene, data, shape_objects, problems)
     wanted = {}  # object name -> number of steps
     deforming = set()  # objects whose meshes are read at every step
@@ -157,11 +180,15 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
             if (deform_blurs(obj) and may_deform(obj) and name in mesh_sources
                     and mesh_sources[name][2] is not None):
                 deforming.add(name)
+    for src, _ in hair.values():
+        wanted[src[1]] = step_count(scene.objects[src[1]])
     cam = scene.camera
     if cam is not None and object_blurs(cam):
         wanted[cam.name] = step_count(cam)
     if not wanted:
         return
+    frame_mats = {src[1]: np.array(scene.objects[src[1]].evaluated_get(depsgraph).matrix_world)
+                  for src, _ in hair.values()}
     frame0 = (scene.frame_current, scene.frame_subframe)
     times = {}
     for name, n in wanted.items():
@@ -169,6 +196,7 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
             times.setdefault(ft, []).append((name, i))
     mats = {name: [None] * n for name, n in wanted.items()}
     meshes = {name: [None] * wanted[name] for name in deforming}
+    hair_steps = {k: [None] * wanted[src[1]] for k, (src, read) in hair.items() if read}
     try:
         for ft, users in sorted(times.items()):
             frame_set(ft[0], ft[1])
@@ -177,8 +205,15 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
                 mats[name][i] = [list(r) for r in obj.matrix_world]
                 if name in deforming:
                     meshes[name][i] = _read_step(obj, mesh_sources[name])
+                for k in hair_steps:
+                    if hair[k][0][1] == name:
+                        hair_steps[k][i] = _read_hair_step(obj, hair[k][0])
     finally:
         frame_set(frame0[0], frame0[1])
+    for k, (src, read) in sorted(hair.items()):
+        steps = hair_steps[k] if read else _rigid_hair(data["shapes"][k], frame_mats[src[1]],
+                                                       mats[src[1]])
+        _add_hair_deformation(data["shapes"][k], src[1], steps, problems)
     for name in sorted(deforming):
         d = _deformation(name, meshes[name], mesh_sources[name], problems)
         if d is None:
@@ -212,6 +247,42 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
             shape["motion"] = steps
 
 
+def _read_hair_step(obj, src):
+    """A hair shape's (strand counts, flat points) read from the evaluated `obj` at a step."""
+    from . import sync_hair
+    if src[0] == "curves":
+        return sync_hair.curves_step_points(obj)
+    return sync_hair.particle_step_points(obj, src[2], src[3])
+
+
+def _rigid_hair(shape, frame_matrix, step_mats):
+    """A world-space hair shape's points carried by the emitter's matrices (M_step
+    M_frame^-1 p): its motion steps without deformation."""
+    counts = [c - 2 for c in shape["counts"]]
+    p = np.array(shape["points"], np.float64).reshape(-1, 3)
+    ph = np.concatenate([p, np.ones((len(p), 1))], axis=1)
+    inv = np.linalg.inv(frame_matrix)
+    out = []
+    for m in step_mats:
+        q = (np.array(m, np.float64) @ inv @ ph.T).T[:, :3]
+        out.append((counts, [float(v) for v in q.ravel()]))
+    return out
+
+
+def _add_hair_deformation(shape, name, steps, problems):
+    """A hair shape's "motion_positions" from its points at the steps ((strand counts, flat
+    points) each), when they differ; strands that change between steps are reported."""
+    counts = [c - 2 for c in shape["counts"]]
+    if any(st is None or st[0] != counts for st in steps):
+        problems.append("object '%s': hair '%s': its strands change over the shutter (strand "
+                        "or key count differs between motion steps): rendered without "
+                        "deformation motion blur, as Cycles does" % (name, shape["name"]))
+        return
+    if all(st[1] == steps[0][1] for st in steps[1:]):
+        return
+    shape["motion_positions"] = [st[1] for st in steps]
+
+
 def _animated(obj):
     """Whether `obj` or a parent of it is animated (an action or drivers), or its mesh may
     deform: what could move it over the shutter."""
@@ -238,16 +309,6 @@ def _report_instances(scene, data, shape_objects, problems):
         named.add(obj.name)
         problems.append("object '%s': its instances are rendered without motion blur (the "
                         "motion of instances is not converted)" % obj.name)
-
-
-def report_still_hair(scene, names, problems):
-    """Curves do not move yet: each object in `names` (objects whose hair or CURVES were
-    exported) with Motion Blur on that is animated or may deform is named once."""
-    for name in sorted(names):
-        obj = scene.objects.get(name)
-        if obj is not None and object_blurs(obj) and _animated(obj):
-            problems.append("object '%s': its hair is rendered without motion blur (curves "
-                            "do not move yet)" % name)
 
 
 def _emits(shape):

@@ -1,0 +1,219 @@
+"""Hair under motion blur (issue 37, items 3 and 4): moving hair -> the curves shapes' motion
+steps, against Cycles 3.4.
+
+Export (no render): the hair sphere of test_cycles_hair.py (300 hairs grown from vertices, root
+radius 0.04, tip 0.02) keyframed to move 3 units per frame along x (linear), at frame 1 with
+shutter 0.5 centred on it and the object's default 3 motion steps: its hair shape gets "motion_positions" of 3 steps,
+each the still points translated by the emitter's own step translation (to 1e-5); the same with
+the object's Deformation off (the still keys carried by the emitter's matrices); nothing is
+reported as rendered without motion blur. A CURVES object (Add > Curves > Random) moving 1.5
+units per frame gets the object's 3 matrices as its shape's "motion" and no deformation steps.
+
+Render: that moving furry sphere (Diffuse hair, diffuse skin, a sun, a dark world) at 64 x 48,
+128 spp, max depth 2 (Cycles 1 bounce), Facet (through the export) against Cycles, two seeds
+each; the bounds of the other Cycles tests (test_cycles_motion.py):
+- |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
+- block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
+  noise floor (the same between Cycles seeds 1 and 2).
+Ability to fail: Facet with the hair's motion steps dropped (the sphere blurred, its hair
+sharp at the frame: what the addon rendered before) must break a bound, and so must Facet with
+motion blur off altogether (numbers printed)."""
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support",
+                                "python"))
+from facet_testsupport import blender_harness as bt  # noqa: E402
+from facet_testsupport import cycles_scene as cs  # noqa: E402
+
+W, H = 64, 48
+BLOCK = 8
+SPP = 128
+MEAN_TOL = 0.02
+RMSE_FACTOR = 3.0
+MAX_DEPTH = 2
+
+
+def export(frame_set=None):
+    from facet_blender import export as ex
+    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={},
+                           frame_set=frame_set)
+
+
+def scene_frame_set(frame, subframe):
+    bpy.context.scene.frame_set(frame, subframe=subframe)
+
+
+def diffuse(name, colour):
+    mat, nt, out = bt.new_material(name)
+    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
+    d.inputs["Color"].default_value = colour + (1.0,)
+    nt.links.new(d.outputs[0], out.inputs["Surface"])
+    return mat
+
+
+def move(obj, x0=-1.5, x1=1.5):
+    """Keyframes `obj` from x0 at frame 0 to x1 at frame 2, linearly (1.5 units per frame)."""
+    y, z = obj.location[1], obj.location[2]
+    for frame, x in ((0, x0), (2, x1)):
+        obj.location = (x, y, z)
+        obj.keyframe_insert("location", frame=frame)
+    for fc in obj.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+
+
+def blur_on(scene):
+    scene.frame_set(1)
+    scene.render.use_motion_blur = True
+    scene.render.motion_blur_shutter = 0.5
+    scene.cycles.motion_blur_position = 'CENTER'
+
+
+def moving_fur_scene():
+    scene = bt.factory_scene(W, H)
+    bpy.data.objects.remove(bpy.data.objects["Cube"])
+    bpy.data.objects.remove(bpy.data.objects["Light"])
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, location=(0.0, 0.0, 0.0))
+    sphere = bpy.context.active_object
+    sphere.name = "Ball"
+    sphere.data.materials.append(diffuse("Skin", (0.5, 0.5, 0.5)))
+    sphere.data.materials.append(diffuse("Fur", (0.8, 0.4, 0.1)))
+    # Thicker than cs.add_fur's (root radius 0.04, tip 0.02): the hair's share of the image
+    # large enough that sharp hair on the blurred sphere shows beyond the noise (the control).
+    cs.add_fur(sphere, 300).particle_system.settings.radius_scale = 0.08
+    scene.cycles_curves.shape = 'THICK'
+    cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 5.0), rotation=(0.6, 0.3, 0.0))
+    scene.world.use_nodes = True
+    bg = scene.world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.05, 0.05, 0.05, 1.0)
+    move(sphere, -3.0, 3.0)
+    blur_on(scene)
+    return scene, sphere
+
+
+def hair_of(data):
+    hair = [s for s in data["shapes"] if s["type"] == "curves"]
+    bt.check(len(hair) == 1, "one curves shape: %s" % [s.get("name") for s in data["shapes"]])
+    return hair[0]
+
+
+def check_translated(h, steps_x):
+    """Each of the hair's motion steps is its still points translated by (dx, 0, 0)."""
+    bt.check(len(h.get("motion_positions", ())) == len(steps_x),
+             "%d deformation steps: %d" % (len(steps_x), len(h.get("motion_positions", ()))))
+    still = np.array(h["points"]).reshape(-1, 3)
+    for k, dx in enumerate(steps_x):
+        p = np.array(h["motion_positions"][k]).reshape(-1, 3)
+        bt.check(np.allclose(p - still, [dx, 0.0, 0.0], atol=1e-5),
+                 "step %d: the still hair moved by (%g, 0, 0): off by %g" % (
+                     k, dx, np.abs(p - still - [dx, 0.0, 0.0]).max()))
+
+
+def case_export():
+    scene, sphere = moving_fur_scene()
+    data, problems = export(scene_frame_set)
+    h = hair_of(data)
+    # Frame 1, shutter 0.5 centred: steps at frames 0.75, 1, 1.25; 3 units per frame.
+    check_translated(h, [-0.75, 0.0, 0.75])
+    ball = [s for s in data["shapes"] if s.get("name") == "Ball"]
+    bt.check(ball and len(ball[0].get("motion", ())) == 3, "the emitter moves by its matrices")
+    bt.check(not [p for p in problems if "motion blur" in p], "nothing reported: %s" % problems)
+    # Deformation off: the still keys carried by the emitter's matrices.
+    sphere.cycles.use_deform_motion = False
+    data, problems = export(scene_frame_set)
+    check_translated(hair_of(data), [-0.75, 0.0, 0.75])
+    sphere.cycles.use_deform_motion = True
+    # The object's Motion Blur off: still hair (as Cycles), nothing reported.
+    sphere.cycles.use_motion_blur = False
+    data, problems = export(scene_frame_set)
+    bt.check("motion_positions" not in hair_of(data), "object Motion Blur off: still hair")
+    sphere.cycles.use_motion_blur = True
+    # Without frame_set (the viewport's export) nothing moves.
+    bt.check("motion_positions" not in hair_of(export()[0]), "viewport: still")
+    from facet_blender import native
+    native.build(export(scene_frame_set)[0], name="blender")
+
+
+def case_curves_export():
+    scene = bt.factory_scene(W, H)
+    bpy.ops.object.curves_random_add(location=(0.0, 0.0, 0.5))
+    ob = bpy.context.active_object
+    ob.name = "Random"
+    move(ob)
+    blur_on(scene)
+    data, problems = export(scene_frame_set)
+    h = hair_of(data)
+    m = h.get("motion", [])
+    bt.check(len(m) == 3 and [round(r[0][3], 6) for r in m] == [-0.375, 0.0, 0.375],
+             "the object's matrices as the shape's motion: %s" % [r[0][3] for r in m])
+    bt.check("motion_positions" not in h, "no deformation (the points stay)")
+    bt.check(not [p for p in problems if "motion blur" in p], "nothing reported: %s" % problems)
+    from facet_blender import native
+    native.build(data, name="blender")
+
+
+def renders(scene, name, out, engines=('FACET', 'CYCLES')):
+    scene.facet.max_depth = MAX_DEPTH
+    scene.facet.spp = SPP
+    cs.cycles_settings(scene, samples=SPP, max_depth=MAX_DEPTH)
+    scene.render.use_motion_blur = True  # cycles_settings turns it off
+    return {e: tuple(cs.render(scene, e, os.path.join(out, "hairmotion_%s_%s_%d.exr"
+                                                        % (name, e.lower(), seed)), seed)[0]
+                     for seed in (1, 2)) for e in engines}
+
+
+def compare(name, f, c1, c2):
+    floor = cs.block_rmse(c1, c2, BLOCK)
+    ratio = cs.luminance(f).mean() / (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()))
+    rel = cs.block_rmse(f, c1, BLOCK) / max(floor, 1e-12)
+    print("%-8s mean ratio Facet / Cycles %.4f, block RMSE %.2f x floor (%.5f)"
+          % (name, ratio, rel, floor))
+    return ratio, rel
+
+
+def case_render(out):
+    scene, sphere = moving_fur_scene()
+    imgs = renders(scene, "fur", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("moving", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the moving furry sphere: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+             % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    from facet_blender import sync_motion
+    # Control 1: the hair's motion steps dropped (sharp hair on the blurred sphere).
+    saved = sync_motion._add_hair_deformation
+    sync_motion._add_hair_deformation = lambda *a, **k: None
+    try:
+        sharp = renders(scene, "sharp_hair", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion._add_hair_deformation = saved
+    ratio, rel = compare("still hair", sharp, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "sharp hair breaks a bound (mean ratio %.4f, block RMSE %.2f x floor): the test "
+             "can fail" % (ratio, rel))
+    # Control 2: motion blur off in Facet only.
+    saved = sync_motion.settings
+    sync_motion.settings = lambda *a, **k: None
+    try:
+        still = renders(scene, "no_blur", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion.settings = saved
+    ratio, rel = compare("no blur", still, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "no motion blur breaks a bound (mean ratio %.4f, block RMSE %.2f x floor)"
+             % (ratio, rel))
+
+
+def main():
+    out = bt.args()[0]
+    bt.enable_addon()
+    case_export()
+    case_curves_export()
+    case_render(out)
+
+
+bt.run(main)
