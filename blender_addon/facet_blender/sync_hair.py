@@ -25,7 +25,9 @@ the strand's root radius (the core's radius is > 0); a CURVES curve type other t
 is rendered through its control points as Catmull-Rom, as Cycles 3.4 does (Blender's viewport
 evaluates it as its type); an emitting hair material (curves cannot emit); textured hair
 without UVs (Cycles reads (0, 0)); particle hair on an object placed by instances (only the
-object itself carries its hair); strands of fewer than 2 keys are left out (counted)."""
+object itself carries its hair); strands of fewer than 2 keys are left out (counted).
+Under motion blur the hair's motion steps are sync_motion.py's (particle_step_points,
+curves_step_points read the points again at each step)."""
 import numpy as np
 
 # A zero radius (Close Tip) as a fraction of the strand's root radius.

@@ -1213,9 +1213,9 @@ void bind_scene(py::module_& m) {
             [](ShapeDesc& s, const py::iterable& v) {
                 s.motion_positions = float_steps(v, "motion_positions");
             },
-            "deformation motion (mesh): a list of >= 2 flat float arrays of 3n object-space "
-            "vertex positions at uniform steps over the open shutter (scenes/FORMAT.md, Motion "
-            "blur); [] = none")
+            "deformation motion (mesh, curves): a list of >= 2 flat float arrays of 3n "
+            "object-space vertex positions (curves: control points) at uniform steps over the "
+            "open shutter (scenes/FORMAT.md, Motion blur); [] = none")
         .def_property(
             "motion_normals", [](const ShapeDesc& s) { return float_steps(s.motion_normals); },
             [](ShapeDesc& s, const py::iterable& v) {
