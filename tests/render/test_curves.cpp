@@ -407,10 +407,17 @@ TEST(Curves, BadInputNamesTheJsonPath) {
                 R"({"model": "lambert", "reflectance": {"checker": {"colors": [0.1, 0.9], "scale": 4}}})"))
             .find("/shapes/0/root_uvs: the shape's material or emission is textured"),
         std::string::npos);
-    // Curves cannot move (only triangle shapes and instances do).
-    EXPECT_NE(
-        error_of(curves_scene(R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
-                                       "motion": [{"translate": [0, 0, 0]}, {"translate": [1, 0, 0]}])"))
-            .find("/shapes/0/motion: only triangle shapes"),
-        std::string::npos);
+    // Curves move (test_motion.cpp, "Curves under motion blur"), but not inside a prototype
+    // (the instance moves).
+    const std::string moving_proto = error_of(R"(
+        "camera": {"position": [0, -5, 0.5], "look_at": [0, 0, 0.5], "up": [0, 0, 1],
+                   "fov": 40, "width": 8, "height": 8},
+        "materials": {"m": {"model": "lambert", "reflectance": 0.5}},
+        "prototypes": {"hair": [{"type": "curves", "material": "m", "basis": "linear",
+                                 "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
+                                 "motion": [{"translate": [0, 0, 0]}, {"translate": [1, 0, 0]}]}]},
+        "shapes": [{"type": "instance", "of": "hair"}], "render": {"motion_blur": true})");
+    EXPECT_NE(moving_proto.find("/prototypes/hair/0/motion: a prototype's shapes cannot move"),
+              std::string::npos)
+        << moving_proto;
 }
