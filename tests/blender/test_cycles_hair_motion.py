@@ -3,10 +3,11 @@ steps, against Cycles 3.4.
 
 Export (no render): the hair sphere of test_cycles_hair.py (300 hairs grown from vertices, root
 radius 0.04, tip 0.02) keyframed to move 3 units per frame along x (linear), at frame 1 with
-shutter 0.5 centred on it and the object's default 3 motion steps: its hair shape gets "motion_positions" of 3 steps,
-each the still points translated by the emitter's own step translation (to 1e-5); the same with
-the object's Deformation off (the still keys carried by the emitter's matrices); nothing is
-reported as rendered without motion blur. A CURVES object (Add > Curves > Random) moving 1.5
+shutter 0.5 centred on it and the object's default 3 motion steps: its hair shape gets
+"motion_positions" of 3 steps, each the still points translated by the emitter's own step
+translation (to 1e-5); the same with the object's Deformation off (the still keys carried by the
+emitter's matrices); the object's Motion Blur off, or the viewport's export (no frame_set): still
+hair; nothing is reported as rendered without motion blur. A CURVES object (Add > Curves > Random) moving 1.5
 units per frame gets the object's 3 matrices as its shape's "motion" and no deformation steps.
 
 Render: that moving furry sphere (Diffuse hair, diffuse skin, a sun, a dark world) at 64 x 48,
