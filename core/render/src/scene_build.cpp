@@ -1,7 +1,10 @@
 // build_scene: SceneDescription -> Scene (facet/render/scene_description.h), with every value
 // validated, and the scene analysis (SceneFeatures). Every error is a SceneError
 // "<name>: <path>: <message>" with the JSON pointer the value would have in a scene file.
-// The Builder's declaration: scene_builder.h.
+// This file holds the Builder's driver (build(): the order of the steps), the camera, motion
+// blur and render settings; media, materials, textures, opacity and the staging of textured
+// materials, shapes, prototypes and instances, the scene analysis. lights: build_lights.cpp. The
+// Builder: scene_builder.h.
 
 #include <algorithm>
 #include <chrono>
@@ -1781,37 +1784,6 @@ void Builder::reserve_triangles(std::uint64_t n, const std::string& ptr) {
         fail(ptr, "the scene exceeds the limit of " + std::to_string(m_limits.max_triangles) +
                       " triangles");
     }
-}
-
-// What a light kind's builder adds to the scene (kind_build.h).
-class Builder::LightContext final : public LightBuild {
-  public:
-    LightContext(Builder& b, const LightDesc& l, std::string p)
-        : LightBuild(l, std::move(p)), m_b(b) {}
-    [[noreturn]] void fail(const std::string& p, const std::string& m) const override {
-        m_b.fail(p, m);
-    }
-    bool files_allowed() const override { return m_b.m_limits.allow_files; }
-    const std::string& base_dir() const override { return m_b.m_desc.base_dir; }
-    void add_light(Light light) override { m_b.m_builder.lights().push_back(std::move(light)); }
-    void add_environment(Light light) override {
-        if (m_b.m_builder.environment() >= 0) fail(ptr, "only one environment light is allowed");
-        m_b.m_builder.environment() = std::int32_t(m_b.m_builder.lights().size());
-        add_light(std::move(light));
-    }
-    void warn(std::string message) override {
-        m_b.m_builder.warnings().push_back(std::move(message));
-    }
-
-  private:
-    Builder& m_b;
-};
-
-void Builder::build_light(const LightDesc& l, std::size_t index) {
-    LightContext ctx(*this, l, "/lights/" + std::to_string(index));
-    const LightKindDef* k = find_light_kind(l.kind);
-    if (!k) fail(ctx.ptr + "/type", "unknown light type");
-    k->build(ctx);
 }
 
 bool Builder::reflects(const Material& m) {
