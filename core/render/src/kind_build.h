@@ -1,6 +1,7 @@
-// Private to facet_render: what a shape or light kind's builder (kinds.h) gets from
-// build_scene. The builder (scene_build.cpp) implements it; the kind units
-// (shapes/*.cpp, lights/*.cpp) call it.
+// Private to facet_render: what a shape, light or medium kind's builder (kinds.h) gets from
+// build_scene. The builder implements it (scene_builder.h: ShapeContext in build_shapes.cpp,
+// LightContext in build_lights.cpp, MediumContext in build_materials.cpp); the kind units
+// (shapes/*.cpp, lights/*.cpp, media/*.cpp) call it.
 //
 // Conventions: every check fails with a SceneError naming the JSON pointer (`ptr` + "/key"),
 // as build_scene's other errors do. The common keys (material, emission, two_sided,

@@ -2,7 +2,7 @@
 // SceneDescription), writer (SceneDescription -> JSON), the description's fingerprint, and
 // load_scene (reader + build_scene). The reader checks what JSON can get wrong — syntax,
 // duplicate keys, types, unknown keys and names, required keys — and reports it as a SceneError
-// "<file>: <JSON pointer>: <message>"; value checks are build_scene's (scene_build.cpp), which
+// "<file>: <JSON pointer>: <message>"; value checks are build_scene's (scene_builder.h), which
 // names the same pointers.
 #include <nlohmann/json.hpp>
 

@@ -1,6 +1,7 @@
 // Private to facet_render: what a texture kind's builder (texture_kinds.h) gets from
-// build_scene. The builder (scene_build.cpp) implements it; the kind units (textures/*.cpp)
-// call it. Every check fails with a SceneError naming the JSON pointer (`ptr` + "/key").
+// build_scene. The builder (build_materials.cpp: TextureContext) implements it; the kind units
+// (textures/*.cpp) call it. Every check fails with a SceneError naming the JSON pointer
+// (`ptr` + "/key").
 #pragma once
 
 #include <memory>

@@ -5,7 +5,7 @@
 // documentation, its builder (description -> renderable geometry or light) and its POV-Ray
 // exporter. Everything that deals in kinds reads this table instead of switching on the enum:
 //  - the JSON reader and writer (scene_json.cpp): accepted keys, required keys, value types;
-//  - build_scene (scene_build.cpp): calls the kind's `build`;
+//  - build_scene (build_shapes.cpp, build_lights.cpp): calls the kind's `build`;
 //  - the POV-Ray exporter (io/pov_export.cpp): calls the kind's `pov`;
 //  - the Python module: ShapeDesc / LightDesc attributes and constructor keywords;
 //  - the docs: `facet scene-format --markdown` prints the tables of scenes/FORMAT.md (a test
