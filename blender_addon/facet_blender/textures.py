@@ -34,7 +34,7 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   Rotation and Scale (Cycles' svm_mapping: Point R (v s) + l, Texture R^T (v - l) / s, Vector
   R (v s), R = Rz Ry Rx), Separate / Combine XYZ, Math Add, Subtract, Multiply and Multiply
   Add by constants, Divide by a constant (no Clamp), Vector Math Add, Subtract, Multiply,
-  Scale (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
+  Scale, the Mix node's Vector mode with a constant factor (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
   (x, y) part is R(theta) diag(su, sv) (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
   "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
   with any scale, or any rotation with a uniform scale in the UV plane), and, for the
@@ -609,6 +609,10 @@ def _vector(walker, src, data, checker):
 
 _IDENTITY = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
 
+# Texture Coordinate outputs procedural textures read as the core's "coordinates" (the
+# output's name in lower case; UV is a UV map's, handled with the UV Map node).
+_POINT_COORDINATES = ('Generated', 'Object', 'Normal', 'Reflection', 'Camera', 'Window')
+
 
 def _is_const(row):
     return row[0] == 0.0 and row[1] == 0.0 and row[2] == 0.0
@@ -645,8 +649,11 @@ def _affine(walker, src, state):
         return [[0.0, 0.0, 0.0, float(c)] for c in vals]
     n, ident, path = src.node, src.socket.identifier, src.path
     idname = n.bl_idname
-    if idname == 'ShaderNodeTexCoord' and ident in ('Generated', 'Object'):
-        # Procedural textures only (_procedural): the hit's generated / object coordinates.
+    if idname == 'ShaderNodeTexCoord' and ident in _POINT_COORDINATES:
+        # Procedural textures only (_procedural): the hit's generated / object coordinates, or
+        # the view-dependent ones (the core evaluates them per hit as Cycles 3.4's
+        # svm_node_tex_coord: Normal in object space, Reflection in world space, Camera,
+        # Window).
         if ident == 'Object' and n.object is not None:
             raise Unsupported(src, "Object coordinates of another object are not converted")
         if n.from_instancer:
@@ -658,8 +665,8 @@ def _affine(walker, src, state):
         rows = [list(r) for r in _IDENTITY]
     elif idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
         if idname == 'ShaderNodeTexCoord' and ident != 'UV':
-            raise Unsupported(src, "texture coordinates other than UV maps, Generated and "
-                              "Object are not converted")
+            raise Unsupported(src, "the Texture Coordinate output %s is not converted"
+                              % src.socket.name)
         if n.from_instancer:
             raise Unsupported(src, "UVs from the instancer are not converted")
         name = n.uv_map if idname == 'ShaderNodeUVMap' else ""
@@ -687,6 +694,24 @@ def _affine(walker, src, state):
         inner = _rows_in(walker, n, 'Vector', path, state)
         rows = [[sum(mm[i][k] * inner[k][j] for k in range(3)) + (mm[i][3] if j == 3 else 0.0)
                  for j in range(4)] for i in range(3)]
+    elif idname == 'ShaderNodeMix' and n.data_type == 'VECTOR' and ident == 'Result_Vector':
+        # Cycles' svm_node_mix_vector (uniform) / _non_uniform: a (1 - t) + b t, t clamped to
+        # [0, 1] with Clamp Factor, per component with a Non-Uniform factor; affine when the
+        # factor is a constant.
+        uniform = n.factor_mode == 'UNIFORM'
+        fsock = next(s for s in n.inputs if s.identifier ==
+                     ('Factor_Float' if uniform else 'Factor_Vector'))
+        t, blockers = walker.fold(walker.input(n, fsock, path))
+        if t is None:
+            raise Unsupported(blockers[0] if blockers else src,
+                              "feeds the Mix's Factor on texture coordinates (only constants "
+                              "convert)")
+        ts = [float(t)] * 3 if uniform else [float(c) for c in t[:3]]
+        if n.clamp_factor:
+            ts = [min(max(x, 0.0), 1.0) for x in ts]
+        a = _rows_in(walker, n, 'A_Vector', path, state)
+        b = _rows_in(walker, n, 'B_Vector', path, state)
+        rows = [_lin(1.0 - x, ra, x, rb) for x, ra, rb in zip(ts, a, b)]
     elif idname == 'ShaderNodeSeparateXYZ':
         inner = _rows_in(walker, n, 'Vector', path, state)
         rows = [inner["XYZ".index(ident)]]
@@ -754,7 +779,8 @@ def _affine(walker, src, state):
 # the one type whose values are never negative) Texture nodes with constant inputs -> the core's
 # procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
 # per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
-# nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
+# nodes); linked, Texture Coordinate Generated / Object (this object) / Normal / Reflection /
+# Camera / Window / UV or a UV Map node
 # through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
 # Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
 # Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi

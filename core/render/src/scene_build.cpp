@@ -439,7 +439,7 @@ class Builder final : public BuildChecks {
                 m.textures.erase(it);
             } else {
                 o.texture = build_texture(td, op, false, false);
-                if (o.texture->uses_position())
+                if (o.texture->uses_position() || o.texture->uses_view())
                     fail(op,
                          "an opacity reads UVs only (cut-outs are decided during traversal): "
                          "give the procedural texture \"coordinates\": \"uv\"");
@@ -771,6 +771,7 @@ class Builder final : public BuildChecks {
             tm.uses_uv = tm.uses_uv || tm.slots.back().texture->uses_uv();
             tm.uses_color = tm.uses_color || tm.slots.back().texture->uses_vertex_color();
             tm.uses_position = tm.uses_position || tm.slots.back().texture->uses_position();
+            tm.uses_view = tm.uses_view || tm.slots.back().texture->uses_view();
         }
         for (const BuiltMaterial& c : children) {
             if (c.textured < 0) continue;
@@ -778,6 +779,7 @@ class Builder final : public BuildChecks {
             tm.uses_uv = tm.uses_uv || ct.uses_uv;
             tm.uses_color = tm.uses_color || ct.uses_color;
             tm.uses_position = tm.uses_position || ct.uses_position;
+            tm.uses_view = tm.uses_view || ct.uses_view;
         }
         // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
         // The model's own parameters are checked per value (both ends); a conversion mixes its
@@ -833,7 +835,7 @@ class Builder final : public BuildChecks {
             TextureDesc td = m.normal_map->texture;
             if (td.colorspace.empty()) td.colorspace = "linear";
             tm.normal_map = build_texture(td, ptr + "/normal_map", true, false);
-            if (tm.normal_map->uses_position())
+            if (tm.normal_map->uses_position() || tm.normal_map->uses_view())
                 fail(ptr + "/normal_map",
                      "a normal map reads UVs only: give the procedural texture "
                      "\"coordinates\": \"uv\"");
@@ -842,7 +844,7 @@ class Builder final : public BuildChecks {
         }
         if (bump) {
             tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
-            if (tm.bump->uses_position())
+            if (tm.bump->uses_position() || tm.bump->uses_view())
                 fail(ptr + "/bump",
                      "a bump map reads UVs only: give the procedural texture \"coordinates\": "
                      "\"uv\"");
@@ -994,6 +996,12 @@ class Builder final : public BuildChecks {
         return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_position) ||
                (s.emission_texture && s.emission_texture->uses_position());
     }
+    // Whether hits on a surface compute the view-dependent coordinates: a procedural texture of
+    // its material or emission reads normal, reflection, camera or window coordinates.
+    bool needs_view(const ShapeSurface& s) {
+        return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_view) ||
+               (s.emission_texture && s.emission_texture->uses_view());
+    }
     // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
     bool needs_color(const ShapeSurface& s) {
         return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
@@ -1077,6 +1085,7 @@ class Builder final : public BuildChecks {
         info.needs_uv = needs_uv(info);
         info.needs_color = needs_color(info);
         info.needs_position = needs_position(info);
+        info.needs_view = needs_view(info);
         // An invisible boundary cannot emit: rays cross it without a vertex.
         if (emissive) {
             if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);
@@ -1135,11 +1144,25 @@ class Builder final : public BuildChecks {
         } else if (deforms) {
             m_pending.push_back({index, std::uint32_t(ctx.local_prototype()), xf, false});
         }
-        for (const ShapeSurface& part : info.parts)
+        for (const ShapeSurface& part : info.parts) {
             info.needs_position = info.needs_position || needs_position(part);
-        if (info.needs_position) {
+            info.needs_view = info.needs_view || needs_view(part);
+        }
+        if (info.needs_position || info.needs_view) {
             info.to_object = glm::inverse(xf);
+            info.normal_to_object = glm::mat3(glm::transpose(glm::dmat3(xf)));
             m_builder.impl().position_extras = true;
+        }
+        if (info.needs_view && proto >= 0) {
+            // Instanced hits keep the object-space normal in SurfaceHit::po (scene.h).
+            if (info.needs_position)
+                fail(ptr,
+                     "a prototype's shape cannot read normal, reflection, camera or window "
+                     "coordinates and object or generated coordinates together");
+            info.normal_in_po = true;
+            auto& flags = m_builder.impl().normal_in_po;
+            flags.resize(m_builder.shapes().size() + 1, 0);
+            flags.back() = 1;
         }
         set_texture_space(info, s, ctx.object_bounds, ptr);
         if (proto >= 0) {
