@@ -846,6 +846,10 @@ def _procedural(walker, src, to_number):
                           "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
     luminance = to_number and out == "color" and kind not in ("gradient", "wave")
     params = {}
+    # Brick's colours: constants or textures evaluated at the same hit (the core's brick
+    # inputs); the Fac output reads none of them.
+    textured = _Inputs(walker, src) if kind == "brick" else None
+    brick_colours = {'Color1', 'Color2', 'Mortar'}
     for prop, (key, _) in props.items():
         v = getattr(node, prop)
         params[key] = (int(v[0]) if key == "dimensions" else int(v) if isinstance(v, int)
@@ -853,6 +857,10 @@ def _procedural(walker, src, to_number):
     for name, key in inputs.items():
         sock = next((x for x in node.inputs if x.name == name and x.enabled), None)
         if sock is None:
+            continue
+        if textured is not None and name in brick_colours:
+            if out == "color":
+                params[key] = textured.get(sock.identifier, False)
             continue
         v, blockers = walker.fold(walker.input(node, sock, src.path))
         if v is None:
@@ -886,6 +894,12 @@ def _procedural(walker, src, to_number):
         if rows != _IDENTITY:
             data["mapping"] = {"matrix": [[float(x) for x in r] for r in rows]}
     res = Result(data, uv_map)
+    for r in (textured.parts if textured is not None else ()):
+        res.notes += r.notes
+        uvs, cas, gen = r.reads()
+        res.more_uv_maps |= uvs
+        res.more_color_attributes |= cas
+        res.generated = res.generated or gen
     if luminance:  # a colour output into a number input: its luminance
         _luminance(res, src)
     return res

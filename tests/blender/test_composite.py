@@ -5,7 +5,8 @@ FORMAT.md "Composite kinds"): evaluated per hit, no bake.
 1. Exported data: each quad's emission converts to the kinds, nested as the node tree nests
    them, with no report and no bake; a ColorRamp in HSV mode becomes Cycles' 256-entry table as
    stops; a colour into a number input is its luminance (reported: Facet's weights); the Mix
-   node's Vector mode is reported by name.
+   node's Vector mode into a colour is reported by name; a Brick's Color1 / Mortar fed by
+   textures become the brick's texture inputs (its Fac output exports none).
 2. Renders against Cycles, as tests/blender/test_procedural.py does: a strip of emission quads,
    one node per quad, orthographic camera, box filter 1 px, 16 spp in both renderers.
    Criterion (issue 35): per quad, mean |Facet - Cycles| <= 1e-3 of Cycles' range over the quad.
@@ -111,6 +112,15 @@ def brick(nt):
     return b
 
 
+def brick_textured(nt):
+    # Color1 a noise's colour, Mortar a gradient's Fac (a number into a colour: grey), Color2
+    # constant: the core's brick evaluates its colour inputs at the same hit.
+    b = brick(nt)
+    nt.links.new(noise(nt, 2.0).outputs["Color"], b.inputs["Color1"])
+    nt.links.new(gradient(nt).outputs["Fac"], b.inputs["Mortar"])
+    return b
+
+
 def gradient(nt):
     return node(nt, "ShaderNodeTexGradient", {"gradient_type": 'LINEAR'})
 
@@ -165,6 +175,9 @@ QUADS = [
                                            (0.9, 0.2, 0.1, 1.0)).outputs[0]).outputs["Color"]),
     ("brick_color", lambda nt: brick(nt).outputs["Color"]),
     ("brick_fac", lambda nt: brick(nt).outputs["Fac"]),
+    ("brick_textured_colours", lambda nt: brick_textured(nt).outputs["Color"]),
+    # The Fac output reads no colour: the textures on Color1 and Mortar are not exported.
+    ("brick_textured_fac", lambda nt: brick_textured(nt).outputs["Fac"]),
 ]
 
 
@@ -242,6 +255,13 @@ def exported():
     em = materials.convert(bpy.data.materials["comp_math_sine"], ob).emission
     bt.check(kinds_of(em, set()) == {"math", "noise"} and em["math"]["operation"] ==
              "multiply_add", "nested Math chain: %s" % em)
+    em = materials.convert(bpy.data.materials["comp_brick_textured_colours"], ob).emission
+    bt.check("noise" in em["brick"]["color1"] and "gradient" in em["brick"]["mortar"]
+             and isinstance(em["brick"]["color2"], list),
+             "Brick Color1 / Mortar textures -> the brick's inputs: %.300s" % em)
+    em = materials.convert(bpy.data.materials["comp_brick_textured_fac"], ob).emission
+    bt.check(not any(k in em["brick"] for k in ("color1", "color2", "mortar")),
+             "Brick Fac: no colours exported: %.300s" % em)
     em = materials.convert(bpy.data.materials["comp_mix_node_float"], ob).emission
     bt.check(em["mix_rgb"]["blend_type"] == "mix", "Mix (Float) -> mix_rgb: %s" % em)
     c = materials.convert(bpy.data.materials["comp_math_product"], ob)

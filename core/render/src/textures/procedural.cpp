@@ -130,7 +130,7 @@ void check_texture_params(TextureBuild& b, const TextureKindDef& kind) {
 }
 
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
-                        std::shared_ptr<ProceduralSource> s, Rgb lo, Rgb hi) {
+                        std::shared_ptr<ProceduralSource> s, Rgb lo, Rgb hi, unsigned reads) {
     const TextureDesc& d = b.desc;
     ProceduralParams params(b, kind);
     check_texture_params(b, kind);
@@ -162,10 +162,11 @@ Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
                "a number parameter needs a grey output (a colour output feeds colours; or give "
                "\"channel\")");
     using C = ProceduralSource::Coordinates;
-    const unsigned inputs = s->m_coordinates == C::Uv ? kTextureReadsUv
-                            : s->m_coordinates == C::Generated || s->m_coordinates == C::Object
-                                ? kTextureReadsPosition
-                                : kTextureReadsView;
+    unsigned inputs = s->m_coordinates == C::Uv ? kTextureReadsUv
+                      : s->m_coordinates == C::Generated || s->m_coordinates == C::Object
+                          ? kTextureReadsPosition
+                          : kTextureReadsView;
+    inputs |= reads;
     return with_channel(b, Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
                                    hi * (float(d.scale) * d.color_scale), inputs));
 }

@@ -28,7 +28,8 @@ class ProceduralSource : public TextureSource {
         Camera,
         Window
     };
-    Rgb eval(const TexturePoint& p) const final { return pattern(point(p)) * m_scale; }
+    // (A kind with texture inputs, brick's colours, evaluates them at p itself.)
+    Rgb eval(const TexturePoint& p) const override { return pattern(point(p)) * m_scale; }
     // The kind's value at texture-space point x (before the scale).
     virtual Rgb pattern(const Vec3& x) const = 0;
     Vec3 point(const TexturePoint& p) const { return m_linear * coordinates(p) + m_offset; }
@@ -84,9 +85,11 @@ void check_texture_params(TextureBuild& b, const TextureKindDef& kind);
 
 // Checks every parameter of the description against the kind's table (unknown names, types,
 // ranges, choices), fills the shared parts of `source` (coordinates, mapping, scale) and makes
-// the texture, its values in [lo, hi] per channel before the scale.
+// the texture, its values in [lo, hi] per channel before the scale. `reads`: what its input
+// textures read (TextureInput bits), besides its point.
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
-                        std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi);
+                        std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi,
+                        unsigned reads = 0);
 
 // The texture itself, or, when the description has a "channel" (r, g, b or luminance: Rec. 709
 // weights 0.2126, 0.7152, 0.0722, as for images), that channel of its value as grey.
