@@ -34,8 +34,9 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   Rotation and Scale (Cycles' svm_mapping: Point R (v s) + l, Texture R^T (v - l) / s, Vector
   R (v s), R = Rz Ry Rx), Separate / Combine XYZ, Math Add, Subtract, Multiply and Multiply
   Add by constants, Divide by a constant (no Clamp), Vector Math Add, Subtract, Multiply,
-  Scale, the Mix node's Vector mode with a constant factor (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
-  (x, y) part is R(theta) diag(su, sv) (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
+  Scale, the Mix node's Vector mode with a constant factor (_affine). The chain acts on
+  (u, v, 0) as an affine map; it is exact when its (x, y) part is R(theta) diag(su, sv)
+  (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
   "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
   with any scale, or any rotation with a uniform scale in the UV plane), and, for the
   checker, its z is constant. Anything else raises Unsupported.

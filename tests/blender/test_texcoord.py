@@ -7,8 +7,9 @@ procedural textures, converted natively (facet_blender/textures.py _affine -> th
    texture):
    - spheres (smooth UV spheres, 64 x 32, each turned so that object space differs from world
      space), one mode each, under an orthographic camera, and one more with Object coordinates
-     through the Mix node's Vector mode (factor 0.3 toward a constant vector). The criterion is issue 35's: per
-     sphere, the mean over its pixels of |Facet - Cycles| <= 1e-3 of Cycles' range over them.
+     through the Mix node's Vector mode (factor 0.3 toward a constant vector). The criterion
+     is issue 35's: per sphere, the mean over its pixels of |Facet - Cycles| <= 1e-3 of
+     Cycles' range over them.
      The pixels are those whose whole footprint lies 3 px inside the sphere's silhouette
      (the silhouette's partly covered pixels differ by the two renderers' own jittered
      coverage, not by the texture: 16 samples of a 0/1 coverage, not the texture's error);
