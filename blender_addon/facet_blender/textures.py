@@ -118,7 +118,16 @@ def convert(walker, src, number):
     the luminance channel; number -> colour a grey texture."""
     node = src.node
     types = (src.socket.type,) + src.convs
-    if 'VECTOR' in types or 'SHADER' in types:
+    # Vectors pass between colours unchanged (Cycles' colour <-> vector links copy the
+    # components, a number -> vector link repeats it): a colour texture into a Mix node's
+    # vector input, and that Mix's vector result into a colour input. A vector -> number link
+    # (the components' mean) and any other vector output do not convert.
+    vector_ok = (not any(a == 'VECTOR' and b in ('VALUE', 'INT', 'BOOLEAN')
+                         for a, b in zip(types, types[1:]))
+                 and (src.socket.type != 'VECTOR' or (node.bl_idname == 'ShaderNodeMix'
+                                                      and src.socket.identifier ==
+                                                      'Result_Vector')))
+    if ('VECTOR' in types and not vector_ok) or 'SHADER' in types:
         raise Unsupported(src, "a vector output used as a colour or number")
     to_number = any(a == 'RGBA' and b in ('VALUE', 'INT', 'BOOLEAN')
                     for a, b in zip(types, types[1:])) or (number and types[-1] == 'RGBA')
@@ -927,8 +936,10 @@ def _luminance(res, src):
 # the ramp is Constant): the core tabulates them at the same points, so the table is the same.
 # A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
 # number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
-# as for images, LUMINANCE_NOTE). Not converted (Unsupported, reported, baked when a bake is
-# possible): the Mix node's Vector mode.
+# as for images, LUMINANCE_NOTE). The Mix node's Vector mode is the mix blend of its vectors
+# as colours (a Non-Uniform factor: when one constant for the three components). Not converted
+# (Unsupported, reported, baked when a bake is possible): a Non-Uniform factor that differs per
+# component.
 
 # Blender's Math operations the core's kind takes (all of 3.4's, lower case).
 _MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
@@ -997,7 +1008,7 @@ def _math_node(walker, src):
 
 
 def _mix(walker, src, to_number):
-    """Mix RGB, and the Mix node in Color or Float mode -> mix_rgb."""
+    """Mix RGB, and the Mix node in Color, Float or Vector mode -> mix_rgb."""
     node = src.node
     ins = _Inputs(walker, src)
     if node.bl_idname == 'ShaderNodeMixRGB':
@@ -1016,6 +1027,20 @@ def _mix(walker, src, to_number):
     elif dt == 'FLOAT':  # a (1 - t) + b t: the mix blend of numbers
         params = {"blend_type": "mix", "fac": ins.get('Factor_Float', True),
                   "color1": ins.get('A_Float', True), "color2": ins.get('B_Float', True)}
+    elif dt == 'VECTOR':
+        # Cycles' svm_node_mix_vector: a (1 - t) + b t per component, the mix blend of colours;
+        # a Non-Uniform factor converts when it is one constant for the three components.
+        if node.factor_mode == 'UNIFORM':
+            fac = ins.get('Factor_Float', True)
+        else:
+            sock = next(x for x in node.inputs if x.identifier == 'Factor_Vector')
+            v, _ = walker.fold(walker.input(node, sock, src.path))
+            if not (isinstance(v, tuple) and v[0] == v[1] == v[2]):
+                raise Unsupported(src, "the Mix node's Vector mode with a Non-Uniform factor "
+                                  "that differs per component is not converted")
+            fac = float(v[0])
+        params = {"blend_type": "mix", "fac": fac,
+                  "color1": ins.get('A_Vector', False), "color2": ins.get('B_Vector', False)}
     else:
         raise Unsupported(src, "the Mix node's %s mode is not converted" % dt.title())
     if not node.clamp_factor:
