@@ -59,7 +59,7 @@ NODES = {
     'ShaderNodeVolumePrincipled': VOLUME_ON_SURFACE,
     'ShaderNodeRGBCurve': "RGB Curves is not converted yet",
     'ShaderNodeMapping': "Mapping converts only between a UV map and a texture",
-    'ShaderNodeTexCoord': "Texture Coordinate converts only as a texture's UV (or the "
+    'ShaderNodeTexCoord': "Texture Coordinate converts only as a texture's vector (or the "
                           "world's Generated)",
     'ShaderNodeUVMap': "UV Map converts only as a texture's vector",
     'ShaderNodeVertexColor': "a Color Attribute converts only as a texture (into a colour "

@@ -34,8 +34,9 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   Rotation and Scale (Cycles' svm_mapping: Point R (v s) + l, Texture R^T (v - l) / s, Vector
   R (v s), R = Rz Ry Rx), Separate / Combine XYZ, Math Add, Subtract, Multiply and Multiply
   Add by constants, Divide by a constant (no Clamp), Vector Math Add, Subtract, Multiply,
-  Scale (_affine). The chain acts on (u, v, 0) as an affine map; it is exact when its
-  (x, y) part is R(theta) diag(su, sv) (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
+  Scale, the Mix node's Vector mode with a constant factor (_affine). The chain acts on
+  (u, v, 0) as an affine map; it is exact when its (x, y) part is R(theta) diag(su, sv)
+  (u, v) + (ou, ov) -- "uv_rotation" theta in degrees,
   "uv_scale", "uv_offset" -- i.e. its 2 x 2 matrix has orthogonal columns (a rotation about Z
   with any scale, or any rotation with a uniform scale in the UV plane), and, for the
   checker, its z is constant. Anything else raises Unsupported.
@@ -117,7 +118,16 @@ def convert(walker, src, number):
     the luminance channel; number -> colour a grey texture."""
     node = src.node
     types = (src.socket.type,) + src.convs
-    if 'VECTOR' in types or 'SHADER' in types:
+    # Vectors pass between colours unchanged (Cycles' colour <-> vector links copy the
+    # components, a number -> vector link repeats it): a colour texture into a Mix node's
+    # vector input, and that Mix's vector result into a colour input. A vector -> number link
+    # (the components' mean) and any other vector output do not convert.
+    vector_ok = (not any(a == 'VECTOR' and b in ('VALUE', 'INT', 'BOOLEAN')
+                         for a, b in zip(types, types[1:]))
+                 and (src.socket.type != 'VECTOR' or (node.bl_idname == 'ShaderNodeMix'
+                                                      and src.socket.identifier ==
+                                                      'Result_Vector')))
+    if ('VECTOR' in types and not vector_ok) or 'SHADER' in types:
         raise Unsupported(src, "a vector output used as a colour or number")
     to_number = any(a == 'RGBA' and b in ('VALUE', 'INT', 'BOOLEAN')
                     for a, b in zip(types, types[1:])) or (number and types[-1] == 'RGBA')
@@ -609,6 +619,10 @@ def _vector(walker, src, data, checker):
 
 _IDENTITY = [[1.0, 0.0, 0.0, 0.0], [0.0, 1.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0]]
 
+# Texture Coordinate outputs procedural textures read as the core's "coordinates" (the
+# output's name in lower case; UV is a UV map's, handled with the UV Map node).
+_POINT_COORDINATES = ('Generated', 'Object', 'Normal', 'Reflection', 'Camera', 'Window')
+
 
 def _is_const(row):
     return row[0] == 0.0 and row[1] == 0.0 and row[2] == 0.0
@@ -645,8 +659,11 @@ def _affine(walker, src, state):
         return [[0.0, 0.0, 0.0, float(c)] for c in vals]
     n, ident, path = src.node, src.socket.identifier, src.path
     idname = n.bl_idname
-    if idname == 'ShaderNodeTexCoord' and ident in ('Generated', 'Object'):
-        # Procedural textures only (_procedural): the hit's generated / object coordinates.
+    if idname == 'ShaderNodeTexCoord' and ident in _POINT_COORDINATES:
+        # Procedural textures only (_procedural): the hit's generated / object coordinates, or
+        # the view-dependent ones (the core evaluates them per hit as Cycles 3.4's
+        # svm_node_tex_coord: Normal in object space, Reflection in world space, Camera,
+        # Window).
         if ident == 'Object' and n.object is not None:
             raise Unsupported(src, "Object coordinates of another object are not converted")
         if n.from_instancer:
@@ -658,8 +675,8 @@ def _affine(walker, src, state):
         rows = [list(r) for r in _IDENTITY]
     elif idname in ('ShaderNodeTexCoord', 'ShaderNodeUVMap'):
         if idname == 'ShaderNodeTexCoord' and ident != 'UV':
-            raise Unsupported(src, "texture coordinates other than UV maps, Generated and "
-                              "Object are not converted")
+            raise Unsupported(src, "the Texture Coordinate output %s is not converted"
+                              % src.socket.name)
         if n.from_instancer:
             raise Unsupported(src, "UVs from the instancer are not converted")
         name = n.uv_map if idname == 'ShaderNodeUVMap' else ""
@@ -687,6 +704,24 @@ def _affine(walker, src, state):
         inner = _rows_in(walker, n, 'Vector', path, state)
         rows = [[sum(mm[i][k] * inner[k][j] for k in range(3)) + (mm[i][3] if j == 3 else 0.0)
                  for j in range(4)] for i in range(3)]
+    elif idname == 'ShaderNodeMix' and n.data_type == 'VECTOR' and ident == 'Result_Vector':
+        # Cycles' svm_node_mix_vector (uniform) / _non_uniform: a (1 - t) + b t, t clamped to
+        # [0, 1] with Clamp Factor, per component with a Non-Uniform factor; affine when the
+        # factor is a constant.
+        uniform = n.factor_mode == 'UNIFORM'
+        fsock = next(s for s in n.inputs if s.identifier ==
+                     ('Factor_Float' if uniform else 'Factor_Vector'))
+        t, blockers = walker.fold(walker.input(n, fsock, path))
+        if t is None:
+            raise Unsupported(blockers[0] if blockers else src,
+                              "feeds the Mix's Factor on texture coordinates (only constants "
+                              "convert)")
+        ts = [float(t)] * 3 if uniform else [float(c) for c in t[:3]]
+        if n.clamp_factor:
+            ts = [min(max(x, 0.0), 1.0) for x in ts]
+        a = _rows_in(walker, n, 'A_Vector', path, state)
+        b = _rows_in(walker, n, 'B_Vector', path, state)
+        rows = [_lin(1.0 - x, ra, x, rb) for x, ra, rb in zip(ts, a, b)]
     elif idname == 'ShaderNodeSeparateXYZ':
         inner = _rows_in(walker, n, 'Vector', path, state)
         rows = [inner["XYZ".index(ident)]]
@@ -754,7 +789,8 @@ def _affine(walker, src, state):
 # the one type whose values are never negative) Texture nodes with constant inputs -> the core's
 # procedural kinds (FORMAT.md, "Procedural textures"), which evaluate Cycles 3.4's algorithms
 # per hit: no bake. Their vector: unlinked, Generated coordinates (Cycles' default for these
-# nodes); linked, Texture Coordinate Generated / Object (this object) / UV or a UV Map node
+# nodes); linked, Texture Coordinate Generated / Object (this object) / Normal / Reflection /
+# Camera / Window / UV or a UV Map node
 # through any affine chain (_affine: Mapping of type Point, Texture or Vector, Math and Vector
 # Math by constants, Separate / Combine XYZ), written as the texture's "mapping" matrix.
 # Outputs: Noise Fac / Color, White Noise Value / Color, Gradient Fac / Color (grey), Voronoi
@@ -820,6 +856,10 @@ def _procedural(walker, src, to_number):
                           "Multifractal converts)" % node.musgrave_type.replace("_", " ").title())
     luminance = to_number and out == "color" and kind not in ("gradient", "wave")
     params = {}
+    # Brick's colours: constants or textures evaluated at the same hit (the core's brick
+    # inputs); the Fac output reads none of them.
+    textured = _Inputs(walker, src) if kind == "brick" else None
+    brick_colours = {'Color1', 'Color2', 'Mortar'}
     for prop, (key, _) in props.items():
         v = getattr(node, prop)
         params[key] = (int(v[0]) if key == "dimensions" else int(v) if isinstance(v, int)
@@ -827,6 +867,10 @@ def _procedural(walker, src, to_number):
     for name, key in inputs.items():
         sock = next((x for x in node.inputs if x.name == name and x.enabled), None)
         if sock is None:
+            continue
+        if textured is not None and name in brick_colours:
+            if out == "color":
+                params[key] = textured.get(sock.identifier, False)
             continue
         v, blockers = walker.fold(walker.input(node, sock, src.path))
         if v is None:
@@ -860,6 +904,12 @@ def _procedural(walker, src, to_number):
         if rows != _IDENTITY:
             data["mapping"] = {"matrix": [[float(x) for x in r] for r in rows]}
     res = Result(data, uv_map)
+    for r in (textured.parts if textured is not None else ()):
+        res.notes += r.notes
+        uvs, cas, gen = r.reads()
+        res.more_uv_maps |= uvs
+        res.more_color_attributes |= cas
+        res.generated = res.generated or gen
     if luminance:  # a colour output into a number input: its luminance
         _luminance(res, src)
     return res
@@ -886,8 +936,10 @@ def _luminance(res, src):
 # the ramp is Constant): the core tabulates them at the same points, so the table is the same.
 # A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
 # number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
-# as for images, LUMINANCE_NOTE). Not converted (Unsupported, reported, baked when a bake is
-# possible): the Mix node's Vector mode.
+# as for images, LUMINANCE_NOTE). The Mix node's Vector mode is the mix blend of its vectors
+# as colours (a Non-Uniform factor: when one constant for the three components). Not converted
+# (Unsupported, reported, baked when a bake is possible): a Non-Uniform factor that differs per
+# component.
 
 # Blender's Math operations the core's kind takes (all of 3.4's, lower case).
 _MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
@@ -956,7 +1008,7 @@ def _math_node(walker, src):
 
 
 def _mix(walker, src, to_number):
-    """Mix RGB, and the Mix node in Color or Float mode -> mix_rgb."""
+    """Mix RGB, and the Mix node in Color, Float or Vector mode -> mix_rgb."""
     node = src.node
     ins = _Inputs(walker, src)
     if node.bl_idname == 'ShaderNodeMixRGB':
@@ -975,6 +1027,20 @@ def _mix(walker, src, to_number):
     elif dt == 'FLOAT':  # a (1 - t) + b t: the mix blend of numbers
         params = {"blend_type": "mix", "fac": ins.get('Factor_Float', True),
                   "color1": ins.get('A_Float', True), "color2": ins.get('B_Float', True)}
+    elif dt == 'VECTOR':
+        # Cycles' svm_node_mix_vector: a (1 - t) + b t per component, the mix blend of colours;
+        # a Non-Uniform factor converts when it is one constant for the three components.
+        if node.factor_mode == 'UNIFORM':
+            fac = ins.get('Factor_Float', True)
+        else:
+            sock = next(x for x in node.inputs if x.identifier == 'Factor_Vector')
+            v, _ = walker.fold(walker.input(node, sock, src.path))
+            if not (isinstance(v, tuple) and v[0] == v[1] == v[2]):
+                raise Unsupported(src, "the Mix node's Vector mode with a Non-Uniform factor "
+                                  "that differs per component is not converted")
+            fac = float(v[0])
+        params = {"blend_type": "mix", "fac": fac,
+                  "color1": ins.get('A_Vector', False), "color2": ins.get('B_Vector', False)}
     else:
         raise Unsupported(src, "the Mix node's %s mode is not converted" % dt.title())
     if not node.clamp_factor:

@@ -839,7 +839,8 @@ void bind_scene(py::module_& m) {
             "(numbers, names, booleans, colours (r, g, b), Textures for a composite kind's inputs "
             "(math, mix_rgb, color_ramp), a colour ramp's stops=[(position, (r, g, b[, a])), "
             "...]; checked by build_scene against the kind's table), the point "
-            "'generated' (default), 'object' or 'uv', an optional affine mapping (3 rows of 4), "
+            "'generated' (default), 'object', 'uv', 'normal', 'reflection', 'camera' or 'window', "
+            "an optional affine mapping (3 rows of 4), "
             "a value multiplier (the JSON's \"scale\" beside the kind's object), and an optional "
             "channel ('r', 'g', 'b' or 'luminance': that channel of the colour, as grey).",
             py::arg("kind"), py::arg("coordinates") = "", py::arg("mapping") = py::none(),

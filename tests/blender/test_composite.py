@@ -5,7 +5,9 @@ FORMAT.md "Composite kinds"): evaluated per hit, no bake.
 1. Exported data: each quad's emission converts to the kinds, nested as the node tree nests
    them, with no report and no bake; a ColorRamp in HSV mode becomes Cycles' 256-entry table as
    stops; a colour into a number input is its luminance (reported: Facet's weights); the Mix
-   node's Vector mode is reported by name.
+   node's Vector mode is the mix of its vectors as colours (a Non-Uniform factor differing
+   per component is reported by name); a Brick's Color1 / Mortar fed by
+   textures become the brick's texture inputs (its Fac output exports none).
 2. Renders against Cycles, as tests/blender/test_procedural.py does: a strip of emission quads,
    one node per quad, orthographic camera, box filter 1 px, 16 spp in both renderers.
    Criterion (issue 35): per quad, mean |Facet - Cycles| <= 1e-3 of Cycles' range over the quad.
@@ -84,7 +86,7 @@ def mix_rgb(nt, blend, fac, c1, c2, clamp=False):
 def mix_node(nt, data_type, blend, fac, a, b, clamp_factor=True, clamp_result=False):
     m = node(nt, "ShaderNodeMix", {"data_type": data_type, "blend_type": blend,
                                    "clamp_factor": clamp_factor, "clamp_result": clamp_result})
-    suffix = {'RGBA': "Color", 'FLOAT': "Float"}[data_type]
+    suffix = {'RGBA': "Color", 'FLOAT': "Float", 'VECTOR': "Vector"}[data_type]
     for ident, v in (("Factor_Float", fac), ("A_" + suffix, a), ("B_" + suffix, b)):
         sock = next(s for s in m.inputs if s.identifier == ident)
         if isinstance(v, (float, tuple)):
@@ -108,6 +110,15 @@ def brick(nt):
                  "Brick Width": 0.6, "Row Height": 0.3, "Color1": (0.8, 0.3, 0.1, 1.0),
                  "Color2": (0.3, 0.5, 0.8, 1.0), "Mortar": (0.9, 0.9, 0.85, 1.0)})
     nt.links.new(m.outputs["Vector"], b.inputs["Vector"])
+    return b
+
+
+def brick_textured(nt):
+    # Color1 a noise's colour, Mortar a gradient's Fac (a number into a colour: grey), Color2
+    # constant: the core's brick evaluates its colour inputs at the same hit.
+    b = brick(nt)
+    nt.links.new(noise(nt, 2.0).outputs["Color"], b.inputs["Color1"])
+    nt.links.new(gradient(nt).outputs["Fac"], b.inputs["Mortar"])
     return b
 
 
@@ -165,6 +176,14 @@ QUADS = [
                                            (0.9, 0.2, 0.1, 1.0)).outputs[0]).outputs["Color"]),
     ("brick_color", lambda nt: brick(nt).outputs["Color"]),
     ("brick_fac", lambda nt: brick(nt).outputs["Fac"]),
+    ("brick_textured_colours", lambda nt: brick_textured(nt).outputs["Color"]),
+    # The Mix node's Vector mode between a noise's colour and a constant vector, its factor a
+    # gradient (a colour through vector sockets: the components unchanged).
+    ("mix_node_vector",
+     lambda nt: mix_node(nt, 'VECTOR', 'MIX', gradient(nt).outputs["Fac"],
+                         noise(nt, 2.0).outputs["Color"], (0.9, 0.2, 0.4))),
+    # The Fac output reads no colour: the textures on Color1 and Mortar are not exported.
+    ("brick_textured_fac", lambda nt: brick_textured(nt).outputs["Fac"]),
 ]
 
 
@@ -242,6 +261,13 @@ def exported():
     em = materials.convert(bpy.data.materials["comp_math_sine"], ob).emission
     bt.check(kinds_of(em, set()) == {"math", "noise"} and em["math"]["operation"] ==
              "multiply_add", "nested Math chain: %s" % em)
+    em = materials.convert(bpy.data.materials["comp_brick_textured_colours"], ob).emission
+    bt.check("noise" in em["brick"]["color1"] and "gradient" in em["brick"]["mortar"]
+             and isinstance(em["brick"]["color2"], list),
+             "Brick Color1 / Mortar textures -> the brick's inputs: %.300s" % em)
+    em = materials.convert(bpy.data.materials["comp_brick_textured_fac"], ob).emission
+    bt.check(not any(k in em["brick"] for k in ("color1", "color2", "mortar")),
+             "Brick Fac: no colours exported: %.300s" % em)
     em = materials.convert(bpy.data.materials["comp_mix_node_float"], ob).emission
     bt.check(em["mix_rgb"]["blend_type"] == "mix", "Mix (Float) -> mix_rgb: %s" % em)
     c = materials.convert(bpy.data.materials["comp_math_product"], ob)
@@ -256,19 +282,22 @@ def exported():
     bt.check(c.data["metallic"]["channel"] == "luminance"
              and any("Mix" in x and "Metallic" in x and "luminance" in x for x in c.problems),
              "a Mix's colour into Metallic: its luminance, reported: %s" % c.problems)
-    # Reported by name: the Mix node's Vector mode.
+    # The Mix node's Vector mode -> mix_rgb's mix; with a Non-Uniform factor that differs per
+    # component, reported by name.
+    em = materials.convert(bpy.data.materials["comp_mix_node_vector"], ob).emission
+    bt.check(em["mix_rgb"]["blend_type"] == "mix" and "noise" in em["mix_rgb"]["color1"]
+             and "gradient" in em["mix_rgb"]["fac"], "Mix (Vector) -> mix_rgb: %.300s" % em)
     mat, nt, out = new_material("comp_reported_vector")
     e = nt.nodes.new("ShaderNodeEmission")
-    m = mix_node(nt, 'RGBA', 'MIX', 0.5, noise(nt).outputs["Color"], (0.2, 0.2, 0.2, 1.0))
-    m.node.data_type = 'VECTOR'
-    nt.links.new(noise(nt).outputs["Color"],
-                 next(x for x in m.node.inputs if x.identifier == "A_Vector"))
-    v = next(x for x in m.node.outputs if x.identifier == "Result_Vector")
+    v = mix_node(nt, 'VECTOR', 'MIX', 0.5, noise(nt).outputs["Color"], (0.2, 0.2, 0.2))
+    v.node.factor_mode = 'NON_UNIFORM'
+    next(x for x in v.node.inputs if x.identifier == "Factor_Vector").default_value = \
+        (0.2, 0.5, 0.7)
     nt.links.new(v, e.inputs["Color"])
     nt.links.new(e.outputs[0], out.inputs["Surface"])
     c = materials.convert(mat)
-    bt.check(any("Mix" in x and "vector" in x.lower() for x in c.problems),
-             "the Mix node's Vector mode is reported: %s" % c.problems)
+    bt.check(any("Mix" in x and "Non-Uniform" in x for x in c.problems),
+             "a Non-Uniform Mix factor per component is reported: %s" % c.problems)
 
 
 def rendered(outdir):

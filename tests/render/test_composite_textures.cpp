@@ -11,6 +11,8 @@
 // writer round-trips the kinds.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -356,4 +358,41 @@ TEST(CompositeTextures, JsonRoundTrip) {
     // And it builds and renders as an emitter.
     const fr::Scene scene = fr::build_scene(d, "rt");
     EXPECT_GT(scene.shapes()[0].emission_texture->max_value().r, 0.f);
+}
+
+// A Brick Texture's colours fed by textures (Blender's Color1 / Color2 / Mortar linked): at
+// every point, the brick with the texture's value there as a constant colour; the range is
+// the inputs' hull; the Fac output takes no texture (an error naming the parameter).
+TEST(CompositeTextures, BrickColoursFromTextures) {
+    const json brick = {
+        {"scale", 2},        {"mortar_size", 0.1}, {"mortar_smooth", 0.5},     {"brick_width", 0.4},
+        {"row_height", 0.2}, {"output", "color"},  {"color2", {0.1, 0.3, 0.2}}};
+    json textured = brick;
+    textured["color1"] = kX;
+    textured["mortar"] = {{"gradient", {{"type", "linear"}}},
+                          {"coordinates", "object"},
+                          {"mapping", {{"matrix", {{0, 1, 0, 0.5}, {0, 1, 0, 0}, {0, 0, 1, 0}}}}}};
+    const fr::Texture t = fr::build_procedural_texture(
+        composite_desc({{"brick", textured}, {"coordinates", "object"}}), true, "/t");
+    EXPECT_EQ(t.inputs(), unsigned(fr::kTextureReadsPosition));
+    EXPECT_EQ(t.min_value(), Rgb(0.f));
+    EXPECT_EQ(t.max_value(), Rgb(1.f));
+    int varied = 0;
+    for (int i = 0; i < 40; ++i) {
+        const float x = 0.023f * float(i), y = 0.37f - 0.017f * float(i);
+        json constant = brick;
+        constant["color1"] = {x, x, x};
+        const float m = std::clamp(y + 0.5f, 0.f, 1.f);
+        constant["mortar"] = {m, m, m};
+        const fr::Texture c = fr::build_procedural_texture(
+            composite_desc({{"brick", constant}, {"coordinates", "object"}}), true, "/t");
+        const Rgb want = c.eval(hit_at(x, y)), got = t.eval(hit_at(x, y));
+        for (int k = 0; k < 3; ++k) EXPECT_NEAR(got[k], want[k], 1e-6f) << i;
+        varied += want != c.eval(hit_at(x + 0.5f, y));  // (the colour varies along the bricks)
+    }
+    EXPECT_GT(varied, 0);
+    json fac = textured;
+    fac["output"] = "fac";
+    EXPECT_NE(composite_error({{"brick", fac}}).find("/t/brick/color1"), std::string::npos)
+        << composite_error({{"brick", fac}});
 }

@@ -182,3 +182,126 @@ TEST(Procedural, GeneratedCoordinatesSpanTheBox) {
         EXPECT_NEAR(hit.emitted_radiance.r, (x + 1.f) / 4.f, 1e-6f) << x;
     }
 }
+
+namespace {
+
+// One shape under an orthographic camera at (0, 0, 5) looking down -z, 8 x 4 units over
+// 64 x 32 pixels; the hit of ray (o, d).
+fr::SurfaceHit view_hit(const json& shape, const Vec3& o, const Vec3& d,
+                        const json& prototypes = nullptr, const json& materials = nullptr) {
+    json s = {{"format", "facet-scene"},
+              {"version", 1},
+              {"camera",
+               {{"type", "orthographic"},
+                {"scale", 8},
+                {"position", {0, 0, 5}},
+                {"look_at", {0, 0, 0}},
+                {"up", {0, 1, 0}},
+                {"width", 64},
+                {"height", 32}}},
+              {"lights", {{{"type", "environment"}, {"radiance", 0.1}}}},
+              {"shapes", {shape}}};
+    if (!prototypes.is_null()) s["prototypes"] = prototypes;
+    if (!materials.is_null()) s["materials"] = materials;
+    const fr::Scene scene = fr::load_scene_from_string(s.dump(), "view");
+    fr::Ray r;
+    r.o = o;
+    r.d = glm::normalize(d);
+    r.tmax = 100.f;
+    fr::SurfaceHit hit;
+    EXPECT_TRUE(scene.intersect(r, hit));
+    return hit;
+}
+
+// A linear gradient (its value: x clamped to [0, 1]) at coordinates `c`, x = row . (c, 1).
+json gradient_of(const std::string& coordinates, const json& row) {
+    return {{"gradient", json::object()},
+            {"coordinates", coordinates},
+            {"mapping", {{"matrix", {row, {0, 1, 0, 0}, {0, 0, 1, 0}}}}}};
+}
+
+}  // namespace
+
+// The view-dependent coordinates at single hits, against their definitions (Cycles 3.4's
+// svm_node_tex_coord): 0.5 + 0.5 x a component read through a gradient. Tolerance 1e-6: float
+// arithmetic on O(1) values.
+TEST(Procedural, ViewCoordinatesAtHits) {
+    // Normal: a unit sphere turned by 90 degrees about z; the ray down -z at x = 0.6 hits
+    // (0.6, 0, 0.8), world normal (0.6, 0, 0.8), object normal (0, -0.6, 0.8).
+    const json sphere = {{"type", "sphere"},
+                         {"center", {0, 0, 0}},
+                         {"radius", 1},
+                         {"transform", {{"rotate", {{"axis", {0, 0, 1}}, {"angle", 90}}}}}};
+    json s = sphere;
+    s["emission"] = gradient_of("normal", {0, 0.5, 0, 0.5});
+    EXPECT_NEAR(view_hit(s, Vec3(0.6f, 0.f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.2f, 1e-6f);
+    s["emission"] = gradient_of("normal", {0, 0, 0.5, 0.5});
+    EXPECT_NEAR(view_hit(s, Vec3(0.6f, 0.f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.9f, 1e-6f);
+    // Reflection (world space): a quad in z = 0 seen along d = (0.3, 0, -1) / L reflects to
+    // (0.3, 0, 1) / L, whatever the quad's transform.
+    const float l = std::sqrt(1.09f);
+    json q = {{"type", "quad"},
+              {"vertices", {{-3, -1.5, 0}, {3, -1.5, 0}, {3, 1.5, 0}, {-3, 1.5, 0}}},
+              {"transform", {{"rotate", {{"axis", {0, 0, 1}}, {"angle", 30}}}}}};
+    q["emission"] = gradient_of("reflection", {0.5, 0, 0, 0.5});
+    EXPECT_NEAR(view_hit(q, Vec3(0.f, 0.f, 5.f), Vec3(0.3f, 0.f, -1.f)).emitted_radiance.r,
+                0.5f + 0.15f / l, 1e-6f);
+    q["emission"] = gradient_of("reflection", {0, 0, 0.5, 0.5});
+    EXPECT_NEAR(view_hit(q, Vec3(0.f, 0.f, 5.f), Vec3(0.3f, 0.f, -1.f)).emitted_radiance.r,
+                0.5f + 0.5f / l, 1e-6f);
+    // Camera: (x right, y up, z forward) from the camera's position: (1, -0.5, 5) at the hit
+    // (1, -0.5, 0).
+    q["emission"] = gradient_of("camera", {0.25, 0, 0, 0.25});
+    EXPECT_NEAR(view_hit(q, Vec3(1.f, -0.5f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.5f, 1e-6f);
+    q["emission"] = gradient_of("camera", {0, 0.5, 0, 0.5});
+    EXPECT_NEAR(view_hit(q, Vec3(1.f, -0.5f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.25f,
+                1e-6f);
+    q["emission"] = gradient_of("camera", {0, 0, 0.1, 0});
+    EXPECT_NEAR(view_hit(q, Vec3(1.f, -0.5f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.5f, 1e-6f);
+    // Window: x = 1 / 8 + 0.5, y = -0.5 / 4 + 0.5 from the bottom.
+    q["emission"] = gradient_of("window", {1, 0, 0, 0});
+    EXPECT_NEAR(view_hit(q, Vec3(1.f, -0.5f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.625f,
+                1e-6f);
+    q["emission"] = gradient_of("window", {0, 1, 0, 0});
+    EXPECT_NEAR(view_hit(q, Vec3(1.f, -0.5f, 5.f), Vec3(0, 0, -1)).emitted_radiance.r, 0.375f,
+                1e-6f);
+}
+
+// An instanced shape's object space is its own frame within the prototype (the instance's
+// transform is not in it), as for object coordinates: the hit keeps its object-space normal in
+// po (scene.h), the shape's turn within the prototype undone, the instance's too.
+TEST(Procedural, NormalCoordinatesOfInstances) {
+    const json materials = {
+        {"m", {{"model", "lambert"}, {"reflectance", gradient_of("normal", {0, 0.5, 0, 0.5})}}}};
+    // A quad in its own plane y = 0 (normal -y), turned by 90 degrees about z within the
+    // prototype (normal +x there), placed turned by -90 degrees about y (normal +z in the
+    // world, toward the ray): object, prototype and world normals all differ.
+    const json quad = {{"type", "quad"},
+                       {"vertices", {{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}}},
+                       {"material", "m"},
+                       {"transform", {{"rotate", {{"axis", {0, 0, 1}}, {"angle", 90}}}}}};
+    const json prototypes = {{"card", {quad}}};
+    const json instance = {
+        {"type", "instance"},
+        {"of", "card"},
+        {"transform",
+         {{"rotate", {{"axis", {0, 1, 0}}, {"angle", -90}}}, {"translate", {0.5, 0, 0}}}}};
+    const fr::SurfaceHit hit =
+        view_hit(instance, Vec3(1.1f, 0.2f, 5.f), Vec3(0, 0, -1), prototypes, materials);
+    EXPECT_NEAR(std::fabs(hit.ng.z), 1.f, 1e-5f);
+    EXPECT_NEAR(hit.po.x, 0.f, 1e-5f);
+    EXPECT_NEAR(hit.po.y, -1.f, 1e-5f);
+    EXPECT_NEAR(hit.po.z, 0.f, 1e-5f);
+    // Object coordinates beside normal ones on a prototype's shape: refused by name.
+    try {
+        json mm = materials;
+        mm["m"]["reflectance"] = {{"mix_rgb",
+                                   {{"fac", 0.5},
+                                    {"color1", gradient_of("normal", {0, 0.5, 0, 0.5})},
+                                    {"color2", gradient_of("object", {0.5, 0, 0, 0.5})}}}};
+        view_hit(instance, Vec3(1.1f, 0.2f, 5.f), Vec3(0, 0, -1), prototypes, mm);
+        ADD_FAILURE() << "normal and object coordinates on a prototype's shape load";
+    } catch (const std::exception& e) {
+        EXPECT_NE(std::string(e.what()).find("prototype's shape"), std::string::npos) << e.what();
+    }
+}

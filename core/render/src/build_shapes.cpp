@@ -62,6 +62,13 @@ bool Builder::needs_position(const ShapeSurface& s) {
            (s.emission_texture && s.emission_texture->uses_position());
 }
 
+// Whether hits on a surface compute the view-dependent coordinates: a procedural texture of
+// its material or emission reads normal, reflection, camera or window coordinates.
+bool Builder::needs_view(const ShapeSurface& s) {
+    return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_view) ||
+           (s.emission_texture && s.emission_texture->uses_view());
+}
+
 // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
 bool Builder::needs_color(const ShapeSurface& s) {
     return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
@@ -591,6 +598,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
     info.needs_uv = needs_uv(info);
     info.needs_color = needs_color(info);
     info.needs_position = needs_position(info);
+    info.needs_view = needs_view(info);
     // An invisible boundary cannot emit: rays cross it without a vertex.
     if (emissive) {
         if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);
@@ -649,11 +657,25 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
     } else if (deforms) {
         m_pending.push_back({index, std::uint32_t(ctx.local_prototype()), xf, false});
     }
-    for (const ShapeSurface& part : info.parts)
+    for (const ShapeSurface& part : info.parts) {
         info.needs_position = info.needs_position || needs_position(part);
-    if (info.needs_position) {
+        info.needs_view = info.needs_view || needs_view(part);
+    }
+    if (info.needs_position || info.needs_view) {
         info.to_object = glm::inverse(xf);
+        info.normal_to_object = glm::mat3(glm::transpose(glm::dmat3(xf)));
         m_builder.impl().position_extras = true;
+    }
+    if (info.needs_view && proto >= 0) {
+        // Instanced hits keep the object-space normal in SurfaceHit::po (scene.h).
+        if (info.needs_position)
+            fail(ptr,
+                 "a prototype's shape cannot read normal, reflection, camera or window "
+                 "coordinates and object or generated coordinates together");
+        info.normal_in_po = true;
+        auto& flags = m_builder.impl().normal_in_po;
+        flags.resize(m_builder.shapes().size() + 1, 0);
+        flags.back() = 1;
     }
     set_texture_space(info, s, ctx.object_bounds, ptr);
     if (proto >= 0) {

@@ -126,4 +126,15 @@ std::optional<Vec2> Camera::project(const Vec3& p, Vec2 u_lens) const {
     return project(position + q.x * right + q.y * true_up + focus_distance * forward);
 }
 
+Vec3 Camera::window_point(const Vec3& c) const {
+    float sx = c.x, sy = c.y;
+    if (projection == Projection::Perspective) {
+        if (c.z == 0.f) return Vec3(0.f);
+        sx /= c.z;
+        sy /= c.z;
+    }
+    return {0.5f * ((sx - center_x) / tan_half_x + 1.f),
+            0.5f * ((sy - center_y) / tan_half_y + 1.f), 0.f};
+}
+
 }  // namespace facet::render

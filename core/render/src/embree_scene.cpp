@@ -1109,7 +1109,9 @@ template <bool kUv>
         impl.fill_triangle<kUv, false>(*mg, tri, local, u, v, t, hit);
     const glm::dmat3 lin(in.to_world);
     const glm::dvec3 po(hit.p);
-    hit.po = hit.p;  // in the prototype's frame (complete_hit takes it to object space)
+    // In the prototype's frame (complete_hit takes it to object space): the point, or the
+    // normal where the shape keeps it there (set below, after the normal's transform).
+    hit.po = hit.p;
     const glm::dvec3 pw = glm::dvec3(in.to_world * glm::dvec4(po, 1.0));
     hit.p = Vec3(pw);
     const double shift =
@@ -1123,6 +1125,9 @@ template <bool kUv>
             Vec3(float(kMotionSlack * (in.linear_norm * largest_magnitude(po) + in.offset)));
     const glm::dvec3 ng = glm::normalize(in.normal_to_world * glm::dvec3(hit.ng));
     glm::dvec3 ns = glm::normalize(in.normal_to_world * glm::dvec3(hit.ns));
+    // The normal in the prototype's frame, along the world one (complete_hit takes it to object
+    // space where ShapeInfo::normal_in_po).
+    const glm::dvec3 n_frame = glm::dot(ns, ng) < 0.0 ? -glm::dvec3(hit.ns) : glm::dvec3(hit.ns);
     if (glm::dot(ns, ng) < 0.0) ns = -ns;
     hit.ng = Vec3(ng);
     hit.ns = Vec3(ns);
@@ -1132,6 +1137,8 @@ template <bool kUv>
     if (curve) hit.dpdu = glm::normalize(hit.dpdu);  // a curve's tangent is unit
     hit.tangent_sign *= in.handedness;
     if constexpr (kUv) {
+        if (hit.shape < impl.normal_in_po.size() && impl.normal_in_po[hit.shape]) [[unlikely]]
+            hit.po = Vec3(n_frame);
         hit.dpdu_uv = Vec3(lin * glm::dvec3(hit.dpdu_uv));
         hit.dpdv_uv = Vec3(lin * glm::dvec3(hit.dpdv_uv));
         part = curve ? -1 : mg->part;
@@ -1273,6 +1280,12 @@ template <bool kSurfaceExtras>
                                    : hit.p);
             hit.po = Vec3(glm::dvec3(shape.to_object * glm::dvec4(p, 1.0)));
         }
+        if (shape.normal_in_po) [[unlikely]] {
+            // The object-space shading normal (a prototype's shape: hit.po holds it in the
+            // prototype's frame), on the ray's side (Cycles' N).
+            const Vec3 n = glm::normalize(shape.normal_to_object * hit.po);
+            hit.po = glm::dot(hit.ng, ray.d) > 0.f ? -n : n;
+        }
     }
     const ShapeSurface& s = part < 0 ? shape : shape.parts[std::size_t(part)];
     hit.material = s.material;
@@ -1286,8 +1299,8 @@ template <bool kSurfaceExtras>
         hit.emitted_radiance = s.emission;
         if constexpr (kSurfaceExtras) {
             if (s.emission_texture)
-                hit.emitted_radiance =
-                    s.emission_texture->eval(texture_point(hit, texture_footprint(hit, nullptr)));
+                hit.emitted_radiance = s.emission_texture->eval(
+                    texture_point(hit, texture_footprint(hit, nullptr), -ray.d, hit.ns));
         }
     }
     return true;

@@ -230,6 +230,9 @@ struct Scene::Impl {
     // Some shape's hits compute the object-space point (ShapeInfo::needs_position): the
     // closest-hit path then fills surface extras (set by the scene builder before build).
     bool position_extras = false;
+    // Per shape (empty: none): a prototype's shape whose instanced hits keep the shading normal
+    // in SurfaceHit::po (ShapeInfo::normal_in_po; set by the scene builder).
+    std::vector<std::uint8_t> normal_in_po;
     std::vector<PrototypeGeom> prototypes;
     std::vector<InstanceGeom> instances;
     std::unique_ptr<EmbreeBackend> backend;

@@ -91,8 +91,25 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // Per-hit instantiation of a textured material (scene.h). The values are clamped into the
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
-Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp) const {
-    return textured_material(std::size_t(hit.textured), texture_point(hit, fp));
+Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
+                            const Vec3& ns) const {
+    return textured_material(std::size_t(hit.textured), texture_point(hit, fp, wo, ns));
+}
+
+// Cycles 3.4's svm_node_tex_coord for a surface hit: N its shading normal turned to the
+// viewer's side (shader_setup_from_ray), I = wo.
+void Scene::view_coordinates(const SurfaceHit& hit, const Vec3& wo, const Vec3& ns,
+                             TexturePoint& p) const {
+    const ShapeInfo& s = m_shapes[hit.shape];
+    if (s.normal_in_po) {
+        p.normal = hit.po;  // a prototype's shape: complete_hit put it there
+    } else {
+        const Vec3 n = glm::normalize(s.normal_to_object * ns);
+        p.normal = glm::dot(hit.ng, wo) < 0.f ? -n : n;
+    }
+    p.reflection = 2.f * glm::dot(ns, wo) * ns - wo;
+    p.camera = m_camera.camera_point(hit.p);
+    p.window = m_camera.window_point(p.camera);
 }
 
 Material Scene::textured_material(std::size_t index, const TexturePoint& p) const {

@@ -7,11 +7,12 @@
 // in [0, 1), plus bias, clamped to [0, 1]. d = the distance to the nearest brick edge; mortar
 // f = 0 for d >= mortar_size, else 1 when mortar_smooth = 0, else smoothstep(s / mortar_smooth)
 // (s = 1 - d / mortar_size; 1 once s >= mortar_smooth). Color = mix(mix(color1, color2, tint),
-// mortar, f); Fac = f.
+// mortar, f); Fac = f. Color1, Color2 and Mortar are constants or textures evaluated at the same
+// hit (composite.h's inputs; Cycles evaluates the linked nodes at the shading point).
 #include <cmath>
 #include <cstdint>
 
-#include "procedural.h"
+#include "composite.h"
 
 namespace facet::render {
 
@@ -32,8 +33,17 @@ class BrickSource final : public ProceduralSource {
     int m_offset_frequency = 2, m_squash_frequency = 2;
     Rgb m_color1{0.8f}, m_color2{0.2f}, m_mortar{0.f};
     bool m_color = false;
+    // Textured colours (any: the colours are read per hit by eval).
+    std::optional<CompositeInput> m_in1, m_in2, m_in_mortar;
 
+    Rgb eval(const TexturePoint& p) const override {
+        if (!m_in1) return pattern(point(p)) * m_scale;
+        return colored(point(p), m_in1->eval(p), m_in2->eval(p), m_in_mortar->eval(p)) * m_scale;
+    }
     Rgb pattern(const Vec3& xin) const override {
+        return colored(xin, m_color1, m_color2, m_mortar);
+    }
+    Rgb colored(const Vec3& xin, const Rgb& color1, const Rgb& color2, const Rgb& mortar) const {
         const Vec3 p = xin * m_scale_in;
         const int row = int(std::floor(p.y / m_row_height));
         float width = m_width, shift = 0.f;
@@ -63,9 +73,9 @@ class BrickSource final : public ProceduralSource {
             }
         }
         if (!m_color) return Rgb(f);
-        Rgb c = m_color1;
-        if (f != 1.f) c = (1.f - tint) * m_color1 + tint * m_color2;
-        return c * (1.f - f) + m_mortar * f;
+        Rgb c = color1;
+        if (f != 1.f) c = (1.f - tint) * color1 + tint * color2;
+        return c * (1.f - f) + mortar * f;
     }
 };
 
@@ -83,15 +93,28 @@ Texture build_brick(TextureBuild& b) {
     s->m_squash = float(p.number("squash"));
     s->m_offset_frequency = int(p.number("offset_frequency"));
     s->m_squash_frequency = int(p.number("squash_frequency"));
-    s->m_color1 = p.color("color1");
-    s->m_color2 = p.color("color2");
-    s->m_mortar = p.color("mortar");
     s->m_color = p.choice("output") == 1;
-    if (!s->m_color) return make_procedural(b, kBrickTexture, s, Rgb(0.f), Rgb(1.f));
+    if (!s->m_color) {
+        if (!b.desc.inputs.empty())
+            b.fail(p.pointer(b.desc.inputs.front().name),
+                   "the Fac output reads no colour: a texture here is unused");
+        return make_procedural(b, kBrickTexture, s, Rgb(0.f), Rgb(1.f));
+    }
+    const CompositeParams in(b, kBrickTexture);
+    CompositeInput c1 = in.input("color1", true), c2 = in.input("color2", true),
+                   cm = in.input("mortar", true);
+    s->m_color1 = c1.m_constant;
+    s->m_color2 = c2.m_constant;
+    s->m_mortar = cm.m_constant;
     // Convex combinations of the three colours.
-    const Rgb lo = glm::min(glm::min(s->m_color1, s->m_color2), s->m_mortar);
-    const Rgb hi = glm::max(glm::max(s->m_color1, s->m_color2), s->m_mortar);
-    return make_procedural(b, kBrickTexture, s, lo, hi);
+    const Rgb lo = glm::min(glm::min(c1.m_lo, c2.m_lo), cm.m_lo);
+    const Rgb hi = glm::max(glm::max(c1.m_hi, c2.m_hi), cm.m_hi);
+    if (c1.is_constant() && c2.is_constant() && cm.is_constant())
+        return make_procedural(b, kBrickTexture, s, lo, hi);
+    s->m_in1 = std::move(c1);
+    s->m_in2 = std::move(c2);
+    s->m_in_mortar = std::move(cm);
+    return make_procedural(b, kBrickTexture, s, lo, hi, in.reads());
 }
 
 }  // namespace
@@ -119,8 +142,8 @@ const TextureKindDef kBrickTexture{
          0,
          false,
          {},
-         "Color1 (default grey 0.8)",
-         TextureParamForm::Value,
+         "Color1 (default grey 0.8; a texture: Color output only)",
+         TextureParamForm::Input,
          Rgb(0.8f)},
         {"color2",
          ParamType::Color,
@@ -130,8 +153,8 @@ const TextureKindDef kBrickTexture{
          0,
          false,
          {},
-         "Color2 (default grey 0.2)",
-         TextureParamForm::Value,
+         "Color2 (default grey 0.2; a texture: Color output only)",
+         TextureParamForm::Input,
          Rgb(0.2f)},
         {"mortar",
          ParamType::Color,
@@ -141,8 +164,8 @@ const TextureKindDef kBrickTexture{
          0,
          false,
          {},
-         "Mortar colour (default black)",
-         TextureParamForm::Value,
+         "Mortar colour (default black; a texture: Color output only)",
+         TextureParamForm::Input,
          Rgb(0.f)},
         {"output", ParamType::String, 0, "fac", 0, 0, false, {"fac", "color"}, kOutputDoc},
     },

@@ -130,14 +130,14 @@ void check_texture_params(TextureBuild& b, const TextureKindDef& kind) {
 }
 
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
-                        std::shared_ptr<ProceduralSource> s, Rgb lo, Rgb hi) {
+                        std::shared_ptr<ProceduralSource> s, Rgb lo, Rgb hi, unsigned reads) {
     const TextureDesc& d = b.desc;
     ProceduralParams params(b, kind);
     check_texture_params(b, kind);
     if (d.coordinates.empty() || d.coordinates == "generated") {
         s->m_coordinates = ProceduralSource::Coordinates::Generated;
     } else {
-        const int c = b.choose("coordinates", d.coordinates, {"generated", "object", "uv"});
+        const int c = b.choose("coordinates", d.coordinates, kCoordinateNames);
         s->m_coordinates = ProceduralSource::Coordinates(c);
     }
     const std::string mp = b.ptr + "/mapping";
@@ -161,9 +161,12 @@ Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
         b.fail(params.pointer("output"),
                "a number parameter needs a grey output (a colour output feeds colours; or give "
                "\"channel\")");
-    const unsigned inputs = s->m_coordinates == ProceduralSource::Coordinates::Uv
-                                ? kTextureReadsUv
-                                : kTextureReadsPosition;
+    using C = ProceduralSource::Coordinates;
+    unsigned inputs = s->m_coordinates == C::Uv ? kTextureReadsUv
+                      : s->m_coordinates == C::Generated || s->m_coordinates == C::Object
+                          ? kTextureReadsPosition
+                          : kTextureReadsView;
+    inputs |= reads;
     return with_channel(b, Texture(std::move(s), lo * (float(d.scale) * d.color_scale),
                                    hi * (float(d.scale) * d.color_scale), inputs));
 }

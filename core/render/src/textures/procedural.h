@@ -8,6 +8,7 @@
 
 #include <memory>
 #include <string>
+#include <vector>
 
 #include "facet/render/texture.h"
 #include "facet/render/texture_kinds.h"
@@ -17,15 +18,39 @@ namespace facet::render {
 
 class ProceduralSource : public TextureSource {
   public:
-    enum class Coordinates : std::uint8_t { Generated, Object, Uv };
-    Rgb eval(const TexturePoint& p) const final { return pattern(point(p)) * m_scale; }
+    // In the order of TextureDesc::coordinates' names (kCoordinateNames).
+    enum class Coordinates : std::uint8_t {
+        Generated,
+        Object,
+        Uv,
+        Normal,
+        Reflection,
+        Camera,
+        Window
+    };
+    // (A kind with texture inputs, brick's colours, evaluates them at p itself.)
+    Rgb eval(const TexturePoint& p) const override { return pattern(point(p)) * m_scale; }
     // The kind's value at texture-space point x (before the scale).
     virtual Rgb pattern(const Vec3& x) const = 0;
-    Vec3 point(const TexturePoint& p) const {
-        const Vec3 x = m_coordinates == Coordinates::Generated ? p.generated
-                       : m_coordinates == Coordinates::Object  ? p.object
-                                                               : Vec3(p.uv, 0.f);
-        return m_linear * x + m_offset;
+    Vec3 point(const TexturePoint& p) const { return m_linear * coordinates(p) + m_offset; }
+    Vec3 coordinates(const TexturePoint& p) const {
+        switch (m_coordinates) {
+            case Coordinates::Generated:
+                return p.generated;
+            case Coordinates::Object:
+                return p.object;
+            case Coordinates::Uv:
+                return Vec3(p.uv, 0.f);
+            case Coordinates::Normal:
+                return p.normal;
+            case Coordinates::Reflection:
+                return p.reflection;
+            case Coordinates::Camera:
+                return p.camera;
+            case Coordinates::Window:
+                return p.window;
+        }
+        return p.generated;
     }
 
     Coordinates m_coordinates = Coordinates::Generated;
@@ -60,13 +85,19 @@ void check_texture_params(TextureBuild& b, const TextureKindDef& kind);
 
 // Checks every parameter of the description against the kind's table (unknown names, types,
 // ranges, choices), fills the shared parts of `source` (coordinates, mapping, scale) and makes
-// the texture, its values in [lo, hi] per channel before the scale.
+// the texture, its values in [lo, hi] per channel before the scale. `reads`: what its input
+// textures read (TextureInput bits), besides its point.
 Texture make_procedural(TextureBuild& b, const TextureKindDef& kind,
-                        std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi);
+                        std::shared_ptr<ProceduralSource> source, Rgb lo, Rgb hi,
+                        unsigned reads = 0);
 
 // The texture itself, or, when the description has a "channel" (r, g, b or luminance: Rec. 709
 // weights 0.2126, 0.7152, 0.0722, as for images), that channel of its value as grey.
 Texture with_channel(TextureBuild& b, Texture t);
+
+// TextureDesc::coordinates' names, in the order of ProceduralSource::Coordinates.
+inline const std::vector<std::string> kCoordinateNames = {"generated",  "object", "uv",    "normal",
+                                                          "reflection", "camera", "window"};
 
 // The parameters every procedural kind's "output" choice shares.
 inline constexpr std::string_view kOutputDoc = "which output of the node is the value";

@@ -165,6 +165,18 @@ struct Camera {
     // generate_ray(film, u_lens). Over all u_lens, the image of a point (its circle of
     // confusion); a point on the plane of focus projects to one film position for every u.
     std::optional<Vec2> project(const Vec3& p, Vec2 u_lens) const;
+    // World point p in camera space: (dot(v, r), dot(v, u), dot(v, f)), v = p - position
+    // (Cycles' camera space: z forward).
+    Vec3 camera_point(const Vec3& p) const {
+        const Vec3 v = p - position;
+        return {glm::dot(v, right), glm::dot(v, true_up), glm::dot(v, forward)};
+    }
+    // Camera-space point c on the image as Cycles' normalized device coordinates (its Window
+    // texture coordinates): (x, y, 0), x from 0 at the left edge to 1 at the right, y from 0 at
+    // the bottom to 1 at the top, lens shift included. Perspective: through the lens centre,
+    // dividing by c.z whatever its sign (points behind the camera land mirrored, as in Cycles'
+    // projective transform; c.z = 0 gives 0).
+    Vec3 window_point(const Vec3& c) const;
 };
 
 // Inline: runs for every camera sample.

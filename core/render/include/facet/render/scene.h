@@ -49,6 +49,9 @@
 //    prototype's shape, its own frame within the prototype) only on shapes whose material or
 //    emission has a procedural texture reading object or generated coordinates
 //    (ShapeInfo::needs_position); elsewhere it is not computed.
+//    On a prototype's shape whose textures read view-dependent coordinates and no position
+//    (ShapeInfo::normal_in_po), `po` holds the shading normal in that object space instead
+//    (unit, turned to the ray's side: TexturePoint::normal); hits elsewhere derive it from ns.
 //  - Sidedness: a surface hit from the back (dot(ng, -ray.d) < 0) reflects as if its normals
 //    were flipped when `two_sided` is true; otherwise it is black (reflects nothing). Emission
 //    is always one-sided: only the front side emits (light.h).
@@ -225,6 +228,16 @@ struct ShapeInfo : ShapeSurface {
     // prototype's frame) to object space; the texture space maps po to Blender's Generated
     // coordinates, generated = (po - texture_lo) * texture_inv (ShapeDesc::texture_space).
     bool needs_position = false;
+    // Hits compute the object-space normal (SurfaceHit::no) and their texture points the
+    // view-dependent coordinates (TexturePoint::normal, ...): a procedural texture reads
+    // normal, reflection, camera or window coordinates. `normal_to_object` maps world-space
+    // normals (a prototype's shape: in the prototype's frame) to object space, transpose of the
+    // inverse of to_object's linear part.
+    bool needs_view = false;
+    // A prototype's shape with needs_view: its hits keep the object-space normal in
+    // SurfaceHit::po (the instance's transform is not known after the hit).
+    bool normal_in_po = false;
+    glm::mat3 normal_to_object{1.f};
     glm::dmat4 to_object{1.0};
     Vec3 texture_lo{-1.f}, texture_inv{0.5f};
 };
@@ -292,8 +305,9 @@ struct TexturedMaterial {
     // Whether a slot (or a child's) reads the hit's uv / its vertex colour (Texture::uses_uv,
     // uses_vertex_color; the normal and bump maps always read uv).
     bool uses_uv = false, uses_color = false;
-    // Whether a slot (or a child's) reads the hit's object-space point (Texture::uses_position).
-    bool uses_position = false;
+    // Whether a slot (or a child's) reads the hit's object-space point (Texture::uses_position)
+    // / its view-dependent coordinates (Texture::uses_view).
+    bool uses_position = false, uses_view = false;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -514,14 +528,18 @@ class Scene {
     const Material& bsdf_at(SurfaceHit& hit, const Ray& ray, bool camera_ray,
                             std::optional<Material>& storage) const {
         if (hit.textured < 0) return *hit.material;
+        const Vec3 ns = hit.ns;  // the view-dependent coordinates read the unmapped normal
         shade_normal(hit, -ray.d);
         return storage.emplace(
-            material_at(hit, texture_footprint(hit, camera_ray ? &ray : nullptr)));
+            material_at(hit, texture_footprint(hit, camera_ray ? &ray : nullptr), -ray.d, ns));
     }
     // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
     // model built from them (never throws: build_scene checked every texture's range against
-    // the model's). Hits with textured < 0 use *hit.material.
-    Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {}) const;
+    // the model's). Hits with textured < 0 use *hit.material. `wo` (unit, toward the viewer)
+    // and `ns` (the world-space shading normal before normal and bump maps) are read by
+    // view-dependent coordinates only (texture_point).
+    Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {},
+                         const Vec3& wo = Vec3(0.f), const Vec3& ns = Vec3(0.f)) const;
     // Textured material `index` at uv: as material_at (staged where built), or built from its
     // ParamSet by the registry (the reference the staged build is tested against).
     // `color` is the hit's vertex colour (SurfaceHit::color), read by vertex_color textures.
@@ -537,11 +555,20 @@ class Scene {
     }
     Material textured_material_rebuilt(std::size_t index, const TexturePoint& p) const;
     // What textures read at a hit (TexturePoint): its uv, vertex colour, object-space point
-    // and generated coordinates, with footprint fp.
-    TexturePoint texture_point(const SurfaceHit& hit, const UvFootprint& fp) const {
+    // and generated coordinates, with footprint fp; on shapes with ShapeInfo::needs_view also
+    // the view-dependent coordinates, from `wo` (unit, toward the viewer), the world-space
+    // shading normal `ns` (before normal and bump maps) and the shape's normal_to_object.
+    TexturePoint texture_point(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
+                               const Vec3& ns) const {
         const ShapeInfo& s = m_shapes[hit.shape];
-        return {hit.uv, &fp, hit.color, hit.po, (hit.po - s.texture_lo) * s.texture_inv};
+        TexturePoint p{hit.uv, &fp, hit.color, hit.po, (hit.po - s.texture_lo) * s.texture_inv};
+        if (s.needs_view) [[unlikely]]
+            view_coordinates(hit, wo, ns, p);
+        return p;
     }
+    // Fills p's view-dependent coordinates (TexturePoint) at a hit.
+    void view_coordinates(const SurfaceHit& hit, const Vec3& wo, const Vec3& ns,
+                          TexturePoint& p) const;
     // The texture footprint of a hit with uv: from the camera ray `camera_ray` that reached it
     // (exact), or for hits of later path vertices (camera_ray null) as the camera would see p
     // (Camera::footprint_at).

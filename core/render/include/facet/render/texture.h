@@ -48,7 +48,8 @@
 //  - Vertex tint (TextureDesc::times_vertex_color, an importer's: glTF's COLOR_0 times its
 //    base colour texture): an image or checker value multiplied per channel by c's RGB.
 //  - Procedural kinds (textures/procedural.h) read a 3D point: the hit's `coordinates`
-//    ("generated", "object" or "uv" as (u, v, 0)), mapped by the affine `mapping` (Blender's
+//    ("generated", "object", "uv" as (u, v, 0), or the view-dependent "normal", "reflection",
+//    "camera", "window": TexturePoint), mapped by the affine `mapping` (Blender's
 //    Mapping node and any affine chain before the texture), then the kind's own pattern.
 //  - Composite kinds (textures/composite.h: math, mix_rgb, color_ramp) read no point: their
 //    inputs are constants or other textures (TextureDesc::inputs), evaluated at the same hit;
@@ -151,6 +152,15 @@ struct TexturePoint {
     // The position in the shape's texture space: [0, 1]^3 over its box (Blender's Generated
     // coordinates; ShapeInfo::texture_space).
     Vec3 generated{0.f};
+    // Texture Coordinate's view-dependent outputs as Cycles 3.4 defines them (svm_tex_coord),
+    // filled only on shapes whose textures read them (kTextureReadsView; ShapeInfo::needs_view):
+    //  - normal: the object-space shading normal (unit), turned to the ray's side (Normal);
+    //  - reflection: the view direction mirrored about the world-space shading normal,
+    //    2 dot(n, wo) n - wo, wo the unit direction toward the viewer (Reflection);
+    //  - camera: the position in camera space, x right, y up, z forward (Camera);
+    //  - window: the position on the image, (x, y, 0) with [0, 1]^2 from the image's bottom-left
+    //    corner to its top-right one (Window; Camera::window_point).
+    Vec3 normal{0.f}, reflection{0.f}, camera{0.f}, window{0.f};
 };
 
 // What a texture reads besides its parameters (bits of Texture::inputs()).
@@ -158,6 +168,7 @@ enum TextureInput : unsigned {
     kTextureReadsUv = 1u,        // TexturePoint::uv (and footprint)
     kTextureReadsColor = 2u,     // TexturePoint::color
     kTextureReadsPosition = 4u,  // TexturePoint::object and generated
+    kTextureReadsView = 8u,      // TexturePoint::normal, reflection, camera and window
 };
 
 // One kind's evaluation (immutable, thread-safe, never throws): the value at a point, times the
@@ -213,6 +224,7 @@ class Texture {
     bool uses_uv() const { return (m_inputs & kTextureReadsUv) != 0; }
     bool uses_vertex_color() const { return (m_inputs & kTextureReadsColor) != 0; }
     bool uses_position() const { return (m_inputs & kTextureReadsPosition) != 0; }
+    bool uses_view() const { return (m_inputs & kTextureReadsView) != 0; }
     // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
     float mip_level(const UvFootprint& fp) const { return m_source->mip_level(fp); }
     TextureFilter filter() const { return m_source->filter(); }
