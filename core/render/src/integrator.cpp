@@ -857,7 +857,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
 // with p the channel-MIS density (integrator.h). L gains the medium's emission on the segment.
 float sample_segment(const Medium& med, const Ray& ray, float t_max, float u_channel, float u_dist,
                      TrackingRng& rng, Rgb& beta, Rgb& L) {
-    if (med.heterogeneous()) return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta);
+    if (med.heterogeneous()) return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta, L);
     if (med.emits()) L += beta * med.emitted(t_max);
     if (med.absorbing_only()) {
         beta *= med.transmittance(t_max);
