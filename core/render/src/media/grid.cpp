@@ -5,10 +5,22 @@
 #include <optional>
 
 #include "../kind_build.h"
+#include "facet/blackbody.h"
 #include "facet/render/medium.h"
 #include "openvdb_grid.h"
 
 namespace facet::render {
+
+Rgb GridEmission::at(const Vec3& p) const {
+    Rgb e = grid ? color * grid->density(p) : color;
+    if (blackbody > 0.f) {
+        const float t = temperature_grid
+                            ? temperature * std::fmax(temperature_grid->density(p), 0.f)
+                            : temperature;
+        e += principled_volume_blackbody(blackbody, t, tint);
+    }
+    return e;
+}
 
 namespace {
 

@@ -27,7 +27,6 @@
 
 #include <memory>
 
-#include "facet/blackbody.h"
 #include "facet/henyey_greenstein.h"
 #include "facet/render/density_grid.h"
 #include "facet/types.h"
@@ -50,16 +49,9 @@ struct GridEmission {
     Rgb tint{1.f};
     std::shared_ptr<const DensityGrid> temperature_grid;  // none: temperature is constant
 
-    Rgb at(const Vec3& p) const {
-        Rgb e = grid ? color * grid->density(p) : color;
-        if (blackbody > 0.f) {
-            const float t = temperature_grid
-                                ? temperature * std::fmax(temperature_grid->density(p), 0.f)
-                                : temperature;
-            e += principled_volume_blackbody(blackbody, t, tint);
-        }
-        return e;
-    }
+    // e(x) (media/grid.cpp: out of line, so that the kernels of scenes without emitting grids
+    // are compiled exactly as without it).
+    Rgb at(const Vec3& p) const;
 };
 
 class Medium {
