@@ -92,10 +92,10 @@ def export_volume(obj, matrix, frame, problems, index=0, use_motion_blur=False):
                         % (subject, grid_name, g.data_type))
         return None
     tg = medium.get("temperature_grid")
-    if tg is not None and grids[names.index(tg)].data_type != 'FLOAT':
+    tg_type = grids[names.index(tg)].data_type if tg is not None else 'FLOAT'
+    if tg_type != 'FLOAT':
         problems.append("%s: temperature grid '%s' is %s, not float; blackbody at the constant "
-                        "Temperature over the density grid's box" % (subject, tg,
-                                                                     grids[names.index(tg)].data_type))
+                        "Temperature over the density grid's box" % (subject, tg, tg_type))
         del medium["temperature_grid"]
     if use_motion_blur and any(n in names for n in ('velocity', 'vel', 'v')):
         problems.append("%s: the volume's velocity grid (motion blur of volumes) is not "
