@@ -15,10 +15,16 @@ is the region of the grids its shader reads (scene/volume.cpp builds its mesh fr
 shader that reads no grid (Volume Scatter, Volume Absorption alone, or Density Attribute empty)
 renders nothing in Cycles 3.4 (measured: the same image as no volume), and nothing is exported,
 with a line. A volume without a material is Cycles' default volume shader, a Principled Volume
-with its defaults (scene/shader.cpp). Reported by object, material and node: what a grid
-medium cannot hold (emission, blackbody, a Color Attribute grid, a volume shader beside the
-Principled Volume that fills the grids' region uniformly), a Density Attribute naming no grid
-(Cycles renders nothing then), a grid that is not float, velocity (motion blur of volumes).
+with its defaults (scene/shader.cpp). Principled Volume's emission converts as Cycles
+computes it (svm_node_principled_volume: not scaled by the density): Emission Strength x
+Emission Color as the medium's constant `emission`, and blackbody emission (Blackbody
+Intensity, Blackbody Tint, Temperature) with the Temperature Attribute's grid as
+`temperature_grid`. Reported by object, material and node: what a grid medium cannot hold (a
+Color Attribute grid, a volume shader beside the Principled Volume that fills the grids' region
+uniformly, blackbody beside another volume shader), a constant emission or temperature (Cycles
+fills the volume's active voxels, Facet the density grid's bounding box), a Density Attribute
+naming no grid (Cycles renders nothing then), a grid that is not float, velocity (motion blur
+of volumes).
 """
 import os
 import re
@@ -85,6 +91,12 @@ def export_volume(obj, matrix, frame, problems, index=0, use_motion_blur=False):
                         "not rendered"
                         % (subject, grid_name, g.data_type))
         return None
+    tg = medium.get("temperature_grid")
+    tg_type = grids[names.index(tg)].data_type if tg is not None else 'FLOAT'
+    if tg_type != 'FLOAT':
+        problems.append("%s: temperature grid '%s' is %s, not float; blackbody at the constant "
+                        "Temperature over the density grid's box" % (subject, tg, tg_type))
+        del medium["temperature_grid"]
     if use_motion_blur and any(n in names for n in ('velocity', 'vel', 'v')):
         problems.append("%s: the volume's velocity grid (motion blur of volumes) is not "
                         "converted: rendered without motion" % subject)
@@ -182,20 +194,12 @@ def _medium(mat, subject, names, problems):
             if want != grid:
                 problems.append("%s: %s reads Density Attribute '%s'; one grid per medium: "
                                 "'%s' is used" % (what, o.label(), want, grid))
-        for name in ('Color Attribute', 'Temperature Attribute'):
-            a = node.inputs[name].default_value
-            if not a or a not in names:
-                continue
-            if name == 'Temperature Attribute' and \
-                    float(ctx.value(node, 'Blackbody Intensity', o.path)) <= 0.0:
-                continue  # read only for blackbody
+        a = node.inputs['Color Attribute'].default_value
+        if a and a in names:
             read_grids.add(a)
-            problems.append("%s: %s input '%s' = '%s': the grid is not read (a grid medium "
-                            "has one density grid); the Color is used"
-                            % (what, o.label(), name, a)
-                            if name == 'Color Attribute' else
-                            "%s: %s input '%s' = '%s': blackbody emission from a grid is not "
-                            "converted" % (what, o.label(), name, a))
+            problems.append("%s: %s input 'Color Attribute' = '%s': the grid is not read (a "
+                            "grid medium has one density grid); the Color is used"
+                            % (what, o.label(), a))
     others = [o for o in nodes if o.node.bl_idname != 'ShaderNodeVolumePrincipled']
     if grid is None:
         problems.append("%s: its Volume (%s) reads no density grid (only Principled Volume's "
@@ -212,8 +216,33 @@ def _medium(mat, subject, names, problems):
         problems.append("%s: %s is not converted exactly: Cycles fills the grids' region with "
                         "it uniformly, Facet scales it by grid '%s' as the rest of the medium"
                         % (what, o.label(), grid))
+    # Blackbody emission (one Principled Volume straight on the output, the only volume
+    # shader): its intensity, tint and temperature, and the Temperature Attribute's grid.
+    blackbody = None
+    if len(nodes) == 1 and principled:
+        o = principled[0]
+        node = o.node
+        b = min(max(float(ctx.value(node, 'Blackbody Intensity', o.path)), 0.0), 1.0)
+        if b > 0.0:
+            ctx.exact.add((node.name, 'Blackbody Intensity'))
+            tint = [max(float(c), 0.0)
+                    for c in ctx.value(node, 'Blackbody Tint', o.path)[:3]]
+            blackbody = {"blackbody_intensity": b, "blackbody_tint": tint,
+                         "temperature": min(max(float(ctx.value(node, 'Temperature', o.path)),
+                                                0.0), 1e6)}
+            attr = node.inputs['Temperature Attribute'].default_value
+            if attr and attr in names:
+                blackbody["temperature_grid"] = attr
+            else:
+                problems.append("%s: %s: blackbody at a constant Temperature (Temperature "
+                                "Attribute '%s' names no grid): Cycles emits it over the "
+                                "volume's active voxels, Facet over the bounding box of grid "
+                                "'%s' (the same where the active voxels fill their box)"
+                                % (what, o.label(), attr, grid))
     medium = ctx.volume(vol, "the Material Output's Volume")
     problems.extend(ctx.finish())
+    if medium is None and blackbody is not None:
+        medium = {"sigma_a": [0.0] * 3, "sigma_s": [0.0] * 3}
     if medium is None:
         problems.append("%s: the volume's coefficients are 0; not rendered" % what)
         return None, None
@@ -221,9 +250,14 @@ def _medium(mat, subject, names, problems):
     if "g" in medium:
         out_medium["g"] = medium["g"]
     if "emission" in medium:
-        problems.append("%s: emission from a volume object (Emission Strength, an Emission "
-                        "node) is not converted (Facet's grid media do not emit); dropped"
-                        % what)
+        # Cycles' Emission Strength x Emission Color, not scaled by the density.
+        out_medium["emission"] = medium["emission"]
+        problems.append("%s: its constant emission (Emission Strength x Emission Color) is "
+                        "converted over the bounding box of grid '%s'; Cycles emits it over "
+                        "the volume's active voxels (the same where they fill their box)"
+                        % (what, grid))
+    if blackbody is not None:
+        out_medium.update(blackbody)
     return out_medium, grid
 
 

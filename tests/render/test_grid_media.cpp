@@ -16,6 +16,7 @@
 #include <openvdb/io/File.h>
 #include <openvdb/openvdb.h>
 
+#include "facet/blackbody.h"
 #include "facet/render/density_grid.h"
 #include "facet/render/medium.h"
 #include "facet/render/render.h"
@@ -313,6 +314,155 @@ TEST(GridMedia, ScatteringGridFurnaceConservesEnergy) {
     std::filesystem::remove_all(dir);
 }
 
+// Cycles 3.4's blackbody colour: its Blackbody node (which clamps the colour to >= 0) rendered
+// by Cycles on an emission plane (Standard view, 32-bit EXR, values printed to 7 digits) at
+// temperatures in every range of the fit and beyond both ends. The Principled Volume uses the
+// same fit unclamped: below 1902 K the fit's blue is negative (checked here), below 965 K its
+// green. 2e-6 relative plus 3e-6: the printed digits, float rounding, and Cycles' float
+// Rec.709-to-scene-linear matrix (an identity to about 4e-7, times a red of up to 5.4).
+TEST(Blackbody, MatchesCyclesBlackbodyNode) {
+    struct Sample {
+        float t;
+        Rgb cycles;
+    };
+    const std::vector<Sample> samples = {
+        {700.f, {5.413295f, 0.f, 0.f}},
+        {900.f, {4.983961f, 0.f, 0.f}},
+        {1000.f, {4.601362f, 0.03904079f, 0.f}},
+        {1100.f, {4.263807f, 0.1394406f, 0.f}},
+        {1300.f, {3.702684f, 0.3055366f, 0.f}},
+        {1500.f, {3.264307f, 0.4340453f, 0.f}},
+        {1700.f, {2.917671f, 0.5342917f, 0.f}},
+        {2500.f, {2.06763f, 0.7693219f, 0.1394299f}},
+        {4000.f, {1.414115f, 0.923641f, 0.5336742f}},
+        {6500.f, {1.042551f, 0.9840515f, 1.035271f}},
+        {9000.f, {0.9041031f, 0.9939572f, 1.342972f}},
+        {13000.f, {0.8262937f, 0.9945068f, 1.566307f}},
+    };
+    for (const Sample& s : samples) {
+        const Rgb ours = facet::blackbody_rec709(s.t);
+        for (int c = 0; c < 3; ++c)
+            EXPECT_NEAR(std::max(ours[c], 0.f), s.cycles[c], 2e-6f * s.cycles[c] + 3e-6f)
+                << s.t << " K, channel " << c;
+    }
+    EXPECT_LT(facet::blackbody_rec709(1500.f).b, -0.05f) << "the fit is used unclamped";
+    // Principled Volume: sigma mix(1, T^4, b) rgb(T) tint, sigma = 5.670373e-14 / pi.
+    const Rgb tint(1.f, 0.5f, 0.25f);
+    const Rgb e = facet::principled_volume_blackbody(0.75f, 2500.f, tint);
+    const double intensity = 5.670373e-14 / 3.141592653589793 * (0.25 + 0.75 * std::pow(2500.0, 4));
+    for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(e[c], intensity * tint[c] * facet::blackbody_rec709(2500.f)[c],
+                    1e-5 * std::fabs(e[c]));
+    // Below Cycles' closure cut-off (1e-8) nothing is emitted.
+    EXPECT_EQ(facet::principled_volume_blackbody(0.5f, 0.f, Rgb(1.f)), Rgb(0.f));
+}
+
+// Emitting grids against the exact integral along the ray. A 1 x 1 x 1 box of grid medium
+// (absorbing, sigma_a per unit density) in front of an emitter of radiance 2, seen along -z by
+// an orthographic camera: each pixel's expectation is 2 T(1) + int_0^1 T(s) e(s) ds (s the depth
+// from the top, T(s) = exp(-sigma_a int_0^s rho)). Cases:
+//  - a constant density 2 with a constant emission e: (e / sigma_t) (1 - exp(-sigma_t)),
+//    sigma_t = 2 sigma_a, exactly the homogeneous emitting medium's closed form;
+//  - the same with the emission scaled by the density grid itself (emission e / 2);
+//  - a density of 2 in the bottom quarter only (32^3 voxels: the top half is majorant cells of
+//    0, the emission there is gathered on the empty pieces) and the emission scaled by a
+//    separate grid of value 1: the integral by the trapezoidal rule over the density's
+//    piecewise-linear profile (2e5 steps);
+//  - blackbody emission from a temperature grid of 1.5 times temperature 1000 (1500 K, whose
+//    blue is negative, kept as Cycles keeps it), intensity 0.8 and a tint, no other emission.
+// The mean over the pixels within 5 standard errors per channel; without emission the pixels
+// would be the transmitted 2 T(1) alone, which each case's expectation exceeds by more than 20
+// standard errors in some channel (checked: a dropped emission fails).
+TEST(GridMedia, EmittingGridMatchesTheExactIntegral) {
+    const std::string dir = temp_dir();
+    write_vdb(dir + "/const.vdb",
+              {float_grid("density", 16, 1.0 / 16.0, [](int, int, int) { return 2.f; }),
+               float_grid("heat", 16, 1.0 / 16.0, [](int, int, int) { return 1.5f; })});
+    write_vdb(
+        dir + "/half.vdb",
+        {float_grid("density", 32, 1.0 / 32.0, [](int, int, int k) { return k < 8 ? 2.f : 0.f; }),
+         float_grid("glow", 32, 1.0 / 32.0, [](int, int, int) { return 1.f; })});
+    const Rgb sigma_a(0.25f, 0.5f, 1.f), e(1.f, 2.f, 3.f);
+    // The density profile of half.vdb along z (trilinear between voxel centres, clamped).
+    auto half_density = [](double z) {
+        const double q = z * 32.0 - 0.5, fl = std::floor(q), f = q - fl;
+        auto v = [](int k) { return std::clamp(k, 0, 31) < 8 ? 2.0 : 0.0; };
+        return v(int(fl)) * (1.0 - f) + v(int(fl) + 1) * f;
+    };
+    auto integral = [&](int c, auto rho, Rgb emit) {
+        const int n = 200000;
+        double tau = 0.0, sum = 0.0, prev_f = 0.0, prev_rho = rho(1.0);
+        for (int i = 0; i <= n; ++i) {
+            const double s = double(i) / n, r = rho(1.0 - s);
+            if (i > 0) tau += 0.5 * (r + prev_rho) / n * double(sigma_a[c]);
+            const double f = std::exp(-tau) * double(emit[c]);
+            if (i > 0) sum += 0.5 * (f + prev_f) / n;
+            prev_f = f;
+            prev_rho = r;
+        }
+        return 2.0 * std::exp(-tau) + sum;
+    };
+    const Rgb bb = facet::principled_volume_blackbody(0.8f, 1500.f, Rgb(1.f, 0.5f, 0.25f));
+    ASSERT_LT(bb.b, 0.f);
+    struct Case {
+        std::string name, medium;
+        Rgb expected;
+    };
+    std::vector<Case> cases;
+    Rgb constant, transmitted;
+    for (int c = 0; c < 3; ++c) {
+        const double st = 2.0 * double(sigma_a[c]);
+        constant[c] = float(2.0 * std::exp(-st) + double(e[c]) * -std::expm1(-st) / st);
+        transmitted[c] = float(2.0 * std::exp(-st));
+    }
+    const std::string coef = R"("sigma_a": [0.25, 0.5, 1])";
+    cases.push_back(
+        {"constant emission", R"("file": "const.vdb", "emission": [1, 2, 3], )" + coef, constant});
+    cases.push_back(
+        {"emission x density",
+         R"("file": "const.vdb", "emission": [0.5, 1, 1.5], "emission_grid": "density", )" + coef,
+         constant});
+    Rgb half;
+    for (int c = 0; c < 3; ++c) half[c] = float(integral(c, half_density, e));
+    cases.push_back(
+        {"sparse density, emission grid",
+         R"("file": "half.vdb", "emission": [1, 2, 3], "emission_grid": "glow", )" + coef, half});
+    Rgb blackbody;
+    for (int c = 0; c < 3; ++c) {
+        const double st = 2.0 * double(sigma_a[c]);
+        blackbody[c] = float(2.0 * std::exp(-st) + double(bb[c]) * -std::expm1(-st) / st);
+    }
+    cases.push_back({"blackbody",
+                     R"("file": "const.vdb", "blackbody_intensity": 0.8, "temperature": 1000,
+                        "temperature_grid": "heat", "blackbody_tint": [1, 0.5, 0.25], )" +
+                         coef,
+                     blackbody});
+    for (const Case& k : cases) {
+        const std::string body = R"(
+            "camera": {"type": "orthographic", "scale": 0.8, "position": [0.5, 0.5, 5],
+                       "look_at": [0.5, 0.5, 0], "width": 16, "height": 16},
+            "media": {"smoke": {"kind": "grid", )" +
+                                 k.medium + R"(}},
+            "materials": {"boundary": {"model": "null", "interior": "smoke"}},
+            "shapes": [{"type": "box", "min": [0, 0, 0], "max": [1, 1, 1], "material": "boundary"},
+                       {"type": "quad", "vertices": [[-5, -5, -3], [5, -5, -3], [5, 5, -3],
+                                                     [-5, 5, -3]], "emission": 2}])";
+        const fr::Scene scene = fr::testing::scene_in_dir(dir, body, "glow.json");
+        const int spp = std::max(8, int(64 * fr::testing::stress_scale()));
+        const fr::Image img = fr::render(scene, fr::testing::test_options("path", spp, 5));
+        double visible = 0.0;  // the largest emission term in standard errors
+        for (int c = 0; c < 3; ++c) {
+            std::vector<double> px;
+            for (const Rgb& p : img.pixels()) px.push_back(double(p[c]));
+            const MeanSe ms = mean_se(px);
+            EXPECT_NEAR(ms.mean, k.expected[c], 5.0 * ms.se + 1e-6) << k.name << ", channel " << c;
+            visible = std::max(visible, std::fabs(k.expected[c] - transmitted[c]) / ms.se);
+        }
+        EXPECT_GT(visible, 20.0) << k.name << ": the emission must stand out of the noise";
+    }
+    std::filesystem::remove_all(dir);
+}
+
 // Bad files and grids: each error names the JSON pointer and says what is wrong.
 TEST(GridMediaErrors, NameTheJsonPointer) {
     const std::string dir = temp_dir();
@@ -321,6 +471,11 @@ TEST(GridMediaErrors, NameTheJsonPointer) {
     write_vdb(dir + "/negative.vdb", {float_grid("density", 4, 0.25, [](int i, int j, int k) {
                   return i == 1 && j == 2 && k == 3 ? -0.5f : 1.f;
               })});
+    write_vdb(dir + "/neg_glow.vdb",
+              {float_grid("density", 4, 0.25, [](int, int, int) { return 1.f; }),
+               float_grid("glow", 4, 0.25, [](int i, int j, int k) {
+                   return i == 1 && j == 2 && k == 3 ? -0.5f : 1.f;
+               })});
     {
         openvdb::Vec3SGrid::Ptr v = openvdb::Vec3SGrid::create();
         v->setName("velocity");
@@ -363,7 +518,25 @@ TEST(GridMediaErrors, NameTheJsonPointer) {
          "/media/smoke/sigma_s", "not both"},
         {R"({"kind": "grid", "file": "good.vdb", "sigma_s": 1, "g": 1})", "/media/smoke/g",
          "anisotropy"},
-        {R"({"kind": "grid", "file": "good.vdb", "emission": 1})", "/media/smoke/emission", ""},
+        {R"({"kind": "grid", "file": "good.vdb", "emission": -1})", "/media/smoke/emission", ""},
+        {R"({"kind": "grid", "file": "good.vdb", "emission": 1, "emission_grid": "flame"})",
+         "/media/smoke/emission_grid", "has no grid 'flame' (it has: density)"},
+        {R"({"kind": "grid", "file": "good.vdb", "emission_grid": "density"})",
+         "/media/smoke/emission_grid", "needs \"emission\" > 0"},
+        {R"({"kind": "grid", "file": "neg_glow.vdb", "emission": 1, "emission_grid": "glow"})",
+         "/media/smoke/emission_grid", "voxel (1, 2, 3) is -0.5"},
+        {R"({"kind": "grid", "file": "good.vdb", "blackbody_intensity": -0.5})",
+         "/media/smoke/blackbody_intensity", "in [0, 1]"},
+        {R"({"kind": "grid", "file": "good.vdb", "blackbody_intensity": 1, "temperature": -5})",
+         "/media/smoke/temperature", "kelvin"},
+        {R"({"kind": "grid", "file": "good.vdb", "blackbody_intensity": 1,
+             "temperature_grid": "temperature"})",
+         "/media/smoke/temperature_grid", "has no grid 'temperature' (it has: density)"},
+        {R"({"kind": "grid", "file": "good.vdb", "temperature_grid": "density"})",
+         "/media/smoke/temperature_grid", "needs \"blackbody_intensity\" > 0"},
+        {R"({"kind": "grid", "file": "good.vdb", "blackbody_intensity": 1,
+             "blackbody_tint": [1, -1, 1]})",
+         "/media/smoke/blackbody_tint", ""},
         {R"({"kind": "grid", "file": "good.vdb", "sigma_s": 1, "transform": {"scale": [1, 0, 1]}})",
          "/media/smoke/transform", "invertible"},
         {R"({"kind": "homogeneous", "sigma_s": 1, "transform": {"scale": 2}})",

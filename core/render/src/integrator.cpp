@@ -850,6 +850,13 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     return true;
 }
 
+// Delta tracking in an emitting grid medium, gathering its emission into L: out of line, so
+// that the tracking of grids that do not emit is compiled as it would be without emission.
+[[gnu::noinline]] float emitting_free_flight(const Medium& med, const Ray& ray, float t_max,
+                                             TrackingRng& rng, Rgb& beta, Rgb& L) {
+    return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta, L);
+}
+
 // Free-flight sampling on a segment of length t_max (+inf when the ray escapes) in medium
 // `med`, with the segment's samples u_channel, u_dist: the distance to a scattering event
 // (returned, < t_max), or t_max when the ray reaches the segment's end. beta takes the
@@ -857,7 +864,11 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
 // with p the channel-MIS density (integrator.h). L gains the medium's emission on the segment.
 float sample_segment(const Medium& med, const Ray& ray, float t_max, float u_channel, float u_dist,
                      TrackingRng& rng, Rgb& beta, Rgb& L) {
-    if (med.heterogeneous()) return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta);
+    if (med.heterogeneous()) {
+        if (med.grid_emission()) [[unlikely]]
+            return emitting_free_flight(med, ray, t_max, rng, beta, L);
+        return med.sample_free_flight(ray.o, ray.d, t_max, rng, beta);
+    }
     if (med.emits()) L += beta * med.emitted(t_max);
     if (med.absorbing_only()) {
         beta *= med.transmittance(t_max);

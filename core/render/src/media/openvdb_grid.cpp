@@ -9,7 +9,8 @@
 
 namespace facet::render {
 
-VdbDensity read_openvdb_density(const std::string& path, const std::string& name) {
+VdbDensity read_openvdb_density(const std::string& path, const std::string& name,
+                                bool allow_negative) {
     static std::once_flag init;
     std::call_once(init, [] { openvdb::initialize(); });
     openvdb::GridBase::Ptr base;
@@ -70,10 +71,11 @@ VdbDensity read_openvdb_density(const std::string& path, const std::string& name
         for (int j = box.min().y(); j <= box.max().y(); ++j)
             for (int i = box.min().x(); i <= box.max().x(); ++i) {
                 const float v = acc.getValue(openvdb::Coord(i, j, k));
-                if (!(v >= 0.f) || !std::isfinite(v)) {
+                if (!(v >= 0.f || allow_negative) || !std::isfinite(v)) {
                     std::ostringstream s;
                     s << where << ": voxel (" << i << ", " << j << ", " << k << ") is " << v
-                      << " (densities are finite and >= 0)";
+                      << (allow_negative ? " (values are finite)"
+                                         : " (values are finite and >= 0)");
                     throw GridFileError(s.str(), true);
                 }
                 values.push_back(v);

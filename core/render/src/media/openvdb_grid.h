@@ -28,9 +28,11 @@ struct VdbDensity {
 };
 
 // The float grid `name` of the OpenVDB file `path`, densely over its active voxels' bounding
-// box. Requires an affine transform, values finite and >= 0, at most kMaxGridVoxels voxels;
-// otherwise GridFileError, whose message names the file (and the grid and voxel where it is
-// the grid's fault).
-VdbDensity read_openvdb_density(const std::string& path, const std::string& name);
+// box. Requires an affine transform, values finite and >= 0 (finite only with
+// `allow_negative`: a temperature grid, clamped where it is used), at most kMaxGridVoxels
+// voxels; otherwise GridFileError, whose message names the file (and the grid and voxel where
+// it is the grid's fault).
+VdbDensity read_openvdb_density(const std::string& path, const std::string& name,
+                                bool allow_negative = false);
 
 }  // namespace facet::render

@@ -35,6 +35,25 @@ namespace facet::render {
 
 enum class MediumKind : std::uint8_t { Homogeneous, Grid };
 
+// What a grid medium emits at a point x of its density grid's box (0 outside it), radiance per
+// unit length as Cycles' Principled Volume (not scaled by the density):
+//   e(x) = color * (grid ? grid(x) : 1)
+//        + principled_volume_blackbody(blackbody, temperature * (temperature_grid ?
+//          max(temperature_grid(x), 0) : 1), tint)            (facet/blackbody.h)
+// Grids are read from the density's file; each is 0 outside its own box.
+struct GridEmission {
+    Rgb color{0.f};
+    std::shared_ptr<const DensityGrid> grid;  // none: color is constant over the box
+    float blackbody = 0.f;                    // Blackbody Intensity; 0 = no blackbody term
+    float temperature = 1000.f;               // kelvin, or a factor on temperature_grid
+    Rgb tint{1.f};
+    std::shared_ptr<const DensityGrid> temperature_grid;  // none: temperature is constant
+
+    // e(x) (media/grid.cpp: out of line, so that the kernels of scenes without emitting grids
+    // are compiled exactly as without it).
+    Rgb at(const Vec3& p) const;
+};
+
 class Medium {
   public:
     Medium() = default;
@@ -52,13 +71,16 @@ class Medium {
     }
 
     // A heterogeneous medium: coefficients per unit of the grid's density (>= 0, |g| < 1; the
-    // builder checks). No emission.
+    // builder checks), and what it emits (none: nothing; emission() stays 0 either way, the
+    // emission is gathered by tracking).
     static Medium grid(std::shared_ptr<const DensityGrid> grid, const Rgb& sigma_a,
-                       const Rgb& sigma_s, float g) {
+                       const Rgb& sigma_s, float g,
+                       std::shared_ptr<const GridEmission> emission = nullptr) {
         Medium m = homogeneous(sigma_a, sigma_s, g, Rgb(0.f));
         m.m_kind = MediumKind::Grid;
         m.m_grid = std::move(grid);
         m.m_sigma_t_max = max_channel(m.m_sigma_t);
+        m.m_grid_emission = std::move(emission);
         return m;
     }
 
@@ -71,6 +93,8 @@ class Medium {
     // The extinction coefficient; for a heterogeneous kind the majorant of a segment.
     const Rgb& sigma_t() const { return m_sigma_t; }
     const Rgb& emission() const { return m_emission; }
+    // A grid medium's emission (nullptr when it emits nothing).
+    const GridEmission* grid_emission() const { return m_grid_emission.get(); }
     const HenyeyGreenstein& phase() const { return m_phase; }
     bool emits() const { return m_emission != Rgb(0.f); }
     // Nothing scatters: free-flight sampling is not needed, the transmittance is the whole
@@ -102,10 +126,13 @@ class Medium {
     template <class Uniform>
     Rgb ratio_transmittance(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform) const {
         Rgb tr(1.f);
-        track(o, d, t_max, uniform, [&](float, float dens, float mu) {
-            for (int c = 0; c < 3; ++c) tr[c] *= std::fmax(1.f - m_sigma_t[c] * dens / mu, 0.f);
-            return max_channel(tr) > 0.f;
-        });
+        track(
+            o, d, t_max, uniform,
+            [&](float, float dens, float mu) {
+                for (int c = 0; c < 3; ++c) tr[c] *= std::fmax(1.f - m_sigma_t[c] * dens / mu, 0.f);
+                return max_channel(tr) > 0.f;
+            },
+            [](float, float) {});
         return tr;
     }
     // Spectral delta tracking on o + t d, t in [0, t_max): the distance of a real scattering
@@ -117,8 +144,29 @@ class Medium {
     template <class Uniform>
     float sample_free_flight(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform,
                              Rgb& beta) const {
+        Rgb none(0.f);
+        return free_flight<false>(o, d, t_max, uniform, beta, none);
+    }
+    // The same, with the medium's emission along the way added to L (weighted by beta): at each
+    // tentative collision x, beta e(x) / mu before the collision's choice (the collision
+    // estimator of int T(s) e(s) ds against the majorant's free-flight density: e is radiance per
+    // unit length, Cycles' convention, not sigma_a-weighted), and on each piece of majorant 0
+    // (no extinction, so T is constant there) beta (t1 - t0) e(x) at one uniformly placed x.
+    // Unbiased; exact for constant emission over an empty piece.
+    template <class Uniform>
+    float sample_free_flight(const Vec3& o, const Vec3& d, float t_max, Uniform&& uniform,
+                             Rgb& beta, Rgb& L) const {
+        if (m_grid_emission) return free_flight<true>(o, d, t_max, uniform, beta, L);
+        return free_flight<false>(o, d, t_max, uniform, beta, L);
+    }
+
+  private:
+    template <bool Emits, class Uniform>
+    float free_flight(const Vec3& o, const Vec3& d, float t_max, Uniform& uniform, Rgb& beta,
+                      Rgb& L) const {
         float result = t_max;
-        track(o, d, t_max, uniform, [&](float t, float dens, float mu) {
+        auto collide = [&](float t, float dens, float mu) {
+            if constexpr (Emits) L += beta * m_grid_emission->at(o + d * t) / mu;
             const Rgb s_s = m_sigma_s * dens;
             Rgb s_n;
             for (int c = 0; c < 3; ++c) s_n[c] = std::fmax(mu - m_sigma_t[c] * dens, 0.f);
@@ -136,19 +184,30 @@ class Medium {
             }
             beta *= s_n / (mu * (1.f - p_s));
             return true;
-        });
+        };
+        if constexpr (Emits) {
+            track(o, d, t_max, uniform, collide, [&](float t0, float t1) {
+                const float t = t0 + (t1 - t0) * uniform();
+                L += beta * m_grid_emission->at(o + d * t) * (t1 - t0);
+            });
+        } else {
+            track(o, d, t_max, uniform, collide, [](float, float) {});
+        }
         return result;
     }
 
-  private:
     // The tentative collisions of o + t d, t in [0, t_max), with the grey majorant of each
-    // majorant cell (exponential steps of rate mu; cells of majorant 0 are skipped): calls
-    // at(t, density(x), mu) at each, front to back, until it returns false.
-    template <class Uniform, class At>
-    void track(const Vec3& o, const Vec3& d, float t_max, Uniform& uniform, At&& at) const {
+    // majorant cell (exponential steps of rate mu; cells of majorant 0 are passed to
+    // empty(t0, t1)): calls at(t, density(x), mu) at each, front to back, until it returns false.
+    template <class Uniform, class At, class Empty>
+    void track(const Vec3& o, const Vec3& d, float t_max, Uniform& uniform, At&& at,
+               Empty&& empty) const {
         m_grid->march(o, d, t_max, [&](float t0, float t1, float majorant) {
             const float mu = majorant * m_sigma_t_max;
-            if (!(mu > 0.f)) return true;
+            if (!(mu > 0.f)) {
+                empty(t0, t1);
+                return true;
+            }
             for (float t = t0;;) {
                 t -= std::log1p(-uniform()) / mu;
                 if (!(t < t1)) return true;
@@ -163,8 +222,9 @@ class Medium {
     MediumKind m_kind = MediumKind::Homogeneous;
     Rgb m_sigma_a{0.f}, m_sigma_s{0.f}, m_sigma_t{0.f}, m_emission{0.f};
     HenyeyGreenstein m_phase;
-    std::shared_ptr<const DensityGrid> m_grid;  // grid kind only
-    float m_sigma_t_max = 0.f;                  // grid kind: max_c sigma_t[c]
+    std::shared_ptr<const DensityGrid> m_grid;            // grid kind only
+    std::shared_ptr<const GridEmission> m_grid_emission;  // grid kind, when it emits
+    float m_sigma_t_max = 0.f;                            // grid kind: max_c sigma_t[c]
 };
 
 // Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,

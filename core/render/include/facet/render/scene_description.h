@@ -257,6 +257,12 @@ struct MediumDesc {
     std::string file;                             // grid: an OpenVDB file
     std::string grid = "density";                 // grid: the float grid's name in `file`
     std::optional<glm::dmat4> transform;  // grid: the file's space to world; none = identity
+    // grid: emission (Cycles' Principled Volume): `emission` times the float grid
+    // `emission_grid` of `file` ("" = constant), plus blackbody emission of intensity
+    // `blackbody_intensity` at `temperature` kelvin (times the grid `temperature_grid`).
+    std::string emission_grid, temperature_grid;
+    double blackbody_intensity = 0.0, temperature = 1000.0;
+    Vec3 blackbody_tint{1.f};
     bool operator==(const MediumDesc&) const = default;
 };
 
