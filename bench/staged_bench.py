@@ -18,6 +18,9 @@ assimp-testmodels BoxTextured, copied there and given a metallic-roughness textu
   emissive textures, alpha) on a ground plane under the HDRI (issue 25's textured-asset scene).
 - glass: a smooth and a rough (alpha 0.15) dielectric sphere (ior 1.5) over the checker floor,
   under the HDRI, max_depth 16 (issue 25's glass scene).
+- ec_tex / ec_const: rough_tex / rough_const with the sphere a GGX lobe with energy
+  compensation and Schlick f0 (0.9, 0.6, 0.3), its alpha the checker / 0.275.
+With --callgrind, the render phase's instructions of each pair instead (callgrind_table).
 Each pair is timed with farm-bench (median of --runs, the ratio pair by pair), 1 thread.
 Prints markdown.
 """
@@ -115,7 +118,50 @@ def write_scenes(out):
     files["glass"] = os.path.join(out, "glass.json")
     with open(files["glass"], "w") as f:
         json.dump(s, f, indent=1)
+    # The compensated GGX pair: checker alpha against its constant twin.
+    for key, alpha in (("ec_tex", {"checker": {"colors": [0.05, 0.5], "scale": 8}}),
+                       ("ec_const", 0.275)):
+        with open(files["rough_const"]) as f:
+            s = json.load(f)
+        s["materials"]["ball"] = {"model": "ggx", "alpha": alpha, "energy_compensation": True,
+                                  "fresnel": "schlick", "f0": [0.9, 0.6, 0.3]}
+        files[key] = os.path.join(out, key + ".json")
+        with open(files[key], "w") as f:
+            json.dump(s, f, indent=1)
     return files
+
+
+PAIRS = (("box_mr", "box_plain"), ("rough_tex", "rough_const"), ("ec_tex", "ec_const"))
+
+
+def callgrind_table(a, files):
+    """Instructions in render_tile (callgrind --toggle-collect, 1 thread, 2 spp, a 32 x 32
+    region on the sphere or box) of each textured scene over its untextured twin, each with the
+    HDRI replaced by a constant environment (valgrind 3.19 stops on RDTSCP in libhwy, which
+    OpenImageIO's plugins load)."""
+    def count(key):
+        with open(files[key]) as f:
+            s = json.load(f)
+        s["lights"] = [{"type": "environment", "radiance": 1}]
+        path = os.path.join(a.out, key + "_const_env.json")
+        with open(path, "w") as f:
+            json.dump(s, f, indent=1)
+        out = os.path.join(a.out, key + ".callgrind")
+        subprocess.run(["valgrind", "--tool=callgrind", "--toggle-collect=*render_tile*",
+                        "--callgrind-out-file=" + out, a.facet, "render", path, "--spp", "2",
+                        "--threads", "1", "--region", "112,72,144,104", "-o",
+                        os.path.join(a.out, key + "_cg.exr")],
+                       check=True, capture_output=True)
+        with open(out) as f:
+            for line in f:
+                if line.startswith("summary:") or line.startswith("totals:"):
+                    return int(line.split()[1])
+        raise RuntimeError("no totals in " + out)
+    print("| textured | untextured | render_tile instructions | ratio |")
+    print("|---|---|---:|---:|")
+    for tex, plain in PAIRS:
+        t, p = count(tex), count(plain)
+        print("| %s | %s | %.2f M / %.2f M | **%.2f** |" % (tex, plain, t / 1e6, p / 1e6, t / p))
 
 
 def main():
@@ -125,14 +171,19 @@ def main():
     ap.add_argument("--runs", type=int, default=5)
     ap.add_argument("--spp", type=int, default=16)
     ap.add_argument("--write-only", action="store_true", help="only write the scenes")
+    ap.add_argument("--callgrind", action="store_true",
+                    help="instruction counts of the render phase instead of timings")
     a = ap.parse_args()
     files = write_scenes(a.out)
     if a.write_only:
         print("\n".join(files.values()))
         return
+    if a.callgrind:
+        callgrind_table(a, files)
+        return
     print("| textured | untextured | farm-bench output (A = textured, B = untextured) |")
     print("|---|---|---|")
-    for tex, plain in (("box_mr", "box_plain"), ("rough_tex", "rough_const")):
+    for tex, plain in PAIRS:
         cmd = lambda k: [a.facet, "render", files[k], "--spp", str(a.spp), "--threads", "1",
                          "-o", os.path.join(a.out, k + ".exr")]
         r = subprocess.run(["farm-bench", "-n", str(a.runs), "--timeout", "1200", "--vs",

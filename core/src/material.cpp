@@ -56,7 +56,7 @@ Rgb Material::specular_average(const AlbedoTable& eg, const MirrorReflection* mi
     return hemispherical_average(es);
 }
 
-void Material::init(const AlbedoTable* eg, const Rgb* es_avg) {
+void Material::init(const AlbedoTable* eg, const Rgb* es_avg, const AlbedoRef* eg_ref) {
     if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
     if (m_glossy) m_flags = m_flags | m_glossy->flags();
     if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
@@ -68,18 +68,25 @@ void Material::init(const AlbedoTable* eg, const Rgb* es_avg) {
     int lobes = int(m_diffuse.has_value()) + int(m_glossy.has_value()) + int(m_mirror.has_value());
     if (lobes < 2) return;
     m_has_table = true;
-    if (eg && m_glossy) {
+    if (eg_ref && m_glossy && (es_avg || !m_diffuse)) {
+        m_eg_ref = *eg_ref;
+    } else if (eg_ref && m_glossy) {
+        AlbedoTable& eg_own = m_eg.emplace();
+        for (int k = 0; k < kTableSize; ++k) eg_own[k] = eg_ref->node(k);
+    } else if (eg && m_glossy) {
         m_eg = *eg;
     } else {
+        AlbedoTable& eg_own = m_eg.emplace();
         for (int k = 0; k < kTableSize; ++k) {
             float mu = float(k) / float(kTableSize - 1);
-            m_eg[k] = m_glossy ? phi_averaged_albedo(*m_glossy, mu) : Rgb(0.f);
+            eg_own[k] = m_glossy ? phi_averaged_albedo(*m_glossy, mu) : Rgb(0.f);
         }
     }
     if (m_diffuse) {
         // Given (the staged build's table) or computed from the lobes.
         Rgb one_minus_avg =
-            Rgb(1.f) - (es_avg ? *es_avg : specular_average(m_eg, m_mirror ? &*m_mirror : nullptr));
+            Rgb(1.f) -
+            (es_avg ? *es_avg : specular_average(*m_eg, m_mirror ? &*m_mirror : nullptr));
         for (int c = 0; c < 3; ++c)
             m_inv_one_minus_es_avg[c] =
                 one_minus_avg[c] > kMinDiffuseShare ? 1.f / one_minus_avg[c] : 0.f;
@@ -89,22 +96,21 @@ void Material::init(const AlbedoTable* eg, const Rgb* es_avg) {
 Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
                              const MicrofacetDistribution& d, const Fresnel& fr, bool ec,
                              const CompositeTables& t) {
-    std::optional<LambertReflection> diffuse;
-    std::optional<MicrofacetReflection> glossy;
-    std::optional<MirrorReflection> mirror;
+    // One named result (returned without a move: the staged build calls this per hit).
+    Material m;
     // Zero-weight lobes are left out, so a material never pays for what it does not show.
-    if (max_component(kd) > 0.f) diffuse.emplace(kd);
+    if (max_component(kd) > 0.f) m.m_diffuse.emplace(kd);
     if (max_component(ks) > 0.f) {
         if (ec && t.compensation)
-            glossy.emplace(d, fr, ks, *t.compensation);
+            m.m_glossy.emplace(d, fr, ks, *t.compensation, t.f_avg);
         else
-            glossy.emplace(d, fr, ks, ec);
+            m.m_glossy.emplace(d, fr, ks, ec);
     }
-    if (max_component(km) > 0.f) mirror.emplace(fr, km);
-    if (!diffuse && !glossy && !mirror) diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
-    if (t.eg)
-        return Material(std::move(diffuse), std::move(glossy), std::move(mirror), *t.eg, t.es_avg);
-    return Material(std::move(diffuse), std::move(glossy), std::move(mirror));
+    if (max_component(km) > 0.f) m.m_mirror.emplace(fr, km);
+    if (!m.m_diffuse && !m.m_glossy && !m.m_mirror)
+        m.m_diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
+    m.init(t.eg_ref ? nullptr : t.eg, (t.eg || t.eg_ref) ? t.es_avg : nullptr, t.eg_ref);
+    return m;
 }
 
 Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
@@ -232,7 +238,8 @@ Rgb Material::glossy_albedo(float mu) const {
     float x = clamp_unit(mu) * float(kTableSize - 1);
     int k = std::min(int(x), kTableSize - 2);
     float t = x - float(k);
-    return m_eg[k] * (1.f - t) + m_eg[k + 1] * t;
+    if (m_eg_ref.b0) return m_eg_ref.node(k) * (1.f - t) + m_eg_ref.node(k + 1) * t;
+    return (*m_eg)[k] * (1.f - t) + (*m_eg)[k + 1] * t;
 }
 
 Rgb Material::specular_albedo(float mu) const {

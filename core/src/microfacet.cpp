@@ -439,7 +439,7 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     m_phi_count = dist.alpha_x() != dist.alpha_y() ? kPhiTableSize : 1;
     m_stretch = Vec2(float(ax), float(ay));
     std::vector<float> rows(m_phi_count > 1 ? std::size_t(m_phi_count * kTableSize) : 0);
-    float* const e = m_phi_count > 1 ? rows.data() : m_e.data();
+    float* const e = m_phi_count > 1 ? rows.data() : m_e.emplace().data();
     for (int k = 0; k < kTableSize; ++k) {
         double s_k = double(k) / (kTableSize - 1);  // nodes uniform in sqrt(mu)
         double mu = std::fmax(s_k * s_k, double(kAlbedoMinMu));
@@ -465,7 +465,8 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
 }
 
 MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel,
-                                           const Rgb& scale, const Compensation& c)
+                                           const Rgb& scale, const Compensation& c,
+                                           const Rgb* f_avg)
     : m_distribution(d),
       m_fresnel(fresnel),
       m_scale(scale),
@@ -476,26 +477,26 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
     const double s_blinn =
         d.kind() == DistributionKind::Blinn ? std::sqrt(2.0 / double(d.nu())) : 1.0;
     m_stretch = Vec2(float(s_blinn * d.alpha_x()), float(s_blinn * d.alpha_y()));
-    m_e = c.e;
+    m_e.emplace(c.e);
     m_has_table = true;
     m_e_avg = c.e_avg;
-    finish_compensation();
+    finish_compensation(f_avg);
 }
 
 MicrofacetReflection::Compensation MicrofacetReflection::compensation() const {
     Compensation c;
     if (m_has_table)
-        c.e = m_e;
+        c.e = m_e ? *m_e : c.e;
     else
         c.e.fill(1.f);
     c.e_avg = m_e_avg;
     return c;
 }
 
-void MicrofacetReflection::finish_compensation() {
+void MicrofacetReflection::finish_compensation(const Rgb* given_f_avg) {
     if (1.f - m_e_avg < kMinMissingEnergy) return;
 
-    Rgb f_avg = m_fresnel.average();
+    const Rgb f_avg = given_f_avg ? *given_f_avg : m_fresnel.average();
     Rgb f_ms = f_avg * f_avg * m_e_avg / (Rgb(1.f) - f_avg * (1.f - m_e_avg));
     m_ms_factor = m_scale * f_ms / (kPi * (1.f - m_e_avg));
     m_w_ss = std::fmax(luminance(f_avg * m_scale), 0.f);
@@ -507,7 +508,7 @@ void MicrofacetReflection::finish_compensation() {
 // E_avg = 2 int E(mu) mu dmu of the table's interpolant, exactly (albedo_table.h), so that
 // f_ms integrates to exactly (1 - E(mu_o)) F_ms.
 float MicrofacetReflection::isotropic_average() const {
-    return sqrt_mu_table_average(m_e.data(), kTableSize);
+    return sqrt_mu_table_average(m_e->data(), kTableSize);
 }
 
 // E_avg = (1 / pi) int E_tab(wo) cos_o dwo of the (mu_s, phi_s) interpolant, which must be
@@ -557,7 +558,7 @@ float MicrofacetReflection::anisotropic_average(const QuadratureRule& gu) const 
 float MicrofacetReflection::albedo_row(int row, float mu) const {
     if (!m_has_table) return 1.f;
     // Nodes uniform in sqrt(mu) (albedo_table.h).
-    const float* e = m_e_rows ? m_e_rows->data() + size_t(row) * kTableSize : m_e.data();
+    const float* e = m_e_rows ? m_e_rows->data() + size_t(row) * kTableSize : m_e->data();
     return sqrt_mu_table_lookup(e, kTableSize, mu);
 }
 

@@ -49,14 +49,6 @@ float mu_node(int k) {
 
 }  // namespace
 
-struct StagedMaterial::Values {
-    Rgb rho{0.f}, kd{0.f}, ks{0.f}, km{0.f}, tr{1.f};
-    float sigma = 0.f, eta = 1.f, alpha = 0.f;
-    bool alpha_set = false, ec = false;
-    Fresnel fr = Fresnel::none();
-    MicrofacetDistribution dist = MicrofacetDistribution::ggx(1.f, 1.f);
-};
-
 std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const Material& base,
                                                    std::span<const std::string> varying,
                                                    std::span<const Range> ranges) {
@@ -142,6 +134,14 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
             return std::nullopt;
         }
         s.m_slots.push_back(slot);
+    }
+    s.m_constants = s.constants();
+    const bool fresnel_varies = std::any_of(s.m_slots.begin(), s.m_slots.end(), [](const Slot& sl) {
+        return sl.param == Param::F0 || sl.param == Param::Ior;
+    });
+    if (!fresnel_varies && base.glossy() && base.glossy()->energy_compensation()) {
+        s.m_f_avg_const = true;
+        s.m_f_avg = base.glossy()->fresnel().average();
     }
     // The textured roughness's range: the nodes of every table over alpha (uniform in
     // sqrt(alpha); one node at its value when the texture is constant).
@@ -367,7 +367,7 @@ Material StagedMaterial::at(std::span<const DVec3> values) const {
         }
         return Material(PrincipledBxDF(p));
     }
-    Values v = constants();
+    Values v = m_constants;
     for (std::size_t i = 0; i < m_slots.size(); ++i) {
         const DVec3& x = values[i];
         switch (m_slots[i].param) {
@@ -420,7 +420,8 @@ Material StagedMaterial::at(std::span<const DVec3> values) const {
             float t;
             alpha_node(v.alpha, i, t);
             return Material(std::nullopt,
-                            MicrofacetReflection(v.dist, v.fr, v.rho, glossy_compensation(i, t)),
+                            MicrofacetReflection(v.dist, v.fr, v.rho, glossy_compensation(i, t),
+                                                 m_f_avg_const ? &m_f_avg : nullptr),
                             std::nullopt);
         }
         case Family::Dielectric: {
@@ -449,30 +450,26 @@ Material StagedMaterial::composite_at(const Values& v) const {
     if (!m_comp.empty()) {
         comp = glossy_compensation(i, t);
         tables.compensation = &comp;
+        if (m_f_avg_const) tables.f_avg = &m_f_avg;
     }
+    Material::AlbedoRef eg;
+    tables.eg_ref = &eg;
     if (!m_glossy_varies) {
-        tables.eg = &m_eg_const;
+        eg.b0 = &m_eg_const, eg.direct = true;
         if (m_es_avg_const) tables.es_avg = &m_es_const;
         return Material::composite(v.kd, v.ks, v.km, v.dist, v.fr, v.ec, tables);
     }
-    // Eg = ks (f0 A + B), A and B interpolated linearly in sqrt(alpha) (header comment), and
-    // Es_avg from the tables' averages the same way.
+    // Eg = ks (f0 A + B), A and B interpolated linearly in sqrt(alpha) (header comment), read
+    // from the tables at the nodes a lookup needs (Material::AlbedoRef), and Es_avg from the
+    // tables' averages the same way.
     const std::size_t j = m_alpha_varies ? i + 1 : i;
-    const Material::AlbedoTable& b0 = m_eg_b[i];
-    const Material::AlbedoTable& b1 = m_eg_b[j];
-    Material::AlbedoTable eg;
+    eg.b0 = &m_eg_b[i], eg.b1 = &m_eg_b[j], eg.t = t, eg.ks = v.ks;
     const Rgb f0 = m_f0_varies ? v.fr.f0() : Rgb(0.f);
     Rgb es_avg = v.ks * (m_hb[i] + t * (m_hb[j] - m_hb[i])) + v.km * (f0 * m_hm_a + m_hm_b);
     if (m_f0_varies) {
-        const Material::AlbedoTable& a0 = m_eg_a[i];
-        const Material::AlbedoTable& a1 = m_eg_a[j];
-        for (int k = 0; k < Material::kTableSize; ++k)
-            eg[k] = v.ks * (f0 * (a0[k] + t * (a1[k] - a0[k])) + (b0[k] + t * (b1[k] - b0[k])));
+        eg.a0 = &m_eg_a[i], eg.a1 = &m_eg_a[j], eg.f0 = f0;
         es_avg += v.ks * f0 * (m_ha[i] + t * (m_ha[j] - m_ha[i]));
-    } else {
-        for (int k = 0; k < Material::kTableSize; ++k) eg[k] = v.ks * (b0[k] + t * (b1[k] - b0[k]));
     }
-    tables.eg = &eg;
     tables.es_avg = &es_avg;
     return Material::composite(v.kd, v.ks, v.km, v.dist, v.fr, v.ec, tables);
 }

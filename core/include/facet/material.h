@@ -67,13 +67,36 @@ class Material {
     Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
              std::optional<MirrorReflection> mirror, const AlbedoTable& eg,
              const Rgb* es_avg = nullptr);
+    // The glossy albedo Eg read from tables held elsewhere instead of a table of its own: the
+    // staged build's tables over alpha nodes (facet/staged_material.h), which outlive every
+    // per-hit material built from them. At node k,
+    //   Eg_k = ks (f0 (a0_k + t (a1_k - a0_k)) + (b0_k + t (b1_k - b0_k)))   (a0 non-null),
+    //   Eg_k = ks (b0_k + t (b1_k - b0_k))                                    (a0 null),
+    //   Eg_k = b0_k                                                           (direct),
+    // and Eg(mu) interpolates the nodes linearly in mu as an own table would: the per-hit
+    // material reads 2 nodes per lookup instead of filling 64 (bit for bit the material built
+    // with the table of those Eg_k).
+    struct AlbedoRef {
+        const AlbedoTable *a0 = nullptr, *a1 = nullptr, *b0 = nullptr, *b1 = nullptr;
+        float t = 0.f;
+        Rgb ks{1.f}, f0{0.f};
+        bool direct = false;
+        Rgb node(int k) const {
+            if (direct) return (*b0)[k];
+            const Rgb b = (*b0)[k] + t * ((*b1)[k] - (*b0)[k]);
+            if (a0) return ks * (f0 * ((*a0)[k] + t * ((*a1)[k] - (*a0)[k])) + b);
+            return ks * b;
+        }
+    };
     // What the staged build (facet/staged_material.h) gives the composite instead of computing
-    // it: the glossy albedo table Eg, Es_avg, and the glossy lobe's compensation table (used
-    // when ec is on). Null: computed.
+    // it: the glossy albedo (an own table `eg` to copy, or `eg_ref` to read), Es_avg, the glossy
+    // lobe's compensation table (used when ec is on) and its Fresnel average. Null: computed.
     struct CompositeTables {
         const AlbedoTable* eg = nullptr;
+        const AlbedoRef* eg_ref = nullptr;
         const Rgb* es_avg = nullptr;
         const MicrofacetReflection::Compensation* compensation = nullptr;
+        const Rgb* f_avg = nullptr;
     };
     // The registry's "composite" model: the lobes of non-zero weight (diffuse kd, glossy ks with
     // distribution d, Fresnel fr and compensation ec, mirror km with fr), a black diffuse lobe
@@ -193,9 +216,11 @@ class Material {
     Rgb diffuse_f(const Vec3& wo, const Vec3& wi) const;
 
   private:
-    // The constructors' common part: flags and, for two or more lobes, the tables (eg given or
-    // computed).
-    void init(const AlbedoTable* eg, const Rgb* es_avg = nullptr);
+    Material() = default;  // composite() with an AlbedoRef fills the lobes, then init()
+    // The constructors' common part: flags and, for two or more lobes, the tables (eg given,
+    // eg_ref to read, or computed).
+    void init(const AlbedoTable* eg, const Rgb* es_avg = nullptr,
+              const AlbedoRef* eg_ref = nullptr);
 
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
@@ -220,9 +245,13 @@ class Material {
     // Holdout weight: the model's 1; for a combination an upper bound (0: none in it), its
     // weight at wo comes from the children (holdout_weight).
     float m_holdout = 0.f;
-    bool m_has_table = false;            // false for single-lobe materials
-    std::array<Rgb, kTableSize> m_eg{};  // glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1)
-    Rgb m_inv_one_minus_es_avg{1.f};     // 1 / (1 - Es_avg), per channel
+    bool m_has_table = false;  // false for single-lobe materials
+    // The glossy albedo Eg(mu_k), mu_k = k / (kTableSize - 1): an own table, or (m_eg_ref.b0
+    // set) read from elsewhere. Optional so that a per-hit material with a reference neither
+    // fills nor copies 64 entries.
+    std::optional<AlbedoTable> m_eg;
+    AlbedoRef m_eg_ref;
+    Rgb m_inv_one_minus_es_avg{1.f};  // 1 / (1 - Es_avg), per channel
 };
 
 // The weight w of b of a view-dependent mix at wo (Material::MixWeight; Constant: param).

@@ -181,9 +181,10 @@ class MicrofacetReflection {
     };
     // The compensated lobe with its table given instead of computed (d isotropic; ignored when
     // d is effectively smooth): bit for bit the lobe of the first constructor when `c` is that
-    // lobe's compensation().
+    // lobe's compensation(). `f_avg`, when given, is fresnel.average() (the staged build
+    // computes it once for a Fresnel that no texture changes).
     MicrofacetReflection(const MicrofacetDistribution& d, const Fresnel& fresnel, const Rgb& scale,
-                         const Compensation& c);
+                         const Compensation& c, const Rgb* f_avg = nullptr);
     // This lobe's table (isotropic lobes with energy compensation; smooth: E = 1).
     Compensation compensation() const;
 
@@ -233,8 +234,9 @@ class MicrofacetReflection {
     // Probability of sampling the f_ms lobe at cos theta_o = mu_o.
     float ms_probability(const Vec3& wo) const;
     float albedo_row(int row, float mu) const;
-    // The constructors' last step: F_ms and the lobe weights from m_e_avg (table built).
-    void finish_compensation();
+    // The constructors' last step: F_ms and the lobe weights from m_e_avg (table built) and
+    // F_avg (`f_avg`, or computed from the Fresnel when null).
+    void finish_compensation(const Rgb* f_avg = nullptr);
     // E_avg of the table's interpolant, exactly (isotropic) / by cellwise quadrature.
     float isotropic_average() const;
     float anisotropic_average(const QuadratureRule& gu) const;
@@ -248,9 +250,9 @@ class MicrofacetReflection {
     // E(mu_k, phi_j), mu_k = (k / (kTableSize - 1))^2, phi_j = j / (m_phi_count - 1) * pi / 2
     // (of the stretched direction when anisotropic): isotropic lobes in m_e (row 0), anisotropic
     // ones at (*m_e_rows)[j * kTableSize + k], shared by copies. Only with compensation
-    // (m_has_table): a lobe without reads E = 1 and is copied per textured hit, so it carries
-    // one 64-node row and fills nothing.
-    std::array<float, kTableSize> m_e{};
+    // (m_has_table): a lobe without reads E = 1 and is built and copied per textured hit, so
+    // its row is an empty optional, neither filled nor copied.
+    std::optional<std::array<float, kTableSize>> m_e;
     std::shared_ptr<const std::vector<float>> m_e_rows;
     bool m_has_table = false;
     int m_phi_count = 1;

@@ -89,7 +89,13 @@ class StagedMaterial {
         float PrincipledParams::*number = nullptr;
     };
     // The values of the reflection models' parameters at one hit.
-    struct Values;
+    struct Values {
+        Rgb rho{0.f}, kd{0.f}, ks{0.f}, km{0.f}, tr{1.f};
+        float sigma = 0.f, eta = 1.f, alpha = 0.f;
+        bool alpha_set = false, ec = false;
+        Fresnel fr = Fresnel::none();
+        MicrofacetDistribution dist = MicrofacetDistribution::ggx(1.f, 1.f);
+    };
 
     explicit StagedMaterial(const Material& base) : m_base(base) {}
     Values constants() const;
@@ -126,6 +132,12 @@ class StagedMaterial {
     // them (no compensation; an anisotropic lobe; a dielectric's textured IOR).
     std::vector<MicrofacetReflection::Compensation> m_comp;
     std::vector<DielectricBxDF::Compensation> m_dcomp;
+    // The base's values (constants()), read once at make().
+    Values m_constants;
+    // The glossy lobe's Fresnel average F_avg when no texture changes its Fresnel (no f0 or
+    // ior slot): computed once, as every per-hit lobe with compensation would.
+    bool m_f_avg_const = false;
+    Rgb m_f_avg{0.f};
 };
 
 }  // namespace facet

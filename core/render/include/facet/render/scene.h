@@ -530,8 +530,17 @@ class Scene {
         if (hit.textured < 0) return *hit.material;
         const Vec3 ns = hit.ns;  // the view-dependent coordinates read the unmapped normal
         shade_normal(hit, -ray.d);
-        return storage.emplace(
-            material_at(hit, texture_footprint(hit, camera_ray ? &ray : nullptr), -ray.d, ns));
+        const UvFootprint fp = texture_footprint(hit, camera_ray ? &ray : nullptr);
+        // Built in `storage` itself: the conversion returns a prvalue, so the material is not
+        // moved (it is about 1 KB).
+        struct AtHit {
+            const Scene& scene;
+            const SurfaceHit& hit;
+            const UvFootprint& fp;
+            Vec3 wo, ns;
+            operator Material() const { return scene.material_at(hit, fp, wo, ns); }
+        };
+        return storage.emplace(AtHit{*this, hit, fp, -ray.d, ns});
     }
     // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
     // model built from them (never throws: build_scene checked every texture's range against
