@@ -51,16 +51,49 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
         throw std::runtime_error(
             "--tolerance: must be in [1e-9, 0.1] (the BxDFs evaluate in float: below ~1e-7 "
             "round-off dominates)");
-    // The reflectance quadrature integrates over the upper hemisphere: for a model that
-    // transmits, reflectance and transmittance must be reported apart (not done yet).
-    if (o.model == "principled" && material_from_args(o.model, extras).transmissive())
-        throw std::runtime_error(
-            "--model principled: reflectance is not available with transmission > 0 yet (it "
-            "would need reflectance and transmittance separately)");
-    if (find_model(o.model) && make_material(o.model, {}).transmissive())
+    // A model that transmits: reflectance and transmittance apart, for one incidence
+    // (directional_scattering); the other reflectances integrate the upper hemisphere only.
+    const bool transmissive =
+        find_model(o.model) && material_from_args(o.model, extras).transmissive();
+    if (transmissive && (o.table || o.bihemispherical || !o.cone_in.empty() || !o.cone_out.empty()))
         throw std::runtime_error("--model " + o.model +
-                                 ": reflectance is not available for transmissive models yet "
-                                 "(it would need reflectance and transmittance separately)");
+                                 ": a transmissive material has reflectance and transmittance "
+                                 "for one incidence only (--theta-i), not --table, "
+                                 "--bihemispherical or cones");
+    if (transmissive) {
+        if (!(o.theta_i >= 0.0 && o.theta_i <= 180.0))
+            throw std::runtime_error(
+                "--theta-i: must be in [0, 180] degrees for a transmissive model (above 90: "
+                "from inside)");
+        if (o.order != 0)
+            throw std::runtime_error(
+                "--order: a transmissive model's scattering is a fixed "
+                "midpoint rule over its sampler; leave --order out");
+        const double deg = kPiD / 180.0;
+        const Material m = material_from_args(o.model, extras);
+        const Scattering s = directional_scattering(
+            m, spherical_direction(float(o.theta_i * deg), float(o.phi_i * deg)));
+        if (o.json) {
+            std::puts(nlohmann::json{{"theta_i", o.theta_i},
+                                     {"rho", rgb_json(s.reflected.value)},
+                                     {"error", rgb_json(s.reflected.error)},
+                                     {"tau", rgb_json(s.transmitted.value)},
+                                     {"tau_error", rgb_json(s.transmitted.error)}}
+                          .dump(2)
+                          .c_str());
+        } else {
+            const DVec3& r = s.reflected.value;
+            const DVec3& t = s.transmitted.value;
+            fmt::print(
+                "rho(wi->same side) at theta_i = {} deg: {:.8f} {:.8f} {:.8f}   (estimated "
+                "error {:.1e})\n"
+                "tau(wi->other side) at theta_i = {} deg: {:.8f} {:.8f} {:.8f}   (estimated "
+                "error {:.1e})\n",
+                o.theta_i, r.r, r.g, r.b, max_error(s.reflected), o.theta_i, t.r, t.g, t.b,
+                max_error(s.transmitted));
+        }
+        return;
+    }
     QuadratureSettings settings;
     settings.tolerance = o.tolerance;
     const bool fixed = o.order != 0;
@@ -183,9 +216,13 @@ void run(const ReflectanceOptions& o, std::vector<std::string> extras) {
 void add_reflectance_command(CLI::App& app) {
     auto o = std::make_shared<ReflectanceOptions>();
     CLI::App* cmd = app.add_subcommand(
-        "reflectance", "directional-hemispherical, bihemispherical and biconical reflectances");
+        "reflectance",
+        "directional-hemispherical, bihemispherical and biconical reflectances; reflectance "
+        "and transmittance of transmissive models");
     cmd->add_option("--model", o->model, "model name (see `facet brdf models`)")->required();
-    cmd->add_option("--theta-i", o->theta_i, "incidence angle, degrees")->capture_default_str();
+    cmd->add_option("--theta-i", o->theta_i,
+                    "incidence angle, degrees (transmissive models: above 90 from inside)")
+        ->capture_default_str();
     cmd->add_option("--phi-i", o->phi_i, "incidence azimuth, degrees")->capture_default_str();
     cmd->add_flag("--table", o->table, "table over --thetas (rows) and --sweep (columns)");
     cmd->add_option("--thetas", o->thetas, "incidence angles of the table, degrees")

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <limits>
 #include <optional>
 #include <queue>
@@ -786,6 +787,56 @@ Reflectance bihemispherical(const Material& m, int order) {
         return sum;
     };
     return with_error(eval, order);
+}
+
+Scattering directional_scattering(const Material& m, const Vec3& w, int n, int strata,
+                                  int delta_strata) {
+    if (n < 2 || strata < 2 || delta_strata < 2)
+        throw std::invalid_argument("directional_scattering: n, strata and delta_strata >= 2");
+    const Vec3 wn = glm::normalize(w);
+    // Sums of f |cos| / pdf per side over a midpoint grid with `step` (1: every stratum, 2: every
+    // other, i.e. the half-resolution rule on the same nodes' superset). Returns {same, other}.
+    struct Sums {
+        DVec3 same{0.0}, other{0.0};
+    };
+    auto add = [&](Sums& acc, const std::optional<BSDFSample>& bs, bool want_delta, double wt) {
+        if (!bs || !(bs->pdf > 0.f) || bs->is_specular() != want_delta) return;
+        const DVec3 v = DVec3(bs->f) * double(std::fabs(bs->wi.z)) / double(bs->pdf) * wt;
+        if (!std::isfinite(v.x + v.y + v.z)) return;
+        ((bs->wi.z > 0.f) == (wn.z > 0.f) ? acc.same : acc.other) += v;
+    };
+    auto delta_pass = [&](int k) {
+        Sums acc;
+        for (int i = 0; i < k; ++i) {
+            const float uc = float((i + 0.5) / k);
+            add(acc, m.sample_f(wn, uc, Vec2(0.5f), TransportMode::Importance), true, 1.0 / k);
+        }
+        return acc;
+    };
+    auto smooth_pass = [&](int kc, int ku) {
+        Sums acc;
+        const double wt = 1.0 / (double(kc) * ku * ku);
+        for (int c = 0; c < kc; ++c) {
+            const float uc = float((c + 0.5) / kc);
+            for (int i = 0; i < ku; ++i)
+                for (int j = 0; j < ku; ++j) {
+                    const Vec2 u(float((i + 0.5) / ku), float((j + 0.5) / ku));
+                    add(acc, m.sample_f(wn, uc, u, TransportMode::Importance), false, wt);
+                }
+        }
+        return acc;
+    };
+    const Sums d = delta_pass(delta_strata), dh = delta_pass(delta_strata / 2);
+    const Sums g = smooth_pass(strata, n), gh = smooth_pass(strata / 2, n / 2);
+    Scattering out;
+    out.reflected.value = d.same + g.same;
+    out.transmitted.value = d.other + g.other;
+    out.reflected.error = glm::abs(d.same - dh.same) + glm::abs(g.same - gh.same);
+    out.transmitted.error = glm::abs(d.other - dh.other) + glm::abs(g.other - gh.other);
+    const long evals = long(delta_strata) + delta_strata / 2 + long(strata) * n * n +
+                       long(strata / 2) * (n / 2) * (n / 2);
+    out.reflected.evaluations = out.transmitted.evaluations = evals;
+    return out;
 }
 
 Reflectance biconical(const Material& m, const Cone& in, const Cone& out, int order) {

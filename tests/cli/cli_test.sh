@@ -42,8 +42,17 @@ expect_ok principled-reflectance 'rho\(wi->2pi\) at theta_i = 0 deg: 0\.48809[45
 expect_ok principled-multi-ggx-furnace 'theta_i = 30 deg: (0\.99[7-9]|1\.00[0-2])' "$facet" \
   reflectance --model principled --base_color 1 --metallic 1 --roughness 0.8 \
   --distribution multi_ggx --theta-i 30
-expect_err principled-reflectance-transmission 'transmission' "$facet" reflectance \
+# Transmissive models: reflectance and transmittance apart (directional_scattering). A smooth
+# interface of IOR 1.5 at normal incidence: F = 0.04, the rest transmitted (to one of the 2^16
+# lobe-choice strata: 2621 / 65536 = 0.0399933).
+expect_ok dielectric-scattering 'rho\(wi->same side\) at theta_i = 0 deg: 0\.0(399[89]|400[01])' \
+  "$facet" reflectance --model dielectric --ior 1.5 --theta-i 0
+expect_ok dielectric-transmittance 'tau\(wi->other side\) at theta_i = 0 deg: 0\.9(599[89]|600[01])' \
+  "$facet" reflectance --model dielectric --ior 1.5 --theta-i 0
+expect_ok principled-reflectance-transmission 'tau\(wi->other side\)' "$facet" reflectance \
   --model principled --transmission 1
+expect_err dielectric-table 'for one incidence only' "$facet" reflectance --model dielectric \
+  --table
 expect_err principled-distribution '--distribution' "$facet" brdf eval --model principled \
   --distribution beckmann
 # Cosine-weighted sampling: pdf = cos(theta)/pi <= 1/pi for every sample.

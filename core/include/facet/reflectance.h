@@ -91,6 +91,24 @@ Reflectance directional_hemispherical(const Material& m, const Vec3& wi, int ord
 Reflectance bihemispherical(const Material& m, int order);
 Reflectance biconical(const Material& m, const Cone& in, const Cone& out, int order = 32);
 
+// Reflectance and transmittance of any material, transmissive ones included, for the flux
+// arriving from `w` (unit, local frame: for a transmissive material its z is the shape's outward
+// normal and w may lie on either side): the fractions of that flux scattered back to w's side
+// and through to the other, rho(w -> same side) = int f |cos_o| dwo over that side and
+// tau(w -> other side) likewise, with f in importance transport (TransportMode::Importance: a
+// transmitted ray carries flux, so a non-absorbing interface has rho + tau = 1). Computed through
+// the material's own sampler (sample_f, the hook every model implements) as a deterministic
+// midpoint rule over its random numbers: sum of f |cos| / pdf over the strata, split by the
+// side of the sampled direction. Delta lobes (whose pdf is their choice probability) on a uc
+// grid of `delta_strata` with u at the centre: exact but for the strata that straddle a choice
+// boundary (at most 1 / delta_strata per boundary); the other lobes on a uc x u1 x u2 grid of
+// strata x n x n. `error`: |Q - Q_half| with Q_half the same rule on half the strata per axis.
+struct Scattering {
+    Reflectance reflected, transmitted;
+};
+Scattering directional_scattering(const Material& m, const Vec3& w, int n = 128, int strata = 64,
+                                  int delta_strata = 1 << 16);
+
 // Albedo int f cos dwi of a glossy lobe at cos(theta_o) = mu, averaged over phi_o for
 // anisotropic lobes; one Q(order) evaluation (no error estimate). Used for Material's tables.
 Rgb phi_averaged_albedo(const MicrofacetReflection& lobe, float mu, int order = 16);
