@@ -168,12 +168,7 @@ def renders(scene, name, out, engines=('FACET', 'CYCLES')):
 
 
 def compare(name, f, c1, c2):
-    floor = cs.block_rmse(c1, c2, BLOCK)
-    ratio = cs.luminance(f).mean() / (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()))
-    rel = cs.block_rmse(f, c1, BLOCK) / max(floor, 1e-12)
-    print("%-8s mean ratio Facet / Cycles %.4f, block RMSE %.2f x floor (%.5f)"
-          % (name, ratio, rel, floor))
-    return ratio, rel
+    return cs.compare_to_cycles(name, f, c1, c2, BLOCK)
 
 
 def case_render(out):

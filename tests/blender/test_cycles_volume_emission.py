@@ -127,10 +127,6 @@ def case_conversions():
              "blackbody beside another volume shader is reported: %s" % problems)
 
 
-def luminance_mean(img):
-    return float(cs.luminance(img).mean())
-
-
 def renders(scene, name, out, engines=('FACET', 'CYCLES'), seeds=(1, 2)):
     scene.facet.max_depth = MAX_DEPTH
     scene.facet.spp = SPP
@@ -149,12 +145,7 @@ def renders(scene, name, out, engines=('FACET', 'CYCLES'), seeds=(1, 2)):
 
 
 def compare(name, f, c1, c2):
-    floor = cs.block_rmse(c1, c2, BLOCK)
-    ratio = luminance_mean(f) / (0.5 * (luminance_mean(c1) + luminance_mean(c2)))
-    rel = cs.block_rmse(f, c1, BLOCK) / max(floor, 1e-12)
-    print("%-10s mean ratio Facet / Cycles %.4f, block RMSE %.2f x floor (%.5f)"
-          % (name, ratio, rel, floor))
-    return ratio, rel
+    return cs.compare_to_cycles(name, f, c1, c2, BLOCK)
 
 
 def case_render(out):

@@ -471,6 +471,18 @@ def block_rmse(a, b, block=8):
     return float(np.sqrt(np.mean((means(luminance(a)) - means(luminance(b))) ** 2)))
 
 
+def compare_to_cycles(name, f, c1, c2, block=8):
+    """Facet's image `f` against Cycles' seeds `c1`, `c2` (the bounds the Cycles comparisons
+    assert): returns (mean luminance of f over the two seeds' mean, block RMSE of f against c1
+    over the noise floor: the same between c1 and c2), and prints both with the floor."""
+    floor = block_rmse(c1, c2, block)
+    ratio = luminance(f).mean() / (0.5 * (luminance(c1).mean() + luminance(c2).mean()))
+    rel = block_rmse(f, c1, block) / max(floor, 1e-12)
+    print("%-16s mean ratio Facet / Cycles %.4f, block RMSE %.2f x floor (%.5f)"
+          % (name, ratio, rel, floor))
+    return ratio, rel
+
+
 def add_fur(obj, count=300, material=2):
     """A hair particle system on the mesh object `obj`: `count` hairs 0.6 long, 9 keys at
     render step 3, radius 0.02 at the root and 0.01 at the tip (shape 0, no Close Tip), in
