@@ -32,14 +32,7 @@ Material::Material(std::optional<LambertReflection> diffuse,
                    std::optional<MicrofacetReflection> glossy,
                    std::optional<MirrorReflection> mirror)
     : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
-    init(nullptr);
-}
-
-Material::Material(std::optional<LambertReflection> diffuse,
-                   std::optional<MicrofacetReflection> glossy,
-                   std::optional<MirrorReflection> mirror, const AlbedoTable& eg, const Rgb* es_avg)
-    : m_diffuse(std::move(diffuse)), m_glossy(std::move(glossy)), m_mirror(std::move(mirror)) {
-    init(&eg, es_avg);
+    init();
 }
 
 Rgb Material::table_average(const AlbedoTable& table) {
@@ -56,7 +49,7 @@ Rgb Material::specular_average(const AlbedoTable& eg, const MirrorReflection* mi
     return hemispherical_average(es);
 }
 
-void Material::init(const AlbedoTable* eg, const Rgb* es_avg, const AlbedoRef* eg_ref) {
+void Material::init(const Rgb* es_avg, const AlbedoRef* eg_ref) {
     if (m_diffuse) m_flags = m_flags | BxDFFlags::Diffuse;
     if (m_glossy) m_flags = m_flags | m_glossy->flags();
     if (m_mirror) m_flags = m_flags | BxDFFlags::Specular;
@@ -73,8 +66,6 @@ void Material::init(const AlbedoTable* eg, const Rgb* es_avg, const AlbedoRef* e
     } else if (eg_ref && m_glossy) {
         AlbedoTable& eg_own = m_eg.emplace();
         for (int k = 0; k < kTableSize; ++k) eg_own[k] = eg_ref->node(k);
-    } else if (eg && m_glossy) {
-        m_eg = *eg;
     } else {
         AlbedoTable& eg_own = m_eg.emplace();
         for (int k = 0; k < kTableSize; ++k) {
@@ -109,7 +100,7 @@ Material Material::composite(const Rgb& kd, const Rgb& ks, const Rgb& km,
     if (max_component(km) > 0.f) m.m_mirror.emplace(fr, km);
     if (!m.m_diffuse && !m.m_glossy && !m.m_mirror)
         m.m_diffuse.emplace(Rgb(0.f));  // black: keep a valid lobe
-    m.init(t.eg_ref ? nullptr : t.eg, (t.eg || t.eg_ref) ? t.es_avg : nullptr, t.eg_ref);
+    m.init(t.eg_ref ? t.es_avg : nullptr, t.eg_ref);
     return m;
 }
 

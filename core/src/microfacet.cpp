@@ -485,10 +485,10 @@ MicrofacetReflection::MicrofacetReflection(const MicrofacetDistribution& d, cons
 
 MicrofacetReflection::Compensation MicrofacetReflection::compensation() const {
     Compensation c;
-    if (m_has_table)
-        c.e = m_e ? *m_e : c.e;
-    else
+    if (!m_has_table)
         c.e.fill(1.f);
+    else if (m_e)
+        c.e = *m_e;  // an anisotropic lobe's rows are not one table: e stays 0
     c.e_avg = m_e_avg;
     return c;
 }

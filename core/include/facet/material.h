@@ -59,14 +59,6 @@ class Material {
     // Number of mu nodes of the Es table (uniform in mu, linear interpolation).
     static constexpr int kTableSize = 64;
     using AlbedoTable = std::array<Rgb, kTableSize>;  // Eg(mu_k), mu_k = k / (kTableSize - 1)
-    // The same, with the glossy albedo table Eg given instead of computed (the staged build,
-    // facet/staged_material.h, looks it up per hit; with the table the first constructor
-    // computes, the material is bit for bit the same). Read only when two or more lobes exist.
-    // es_avg, when given, is Es_avg (header comment) instead of its computation from eg and the
-    // mirror lobe (specular_average): the same material bit for bit when it is that value.
-    Material(std::optional<LambertReflection> diffuse, std::optional<MicrofacetReflection> glossy,
-             std::optional<MirrorReflection> mirror, const AlbedoTable& eg,
-             const Rgb* es_avg = nullptr);
     // The glossy albedo Eg read from tables held elsewhere instead of a table of its own: the
     // staged build's tables over alpha nodes (facet/staged_material.h), which outlive every
     // per-hit material built from them. At node k,
@@ -89,10 +81,10 @@ class Material {
         }
     };
     // What the staged build (facet/staged_material.h) gives the composite instead of computing
-    // it: the glossy albedo (an own table `eg` to copy, or `eg_ref` to read), Es_avg, the glossy
-    // lobe's compensation table (used when ec is on) and its Fresnel average. Null: computed.
+    // it: the glossy albedo to read (`eg_ref`), Es_avg (header comment; read only with eg_ref:
+    // the same material bit for bit when it is that value), the glossy lobe's compensation
+    // table (used when ec is on) and its Fresnel average. Null: computed.
     struct CompositeTables {
-        const AlbedoTable* eg = nullptr;
         const AlbedoRef* eg_ref = nullptr;
         const Rgb* es_avg = nullptr;
         const MicrofacetReflection::Compensation* compensation = nullptr;
@@ -217,10 +209,9 @@ class Material {
 
   private:
     Material() = default;  // composite() with an AlbedoRef fills the lobes, then init()
-    // The constructors' common part: flags and, for two or more lobes, the tables (eg given,
-    // eg_ref to read, or computed).
-    void init(const AlbedoTable* eg, const Rgb* es_avg = nullptr,
-              const AlbedoRef* eg_ref = nullptr);
+    // The constructors' common part: flags and, for two or more lobes, the tables (eg_ref to
+    // read, with es_avg given or computed, or computed).
+    void init(const Rgb* es_avg = nullptr, const AlbedoRef* eg_ref = nullptr);
 
     // Lobe-selection probabilities at wo: diffuse, glossy, mirror (sum 1 when any is > 0).
     // Multi-lobe materials only (m_has_table): a single-lobe material is its lobe.
