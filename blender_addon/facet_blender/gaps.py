@@ -42,7 +42,11 @@ NODES = {
     'ShaderNodeTexChecker': TEXTURE_HERE,
     'ShaderNodeTexEnvironment': "environment textures convert only as the world's "
                                 "Background colour",
-    'ShaderNodeTexSky': "sky textures are not in Facet's core yet",
+    # The Nishita type converts as the World's Background colour (sync_world.py, _world_sky);
+    # node_reason names the other types.
+    'ShaderNodeTexSky': "a Nishita Sky Texture converts only straight into the World's "
+                        "Background (or Emission) Color, through Mapping rotations, with a "
+                        "constant Strength",
     'ShaderNodeNormalMap': "a Normal Map converts only into a BSDF's Normal input (or a "
                            "Bump's Normal)",
     'ShaderNodeBump': "a Bump converts only into a BSDF's Normal input",
@@ -116,6 +120,10 @@ LIGHTS_ALL = (("cycles.cast_shadow", "Cast Shadow", True, False,
 def node_reason(node):
     """Why a node met by the walker is not converted (None: it has no entry)."""
     idname = node.bl_idname
+    if idname == 'ShaderNodeTexSky' and getattr(node, "sky_type", 'NISHITA') != 'NISHITA':
+        name = {'PREETHAM': "Preetham", 'HOSEK_WILKIE': "Hosek-Wilkie"}.get(node.sky_type,
+                                                                           node.sky_type)
+        return "the %s sky model is not in Facet's core (only Nishita converts)" % name
     if idname in NODES:
         return NODES[idname]
     if idname.startswith('ShaderNodeTex'):

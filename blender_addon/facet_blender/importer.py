@@ -118,6 +118,41 @@ def _direction_matrix(position, direction):
     return m
 
 
+def _sky_world(world, lt, i, problems):
+    """A "sky_nishita" light -> the World: Sky Texture (Nishita, angles in radians) ->
+    Background of Strength `radiance`, through a Mapping node rotating the lookup by
+    R = M^T when the sky is rotated (sync_world._world_sky reads it back)."""
+    world.use_nodes = True
+    nt = world.node_tree
+    nt.nodes.clear()
+    out = nt.nodes.new('ShaderNodeOutputWorld')
+    bg = nt.nodes.new('ShaderNodeBackground')
+    sky = nt.nodes.new('ShaderNodeTexSky')
+    sky.sky_type = 'NISHITA'
+    sky.sun_disc = bool(lt.get("sun_disc", True))
+    for key, default in (("sun_size", 0.545), ("sun_elevation", 15.0), ("sun_rotation", 0.0)):
+        setattr(sky, key, math.radians(lt.get(key, default)))
+    for key, default in (("sun_intensity", 1.0), ("altitude", 0.0), ("air_density", 1.0),
+                         ("dust_density", 1.0), ("ozone_density", 1.0)):
+        setattr(sky, key, float(lt.get(key, default)))
+    rad = lt.get("radiance", 1.0)
+    if not isinstance(rad, (int, float)):
+        problems.append("light %d: sky_nishita: an RGB radiance multiplier is shown in Blender's "
+                        "World as its mean (Facet renders it per channel)" % i)
+        rad = sum(rad) / 3.0
+    bg.inputs['Strength'].default_value = float(rad)
+    nt.links.new(sky.outputs['Color'], bg.inputs['Color'])
+    nt.links.new(bg.outputs['Background'], out.inputs['Surface'])
+    if lt.get("rotate") is not None:
+        r = lt["rotate"]
+        m = Matrix.Rotation(math.radians(r["angle"]), 3, Vector(r["axis"]).normalized())
+        tc = nt.nodes.new('ShaderNodeTexCoord')
+        mp = nt.nodes.new('ShaderNodeMapping')
+        mp.inputs['Rotation'].default_value = m.transposed().to_euler('XYZ')
+        nt.links.new(tc.outputs['Generated'], mp.inputs['Vector'])
+        nt.links.new(mp.outputs['Vector'], sky.inputs['Vector'])
+
+
 def _environment_world(world, lt, rad, i, problems):
     """An environment map as Blender's World: Environment Texture (equirectangular, the image
     `file`) -> Background, its Strength the multiplier `radiance` (an RGB multiplier through a
@@ -281,6 +316,13 @@ def import_scene(context, data, collection=None, problems=None):
             world.color = rad if not isinstance(rad, (int, float)) else [rad] * 3
             if lt.get("file"):
                 _environment_world(world, lt, rad, i, problems)
+            world["facet_environment"] = _json(lt)
+            world["facet_state"] = sync_state.world_state(world)
+            continue
+        if kind == "sky_nishita":
+            world = scene.world or bpy.data.worlds.new("World")
+            scene.world = world
+            _sky_world(world, lt, i, problems)
             world["facet_environment"] = _json(lt)
             world["facet_state"] = sync_state.world_state(world)
             continue

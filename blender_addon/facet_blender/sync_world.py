@@ -1,5 +1,5 @@
-"""The world -> the environment light: a constant radiance or an HDRI map (Cycles'
-blender_object.cpp's background part)."""
+"""The world -> the environment light: a constant radiance, an HDRI map or a Nishita sky
+(Cycles' blender_object.cpp's background part)."""
 import math
 
 from . import materials, nodegraph, textures, units
@@ -14,7 +14,7 @@ def export_environment(scene, problems):
     if stored is not None:
         return stored
     if world.use_nodes and world.node_tree is not None:
-        env = _world_environment_map(world, problems)
+        env = _world_sky(world, problems) or _world_environment_map(world, problems)
         if env is not None:
             return env
         rad = _world_radiance(world, problems)
@@ -35,7 +35,6 @@ def _world_environment_map(world, problems):
     rotate. Cycles looks up l = R d (Mapping Point / Vector: R = Rz Ry Rx; Texture: its
     transpose); Facet looks up l = M^T d, so M = R^T, given as the axis and angle of R^T.
     None when the world is not of this form (the generic conversion then reports it)."""
-    from mathutils import Matrix
     walker = nodegraph.Walker(world.node_tree)
     out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
     if out is None:
@@ -57,8 +56,38 @@ def _world_environment_map(world, problems):
         path, colorspace, note = textures.image_file(node.image)
     except ValueError:
         return None
+    lin = _lookup_rotation(walker, node, tex.path, what, problems)
+    if lin is None:
+        return None
+    if node.image.is_float:
+        path, clamped = textures.nonnegative_radiance_file(node.image, path)
+        if clamped:
+            problems.append("%s: %s" % (what, clamped))
+    env = {"type": "environment", "file": path, "radiance": float(strength)}
+    _set_rotate(env, lin)
+    if note:
+        problems.append("%s: %s" % (what, note))
+    # The core reads float files as linear and other files sRGB-decoded (FORMAT.md).
+    want = "linear" if path.lower().endswith((".exr", ".hdr")) else "srgb"
+    if colorspace != want:
+        problems.append("%s: colour space '%s': Facet reads this file as %s"
+                        % (what, node.image.colorspace_settings.name, want))
+    if colorspace == "srgb" and not node.image.is_float:
+        problems.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, "
+                        "Facet after" % what)
+    if node.interpolation not in ('Linear',):
+        problems.append("%s: interpolation %s converted as Linear" % (what, node.interpolation))
+    return env
+
+
+def _lookup_rotation(walker, node, path, what, problems):
+    """The rotation R (a 3x3 Matrix) of the Mapping nodes (rotations and a uniform scale) that
+    feed the texture `node`'s Vector from the world's Generated coordinates (or nothing), or
+    None when anything else feeds it. A Mapping that is not a rotation is reported and read as
+    the identity."""
+    from mathutils import Matrix
     m = Matrix.Identity(4)
-    cur = walker.input(node, 'Vector', tex.path)
+    cur = walker.input(node, 'Vector', path)
     while isinstance(cur, nodegraph.Out):
         n = cur.node
         if n.bl_idname == 'ShaderNodeTexCoord' and cur.socket.identifier == 'Generated':
@@ -79,31 +108,56 @@ def _world_environment_map(world, problems):
                 for v in row) > 1e-6 * scale ** 2:
         problems.append("%s: its Mapping is not a rotation (with a uniform scale); the map is "
                         "not rotated" % what)
-        lin = Matrix.Identity(3)
-    else:
-        lin = lin * (1.0 / scale)
-    if node.image.is_float:
-        path, clamped = textures.nonnegative_radiance_file(node.image, path)
-        if clamped:
-            problems.append("%s: %s" % (what, clamped))
-    env = {"type": "environment", "file": path, "radiance": float(strength)}
+        return Matrix.Identity(3)
+    return lin * (1.0 / scale)
+
+
+def _set_rotate(env, lin):
+    """env["rotate"] = M = R^T as an axis and angle (omitted for the identity)."""
     axis, angle = lin.transposed().to_quaternion().to_axis_angle()
     if abs(angle) > 1e-12:
         if max(axis, key=abs) < 0.0:  # the same rotation, read with the axis' main part > 0
             axis, angle = -axis, -angle
         env["rotate"] = {"axis": [float(c) for c in axis], "angle": math.degrees(angle)}
-    if note:
-        problems.append("%s: %s" % (what, note))
-    # The core reads float files as linear and other files sRGB-decoded (FORMAT.md).
-    want = "linear" if path.lower().endswith((".exr", ".hdr")) else "srgb"
-    if colorspace != want:
-        problems.append("%s: colour space '%s': Facet reads this file as %s"
-                        % (what, node.image.colorspace_settings.name, want))
-    if colorspace == "srgb" and not node.image.is_float:
-        problems.append("%s: Cycles interpolates an 8-bit sRGB image before decoding it, "
-                        "Facet after" % what)
-    if node.interpolation not in ('Linear',):
-        problems.append("%s: interpolation %s converted as Linear" % (what, node.interpolation))
+
+
+def _world_sky(world, problems):
+    """A world whose output is a Background (or Emission) with its Color fed by a Sky Texture of
+    type Nishita (through Mapping rotations, as an Environment Texture) and a constant Strength
+    -> the core's "sky_nishita" environment (angles in degrees, radiance = Strength). Other sky
+    types, and anything else, return None (the generic conversion reports them by name)."""
+    walker = nodegraph.Walker(world.node_tree)
+    out = nodegraph.active_output(world.node_tree, 'ShaderNodeOutputWorld')
+    if out is None:
+        return None
+    bg = walker.input(out, 'Surface')
+    if not isinstance(bg, nodegraph.Out) or bg.convs or bg.node.bl_idname not in (
+            'ShaderNodeBackground', 'ShaderNodeEmission'):
+        return None
+    tex = walker.input(bg.node, 'Color', bg.path)
+    strength, _ = walker.fold(walker.input(bg.node, 'Strength', bg.path))
+    if not isinstance(tex, nodegraph.Out) or tex.node.bl_idname != 'ShaderNodeTexSky' \
+            or tex.socket.identifier != 'Color' or strength is None \
+            or tex.node.sky_type != 'NISHITA':
+        return None
+    node = tex.node
+    what = "world '%s': %s" % (world.name, tex.label())
+    lin = _lookup_rotation(walker, node, tex.path, what, problems)
+    if lin is None:
+        return None
+    tm = node.texture_mapping
+    if tuple(tm.translation) != (0.0, 0.0, 0.0) or tuple(tm.rotation) != (0.0, 0.0, 0.0) \
+            or tuple(tm.scale) != (1.0, 1.0, 1.0):
+        problems.append("%s: its own texture mapping is not converted (identity used)" % what)
+    env = {"type": "sky_nishita", "sun_disc": bool(node.sun_disc),
+           "sun_size": math.degrees(node.sun_size),
+           "sun_intensity": float(node.sun_intensity),
+           "sun_elevation": math.degrees(node.sun_elevation),
+           "sun_rotation": math.degrees(node.sun_rotation),
+           "altitude": float(node.altitude), "air_density": float(node.air_density),
+           "dust_density": float(node.dust_density),
+           "ozone_density": float(node.ozone_density), "radiance": float(strength)}
+    _set_rotate(env, lin)
     return env
 
 

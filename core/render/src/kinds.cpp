@@ -15,7 +15,7 @@ namespace facet::render {
 extern const ShapeKindDef kSphereKind, kPlaneKind, kBoxKind, kQuadKind, kDiscKind, kMeshKind,
     kIcosphereKind, kGridKind, kGltfKind, kInstanceKind, kCurvesKind;
 extern const LightKindDef kPointLightKind, kSpotLightKind, kDirectionalLightKind, kAreaLightKind,
-    kEnvironmentLightKind;
+    kEnvironmentLightKind, kSkyNishitaLightKind;
 extern const MediumKindDef kHomogeneousMediumKind;
 extern const MediumKindDef kGridMediumKind;
 
@@ -24,9 +24,9 @@ namespace {
 const std::array<const ShapeKindDef*, 11> kShapeKinds = {
     &kSphereKind,    &kPlaneKind, &kBoxKind,  &kQuadKind,     &kDiscKind,  &kMeshKind,
     &kIcosphereKind, &kGridKind,  &kGltfKind, &kInstanceKind, &kCurvesKind};
-const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpotLightKind,
-                                                        &kDirectionalLightKind, &kAreaLightKind,
-                                                        &kEnvironmentLightKind};
+const std::array<const LightKindDef*, 6> kLightKinds = {
+    &kPointLightKind, &kSpotLightKind,        &kDirectionalLightKind,
+    &kAreaLightKind,  &kEnvironmentLightKind, &kSkyNishitaLightKind};
 const std::array<const MediumKindDef*, 2> kMediumKinds = {&kHomogeneousMediumKind,
                                                           &kGridMediumKind};
 const std::array<std::string_view, 10> kCommonShapeKeys = {

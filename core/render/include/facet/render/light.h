@@ -12,6 +12,7 @@
 //   point, spot, directional   (lights/point.cpp, spot.cpp, directional.cpp)
 //   environment                (lights/environment.cpp: the constant environment)
 //   environment_map            (lights/environment_map.cpp)
+//   sky_nishita                (lights/sky_nishita.cpp: Blender's Nishita Sky Texture)
 //   area_lamp                  (lights/area.cpp: Blender's area lamp, the "area" light kind)
 //   emissive_triangles, emissive_parallelogram, emissive_sphere, emissive_disc
 //                              (lights/emissive_*.cpp: shapes with an "emission")
@@ -130,6 +131,9 @@ class Light {
     // Environment map (environment_map.h): le_escape looks the map up, sample_li and pdf_li use
     // its importance density; emission() is its mean radiance.
     static Light environment_map(std::shared_ptr<const EnvironmentMap> map);
+    // Blender's Nishita sky (sky_nishita.h): le_escape evaluates it, sample_li and pdf_li use
+    // its mixture density (the sky's table and the sun's cone); emission() is its mean radiance.
+    static Light sky_nishita(std::shared_ptr<const SkyNishita> sky);
     // Area light over world-space triangles (p0, p1, p2 per triangle, front side by the
     // counter-clockwise winding: n = normalize(cross(p1 - p0, p2 - p0))). Degenerate triangles
     // are dropped; at least one must remain. Two triangles that form a parallelogram make an

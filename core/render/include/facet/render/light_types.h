@@ -15,12 +15,13 @@
 #include "facet/render/lights/environment.h"
 #include "facet/render/lights/environment_map.h"
 #include "facet/render/lights/point.h"
+#include "facet/render/lights/sky_nishita.h"
 #include "facet/render/lights/spot.h"
 
 namespace facet::render {
 
 using LightTypes = std::variant<EmissiveParallelogram, PointLight, SpotLight, DirectionalLight,
                                 ConstantEnvironment, EnvironmentMapLight, AreaLamp,
-                                EmissiveTriangles, EmissiveSphere, EmissiveDisc>;
+                                EmissiveTriangles, EmissiveSphere, EmissiveDisc, SkyNishitaLight>;
 
 }  // namespace facet::render

@@ -201,7 +201,7 @@ struct ShapeDesc {
     bool operator==(const ShapeDesc&) const = default;
 };
 
-enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment, Area };
+enum class LightKind : std::uint8_t { Point, Spot, Directional, Environment, Area, SkyNishita };
 
 // A rotation by `angle` degrees about `axis` (need not be unit; right-handed: counter-clockwise
 // seen from the axis' tip). JSON: {"axis": [x, y, z], "angle": degrees}.
@@ -240,6 +240,11 @@ struct LightDesc {
     std::optional<AxisAngle> rotate;  // environment map orientation (environment_map.h)
     // Area lamp: its local +y (none: see the kind); environment map: its up (none = [0, 0, 1]).
     std::optional<Vec3> up;
+    // Sky (kind "sky_nishita", Blender's Nishita Sky Texture; facet/render/sky_nishita.h):
+    // angles in degrees, altitude in metres; `radiance` is its multiplier, `rotate` orients it.
+    bool sun_disc = true;
+    double sun_size = 0.545, sun_intensity = 1.0, sun_elevation = 15.0, sun_rotation = 0.0;
+    double altitude = 0.0, air_density = 1.0, dust_density = 1.0, ozone_density = 1.0;
     bool operator==(const LightDesc&) const = default;
 };
 
