@@ -120,8 +120,10 @@ def _direction_matrix(position, direction):
 
 def _sky_world(world, lt, i, problems):
     """A "sky_nishita" light -> the World: Sky Texture (Nishita, angles in radians) ->
-    Background of Strength `radiance`, through a Mapping node rotating the lookup by
-    R = M^T when the sky is rotated (sync_world._world_sky reads it back)."""
+    Background of Strength `radiance` (sync_world._world_sky reads it back). A `rotate` about Z
+    by a is the sun's rotation minus a (the same sky); about another axis it is a Mapping node
+    rotating the lookup by R = M^T, which Blender honours only without the sun's disc (with it
+    the node's Vector input is unavailable): then it is reported."""
     world.use_nodes = True
     nt = world.node_tree
     nt.nodes.clear()
@@ -130,27 +132,41 @@ def _sky_world(world, lt, i, problems):
     sky = nt.nodes.new('ShaderNodeTexSky')
     sky.sky_type = 'NISHITA'
     sky.sun_disc = bool(lt.get("sun_disc", True))
-    for key, default in (("sun_size", 0.545), ("sun_elevation", 15.0), ("sun_rotation", 0.0)):
-        setattr(sky, key, math.radians(lt.get(key, default)))
+    rotation = lt.get("sun_rotation", 0.0)
+    r = lt.get("rotate")
+    m = None
+    if r is not None:
+        axis = Vector(r["axis"]).normalized()
+        if abs(axis.x) < 1e-9 and abs(axis.y) < 1e-9:
+            rotation -= r["angle"] if axis.z > 0.0 else -r["angle"]
+        else:
+            m = Matrix.Rotation(math.radians(r["angle"]), 3, axis)
+    for key, value in (("sun_size", lt.get("sun_size", 0.545)),
+                       ("sun_elevation", lt.get("sun_elevation", 15.0)),
+                       ("sun_rotation", rotation)):
+        setattr(sky, key, math.radians(value))
     for key, default in (("sun_intensity", 1.0), ("altitude", 0.0), ("air_density", 1.0),
                          ("dust_density", 1.0), ("ozone_density", 1.0)):
         setattr(sky, key, float(lt.get(key, default)))
     rad = lt.get("radiance", 1.0)
     if not isinstance(rad, (int, float)):
-        problems.append("light %d: sky_nishita: an RGB radiance multiplier is shown in Blender's "
-                        "World as its mean (Facet renders it per channel)" % i)
+        if max(rad) - min(rad) > 0.0:
+            problems.append("light %d: sky_nishita: an RGB radiance multiplier is shown in "
+                            "Blender's World as its mean (Facet renders it per channel)" % i)
         rad = sum(rad) / 3.0
     bg.inputs['Strength'].default_value = float(rad)
     nt.links.new(sky.outputs['Color'], bg.inputs['Color'])
     nt.links.new(bg.outputs['Background'], out.inputs['Surface'])
-    if lt.get("rotate") is not None:
-        r = lt["rotate"]
-        m = Matrix.Rotation(math.radians(r["angle"]), 3, Vector(r["axis"]).normalized())
+    if m is not None:
         tc = nt.nodes.new('ShaderNodeTexCoord')
         mp = nt.nodes.new('ShaderNodeMapping')
         mp.inputs['Rotation'].default_value = m.transposed().to_euler('XYZ')
         nt.links.new(tc.outputs['Generated'], mp.inputs['Vector'])
         nt.links.new(mp.outputs['Vector'], sky.inputs['Vector'])
+        if sky.sun_disc:
+            problems.append("light %d: sky_nishita: its rotate is not shown in Blender's World "
+                            "(Blender ignores a Sky Texture's Vector while its Sun Disc is on); "
+                            "Facet renders it" % i)
 
 
 def _environment_world(world, lt, rad, i, problems):

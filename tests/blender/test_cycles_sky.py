@@ -7,8 +7,10 @@ Scenes:
     20 km), each in two views:
     - "wide": 90 degrees, 64 x 48, looking 30 degrees away from the sun's azimuth with the
       horizon in the lower third (so the ground's fade below the horizon is in view too), the
-      sky reached through a Mapping node rotating it by 20 degrees about Z;
-    - "sun": 3 degrees, 32 x 32, centred on the sun's disc (9 px across), limb darkening in
+      sky reached through a Mapping node rotating it by 20 degrees about Z, without the sun's
+      disc (Blender makes the Sky Texture's Vector input unavailable while the disc is on, and
+      Cycles then ignores the Mapping; the conversion does the same);
+    - "sun": 3 degrees, 32 x 32, centred on the sun's disc (6 px across), limb darkening in
       view.
     Camera rays only (Facet max_depth 1, Cycles 0 bounces), 32 spp.
 (b) a grey Lambertian ground and a sphere on it lit by the default sky and its sun (direct
@@ -20,8 +22,8 @@ Bounds (the real-scene suite's, tests/realscenes/test_realscene.py):
 - block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
   noise floor (the same between Cycles seeds 1 and 2).
   In the "wide" views the floor is only the pixels' antialiasing noise (the sky is smooth), so
-  the block bound also asks that the sky be the same function; there the per-pixel relative
-  difference is printed too (measured: at most 0.3%).
+  the block bound also asks that the sky be the same function (measured: 0.77-1.12 x the
+  floor; the per-pixel relative difference, printed, is 0.16% on average).
 Ability to fail: the default sky's views and scene (b) are also rendered by Facet with the
 sun's elevation 1 degree off (the sky and sun change by a few percent), and scene (b) with no
 sun disc: each control must break a bound (printed)."""
@@ -147,7 +149,7 @@ def views(out):
     for set_name, params in SETS.items():
         # Wide: the horizon in the lower third, 30 degrees from the sun's azimuth.
         scene = empty_scene(32, 1)
-        sky = sky_world(scene, params, MAPPING_Z)
+        sky = sky_world(scene, dict(params, sun_disc=False), MAPPING_Z)
         s = sun_direction(sky, MAPPING_Z)
         az = math.atan2(s.y, s.x) + math.radians(30.0)
         look = Vector((math.cos(az), math.sin(az), math.tan(math.radians(12.0)))).normalized()
@@ -207,31 +209,41 @@ def reports():
 
 
 def imported(out):
-    """A Facet scene's sky_nishita imports as a Nishita World (a Mapping for its rotation) that
-    converts back to the same light."""
+    """A Facet scene's sky_nishita imports as a Nishita World that converts back to the same
+    sky: a rotation about Z as the sun's rotation; about another axis (no sun disc) as a
+    Mapping node."""
     import json
     from facet_blender import sync_world
-    light = {"type": "sky_nishita", "sun_elevation": 25.0, "sun_rotation": 70.0,
-             "sun_size": 1.5, "sun_intensity": 0.75, "sun_disc": True, "altitude": 300.0,
-             "air_density": 1.5, "dust_density": 2.0, "ozone_density": 0.5, "radiance": 0.25,
-             "rotate": {"axis": [0.0, 0.0, 1.0], "angle": -20.0}}
-    path = os.path.join(out, "sky_import.json")
-    with open(path, "w") as f:
-        json.dump({"format": "facet-scene", "version": 1,
-                   "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0], "up": [0, 0, 1],
-                              "fov": 60, "width": 8, "height": 8},
-                   "materials": {}, "shapes": [], "lights": [light],
-                   "render": {"spp": 4, "max_depth": 1}}, f)
-    bpy.ops.wm.read_homefile(use_empty=True)
-    bt.check(bpy.ops.import_scene.facet(filepath=path) == {'FINISHED'}, "imported")
-    problems = []
-    env = sync_world._world_sky(bpy.context.scene.world, problems)
-    bt.check(env is not None and not problems
-             and all(abs(env[k] - light[k]) < 1e-4 for k in light
-                     if isinstance(light[k], float))
-             and env["sun_disc"] and abs(env["rotate"]["angle"] - light["rotate"]["angle"])
-             < 1e-4 and abs(env["rotate"]["axis"][2] - 1.0) < 1e-6,
-             "the imported World converts back to the same sky: %s %s" % (env, problems))
+    base = {"type": "sky_nishita", "sun_elevation": 25.0, "sun_rotation": 70.0,
+            "sun_size": 1.5, "sun_intensity": 0.75, "sun_disc": True, "altitude": 300.0,
+            "air_density": 1.5, "dust_density": 2.0, "ozone_density": 0.5, "radiance": 0.25}
+    tilted = {"axis": [1.0, 0.0, 0.0], "angle": 10.0}
+    for rotate, disc, want_rotation, want_rotate in (
+            ({"axis": [0.0, 0.0, 1.0], "angle": -20.0}, True, 90.0, None),
+            (tilted, False, 70.0, tilted)):
+        light = dict(base, rotate=rotate, sun_disc=disc)
+        path = os.path.join(out, "sky_import.json")
+        with open(path, "w") as f:
+            json.dump({"format": "facet-scene", "version": 1,
+                       "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0],
+                                  "up": [0, 0, 1], "fov": 60, "width": 8, "height": 8},
+                       "materials": {}, "shapes": [], "lights": [light],
+                       "render": {"spp": 4, "max_depth": 1}}, f)
+        bpy.ops.wm.read_homefile(use_empty=True)
+        bt.check(bpy.ops.import_scene.facet(filepath=path) == {'FINISHED'}, "imported")
+        problems = []
+        env = sync_world._world_sky(bpy.context.scene.world, problems)
+        want = dict(light, sun_rotation=want_rotation)
+        same = env is not None and not problems and env["sun_disc"] == disc and all(
+            abs(env[k] - want[k]) < 1e-4 for k in want if isinstance(want[k], float))
+        if want_rotate is None:
+            same = same and "rotate" not in env
+        else:
+            # The Mapping's Euler angles are float32: 1e-3 degrees.
+            same = same and "rotate" in env and abs(env["rotate"]["angle"] - 10.0) < 1e-3 \
+                and abs(env["rotate"]["axis"][0] - 1.0) < 1e-4
+        bt.check(same, "the imported World converts back to the same sky: %s %s"
+                 % (env, problems))
 
 
 def main():
