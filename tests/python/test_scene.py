@@ -225,7 +225,10 @@ def test_kind_fields_come_from_the_kind_table(tmp_path):
     assert lamp.camera_visible is False  # Blender's default for lamps
     # light_kind_keys(): each kind's keys in the table's order (what the Blender addon copies).
     keys = facet.light_kind_keys()
-    assert set(keys) == {"point", "spot", "directional", "environment", "area"}
+    assert set(keys) == {"point", "spot", "directional", "environment", "area", "sky_nishita"}
+    assert {"sun_elevation", "sun_disc", "altitude", "rotate"} <= set(keys["sky_nishita"])
+    sky = facet.LightDesc("sky_nishita", sun_elevation=30.0, sun_disc=False)
+    assert (sky.sun_elevation, sky.sun_disc, sky.air_density) == (30.0, False, 1.0)
     assert keys["point"][:2] == ("position", "power") and "radius" in keys["point"]
     assert "camera_visible" in keys["area"] and "radius" not in keys["area"]
     assert {"file", "rotate", "up"} <= set(keys["environment"])
