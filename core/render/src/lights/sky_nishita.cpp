@@ -42,7 +42,12 @@
 // sun's share of the irradiance (the disc's mean radiance, 0.8 of its centre's with the limb
 // darkening, times its solid angle, against 4 pi times the sky's mean), kept in [0.1, 0.9] so
 // that neither part starves (the sky still lights what the sun's shadow hides). Its power for
-// the light choice is that of its mean radiance, as an environment map's.
+// the light choice is that of its mean radiance, as an environment map's. Measured on
+// blender.cycles_sky's lit scene (8 x 8 block RMSE between two seeds over Cycles' own): the
+// mixture 0.81x Cycles' noise (p_sun 0.82; a fixed 0.5: 1.00x); the sun left in the sky's
+// 512 x 256 density instead (cells weighted by their exact mean radiance, no cone): 9.7x. A
+// separate distant light would sample as the mixture does, but rays could not hit it (Facet's
+// distant lights are not in the traced scene), and camera and mirror rays must see the disc.
 //
 // Build cost: the table is 256 x 128 single-scattering integrals (the other half is the mirror
 // image), each 32 segments of an 8-node optical depth and 21 wavelengths, plus 512 x 256 x 9
