@@ -4,7 +4,9 @@
 // time. Agreement with Cycles 3.4 itself is tests/blender/test_cycles_sky.py.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
 #include <random>
 #include <string>
 
@@ -194,10 +196,13 @@ TEST(SkyNishita, SamplingIntegratesTheRadiance) {
 
 TEST(SkyNishita, BuildTimeIsBounded) {
     // The table (256 x 128 integrals) and the density grid; Cycles takes about a second for
-    // its table. Bound: 5 s on a loaded 2-core machine.
+    // its table. Bound: 5 s on a loaded 2-core machine (measured 0.8 s with 2 threads), over
+    // FACET_STRESS_SCALE in the Debug + ASan tree (test.sh sets 0.1 there: 50 s).
+    const char* scale_text = std::getenv("FACET_STRESS_SCALE");
+    const double scale = scale_text ? std::clamp(std::atof(scale_text), 0.01, 1.0) : 1.0;
     const fr::SkyNishita s = sky({});
-    std::printf("sky_nishita build: %.3f s\n", s.build_seconds());
-    EXPECT_LT(s.build_seconds(), 5.0);
+    std::printf("sky_nishita build: %.3f s (bound %.0f s)\n", s.build_seconds(), 5.0 / scale);
+    EXPECT_LT(s.build_seconds(), 5.0 / scale);
 }
 
 TEST(SkyNishita, JsonRoundTripAndScene) {
