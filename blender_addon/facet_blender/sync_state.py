@@ -43,7 +43,18 @@ def render_state(scene):
 
 
 def world_state(world):
-    return _floats(world.color) + ";%s" % world.use_nodes
+    parts = [_floats(world.color) + ";%s" % world.use_nodes]
+    if world.use_nodes and world.node_tree is not None:
+        # An imported sky (importer._sky_world): its Sky Texture's settings and the strengths.
+        for n in world.node_tree.nodes:
+            if n.bl_idname == 'ShaderNodeTexSky':
+                parts.append(n.sky_type + str(n.sun_disc) + _floats((
+                    n.sun_size, n.sun_intensity, n.sun_elevation, n.sun_rotation, n.altitude,
+                    n.air_density, n.dust_density, n.ozone_density)))
+        if len(parts) > 1:
+            parts.append(_floats(n.inputs['Strength'].default_value for n in
+                                 world.node_tree.nodes if n.bl_idname == 'ShaderNodeBackground'))
+    return ";".join(parts)
 
 
 def _stored(id_block, key, state):

@@ -244,6 +244,29 @@ def imported(out):
                 and abs(env["rotate"]["axis"][0] - 1.0) < 1e-4
         bt.check(same, "the imported World converts back to the same sky: %s %s"
                  % (env, problems))
+    # While the World is as imported, the export is the light as read (its rotate about X with
+    # the sun disc, which Blender cannot show); an edit of the Sky Texture is exported.
+    from facet_blender import export
+    light = dict(base, rotate=tilted)
+    with open(path, "w") as f:
+        json.dump({"format": "facet-scene", "version": 1,
+                   "camera": {"position": [0, 0, 0], "look_at": [1, 0, 0], "up": [0, 0, 1],
+                              "fov": 60, "width": 8, "height": 8},
+                   "materials": {}, "shapes": [], "lights": [light],
+                   "render": {"spp": 4, "max_depth": 1}}, f)
+    bpy.ops.wm.read_homefile(use_empty=True)
+    bpy.ops.import_scene.facet(filepath=path)
+    data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    env = [l for l in data["lights"] if l["type"] == "sky_nishita"]
+    bt.check(len(env) == 1 and env[0].get("rotate") == tilted,
+             "an unchanged imported sky exports as read: %s" % env)
+    sky = [n for n in bpy.context.scene.world.node_tree.nodes
+           if n.bl_idname == 'ShaderNodeTexSky'][0]
+    sky.sun_elevation = math.radians(40.0)
+    data, _ = export.export_scene(bpy.context.evaluated_depsgraph_get())
+    env = [l for l in data["lights"] if l["type"] == "sky_nishita"]
+    bt.check(len(env) == 1 and abs(env[0]["sun_elevation"] - 40.0) < 1e-4,
+             "an edited imported sky exports the edit: %s" % env)
 
 
 def main():
