@@ -245,6 +245,24 @@ TEST(SkyNishita, JsonRoundTripAndScene) {
     EXPECT_TRUE(facet::is_finite(sc.environment()->le_escape(Vec3(nan))));
 }
 
+TEST(SkyNishita, AnUnchangedSkyIsBuiltOnce) {
+    // Rebuilding a scene with the same sky (Blender's viewport rebuilds on every edit) reuses
+    // the last sky built; any other parameter builds a new one.
+    const std::string light = R"({"type": "sky_nishita", "sun_elevation": 33})";
+    auto sky_of = [](const fr::Scene& sc) {
+        return sc.environment()->get<fr::SkyNishitaLight>()->sky.get();
+    };
+    const fr::Scene a = fr::build_scene(fr::parse_scene_description(scene_with(light), "a"), "a");
+    const fr::Scene b = fr::build_scene(fr::parse_scene_description(scene_with(light), "b"), "b");
+    EXPECT_EQ(sky_of(a), sky_of(b));
+    const fr::Scene c = fr::build_scene(
+        fr::parse_scene_description(
+            scene_with(R"({"type": "sky_nishita", "sun_elevation": 33, "radiance": 2})"), "c"),
+        "c");
+    EXPECT_NE(sky_of(a), sky_of(c));
+    EXPECT_EQ(sky_of(c)->params().sun_elevation, 33.0);
+}
+
 TEST(SkyNishita, BadParametersNameTheirPointer) {
     for (const auto& [key, value] :
          std::vector<std::pair<std::string, std::string>>{{"sun_elevation", "91"},

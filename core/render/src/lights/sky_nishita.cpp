@@ -57,6 +57,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <mutex>
 #include <thread>
 
 #include "../io/pov_writer.h"
@@ -272,7 +273,7 @@ double radians(double deg) {
 }  // namespace
 
 SkyNishita::SkyNishita(const SkyNishitaParams& p, const Rgb& multiplier, const glm::mat3& frame)
-    : m_multiplier(multiplier), m_frame(frame), m_inverse(glm::transpose(frame)) {
+    : m_params(p), m_multiplier(multiplier), m_frame(frame), m_inverse(glm::transpose(frame)) {
     const auto t0 = std::chrono::steady_clock::now();
     const float elevation = float(radians(p.sun_elevation));
     const float altitude = std::clamp(float(p.altitude), 1.f, 59999.f);
@@ -362,6 +363,23 @@ SkyNishita::SkyNishita(const SkyNishitaParams& p, const Rgb& multiplier, const g
             m_sky.black() ? 1.0 : std::clamp(sun_y / (sun_y + sky_y), kMinShare, 1.0 - kMinShare);
     m_mean = Rgb((sky_mean + sun_irradiance / (4.0 * kPiD)) * glm::dvec3(multiplier));
     m_build_seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
+std::shared_ptr<const SkyNishita> SkyNishita::shared(const SkyNishitaParams& p,
+                                                     const Rgb& multiplier,
+                                                     const glm::mat3& frame) {
+    static std::mutex mutex;
+    static std::shared_ptr<const SkyNishita> last;
+    {
+        const std::lock_guard<std::mutex> lock(mutex);
+        if (last && last->m_params == p && last->m_multiplier == multiplier &&
+            last->m_frame == frame)
+            return last;
+    }
+    auto sky = std::make_shared<const SkyNishita>(p, multiplier, frame);
+    const std::lock_guard<std::mutex> lock(mutex);
+    last = sky;
+    return sky;
 }
 
 Rgb SkyNishita::table_lookup(double x, double y) const {
@@ -495,8 +513,7 @@ void build(LightBuild& b) {
         frame = glm::dmat3(
             glm::rotate(glm::dmat4(1.0), glm::radians(l.rotate->angle), glm::dvec3(axis)));
     }
-    b.add_environment(
-        Light::sky_nishita(std::make_shared<const SkyNishita>(p, multiplier, glm::mat3(frame))));
+    b.add_environment(Light::sky_nishita(SkyNishita::shared(p, multiplier, glm::mat3(frame))));
 }
 
 void pov(PovLightOut& o) {

@@ -18,6 +18,7 @@
 //    non-zero density) and p_sun times the uniform density over the sun's cone.
 #pragma once
 
+#include <memory>
 #include <vector>
 
 #include "facet/latlong.h"
@@ -35,6 +36,7 @@ struct SkyNishitaParams {
     double sun_rotation = 0.0;    // degrees about +Z
     double altitude = 0.0;        // metres (Cycles clamps to [1, 59999])
     double air_density = 1.0, dust_density = 1.0, ozone_density = 1.0;
+    bool operator==(const SkyNishitaParams&) const = default;
 };
 
 class SkyNishita {
@@ -42,6 +44,11 @@ class SkyNishita {
     // Precomputes the table and the sampling density (build_seconds() says how long it took).
     // `multiplier` >= 0 per channel; `frame` = M (orthonormal, right-handed).
     SkyNishita(const SkyNishitaParams& p, const Rgb& multiplier, const glm::mat3& frame);
+    // The sky of these arguments, built once: the last one built is kept (process-wide, thread
+    // safe), so that rebuilding a scene with an unchanged sky (Blender's viewport rebuilds the
+    // scene on every edit) does not precompute it again.
+    static std::shared_ptr<const SkyNishita> shared(const SkyNishitaParams& p,
+                                                    const Rgb& multiplier, const glm::mat3& frame);
 
     // Radiance arriving along the unit world direction d.
     Rgb eval(const Vec3& d) const;
@@ -58,6 +65,7 @@ class SkyNishita {
     // The sun's share of the samples (0 without a visible sun).
     double sun_probability() const { return m_p_sun; }
     double build_seconds() const { return m_build_seconds; }
+    const SkyNishitaParams& params() const { return m_params; }
 
     // Cycles' sky in its own frame (l = M^T d), without the multiplier: the table part and the
     // sun's disc (for tests).
@@ -74,6 +82,7 @@ class SkyNishita {
     Rgb table_lookup(double x, double y) const;  // Cycles' linear, clamped lookup
     Rgb sky_only(const glm::dvec3& l) const;     // eval_local without the sun's disc
 
+    SkyNishitaParams m_params;
     std::vector<Rgb> m_table;  // RGB (unclamped) of Cycles' XYZ table, row 0 at the horizon
     Rgb m_sun_bottom{0.f}, m_sun_top{0.f};  // RGB of Cycles' two sun pixels
     double m_sun_elevation = 0.0, m_rotation = 0.0, m_angular = -1.0, m_sun_intensity = 1.0;
