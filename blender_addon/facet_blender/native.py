@@ -549,7 +549,7 @@ class Session:
         if samples is not None:
             kw["samples"] = tuple(int(v) for v in samples)  # [s0, s1) of the spp-sample render
         if light_selection is not None:
-            kw["light_selection"] = light_selection  # "view" | "power" | "uniform"
+            kw["light_selection"] = light_selection  # "auto" | "view" | "power" | "uniform" | "tree"
         if region is not None:
             kw["region"] = tuple(int(v) for v in region)  # (x0, y0, x1, y1), y down
         if spp is not None:

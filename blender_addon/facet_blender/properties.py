@@ -29,18 +29,23 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
         name="Min Samples", default=0, min=0, max=1 << 20,
         description="adaptive sampling: samples every pixel takes first (0 = automatic)")
     # The path integrator's choice of the light for each shadow ray (RenderOptions::
-    # light_selection). View, the default, measures each light's contribution from the camera
-    # when the scene is built; Power is pbrt's; Uniform is Cycles 3.4's for lamps
-    # (docs/blender.md; bench/light_selection_bench.py).
+    # light_selection). Auto, the default: the light tree with 12 or more lamps, else View;
+    # View measures each light's contribution from the camera when the scene is built; Power is
+    # pbrt's; Uniform is Cycles 3.4's for lamps; Tree the light tree (docs/blender.md;
+    # bench/light_selection_bench.py).
     light_selection: EnumProperty(
-        name="Light Selection", default="view",
-        items=[("view", "View", "choose the light for each shadow ray in proportion to its "
+        name="Light Selection", default="auto",
+        items=[("auto", "Auto", "the light tree with 12 or more lamps, else View (measured: "
+                                "docs/performance.md)"),
+               ("view", "View", "choose the light for each shadow ray in proportion to its "
                                 "contribution to what the camera sees (measured when the scene "
                                 "is built)"),
                ("power", "Power", "choose the light for each shadow ray in proportion to its "
                                   "power"),
                ("uniform", "Uniform", "choose every light equally often, as Cycles 3.4 does "
-                                      "for lamps")])
+                                      "for lamps"),
+               ("tree", "Tree", "the light tree: per shaded point, by each lamp's bounds, "
+                                "power and orientation (for many lamps)")])
     # What a lamp's Radius (point, spot) and the Sun's Angle become (sync_light.py): Cycles 3.4's
     # models, the default (Blender 3.4 renders them), or the physical ones (Cycles 4's sphere
     # lamp; a sun cone of uniform radiance keeping the irradiance), reported per lamp

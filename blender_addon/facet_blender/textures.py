@@ -937,9 +937,7 @@ def _luminance(res, src):
 # A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
 # number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
 # as for images, LUMINANCE_NOTE). The Mix node's Vector mode is the mix blend of its vectors
-# as colours (a Non-Uniform factor: when one constant for the three components). Not converted
-# (Unsupported, reported, baked when a bake is possible): a Non-Uniform factor that differs per
-# component.
+# as colours (a Non-Uniform factor: mix_rgb's fac_color, a factor per component).
 
 # Blender's Math operations the core's kind takes (all of 3.4's, lower case).
 _MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
@@ -1029,17 +1027,12 @@ def _mix(walker, src, to_number):
                   "color1": ins.get('A_Float', True), "color2": ins.get('B_Float', True)}
     elif dt == 'VECTOR':
         # Cycles' svm_node_mix_vector: a (1 - t) + b t per component, the mix blend of colours;
-        # a Non-Uniform factor converts when it is one constant for the three components.
+        # a Non-Uniform factor is mix_rgb's fac_color (one factor per component).
         if node.factor_mode == 'UNIFORM':
-            fac = ins.get('Factor_Float', True)
+            fac = ("fac", ins.get('Factor_Float', True))
         else:
-            sock = next(x for x in node.inputs if x.identifier == 'Factor_Vector')
-            v, _ = walker.fold(walker.input(node, sock, src.path))
-            if not (isinstance(v, tuple) and v[0] == v[1] == v[2]):
-                raise Unsupported(src, "the Mix node's Vector mode with a Non-Uniform factor "
-                                  "that differs per component is not converted")
-            fac = float(v[0])
-        params = {"blend_type": "mix", "fac": fac,
+            fac = ("fac_color", ins.get('Factor_Vector', False))
+        params = {"blend_type": "mix", fac[0]: fac[1],
                   "color1": ins.get('A_Vector', False), "color2": ins.get('B_Vector', False)}
     else:
         raise Unsupported(src, "the Mix node's %s mode is not converted" % dt.title())

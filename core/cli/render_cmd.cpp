@@ -1,6 +1,7 @@
 // `facet render scene.json -o out.exr [-o out.png] [-o part.fpart] [--spp N] [--time S]
 //  [--threads N] [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
-//  [--light-selection view|power|uniform|tree] [--region x0,y0,x1,y1] [--samples s0:s1] [--explain]
+//  [--light-selection auto|view|power|uniform|tree] [--region x0,y0,x1,y1] [--samples s0:s1]
+//  [--explain]
 //  [--quiet] [--stats-json FILE]`
 // `facet merge part.fpart ... -o out.exr [-o out.png]`
 //
@@ -40,7 +41,7 @@ struct RenderCmdOptions {
     std::int64_t seed = -1;
     int max_depth = -1;
     std::string kernel = "auto";
-    std::string light_selection = "view";
+    std::string light_selection = "auto";
     std::string sampler = "sobol";
     bool explain = false;
     bool quiet = false;
@@ -95,11 +96,17 @@ std::string extension_of(const std::string& path) {
 }
 
 void print_explain(const render::Scene& scene, const render::KernelChoice& k,
-                   const render::ResolvedSettings& rs) {
+                   const render::ResolvedSettings& rs, render::LightSelection selection) {
     fmt::print("scene {}\n{}", scene.name(), scene.features().describe());
     fmt::print("integrator {}  spp {}  max_depth {}  seed {}  threads {}{}\n",
                render::integrator_name(rs.integrator), rs.spp, rs.max_depth, rs.seed, rs.threads,
                rs.time_budget_s > 0 ? fmt::format("  time budget {} s", rs.time_budget_s) : "");
+    const render::LightSelection ls = render::resolve_light_selection(scene, selection);
+    fmt::print(
+        "light selection {}{}\n", render::light_selection_name(ls),
+        selection == render::LightSelection::Auto
+            ? fmt::format(" (auto: tree from {} local lights on)", render::kTreeMinLocalLights)
+            : "");
     fmt::print("kernel {}\n", k.name);
     for (const auto& s : k.chosen) fmt::print("  chosen:  {}\n", s);
     for (const auto& s : k.skipped) fmt::print("  skipped: {}\n", s);
@@ -162,7 +169,8 @@ void run_render(const RenderCmdOptions& o) {
     ro.light_selection = o.light_selection == "uniform" ? render::LightSelection::Uniform
                          : o.light_selection == "power" ? render::LightSelection::Power
                          : o.light_selection == "tree"  ? render::LightSelection::Tree
-                                                        : render::LightSelection::View;
+                         : o.light_selection == "view"  ? render::LightSelection::View
+                                                        : render::LightSelection::Auto;
     ro.independent_samples = o.sampler == "independent";
     if (o.adaptive_threshold >= 0.0) ro.adaptive_threshold = o.adaptive_threshold;
     ro.adaptive_min_samples = o.adaptive_min_samples;
@@ -189,7 +197,7 @@ void run_render(const RenderCmdOptions& o) {
         print_explain(scene,
                       render::choose_kernel(scene.features(), rs.integrator, rs.max_depth,
                                             ro.force_general_kernel),
-                      rs);
+                      rs, ro.light_selection);
         if (o.outputs.empty()) return;
     }
 
@@ -337,8 +345,9 @@ void add_render_command(CLI::App& app) {
     cmd->add_option("--light-selection", o->light_selection,
                     "path: choose the light for each shadow ray in proportion to its "
                     "contribution measured from the camera (view), to its power, uniformly, or "
-                    "by the light tree (tree: per shaded point; for many lights)")
-        ->check(CLI::IsMember({"view", "power", "uniform", "tree"}))
+                    "by the light tree (tree: per shaded point; for many lights); auto: tree "
+                    "with 12 or more local lights, else view")
+        ->check(CLI::IsMember({"auto", "view", "power", "uniform", "tree"}))
         ->capture_default_str();
     cmd->add_option("--sampler", o->sampler,
                     "sobol: Owen-scrambled Sobol samples; independent: independent uniform "

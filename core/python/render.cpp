@@ -211,9 +211,13 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
                 o.light_selection = LightSelection::Uniform;
             else if (s == "tree")
                 o.light_selection = LightSelection::Tree;
+            else if (s == "auto")
+                o.light_selection = LightSelection::Auto;
             else
                 bad_argument("light_selection",
-                             "expected 'view', 'power', 'uniform' or 'tree', got '" + s + "'");
+                             "expected 'auto', 'view', 'power', 'uniform' or "
+                             "'tree', got '" +
+                                 s + "'");
         } else if (k == "independent_samples")
             o.independent_samples = option_value<bool>(value, k.c_str(), "a bool");
         else if (k == "adaptive_threshold")
@@ -575,7 +579,8 @@ void bind_render(py::module_& m) {
         "facet/render/denoise.h; not with region, samples, time_budget or progress). "
         "Options: spp, threads, seed, integrator, max_depth, region=(x0, y0, x1, y1), "
         "samples=(s0, s1), time_budget, tile_size, pass_seconds, force_general_kernel, "
-        "light_selection ('view' | 'power' | 'uniform'), uniform_light_selection (True = "
+        "light_selection ('auto' | 'view' | 'power' | 'uniform' | 'tree'), uniform_light_selection "
+        "(True = "
         "'uniform'), independent_samples; progress=callable(PassInfo) -> bool "
         "(False cancels: the partial image is returned). Ctrl-C raises KeyboardInterrupt.");
 

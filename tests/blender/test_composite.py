@@ -5,8 +5,8 @@ FORMAT.md "Composite kinds"): evaluated per hit, no bake.
 1. Exported data: each quad's emission converts to the kinds, nested as the node tree nests
    them, with no report and no bake; a ColorRamp in HSV mode becomes Cycles' 256-entry table as
    stops; a colour into a number input is its luminance (reported: Facet's weights); the Mix
-   node's Vector mode is the mix of its vectors as colours (a Non-Uniform factor differing
-   per component is reported by name); a Brick's Color1 / Mortar fed by
+   node's Vector mode is the mix of its vectors as colours (a Non-Uniform factor: one factor
+   per component, mix_rgb's fac_color); a Brick's Color1 / Mortar fed by
    textures become the brick's texture inputs (its Fac output exports none).
 2. Renders against Cycles, as tests/blender/test_procedural.py does: a strip of emission quads,
    one node per quad, orthographic camera, box filter 1 px, 16 spp in both renderers.
@@ -126,6 +126,19 @@ def gradient(nt):
     return node(nt, "ShaderNodeTexGradient", {"gradient_type": 'LINEAR'})
 
 
+def mix_non_uniform(nt):
+    # The Mix node's Vector mode with a Non-Uniform factor that differs per component: a
+    # noise's colour (its three channels differ) mixes a gradient-fed ramp and a constant.
+    out = mix_node(nt, 'VECTOR', 'MIX', 0.5,
+                   ramp(nt, 'LINEAR', gradient(nt).outputs["Fac"]).outputs["Color"],
+                   (0.9, 0.2, 0.4))
+    m = out.node
+    m.factor_mode = 'NON_UNIFORM'
+    nt.links.new(noise(nt, 3.5).outputs["Color"],
+                 next(x for x in m.inputs if x.identifier == "Factor_Vector"))
+    return out
+
+
 # (name, builder(nt) -> output socket): one quad each.
 QUADS = [
     ("ramp_linear", lambda nt: ramp(nt, 'LINEAR', noise(nt).outputs["Fac"]).outputs["Color"]),
@@ -182,6 +195,7 @@ QUADS = [
     ("mix_node_vector",
      lambda nt: mix_node(nt, 'VECTOR', 'MIX', gradient(nt).outputs["Fac"],
                          noise(nt, 2.0).outputs["Color"], (0.9, 0.2, 0.4))),
+    ("mix_node_vector_non_uniform", mix_non_uniform),
     # The Fac output reads no colour: the textures on Color1 and Mortar are not exported.
     ("brick_textured_fac", lambda nt: brick_textured(nt).outputs["Fac"]),
 ]
@@ -282,22 +296,15 @@ def exported():
     bt.check(c.data["metallic"]["channel"] == "luminance"
              and any("Mix" in x and "Metallic" in x and "luminance" in x for x in c.problems),
              "a Mix's colour into Metallic: its luminance, reported: %s" % c.problems)
-    # The Mix node's Vector mode -> mix_rgb's mix; with a Non-Uniform factor that differs per
-    # component, reported by name.
+    # The Mix node's Vector mode -> mix_rgb's mix.
     em = materials.convert(bpy.data.materials["comp_mix_node_vector"], ob).emission
     bt.check(em["mix_rgb"]["blend_type"] == "mix" and "noise" in em["mix_rgb"]["color1"]
              and "gradient" in em["mix_rgb"]["fac"], "Mix (Vector) -> mix_rgb: %.300s" % em)
-    mat, nt, out = new_material("comp_reported_vector")
-    e = nt.nodes.new("ShaderNodeEmission")
-    v = mix_node(nt, 'VECTOR', 'MIX', 0.5, noise(nt).outputs["Color"], (0.2, 0.2, 0.2))
-    v.node.factor_mode = 'NON_UNIFORM'
-    next(x for x in v.node.inputs if x.identifier == "Factor_Vector").default_value = \
-        (0.2, 0.5, 0.7)
-    nt.links.new(v, e.inputs["Color"])
-    nt.links.new(e.outputs[0], out.inputs["Surface"])
-    c = materials.convert(mat)
-    bt.check(any("Mix" in x and "Non-Uniform" in x for x in c.problems),
-             "a Non-Uniform Mix factor per component is reported: %s" % c.problems)
+    # A Non-Uniform factor: mix_rgb's fac_color, the noise's colour.
+    em = materials.convert(bpy.data.materials["comp_mix_node_vector_non_uniform"], ob).emission
+    bt.check(em["mix_rgb"]["blend_type"] == "mix" and "fac" not in em["mix_rgb"]
+             and "noise" in em["mix_rgb"]["fac_color"],
+             "Mix (Vector, Non-Uniform) -> mix_rgb with fac_color: %.300s" % em)
 
 
 def rendered(outdir):

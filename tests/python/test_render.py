@@ -82,14 +82,18 @@ def test_light_selection_option_and_pmfs(tmp_path):
     assert abs(sum(view) - 1) < 1e-6
     images = {m: facet.render(scene, light_selection=m, seed=1) for m in ("view", "power")}
     assert not np.array_equal(images["view"], images["power"])
-    np.testing.assert_array_equal(images["view"], facet.render(scene, seed=1))  # the default
+    # The default, auto, is view with fewer than 12 local lights (here 1).
+    np.testing.assert_array_equal(images["view"], facet.render(scene, seed=1))
+    np.testing.assert_array_equal(images["view"], facet.render(scene, light_selection="auto",
+                                                               seed=1))
     np.testing.assert_array_equal(facet.render(scene, uniform_light_selection=True, seed=1),
                                   facet.render(scene, light_selection="uniform", seed=1))
     # The light tree (per shaded point) is taken too; its choice is not a pmf per scene.
     tree = facet.render(scene, light_selection="tree", seed=1)
     assert tree.shape == images["view"].shape and np.isfinite(tree).all()
     with pytest.raises(ValueError,
-                       match=r"^light_selection: expected 'view', 'power', 'uniform' or 'tree'"):
+                       match=r"^light_selection: expected 'auto', 'view', 'power', 'uniform' or "
+                             r"'tree'"):
         facet.render(scene, light_selection="pwr")
     with pytest.raises(ValueError, match="selection"):
         scene.light_pmfs("pwr")

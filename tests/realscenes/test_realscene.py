@@ -1,7 +1,8 @@
 """One scene of the real-scene suite (scenes.py), Facet engine against Cycles at equal settings.
 
 Run inside Blender: `blender -b --factory-startup --python test_realscene.py -- NAME OUTDIR
-[ci|preview|bench [WIDTH HEIGHT SPP]]` (tests/realscenes/CMakeLists.txt, bench/realscenes_bench.py).
+[ci|preview|bench|timeerror [WIDTH HEIGHT SPP]]` (tests/realscenes/CMakeLists.txt,
+bench/realscenes_bench.py, bench/realscenes_time_error.py).
 
 Equal settings: the same resolution, samples per pixel and bounces (Facet max_depth = Cycles
 bounces + 1); Cycles without clamping (Clamp Direct 0, Clamp Indirect 0), Filter Glossy 0, no
@@ -110,6 +111,55 @@ def settings(scene, width, height, spp, max_depth, light_selection):
         scene.world.cycles.sample_map_resolution = 256
 
 
+def noise_sigma(a, b):
+    """The per-pixel noise of one render: the RMSE between two seeds' images over every pixel
+    and channel, / sqrt(2) (the seeds are independent: MSE(a - b) = 2 Var)."""
+    return float(np.sqrt(np.mean((a - b) ** 2) / 2.0))
+
+
+def timed_render(scene, engine, path, seed):
+    """cs.render with the process's CPU seconds (user + system, every render thread)
+    around it: the machine is shared, so CPU time is the steadier measure."""
+    import resource
+    r0 = resource.getrusage(resource.RUSAGE_SELF)
+    img, wall = cs.render(scene, engine, path, seed, problems_are_errors=False)
+    r1 = resource.getrusage(resource.RUSAGE_SELF)
+    return img, wall, (r1.ru_utime - r0.ru_utime) + (r1.ru_stime - r0.ru_stime)
+
+
+def time_error(scene, name, out, width, height, spp):
+    """Profile `timeerror` (bench/realscenes_time_error.py): each engine at its defaults (Facet's
+    light selection left at the panel's default; Cycles unbiased, non-adaptive, as `settings`)
+    rendered twice, seeds 1 and 2, interleaved F C F C. Equal-error time ratio
+    (t_F / t_C) (sigma_F / sigma_C)^2 (issue 34's measure), by CPU and by wall time (each the
+    mean of the two renders: export, sync and BVH included)."""
+    scene.facet.property_unset("light_selection")
+    base = os.path.join(out, "timeerror_%s" % name)
+    runs = {}
+    for seed in (1, 2):
+        for engine in ('FACET', 'CYCLES'):
+            runs[engine, seed] = timed_render(scene, engine,
+                                              "%s_%s%d.exr" % (base, engine.lower(), seed), seed)
+    res = {"scene": name, "width": width, "height": height, "spp": spp}
+    for engine in ('FACET', 'CYCLES'):
+        (a, w1, c1), (b, w2, c2) = runs[engine, 1], runs[engine, 2]
+        key = engine.lower()
+        res[key + "_sigma"] = noise_sigma(a, b)
+        res[key + "_wall"] = [w1, w2]
+        res[key + "_cpu"] = [c1, c2]
+        res[key + "_mean"] = float(0.5 * (luminance(a).mean() + luminance(b).mean()))
+    sq = (res["facet_sigma"] / max(res["cycles_sigma"], 1e-30)) ** 2
+    for m in ("wall", "cpu"):
+        res["ratio_" + m] = sum(res["facet_" + m]) / max(sum(res["cycles_" + m]), 1e-9) * sq
+    res["noise_ratio"] = res["facet_sigma"] / max(res["cycles_sigma"], 1e-30)
+    res["mean_ratio"] = res["facet_mean"] / max(res["cycles_mean"], 1e-30)
+    with open(base + ".json", "w") as f:
+        json.dump(res, f, indent=1)
+    print("%s: noise Facet/Cycles %.3f, CPU %.1f/%.1f s, equal-error ratio CPU %.3f wall %.3f"
+          % (name, res["noise_ratio"], sum(res["facet_cpu"]) / 2, sum(res["cycles_cpu"]) / 2,
+             res["ratio_cpu"], res["ratio_wall"]))
+
+
 def main():
     name, out = bt.args()[0], bt.args()[1]
     profile = bt.args()[2] if len(bt.args()) > 2 else "ci"
@@ -124,10 +174,12 @@ def main():
     scene = bpy.context.scene  # staging may have opened a .blend
     # Profiles: ci (the CTest size, checked), preview (the CTest size, pending scenes too, not
     # checked), bench (bench/realscenes_bench.py: larger, not checked, with Power selection too).
-    width, height, spp = entry.bench if profile == "bench" else entry.ci
+    width, height, spp = entry.bench if profile in ("bench", "timeerror") else entry.ci
     if len(bt.args()) > 5:  # explicit width height spp (bench/realscenes_bench.py --size/--spp)
         width, height, spp = (int(v) for v in bt.args()[3:6])
     settings(scene, width, height, spp, entry.max_depth, entry.light_selection)
+    if profile == "timeerror":
+        return time_error(scene, name, out, width, height, spp)
     base = os.path.join(out, "realscene_%s" % name)
     from facet_blender import hooks
     facet, t_facet = cs.render(scene, 'FACET', base + "_facet.exr", 1,

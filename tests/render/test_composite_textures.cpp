@@ -147,6 +147,41 @@ TEST(CompositeTextures, InputsEvaluatedAtTheHit) {
     EXPECT_EQ(k.eval(hit_at(0.f)).r, 8.f);
 }
 
+// fac_color (the Mix node's Vector mode with a Non-Uniform factor): one factor per channel,
+// a + t_c (b - a) in each channel c, clamped per channel with clamp_factor; the range is the
+// per-channel corners. Exact in float for these values (tolerance 1e-7: one rounding).
+TEST(CompositeTextures, FactorPerChannel) {
+    const json tx = {
+        {"mix_rgb",
+         {{"fac_color", {{"mix_rgb", {{"fac", kX}, {"color1", {0, 1, 2}}, {"color2", {1, 0, 2}}}}}},
+          {"color1", {0.2, 0.2, 0.2}},
+          {"color2", {1, 0.6, 0}}}}};
+    const fr::Texture t = fr::build_procedural_texture(composite_desc(tx), true, "/t");
+    for (float x : {0.f, 0.25f, 0.5f, 1.f}) {
+        const Rgb v = t.eval(hit_at(x));
+        // t = (x, 1 - x, 2 -> clamped to 1).
+        EXPECT_NEAR(v.r, 0.2f + x * 0.8f, 1e-7f) << x;
+        EXPECT_NEAR(v.g, 0.2f + (1.f - x) * 0.4f, 1e-7f) << x;
+        EXPECT_NEAR(v.b, 0.f, 1e-7f) << x;
+    }
+    EXPECT_NEAR(t.min_value().r, 0.2f, 1e-7f);
+    EXPECT_NEAR(t.max_value().r, 1.f, 1e-7f);
+    EXPECT_NEAR(t.max_value().g, 0.6f, 1e-7f);
+    json unclamped = tx;
+    unclamped["mix_rgb"]["clamp_factor"] = false;
+    EXPECT_NEAR(
+        fr::build_procedural_texture(composite_desc(unclamped), true, "/t").eval(hit_at(0.5f)).b,
+        0.2f - 2.f * 0.2f, 1e-7f);
+    auto has = [](const std::string& s, const std::string& what) {
+        return s.find(what) != std::string::npos;
+    };
+    std::string e = composite_error({{"mix_rgb", {{"fac_color", {0.1, 0.2, 0.3}}, {"fac", 0.5}}}});
+    EXPECT_TRUE(has(e, "/t/mix_rgb/fac_color") && has(e, "not both")) << e;
+    e = composite_error(
+        {{"mix_rgb", {{"fac_color", {0.1, 0.2, 0.3}}, {"blend_type", "multiply"}}}});
+    EXPECT_TRUE(has(e, "/t/mix_rgb/fac_color") && has(e, "'mix'")) << e;
+}
+
 // The ranges are conservative for every operation and blend type over random input ranges:
 // inputs a = lo_a + (hi_a - lo_a) x, b likewise in y, c a constant; every value at a grid of
 // points lies in [min_value, max_value]. (A range that misses values fails here; the clamp

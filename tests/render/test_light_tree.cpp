@@ -172,3 +172,50 @@ TEST(LightTree, RendersTheSameImageAsThePowerChoice) {
     EXPECT_LT(var_diff, 2.0 * var_power)
         << "tree variance " << var_diff - var_power << " vs power " << var_power;
 }
+
+// Auto (the default) is the tree from kTreeMinLocalLights local lights on and View below: an
+// environment and a sun do not count, an emitting quad does; an Auto render is the resolved
+// selection's image bit for bit.
+TEST(LightTree, AutoSelectionCountsLocalLights) {
+    auto scene_with = [](int points, bool quad) {
+        std::string lights = R"({"type": "directional", "direction": [0, 0.3, -1],
+                                 "irradiance": 0.5}, {"type": "environment", "radiance": 0.1},)";
+        for (int i = 0; i < points; ++i)
+            lights += "{\"type\": \"point\", \"position\": [" + std::to_string(i % 4 - 1.5) + ", " +
+                      std::to_string(i / 4 - 1) + ", 1], \"power\": 3},";
+        lights.pop_back();
+        return fr::testing::scene_from(R"(
+            "camera": {"position": [0, -4, 3], "look_at": [0, 0, 0], "up": [0, 0, 1],
+                       "fov": 50, "width": 16, "height": 12},
+            "materials": {"white": {"model": "lambert", "reflectance": 0.6}},
+            "shapes": [
+              {"type": "quad", "material": "white",
+               "vertices": [[-5, -5, 0], [5, -5, 0], [5, 5, 0], [-5, 5, 0]]})" +
+                                       std::string(quad ? R"(,
+              {"type": "quad", "emission": 2,
+               "vertices": [[2, 2, 1.5], [2, 3, 1.5], [3, 3, 1.5], [3, 2, 1.5]]})"
+                                                        : "") +
+                                       R"(],
+            "lights": [)" + lights + "]");
+    };
+    using fr::LightSelection;
+    ASSERT_EQ(fr::kTreeMinLocalLights, 12);
+    EXPECT_EQ(fr::resolve_light_selection(scene_with(11, false), LightSelection::Auto),
+              LightSelection::View);
+    EXPECT_EQ(fr::resolve_light_selection(scene_with(12, false), LightSelection::Auto),
+              LightSelection::Tree);
+    const fr::Scene eleven_and_quad = scene_with(11, true);
+    EXPECT_EQ(fr::resolve_light_selection(eleven_and_quad, LightSelection::Auto),
+              LightSelection::Tree);
+    EXPECT_EQ(fr::resolve_light_selection(eleven_and_quad, LightSelection::Power),
+              LightSelection::Power);
+    fr::RenderOptions o = fr::testing::test_options("path", 8, 3);
+    EXPECT_EQ(o.light_selection, LightSelection::Auto) << "the default";
+    const fr::Image autos = fr::render(eleven_and_quad, o);
+    o.light_selection = LightSelection::Tree;
+    const fr::Image tree = fr::render(eleven_and_quad, o);
+    o.light_selection = LightSelection::View;
+    const fr::Image view = fr::render(eleven_and_quad, o);
+    EXPECT_TRUE(autos.pixels() == tree.pixels());
+    EXPECT_FALSE(autos.pixels() == view.pixels());
+}

@@ -129,16 +129,40 @@ double adaptive_error(const FixedRgb& sum_a, int a, const FixedRgb& sum_n, int n
 
 }  // namespace
 
+LightSelection resolve_light_selection(const Scene& scene, LightSelection selection) {
+    if (selection != LightSelection::Auto) return selection;
+    int local = 0;
+    for (const Light& l : scene.lights())
+        if (nee_samples(l) && l.bounds()) ++local;
+    return local >= kTreeMinLocalLights ? LightSelection::Tree : LightSelection::View;
+}
+
+const char* light_selection_name(LightSelection selection) {
+    switch (selection) {
+        case LightSelection::View:
+            return "view";
+        case LightSelection::Power:
+            return "power";
+        case LightSelection::Uniform:
+            return "uniform";
+        case LightSelection::Tree:
+            return "tree";
+        case LightSelection::Auto:
+            break;
+    }
+    return "auto";
+}
+
 std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
                                const RenderOptions& o) {
+    const LightSelection ls = resolve_light_selection(scene, o.light_selection);
     std::uint64_t h = mix(0x46414345545041ull, scene.fingerprint());
     h = mix(h, std::uint64_t(rs.integrator));
     h = mix(h, std::uint64_t(rs.max_depth));
     h = mix(h, rs.seed);
     h = mix(h, rs.spp == 1 ? 1u : 0u);  // pixel-centre camera rays
-    h = mix(h, (o.independent_samples ? 1u : 0u) | (std::uint64_t(o.light_selection) << 3) |
-                   (o.light_selection == LightSelection::Uniform ? 2u : 0u) |
-                   (o.force_general_kernel ? 4u : 0u));
+    h = mix(h, (o.independent_samples ? 1u : 0u) | (std::uint64_t(ls) << 3) |
+                   (ls == LightSelection::Uniform ? 2u : 0u) | (o.force_general_kernel ? 4u : 0u));
     if (rs.adaptive_threshold > 0.0) {
         std::uint64_t bits;
         std::memcpy(&bits, &rs.adaptive_threshold, sizeof bits);
@@ -270,7 +294,8 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
     s.choice = choose_kernel(scene.features(), s.rs.integrator, s.rs.max_depth,
                              options.force_general_kernel);
     s.kernel = kernel_function(s.choice);
-    switch (options.light_selection) {
+    switch (resolve_light_selection(scene, options.light_selection)) {
+        case LightSelection::Auto:  // resolved above
         case LightSelection::View:
             s.light_dist = scene.view_light_distribution();
             break;

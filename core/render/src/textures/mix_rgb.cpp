@@ -11,7 +11,10 @@
 // saturation; saturation: a's saturation mixed toward b's when a has some; value: a's value
 // mixed toward b's; color: b's hue and saturation, mixed by t, when b has saturation). `fac`
 // is clamped to [0, 1] first when `clamp_factor` (always, for the Mix RGB node), the result to
-// [0, 1] when `use_clamp`.
+// [0, 1] when `use_clamp`. `fac_color` (blend `mix` only) replaces `fac` by one factor per
+// channel: the Mix node's Vector mode with a Non-Uniform factor (Cycles'
+// svm_node_mix_vector_non_uniform, a + t (b - a) per component).
+#include <algorithm>
 #include <array>
 #include <cmath>
 
@@ -274,9 +277,18 @@ class MixSource final : public CompositeSource {
   public:
     Blend m_type = Blend::Mix;
     bool m_clamp_factor = true, m_clamp = false;
+    bool m_per_channel = false;  // fac_color: t per channel (blend mix)
     CompositeInput m_fac, m_a, m_b;
 
     Rgb value(const TexturePoint& p) const override {
+        if (m_per_channel) {
+            Rgb t = m_fac.eval(p);
+            if (m_clamp_factor) t = glm::clamp(t, Rgb(0.f), Rgb(1.f));
+            const Rgb a = m_a.eval(p);
+            Rgb r = a + t * (m_b.eval(p) - a);
+            if (m_clamp) r = glm::clamp(r, Rgb(0.f), Rgb(1.f));
+            return r;
+        }
         float t = m_fac.number(p);
         if (m_clamp_factor) t = std::clamp(t, 0.f, 1.f);
         Rgb r = mix(m_type, t, m_a.eval(p), m_b.eval(p));
@@ -292,14 +304,26 @@ Texture build_mix_rgb(TextureBuild& b) {
     s->m_type = Blend(p.choice("blend_type"));
     s->m_clamp_factor = p.flag("clamp_factor");
     s->m_clamp = p.flag("use_clamp");
-    s->m_fac = p.input("fac", false);
+    const TextureDesc& d = b.desc;
+    s->m_per_channel = d.params.values().count("fac_color") ||
+                       std::any_of(d.inputs.begin(), d.inputs.end(),
+                                   [](const TextureInputDesc& x) { return x.name == "fac_color"; });
+    if (s->m_per_channel) {
+        const bool fac_given =
+            d.params.values().count("fac") ||
+            std::any_of(d.inputs.begin(), d.inputs.end(),
+                        [](const TextureInputDesc& x) { return x.name == "fac"; });
+        if (fac_given) b.fail(p.pointer("fac_color"), "give either fac or fac_color, not both");
+        if (s->m_type != Blend::Mix)
+            b.fail(p.pointer("fac_color"),
+                   "a factor per channel needs blend_type 'mix' (the Mix node's Vector mode)");
+    }
+    s->m_fac = s->m_per_channel ? p.input("fac_color", true) : p.input("fac", false);
     // A number texture mixes numbers (grey colours stay grey in every blend), unless it
     // reads a channel of the colour.
     const bool colours = b.color || !b.desc.channel.empty();
     s->m_a = p.input("color1", colours);
     s->m_b = p.input("color2", colours);
-    Interval t = s->m_fac.range();
-    if (s->m_clamp_factor) t = t.clamped(0.0, 1.0);
     Interval all_a = s->m_a.range(0), all_b = s->m_b.range(0);
     for (int c = 1; c < 3; ++c) {
         all_a = all_a.join(s->m_a.range(c));
@@ -307,6 +331,8 @@ Texture build_mix_rgb(TextureBuild& b) {
     }
     Rgb lo, hi;
     for (int c = 0; c < 3; ++c) {
+        Interval t = s->m_fac.range(s->m_per_channel ? c : 0);
+        if (s->m_clamp_factor) t = t.clamped(0.0, 1.0);
         Interval r = mix_range(s->m_type, t, s->m_a.range(c), s->m_b.range(c), all_a, all_b);
         if (s->m_clamp) r = r.clamped(0.0, 1.0);
         lo[c] = float(r.lo);
@@ -346,6 +372,18 @@ const TextureKindDef kMixRgbTexture{
          {},
          "the factor",
          TextureParamForm::Input},
+        {"fac_color",
+         ParamType::Color,
+         0,
+         {},
+         0,
+         0,
+         false,
+         {},
+         "instead of fac, one factor per channel (blend_type mix only: the Mix node's Vector "
+         "mode with a Non-Uniform factor)",
+         TextureParamForm::Input,
+         Rgb(0.5f)},
         {"color1",
          ParamType::Color,
          0,

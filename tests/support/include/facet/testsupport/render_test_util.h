@@ -52,7 +52,7 @@ inline const char* const kQuadLightOverPlane = R"(
         ])";
 
 // Options of a test render: integrator, samples per pixel, seed and thread count; everything
-// else as RenderOptions defaults it (the scene's max_depth, power light selection, no progress).
+// else as RenderOptions defaults it (the scene's max_depth, Auto light selection, no progress).
 // Scale of the Monte Carlo work of slow render tests: FACET_STRESS_SCALE (test.sh sets 0.1 for
 // the Debug + ASan/UBSan tree), at least 0.05; 1 when unset.
 inline double stress_scale() {
