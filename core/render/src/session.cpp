@@ -231,6 +231,7 @@ struct RenderSession::State {
         proto.light_distribution = &light_dist;
         proto.independent_samples = options.independent_samples;
         proto.alpha = film.alpha_sums();
+        proto.catcher = film.catcher_sums();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
@@ -297,7 +298,7 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
             s.tiles.push_back(t);
         }
     }
-    s.film = Film(reg, scene.settings().film_transparent);
+    s.film = Film(reg, scene.settings().film_transparent, scene.features().has_shadow_catcher);
     if (s.adaptive()) s.checkpoint_sums.assign(s.film.sum_values().size(), FixedRgb{});
     s.target = s.rs.sample_end;
     s.stats.kernel = s.choice;
