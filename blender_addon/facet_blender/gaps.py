@@ -361,8 +361,6 @@ OBJECT_FLAGS = (
      RAY % "volume-scatter"),
     ("visible_shadow", "Visibility > Ray Visibility > Shadow", True,
      "per-object ray visibility is not in Facet's core yet: the object casts shadows"),
-    ("is_shadow_catcher", "Visibility > Shadow Catcher", False,
-     "the shadow catcher is not in Facet's core yet: rendered as an ordinary object"),
     ("cycles.use_camera_cull", "Visibility > Culling > Camera Cull", False,
      "culling is not converted: Facet renders the whole object"),
     ("cycles.use_distance_cull", "Visibility > Culling > Distance Cull", False,
@@ -418,6 +416,7 @@ CONVERTED = {
     "render.film_transparent": "the alpha channel (export_render_settings: the scene's "
                                "render.film_transparent)",
     "object.is_holdout": "the shape's holdout (export.py, _is_holdout)",
+    "object.is_shadow_catcher": "the shape's shadow_catcher (export.py, _is_shadow_catcher)",
     "collection.holdout": "its objects' shapes are holdouts (export.py, holdout_objects)",
     "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
     "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,

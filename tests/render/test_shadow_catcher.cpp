@@ -7,12 +7,15 @@
 
 #include <algorithm>
 #include <cmath>
+#include <stdexcept>
 #include <string>
 
 #include "facet/render/film.h"
 #include "facet/render/image.h"
+#include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
+#include "facet/render/scene_description.h"
 #include "facet/testsupport/render_test_util.h"
 
 namespace fr = facet::render;
@@ -203,11 +206,32 @@ TEST(ShadowCatcher, JsonErrorsNameThePlace) {
                  "shapes": [{"type": "instance", "of": "p", "shadow_catcher": true}])");
     EXPECT_NE(inst.find("/shapes/0/shadow_catcher"), std::string::npos) << inst;
     EXPECT_NE(inst.find("prototype"), std::string::npos) << inst;
+    // POV-Ray has no shadow catcher: its export refuses one, naming it.
+    const std::string body = scene_text(true, false);
+    std::string pov = "no error";
+    try {
+        fr::export_pov(fr::parse_scene_description(
+                           R"({"format": "facet-scene", "version": 1, )" + body + "}", "a"),
+                       "a.json");
+    } catch (const fr::SceneError& e) {
+        pov = e.what();
+    }
+    EXPECT_NE(pov.find("/shapes/0/shadow_catcher"), std::string::npos) << pov;
 }
 
-// A catcher's film keeps its sums beside the colour; parts cannot carry them (an error naming
-// the file, never a part that would merge into a different image).
+// A catcher's film keeps its sums beside the colour; parts cannot carry them: a session refuses
+// to make one, and a part file is not written (errors, never a part that would merge into a
+// different image).
 TEST(ShadowCatcher, PartsAreRefused) {
+    const fr::Scene scene = scene_of(scene_text(true, true));
+    fr::RenderSession session(scene, fr::testing::test_options("path", 2, 1));
+    session.render();
+    try {
+        (void)session.part();
+        FAIL() << "no error";
+    } catch (const std::invalid_argument& e) {
+        EXPECT_NE(std::string(e.what()).find("shadow catcher"), std::string::npos) << e.what();
+    }
     fr::RenderPart part;
     part.info.width = part.info.height = 2;
     part.info.region = {0, 0, 2, 2};

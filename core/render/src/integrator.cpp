@@ -72,8 +72,10 @@ struct CatcherPath {
     bool catchers_only = false;  // in: after the split, rays see shadow catchers only
     bool split = false;          // the path met a catcher while see-through
     Rgb matte{0.f};              // the radiance gathered before the split (full run)
-    Rgb background{0.f};         // the environment behind the catcher, times the throughput
-    float split_t = 0.f;         // the throughput's mean at the split (the matte's transparency)
+    // The environment seen by the see-through path: where it escapes, or straight behind the
+    // catcher at the split (times the throughput), as Cycles' background pass.
+    Rgb background{0.f};
+    float split_t = 0.f;  // the throughput's mean at the split (the matte's transparency)
 };
 
 // Whether a hit's shape is a shadow catcher.
@@ -986,6 +988,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if constexpr ((F & kFeatAlpha) != 0) {
                 if (see_through) {
                     if (!found) {
+                        // The background a shadow catcher's opaque film shows (film.h).
+                        if (catcher && !catcher->split) [[unlikely]]
+                            if (const Light* env = scene.environment())
+                                catcher->background += beta * env->le_escape(ray.d);
                         if (scene.settings().film_transparent) {
                             T += mean3(beta);
                             break;
@@ -1035,7 +1041,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                         catcher->matte = L;
                         catcher->split_t = mean3(beta);
                         if (const Light* env = scene.environment())
-                            catcher->background = beta * env->le_escape(ray.d);
+                            catcher->background += beta * env->le_escape(ray.d);
                     }
                 }
             }
@@ -1214,7 +1220,10 @@ template <std::uint32_t F>
     const Rgb L = media_path_li<F>(scene, *job.light_distribution, ray, time, found, first, stack,
                                    s, job.max_depth, c, T, &full);
     out = CatcherSample{Rgb(0.f), Rgb(0.f), Rgb(0.f), 0.f, false};
-    if (!full.split) return L;
+    if (!full.split) {
+        if (film_accepts(full.background)) out.background = full.background;
+        return L;
+    }
     CatcherPath only;
     only.catchers_only = true;
     Sampler s2(seed, index, 1u);

@@ -23,7 +23,8 @@
 //    a film made for a scene with a catcher also sums, per pixel, kCatcherSums fixed-point
 //    values (CatcherSums): the "matte" (each sample's radiance before its path met a catcher,
 //    or all of it when it met none), the radiance of the catcher-only paths, the environment
-//    behind the catcher, the transparency the split left to the matte, and the number of
+//    the see-through camera paths see (where they escape, or straight behind the catcher: Cycles'
+//    background pass), the transparency the split left to the matte, and the number of
 //    samples that met a catcher. resolve() then gives Cycles' Combined pass: the ratio
 //    r = (sum - matte) / catcher per channel (1 where the catcher sum is 0 or no sample met a
 //    catcher) is the light the catcher kept; over a transparent film with combined coverage

@@ -90,11 +90,12 @@
 //    same camera sample, with the same sample values, repeats the path up to the split and
 //    goes on from it seeing only catchers: its rays and shadow rays pass every other surface
 //    as if absent (media stay as they were). Each sample adds the matte, the catcher-only
-//    radiance, the environment straight behind the catcher (throughput times its radiance
-//    along the camera ray) and its count to the film's catcher sums (film.h), which resolve
-//    them as Cycles' Combined pass: over a transparent film the catcher is transparent except
-//    for the light the other objects took from it (alpha = 1 - the ratio of the full to the
-//    catcher-only radiance), in an opaque one it shows the environment darkened by that.
+//    radiance, the environment its see-through path sees (throughput times the environment's
+//    radiance where it escapes, or straight behind the catcher at the split) and its count to the
+//    film's catcher sums (film.h), which resolve them as Cycles' Combined pass: over a transparent
+//    film the catcher is transparent except for the light the other objects took from it (alpha = 1
+//    - the ratio of the full to the catcher-only radiance), in an opaque one it shows the
+//    environment darkened by that.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
