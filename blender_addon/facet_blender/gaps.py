@@ -391,6 +391,11 @@ LAMP_FLAGS = (
      LAMP % "through transmission"),
     ("visible_volume_scatter", "Visibility > Ray Visibility > Volume Scatter", True,
      "per-lamp ray visibility is not in Facet's core yet"),
+    # Blender makes every lamp object a shadow catcher; Cycles leaves a lamp without the flag
+    # out of the catcher-only light (its shadows on a catcher are not caught).
+    ("is_shadow_catcher", "Visibility > Shadow Catcher", True,
+     "not converted: the lamp lights Facet's shadow catchers as every lamp does (Cycles leaves "
+     "it out of what a catcher would receive unshadowed, so its shadows are not caught)"),
 )
 # Per collection of the view layer (its layer collection's restriction toggles).
 COLLECTION_FLAGS = (
@@ -514,8 +519,6 @@ UNCHANGED = {
     "lamp.visible_shadow": "Cast Shadow (Light > Settings) is the lamp's own, reported there",
     "lamp.is_holdout": "Cycles applies it to geometry only (Object > Visibility shows it for "
                        "none of a lamp's)",
-    "lamp.is_shadow_catcher": "Cycles applies it to geometry only (Object > Visibility shows "
-                              "it for none of a lamp's)",
 }
 for _k in ("samples", "preview_samples", "sample_offset", "time_limit", "sampling_pattern",
            "scrambling_distance", "preview_scrambling_distance", "auto_scrambling_distance",

@@ -9,6 +9,8 @@ world is seen directly around it.
 - Film > Transparent on: Cycles' Combined is the sphere's colour with alpha, and on the
   catcher no colour and alpha = the shadow (1 - the light the sphere takes from it);
 - off: the catcher shows the world behind it darkened by the same shadow.
+A second scene, over a transparent film, makes the catcher glossy (Specular 1, Roughness 0.15:
+it reflects the sphere) and lights it with a 1 m area lamp instead of the sun (soft shadows).
 
 Bounds, as the real-scene suite states them (tests/realscenes/test_realscene.py): for the
 (premultiplied) colour's luminance and, over a transparent film, for the alpha channel,
@@ -68,7 +70,7 @@ def render(scene, engine, path, seed):
     return load_rgba(path)
 
 
-def build_scene():
+def build_scene(glossy_area=False):
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
     scene.render.resolution_x = scene.render.resolution_y = RES
@@ -85,6 +87,9 @@ def build_scene():
     floor.use_nodes = True
     bsdf = floor.node_tree.nodes["Principled BSDF"]
     bsdf.inputs["Base Color"].default_value = (0.8, 0.5, 0.4, 1.0)
+    if glossy_area:
+        bsdf.inputs["Roughness"].default_value = 0.15
+        bsdf.inputs["Specular"].default_value = 1.0
     plane.data.materials.append(floor)
     plane.is_shadow_catcher = True
     bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=64, ring_count=32,
@@ -94,8 +99,12 @@ def build_scene():
     bt.single_shader(mat, "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.3, 0.2, 1.0),
                                                      "Roughness": 0.0})
     bpy.context.object.data.materials.append(mat)
-    cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 4.0), rotation=(0.5236, 0.0, 0.6),
-                 visible_camera=False, angle=0.0)
+    if glossy_area:
+        cs.add_light(scene, 'AREA', 150.0, (1.0, 1.2, 2.5), rotation=(-0.4, 0.35, 0.0),
+                     visible_camera=False, size=1.0)
+    else:
+        cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 4.0), rotation=(0.5236, 0.0, 0.6),
+                     visible_camera=False, angle=0.0)
     cd = bpy.data.cameras.new("cam")
     cd.type = 'ORTHO'
     cd.ortho_scale = 3.4
@@ -129,12 +138,13 @@ def within(res):
                for i in range(0, len(res), 2))
 
 
-def film_case(scene, plane, out, transparent):
-    tag = "transparent" if transparent else "opaque"
+def film_case(scene, plane, out, transparent, tag=None):
+    tag = tag or ("transparent" if transparent else "opaque")
+    key = tag.replace(", ", "_").replace(" ", "_")
     scene.render.film_transparent = transparent
     plane.is_shadow_catcher = True
-    c1 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles1.exr" % tag), 1)
-    c2 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles2.exr" % tag), 2)
+    c1 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles1.exr" % key), 1)
+    c2 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles2.exr" % key), 2)
     mean_c = (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()),
               0.5 * (c1[:, :, 3].mean() + c2[:, :, 3].mean()))
     floors = (cs.block_rmse(c1, c2, BLOCK),
@@ -144,21 +154,21 @@ def film_case(scene, plane, out, transparent):
     # What Cycles does (the definition the test holds Facet to): over a transparent film the
     # lit catcher has no colour and alpha near 0, the shadow alpha; over an opaque one the
     # lit catcher is the world's colour.
-    lit = c1[50, 14]  # the plane far from the sphere and its shadow
+    lit = c1[14, 50]  # the plane far from the sphere and its shadows
     if transparent:
         bt.check(np.all(lit[:3] == 0.0) and lit[3] < 0.05,
                  "Cycles: the lit catcher is transparent and colourless (%s)" % lit)
     else:
         bt.check(np.allclose(lit[:3], (0.2, 0.3, 0.5), rtol=0.05),
                  "Cycles: the lit catcher shows the world over an opaque film (%s)" % lit)
-    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet1.exr" % tag), 1)
+    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet1.exr" % key), 1)
     res = compare("Facet, film %s" % tag, f, c1, mean_c, floors, transparent)
     bt.check(within(res), "film %s: Facet's colour%s match Cycles' (mean within %g, block "
              "RMSE <= %g x floor)" % (tag, " and alpha" if transparent else "", MEAN_TOL,
                                       RMSE_FACTOR))
     # Control: without the flag the plane is an ordinary object, and a bound breaks.
     plane.is_shadow_catcher = False
-    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % tag), 1)
+    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % key), 1)
     bt.check(not within(compare("Facet, film %s, catcher off" % tag, f, c1, mean_c, floors,
                                 transparent)),
              "film %s: without Shadow Catcher a bound breaks: the test can fail" % tag)
@@ -176,6 +186,8 @@ def main():
              "the plane is exported as a shadow catcher, without a report line: %s" % problems)
     film_case(scene, plane, out, True)
     film_case(scene, plane, out, False)
+    scene, plane = build_scene(glossy_area=True)
+    film_case(scene, plane, out, True, "transparent, glossy, area lamp")
 
 
 bt.run(main)

@@ -181,6 +181,51 @@ TEST(ShadowCatcher, OpaqueFilmShowsTheDarkenedEnvironment) {
     EXPECT_GT(worst_control, 0.1);
 }
 
+// An emitting shape lights the catcher-only run only if it is a catcher itself, as in Cycles
+// 3.4 (measured there: a Mesh Light over a catcher leaves alpha 0 in its cube's shadow unless
+// the emitter's own Shadow Catcher is on). The scene's only light is an emissive quad outside
+// the view: not a catcher, the catcher-only radiance is 0, the ratio counts as 1 and no pixel
+// wholly on the catcher gets alpha (exactly 0); flagged, its shadow is caught (alpha > 0.5
+// somewhere on the disc). Both are exact statements about the estimator, not noisy bounds.
+TEST(ShadowCatcher, EmittersLightTheCatcherOnlyRunWhenCatchersThemselves) {
+    auto scene = [](bool emitter_catches) {
+        return std::string(
+                   R"("camera": {"type": "orthographic", "position": [0, 0, 5],
+                                 "look_at": [0, 0, 0], "up": [0, 1, 0], "scale": 2,
+                                 "width": 16, "height": 16},
+                      "shapes": [{"type": "disc", "center": [0, 0, 0], "normal": [0, 0, 1],
+                                  "radius": 0.8, "shadow_catcher": true,
+                                  "material": {"model": "lambert", "reflectance": 0.8}},
+                                 {"type": "sphere", "center": [0.4, 0, 0.6], "radius": 0.2,
+                                  "material": {"model": "lambert", "reflectance": 0}},
+                                 {"type": "quad", "vertices": [[1.2, -0.3, 2], [1.2, 0.3, 2],
+                                                               [1.8, 0.3, 2], [1.8, -0.3, 2]],
+                                  "emission": 20, "shadow_catcher": )") +
+               (emitter_catches ? "true" : "false") +
+               R"(}], "render": {"max_depth": 4, "film_transparent": true})";
+    };
+    const auto opts = fr::testing::test_options("path", 64, 7);
+    const fr::Image plain = fr::render(scene_of(scene(false)), opts);
+    const fr::Image caught = fr::render(scene_of(scene(true)), opts);
+    ASSERT_TRUE(plain.has_alpha() && caught.has_alpha());
+    float most = 0.f;
+    int checked = 0;
+    for (int y = 0; y < kSide; ++y) {
+        for (int x = 0; x < kSide; ++x) {
+            const double cx = -1.0 + (x + 0.5) * kPixel, cy = 1.0 - (y + 0.5) * kPixel;
+            if (std::hypot(std::fabs(cx) + kPixel / 2, std::fabs(cy) + kPixel / 2) >= 0.8 ||
+                sphere_coverage(x, y) > 0.0)
+                continue;
+            const std::size_t i = std::size_t(y * kSide + x);
+            EXPECT_EQ(plain.alpha()[i], 0.f) << "pixel " << x << ", " << y;
+            most = std::max(most, caught.alpha()[i]);
+            ++checked;
+        }
+    }
+    EXPECT_GT(checked, 80);
+    EXPECT_GT(most, 0.5f);
+}
+
 // The flag's errors name their place; an instance cannot carry it (its prototype's shapes do).
 TEST(ShadowCatcher, JsonErrorsNameThePlace) {
     auto message = [](const std::string& body) {

@@ -83,6 +83,13 @@ inline bool is_catcher(const Scene& scene, const SurfaceHit& hit) {
     return scene.shapes()[hit.shape].shadow_catcher;
 }
 
+// Whether light `l` lights a run (`only_catchers`: the catcher-only run after its split). As in
+// Cycles, an emitting shape lights the catcher-only run only if it is a catcher itself (its
+// other surfaces are absent there); lamps and the environment light every run.
+inline bool lights_run(const Scene& scene, const Light& l, bool only_catchers) {
+    return !only_catchers || l.shape() == UINT32_MAX || scene.shapes()[l.shape()].shadow_catcher;
+}
+
 // The closest hit of `ray` among the shadow catchers: other shapes are passed as if absent
 // (hit.t stays the distance from ray.o).
 template <std::uint32_t F>
@@ -1096,7 +1103,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt) {
+                if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
+                                  ? light.sample_li(ctx, u_light)
+                                  : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
                         const BSDFEval e = bsdf_eval<F>(mb, sh.wo, wi);
@@ -1166,7 +1175,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+                if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
+                                  ? light.sample_li(ctx, u_light)
+                                  : std::nullopt;
                     ls && ls->pdf > 0.f) {
                     const float ph = med.phase().eval(wo_w, ls->wi);
                     const Rgb contrib = ph * ls->li;

@@ -89,7 +89,8 @@
 //    the "matte"; its transparency gains the throughput's mean then), and a second run of the
 //    same camera sample, with the same sample values, repeats the path up to the split and
 //    goes on from it seeing only catchers: its rays and shadow rays pass every other surface
-//    as if absent (media stay as they were). Each sample adds the matte, the catcher-only
+//    as if absent (media stay as they were), and an emitting shape lights it only if it is a
+//    catcher (lamps and the environment always do). Each sample adds the matte, the catcher-only
 //    radiance, the environment its see-through path sees (throughput times the environment's
 //    radiance where it escapes, or straight behind the catcher at the split) and its count to the
 //    film's catcher sums (film.h), which resolve them as Cycles' Combined pass: over a transparent
