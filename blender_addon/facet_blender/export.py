@@ -314,6 +314,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
             _add_material(shape, slot_mat, mats, obj)
             if _is_holdout(obj, held_out):
                 shape["holdout"] = True
+            if _is_shadow_catcher(obj):
+                shape["shadow_catcher"] = True
             order.append(shape)
             continue
         slots = [s.material for s in obj.material_slots] or [None]
@@ -325,9 +327,10 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         # The same evaluated geometry (a pointer compared while this depsgraph lives) with the
         # same materials is one mesh however often it is placed; other kinds: per object.
         holdout = _is_holdout(obj, held_out)
+        catcher = _is_shadow_catcher(obj)
         gkey = (data_ptr or orig.name, inst.is_instance if not data_ptr else None,
                 tuple(m.name if m is not None else None for m in slots), uv_layer, tangents,
-                colors, holdout)
+                colors, holdout, catcher)
         rec = placed.get(gkey)
         if rec is None:
             key = (orig.name, inst.is_instance, data_ptr if inst.is_instance else 0, uv_layer,
@@ -339,6 +342,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                                                problems)
             if holdout:  # Object > Visibility > Holdout, or a Holdout collection
                 rec.templates = [(s, dict(t, holdout=True)) for s, t in rec.templates]
+            if catcher:  # Object > Visibility > Shadow Catcher
+                rec.templates = [(s, dict(t, shadow_catcher=True)) for s, t in rec.templates]
             if clip is not None and orig.type != 'MESH':
                 clip.points(clip_key, mesh_cache[key])
         if not inst.is_instance and rec.templates:
@@ -417,6 +422,11 @@ def holdout_objects(view_layer):
             walk(child)
     walk(view_layer.layer_collection)
     return names
+
+
+def _is_shadow_catcher(obj):
+    """Whether the object is a shadow catcher (FORMAT.md "Shadow catchers")."""
+    return bool(getattr(obj.original, "is_shadow_catcher", False))
 
 
 def _is_holdout(obj, held_out):

@@ -337,6 +337,12 @@ SETTINGS = (
      "not converted: camera rays see the world"),
     ("view_layer.material_override", "View Layer > Material Override", None,
      "not converted: the objects' own materials are rendered"),
+    # Cycles 3.4 makes its Combined pass the approximate shadow catcher only without this pass
+    # (measured: with it a catcher's shadow leaves the Combined pass's alpha).
+    ("view_layer.cycles.use_pass_shadow_catcher", "View Layer > Passes > Shadow Catcher", False,
+     "not converted: Facet's Combined pass is Cycles' approximate shadow catcher (the shadows "
+     "on a catcher in the alpha, or over the world), as without this pass; no Shadow Catcher "
+     "pass is made"),
     ("world.cycles.max_bounces", "World > Settings > Max Bounces", 1024,
      "not in Facet's core: the scene's max depth applies"),
     ("world.cycles.is_caustics_light", "World > Settings > Shadow Caustics", False,
@@ -369,8 +375,6 @@ OBJECT_FLAGS = (
      RAY % "volume-scatter"),
     ("visible_shadow", "Visibility > Ray Visibility > Shadow", True,
      "per-object ray visibility is not in Facet's core yet: the object casts shadows"),
-    ("is_shadow_catcher", "Visibility > Shadow Catcher", False,
-     "the shadow catcher is not in Facet's core yet: rendered as an ordinary object"),
     ("cycles.use_camera_cull", "Visibility > Culling > Camera Cull", False,
      "culling is not converted: Facet renders the whole object"),
     ("cycles.use_distance_cull", "Visibility > Culling > Distance Cull", False,
@@ -401,6 +405,11 @@ LAMP_FLAGS = (
      LAMP % "through transmission"),
     ("visible_volume_scatter", "Visibility > Ray Visibility > Volume Scatter", True,
      "per-lamp ray visibility is not in Facet's core yet"),
+    # Blender makes every lamp object a shadow catcher; Cycles leaves a lamp without the flag
+    # out of the catcher-only light (its shadows on a catcher are not caught).
+    ("is_shadow_catcher", "Visibility > Shadow Catcher", True,
+     "not converted: the lamp lights Facet's shadow catchers as every lamp does (Cycles leaves "
+     "it out of what a catcher would receive unshadowed, so its shadows are not caught)"),
 )
 # Per collection of the view layer (its layer collection's restriction toggles).
 COLLECTION_FLAGS = (
@@ -426,6 +435,7 @@ CONVERTED = {
     "render.film_transparent": "the alpha channel (export_render_settings: the scene's "
                                "render.film_transparent)",
     "object.is_holdout": "the shape's holdout (export.py, _is_holdout)",
+    "object.is_shadow_catcher": "the shape's shadow_catcher (export.py, _is_shadow_catcher)",
     "collection.holdout": "its objects' shapes are holdouts (export.py, holdout_objects)",
     "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
     "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,
@@ -523,8 +533,6 @@ UNCHANGED = {
     "lamp.visible_shadow": "Cast Shadow (Light > Settings) is the lamp's own, reported there",
     "lamp.is_holdout": "Cycles applies it to geometry only (Object > Visibility shows it for "
                        "none of a lamp's)",
-    "lamp.is_shadow_catcher": "Cycles applies it to geometry only (Object > Visibility shows "
-                              "it for none of a lamp's)",
 }
 for _k in ("samples", "preview_samples", "sample_offset", "time_limit", "sampling_pattern",
            "scrambling_distance", "preview_scrambling_distance", "auto_scrambling_distance",

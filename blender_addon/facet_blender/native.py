@@ -189,6 +189,7 @@ def _shape_desc(s):
     sd.two_sided = bool(s.get("two_sided", True))
     sd.flip_normals = bool(s.get("flip_normals", False))
     sd.holdout = bool(s.get("holdout", False))
+    sd.shadow_catcher = bool(s.get("shadow_catcher", False))
     if "texture_space" in s:
         ts = s["texture_space"]
         sd.texture_space = (_rgb(ts["location"]), _rgb(ts["size"]))
@@ -341,6 +342,8 @@ def _shape_data(sd, base_dir):
          "flip_normals": bool(sd.flip_normals), "emission": _vec(sd.emission)}
     if sd.holdout:
         s["holdout"] = True
+    if sd.shadow_catcher:
+        s["shadow_catcher"] = True
     if sd.material is not None:
         s["material"] = _material_data(sd.material)
     elif sd.material_ref:

@@ -326,7 +326,7 @@ const std::set<std::string> kCommonShapeAttributes = {
     "emission",      "emission_texture", "two_sided",
     "flip_normals",  "transform",        "motion",
     "texture_space", "motion_positions", "motion_normals",
-    "holdout"};
+    "holdout",       "shadow_catcher"};
 
 // Deformation steps (ShapeDesc::motion_positions, motion_normals): a list of float32 arrays,
 // and back from any iterable of float sequences (each flattened).
@@ -1204,6 +1204,9 @@ void bind_scene(py::module_& m) {
         .def_readwrite("flip_normals", &ShapeDesc::flip_normals)
         .def_readwrite("holdout", &ShapeDesc::holdout,
                        "a holdout: alpha 0 and colour 0 where camera rays see it")
+        .def_readwrite("shadow_catcher", &ShapeDesc::shadow_catcher,
+                       "a shadow catcher: only the shadows cast on it are kept, as alpha "
+                       "(scenes/FORMAT.md, Shadow catchers)")
         .def_readwrite("transform", &ShapeDesc::transform)
         .def_readwrite("motion", &ShapeDesc::motion,
                        "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "

@@ -58,13 +58,13 @@ def export():
 
 def fingerprint():
     """What the render is made of, without the mesh arrays: camera, shape kinds, materials,
-    lights, render settings, holdouts and the render region."""
+    lights, render settings, holdouts, shadow catchers and the render region."""
     from facet_blender import export as ex, pixels
     data, problems = export()
     scene = bpy.context.scene
     w, h = ex.resolution(scene)
-    shapes = [(s["type"], s.get("name"), s.get("material"), s.get("holdout", False))
-              for s in data["shapes"]]
+    shapes = [(s["type"], s.get("name"), s.get("material"), s.get("holdout", False),
+               s.get("shadow_catcher", False)) for s in data["shapes"]]
     return repr((data["camera"], shapes, data["lights"], data["materials"], data["render"],
                  pixels.border_rect(scene.render, w, h))), problems
 
@@ -449,6 +449,14 @@ def case_object_flags():
             bt.check(after != before, "%s: converted (the export changes)" % path)
     bt.check(n_rep == len(gaps.OBJECT_FLAGS) + len(gaps.LAMP_FLAGS) + len(gaps.COLLECTION_FLAGS),
              "every flag row was walked (%d)" % n_rep)
+    # Object > Visibility > Shadow Catcher: the cube's shapes carry the flag, and no line.
+    fresh()
+    bpy.data.objects["Cube"].is_shadow_catcher = True
+    data, problems = export()
+    flags = [s.get("shadow_catcher", False) for s in data["shapes"]]
+    bt.check(flags and all(flags) and not [p for p in problems if "Shadow Catcher" in p],
+             "a shadow catcher is converted: the cube's shapes have shadow_catcher (%s), no "
+             "report line (%s)" % (flags, problems))
     # An object seen by no camera, diffuse, glossy or shadow ray is not exported, and said so
     # when Cycles would still show it through glass.
     fresh()

@@ -110,3 +110,31 @@ def test_film_transparent_is_rgba_and_merges(tmp_path):
     assert desc.render.film_transparent is False and desc.shapes[0].holdout is False
     desc.render.film_transparent = True
     assert facet.render(facet.build_scene(desc, name="t")).shape[2] == 4
+
+
+def test_shadow_catcher_keeps_the_shadows_as_alpha(tmp_path):
+    """A shadow catcher (FORMAT.md "Shadow catchers"): over a transparent film the floor loses
+    its colour and keeps its shadows as alpha; its session makes no part (a ValueError, never a
+    part that would merge into another image); the description's attribute."""
+    d = ts.scene_dict(SPP)
+    d["render"]["film_transparent"] = True
+    # Only the point light: an emitting shape that is no catcher does not light the catcher's
+    # unshadowed run (as in Cycles), so its shadows would not be caught.
+    d["shapes"] = [s for s in d["shapes"] if "emission" not in s]
+    plain = facet.render(facet.load_scene_from_string(json.dumps(d), name="tiny alpha"))
+    d["shapes"][0]["shadow_catcher"] = True  # the floor
+    sc = facet.load_scene_from_string(json.dumps(d), name="tiny catcher")
+    img = facet.render(sc)
+    assert img.shape == (ts.HEIGHT, ts.WIDTH, 4)
+    # The floor: opaque and lit without the flag, colourless with it.
+    floor = (plain[:, :, 3] == 1.0) & (plain[:, :, :3].max(axis=2) > 0.0) & \
+        (img[:, :, :3].max(axis=2) == 0.0)
+    assert floor.sum() > 0.2 * floor.size
+    a = img[:, :, 3][floor]
+    assert np.median(a) < 0.5 and a.max() > 0.5  # mostly lit, with shadows
+    with pytest.raises(ValueError, match="shadow catcher"):
+        part(sc)
+    desc = facet.read_scene_description(str(ts.write_scene(tmp_path)))
+    assert desc.shapes[0].shadow_catcher is False
+    desc.shapes[0].shadow_catcher = True
+    assert "a shadow catcher" in facet.build_scene(desc, name="t").explain()

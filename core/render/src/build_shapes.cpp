@@ -554,12 +554,14 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
         if (!s.two_sided) fail(ptr + "/two_sided", "give it on the prototype's shapes");
         if (s.flip_normals) fail(ptr + "/flip_normals", "give it on the prototype's shapes");
         if (s.holdout) fail(ptr + "/holdout", "give it on the prototype's shapes");
+        if (s.shadow_catcher) fail(ptr + "/shadow_catcher", "give it on the prototype's shapes");
     }
 
     ShapeInfo info;
     info.kind = s.kind;
     info.two_sided = s.two_sided;
     info.holdout = s.holdout;
+    info.shadow_catcher = s.shadow_catcher;
     info.emission = check_color(s.emission, ptr + "/emission", "an emitted radiance");
     if (s.emission_texture) {
         if (info.emission != Rgb(0.f))

@@ -37,7 +37,45 @@ Image Film::resolve() const {
         img.pixels()[i] = Rgb(float(from_fixed(s.c[0]) * inv), float(from_fixed(s.c[1]) * inv),
                               float(from_fixed(s.c[2]) * inv));
     }
+    if (has_catcher()) resolve_catcher(img);
     return img;
+}
+
+void Film::resolve_catcher(Image& img) const {
+    using C = CatcherSums;
+    for (std::size_t i = 0; i < m_sums.size(); ++i) {
+        const std::uint32_t n = m_counts[i];
+        if (n == 0) continue;
+        const double inv = 1.0 / double(n);
+        const FixedSum* c = &m_catcher[i * kCatcherSums];
+        // The combined pass's coverage (1 without alpha: an opaque film).
+        const double coverage = has_alpha() ? from_fixed(m_alpha[i]) * inv : 1.0;
+        const double a_c = std::clamp(coverage, 0.0, 1.0);
+        // The light the catcher kept, per channel, then over white by the combined coverage.
+        double r[3], matte[3];
+        for (int k = 0; k < 3; ++k) {
+            const FixedSum caught = c[C::kCatcher + std::size_t(k)];
+            const double ratio = c[C::kCount] != 0 && caught != 0
+                                     ? from_fixed(m_sums[i].c[k] - c[C::kMatte + std::size_t(k)]) /
+                                           from_fixed(caught)
+                                     : 1.0;
+            r[k] = 1.0 - a_c + a_c * ratio;
+            matte[k] = from_fixed(c[C::kMatte + std::size_t(k)]) * inv;
+        }
+        const double shadow = 1.0 - std::clamp((r[0] + r[1] + r[2]) / 3.0, 0.0, 1.0);
+        const double a_m =
+            std::clamp(1.0 - from_fixed(c[C::kSplitT]) * inv - (1.0 - coverage), 0.0, 1.0);
+        const double alpha = (1.0 - a_m) * shadow + a_m;
+        Rgb& px = img.pixels()[i];
+        if (has_alpha()) {
+            px = Rgb(float(matte[0]), float(matte[1]), float(matte[2]));
+            img.alpha()[i] = float(alpha);
+        } else {
+            for (int k = 0; k < 3; ++k)
+                px[k] = float(matte[k] +
+                              from_fixed(c[C::kBackground + std::size_t(k)]) * inv * (1.0 - alpha));
+        }
+    }
 }
 
 void Film::add(const Film& o) {
@@ -46,6 +84,8 @@ void Film::add(const Film& o) {
         throw std::logic_error("Film::add: region outside the film");
     if (has_alpha() != o.has_alpha())
         throw std::logic_error("Film::add: one film has alpha and the other not");
+    if (has_catcher() != o.has_catcher())
+        throw std::logic_error("Film::add: one film has shadow-catcher sums and the other not");
     for (int y = r.y0; y < r.y1; ++y) {
         for (int x = r.x0; x < r.x1; ++x) {
             const std::size_t src =
@@ -55,6 +95,9 @@ void Film::add(const Film& o) {
             m_sums[dst] += o.m_sums[src];
             m_counts[dst] += o.m_counts[src];
             if (!m_alpha.empty()) m_alpha[dst] += o.m_alpha[src];
+            if (!m_catcher.empty())
+                for (std::size_t k = 0; k < kCatcherSums; ++k)
+                    m_catcher[dst * kCatcherSums + k] += o.m_catcher[src * kCatcherSums + k];
         }
     }
 }
@@ -74,6 +117,10 @@ std::string region_text(const Region& r) {
 void write_part(const RenderPart& part, const std::string& path) {
     const PartInfo& p = part.info;
     const bool alpha = part.film.has_alpha();
+    if (part.film.has_catcher())
+        throw std::runtime_error(path +
+                                 ": a scene with a shadow catcher cannot be rendered in parts "
+                                 "(render it whole)");
     nlohmann::json h{{"format", "facet-part"},
                      {"version", alpha ? 2 : 1},
                      {"scene", p.scene},

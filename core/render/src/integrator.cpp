@@ -64,6 +64,38 @@ inline bool passes_straight(const BSDFSample& bs, const Vec3& wo) {
     return bs.is_specular() && bs.wi == -wo;
 }
 
+// ---- shadow catcher (alpha media kernel; integrator.h conventions, "Shadow catcher") ----
+
+// A camera sample's run of media_path_li in a scene with a shadow catcher: `catchers_only`
+// makes it the catcher-only run; the rest is what the run found.
+struct CatcherPath {
+    bool catchers_only = false;  // in: after the split, rays see shadow catchers only
+    bool split = false;          // the path met a catcher while see-through
+    Rgb matte{0.f};              // the radiance gathered before the split (full run)
+    // The environment seen by the see-through path: where it escapes, or straight behind the
+    // catcher at the split (times the throughput), as Cycles' background pass.
+    Rgb background{0.f};
+    float split_t = 0.f;  // the throughput's mean at the split (the matte's transparency)
+};
+
+// Whether a hit's shape is a shadow catcher.
+inline bool is_catcher(const Scene& scene, const SurfaceHit& hit) {
+    return scene.shapes()[hit.shape].shadow_catcher;
+}
+
+// Whether light `l` lights a run (`only_catchers`: the catcher-only run after its split). As in
+// Cycles, an emitting shape lights the catcher-only run only if it is a catcher itself (its
+// other surfaces are absent there); lamps and the environment light every run.
+inline bool lights_run(const Scene& scene, const Light& l, bool only_catchers) {
+    return !only_catchers || l.shape() == UINT32_MAX || scene.shapes()[l.shape()].shadow_catcher;
+}
+
+// The closest hit of `ray` among the shadow catchers: other shapes are passed as if absent
+// (hit.t stays the distance from ray.o).
+template <std::uint32_t F>
+[[gnu::noinline]] bool trace_catchers(const Scene& scene, const Ray& ray, float time,
+                                      SurfaceHit& hit, KernelCounters& c);
+
 // ---- BSDF access: the Material, or its single Lambertian lobe in the Lambert-only kernel ----
 
 template <std::uint32_t F>
@@ -693,9 +725,11 @@ inline bool entering(const Vec3& d, const Vec3& ng) {
 // the product of each medium's transmittance over the part of the ray inside it; `null`
 // surfaces are crossed, any other surface blocks it (0). For a heterogeneous kind this is where
 // ratio tracking goes (Novák et al. 2014), segment by segment as here.
+// With `only_catchers` (the catcher-only run after its split) surfaces other than shadow
+// catchers are passed as if absent.
 template <std::uint32_t F>
 Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stack, TrackingRng& rng,
-                         KernelCounters& c) {
+                         KernelCounters& c, bool only_catchers = false) {
     if (!(r.tmax > 0.f)) return Rgb(1.f);
     const std::span<const Medium> media = scene.media();
     const bool finite = std::isfinite(r.tmax);
@@ -713,8 +747,9 @@ Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stac
         if (!hit) return tr;
         if (!(max3(tr) > 0.f)) return Rgb(0.f);
         const MediumInterface* mi = scene.medium_interface(h.material);
-        if (!mi || !mi->pass_through) return Rgb(0.f);
-        stack.cross(mi->interior, entering(r.d, h.ng));
+        const bool absent = only_catchers && !is_catcher(scene, h);
+        if (!absent && (!mi || !mi->pass_through)) return Rgb(0.f);
+        if (!absent) stack.cross(mi->interior, entering(r.d, h.ng));
         r.o = offset_ray_origin(h.p, h.p_err, h.ng, r.d);
         if (finite) {
             r.tmax = glm::dot(end - r.o, r.d);
@@ -722,6 +757,22 @@ Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stac
         }
     }
     return Rgb(0.f);
+}
+
+template <std::uint32_t F>
+bool trace_catchers(const Scene& scene, const Ray& ray, float time, SurfaceHit& hit,
+                    KernelCounters& c) {
+    Ray r = ray;
+    for (int i = 0; i <= kMaxNullCrossings; ++i) {
+        if (!trace<F>(scene, r, time, hit)) return false;
+        if (is_catcher(scene, hit)) {
+            hit.t = glm::dot(hit.p - ray.o, ray.d);
+            return true;
+        }
+        r = Scene::spawn_ray(hit, ray.d);
+        ++c.rays;
+    }
+    return false;
 }
 
 // The media the camera is in: the boundaries a ray from the camera position leaves before it
@@ -901,7 +952,8 @@ float sample_segment(const Medium& med, const Ray& ray, float t_max, float u_cha
 template <std::uint32_t F>
 Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray ray, float time,
                   bool found, const SurfaceHit& first, MediumStack stack, Sampler& s, int max_depth,
-                  KernelCounters& c, [[maybe_unused]] float& T) {
+                  KernelCounters& c, [[maybe_unused]] float& T,
+                  [[maybe_unused]] CatcherPath* catcher = nullptr) {
     const std::span<const Light> lights = scene.lights();
     const std::span<const Medium> media = scene.media();
     const int num_lights = int(lights.size());
@@ -911,6 +963,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     LightSampleContext prev_ctx;
     SurfaceHit hit = first;
     [[maybe_unused]] bool see_through = true;  // alpha (as in path_vertex)
+    bool only_catchers = false;                // the catcher-only run, after its split
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: after a diffuse bounce (or a walk) materials with a
     // subsurface lobe are their diffuse fallback.
     bool diffuse_ancestor = false;
@@ -919,7 +972,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     int depth = 0, nulls = 0;
     for (std::uint32_t segment = 0;; ++segment) {
         if (segment > 0) {
-            found = trace<F>(scene, ray, time, hit);
+            found = only_catchers ? trace_catchers<F>(scene, ray, time, hit, c)
+                                  : trace<F>(scene, ray, time, hit);
             ++c.rays;
         }
         const std::uint32_t base = 1u + kMediaDimsPerSegment * segment;
@@ -941,6 +995,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if constexpr ((F & kFeatAlpha) != 0) {
                 if (see_through) {
                     if (!found) {
+                        // The background a shadow catcher's opaque film shows (film.h).
+                        if (catcher && !catcher->split) [[unlikely]]
+                            if (const Light* env = scene.environment())
+                                catcher->background += beta * env->le_escape(ray.d);
                         if (scene.settings().film_transparent) {
                             T += mean3(beta);
                             break;
@@ -979,6 +1037,21 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 continue;
             }
             nulls = 0;
+            // Shadow catcher: a see-through path's first catcher splits it (integrator.h).
+            if constexpr ((F & kFeatAlpha) != 0) {
+                if (catcher && see_through && !catcher->split && is_catcher(scene, hit)) {
+                    catcher->split = true;
+                    if (catcher->catchers_only) {
+                        L = Rgb(0.f);
+                        only_catchers = true;
+                    } else {
+                        catcher->matte = L;
+                        catcher->split_t = mean3(beta);
+                        if (const Light* env = scene.environment())
+                            catcher->background += beta * env->le_escape(ray.d);
+                    }
+                }
+            }
             if (hit.light >= 0 && max3(hit.emitted_radiance) > 0.f) {
                 if (depth == 0 || specular_bounce) {
                     L += beta * hit.emitted_radiance;
@@ -1030,7 +1103,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt) {
+                if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
+                                  ? light.sample_li(ctx, u_light)
+                                  : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
                         const BSDFEval e = bsdf_eval<F>(mb, sh.wo, wi);
@@ -1038,8 +1113,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                         if (max3(contrib) > 0.f) {
                             const Ray sr = Scene::shadow_ray_from(
                                 offset_ray_origin(hit.p, hit.p_err, hit.ng, ls->wi), *ls);
-                            const Rgb tr = shadow_transmittance<F>(scene, sr, time,
-                                                                   stack_toward(ls->wi), rng, c);
+                            const Rgb tr = shadow_transmittance<F>(
+                                scene, sr, time, stack_toward(ls->wi), rng, c, only_catchers);
                             const float lp = select_pmf * ls->pdf;
                             const float w =
                                 light.hittable() ? power_heuristic(lp, e.pdf * p_bsdf) : 1.f;
@@ -1100,13 +1175,16 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
-                if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+                if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
+                                  ? light.sample_li(ctx, u_light)
+                                  : std::nullopt;
                     ls && ls->pdf > 0.f) {
                     const float ph = med.phase().eval(wo_w, ls->wi);
                     const Rgb contrib = ph * ls->li;
                     if (max3(contrib) > 0.f) {
-                        const Rgb tr = shadow_transmittance<F>(
-                            scene, Scene::shadow_ray_from(p, *ls), time, stack, rng, c);
+                        const Rgb tr =
+                            shadow_transmittance<F>(scene, Scene::shadow_ray_from(p, *ls), time,
+                                                    stack, rng, c, only_catchers);
                         const float lp = select_pmf * ls->pdf;
                         const float w = light.hittable() ? power_heuristic(lp, ph) : 1.f;
                         L += beta * contrib * tr * (w / lp);
@@ -1129,6 +1207,73 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     return L;
 }
 
+// ---- shadow catcher: a camera sample's two runs (integrator.h, "Shadow catcher") ----
+
+// What a camera sample adds to its pixel's CatcherSums (film.h). (No initialisers: the tile
+// loop's array of them costs nothing in the kernels that never use it.)
+struct CatcherSample {
+    Rgb matte, catcher, background;
+    float split_t;
+    bool split;
+};
+
+// The full run of a camera sample (its radiance, returned, and transparency T), then, when it
+// met a catcher, the catcher-only run from the same sample values (`seed`, `index`: every
+// decision before the split repeats exactly); `out` gets the sums' shares.
+template <std::uint32_t F>
+[[gnu::noinline]] Rgb catcher_sample(const Scene& scene, const TileJob& job, const Ray& ray,
+                                     float time, bool found, const SurfaceHit& first,
+                                     const MediumStack& stack, std::uint32_t seed,
+                                     std::uint32_t index, KernelCounters& c, float& T,
+                                     CatcherSample& out) {
+    CatcherPath full;
+    Sampler s(seed, index, 1u);
+    const Rgb L = media_path_li<F>(scene, *job.light_distribution, ray, time, found, first, stack,
+                                   s, job.max_depth, c, T, &full);
+    out = CatcherSample{Rgb(0.f), Rgb(0.f), Rgb(0.f), 0.f, false};
+    if (!full.split) {
+        if (film_accepts(full.background)) out.background = full.background;
+        return L;
+    }
+    CatcherPath only;
+    only.catchers_only = true;
+    Sampler s2(seed, index, 1u);
+    float t_unused = 0.f;
+    out.catcher = media_path_li<F>(scene, *job.light_distribution, ray, time, found, first, stack,
+                                   s2, job.max_depth, c, t_unused, &only);
+    // A sample the film drops (film_accepts), or whose shares it would drop, counts as one that
+    // met no catcher.
+    if (film_accepts(L) && film_accepts(out.catcher) && film_accepts(full.matte) &&
+        film_accepts(full.background) && std::fabs(full.split_t) < kMaxSampleValue) {
+        out.split = true;
+        out.matte = full.matte;
+        out.background = full.background;
+        out.split_t = full.split_t;
+    } else {
+        out.catcher = Rgb(0.f);
+    }
+    return L;
+}
+
+// Adds the lanes [k0, k1)'s catcher shares to the film's CatcherSums at `px` (lane k0's pixel).
+// L holds the lanes' accepted radiance (0 where the film dropped a sample): a sample that met
+// no catcher is all matte.
+inline void add_catcher_sums(FixedSum* px, const Rgb* L, const CatcherSample* cs, std::size_t k0,
+                             std::size_t k1) {
+    using C = CatcherSums;
+    for (std::size_t k = k0; k < k1; ++k, px += kCatcherSums) {
+        const CatcherSample& s = cs[k];
+        const Rgb matte = s.split ? s.matte : L[k];
+        if (s.split) px[C::kCount] += to_fixed(1.f);
+        for (int i = 0; i < 3; ++i) {
+            px[C::kMatte + std::size_t(i)] += to_fixed(matte[i]);
+            px[C::kCatcher + std::size_t(i)] += to_fixed(s.catcher[i]);
+            px[C::kBackground + std::size_t(i)] += to_fixed(s.background[i]);
+        }
+        px[C::kSplitT] += to_fixed(s.split_t);
+    }
+}
+
 // ---- tile loop ----
 
 template <IntegratorKind I, std::uint32_t F>
@@ -1144,7 +1289,8 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
     alignas(32) std::array<float, kLanes> film_x, film_y, lens_x, lens_y;
     [[maybe_unused]] alignas(32) std::array<float, kLanes> times;
     std::array<Rgb, kLanes> L;
-    [[maybe_unused]] std::array<float, kLanes> T;  // transparency (alpha kernels)
+    [[maybe_unused]] std::array<float, kLanes> T;               // transparency (alpha kernels)
+    [[maybe_unused]] std::array<CatcherSample, kLanes> caught;  // shadow catcher (job.catcher)
     // Packets of kLanes neighbouring pixels of a row, aligned to multiples of kLanes in x over
     // the whole image, so that a pixel is traced in the same packet whatever the tile or region
     // (render.h); lanes outside the tile are traced and not written.
@@ -1244,6 +1390,14 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                     for (std::size_t k = 0; k < n; ++k) {
                         Sampler s(ss[k], index, 1u);
                         T[k] = 0.f;
+                        if constexpr ((F & kFeatAlpha) != 0) {
+                            if (job.catcher) [[unlikely]] {
+                                L[k] = catcher_sample<F>(
+                                    scene, job, rays.get(k), lane_time<F>(rays, k), found[k],
+                                    hits[k], camera_stack, ss[k], index, c, T[k], caught[k]);
+                                continue;
+                            }
+                        }
                         L[k] = media_path_li<F>(scene, *job.light_distribution, rays.get(k),
                                                 lane_time<F>(rays, k), found[k], hits[k],
                                                 camera_stack, s, job.max_depth, c, T[k]);
@@ -1274,6 +1428,11 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                     px.c[0] += to_fixed(L[k].x);
                     px.c[1] += to_fixed(L[k].y);
                     px.c[2] += to_fixed(L[k].z);
+                }
+                if constexpr ((F & kFeatMedia) != 0 && (F & kFeatAlpha) != 0) {
+                    if (job.catcher) [[unlikely]]
+                        add_catcher_sums(job.catcher + (film_px - sums) * kCatcherSums, L.data(),
+                                         caught.data(), k0, k1);
                 }
                 if constexpr ((F & kFeatAlpha) != 0) {
                     // Coverage 1 - T (film.h), when the film keeps it (a transparent film; a
@@ -1395,7 +1554,11 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.chosen.push_back(
             "alpha (film transparency or a holdout): the general kernel with each sample's "
             "coverage, whatever is chosen below");
-    if (sf.has_media || sf.has_subsurface) {
+    if (sf.has_shadow_catcher)
+        k.chosen.push_back(
+            "shadow catcher: the volumetric path kernel with alpha, a second run of each sample "
+            "that meets a catcher seeing only catchers from there");
+    if (sf.has_media || sf.has_subsurface || sf.has_shadow_catcher) {
         // One kernel for every scene with media or subsurface walks (kernel_function),
         // whichever integrator.
         k.features = (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured |

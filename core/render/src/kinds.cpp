@@ -29,9 +29,9 @@ const std::array<const LightKindDef*, 6> kLightKinds = {
     &kAreaLightKind,  &kEnvironmentLightKind, &kSkyNishitaLightKind};
 const std::array<const MediumKindDef*, 2> kMediumKinds = {&kHomogeneousMediumKind,
                                                           &kGridMediumKind};
-const std::array<std::string_view, 10> kCommonShapeKeys = {
-    "type",      "name",         "material", "emission",      "two_sided",
-    "transform", "flip_normals", "motion",   "texture_space", "holdout"};
+const std::array<std::string_view, 11> kCommonShapeKeys = {
+    "type",         "name",   "material",      "emission", "two_sided",     "transform",
+    "flip_normals", "motion", "texture_space", "holdout",  "shadow_catcher"};
 
 // Linear searches: the tables hold a handful of kinds.
 template <class Def, std::size_t N, class Key>

@@ -77,6 +77,7 @@ void Builder::analyse() {
         if (s.parts.empty()) surface(s);
         for (const ShapeSurface& p : s.parts) surface(p);
         if (s.holdout) f.has_holdout = true;
+        if (s.shadow_catcher) f.has_shadow_catcher = true;
         f.num_triangles += s.triangles;
         if (s.kind == ShapeKind::Sphere) ++f.num_spheres;
         if (s.kind == ShapeKind::Plane) ++f.num_planes;
@@ -95,7 +96,7 @@ void Builder::analyse() {
     if (scene.world_medium() >= 0) f.has_media = true;
     if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
     f.has_motion = m_camera_moves || m_shapes_move;
-    f.needs_alpha = m_desc.render.film_transparent || f.has_holdout;
+    f.needs_alpha = m_desc.render.film_transparent || f.has_holdout || f.has_shadow_catcher;
     if (m_camera_moves) f.emitter_visible = true;  // the frustum test is the still camera's
 }
 
@@ -120,7 +121,11 @@ std::string SceneFeatures::describe() const {
     if (has_subsurface) s << "subsurface: yes (random walks inside objects)\n";
     if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
     if (needs_alpha)
-        s << "alpha: yes (" << (has_holdout ? "a holdout" : "film transparent") << ")\n";
+        s << "alpha: yes ("
+          << (has_shadow_catcher ? "a shadow catcher"
+              : has_holdout      ? "a holdout"
+                                 : "film transparent")
+          << ")\n";
     return s.str();
 }
 

@@ -825,6 +825,8 @@ class Reader {
             d.flip_normals = get_bool(s["flip_normals"], ptr + "/flip_normals");
         }
         if (s.contains("holdout")) d.holdout = get_bool(s["holdout"], ptr + "/holdout");
+        if (s.contains("shadow_catcher"))
+            d.shadow_catcher = get_bool(s["shadow_catcher"], ptr + "/shadow_catcher");
         if (s.contains("texture_space")) {
             const std::string tp = ptr + "/texture_space";
             const json& t = s["texture_space"];
@@ -1312,6 +1314,7 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (!s.two_sided) j["two_sided"] = false;
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.holdout) j["holdout"] = true;
+        if (s.shadow_catcher) j["shadow_catcher"] = true;
         if (s.texture_space)
             j["texture_space"] = {{"location", vec_json(s.texture_space->location)},
                                   {"size", vec_json(s.texture_space->size)}};

@@ -255,6 +255,7 @@ struct RenderSession::State {
         proto.light_distribution = &light_dist;
         proto.independent_samples = options.independent_samples;
         proto.alpha = film.alpha_sums();
+        proto.catcher = film.catcher_sums();
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
@@ -322,7 +323,7 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
             s.tiles.push_back(t);
         }
     }
-    s.film = Film(reg, scene.settings().film_transparent);
+    s.film = Film(reg, scene.settings().film_transparent, scene.features().has_shadow_catcher);
     if (s.adaptive()) s.checkpoint_sums.assign(s.film.sum_values().size(), FixedRgb{});
     s.target = s.rs.sample_end;
     s.stats.kernel = s.choice;
@@ -471,6 +472,10 @@ RenderPart RenderSession::part() const {
             "part: an adaptive render's pixels have sample counts of their own, which part files "
             "do not carry; render it whole (a --region render gives the same pixels as the "
             "whole image's)");
+    if (s.film.has_catcher())
+        throw std::invalid_argument(
+            "part: a scene with a shadow catcher cannot be rendered in parts (its pixels keep "
+            "sums that part files do not carry); render it whole");
     for (const Tile& t : s.tiles) {
         if (s.done_at(t) != s.target)
             throw std::logic_error("RenderSession::part: the render is incomplete (cancelled)");

@@ -1244,11 +1244,16 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
                          ": /render/film_transparent: film transparency is not exported to "
                          "POV-Ray (set it to false to export the opaque scene, or render with "
                          "Facet)");
-    for (std::size_t i = 0; i < desc.shapes.size(); ++i)
+    for (std::size_t i = 0; i < desc.shapes.size(); ++i) {
         if (desc.shapes[i].holdout)
             throw SceneError(name + ": /shapes/" + std::to_string(i) +
                              "/holdout: a holdout cannot be exported to POV-Ray (render with "
                              "Facet)");
+        if (desc.shapes[i].shadow_catcher)
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/shadow_catcher: a shadow catcher cannot be exported to POV-Ray "
+                             "(render with Facet)");
+    }
     // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
     // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path
     // with media is traced whichever integrator is asked).

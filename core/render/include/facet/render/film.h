@@ -19,6 +19,18 @@
 //    point, so alpha splits and merges exactly as the colour does. The image's alpha is the
 //    mean, clamped to [0, 1] (0 where no sample was taken). A film without alpha has no such
 //    sums and costs nothing more.
+//  - Shadow catcher (integrator.h, "Shadow catcher"; Cycles 3.4's approximate shadow catcher):
+//    a film made for a scene with a catcher also sums, per pixel, kCatcherSums fixed-point
+//    values (CatcherSums): the "matte" (each sample's radiance before its path met a catcher,
+//    or all of it when it met none), the radiance of the catcher-only paths, the environment
+//    the see-through camera paths see (where they escape, or straight behind the catcher: Cycles'
+//    background pass), the transparency the split left to the matte, and the number of
+//    samples that met a catcher. resolve() then gives Cycles' Combined pass: the ratio
+//    r = (sum - matte) / catcher per channel (1 where the catcher sum is 0 or no sample met a
+//    catcher) is the light the catcher kept; over a transparent film with combined coverage
+//    a_c, r' = 1 - a_c + a_c r; the matte's alpha a_m = clamp(1 - T_m) (T_m: the split's share
+//    plus the film's own transparency 1 - a_c) gives alpha (1 - a_m)(1 - clamp(mean r')) + a_m
+//    with the matte's colour; an opaque film shows matte + background (1 - that alpha).
 //  - A Film covers `region` (half-open pixel rectangle of the full image), row-major inside it.
 //    Each pixel is written by one tile at a time; no synchronisation is needed.
 #pragma once
@@ -98,14 +110,23 @@ struct Region {
     bool operator==(const Region&) const = default;
 };
 
+// A pixel's shadow-catcher sums (see conventions): the film's layout, kCatcherSums values a
+// pixel, and what the kernel adds per camera sample.
+struct CatcherSums {
+    static constexpr std::size_t kMatte = 0, kCatcher = 3, kBackground = 6, kSplitT = 9,
+                                 kCount = 10;
+};
+inline constexpr std::size_t kCatcherSums = 11;
+
 class Film {
   public:
     Film() = default;
-    explicit Film(const Region& region, bool alpha = false)
+    explicit Film(const Region& region, bool alpha = false, bool catcher = false)
         : m_region(region),
           m_sums(std::size_t(region.width()) * std::size_t(region.height())),
           m_counts(m_sums.size(), 0u),
-          m_alpha(alpha ? m_sums.size() : 0u, FixedSum(0)) {}
+          m_alpha(alpha ? m_sums.size() : 0u, FixedSum(0)),
+          m_catcher(catcher ? m_sums.size() * kCatcherSums : 0u, FixedSum(0)) {}
 
     const Region& region() const { return m_region; }
     int width() const { return m_region.width(); }
@@ -119,6 +140,10 @@ class Film {
     bool has_alpha() const { return !m_alpha.empty(); }
     FixedSum* alpha_sums() { return m_alpha.empty() ? nullptr : m_alpha.data(); }
     const std::vector<FixedSum>& alpha_values() const { return m_alpha; }
+    // The shadow catcher's sums (see conventions), kCatcherSums a pixel in the same order;
+    // null / empty for a scene without a catcher.
+    bool has_catcher() const { return !m_catcher.empty(); }
+    FixedSum* catcher_sums() { return m_catcher.empty() ? nullptr : m_catcher.data(); }
 
     // Mean radiance per pixel of the region (black where no sample was taken).
     Image resolve() const;
@@ -127,10 +152,13 @@ class Film {
     void add(const Film& other);
 
   private:
+    void resolve_catcher(Image& img) const;  // the catcher's Combined pass (see conventions)
+
     Region m_region;
     std::vector<FixedRgb> m_sums;
     std::vector<std::uint32_t> m_counts;
     std::vector<FixedSum> m_alpha;
+    std::vector<FixedSum> m_catcher;
 };
 
 // What a part covers and which render it belongs to; merge() checks these.
@@ -153,6 +181,7 @@ struct RenderPart {
 // signed 128-bit sums (R, G, B; low 64 bits first) — counts are implied by the sample range.
 // A film with alpha is written as version 2: the header adds "alpha": true and each pixel a
 // fourth sum (the coverage) after B. Films without alpha are still written as version 1.
+// Films with a shadow catcher's sums are not written (an error).
 // Errors throw std::runtime_error naming the file.
 void write_part(const RenderPart& part, const std::string& path);
 RenderPart read_part(const std::string& path);

@@ -82,6 +82,21 @@
 //    its emission. The sample's coverage is 1 - T (film.h sums it beside the colour, only
 //    for a transparent film: in an opaque one a holdout only blacks out, as in Cycles). Area
 //    lamps seen by camera rays add colour and leave alpha alone, as Cycles' lamps do.
+//  - Shadow catcher (SceneFeatures::has_shadow_catcher; Cycles 3.4's, approximate): scenes with
+//    a catcher run the alpha media kernel (one path at a time, whichever integrator). A camera
+//    path that meets a catcher shape while see-through (see "Alpha") splits there: the path
+//    goes on as usual, the catcher an ordinary object (what it gathered before the split is
+//    the "matte"; its transparency gains the throughput's mean then), and a second run of the
+//    same camera sample, with the same sample values, repeats the path up to the split and
+//    goes on from it seeing only catchers: its rays and shadow rays pass every other surface
+//    as if absent (media stay as they were), and an emitting shape lights it only if it is a
+//    catcher (lamps and the environment always do). Each sample adds the matte, the catcher-only
+//    radiance, the environment its see-through path sees (throughput times the environment's
+//    radiance where it escapes, or straight behind the catcher at the split) and its count to the
+//    film's catcher sums (film.h), which resolve them as Cycles' Combined pass: over a transparent
+//    film the catcher is transparent except for the light the other objects took from it (alpha = 1
+//    - the ratio of the full to the catcher-only radiance), in an opaque one it shows the
+//    environment darkened by that.
 //  - Camera samples: with spp = 1 the ray goes through the pixel centre (POV-Ray without
 //    anti-aliasing does the same); with spp > 1 film positions are stratified over the pixel.
 #pragma once
@@ -196,6 +211,9 @@ struct TileJob {
     // The film's coverage sums (film.h, same layout as `sums`), written by the alpha kernels
     // only (kFeatAlpha) and only with a transparent film; null otherwise.
     FixedSum* alpha = nullptr;
+    // The film's shadow-catcher sums (film.h, CatcherSums; same pixel layout, kCatcherSums a
+    // pixel), written by the alpha media kernel in a scene with a catcher; null otherwise.
+    FixedSum* catcher = nullptr;
 };
 using TileKernel = void (*)(const Scene& scene, const TileJob& job, FixedRgb* sums,
                             KernelCounters& counters);

@@ -164,7 +164,7 @@ class RenderSession {
     const Film& film() const;
     // The part this session has rendered (requires every tile to be complete: throws
     // std::logic_error after a cancellation that left some tile behind; std::invalid_argument
-    // for an adaptive render, conventions).
+    // for an adaptive render, conventions, and for a scene with a shadow catcher).
     RenderPart part() const;
     const RenderStats& stats() const;
     const ResolvedSettings& settings() const;

@@ -205,6 +205,9 @@ struct ShapeSurface {
     const Texture* emission_texture = nullptr;  // textured emission (times nothing), or null
     Opacity opacity;                            // its material's (Opacity::active: a cut-out)
     bool holdout = false;  // the shape's `holdout` flag (read by the alpha kernels only)
+    // The shape's `shadow_catcher` flag (read by the alpha kernels only, in scenes with one:
+    // SceneFeatures::has_shadow_catcher).
+    bool shadow_catcher = false;
 };
 
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
@@ -332,7 +335,11 @@ struct SceneFeatures {
     // A holdout: a material with a `holdout` part (Material::has_holdout) or a shape with
     // `holdout` (ShapeInfo::holdout).
     bool has_holdout = false;
-    // The film is transparent or the scene has a holdout: only then do the alpha kernels run
+    // Some shape is a shadow catcher (ShapeInfo::shadow_catcher): the media kernel runs, with
+    // alpha (integrator.h, "Shadow catcher"), and the film keeps the catcher's sums (film.h).
+    bool has_shadow_catcher = false;
+    // The film is transparent, the scene has a holdout or a shadow catcher: only then do the
+    // alpha kernels run
     // (integrator.h, kFeatAlpha). The image has an alpha channel (the film keeps coverage
     // sums) only with RenderSettings::film_transparent: without it holdouts are black, as
     // Cycles' are ("the Holdout shader can only create alpha when Film > Transparent is on").

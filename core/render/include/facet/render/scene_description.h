@@ -159,6 +159,12 @@ struct ShapeDesc {
     // other rays see its material as usual (scenes/FORMAT.md, "Film transparency and
     // holdouts").
     bool holdout = false;
+    // A shadow catcher (Blender's object Shadow Catcher, Cycles 3.4's is_shadow_catcher): where
+    // camera rays (directly or through transparent surfaces) hit it, the image keeps only the
+    // shadows and darkening that the other objects cast on it, as alpha over a transparent film
+    // or over the environment in an opaque one; other rays see it as an ordinary object
+    // (scenes/FORMAT.md, "Shadow catchers").
+    bool shadow_catcher = false;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
     // Transformation motion (scenes/FORMAT.md, "Motion blur"): the object-to-world transform
     // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces

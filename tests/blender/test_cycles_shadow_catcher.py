@@ -1,0 +1,193 @@
+"""Object > Visibility > Shadow Catcher: Facet's render result against Cycles 3.4's, with
+Film > Transparent on and off (issue 35, item 3).
+
+Scene (64 x 64, orthographic camera looking straight down, 64 spp, Facet max_depth 3 = Cycles
+2 bounces): a plane with a Principled BSDF (base colour 0.8, 0.5, 0.4) that is a shadow
+catcher, a sphere above it (Diffuse 0.8, 0.3, 0.2), a sun lamp at 30 degrees and a world of
+colour (0.2, 0.3, 0.5) that lights the scene too. The plane covers part of the view: the
+world is seen directly around it.
+- Film > Transparent on: Cycles' Combined is the sphere's colour with alpha, and on the
+  catcher no colour and alpha = the shadow (1 - the light the sphere takes from it);
+- off: the catcher shows the world behind it darkened by the same shadow.
+A second scene, over a transparent film, makes the catcher glossy (Specular 1, Roughness 0.15:
+it reflects the sphere) and lights it with a 1 m area lamp instead of the sun (soft shadows).
+
+Bounds, as the real-scene suite states them (tests/realscenes/test_realscene.py): for the
+(premultiplied) colour's luminance and, over a transparent film, for the alpha channel,
+- |mean ratio Facet / Cycles - 1| <= 2% (Cycles: the mean of its two seeds);
+- block RMSE (8 x 8 blocks' means, Facet seed 1 against Cycles seed 1) <= 3 x the noise
+  floor (the same between Cycles seeds 1 and 2).
+Ability to fail: Facet with the plane's Shadow Catcher off must break a bound in each film
+mode (printed)."""
+import os
+import sys
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), "..", "support",
+                                "python"))
+from facet_testsupport import blender_harness as bt  # noqa: E402
+from facet_testsupport import cycles_scene as cs  # noqa: E402
+
+RES = 64
+BLOCK = 8
+SPP = 64
+MEAN_TOL = 0.02
+RMSE_FACTOR = 3.0
+
+
+def load_rgba(path):
+    """An RGBA EXR through Blender's loader -> float64 (h, w, 4), top row first."""
+    im = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = im.size
+        px = np.empty(w * h * im.channels, np.float32)
+        im.pixels.foreach_get(px)
+        img = px.reshape(h, w, im.channels)[::-1].astype(np.float64)
+    finally:
+        bpy.data.images.remove(im)
+    if img.shape[2] != 4:
+        raise RuntimeError("%s: %d channels, expected RGBA" % (path, img.shape[2]))
+    return img
+
+
+def render(scene, engine, path, seed):
+    """F12 with `engine`, saved as a 32-bit RGBA EXR (the Combined pass with its alpha: 1
+    everywhere over an opaque film)."""
+    scene.render.engine = engine
+    if engine == 'CYCLES':
+        scene.cycles.seed = seed
+    else:
+        scene.facet.seed = seed
+    bpy.ops.render.render()
+    s = scene.render.image_settings
+    s.file_format = 'OPEN_EXR'
+    s.color_depth = '32'
+    s.color_mode = 'RGBA'
+    s.exr_codec = 'ZIP'
+    bpy.data.images["Render Result"].save_render(path, scene=scene)
+    return load_rgba(path)
+
+
+def build_scene(glossy_area=False):
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = RES
+    scene.render.resolution_percentage = 100
+    world = bpy.data.worlds.new("sky")
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = (0.2, 0.3, 0.5, 1.0)
+    bg.inputs["Strength"].default_value = 1.0
+    scene.world = world
+    bpy.ops.mesh.primitive_plane_add(size=2.6, location=(0.0, 0.0, 0.0))
+    plane = bpy.context.object
+    floor = bpy.data.materials.new("floor")
+    floor.use_nodes = True
+    bsdf = floor.node_tree.nodes["Principled BSDF"]
+    bsdf.inputs["Base Color"].default_value = (0.8, 0.5, 0.4, 1.0)
+    if glossy_area:
+        bsdf.inputs["Roughness"].default_value = 0.15
+        bsdf.inputs["Specular"].default_value = 1.0
+    plane.data.materials.append(floor)
+    plane.is_shadow_catcher = True
+    bpy.ops.mesh.primitive_uv_sphere_add(radius=0.5, segments=64, ring_count=32,
+                                         location=(0.3, 0.2, 0.7))
+    bpy.ops.object.shade_smooth()
+    mat = bpy.data.materials.new("orange")
+    bt.single_shader(mat, "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.3, 0.2, 1.0),
+                                                     "Roughness": 0.0})
+    bpy.context.object.data.materials.append(mat)
+    if glossy_area:
+        cs.add_light(scene, 'AREA', 150.0, (1.0, 1.2, 2.5), rotation=(-0.4, 0.35, 0.0),
+                     visible_camera=False, size=1.0)
+    else:
+        cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 4.0), rotation=(0.5236, 0.0, 0.6),
+                     visible_camera=False, angle=0.0)
+    cd = bpy.data.cameras.new("cam")
+    cd.type = 'ORTHO'
+    cd.ortho_scale = 3.4
+    cam = bpy.data.objects.new("cam", cd)
+    cam.location = (0.0, 0.0, 5.0)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    scene.facet.max_depth = 3
+    scene.facet.spp = SPP
+    cs.cycles_settings(scene, samples=SPP, max_depth=3)
+    return scene, plane
+
+
+def compare(name, f, c1, mean_c, floors, alpha):
+    """(colour mean ratio, colour block RMSE / floor[, alpha mean ratio, alpha RMSE / floor])."""
+    res = (float(cs.luminance(f).mean() / mean_c[0]),
+           cs.block_rmse(f, c1, BLOCK) / max(floors[0], 1e-12))
+    if alpha:
+        res += (float(f[:, :, 3].mean() / mean_c[1]),
+                cs.block_rmse(f[:, :, 3:4].repeat(3, 2), c1[:, :, 3:4].repeat(3, 2), BLOCK)
+                / max(floors[1], 1e-12))
+        print("%-34s colour: mean ratio %.4f, block RMSE %.2f x floor; alpha: mean ratio "
+              "%.4f, block RMSE %.2f x floor" % ((name,) + res))
+    else:
+        print("%-34s colour: mean ratio %.4f, block RMSE %.2f x floor" % ((name,) + res))
+    return res
+
+
+def within(res):
+    return all(abs(res[i] - 1.0) <= MEAN_TOL and res[i + 1] <= RMSE_FACTOR
+               for i in range(0, len(res), 2))
+
+
+def film_case(scene, plane, out, transparent, tag=None):
+    tag = tag or ("transparent" if transparent else "opaque")
+    key = tag.replace(", ", "_").replace(" ", "_")
+    scene.render.film_transparent = transparent
+    plane.is_shadow_catcher = True
+    c1 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles1.exr" % key), 1)
+    c2 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles2.exr" % key), 2)
+    mean_c = (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()),
+              0.5 * (c1[:, :, 3].mean() + c2[:, :, 3].mean()))
+    floors = (cs.block_rmse(c1, c2, BLOCK),
+              cs.block_rmse(c1[:, :, 3:4].repeat(3, 2), c2[:, :, 3:4].repeat(3, 2), BLOCK))
+    print("Cycles, film %s: mean luminance %.4f, mean alpha %.4f; floors %.5f, %.5f"
+          % (tag, mean_c[0], mean_c[1], floors[0], floors[1]))
+    # What Cycles does (the definition the test holds Facet to): over a transparent film the
+    # lit catcher has no colour and alpha near 0, the shadow alpha; over an opaque one the
+    # lit catcher is the world's colour.
+    lit = c1[14, 50]  # the plane far from the sphere and its shadows
+    if transparent:
+        bt.check(np.all(lit[:3] == 0.0) and lit[3] < 0.05,
+                 "Cycles: the lit catcher is transparent and colourless (%s)" % lit)
+    else:
+        bt.check(np.allclose(lit[:3], (0.2, 0.3, 0.5), rtol=0.05),
+                 "Cycles: the lit catcher shows the world over an opaque film (%s)" % lit)
+    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet1.exr" % key), 1)
+    res = compare("Facet, film %s" % tag, f, c1, mean_c, floors, transparent)
+    bt.check(within(res), "film %s: Facet's colour%s match Cycles' (mean within %g, block "
+             "RMSE <= %g x floor)" % (tag, " and alpha" if transparent else "", MEAN_TOL,
+                                      RMSE_FACTOR))
+    # Control: without the flag the plane is an ordinary object, and a bound breaks.
+    plane.is_shadow_catcher = False
+    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % key), 1)
+    bt.check(not within(compare("Facet, film %s, catcher off" % tag, f, c1, mean_c, floors,
+                                transparent)),
+             "film %s: without Shadow Catcher a bound breaks: the test can fail" % tag)
+    plane.is_shadow_catcher = True
+
+
+def main():
+    out = bt.args()[0]
+    bt.enable_addon()
+    scene, plane = build_scene()
+    from facet_blender import export as ex
+    data, problems = ex.export_scene(bpy.context.evaluated_depsgraph_get())
+    bt.check([s.get("shadow_catcher", False) for s in data["shapes"]].count(True) == 1
+             and not [p for p in problems if "Shadow Catcher" in p],
+             "the plane is exported as a shadow catcher, without a report line: %s" % problems)
+    film_case(scene, plane, out, True)
+    film_case(scene, plane, out, False)
+    scene, plane = build_scene(glossy_area=True)
+    film_case(scene, plane, out, True, "transparent, glossy, area lamp")
+
+
+bt.run(main)
