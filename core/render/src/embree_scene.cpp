@@ -1075,6 +1075,8 @@ template <bool kUv>
     hit.strand_v =
         float((double(seg - first) + double(u)) / double(g.strand_first[strand + 1] - first));
     hit.strand_h = std::int16_t(std::lround(h * 32767.0));
+    if (!g.strand_random.empty()) [[unlikely]]
+        hit.strand_random = g.strand_random[strand];
     if (!g.root_uvs.empty()) {
         hit.uv = g.root_uvs[strand];
         hit.dpdu_uv = Vec3(0.f);

@@ -7,6 +7,7 @@
 
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
+#include "../textures/cycles_noise.h"
 
 namespace facet::render {
 
@@ -299,12 +300,17 @@ void pov(PovShapeOut& o) {
 
 }  // namespace
 
+float curve_random(std::uint32_t i) {
+    return cycles::to_unit(cycles::hash_uint2(i, 0u));
+}
+
 extern const ShapeKindDef kCurvesKind{
     ShapeKind::Curves,
     "curves",
     "strands (hair, fur, grass) along curves with a radius per control point: round tubes or "
     "flat ribbons facing each ray (scenes/FORMAT.md, \"Curves\"); a hit's normal is the "
-    "tube's, its tangent (`dpdu`) the strand's direction and its uv the strand's root UV",
+    "tube's, its tangent (`dpdu`) the strand's direction, its uv the strand's root UV and "
+    "its random value (a `hair_info` texture's `random`) Cycles' hash of the strand's index",
     {{"basis", FieldType::Text, true, &ShapeDesc::basis, "-",
       "`linear` (straight segments through the points, >= 2 per strand), `bspline` (uniform "
       "cubic B-spline, >= 4: it approximates the points) or `catmull_rom` (>= 4: it passes "
