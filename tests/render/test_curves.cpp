@@ -310,6 +310,20 @@ TEST(Curves, HairInfoTextureReadsTheHitStrand) {
             EXPECT_NEAR(f.r * float(facet::kPi), expected, 1e-5f) << output << " hit " << k;
         }
     }
+    // Given values (strand_random) replace the hash: the hits read them.
+    const fr::Scene given = fr::testing::scene_from(curves_scene(
+        R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1],
+           "counts": [2, 2], "radius": 0.1, "strand_random": [0.25, 0.875])",
+        R"({"model": "lambert", "reflectance": {"hair_info": {}}})"));
+    for (int k = 0; k < 2; ++k) {
+        fr::Ray ray;
+        ray.o = Vec3(float(k), -3.f, 0.f);
+        ray.d = Vec3(0.f, 1.f, 0.f);
+        fr::SurfaceHit hit;
+        ASSERT_TRUE(given.intersect(ray, hit));
+        const facet::Rgb f = given.material_at(hit).f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));
+        EXPECT_NEAR(f.r * float(facet::kPi), k == 0 ? 0.25f : 0.875f, 1e-6f) << "strand " << k;
+    }
     const fr::Scene plain = fr::testing::scene_from(
         curves_scene(R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1], "radius": 0.1)",
                      R"({"model": "lambert", "reflectance": {"noise": {"scale": 3}}})"));
@@ -410,7 +424,7 @@ TEST(Curves, JsonRoundTrip) {
         const fr::SceneDescription d =
             describe(curves_scene(std::string(R"("basis": "bspline", "profile": "flat",
                "points": [0, 0, 0,  0, 0, 1,  0, 0, 2,  0, 0, 3,  0, 0, 4], "counts": [5],
-               "root_uvs": [0.5, 0.5], "radius": )") +
+               "root_uvs": [0.5, 0.5], "strand_random": [0.3], "radius": )") +
                                   radius));
         const fr::SceneDescription back =
             fr::parse_scene_description(fr::write_scene_json(d), "back.json");
@@ -500,6 +514,12 @@ TEST(Curves, BadInputNamesTheJsonPath) {
          "/shapes/0: missing required key 'radius'"},
         {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1, "emission": 1)",
          "/shapes/0/emission: curves cannot emit"},
+        {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
+            "strand_random": [0.5, 0.5])",
+         "/shapes/0/strand_random: expected one number per strand (1), got 2"},
+        {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
+            "strand_random": [1.5])",
+         "/shapes/0/strand_random/0: must be in [0, 1]"},
     };
     for (const Case& c : cases) {
         const std::string e = error_of(curves_scene(c.keys));

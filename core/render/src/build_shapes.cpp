@@ -208,7 +208,9 @@ class Builder::ShapeContext final : public ShapeBuild {
                  "the shape's material or emission is textured but the curves have no "
                  "root_uvs");
         if (!m_info.needs_uv) g.root_uvs = {};
-        if (m_info.needs_strand) {
+        if (!m_info.needs_strand) {
+            g.strand_random = {};
+        } else if (g.strand_random.empty()) {
             g.strand_random.resize(g.strand_first.size() - 1);
             for (std::size_t i = 0; i < g.strand_random.size(); ++i)
                 g.strand_random[i] = curve_random(std::uint32_t(i));

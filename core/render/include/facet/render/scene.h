@@ -98,17 +98,17 @@ class SceneError : public std::runtime_error {
 };
 
 struct SurfaceHit {
-    float t = kInfinity;       // ray parameter of the hit
-    Vec3 p{0.f};               // hit point (world space)
-    Vec3 p_err{0.f};           // error box of p (precision.h): p +- p_err meets the surface
-    Vec3 ng{0.f};              // unit geometric normal (see conventions: not flipped)
-    Vec3 ns{0.f};              // unit shading normal, same hemisphere as ng
-    Vec3 dpdu{0.f};            // tangent hint, may be 0
+    float t = kInfinity;  // ray parameter of the hit
+    Vec3 p{0.f};          // hit point (world space)
+    Vec3 p_err{0.f};      // error box of p (precision.h): p +- p_err meets the surface
+    Vec3 ng{0.f};         // unit geometric normal (see conventions: not flipped)
+    Vec3 ns{0.f};         // unit shading normal, same hemisphere as ng
+    Vec3 dpdu{0.f};       // tangent hint, may be 0
     union {
         float tangent_sign = 1.f;  // bitangent sign (only where ShapeInfo::needs_tangent)
         float strand_random;       // curves, which have no tangent space (see conventions)
     };
-    std::uint32_t shape = 0;   // index into Scene::shapes()
+    std::uint32_t shape = 0;             // index into Scene::shapes()
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
@@ -581,8 +581,10 @@ class Scene {
     }
     Material textured_material_rebuilt(std::size_t index, const TexturePoint& p) const;
     // What textures read at a hit (TexturePoint): its uv, vertex colour, object-space point
-    // and generated coordinates, with footprint fp; on shapes with ShapeInfo::needs_view also
-    // the view-dependent coordinates, from `wo` (unit, toward the viewer), the world-space
+    // and generated coordinates, with footprint fp (material_at adds the Hair Info values on
+    // curves with ShapeInfo::needs_strand: curves neither emit nor have normal, bump or opacity
+    // maps, the other readers); on shapes with ShapeInfo::needs_view also the view-dependent
+    // coordinates, from `wo` (unit, toward the viewer), the world-space
     // shading normal `ns` (before normal and bump maps) and the shape's normal_to_object.
     TexturePoint texture_point(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
                                const Vec3& ns) const {
@@ -590,11 +592,6 @@ class Scene {
         TexturePoint p{hit.uv, &fp, hit.color, hit.po, (hit.po - s.texture_lo) * s.texture_inv};
         if (s.needs_view) [[unlikely]]
             view_coordinates(hit, wo, ns, p);
-        if (s.needs_strand && s.kind == ShapeKind::Curves) [[unlikely]] {
-            p.strand_random = hit.strand_random;
-            p.strand_v = hit.strand_v;
-            p.on_strand = 1.f;
-        }
         return p;
     }
     // Fills p's view-dependent coordinates (TexturePoint) at a hit.
