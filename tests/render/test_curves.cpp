@@ -324,6 +324,26 @@ TEST(Curves, HairInfoTextureReadsTheHitStrand) {
         const facet::Rgb f = given.material_at(hit).f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));
         EXPECT_NEAR(f.r * float(facet::kPi), k == 0 ? 0.25f : 0.875f, 1e-6f) << "strand " << k;
     }
+    // Instanced curves read their prototype strand's value, also through a mirroring
+    // transform (whose handedness flips a tangent sign, not a strand's value).
+    const fr::Scene mirrored = fr::testing::scene_from(
+        R"("materials": {"m": {"model": "lambert", "reflectance": {"hair_info": {}}}},
+           "prototypes": {"hair": [{"type": "curves", "material": "m", "basis": "linear",
+               "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1], "counts": [2, 2],
+               "radius": 0.1}]},
+           "shapes": [{"type": "instance", "of": "hair",
+                       "transform": {"scale": [-1, 1, 1]}}],)" +
+        std::string(kRest));
+    for (int k = 0; k < 2; ++k) {
+        fr::Ray ray;
+        ray.o = Vec3(-float(k), -3.f, 0.f);
+        ray.d = Vec3(0.f, 1.f, 0.f);
+        fr::SurfaceHit hit;
+        ASSERT_TRUE(mirrored.intersect(ray, hit));
+        const facet::Rgb f = mirrored.material_at(hit).f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));
+        EXPECT_NEAR(f.r * float(facet::kPi), fr::curve_random(std::uint32_t(k)), 1e-6f)
+            << "mirrored instance, strand " << k;
+    }
     const fr::Scene plain = fr::testing::scene_from(
         curves_scene(R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1], "radius": 0.1)",
                      R"({"model": "lambert", "reflectance": {"noise": {"scale": 3}}})"));

@@ -1137,7 +1137,7 @@ template <bool kUv>
     if (!curve && !mg->records.empty()) hit.ns = ray_side_valid_normal(hit.ng, -ray.d, hit.ns);
     hit.dpdu = Vec3(lin * glm::dvec3(hit.dpdu));
     if (curve) hit.dpdu = glm::normalize(hit.dpdu);  // a curve's tangent is unit
-    hit.tangent_sign *= in.handedness;
+    if (!curve) hit.tangent_sign *= in.handedness;   // (a curve's is its strand_random)
     if constexpr (kUv) {
         if (hit.shape < impl.normal_in_po.size() && impl.normal_in_po[hit.shape]) [[unlikely]]
             hit.po = Vec3(n_frame);

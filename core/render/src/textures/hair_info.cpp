@@ -1,6 +1,7 @@
 // Texture kind "hair_info": an output of Blender 3.4's Hair Info node at the hit, as Cycles 3.4
 // gives it on curves (svm_node_hair_info and the curve attributes of blender/curves.cpp):
-//  - random: the strand's random value, curve_random of its index in the shape (scene.h);
+//  - random: the strand's random value: the shape's strand_random, or curve_random of its
+//    index in the shape (scene.h);
 //  - intercept: the position along the strand, 0 at the root and 1 at the tip
 //    (SurfaceHit::strand_v: uniform in the curve parameter of each segment; Cycles interpolates
 //    the keys' fraction of the strand's length, the same where the segments are of equal
@@ -47,9 +48,9 @@ Texture build_hair_info(TextureBuild& b) {
 
 const TextureKindDef kHairInfoTexture{
     "hair_info",
-    "Blender's Hair Info node on curves: the strand's `random` value (Cycles 3.4's hash of its "
-    "index), its `intercept` (0 at the root, 1 at the tip) or `is_strand` (1); 0 off curves "
-    "(no coordinates)",
+    "Blender's Hair Info node on curves: the strand's `random` value (the shape's "
+    "`strand_random`, or Cycles 3.4's hash of the strand's index), its `intercept` (0 at the "
+    "root, 1 at the tip) or `is_strand` (1); 0 off curves (no coordinates)",
     {
         {"output", ParamType::String, 0, "random", 0, 0, false, kOutputs, kOutputDoc},
     },
