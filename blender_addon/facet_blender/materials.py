@@ -841,6 +841,36 @@ def _hair_color(ctx, node, name, path, lo=0.0, hi=1.0):
     return c
 
 
+def _hair_texture(ctx, node, name, path):
+    """A hair input fed by a texture subgraph (Hair Info, a Color Ramp of it, ...): the texture
+    clamped to [0, 1] (the core's range of Color and Random; Cycles does not clamp, values
+    outside are rare), or None when the input folds to a constant or does not convert (then
+    value() reports it)."""
+    sock = _input(node, name)
+    src = ctx.walker.input(node, sock, path)
+    if isinstance(src, nodegraph.Const) or ctx.walker.fold(src)[0] is not None:
+        return None
+    try:
+        res = textures.convert(ctx.walker, src, number=sock.type != 'RGBA')
+    except textures.Unsupported:
+        return None
+    if res.data is None:
+        return None
+    feeds = "%s '%s' input '%s'" % (nodegraph.node_type_label(node), node.name, sock.name)
+    for note in res.notes:
+        ctx.problems.append("%s: %s (feeds %s)" % (ctx.what, note, feeds))
+    uvs, cas, gen = res.reads()
+    ctx.uv_maps |= uvs
+    ctx.color_attributes |= cas
+    ctx.generated = ctx.generated or gen
+    tex = dict(res.data)
+    if "hair_info" in tex:
+        return tex  # in [0, 1]
+    if sock.type == 'RGBA':
+        return {"mix_rgb": {"blend_type": "mix", "fac": 0.0, "color1": tex, "use_clamp": True}}
+    return {"math": {"operation": "add", "a": tex, "b": 0.0, "use_clamp": True}}
+
+
 def _principled_hair(ctx, node, path):
     """Cycles' Principled Hair BSDF: the core's `principled_hair` (Cycles 3.4's closure, Chiang
     et al. 2016) with the node's parametrization (Direct Coloring -> color, Melanin
@@ -850,11 +880,15 @@ def _principled_hair(ctx, node, path):
     outside the core's ranges (clamped; IOR below 1, where Cycles' formulas take the square
     root of a negative number), and an unlinked Random when it matters (Random Roughness > 0,
     or Random Color > 0 under Melanin): on hair Cycles reads each strand's own random value
-    there, Facet the input's value for every strand."""
+    there: the strand's random value (a hair_info texture), as Cycles. Color (Direct Coloring)
+    and Random fed by a texture subgraph that converts (Hair Info, a Color Ramp or Math of it:
+    textures.py) are textures, clamped to [0, 1]. On a mesh Cycles reads an unlinked Random's
+    value, Facet's hair_info 0 there (reported when the value is not 0)."""
     kind = _HAIR_PARAMETRIZATIONS[node.parametrization]
     data = {"model": "principled_hair", "parametrization": kind}
     if kind == "color":
-        data["color"] = _hair_color(ctx, node, 'Color', path)
+        data["color"] = _hair_texture(ctx, node, 'Color', path) or \
+            _hair_color(ctx, node, 'Color', path)
     elif kind == "melanin":
         data["melanin"] = _hair_number(ctx, node, 'Melanin', path, 0.0, 1.0)
         data["melanin_redness"] = _hair_number(ctx, node, 'Melanin Redness', path, 0.0, 1.0)
@@ -871,14 +905,21 @@ def _principled_hair(ctx, node, path):
     data["ior"] = _hair_number(ctx, node, 'IOR', path, 1.0, 1000.0)
     data["offset"] = _hair_number(ctx, node, 'Offset', path, -math.pi / 2, math.pi / 2)
     data["random_roughness"] = _hair_number(ctx, node, 'Random Roughness', path, 0.0, 1.0)
-    data["random"] = _hair_number(ctx, node, 'Random', path, 0.0, 1.0)
     sock = _input(node, 'Random')
     random_used = data["random_roughness"] > 0.0 or data.get("random_color", 0.0) > 0.0
     if random_used and isinstance(ctx.walker.input(node, sock, path), nodegraph.Const):
-        ctx.problems.append("%s: %s '%s' input 'Random' is unlinked: on hair Cycles uses each "
-                            "strand's random value there; Facet uses %s for every strand"
-                            % (ctx.what, nodegraph.node_type_label(node), node.name,
-                               _fmt(data["random"])))
+        # Cycles' attribute Random of the curve (svm_node_closure: unlinked Random reads
+        # ATTR_STD_CURVE_RANDOM, the socket's value where there is none).
+        data["random"] = {"hair_info": {"output": "random"}}
+        if float(sock.default_value) != 0.0:
+            ctx.problems.append("%s: %s '%s' input 'Random' is unlinked: each strand's random "
+                                "value is used, as Cycles; on a mesh Cycles uses its value %s, "
+                                "Facet 0" % (ctx.what, nodegraph.node_type_label(node),
+                                             node.name, _fmt(float(sock.default_value))))
+    else:
+        data["random"] = _hair_texture(ctx, node, 'Random', path) if random_used else None
+        if data["random"] is None:
+            data["random"] = _hair_number(ctx, node, 'Random', path, 0.0, 1.0)
     return data, None
 
 

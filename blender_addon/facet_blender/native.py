@@ -38,6 +38,12 @@ def _import_facet():
 facet = _import_facet()
 
 
+def curve_random(indices):
+    """Cycles 3.4's random values (float64 array) of the strands of these indices in a hair
+    geometry: what a curves shape without strand_random gives strand i (scene.h)."""
+    return np.asarray(facet.curve_random(np.asarray(indices, np.int64)), np.float64)
+
+
 # --- model table ---------------------------------------------------------------------------
 
 def models():
@@ -208,7 +214,9 @@ def _shape_desc(s):
             np.ascontiguousarray(radius, dtype=np.float32),
             counts=None if s.get("counts") is None else np.asarray(s["counts"], np.int64),
             root_uvs=None if s.get("root_uvs") is None else
-            np.ascontiguousarray(s["root_uvs"], dtype=np.float32))
+            np.ascontiguousarray(s["root_uvs"], dtype=np.float32),
+            strand_random=None if s.get("strand_random") is None else
+            np.ascontiguousarray(s["strand_random"], dtype=np.float32))
         if s.get("motion_positions"):  # deformation motion: per step, flat float32 arrays
             sd.motion_positions = [np.ascontiguousarray(st, dtype=np.float32).ravel()
                                    for st in s["motion_positions"]]
@@ -368,6 +376,8 @@ def _shape_data(sd, base_dir):
             s["counts"] = [int(x) for x in c.counts]
         if c.root_uvs is not None:
             s["root_uvs"] = np.asarray(c.root_uvs, dtype=np.float64).ravel().tolist()
+        if c.strand_random is not None:
+            s["strand_random"] = np.asarray(c.strand_random, dtype=np.float64).tolist()
         if len(sd.motion_positions):
             s["motion_positions"] = [np.asarray(st, dtype=np.float64).ravel().tolist()
                                      for st in sd.motion_positions]

@@ -26,9 +26,14 @@ is rendered through its control points as Catmull-Rom, as Cycles 3.4 does (Blend
 evaluates it as its type); an emitting hair material (curves cannot emit); textured hair
 without UVs (Cycles reads (0, 0)); particle hair on an object placed by instances (only the
 object itself carries its hair); strands of fewer than 2 keys are left out (counted).
+Each strand's random value (Hair Info Random) is Cycles' hash of its index in Cycles' hair
+geometry: the strands of all the object's hair systems in one sequence, and every Curves curve
+(also those left out); where that is not its index in the shape the shape gives strand_random.
 Under motion blur the hair's motion steps are sync_motion.py's (particle_step_points,
 curves_step_points read the points again at each step)."""
 import numpy as np
+
+from . import native
 
 # A zero radius (Close Tip) as a fraction of the strand's root radius.
 ZERO_RADIUS = 1e-4
@@ -65,9 +70,11 @@ def _flat(points):
     return [float(v) for v in np.asarray(points, np.float64).ravel()]
 
 
-def _strands_shape(points, radii, counts, profile, uvs=None):
+def _strands_shape(points, radii, counts, profile, uvs=None, cycles_index=None):
     """A `curves` shape dict of Catmull-Rom strands through `points` (n x 3) with `radii`
-    (n), `counts` keys each: every strand's first and last key repeated."""
+    (n), `counts` keys each: every strand's first and last key repeated. `cycles_index`: each
+    strand's index in Cycles' hair geometry, when it is not its index here (its random value:
+    strand_random)."""
     idx = _expanded(counts)
     shape = {"type": "curves", "basis": "catmull_rom", "profile": profile,
              "points": _flat(np.asarray(points)[idx]),
@@ -75,6 +82,8 @@ def _strands_shape(points, radii, counts, profile, uvs=None):
              "counts": [int(c) + 2 for c in counts]}
     if uvs is not None:
         shape["root_uvs"] = [float(v) for v in np.asarray(uvs, np.float64).ravel()]
+    if cycles_index is not None and not np.array_equal(cycles_index, np.arange(len(counts))):
+        shape["strand_random"] = [float(v) for v in native.curve_random(cycles_index)]
     return shape
 
 
@@ -131,6 +140,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
     and Display Amount, as Cycles' viewport render)."""
     out = []
     profile = _profile(scene)
+    first = 0  # Cycles numbers the strands of all the object's hair systems in one sequence
     for mod in obj.modifiers:
         if mod.type != 'PARTICLE_SYSTEM' or not mod.show_render:
             continue
@@ -141,6 +151,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
         subject = "object '%s': particle system '%s'" % (obj.original.name, ps.name)
         totpart = len(ps.particles)
         strands, steps = _strand_range(ps, render)
+        kept = []  # each exported strand's index in Cycles' sequence
         half = st.radius_scale * 0.5
         root, tip = half * st.root_radius, half * st.tip_radius
         points, radii, counts, uvs = [], [], [], []
@@ -162,6 +173,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
             if len(keys) < 2 or not np.isfinite(keys).all():
                 skipped += 1
                 continue
+            kept.append(first + pa - strands.start)
             seg = np.linalg.norm(np.diff(keys, axis=0), axis=1)
             length = seg.sum()
             t = np.concatenate([[0.0], np.cumsum(seg)]) / length if length > 0.0 else \
@@ -179,13 +191,14 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
                     uv = tuple(ps.uv_on_emitter(modifier=mod, particle=particle,
                                                 particle_no=pa, uv_no=uv_index))
                 uvs.append(uv)
+        first += len(strands)
         if skipped:
             problems.append("%s: %d strands without keys are left out" % (subject, skipped))
         if not counts:
             continue
         rad = _positive(np.concatenate(radii), root, subject, problems)
         shape = _strands_shape(np.concatenate(points), rad, counts, profile,
-                               uvs if textured else None)
+                               uvs if textured else None, np.array(kept, np.int64))
         shape["name"] = "%s hair '%s'" % (obj.original.name, ps.name)
         out.append((shape, mat, mod.name))
     return out
@@ -282,7 +295,7 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
     root = float(rad.max()) if len(rad) else 1.0
     radii = _positive(rad[idx], root, subject, problems)
     shape = _strands_shape(pos[idx], radii, [int(c) for c in counts_all[keep]], _profile(scene),
-                           uvs)
+                           uvs, np.nonzero(keep)[0])
     shape["name"] = obj.original.name
     shape["transform"] = [[float(matrix[r][c]) for c in range(4)] for r in range(4)]
     return shape, mat

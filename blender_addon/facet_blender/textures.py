@@ -46,6 +46,10 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   colour (into a number input: channel "luminance", as for images); Alpha: channel "a".
   Cycles interpolates linear values per corner (byte colours are decoded per corner first),
   as the core does.
+- Hair Info node, Random, Intercept or Is Strand output -> `{"hair_info": {"output": ...}}`
+  (FORMAT.md, "Textures"): the strand's random value (Cycles 3.4's hash of its index), its
+  position along the strand, 1 on curves; 0 elsewhere, as Cycles. Length, Thickness and
+  Tangent Normal raise Unsupported.
 
 Every approximation is returned as a note (the caller reports it); everything else raises
 Unsupported(out, reason) naming the node that stops the conversion.
@@ -137,6 +141,8 @@ def convert(walker, src, number):
         return _checker(walker, src, to_number)
     if node.bl_idname == 'ShaderNodeVertexColor':
         return _color_attribute(src, to_number)
+    if node.bl_idname == 'ShaderNodeHairInfo':
+        return _hair_info(src)
     if node.bl_idname in PROCEDURAL:
         return _procedural(walker, src, to_number)
     if node.bl_idname in SEPARATE:
@@ -276,6 +282,26 @@ def _color_attribute(src, to_number):
         data["channel"] = "luminance"
         notes.append("%s: %s" % (src.label(), LUMINANCE_NOTE))
     return Result(data, None, notes, color_attribute=src.node.layer_name)
+
+
+# Hair Info outputs -> the hair_info texture's outputs.
+_HAIR_INFO = {'Random': "random", 'Intercept': "intercept", 'Is Strand': "is_strand"}
+
+
+def _hair_info(src):
+    """The Hair Info node: Random, Intercept, Is Strand -> `{"hair_info": {"output": ...}}`
+    (0 off curves, as Cycles). Intercept is noted: Facet's position along the strand is uniform
+    in each segment's curve parameter, Cycles' the keys' share of the strand's length."""
+    output = _HAIR_INFO.get(src.socket.identifier)
+    if output is None:
+        raise Unsupported(src, "output '%s' (Facet has Random, Intercept and Is Strand)"
+                          % src.socket.name)
+    notes = []
+    if output == "intercept":
+        notes.append("%s: Intercept is the position along the strand uniform in each segment "
+                      "(Cycles: the keys' share of the strand's length; equal where the "
+                      "segments are of equal length)" % src.label())
+    return Result({"hair_info": {"output": output}}, None, notes)
 
 
 # --- images ---------------------------------------------------------------------------------

@@ -1088,14 +1088,36 @@ void bind_scene(py::module_& m) {
         std::copy(v.begin(), v.end(), a.mutable_data());
         return std::move(a);
     };
+    m.def(
+        "curve_random",
+        [](py::handle indices) {
+            const auto a =
+                py::array_t<std::int64_t, py::array::c_style | py::array::forcecast>::ensure(
+                    indices);
+            if (!a) throw py::type_error("indices: expected a sequence of integers");
+            py::array_t<float> out(a.size());
+            for (py::ssize_t i = 0; i < a.size(); ++i) {
+                if (a.data()[i] < 0 || a.data()[i] > 0xFFFFFFFFll)
+                    throw py::value_error("indices[" + std::to_string(i) +
+                                          "]: must be in [0, 2^32)");
+                out.mutable_data()[i] = facet::render::curve_random(std::uint32_t(a.data()[i]));
+            }
+            return out;
+        },
+        py::arg("indices"),
+        "Cycles 3.4's random values of the strands of these indices in a hair geometry "
+        "(hash_uint2_to_float(i, 0): what a curves shape without strand_random gives strand i), "
+        "float32.");
     py::class_<CurveData>(
         m, "CurveData",
         "Curve arrays of a 'curves' shape (scenes/FORMAT.md, \"Curves\"): points float32 (n, 3), "
         "radius (a number, or float32 (n,): one per point), counts uint32 (strands,) or None "
         "(the control points of each strand; None: one strand), root_uvs float32 (strands, 2) or "
-        "None (each strand's texture coordinates). Copied in as float32/uint32.")
+        "None (each strand's texture coordinates), strand_random float32 (strands,) or None "
+        "(each strand's random value in [0, 1]; None: Cycles' hash of its index). Copied in as "
+        "float32/uint32.")
         .def(py::init([floats_in](py::handle points, py::handle radius, py::handle counts,
-                                  py::handle root_uvs) {
+                                  py::handle root_uvs, py::handle strand_random) {
                  CurveData c;
                  c.points = floats_in(points, "points");
                  if (py::isinstance<py::float_>(radius) || py::isinstance<py::int_>(radius))
@@ -1115,10 +1137,11 @@ void bind_scene(py::module_& m) {
                      }
                  }
                  c.root_uvs = floats_in(root_uvs, "root_uvs");
+                 c.strand_random = floats_in(strand_random, "strand_random");
                  return c;
              }),
              py::arg("points"), py::arg("radius"), py::arg("counts") = py::none(),
-             py::arg("root_uvs") = py::none())
+             py::arg("root_uvs") = py::none(), py::arg("strand_random") = py::none())
         .def_property_readonly("points",
                                [floats_out](const CurveData& c) { return floats_out(c.points, 3); })
         .def_property_readonly("radius",
@@ -1135,6 +1158,9 @@ void bind_scene(py::module_& m) {
                                })
         .def_property_readonly(
             "root_uvs", [floats_out](const CurveData& c) { return floats_out(c.root_uvs, 2); })
+        .def_property_readonly(
+            "strand_random",
+            [floats_out](const CurveData& c) { return floats_out(c.strand_random, 1); })
         .def_property_readonly("num_points", &CurveData::num_points)
         .def(py::self == py::self)
         .def("__repr__", [](const CurveData& c) {

@@ -149,6 +149,17 @@ def case_export():
     # The exported scene builds.
     from facet_blender import native
     native.build(export()[0], name="blender")
+    # A second hair system: Cycles numbers the strands of both in one sequence, so the second
+    # shape's strands carry the random values of indices 300..349 (strand_random); the first's
+    # are their own indices' (no key).
+    cs.add_fur(sphere, 50)
+    hair = [s for s in export()[0]["shapes"] if s["type"] == "curves"]
+    bt.check(len(hair) == 2 and "strand_random" not in hair[0]
+             and np.allclose(hair[1].get("strand_random", []),
+                             native.curve_random(np.arange(300, 350)), atol=0.0),
+             "a second system's strands continue Cycles' numbering: %s"
+             % [sorted(h) for h in hair])
+    sphere.modifiers.remove(sphere.modifiers[-1])
 
 
 def case_curves_object():

@@ -9,6 +9,9 @@ translation (to 1e-5); the same with the object's Deformation off (the still key
 emitter's matrices); the object's Motion Blur off, or the viewport's export (no frame_set): still
 hair; nothing is reported as rendered without motion blur. A CURVES object (Add > Curves > Random) moving 1.5
 units per frame gets the object's 3 matrices as its shape's "motion" and no deformation steps.
+A CURVES object whose points a geometry nodes modifier slides 1.5 units per frame gets
+"motion_positions" of 3 steps 0.375 apart, and renders against Cycles within the same bounds
+(below).
 
 Render: that moving furry sphere (Diffuse hair, diffuse skin, a sun, a dark world) at 64 x 48,
 128 spp, max depth 2 (Cycles 1 bounce), Facet (through the export) against Cycles, two seeds
@@ -16,7 +19,9 @@ each; the bounds of the other Cycles tests (test_cycles_motion.py):
 - |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
 - block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
   noise floor (the same between Cycles seeds 1 and 2).
-Ability to fail: Facet with the hair's motion steps dropped (the sphere blurred, its hair
+The same for the deforming CURVES object (Add > Curves > Random in front of the factory cube,
+as test_cycles_hair.py's Curves case).
+Ability to fail (also for the deforming Curves): Facet with the hair's motion steps dropped (the sphere blurred, its hair
 sharp at the frame: what the addon rendered before) must break a bound, and so must Facet with
 motion blur off altogether (numbers printed)."""
 import os
@@ -36,6 +41,7 @@ SPP = 128
 MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
 MAX_DEPTH = 2
+SLIDE = 1.5  # the deforming Curves' slide, units per frame
 
 
 def export(frame_set=None):
@@ -204,12 +210,79 @@ def case_render(out):
              % (ratio, rel))
 
 
+def wave_modifier(ob, speed):
+    """A geometry nodes modifier moving every point of `ob` by speed (frame - 1) along x: the
+    points deform over the shutter (the object itself stays)."""
+    ng = bpy.data.node_groups.new("Slide", 'GeometryNodeTree')
+    ng.inputs.new('NodeSocketGeometry', "Geometry")
+    ng.outputs.new('NodeSocketGeometry', "Geometry")
+    gin, gout = ng.nodes.new('NodeGroupInput'), ng.nodes.new('NodeGroupOutput')
+    sp = ng.nodes.new('GeometryNodeSetPosition')
+    t = ng.nodes.new('GeometryNodeInputSceneTime')
+    ma = ng.nodes.new('ShaderNodeMath')
+    ma.operation = 'MULTIPLY_ADD'
+    ma.inputs[1].default_value = speed
+    ma.inputs[2].default_value = -speed
+    comb = ng.nodes.new('ShaderNodeCombineXYZ')
+    ng.links.new(t.outputs['Frame'], ma.inputs[0])
+    ng.links.new(ma.outputs[0], comb.inputs['X'])
+    ng.links.new(comb.outputs[0], sp.inputs['Offset'])
+    ng.links.new(gin.outputs[0], sp.inputs['Geometry'])
+    ng.links.new(sp.outputs[0], gout.inputs[0])
+    mod = ob.modifiers.new("Slide", 'NODES')
+    mod.node_group = ng
+    return mod
+
+
+def case_curves_deform_render(out):
+    """Blender 3.4's random hair curves (Add > Curves > Random: 500 curves, root radius 0.02)
+    in the scene of test_cycles_hair.py's Curves case (the factory cube behind them, a sun),
+    their points slid SLIDE units per frame along x by a geometry nodes modifier, under
+    motion blur (shutter 0.5 centred, 3 steps), against Cycles: the export gives the shape
+    motion_positions (3 steps SLIDE / 4 apart in x); the control drops them (sharp curves)."""
+    scene = bt.factory_scene(W, H)
+    bpy.ops.object.curves_random_add(location=(0.0, 0.0, 0.5))
+    ob = bpy.context.active_object
+    ob.name = "Sliding"
+    ob.data.materials.append(diffuse("Strand", (0.2, 0.6, 0.3)))
+    wave_modifier(ob, SLIDE)
+    scene.cycles_curves.shape = 'THICK'
+    cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 5.0), rotation=(0.6, 0.3, 0.0))
+    scene.camera.location = (0.0, -3.0, 1.0)
+    scene.camera.rotation_euler = (1.35, 0.0, 0.0)
+    blur_on(scene)
+    data, problems = export(scene_frame_set)
+    h = hair_of(data)
+    mp = h.get("motion_positions", [])
+    dx = [np.mean(np.array(st).reshape(-1, 3)[:, 0]) for st in mp]
+    bt.check(len(mp) == 3 and np.allclose(np.diff(dx), SLIDE / 4.0, atol=1e-4),
+             "the deforming Curves' points per step: %s" % dx)
+    imgs = renders(scene, "curves_slide", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("deforming curves", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the deforming Curves object: mean ratio %.4f within %g, block RMSE %.2f <= %g x "
+             "floor" % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    from facet_blender import sync_motion
+    saved = sync_motion._add_hair_deformation
+    sync_motion._add_hair_deformation = lambda *a, **k: None
+    try:
+        sharp = renders(scene, "curves_sharp", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion._add_hair_deformation = saved
+    ratio, rel = compare("sharp curves", sharp, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "sharp curves break a bound (mean ratio %.4f, block RMSE %.2f x floor): the test "
+             "can fail" % (ratio, rel))
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
     case_export()
     case_curves_export()
     case_render(out)
+    case_curves_deform_render(out)
 
 
 bt.run(main)

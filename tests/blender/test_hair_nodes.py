@@ -4,10 +4,13 @@ BSDF with its inputs by name (Direct Coloring, Melanin Concentration with Tint a
 Absorption Coefficient), Roughness, Radial Roughness, Coat, IOR, Offset, Random Roughness and
 Random; the Hair BSDF's Component, Color, Offset and roughnesses. Each conversion is validated
 by the core (native.check_material). Reported by node and input name: values outside the core's
-ranges (an IOR below 1, a colour above 1), an unlinked Random that matters (Cycles reads each
-strand's own random value there), a linked Tangent; converted without a line: the defaults.
+ranges (an IOR below 1, a colour above 1), a linked Tangent; converted without a line: the
+defaults. An unlinked Random that matters (Random Roughness or Random Color > 0) is the
+strand's random value, a hair_info texture, as Cycles reads it; Hair Info's Random through a
+Color Ramp into Direct Coloring's Color is a texture.
 Rendering against Cycles needs curves (Cycles' Principled Hair is a curve closure), so it is
 not here."""
+import json
 import math
 import os
 import sys
@@ -42,8 +45,9 @@ def main():
 
     def conv(mat):
         c = materials.convert(mat)
+        # (Textured inputs are checked by the scene tests that render them.)
         native.check_material(c.data["model"], {k: v for k, v in c.data.items()
-                                                if k != "model"})
+                                                if k != "model" and not isinstance(v, dict)})
         return c
 
     # Defaults (Direct Coloring): every input by its own name, no report.
@@ -75,15 +79,40 @@ def main():
              and close(d["random"], 0.7) and close(d["coat"], 0.25) and close(d["ior"], 1.4)
              and close(d["offset"], math.radians(3.0)) and "color" not in d and not c.problems,
              "Melanin parametrization with a linked Random: %s %s" % (d, c.problems))
-    # The same with Random unlinked: Cycles reads the strand's random value; reported by name.
+    # The same with Random unlinked: Cycles reads the strand's random value, a hair_info
+    # texture; with a Random value of 0.4 the mesh case (Cycles: 0.4, Facet 0) is reported.
     nt.links.remove(n.inputs["Random"].links[0])
     c = conv(m)
-    bt.check(len(c.problems) == 1 and "PHM" in c.problems[0] and "'Random'" in c.problems[0]
-             and "strand" in c.problems[0], "an unlinked Random that matters: %s" % c.problems)
+    bt.check(c.data["random"] == {"hair_info": {"output": "random"}} and not c.problems,
+             "an unlinked Random that matters: the strand's value: %s %s"
+             % (c.data["random"], c.problems))
+    n.inputs["Random"].default_value = 0.4
+    c = conv(m)
+    bt.check(c.data["random"] == {"hair_info": {"output": "random"}} and len(c.problems) == 1
+             and "'Random'" in c.problems[0] and "mesh" in c.problems[0],
+             "an unlinked Random of 0.4: %s" % c.problems)
     # Random Roughness and Random Color 0: the Random value does not matter, no line.
     n.inputs["Random Roughness"].default_value = 0.0
     n.inputs["Random Color"].default_value = 0.0
-    bt.check(not conv(m).problems, "Random unlinked but unused: no line")
+    c = conv(m)
+    bt.check(not c.problems and close(c.data["random"], 0.4),
+             "Random unlinked but unused: its value, no line: %s" % c.problems)
+    # Hair Info Random through a Color Ramp into Direct Coloring's Color: a texture; Hair Info
+    # Intercept into Random (noted: the position along the strand).
+    m, nt, n = hair_material("PHC", "ShaderNodeBsdfHairPrincipled",
+                             {"parametrization": 'COLOR'}, Random_Roughness=0.5)
+    info = nt.nodes.new("ShaderNodeHairInfo")
+    ramp = nt.nodes.new("ShaderNodeValToRGB")
+    nt.links.new(info.outputs["Random"], ramp.inputs["Fac"])
+    nt.links.new(ramp.outputs["Color"], n.inputs["Color"])
+    nt.links.new(info.outputs["Intercept"], n.inputs["Random"])
+    c = conv(m)
+    col, rnd = c.data["color"], c.data["random"]
+    bt.check(isinstance(col, dict) and "color_ramp" in json.dumps(col)
+             and '"hair_info": {"output": "random"}' in json.dumps(col)
+             and "intercept" in json.dumps(rnd) and len(c.problems) == 1
+             and "Intercept" in c.problems[0],
+             "Hair Info into Color and Random: %s %s %s" % (col, rnd, c.problems))
 
     # Absorption Coefficient.
     m, _, _ = hair_material("PHA", "ShaderNodeBsdfHairPrincipled",

@@ -592,3 +592,25 @@ def test_curves_from_python_against_json():
     a = facet.render(facet.build_scene(d, name="py"), spp=2)
     b = facet.render(facet.build_scene(again, name="json"), spp=2)
     np.testing.assert_array_equal(a, b)
+
+
+def test_curves_strand_random():
+    # Per-strand random values: given as an array (facet.CurveData strand_random) they survive
+    # the JSON round trip; facet.curve_random is Cycles' hash of the strand index (the values
+    # a shape without them gets; independent lookup3 values of tests/render/test_curves.cpp).
+    np.testing.assert_array_equal(facet.curve_random([0, 1, 7]),
+                                  np.array([0.8603127598762512, 0.29501262307167053,
+                                            0.7391559481620789], np.float32))
+    with pytest.raises(ValueError, match=r"indices\[1\]"):
+        facet.curve_random([0, -1])
+    d = facet.parse_scene_description(ts.scene_json(spp=2), name="random")
+    points = np.array([[0, 0, 0], [0, 0.5, 0], [0.5, 0, 0], [0.5, 0.5, 0]], dtype=np.float32)
+    c = facet.CurveData(points=points, radius=0.02, counts=[2, 2],
+                        strand_random=np.array([0.25, 0.75], np.float32))
+    np.testing.assert_array_equal(c.strand_random, [0.25, 0.75])
+    assert facet.CurveData(points=points, radius=0.02).strand_random is None
+    d.shapes = list(d.shapes) + [facet.ShapeDesc("curves", basis="linear", curves=c,
+                                                 material_ref="red")]
+    text = facet.write_scene_json(d)
+    assert '"strand_random"' in text
+    assert facet.parse_scene_description(text, name="again") == d

@@ -239,6 +239,156 @@ TEST(Curves, HitsReportTheirStrandsRootUv) {
     }
 }
 
+// Each strand's random value (Blender's Hair Info Random; scene.h, curve_random) is Cycles
+// 3.4's hash_uint2_to_float(i, 0) of its index: the same on every call, and equal to values
+// computed by an independent implementation of lookup3 (Python, from Cycles' util/hash.h:
+// hash_uint2 = final() of a = b = c = 0xdeadbeef + 21, a += i; c / 0xffffffff in float).
+TEST(Curves, StrandRandomIsCyclesHashOfTheIndex) {
+    const std::pair<std::uint32_t, float> known[] = {
+        {0, 0.8603127598762512f}, {1, 0.29501262307167053f},   {2, 0.2331811934709549f},
+        {7, 0.7391559481620789f}, {1000, 0.8173571825027466f}, {123456, 0.7195538878440857f}};
+    for (const auto& [i, v] : known) {
+        EXPECT_EQ(fr::curve_random(i), v) << "strand " << i;
+        EXPECT_EQ(fr::curve_random(i), fr::curve_random(i));
+    }
+}
+
+// Over many strands the random values are uniform on [0, 1]: a chi-square test of 10^5
+// strands in 20 equal bins against 19 degrees of freedom at p = 1e-4 (critical value 48.3),
+// and the mean within 5 standard errors of 1/2. A value per strand that ignored the index
+// (constant), or the hash's raw bits taken mod 2^16, fail it.
+TEST(Curves, StrandRandomIsUniformOverStrands) {
+    constexpr int kN = 100000, kBins = 20;
+    std::vector<int> bins(kBins, 0);
+    double sum = 0.0;
+    for (int i = 0; i < kN; ++i) {
+        const float v = fr::curve_random(std::uint32_t(i));
+        ASSERT_TRUE(v >= 0.f && v <= 1.f);
+        sum += v;
+        ++bins[std::min(kBins - 1, int(v * kBins))];
+    }
+    double chi2 = 0.0;
+    const double expected = double(kN) / kBins;
+    for (int b : bins) chi2 += (b - expected) * (b - expected) / expected;
+    EXPECT_LT(chi2, 48.3);
+    EXPECT_NEAR(sum / kN, 0.5, 5.0 * std::sqrt(1.0 / 12.0 / kN));
+}
+
+// A hair_info texture reads the hit strand's values: Random (curve_random of the strand's
+// index), Intercept (the position along it) and Is Strand; a sphere with the same material
+// reads 0 for each, as Cycles gives off curves. Without such a texture the shape does not ask
+// for them (ShapeInfo::needs_strand).
+TEST(Curves, HairInfoTextureReadsTheHitStrand) {
+    for (const char* output : {"random", "intercept", "is_strand"}) {
+        const std::string material =
+            std::string(R"({"model": "lambert", "reflectance": {"hair_info": {"output": ")") +
+            output + R"("}}})";
+        const fr::Scene scene = fr::testing::scene_from(std::string(R"("materials": {"m": )") +
+                                                        material + R"(},
+               "shapes": [{"type": "curves", "material": "m", "basis": "linear",
+                           "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1,  2, 0, -1,  2, 0, 1],
+                           "counts": [2, 2, 2], "radius": 0.1},
+                          {"type": "sphere", "center": [0, 0, -3], "radius": 0.5,
+                           "material": "m"}],)" + kRest);
+        ASSERT_TRUE(scene.shapes()[0].needs_strand);
+        for (int k = 0; k < 4; ++k) {
+            fr::Ray ray;
+            const float z = k < 3 ? -0.5f + 0.4f * float(k) : -3.f;
+            ray.o = Vec3(k < 3 ? float(k) : 0.f, -3.f, z);
+            ray.d = Vec3(0.f, 1.f, 0.f);
+            fr::SurfaceHit hit;
+            ASSERT_TRUE(scene.intersect(ray, hit));
+            ASSERT_GE(hit.textured, 0);
+            const facet::Material m = scene.material_at(hit);
+            const facet::Rgb f = m.f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));  // R / pi
+            float expected = 0.f;
+            if (k < 3) {
+                expected = std::string(output) == "random"      ? fr::curve_random(std::uint32_t(k))
+                           : std::string(output) == "intercept" ? 0.5f * (z + 1.f)
+                                                                : 1.f;
+            }
+            EXPECT_NEAR(f.r * float(facet::kPi), expected, 1e-5f) << output << " hit " << k;
+        }
+    }
+    // Given values (strand_random) replace the hash: the hits read them.
+    const fr::Scene given = fr::testing::scene_from(curves_scene(
+        R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1],
+           "counts": [2, 2], "radius": 0.1, "strand_random": [0.25, 0.875])",
+        R"({"model": "lambert", "reflectance": {"hair_info": {}}})"));
+    for (int k = 0; k < 2; ++k) {
+        fr::Ray ray;
+        ray.o = Vec3(float(k), -3.f, 0.f);
+        ray.d = Vec3(0.f, 1.f, 0.f);
+        fr::SurfaceHit hit;
+        ASSERT_TRUE(given.intersect(ray, hit));
+        const facet::Rgb f = given.material_at(hit).f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));
+        EXPECT_NEAR(f.r * float(facet::kPi), k == 0 ? 0.25f : 0.875f, 1e-6f) << "strand " << k;
+    }
+    // Instanced curves read their prototype strand's value, also through a mirroring
+    // transform (whose handedness flips a tangent sign, not a strand's value).
+    const fr::Scene mirrored = fr::testing::scene_from(
+        R"("materials": {"m": {"model": "lambert", "reflectance": {"hair_info": {}}}},
+           "prototypes": {"hair": [{"type": "curves", "material": "m", "basis": "linear",
+               "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1], "counts": [2, 2],
+               "radius": 0.1}]},
+           "shapes": [{"type": "instance", "of": "hair",
+                       "transform": {"scale": [-1, 1, 1]}}],)" +
+        std::string(kRest));
+    for (int k = 0; k < 2; ++k) {
+        fr::Ray ray;
+        ray.o = Vec3(-float(k), -3.f, 0.f);
+        ray.d = Vec3(0.f, 1.f, 0.f);
+        fr::SurfaceHit hit;
+        ASSERT_TRUE(mirrored.intersect(ray, hit));
+        const facet::Rgb f = mirrored.material_at(hit).f(Vec3(0.f, 0.f, 1.f), Vec3(0.f, 0.f, 1.f));
+        EXPECT_NEAR(f.r * float(facet::kPi), fr::curve_random(std::uint32_t(k)), 1e-6f)
+            << "mirrored instance, strand " << k;
+    }
+    const fr::Scene plain = fr::testing::scene_from(
+        curves_scene(R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1], "radius": 0.1)",
+                     R"({"model": "lambert", "reflectance": {"noise": {"scale": 3}}})"));
+    EXPECT_FALSE(plain.shapes()[0].needs_strand);
+}
+
+// Principled Hair's Random fed by the strand's value: each strand's material is the one built
+// with Random set to its curve_random (the model's mapping of Random Roughness and Random
+// Color: tests/core/test_hair.cpp, "melanin_random"); strands differ.
+TEST(Curves, PrincipledHairRandomIsTheStrandsValue) {
+    const char* const params = R"("model": "principled_hair", "parametrization": "melanin",
+        "melanin": 0.5, "roughness": 0.3, "radial_roughness": 0.4, "random_roughness": 0.8,
+        "random_color": 0.9)";
+    const fr::Scene scene = fr::testing::scene_from(
+        curves_scene(R"("basis": "linear", "points": [0, 0, -1,  0, 0, 1,  1, 0, -1,  1, 0, 1],
+                        "counts": [2, 2], "radius": 0.1)",
+                     std::string("{") + params + R"(, "random": {"hair_info": {}}})"));
+    const Vec3 wo = glm::normalize(Vec3(0.2f, 0.3f, 0.9f));
+    const Vec3 wi = glm::normalize(Vec3(-0.4f, -0.5f, 0.6f));
+    facet::Rgb first{0.f};
+    for (int k = 0; k < 2; ++k) {
+        fr::Ray ray;
+        ray.o = Vec3(float(k), -3.f, 0.f);
+        ray.d = Vec3(0.f, 1.f, 0.f);
+        fr::SurfaceHit hit;
+        ASSERT_TRUE(scene.intersect(ray, hit));
+        const facet::Material at = scene.material_at(hit);
+        facet::ParamSet p{{"parametrization", std::string("melanin")},
+                          {"melanin", 0.5},
+                          {"roughness", 0.3},
+                          {"radial_roughness", 0.4},
+                          {"random_roughness", 0.8},
+                          {"random_color", 0.9}};
+        p.set("random", double(fr::curve_random(std::uint32_t(k))));
+        const facet::Material ref = facet::make_material("principled_hair", p);
+        const facet::Rgb fa = at.f(wo, wi), fb = ref.f(wo, wi);
+        for (int c = 0; c < 3; ++c) EXPECT_NEAR(fa[c], fb[c], 1e-6f * fb[c]) << "strand " << k;
+        if (k == 0) {
+            first = fa;
+        } else {
+            EXPECT_GT(std::fabs(fa.r - first.r), 0.05f * first.r);
+        }
+    }
+}
+
 // A prototype of curves placed by instances hits as the same curves written out in world
 // space do.
 TEST(Curves, InstancedCurvesHitAsTheirFlattenedCopy) {
@@ -294,7 +444,7 @@ TEST(Curves, JsonRoundTrip) {
         const fr::SceneDescription d =
             describe(curves_scene(std::string(R"("basis": "bspline", "profile": "flat",
                "points": [0, 0, 0,  0, 0, 1,  0, 0, 2,  0, 0, 3,  0, 0, 4], "counts": [5],
-               "root_uvs": [0.5, 0.5], "radius": )") +
+               "root_uvs": [0.5, 0.5], "strand_random": [0.3], "radius": )") +
                                   radius));
         const fr::SceneDescription back =
             fr::parse_scene_description(fr::write_scene_json(d), "back.json");
@@ -384,6 +534,12 @@ TEST(Curves, BadInputNamesTheJsonPath) {
          "/shapes/0: missing required key 'radius'"},
         {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1, "emission": 1)",
          "/shapes/0/emission: curves cannot emit"},
+        {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
+            "strand_random": [0.5, 0.5])",
+         "/shapes/0/strand_random: expected one number per strand (1), got 2"},
+        {R"("basis": "linear", "points": [0, 0, 0, 0, 0, 1], "radius": 0.1,
+            "strand_random": [1.5])",
+         "/shapes/0/strand_random/0: must be in [0, 1]"},
     };
     for (const Case& c : cases) {
         const std::string e = error_of(curves_scene(c.keys));

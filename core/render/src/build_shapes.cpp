@@ -69,6 +69,13 @@ bool Builder::needs_view(const ShapeSurface& s) {
            (s.emission_texture && s.emission_texture->uses_view());
 }
 
+// Whether hits on a surface read the Hair Info values: a texture of its material or emission
+// reads them.
+bool Builder::needs_strand(const ShapeSurface& s) {
+    return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_strand) ||
+           (s.emission_texture && s.emission_texture->uses_strand());
+}
+
 // Whether hits on a surface interpolate vertex colours: its material or emission reads them.
 bool Builder::needs_color(const ShapeSurface& s) {
     return (s.textured >= 0 && m_builder.textured()[std::size_t(s.textured)].uses_color) ||
@@ -201,6 +208,13 @@ class Builder::ShapeContext final : public ShapeBuild {
                  "the shape's material or emission is textured but the curves have no "
                  "root_uvs");
         if (!m_info.needs_uv) g.root_uvs = {};
+        if (!m_info.needs_strand) {
+            g.strand_random = {};
+        } else if (g.strand_random.empty()) {
+            g.strand_random.resize(g.strand_first.size() - 1);
+            for (std::size_t i = 0; i < g.strand_random.size(); ++i)
+                g.strand_random[i] = curve_random(std::uint32_t(i));
+        }
         object_bounds.lo = glm::min(object_bounds.lo, object_extent.lo);
         object_bounds.hi = glm::max(object_bounds.hi, object_extent.hi);
         grow(glm::dvec3(extent.lo));
@@ -601,6 +615,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
     info.needs_color = needs_color(info);
     info.needs_position = needs_position(info);
     info.needs_view = needs_view(info);
+    info.needs_strand = needs_strand(info);
     // An invisible boundary cannot emit: rays cross it without a vertex.
     if (emissive) {
         if (const MediumInterface* mi = m_builder.scene.medium_interface(info.material);

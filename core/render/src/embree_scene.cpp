@@ -1075,6 +1075,8 @@ template <bool kUv>
     hit.strand_v =
         float((double(seg - first) + double(u)) / double(g.strand_first[strand + 1] - first));
     hit.strand_h = std::int16_t(std::lround(h * 32767.0));
+    if (!g.strand_random.empty()) [[unlikely]]
+        hit.strand_random = g.strand_random[strand];
     if (!g.root_uvs.empty()) {
         hit.uv = g.root_uvs[strand];
         hit.dpdu_uv = Vec3(0.f);
@@ -1135,7 +1137,7 @@ template <bool kUv>
     if (!curve && !mg->records.empty()) hit.ns = ray_side_valid_normal(hit.ng, -ray.d, hit.ns);
     hit.dpdu = Vec3(lin * glm::dvec3(hit.dpdu));
     if (curve) hit.dpdu = glm::normalize(hit.dpdu);  // a curve's tangent is unit
-    hit.tangent_sign *= in.handedness;
+    if (!curve) hit.tangent_sign *= in.handedness;   // (a curve's is its strand_random)
     if constexpr (kUv) {
         if (hit.shape < impl.normal_in_po.size() && impl.normal_in_po[hit.shape]) [[unlikely]]
             hit.po = Vec3(n_frame);

@@ -115,6 +115,7 @@ class Builder final : public BuildChecks {
                            const std::string& ptr);
     bool needs_position(const ShapeSurface& s);
     bool needs_view(const ShapeSurface& s);
+    bool needs_strand(const ShapeSurface& s);
     bool needs_color(const ShapeSurface& s);
     void build_shape(const ShapeDesc& s, std::uint32_t index, const std::string& ptr,
                      std::int32_t proto);

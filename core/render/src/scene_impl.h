@@ -153,6 +153,9 @@ struct CurveGeom {
     std::vector<std::uint32_t> segment_strand;
     std::vector<std::uint32_t> strand_first;
     std::vector<Vec2> root_uvs;  // per strand, only when the surface needs uv
+    // Per strand its random value (curve_random), only when the surface's textures read it
+    // (ShapeInfo::needs_strand).
+    std::vector<float> strand_random;
     // Flat curves: per segment its largest control radius (the self-hit filter:
     // embree_scene.cpp, curve_filter).
     std::vector<float> segment_radius;

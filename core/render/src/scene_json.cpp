@@ -29,7 +29,8 @@ using detail::escape_pointer_token;
 constexpr std::array<const char*, 6> kMeshArrayKeys = {"positions", "indices",  "normals",
                                                        "uvs",       "tangents", "colors"};
 // The keys of a curves kind's CurveArrays field (ShapeDesc::curves).
-constexpr std::array<const char*, 4> kCurveArrayKeys = {"points", "radius", "counts", "root_uvs"};
+constexpr std::array<const char*, 5> kCurveArrayKeys = {"points", "radius", "counts", "root_uvs",
+                                                        "strand_random"};
 // A mesh kind's deformation motion (ShapeDesc::motion_positions, motion_normals), with the
 // arrays or a "file"; a curves kind's is motion_positions alone.
 constexpr std::array<const char*, 2> kMeshMotionKeys = {"motion_positions", "motion_normals"};
@@ -893,8 +894,9 @@ class Reader {
     }
 
     // A curves kind's arrays: "points" (3n numbers), "radius" (a number, or an array: one per
-    // point), optional "counts" (control points per strand) and "root_uvs" (a (u, v) pair per
-    // strand). Their lengths against each other and their values are build_scene's to check.
+    // point), optional "counts" (control points per strand), "root_uvs" (a (u, v) pair per
+    // strand) and "strand_random" (a number per strand). Their lengths against each other and their
+    // values are build_scene's to check.
     void read_curves(const json& s, const std::string& ptr, CurveData& out) const {
         auto numbers = [&](const json& a, const std::string& p, const char* what) {
             if (!a.is_array()) fail(p, std::string("expected ") + what + ", got " + type_name(a));
@@ -925,6 +927,9 @@ class Reader {
         if (s.contains("root_uvs"))
             out.root_uvs = numbers(s["root_uvs"], ptr + "/root_uvs",
                                    "a flat array of one (u, v) pair per strand");
+        if (s.contains("strand_random"))
+            out.strand_random = numbers(s["strand_random"], ptr + "/strand_random",
+                                        "an array of one number per strand");
     }
 
     // "positions", "indices" and optional "normals", or (the mesh kind's Path field) "file".
@@ -1252,6 +1257,9 @@ void write_field(json& j, const Field<Desc>& f, const Desc& d, bool hashed) {
                     j["counts"] = array_json(std::span<const std::uint32_t>(v.counts), hashed);
                 if (!v.root_uvs.empty())
                     j["root_uvs"] = array_json(std::span<const float>(v.root_uvs), hashed);
+                if (!v.strand_random.empty())
+                    j["strand_random"] =
+                        array_json(std::span<const float>(v.strand_random), hashed);
             } else {
                 j[key] = v;
             }

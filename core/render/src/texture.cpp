@@ -93,7 +93,13 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
                             const Vec3& ns) const {
-    return textured_material(std::size_t(hit.textured), texture_point(hit, fp, wo, ns));
+    TexturePoint p = texture_point(hit, fp, wo, ns);
+    if (const ShapeInfo& s = m_shapes[hit.shape]; s.needs_strand && s.kind == ShapeKind::Curves) {
+        p.strand_random = hit.strand_random;
+        p.strand_v = hit.strand_v;
+        p.on_strand = 1.f;
+    }
+    return textured_material(std::size_t(hit.textured), p);
 }
 
 // Cycles 3.4's svm_node_tex_coord for a surface hit: N its shading normal turned to the

@@ -7,6 +7,7 @@
 
 #include "../io/pov_writer.h"
 #include "../kind_build.h"
+#include "../textures/cycles_noise.h"
 
 namespace facet::render {
 
@@ -100,6 +101,15 @@ Strands check_strands(const ShapeDesc& s, const std::string& ptr, const BuildChe
         for (std::size_t i = 0; i < c.root_uvs.size(); ++i)
             if (!std::isfinite(c.root_uvs[i]))
                 checks.fail(ptr + "/root_uvs/" + std::to_string(i), "must be a finite number");
+    }
+    if (!c.strand_random.empty()) {
+        if (c.strand_random.size() != out.count.size())
+            checks.fail(ptr + "/strand_random", "expected one number per strand (" +
+                                                    std::to_string(out.count.size()) + "), got " +
+                                                    std::to_string(c.strand_random.size()));
+        for (std::size_t i = 0; i < c.strand_random.size(); ++i)
+            if (!(c.strand_random[i] >= 0.f && c.strand_random[i] <= 1.f))
+                checks.fail(ptr + "/strand_random/" + std::to_string(i), "must be in [0, 1]");
     }
     return out;
 }
@@ -209,6 +219,7 @@ void build(ShapeBuild& b) {
         for (std::size_t k = 0; k < strands; ++k)
             g.root_uvs[k] = Vec2(c.root_uvs[2 * k], c.root_uvs[2 * k + 1]);
     }
+    g.strand_random = c.strand_random;  // (empty: add_curves hashes the indices when needed)
     b.add_curves(std::move(g), world, object);
 }
 
@@ -299,12 +310,18 @@ void pov(PovShapeOut& o) {
 
 }  // namespace
 
+float curve_random(std::uint32_t i) {
+    return cycles::to_unit(cycles::hash_uint2(i, 0u));
+}
+
 extern const ShapeKindDef kCurvesKind{
     ShapeKind::Curves,
     "curves",
     "strands (hair, fur, grass) along curves with a radius per control point: round tubes or "
     "flat ribbons facing each ray (scenes/FORMAT.md, \"Curves\"); a hit's normal is the "
-    "tube's, its tangent (`dpdu`) the strand's direction and its uv the strand's root UV",
+    "tube's, its tangent (`dpdu`) the strand's direction, its uv the strand's root UV and "
+    "its random value (a `hair_info` texture's `random`) `strand_random`'s or Cycles' hash of "
+    "the strand's index",
     {{"basis", FieldType::Text, true, &ShapeDesc::basis, "-",
       "`linear` (straight segments through the points, >= 2 per strand), `bspline` (uniform "
       "cubic B-spline, >= 4: it approximates the points) or `catmull_rom` (>= 4: it passes "
@@ -317,7 +334,9 @@ extern const ShapeKindDef kCurvesKind{
       "`radius` (a number for every point, or an array of one per point; each > 0), optional "
       "`counts` (the number of control points of each strand, in order; absent: one strand), "
       "optional `root_uvs` [u0, v0, u1, ...] (one pair per strand: the texture coordinates of "
-      "every hit on it; needed when the material is textured)"}},
+      "every hit on it; needed when the material is textured), optional `strand_random` (one "
+      "number in [0, 1] per strand: its random value, which a `hair_info` texture reads; "
+      "absent: Cycles' hash of the strand's index)"}},
     build,
     nullptr,
     pov};

@@ -11,7 +11,7 @@ std::span<const TextureKindDef* const> texture_kinds() {
         &kImageTexture,    &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
         &kVoronoiTexture,  &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
         &kGradientTexture, &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
-        &kMixRgbTexture,   &kColorRampTexture,
+        &kMixRgbTexture,   &kColorRampTexture,  &kHairInfoTexture,
     };
     return kinds;
 }

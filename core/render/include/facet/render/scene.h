@@ -44,7 +44,10 @@
 //    segment) and `strand_h` = round(32767 h), h = dot(ng, cross(w, dpdu)) in [-1, 1] the
 //    position across it (w: the unit direction toward the ray origin made normal to dpdu;
 //    Chiang et al. 2016's h, Cycles' sign); both are written on curve hits only (they sit in
-//    padding: SurfaceHit keeps its size).
+//    padding). `strand_random` is the strand's random value (curve_random of its index in
+//    the shape), written on curve hits of shapes whose textures read it
+//    (ShapeInfo::needs_strand) only; it shares tangent_sign's place (curves have no tangent
+//    space: a normal map on curves is an error), so SurfaceHit keeps its size.
 //  - `po` is the hit point in the shape's object space (its transform's inverse; for a
 //    prototype's shape, its own frame within the prototype) only on shapes whose material or
 //    emission has a procedural texture reading object or generated coordinates
@@ -95,14 +98,17 @@ class SceneError : public std::runtime_error {
 };
 
 struct SurfaceHit {
-    float t = kInfinity;       // ray parameter of the hit
-    Vec3 p{0.f};               // hit point (world space)
-    Vec3 p_err{0.f};           // error box of p (precision.h): p +- p_err meets the surface
-    Vec3 ng{0.f};              // unit geometric normal (see conventions: not flipped)
-    Vec3 ns{0.f};              // unit shading normal, same hemisphere as ng
-    Vec3 dpdu{0.f};            // tangent hint, may be 0
-    float tangent_sign = 1.f;  // bitangent sign (only where ShapeInfo::needs_tangent)
-    std::uint32_t shape = 0;   // index into Scene::shapes()
+    float t = kInfinity;  // ray parameter of the hit
+    Vec3 p{0.f};          // hit point (world space)
+    Vec3 p_err{0.f};      // error box of p (precision.h): p +- p_err meets the surface
+    Vec3 ng{0.f};         // unit geometric normal (see conventions: not flipped)
+    Vec3 ns{0.f};         // unit shading normal, same hemisphere as ng
+    Vec3 dpdu{0.f};       // tangent hint, may be 0
+    union {
+        float tangent_sign = 1.f;  // bitangent sign (only where ShapeInfo::needs_tangent)
+        float strand_random;       // curves, which have no tangent space (see conventions)
+    };
+    std::uint32_t shape = 0;             // index into Scene::shapes()
     const Material* material = nullptr;  // never null for a hit
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
@@ -118,6 +124,11 @@ struct SurfaceHit {
     // Curves: the hit's position across its strand, h in [-1, 1] (see conventions).
     float strand_across() const { return float(strand_h) * (1.f / 32767.f); }
 };
+
+// Cycles 3.4's random value of strand i of a hair geometry (blender/curves.cpp: the curve
+// attribute Random, hash_uint2_to_float(i, 0), lookup3's hash as in the textures), in [0, 1]:
+// what Blender's Hair Info Random and an unlinked Principled Hair Random read.
+float curve_random(std::uint32_t i);
 
 // The footprint in uv of pixel footprint fp at a hit with derivatives dpdu, dpdv: the least
 // squares solution of dpdx = dpdu dudx + dpdv dvdx (and likewise for y), as pbrt-v4's
@@ -237,6 +248,10 @@ struct ShapeInfo : ShapeSurface {
     // normals (a prototype's shape: in the prototype's frame) to object space, transpose of the
     // inverse of to_object's linear part.
     bool needs_view = false;
+    // Hits on its curves write their strand's random value (SurfaceHit::strand_random) and
+    // their texture points the Hair Info values (TexturePoint::strand_random, ...): a texture
+    // reads them (kTextureReadsStrand).
+    bool needs_strand = false;
     // A prototype's shape with needs_view: its hits keep the object-space normal in
     // SurfaceHit::po (the instance's transform is not known after the hit).
     bool normal_in_po = false;
@@ -311,6 +326,8 @@ struct TexturedMaterial {
     // Whether a slot (or a child's) reads the hit's object-space point (Texture::uses_position)
     // / its view-dependent coordinates (Texture::uses_view).
     bool uses_position = false, uses_view = false;
+    // Whether a slot (or a child's) reads the Hair Info values (Texture::uses_strand).
+    bool uses_strand = false;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -571,8 +588,10 @@ class Scene {
     }
     Material textured_material_rebuilt(std::size_t index, const TexturePoint& p) const;
     // What textures read at a hit (TexturePoint): its uv, vertex colour, object-space point
-    // and generated coordinates, with footprint fp; on shapes with ShapeInfo::needs_view also
-    // the view-dependent coordinates, from `wo` (unit, toward the viewer), the world-space
+    // and generated coordinates, with footprint fp (material_at adds the Hair Info values on
+    // curves with ShapeInfo::needs_strand: curves neither emit nor have normal, bump or opacity
+    // maps, the other readers); on shapes with ShapeInfo::needs_view also the view-dependent
+    // coordinates, from `wo` (unit, toward the viewer), the world-space
     // shading normal `ns` (before normal and bump maps) and the shape's normal_to_object.
     TexturePoint texture_point(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
                                const Vec3& ns) const {

@@ -131,13 +131,15 @@ struct MeshData {
 
 // The arrays of a curves shape (scenes/FORMAT.md, "Curves"; shapes/curves.cpp): control points
 // x0 y0 z0 x1 ..., their radius (one number for all of them, or one per point), the number of
-// control points of each strand in order (empty: one strand of all of them) and optionally one
-// (u, v) texture coordinate per strand (its root's).
+// control points of each strand in order (empty: one strand of all of them), optionally one
+// (u, v) texture coordinate per strand (its root's) and optionally one random value per strand
+// in [0, 1] (empty: curve_random of the strand's index; scene.h).
 struct CurveData {
     std::vector<float> points;
     std::vector<float> radius;
     std::vector<std::uint32_t> counts;
     std::vector<float> root_uvs;
+    std::vector<float> strand_random;
     std::size_t num_points() const { return points.size() / 3; }
     bool operator==(const CurveData&) const = default;
 };

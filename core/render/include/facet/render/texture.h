@@ -54,6 +54,8 @@
 //  - Composite kinds (textures/composite.h: math, mix_rgb, color_ramp) read no point: their
 //    inputs are constants or other textures (TextureDesc::inputs), evaluated at the same hit;
 //    the composite's value is its node's function of theirs.
+//  - Hair Info (textures/hair_info.cpp): one of Blender's Hair Info outputs at the hit (Random,
+//    Intercept, Is Strand: TexturePoint::strand_random, strand_v, on_strand), 0 off curves.
 #pragma once
 
 #include <array>
@@ -161,6 +163,12 @@ struct TexturePoint {
     //  - window: the position on the image, (x, y, 0) with [0, 1]^2 from the image's bottom-left
     //    corner to its top-right one (Window; Camera::window_point).
     Vec3 normal{0.f}, reflection{0.f}, camera{0.f}, window{0.f};
+    // Blender's Hair Info outputs at a hit on curves (filled only on shapes whose textures read
+    // them: kTextureReadsStrand, ShapeInfo::needs_strand; 0 elsewhere, as Cycles gives off
+    // curves): `strand_random`, the strand's random value in [0, 1] (Random: scene.h,
+    // curve_random); `strand_v`, the position along it (SurfaceHit::strand_v); `on_strand`, 1
+    // on curves (Is Strand).
+    float strand_random = 0.f, strand_v = 0.f, on_strand = 0.f;
 };
 
 // What a texture reads besides its parameters (bits of Texture::inputs()).
@@ -169,6 +177,7 @@ enum TextureInput : unsigned {
     kTextureReadsColor = 2u,     // TexturePoint::color
     kTextureReadsPosition = 4u,  // TexturePoint::object and generated
     kTextureReadsView = 8u,      // TexturePoint::normal, reflection, camera and window
+    kTextureReadsStrand = 16u,   // TexturePoint::strand_random, strand_v and on_strand
 };
 
 // One kind's evaluation (immutable, thread-safe, never throws): the value at a point, times the
@@ -225,6 +234,7 @@ class Texture {
     bool uses_vertex_color() const { return (m_inputs & kTextureReadsColor) != 0; }
     bool uses_position() const { return (m_inputs & kTextureReadsPosition) != 0; }
     bool uses_view() const { return (m_inputs & kTextureReadsView) != 0; }
+    bool uses_strand() const { return (m_inputs & kTextureReadsStrand) != 0; }
     // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
     float mip_level(const UvFootprint& fp) const { return m_source->mip_level(fp); }
     TextureFilter filter() const { return m_source->filter(); }
