@@ -37,6 +37,33 @@ inline Vec2 sample_uniform_disk_concentric(Vec2 u) {
     return o.y * Vec2(cs.y, cs.x);
 }
 
+// (cos, sin) of the angle 2 pi u, u in [0, 1): a quarter-turn reduction to [-pi/4, pi/4] and
+// cos_sin_quarter, rotated back by the quarter turns (exact swaps and signs).
+inline Vec2 cos_sin_turn(float u) {
+    const float q = 4.f * u;
+    const float k = std::nearbyint(q);
+    const Vec2 cs = cos_sin_quarter((kPi / 2.f) * (q - k));
+    switch (int(k) & 3) {
+        case 0:
+            return cs;
+        case 1:
+            return {-cs.y, cs.x};
+        case 2:
+            return -cs;
+        default:
+            return {cs.y, -cs.x};
+    }
+}
+
+// Polar map of the unit square onto the unit disk: radius sqrt(u.x), angle 2 pi u.y; area
+// preserving, smooth in u away from the centre and periodic in u.y (Cycles 3.4's to_unit_disk).
+// The cosine lobe's sampler uses it: with Owen-scrambled Sobol points the concentric map's
+// kinks along the square's diagonals cost variance where the integrand is peaked (a sun in an
+// HDRI; docs/realscenes.md, "Time against error").
+inline Vec2 sample_uniform_disk_polar(Vec2 u) {
+    return std::sqrt(u.x) * cos_sin_turn(u.y);
+}
+
 // Uniform sample of the regular polygon with `corners` >= 3 corners on the unit circle, whose
 // edge midpoints lie at angles rotation + 2 pi k / corners (radians, from +x toward +y) and
 // corners half-way between (Cycles' polygonal aperture). u.x picks one of the `corners` equal
@@ -54,9 +81,9 @@ inline Vec2 sample_regular_polygon(Vec2 u, int corners, float rotation) {
     return {c * p.x - sn * p.y, sn * p.x + c * p.y};
 }
 
-// Cosine-weighted hemisphere (Malley's method): pdf = cos(theta) / pi.
+// Cosine-weighted hemisphere (Malley's method on the polar map): pdf = cos(theta) / pi.
 inline Vec3 sample_cosine_hemisphere(Vec2 u) {
-    Vec2 d = sample_uniform_disk_concentric(u);
+    Vec2 d = sample_uniform_disk_polar(u);
     float z = std::sqrt(positive_part(1.f - d.x * d.x - d.y * d.y));
     return {d.x, d.y, z};
 }
