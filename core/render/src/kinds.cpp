@@ -29,9 +29,9 @@ const std::array<const LightKindDef*, 5> kLightKinds = {&kPointLightKind, &kSpot
                                                         &kEnvironmentLightKind};
 const std::array<const MediumKindDef*, 2> kMediumKinds = {&kHomogeneousMediumKind,
                                                           &kGridMediumKind};
-const std::array<std::string_view, 10> kCommonShapeKeys = {
-    "type",      "name",         "material", "emission",      "two_sided",
-    "transform", "flip_normals", "motion",   "texture_space", "holdout"};
+const std::array<std::string_view, 12> kCommonShapeKeys = {
+    "type",         "name",   "material",      "emission", "two_sided",  "transform",
+    "flip_normals", "motion", "texture_space", "holdout",  "visibility", "light_path"};
 
 // Linear searches: the tables hold a handful of kinds.
 template <class Def, std::size_t N, class Key>

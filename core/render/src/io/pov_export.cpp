@@ -1244,11 +1244,22 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
                          ": /render/film_transparent: film transparency is not exported to "
                          "POV-Ray (set it to false to export the opaque scene, or render with "
                          "Facet)");
-    for (std::size_t i = 0; i < desc.shapes.size(); ++i)
+    for (std::size_t i = 0; i < desc.shapes.size(); ++i) {
         if (desc.shapes[i].holdout)
             throw SceneError(name + ": /shapes/" + std::to_string(i) +
                              "/holdout: a holdout cannot be exported to POV-Ray (render with "
                              "Facet)");
+        // Ray visibility and Light Path switches (FORMAT.md): POV-Ray's no_image, no_shadow
+        // and no_reflection are other rules; errors, never a silent drop.
+        if (desc.shapes[i].visibility != kRayAll)
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/visibility: ray visibility cannot be exported to POV-Ray "
+                             "(render with Facet)");
+        if (!desc.shapes[i].light_path.empty())
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/light_path: Light Path switches cannot be exported to POV-Ray "
+                             "(render with Facet)");
+    }
     // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
     // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path
     // with media is traced whichever integrator is asked).
