@@ -8,6 +8,7 @@
 #include <cstdio>
 #include <string>
 
+#include "facet/render/aov.h"
 #include "facet/render/image.h"
 #include "facet/render/pov_export.h"
 #include "facet/render/render.h"
@@ -259,11 +260,11 @@ TEST(RayVisibility, EmitterNoRayOfLightSeesIsNoLightSource) {
 // Lambertian floor is lit.
 TEST(RayVisibility, EmitterDiffuseRaysDoNotSeeLightsNoDiffuseSurface) {
     auto scene_with = [&](const std::string& floor, const std::string& vis) {
-        return ft::scene_from(
-            camera_down(5.0) + R"("shapes": [{"type": "plane", "point": [0, 0, 0],
+        return ft::scene_from(camera_down(5.0) + R"("shapes": [{"type": "plane", "point": [0, 0, 0],
                                               "normal": [0, 1, 0], "material": )" +
-            floor + R"(}, {"type": "quad", "emission": 2, "vertices": )" +
-            quad(1.0, -3, 3, 3, false) + R"(, "visibility": {"camera": false)" + vis + "}}]");
+                              floor + R"(}, {"type": "quad", "emission": 2, "vertices": )" +
+                              quad(1.0, -3, 3, 3, false) + R"(, "visibility": {"camera": false)" +
+                              vis + "}}]");
     };
     const std::string lambert = R"({"model": "lambert", "reflectance": 0.5})";
     const std::string ggx = R"({"model": "ggx", "alpha": 0.3, "fresnel": "none"})";
@@ -502,4 +503,30 @@ TEST(RayVisibility, ExportPovRefusesVisibilityAndSwitches) {
                              "material": "grey", "light_path": [{"ray": "camera"}]})")
                   .find("/shapes/1/light_path"),
               std::string::npos);
+}
+
+// The AOV pass sees what camera rays see: a camera-invisible quad over the floor leaves the
+// floor's albedo (0.5, the Lambertian's exactly) and depth (5); a Light Path switch gives a
+// camera-visible emitter its camera emission. Control: seen by the camera, the quad (albedo
+// 0.8) covers them.
+TEST(RayVisibility, AovsSeeWhatCameraRaysSee) {
+    auto scene_with = [&](const std::string& vis) {
+        return ft::scene_from(camera_down(5.0) + kFloorAndLamp + R"("shapes": [)" + kFloor +
+                              R"(, {"type": "quad", "material": "grey", "vertices": )" +
+                              quad(1.0, -3, 3, 3, true) + vis +
+                              R"(}, {"type": "quad", "emission": 2, "vertices": )" +
+                              quad(3.0, -0.2, 0.2, 0.2, true) +
+                              R"(, "light_path": [{"ray": "camera", "emission": [0, 4, 0]}]}])");
+    };
+    fr::AovOptions ao;
+    ao.which = fr::kAovAlbedo | fr::kAovDepth | fr::kAovEmission;
+    ao.spp = 1;
+    ao.threads = 1;
+    const fr::Aovs a = fr::render_aovs(scene_with(R"(, "visibility": {"camera": false})"), ao);
+    EXPECT_NEAR(a.albedo.at(0, 0).g, 0.5f, 1e-6f);
+    EXPECT_NEAR(a.depth.at(0, 0).r, 5.f, 1e-4f);
+    EXPECT_EQ(a.emission.at(8, 8), Rgb(0.f, 4.f, 0.f));  // the switch's camera emission
+    const fr::Aovs c = fr::render_aovs(scene_with(""), ao);
+    EXPECT_NEAR(c.albedo.at(0, 0).g, 0.8f, 1e-6f);
+    EXPECT_NEAR(c.depth.at(0, 0).r, 4.f, 1e-4f);
 }

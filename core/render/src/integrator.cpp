@@ -17,6 +17,7 @@
 #include "facet/registry.h"
 #include "facet/render/sampler.h"
 #include "facet/sampling.h"
+#include "light_path.h"
 
 namespace facet::render {
 
@@ -68,20 +69,6 @@ inline const LightPathSwitch::Entry* light_path_entry(const Scene& scene, std::i
     for (const LightPathSwitch::Entry& e : scene.light_paths()[std::size_t(index)].entries)
         if ((e.ray & lp) != 0) return &e;
     return nullptr;
-}
-
-// A hit as a ray with Light Path outputs `lp` along `d` sees it: the matching entry's material
-// and emission (front side) instead of the shape's. An emitting entry on a shape that is no
-// light source is taken at full weight (kEmitterNotSampled).
-[[gnu::noinline]] void apply_light_path(const Scene& scene, std::int32_t index, std::uint8_t lp,
-                                        const Vec3& d, SurfaceHit& hit) {
-    const LightPathSwitch::Entry* e = light_path_entry(scene, index, lp);
-    if (!e) return;
-    hit.material = e->material;
-    hit.textured = -1;
-    hit.emitted_radiance = glm::dot(hit.ng, d) < 0.f ? e->emission : Rgb(0.f);
-    if (hit.light == -1 && (e->emission.r > 0.f || e->emission.g > 0.f || e->emission.b > 0.f))
-        hit.light = kEmitterNotSampled;
 }
 
 // Whether a light sample of light i reaches a material of lobes `lobes` (Cycles 3.4's
@@ -1435,6 +1422,17 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
 }
 
 }  // namespace
+
+[[gnu::noinline]] void apply_light_path(const Scene& scene, std::int32_t index, std::uint8_t lp,
+                                        const Vec3& d, SurfaceHit& hit) {
+    const LightPathSwitch::Entry* e = light_path_entry(scene, index, lp);
+    if (!e) return;
+    hit.material = e->material;
+    hit.textured = -1;
+    hit.emitted_radiance = glm::dot(hit.ng, d) < 0.f ? e->emission : Rgb(0.f);
+    if (hit.light == -1 && (e->emission.r > 0.f || e->emission.g > 0.f || e->emission.b > 0.f))
+        hit.light = kEmitterNotSampled;
+}
 
 // Camera::perspective_direction on SSE vectors, four lanes at a time: the same operations as
 // generate_ray's, lane by lane.
