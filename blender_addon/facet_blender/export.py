@@ -25,7 +25,7 @@ from . import sync_camera, sync_hair, sync_motion, sync_volume
 from .sync_camera import export_camera
 from .sync_light import _light_data
 from .sync_mesh import _imported_mesh_arrays, mesh_arrays
-from .sync_state import _stored, object_state
+from .sync_state import RAY_VISIBILITY, _stored, object_state
 from .sync_world import export_environment, export_world_medium
 
 GEOMETRY_TYPES = {'MESH', 'CURVE', 'SURFACE', 'META', 'FONT'}
@@ -252,13 +252,13 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 if vol is not None:
                     volumes.append(vol)
             continue
-        visible = (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
-                   or obj.visible_shadow)
+        visibility = ray_visibility(obj, inst)
+        visible = visibility != {key: False for key in RAY_VISIBILITY.values()}
         if obj.type == 'CURVES':  # hair curves (sync_hair.py)
             if view_layer.use_strand and visible:
                 got = sync_hair.export_curves_object(obj, matrix, scene, mats.reads_uv, problems)
                 if got is not None:
-                    order.append(_hair_shape(got[0], got[1], mats, obj, problems))
+                    order.append(_hair_shape(got[0], got[1], mats, obj, problems, visibility))
                     hair_sources[id(got[0])] = ("curves", obj.original.name)
             continue
         if obj.type not in GEOMETRY_TYPES:
@@ -272,7 +272,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 render = depsgraph.mode == 'RENDER'
                 for shape, mat, mod_name in sync_hair.export_particle_hair(
                         obj, scene, mats.reads_uv, problems, render):
-                    order.append(_hair_shape(shape, mat, mats, obj, problems))
+                    order.append(_hair_shape(shape, mat, mats, obj, problems, visibility))
                     hair_sources[id(shape)] = ("particle", obj.original.name, mod_name, render)
             elif ("hair", obj.original.name) not in flagged:
                 flagged.add(("hair", obj.original.name))
@@ -284,7 +284,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         clip_key = data_ptr or (orig.name, inst.is_instance)
         if clip is not None:
             clip.add(obj, matrix, clip_key)
-        again = seen.get((orig.name, data_ptr, inst.is_instance)) if data_ptr else None
+        seen_key = (orig.name, data_ptr, inst.is_instance, tuple(sorted(visibility)))
+        again = seen.get(seen_key) if data_ptr else None
         if again is not None:
             # Another placement of an object converted above (same object, same geometry:
             # the same materials and the same record): only its matrix is new.
@@ -316,6 +317,8 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 shape["holdout"] = True
             if _is_shadow_catcher(obj):
                 shape["shadow_catcher"] = True
+            if visibility:
+                shape["visibility"] = visibility
             order.append(shape)
             continue
         slots = [s.material for s in obj.material_slots] or [None]
@@ -330,7 +333,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
         catcher = _is_shadow_catcher(obj)
         gkey = (data_ptr or orig.name, inst.is_instance if not data_ptr else None,
                 tuple(m.name if m is not None else None for m in slots), uv_layer, tangents,
-                colors, holdout, catcher)
+                colors, holdout, catcher, tuple(sorted(visibility.items())))
         rec = placed.get(gkey)
         if rec is None:
             key = (orig.name, inst.is_instance, data_ptr if inst.is_instance else 0, uv_layer,
@@ -344,13 +347,20 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
                 rec.templates = [(s, dict(t, holdout=True)) for s, t in rec.templates]
             if catcher:  # Object > Visibility > Shadow Catcher
                 rec.templates = [(s, dict(t, shadow_catcher=True)) for s, t in rec.templates]
+            if visibility:  # Object > Visibility > Ray Visibility
+                rec.templates = [(s, dict(t, visibility=dict(visibility)))
+                                 for s, t in rec.templates]
+                line = gaps.emitter_visibility_line(orig.name, visibility) if rec.emits \
+                    else None
+                if line is not None and line not in problems:
+                    problems.append(line)
             if clip is not None and orig.type != 'MESH':
                 clip.points(clip_key, mesh_cache[key])
         if not inst.is_instance and rec.templates:
             mesh_sources[orig.name] = (uv_layer, colors, mesh_cache.get(
                 (orig.name, False, 0, uv_layer, tangents, colors)))
         if data_ptr:
-            seen[(orig.name, data_ptr, inst.is_instance)] = (rec, name)
+            seen[seen_key] = (rec, name)
         if not rec.templates:
             if orig.name not in empty:
                 empty.append(orig.name)
@@ -427,6 +437,17 @@ def holdout_objects(view_layer):
 def _is_shadow_catcher(obj):
     """Whether the object is a shadow catcher (FORMAT.md "Shadow catchers")."""
     return bool(getattr(obj.original, "is_shadow_catcher", False))
+
+
+def ray_visibility(obj, inst=None):
+    """The shape's "visibility" (FORMAT.md "Ray visibility"): the flags that are off, each
+    False ({} when all are on). An instance's flags are its object's and its instancer's (Cycles
+    ands them)."""
+    owners = [obj]
+    if inst is not None and inst.is_instance and inst.parent is not None:
+        owners.append(inst.parent)
+    return {key: False for flag, key in RAY_VISIBILITY.items()
+            if not all(getattr(o, flag, True) for o in owners)}
 
 
 def _is_holdout(obj, held_out):
@@ -585,10 +606,12 @@ def _texture_space(obj):
     return {"location": [float(x) for x in loc], "size": [float(x) for x in size]}
 
 
-def _hair_shape(shape, mat, mats, obj, problems):
-    """A curves shape (sync_hair.py) with its material; an emitting one's emission dropped
-    (reported: curves cannot emit)."""
+def _hair_shape(shape, mat, mats, obj, problems, visibility=None):
+    """A curves shape (sync_hair.py) with its material and its object's ray visibility; an
+    emitting one's emission dropped (reported: curves cannot emit)."""
     _add_material(shape, mat, mats, obj)
+    if visibility:
+        shape["visibility"] = dict(visibility)
     if shape.pop("emission", None) is not None:
         problems.append("object '%s': hair '%s': its material emits, which curves cannot; "
                         "the emission is not rendered" % (obj.original.name, shape["name"]))
@@ -610,6 +633,8 @@ def _add_material(shape, mat, mats, obj=None):
                                  else list(conv.emission))
     if "two_sided" not in shape:
         shape["two_sided"] = conv.two_sided
+    if conv.light_path:  # Light Path node switches (FORMAT.md "Light Path switches")
+        shape["light_path"] = [dict(s) for s in conv.light_path]
 
 
 def export_render_settings(scene, frame=None):

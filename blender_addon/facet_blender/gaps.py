@@ -73,7 +73,10 @@ NODES = {
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
                          "parameter)",
     'ShaderNodeLayerWeight': "Layer Weight is not converted",
-    'ShaderNodeLightPath': "Light Path is not converted (Facet has no ray-type switches)",
+    'ShaderNodeLightPath': "Light Path converts only as a material's Mix Shader Fac straight "
+                           "from a ray output (Is Camera / Shadow / Diffuse / Glossy / "
+                           "Singular / Reflection / Transmission Ray); Ray Length, the depths "
+                           "and other uses are not converted",
 }
 
 INPUTS = {
@@ -362,19 +365,21 @@ SETTINGS = (
 )
 
 # Per object (any type exported as shapes): (attribute path, Blender's label, quiet, what
-# Facet does). An object with none of Camera, Diffuse, Glossy and Shadow is not exported
-# (export.py), so those lines are left out for it.
-RAY = "per-object ray visibility is not in Facet's core yet: the object is seen by %s rays"
-OBJECT_FLAGS = (
-    ("visible_camera", "Visibility > Ray Visibility > Camera", True, RAY % "camera"),
-    ("visible_diffuse", "Visibility > Ray Visibility > Diffuse", True, RAY % "diffuse"),
-    ("visible_glossy", "Visibility > Ray Visibility > Glossy", True, RAY % "glossy"),
+# Facet does). Ray Visibility is converted (the shape's "visibility", export.ray_visibility)
+# except on volume objects (VOLUME_RAY_FLAGS).
+RAY = "per-object ray visibility is not converted for volume objects: the volume is seen by %s"
+VOLUME_RAY_FLAGS = (
+    ("visible_camera", "Visibility > Ray Visibility > Camera", True, RAY % "camera rays"),
+    ("visible_diffuse", "Visibility > Ray Visibility > Diffuse", True, RAY % "diffuse rays"),
+    ("visible_glossy", "Visibility > Ray Visibility > Glossy", True, RAY % "glossy rays"),
     ("visible_transmission", "Visibility > Ray Visibility > Transmission", True,
-     RAY % "transmitted"),
+     RAY % "transmitted rays"),
     ("visible_volume_scatter", "Visibility > Ray Visibility > Volume Scatter", True,
-     RAY % "volume-scatter"),
+     RAY % "volume-scatter rays"),
     ("visible_shadow", "Visibility > Ray Visibility > Shadow", True,
-     "per-object ray visibility is not in Facet's core yet: the object casts shadows"),
+     RAY % "shadow rays (it casts shadows)"),
+)
+OBJECT_FLAGS = (
     ("cycles.use_camera_cull", "Visibility > Culling > Camera Cull", False,
      "culling is not converted: Facet renders the whole object"),
     ("cycles.use_distance_cull", "Visibility > Culling > Distance Cull", False,
@@ -390,6 +395,20 @@ OBJECT_FLAGS = (
     ("cycles.is_caustics_receiver", "Shading > Caustics > Receive Shadow Caustics", False,
      "shadow caustics (MNEE) are not in Facet's core"),
 )
+def emitter_visibility_line(name, visibility):
+    """The report line of an emitting object with Diffuse or Glossy visibility off (but not
+    both, with Transmission): its light samples skip purely diffuse / glossy materials as
+    Cycles' do, and light materials of both kinds whole (FORMAT.md "Ray visibility")."""
+    off = [k for k in ("diffuse", "glossy") if k in visibility]
+    if not off or all(k in visibility for k in ("diffuse", "glossy", "transmission")):
+        return None
+    return ("object '%s': an emitter with Visibility > Ray Visibility > %s off: its light "
+            "samples skip purely %s materials as Cycles 3.4 does, but light materials with "
+            "both diffuse and glossy closures (Principled, Mix Shaders of both) whole, where "
+            "Cycles keeps only the other closures' share"
+            % (name, " and ".join(k.capitalize() for k in off), " or ".join(off)))
+
+
 # Per lamp object: Facet's lamps are seen by camera rays only as area lamps with Camera on
 # (converted: camera_visible), and by no reflected ray (FORMAT.md); they light every surface.
 LAMP = "per-lamp ray visibility is not in Facet's core yet: the lamp lights %s"
@@ -436,6 +455,12 @@ CONVERTED = {
                                "render.film_transparent)",
     "object.is_holdout": "the shape's holdout (export.py, _is_holdout)",
     "object.is_shadow_catcher": "the shape's shadow_catcher (export.py, _is_shadow_catcher)",
+    "object.visible_camera": "the shape's visibility (export.py, ray_visibility)",
+    "object.visible_diffuse": "the shape's visibility (export.py, ray_visibility)",
+    "object.visible_glossy": "the shape's visibility (export.py, ray_visibility)",
+    "object.visible_transmission": "the shape's visibility (export.py, ray_visibility)",
+    "object.visible_volume_scatter": "the shape's visibility (export.py, ray_visibility)",
+    "object.visible_shadow": "the shape's visibility (export.py, ray_visibility)",
     "collection.holdout": "its objects' shapes are holdouts (export.py, holdout_objects)",
     "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
     "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,
@@ -639,9 +664,17 @@ def object_lines(obj, view_layer):
     if obj.type == 'LIGHT':
         return _flag_lines(obj, LAMP_FLAGS, "light '%s'" % obj.name)
     lines = []
+    flags = OBJECT_FLAGS
     if obj.type == 'VOLUME':  # converted (sync_volume.py): its flags as a mesh's
         if not view_layer.use_volumes:
             return lines
+        # Not exported without Camera, Diffuse, Glossy and Shadow (export.py).
+        if (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
+                or obj.visible_shadow):
+            flags = VOLUME_RAY_FLAGS + OBJECT_FLAGS
+        elif obj.visible_transmission or obj.visible_volume_scatter:
+            lines.append("%s: a volume seen only by transmission or volume-scatter rays: not "
+                         "exported (Cycles shows it through glass and in volumes)" % subject)
     elif obj.type not in ('MESH', 'CURVE', 'SURFACE', 'META', 'FONT', 'CURVES'):  # exported
         if obj.type in OBJECT_TYPES:
             what = OBJECT_TYPES[obj.type]
@@ -652,14 +685,6 @@ def object_lines(obj, view_layer):
         if obj.type == 'CURVES' and not view_layer.use_strand:
             return lines
         lines.append("%s: %s" % (subject, what))
-    flags = OBJECT_FLAGS
-    if not (obj.visible_camera or obj.visible_diffuse or obj.visible_glossy
-            or obj.visible_shadow):
-        # Not exported (export.py); Cycles still shows it to the rays left on.
-        flags = [f for f in flags if not f[0].startswith("visible_")]
-        if obj.visible_transmission or obj.visible_volume_scatter:
-            lines.append("%s: seen only by transmission or volume-scatter rays: not exported "
-                         "(Cycles shows it through glass and in volumes)" % subject)
     lines.extend(_flag_lines(obj, flags, subject))
     return lines
 

@@ -314,6 +314,10 @@ def import_scene(context, data, collection=None, problems=None):
             bmat = None
         if bmat is not None:
             me.materials.append(bmat)
+        # Ray visibility (FORMAT.md): the object's Visibility > Ray Visibility flags, which the
+        # export reads back (export.ray_visibility).
+        for flag, key in sync_state.RAY_VISIBILITY.items():
+            setattr(ob, flag, bool(s.get("visibility", {}).get(key, True)))
         # Mesh arrays stay in the Blender mesh (positions exactly; normals in "facet_normal").
         stored = {k: v for k, v in s.items()
                   if k not in ("material", "positions", "indices", "normals")}

@@ -116,6 +116,8 @@ class Converted:
         self.tangents = False  # a normal map: the mesh needs the tangents of its UV map
         self.color_attributes = set()  # colour attributes read by Color Attribute nodes
         self.generated = False  # a procedural texture reads Generated coordinates
+        # The shape's Light Path switches (FORMAT.md "Light Path switches"), or [].
+        self.light_path = []
         # The medium inside (FORMAT.md "media": a homogeneous medium dict, named as the
         # material in the scene's media and the data's "interior"), or None.
         self.medium = None
@@ -181,6 +183,10 @@ def convert(mat, obj=None):
         conv.medium = medium
         return conv
     data, emission = ctx.shader(src, "the Material Output's Surface")
+    notes = []
+    data, emission, switches = light_path_switches(data, emission, notes)
+    for note in notes:
+        ctx.gap(src, note, "feeds the Material Output's Surface")
     if is_transparent(data):
         notes = []
         data = resolve_transparent(data, notes)
@@ -199,7 +205,14 @@ def convert(mat, obj=None):
                 "the surface is converted alone"
                 % (mat.name, vol.label() if isinstance(vol, nodegraph.Out) else "a value",
                    data.get("model")))
+    if switches and ("opacity" in data or medium is not None):
+        ctx.problems.append("material '%s': its Light Path switches are not converted: the "
+                            "shader other rays see is %s" % (mat.name, "a cut-out (opacity)"
+                                                            if "opacity" in data else
+                                                            "a medium's boundary"))
+        switches = []
     conv = Converted(data, emission, two_sided, ctx.finish(), ctx.uv_maps)
+    conv.light_path = switches
     conv.medium = medium
     conv.baked = ctx.baked
     conv.tangents = ctx.tangents
@@ -484,6 +497,10 @@ class NodeContext:
         if view is not None:  # Fresnel / Layer Weight: the core's view-dependent mix weight
             sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
             return self._combined(sides, view, src, feeds)
+        ray = None if self.world else self._light_path_ray(node, path)
+        if ray is not None:  # Light Path: a switch by the ray's kind (light_path_switches)
+            sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
+            return {"model": LIGHT_PATH, "ray": ray, "sides": sides}, None
         fac = self.param(node, 'Fac', path)
         if not is_texture(fac):
             t = min(max(float(fac), 0.0), 1.0)
@@ -517,6 +534,15 @@ class NodeContext:
         else:
             value = min(max(float(value), 0.0), 1.0)
         return {"factor": factor, key: value}
+
+    def _light_path_ray(self, node, path):
+        """A Mix Shader's Fac straight from one of a Light Path node's ray outputs: the core's
+        switch output ("camera", ...; FORMAT.md "Light Path switches"); else None."""
+        src = self.walker.input(node, 'Fac', path)
+        if not isinstance(src, nodegraph.Out) or src.convs or \
+                src.node.bl_idname != 'ShaderNodeLightPath':
+            return None
+        return LIGHT_PATH_OUTPUTS.get(src.socket.identifier)
 
     def _add_shader(self, src, feeds):
         """Both sides summed: the core's `add` (emissions added)."""
@@ -594,6 +620,75 @@ def _hoist_normals(children, notes):
     return out, (own[0] if own else {})
 
 
+# A Mix Shader whose Fac is a Light Path output inside the walker: a marker with the output and
+# both sides, turned into the shape's Light Path switches at the Surface (light_path_switches);
+# inside another Mix or Add Shader it is its first side (reported by combine()).
+LIGHT_PATH = "(light path)"
+LIGHT_PATH_OUTPUTS = {"Is Camera Ray": "camera", "Is Shadow Ray": "shadow",
+                      "Is Diffuse Ray": "diffuse", "Is Glossy Ray": "glossy",
+                      "Is Singular Ray": "singular", "Is Reflection Ray": "reflection",
+                      "Is Transmission Ray": "transmission"}
+
+
+def is_light_path(d):
+    return d.get("model") == LIGHT_PATH
+
+
+def _light_path_default(part, notes):
+    """A shader that may be a Light Path marker -> what rays no switch matches see (its first
+    side, recursively), with a note when it was a marker."""
+    data, emission = part
+    if is_light_path(data):
+        notes.append("a Mix Shader by a Light Path output inside another Mix or Add Shader is not "
+                     "converted (the core switches a whole surface); its first shader is used")
+    while is_light_path(data):
+        data, emission = data["sides"][0]
+    return data, emission
+
+
+def _entry_material(data, emission, notes):
+    """A switch's material and emission -> the entry's (material dict or None, emission) or
+    None when it cannot be one (a note says why)."""
+    if is_light_path(data):
+        notes.append("a Light Path Mix Shader on the second side of another is not converted; "
+                     "its first shader is used there")
+        data, emission = _light_path_default((data, emission), [])
+    if is_transparent(data):
+        sub = []
+        if _transparent_grey(data, sub) < 1.0 or sub or not _black(emission):
+            notes.append("a switch to a grey, coloured or emitting Transparent BSDF is not "
+                         "converted (the core passes a switch's `null` surface whole); the "
+                         "switch is left out")
+            return None
+        return {"model": "null"}, None
+    if any(is_texture(v) for v in data.values()) or is_texture(emission) or \
+            any(k in data for k in ("opacity",) + NORMAL_KEYS):
+        notes.append("a switch to a textured shader (or one with Alpha, a Normal Map or Bump) "
+                     "is not converted; the switch is left out")
+        return None
+    return data, emission
+
+
+def light_path_switches(data, emission, notes):
+    """A Surface that may be a Light Path marker -> (data, emission, switches): the shader that
+    rays no switch matches see, and the shape's "light_path" list (FORMAT.md "Light Path
+    switches"), outermost Mix Shader first (Cycles picks its second side when its output is
+    1, else looks inside the first)."""
+    switches = []
+    while is_light_path(data):
+        (d1, e1), (d2, e2) = data["sides"]
+        entry = _entry_material(d2, e2, notes)
+        if entry is not None:
+            sw = {"ray": data["ray"]}
+            if entry[0] != BLACK:
+                sw["material"] = entry[0]
+            if not _black(entry[1]):
+                sw["emission"] = list(entry[1])
+            switches.append(sw)
+        data, emission = d1, e1
+    return data, emission, switches
+
+
 def combine(parts, fac):
     """A Mix Shader (fac: the weight t of the second side, a number in (0, 1) or a texture) or
     an Add Shader (fac None) of parts [(data, emission)] -> (data, emission, notes): the
@@ -602,8 +697,8 @@ def combine(parts, fac):
     are exact: a black side (emission only, or nothing) only weights the other; two BSDFs of
     the same linear model and parameters but reflectance merge into one (while <= 1). `notes`
     lists what is not exact (reported by the caller)."""
-    (d1, e1), (d2, e2) = parts
     notes = []
+    (d1, e1), (d2, e2) = (_light_path_default(p, notes) for p in parts)
     view = isinstance(fac, dict) and "factor" in fac  # a weight from the view (Fresnel, ...)
     if is_transparent(d1) or is_transparent(d2):
         if fac is not None and not view and _black(e1) and _black(e2):

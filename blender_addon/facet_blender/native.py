@@ -196,6 +196,12 @@ def _shape_desc(s):
     sd.flip_normals = bool(s.get("flip_normals", False))
     sd.holdout = bool(s.get("holdout", False))
     sd.shadow_catcher = bool(s.get("shadow_catcher", False))
+    if s.get("visibility"):  # FORMAT.md "Ray visibility"
+        sd.visibility = {k: bool(v) for k, v in s["visibility"].items()}
+    if s.get("light_path"):  # FORMAT.md "Light Path switches"
+        sd.light_path = [dict(e, material=_material_desc(e["material"])
+                              if isinstance(e.get("material"), dict) else e.get("material"),
+                              emission=_rgb(e.get("emission", 0.0))) for e in s["light_path"]]
     if "texture_space" in s:
         ts = s["texture_space"]
         sd.texture_space = (_rgb(ts["location"]), _rgb(ts["size"]))
@@ -352,6 +358,17 @@ def _shape_data(sd, base_dir):
         s["holdout"] = True
     if sd.shadow_catcher:
         s["shadow_catcher"] = True
+    off = {k: False for k, v in sd.visibility.items() if not v}
+    if off:
+        s["visibility"] = off
+    if sd.light_path:
+        s["light_path"] = [dict(e, material=_material_data(e["material"])
+                                if isinstance(e["material"], facet.MaterialDesc)
+                                else e["material"], emission=_vec(e["emission"]))
+                           for e in sd.light_path]
+        for e in s["light_path"]:
+            if e["material"] is None:
+                del e["material"]
     if sd.material is not None:
         s["material"] = _material_data(sd.material)
     elif sd.material_ref:

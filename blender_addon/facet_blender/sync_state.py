@@ -62,3 +62,10 @@ def _stored(id_block, key, state):
     if key in id_block and id_block.get("facet_state") == state:
         return json.loads(id_block[key])
     return None
+
+
+# Object > Visibility > Ray Visibility: Blender's flag -> the shape's "visibility" key
+# (FORMAT.md "Ray visibility"; export.ray_visibility, the importer's objects).
+RAY_VISIBILITY = {"visible_camera": "camera", "visible_diffuse": "diffuse",
+                  "visible_glossy": "glossy", "visible_transmission": "transmission",
+                  "visible_volume_scatter": "volume_scatter", "visible_shadow": "shadow"}

@@ -19,6 +19,7 @@
 //    the JSON writer would give: "python: /shapes/3 ('Suzanne'): ...").
 //  - Enum values use the scene format's words: ShapeKind.sphere, LightKind.spot; strings
 //    ("sphere") are accepted wherever a kind is set.
+#include <algorithm>
 #include <deque>
 #include <limits>
 #include <map>
@@ -326,7 +327,94 @@ const std::set<std::string> kCommonShapeAttributes = {
     "emission",      "emission_texture", "two_sided",
     "flip_normals",  "transform",        "motion",
     "texture_space", "motion_positions", "motion_normals",
-    "holdout",       "shadow_catcher"};
+    "holdout",       "shadow_catcher",   "visibility",       "light_path"};
+
+// Ray visibility (ShapeDesc::visibility) as {"camera": bool, ...}, every kind named; set from a
+// dict naming some of them (the others: visible).
+py::dict visibility_dict(std::uint8_t mask) {
+    py::dict d;
+    for (std::size_t i = 0; i < kRayVisibilityNames.size(); ++i)
+        d[kRayVisibilityNames[i]] = (mask & (1u << i)) != 0;
+    return d;
+}
+std::uint8_t visibility_mask(const py::dict& d) {
+    std::uint8_t mask = kRayAll;
+    for (const auto& [key, value] : d) {
+        const std::string name = py::str(key);
+        const auto* it = std::find_if(kRayVisibilityNames.begin(), kRayVisibilityNames.end(),
+                                      [&](const char* n) { return name == n; });
+        if (it == kRayVisibilityNames.end())
+            throw py::value_error("visibility: unknown ray kind '" + name +
+                                  "' (camera, diffuse, glossy, transmission, volume_scatter, "
+                                  "shadow)");
+        if (!py::isinstance<py::bool_>(value))
+            throw py::type_error("visibility['" + name + "']: expected a bool");
+        if (!value.cast<bool>())
+            mask = std::uint8_t(mask & ~(1u << (it - kRayVisibilityNames.begin())));
+    }
+    return mask;
+}
+
+// Light Path switches (ShapeDesc::light_path) as [{"ray": name, "material": name, MaterialDesc
+// or None, "emission": colour}], and back from such dicts ("material" and "emission" optional).
+py::list light_path_list(const std::vector<ShapeDesc::LightPathEntry>& entries) {
+    py::list out;
+    for (const ShapeDesc::LightPathEntry& e : entries) {
+        py::dict d;
+        for (std::size_t i = 0; i < kLightPathRayNames.size(); ++i)
+            if (e.ray == (1u << i)) d["ray"] = kLightPathRayNames[i];
+        if (!e.material)
+            d["material"] = py::none();
+        else if (!e.material->ref.empty())
+            d["material"] = e.material->ref;
+        else
+            d["material"] = py::cast(*e.material);
+        d["emission"] = py::cast(e.emission);
+        out.append(d);
+    }
+    return out;
+}
+std::vector<ShapeDesc::LightPathEntry> light_path_entries(const py::list& l) {
+    std::vector<ShapeDesc::LightPathEntry> out;
+    for (const py::handle& h : l) {
+        if (!py::isinstance<py::dict>(h))
+            throw py::type_error(
+                "light_path: each switch is a dict {'ray': ..., 'material': "
+                "..., 'emission': ...}");
+        const py::dict d = py::reinterpret_borrow<py::dict>(h);
+        ShapeDesc::LightPathEntry e;
+        for (const auto& [key, value] : d) {
+            const std::string k = py::str(key);
+            if (k == "ray") {
+                const std::string name = py::str(value);
+                const auto* it = std::find_if(kLightPathRayNames.begin(), kLightPathRayNames.end(),
+                                              [&](const char* n) { return name == n; });
+                if (it == kLightPathRayNames.end())
+                    throw py::value_error("light_path: unknown ray output '" + name +
+                                          "' (camera, shadow, diffuse, glossy, singular, "
+                                          "reflection, transmission)");
+                e.ray = std::uint8_t(1u << (it - kLightPathRayNames.begin()));
+            } else if (k == "material") {
+                if (value.is_none()) continue;
+                if (py::isinstance<py::str>(value)) {
+                    MaterialDesc ref;
+                    ref.ref = value.cast<std::string>();
+                    e.material = std::move(ref);
+                } else {
+                    e.material = value.cast<MaterialDesc>();
+                }
+            } else if (k == "emission") {
+                e.emission = value.cast<Rgb>();
+            } else {
+                throw py::value_error("light_path: unknown key '" + k +
+                                      "' (ray, material, emission)");
+            }
+        }
+        if (e.ray == 0) throw py::value_error("light_path: each switch needs a 'ray'");
+        out.push_back(std::move(e));
+    }
+    return out;
+}
 
 // Deformation steps (ShapeDesc::motion_positions, motion_normals): a list of float32 arrays,
 // and back from any iterable of float sequences (each flattened).
@@ -1233,6 +1321,18 @@ void bind_scene(py::module_& m) {
         .def_readwrite("shadow_catcher", &ShapeDesc::shadow_catcher,
                        "a shadow catcher: only the shadows cast on it are kept, as alpha "
                        "(scenes/FORMAT.md, Shadow catchers)")
+        .def_property(
+            "visibility", [](const ShapeDesc& d) { return visibility_dict(d.visibility); },
+            [](ShapeDesc& d, const py::dict& v) { d.visibility = visibility_mask(v); },
+            "ray visibility: {'camera': bool, 'diffuse', 'glossy', 'transmission', "
+            "'volume_scatter', 'shadow'}; a kind left out is visible (scenes/FORMAT.md, Ray "
+            "visibility)")
+        .def_property(
+            "light_path", [](const ShapeDesc& d) { return light_path_list(d.light_path); },
+            [](ShapeDesc& d, const py::list& l) { d.light_path = light_path_entries(l); },
+            "Light Path switches: [{'ray': 'camera' | 'shadow' | 'diffuse' | 'glossy' | "
+            "'singular' | 'reflection' | 'transmission', 'material': name or MaterialDesc, "
+            "'emission': colour}] (scenes/FORMAT.md, Light Path switches)")
         .def_readwrite("transform", &ShapeDesc::transform)
         .def_readwrite("motion", &ShapeDesc::motion,
                        "transformation motion: a list of >= 2 object-to-world (4, 4) transforms "

@@ -58,13 +58,16 @@ def export():
 
 def fingerprint():
     """What the render is made of, without the mesh arrays: camera, shape kinds, materials,
-    lights, render settings, holdouts, shadow catchers and the render region."""
+    lights, render settings, holdouts, shadow catchers, ray visibility, Light Path switches and
+    the render region."""
     from facet_blender import export as ex, pixels
     data, problems = export()
     scene = bpy.context.scene
     w, h = ex.resolution(scene)
     shapes = [(s["type"], s.get("name"), s.get("material"), s.get("holdout", False),
-               s.get("shadow_catcher", False)) for s in data["shapes"]]
+               s.get("shadow_catcher", False), sorted((s.get("visibility") or {}).items()),
+               s.get("light_path"))
+              for s in data["shapes"]]
     return repr((data["camera"], shapes, data["lights"], data["materials"], data["render"],
                  pixels.border_rect(scene.render, w, h))), problems
 
@@ -457,16 +460,23 @@ def case_object_flags():
     bt.check(flags and all(flags) and not [p for p in problems if "Shadow Catcher" in p],
              "a shadow catcher is converted: the cube's shapes have shadow_catcher (%s), no "
              "report line (%s)" % (flags, problems))
-    # An object seen by no camera, diffuse, glossy or shadow ray is not exported, and said so
-    # when Cycles would still show it through glass.
+    # Ray visibility is converted: an object only transmission and volume-scatter rays see is
+    # exported with the other four flags off, and no line; one no ray sees is not exported.
     fresh()
     cube = bpy.data.objects["Cube"]
     for f in ("visible_camera", "visible_diffuse", "visible_glossy", "visible_shadow"):
         setattr(cube, f, False)
     data, problems = export()
     lines = [p for p in problems if p.startswith("object 'Cube'")]
-    bt.check(not data["shapes"] and len(lines) == 1 and "transmission" in lines[0],
-             "an object only transmission rays see: not exported, one line: %s" % lines)
+    vis = [s.get("visibility") for s in data["shapes"]]
+    want = {"camera": False, "diffuse": False, "glossy": False, "shadow": False}
+    bt.check(vis == [want] and not lines,
+             "an object only transmission rays see: exported with %s, no line: %s %s"
+             % (want, vis, lines))
+    cube.visible_transmission = cube.visible_volume_scatter = False
+    data, problems = export()
+    bt.check(not data["shapes"] and not [p for p in problems if p.startswith("object 'Cube'")],
+             "an object no ray sees: not exported, no line")
 
 
 def case_camera_clip():

@@ -614,3 +614,33 @@ def test_curves_strand_random():
     text = facet.write_scene_json(d)
     assert '"strand_random"' in text
     assert facet.parse_scene_description(text, name="again") == d
+
+
+def test_ray_visibility_and_light_path_switches():
+    """ShapeDesc.visibility as a dict of the six ray kinds, ShapeDesc.light_path as a list of
+    switch dicts (scenes/FORMAT.md "Ray visibility", "Light Path switches"): set, read back,
+    through JSON and back; bad names are clear errors."""
+    s = facet.ShapeDesc("sphere", radius=0.5)
+    assert s.visibility == {"camera": True, "diffuse": True, "glossy": True,
+                            "transmission": True, "volume_scatter": True, "shadow": True}
+    s.visibility = {"camera": False, "shadow": False}
+    assert [k for k, v in s.visibility.items() if not v] == ["camera", "shadow"]
+    with pytest.raises(ValueError, match="camra"):
+        s.visibility = {"camra": False}
+    with pytest.raises(TypeError, match="shadow"):
+        s.visibility = {"shadow": 0}
+    s.light_path = [{"ray": "shadow", "material": facet.MaterialDesc("null")},
+                    {"ray": "camera", "material": "white", "emission": (0.0, 1.0, 2.0)}]
+    got = s.light_path
+    assert [e["ray"] for e in got] == ["shadow", "camera"]
+    assert got[0]["material"].model == "null" and got[1]["material"] == "white"
+    assert tuple(got[1]["emission"]) == pytest.approx((0.0, 1.0, 2.0))
+    with pytest.raises(ValueError, match="camra"):
+        s.light_path = [{"ray": "camra"}]
+    d = facet.parse_scene_description(ts.scene_json())
+    d.shapes[0].visibility = {"diffuse": False}
+    d.shapes[0].light_path = [{"ray": "camera", "emission": (1.0, 1.0, 1.0)}]
+    again = facet.parse_scene_description(facet.write_scene_json(d))
+    assert again == d
+    assert again.shapes[0].visibility["diffuse"] is False
+    assert again.shapes[0].light_path[0]["ray"] == "camera"

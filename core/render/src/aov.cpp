@@ -15,6 +15,7 @@
 #include "facet/render/film.h"
 #include "facet/render/integrator.h"
 #include "facet/render/sampler.h"
+#include "light_path.h"
 
 namespace facet::render {
 
@@ -54,11 +55,26 @@ struct PixelSums {
     std::uint32_t hits = 0;
 };
 
+// Shapes that camera rays do not see passed in a row at most (against rays trapped between
+// coincident surfaces, as the media kernel's kMaxNullCrossings).
+constexpr int kMaxPassed = 64;
+
 // One camera sample's first hit added to `sums` (aov.h conventions).
 void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t which, bool variances,
                 PixelSums& sums) {
     SurfaceHit hit;
     if (!scene.intersect(ray, hit)) return;
+    if (scene.features().has_ray_visibility) [[unlikely]] {
+        // What camera rays see (integrator.h, "Ray visibility"): shapes they do not see are
+        // passed, a Light Path switch gives the hit its camera material and emission.
+        Ray r = ray;
+        for (int i = 0; (scene.shapes()[hit.shape].visibility & kRayCamera) == 0; ++i) {
+            r = Scene::spawn_ray(hit, r.d);
+            if (i >= kMaxPassed || !scene.intersect(r, hit)) return;
+        }
+        if (const std::int32_t lp = scene.shapes()[hit.shape].light_path; lp >= 0)
+            apply_light_path(scene, lp, kLpCamera, ray.d, hit);
+    }
     ++sums.hits;
     const Camera& cam = scene.camera();
     if (which & kAovDepth) {

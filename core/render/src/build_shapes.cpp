@@ -346,6 +346,8 @@ class Builder::ShapeContext final : public ShapeBuild {
             if (!(l.area() > 0.f)) fail(ptr + "/emission", "the emitting shape has no area");
             if (part < 0) {
                 add_light(std::move(l));
+            } else if (!sampled_as_light()) {
+                m_info.parts[std::size_t(part)].light = kEmitterNotSampled;
             } else {
                 std::vector<Light>& lights = m_b.m_builder.lights();
                 if (m_info.parts[std::size_t(part)].emission_texture) l.set_textured_emission();
@@ -521,6 +523,10 @@ class Builder::ShapeContext final : public ShapeBuild {
 
   public:
     void add_light(Light light) override {
+        if (!sampled_as_light()) {
+            m_info.light = kEmitterNotSampled;
+            return;
+        }
         if (m_info.emission_texture) light.set_textured_emission();
         std::vector<Light>& lights = m_b.m_builder.lights();
         m_info.light = std::int32_t(lights.size());
@@ -535,6 +541,11 @@ class Builder::ShapeContext final : public ShapeBuild {
     }
 
   private:
+    // Whether the shape's emission is a light source: as in Cycles 3.4, not when no diffuse,
+    // glossy or transmission ray sees it (FORMAT.md, "Ray visibility").
+    bool sampled_as_light() const {
+        return (m_info.visibility & (kRayDiffuse | kRayGlossy | kRayTransmission)) != 0;
+    }
     // The shape's extent, or (add_part_to) its local prototype's.
     void grow(const glm::dvec3& p) {
         Bounds3& b = m_local ? local_bounds() : bounds;
@@ -569,6 +580,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
         if (s.flip_normals) fail(ptr + "/flip_normals", "give it on the prototype's shapes");
         if (s.holdout) fail(ptr + "/holdout", "give it on the prototype's shapes");
         if (s.shadow_catcher) fail(ptr + "/shadow_catcher", "give it on the prototype's shapes");
+        if (s.visibility != kRayAll) fail(ptr + "/visibility", "give it on the prototype's shapes");
     }
 
     ShapeInfo info;
@@ -576,6 +588,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
     info.two_sided = s.two_sided;
     info.holdout = s.holdout;
     info.shadow_catcher = s.shadow_catcher;
+    info.visibility = s.visibility;
     info.emission = check_color(s.emission, ptr + "/emission", "an emitted radiance");
     if (s.emission_texture) {
         if (info.emission != Rgb(0.f))
@@ -609,6 +622,45 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
         info.material_name = "<black>";
     } else {
         fail(ptr, "missing required key 'material' (only emissive shapes may omit it)");
+    }
+
+    if (!s.light_path.empty()) {
+        if (shape_kind(s.kind).places_prototype)
+            fail(ptr + "/light_path", "give it on the prototype's shapes");
+        if (shape_kind(s.kind).own_materials)
+            fail(ptr + "/light_path", "a shape with its own materials (gltf) takes none");
+        LightPathSwitch sw;
+        for (std::size_t i = 0; i < s.light_path.size(); ++i) {
+            const ShapeDesc::LightPathEntry& e = s.light_path[i];
+            const std::string ep = ptr + "/light_path/" + std::to_string(i);
+            LightPathSwitch::Entry out;
+            out.ray = e.ray;
+            out.emission = check_color(e.emission, ep + "/emission", "an emitted radiance");
+            out.material = black_material();
+            if (e.material) {
+                const BuiltMaterial bm = e.material->ref.empty()
+                                             ? build_material(*e.material, ep + "/material")
+                                             : named_material(e.material->ref, ep + "/material");
+                // The switch replaces the hit's material after the hit is found: its per-hit
+                // data (uv, ...) and Embree's opacity filter are the shape's own material's.
+                if (bm.textured >= 0)
+                    fail(ep + "/material", "a Light Path switch's material cannot be textured");
+                if (bm.opacity.active())
+                    fail(ep + "/material",
+                         "a Light Path switch's material cannot have opacity < 1 (a fully "
+                         "transparent one is the `null` model)");
+                if (bm.interior >= 0)
+                    fail(ep + "/material",
+                         "a Light Path switch's material cannot bound a medium (interior)");
+                out.material = bm.material;
+            }
+            if (max_component(out.emission) > 0.f && info.opacity.active())
+                fail(ep + "/emission",
+                     "an emitting switch on a shape whose material has opacity < 1");
+            sw.entries.push_back(out);
+        }
+        info.light_path = std::int32_t(m_builder.light_paths().size());
+        m_builder.light_paths().push_back(std::move(sw));
     }
 
     info.needs_uv = needs_uv(info);

@@ -1297,7 +1297,7 @@ template <bool kSurfaceExtras>
     // A textured emission needs uv, which only kSurfaceExtras computes (every textured surface
     // has texture coordinates); its surface is an emitter (light >= 0) like any other.
     hit.emitted_radiance = Rgb(0.f);
-    if (s.light >= 0 && glm::dot(hit.ng, ray.d) < 0.f) {
+    if (s.light != -1 && glm::dot(hit.ng, ray.d) < 0.f) {  // a light or kEmitterNotSampled
         hit.emitted_radiance = s.emission;
         if constexpr (kSurfaceExtras) {
             if (s.emission_texture)

@@ -17,6 +17,7 @@
 #include "facet/registry.h"
 #include "facet/render/sampler.h"
 #include "facet/sampling.h"
+#include "light_path.h"
 
 namespace facet::render {
 
@@ -57,6 +58,33 @@ template <std::uint32_t F>
 // The transparency a path's throughput beta carries (Cycles: the average over channels).
 inline float mean3(const Rgb& c) {
     return (c.r + c.g + c.b) * (1.f / 3.f);
+}
+
+// ---- ray visibility and Light Path switches (integrator.h, "Ray visibility") ----
+
+// The entry of switch `index` that a ray with Light Path outputs `lp` sees, or null when none
+// matches (the shape's own material).
+inline const LightPathSwitch::Entry* light_path_entry(const Scene& scene, std::int32_t index,
+                                                      std::uint8_t lp) {
+    for (const LightPathSwitch::Entry& e : scene.light_paths()[std::size_t(index)].entries)
+        if ((e.ray & lp) != 0) return &e;
+    return nullptr;
+}
+
+// Whether a light sample of light i reaches a material of lobes `lobes` (Cycles 3.4's
+// SHADER_EXCLUDE_* of a mesh light, from its object's ray visibility): not when every lobe is
+// of a kind whose rays do not see the emitter (diffuse; glossy and mirror). Transmissive
+// materials are lit whatever the flags (Cycles 3.4 excludes no glass closure), and a material
+// with lobes of both kinds keeps the whole light sample (Cycles would drop the excluded
+// lobes' share: FORMAT.md "Ray visibility").
+inline bool light_reaches(const Scene& scene, std::uint32_t i, BxDFFlags lobes) {
+    const std::uint8_t v = scene.light_visibility()[i];
+    if (v == kRayAll || is_transmissive(lobes)) return true;
+    BxDFFlags seen = BxDFFlags::None;
+    if ((v & kRayDiffuse) != 0) seen = seen | BxDFFlags::Diffuse;
+    if ((v & kRayGlossy) != 0) seen = seen | BxDFFlags::Glossy | BxDFFlags::Specular;
+    return any(lobes & seen) ||
+           !any(lobes & (BxDFFlags::Diffuse | BxDFFlags::Glossy | BxDFFlags::Specular));
 }
 
 // Whether a BSDF sample is a straight pass-through (a transparent surface, `null`).
@@ -746,10 +774,24 @@ Rgb shadow_transmittance(const Scene& scene, Ray r, float time, MediumStack stac
         }
         if (!hit) return tr;
         if (!(max3(tr) > 0.f)) return Rgb(0.f);
-        const MediumInterface* mi = scene.medium_interface(h.material);
-        const bool absent = only_catchers && !is_catcher(scene, h);
-        if (!absent && (!mi || !mi->pass_through)) return Rgb(0.f);
-        if (!absent) stack.cross(mi->interior, entering(r.d, h.ng));
+        // A shape that shadow rays do not see (ray visibility), or that is absent from the
+        // catcher-only run, is passed as if not there; a Light Path switch may give shadow rays
+        // another material.
+        const ShapeInfo* si =
+            scene.features().has_ray_visibility ? &scene.shapes()[h.shape] : nullptr;
+        const bool absent =
+            (only_catchers && !is_catcher(scene, h)) || (si && (si->visibility & kRayShadow) == 0);
+        if (!absent) {
+            const Material* m = h.material;
+            if (si && si->light_path >= 0) {
+                if (const LightPathSwitch::Entry* e =
+                        light_path_entry(scene, si->light_path, kLpShadow))
+                    m = e->material;
+            }
+            const MediumInterface* mi = scene.medium_interface(m);
+            if (!mi || !mi->pass_through) return Rgb(0.f);
+            stack.cross(mi->interior, entering(r.d, h.ng));
+        }
         r.o = offset_ray_origin(h.p, h.p_err, h.ng, r.d);
         if (finite) {
             r.tmax = glm::dot(end - r.o, r.d);
@@ -874,6 +916,9 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
         if (scene.lights().size() > 1)
             light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
         const Light& light = scene.lights()[light_index];
+        if (scene.features().has_ray_visibility &&
+            !light_reaches(scene, light_index, BxDFFlags::Diffuse))  // the exit's lobe
+            select_pmf = 0.f;
         if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
             ls && ls->pdf > 0.f) {
             const float cos_i = glm::dot(ls->wi, ens);
@@ -964,6 +1009,11 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     SurfaceHit hit = first;
     [[maybe_unused]] bool see_through = true;  // alpha (as in path_vertex)
     bool only_catchers = false;                // the catcher-only run, after its split
+    // Ray visibility: the RayVisibility bits a shape must have for the current ray to see it
+    // (integrator.h, "Ray visibility"), tested only in scenes with the feature.
+    const bool ray_visibility = scene.features().has_ray_visibility;
+    std::uint8_t ray_kind = kRayCamera;
+    std::uint8_t light_path = kLpCamera;  // the ray's Light Path outputs (LightPathRay)
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: after a diffuse bounce (or a walk) materials with a
     // subsurface lobe are their diffuse fallback.
     bool diffuse_ancestor = false;
@@ -991,6 +1041,19 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
         const Vec3 wo_w = -ray.d;
 
         if (!in_medium) {
+            // A shape this kind of ray does not see: passed without a vertex, as a `null`
+            // crossing (the ray keeps its kind).
+            if (ray_visibility && found) [[unlikely]] {
+                const ShapeInfo& si = scene.shapes()[hit.shape];
+                if ((si.visibility & ray_kind) == 0) {
+                    if (++nulls > kMaxNullCrossings) break;
+                    ray = Scene::spawn_ray(hit, ray.d);
+                    continue;
+                }
+                // A Light Path switch: the material and emission this ray sees.
+                if (si.light_path >= 0)
+                    apply_light_path(scene, si.light_path, light_path, ray.d, hit);
+            }
             // Alpha: nothing but `null` crossings and media so far (as in path_vertex).
             if constexpr ((F & kFeatAlpha) != 0) {
                 if (see_through) {
@@ -1061,6 +1124,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                                      lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
                     L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
                 }
+            } else if (hit.light == kEmitterNotSampled) [[unlikely]] {
+                // An emitter that is no light source (ray visibility): no light sample can
+                // find it, so the ray's own estimate has full weight.
+                L += beta * hit.emitted_radiance;
             }
             if (depth >= max_depth) break;
 
@@ -1103,6 +1170,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
+                if (ray_visibility && !light_reaches(scene, light_index, mb.flags()))
+                    select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
                                   ? light.sample_li(ctx, u_light)
                                   : std::nullopt) {
@@ -1132,6 +1201,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 specular_bounce = false;
                 see_through = false;
                 diffuse_ancestor = true;
+                ray_kind = kRayDiffuse;  // the exit's cosine lobe
+                light_path = std::uint8_t(kLpReflection | kLpDiffuse);
                 if (!roulette(beta, depth, u_roulette)) break;
                 ++depth;
                 ++c.rays;
@@ -1150,6 +1221,17 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (any(bs->flags & BxDFFlags::Diffuse)) diffuse_ancestor = true;
             if constexpr ((F & kFeatAlpha) != 0)
                 see_through = see_through && passes_straight(*bs, sh.wo);
+            // The next ray's kind (a straight pass-through keeps it, as Cycles' transparent
+            // bounce does); a mirror reflection is a glossy ray, any transmission one kind.
+            if (!passes_straight(*bs, sh.wo)) {
+                const bool crosses = bs->wi.z * sh.wo.z < 0.f;
+                const bool diffuse = any(bs->flags & BxDFFlags::Diffuse);
+                ray_kind = crosses ? kRayTransmission : diffuse ? kRayDiffuse : kRayGlossy;
+                const int lobe = diffuse             ? kLpDiffuse
+                                 : bs->is_specular() ? kLpGlossy | kLpSingular
+                                                     : kLpGlossy;
+                light_path = std::uint8_t((crosses ? kLpTransmission : kLpReflection) | lobe);
+            }
             prev_pdf = bs->pdf * p_bsdf;
             prev_ctx = ctx;
             stack = stack_toward(wi_w);
@@ -1175,6 +1257,11 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (num_lights > 1)
                     light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
                 const Light& light = lights[light_index];
+                // An emitter that volume-scatter rays do not see lights no medium (Cycles'
+                // SHADER_EXCLUDE_SCATTER).
+                if (ray_visibility &&
+                    (scene.light_visibility()[light_index] & kRayVolumeScatter) == 0)
+                    select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
                                   ? light.sample_li(ctx, u_light)
                                   : std::nullopt;
@@ -1196,6 +1283,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             beta *= ps->p / ps->pdf;
             specular_bounce = false;
             see_through = false;
+            // Cycles 3.4 lets volume-scatter rays also see what diffuse rays see.
+            ray_kind = std::uint8_t(kRayVolumeScatter | kRayDiffuse);
+            light_path = 0;
             prev_pdf = ps->pdf;
             prev_ctx = ctx;
             ray = Ray{p, ps->wi, kInfinity};
@@ -1494,6 +1584,17 @@ std::string feature_list(IntegratorKind kind, std::uint32_t f) {
 
 }  // namespace
 
+[[gnu::noinline]] void apply_light_path(const Scene& scene, std::int32_t index, std::uint8_t lp,
+                                        const Vec3& d, SurfaceHit& hit) {
+    const LightPathSwitch::Entry* e = light_path_entry(scene, index, lp);
+    if (!e) return;
+    hit.material = e->material;
+    hit.textured = -1;
+    hit.emitted_radiance = glm::dot(hit.ng, d) < 0.f ? e->emission : Rgb(0.f);
+    if (hit.light == -1 && (e->emission.r > 0.f || e->emission.g > 0.f || e->emission.b > 0.f))
+        hit.light = kEmitterNotSampled;
+}
+
 // Camera::perspective_direction on SSE vectors, four lanes at a time: the same operations as
 // generate_ray's, lane by lane.
 void camera_packet(const Camera& cam, int x0, int y, const float* film_x, const float* film_y,
@@ -1558,7 +1659,7 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
         k.chosen.push_back(
             "shadow catcher: the volumetric path kernel with alpha, a second run of each sample "
             "that meets a catcher seeing only catchers from there");
-    if (sf.has_media || sf.has_subsurface || sf.has_shadow_catcher) {
+    if (sf.has_media || sf.has_subsurface || sf.has_shadow_catcher || sf.has_ray_visibility) {
         // One kernel for every scene with media or subsurface walks (kernel_function),
         // whichever integrator.
         k.features = (kPathMask & ~kFeatLambertOnly) | kFeatTransmission | kFeatTextured |
@@ -1567,6 +1668,7 @@ KernelChoice choose_kernel(const SceneFeatures& sf, IntegratorKind integrator, i
             "media: the volumetric path kernel (free-flight sampling, light samples through "
             "media and null surfaces, MIS with the phase function" +
             std::string(sf.has_subsurface ? ", random walks inside subsurface objects" : "") +
+            std::string(sf.has_ray_visibility ? ", each ray's kind for ray visibility" : "") +
             "), one path at a time" +
             std::string(integrator == IntegratorKind::Direct
                             ? "; `direct` is path tracing here (media scatter light)"

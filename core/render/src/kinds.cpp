@@ -29,9 +29,10 @@ const std::array<const LightKindDef*, 6> kLightKinds = {
     &kAreaLightKind,  &kEnvironmentLightKind, &kSkyNishitaLightKind};
 const std::array<const MediumKindDef*, 2> kMediumKinds = {&kHomogeneousMediumKind,
                                                           &kGridMediumKind};
-const std::array<std::string_view, 11> kCommonShapeKeys = {
-    "type",         "name",   "material",      "emission", "two_sided",     "transform",
-    "flip_normals", "motion", "texture_space", "holdout",  "shadow_catcher"};
+const std::array<std::string_view, 13> kCommonShapeKeys = {
+    "type",           "name",         "material",  "emission",      "two_sided",
+    "transform",      "flip_normals", "motion",    "texture_space", "holdout",
+    "shadow_catcher", "visibility",   "light_path"};
 
 // Linear searches: the tables hold a handful of kinds.
 template <class Def, std::size_t N, class Key>

@@ -72,12 +72,23 @@ void Builder::analyse() {
             if (scene.medium_interface(su.material)) f.has_media = true;
             if (su.material->subsurface()) f.has_subsurface = true;
             if (su.material->has_holdout()) f.has_holdout = true;
+            // A Light Path switch's materials, as the shape's own.
+            if (su.light_path >= 0) {
+                for (const LightPathSwitch::Entry& e :
+                     scene.light_paths()[std::size_t(su.light_path)].entries) {
+                    f.lobes = f.lobes | e.material->flags();
+                    if (reflects(*e.material)) f.can_reflect = true;
+                    if (e.material->has_holdout()) f.has_holdout = true;
+                    if (e.material->subsurface()) f.has_subsurface = true;
+                }
+            }
             if (su.light >= 0 && maybe_visible(m_shape_bounds[i])) f.emitter_visible = true;
         };
         if (s.parts.empty()) surface(s);
         for (const ShapeSurface& p : s.parts) surface(p);
         if (s.holdout) f.has_holdout = true;
         if (s.shadow_catcher) f.has_shadow_catcher = true;
+        if (s.visibility != kRayAll || s.light_path >= 0) f.has_ray_visibility = true;
         f.num_triangles += s.triangles;
         if (s.kind == ShapeKind::Sphere) ++f.num_spheres;
         if (s.kind == ShapeKind::Plane) ++f.num_planes;
@@ -93,6 +104,16 @@ void Builder::analyse() {
         if (l.hittable()) f.any_hittable_light = true;
     }
     f.all_lights_delta = !f.any_non_delta_light;
+    if (f.has_ray_visibility) {
+        // Each emitting shape's visibility on its lights (light samples: Cycles' exclusions).
+        std::vector<std::uint8_t>& lv = m_builder.light_visibility();
+        lv.assign(scene.lights().size(), kRayAll);
+        for (const ShapeInfo& s : scene.shapes()) {
+            if (s.light >= 0) lv[std::size_t(s.light)] = s.visibility;
+            for (const ShapeSurface& p : s.parts)
+                if (p.light >= 0) lv[std::size_t(p.light)] = s.visibility;
+        }
+    }
     if (scene.world_medium() >= 0) f.has_media = true;
     if (scene.environment()) f.emitter_visible = true;  // escaping camera rays see it
     f.has_motion = m_camera_moves || m_shapes_move;
@@ -119,6 +140,7 @@ std::string SceneFeatures::describe() const {
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
     if (has_subsurface) s << "subsurface: yes (random walks inside objects)\n";
+    if (has_ray_visibility) s << "ray visibility: yes (a shape some kinds of ray do not see)\n";
     if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
     if (needs_alpha)
         s << "alpha: yes ("

@@ -282,6 +282,8 @@ struct Scene::Builder {
     std::vector<Medium>& media() { return scene.m_media; }
     std::int32_t& world_medium() { return scene.m_world_medium; }
     std::vector<MediumInterface>& interfaces() { return scene.m_interfaces; }
+    std::vector<LightPathSwitch>& light_paths() { return scene.m_light_paths; }
+    std::vector<std::uint8_t>& light_visibility() { return scene.m_light_visibility; }
     std::vector<std::uint32_t>& camera_lamps() { return scene.m_camera_lamps; }
     Bounds3& bounds() { return scene.m_bounds; }
     Impl& impl() { return *scene.m_impl; }

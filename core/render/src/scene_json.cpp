@@ -828,6 +828,56 @@ class Reader {
         if (s.contains("holdout")) d.holdout = get_bool(s["holdout"], ptr + "/holdout");
         if (s.contains("shadow_catcher"))
             d.shadow_catcher = get_bool(s["shadow_catcher"], ptr + "/shadow_catcher");
+        if (s.contains("visibility")) {
+            const std::string vp = ptr + "/visibility";
+            const json& v = s["visibility"];
+            expect_object(v, vp);
+            check_keys_v(v, vp, {kRayVisibilityNames.begin(), kRayVisibilityNames.end()});
+            for (std::size_t i = 0; i < kRayVisibilityNames.size(); ++i) {
+                const char* name = kRayVisibilityNames[i];
+                if (v.contains(name) && !get_bool(v[name], vp + "/" + name))
+                    d.visibility = std::uint8_t(d.visibility & ~(1u << i));
+            }
+        }
+        if (s.contains("light_path")) {
+            const std::string lp = ptr + "/light_path";
+            const json& l = s["light_path"];
+            if (!l.is_array()) fail(lp, "expected an array of switches, got " + type_name(l));
+            const std::vector<std::string> rays(kLightPathRayNames.begin(),
+                                                kLightPathRayNames.end());
+            for (std::size_t i = 0; i < l.size(); ++i) {
+                const std::string ep = lp + "/" + std::to_string(i);
+                const json& e = l[i];
+                expect_object(e, ep);
+                check_keys(e, ep, {"ray", "material", "emission"});
+                ShapeDesc::LightPathEntry entry;
+                const std::string ray = get_string(require(e, ep, "ray"), ep + "/ray");
+                const auto it = std::find(rays.begin(), rays.end(), ray);
+                if (it == rays.end())
+                    fail(ep + "/ray", unknown_name("Light Path ray output", ray, rays));
+                entry.ray = std::uint8_t(1u << (it - rays.begin()));
+                if (e.contains("material")) {
+                    const json& m = e["material"];
+                    if (m.is_string()) {
+                        MaterialDesc ref;
+                        ref.ref = m.get<std::string>();
+                        if (ref.ref.empty()) fail(ep + "/material", "unknown material ''");
+                        entry.material = std::move(ref);
+                    } else if (m.is_object()) {
+                        entry.material = read_material(m, ep + "/material");
+                    } else {
+                        fail(ep + "/material",
+                             "expected a material name or an inline {\"model\": ...} object, "
+                             "got " +
+                                 type_name(m));
+                    }
+                }
+                if (e.contains("emission"))
+                    entry.emission =
+                        get_color(e["emission"], ep + "/emission", "an emitted radiance");
+                d.light_path.push_back(std::move(entry));
+            }
+        }
         if (s.contains("texture_space")) {
             const std::string tp = ptr + "/texture_space";
             const json& t = s["texture_space"];
@@ -1323,6 +1373,27 @@ json description_json(const SceneDescription& d, bool hashed_arrays) {
         if (s.flip_normals) j["flip_normals"] = true;
         if (s.holdout) j["holdout"] = true;
         if (s.shadow_catcher) j["shadow_catcher"] = true;
+        if (!s.light_path.empty()) {
+            json l = json::array();
+            for (const ShapeDesc::LightPathEntry& e : s.light_path) {
+                json je = json::object();
+                for (std::size_t i = 0; i < kLightPathRayNames.size(); ++i)
+                    if (e.ray == (1u << i)) je["ray"] = kLightPathRayNames[i];
+                if (e.material)
+                    je["material"] = e.material->ref.empty()
+                                         ? material_json(*e.material, hashed_arrays)
+                                         : json(e.material->ref);
+                if (e.emission != Rgb(0.f)) je["emission"] = vec_json(e.emission);
+                l.push_back(je);
+            }
+            j["light_path"] = l;
+        }
+        if (s.visibility != kRayAll) {
+            json v = json::object();
+            for (std::size_t i = 0; i < kRayVisibilityNames.size(); ++i)
+                if ((s.visibility & (1u << i)) == 0) v[kRayVisibilityNames[i]] = false;
+            j["visibility"] = v;
+        }
         if (s.texture_space)
             j["texture_space"] = {{"location", vec_json(s.texture_space->location)},
                                   {"size", vec_json(s.texture_space->size)}};

@@ -1253,6 +1253,16 @@ std::string export_pov(const SceneDescription& desc, const std::string& name,
             throw SceneError(name + ": /shapes/" + std::to_string(i) +
                              "/shadow_catcher: a shadow catcher cannot be exported to POV-Ray "
                              "(render with Facet)");
+        // Ray visibility and Light Path switches (FORMAT.md): POV-Ray's no_image, no_shadow
+        // and no_reflection are other rules; errors, never a silent drop.
+        if (desc.shapes[i].visibility != kRayAll)
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/visibility: ray visibility cannot be exported to POV-Ray "
+                             "(render with Facet)");
+        if (!desc.shapes[i].light_path.empty())
+            throw SceneError(name + ": /shapes/" + std::to_string(i) +
+                             "/light_path: Light Path switches cannot be exported to POV-Ray "
+                             "(render with Facet)");
     }
     // Media (docs/povray.md, "Media"): POV-Ray's media scatter the lights' light once and its
     // surfaces see direct light only, which is Facet's media kernel at max_depth 1 (a path

@@ -9,7 +9,8 @@
 //    centres for spp = 1), with the seed's pixel randomisation: a pure function of (pixel,
 //    sample index, seed), so the result is deterministic and independent of the thread count.
 //    Thin-lens cameras take their lens sample as the integrator does (kLensDimension).
-//  - At the first surface a camera ray hits (after opacity, as the renderer sees it), with the
+//  - At the first surface a camera ray hits (after opacity and ray visibility, with its Light
+//    Path switch's camera material and emission: as the renderer sees it), with the
 //    shading normal after normal and bump maps and the valid-reflection bend (scene.h),
 //    turned toward the viewer (Cycles' backfacing flip):
 //      albedo   = rho(wo) = integral of f(wo, wi) |cos theta_i| over the sphere: the fraction of

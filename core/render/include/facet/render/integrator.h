@@ -72,6 +72,25 @@
 //    walk and the exit take their random numbers from the segment's tracking generator. Any
 //    diffuse sample (and the walk) sets the path's diffuse ancestor (Cycles' flag): later hits
 //    on subsurface materials see their fallback BSDF.
+//  - Ray visibility (SceneFeatures::has_ray_visibility; scene.h RayVisibility, scenes/FORMAT.md
+//    "Ray visibility"): scenes with a shape that some kind of ray does not see run the media
+//    kernel, whose paths carry their current ray's kind as Cycles 3.4's path flags give it:
+//    camera (kept through straight pass-throughs: `null` crossings, transparent samples), then
+//    after each bounce diffuse or glossy (mirrors too) for a reflection, transmission for any
+//    sample that crosses the surface, volume scatter (which also sees what diffuse rays see,
+//    as in Cycles) after a medium's scattering, diffuse after a subsurface walk. A surface hit
+//    on a shape without the ray's bit is crossed without a vertex, like a `null` surface (no
+//    emission, no holdout, the ray keeps its kind); shadow rays pass shapes without `shadow`.
+//    An emitting shape that no diffuse, glossy or transmission ray sees is no light source
+//    (Cycles' object_usable_as_light): rays that see it take its emission at full weight.
+//    Other emitters' light samples skip what their flags exclude (Cycles 3.4's
+//    SHADER_EXCLUDE_* of a mesh light, light_reaches): purely diffuse materials without
+//    `diffuse`, purely glossy ones without `glossy`, media without `volume_scatter`; mixed
+//    materials keep the whole sample (Cycles drops the excluded lobes' share), transmissive
+//    ones are always lit. Light Path switches (LightPathRay, scene.h): the path also carries
+//    its ray's Light Path outputs, and a hit on a shape with a switch takes the first matching
+//    entry's material and emission (apply_light_path) before anything reads them; shadow rays
+//    read the `shadow` entry's material (a `null` one lets them through).
 //  - Alpha (kFeatAlpha), as Cycles defines it: a camera path is "see-through" until its first
 //    vertex that is not a straight pass-through (a delta transmission with wi = -wo: the `null`
 //    model, a transparent surface; a `null` crossing in the media kernel). Its transparency T

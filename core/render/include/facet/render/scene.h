@@ -70,6 +70,7 @@
 //    (e.g. "scene.json: /shapes/3/material: unknown material 'glosy' (did you mean 'glossy'?)").
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -113,13 +114,15 @@ struct SurfaceHit {
     Rgb emitted_radiance{0.f};           // radiance emitted toward the ray origin
     bool two_sided = true;               // see conventions
     std::int16_t strand_h = 0;           // curves: across the strand (see conventions)
-    std::int32_t light = -1;             // index into Scene::lights() when the shape emits, else -1
-    Vec2 uv{0.f};                        // texture coordinates (see conventions)
-    std::int32_t textured = -1;          // index of the textured material, or -1
-    Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};     // dp/du and dp/dv (with uv; see conventions)
-    glm::vec4 color{1.f};                // vertex colour (see conventions)
-    Vec3 po{0.f};                        // object-space point (see conventions)
-    float strand_v = 0.f;                // curves: along the strand (see conventions)
+    // Index into Scene::lights() when the shape emits, else -1 (kEmitterNotSampled: it emits
+    // and is no light source).
+    std::int32_t light = -1;
+    Vec2 uv{0.f};                     // texture coordinates (see conventions)
+    std::int32_t textured = -1;       // index of the textured material, or -1
+    Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};  // dp/du and dp/dv (with uv; see conventions)
+    glm::vec4 color{1.f};             // vertex colour (see conventions)
+    Vec3 po{0.f};                     // object-space point (see conventions)
+    float strand_v = 0.f;             // curves: along the strand (see conventions)
 
     // Curves: the hit's position across its strand, h in [-1, 1] (see conventions).
     float strand_across() const { return float(strand_h) * (1.f / 32767.f); }
@@ -205,12 +208,67 @@ struct Opacity {
     return u < alpha;
 }
 
+// Ray visibility (scenes/FORMAT.md, "Ray visibility"; Blender's Object > Visibility > Ray
+// Visibility as Cycles 3.4 applies it): the kinds of ray a shape is there for. A ray the shape
+// is invisible to passes through it as if it were not there (no vertex, no emission; a shadow
+// ray is not blocked). A ray's kind is what made it (integrator.h, "Ray visibility"): the
+// camera (also through transparent surfaces), a diffuse, glossy (or mirror) reflection, any
+// transmission, a scattering in a medium (which Cycles also lets see what diffuse rays see),
+// or next-event estimation (shadow).
+enum RayVisibility : std::uint8_t {
+    kRayCamera = 1u << 0,
+    kRayDiffuse = 1u << 1,
+    kRayGlossy = 1u << 2,
+    kRayTransmission = 1u << 3,
+    kRayVolumeScatter = 1u << 4,
+    kRayShadow = 1u << 5,
+    kRayAll = (1u << 6) - 1u
+};
+// The names of the bits in JSON (`"visibility": {"camera": false, ...}`), bit i = 1 << i.
+inline constexpr std::array<const char*, 6> kRayVisibilityNames = {
+    "camera", "diffuse", "glossy", "transmission", "volume_scatter", "shadow"};
+// ShapeSurface::light of an emitter that is no light source: a shape invisible to diffuse,
+// glossy and transmission rays (Cycles 3.4 then leaves it out of light sampling; camera rays
+// still see its emission).
+inline constexpr std::int32_t kEmitterNotSampled = -2;
+
+// Light Path switches (scenes/FORMAT.md, "Light Path switches"; Blender's Light Path node as a
+// Mix Shader's Fac): the ray outputs Cycles 3.4 sets for the ray that reaches a surface. A
+// camera ray (also through transparent surfaces) is a camera ray; a ray after a bounce is a
+// reflection or a transmission and diffuse, glossy or (a delta lobe) glossy and singular; a
+// shadow ray of light sampling is a shadow ray and nothing else; after a medium's scattering,
+// and for the emission that light sampling reads, every output is 0.
+enum LightPathRay : std::uint8_t {
+    kLpCamera = 1u << 0,
+    kLpShadow = 1u << 1,
+    kLpDiffuse = 1u << 2,
+    kLpGlossy = 1u << 3,
+    kLpSingular = 1u << 4,
+    kLpReflection = 1u << 5,
+    kLpTransmission = 1u << 6
+};
+// The outputs' names in JSON (`"ray": "camera"`), bit i = 1 << i.
+inline constexpr std::array<const char*, 7> kLightPathRayNames = {
+    "camera", "shadow", "diffuse", "glossy", "singular", "reflection", "transmission"};
+// A shape's switch: the first entry whose output is 1 for a ray gives the ray's hit its
+// material and emission (radiance, front side only) instead of the shape's; rays no entry
+// matches see the shape's own. Shadow rays pass an entry's material when rays pass it (a
+// `null` surface), else it blocks them.
+struct LightPathSwitch {
+    struct Entry {
+        std::uint8_t ray = 0;  // one LightPathRay bit
+        const Material* material = nullptr;
+        Rgb emission{0.f};
+    };
+    std::vector<Entry> entries;
+};
+
 // What a hit on a surface reads: its material, emission and sidedness.
 struct ShapeSurface {
     std::string material_name;  // the "materials" key, "<inline>", or the part's source
     const Material* material = nullptr;
     Rgb emission{0.f};        // radiance; non-zero makes the surface an area light
-    std::int32_t light = -1;  // index into lights() when emissive
+    std::int32_t light = -1;  // index into lights() when emissive (or kEmitterNotSampled)
     bool two_sided = true;
     std::int32_t textured = -1;  // index of its textured material (Scene::material_at), or -1
     const Texture* emission_texture = nullptr;  // textured emission (times nothing), or null
@@ -219,6 +277,13 @@ struct ShapeSurface {
     // The shape's `shadow_catcher` flag (read by the alpha kernels only, in scenes with one:
     // SceneFeatures::has_shadow_catcher).
     bool shadow_catcher = false;
+    // The shape's `visibility` (its parts': unused): the RayVisibility bits of the rays that see
+    // it (read by the media kernel only, which
+    // scenes with SceneFeatures::has_ray_visibility run).
+    std::uint8_t visibility = kRayAll;
+    // The shape's Light Path switch (an index into Scene::light_paths()), or -1 (read by the
+    // media kernel only, like `visibility`).
+    std::int32_t light_path = -1;
 };
 
 // One entry per element of the scene file's "shapes" array, in file order. A shape whose kind
@@ -361,6 +426,10 @@ struct SceneFeatures {
     // sums) only with RenderSettings::film_transparent: without it holdouts are black, as
     // Cycles' are ("the Holdout shader can only create alpha when Film > Transparent is on").
     bool needs_alpha = false;
+    // Some shape is invisible to some kind of ray (ShapeSurface::visibility) or has a Light
+    // Path switch (ShapeSurface::light_path): the media kernel runs, which tracks each ray's
+    // kind (integrator.h, "Ray visibility").
+    bool has_ray_visibility = false;
     bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
          has_environment = false;
@@ -536,6 +605,11 @@ class Scene {
     }
     const RenderSettings& settings() const { return m_settings; }
     const SceneFeatures& features() const { return m_features; }
+    // The shapes' Light Path switches (ShapeSurface::light_path).
+    std::span<const LightPathSwitch> light_paths() const { return m_light_paths; }
+    // Per light, the ray visibility of the shape that emits it (kRayAll for lamps); filled
+    // only when SceneFeatures::has_ray_visibility (read by the media kernel's light samples).
+    std::span<const std::uint8_t> light_visibility() const { return m_light_visibility; }
     std::span<const ShapeInfo> shapes() const { return m_shapes; }
     const Bounds3& bounds() const { return m_bounds; }
     // Radius of a sphere around bounds() (at least 1), for Light::power().
@@ -680,6 +754,8 @@ class Scene {
     std::vector<Medium> m_media;
     std::int32_t m_world_medium = -1;
     std::vector<MediumInterface> m_interfaces;
+    std::vector<LightPathSwitch> m_light_paths;
+    std::vector<std::uint8_t> m_light_visibility;
     Bounds3 m_bounds;
     std::unique_ptr<Impl> m_impl;  // geometry + Embree (embree_scene.cpp)
 };

@@ -167,6 +167,19 @@ struct ShapeDesc {
     // or over the environment in an opaque one; other rays see it as an ordinary object
     // (scenes/FORMAT.md, "Shadow catchers").
     bool shadow_catcher = false;
+    // Ray visibility (Blender's Object > Visibility > Ray Visibility; scenes/FORMAT.md "Ray
+    // visibility"): the RayVisibility bits (scene.h) of the kinds of ray that see the shape.
+    std::uint8_t visibility = kRayAll;
+    // Light Path switches (Blender's Light Path node as a Mix Shader's Fac; scenes/FORMAT.md
+    // "Light Path switches"): in order, the first entry whose ray output is 1 for a ray gives
+    // that ray's hit the entry's material and emission instead of the shape's.
+    struct LightPathEntry {
+        std::uint8_t ray = 0;                  // one LightPathRay bit (scene.h)
+        std::optional<MaterialDesc> material;  // a name (`ref`) or inline; none: black
+        Rgb emission{0.f};                     // radiance, front side only
+        bool operator==(const LightPathEntry&) const = default;
+    };
+    std::vector<LightPathEntry> light_path;
     std::optional<glm::dmat4> transform;  // object to world; none = identity
     // Transformation motion (scenes/FORMAT.md, "Motion blur"): the object-to-world transform
     // at each of >= 2 uniform steps over the open shutter; with motion blur on it replaces
