@@ -30,6 +30,7 @@ extern const TextureKindDef kBrickTexture;        // textures/brick.cpp
 extern const TextureKindDef kMathTexture;         // textures/math.cpp
 extern const TextureKindDef kMixRgbTexture;       // textures/mix_rgb.cpp
 extern const TextureKindDef kColorRampTexture;    // textures/color_ramp.cpp
+extern const TextureKindDef kVectorMathTexture;   // textures/vector_math.cpp
 
 class TextureBuild : public BuildChecks {
   public:

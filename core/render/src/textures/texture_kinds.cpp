@@ -8,10 +8,10 @@ namespace facet::render {
 
 std::span<const TextureKindDef* const> texture_kinds() {
     static const TextureKindDef* const kinds[] = {
-        &kImageTexture,    &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
-        &kVoronoiTexture,  &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
-        &kGradientTexture, &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
-        &kMixRgbTexture,   &kColorRampTexture,
+        &kImageTexture,      &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
+        &kVoronoiTexture,    &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
+        &kGradientTexture,   &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
+        &kVectorMathTexture, &kMixRgbTexture,     &kColorRampTexture,
     };
     return kinds;
 }
