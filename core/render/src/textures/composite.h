@@ -1,8 +1,8 @@
 // Private to facet_render: what the composite texture kinds share (texture.h conventions,
-// "Composite kinds"; texture_kinds.h: math, mix_rgb, color_ramp, vector_math). A composite reads no
-// point of its own: each Input parameter is a constant or another texture evaluated at the same
-// hit, and the kind's function of those values (Blender's node, as Cycles 3.4 evaluates it, in
-// float) is its value, times the texture's scale.
+// "Composite kinds"; texture_kinds.h: math, vector_math, mix_rgb, color_ramp). A composite
+// reads no point of its own: each Input parameter is a constant or another texture evaluated
+// at the same hit, and the kind's function of those values (Blender's node, as Cycles 3.4
+// evaluates it, in float) is its value, times the texture's scale.
 //
 // Value ranges: every texture states the smallest and largest value it takes (Texture::
 // min_value, max_value; build_scene validates material parameters at them and clamps to them).
