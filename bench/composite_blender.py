@@ -1,6 +1,7 @@
-"""Reference values of Blender 3.4's Math, Mix RGB / Mix (Color) and ColorRamp nodes as Cycles
-evaluates them, for tests/render/test_composite_textures.cpp: the addon's nodevalues.py (an
-independent port of Cycles' svm_math / svm_mix / rgb_ramp_lookup, in double, checked against
+"""Reference values of Blender 3.4's Math, Vector Math, Mix RGB / Mix (Color) and ColorRamp nodes
+as Cycles evaluates them, for tests/render/test_composite_textures.cpp: the addon's nodevalues.py
+(an independent port of Cycles' svm_math / svm_vector_math / svm_mix / rgb_ramp_lookup, in
+double, checked against
 Cycles renders by tests/blender/test_nodegraph.py) on constant inputs, and, for the ramps,
 Blender's own ColorRamp.evaluate (BKE_colorband_evaluate) through Cycles' 256-entry table.
 
@@ -39,6 +40,27 @@ for op in nv.MATH:
                           "params": {"operation": op.lower(), "use_clamp": clamp,
                                      "a": a, "b": b, "c": c},
                           "value": [v]})
+
+# Vector Math: every operation on vector triples and scales away from the discontinuities
+# (floor, snap, wrap, modulo) and the poles of tangent; a zero a (normalize) and a zero b (safe
+# divide, project, reflect, refract, modulo, snap).
+VECTORS = [((0.3, -0.7, 1.2), (0.5, 0.25, -0.8), (-0.4, 0.9, 0.6), 1.7),
+           ((-1.3, 0.4, 2.5), (2.0, -1.5, 0.3), (0.8, -0.2, -1.1), -0.6),
+           ((0.8, 2.2, -0.45), (-0.35, 1.3, 0.7), (1.9, 0.1, -0.3), 0.4),
+           ((0.15, 0.2, -0.1), (0.3, -0.9, 0.2), (0.7, 0.35, -0.25), 1.35),
+           ((0.0, 0.0, 0.0), (0.6, 0.0, -0.8), (0.2, 0.3, 0.4), 1.2),
+           ((0.5, -0.3, 0.2), (0.0, 0.0, 0.0), (-0.6, 0.4, 0.5), 0.8)]
+for op in list(nv._VEC) + list(nv._VEC_VALUE):
+    value = op in nv._VEC_VALUE
+    for a, b, c, sc in VECTORS:
+        node = SimpleNamespace(operation=op)
+        v = nv._vector_math(node, {"Vector": a, "Vector_001": b, "Vector_002": c, "Scale": sc},
+                            "Value" if value else "Vector")
+        params = {"operation": op.lower(), "a": list(a), "b": list(b), "c": list(c), "scale": sc}
+        if value:
+            params["output"] = "value"
+        cases.append({"kind": "vector_math", "params": params,
+                      "value": [v] if value else list(v)})
 
 # Mix RGB (fac clamped) and the Mix node's Color mode with an unclamped factor.
 COLOURS = [((0.2, 0.6, 0.9), (0.7, 0.3, 0.1)), ((0.8, 0.45, 0.05), (0.25, 0.9, 0.6)),

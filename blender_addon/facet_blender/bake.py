@@ -1,8 +1,9 @@
 """The bake fallback: a subgraph feeding a BSDF colour input that Facet cannot express
 (a procedural texture with a linked parameter, a colour output into a number input through a
-Mix or ColorRamp, a Vector Math chain on a texture, ...; textures.py converts Noise, Voronoi,
-Wave, Magic, Gradient, White Noise, Brick and ridged Musgrave, and Math, Mix RGB / Mix and
-ColorRamp nodes between textures, natively) is baked by Blender itself into an
+Mix or ColorRamp, a Vector Math vector into a number input, a vector that is no affine chain,
+...; textures.py converts Noise, Voronoi, Wave, Magic, Gradient, White Noise, Brick and ridged
+Musgrave, and Math, Vector Math, Mix RGB / Mix and ColorRamp nodes between textures, natively)
+is baked by Blender itself into an
 image over the object's UV map, and the material renders with that image.
 
 - What: the output socket feeding the input (materials.NodeContext.param, after the folding and

@@ -124,13 +124,15 @@ def convert(walker, src, number):
     types = (src.socket.type,) + src.convs
     # Vectors pass between colours unchanged (Cycles' colour <-> vector links copy the
     # components, a number -> vector link repeats it): a colour texture into a Mix node's
-    # vector input, and that Mix's vector result into a colour input. A vector -> number link
+    # vector input, and that Mix's (or a Vector Math's) vector result into a colour input. A
+    # vector -> number link
     # (the components' mean) and any other vector output do not convert.
     vector_ok = (not any(a == 'VECTOR' and b in ('VALUE', 'INT', 'BOOLEAN')
                          for a, b in zip(types, types[1:]))
                  and (src.socket.type != 'VECTOR' or (node.bl_idname == 'ShaderNodeMix'
                                                       and src.socket.identifier ==
-                                                      'Result_Vector')))
+                                                      'Result_Vector')
+                      or node.bl_idname == 'ShaderNodeVectorMath'))
     if ('VECTOR' in types and not vector_ok) or 'SHADER' in types:
         raise Unsupported(src, "a vector output used as a colour or number")
     to_number = any(a == 'RGBA' and b in ('VALUE', 'INT', 'BOOLEAN')
@@ -151,6 +153,8 @@ def convert(walker, src, number):
         return _combine(walker, src)
     if node.bl_idname == 'ShaderNodeMath':
         return _math(walker, src, 'RGBA' in types)
+    if node.bl_idname == 'ShaderNodeVectorMath':
+        return _vector_math_node(walker, src)
     if node.bl_idname == 'ShaderNodeValToRGB':
         return _color_ramp(walker, src, to_number)
     if node.bl_idname in ('ShaderNodeMixRGB', 'ShaderNodeMix'):
@@ -951,11 +955,12 @@ def _luminance(res, src):
 
 # --- nodes between textures: the core's composite kinds ---------------------------------------
 #
-# Math (every operation), Mix RGB and the Mix node (Color mode: every blend type; Float mode:
-# Mix of numbers) and ColorRamp nodes whose inputs are textures (or constants) -> the core's
-# `math`, `mix_rgb` and `color_ramp` kinds (FORMAT.md, "Composite kinds"), evaluated per hit
-# as Cycles 3.4 evaluates the nodes: no bake. Each input is its folded constant or, recursively,
-# its texture (anything convert() converts, including other composites); a constant colour
+# Math (every operation), Vector Math (every operation), Mix RGB and the Mix node (Color mode:
+# every blend type; Float mode: Mix of numbers) and ColorRamp nodes whose inputs are textures
+# (or constants) -> the core's `math`, `vector_math`, `mix_rgb` and `color_ramp` kinds
+# (FORMAT.md, "Composite kinds"), evaluated per hit as Cycles 3.4 evaluates the nodes: no
+# bake. Each input is its folded constant or, recursively, its texture (anything convert()
+# converts, including other composites); a constant colour
 # into a number input is Cycles' luminance of it (nodegraph.RGB_TO_Y, folded exactly). A
 # ColorRamp in RGB mode is its stops and interpolation; in HSV or HSL mode Cycles' own table
 # (Blender's ColorRamp.evaluate at i / 255, i = 0..255) as 256 stops, linear (constant when
@@ -963,7 +968,10 @@ def _luminance(res, src):
 # A colour output (a procedural's Color, Mix, a ColorRamp's Color with non-grey stops) into a
 # number input is its luminance (the texture's "channel" luminance: Facet's weights, reported
 # as for images, LUMINANCE_NOTE). The Mix node's Vector mode is the mix blend of its vectors
-# as colours (a Non-Uniform factor: mix_rgb's fac_color, a factor per component).
+# as colours (a Non-Uniform factor: mix_rgb's fac_color, a factor per component). Vector
+# Math's Vector output feeds colour inputs (colours pass through vector sockets unchanged),
+# its Value output (Dot Product, Distance, Length) number or colour inputs; a vector into a
+# number input (Cycles' mean of the components) stays reported.
 
 # Blender's Math operations the core's kind takes (all of 3.4's, lower case).
 _MATH_OPS = {'ADD', 'SUBTRACT', 'MULTIPLY', 'DIVIDE', 'MULTIPLY_ADD', 'POWER', 'LOGARITHM',
@@ -1029,6 +1037,43 @@ def _math_node(walker, src):
     for key, ident in (("a", "Value"), ("b", "Value_001"), ("c", "Value_002")):
         params[key] = ins.get(ident, True)
     return ins.result({"math": params})
+
+
+# Blender's Vector Math operations and the inputs each reads (a: Vector, b: Vector_001, c:
+# Vector_002, s: Scale): all of 3.4's; dot_product, distance and length give the Value output.
+_VECTOR_MATH_OPS = {
+    'ADD': "ab", 'SUBTRACT': "ab", 'MULTIPLY': "ab", 'DIVIDE': "ab", 'MULTIPLY_ADD': "abc",
+    'CROSS_PRODUCT': "ab", 'PROJECT': "ab", 'REFLECT': "ab", 'REFRACT': "abs",
+    'FACEFORWARD': "abc", 'DOT_PRODUCT': "ab", 'DISTANCE': "ab", 'LENGTH': "a", 'SCALE': "as",
+    'NORMALIZE': "a", 'SNAP': "ab", 'FLOOR': "a", 'CEIL': "a", 'MODULO': "ab", 'WRAP': "abc",
+    'FRACTION': "a", 'ABSOLUTE': "a", 'MINIMUM': "ab", 'MAXIMUM': "ab", 'SINE': "a",
+    'COSINE': "a", 'TANGENT': "a"}
+_VECTOR_MATH_VALUE = {'DOT_PRODUCT', 'DISTANCE', 'LENGTH'}
+
+
+def _vector_math_node(walker, src):
+    """Vector Math of textures -> vector_math: its Vector output into a colour input (convert()
+    refuses a vector into a number input: Cycles' mean of the components), its Value output
+    (dot_product, distance, length) into a number or, grey, a colour input."""
+    node = src.node
+    op = node.operation
+    uses = _VECTOR_MATH_OPS.get(op)
+    if uses is None:
+        raise Unsupported(src, "Vector Math %s is not converted" % op.title())
+    value = src.socket.identifier == 'Value'
+    if value != (op in _VECTOR_MATH_VALUE):
+        raise Unsupported(src, "the %s output of Vector Math %s (always 0 in Cycles) is not "
+                          "converted" % (src.socket.name, op.replace("_", " ").title()))
+    ins = _Inputs(walker, src)
+    params = {"operation": op.lower()}
+    if value:
+        params["output"] = "value"
+    for key, ident in (("a", "Vector"), ("b", "Vector_001"), ("c", "Vector_002")):
+        if key in uses:
+            params[key] = ins.get(ident, False)
+    if "s" in uses:
+        params["scale"] = ins.get('Scale', True)
+    return ins.result({"vector_math": params})
 
 
 def _mix(walker, src, to_number):

@@ -1,15 +1,18 @@
-"""Math, Mix RGB / Mix and ColorRamp nodes between textures, and the Brick Texture, converted
-natively (facet_blender/textures.py -> the core's math, mix_rgb, color_ramp and brick kinds,
-FORMAT.md "Composite kinds"): evaluated per hit, no bake.
+"""Math, Vector Math, Mix RGB / Mix and ColorRamp nodes between textures, and the Brick Texture,
+converted natively (facet_blender/textures.py -> the core's math, vector_math, mix_rgb,
+color_ramp and brick kinds, FORMAT.md "Composite kinds"): evaluated per hit, no bake.
 
 1. Exported data: each quad's emission converts to the kinds, nested as the node tree nests
    them, with no report and no bake; a ColorRamp in HSV mode becomes Cycles' 256-entry table as
    stops; a colour into a number input is its luminance (reported: Facet's weights); the Mix
    node's Vector mode is the mix of its vectors as colours (a Non-Uniform factor: one factor
    per component, mix_rgb's fac_color); a Brick's Color1 / Mortar fed by
-   textures become the brick's texture inputs (its Fac output exports none).
-2. Renders against Cycles, as tests/blender/test_procedural.py does: a strip of emission quads,
-   one node per quad, orthographic camera, box filter 1 px, 16 spp in both renderers.
+   textures become the brick's texture inputs (its Fac output exports none); Vector Math of
+   textures becomes vector_math (Vector output into a colour, Value output into a ramp's Fac),
+   and a Vector Math vector into a number input stays reported.
+2. Renders against Cycles, as tests/blender/test_procedural.py does: strips of emission quads
+   (the Vector Math ones a second strip), one node per quad, orthographic camera, box filter
+   1 px, 16 spp in both renderers.
    Criterion (issue 35): per quad, mean |Facet - Cycles| <= 1e-3 of Cycles' range over the quad.
    Controls that must fail it: the input's own constant (what the addon rendered before: the
    Emission Color's white), and the first ramp with its middle stop moved by 0.02.
@@ -94,6 +97,19 @@ def mix_node(nt, data_type, blend, fac, a, b, clamp_factor=True, clamp_result=Fa
         else:
             nt.links.new(v, sock)
     return next(s for s in m.outputs if s.identifier == "Result_" + suffix)
+
+
+def vector_math(nt, op, a, b=None, c=None, scale=None, output="Vector"):
+    m = node(nt, "ShaderNodeVectorMath", {"operation": op})
+    for ident, v in (("Vector", a), ("Vector_001", b), ("Vector_002", c), ("Scale", scale)):
+        if v is None:
+            continue
+        sock = next(x for x in m.inputs if x.identifier == ident)
+        if isinstance(v, (float, tuple)):
+            sock.default_value = v
+        else:
+            nt.links.new(v, sock)
+    return m.outputs[output]
 
 
 def brick(nt):
@@ -200,6 +216,36 @@ QUADS = [
     ("brick_textured_fac", lambda nt: brick_textured(nt).outputs["Fac"]),
 ]
 
+# Vector Math, rendered as a second strip (the first strip's Generated x spans its own quads:
+# its quads' values are set for that strip's length).
+VECTOR_QUADS = [
+    # Vector Math of textures: a noise's colour scaled; |(a - 1/2) x b| of two noise colours
+    # (a centred: two colours near grey are nearly parallel, their product small); a dot
+    # product (Value output) into a ramp's Fac; a normalised colour; a wrapped scaled colour;
+    # the length of a colour (Value output into the colour: grey).
+    ("vmath_scale",
+     lambda nt: vector_math(nt, 'SCALE', noise(nt, 2.0).outputs["Color"], scale=0.8)),
+    ("vmath_cross_abs",
+     lambda nt: vector_math(nt, 'ABSOLUTE', vector_math(
+         nt, 'CROSS_PRODUCT', vector_math(nt, 'SUBTRACT', noise(nt, 2.0).outputs["Color"],
+                                          (0.5, 0.5, 0.5)),
+         noise(nt, 3.0).outputs["Color"]))),
+    ("vmath_dot_ramp",
+     lambda nt: ramp(nt, 'LINEAR', vector_math(nt, 'DOT_PRODUCT', noise(nt, 3.0).outputs["Color"],
+                                               (0.5, 0.3, 0.2), output="Value"))
+     .outputs["Color"]),
+    ("vmath_normalize",
+     lambda nt: vector_math(nt, 'NORMALIZE', noise(nt, 2.5).outputs["Color"])),
+    ("vmath_wrap",
+     lambda nt: vector_math(nt, 'WRAP', vector_math(
+         nt, 'SCALE', noise(nt, 1.0, 0.0).outputs["Color"], scale=2.0), (0.9, 0.85, 0.8),
+         (0.1, 0.15, 0.2))),
+    ("vmath_length",
+     lambda nt: vector_math(nt, 'LENGTH', vector_math(
+         nt, 'SUBTRACT', noise(nt, 2.0).outputs["Color"], gradient(nt).outputs["Fac"]),
+         output="Value")),
+]
+
 
 def strip_scene(builders):
     bpy.ops.wm.read_homefile(use_factory_startup=True)
@@ -254,7 +300,7 @@ def kinds_of(t, found):
 
 def exported():
     from facet_blender import materials
-    scene, me = strip_scene(QUADS)
+    scene, me = strip_scene(QUADS + VECTOR_QUADS)
     ob = bpy.data.objects["strip"]
     for mat in me.materials:
         c = materials.convert(mat, ob)
@@ -296,6 +342,32 @@ def exported():
     bt.check(c.data["metallic"]["channel"] == "luminance"
              and any("Mix" in x and "Metallic" in x and "luminance" in x for x in c.problems),
              "a Mix's colour into Metallic: its luminance, reported: %s" % c.problems)
+    # Vector Math -> vector_math, nested; the Value output into a ramp's Fac.
+    em = materials.convert(bpy.data.materials["comp_vmath_cross_abs"], ob).emission
+    bt.check(em["vector_math"]["operation"] == "absolute"
+             and em["vector_math"]["a"]["vector_math"]["operation"] == "cross_product"
+             and em["vector_math"]["a"]["vector_math"]["a"]["vector_math"]["operation"]
+             == "subtract"
+             and kinds_of(em, set()) == {"vector_math", "noise"},
+             "Vector Math Absolute of a Cross Product: %.300s" % em)
+    em = materials.convert(bpy.data.materials["comp_vmath_dot_ramp"], ob).emission
+    fac = em["color_ramp"]["fac"]["vector_math"]
+    bt.check(fac["operation"] == "dot_product" and fac["output"] == "value"
+             and all(abs(x - y) < 1e-6 for x, y in zip(fac["b"], (0.5, 0.3, 0.2))),
+             "Vector Math Dot Product into a ramp's Fac: %.300s" % em)
+    # Still reported: a Vector Math vector into a number input (Cycles' mean of the
+    # components), and Vector Math of texture coordinates into a colour.
+    mat, nt, out = new_material("comp_vmath_reported")
+    p = nt.nodes.new("ShaderNodeBsdfPrincipled")
+    nt.links.new(vector_math(nt, 'SCALE', noise(nt).outputs["Color"], scale=0.5),
+                 p.inputs["Metallic"])
+    tc = nt.nodes.new("ShaderNodeTexCoord")
+    nt.links.new(vector_math(nt, 'NORMALIZE', tc.outputs["Object"]), p.inputs["Base Color"])
+    nt.links.new(p.outputs[0], out.inputs["Surface"])
+    c = materials.convert(mat)
+    bt.check(any("Metallic" in x for x in c.problems)
+             and any("Base Color" in x for x in c.problems),
+             "a Vector Math vector into Metallic and of coordinates: reported: %s" % c.problems)
     # The Mix node's Vector mode -> mix_rgb's mix.
     em = materials.convert(bpy.data.materials["comp_mix_node_vector"], ob).emission
     bt.check(em["mix_rgb"]["blend_type"] == "mix" and "noise" in em["mix_rgb"]["color1"]
@@ -307,18 +379,20 @@ def exported():
              "Mix (Vector, Non-Uniform) -> mix_rgb with fac_color: %.300s" % em)
 
 
-def rendered(outdir):
-    scene, me = strip_scene(QUADS)
-    a, _ = cs.render(scene, 'FACET', os.path.join(outdir, "composite_facet.exr"), seed=1)
+def rendered(outdir, quads=QUADS, tag="composite"):
+    """The strip `quads` in both renderers against the criterion; returns (scene, mesh, the
+    Cycles image)."""
+    scene, me = strip_scene(quads)
+    a, _ = cs.render(scene, 'FACET', os.path.join(outdir, tag + "_facet.exr"), seed=1)
     from facet_blender import hooks
     problems = list(hooks.last_problems)
     bt.check(not_luminance(problems) == [],
              "the strip converts without a report (but the luminance note): %s" % problems)
-    b, _ = cs.render(scene, 'CYCLES', os.path.join(outdir, "composite_cycles.exr"), seed=1)
+    b, _ = cs.render(scene, 'CYCLES', os.path.join(outdir, tag + "_cycles.exr"), seed=1)
     # The seed-to-seed floor (Facet seed 2 against seed 1), printed for each quad.
-    a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, "composite_facet2.exr"), seed=2)
+    a2, _ = cs.render(scene, 'FACET', os.path.join(outdir, tag + "_facet2.exr"), seed=2)
     failed = []
-    for i, (name, _) in enumerate(QUADS):
+    for i, (name, _) in enumerate(quads):
         qa, qb = a[:, PX * i:PX * (i + 1)], b[:, PX * i:PX * (i + 1)]
         rng = max(float(qb.max() - qb.min()), 1e-3)
         d = float(np.abs(qa - qb).mean())
@@ -330,7 +404,11 @@ def rendered(outdir):
             failed.append("%s: %.3g > 1e-3 x range %.3g" % (name, d, rng))
         bt.check(white > 1e-3 * rng, "control %s: the constant fails (%.3g)" % (name, white))
     bt.check(not failed, "quads within 1e-3 of the range: " + "; ".join(failed))
-    # Control: the first ramp's middle stop moved by 0.02 must fail the criterion.
+    return scene, me, b
+
+
+def moved_stop(outdir, scene, me, b):
+    """Control: the first ramp's middle stop moved by 0.02 must fail the criterion."""
     nt = me.materials[0].node_tree
     r = next(x for x in nt.nodes if x.bl_idname == 'ShaderNodeValToRGB')
     r.color_ramp.elements[1].position += 0.02
@@ -352,7 +430,8 @@ def main():
     bt.enable_addon()
     outdir = bt.args()[0]
     exported()
-    rendered(outdir)
+    moved_stop(outdir, *rendered(outdir))
+    rendered(outdir, VECTOR_QUADS, "composite_vector_math")
 
 
 bt.run(main)

@@ -373,7 +373,7 @@ def test_numpy_textures_render_their_texels():
 
 
 def test_composite_textures_from_python():
-    """Composite kinds (math, mix_rgb, color_ramp) from Python: textures as inputs, colours as
+    """Composite kinds (math, vector_math, mix_rgb, color_ramp) from Python: textures as inputs, colours as
     tuples, stops as (position, colour) pairs; they round-trip through JSON, render (a mix of
     constants is its value: 0.2 + 0.25 (0.8 - 0.2), ..., exact to float rounding as the texel
     test above), and a bad operation names its JSON pointer."""
@@ -393,6 +393,18 @@ def test_composite_textures_from_python():
     assert np.all(np.isfinite(image)) and image.max() > 0
     bad = facet.Texture.procedural('math', operation='multiplyy', a=noise)
     with pytest.raises(ValueError, match=r"/shapes/0/material/reflectance/math/operation"):
+        facet.build_scene(_texel_quad_scene(bad), name="py")
+    # vector_math: a dot product of constants on the Value output (0.1 + 0.1 + 0.3, to float
+    # rounding: 1e-6), a scale of a texture round-tripping, the output an operation lacks.
+    dot = facet.Texture.procedural('vector_math', operation='dot_product', output='value',
+                                   a=(0.2, 0.4, 0.6), b=(0.5, 0.25, 0.5))
+    image = facet.render(facet.build_scene(_texel_quad_scene(dot)), spp=1)
+    np.testing.assert_allclose(image, np.broadcast_to(0.5, image.shape), rtol=1e-6, atol=0)
+    d = _texel_quad_scene(facet.Texture.procedural('vector_math', operation='scale', a=noise,
+                                                   scale=0.5))
+    assert facet.parse_scene_description(d.to_json(), name="twin") == d
+    bad = facet.Texture.procedural('vector_math', operation='length', a=noise)
+    with pytest.raises(ValueError, match=r"/shapes/0/material/reflectance/vector_math/output"):
         facet.build_scene(_texel_quad_scene(bad), name="py")
 
 

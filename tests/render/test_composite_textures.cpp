@@ -1,7 +1,8 @@
-// Composite texture kinds (texture_kinds.h: math, mix_rgb, color_ramp) against Cycles 3.4's
-// evaluation of the same nodes (composite_blender.json, made by bench/composite_blender.py:
-// the addon's nodevalues.py, an independent double-precision port of Cycles' svm_math, svm_mix
-// and rgb_ramp_lookup, with Blender's own ColorRamp.evaluate for the ramp table). Tolerance
+// Composite texture kinds (texture_kinds.h: math, vector_math, mix_rgb, color_ramp) against
+// Cycles 3.4's evaluation of the same nodes (composite_blender.json, made by
+// bench/composite_blender.py: the addon's nodevalues.py, an independent double-precision port of
+// Cycles' svm_math, svm_vector_math, svm_mix and rgb_ramp_lookup, with Blender's own
+// ColorRamp.evaluate for the ramp table). Tolerance
 // 2e-5 x max(1, |value|): Facet evaluates in float as Cycles does, the reference in double;
 // the operations compound at most a few float roundings (exp, pow and the HSV round trips
 // the most), about 1e-6 relative.
@@ -204,6 +205,7 @@ TEST(CompositeTextures, RangesHoldEveryValue) {
     };
     const auto* math = fr::find_texture_kind("math");
     const auto* mix = fr::find_texture_kind("mix_rgb");
+    const auto* vmath = fr::find_texture_kind("vector_math");
     int checked = 0, bounded = 0;
     for (int trial = 0; trial < 12; ++trial) {
         double la = u(rng), ha = u(rng), lb = u(rng), hb = u(rng);
@@ -230,6 +232,16 @@ TEST(CompositeTextures, RangesHoldEveryValue) {
                                   {"fac", ramp_in(-0.2, 1.2, false)},
                                   {"color1", colour_in(la, ha, false)},
                                   {"color2", colour_in(lb, hb, true)}}}});
+        for (const std::string& op : vmath->params[0].choices) {
+            const bool value = op == "dot_product" || op == "distance" || op == "length";
+            texs.push_back({{"vector_math",
+                             {{"operation", op},
+                              {"output", value ? "value" : "vector"},
+                              {"a", colour_in(la, ha, false)},
+                              {"b", colour_in(lb, hb, true)},
+                              {"c", {c, -0.5 * c, 0.25}},
+                              {"scale", ramp_in(-c, 1.0, true)}}}});
+        }
         for (const json& tex : texs) {
             std::optional<fr::Texture> built;
             try {
@@ -256,7 +268,7 @@ TEST(CompositeTextures, RangesHoldEveryValue) {
                 }
         }
     }
-    EXPECT_GT(bounded, 1000);
+    EXPECT_GT(bounded, 1200);
     std::cout << "checked " << checked << " values of " << bounded << " bounded textures\n";
 }
 
@@ -430,4 +442,113 @@ TEST(CompositeTextures, BrickColoursFromTextures) {
     fac["output"] = "fac";
     EXPECT_NE(composite_error({{"brick", fac}}).find("/t/brick/color1"), std::string::npos)
         << composite_error({{"brick", fac}});
+}
+
+// Vector Math with textures as inputs, evaluated at the hit: a = (x, 1 - x, 0.5), b = (1, 2, x)
+// (exact in float up to a few roundings: tolerance 1e-6); the Value output is grey; a number
+// texture computes with grey vectors; ranges hold the values.
+TEST(CompositeTextures, VectorMathAtTheHit) {
+    const json a = {{"mix_rgb", {{"fac", kX}, {"color1", {0, 1, 0.5}}, {"color2", {1, 0, 0.5}}}}};
+    const json b = {{"mix_rgb", {{"fac", kX}, {"color1", {1, 2, 0}}, {"color2", {1, 2, 1}}}}};
+    auto build = [&](const std::string& op, const std::string& out, bool color = true) {
+        return fr::build_procedural_texture(
+            composite_desc(
+                {{"vector_math", {{"operation", op}, {"output", out}, {"a", a}, {"b", b}}}}),
+            color, "/t");
+    };
+    const fr::Texture cross = build("cross_product", "vector");
+    const fr::Texture dot = build("dot_product", "value", false);
+    const fr::Texture len = build("length", "value");
+    const fr::Texture nrm = build("normalize", "vector");
+    for (float x : {0.f, 0.2f, 0.5f, 0.8f, 1.f}) {
+        const Vec3 va(x, 1.f - x, 0.5f), vb(1.f, 2.f, x);
+        const Vec3 want = glm::cross(va, vb);
+        const Rgb got = cross.eval(hit_at(x));
+        for (int k = 0; k < 3; ++k) {
+            EXPECT_NEAR(got[k], want[k], 1e-6f) << x;
+            EXPECT_GE(got[k], cross.min_value()[k] - range_slack(cross.min_value()[k]));
+            EXPECT_LE(got[k], cross.max_value()[k] + range_slack(cross.max_value()[k]));
+        }
+        EXPECT_NEAR(dot.eval(hit_at(x)).r, glm::dot(va, vb), 1e-6f) << x;
+        EXPECT_EQ(len.eval(hit_at(x)).g, len.eval(hit_at(x)).r);
+        EXPECT_NEAR(len.eval(hit_at(x)).b, glm::length(va), 1e-6f) << x;
+        EXPECT_NEAR(nrm.eval(hit_at(x)).r, va.x / glm::length(va), 1e-6f) << x;
+    }
+    // |a| over the range box [0, 1] x [0, 1] x {0.5} (the channels' ranges, independently):
+    // from its point nearest 0, (0, 0, 0.5), to its farthest, sqrt(1 + 1 + 0.25).
+    EXPECT_NEAR(len.min_value().r, 0.5f, 1e-6f);
+    EXPECT_NEAR(len.max_value().r, 1.5f, 1e-6f);
+    EXPECT_EQ(dot.inputs(), unsigned(fr::kTextureReadsPosition));
+    // A number texture: grey vectors (a = x), scaled by the number 3.
+    const fr::Texture grey = fr::build_procedural_texture(
+        composite_desc({{"vector_math", {{"operation", "scale"}, {"a", kX}, {"scale", 3}}}}), false,
+        "/t");
+    EXPECT_NEAR(grey.eval(hit_at(0.25f)).r, 0.75f, 1e-7f);
+    EXPECT_EQ(grey.max_value().r, 3.f);
+}
+
+// Vector Math's errors name the JSON path: the output that the operation does not give, an
+// unbounded range (divide by a vector whose range holds 0, tangent over a pole), a colour
+// vector read by a number parameter without a channel, an unknown operation.
+TEST(CompositeTextures, VectorMathErrors) {
+    auto has = [](const std::string& s, const std::string& what) {
+        return s.find(what) != std::string::npos;
+    };
+    std::string e = composite_error({{"vector_math", {{"operation", "length"}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math/output") && has(e, "value")) << e;
+    e = composite_error({{"vector_math", {{"operation", "add"}, {"output", "value"}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math/output") && has(e, "vector")) << e;
+    e = composite_error({{"vector_math", {{"operation", "divide"}, {"a", {1, 1, 1}}, {"b", kX}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math") && has(e, "cannot be bounded") && has(e, "divide")) << e;
+    e = composite_error({{"vector_math",
+                          {{"operation", "tangent"},
+                           {"a", {{"math", {{"operation", "multiply"}, {"a", kX}, {"b", 4}}}}}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math") && has(e, "tangent")) << e;
+    e = composite_error({{"vector_math", {{"operation", "cross_product"}, {"a", {1, 0, 0}}}}},
+                        false);
+    EXPECT_TRUE(has(e, "/t/vector_math/a") && has(e, "number")) << e;
+    e = composite_error({{"vector_math", {{"operation", "crossproduct"}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math/operation") && has(e, "cross_product")) << e;
+    e = composite_error({{"vector_math", {{"operation", "scale"}, {"scale", {1, 0, 0}}}}});
+    EXPECT_TRUE(has(e, "/t/vector_math/scale")) << e;
+    // A number parameter computes with grey vectors: a colour constant is an error, unless the
+    // texture reads a channel of the result.
+    const json c = {{"vector_math", {{"operation", "cross_product"}, {"a", {1, 0, 0}}, {"b", kX}}}};
+    e = composite_error(c, false);
+    EXPECT_TRUE(has(e, "/t/vector_math/a") && has(e, "number")) << e;
+    json ch = c;
+    ch["channel"] = "b";
+    EXPECT_EQ(composite_error(ch, false), "no error");
+}
+
+// The writer writes what the reader reads: vector_math with nested inputs and the output; the
+// scene builds and the texture emits.
+TEST(CompositeTextures, VectorMathJsonRoundTrip) {
+    const json tex = {
+        {"vector_math",
+         {{"operation", "dot_product"},
+          {"output", "value"},
+          {"a", {{"noise", {{"output", "color"}}}, {"coordinates", "object"}}},
+          {"b", {{"vector_math", {{"operation", "scale"}, {"a", {0.2, 0.4, 1}}, {"scale", kX}}}}}}},
+        {"scale", 0.5}};
+    json s = {{"format", "facet-scene"},
+              {"version", 1},
+              {"camera",
+               {{"position", {0, 0, 5}},
+                {"look_at", {0, 0, 0}},
+                {"fov", 40},
+                {"width", 4},
+                {"height", 4}}},
+              {"shapes",
+               {{{"type", "quad"},
+                 {"vertices", {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}}},
+                 {"emission", tex}}}}};
+    const fr::SceneDescription d = fr::parse_scene_description(s.dump(), "rt");
+    const std::string w = fr::write_scene_json(d);
+    const fr::SceneDescription back = fr::parse_scene_description(w, "rt");
+    ASSERT_TRUE(back.shapes.at(0).emission_texture.has_value());
+    EXPECT_TRUE(*back.shapes[0].emission_texture == *d.shapes[0].emission_texture);
+    EXPECT_NE(w.find("\"dot_product\""), std::string::npos) << w;
+    const fr::Scene scene = fr::build_scene(d, "rt");
+    EXPECT_NEAR(scene.shapes()[0].emission_texture->max_value().r, 0.5f * 1.6f, 1e-6f);
 }

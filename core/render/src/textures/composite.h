@@ -1,8 +1,8 @@
 // Private to facet_render: what the composite texture kinds share (texture.h conventions,
-// "Composite kinds"; texture_kinds.h: math, mix_rgb, color_ramp). A composite reads no point
-// of its own: each Input parameter is a constant or another texture evaluated at the same hit,
-// and the kind's function of those values (Blender's node, as Cycles 3.4 evaluates it, in
-// float) is its value, times the texture's scale.
+// "Composite kinds"; texture_kinds.h: math, vector_math, mix_rgb, color_ramp). A composite
+// reads no point of its own: each Input parameter is a constant or another texture evaluated
+// at the same hit, and the kind's function of those values (Blender's node, as Cycles 3.4
+// evaluates it, in float) is its value, times the texture's scale.
 //
 // Value ranges: every texture states the smallest and largest value it takes (Texture::
 // min_value, max_value; build_scene validates material parameters at them and clamps to them).
@@ -96,6 +96,13 @@ class CompositeParams : public ProceduralParams {
     const TextureKindDef& m_kind;
     mutable unsigned m_reads = 0;
 };
+
+// Blender's Math node (math.cpp; vector_math applies it per component): the index of
+// operation `name` (lower case; -1: none), its value as Cycles' svm_math in float, and a
+// conservative range of that value over the inputs' ranges (infinite ends: unbounded).
+int math_operation(std::string_view name);
+float math_operation_value(int op, float a, float b, float c);
+Interval math_operation_range(int op, Interval a, Interval b, Interval c);
 
 // The texture of a composite kind: `source` with the texture's scale, its value range
 // [lo, hi] per channel (before the scale; an unbounded one is an error, `why` says which

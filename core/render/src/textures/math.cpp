@@ -362,6 +362,19 @@ Texture build_math(TextureBuild& b) {
 
 }  // namespace
 
+int math_operation(std::string_view name) {
+    const auto it = std::find(kOperations.begin(), kOperations.end(), name);
+    return it == kOperations.end() ? -1 : int(it - kOperations.begin());
+}
+
+float math_operation_value(int op, float a, float b, float c) {
+    return math(Op(op), a, b, c);
+}
+
+Interval math_operation_range(int op, Interval a, Interval b, Interval c) {
+    return math_range(Op(op), a, b, c);
+}
+
 const TextureKindDef kMathTexture{
     "math",
     "Blender's Math node per hit: `operation` of the inputs a, b, c (numbers or number "

@@ -8,10 +8,10 @@ namespace facet::render {
 
 std::span<const TextureKindDef* const> texture_kinds() {
     static const TextureKindDef* const kinds[] = {
-        &kImageTexture,    &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
-        &kVoronoiTexture,  &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
-        &kGradientTexture, &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
-        &kMixRgbTexture,   &kColorRampTexture,  &kHairInfoTexture,
+        &kImageTexture,      &kCheckerTexture,    &kVertexColorTexture, &kNoiseTexture,
+        &kVoronoiTexture,    &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
+        &kGradientTexture,   &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
+        &kVectorMathTexture, &kMixRgbTexture,     &kColorRampTexture,   &kHairInfoTexture,
     };
     return kinds;
 }

@@ -51,9 +51,9 @@
 //    ("generated", "object", "uv" as (u, v, 0), or the view-dependent "normal", "reflection",
 //    "camera", "window": TexturePoint), mapped by the affine `mapping` (Blender's
 //    Mapping node and any affine chain before the texture), then the kind's own pattern.
-//  - Composite kinds (textures/composite.h: math, mix_rgb, color_ramp) read no point: their
-//    inputs are constants or other textures (TextureDesc::inputs), evaluated at the same hit;
-//    the composite's value is its node's function of theirs.
+//  - Composite kinds (textures/composite.h: math, vector_math, mix_rgb, color_ramp) read no
+//    point: their inputs are constants or other textures (TextureDesc::inputs), evaluated at
+//    the same hit; the composite's value is its node's function of theirs.
 //  - Hair Info (textures/hair_info.cpp): one of Blender's Hair Info outputs at the hit (Random,
 //    Intercept, Is Strand: TexturePoint::strand_random, strand_v, on_strand), 0 off curves.
 #pragma once

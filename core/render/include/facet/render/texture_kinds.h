@@ -8,10 +8,10 @@
 // "Textures"), read by scene_json.cpp; a procedural kind's parameters are the keys of the
 // object under its name, {"noise": {"scale": 5, "detail": 2}, "coordinates": "object", ...},
 // each a number or a name from `choices`, absent ones taking `default_number` /
-// `default_text`. A composite kind (composite = true: math, mix_rgb, color_ramp) reads no
-// point: its Input parameters are a constant (a number, or a colour [r, g, b] for a Color one)
-// or a texture object, {"math": {"operation": "add", "a": {"noise": {...}}, "b": 0.5}}, and
-// it has no "coordinates" or "mapping".
+// `default_text`. A composite kind (composite = true: math, vector_math, mix_rgb, color_ramp)
+// reads no point: its Input parameters are a constant (a number, or a colour [r, g, b] for a
+// Color one) or a texture object, {"math": {"operation": "add", "a": {"noise": {...}}, "b":
+// 0.5}}, and it has no "coordinates" or "mapping".
 #pragma once
 
 #include <cstdint>
