@@ -23,7 +23,7 @@ using facet::Vec3;
 
 namespace {
 
-constexpr int kSide = 16;
+constexpr int kVisSide = 16;
 
 // A 16 x 16 orthographic camera at height h looking straight down at the floor y = 0 (which it
 // sees over [-1, 1]^2 in x and z).
@@ -65,8 +65,8 @@ template <class Use>
 double worst_vs_floor(const fr::Scene& scene, const fr::Image& img, Use use, int& count) {
     double worst = 0.0;
     count = 0;
-    for (int y = 0; y < kSide; ++y) {
-        for (int x = 0; x < kSide; ++x) {
+    for (int y = 0; y < kVisSide; ++y) {
+        for (int x = 0; x < kVisSide; ++x) {
             if (!use(x, y)) continue;
             const double want =
                 *ft::point_light_on_plane(scene.camera(), x, y, kLight, kPower, kRho);
@@ -100,13 +100,13 @@ TEST(RayVisibility, ShadowOffOccluderLetsTheLightThroughExactly) {
     int n = 0;
     const double worst = worst_vs_floor(
         scene, img, [](int, int) { return true; }, n);
-    EXPECT_EQ(n, kSide * kSide);
+    EXPECT_EQ(n, kVisSide * kVisSide);
     EXPECT_LT(worst, 1e-5);
     for (const char* control : {"", R"(, "visibility": {"camera": false})"}) {
         const fr::Scene c = scene_with(control);
         const fr::Image ci = render(c, 1);
-        for (int y = 0; y < kSide; ++y)
-            for (int x = 0; x < kSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
+        for (int y = 0; y < kVisSide; ++y)
+            for (int x = 0; x < kVisSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
     }
     std::printf("shadow-invisible occluder: worst relative difference %.2e (tolerance 1e-5)\n",
                 worst);
@@ -126,11 +126,11 @@ TEST(RayVisibility, CameraOffOccluderStillCastsItsShadow) {
     const fr::Image img = render(scene, 1);
     int n = 0;
     const double worst = worst_vs_floor(
-        scene, img, [](int x, int) { return x >= kSide / 2; }, n);
-    EXPECT_EQ(n, kSide * kSide / 2);
+        scene, img, [](int x, int) { return x >= kVisSide / 2; }, n);
+    EXPECT_EQ(n, kVisSide * kVisSide / 2);
     EXPECT_LT(worst, 1e-5);
-    for (int y = 0; y < kSide; ++y)
-        for (int x = 0; x < kSide / 2; ++x) EXPECT_EQ(img.at(x, y), Rgb(0.f)) << x << ", " << y;
+    for (int y = 0; y < kVisSide; ++y)
+        for (int x = 0; x < kVisSide / 2; ++x) EXPECT_EQ(img.at(x, y), Rgb(0.f)) << x << ", " << y;
     const fr::Image control = render(scene_with(""), 1);
     EXPECT_GT(control.at(2, 8).r, 0.05f);  // the occluder's top: 0.8/pi 300/(4 pi 4) = 1.5
 }
@@ -150,12 +150,12 @@ TEST(RayVisibility, MirrorSeesWhatTheCameraDoesNot) {
             quad(1.0, -3, 3, 3, false) + vis + "}]");
     };
     const fr::Image img = render(scene_with(R"(, "visibility": {"camera": false})"), 1);
-    for (int y = 0; y < kSide; ++y)
-        for (int x = 0; x < kSide; ++x) EXPECT_EQ(img.at(x, y), Rgb(2.f)) << x << ", " << y;
+    for (int y = 0; y < kVisSide; ++y)
+        for (int x = 0; x < kVisSide; ++x) EXPECT_EQ(img.at(x, y), Rgb(2.f)) << x << ", " << y;
     for (const char* control : {R"(, "visibility": {"camera": false, "glossy": false})", ""}) {
         const fr::Image ci = render(scene_with(control), 1);
-        for (int y = 0; y < kSide; ++y)
-            for (int x = 0; x < kSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
+        for (int y = 0; y < kVisSide; ++y)
+            for (int x = 0; x < kVisSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
     }
 }
 
@@ -178,9 +178,9 @@ TEST(RayVisibility, DiffuseRaysPassWhatTheyDoNotSee) {
     };
     auto mean = [](const fr::Image& img) {
         double s = 0.0;
-        for (int y = 0; y < kSide; ++y)
-            for (int x = 0; x < kSide; ++x) s += img.at(x, y).g;
-        return s / (kSide * kSide);
+        for (int y = 0; y < kVisSide; ++y)
+            for (int x = 0; x < kVisSide; ++x) s += img.at(x, y).g;
+        return s / (kVisSide * kVisSide);
     };
     const double m = mean(render(scene_with(R"(, "visibility": {"camera": false, "diffuse": false,
                                                    "shadow": false})"),
@@ -214,14 +214,14 @@ TEST(RayVisibility, TransmittedRaysSeeWhatTheCameraDoesNot) {
     const fr::Image none =
         render(scene_with(R"(, "visibility": {"camera": false, "transmission": false})"), 4);
     double sum = 0.0;
-    for (int y = 0; y < kSide; ++y) {
-        for (int x = 0; x < kSide; ++x) {
+    for (int y = 0; y < kVisSide; ++y) {
+        for (int x = 0; x < kVisSide; ++x) {
             EXPECT_EQ(seen.at(x, y), ref.at(x, y)) << x << ", " << y;
             EXPECT_EQ(none.at(x, y), Rgb(0.f)) << x << ", " << y;
             sum += seen.at(x, y).b;
         }
     }
-    EXPECT_GT(sum / (kSide * kSide), 0.5);  // mostly transmitted: 3 (1 - F) / 1.5^2 or so
+    EXPECT_GT(sum / (kVisSide * kVisSide), 0.5);  // mostly transmitted: 3 (1 - F) / 1.5^2 or so
 }
 
 // An emitter that no diffuse, glossy or transmission ray sees is no light source (Cycles 3.4's
@@ -244,7 +244,7 @@ TEST(RayVisibility, EmitterNoRayOfLightSeesIsNoLightSource) {
     int n = 0;
     // Outside the shadow (|x|, |z| < 2/3 on the floor: pixel centres beyond 0.6875).
     auto lit = [](int x, int y) {
-        auto out = [](int i) { return std::fabs(-1.0 + (i + 0.5) * 2.0 / kSide) > 0.68; };
+        auto out = [](int i) { return std::fabs(-1.0 + (i + 0.5) * 2.0 / kVisSide) > 0.68; };
         return out(x) || out(y);
     };
     const double worst = worst_vs_floor(scene, img, lit, n);
@@ -270,8 +270,8 @@ TEST(RayVisibility, EmitterDiffuseRaysDoNotSeeLightsNoDiffuseSurface) {
     const std::string ggx = R"({"model": "ggx", "alpha": 0.3, "fresnel": "none"})";
     auto sum = [](const fr::Image& im) {
         double t = 0.0;
-        for (int y = 0; y < kSide; ++y)
-            for (int x = 0; x < kSide; ++x) t += im.at(x, y).g;
+        for (int y = 0; y < kVisSide; ++y)
+            for (int x = 0; x < kVisSide; ++x) t += im.at(x, y).g;
         return t;
     };
     EXPECT_EQ(sum(render(scene_with(lambert, R"(, "diffuse": false)"), 4)), 0.0);
@@ -356,8 +356,8 @@ TEST(LightPath, ShadowSwitchToNullCastsNoShadow) {
     for (const char* control :
          {"", R"(, "light_path": [{"ray": "camera", "material": {"model": "null"}}])"}) {
         const fr::Image ci = render(scene_with(control), 1);
-        for (int y = 0; y < kSide; ++y)
-            for (int x = 0; x < kSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
+        for (int y = 0; y < kVisSide; ++y)
+            for (int x = 0; x < kVisSide; ++x) EXPECT_EQ(ci.at(x, y), Rgb(0.f)) << control;
     }
 }
 
@@ -387,8 +387,8 @@ TEST(LightPath, CameraSwitchShowsOneEmissionAndLightsWithTheOther) {
         render(scene_with(R"(, "light_path": [{"ray": "camera", "emission": [0, 5, 1]}])"), 1);
     const fr::Image ref = render(scene_with(R"(, "visibility": {"volume_scatter": false})"), 1);
     int on_emitter = 0, on_floor = 0;
-    for (int y = 0; y < kSide; ++y) {
-        for (int x = 0; x < kSide; ++x) {
+    for (int y = 0; y < kVisSide; ++y) {
+        for (int x = 0; x < kVisSide; ++x) {
             if (ref.at(x, y) == Rgb(2.f)) {  // the emitter's front, A = 2
                 EXPECT_EQ(img.at(x, y), Rgb(0.f, 5.f, 1.f)) << x << ", " << y;
                 ++on_emitter;
@@ -407,8 +407,8 @@ TEST(LightPath, CameraSwitchShowsOneEmissionAndLightsWithTheOther) {
     const fr::Image control =
         render(scene_with(R"(, "light_path": [{"ray": "diffuse", "emission": [0, 5, 1]}])"), 1);
     int shows_a = 0;
-    for (int y = 0; y < kSide; ++y)
-        for (int x = 0; x < kSide; ++x)
+    for (int y = 0; y < kVisSide; ++y)
+        for (int x = 0; x < kVisSide; ++x)
             if (ref.at(x, y) == Rgb(2.f)) shows_a += control.at(x, y) == Rgb(2.f);
     EXPECT_EQ(shows_a, on_emitter);
     const fr::Image ref64 = render(scene_with(R"(, "visibility": {"volume_scatter": false})"), 64);
@@ -416,8 +416,8 @@ TEST(LightPath, CameraSwitchShowsOneEmissionAndLightsWithTheOther) {
         render(scene_with(R"(, "light_path": [{"ray": "diffuse", "emission": [0, 500, 0]}])"), 64);
     int greener = 0;
     double sum_ref = 0.0, sum_ctl = 0.0;
-    for (int y = 0; y < kSide; ++y) {
-        for (int x = 0; x < kSide; ++x) {
+    for (int y = 0; y < kVisSide; ++y) {
+        for (int x = 0; x < kVisSide; ++x) {
             greener += ctl64.at(x, y).g > ref64.at(x, y).g;
             sum_ref += ref64.at(x, y).g;
             sum_ctl += ctl64.at(x, y).g;
@@ -428,7 +428,7 @@ TEST(LightPath, CameraSwitchShowsOneEmissionAndLightsWithTheOther) {
     std::printf(
         "camera switch: %d emitter pixels show B, %d lit floor pixels as without it; "
         "a diffuse switch makes %d pixels greener (mean green %.4f -> %.4f)\n",
-        on_emitter, on_floor, greener, sum_ref / (kSide * kSide), sum_ctl / (kSide * kSide));
+        on_emitter, on_floor, greener, sum_ref / (kVisSide * kVisSide), sum_ctl / (kVisSide * kVisSide));
 }
 
 // Light Path errors name the pointer; the description round-trips.
