@@ -1,10 +1,14 @@
 """The hair sphere with hair BSDFs against Cycles 3.4 (issue 37): 300 particle hairs (radius
 0.02 at the root, 0.01 at the tip) on a diffuse sphere under a sun, 64 x 48, direct light plus
-one bounce (Facet max_depth 2 = Cycles 1 bounce), Facet (through the export) seed 1 against
-Cycles seeds 1 and 2, with the bounds of test_cycles_hair.py:
+one bounce (Facet max_depth 2 = Cycles 1 bounce), Facet (through the export; the mean of its
+seeds 1 and 2) against Cycles seeds 1 and 2, with the bounds of test_cycles_hair.py:
 - |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
-- block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
-  noise floor (the same between Cycles seeds 1 and 2).
+- block RMSE (8 x 8 blocks' mean luminance, Facet against Cycles seed 1) <= 3 x the noise
+  floor (the same between Cycles seeds 1 and 2).
+Two Facet seeds: the block RMSE of one Facet render is itself noisy where Facet's hair is the
+noisier renderer. Direct Coloring with single Facet seeds 1-4 gave 3.24, 2.20, 1.71 and 2.42 x
+the floor (1.48-2.55 against Cycles seed 3), mean ratios 0.9948-0.9997: one unlucky seed, not
+a bias, decided. Their mean halves Facet's share of the difference's variance.
 Cases: Principled Hair BSDF, Melanin Concentration 0.8 (roughness 0.3, the default coat, IOR and
 offset), as 3D Curves and as Rounded Ribbons (Cycles shades a ribbon with h from its position
 across the ribbon); Principled Hair with Absorption Coefficient; the Hair BSDF, Reflection as 3D
@@ -100,8 +104,11 @@ def case(out, name, node, shape, control, setup=None, more=None, **inputs):
         path = os.path.join(out, "hairbsdf_%s_%s_%d.exr" % (tag, engine.lower(), seed))
         return cs.render(scene, engine, path, seed)[0]
 
+    def facet(tag=name):
+        return 0.5 * (render('FACET', 1, tag) + render('FACET', 2, tag))
+
     c1, c2 = render('CYCLES', 1), render('CYCLES', 2)
-    ratio, rel = compare(name, render('FACET', 1), c1, c2)
+    ratio, rel = compare(name, facet(), c1, c2)
     bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
              "%s: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
              % (name, ratio, MEAN_TOL, rel, RMSE_FACTOR))
@@ -113,7 +120,7 @@ def case(out, name, node, shape, control, setup=None, more=None, **inputs):
         key, value = control
         n.inputs[key].default_value = value
         what = "%s = %s" % (key, value)
-    ratio, rel = compare(name + " control", render('FACET', 1, name + "_control"), c1, c2)
+    ratio, rel = compare(name + " control", facet(name + "_control"), c1, c2)
     bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
              "%s with %s breaks a bound (mean ratio %.4f, block RMSE %.2f x floor): the "
              "test can fail" % (name, what, ratio, rel))
