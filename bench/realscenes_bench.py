@@ -24,26 +24,33 @@ import scenes  # noqa: E402
 BEGIN, END = "<!-- realscenes:begin -->", "<!-- realscenes:end -->"
 
 
-def run(build, name, out, size, spp):
+def run_profile(build, name, out, profile, size_spp, prefix):
+    """test_realscene.py NAME OUT PROFILE [W H SPP] in headless Blender with the addon the build
+    installs; returns OUT/PREFIX_NAME.json (the log beside it)."""
     bdir = os.path.join(build, "tests", "blender")
     env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(bdir, "user_scripts"),
                BLENDER_USER_CONFIG=os.path.join(bdir, "user_config"), PYTHONNOUSERSITE="1")
     cmd = ["blender", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
            "--python", os.path.join(ROOT, "tests", "realscenes", "test_realscene.py"), "--",
-           name, out, "bench"]
-    if size or spp:
-        w, h, s = scenes.by_name(name).bench
-        if size:
-            w, h = (int(v) for v in size.split("x"))
-        cmd += [str(w), str(h), str(spp or s)]
-    log = os.path.join(out, "realscene_%s.log" % name)
+           name, out, profile] + [str(v) for v in size_spp]
+    log = os.path.join(out, "%s_%s.log" % (prefix, name))
     with open(log, "w") as f:
         rc = subprocess.run(cmd, env=env, stdout=f, stderr=subprocess.STDOUT).returncode
-    path = os.path.join(out, "realscene_%s.json" % name)
+    path = os.path.join(out, "%s_%s.json" % (prefix, name))
     if rc != 0 or not os.path.exists(path):
         raise RuntimeError("%s failed (exit %d), see %s" % (name, rc, log))
     with open(path) as f:
         return json.load(f)
+
+
+def run(build, name, out, size, spp):
+    size_spp = []
+    if size or spp:
+        w, h, s = scenes.by_name(name).bench
+        if size:
+            w, h = (int(v) for v in size.split("x"))
+        size_spp = [w, h, spp or s]
+    return run_profile(build, name, out, "bench", size_spp, "realscene")
 
 
 def row(r):

@@ -20,33 +20,21 @@ import argparse
 import json
 import os
 import statistics
-import subprocess
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 sys.path.insert(0, os.path.join(ROOT, "tests", "realscenes"))
 import scenes  # noqa: E402
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import realscenes_bench  # noqa: E402
 
 BEGIN, END = "<!-- realscenes-time-error:begin -->", "<!-- realscenes-time-error:end -->"
 TARGET = 0.5  # issue 34: every scene <= 0.5, the median <= 0.4
 
 
 def run(build, name, out, size, spp):
-    bdir = os.path.join(build, "tests", "blender")
-    env = dict(os.environ, BLENDER_USER_SCRIPTS=os.path.join(bdir, "user_scripts"),
-               BLENDER_USER_CONFIG=os.path.join(bdir, "user_config"), PYTHONNOUSERSITE="1")
     w, h = (int(v) for v in size.split("x"))
-    cmd = ["blender", "-b", "--factory-startup", "-noaudio", "--python-exit-code", "1",
-           "--python", os.path.join(ROOT, "tests", "realscenes", "test_realscene.py"), "--",
-           name, out, "timeerror", str(w), str(h), str(spp)]
-    log = os.path.join(out, "timeerror_%s.log" % name)
-    with open(log, "w") as f:
-        rc = subprocess.run(cmd, env=env, stdout=f, stderr=subprocess.STDOUT).returncode
-    path = os.path.join(out, "timeerror_%s.json" % name)
-    if rc != 0 or not os.path.exists(path):
-        raise RuntimeError("%s failed (exit %d), see %s" % (name, rc, log))
-    with open(path) as f:
-        return json.load(f)
+    return realscenes_bench.run_profile(build, name, out, "timeerror", [w, h, spp], "timeerror")
 
 
 def row(r):

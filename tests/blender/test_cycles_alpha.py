@@ -18,7 +18,6 @@ the premultiplied colour's luminance and for the alpha channel:
   floor (the same between Cycles seeds 1 and 2).
 Ability to fail: Facet with the cube's Holdout off, and Facet with Film > Transparent off,
 must each break a bound (printed)."""
-import math
 import os
 import sys
 
@@ -35,38 +34,6 @@ BLOCK = 8
 SPP = 64
 MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
-
-
-def load_rgba(path):
-    """An RGBA EXR through Blender's loader -> float64 (h, w, 4), top row first."""
-    im = bpy.data.images.load(path, check_existing=False)
-    try:
-        w, h = im.size
-        px = np.empty(w * h * im.channels, np.float32)
-        im.pixels.foreach_get(px)
-        img = px.reshape(h, w, im.channels)[::-1].astype(np.float64)
-    finally:
-        bpy.data.images.remove(im)
-    if img.shape[2] != 4:
-        raise RuntimeError("%s: %d channels, expected RGBA" % (path, img.shape[2]))
-    return img
-
-
-def render(scene, engine, path, seed):
-    """F12 with `engine`, saved as a 32-bit RGBA EXR (the Combined pass with its alpha)."""
-    scene.render.engine = engine
-    if engine == 'CYCLES':
-        scene.cycles.seed = seed
-    else:
-        scene.facet.seed = seed
-    bpy.ops.render.render()
-    s = scene.render.image_settings
-    s.file_format = 'OPEN_EXR'
-    s.color_depth = '32'
-    s.color_mode = 'RGBA'
-    s.exr_codec = 'ZIP'
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return load_rgba(path)
 
 
 def build_scene():
@@ -144,8 +111,8 @@ def main():
     out = bt.args()[0]
     bt.enable_addon()
     scene, cube = build_scene()
-    c1 = render(scene, 'CYCLES', os.path.join(out, "alpha_cycles1.exr"), 1)
-    c2 = render(scene, 'CYCLES', os.path.join(out, "alpha_cycles2.exr"), 2)
+    c1 = cs.render_rgba(scene, 'CYCLES', os.path.join(out, "alpha_cycles1.exr"), 1)
+    c2 = cs.render_rgba(scene, 'CYCLES', os.path.join(out, "alpha_cycles2.exr"), 2)
     bt.check(c1[0, 0, 3] == 0.0 and c1[RES // 2, RES // 2, 3] == 1.0,
              "Cycles: background alpha 0, sphere centre 1 (%g, %g)"
              % (c1[0, 0, 3], c1[RES // 2, RES // 2, 3]))
@@ -155,7 +122,7 @@ def main():
               cs.block_rmse(c1[:, :, 3:4].repeat(3, 2), c2[:, :, 3:4].repeat(3, 2), BLOCK))
     print("Cycles: mean luminance %.4f, mean alpha %.4f; floors %.5f, %.5f"
           % (mean_c[0], mean_c[1], floors[0], floors[1]))
-    f = render(scene, 'FACET', os.path.join(out, "alpha_facet1.exr"), 1)
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "alpha_facet1.exr"), 1)
     res = compare("Facet", f, c1, mean_c, floors)
     bt.check(within(res), "Facet's premultiplied colour and alpha match Cycles' (mean within "
              "%g, block RMSE <= %g x floor)" % (MEAN_TOL, RMSE_FACTOR))
@@ -169,12 +136,12 @@ def main():
 
     # Controls: each must break a bound.
     cube.is_holdout = False
-    f = render(scene, 'FACET', os.path.join(out, "alpha_facet_noholdout.exr"), 1)
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "alpha_facet_noholdout.exr"), 1)
     bt.check(not within(compare("Facet, cube not held out", f, c1, mean_c, floors)),
              "without the cube's Holdout a bound breaks: the test can fail")
     cube.is_holdout = True
     scene.render.film_transparent = False
-    f = render(scene, 'FACET', os.path.join(out, "alpha_facet_opaque.exr"), 1)
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "alpha_facet_opaque.exr"), 1)
     bt.check(not within(compare("Facet, film opaque", f, c1, mean_c, floors)),
              "with Film > Transparent off a bound breaks: the test can fail")
 

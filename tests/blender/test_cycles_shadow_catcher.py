@@ -37,39 +37,6 @@ MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
 
 
-def load_rgba(path):
-    """An RGBA EXR through Blender's loader -> float64 (h, w, 4), top row first."""
-    im = bpy.data.images.load(path, check_existing=False)
-    try:
-        w, h = im.size
-        px = np.empty(w * h * im.channels, np.float32)
-        im.pixels.foreach_get(px)
-        img = px.reshape(h, w, im.channels)[::-1].astype(np.float64)
-    finally:
-        bpy.data.images.remove(im)
-    if img.shape[2] != 4:
-        raise RuntimeError("%s: %d channels, expected RGBA" % (path, img.shape[2]))
-    return img
-
-
-def render(scene, engine, path, seed):
-    """F12 with `engine`, saved as a 32-bit RGBA EXR (the Combined pass with its alpha: 1
-    everywhere over an opaque film)."""
-    scene.render.engine = engine
-    if engine == 'CYCLES':
-        scene.cycles.seed = seed
-    else:
-        scene.facet.seed = seed
-    bpy.ops.render.render()
-    s = scene.render.image_settings
-    s.file_format = 'OPEN_EXR'
-    s.color_depth = '32'
-    s.color_mode = 'RGBA'
-    s.exr_codec = 'ZIP'
-    bpy.data.images["Render Result"].save_render(path, scene=scene)
-    return load_rgba(path)
-
-
 def build_scene(glossy_area=False):
     bpy.ops.wm.read_homefile(use_empty=True)
     scene = bpy.context.scene
@@ -143,8 +110,8 @@ def film_case(scene, plane, out, transparent, tag=None):
     key = tag.replace(", ", "_").replace(" ", "_")
     scene.render.film_transparent = transparent
     plane.is_shadow_catcher = True
-    c1 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles1.exr" % key), 1)
-    c2 = render(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles2.exr" % key), 2)
+    c1 = cs.render_rgba(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles1.exr" % key), 1)
+    c2 = cs.render_rgba(scene, 'CYCLES', os.path.join(out, "catcher_%s_cycles2.exr" % key), 2)
     mean_c = (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()),
               0.5 * (c1[:, :, 3].mean() + c2[:, :, 3].mean()))
     floors = (cs.block_rmse(c1, c2, BLOCK),
@@ -161,14 +128,14 @@ def film_case(scene, plane, out, transparent, tag=None):
     else:
         bt.check(np.allclose(lit[:3], (0.2, 0.3, 0.5), rtol=0.05),
                  "Cycles: the lit catcher shows the world over an opaque film (%s)" % lit)
-    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet1.exr" % key), 1)
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "catcher_%s_facet1.exr" % key), 1)
     res = compare("Facet, film %s" % tag, f, c1, mean_c, floors, transparent)
     bt.check(within(res), "film %s: Facet's colour%s match Cycles' (mean within %g, block "
              "RMSE <= %g x floor)" % (tag, " and alpha" if transparent else "", MEAN_TOL,
                                       RMSE_FACTOR))
     # Control: without the flag the plane is an ordinary object, and a bound breaks.
     plane.is_shadow_catcher = False
-    f = render(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % key), 1)
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % key), 1)
     bt.check(not within(compare("Facet, film %s, catcher off" % tag, f, c1, mean_c, floors,
                                 transparent)),
              "film %s: without Shadow Catcher a bound breaks: the test can fail" % tag)

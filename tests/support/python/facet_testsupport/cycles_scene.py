@@ -555,6 +555,39 @@ def render(scene, engine, path, seed=None, problems_are_errors=True):
     return load_exr(path).astype(np.float64), dt
 
 
+
+def load_rgba(path):
+    """An RGBA EXR through Blender's loader -> float64 (h, w, 4), top row first."""
+    im = bpy.data.images.load(path, check_existing=False)
+    try:
+        w, h = im.size
+        px = np.empty(w * h * im.channels, np.float32)
+        im.pixels.foreach_get(px)
+        img = px.reshape(h, w, im.channels)[::-1].astype(np.float64)
+    finally:
+        bpy.data.images.remove(im)
+    if img.shape[2] != 4:
+        raise RuntimeError("%s: %d channels, expected RGBA" % (path, img.shape[2]))
+    return img
+
+
+def render_rgba(scene, engine, path, seed):
+    """F12 with `engine` and its seed, saved as a 32-bit RGBA EXR: the Combined pass with its
+    alpha (1 everywhere over an opaque film), float64 (h, w, 4)."""
+    scene.render.engine = engine
+    if engine == 'CYCLES':
+        scene.cycles.seed = seed
+    else:
+        scene.facet.seed = seed
+    bpy.ops.render.render()
+    s = scene.render.image_settings
+    s.file_format = 'OPEN_EXR'
+    s.color_depth = '32'
+    s.color_mode = 'RGBA'
+    s.exr_codec = 'ZIP'
+    bpy.data.images["Render Result"].save_render(path, scene=scene)
+    return load_rgba(path)
+
 # One EXR loader for every Blender test and benchmark (blender_harness.load_exr).
 load_exr = _bt.load_exr
 
