@@ -66,7 +66,7 @@ enum class LightSelection : std::uint8_t { View, Power, Uniform, Tree, Auto };
 // bounds: not the environment or a distant sun) that next-event estimation samples, else View.
 // Measured (docs/performance.md, "Light selection measured from the view"): the tree wins from
 // 17 lamps on (an interior with 17 lamps: noise^2 x CPU 0.54 of View's; 64 lamps: 0.19) and
-// loses with 5 or fewer (5 lamps of Radius 1: 1.8x View's; a hidden strong lamp: ~1000x).
+// loses with 5 or fewer (5 lamps of Radius 1: 3.8x View's; a hidden strong lamp: ~1500x).
 inline constexpr int kTreeMinLocalLights = 12;
 
 struct RenderOptions {
