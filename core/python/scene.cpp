@@ -327,7 +327,8 @@ const std::set<std::string> kCommonShapeAttributes = {
     "emission",      "emission_texture", "two_sided",
     "flip_normals",  "transform",        "motion",
     "texture_space", "motion_positions", "motion_normals",
-    "holdout",       "shadow_catcher",   "visibility",       "light_path"};
+    "holdout",       "shadow_catcher",   "visibility",
+    "light_path"};
 
 // Ray visibility (ShapeDesc::visibility) as {"camera": bool, ...}, every kind named; set from a
 // dict naming some of them (the others: visible).

@@ -428,7 +428,8 @@ TEST(LightPath, CameraSwitchShowsOneEmissionAndLightsWithTheOther) {
     std::printf(
         "camera switch: %d emitter pixels show B, %d lit floor pixels as without it; "
         "a diffuse switch makes %d pixels greener (mean green %.4f -> %.4f)\n",
-        on_emitter, on_floor, greener, sum_ref / (kVisSide * kVisSide), sum_ctl / (kVisSide * kVisSide));
+        on_emitter, on_floor, greener, sum_ref / (kVisSide * kVisSide),
+        sum_ctl / (kVisSide * kVisSide));
 }
 
 // Light Path errors name the pointer; the description round-trips.
