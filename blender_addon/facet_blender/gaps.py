@@ -73,10 +73,10 @@ NODES = {
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
                          "parameter)",
     'ShaderNodeLayerWeight': "Layer Weight is not converted",
-    'ShaderNodeLightPath': "Light Path converts only as a material's Mix Shader Fac straight "
-                           "from a ray output (Is Camera / Shadow / Diffuse / Glossy / "
-                           "Singular / Reflection / Transmission Ray); Ray Length, the depths "
-                           "and other uses are not converted",
+    'ShaderNodeLightPath': "Light Path converts in a material's BSDF inputs and Mix Shader "
+                           "factors (Is Shadow Ray only as a Mix Shader's Fac straight from "
+                           "it); Transparent Depth, and uses in emissions, Alpha, normals or "
+                           "the world, are not converted",
 }
 
 INPUTS = {
