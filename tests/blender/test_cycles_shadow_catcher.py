@@ -202,7 +202,7 @@ def pass_case(scene, plane, out, transparent):
     bt.check(np.all(lit == 0.0) and abs(p1[14, 50].mean() - 1.0) < 0.1 and
              p1[0, 0].tolist() == [1.0, 1.0, 1.0] and cs.luminance(p1).min() < 0.5,
              "Cycles, %s: Combined 0 on the lit catcher (%s), pass about 1 there (%s), 1 off "
-             "the catcher, a shadow below 0.5 (%.3f)" % (tag, lit, p1[14, 50], p1[0, 0],
+             "the catcher (%s), a shadow below 0.5 (%.3f)" % (tag, lit, p1[14, 50], p1[0, 0],
                                                         cs.luminance(p1).min()))
     mean_c = (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()),
               0.5 * (c1[:, :, 3].mean() + c2[:, :, 3].mean()))
