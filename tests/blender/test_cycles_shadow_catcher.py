@@ -25,7 +25,8 @@ writes the Shadow Catcher pass (per channel the light the catcher kept: about 1 
 catcher, less in the shadow, 1 where no catcher is seen) and its Combined pass is no longer
 the approximation but the matte: the sphere with its alpha, the catcher colourless with alpha
 0 over an opaque film too (checked on Cycles' own render). Facet's pass (luminance) and
-Combined (colour and alpha) against Cycles', with the same bounds. Ability to fail: a pass of
+Combined (colour and alpha) against Cycles', with the same bounds; with Render Properties >
+Facet > Denoise (two half-buffers) Facet's pass is the same, bit for bit. Ability to fail: a pass of
 1 everywhere, and Facet's Combined without the pass (the approximation), break a bound."""
 import os
 import sys
@@ -223,6 +224,13 @@ def pass_case(scene, plane, out, transparent):
              "%g x floor)" % (tag, MEAN_TOL, RMSE_FACTOR))
     bt.check(within(compare("Facet, %s, Combined" % tag, f, c1, mean_c, floors, True)),
              "%s: Facet's Combined (colour and alpha) matches Cycles' with the pass" % tag)
+    if not transparent:
+        # With Denoise the pass comes from the two half-buffers' merged sums: the same pass.
+        scene.facet.denoise = True
+        _, fd = render_with_pass(scene, out, key + "_facet_denoise", 'FACET', 1)
+        scene.facet.denoise = False
+        bt.check(np.array_equal(fd, fp), "%s: with Denoise, the pass of the merged half-buffers "
+                 "is the same, bit for bit (max difference %g)" % (tag, np.abs(fd - fp).max()))
     # Controls: a pass of 1 everywhere; the approximate Combined (the pass off).
     bt.check(not within(pass_res("pass of 1, " + tag, np.ones_like(fp))),
              "%s: a pass of 1 everywhere breaks a bound: the test can fail" % tag)
