@@ -37,16 +37,7 @@ RMSE_FACTOR = 3.0
 
 
 def build_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = RES
-    scene.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("grey")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bg.inputs["Strength"].default_value = 1.0
-    scene.world = world
+    scene = cs.new_scene(RES, (1.0, 1.0, 1.0, 1.0), 1.0, "grey")
     bpy.ops.mesh.primitive_uv_sphere_add(radius=1.0, segments=64, ring_count=32,
                                          location=(0.0, 0.0, 0.0))
     bpy.ops.object.shade_smooth()
@@ -75,13 +66,7 @@ def build_scene():
     nt.links.new(h.outputs[0], m.inputs[2])
     nt.links.new(m.outputs[0], out.inputs["Surface"])
     bpy.context.object.data.materials.append(mix)
-    cd = bpy.data.cameras.new("cam")
-    cd.type = 'ORTHO'
-    cd.ortho_scale = 3.4
-    cam = bpy.data.objects.new("cam", cd)
-    cam.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cs.ortho_camera_down(scene, 5.0, 3.4)
     scene.facet.max_depth = 3
     scene.facet.spp = SPP
     cs.cycles_settings(scene, samples=SPP, max_depth=3)

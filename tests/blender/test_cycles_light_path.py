@@ -122,16 +122,7 @@ def materials():
 
 
 def build_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = RES
-    scene.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("dim")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bg.inputs["Strength"].default_value = 0.1
-    scene.world = world
+    scene = cs.new_scene(RES, (1.0, 1.0, 1.0, 1.0), 0.1, "dim")
     mats = materials()
     white = bpy.data.materials.new("white")
     bt.single_shader(white, "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0),
@@ -159,16 +150,10 @@ def build_scene():
     ob = add(bpy.ops.mesh.primitive_plane_add, lamp, size=3.0, location=(0.0, 0.0, 4.0),
              rotation=(3.14159265, 0.0, 0.0))
     ob.visible_camera = False
-    cd = bpy.data.cameras.new("cam")
-    cd.type = 'ORTHO'
-    cd.ortho_scale = 4.0
+    cam = cs.ortho_camera_down(scene, 6.0, 4.0)
     # Cycles measures a camera ray's Ray Length from Clip Start (reported by the export when
     # > 0, checked in main()); a negligible one compares the rest exactly.
-    cd.clip_start = 1e-5
-    cam = bpy.data.objects.new("cam", cd)
-    cam.location = (0.0, 0.0, 6.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cam.data.clip_start = 1e-5
     scene.facet.max_depth = 3
     scene.facet.spp = SPP
     cs.cycles_settings(scene, samples=SPP, max_depth=3)

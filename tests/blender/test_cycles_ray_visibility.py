@@ -59,16 +59,7 @@ def emission(name, strength):
 
 
 def build_scene():
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = RES
-    scene.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("dim")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (1.0, 1.0, 1.0, 1.0)
-    bg.inputs["Strength"].default_value = 0.1
-    scene.world = world
+    scene = cs.new_scene(RES, (1.0, 1.0, 1.0, 1.0), 0.1, "dim")
     white = material("white", "ShaderNodeBsdfDiffuse", {"Color": (0.8, 0.8, 0.8, 1.0),
                                                         "Roughness": 0.0})
     red = material("red", "ShaderNodeBsdfDiffuse", {"Color": (0.9, 0.1, 0.1, 1.0),
@@ -156,13 +147,7 @@ def build_scene():
     obs["lamp"] = add(bpy.ops.mesh.primitive_plane_add, emission("lamp", 20.0),
                       {"visible_camera": False}, size=3.0, location=(0.0, 0.0, 4.0),
                       rotation=(3.14159265, 0.0, 0.0))
-    cd = bpy.data.cameras.new("cam")
-    cd.type = 'ORTHO'
-    cd.ortho_scale = 4.0
-    cam = bpy.data.objects.new("cam", cd)
-    cam.location = (0.0, 0.0, 6.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cs.ortho_camera_down(scene, 6.0, 4.0)
     scene.facet.max_depth = 3
     scene.facet.spp = SPP
     cs.cycles_settings(scene, samples=SPP, max_depth=3)

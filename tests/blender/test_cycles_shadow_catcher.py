@@ -47,16 +47,7 @@ RMSE_FACTOR = 3.0
 
 
 def build_scene(glossy_area=False):
-    bpy.ops.wm.read_homefile(use_empty=True)
-    scene = bpy.context.scene
-    scene.render.resolution_x = scene.render.resolution_y = RES
-    scene.render.resolution_percentage = 100
-    world = bpy.data.worlds.new("sky")
-    world.use_nodes = True
-    bg = world.node_tree.nodes["Background"]
-    bg.inputs["Color"].default_value = (0.2, 0.3, 0.5, 1.0)
-    bg.inputs["Strength"].default_value = 1.0
-    scene.world = world
+    scene = cs.new_scene(RES, (0.2, 0.3, 0.5, 1.0), 1.0, "sky")
     bpy.ops.mesh.primitive_plane_add(size=2.6, location=(0.0, 0.0, 0.0))
     plane = bpy.context.object
     floor = bpy.data.materials.new("floor")
@@ -81,13 +72,7 @@ def build_scene(glossy_area=False):
     else:
         cs.add_light(scene, 'SUN', 3.0, (0.0, 0.0, 4.0), rotation=(0.5236, 0.0, 0.6),
                      visible_camera=False, angle=0.0)
-    cd = bpy.data.cameras.new("cam")
-    cd.type = 'ORTHO'
-    cd.ortho_scale = 3.4
-    cam = bpy.data.objects.new("cam", cd)
-    cam.location = (0.0, 0.0, 5.0)
-    scene.collection.objects.link(cam)
-    scene.camera = cam
+    cs.ortho_camera_down(scene, 5.0, 3.4)
     scene.facet.max_depth = 3
     scene.facet.spp = SPP
     cs.cycles_settings(scene, samples=SPP, max_depth=3)

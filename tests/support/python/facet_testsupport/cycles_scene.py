@@ -507,6 +507,34 @@ def add_fur(obj, count=300, material=2):
     return mod
 
 
+def new_scene(res, world_color=(1.0, 1.0, 1.0, 1.0), world_strength=1.0, world_name="world"):
+    """An empty scene (factory data gone) rendering res x res pixels at 100%, lit by a
+    constant world of `world_color` x `world_strength`."""
+    bpy.ops.wm.read_homefile(use_empty=True)
+    scene = bpy.context.scene
+    scene.render.resolution_x = scene.render.resolution_y = res
+    scene.render.resolution_percentage = 100
+    world = bpy.data.worlds.new(world_name)
+    world.use_nodes = True
+    bg = world.node_tree.nodes["Background"]
+    bg.inputs["Color"].default_value = world_color
+    bg.inputs["Strength"].default_value = world_strength
+    scene.world = world
+    return scene
+
+
+def ortho_camera_down(scene, height, scale):
+    """The scene's camera: orthographic, `scale` wide, at (0, 0, height) looking down -z."""
+    cd = bpy.data.cameras.new("cam")
+    cd.type = 'ORTHO'
+    cd.ortho_scale = scale
+    cam = bpy.data.objects.new("cam", cd)
+    cam.location = (0.0, 0.0, height)
+    scene.collection.objects.link(cam)
+    scene.camera = cam
+    return cam
+
+
 def add_light(scene, kind, energy, location, rotation=(0.0, 0.0, 0.0), visible_camera=True,
               **props):
     """A lamp object of Blender type `kind` ('POINT', 'SUN', 'SPOT', 'AREA') linked into
