@@ -486,6 +486,68 @@ def stage_lamps_interior(scene):
     cam_lo, cam_hi = world_bounds(objs + [sph])
     camera(scene, cam_lo, cam_hi, 20, 20, lens=28, margin=0.85)  # inside the room
 
+def stage_suzanne_sss(scene):
+    """Suzanne from a Blender 2.48 file as skin-like wax: a Principled BSDF with Subsurface 0.1
+    (Random Walk, radius (1, 0.2, 0.1)) on a ground under the forest HDRI (issue 36: an SSS
+    object in the time-vs-error benchmark)."""
+    scene, objs = open_suzanne()
+    mat, node = material("wax", "ShaderNodeBsdfPrincipled",
+                         {"Base Color": (0.8, 0.55, 0.45, 1.0), "Subsurface": 0.1,
+                          "Subsurface Radius": (1.0, 0.2, 0.1),
+                          "Subsurface Color": (0.8, 0.55, 0.45, 1.0), "Roughness": 0.4},
+                         {"subsurface_method": 'RANDOM_WALK'})
+    for ob in objs:
+        ob.data.materials.clear()
+        ob.data.materials.append(mat)
+    lo, hi = normalise(objs, 2.0)
+    ground(scene)
+    hdri_world(scene, "forest", 1.0, 120.0)
+    camera(scene, lo, hi, 20, 15)
+
+
+def stage_cubes_volume(scene):
+    """4Cubes4Mats_248.blend (Blender 2.48) with its first cube's material replaced by a
+    Principled Volume (density 1, no surface): a smoky cube, lifted 5 cm, beside the file's
+    three others,
+    under the file's lamp (Radius 1) and world; a ground added (issue 36: a volume cube in the
+    time-vs-error benchmark)."""
+    bpy = _bpy()
+    scene = open_blend(ASSIMP + "/BLEND/4Cubes4Mats_248.blend")
+    objs = sorted((o for o in scene.objects if o.type == 'MESH'), key=lambda o: o.name)
+    mat = bpy.data.materials.new("smoke")
+    mat.use_nodes = True
+    nt = mat.node_tree
+    for n in list(nt.nodes):
+        nt.nodes.remove(n)
+    vol = nt.nodes.new("ShaderNodeVolumePrincipled")
+    vol.inputs["Color"].default_value = (0.8, 0.8, 0.8, 1.0)
+    vol.inputs["Density"].default_value = 1.0
+    nt.links.new(vol.outputs[0], nt.nodes.new("ShaderNodeOutputMaterial").inputs["Volume"])
+    objs[0].data = objs[0].data.copy()
+    objs[0].data.materials.clear()
+    objs[0].data.materials.append(mat)
+    lo, _ = world_bounds(objs)
+    g = ground(scene)
+    g.location.z = lo.z
+    # The smoke floats: a medium's boundary face in the ground's plane leaves to each
+    # intersector which of the two coincident faces a ray meets first (docs/media.md).
+    objs[0].location.z += 0.05
+
+
+def stage_arealight_fog(scene):
+    """AreaLight_269.blend (Blender 2.69) as its author saved it, in a world fog: the world's
+    Volume is a Volume Scatter of density 0.05 lit by the file's point and area lamps (issue
+    36: world fog in the time-vs-error benchmark)."""
+    scene = open_blend(ASSIMP + "/BLEND/AreaLight_269.blend")
+    world = scene.world
+    world.use_nodes = True
+    nt = world.node_tree
+    out = next(n for n in nt.nodes if n.bl_idname == 'ShaderNodeOutputWorld')
+    vs = nt.nodes.new("ShaderNodeVolumeScatter")
+    vs.inputs["Density"].default_value = 0.05
+    nt.links.new(vs.outputs[0], out.inputs["Volume"])
+
+
 SCENES = [
     Scene("box_textured", stage_box_textured, "glTF2/BoxTextured-glTF/BoxTextured.gltf",
           ("image texture", "UV Map", "glTF metallic-roughness (Principled)",
@@ -537,6 +599,15 @@ SCENES = [
           # Small lamps over a glossy floor: at 32 spp the two Cycles seeds' means differ by
           # 0.85%, too close to the 2% bound; 128 spp halves it.
           ci=(96, 72, 128)),
+    Scene("suzanne_sss", stage_suzanne_sss, "BLEND/Suzanne_248.blend",
+          ("old .blend", "Principled Subsurface (Random Walk)", "HDRI world"),
+          explained=(NEGATIVE_HDRI,)),
+    Scene("cubes_volume", stage_cubes_volume, "BLEND/4Cubes4Mats_248.blend",
+          ("old .blend", "Principled Volume on a mesh", "point lamp radius"),
+          explained=(POINT_RADIUS,)),
+    Scene("arealight_fog", stage_arealight_fog, "BLEND/AreaLight_269.blend",
+          ("old .blend", "world Volume Scatter (fog)", "square area lamps", "point lamp radius"),
+          explained=(POINT_RADIUS,)),
 ]
 
 
