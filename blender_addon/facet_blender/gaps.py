@@ -69,7 +69,8 @@ NODES = {
     'ShaderNodeVertexColor': "a Color Attribute converts only as a texture (into a colour "
                              "or number input of a BSDF or an Emission, or a Mix Shader's "
                              "Fac)",
-    'ShaderNodeAttribute': "attributes are not converted yet",
+    'ShaderNodeAttribute': "an Attribute node converts only straight into a VOLUME object's "
+                           "Principled Volume Emission Strength, naming one of its grids",
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
                          "parameter)",
     'ShaderNodeLayerWeight': "Layer Weight is not converted",

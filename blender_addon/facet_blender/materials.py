@@ -250,6 +250,9 @@ class NodeContext:
         self.uv_maps = set()  # UV layers read by the textures converted
         self.material = self.obj = None  # set for a material: what a bake needs (bake.py)
         self.exact = set()  # (node, input) of gaps.INPUTS entries a conversion converted
+        # (node name, input name) -> the value a caller converted itself (value() returns it:
+        # a volume's Emission Strength read from a grid, sync_volume.py).
+        self.given = {}
         self.baked = False
         self.tangents = False  # a normal map: the mesh exports its UV map's tangents
         self.color_attributes = set()  # colour attributes read ("" the default one)
@@ -275,6 +278,8 @@ class NodeContext:
     def value(self, node, name, path=()):
         """The value of a BSDF input: folded to a constant when its subgraph allows (exact),
         else the input's own value, and each node stopping the folding is reported."""
+        if (node.name, name) in self.given:
+            return self.given[(node.name, name)]
         sock = _input(node, name)
         src = self.walker.input(node, sock, path)
         v, blockers = self.walker.fold(src)

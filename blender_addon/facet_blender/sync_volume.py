@@ -19,7 +19,9 @@ with its defaults (scene/shader.cpp). Principled Volume's emission converts as C
 computes it (svm_node_principled_volume: not scaled by the density): Emission Strength x
 Emission Color as the medium's constant `emission`, and blackbody emission (Blackbody
 Intensity, Blackbody Tint, Temperature) with the Temperature Attribute's grid as
-`temperature_grid`. Reported by object, material and node: what a grid medium cannot hold (a
+`temperature_grid`; an Emission Strength straight from an Attribute node's Fac naming a grid
+of the volume as `emission_grid` (the emission Emission Color x the grid). Reported by object,
+material and node: what a grid medium cannot hold (a
 Color Attribute grid, a volume shader beside the Principled Volume that fills the grids' region
 uniformly, blackbody beside another volume shader), a constant emission or temperature (Cycles
 fills the volume's active voxels, Facet the density grid's bounding box), a Density Attribute
@@ -239,6 +241,19 @@ def _medium(mat, subject, names, problems):
                                 "volume's active voxels, Facet over the bounding box of grid "
                                 "'%s' (the same where the active voxels fill their box)"
                                 % (what, o.label(), attr, grid))
+    # Emission Strength straight from an Attribute node's Fac naming a grid of the volume
+    # (Cycles reads the grid at each point): the grid is the medium's emission_grid and the
+    # strength 1 (the emission is Emission Color x the grid's value).
+    emission_grid = None
+    if len(nodes) == 1 and principled:
+        o = principled[0]
+        src = ctx.walker.input(o.node, 'Emission Strength', o.path)
+        if isinstance(src, nodegraph.Out) and not src.convs and \
+                src.node.bl_idname == 'ShaderNodeAttribute' and \
+                src.node.attribute_type == 'GEOMETRY' and src.socket.identifier == 'Fac' and \
+                src.node.attribute_name in names:
+            emission_grid = src.node.attribute_name
+            ctx.given[(o.node.name, 'Emission Strength')] = 1.0
     medium = ctx.volume(vol, "the Material Output's Volume")
     problems.extend(ctx.finish())
     if medium is None and blackbody is not None:
@@ -249,7 +264,10 @@ def _medium(mat, subject, names, problems):
     out_medium = {"sigma_a": medium["sigma_a"], "sigma_s": medium["sigma_s"]}
     if "g" in medium:
         out_medium["g"] = medium["g"]
-    if "emission" in medium:
+    if "emission" in medium and emission_grid is not None:
+        out_medium["emission"] = medium["emission"]
+        out_medium["emission_grid"] = emission_grid
+    elif "emission" in medium:
         # Cycles' Emission Strength x Emission Color, not scaled by the density.
         out_medium["emission"] = medium["emission"]
         problems.append("%s: its constant emission (Emission Strength x Emission Color) is "

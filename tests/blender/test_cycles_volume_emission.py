@@ -18,7 +18,9 @@ grey floor under a dim sun. The issue's bounds: the image means within 2%, the b
 blocks of the luminance) within 3x the seed-to-seed floor of Cycles (seeds 1 and 2). Ability to
 fail: Facet with the temperature grid dropped (blackbody at 1500 K over the whole box, the
 conversion's fallback) and Facet with the blackbody at 0.8 of its intensity must each break
-one of them (numbers printed)."""
+one of them (numbers printed). Then, in the dark, the same smoke with its Emission Strength an
+Attribute node reading the "density" grid (the medium's emission_grid); control: the grid
+dropped (a constant strength 1 over the box)."""
 import math
 import os
 import sys
@@ -111,6 +113,25 @@ def case_conversions():
              and len(lines) == 1 and "constant emission" in lines[0],
              "Emission Strength x Emission Color -> emission, its region reported: %s %s"
              % (m, lines))
+    # Emission Strength from an Attribute node naming a grid: emission_grid, no line.
+    nt = bpy.data.materials["FireMat"].node_tree
+    attr = nt.nodes.new("ShaderNodeAttribute")
+    attr.attribute_type = 'GEOMETRY'
+    attr.attribute_name = "density"
+    link = nt.links.new(attr.outputs["Fac"], node.inputs["Emission Strength"])
+    data, problems = export()
+    m = data["media"]["Fire (volume)"]
+    bt.check(m.get("emission") == [1.0, 0.5, 0.25] and m.get("emission_grid") == "density"
+             and not mine(problems),
+             "Attribute 'density' -> Emission Strength: emission_grid, no line: %s %s"
+             % (m, mine(problems)))
+    attr.attribute_name = "flame"  # no such grid: the input's value, the node reported
+    data, problems = export()
+    m = data["media"]["Fire (volume)"]
+    bt.check("emission_grid" not in m and
+             any("FireMat" in p and "Attribute 'Attribute'" in p for p in problems),
+             "an Attribute naming no grid is reported: %s %s" % (m, problems))
+    nt.links.remove(link)
     # Blackbody beside another volume shader: not converted (the generic line).
     node.inputs["Emission Strength"].default_value = 0.0
     node.inputs["Blackbody Intensity"].default_value = 1.0
@@ -186,11 +207,41 @@ def case_render(out):
              "floor): the test can fail" % (ratio, rel))
 
 
+def case_render_attribute(out):
+    """Emission Strength = the density grid (an Attribute node), Emission Color orange, no
+    blackbody, in the dark: Facet's emission_grid against Cycles, with the control of the
+    grid dropped (the constant Emission Strength 1 over the box) breaking a bound."""
+    scene, vo, node = fire_scene()
+    bpy.data.objects.remove(bpy.data.objects["Light"])
+    node.inputs["Blackbody Intensity"].default_value = 0.0
+    node.inputs["Emission Color"].default_value = (1.0, 0.5, 0.25, 1.0)
+    nt = bpy.data.materials["FireMat"].node_tree
+    attr = nt.nodes.new("ShaderNodeAttribute")
+    attr.attribute_type = 'GEOMETRY'
+    attr.attribute_name = "density"
+    nt.links.new(attr.outputs["Fac"], node.inputs["Emission Strength"])
+    bpy.data.objects["Camera"].data.lens = 70.0
+    imgs = renders(scene, "attr", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("attribute emission", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "Emission Strength from the grid: mean ratio %.4f within %g, block RMSE %.2f <= "
+             "%g x floor" % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    attr.attribute_name = "flame"  # the control: no such grid, Emission Strength's value
+    node.inputs["Emission Strength"].default_value = 1.0
+    flat = renders(scene, "attr_flat", out, engines=('FACET',), seeds=(1,))['FACET'][0]
+    ratio, rel = compare("constant strength", flat, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "without the grid a bound breaks (mean ratio %.4f, block RMSE %.2f x floor)"
+             % (ratio, rel))
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
     case_conversions()
     case_render(out)
+    case_render_attribute(out)
 
 
 bt.run(main)
