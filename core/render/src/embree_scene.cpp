@@ -1157,12 +1157,14 @@ template <bool kUv>
                                               SurfaceHit& hit, std::int32_t& part) {
     if (placed.motion.empty()) {
         fill_placed<kUv>(impl, placed, false, true, geom, tri, ray, time, u, v, t, hit, part);
-        return;
+    } else {
+        InstanceGeom at_time;
+        at_time.prototype = placed.prototype;
+        at_time.place(interpolate_motion(placed.motion, double(time)));
+        fill_placed<kUv>(impl, at_time, true, true, geom, tri, ray, time, u, v, t, hit, part);
     }
-    InstanceGeom at_time;
-    at_time.prototype = placed.prototype;
-    at_time.place(interpolate_motion(placed.motion, double(time)));
-    fill_placed<kUv>(impl, at_time, true, true, geom, tri, ray, time, u, v, t, hit, part);
+    // A moving emitter's pdf needs its triangle (scene.h; a curve's hit keeps its strand_v).
+    if (impl.backend->prototype_geom_to_mesh[placed.prototype][geom] >= 0) hit.emitter_prim = tri;
 }
 
 }  // namespace

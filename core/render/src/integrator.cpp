@@ -32,6 +32,16 @@ template <std::uint32_t F>
         return 0.f;
 }
 
+// A light sample's time (LightSampleContext::time): the path's in the motion kernels, 0 in the
+// others.
+template <std::uint32_t F>
+[[gnu::always_inline]] inline float ctx_time([[maybe_unused]] float time) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return time;
+    else
+        return 0.f;
+}
+
 // The closest hit of `ray` at its path's shutter time `time` in the motion kernels; the other
 // kernels trace at time 0, exactly as before motion blur existed.
 template <std::uint32_t F>
@@ -307,7 +317,7 @@ template <std::uint32_t F>
         return false;
     // A transmissive surface is lit from both sides: no hemisphere for the environment's
     // cosine sampling (light.h, ctx.n = 0).
-    const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
+    const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns, lane_time<F>(rays, k)};
     // The origin of both rays that leave this vertex, the shadow ray and the continuation:
     // both go to the viewer's side of a reflecting surface (checked below), so one offset
     // serves both. Rays leaving a transmissive surface start on their own side (origin_to).
@@ -467,8 +477,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     p.L += p.beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp = light_dist.pmf(p.prev_ctx, li) *
-                                     lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
+                    const float lp =
+                        light_dist.pmf(p.prev_ctx, li) *
+                        lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng, hit.emitter_prim);
                     p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
@@ -629,7 +640,7 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
             make_transmissive_shading(hit, m, ray.d, sh);
         else if (!make_shading<F>(hit, m, ray.d, sh))
             break;
-        const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
+        const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns, ctx_time<F>(time)};
         const std::uint32_t base = 1u + block * std::uint32_t(depth);
 
         // Sum over every light of f Li |cos theta_i| (delta lights exactly, others one sample).
@@ -906,7 +917,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     const Vec3 eng = along ? exit.ng : -exit.ng, ens = along ? exit.ns : -exit.ns;
     const Frame frame = Frame::from_z(ens);
     const bool fresnel = sss.lobe.fresnel;
-    const LightSampleContext ctx{exit.p, ens};
+    const LightSampleContext ctx{exit.p, ens, ctx_time<F>(time)};
     const float u_light_choice = rng();
     const Vec2 u_light(rng(), rng());
     const Vec2 u_dir(rng(), rng());
@@ -1120,8 +1131,9 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     L += beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp = light_dist.pmf(prev_ctx, li) *
-                                     lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
+                    const float lp =
+                        light_dist.pmf(prev_ctx, li) *
+                        lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng, hit.emitter_prim);
                     L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
                 }
             } else if (hit.light == kEmitterNotSampled) [[unlikely]] {
@@ -1141,7 +1153,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 make_transmissive_shading(hit, m, ray.d, sh);
             else if (!make_shading<F>(hit, m, ray.d, sh))
                 break;
-            const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
+            const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns,
+                                         ctx_time<F>(time)};
             const std::int32_t interior = iface ? iface->interior : -1;
             // The media on the side a direction w leaves to.
             auto stack_toward = [&](const Vec3& w) {
@@ -1244,7 +1257,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (depth >= max_depth) break;
             const Medium& med = media[std::size_t(stack.current())];
             const Vec3 p = ray.o + ray.d * t;
-            const LightSampleContext ctx{p, Vec3(0.f)};
+            const LightSampleContext ctx{p, Vec3(0.f), ctx_time<F>(time)};
             s.set_dimension(base);
             const float u_light_choice = s.get_1d();
             const Vec2 u_light = s.get_2d();

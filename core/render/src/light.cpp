@@ -22,8 +22,13 @@ std::optional<LightLiSample> Light::sample_li_out_of_line(const LightSampleConte
 }
 
 float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                    const Vec3& n_light) const {
-    return visit([&](const auto& t) { return t.pdf_li(ctx, wi, p_light, n_light); });
+                    const Vec3& n_light, std::uint32_t prim) const {
+    return visit([&](const auto& t) {
+        if constexpr (requires { t.pdf_li(ctx, wi, p_light, n_light, prim); })
+            return t.pdf_li(ctx, wi, p_light, n_light, prim);
+        else
+            return t.pdf_li(ctx, wi, p_light, n_light);
+    });
 }
 
 Rgb Light::le(const Vec3& n_light, const Vec3& w) const {

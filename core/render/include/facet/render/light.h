@@ -16,6 +16,7 @@
 //   area_lamp                  (lights/area.cpp: Blender's area lamp, the "area" light kind)
 //   emissive_triangles, emissive_parallelogram, emissive_sphere, emissive_disc
 //                              (lights/emissive_*.cpp: shapes with an "emission")
+//   emissive_moving_triangles  (lights/emissive_moving.cpp: such a triangle shape that moves)
 // A type's math (fall-offs, sized lights, the shapes' sampling densities) is documented in its
 // unit; light_units.h holds the unit conversions the units and the exporters share.
 //
@@ -33,9 +34,14 @@
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
 //    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
-//  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
-//    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
+//  - `pdf_li(ctx, wi, p_light, n_light, prim)` is the solid-angle density with which sample_li
+//    would have produced wi when the ray p + t wi hits the light at p_light (normal n_light;
+//    `prim` the hit's SurfaceHit::emitter_prim, which only a moving emitter reads); used for
 //    multiple importance sampling of BSDF-sampled rays. 0 for lights no ray can hit.
+//  - Time: a moving emitter (emissive_moving_triangles) is sampled, and its pdf taken, where it
+//    is at ctx.time, the path's shutter time. Every other light is still over the shutter
+//    (lamps do not move during the shutter in Cycles 3.4 either: they are synced at the frame
+//    only).
 //  - hittable(): rays can hit the light (emissive shapes, the environment). Only then does MIS
 //    weigh its samples against BSDF samples; a sample of any other light (delta lights, lights
 //    with size that are not in the traced geometry: a sized point or spot, the sun, an area
@@ -140,6 +146,15 @@ class Light {
     // emissive_parallelogram.
     static Light area_triangles(std::vector<Vec3> triangle_vertices, const Rgb& radiance,
                                 std::uint32_t shape);
+    // Area light over triangles that move over the shutter (lights/emissive_moving.cpp):
+    // `corners` holds the object-space corners (3 per triangle, all kept, in the traced mesh's
+    // order) at each of its uniform deformation steps (one: no deformation); the placement is
+    // `motion`'s steps (motion.h) or, without them, `place`. Front side as area_triangles', seen
+    // through the placement (a mirroring one keeps the object-space front).
+    static Light area_moving_triangles(std::vector<std::vector<Vec3>> corners,
+                                       std::vector<DecomposedTransform> motion,
+                                       const glm::dmat4& place, const Rgb& radiance,
+                                       std::uint32_t shape);
     // Area light on an exact sphere. Outward normals emit (sampled by the subtended cone from
     // outside); with `inward` the sphere is turned inside out ("flip_normals"): it lights its
     // interior and is sampled uniformly by area from inside.
@@ -207,7 +222,7 @@ class Light {
     }
     std::optional<LightLiSample> sample_li_out_of_line(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                 const Vec3& n_light) const;
+                 const Vec3& n_light, std::uint32_t prim = 0) const;
     // Emission: radiance leaving the light's surface at a point of geometric normal n_light
     // toward the unit w (pointing away from the light; 0 on its back side), and radiance
     // arriving along a ray that escapes the scene in direction d. 0 for types without.
