@@ -231,26 +231,25 @@ TEST(MovingEmitter, LightSamplePdfEqualsTheHitPdfAtTheSameTime) {
             fr::LightSampleContext ctx;
             ctx.p = Vec3(2.f * u01(rng) - 1.f, 2.f * u01(rng) - 1.f, -0.5f);
             ctx.n = Vec3(0.f, 0.f, 1.f);
-            ctx.time = u01(rng);
-            const auto ls = light.sample_li(ctx, Vec2(u01(rng), u01(rng)));
+            const float time = u01(rng);
+            const auto ls = light.sample_li_at(ctx, Vec2(u01(rng), u01(rng)), time);
             if (!ls) continue;
             fr::Ray ray;
             ray.o = ctx.p;
             ray.d = ls->wi;
             ray.tmax = 2.f * ls->dist;
             fr::SurfaceHit hit;
-            ASSERT_TRUE(scene.intersect(ray, ctx.time, hit)) << how << " sample " << k;
+            ASSERT_TRUE(scene.intersect(ray, time, hit)) << how << " sample " << k;
             ASSERT_EQ(hit.light, 0) << how;
             const Vec3 gap = glm::abs(hit.p - ls->p_light);
             const Vec3 allowed = ls->p_light_err + hit.p_err + Vec3(1e-5f);
             EXPECT_TRUE(gap.x <= allowed.x && gap.y <= allowed.y && gap.z <= allowed.z)
                 << how << " sample " << k << ": the hit is " << glm::length(gap)
                 << " from the sampled point";
-            const float pdf = light.pdf_li(ctx, ray.d, hit.p, hit.ng, hit.emitter_prim);
+            const float pdf = light.pdf_li_at(ctx, ray.d, hit.p, hit.ng, hit.emitter_prim, time);
             EXPECT_NEAR(pdf, ls->pdf, 1e-3f * ls->pdf) << how << " sample " << k;
-            fr::LightSampleContext later = ctx;
-            later.time = std::fmod(ctx.time + 0.37f, 1.f);
-            const float other = light.pdf_li(later, ray.d, hit.p, hit.ng, hit.emitter_prim);
+            const float later = std::fmod(time + 0.37f, 1.f);
+            const float other = light.pdf_li_at(ctx, ray.d, hit.p, hit.ng, hit.emitter_prim, later);
             if (std::fabs(other - ls->pdf) > 0.01f * ls->pdf) ++time_sensitive;
             ++checked;
         }

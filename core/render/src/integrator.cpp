@@ -32,14 +32,25 @@ template <std::uint32_t F>
         return 0.f;
 }
 
-// A light sample's time (LightSampleContext::time): the path's in the motion kernels, 0 in the
-// others.
+// The light sample and the pdf of a BSDF ray's hit on a light, at the path's shutter time in
+// the motion kernels (moving emitters, light.h "Time"); the other kernels make the calls they
+// made before motion blur existed.
 template <std::uint32_t F>
-[[gnu::always_inline]] inline float ctx_time([[maybe_unused]] float time) {
+[[gnu::always_inline]] inline std::optional<LightLiSample> sample_light(
+    const Light& light, const LightSampleContext& ctx, Vec2 u, [[maybe_unused]] float time) {
     if constexpr ((F & kFeatMotion) != 0)
-        return time;
+        return light.sample_li_at(ctx, u, time);
     else
-        return 0.f;
+        return light.sample_li(ctx, u);
+}
+template <std::uint32_t F>
+[[gnu::always_inline]] inline float hit_light_pdf(const Light& light, const LightSampleContext& ctx,
+                                                  const Vec3& wi, const SurfaceHit& hit,
+                                                  [[maybe_unused]] float time) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return light.pdf_li_at(ctx, wi, hit.p, hit.ng, hit.emitter_prim, time);
+    else
+        return light.pdf_li(ctx, wi, hit.p, hit.ng);
 }
 
 // The closest hit of `ray` at its path's shutter time `time` in the motion kernels; the other
@@ -317,7 +328,7 @@ template <std::uint32_t F>
         return false;
     // A transmissive surface is lit from both sides: no hemisphere for the environment's
     // cosine sampling (light.h, ctx.n = 0).
-    const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns, lane_time<F>(rays, k)};
+    const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
     // The origin of both rays that leave this vertex, the shadow ray and the continuation:
     // both go to the viewer's side of a reflecting surface (checked below), so one offset
     // serves both. Rays leaving a transmissive surface start on their own side (origin_to).
@@ -336,7 +347,8 @@ template <std::uint32_t F>
         if (num_lights > 1) light_index = light_dist.sample(ctx, s.light_choice, select_pmf);
         const Light& light = lights[light_index];
         // (select_pmf is 0 only when the light tree finds no light that can reach ctx.)
-        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, s.light) : std::nullopt) {
+        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, s.light, lane_time<F>(rays, k))
+                                       : std::nullopt) {
             // Reflection: the light must be on the viewer's side of the surface; transmission:
             // on either side (valid_side).
             const Vec3 wi = sh.frame.to_local(ls->wi);
@@ -479,7 +491,7 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     const std::size_t li = std::size_t(hit.light);
                     const float lp =
                         light_dist.pmf(p.prev_ctx, li) *
-                        lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng, hit.emitter_prim);
+                        hit_light_pdf<F>(lights[li], p.prev_ctx, ray_d, hit, lane_time<F>(rays, k));
                     p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
@@ -640,7 +652,7 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
             make_transmissive_shading(hit, m, ray.d, sh);
         else if (!make_shading<F>(hit, m, ray.d, sh))
             break;
-        const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns, ctx_time<F>(time)};
+        const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
         const std::uint32_t base = 1u + block * std::uint32_t(depth);
 
         // Sum over every light of f Li |cos theta_i| (delta lights exactly, others one sample).
@@ -658,7 +670,7 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
                         u = s.get_2d();
                     }
                 }
-                auto ls = light.sample_li(ctx, u);
+                auto ls = sample_light<F>(light, ctx, u, time);
                 if (!ls || !(ls->pdf > 0.f)) continue;
                 const Vec3 wi = sh.frame.to_local(ls->wi);
                 if (!valid_side(sh, transmissive, ls->wi, wi.z)) continue;
@@ -917,7 +929,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     const Vec3 eng = along ? exit.ng : -exit.ng, ens = along ? exit.ns : -exit.ns;
     const Frame frame = Frame::from_z(ens);
     const bool fresnel = sss.lobe.fresnel;
-    const LightSampleContext ctx{exit.p, ens, ctx_time<F>(time)};
+    const LightSampleContext ctx{exit.p, ens};
     const float u_light_choice = rng();
     const Vec2 u_light(rng(), rng());
     const Vec2 u_dir(rng(), rng());
@@ -930,7 +942,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
         if (scene.features().has_ray_visibility &&
             !light_reaches(scene, light_index, BxDFFlags::Diffuse))  // the exit's lobe
             select_pmf = 0.f;
-        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, u_light, time) : std::nullopt;
             ls && ls->pdf > 0.f) {
             const float cos_i = glm::dot(ls->wi, ens);
             if (cos_i > 0.f && glm::dot(ls->wi, eng) > 0.f) {
@@ -1131,9 +1143,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     L += beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp =
-                        light_dist.pmf(prev_ctx, li) *
-                        lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng, hit.emitter_prim);
+                    const float lp = light_dist.pmf(prev_ctx, li) *
+                                     hit_light_pdf<F>(lights[li], prev_ctx, ray.d, hit, time);
                     L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
                 }
             } else if (hit.light == kEmitterNotSampled) [[unlikely]] {
@@ -1153,8 +1164,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 make_transmissive_shading(hit, m, ray.d, sh);
             else if (!make_shading<F>(hit, m, ray.d, sh))
                 break;
-            const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns,
-                                         ctx_time<F>(time)};
+            const LightSampleContext ctx{hit.p, transmissive ? Vec3(0.f) : sh.ns};
             const std::int32_t interior = iface ? iface->interior : -1;
             // The media on the side a direction w leaves to.
             auto stack_toward = [&](const Vec3& w) {
@@ -1186,7 +1196,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (ray_visibility && !light_reaches(scene, light_index, mb.flags()))
                     select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
-                                  ? light.sample_li(ctx, u_light)
+                                  ? sample_light<F>(light, ctx, u_light, time)
                                   : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
@@ -1257,7 +1267,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (depth >= max_depth) break;
             const Medium& med = media[std::size_t(stack.current())];
             const Vec3 p = ray.o + ray.d * t;
-            const LightSampleContext ctx{p, Vec3(0.f), ctx_time<F>(time)};
+            const LightSampleContext ctx{p, Vec3(0.f)};
             s.set_dimension(base);
             const float u_light_choice = s.get_1d();
             const Vec2 u_light = s.get_2d();
@@ -1276,7 +1286,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     (scene.light_visibility()[light_index] & kRayVolumeScatter) == 0)
                     select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
-                                  ? light.sample_li(ctx, u_light)
+                                  ? sample_light<F>(light, ctx, u_light, time)
                                   : std::nullopt;
                     ls && ls->pdf > 0.f) {
                     const float ph = med.phase().eval(wo_w, ls->wi);

@@ -79,16 +79,16 @@ void EmissiveMovingTriangles::corners_at(std::uint32_t i, float tau, glm::dvec3 
 }
 
 std::optional<LightLiSample> EmissiveMovingTriangles::sample_li(const LightSampleContext& ctx,
-                                                                Vec2 u) const {
+                                                                Vec2 u, float time) const {
     if (tri_cdf.empty()) return std::nullopt;
     // Choose a triangle by P_i, then reuse u.x within it.
     const std::size_t i = find_cdf_interval(tri_cdf.data(), tri_guide.data(), tri_cdf.size(), u.x);
     const float lo = i == 0 ? 0.f : tri_cdf[i - 1];
     const float w = tri_cdf[i] - lo;
     const float ux = w > 0.f ? std::min((u.x - lo) / w, kOneMinusEpsilon) : 0.5f;
-    const glm::dmat4 m = placement_at(*this, ctx.time);
+    const glm::dmat4 m = placement_at(*this, time);
     glm::dvec3 p[3];
-    corners_under(*this, std::uint32_t(i), ctx.time, m, p);
+    corners_under(*this, std::uint32_t(i), time, m, p);
     const glm::dvec3 c = front_cross(p, m);
     const double len = glm::length(c);
     if (!(len > 0.0) || !std::isfinite(len)) return std::nullopt;  // degenerate at this time
@@ -106,11 +106,11 @@ std::optional<LightLiSample> EmissiveMovingTriangles::sample_li(const LightSampl
 }
 
 float EmissiveMovingTriangles::pdf_li(const LightSampleContext& ctx, const Vec3& wi,
-                                      const Vec3& p_light, const Vec3& n_light,
-                                      std::uint32_t prim) const {
+                                      const Vec3& p_light, const Vec3& n_light, std::uint32_t prim,
+                                      float time) const {
     if (prim >= num_triangles()) return 0.f;
     glm::dvec3 p[3];
-    corners_at(prim, ctx.time, p);
+    corners_at(prim, time, p);
     const double len = glm::length(glm::cross(p[1] - p[0], p[2] - p[0]));
     if (!(len > 0.0) || !std::isfinite(len)) return 0.f;
     const float pdf_area = float(double(tri_pmf[prim]) * 2.0 / len);

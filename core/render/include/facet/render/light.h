@@ -34,14 +34,15 @@
 //    It returns nullopt when the light cannot contribute (ctx.p behind a spot cone, on the back
 //    of a one-sided emitter, zero pdf). `dist` is the distance to the sampled point; shadow rays
 //    use Scene::shadow_ray(hit, sample), which ends off the emitter by the sample's error box.
-//  - `pdf_li(ctx, wi, p_light, n_light, prim)` is the solid-angle density with which sample_li
-//    would have produced wi when the ray p + t wi hits the light at p_light (normal n_light;
-//    `prim` the hit's SurfaceHit::emitter_prim, which only a moving emitter reads); used for
+//  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
+//    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
 //    multiple importance sampling of BSDF-sampled rays. 0 for lights no ray can hit.
 //  - Time: a moving emitter (emissive_moving_triangles) is sampled, and its pdf taken, where it
-//    is at ctx.time, the path's shutter time. Every other light is still over the shutter
-//    (lamps do not move during the shutter in Cycles 3.4 either: they are synced at the frame
-//    only).
+//    is at the path's shutter time: sample_li_at and pdf_li_at (the latter with the hit's
+//    triangle, SurfaceHit::emitter_prim), which the motion kernels call; the kernels of scenes
+//    that do not move call sample_li and pdf_li as before. Every other light is still over the
+//    shutter (lamps do not move during the shutter in Cycles 3.4 either: blender/object.cpp
+//    syncs lights at the frame only, not at the motion steps).
 //  - hittable(): rays can hit the light (emissive shapes, the environment). Only then does MIS
 //    weigh its samples against BSDF samples; a sample of any other light (delta lights, lights
 //    with size that are not in the traced geometry: a sized point or spot, the sun, an area
@@ -222,7 +223,22 @@ class Light {
     }
     std::optional<LightLiSample> sample_li_out_of_line(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                 const Vec3& n_light, std::uint32_t prim = 0) const;
+                 const Vec3& n_light) const;
+    // The same at shutter time `time` (light.h "Time"), `prim` the hit's
+    // SurfaceHit::emitter_prim: what the motion kernels call. Lights that do not move ignore
+    // both; a moving emitter needs them (its pdf_li without them is 0).
+    [[gnu::always_inline]] std::optional<LightLiSample> sample_li_at(const LightSampleContext& ctx,
+                                                                     Vec2 u, float time) const {
+        const auto f = [&](const auto& t) __attribute__((always_inline)) {
+            return t.sample_li(ctx, u);
+        };
+        const auto cold = [&] { return sample_li_at_out_of_line(ctx, u, time); };
+        return visit_inline_from<0>(f, cold);
+    }
+    std::optional<LightLiSample> sample_li_at_out_of_line(const LightSampleContext& ctx, Vec2 u,
+                                                          float time) const;
+    float pdf_li_at(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                    const Vec3& n_light, std::uint32_t prim, float time) const;
     // Emission: radiance leaving the light's surface at a point of geometric normal n_light
     // toward the unit w (pointing away from the light; 0 on its back side), and radiance
     // arriving along a ray that escapes the scene in direction d. 0 for types without.

@@ -16,9 +16,6 @@ struct SceneFeatures;
 struct LightSampleContext {
     Vec3 p{0.f};  // the shaded point (world space)
     Vec3 n{0.f};  // unit shading normal on the lit side, or 0 (see conventions)
-    // The path's shutter time (motion.h), at which moving emitters are sampled; 0 in scenes
-    // where nothing moves (the kernels without time never set it).
-    float time = 0.f;
 };
 
 struct LightLiSample {
@@ -85,8 +82,9 @@ struct LightBounds {
 //   static constexpr bool kInline;              Light::sample_li inlines its sample_li
 //   std::optional<LightLiSample> sample_li(const LightSampleContext&, Vec2 u) const;
 //   float pdf_li(const LightSampleContext&, const Vec3& wi, const Vec3& p_light,
-//                const Vec3& n_light) const;   (or with a last argument std::uint32_t prim,
-//                                               the hit's SurfaceHit::emitter_prim)
+//                const Vec3& n_light) const;
+//     (a moving emitter has instead sample_li(ctx, u, time) and pdf_li(ctx, wi, p_light,
+//     n_light, prim, time): Light::sample_li_at, pdf_li_at)
 //   Rgb power(float scene_radius) const;        total emitted power (W per channel)
 //   static void note(SceneFeatures&);           the flags a light of this type sets
 // and, when it has them (otherwise 0, +inf or null):

@@ -1,7 +1,8 @@
 // Light type "emissive_moving_triangles" (unit: core/render/src/lights/emissive_moving.cpp,
 // math there): an emitting triangle shape that moves over the shutter (its "motion", its
 // "motion_positions" or both; scenes/FORMAT.md "Motion blur"). Its samples and pdfs are taken
-// at the path's time (LightSampleContext::time), on the triangles as the scene traces them then.
+// at the path's shutter time (Light::sample_li_at, pdf_li_at), on the triangles as the scene
+// traces them then.
 #pragma once
 
 #include <cstdint>
@@ -33,11 +34,15 @@ struct EmissiveMovingTriangles {
     // Triangle i's world-space corners at shutter time tau (motion.h), in double.
     void corners_at(std::uint32_t i, float tau, glm::dvec3 out[3]) const;
 
-    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const;
-    // The pdf needs the triangle that was hit (its area at ctx.time): `prim` is the hit's
+    // At shutter time `time` (light.h "Time"); without it, at time 0.
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u, float time) const;
+    std::optional<LightLiSample> sample_li(const LightSampleContext& ctx, Vec2 u) const {
+        return sample_li(ctx, u, 0.f);
+    }
+    // The pdf needs the triangle that was hit (its area at `time`): `prim` is the hit's
     // SurfaceHit::emitter_prim.
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
-                 const Vec3& n_light, std::uint32_t prim) const;
+                 const Vec3& n_light, std::uint32_t prim, float time) const;
     Rgb le(const Vec3& n_light, const Vec3& w) const {
         return glm::dot(n_light, w) > 0.f ? radiance : Rgb(0.f);
     }
