@@ -95,8 +95,10 @@ def case_export():
     linear(lamp)
     scene.frame_set(1)
     data, problems = export(scene_frame_set)
-    bt.check(len(data["lights"]) == 1 and "motion" not in data["lights"][0],
-             "the lamp has no motion: %s" % data["lights"])
+    points = [l for l in data["lights"] if l["type"] == "point"]
+    bt.check(len(points) == 1 and "motion" not in points[0]
+             and abs(points[0]["position"][0] - 1.5) < 1e-5,
+             "the lamp has no motion and sits at the frame's x = 1.5: %s" % points)
     bt.check(not [p for p in problems if "otion" in p or "emit" in p],
              "no report line for the moving lamp: %s" % problems)
     bpy.data.objects.remove(lamp)
