@@ -53,7 +53,8 @@ std::string quad_vertices(double cx) {
 // The scene: a Lambertian plane (reflectance kRho) lit only by the quad, max_depth 1 (the
 // plane's direct light: light samples and BSDF rays weighed by MIS). `how`: "motion" (the quad
 // moves by its placement), "deform" (a mesh whose motion_positions move it), "still" (motion
-// blur off: the quad rests at the shutter's centre).
+// blur off: the quad rests at the shutter's centre), "media" ("motion" in a world medium that
+// neither absorbs nor scatters: the one-path media kernel).
 std::string emitter_scene(const std::string& how, int spp) {
     const double fov = 2.0 * std::atan(kHalf / kCamZ) * 180.0 / M_PI;
     std::string quad;
@@ -85,7 +86,10 @@ std::string emitter_scene(const std::string& how, int spp) {
            quad + R"(],
       "render": {"integrator": "path", "max_depth": 1, "spp": )" +
            std::to_string(spp) + R"(, "motion_blur": )" +
-           (how == "still" ? R"({"enabled": false})" : R"({"shutter": 0.5})") + "}";
+           (how == "still" ? R"({"enabled": false})" : R"({"shutter": 0.5})") + "}" +
+           (how == "media" ? R"(, "media": {"air": {"kind": "homogeneous", "sigma_a": 0,
+                                "sigma_s": 0}}, "world_medium": "air")"
+                           : "");
 }
 
 // Irradiance at (x, y, 0) from the still quad centred on (cx, 0, kHeight): L times the integral
@@ -135,9 +139,10 @@ struct Measured {
 // The image's mean (of the three channels) and its standard error from the spread of the
 // pixels (independent pixel estimates; the irradiance's own variation over the seen square
 // only adds to the spread, so the error is overstated, never understated).
-Measured render_mean(const std::string& how, int spp) {
+Measured render_mean(const std::string& how, int spp, const std::string& integrator = "path") {
     const fr::Scene scene = scene_of(emitter_scene(how, spp));
-    const fr::Image img = fr::render(scene, fr::testing::test_options("path", spp, 1));
+    if (how == "media") EXPECT_TRUE(scene.features().has_media && scene.features().has_motion);
+    const fr::Image img = fr::render(scene, fr::testing::test_options(integrator, spp, 1));
     std::vector<double> v;
     for (int y = 0; y < img.height(); ++y)
         for (int x = 0; x < img.width(); ++x) {
@@ -159,14 +164,16 @@ Measured render_mean(const std::string& how, int spp) {
 // The quad sweeps 2 units under the camera's patch over the shutter: the plane's radiance is
 // rho / pi times the time average of the still irradiance. Tolerance: 5 standard errors of the
 // image mean (measured from the pixels' spread; about 0.5% at 128 spp) plus 1e-3 relative for
-// the quadrature. Moved by "motion" and by "motion_positions" alike. The control, the same quad
+// the quadrature. Moved by "motion" and by "motion_positions" alike, in the media kernel, and
+// by the `direct` integrator (light samples only, no MIS). The control, the same quad
 // still at the shutter's centre (motion blur off), is 1.49 times brighter: it fails the bound.
 TEST(MovingEmitter, IrradianceIsTheTimeAverageOfTheStillIrradiance) {
     const int spp = std::max(32, int(128 * fr::testing::stress_scale()));
     const double expected = expected_mean(true);
     const double still = expected_mean(false);
-    for (const std::string how : {"motion", "deform"}) {
-        const Measured m = render_mean(how, spp);
+    for (const std::string how : {"motion", "deform", "media", "direct"}) {
+        const Measured m =
+            how == "direct" ? render_mean("motion", spp, "direct") : render_mean(how, spp);
         const double tol = 5.0 * m.standard_error + 1e-3 * expected;
         EXPECT_NEAR(m.mean, expected, tol)
             << how << ": standard error " << m.standard_error << ", still " << still;

@@ -86,8 +86,9 @@ Vec2 triangle_uv(const MeshGeom& mg, std::uint32_t tri, float u, float v, const 
     return mg.spherical ? sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(p, 1.0))) : Vec2(0.f);
 }
 
-// A plane's uv at point p (scene units along its axes).
-Vec2 plane_uv(const PlaneGeom& pl, const glm::dvec3& p) {
+// A plane's uv at point p (scene units along its axes). Out of line: inlined into the packet
+// query (which GCC decides by the whole file's size) it costs every scene's hits there.
+[[gnu::noinline]] Vec2 plane_uv(const PlaneGeom& pl, const glm::dvec3& p) {
     const glm::dvec3 d = p - pl.point;
     return Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
 }
