@@ -180,7 +180,7 @@ class Builder::ShapeContext final : public ShapeBuild {
     void add_part(TriangleMesh mesh, ShapeSurface surface) override {
         if (surface.emission_texture) surface.emission = surface.emission_texture->max_value();
         const bool emits = max_component(surface.emission) > 0.f;
-        if (emits && m_proto >= 0 && m_proto != m_moving_proto)
+        if (emits && m_proto >= 0)
             fail(ptr, "a prototype's shapes cannot emit (" + surface.material_name +
                           " emits; place the emitter as a shape instead)");
         if (emits && surface.opacity.active())
