@@ -379,6 +379,7 @@ def export_scene(depsgraph, camera=None, mesh_cache=None, users=None, instancing
     if env is not None:
         data["lights"].append(env)
     data["materials"] = mats.data()
+    problems.extend(_ray_length_lines(scene, camera, data["materials"]))
     # Media (FORMAT.md "media"): each volume material's, named as the material (its data's
     # "interior"), and the world's Volume as the world medium.
     media = {mats.by_name[n].data["interior"]: mats.by_name[n].medium for n in mats.order
@@ -432,6 +433,21 @@ def holdout_objects(view_layer):
             walk(child)
     walk(view_layer.layer_collection)
     return names
+
+
+def _ray_length_lines(scene, camera, materials):
+    """Cycles starts camera rays at the camera's Clip Start (kernel/camera/camera.h), so its
+    Ray Length of a camera ray is clip_start / cos(angle to the view axis) shorter than Facet's,
+    which measures from the camera: a line per material reading Ray Length when Clip Start > 0
+    (the F12 camera; the viewport's view has its own clipping)."""
+    cam = scene.camera if camera is None else None
+    start = float(cam.data.clip_start) if cam is not None and cam.type == 'CAMERA' else 0.0
+    if start <= 0.0:
+        return []
+    return ["material '%s': Light Path Ray Length of camera rays is measured from the camera; "
+            "Cycles measures it from Clip Start (%g m nearer along the view axis), so camera "
+            "rays read it longer by %g m / cos(angle to the view axis)" % (name, start, start)
+            for name, data in materials if '"ray_length"' in json.dumps(data)]
 
 
 def _is_shadow_catcher(obj):

@@ -77,13 +77,16 @@ class FinalSession:
         x, y, w, h = pixels.border_rect(scene.render, width, height)
         region = None if (w, h) == (width, height) else pixels.core_region(x, y, w, h, height)
         denoise = self._denoise_plan(engine, scene, rs, region)
+        # View Layer > Passes > Shadow Catcher: the pass, and Cycles' Combined with it.
+        catcher_pass = not engine.is_preview and passes.shadow_catcher_pass(depsgraph.view_layer)
         # Denoising renders the samples in two halves [0, n/2) and [n/2, n): the half-buffers.
         ranges = [(0, rs["spp"] // 2), (rs["spp"] // 2, rs["spp"])] if denoise else [None]
         sessions = [native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                    max_depth=rs["max_depth"], integrator=rs["integrator"],
                                    time_budget=rs.get("time_budget", 0.0), region=region,
                                    light_selection=scene.facet.light_selection, samples=r,
-                                   adaptive_threshold=0.0 if denoise else None)
+                                   adaptive_threshold=0.0 if denoise else None,
+                                   shadow_catcher_pass=catcher_pass)
                     for r in ranges]
         t_export = time.perf_counter() - t0
         # With a border, Blender's render rectangle is the border: result coordinates are
@@ -125,6 +128,11 @@ class FinalSession:
             crop = region or (0, 0, width, height)
             written = passes.write(result, fscene, depsgraph.view_layer, min(rs["spp"], 64),
                                    rs["seed"], threads, crop)
+            if catcher_pass:  # of the whole render: the two halves' merged sums
+                passes.write_shadow_catcher(
+                    result, sessions[0].shadow_catcher_pass() if len(sessions) == 1 else
+                    native.merged_shadow_catcher_pass([s.part() for s in sessions]))
+                written.append(passes.SHADOW_CATCHER[0])
             if written:
                 engine.update_stats("", "Facet | Passes %s" % ", ".join(written))
         engine.end_result(result)

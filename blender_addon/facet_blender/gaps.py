@@ -73,10 +73,10 @@ NODES = {
     'ShaderNodeFresnel': "the Fresnel node is not converted (Facet's Fresnel is a model "
                          "parameter)",
     'ShaderNodeLayerWeight': "Layer Weight is not converted",
-    'ShaderNodeLightPath': "Light Path converts only as a material's Mix Shader Fac straight "
-                           "from a ray output (Is Camera / Shadow / Diffuse / Glossy / "
-                           "Singular / Reflection / Transmission Ray); Ray Length, the depths "
-                           "and other uses are not converted",
+    'ShaderNodeLightPath': "Light Path converts in a material's BSDF inputs and Mix Shader "
+                           "factors (Is Shadow Ray only as a Mix Shader's Fac straight from "
+                           "it); Transparent Depth, and uses in emissions, Alpha, normals or "
+                           "the world, are not converted",
 }
 
 INPUTS = {
@@ -340,12 +340,6 @@ SETTINGS = (
      "not converted: camera rays see the world"),
     ("view_layer.material_override", "View Layer > Material Override", None,
      "not converted: the objects' own materials are rendered"),
-    # Cycles 3.4 makes its Combined pass the approximate shadow catcher only without this pass
-    # (measured: with it a catcher's shadow leaves the Combined pass's alpha).
-    ("view_layer.cycles.use_pass_shadow_catcher", "View Layer > Passes > Shadow Catcher", False,
-     "not converted: Facet's Combined pass is Cycles' approximate shadow catcher (the shadows "
-     "on a catcher in the alpha, or over the world), as without this pass; no Shadow Catcher "
-     "pass is made"),
     ("world.cycles.max_bounces", "World > Settings > Max Bounces", 1024,
      "not in Facet's core: the scene's max depth applies"),
     ("world.cycles.is_caustics_light", "World > Settings > Shadow Caustics", False,
@@ -462,6 +456,8 @@ CONVERTED = {
     "object.visible_volume_scatter": "the shape's visibility (export.py, ray_visibility)",
     "object.visible_shadow": "the shape's visibility (export.py, ray_visibility)",
     "collection.holdout": "its objects' shapes are holdouts (export.py, holdout_objects)",
+    "view_layer.cycles.use_pass_shadow_catcher": "the Shadow Catcher pass, and Cycles' "
+                                                 "Combined pass with it (passes.py, final.py)",
     "render.use_motion_blur": MOTION, "render.motion_blur_shutter": MOTION,
     "render.motion_blur_shutter_curve": MOTION, "cycles.motion_blur_position": MOTION,
 }

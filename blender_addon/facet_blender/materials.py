@@ -287,13 +287,15 @@ class NodeContext:
                      % (nodegraph.node_type_label(node), node.name, sock.name, _fmt(own)))
         return own
 
-    def param(self, node, name, path=(), scale=1.0, square=False):
+    def param(self, node, name, path=(), scale=1.0, square=False, ray=True):
         """A BSDF input that Facet may texture: the folded constant (as value()), or the
         texture its subgraph converts to (textures.py; `scale` multiplies it, the texture's
         "scale"), or the image Blender bakes of it (bake.py), or, when none, the input's own
         value with the nodes reported. `square`: the caller wants clamp(v, 0, 1)^2 (a
         roughness -> alpha): a constant is returned as it is (the caller squares it), a
-        subgraph is baked squared (a texture cannot square)."""
+        subgraph is baked squared (a texture cannot square). `ray` False: an input that
+        shading does not read for a ray (an emission, an Alpha, a Transparent BSDF's colour,
+        a normal): a texture of a Light Path output is reported and the input's value used."""
         sock = _input(node, name)
         src = self.walker.input(node, sock, path)
         v, blockers = self.walker.fold(src)
@@ -322,6 +324,13 @@ class NodeContext:
                     self.gap(b, gaps.node_reason(b.node) or gaps.UNKNOWN, used)
             else:
                 self.gap(e.out, e.reason, used)
+            return nodegraph.socket_value(sock)
+        if not ray and textures.reads_ray(res.data):
+            self.gap(src, "a Light Path output is read by BSDF inputs and Mix Shader factors "
+                     "only (emissions, Alpha, Transparent BSDF colours and normals are read "
+                     "without a ray: light sampling, shadow rays)",
+                     "feeds %s; using the input's value %s"
+                     % (feeds, _fmt(nodegraph.socket_value(sock))))
             return nodegraph.socket_value(sock)
         for note in res.notes:
             self.problems.append("%s: %s (feeds %s)" % (self.what, note, feeds))
@@ -501,7 +510,12 @@ class NodeContext:
         if ray is not None:  # Light Path: a switch by the ray's kind (light_path_switches)
             sides = [self.shader(self.walker.input(node, s, path), label) for s in ins]
             return {"model": LIGHT_PATH, "ray": ray, "sides": sides}, None
-        fac = self.param(node, 'Fac', path)
+        fac = self.param(node, 'Fac', path, ray=not self.world)
+        if textures.reads_ray(fac) and \
+                not fac.get("light_path", {}).get("output", "").startswith("is_"):
+            # Cycles clamps the Fac to [0, 1] (svm_node_mix_closure); a Light Path length or
+            # depth (through Math or not) may leave it.
+            fac = {"math": {"operation": "add", "a": fac, "b": 0.0, "use_clamp": True}}
         if not is_texture(fac):
             t = min(max(float(fac), 0.0), 1.0)
             if t in (0.0, 1.0):
@@ -635,15 +649,24 @@ def is_light_path(d):
 
 
 def _light_path_default(part, notes):
-    """A shader that may be a Light Path marker -> what rays no switch matches see (its first
-    side, recursively), with a note when it was a marker."""
+    """A shader that may be a Light Path marker inside another Mix or Add Shader -> the
+    core's `mix` of its sides weighted by a light_path texture of its output (FORMAT.md "Light
+    Path outputs"; combine()). Is Shadow Ray has no such texture (shading never runs for
+    shadow rays): its first side, with a note when the second one's shadow differs."""
     data, emission = part
-    if is_light_path(data):
-        notes.append("a Mix Shader by a Light Path output inside another Mix or Add Shader is not "
-                     "converted (the core switches a whole surface); its first shader is used")
-    while is_light_path(data):
-        data, emission = data["sides"][0]
-    return data, emission
+    if not is_light_path(data):
+        return data, emission
+    if data["ray"] != "shadow":
+        fac = {"light_path": {"output": "is_%s_ray" % data["ray"]}}
+        data, emission, sub = combine(data["sides"], fac)
+        notes.extend(sub)
+        return data, emission
+    (d1, e1), (d2, e2) = (_light_path_default(p, notes) for p in data["sides"])
+    if is_transparent(d1) != is_transparent(d2):
+        notes.append("a Mix Shader by Is Shadow Ray inside another Mix or Add Shader is not "
+                     "converted (the core switches shadow rays for a whole surface); its first "
+                     "shader is used, for shadow rays too")
+    return d1, e1
 
 
 def _entry_material(data, emission, notes):
@@ -701,13 +724,16 @@ def combine(parts, fac):
     (d1, e1), (d2, e2) = (_light_path_default(p, notes) for p in parts)
     view = isinstance(fac, dict) and "factor" in fac  # a weight from the view (Fresnel, ...)
     if is_transparent(d1) or is_transparent(d2):
-        if fac is not None and not view and _black(e1) and _black(e2):
+        # (An opacity is decided without a ray: no Light Path weight.)
+        if fac is not None and not view and not textures.reads_ray(fac) and _black(e1) and \
+                _black(e2):
             data = _mix_transparent(d1, d2, fac, notes)
             if data is not None:
                 return data, None, notes
         notes.append("a Transparent BSDF converts only as a Mix Shader's side with a BSDF and "
                      "no emission (the core's opacity), a textured Fac only with a white "
-                     "Transparent first (or second with a Checker); here it is opaque black")
+                     "Transparent first (or second with a Checker), not by a Light Path output "
+                     "inside another Mix; here it is opaque black")
         d1, d2 = (dict(BLACK) if is_transparent(d) else d for d in (d1, d2))
     if any("opacity" in d for d in (d1, d2)):
         d1, d2 = ({k: v for k, v in d.items() if k != "opacity"} for d in (d1, d2))
@@ -821,7 +847,7 @@ TRANSPARENT = "(transparent)"
 
 
 def _transparent(ctx, node, path):
-    return {"model": TRANSPARENT, "color": _rgb(ctx.param(node, 'Color', path))}, None
+    return {"model": TRANSPARENT, "color": _rgb(ctx.param(node, 'Color', path, ray=False))}, None
 
 
 def is_transparent(d):
@@ -1186,7 +1212,7 @@ def _emission_of(ctx, node, path, color_name, strength_name):
     strength = ctx.value(node, strength_name, path)
     if strength == 0.0:
         return None
-    color = ctx.param(node, color_name, path, scale=strength)
+    color = ctx.param(node, color_name, path, scale=strength, ray=False)
     if is_texture(color):
         return color
     return units.emission_from_blender(color, strength)
@@ -1199,7 +1225,7 @@ def _principled_alpha(ctx, node, path, data, emission):
     texture (an image's Alpha output: channel "a"; its Color into Alpha: luminance). The core
     refuses opacity on an emitting surface (next-event estimation would count its light in
     full): reported, opaque."""
-    alpha = ctx.param(node, 'Alpha', path)
+    alpha = ctx.param(node, 'Alpha', path, ray=False)
     if not is_texture(alpha):
         alpha = max(0.0, min(1.0, float(alpha)))
         if alpha == 1.0:

@@ -572,8 +572,10 @@ class Session:
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
                  time_budget=None, region=None, light_selection=None, samples=None,
-                 adaptive_threshold=None):
+                 adaptive_threshold=None, shadow_catcher_pass=False):
         kw = {"threads": int(threads)}
+        if shadow_catcher_pass:  # image() is then Cycles' Combined with that pass (render.h)
+            kw["shadow_catcher_pass"] = True
         if adaptive_threshold is not None:  # None: the scene's (its render settings)
             kw["adaptive_threshold"] = float(adaptive_threshold)
         if samples is not None:
@@ -607,3 +609,18 @@ class Session:
     def image(self):
         """float32 (h, w, 3), top row first (the region's, for a region render)."""
         return np.asarray(self._s.image(), dtype=np.float32)
+
+    def shadow_catcher_pass(self):
+        """The Shadow Catcher pass, float32 (h, w, 3), top row first."""
+        return np.asarray(self._s.shadow_catcher_pass(), dtype=np.float32)
+
+    def part(self):
+        """The facet.RenderPart this session rendered (its sample range)."""
+        return self._s.part()
+
+
+def merged_shadow_catcher_pass(parts):
+    """The Shadow Catcher pass of the render the parts (facet.RenderPart) make up together,
+    float32 (h, w, 3), top row first."""
+    return np.asarray(facet.merge_parts(list(parts), shadow_catcher_pass=True)[1],
+                      dtype=np.float32)

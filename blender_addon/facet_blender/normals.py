@@ -62,7 +62,7 @@ def _normal_map(ctx, src, feeds, out):
                 % node.space.replace('_', ' ').title(), used)
         return
     strength = max(0.0, float(ctx.value(node, 'Strength', path)))
-    color = ctx.param(node, 'Color', path)
+    color = ctx.param(node, 'Color', path, ray=False)
     if not isinstance(color, dict):
         if any(abs(float(c) - f) > 0.0 for c, f in zip(color, FLAT)) and strength > 0.0:
             ctx.gap(src, "a constant Color %s (a uniformly tilted normal)"
@@ -104,7 +104,7 @@ def _bump(ctx, src, feeds, out):
     _normal(ctx, inner, "%s input 'Normal'" % label, out, outer=False)
     if strength == 0.0 or distance == 0.0:
         return  # n unchanged (Cycles: normalize(0 n' + 1 n) = n)
-    height = ctx.param(node, 'Height', path)
+    height = ctx.param(node, 'Height', path, ray=False)
     if not isinstance(height, dict):
         return  # a constant height: zero gradient, the normal unchanged
     if height.get("vertex_color"):

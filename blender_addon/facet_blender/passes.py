@@ -19,6 +19,11 @@ when enabled (nothing is computed otherwise):
   denoising_store_passes, under Cycles' names): Denoising Normal, Denoising Albedo and
   Denoising Depth, the features the denoiser (Render Properties > Facet > Denoise) uses: the
   same values as Normal, Albedo and Depth above.
+- Shadow Catcher (View Layer > Passes > Light > Shadow Catcher, Cycles' toggle
+  use_pass_shadow_catcher, "RGB"): Cycles 3.4's pass, from the beauty render's own sums (the
+  core's Film, scenes/FORMAT.md "Shadow catchers"): per channel the light the shadow catchers
+  kept, 1 where none is seen. As in Cycles, turning it on changes the Combined pass of a scene
+  with a catcher: the other objects alone, with their alpha (final.py asks the session for it).
 """
 import numpy as np
 
@@ -36,6 +41,10 @@ PASSES = (
 )
 
 
+# The Shadow Catcher pass: (Blender pass name, channels, channel ids, type, ViewLayer toggle).
+SHADOW_CATCHER = ("Shadow Catcher", 3, "RGB", 'COLOR', "cycles.use_pass_shadow_catcher")
+
+
 def _enabled(view_layer, toggle):
     obj = view_layer
     for part in toggle.split(".")[:-1]:
@@ -50,11 +59,25 @@ def enabled(view_layer):
     return [p for p in PASSES if _enabled(view_layer, p[5])]
 
 
+def shadow_catcher_pass(view_layer):
+    """Whether the view layer asks for the Shadow Catcher pass."""
+    return _enabled(view_layer, SHADOW_CATCHER[4])
+
+
 def register_passes(engine, scene, view_layer):
     """RenderEngine.update_render_passes: Combined and the enabled passes."""
     engine.register_pass(scene, view_layer, "Combined", 4, "RGBA", 'COLOR')
     for name, _, n, chans, ptype, _ in enabled(view_layer):
         engine.register_pass(scene, view_layer, name, n, chans, ptype)
+    if shadow_catcher_pass(view_layer):
+        engine.register_pass(scene, view_layer, *SHADOW_CATCHER[:4])
+
+
+def write_shadow_catcher(result, image):
+    """Writes the Shadow Catcher pass (float32 (h, w, 3), the core's top-down image of the
+    render's region) into the render result."""
+    flat = np.ascontiguousarray(image[::-1, :, :3], dtype=np.float32).reshape(-1, 3)
+    result.layers[0].passes[SHADOW_CATCHER[0]].rect.foreach_set(flat)
 
 
 def write(result, fscene, view_layer, spp, seed, threads, crop):

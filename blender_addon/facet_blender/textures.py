@@ -50,6 +50,11 @@ scene format (`{"texture": file, ...}` or `{"checker": {...}, ...}`):
   (FORMAT.md, "Textures"): the strand's random value (Cycles 3.4's hash of its index), its
   position along the strand, 1 on curves; 0 elsewhere, as Cycles. Length, Thickness and
   Tangent Normal raise Unsupported.
+- Light Path node, any output but Is Shadow Ray and Transparent Depth ->
+  `{"light_path": {"output": ...}}` (FORMAT.md, "Light Path outputs"): the kind, length and
+  bounce counts of the ray that reached the hit, as Cycles 3.4 gives them to a surface shader.
+  Only BSDF inputs and Mix Shader factors read it (materials.py reports it in an emission, an
+  Alpha, a Normal Map or a Bump).
 
 Every approximation is returned as a note (the caller reports it); everything else raises
 Unsupported(out, reason) naming the node that stops the conversion.
@@ -145,6 +150,8 @@ def convert(walker, src, number):
         return _color_attribute(src, to_number)
     if node.bl_idname == 'ShaderNodeHairInfo':
         return _hair_info(src)
+    if node.bl_idname == 'ShaderNodeLightPath':
+        return _light_path(src)
     if node.bl_idname in PROCEDURAL:
         return _procedural(walker, src, to_number)
     if node.bl_idname in SEPARATE:
@@ -286,6 +293,38 @@ def _color_attribute(src, to_number):
         data["channel"] = "luminance"
         notes.append("%s: %s" % (src.label(), LUMINANCE_NOTE))
     return Result(data, None, notes, color_attribute=src.node.layer_name)
+
+
+# Light Path outputs -> the light_path texture's outputs (Is Shadow Ray: the shape's switches
+# only, materials.py light_path_switches; Transparent Depth: not tracked).
+_LIGHT_PATH = {'Is Camera Ray': "is_camera_ray", 'Is Diffuse Ray': "is_diffuse_ray",
+               'Is Glossy Ray': "is_glossy_ray", 'Is Singular Ray': "is_singular_ray",
+               'Is Reflection Ray': "is_reflection_ray",
+               'Is Transmission Ray': "is_transmission_ray", 'Ray Length': "ray_length",
+               'Ray Depth': "ray_depth", 'Diffuse Depth': "diffuse_depth",
+               'Glossy Depth': "glossy_depth", 'Transmission Depth': "transmission_depth"}
+
+
+def _light_path(src):
+    """The Light Path node -> `{"light_path": {"output": ...}}` (FORMAT.md "Light Path
+    outputs"): the ray's kind, length and bounce counts at the hit, as Cycles 3.4 gives them to
+    a surface shader. Is Shadow Ray (shading never runs for shadow rays in Facet; a Mix Shader's
+    Fac straight from it is the shape's switch) and Transparent Depth raise Unsupported."""
+    output = _LIGHT_PATH.get(src.socket.identifier)
+    if output is None:
+        raise Unsupported(src, "output '%s' is not converted as a value (Facet reads Is Shadow "
+                          "Ray only as a Mix Shader's Fac, and does not count transparent "
+                          "bounces)" % src.socket.name)
+    return Result({"light_path": {"output": output}}, None, [])
+
+
+def reads_ray(tex):
+    """Whether a texture dict (or any value) reads the ray's Light Path state."""
+    if isinstance(tex, dict):
+        return "light_path" in tex or any(reads_ray(v) for v in tex.values())
+    if isinstance(tex, (list, tuple)):
+        return any(reads_ray(v) for v in tex)
+    return False
 
 
 # Hair Info outputs -> the hair_info texture's outputs.

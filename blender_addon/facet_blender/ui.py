@@ -116,6 +116,7 @@ class FACET_PT_passes(FacetPanel, bpy.types.Panel):
         col.prop(vl.facet, "use_pass_albedo")
         if hasattr(vl, "cycles"):  # Cycles' toggle (its addon is on in a default Blender)
             col.prop(vl.cycles, "denoising_store_passes", text="Denoising Data")
+            col.prop(vl.cycles, "use_pass_shadow_catcher", text="Shadow Catcher")
 
 
 class FACET_PT_context_material(FacetPanel, bpy.types.Panel):

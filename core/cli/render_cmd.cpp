@@ -1,9 +1,9 @@
 // `facet render scene.json -o out.exr [-o out.png] [-o part.fpart] [--spp N] [--time S]
 //  [--threads N] [--integrator direct|path] [--seed S] [--max-depth D] [--kernel auto|general]
 //  [--light-selection auto|view|power|uniform|tree] [--region x0,y0,x1,y1] [--samples s0:s1]
-//  [--explain]
+//  [--shadow-catcher-pass FILE] [--explain]
 //  [--quiet] [--stats-json FILE]`
-// `facet merge part.fpart ... -o out.exr [-o out.png]`
+// `facet merge part.fpart ... -o out.exr [-o out.png] [--shadow-catcher-pass FILE]`
 //
 // Errors (bad flags, a bad scene, an unwritable output) print "facet: <place>: <message>" and
 // exit with a non-zero code: CLI11's codes for flag errors, 1 for everything else.
@@ -54,7 +54,11 @@ struct RenderCmdOptions {
     std::string denoise_features;      // prefix of <prefix>.albedo.exr, .normal.exr, .depth.exr
     double adaptive_threshold = -1.0;  // < 0: the scene's
     int adaptive_min_samples = -1;
+    std::string shadow_catcher_pass;  // the Shadow Catcher pass's image (.exr or .png)
 };
+
+// --shadow-catcher-pass FILE: an image file, or throws naming the command.
+void check_pass_output(const std::string& path, const char* command);
 
 // Parses "a<sep>b<sep>..." into exactly n non-negative integers, or throws naming the flag.
 std::vector<int> parse_ints(const std::string& text, char sep, std::size_t n, const char* flag,
@@ -142,6 +146,12 @@ void run_render(const RenderCmdOptions& o) {
             throw std::runtime_error("render: -o " + out +
                                      ": unknown output extension (use .exr, .png or .fpart)");
     }
+    if (!o.shadow_catcher_pass.empty()) {
+        check_pass_output(o.shadow_catcher_pass, "render");
+        if (o.denoise)
+            throw std::runtime_error(
+                "render: --shadow-catcher-pass: not with --denoise (the pass is not denoised)");
+    }
     if (o.kernel != "auto" && o.kernel != "general")
         throw std::runtime_error("render: --kernel: expected 'auto' or 'general', got '" +
                                  o.kernel + "'");
@@ -174,6 +184,7 @@ void run_render(const RenderCmdOptions& o) {
     ro.independent_samples = o.sampler == "independent";
     if (o.adaptive_threshold >= 0.0) ro.adaptive_threshold = o.adaptive_threshold;
     ro.adaptive_min_samples = o.adaptive_min_samples;
+    ro.shadow_catcher_pass = !o.shadow_catcher_pass.empty();
     ro.progress = o.quiet ? render::Progress::Mode::Silent : render::Progress::Mode::Auto;
     if (!o.region.empty()) {
         const std::vector<int> r = parse_ints(o.region, ',', 4, "--region", "x0,y0,x1,y1");
@@ -218,6 +229,8 @@ void run_render(const RenderCmdOptions& o) {
         else
             render::write_image(image, out);
     }
+    if (!o.shadow_catcher_pass.empty())
+        render::write_image(session.shadow_catcher_pass(), o.shadow_catcher_pass);
     report_render(scene, session.stats(), o);
 }
 
@@ -300,7 +313,15 @@ void render_denoised(const render::Scene& scene, const render::RenderOptions& ro
     report_render(scene, r.stats, o);
 }
 
-void run_merge(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs) {
+void check_pass_output(const std::string& path, const char* command) {
+    const std::string e = extension_of(path);
+    if (e != ".exr" && e != ".png")
+        throw std::runtime_error(std::string(command) + ": --shadow-catcher-pass " + path +
+                                 ": unknown image extension (use .exr or .png)");
+}
+
+void run_merge(const std::vector<std::string>& inputs, const std::vector<std::string>& outputs,
+               const std::string& pass) {
     if (outputs.empty())
         throw std::runtime_error("merge: no output: give -o out.exr and/or -o out.png");
     for (const auto& out : outputs) {
@@ -309,11 +330,13 @@ void run_merge(const std::vector<std::string>& inputs, const std::vector<std::st
             throw std::runtime_error("merge: -o " + out +
                                      ": unknown image extension (use .exr or .png)");
     }
+    if (!pass.empty()) check_pass_output(pass, "merge");
     std::vector<render::RenderPart> parts;
     for (const auto& in : inputs) parts.push_back(render::read_part(in));
     const render::Film film = render::merge_parts(parts, inputs);
-    const render::Image image = film.resolve();
+    const render::Image image = film.resolve(!pass.empty());
     for (const auto& out : outputs) render::write_image(image, out);
+    if (!pass.empty()) render::write_image(film.resolve_shadow_catcher_pass(), pass);
 }
 
 }  // namespace
@@ -386,16 +409,24 @@ void add_render_command(CLI::App& app) {
                     "with --denoise: also write the features as PREFIX.albedo.exr, "
                     "PREFIX.normal.exr and PREFIX.depth.exr, and the variances of their means "
                     "as PREFIX.albedo_variance.exr, .normal_variance.exr, .depth_variance.exr");
+    cmd->add_option("--shadow-catcher-pass", o->shadow_catcher_pass,
+                    "also write the Shadow Catcher pass (.exr or .png; Cycles': the light the "
+                    "shadow catchers kept, 1 where none is seen); the image is then Cycles' "
+                    "Combined of such a render: the other objects without the catchers' shadows "
+                    "(scenes/FORMAT.md, Shadow catchers)");
     cmd->callback([o] { run_render(*o); });
 
     auto inputs = std::make_shared<std::vector<std::string>>();
     auto outputs = std::make_shared<std::vector<std::string>>();
+    auto pass = std::make_shared<std::string>();
     CLI::App* merge = app.add_subcommand(
         "merge", "Assemble render parts (.fpart from render --region/--samples) into the image");
     merge->add_option("parts", *inputs, "part files (.fpart)")->required();
     merge->add_option("-o,--output", *outputs, "output image (.exr or .png); repeatable")
         ->allow_extra_args(false);
-    merge->callback([inputs, outputs] { run_merge(*inputs, *outputs); });
+    merge->add_option("--shadow-catcher-pass", *pass,
+                      "also write the Shadow Catcher pass (as facet render's)");
+    merge->callback([inputs, outputs, pass] { run_merge(*inputs, *outputs, *pass); });
 }
 
 }  // namespace facet::cli

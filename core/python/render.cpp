@@ -5,8 +5,8 @@
 //    meaning "the scene's setting": spp, threads (0 = every hardware thread), seed, integrator
 //    ('path' | 'direct'), max_depth, region=(x0, y0, x1, y1), samples=(s0, s1), time_budget (s),
 //    tile_size, pass_seconds, force_general_kernel, uniform_light_selection,
-//    independent_samples, adaptive_threshold, adaptive_min_samples. Bad values raise ValueError
-//    naming the option.
+//    independent_samples, adaptive_threshold, adaptive_min_samples, shadow_catcher_pass. Bad
+//    values raise ValueError naming the option.
 //  - The GIL is released while a pass renders. Between passes the session calls back into
 //    Python with the GIL held: it checks for signals (Ctrl-C), then calls the progress callable
 //    (if any) with a PassInfo; a False return cancels. A KeyboardInterrupt (or any exception of
@@ -138,7 +138,8 @@ const char* const kOptionNames[] = {"spp",
                                     "light_selection",
                                     "independent_samples",
                                     "adaptive_threshold",
-                                    "adaptive_min_samples"};
+                                    "adaptive_min_samples",
+                                    "shadow_catcher_pass"};
 
 template <class T>
 T option_value(py::handle v, const char* name, const char* expected) {
@@ -224,6 +225,8 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
             o.adaptive_threshold = option_value<double>(value, k.c_str(), "a number >= 0");
         else if (k == "adaptive_min_samples")
             o.adaptive_min_samples = option_value<int>(value, k.c_str(), "an int >= 0");
+        else if (k == "shadow_catcher_pass")
+            o.shadow_catcher_pass = option_value<bool>(value, k.c_str(), "a bool");
         else {
             std::vector<std::string> names(std::begin(kOptionNames), std::end(kOptionNames));
             if (progress) names.push_back("progress");
@@ -390,7 +393,7 @@ void bind_render(py::module_& m) {
         .def_property_readonly("seed", [](const PyPart& p) { return p.part.info.seed; })
         .def(
             "write", [](const PyPart& p, const std::string& path) { write_part(p.part, path); },
-            py::arg("path"), "Writes a part file (facet-part version 1, .fpart)")
+            py::arg("path"), "Writes a part file (facet-part, .fpart)")
         .def(
             "image", [](const PyPart& p) { return image_array(p.part.film.resolve()); },
             "The part's own image over its region (h, w, 3)")
@@ -404,10 +407,13 @@ void bind_render(py::module_& m) {
                     raw_bytes(f.sum_values().data(), f.sum_values().size() * sizeof(FixedRgb)),
                     raw_bytes(f.count_values().data(),
                               f.count_values().size() * sizeof(std::uint32_t)),
-                    raw_bytes(f.alpha_values().data(), f.alpha_values().size() * sizeof(FixedSum)));
+                    raw_bytes(f.alpha_values().data(), f.alpha_values().size() * sizeof(FixedSum)),
+                    raw_bytes(f.catcher_values().data(),
+                              f.catcher_values().size() * sizeof(FixedSum)));
             },
             [](py::tuple t) {
-                if (t.size() != 12) throw std::runtime_error("RenderPart: bad pickle state");
+                if (t.size() != 12 && t.size() != 13)
+                    throw std::runtime_error("RenderPart: bad pickle state");
                 PyPart p;
                 PartInfo& i = p.part.info;
                 i.scene = t[0].cast<std::string>();
@@ -423,14 +429,17 @@ void bind_render(py::module_& m) {
                 const std::string sums = t[9].cast<std::string>();
                 const std::string counts = t[10].cast<std::string>();
                 const std::string alpha = t[11].cast<std::string>();
-                p.part.film = Film(i.region, !alpha.empty());
+                const std::string catcher = t.size() > 12 ? t[12].cast<std::string>() : "";
+                p.part.film = Film(i.region, !alpha.empty(), !catcher.empty());
                 Film& f = p.part.film;
                 if (sums.size() != f.sum_values().size() * sizeof(FixedRgb) ||
                     counts.size() != f.count_values().size() * sizeof(std::uint32_t) ||
-                    alpha.size() != f.alpha_values().size() * sizeof(FixedSum))
+                    alpha.size() != f.alpha_values().size() * sizeof(FixedSum) ||
+                    catcher.size() != f.catcher_values().size() * sizeof(FixedSum))
                     throw std::runtime_error("RenderPart: pickle state does not fit its region");
                 if (!sums.empty()) std::memcpy(f.sums(), sums.data(), sums.size());
                 if (!alpha.empty()) std::memcpy(f.alpha_sums(), alpha.data(), alpha.size());
+                if (!catcher.empty()) std::memcpy(f.catcher_sums(), catcher.data(), catcher.size());
                 if (!counts.empty()) std::memcpy(f.counts(), counts.data(), counts.size());
                 return p;
             }))
@@ -456,7 +465,8 @@ void bind_render(py::module_& m) {
         "Reads a part file written by RenderPart.write or `facet render -o x.fpart`");
     m.def(
         "merge_parts",
-        [](const std::vector<const PyPart*>& parts, std::optional<std::vector<std::string>> names) {
+        [](const std::vector<const PyPart*>& parts, std::optional<std::vector<std::string>> names,
+           bool shadow_catcher_pass) -> py::object {
             std::vector<RenderPart> ps;
             std::vector<std::string> ns;
             for (std::size_t i = 0; i < parts.size(); ++i) {
@@ -469,16 +479,22 @@ void bind_render(py::module_& m) {
                     bad_argument("names", "expected one name per part");
                 ns = *names;
             }
-            Image image;
+            Image image, pass;
             {
                 py::gil_scoped_release release;
-                image = merge_parts(ps, ns).resolve();
+                const Film film = merge_parts(ps, ns);
+                image = film.resolve(shadow_catcher_pass);
+                if (shadow_catcher_pass) pass = film.resolve_shadow_catcher_pass();
             }
+            if (shadow_catcher_pass)
+                return py::make_tuple(image_array(std::move(image)), image_array(std::move(pass)));
             return image_array(std::move(image));
         },
-        py::arg("parts"), py::arg("names") = py::none(),
+        py::arg("parts"), py::arg("names") = py::none(), py::kw_only(),
+        py::arg("shadow_catcher_pass") = false,
         "Assembles parts into the full image (h, w, 3), bit for bit the image of one render; "
-        "overlapping, missing or mismatched parts raise RuntimeError naming the part.");
+        "overlapping, missing or mismatched parts raise RuntimeError naming the part. "
+        "shadow_catcher_pass=True: (image, Shadow Catcher pass), as render() with that option.");
 
     py::class_<PySession>(m, "RenderSession",
                           "Progressive rendering of a scene, pass by pass: render(callback), "
@@ -528,6 +544,14 @@ void bind_render(py::module_& m) {
             },
             "The current image over the region (h, w, 3)")
         .def(
+            "shadow_catcher_pass",
+            [](const PySession& s) {
+                s.check_between_passes("shadow_catcher_pass");
+                return image_array(s.session->shadow_catcher_pass());
+            },
+            "The Shadow Catcher pass over the region (h, w, 3): the light the shadow catchers "
+            "kept (scenes/FORMAT.md, Shadow catchers), 1 where none is seen")
+        .def(
             "part",
             [](const PySession& s) {
                 s.check_between_passes("part");
@@ -559,6 +583,8 @@ void bind_render(py::module_& m) {
             if (denoised) {
                 if (!progress.is_none())
                     bad_argument("progress", "not available with denoise=True");
+                if (options.shadow_catcher_pass)
+                    bad_argument("shadow_catcher_pass", "not available with denoise=True");
                 const SceneHandle& sh = scene_arg(scene);
                 DenoiseOptions d;
                 d.threads = options.threads;
@@ -567,11 +593,14 @@ void bind_render(py::module_& m) {
                     py::gil_scoped_release release;
                     image = render_denoised(*sh.scene, options, d).image;
                 }
-                return image_array(std::move(image));
+                return py::object(image_array(std::move(image)));
             }
             PySession s(scene_arg(scene), options);
             s.run(progress);
-            return image_array(s.session->image());
+            if (options.shadow_catcher_pass)
+                return py::object(py::make_tuple(image_array(s.session->image()),
+                                                 image_array(s.session->shadow_catcher_pass())));
+            return py::object(image_array(s.session->image()));
         },
         py::arg("scene"),
         "Renders the scene (or its region / sample range) and returns the image, float32 "
@@ -582,7 +611,9 @@ void bind_render(py::module_& m) {
         "light_selection ('auto' | 'view' | 'power' | 'uniform' | 'tree'), uniform_light_selection "
         "(True = "
         "'uniform'), independent_samples; progress=callable(PassInfo) -> bool "
-        "(False cancels: the partial image is returned). Ctrl-C raises KeyboardInterrupt.");
+        "(False cancels: the partial image is returned). Ctrl-C raises KeyboardInterrupt. "
+        "shadow_catcher_pass=True returns (image, Shadow Catcher pass (h, w, 3)), the image then "
+        "Cycles' Combined of a render with that pass (scenes/FORMAT.md, Shadow catchers).");
 
     m.def(
         "render_aovs",

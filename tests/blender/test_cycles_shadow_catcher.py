@@ -18,7 +18,16 @@ Bounds, as the real-scene suite states them (tests/realscenes/test_realscene.py)
 - block RMSE (8 x 8 blocks' means, Facet seed 1 against Cycles seed 1) <= 3 x the noise
   floor (the same between Cycles seeds 1 and 2).
 Ability to fail: Facet with the plane's Shadow Catcher off must break a bound in each film
-mode (printed)."""
+mode (printed).
+
+View Layer > Passes > Shadow Catcher on (the first scene, both film modes): Cycles 3.4 then
+writes the Shadow Catcher pass (per channel the light the catcher kept: about 1 on the lit
+catcher, less in the shadow, 1 where no catcher is seen) and its Combined pass is no longer
+the approximation but the matte: the sphere with its alpha, the catcher colourless with alpha
+0 over an opaque film too (checked on Cycles' own render). Facet's pass (luminance) and
+Combined (colour and alpha) against Cycles', with the same bounds; with Render Properties >
+Facet > Denoise (two half-buffers) Facet's pass is the same, bit for bit. Ability to fail: a pass of
+1 everywhere, and Facet's Combined without the pass (the approximation), break a bound."""
 import os
 import sys
 
@@ -142,6 +151,96 @@ def film_case(scene, plane, out, transparent, tag=None):
     plane.is_shadow_catcher = True
 
 
+def pass_outputs(scene, out, key, engine):
+    """Render Layers' Image (RGBA) and Shadow Catcher outputs written by a File Output node
+    (the Render Layers node made with `engine` set, so that it offers the engine's passes);
+    returns {output: path}."""
+    scene.render.engine = engine
+    scene.use_nodes = True
+    scene.render.use_compositing = True
+    tree = scene.node_tree
+    for n in list(tree.nodes):
+        tree.nodes.remove(n)
+    rl = tree.nodes.new("CompositorNodeRLayers")
+    tree.links.new(rl.outputs["Image"], tree.nodes.new("CompositorNodeComposite").inputs[0])
+    fo = tree.nodes.new("CompositorNodeOutputFile")
+    fo.base_path = out
+    fo.format.file_format = 'OPEN_EXR'
+    fo.format.color_depth = '32'
+    fo.format.color_mode = 'RGBA'
+    fo.file_slots.clear()
+    paths = {}
+    for name in ("Image", "Shadow Catcher"):
+        bt.check(name in [o.name for o in rl.outputs if o.enabled],
+                 "%s: Render Layers offers %s" % (engine, name))
+        slot = "catcher_%s_%s_" % (key, name.replace(" ", "_"))
+        fo.file_slots.new(slot)
+        tree.links.new(rl.outputs[name], fo.inputs[slot])
+        paths[name] = os.path.join(out, slot + "%04d.exr" % scene.frame_current)
+        if os.path.exists(paths[name]):
+            os.remove(paths[name])
+    return paths
+
+
+def render_with_pass(scene, out, key, engine, seed):
+    """(Combined RGBA, Shadow Catcher pass RGB) of F12 with `engine` and `seed`."""
+    paths = pass_outputs(scene, out, key, engine)
+    cs.render_rgba(scene, engine, os.path.join(out, "catcher_%s_result.exr" % key), seed)
+    return cs.load_rgba(paths["Image"]), bt.load_exr(paths["Shadow Catcher"]).astype(np.float64)
+
+
+def pass_case(scene, plane, out, transparent):
+    tag = "pass, film %s" % ("transparent" if transparent else "opaque")
+    key = tag.replace(", ", "_").replace(" ", "_")
+    scene.render.film_transparent = transparent
+    plane.is_shadow_catcher = True
+    scene.view_layers[0].cycles.use_pass_shadow_catcher = True
+    c1, p1 = render_with_pass(scene, out, key + "_cycles1", 'CYCLES', 1)
+    c2, p2 = render_with_pass(scene, out, key + "_cycles2", 'CYCLES', 2)
+    # Cycles' definition: the lit catcher colourless and transparent in both film modes, its
+    # pass near 1; a shadow in the pass; 1 in the pass where no catcher is seen (a corner).
+    lit = c1[14, 50]
+    bt.check(np.all(lit == 0.0) and abs(p1[14, 50].mean() - 1.0) < 0.1 and
+             p1[0, 0].tolist() == [1.0, 1.0, 1.0] and cs.luminance(p1).min() < 0.5,
+             "Cycles, %s: Combined 0 on the lit catcher (%s), pass about 1 there (%s), 1 off "
+             "the catcher (%s), a shadow below 0.5 (%.3f)" % (tag, lit, p1[14, 50], p1[0, 0],
+                                                        cs.luminance(p1).min()))
+    mean_c = (0.5 * (cs.luminance(c1).mean() + cs.luminance(c2).mean()),
+              0.5 * (c1[:, :, 3].mean() + c2[:, :, 3].mean()))
+    floors = (cs.block_rmse(c1, c2, BLOCK),
+              cs.block_rmse(c1[:, :, 3:4].repeat(3, 2), c2[:, :, 3:4].repeat(3, 2), BLOCK))
+    mean_p = 0.5 * (cs.luminance(p1).mean() + cs.luminance(p2).mean())
+    floor_p = cs.block_rmse(p1, p2, BLOCK)
+    print("Cycles, %s: mean luminance %.4f, mean alpha %.4f, mean pass %.4f; floors %.5f, "
+          "%.5f, %.5f" % (tag, mean_c[0], mean_c[1], mean_p, floors[0], floors[1], floor_p))
+
+    def pass_res(name, p):
+        res = (float(cs.luminance(p).mean() / mean_p), cs.block_rmse(p, p1, BLOCK) / floor_p)
+        print("%-34s pass: mean ratio %.4f, block RMSE %.2f x floor" % ((name,) + res))
+        return res
+    f, fp = render_with_pass(scene, out, key + "_facet1", 'FACET', 1)
+    bt.check(within(pass_res("Facet, " + tag, fp)),
+             "%s: Facet's Shadow Catcher pass matches Cycles' (mean within %g, block RMSE <= "
+             "%g x floor)" % (tag, MEAN_TOL, RMSE_FACTOR))
+    bt.check(within(compare("Facet, %s, Combined" % tag, f, c1, mean_c, floors, True)),
+             "%s: Facet's Combined (colour and alpha) matches Cycles' with the pass" % tag)
+    if not transparent:
+        # With Denoise the pass comes from the two half-buffers' merged sums: the same pass.
+        scene.facet.denoise = True
+        _, fd = render_with_pass(scene, out, key + "_facet_denoise", 'FACET', 1)
+        scene.facet.denoise = False
+        bt.check(np.array_equal(fd, fp), "%s: with Denoise, the pass of the merged half-buffers "
+                 "is the same, bit for bit (max difference %g)" % (tag, np.abs(fd - fp).max()))
+    # Controls: a pass of 1 everywhere; the approximate Combined (the pass off).
+    bt.check(not within(pass_res("pass of 1, " + tag, np.ones_like(fp))),
+             "%s: a pass of 1 everywhere breaks a bound: the test can fail" % tag)
+    scene.view_layers[0].cycles.use_pass_shadow_catcher = False
+    f = cs.render_rgba(scene, 'FACET', os.path.join(out, "catcher_%s_facet_off.exr" % key), 1)
+    bt.check(not within(compare("Facet, %s, pass off" % tag, f, c1, mean_c, floors, True)),
+             "%s: Facet's Combined without the pass breaks a bound: the test can fail" % tag)
+    scene.use_nodes = False
+
+
 def main():
     out = bt.args()[0]
     bt.enable_addon()
@@ -153,6 +252,8 @@ def main():
              "the plane is exported as a shadow catcher, without a report line: %s" % problems)
     film_case(scene, plane, out, True)
     film_case(scene, plane, out, False)
+    pass_case(scene, plane, out, False)
+    pass_case(scene, plane, out, True)
     scene, plane = build_scene(glossy_area=True)
     film_case(scene, plane, out, True, "transparent, glossy, area lamp")
 

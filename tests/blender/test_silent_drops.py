@@ -58,9 +58,9 @@ def export():
 
 def fingerprint():
     """What the render is made of, without the mesh arrays: camera, shape kinds, materials,
-    lights, render settings, holdouts, shadow catchers, ray visibility, Light Path switches and
-    the render region."""
-    from facet_blender import export as ex, pixels
+    lights, render settings, holdouts, shadow catchers, ray visibility, Light Path switches,
+    the render region and the Shadow Catcher pass (which changes the Combined pass)."""
+    from facet_blender import export as ex, passes, pixels
     data, problems = export()
     scene = bpy.context.scene
     w, h = ex.resolution(scene)
@@ -69,7 +69,8 @@ def fingerprint():
                s.get("light_path"))
               for s in data["shapes"]]
     return repr((data["camera"], shapes, data["lights"], data["materials"], data["render"],
-                 pixels.border_rect(scene.render, w, h))), problems
+                 pixels.border_rect(scene.render, w, h),
+                 passes.shadow_catcher_pass(bpy.context.view_layer))), problems
 
 
 def roots(scene):

@@ -114,8 +114,9 @@ def test_film_transparent_is_rgba_and_merges(tmp_path):
 
 def test_shadow_catcher_keeps_the_shadows_as_alpha(tmp_path):
     """A shadow catcher (FORMAT.md "Shadow catchers"): over a transparent film the floor loses
-    its colour and keeps its shadows as alpha; its session makes no part (a ValueError, never a
-    part that would merge into another image); the description's attribute."""
+    its colour and keeps its shadows as alpha; parts of it (regions and sample ranges, through
+    a part file and pickle) merge bit for bit into the whole render's image, its Combined with
+    the Shadow Catcher pass and that pass; the description's attribute."""
     d = ts.scene_dict(SPP)
     d["render"]["film_transparent"] = True
     # Only the point light: an emitting shape that is no catcher does not light the catcher's
@@ -132,8 +133,31 @@ def test_shadow_catcher_keeps_the_shadows_as_alpha(tmp_path):
     assert floor.sum() > 0.2 * floor.size
     a = img[:, :, 3][floor]
     assert np.median(a) < 0.5 and a.max() > 0.5  # mostly lit, with shadows
-    with pytest.raises(ValueError, match="shadow catcher"):
-        part(sc)
+    # The Shadow Catcher pass: the light the floor kept, 1 where no catcher is seen; with it
+    # the image is the matte (the floor colourless and transparent).
+    image, sc_pass = facet.render(sc, shadow_catcher_pass=True)
+    assert sc_pass.shape == (ts.HEIGHT, ts.WIDTH, 3)
+    np.testing.assert_array_equal(image[:, :, :3], img[:, :, :3])  # the matte's colour
+    assert np.all(image[:, :, 3] <= img[:, :, 3])  # the shadows leave the alpha
+    assert np.mean(image[:, :, 3][floor] == 0.0) > 0.9
+    # Where the camera sees the floor only (the matte's alpha 0) the approximation's alpha is
+    # 1 - the pass's mean, clamped (film.h), to float rounding.
+    pure = floor & (image[:, :, 3] == 0.0)
+    assert (img[:, :, 3][pure] > 0.5).sum() >= 3
+    np.testing.assert_allclose(img[:, :, 3][pure],
+                               1.0 - np.clip(sc_pass[pure].mean(axis=1), 0.0, 1.0), atol=1e-6)
+    assert np.all(sc_pass[(plain[:, :, 3] == 0.0)] == 1.0)  # no catcher seen
+    # Parts: two regions, one of them in two sample ranges, via a file and pickle.
+    w, h = ts.WIDTH, ts.HEIGHT
+    parts = [part(sc, region=(0, 0, w, 9)), part(sc, region=(0, 9, w, h), samples=(0, 2)),
+             part(sc, region=(0, 9, w, h), samples=(2, SPP))]
+    parts[0].write(str(tmp_path / "c.fpart"))
+    parts[0] = facet.read_part(str(tmp_path / "c.fpart"))
+    parts[1] = pickle.loads(pickle.dumps(parts[1]))
+    np.testing.assert_array_equal(facet.merge_parts(parts), img)
+    merged, merged_pass = facet.merge_parts(parts, shadow_catcher_pass=True)
+    np.testing.assert_array_equal(merged, image)
+    np.testing.assert_array_equal(merged_pass, sc_pass)
     desc = facet.read_scene_description(str(ts.write_scene(tmp_path)))
     assert desc.shapes[0].shadow_catcher is False
     desc.shapes[0].shadow_catcher = True

@@ -9,6 +9,7 @@
 #include <filesystem>
 #include <fstream>
 #include <string>
+#include <utility>
 
 #include "facet/render/image.h"
 
@@ -185,6 +186,55 @@ TEST_F(CliTest, RegionAndSamplePartsMergeIntoTheSingleRender) {
     const CmdResult range = run("render " + scene + " -q --samples 2:9 -o " + path("y.fpart"));
     EXPECT_NE(range.output.find("--samples: 2:9 must be a non-empty range"), std::string::npos)
         << range.output;
+}
+
+// --shadow-catcher-pass (scenes/FORMAT.md "Shadow catchers") on a scene whose plane is a shadow
+// catcher: render writes the pass beside the image (Combined then the matte: RGBA, the lit
+// plane transparent), and merge of two region parts writes the same two files' pixels bit for
+// bit. The pass is 1 where nothing is shadowed and below 1 under the sphere. Errors: a bad
+// extension, and --denoise with the pass.
+TEST_F(CliTest, ShadowCatcherPassFromRenderAndMerge) {
+    std::string text = kScene;
+    text.replace(text.find("\"material\": \"white\"}"), 20,
+                 "\"material\": \"white\", \"shadow_catcher\": true}, {\"type\": \"sphere\", "
+                 "\"center\": [0, 0.6, 0], \"radius\": 0.4, \"material\": \"white\"}");
+    text.replace(text.find("\"spp\": 1"), 8, "\"spp\": 4");
+    const std::string scene = write("c.json", text);
+    const CmdResult r = run("render " + scene + " -q -o " + path("whole.exr") +
+                            " --shadow-catcher-pass " + path("pass.exr"));
+    ASSERT_EQ(r.code, 0) << r.output;
+    const std::pair<const char*, const char*> parts[] = {{"0,0,16,5", "top.fpart"},
+                                                         {"0,5,16,12", "low.fpart"}};
+    for (const auto& [region, name] : parts) {
+        const CmdResult p = run("render " + scene + " -q --region " + region + " -o " + path(name));
+        ASSERT_EQ(p.code, 0) << p.output;
+    }
+    const CmdResult m = run("merge " + path("top.fpart") + " " + path("low.fpart") + " -o " +
+                            path("merged.exr") + " --shadow-catcher-pass " + path("mpass.exr"));
+    ASSERT_EQ(m.code, 0) << m.output;
+    const fr::Image a = fr::read_image(path("whole.exr")), b = fr::read_image(path("merged.exr"));
+    const fr::Image pa = fr::read_image(path("pass.exr")), pb = fr::read_image(path("mpass.exr"));
+    ASSERT_TRUE(a.has_alpha());
+    EXPECT_FALSE(pa.has_alpha());
+    EXPECT_TRUE(a.pixels() == b.pixels() && a.alpha() == b.alpha());
+    EXPECT_TRUE(pa.pixels() == pb.pixels());
+    int lit = 0, shadowed = 0;
+    for (std::size_t i = 0; i < pa.pixels().size(); ++i) {
+        lit += pa.pixels()[i] == facet::Rgb(1.f) && a.alpha()[i] == 0.f;
+        shadowed += pa.pixels()[i].x < 0.9f;
+    }
+    EXPECT_GT(lit, 20);
+    EXPECT_GT(shadowed, 3);
+    const CmdResult ext = run("render " + scene + " -q -o " + path("x.exr") +
+                              " --shadow-catcher-pass " + path("pass.fpart"));
+    EXPECT_NE(ext.output.find("--shadow-catcher-pass " + path("pass.fpart") +
+                              ": unknown image extension"),
+              std::string::npos)
+        << ext.output;
+    const CmdResult dn = run("render " + scene + " -q --denoise -o " + path("x.exr") +
+                             " --shadow-catcher-pass " + path("y.exr"));
+    EXPECT_NE(dn.output.find("--shadow-catcher-pass: not with --denoise"), std::string::npos)
+        << dn.output;
 }
 
 // `facet render model.gltf` on a bare glTF file: it frames the model and lights it with a

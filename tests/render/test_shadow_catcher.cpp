@@ -5,10 +5,16 @@
 // place.
 #include <gtest/gtest.h>
 
+#include <unistd.h>
+
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
+#include <filesystem>
 #include <stdexcept>
 #include <string>
+#include <utility>
+#include <vector>
 
 #include "facet/render/film.h"
 #include "facet/render/image.h"
@@ -264,29 +270,156 @@ TEST(ShadowCatcher, JsonErrorsNameThePlace) {
     EXPECT_NE(pov.find("/shapes/0/shadow_catcher"), std::string::npos) << pov;
 }
 
-// A catcher's film keeps its sums beside the colour; parts cannot carry them: a session refuses
-// to make one, and a part file is not written (errors, never a part that would merge into a
-// different image).
-TEST(ShadowCatcher, PartsAreRefused) {
-    const fr::Scene scene = scene_of(scene_text(true, true));
-    fr::RenderSession session(scene, fr::testing::test_options("path", 2, 1));
-    session.render();
-    try {
-        (void)session.part();
-        FAIL() << "no error";
-    } catch (const std::invalid_argument& e) {
-        EXPECT_NE(std::string(e.what()).find("shadow catcher"), std::string::npos) << e.what();
+// The Shadow Catcher pass (film.h; Cycles 3.4's film_calculate_shadow_catcher) on an analytic
+// case: the scene's disc and sphere, its directional light A (irradiance 2 along -(1, 0, 1) /
+// sqrt 2: E_A = sqrt 2 on the disc) that casts the sphere's shadow, and a light B straight down
+// (E_B = (0.5, 1, 1.5): its shadow lies under the sphere, hidden from the camera above). Only
+// direct light reaches the disc (black sphere and world), so per channel the pass is
+// E_B / (E_A + E_B) = (0.261, 0.414, 0.515) in pixels wholly in A's shadow, and exactly 1 in
+// pixels wholly lit (the full and catcher-only runs take the same light sample, bit for bit),
+// on the sphere and off the disc (no catcher seen). Lights are chosen uniformly from one
+// stratified sample dimension: in A's shadow a sample gives 2 E_B / pi rho or 0, the
+// catcher-only run 2 E_A or 2 E_B (times rho / pi), so the pass is n_B E_B / (n_A E_A + n_B E_B),
+// which is the ratio when the pixel's n = 256 samples split n_A = n_B; a split off by k moves it
+// by about k / n relative: tolerance 2 / 256 = 0.8% relative. With the pass the image is
+// Cycles' Combined of such a render (measured in Cycles 3.4: tests/blender/
+// test_cycles_shadow_catcher.py): the matte alone, with an alpha channel also over an opaque
+// film, colourless and transparent where the camera sees the catcher, the sphere opaque.
+// Control: the pass of the disc without the flag is 1 everywhere, which fails in the shadow.
+TEST(ShadowCatcher, PassIsTheLightTheCatcherKept) {
+    const std::string b =
+        R"(, {"type": "directional", "direction": [0, 0, -1], "irradiance": [0.5, 1, 1.5]})";
+    const double ea = std::sqrt(2.0), eb[3] = {0.5, 1.0, 1.5};
+    auto opts = fr::testing::test_options("path", 256, 3);
+    opts.light_selection = fr::LightSelection::Uniform;
+    for (const bool transparent : {false, true}) {
+        SCOPED_TRACE(transparent ? "transparent film" : "opaque film");
+        const fr::Scene scene = scene_of(scene_text(true, transparent, b));
+        opts.shadow_catcher_pass = true;
+        fr::RenderSession session(scene, opts);
+        session.render();
+        const fr::Image pass = session.shadow_catcher_pass();
+        const fr::Image combined = session.image();
+        ASSERT_FALSE(pass.has_alpha());
+        ASSERT_TRUE(combined.has_alpha());
+        int lit = 0, umbra = 0, off = 0;
+        double worst = 0.0;
+        for (int y = 0; y < kSide; ++y) {
+            for (int x = 0; x < kSide; ++x) {
+                const std::size_t i = std::size_t(y * kSide + x);
+                const double cx = -1.0 + (x + 0.5) * kPixel, cy = 1.0 - (y + 0.5) * kPixel;
+                const double far =
+                    std::hypot(std::fabs(cx) + kPixel / 2, std::fabs(cy) + kPixel / 2);
+                const double near = std::hypot(std::max(0.0, std::fabs(cx) - kPixel / 2),
+                                               std::max(0.0, std::fabs(cy) - kPixel / 2));
+                const double sphere = sphere_coverage(x, y), shadow = shadow_coverage(x, y);
+                const Rgb& p = pass.pixels()[i];
+                if (near > 0.8 || sphere > 1.0 - 1e-9) {  // no catcher seen
+                    EXPECT_EQ(p, Rgb(1.f)) << x << ", " << y;
+                    EXPECT_EQ(combined.alpha()[i], near > 0.8 && transparent ? 0.f : 1.f);
+                    ++off;
+                }
+                if (far >= 0.8 || sphere > 0.0) continue;  // wholly on the disc from here
+                EXPECT_EQ(combined.pixels()[i], Rgb(0.f)) << x << ", " << y;
+                EXPECT_EQ(combined.alpha()[i], 0.f) << x << ", " << y;
+                if (shadow < 1e-9) {
+                    EXPECT_EQ(p, Rgb(1.f)) << x << ", " << y;
+                    ++lit;
+                } else if (shadow > 1.0 - 1e-9) {
+                    for (int c = 0; c < 3; ++c) {
+                        const double want = eb[c] / (ea + eb[c]);
+                        worst = std::max(worst, std::fabs(p[c] / want - 1.0));
+                        EXPECT_NEAR(p[c], want, want * 2.0 / 256) << x << ", " << y << " " << c;
+                    }
+                    ++umbra;
+                }
+            }
+        }
+        EXPECT_GT(lit, 60);
+        EXPECT_GE(umbra, 3);
+        EXPECT_GT(off, 40);
+        std::printf("pass in the umbra: worst relative error %.2e over %d pixels (lit %d)\n", worst,
+                    umbra, lit);
+        // Control: no catcher, no pass (1 everywhere), which the umbra's expectation fails.
+        const fr::Scene plain = scene_of(scene_text(false, transparent, b));
+        fr::RenderSession control(plain, opts);
+        control.render();
+        const fr::Image none = control.shadow_catcher_pass();
+        int wrong = 0;
+        for (int y = 0; y < kSide; ++y)
+            for (int x = 0; x < kSide; ++x)
+                wrong += shadow_coverage(x, y) > 1.0 - 1e-9 && sphere_coverage(x, y) == 0.0 &&
+                         none.pixels()[std::size_t(y * kSide + x)] == Rgb(1.f);
+        EXPECT_GE(wrong, 3);
     }
-    fr::RenderPart part;
-    part.info.width = part.info.height = 2;
-    part.info.region = {0, 0, 2, 2};
-    part.info.sample_end = 1;
-    part.film = fr::Film(part.info.region, true, true);
-    EXPECT_TRUE(part.film.has_catcher());
-    try {
-        fr::write_part(part, "/nonexistent/catcher.fpart");
-        FAIL() << "no error";
-    } catch (const std::runtime_error& e) {
-        EXPECT_NE(std::string(e.what()).find("shadow catcher"), std::string::npos) << e.what();
+}
+
+// A catcher's film keeps its sums beside the colour, and parts carry them (film.h, part files
+// version 3): regions and sample ranges rendered apart, through part files, merge into the
+// whole render's Combined pass (approximate and with the pass) and Shadow Catcher pass, bit for
+// bit, over a transparent and an opaque film. Merging a part without the sums is an error
+// naming it. Control: a part whose catcher sums are left out of the merge (its colour kept)
+// gives a different image.
+TEST(ShadowCatcher, PartsMergeBitForBit) {
+    const std::string env = R"(, {"type": "environment", "radiance": [0.2, 0.3, 0.5]})";
+    const std::filesystem::path dir =
+        std::filesystem::temp_directory_path() / ("facet_catcher_" + std::to_string(::getpid()));
+    std::filesystem::create_directories(dir);
+    for (const bool transparent : {false, true}) {
+        SCOPED_TRACE(transparent ? "transparent film" : "opaque film");
+        const fr::Scene scene = scene_of(scene_text(true, transparent, env));
+        const auto opts = fr::testing::test_options("path", 8, 7);
+        fr::RenderSession whole(scene, opts);
+        whole.render();
+        std::vector<fr::RenderPart> parts;
+        std::vector<std::string> names;
+        for (const fr::Region& r : {fr::Region{0, 0, 16, 5}, fr::Region{0, 5, 16, 16}}) {
+            for (const auto& [s0, s1] : {std::pair{0, 3}, std::pair{3, 8}}) {
+                auto o = opts;
+                o.region = r;
+                o.sample_begin = s0;
+                o.sample_end = s1;
+                fr::RenderSession s(scene, o);
+                s.render();
+                const std::string path =
+                    (dir / ("p" + std::to_string(parts.size()) + ".fpart")).string();
+                fr::write_part(s.part(), path);
+                parts.push_back(fr::read_part(path));
+                names.push_back(path);
+                EXPECT_TRUE(parts.back().film.has_catcher());
+            }
+        }
+        const fr::Film merged = fr::merge_parts(parts, names);
+        const fr::Film& film = whole.film();
+        auto same = [](const fr::Image& a, const fr::Image& b) {
+            return a.pixels() == b.pixels() && a.alpha() == b.alpha();
+        };
+        EXPECT_TRUE(same(merged.resolve(), film.resolve()));
+        EXPECT_TRUE(same(merged.resolve(true), film.resolve(true)));
+        EXPECT_TRUE(same(merged.resolve_shadow_catcher_pass(), whole.shadow_catcher_pass()));
+        EXPECT_TRUE(same(merged.resolve(), whole.image()));
+        // A part without catcher sums: an error naming it.
+        std::vector<fr::RenderPart> bad = parts;
+        bad[1].film = fr::Film(bad[1].info.region, bad[1].film.has_alpha(), false);
+        try {
+            (void)fr::merge_parts(bad, names);
+            ADD_FAILURE() << "no error";
+        } catch (const std::runtime_error& e) {
+            EXPECT_NE(std::string(e.what()).find(names[1]), std::string::npos) << e.what();
+            EXPECT_NE(std::string(e.what()).find("shadow-catcher"), std::string::npos) << e.what();
+        }
+        // Control: part 0's catcher sums zeroed (as a part file without them would leave them).
+        std::vector<fr::RenderPart> lost = parts;
+        fr::Film zeroed(lost[0].info.region, lost[0].film.has_alpha(), true);
+        std::copy(lost[0].film.sum_values().begin(), lost[0].film.sum_values().end(),
+                  zeroed.sums());
+        std::copy(lost[0].film.count_values().begin(), lost[0].film.count_values().end(),
+                  zeroed.counts());
+        if (transparent)
+            std::copy(lost[0].film.alpha_values().begin(), lost[0].film.alpha_values().end(),
+                      zeroed.alpha_sums());
+        lost[0].film = zeroed;
+        EXPECT_FALSE(same(fr::merge_parts(lost, names).resolve(), film.resolve()));
     }
+    std::filesystem::remove_all(dir);
 }

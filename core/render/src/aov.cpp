@@ -64,11 +64,13 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
                 PixelSums& sums) {
     SurfaceHit hit;
     if (!scene.intersect(ray, hit)) return;
+    RayState rs;  // a camera ray's Light Path state (light_path textures)
     if (scene.features().has_ray_visibility) [[unlikely]] {
         // What camera rays see (integrator.h, "Ray visibility"): shapes they do not see are
         // passed, a Light Path switch gives the hit its camera material and emission.
         Ray r = ray;
         for (int i = 0; (scene.shapes()[hit.shape].visibility & kRayCamera) == 0; ++i) {
+            rs.length += hit.t;
             r = Scene::spawn_ray(hit, r.d);
             if (i >= kMaxPassed || !scene.intersect(r, hit)) return;
         }
@@ -89,7 +91,8 @@ void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t wh
         add_fixed(sums.emission, hit.emitted_radiance);
     if (!(which & (kAovAlbedo | kAovNormal))) return;
     std::optional<Material> textured;
-    const Material& m = scene.bsdf_at(hit, ray, true, textured);
+    rs.length += hit.t;
+    const Material& m = scene.bsdf_at(hit, ray, true, textured, &rs);
     // Turned toward the viewer by the geometric normal (Cycles' backfacing flip).
     const bool front = glm::dot(hit.ng, ray.d) < 0.f;
     const Vec3 ns = front ? hit.ns : -hit.ns;

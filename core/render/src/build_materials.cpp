@@ -120,7 +120,8 @@ Opacity Builder::build_opacity(MaterialDesc& m, const std::string& ptr) {
             m.textures.erase(it);
         } else {
             o.texture = build_texture(td, op, false, false);
-            if (o.texture->uses_position() || o.texture->uses_view() || o.texture->uses_strand())
+            if (o.texture->uses_position() || o.texture->uses_view() || o.texture->uses_strand() ||
+                o.texture->uses_ray())
                 fail(op,
                      "an opacity reads UVs only (cut-outs are decided during traversal): "
                      "give the procedural texture \"coordinates\": \"uv\"");
@@ -455,6 +456,7 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         tm.uses_position = tm.uses_position || tm.slots.back().texture->uses_position();
         tm.uses_view = tm.uses_view || tm.slots.back().texture->uses_view();
         tm.uses_strand = tm.uses_strand || tm.slots.back().texture->uses_strand();
+        tm.uses_ray = tm.uses_ray || tm.slots.back().texture->uses_ray();
     }
     for (const BuiltMaterial& c : children) {
         if (c.textured < 0) continue;
@@ -464,6 +466,7 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         tm.uses_position = tm.uses_position || ct.uses_position;
         tm.uses_view = tm.uses_view || ct.uses_view;
         tm.uses_strand = tm.uses_strand || ct.uses_strand;
+        tm.uses_ray = tm.uses_ray || ct.uses_ray;
     }
     // Validate at the extremes: slot i at its largest value when bit i of `corner` is set.
     // The model's own parameters are checked per value (both ends); a conversion mixes its
@@ -519,7 +522,7 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         if (td.colorspace.empty()) td.colorspace = "linear";
         tm.normal_map = build_texture(td, ptr + "/normal_map", true, false);
         if (tm.normal_map->uses_position() || tm.normal_map->uses_view() ||
-            tm.normal_map->uses_strand())
+            tm.normal_map->uses_strand() || tm.normal_map->uses_ray())
             fail(ptr + "/normal_map",
                  "a normal map reads UVs only: give the procedural texture "
                  "\"coordinates\": \"uv\"");
@@ -528,7 +531,8 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
     }
     if (bump) {
         tm.bump = build_texture(m.bump->texture, ptr + "/bump", false, false);
-        if (tm.bump->uses_position() || tm.bump->uses_view() || tm.bump->uses_strand())
+        if (tm.bump->uses_position() || tm.bump->uses_view() || tm.bump->uses_strand() ||
+            tm.bump->uses_ray())
             fail(ptr + "/bump",
                  "a bump map reads UVs only: give the procedural texture \"coordinates\": "
                  "\"uv\"");

@@ -625,6 +625,10 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
         if (info.emission != Rgb(0.f))
             fail(ptr + "/emission", "give either a constant or a texture, not both");
         info.emission_texture = build_texture(*s.emission_texture, ptr + "/emission", true, true);
+        if (info.emission_texture->uses_ray())
+            fail(ptr + "/emission",
+                 "an emission cannot read the ray's Light Path state (light sampling reads it "
+                 "without a ray): give the shape a `light_path` switch");
         // The largest value makes the shape an emitter and sets its light's power (light.h).
         info.emission = info.emission_texture->max_value();
     }

@@ -18,7 +18,7 @@ double from_fixed(FixedSum s) {
 }
 static_assert(kFixedFracBits == 60, "from_fixed's scale");
 
-Image Film::resolve() const {
+Image Film::resolve(bool shadow_catcher_pass) const {
     Image img(width(), height());
     if (has_alpha()) {
         img.add_alpha(0.f);
@@ -37,36 +37,50 @@ Image Film::resolve() const {
         img.pixels()[i] = Rgb(float(from_fixed(s.c[0]) * inv), float(from_fixed(s.c[1]) * inv),
                               float(from_fixed(s.c[2]) * inv));
     }
-    if (has_catcher()) resolve_catcher(img);
+    if (has_catcher()) resolve_catcher(img, shadow_catcher_pass);
     return img;
 }
 
-void Film::resolve_catcher(Image& img) const {
+void Film::catcher_ratio(std::size_t i, double r[3], double& coverage) const {
     using C = CatcherSums;
+    const double inv = 1.0 / double(m_counts[i]);
+    const FixedSum* c = &m_catcher[i * kCatcherSums];
+    // The combined pass's coverage (1 without alpha: an opaque film).
+    coverage = has_alpha() ? from_fixed(m_alpha[i]) * inv : 1.0;
+    const double a_c = std::clamp(coverage, 0.0, 1.0);
+    // The light the catcher kept, per channel, then over white by the combined coverage.
+    for (int k = 0; k < 3; ++k) {
+        const FixedSum caught = c[C::kCatcher + std::size_t(k)];
+        const double ratio =
+            c[C::kCount] != 0 && caught != 0
+                ? from_fixed(m_sums[i].c[k] - c[C::kMatte + std::size_t(k)]) / from_fixed(caught)
+                : 1.0;
+        r[k] = 1.0 - a_c + a_c * ratio;
+    }
+}
+
+void Film::resolve_catcher(Image& img, bool shadow_catcher_pass) const {
+    using C = CatcherSums;
+    if (shadow_catcher_pass && !img.has_alpha()) img.add_alpha(0.f);
     for (std::size_t i = 0; i < m_sums.size(); ++i) {
         const std::uint32_t n = m_counts[i];
         if (n == 0) continue;
         const double inv = 1.0 / double(n);
         const FixedSum* c = &m_catcher[i * kCatcherSums];
-        // The combined pass's coverage (1 without alpha: an opaque film).
-        const double coverage = has_alpha() ? from_fixed(m_alpha[i]) * inv : 1.0;
-        const double a_c = std::clamp(coverage, 0.0, 1.0);
-        // The light the catcher kept, per channel, then over white by the combined coverage.
-        double r[3], matte[3];
-        for (int k = 0; k < 3; ++k) {
-            const FixedSum caught = c[C::kCatcher + std::size_t(k)];
-            const double ratio = c[C::kCount] != 0 && caught != 0
-                                     ? from_fixed(m_sums[i].c[k] - c[C::kMatte + std::size_t(k)]) /
-                                           from_fixed(caught)
-                                     : 1.0;
-            r[k] = 1.0 - a_c + a_c * ratio;
-            matte[k] = from_fixed(c[C::kMatte + std::size_t(k)]) * inv;
-        }
-        const double shadow = 1.0 - std::clamp((r[0] + r[1] + r[2]) / 3.0, 0.0, 1.0);
+        double r[3], coverage;
+        catcher_ratio(i, r, coverage);
+        double matte[3];
+        for (int k = 0; k < 3; ++k) matte[k] = from_fixed(c[C::kMatte + std::size_t(k)]) * inv;
         const double a_m =
             std::clamp(1.0 - from_fixed(c[C::kSplitT]) * inv - (1.0 - coverage), 0.0, 1.0);
-        const double alpha = (1.0 - a_m) * shadow + a_m;
         Rgb& px = img.pixels()[i];
+        if (shadow_catcher_pass) {  // Cycles' Combined with the pass: the matte alone
+            px = Rgb(float(matte[0]), float(matte[1]), float(matte[2]));
+            img.alpha()[i] = float(a_m);
+            continue;
+        }
+        const double shadow = 1.0 - std::clamp((r[0] + r[1] + r[2]) / 3.0, 0.0, 1.0);
+        const double alpha = (1.0 - a_m) * shadow + a_m;
         if (has_alpha()) {
             px = Rgb(float(matte[0]), float(matte[1]), float(matte[2]));
             img.alpha()[i] = float(alpha);
@@ -76,6 +90,19 @@ void Film::resolve_catcher(Image& img) const {
                               from_fixed(c[C::kBackground + std::size_t(k)]) * inv * (1.0 - alpha));
         }
     }
+}
+
+Image Film::resolve_shadow_catcher_pass() const {
+    Image img(width(), height());
+    std::fill(img.pixels().begin(), img.pixels().end(), Rgb(1.f));
+    if (!has_catcher()) return img;
+    for (std::size_t i = 0; i < m_sums.size(); ++i) {
+        if (m_counts[i] == 0) continue;
+        double r[3], coverage;
+        catcher_ratio(i, r, coverage);
+        img.pixels()[i] = Rgb(float(r[0]), float(r[1]), float(r[2]));
+    }
+    return img;
 }
 
 void Film::add(const Film& o) {
@@ -104,8 +131,8 @@ void Film::add(const Film& o) {
 
 namespace {
 
-constexpr const char* kPartMagic = "FACETPART 1";
-constexpr const char* kPartMagicAlpha = "FACETPART 2";
+// The first line of a part file of version 1, 2 and 3 (film.h).
+constexpr const char* kPartMagics[] = {"FACETPART 1", "FACETPART 2", "FACETPART 3"};
 
 std::string region_text(const Region& r) {
     return "[" + std::to_string(r.x0) + ", " + std::to_string(r.y0) + ", " + std::to_string(r.x1) +
@@ -117,12 +144,10 @@ std::string region_text(const Region& r) {
 void write_part(const RenderPart& part, const std::string& path) {
     const PartInfo& p = part.info;
     const bool alpha = part.film.has_alpha();
-    if (part.film.has_catcher())
-        throw std::runtime_error(path +
-                                 ": a scene with a shadow catcher cannot be rendered in parts "
-                                 "(render it whole)");
+    const bool catcher = part.film.has_catcher();
+    const int version = catcher ? 3 : alpha ? 2 : 1;
     nlohmann::json h{{"format", "facet-part"},
-                     {"version", alpha ? 2 : 1},
+                     {"version", version},
                      {"scene", p.scene},
                      {"fingerprint", p.fingerprint},
                      {"width", p.width},
@@ -133,8 +158,9 @@ void write_part(const RenderPart& part, const std::string& path) {
                      {"fixed_point_fraction_bits", kFixedFracBits}};
     std::ofstream out(path, std::ios::binary);
     if (!out) throw std::runtime_error(path + ": cannot create the part file");
-    if (alpha) h["alpha"] = true;
-    out << (alpha ? kPartMagicAlpha : kPartMagic) << "\n" << h.dump() << "\n";
+    if (alpha || catcher) h["alpha"] = alpha;
+    if (catcher) h["shadow_catcher"] = true;
+    out << kPartMagics[version - 1] << "\n" << h.dump() << "\n";
     // Little-endian: the host's order on every platform Facet builds for (x86-64, aarch64).
     static_assert(std::endian::native == std::endian::little);
     const std::vector<FixedRgb>& sums = part.film.sum_values();
@@ -143,6 +169,9 @@ void write_part(const RenderPart& part, const std::string& path) {
         if (alpha)
             out.write(reinterpret_cast<const char*>(&part.film.alpha_values()[i]),
                       sizeof(FixedSum));
+        if (catcher)
+            out.write(reinterpret_cast<const char*>(&part.film.catcher_values()[i * kCatcherSums]),
+                      std::streamsize(kCatcherSums * sizeof(FixedSum)));
     }
     if (!out) throw std::runtime_error(path + ": cannot write the part file");
 }
@@ -154,16 +183,21 @@ RenderPart read_part(const std::string& path) {
         return std::runtime_error(path + ": not a valid Facet part file: " + why);
     };
     std::string magic, header;
-    if (!std::getline(in, magic) || (magic != kPartMagic && magic != kPartMagicAlpha))
-        throw bad("missing 'FACETPART 1' (or 2) line");
-    const bool alpha = magic == kPartMagicAlpha;
+    int version = 0;
+    if (std::getline(in, magic))
+        for (int v = 1; v <= 3; ++v)
+            if (magic == kPartMagics[v - 1]) version = v;
+    if (version == 0) throw bad("missing 'FACETPART 1' (or 2, 3) line");
     if (!std::getline(in, header)) throw bad("missing header line");
     RenderPart part;
     PartInfo& p = part.info;
+    bool alpha = version == 2;
+    const bool catcher = version == 3;
     try {
         const nlohmann::json h = nlohmann::json::parse(header);
-        if (h.at("format") != "facet-part" || h.at("version") != (alpha ? 2 : 1) ||
-            h.value("alpha", false) != alpha)
+        if (catcher) alpha = h.at("alpha").get<bool>();
+        if (h.at("format") != "facet-part" || h.at("version") != version ||
+            h.value("alpha", false) != alpha || h.value("shadow_catcher", false) != catcher)
             throw bad("unsupported format or version");
         if (h.at("fixed_point_fraction_bits") != kFixedFracBits)
             throw bad("fixed-point format differs from this build's");
@@ -188,13 +222,16 @@ RenderPart read_part(const std::string& path) {
                   std::to_string(p.width) + "x" + std::to_string(p.height) + " image");
     if (p.sample_begin < 0 || p.sample_end <= p.sample_begin)
         throw bad("empty or negative sample range");
-    part.film = Film(r, alpha);
+    part.film = Film(r, alpha, catcher);
     const std::size_t n = std::size_t(r.width()) * std::size_t(r.height());
     FixedRgb* sums = part.film.sums();
     FixedSum* alpha_sums = part.film.alpha_sums();
+    FixedSum* catcher_sums = part.film.catcher_sums();
     for (std::size_t i = 0; i < n; ++i) {
         if (!in.read(reinterpret_cast<char*>(sums[i].c), sizeof sums[i].c) ||
-            (alpha && !in.read(reinterpret_cast<char*>(&alpha_sums[i]), sizeof(FixedSum))))
+            (alpha && !in.read(reinterpret_cast<char*>(&alpha_sums[i]), sizeof(FixedSum))) ||
+            (catcher && !in.read(reinterpret_cast<char*>(&catcher_sums[i * kCatcherSums]),
+                                 std::streamsize(kCatcherSums * sizeof(FixedSum)))))
             throw bad("truncated: expected " + std::to_string(n) + " pixels");
     }
     if (in.peek() != std::char_traits<char>::eof()) throw bad("trailing data after the pixels");
@@ -229,6 +266,10 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
             throw std::runtime_error(name(i) + (f.has_alpha() ? " has" : " has no") +
                                      " alpha channel, " + name(0) +
                                      (f.has_alpha() ? " has none" : " has one"));
+        if (f.has_catcher() != parts[0].film.has_catcher())
+            throw std::runtime_error(name(i) + (f.has_catcher() ? " has" : " has no") +
+                                     " shadow-catcher sums, " + name(0) +
+                                     (f.has_catcher() ? " has none" : " has them"));
         if (!(f.region() == p.region))
             throw std::runtime_error(name(i) + ": film does not match its region");
         for (std::uint32_t c : f.count_values()) {
@@ -251,7 +292,8 @@ Film merge_parts(const std::vector<RenderPart>& parts, const std::vector<std::st
             }
         }
     }
-    Film out(Region{0, 0, first.width, first.height}, parts[0].film.has_alpha());
+    Film out(Region{0, 0, first.width, first.height}, parts[0].film.has_alpha(),
+             parts[0].film.has_catcher());
     for (const RenderPart& p : parts) out.add(p.film);
     const std::vector<std::uint32_t>& counts = out.count_values();
     for (std::size_t i = 0; i < counts.size(); ++i) {

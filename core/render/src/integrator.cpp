@@ -1037,6 +1037,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
     const bool ray_visibility = scene.features().has_ray_visibility;
     std::uint8_t ray_kind = kRayCamera;
     std::uint8_t light_path = kLpCamera;  // the ray's Light Path outputs (LightPathRay)
+    // The Light Path state light_path textures read (texture.h RayState): its counters, and
+    // the distance the current ray travelled before its origin (shapes it did not see).
+    RayState rs;
+    float carried = 0.f;
     // Cycles' PATH_RAY_DIFFUSE_ANCESTOR: after a diffuse bounce (or a walk) materials with a
     // subsurface lobe are their diffuse fallback.
     bool diffuse_ancestor = false;
@@ -1070,6 +1074,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 const ShapeInfo& si = scene.shapes()[hit.shape];
                 if ((si.visibility & ray_kind) == 0) {
                     if (++nulls > kMaxNullCrossings) break;
+                    carried += hit.t;
                     ray = Scene::spawn_ray(hit, ray.d);
                     continue;
                 }
@@ -1120,6 +1125,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (++nulls > kMaxNullCrossings) break;
                 stack.cross(iface->interior, entering(ray.d, hit.ng));
                 ray = Scene::spawn_ray(hit, ray.d);
+                carried = 0.f;  // a transparent bounce (Cycles restarts the ray there)
                 continue;
             }
             nulls = 0;
@@ -1157,7 +1163,10 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             // A surface vertex: its material (textured hits build theirs), shading frame,
             // light sample with the shadow ray's transmittance, BSDF sample.
             std::optional<Material> textured;
-            const Material& m = scene.bsdf_at(hit, ray, depth == 0, textured);
+            rs.length = carried + hit.t;
+            rs.kinds = light_path;
+            carried = 0.f;
+            const Material& m = scene.bsdf_at(hit, ray, depth == 0, textured, &rs);
             Shading sh;
             const bool transmissive = m.transmissive();
             if (transmissive)
@@ -1226,6 +1235,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 diffuse_ancestor = true;
                 ray_kind = kRayDiffuse;  // the exit's cosine lobe
                 light_path = std::uint8_t(kLpReflection | kLpDiffuse);
+                ++rs.depth;
+                ++rs.diffuse;
                 if (!roulette(beta, depth, u_roulette)) break;
                 ++depth;
                 ++c.rays;
@@ -1254,6 +1265,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                                  : bs->is_specular() ? kLpGlossy | kLpSingular
                                                      : kLpGlossy;
                 light_path = std::uint8_t((crosses ? kLpTransmission : kLpReflection) | lobe);
+                ++rs.depth;
+                ++(crosses ? rs.transmission : diffuse ? rs.diffuse : rs.glossy);
             }
             prev_pdf = bs->pdf * p_bsdf;
             prev_ctx = ctx;
@@ -1309,6 +1322,8 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             // Cycles 3.4 lets volume-scatter rays also see what diffuse rays see.
             ray_kind = std::uint8_t(kRayVolumeScatter | kRayDiffuse);
             light_path = 0;
+            ++rs.depth;
+            carried = 0.f;
             prev_pdf = ps->pdf;
             prev_ctx = ctx;
             ray = Ray{p, ps->wi, kInfinity};

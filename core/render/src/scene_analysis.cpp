@@ -68,6 +68,9 @@ void Builder::analyse() {
                 f.lambert_only = false;
             if (reflects(*su.material)) f.can_reflect = true;
             if (su.textured >= 0) f.has_textured = true;
+            // A material that reads the ray's Light Path state (light_path textures).
+            if (su.textured >= 0 && m_builder.textured()[std::size_t(su.textured)].uses_ray)
+                f.has_ray_visibility = true;
             // A surface that bounds a medium or lets rays through (an unused one is not).
             if (scene.medium_interface(su.material)) f.has_media = true;
             if (su.material->subsurface()) f.has_subsurface = true;
@@ -89,6 +92,7 @@ void Builder::analyse() {
         if (s.holdout) f.has_holdout = true;
         if (s.shadow_catcher) f.has_shadow_catcher = true;
         if (s.visibility != kRayAll || s.light_path >= 0) f.has_ray_visibility = true;
+
         f.num_triangles += s.triangles;
         if (s.kind == ShapeKind::Sphere) ++f.num_spheres;
         if (s.kind == ShapeKind::Plane) ++f.num_planes;
@@ -140,7 +144,9 @@ std::string SceneFeatures::describe() const {
       << "; surfaces reflect (indirect light possible): " << yn(can_reflect) << "\n";
     if (has_media) s << "media: yes (a world medium or medium boundaries)\n";
     if (has_subsurface) s << "subsurface: yes (random walks inside objects)\n";
-    if (has_ray_visibility) s << "ray visibility: yes (a shape some kinds of ray do not see)\n";
+    if (has_ray_visibility)
+        s << "ray visibility: yes (a shape some kinds of ray do not see, a Light Path switch "
+             "or a material reading the ray's Light Path state)\n";
     if (has_motion) s << "motion blur: yes (a moving camera, moving or deforming shapes)\n";
     if (needs_alpha)
         s << "alpha: yes ("

@@ -449,7 +449,11 @@ bool RenderSession::render(const PassCallback& on_pass) {
 
 Image RenderSession::image() const {
     m->sync_counts();
-    return m->film.resolve();
+    return m->film.resolve(m->options.shadow_catcher_pass);
+}
+Image RenderSession::shadow_catcher_pass() const {
+    m->sync_counts();
+    return m->film.resolve_shadow_catcher_pass();
 }
 const Film& RenderSession::film() const {
     m->sync_counts();
@@ -472,10 +476,6 @@ RenderPart RenderSession::part() const {
             "part: an adaptive render's pixels have sample counts of their own, which part files "
             "do not carry; render it whole (a --region render gives the same pixels as the "
             "whole image's)");
-    if (s.film.has_catcher())
-        throw std::invalid_argument(
-            "part: a scene with a shadow catcher cannot be rendered in parts (its pixels keep "
-            "sums that part files do not carry); render it whole");
     for (const Tile& t : s.tiles) {
         if (s.done_at(t) != s.target)
             throw std::logic_error("RenderSession::part: the render is incomplete (cancelled)");

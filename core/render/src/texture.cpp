@@ -92,8 +92,9 @@ UvFootprint Scene::texture_footprint(const SurfaceHit& hit, const Ray* camera_ra
 // textures' [min, max] ranges, which build_scene validated through the registry: bilinear
 // weights can round a value one ulp past its neighbours.
 Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp, const Vec3& wo,
-                            const Vec3& ns) const {
+                            const Vec3& ns, const RayState* rs) const {
     TexturePoint p = texture_point(hit, fp, wo, ns);
+    p.ray = rs;
     if (const ShapeInfo& s = m_shapes[hit.shape]; s.needs_strand && s.kind == ShapeKind::Curves) {
         p.strand_random = hit.strand_random;
         p.strand_v = hit.strand_v;

@@ -31,6 +31,7 @@ extern const TextureKindDef kMathTexture;         // textures/math.cpp
 extern const TextureKindDef kMixRgbTexture;       // textures/mix_rgb.cpp
 extern const TextureKindDef kColorRampTexture;    // textures/color_ramp.cpp
 extern const TextureKindDef kHairInfoTexture;     // textures/hair_info.cpp
+extern const TextureKindDef kLightPathTexture;    // textures/light_path.cpp
 extern const TextureKindDef kVectorMathTexture;   // textures/vector_math.cpp
 
 class TextureBuild : public BuildChecks {

@@ -12,6 +12,7 @@ std::span<const TextureKindDef* const> texture_kinds() {
         &kVoronoiTexture,    &kMusgraveTexture,   &kWaveTexture,        &kMagicTexture,
         &kGradientTexture,   &kWhiteNoiseTexture, &kBrickTexture,       &kMathTexture,
         &kVectorMathTexture, &kMixRgbTexture,     &kColorRampTexture,   &kHairInfoTexture,
+        &kLightPathTexture,
     };
     return kinds;
 }

@@ -31,6 +31,12 @@
 //    a_c, r' = 1 - a_c + a_c r; the matte's alpha a_m = clamp(1 - T_m) (T_m: the split's share
 //    plus the film's own transparency 1 - a_c) gives alpha (1 - a_m)(1 - clamp(mean r')) + a_m
 //    with the matte's colour; an opaque film shows matte + background (1 - that alpha).
+//  - The Shadow Catcher pass (Cycles 3.4's PASS_SHADOW_CATCHER, film_calculate_shadow_catcher;
+//    Blender's View Layer > Passes > Light > Shadow Catcher): per channel r' above, unclamped
+//    (1 in pixels no sample of which met a catcher, and in every pixel of a film without
+//    catcher sums). With the pass, Cycles' Combined is no longer the approximation: it is the
+//    matte with its own alpha a_m, over a transparent or an opaque film alike (a catcher seen
+//    directly is a colourless hole); resolve(true) gives that (with an alpha channel).
 //  - A Film covers `region` (half-open pixel rectangle of the full image), row-major inside it.
 //    Each pixel is written by one tile at a time; no synchronisation is needed.
 #pragma once
@@ -144,15 +150,26 @@ class Film {
     // null / empty for a scene without a catcher.
     bool has_catcher() const { return !m_catcher.empty(); }
     FixedSum* catcher_sums() { return m_catcher.empty() ? nullptr : m_catcher.data(); }
+    const std::vector<FixedSum>& catcher_values() const { return m_catcher; }
 
-    // Mean radiance per pixel of the region (black where no sample was taken).
-    Image resolve() const;
+    // Mean radiance per pixel of the region (black where no sample was taken). With
+    // `shadow_catcher_pass` a film with catcher sums gives Cycles' Combined pass of a render
+    // with the Shadow Catcher pass (the matte and its alpha, see conventions); other films
+    // resolve the same either way.
+    Image resolve(bool shadow_catcher_pass = false) const;
+    // The Shadow Catcher pass (see conventions): RGB, no alpha.
+    Image resolve_shadow_catcher_pass() const;
     // Adds another film's sums and counts over its region, which must lie inside this one's;
     // both have alpha or neither.
     void add(const Film& other);
 
   private:
-    void resolve_catcher(Image& img) const;  // the catcher's Combined pass (see conventions)
+    // The catcher's Combined pass (see conventions): the approximation, or with the pass the
+    // matte and its alpha.
+    void resolve_catcher(Image& img, bool shadow_catcher_pass) const;
+    // Pixel i's light kept per channel, r' (see conventions); its combined coverage a_c in
+    // `coverage` (unclamped; 1 without alpha).
+    void catcher_ratio(std::size_t i, double r[3], double& coverage) const;
 
     Region m_region;
     std::vector<FixedRgb> m_sums;
@@ -181,7 +198,9 @@ struct RenderPart {
 // signed 128-bit sums (R, G, B; low 64 bits first) — counts are implied by the sample range.
 // A film with alpha is written as version 2: the header adds "alpha": true and each pixel a
 // fourth sum (the coverage) after B. Films without alpha are still written as version 1.
-// Films with a shadow catcher's sums are not written (an error).
+// A film with a shadow catcher's sums is written as version 3: the header has "alpha" (true or
+// false) and "shadow_catcher": true, and each pixel, after its colour (and coverage) sums, its
+// kCatcherSums catcher sums in CatcherSums order.
 // Errors throw std::runtime_error naming the file.
 void write_part(const RenderPart& part, const std::string& path);
 RenderPart read_part(const std::string& path);

@@ -99,6 +99,11 @@ struct RenderOptions {
     // and the samples every pixel takes first (0 = automatic: max(16, ceil(2 / sqrt(t)))).
     std::optional<double> adaptive_threshold;  // unset = scene setting; --adaptive-threshold
     int adaptive_min_samples = -1;             // < 0 = scene setting; --adaptive-min-samples
+    // The Shadow Catcher pass is wanted (--shadow-catcher-pass; Blender's View Layer > Passes >
+    // Shadow Catcher): in a scene with a shadow catcher image() is then Cycles' Combined pass of
+    // such a render, the matte and its alpha (film.h), instead of the approximation. The pass
+    // itself is shadow_catcher_pass(), with or without this.
+    bool shadow_catcher_pass = false;
 };
 
 struct RenderStats {
@@ -161,10 +166,12 @@ class RenderSession {
 
     // The current image over the region (call between passes or after render()).
     Image image() const;
+    // The Shadow Catcher pass over the region (film.h; all 1 in a scene without a catcher).
+    Image shadow_catcher_pass() const;
     const Film& film() const;
     // The part this session has rendered (requires every tile to be complete: throws
     // std::logic_error after a cancellation that left some tile behind; std::invalid_argument
-    // for an adaptive render, conventions, and for a scene with a shadow catcher).
+    // for an adaptive render, conventions).
     RenderPart part() const;
     const RenderStats& stats() const;
     const ResolvedSettings& settings() const;

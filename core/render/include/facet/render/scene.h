@@ -397,8 +397,9 @@ struct TexturedMaterial {
     // Whether a slot (or a child's) reads the hit's object-space point (Texture::uses_position)
     // / its view-dependent coordinates (Texture::uses_view).
     bool uses_position = false, uses_view = false;
-    // Whether a slot (or a child's) reads the Hair Info values (Texture::uses_strand).
-    bool uses_strand = false;
+    // Whether a slot (or a child's) reads the Hair Info values (Texture::uses_strand) / the
+    // ray's Light Path state (Texture::uses_ray).
+    bool uses_strand = false, uses_ray = false;
 };
 
 // What the scene contains, computed once at load time; integrators pick a specialised kernel
@@ -432,9 +433,10 @@ struct SceneFeatures {
     // sums) only with RenderSettings::film_transparent: without it holdouts are black, as
     // Cycles' are ("the Holdout shader can only create alpha when Film > Transparent is on").
     bool needs_alpha = false;
-    // Some shape is invisible to some kind of ray (ShapeSurface::visibility) or has a Light
-    // Path switch (ShapeSurface::light_path): the media kernel runs, which tracks each ray's
-    // kind (integrator.h, "Ray visibility").
+    // Some shape is invisible to some kind of ray (ShapeSurface::visibility), has a Light
+    // Path switch (ShapeSurface::light_path) or a material that reads the ray's Light Path
+    // state (TexturedMaterial::uses_ray): the media kernel runs, which tracks each ray's kind
+    // (integrator.h, "Ray visibility").
     bool has_ray_visibility = false;
     bool lambert_only = false;  // every material is a pure Lambertian (diffuse only)
     bool has_point = false, has_spot = false, has_directional = false, has_area = false,
@@ -629,8 +631,10 @@ class Scene {
     // texture footprint (texture_footprint: exact from `ray` when `camera_ray`, else as the
     // camera sees p) and its material (material_at); the result is stored in `storage`. Other
     // hits return *hit.material untouched. Never throws.
+    // `rs`: the ray's Light Path state (texture.h RayState), read by light_path textures (the
+    // media kernel gives it; null: a camera ray's).
     const Material& bsdf_at(SurfaceHit& hit, const Ray& ray, bool camera_ray,
-                            std::optional<Material>& storage) const {
+                            std::optional<Material>& storage, const RayState* rs = nullptr) const {
         if (hit.textured < 0) return *hit.material;
         const Vec3 ns = hit.ns;  // the view-dependent coordinates read the unmapped normal
         shade_normal(hit, -ray.d);
@@ -642,9 +646,10 @@ class Scene {
             const SurfaceHit& hit;
             const UvFootprint& fp;
             Vec3 wo, ns;
-            operator Material() const { return scene.material_at(hit, fp, wo, ns); }
+            const RayState* rs;
+            operator Material() const { return scene.material_at(hit, fp, wo, ns, rs); }
         };
-        return storage.emplace(AtHit{*this, hit, fp, -ray.d, ns});
+        return storage.emplace(AtHit{*this, hit, fp, -ray.d, ns, rs});
     }
     // The material at a hit with hit.textured >= 0: its textures evaluated at hit.uv and the
     // model built from them (never throws: build_scene checked every texture's range against
@@ -652,7 +657,8 @@ class Scene {
     // and `ns` (the world-space shading normal before normal and bump maps) are read by
     // view-dependent coordinates only (texture_point).
     Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {},
-                         const Vec3& wo = Vec3(0.f), const Vec3& ns = Vec3(0.f)) const;
+                         const Vec3& wo = Vec3(0.f), const Vec3& ns = Vec3(0.f),
+                         const RayState* rs = nullptr) const;
     // Textured material `index` at uv: as material_at (staged where built), or built from its
     // ParamSet by the registry (the reference the staged build is tested against).
     // `color` is the hit's vertex colour (SurfaceHit::color), read by vertex_color textures.

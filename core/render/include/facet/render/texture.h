@@ -145,6 +145,23 @@ struct UvFootprint {
 
 enum class TextureWrap : std::uint8_t { Repeat, Clamp, Mirror };
 
+// Blender's Light Path outputs for the ray that reached a hit, as Cycles 3.4 gives them to a
+// surface shader (svm_node_light_path), kept by the kernel that tracks rays' kinds (the media
+// kernel; integrator.h "Ray visibility"):
+//  - `kinds`: scene.h LightPathRay bits (kLpCamera, ...) of the ray;
+//  - `length`: the distance from the ray's origin (the previous vertex or the camera; shapes
+//    the ray does not see do not restart it) to the hit;
+//  - `depth`: the bounces before the hit that are not straight pass-throughs (transparent
+//    samples, `null` crossings); a scattering in a medium counts;
+//  - `diffuse`, `glossy`, `transmission`: the diffuse and glossy reflections, and the samples
+//    that crossed a surface, among them (Cycles' diffuse_bounce, glossy_bounce,
+//    transmission_bounce: a crossing counts as transmission only).
+struct RayState {
+    float length = 0.f;
+    std::uint16_t depth = 0, diffuse = 0, glossy = 0, transmission = 0;
+    std::uint8_t kinds = 1u;  // kLpCamera
+};
+
 // What a texture reads at a hit.
 struct TexturePoint {
     Vec2 uv{0.f};                            // the hit's uv (shapes that compute it)
@@ -169,6 +186,9 @@ struct TexturePoint {
     // curve_random); `strand_v`, the position along it (SurfaceHit::strand_v); `on_strand`, 1
     // on curves (Is Strand).
     float strand_random = 0.f, strand_v = 0.f, on_strand = 0.f;
+    // The Light Path state of the ray that reached the hit (kTextureReadsRay; null outside the
+    // kernel that tracks it: a camera ray's at length 0 is read then).
+    const RayState* ray = nullptr;
 };
 
 // What a texture reads besides its parameters (bits of Texture::inputs()).
@@ -178,6 +198,7 @@ enum TextureInput : unsigned {
     kTextureReadsPosition = 4u,  // TexturePoint::object and generated
     kTextureReadsView = 8u,      // TexturePoint::normal, reflection, camera and window
     kTextureReadsStrand = 16u,   // TexturePoint::strand_random, strand_v and on_strand
+    kTextureReadsRay = 32u,      // TexturePoint::ray (Light Path outputs)
 };
 
 // One kind's evaluation (immutable, thread-safe, never throws): the value at a point, times the
@@ -235,6 +256,7 @@ class Texture {
     bool uses_position() const { return (m_inputs & kTextureReadsPosition) != 0; }
     bool uses_view() const { return (m_inputs & kTextureReadsView) != 0; }
     bool uses_strand() const { return (m_inputs & kTextureReadsStrand) != 0; }
+    bool uses_ray() const { return (m_inputs & kTextureReadsRay) != 0; }
     // The (continuous) MIP level of footprint fp (conventions), before clamping to the levels.
     float mip_level(const UvFootprint& fp) const { return m_source->mip_level(fp); }
     TextureFilter filter() const { return m_source->filter(); }
