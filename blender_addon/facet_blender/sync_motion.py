@@ -21,7 +21,12 @@ is on, gets its points at the steps ("motion_positions", object space). Particle
 exported in world space: with Deformation on its keys are read again at the steps (the
 emitter's motion and the hair's own); with it off the still keys follow the emitter's matrices
 rigidly (M_step M_frame^-1 p). Strands that change in number or key count between steps render
-without motion blur (reported, by object and hair)."""
+without motion blur (reported, by object and hair).
+
+Emitting meshes move and deform like any other (the core samples them at the path's time, as
+Cycles 3.4's triangle lights are). Lamps (point, spot, area, sun) are not evaluated at the
+steps: Cycles 3.4 syncs lights at the frame only (blender/object.cpp returns before a light's
+motion step), so a lamp renders still at the frame in both renderers, and nothing is reported."""
 
 import math
 
@@ -222,10 +227,6 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
             shape = data["shapes"][k]
             if owner != name or shape.get("type") != "mesh":
                 continue
-            if _emits(shape):
-                problems.append("object '%s': emits light and deforms: rendered still at the "
-                                "frame (Facet's emitters do not move yet)" % name)
-                continue
             shape["motion_positions"] = d[0]
             if d[1] is not None and shape.get("normals") is not None:
                 shape["motion_normals"] = d[1]
@@ -239,12 +240,7 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
         for k, owner in enumerate(shape_objects):
             if owner != name:
                 continue
-            shape = data["shapes"][k]
-            if _emits(shape):
-                problems.append("object '%s': emits light and moves: rendered still at the "
-                                "frame (Facet's emitters do not move yet)" % name)
-                continue
-            shape["motion"] = steps
+            data["shapes"][k]["motion"] = steps
 
 
 def _read_hair_step(obj, src):
@@ -309,14 +305,3 @@ def _report_instances(scene, data, shape_objects, problems):
         named.add(obj.name)
         problems.append("object '%s': its instances are rendered without motion blur (the "
                         "motion of instances is not converted)" % obj.name)
-
-
-def _emits(shape):
-    e = shape.get("emission")
-    if e is None:
-        return False
-    if isinstance(e, (int, float)):
-        return e != 0
-    if isinstance(e, (list, tuple)):
-        return any(v != 0 for v in e)
-    return True  # a texture

@@ -452,7 +452,9 @@ TEST(LightTypes, FactoriesMakeTheirTypes) {
         {fr::Light::area_disc({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, Rgb(1.f), 0), "emissive_disc", true,
          true},
         {fr::Light::area_lamp({0, 0, 0}, {1, 0, 0}, {0, 1, 0}, Rgb(1.f), false), "area_lamp", false,
-         true}};
+         true},
+        {fr::Light::area_moving_triangles({{a, b, c}}, {}, glm::dmat4(1.0), Rgb(1.f), 0),
+         "emissive_moving_triangles", true, true}};
     for (const Case& k : cases) {
         EXPECT_EQ(k.light.type_name(), k.name);
         EXPECT_EQ(k.light.hittable(), k.hittable) << k.name;

@@ -402,19 +402,13 @@ TEST(Motion, BadInputNamesThePlace) {
                                R"([{"position": [0, 0, 5], "look_at": [0, 0, 0]},
                                    {"position": [0, 0, 5], "look_at": [0, 0, 5]}])")),
            "/camera/motion/1/look_at");
-    // Only triangle shapes and instances move; emitters do not.
+    // Only triangle shapes, curves and instances move.
     expect(error_of(camera() + R"(
       "materials": {"m": {"model": "lambert", "reflectance": 0.5}},
       "shapes": [{"type": "sphere", "material": "m", "center": [0, 0, 0], "radius": 0.5,
                   "motion": [{"translate": [0, 0, 0]},
                                                                {"translate": [1, 0, 0]}]}],
       "lights": [{"type": "environment", "radiance": 1}], "render": {"motion_blur": true})"),
-           "/shapes/0/motion");
-    expect(error_of(camera() + R"(
-      "shapes": [{"type": "quad", "emission": 1, "motion": [{"translate": [0, 0, 0]},
-                                                            {"translate": [1, 0, 0]}],
-                  "vertices": [[-0.5, -1, 0], [0.5, -1, 0], [0.5, 1, 0], [-0.5, 1, 0]]}],
-      "render": {"motion_blur": true})"),
            "/shapes/0/motion");
     // Wrong types in the JSON.
     expect(error_of(quad_scene(R"({"translate": [1, 0, 0]})", on)), "/shapes/0/motion");
@@ -646,9 +640,6 @@ TEST(Motion, BadDeformationNamesThePlace) {
         err = e.what();
     }
     expect(err, "/shapes/0/motion_positions/1/4: must be a finite number");
-    // An emitter does not deform.
-    expect(error_of(deform_scene({0.0, 1.0}, R"({"shutter": 0.5})", "", R"(, "emission": 1)")),
-           "/shapes/0/motion_positions");
 }
 
 // --- Curves under motion blur (scenes/FORMAT.md, "Motion blur" and "Curves") ---------------

@@ -267,9 +267,15 @@ class Builder::ShapeContext final : public ShapeBuild {
     }
     // A moving shape (shape_motion): everything it adds goes to its own prototype, in
     // object space.
-    void build_into(std::uint32_t prototype) {
+    // `motion` (or, without it, the still `place`) places the prototype: its emitting
+    // triangles become moving emitters (Light::area_moving_triangles).
+    void build_into(std::uint32_t prototype, const std::vector<DecomposedTransform>& motion,
+                    const glm::dmat4& place) {
         m_proto = std::int32_t(prototype);
         m_local = true;
+        m_moving_proto = m_proto;
+        m_motion = motion;
+        m_place = place;
     }
     std::int32_t local_prototype() const { return m_proto; }
     // The shape has `motion_positions` (checked against its mesh by add_mesh); `deform`
@@ -342,7 +348,9 @@ class Builder::ShapeContext final : public ShapeBuild {
             std::vector<Vec3> tri;
             tri.reserve(mesh.indices.size());
             for (std::uint32_t i : mesh.indices) tri.push_back(mesh.positions[i]);
-            Light l = Light::area_triangles(std::move(tri), radiance, index);
+            Light l = m_proto >= 0 && m_proto == m_moving_proto
+                          ? moving_light(std::move(tri), mesh, step_positions, radiance)
+                          : Light::area_triangles(std::move(tri), radiance, index);
             if (!(l.area() > 0.f)) fail(ptr + "/emission", "the emitting shape has no area");
             if (part < 0) {
                 add_light(std::move(l));
@@ -403,6 +411,25 @@ class Builder::ShapeContext final : public ShapeBuild {
         } else {
             m_b.m_builder.impl().meshes.push_back(std::move(g));
         }
+    }
+
+    // A moving shape's emitter: its triangles `tri` (object space, the mesh's order), at each
+    // deformation step when it deforms, placed by the shape's motion or still placement.
+    Light moving_light(std::vector<Vec3> tri, const TriangleMesh& mesh,
+                       const std::vector<std::vector<Vec3>>& step_positions,
+                       const Rgb& radiance) const {
+        std::vector<std::vector<Vec3>> corners;
+        if (step_positions.empty()) {
+            corners.push_back(std::move(tri));
+        } else {
+            for (const std::vector<Vec3>& step : step_positions) {
+                std::vector<Vec3> c;
+                c.reserve(mesh.indices.size());
+                for (std::uint32_t i : mesh.indices) c.push_back(step[i]);
+                corners.push_back(std::move(c));
+            }
+        }
+        return Light::area_moving_triangles(std::move(corners), m_motion, m_place, radiance, index);
     }
 
     // The shape's `motion_positions` and `motion_normals` against `mesh` (as given: n
@@ -557,6 +584,10 @@ class Builder::ShapeContext final : public ShapeBuild {
     ShapeInfo& m_info;
     std::int32_t m_proto;  // the prototype being built, or -1
     bool m_local = false;  // building one of the shape's own prototypes (add_part_to)
+    // A moving shape's own prototype (build_into), or -1, and what places it.
+    std::int32_t m_moving_proto = -1;
+    std::vector<DecomposedTransform> m_motion;
+    glm::dmat4 m_place{1.0};
 };
 
 // Shape `s` as Scene::shapes()[index], at JSON pointer `ptr`: a description shape
@@ -702,8 +733,8 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
             fail(tp, "the transform is singular (zero scale?) or not finite");
         }
     }
-    const std::vector<DecomposedTransform> motion = shape_motion(s, ptr, proto, emissive);
-    const bool deforms = shape_deformation(s, ptr, proto, emissive);
+    const std::vector<DecomposedTransform> motion = shape_motion(s, ptr, proto);
+    const bool deforms = shape_deformation(s, ptr, proto);
     ShapeContext ctx(*this, s, index, ptr, info, proto);
     ctx.emission = info.emission;
     ctx.emissive = emissive;
@@ -715,7 +746,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
         // prototype of its own (object space), placed by its motion. A deforming mesh
         // likewise (its steps in object space), placed by its motion or its transform.
         ctx.xf = places ? motion[0].matrix() : glm::dmat4(1.0);
-        if (!places) ctx.build_into(ctx.add_local_prototype());
+        if (!places) ctx.build_into(ctx.add_local_prototype(), motion, xf);
         ctx.deform = deforms;
     }
     const std::size_t pending = m_pending.size();
@@ -768,7 +799,7 @@ void Builder::build_shape(const ShapeDesc& s, std::uint32_t index, const std::st
 // A shape's `motion` (scenes/FORMAT.md, "Motion blur"), checked, decomposed (motion.h);
 // empty when it has none or motion blur is off (the still `transform` then renders).
 std::vector<DecomposedTransform> Builder::shape_motion(const ShapeDesc& s, const std::string& ptr,
-                                                       std::int32_t proto, bool emissive) {
+                                                       std::int32_t proto) {
     if (s.motion.empty()) return {};
     const std::string mp = ptr + "/motion";
     if (proto >= 0) fail(mp, "a prototype's shapes cannot move (give the instance a motion)");
@@ -792,8 +823,6 @@ std::vector<DecomposedTransform> Builder::shape_motion(const ShapeDesc& s, const
                  "instances can move, not a '" +
                      std::string(shape_kind(s.kind).name) + "'");
     }
-    if (emissive)
-        fail(mp, "an emitting shape cannot move (light sampling places emitters at one time)");
     std::vector<DecomposedTransform> out;
     for (std::size_t i = 0; i < s.motion.size(); ++i) {
         const glm::dmat4& m = s.motion[i];
@@ -816,8 +845,7 @@ std::vector<DecomposedTransform> Builder::shape_motion(const ShapeDesc& s, const
 // A shape's deformation motion (`motion_positions`, `motion_normals`; scenes/FORMAT.md,
 // "Motion blur"): its structure checked here (the kind, the step count), its values by
 // add_mesh against the mesh. True when it renders (motion blur on).
-bool Builder::shape_deformation(const ShapeDesc& s, const std::string& ptr, std::int32_t proto,
-                                bool emissive) {
+bool Builder::shape_deformation(const ShapeDesc& s, const std::string& ptr, std::int32_t proto) {
     const std::string mp = ptr + "/motion_positions";
     if (s.motion_positions.empty()) {
         if (!s.motion_normals.empty())
@@ -843,8 +871,6 @@ bool Builder::shape_deformation(const ShapeDesc& s, const std::string& ptr, std:
         fail(ptr + "/motion_normals", "has " + std::to_string(s.motion_normals.size()) +
                                           " steps but \"motion_positions\" has " +
                                           std::to_string(s.motion_positions.size()));
-    if (emissive)
-        fail(mp, "an emitting shape cannot deform (light sampling places emitters at one time)");
     if (!m_motion_on) return false;
     m_shapes_move = true;
     return true;

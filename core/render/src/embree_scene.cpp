@@ -86,8 +86,9 @@ Vec2 triangle_uv(const MeshGeom& mg, std::uint32_t tri, float u, float v, const 
     return mg.spherical ? sphere_uv(glm::dvec3(mg.to_object * glm::dvec4(p, 1.0))) : Vec2(0.f);
 }
 
-// A plane's uv at point p (scene units along its axes).
-Vec2 plane_uv(const PlaneGeom& pl, const glm::dvec3& p) {
+// A plane's uv at point p (scene units along its axes). Out of line: inlined into the packet
+// query (which GCC decides by the whole file's size) it costs every scene's hits there.
+[[gnu::noinline]] Vec2 plane_uv(const PlaneGeom& pl, const glm::dvec3& p) {
     const glm::dvec3 d = p - pl.point;
     return Vec2(float(glm::dot(d, pl.ex)), float(glm::dot(d, pl.ey)));
 }
@@ -1157,12 +1158,14 @@ template <bool kUv>
                                               SurfaceHit& hit, std::int32_t& part) {
     if (placed.motion.empty()) {
         fill_placed<kUv>(impl, placed, false, true, geom, tri, ray, time, u, v, t, hit, part);
-        return;
+    } else {
+        InstanceGeom at_time;
+        at_time.prototype = placed.prototype;
+        at_time.place(interpolate_motion(placed.motion, double(time)));
+        fill_placed<kUv>(impl, at_time, true, true, geom, tri, ray, time, u, v, t, hit, part);
     }
-    InstanceGeom at_time;
-    at_time.prototype = placed.prototype;
-    at_time.place(interpolate_motion(placed.motion, double(time)));
-    fill_placed<kUv>(impl, at_time, true, true, geom, tri, ray, time, u, v, t, hit, part);
+    // A moving emitter's pdf needs its triangle (scene.h; a curve's hit keeps its strand_v).
+    if (impl.backend->prototype_geom_to_mesh[placed.prototype][geom] >= 0) hit.emitter_prim = tri;
 }
 
 }  // namespace

@@ -32,6 +32,27 @@ template <std::uint32_t F>
         return 0.f;
 }
 
+// The light sample and the pdf of a BSDF ray's hit on a light, at the path's shutter time in
+// the motion kernels (moving emitters, light.h "Time"); the other kernels make the calls they
+// made before motion blur existed.
+template <std::uint32_t F>
+[[gnu::always_inline]] inline std::optional<LightLiSample> sample_light(
+    const Light& light, const LightSampleContext& ctx, Vec2 u, [[maybe_unused]] float time) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return light.sample_li_at(ctx, u, time);
+    else
+        return light.sample_li(ctx, u);
+}
+template <std::uint32_t F>
+[[gnu::always_inline]] inline float hit_light_pdf(const Light& light, const LightSampleContext& ctx,
+                                                  const Vec3& wi, const SurfaceHit& hit,
+                                                  [[maybe_unused]] float time) {
+    if constexpr ((F & kFeatMotion) != 0)
+        return light.pdf_li_at(ctx, wi, hit.p, hit.ng, hit.emitter_prim, time);
+    else
+        return light.pdf_li(ctx, wi, hit.p, hit.ng);
+}
+
 // The closest hit of `ray` at its path's shutter time `time` in the motion kernels; the other
 // kernels trace at time 0, exactly as before motion blur existed.
 template <std::uint32_t F>
@@ -326,7 +347,8 @@ template <std::uint32_t F>
         if (num_lights > 1) light_index = light_dist.sample(ctx, s.light_choice, select_pmf);
         const Light& light = lights[light_index];
         // (select_pmf is 0 only when the light tree finds no light that can reach ctx.)
-        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, s.light) : std::nullopt) {
+        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, s.light, lane_time<F>(rays, k))
+                                       : std::nullopt) {
             // Reflection: the light must be on the viewer's side of the surface; transmission:
             // on either side (valid_side).
             const Vec3 wi = sh.frame.to_local(ls->wi);
@@ -467,8 +489,9 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
                     p.L += p.beta * hit.emitted_radiance;
                 } else {
                     const std::size_t li = std::size_t(hit.light);
-                    const float lp = light_dist.pmf(p.prev_ctx, li) *
-                                     lights[li].pdf_li(p.prev_ctx, ray_d, hit.p, hit.ng);
+                    const float lp =
+                        light_dist.pmf(p.prev_ctx, li) *
+                        hit_light_pdf<F>(lights[li], p.prev_ctx, ray_d, hit, lane_time<F>(rays, k));
                     p.L += p.beta * hit.emitted_radiance * power_heuristic(p.prev_bsdf_pdf, lp);
                 }
             }
@@ -647,7 +670,7 @@ Rgb direct_li(const Scene& scene, Ray ray, [[maybe_unused]] float time, bool fou
                         u = s.get_2d();
                     }
                 }
-                auto ls = light.sample_li(ctx, u);
+                auto ls = sample_light<F>(light, ctx, u, time);
                 if (!ls || !(ls->pdf > 0.f)) continue;
                 const Vec3 wi = sh.frame.to_local(ls->wi);
                 if (!valid_side(sh, transmissive, ls->wi, wi.z)) continue;
@@ -919,7 +942,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
         if (scene.features().has_ray_visibility &&
             !light_reaches(scene, light_index, BxDFFlags::Diffuse))  // the exit's lobe
             select_pmf = 0.f;
-        if (auto ls = select_pmf > 0.f ? light.sample_li(ctx, u_light) : std::nullopt;
+        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, u_light, time) : std::nullopt;
             ls && ls->pdf > 0.f) {
             const float cos_i = glm::dot(ls->wi, ens);
             if (cos_i > 0.f && glm::dot(ls->wi, eng) > 0.f) {
@@ -1127,7 +1150,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 } else {
                     const std::size_t li = std::size_t(hit.light);
                     const float lp = light_dist.pmf(prev_ctx, li) *
-                                     lights[li].pdf_li(prev_ctx, ray.d, hit.p, hit.ng);
+                                     hit_light_pdf<F>(lights[li], prev_ctx, ray.d, hit, time);
                     L += beta * hit.emitted_radiance * power_heuristic(prev_pdf, lp);
                 }
             } else if (hit.light == kEmitterNotSampled) [[unlikely]] {
@@ -1182,7 +1205,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 if (ray_visibility && !light_reaches(scene, light_index, mb.flags()))
                     select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
-                                  ? light.sample_li(ctx, u_light)
+                                  ? sample_light<F>(light, ctx, u_light, time)
                                   : std::nullopt) {
                     const Vec3 wi = sh.frame.to_local(ls->wi);
                     if (valid_side(sh, transmissive, ls->wi, wi.z) && ls->pdf > 0.f) {
@@ -1276,7 +1299,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     (scene.light_visibility()[light_index] & kRayVolumeScatter) == 0)
                     select_pmf = 0.f;
                 if (auto ls = select_pmf > 0.f && lights_run(scene, light, only_catchers)
-                                  ? light.sample_li(ctx, u_light)
+                                  ? sample_light<F>(light, ctx, u_light, time)
                                   : std::nullopt;
                     ls && ls->pdf > 0.f) {
                     const float ph = med.phase().eval(wo_w, ls->wi);

@@ -23,7 +23,32 @@ std::optional<LightLiSample> Light::sample_li_out_of_line(const LightSampleConte
 
 float Light::pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
                     const Vec3& n_light) const {
-    return visit([&](const auto& t) { return t.pdf_li(ctx, wi, p_light, n_light); });
+    return visit([&](const auto& t) {
+        if constexpr (requires { t.pdf_li(ctx, wi, p_light, n_light); })
+            return t.pdf_li(ctx, wi, p_light, n_light);
+        else
+            return 0.f;  // a moving emitter: pdf_li_at
+    });
+}
+
+std::optional<LightLiSample> Light::sample_li_at_out_of_line(const LightSampleContext& ctx, Vec2 u,
+                                                             float time) const {
+    return visit([&](const auto& t) {
+        if constexpr (requires { t.sample_li(ctx, u, time); })
+            return t.sample_li(ctx, u, time);
+        else
+            return t.sample_li(ctx, u);
+    });
+}
+
+float Light::pdf_li_at(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                       const Vec3& n_light, std::uint32_t prim, float time) const {
+    return visit([&](const auto& t) {
+        if constexpr (requires { t.pdf_li(ctx, wi, p_light, n_light, prim, time); })
+            return t.pdf_li(ctx, wi, p_light, n_light, prim, time);
+        else
+            return t.pdf_li(ctx, wi, p_light, n_light);
+    });
 }
 
 Rgb Light::le(const Vec3& n_light, const Vec3& w) const {

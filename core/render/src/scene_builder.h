@@ -120,9 +120,8 @@ class Builder final : public BuildChecks {
     void build_shape(const ShapeDesc& s, std::uint32_t index, const std::string& ptr,
                      std::int32_t proto);
     std::vector<DecomposedTransform> shape_motion(const ShapeDesc& s, const std::string& ptr,
-                                                  std::int32_t proto, bool emissive);
-    bool shape_deformation(const ShapeDesc& s, const std::string& ptr, std::int32_t proto,
-                           bool emissive);
+                                                  std::int32_t proto);
+    bool shape_deformation(const ShapeDesc& s, const std::string& ptr, std::int32_t proto);
     void build_prototypes();
     void place_instance(const PendingInstance& pi);
     void check_coordinate_range(double m, std::uint32_t index);

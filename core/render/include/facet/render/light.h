@@ -16,6 +16,7 @@
 //   area_lamp                  (lights/area.cpp: Blender's area lamp, the "area" light kind)
 //   emissive_triangles, emissive_parallelogram, emissive_sphere, emissive_disc
 //                              (lights/emissive_*.cpp: shapes with an "emission")
+//   emissive_moving_triangles  (lights/emissive_moving.cpp: such a triangle shape that moves)
 // A type's math (fall-offs, sized lights, the shapes' sampling densities) is documented in its
 // unit; light_units.h holds the unit conversions the units and the exporters share.
 //
@@ -36,6 +37,12 @@
 //  - `pdf_li(ctx, wi, p_light, n_light)` is the solid-angle density with which sample_li would
 //    have produced wi when the ray p + t wi hits the light at p_light (normal n_light); used for
 //    multiple importance sampling of BSDF-sampled rays. 0 for lights no ray can hit.
+//  - Time: a moving emitter (emissive_moving_triangles) is sampled, and its pdf taken, where it
+//    is at the path's shutter time: sample_li_at and pdf_li_at (the latter with the hit's
+//    triangle, SurfaceHit::emitter_prim), which the motion kernels call; the kernels of scenes
+//    that do not move call sample_li and pdf_li as before. Every other light is still over the
+//    shutter (lamps do not move during the shutter in Cycles 3.4 either: blender/object.cpp
+//    syncs lights at the frame only, not at the motion steps).
 //  - hittable(): rays can hit the light (emissive shapes, the environment). Only then does MIS
 //    weigh its samples against BSDF samples; a sample of any other light (delta lights, lights
 //    with size that are not in the traced geometry: a sized point or spot, the sun, an area
@@ -140,6 +147,15 @@ class Light {
     // emissive_parallelogram.
     static Light area_triangles(std::vector<Vec3> triangle_vertices, const Rgb& radiance,
                                 std::uint32_t shape);
+    // Area light over triangles that move over the shutter (lights/emissive_moving.cpp):
+    // `corners` holds the object-space corners (3 per triangle, all kept, in the traced mesh's
+    // order) at each of its uniform deformation steps (one: no deformation); the placement is
+    // `motion`'s steps (motion.h) or, without them, `place`. Front side as area_triangles', seen
+    // through the placement (a mirroring one keeps the object-space front).
+    static Light area_moving_triangles(std::vector<std::vector<Vec3>> corners,
+                                       std::vector<DecomposedTransform> motion,
+                                       const glm::dmat4& place, const Rgb& radiance,
+                                       std::uint32_t shape);
     // Area light on an exact sphere. Outward normals emit (sampled by the subtended cone from
     // outside); with `inward` the sphere is turned inside out ("flip_normals"): it lights its
     // interior and is sampled uniformly by area from inside.
@@ -208,6 +224,21 @@ class Light {
     std::optional<LightLiSample> sample_li_out_of_line(const LightSampleContext& ctx, Vec2 u) const;
     float pdf_li(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
                  const Vec3& n_light) const;
+    // The same at shutter time `time` (light.h "Time"), `prim` the hit's
+    // SurfaceHit::emitter_prim: what the motion kernels call. Lights that do not move ignore
+    // both; a moving emitter needs them (its pdf_li without them is 0).
+    [[gnu::always_inline]] std::optional<LightLiSample> sample_li_at(const LightSampleContext& ctx,
+                                                                     Vec2 u, float time) const {
+        const auto f = [&](const auto& t) __attribute__((always_inline)) {
+            return t.sample_li(ctx, u);
+        };
+        const auto cold = [&] { return sample_li_at_out_of_line(ctx, u, time); };
+        return visit_inline_from<0>(f, cold);
+    }
+    std::optional<LightLiSample> sample_li_at_out_of_line(const LightSampleContext& ctx, Vec2 u,
+                                                          float time) const;
+    float pdf_li_at(const LightSampleContext& ctx, const Vec3& wi, const Vec3& p_light,
+                    const Vec3& n_light, std::uint32_t prim, float time) const;
     // Emission: radiance leaving the light's surface at a point of geometric normal n_light
     // toward the unit w (pointing away from the light; 0 on its back side), and radiance
     // arriving along a ray that escapes the scene in direction d. 0 for types without.

@@ -83,6 +83,8 @@ struct LightBounds {
 //   std::optional<LightLiSample> sample_li(const LightSampleContext&, Vec2 u) const;
 //   float pdf_li(const LightSampleContext&, const Vec3& wi, const Vec3& p_light,
 //                const Vec3& n_light) const;
+//     (a moving emitter has instead sample_li(ctx, u, time) and pdf_li(ctx, wi, p_light,
+//     n_light, prim, time): Light::sample_li_at, pdf_li_at)
 //   Rgb power(float scene_radius) const;        total emitted power (W per channel)
 //   static void note(SceneFeatures&);           the flags a light of this type sets
 // and, when it has them (otherwise 0, +inf or null):

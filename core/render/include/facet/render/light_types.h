@@ -10,6 +10,7 @@
 #include "facet/render/lights/area_lamp.h"
 #include "facet/render/lights/directional.h"
 #include "facet/render/lights/emissive_disc.h"
+#include "facet/render/lights/emissive_moving.h"
 #include "facet/render/lights/emissive_sphere.h"
 #include "facet/render/lights/emissive_triangles.h"
 #include "facet/render/lights/environment.h"
@@ -20,8 +21,9 @@
 
 namespace facet::render {
 
-using LightTypes = std::variant<EmissiveParallelogram, PointLight, SpotLight, DirectionalLight,
-                                ConstantEnvironment, EnvironmentMapLight, AreaLamp,
-                                EmissiveTriangles, EmissiveSphere, EmissiveDisc, SkyNishitaLight>;
+using LightTypes =
+    std::variant<EmissiveParallelogram, PointLight, SpotLight, DirectionalLight,
+                 ConstantEnvironment, EnvironmentMapLight, AreaLamp, EmissiveTriangles,
+                 EmissiveSphere, EmissiveDisc, SkyNishitaLight, EmissiveMovingTriangles>;
 
 }  // namespace facet::render

@@ -48,6 +48,9 @@
 //    the shape), written on curve hits of shapes whose textures read it
 //    (ShapeInfo::needs_strand) only; it shares tangent_sign's place (curves have no tangent
 //    space: a normal map on curves is an error), so SurfaceHit keeps its size.
+//  - `emitter_prim`, on hits of a moving emitter's triangles only (an emitting triangle shape
+//    with motion: its instance moves or deforms), is the triangle's index in its mesh, which
+//    the light's pdf needs (Light::pdf_li_at); it shares strand_v's place (curves do not emit).
 //  - `po` is the hit point in the shape's object space (its transform's inverse; for a
 //    prototype's shape, its own frame within the prototype) only on shapes whose material or
 //    emission has a procedural texture reading object or generated coordinates
@@ -122,7 +125,10 @@ struct SurfaceHit {
     Vec3 dpdu_uv{0.f}, dpdv_uv{0.f};  // dp/du and dp/dv (with uv; see conventions)
     glm::vec4 color{1.f};             // vertex colour (see conventions)
     Vec3 po{0.f};                     // object-space point (see conventions)
-    float strand_v = 0.f;             // curves: along the strand (see conventions)
+    union {
+        float strand_v = 0.f;        // curves: along the strand (see conventions)
+        std::uint32_t emitter_prim;  // a moving emitter's hit: its triangle (Light::pdf_li_at)
+    };
 
     // Curves: the hit's position across its strand, h in [-1, 1] (see conventions).
     float strand_across() const { return float(strand_h) * (1.f / 32767.f); }
