@@ -20,6 +20,9 @@ assimp-testmodels BoxTextured, copied there and given a metallic-roughness textu
   under the HDRI, max_depth 16 (issue 25's glass scene).
 - ec_tex / ec_const: rough_tex / rough_const with the sphere a GGX lobe with energy
   compensation and Schlick f0 (0.9, 0.6, 0.3), its alpha the checker / 0.275.
+- <model>_tex / <model>_const for principled_hair, translucent, velvet, mix and subsurface (the
+  two-stage units, staged through ModelInfo::make): rough_const with the sphere that model,
+  some parameters checkers (8 cells per uv unit) / the checkers' means.
 With --callgrind, the render phase's instructions of each pair instead (callgrind_table).
 Each pair is timed with farm-bench (median of --runs, the ratio pair by pair), 1 thread.
 Prints markdown.
@@ -128,10 +131,41 @@ def write_scenes(out):
         files[key] = os.path.join(out, key + ".json")
         with open(files[key], "w") as f:
             json.dump(s, f, indent=1)
+    # The two-stage model units (ModelInfo::make): the ball textured by checkers against its
+    # constant twin (the checkers' mean).
+    def checker(a, b):
+        return {"checker": {"colors": [a, b], "scale": 8}}
+    units = {
+        "principled_hair": ({"color": checker([0.3, 0.2, 0.1], [0.6, 0.5, 0.3]),
+                             "roughness": checker(0.2, 0.5)},
+                            {"color": [0.45, 0.35, 0.2], "roughness": 0.35}),
+        "translucent": ({"transmittance": checker([0.3, 0.5, 0.7], [0.8, 0.6, 0.2])},
+                        {"transmittance": [0.55, 0.55, 0.45]}),
+        "velvet": ({"reflectance": checker([0.3, 0.5, 0.7], [0.8, 0.6, 0.2]),
+                    "sigma": checker(0.3, 0.8)},
+                   {"reflectance": [0.55, 0.55, 0.45], "sigma": 0.55}),
+        "mix": ({"weight": checker(0.2, 0.8)}, {"weight": 0.5}),
+        "subsurface": ({"color": checker([0.3, 0.5, 0.7], [0.8, 0.6, 0.2])},
+                       {"color": [0.55, 0.55, 0.45]}),
+    }
+    fixed = {"mix": {"materials": [{"model": "lambert", "reflectance": 0.6},
+                                   {"model": "ggx", "alpha": 0.3}]},
+             "subsurface": {"radius": [0.3, 0.1, 0.05]}}
+    for model, (tex, const) in units.items():
+        for key, params in ((model + "_tex", tex), (model + "_const", const)):
+            with open(files["rough_const"]) as f:
+                s = json.load(f)
+            s["materials"]["ball"] = {"model": model, **fixed.get(model, {}), **params}
+            files[key] = os.path.join(out, key + ".json")
+            with open(files[key], "w") as f:
+                json.dump(s, f, indent=1)
     return files
 
 
-PAIRS = (("box_mr", "box_plain"), ("rough_tex", "rough_const"), ("ec_tex", "ec_const"))
+PAIRS = (("box_mr", "box_plain"), ("rough_tex", "rough_const"), ("ec_tex", "ec_const"),
+         ("principled_hair_tex", "principled_hair_const"), ("translucent_tex", "translucent_const"),
+         ("velvet_tex", "velvet_const"), ("mix_tex", "mix_const"),
+         ("subsurface_tex", "subsurface_const"))
 
 
 def callgrind_table(a, files):

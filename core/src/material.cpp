@@ -122,7 +122,7 @@ Material::Material(const InlineBxDF& unit)
     : m_unit(unit), m_flags(unit.flags()), m_special(true), m_anisotropic(unit.reads_tangent()) {}
 
 Material Material::with_subsurface(Material fallback, Subsurface s) {
-    fallback.m_subsurface = std::make_shared<const Subsurface>(std::move(s));
+    fallback.m_subsurface.emplace(std::move(s));
     return fallback;
 }
 
@@ -132,8 +132,7 @@ Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const 
     if (weight <= 0.f) return *a;
     if (weight >= 1.f) return *b;
     Material m(std::nullopt, std::nullopt, std::nullopt);
-    m.m_combination = std::make_shared<const Combination>(
-        Combination{Combine::Mix, a, b, 1.f - weight, weight, 1.f - weight});
+    m.m_combination.emplace(Combination{Combine::Mix, a, b, 1.f - weight, weight, 1.f - weight});
     m.m_flags = a->flags() | b->flags();
     m.m_special = true;
     m.m_anisotropic = a->anisotropic() || b->anisotropic();
@@ -145,8 +144,7 @@ Material Material::mix(std::shared_ptr<const Material> a, std::shared_ptr<const 
                        MixWeight weight, float param) {
     if (weight == MixWeight::Constant) return mix(std::move(a), std::move(b), param);
     Material m = mix(a, b, 0.5f);
-    m.m_combination = std::make_shared<const Combination>(
-        Combination{Combine::Mix, a, b, 0.5f, 0.5f, 0.5f, weight, param});
+    m.m_combination.emplace(Combination{Combine::Mix, a, b, 0.5f, 0.5f, 0.5f, weight, param});
     return m;
 }
 
@@ -193,8 +191,7 @@ Material Material::add(std::shared_ptr<const Material> a, std::shared_ptr<const 
     Material m(std::nullopt, std::nullopt, std::nullopt);
     // Sampling 50/50: a per-direction albedo estimate of arbitrary children would cost a
     // table per child at every (textured) construction; the pdf stays exact either way.
-    m.m_combination =
-        std::make_shared<const Combination>(Combination{Combine::Add, a, b, 1.f, 1.f, 0.5f});
+    m.m_combination.emplace(Combination{Combine::Add, a, b, 1.f, 1.f, 0.5f});
     m.m_flags = a->flags() | b->flags();
     m.m_special = true;
     m.m_anisotropic = a->anisotropic() || b->anisotropic();

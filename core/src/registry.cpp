@@ -93,7 +93,10 @@ Material make_material(std::string_view model, const ParamSet& params,
     }
     for (const auto& c : children)
         if (!c) throw r.error("materials", "a sub-material is missing");
-    return info->build(r, children);
+    if (!info->make) return info->build(r, children);
+    ParamValues v;
+    info->read(r, v);
+    return info->make(v, children);
 }
 
 std::string closest_name(std::string_view name, const std::vector<std::string>& candidates) {

@@ -7,6 +7,7 @@
 #include <cmath>
 
 #include "facet/reflectance.h"
+#include "models/model_unit.h"
 
 namespace facet {
 
@@ -50,12 +51,30 @@ float mu_node(int k) {
 }  // namespace
 
 std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const Material& base,
+                                                   const ParamSet& params,
                                                    std::span<const std::string> varying,
                                                    std::span<const Range> ranges) {
     StagedMaterial s(base);
     using F = Family;
-    // The model's unit names its family (facet/registry.h); the base must be that model.
     const ModelInfo* info = find_model(model);
+    if (info && info->make) {
+        // A two-stage unit: its own reader, once, and its builder per hit.
+        for (const std::string& name : varying) {
+            const ParamInfo* p = info->param(name);
+            if (!p || (p->type != ParamType::Number && p->type != ParamType::Color))
+                return std::nullopt;
+            s.m_unit_slots.push_back(std::uint8_t(p - info->params.data()));
+        }
+        try {
+            ParamReader r(*info, params);
+            info->read(r, s.m_unit_values);
+        } catch (const ParamError&) {
+            return std::nullopt;  // the caller validated `params`: not reached
+        }
+        s.m_unit = info;
+        return s;
+    }
+    // The model's unit names its family (facet/registry.h); the base must be that model.
     const StagedFamily family = info ? info->staged : StagedFamily::None;
     bool matches = false;
     switch (family) {
@@ -356,7 +375,12 @@ StagedMaterial::Values StagedMaterial::constants() const {
     return v;
 }
 
-Material StagedMaterial::at(std::span<const DVec3> values) const {
+Material StagedMaterial::at(std::span<const DVec3> values, Children children) const {
+    if (m_unit) {
+        ParamValues v = m_unit_values;
+        for (std::size_t i = 0; i < m_unit_slots.size(); ++i) v[m_unit_slots[i]] = values[i];
+        return m_unit->make(v, children);
+    }
     if (m_family == Family::Principled) {
         PrincipledParams p = m_base.principled()->params();
         for (std::size_t i = 0; i < m_slots.size(); ++i) {

@@ -32,6 +32,19 @@ TEST(Registry, EveryModelBuildsWithDefaults) {
     }
 }
 
+// A unit builds in one stage (build) or two (read and make, ModelInfo), never both or neither,
+// and a two-stage unit's parameters fit ParamValues (the indices past kMax would write out of
+// the block).
+TEST(Registry, EveryModelHasOneBuilder) {
+    for (const auto& m : model_table()) {
+        EXPECT_EQ(bool(m.read), bool(m.make)) << m.name;
+        EXPECT_NE(bool(m.build), bool(m.make)) << m.name;
+        if (m.make) {
+            EXPECT_LE(m.params.size(), ParamValues::kMax) << m.name;
+        }
+    }
+}
+
 TEST(Registry, UnknownModelSuggestsClosest) {
     ParamError e = expect_error("lamber", {});
     EXPECT_EQ(e.param(), "");

@@ -308,6 +308,14 @@ TEST(SceneLoader, FeaturesOfSimpleScenes) {
     EXPECT_FALSE(b.features().can_reflect);
     EXPECT_FALSE(b.features().emitter_visible);
     EXPECT_TRUE(b.features().has_area);
+    // Reflection-only unit BxDFs reflect (they were taken for black: a scene whose only
+    // surfaces were velvet or a hair's reflection lobe rendered them black).
+    for (const char* m : {R"({"model": "velvet"})", R"({"model": "hair"})"}) {
+        const std::string one = R"([{"type": "sphere", "center": [0,0,0], "radius": 1,
+                                     "material": )" +
+                                std::string(m) + "}]";
+        EXPECT_TRUE(load_scene_from_string(scene_with(one), "v.json").features().can_reflect) << m;
+    }
     // The same emitter in front of the camera is visible; an environment always is.
     shapes = R"([{"type": "sphere", "center": [0,0,-3], "radius": 1, "emission": 1}])";
     EXPECT_TRUE(

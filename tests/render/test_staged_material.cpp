@@ -95,15 +95,18 @@ constexpr int kUvs = 20;
 
 // Compares the staged and the rebuilt material at kUvs random uv, 20 direction pairs each:
 // eval (f, pdf) always, sample_f when bit-exactness is expected (lobe choice is then equal).
-void compare(const fr::Scene& s, double tol) {
-    ASSERT_EQ(s.textured_materials().size(), 1u);
-    ASSERT_TRUE(s.textured_materials()[0].staged) << "not staged";
+// `count` textured materials (a combination's textured children come first): the last is
+// compared.
+void compare(const fr::Scene& s, double tol, std::size_t count = 1) {
+    ASSERT_EQ(s.textured_materials().size(), count);
+    const std::size_t m = count - 1;
+    ASSERT_TRUE(s.textured_materials()[m].staged) << "not staged";
     std::mt19937 rng(7);
     std::uniform_real_distribution<float> u01(0.f, 1.f);
     for (int i = 0; i < kUvs; ++i) {
         const Vec2 uv(u01(rng), u01(rng));
-        const Material a = s.textured_material(0, uv, {});
-        const Material b = s.textured_material_rebuilt(0, uv, {});
+        const Material a = s.textured_material(m, uv, {});
+        const Material b = s.textured_material_rebuilt(m, uv, {});
         ASSERT_EQ(a.flags(), b.flags());
         for (int j = 0; j < 20; ++j) {
             const Vec3 wo = random_direction(rng, !b.transmissive());
@@ -181,6 +184,98 @@ TEST(StagedMaterial, DielectricsAreBitIdentical) {
                        tex(random_image("g11", 1, 0.3f, 18), 2.5) + R"(, "transmittance": )" +
                        tex(random_image("c8", 3, 0.f, 19), 1) + "}"),
             0.0);
+}
+
+// The two-stage units (ModelInfo::read and make) are staged whatever their textured
+// parameters: the same builder on the same values as the registry, so the same bits.
+TEST(StagedMaterial, PrincipledHairIsBitIdentical) {
+    compare(scene_with(R"({"model": "principled_hair", "color": )" +
+                       tex(random_image("c21", 3, 0.f, 40), 1) + R"(, "roughness": )" +
+                       tex(random_image("g19", 1, 0.f, 41), 1) + R"(, "radial_roughness": )" +
+                       tex(random_image("g20", 1, 0.f, 42), 1) + R"(, "coat": )" +
+                       tex(random_image("g21", 1, 0.f, 43), 1) + R"(, "offset": )" +
+                       tex(random_image("g22", 1, 0.f, 44), 0.1) + R"(, "ior": 1.4})"),
+            0.0);
+    compare(scene_with(R"({"model": "principled_hair", "parametrization": "melanin", )"
+                       R"("melanin": )" +
+                       tex(random_image("g23", 1, 0.f, 45), 1) + R"(, "melanin_redness": )" +
+                       tex(random_image("g24", 1, 0.f, 46), 1) + R"(, "tint": )" +
+                       tex(random_image("c22", 3, 0.f, 47), 1) + R"(, "random": )" +
+                       tex(random_image("g25", 1, 0.f, 48), 1) + R"(, "random_roughness": )" +
+                       tex(random_image("g26", 1, 0.f, 49), 1) + R"(, "random_color": )" +
+                       tex(random_image("g27", 1, 0.f, 50), 1) + R"(, "ior": )" +
+                       tex(random_image("g28", 1, 0.34f, 51), 3) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "principled_hair", "parametrization": "absorption", )"
+                       R"("absorption_coefficient": )" +
+                       tex(random_image("c23", 3, 0.f, 52), 4) + "}"),
+            0.0);
+}
+
+TEST(StagedMaterial, HairTranslucentAndVelvetAreBitIdentical) {
+    compare(scene_with(R"({"model": "hair", "component": "transmission", "color": )" +
+                       tex(random_image("c24", 3, 0.f, 53), 1) + R"(, "offset": )" +
+                       tex(random_image("g29", 1, 0.f, 54), 0.2) + R"(, "roughness_u": )" +
+                       tex(random_image("g30", 1, 0.f, 55), 1) + R"(, "roughness_v": )" +
+                       tex(random_image("g31", 1, 0.f, 56), 1) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "translucent", "transmittance": )" +
+                       tex(random_image("c25", 3, 0.f, 57), 1) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "velvet", "reflectance": )" +
+                       tex(random_image("c26", 3, 0.f, 58), 1) + R"(, "sigma": )" +
+                       tex(random_image("g32", 1, 0.f, 59), 1) + "}"),
+            0.0);
+}
+
+// Subsurface: the fallback lobe as compare() checks it, and the walk's coefficients.
+TEST(StagedMaterial, SubsurfaceIsBitIdentical) {
+    const fr::Scene s = scene_with(
+        R"({"model": "subsurface", "color": )" + tex(random_image("c28", 3, 0.f, 65), 1) +
+        R"(, "radius": )" + tex(random_image("c29", 3, 0.2f, 66), 1) + R"(, "scale": )" +
+        tex(random_image("g37", 1, 0.1f, 67), 0.5) + R"(, "anisotropy": )" +
+        tex(random_image("g38", 1, 0.f, 68), 0.9) + R"(, "ior": )" +
+        tex(random_image("g39", 1, 0.4f, 69), 3.8) + "}");
+    compare(s, 0.0);
+    std::mt19937 rng(9);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    for (int i = 0; i < kUvs; ++i) {
+        const Vec2 uv(u01(rng), u01(rng));
+        const Material a = s.textured_material(0, uv, {});
+        const Material b = s.textured_material_rebuilt(0, uv, {});
+        ASSERT_TRUE(a.subsurface() && b.subsurface());
+        const facet::SubsurfaceWalk &wa = a.subsurface()->lobe.walk,
+                                    &wb = b.subsurface()->lobe.walk;
+        EXPECT_EQ(a.subsurface()->lobe.weight, b.subsurface()->lobe.weight);
+        EXPECT_EQ(wa.sigma_t, wb.sigma_t);
+        EXPECT_EQ(wa.alpha, wb.alpha);
+        EXPECT_EQ(wa.entry_weight, wb.entry_weight);
+        EXPECT_EQ(wa.g, wb.g);
+        EXPECT_EQ(wa.diffusion_length, wb.diffusion_length);
+        EXPECT_EQ(wa.phase_log, wb.phase_log);
+        EXPECT_EQ(a.subsurface()->probability, b.subsurface()->probability);
+    }
+}
+
+// Combinations: a textured weight with constant children, and textured children (built at the
+// hit, each through its own staged build) under a constant or view-dependent weight.
+TEST(StagedMaterial, MixAndAddAreBitIdentical) {
+    compare(scene_with(R"({"model": "mix", "weight": )" + tex(random_image("g33", 1, 0.f, 60), 1) +
+                       R"(, "materials": [{"model": "lambert", "reflectance": 0.7},
+                                          {"model": "ggx", "alpha": 0.3}]})"),
+            0.0);
+    compare(scene_with(R"({"model": "mix", "factor": "fresnel", "ior": )" +
+                       tex(random_image("g34", 1, 0.3f, 61), 2.5) +
+                       R"(, "materials": [{"model": "velvet", "sigma": )" +
+                       tex(random_image("g35", 1, 0.f, 62), 1) +
+                       R"(}, {"model": "ggx", "alpha": 0.3}]})"),
+            0.0, 2);
+    compare(scene_with(R"({"model": "add", "materials": [{"model": "translucent", )"
+                       R"("transmittance": )" +
+                       tex(random_image("c27", 3, 0.f, 63), 1) +
+                       R"(}, {"model": "principled_hair", "roughness": )" +
+                       tex(random_image("g36", 1, 0.f, 64), 1) + "}]}"),
+            0.0, 3);
 }
 
 // A composite whose glossy lobe is constant keeps the exact Eg table (computed once).

@@ -127,7 +127,7 @@ class Material {
         float probability = 1.f;  // of choosing the lobe at a vertex (else `surface`)
     };
     static Material with_subsurface(Material fallback, Subsurface s);
-    const Subsurface* subsurface() const { return m_subsurface.get(); }
+    const Subsurface* subsurface() const { return m_subsurface ? &*m_subsurface : nullptr; }
 
     // Combinations (header comment). mix() with weight 0 or 1 returns a copy of a or b itself.
     enum class Combine : std::uint8_t { Mix, Add };
@@ -175,7 +175,7 @@ class Material {
     // Some lobe reads the tangent direction (an anisotropic microfacet lobe or a unit BxDF that
     // reads it, facet/inline_bxdf.h, here or in a child).
     bool anisotropic() const { return m_anisotropic; }
-    const Combination* combination() const { return m_combination.get(); }
+    const Combination* combination() const { return m_combination ? &*m_combination : nullptr; }
     // The model unit's BxDF (facet/inline_bxdf.h), if the material is one.
     const std::optional<InlineBxDF>& unit() const { return m_unit; }
     const OrenNayarReflection* oren_nayar() const {
@@ -228,8 +228,9 @@ class Material {
     std::optional<ThinDielectricBxDF> m_thin;
     std::optional<PrincipledBxDF> m_principled;
     std::optional<InlineBxDF> m_unit;
-    std::shared_ptr<const Combination> m_combination;
-    std::shared_ptr<const Subsurface> m_subsurface;
+    // Held in place: a per-hit combination or walk allocates nothing of its own.
+    std::optional<Combination> m_combination;
+    std::optional<Subsurface> m_subsurface;
     BxDFFlags m_flags = BxDFFlags::None;
     bool m_special = false;  // one of the rare kinds: f, pdf and sample_f go to special_*
     bool m_anisotropic = false;

@@ -10,6 +10,7 @@
 //  - Colours are linear RGB; a number given where a colour is expected means grey.
 #pragma once
 
+#include <array>
 #include <cstdint>
 #include <initializer_list>
 #include <map>
@@ -84,6 +85,25 @@ enum class StagedFamily : std::uint8_t {
 class ParamReader;  // a ParamSet read against a model's table (core/src/models/model_unit.h)
 using Children = std::span<const std::shared_ptr<const Material>>;
 
+// A model's parameter values by their index in ModelInfo::params, for the two-stage builders
+// (ModelInfo::read, make): a number in x (as a ParamSet holds it: all three channels equal),
+// a colour's channels (a float colour is exact in double), a choice's index among its
+// ParamInfo::choices in x, a flag 0 or 1 in x; a Materials entry is unused. Fixed-size, so a
+// per-hit build neither allocates nor looks up names.
+class ParamValues {
+  public:
+    static constexpr std::size_t kMax = 16;  // parameters of a two-stage model, at most
+    DVec3& operator[](std::size_t i) { return m_values[i]; }
+    const DVec3& operator[](std::size_t i) const { return m_values[i]; }
+    double number(std::size_t i) const { return m_values[i].x; }
+    Rgb color(std::size_t i) const { return Rgb(m_values[i]); }
+    int choice(std::size_t i) const { return int(m_values[i].x); }
+    bool flag(std::size_t i) const { return m_values[i].x != 0.0; }
+
+  private:
+    std::array<DVec3, kMax> m_values{};
+};
+
 // One model: a unit core/src/models/<model>.cpp defines its ModelInfo, and registry.cpp lists
 // it. Everything that deals in models reads these fields instead of comparing names: the JSON
 // reader and writer and build_scene (parameters, children), `facet brdf models` and
@@ -97,6 +117,15 @@ struct ModelInfo {
     // The unit's builder: the material from its parameters (read and range-checked through
     // `r`, which throws ParamError) and its `children` (already counted).
     Material (*build)(ParamReader& r, Children children) = nullptr;
+    // Or the builder in two stages (both set, `build` null; at most ParamValues::kMax
+    // parameters): `read` checks the parameters through `r` (throwing ParamError) and stores
+    // each in `v` at its index, unchanged; `make` builds the material from those values and the
+    // children, with no string handling and no throw, and computes everything derived from them.
+    // The staged build (facet/staged_material.h) reads a textured material's constants once and
+    // at each hit sets its textured parameters' values and calls `make` alone: a unit with
+    // `make` is staged whatever its textured (number or colour) parameters are.
+    void (*read)(ParamReader& r, ParamValues& v) = nullptr;
+    Material (*make)(const ParamValues& v, Children children) = nullptr;
     // The parameter that is the model's diffuse reflectance, or "": the one a POV-Ray pigment
     // carries (the brdf finish multiplies the pigment into it; 1 when not given).
     std::string diffuse_param = {};

@@ -14,9 +14,14 @@
 //    varying parameters (the scene builder uses their largest): its constants are read from it.
 //    The caller guarantees that every value passed to at() lies in the ranges given to make()
 //    and is valid for the model (the scene builder validates the extremes of each texture).
-//  - make() returns nullopt where the model or a varying parameter is not staged (mix, add,
-//    Blinn exponents, anisotropic alpha_u/alpha_v, conductor eta/k, a composite's ior with a
-//    glossy lobe, a composite's f0 with energy compensation); callers then build per hit.
+//  - A model unit with a two-stage builder (ModelInfo::read and make: principled_hair, hair,
+//    translucent, velvet, mix, add, subsurface) is staged whatever its varying parameters: make()
+//    reads the constants once (ModelInfo::read of `params`, the parameters `base` was built
+//    from), and at() sets the varying values and calls ModelInfo::make with the children given.
+//    It is the same code on the same values as the registry's build: bit for bit.
+//  - make() returns nullopt where the model or a varying parameter is not staged (the
+//    families' Blinn exponents, anisotropic alpha_u/alpha_v, conductor eta/k, a composite's ior
+//    with a glossy lobe, a composite's f0 with energy compensation); callers then build per hit.
 //
 // Exactness against make_material at the same values:
 //  - bit for bit for lambert, oren_nayar, principled, mirror, ggx/beckmann/blinn (the same
@@ -60,13 +65,16 @@ class StagedMaterial {
     // Nodes of the composite's Eg tables over sqrt(alpha) (when alpha varies).
     static constexpr int kAlphaNodes = 48;
 
-    // `varying[i]` is the registry's name of value i of at(); ranges[i] its range.
+    // `varying[i]` is the registry's name of value i of at(); ranges[i] its range. `params`:
+    // the parameters `base` was built from (read by the two-stage units).
     static std::optional<StagedMaterial> make(std::string_view model, const Material& base,
+                                              const ParamSet& params,
                                               std::span<const std::string> varying,
                                               std::span<const Range> ranges);
 
-    // The material at these values (one per varying name, in make()'s order).
-    Material at(std::span<const DVec3> values) const;
+    // The material at these values (one per varying name, in make()'s order), with these
+    // sub-materials (a combination's, built at the same hit; empty for the others).
+    Material at(std::span<const DVec3> values, Children children = {}) const;
 
   private:
     using Family = StagedFamily;
@@ -109,6 +117,11 @@ class StagedMaterial {
     DielectricBxDF::Compensation dielectric_compensation(std::size_t i, float t) const;
 
     Family m_family = Family::Lambert;
+    // A two-stage unit (ModelInfo::make; then m_family is unused): its constants and the index
+    // of each varying value's parameter.
+    const ModelInfo* m_unit = nullptr;
+    ParamValues m_unit_values;
+    std::vector<std::uint8_t> m_unit_slots;
     std::vector<Slot> m_slots;
     Material m_base;  // the constants' source (see the header comment)
     // Composite: Eg per alpha node, A (the f0 slope; zero unless f0 varies) and B; one node

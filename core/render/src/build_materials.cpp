@@ -565,13 +565,21 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
 // values (with a conversion: its sources' largest), validated by build_model.
 void Builder::stage(TexturedMaterial& tm, const Material& base,
                     const MaterialConversion* conversion) {
-    // A subsurface walk is built by the model itself (the staged lobes have none).
-    if (base.subsurface()) return;
+    // A subsurface walk is built by the model itself (the families' lobes have none; a
+    // two-stage unit builds it).
+    const ModelInfo* info = find_model(tm.model);
+    if (base.subsurface() && !(info && info->make)) return;
     using Range = StagedMaterial::Range;
     constexpr std::size_t kMax = TexturedMaterial::kMaxStaged;
     auto value = [](const TexturedMaterial::Slot& s, const Rgb& v) {
         return s.color ? DVec3(v) : DVec3(double(v.r));
     };
+    // The parameters `base` was built from (build_model: every slot at its largest value).
+    ParamSet params = tm.params;
+    for (const TexturedMaterial::Slot& s : tm.slots)
+        params.set(s.name, s.color ? ParamValue(s.texture->max_value())
+                                   : ParamValue(double(s.texture->max_value().r)));
+    if (conversion) params = conversion->convert(params);
     std::vector<std::string> names;
     std::vector<Range> ranges;
     if (tm.slots.size() > kMax) return;
@@ -623,7 +631,7 @@ void Builder::stage(TexturedMaterial& tm, const Material& base,
         }
         tm.convert_values = conversion->convert_values;
     }
-    std::optional<StagedMaterial> st = StagedMaterial::make(tm.model, base, names, ranges);
+    std::optional<StagedMaterial> st = StagedMaterial::make(tm.model, base, params, names, ranges);
     if (!st) {
         tm.sources.clear(), tm.slot_source.clear(), tm.convert_values = nullptr;
         return;

@@ -14,6 +14,8 @@ bool Builder::reflects(const Material& m) {
     if (m.transmissive()) return true;  // a dielectric reflects at least its Fresnel part
     if (const Material::Combination* c = m.combination()) return reflects(*c->a) || reflects(*c->b);
     if (m.oren_nayar()) return max_component(m.oren_nayar()->rho()) > 0.f;
+    // Another unit BxDF (velvet, hair's reflection, ...): whatever its lobes are.
+    if (m.unit()) return m.unit()->flags() != BxDFFlags::None;
     if (m.diffuse() && max_component(m.diffuse()->rho()) > 0.f) return true;
     if (m.glossy()) return true;
     if (m.principled()) return m.principled()->flags() != BxDFFlags::None;

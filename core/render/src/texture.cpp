@@ -13,6 +13,19 @@ namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
 
+// A combination's sub-materials at p: its textured children built there (one allocation
+// each), the constant ones shared.
+using Children2 = std::array<std::shared_ptr<const Material>, 2>;
+void textured_children(const Scene& scene, const TexturedMaterial& tm, const TexturePoint& p,
+                       Children2& children) {
+    for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
+        const TexturedMaterial::Child& c = tm.children[k];
+        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
+                                            scene.textured_material(std::size_t(c.textured), p))
+                                      : c.constant;
+    }
+}
+
 }  // namespace
 
 Texture::Texture(std::shared_ptr<const TextureSource> source, Rgb min, Rgb max, unsigned inputs,
@@ -143,7 +156,12 @@ Material Scene::textured_material(std::size_t index, const TexturePoint& p) cons
                 s.color ? DVec3(v) : DVec3(double(v.r));
         }
         if (tm.convert_values) tm.convert_values(in.data(), out.data());
-        return tm.staged->at(std::span(out.data(), tm.num_staged));
+        if (tm.children.empty()) return tm.staged->at(std::span(out.data(), tm.num_staged));
+        Children2 children;
+        textured_children(*this, tm, p, children);
+        return tm.staged->at(
+            std::span(out.data(), tm.num_staged),
+            std::span(children.data(), std::min(tm.children.size(), children.size())));
     }
     return textured_material_rebuilt(index, p);
 }
@@ -156,15 +174,8 @@ Material Scene::textured_material_rebuilt(std::size_t index, const TexturePoint&
             glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
         params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
     }
-    // A combination's textured children are built at the same point (one allocation each).
-    std::array<std::shared_ptr<const Material>, 2> children;
-    for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
-        const TexturedMaterial::Child& c = tm.children[k];
-        children[k] =
-            c.textured >= 0
-                ? std::make_shared<const Material>(textured_material(std::size_t(c.textured), p))
-                : c.constant;
-    }
+    Children2 children;
+    textured_children(*this, tm, p, children);
     try {
         return make_material(
             tm.model, tm.convert ? tm.convert(params) : params,

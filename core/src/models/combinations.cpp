@@ -3,6 +3,12 @@
 
 namespace facet {
 
+namespace {
+// mix's parameters' indices in its table (ParamValues), and its factor's choices.
+enum Param : std::size_t { kMaterials, kWeight, kFactor, kIor, kBlend };
+enum Factor : int { kConstant, kFresnel, kLayerFresnel, kLayerFacing };
+}  // namespace
+
 const ModelInfo& mix_model() {
     static const ModelInfo m{
         .name = "mix",
@@ -25,23 +31,28 @@ const ModelInfo& mix_model() {
                    models::number("blend", "0.5",
                                   "the Layer Weight node's Blend (factor = layer_*), in [0, 1]")},
         .children = 2,
-        .build =
-            [](ParamReader& r, Children c) {
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                const int factor = r.choice(v, kFactor);
+                const std::string because = "with factor = " + r.choice(r.name(kFactor));
+                if (factor != kConstant) r.forbid("weight", because);
+                if (factor != kFresnel) r.forbid("ior", because);
+                if (factor != kLayerFresnel && factor != kLayerFacing) r.forbid("blend", because);
+                if (factor == kConstant) r.number(v, kWeight, 0.5, 0.0, 1.0);
+                if (factor == kFresnel) r.number(v, kIor, 1.45, 0.0, models::kMaxIor);
+                if (factor == kLayerFresnel || factor == kLayerFacing)
+                    r.number(v, kBlend, 0.5, 0.0, 1.0);
+            },
+        .make =
+            [](const ParamValues& v, Children c) {
                 using W = Material::MixWeight;
-                const std::string factor = r.choice("factor");
-                const std::string because = "with factor = " + factor;
-                if (factor != "constant") r.forbid("weight", because);
-                if (factor != "fresnel") r.forbid("ior", because);
-                if (factor != "layer_fresnel" && factor != "layer_facing")
-                    r.forbid("blend", because);
-                if (factor == "constant")
-                    return Material::mix(c[0], c[1], float(r.number("weight", 0.5, 0.0, 1.0)));
-                if (factor == "fresnel")
-                    return Material::mix(c[0], c[1], W::Fresnel,
-                                         float(r.number("ior", 1.45, 0.0, models::kMaxIor)));
+                const int factor = v.choice(kFactor);
+                if (factor == kConstant) return Material::mix(c[0], c[1], float(v.number(kWeight)));
+                if (factor == kFresnel)
+                    return Material::mix(c[0], c[1], W::Fresnel, float(v.number(kIor)));
                 return Material::mix(c[0], c[1],
-                                     factor == "layer_fresnel" ? W::LayerFresnel : W::LayerFacing,
-                                     float(r.number("blend", 0.5, 0.0, 1.0)));
+                                     factor == kLayerFresnel ? W::LayerFresnel : W::LayerFacing,
+                                     float(v.number(kBlend)));
             },
         .pov_finish = false};
     return m;
@@ -56,7 +67,8 @@ const ModelInfo& add_model() {
             "warns)",
         .params = {models::materials_param()},
         .children = 2,
-        .build = [](ParamReader&, Children c) { return Material::add(c[0], c[1]); },
+        .read = [](ParamReader&, ParamValues&) {},
+        .make = [](const ParamValues&, Children c) { return Material::add(c[0], c[1]); },
         .pov_finish = false};
     return m;
 }

@@ -116,6 +116,9 @@ class HairFibre {
     bool m_transmission;
 };
 
+// The parameters' indices in the table below (ParamValues); component 1 is transmission.
+enum Param : std::size_t { kComponent, kColor, kOffset, kRoughnessU, kRoughnessV };
+
 }  // namespace
 
 const ModelInfo& hair_model() {
@@ -138,14 +141,19 @@ const ModelInfo& hair_model() {
                    models::number("roughness_v", "1",
                                   "roughness about the fibre (Blender's RoughnessV), in [0, 1] "
                                   "(below 0.001 it is 0.001)")},
-        .build =
-            [](ParamReader& r, Children) {
-                const bool transmission = r.choice("component") == "transmission";
-                const Rgb color = r.color("color", Rgb(0.8f), 0.0, 1.0);
-                const double offset = r.number("offset", 0.0, -0.5 * kPiD, 0.5 * kPiD);
-                const double ru = r.number("roughness_u", 0.1, 0.0, 1.0);
-                const double rv = r.number("roughness_v", 1.0, 0.0, 1.0);
-                return Material(InlineBxDF(HairFibre(transmission, color, offset, ru, rv)));
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.choice(v, kComponent);
+                r.color(v, kColor, Rgb(0.8f), 0.0, 1.0);
+                r.number(v, kOffset, 0.0, -0.5 * kPiD, 0.5 * kPiD);
+                r.number(v, kRoughnessU, 0.1, 0.0, 1.0);
+                r.number(v, kRoughnessV, 1.0, 0.0, 1.0);
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(InlineBxDF(HairFibre(v.choice(kComponent) == 1, v.color(kColor),
+                                                     v.number(kOffset), v.number(kRoughnessU),
+                                                     v.number(kRoughnessV))));
             },
         .pov_finish = false};
     return m;

@@ -142,6 +142,25 @@ bool ParamReader::boolean(const std::string& name, bool def) {
     return *b;
 }
 
+double ParamReader::number(ParamValues& v, std::size_t i, double def, double lo, double hi) {
+    const double x = number(name(i), def, lo, hi);
+    v[i] = DVec3(x);
+    return x;
+}
+
+Rgb ParamReader::color(ParamValues& v, std::size_t i, Rgb def, double lo, double hi) {
+    const Rgb c = color(name(i), def, lo, hi);
+    v[i] = DVec3(c);
+    return c;
+}
+
+int ParamReader::choice(ParamValues& v, std::size_t i) {
+    const std::vector<std::string>& choices = m_model.params[i].choices;
+    const int k = int(std::find(choices.begin(), choices.end(), choice(name(i))) - choices.begin());
+    v[i] = DVec3(double(k));
+    return k;
+}
+
 void ParamReader::forbid(const std::string& name, const std::string& because) {
     if (has(name)) throw error(name, "has no effect " + because);
 }

@@ -61,6 +61,13 @@ class ParamReader {
     // A String parameter: one of its ParamInfo::choices, its default when not given.
     std::string choice(const std::string& name);
     bool boolean(const std::string& name, bool def);
+    // The two-stage units (ModelInfo::read): parameter i of the model's table (its index in
+    // ModelInfo::params) read as above and stored in v[i] (ParamValues' conventions); choice
+    // returns the index of the value among the choices.
+    const std::string& name(std::size_t i) const { return m_model.params[i].name; }
+    double number(ParamValues& v, std::size_t i, double def, double lo, double hi);
+    Rgb color(ParamValues& v, std::size_t i, Rgb def, double lo, double hi);
+    int choice(ParamValues& v, std::size_t i);
     // Parameters that were given but that the chosen options make meaningless are errors:
     // silently ignoring "ior" under fresnel = conductor hides a user's mistake.
     void forbid(const std::string& name, const std::string& because);

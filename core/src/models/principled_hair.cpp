@@ -257,6 +257,26 @@ DVec3 sigma_from_color(const Rgb& c, double x) {
     return s;
 }
 
+// The parameters' indices in the table below (ParamValues), and the parametrizations.
+enum Param : std::size_t {
+    kParametrization,
+    kColor,
+    kMelanin,
+    kMelaninRedness,
+    kTint,
+    kAbsorption,
+    kRoughness,
+    kRadialRoughness,
+    kCoat,
+    kIor,
+    kOffset,
+    kRandomRoughness,
+    kRandomColor,
+    kRandom
+};
+enum Parametrization : int { kColorKind, kMelaninKind, kAbsorptionKind };
+constexpr const char* kParametrizations[] = {"color", "melanin", "absorption"};
+
 }  // namespace
 
 const ModelInfo& principled_hair_model() {
@@ -270,7 +290,7 @@ const ModelInfo& principled_hair_model() {
                                 "how the absorption is given: color (Blender's Direct Coloring), "
                                 "melanin (Melanin Concentration) or absorption (Absorption "
                                 "Coefficient)",
-                                {"color", "melanin", "absorption"}),
+                                {kParametrizations[0], kParametrizations[1], kParametrizations[2]}),
                    models::color("color", "0.017513 0.005763 0.002059",
                                  "the hair's colour (parametrization color), in [0, 1]"),
                    models::number("melanin", "0.8",
@@ -301,42 +321,58 @@ const ModelInfo& principled_hair_model() {
                                   "(parametrization melanin), in [0, 1]"),
                    models::number("random", "0",
                                   "the random value of the strand (Blender's Random), in [0, 1]")},
-        .build =
-            [](ParamReader& r, Children) {
-                const std::string kind = r.choice("parametrization");
-                const std::string because = "with parametrization " + kind;
-                if (kind != "color") r.forbid("color", because);
-                if (kind != "absorption") r.forbid("absorption_coefficient", because);
-                if (kind != "melanin")
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                const int kind = r.choice(v, kParametrization);
+                const std::string because =
+                    std::string("with parametrization ") + kParametrizations[kind];
+                if (kind != kColorKind) r.forbid("color", because);
+                if (kind != kAbsorptionKind) r.forbid("absorption_coefficient", because);
+                if (kind != kMelaninKind)
                     for (const char* p : {"melanin", "melanin_redness", "tint", "random_color"})
                         r.forbid(p, because);
-                const double random = r.number("random", 0.0, 0.0, 1.0);
-                const double factor =
-                    1.0 + 2.0 * (random - 0.5) * r.number("random_roughness", 0.0, 0.0, 1.0);
-                const double roughness = r.number("roughness", 0.3, 0.0, 1.0) * factor;
-                const double radial = r.number("radial_roughness", 0.3, 0.0, 1.0) * factor;
+                r.number(v, kRandom, 0.0, 0.0, 1.0);
+                r.number(v, kRandomRoughness, 0.0, 0.0, 1.0);
+                r.number(v, kRoughness, 0.3, 0.0, 1.0);
+                r.number(v, kRadialRoughness, 0.3, 0.0, 1.0);
+                if (kind == kAbsorptionKind) {
+                    r.color(v, kAbsorption, Rgb(0.245531f, 0.52f, 1.365f), 0.0, 1000.0);
+                } else if (kind == kMelaninKind) {
+                    r.number(v, kMelanin, 0.8, 0.0, 1.0);
+                    r.number(v, kMelaninRedness, 1.0, 0.0, 1.0);
+                    r.number(v, kRandomColor, 0.0, 0.0, 1.0);
+                    r.color(v, kTint, Rgb(1.f), 0.0, 1.0);
+                } else {
+                    r.color(v, kColor, Rgb(0.017513f, 0.005763f, 0.002059f), 0.0, 1.0);
+                }
+                r.number(v, kCoat, 0.0, 0.0, 1.0);
+                r.number(v, kIor, 1.55, 1.0, 1000.0);
+                r.number(v, kOffset, 2.0 * kPiD / 180.0, -0.5 * kPiD, 0.5 * kPiD);
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                const int kind = v.choice(kParametrization);
+                const double random = v.number(kRandom);
+                const double factor = 1.0 + 2.0 * (random - 0.5) * v.number(kRandomRoughness);
+                const double roughness = v.number(kRoughness) * factor;
+                const double radial = v.number(kRadialRoughness) * factor;
                 DVec3 sigma;
-                if (kind == "absorption") {
-                    sigma = DVec3(r.color("absorption_coefficient", Rgb(0.245531f, 0.52f, 1.365f),
-                                          0.0, 1000.0));
-                } else if (kind == "melanin") {
-                    double melanin = r.number("melanin", 0.8, 0.0, 1.0);
-                    const double redness = r.number("melanin_redness", 1.0, 0.0, 1.0);
-                    melanin *= 1.0 + 2.0 * (random - 0.5) * r.number("random_color", 0.0, 0.0, 1.0);
+                if (kind == kAbsorptionKind) {
+                    sigma = DVec3(v.color(kAbsorption));
+                } else if (kind == kMelaninKind) {
+                    double melanin = v.number(kMelanin);
+                    const double redness = v.number(kMelaninRedness);
+                    melanin *= 1.0 + 2.0 * (random - 0.5) * v.number(kRandomColor);
                     melanin = -std::log(std::max(1.0 - melanin, 1e-4));
                     const double eu = melanin * (1.0 - redness), pheo = melanin * redness;
                     sigma = eu * DVec3(0.506, 0.841, 1.653) + pheo * DVec3(0.343, 0.733, 1.924) +
-                            sigma_from_color(r.color("tint", Rgb(1.f), 0.0, 1.0), radial);
+                            sigma_from_color(v.color(kTint), radial);
                 } else {
-                    sigma = sigma_from_color(
-                        r.color("color", Rgb(0.017513f, 0.005763f, 0.002059f), 0.0, 1.0), radial);
+                    sigma = sigma_from_color(v.color(kColor), radial);
                 }
-                const double coat = r.number("coat", 0.0, 0.0, 1.0);
-                const double ior = r.number("ior", 1.55, 1.0, 1000.0);
-                const double offset =
-                    r.number("offset", 2.0 * kPiD / 180.0, -0.5 * kPiD, 0.5 * kPiD);
                 return Material(
-                    InlineBxDF(PrincipledHair(Rgb(sigma), roughness, radial, coat, offset, ior)));
+                    InlineBxDF(PrincipledHair(Rgb(sigma), roughness, radial, v.number(kCoat),
+                                              v.number(kOffset), v.number(kIor))));
             },
         .pov_finish = false};
     return m;

@@ -54,6 +54,11 @@ SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefi
     return in;
 }
 
+namespace {
+// The parameters' indices in subsurface's table (ParamValues); method 1 is the fixed radius.
+enum Param : std::size_t { kColor, kScale, kRadius, kIor, kAnisotropy, kMethod };
+}  // namespace
+
 const ModelInfo& subsurface_model() {
     static const ModelInfo m{
         .name = "subsurface",
@@ -66,11 +71,32 @@ const ModelInfo& subsurface_model() {
                             "Color: the surface albedo the walk reproduces, in [0, 1]"),
               models::number("scale", "1", "Scale: multiplies the radius, >= 0")},
              models::subsurface_walk_params("")}),
-        .build =
-            [](ParamReader& r, Children) {
-                const Rgb color = r.color("color", Rgb(0.8f), 0.0, 1.0);
-                const float scale = float(r.number("scale", 1.0, 0.0, 1e30));
-                const SubsurfaceInputs in = read_subsurface_inputs(r, "", scale);
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.color(v, kColor, Rgb(0.8f), 0.0, 1.0);
+                const float scale = float(r.number(v, kScale, 1.0, 0.0, 1e30));
+                read_subsurface_inputs(r, "", scale);  // the checks
+                r.color(v, kRadius, Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
+                r.number(v, kIor, 1.4, 1.01, 3.8);
+                r.number(v, kAnisotropy, 0.0, 0.0, 0.9);
+                r.choice(v, kMethod);
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                const Rgb color = v.color(kColor);
+                SubsurfaceInputs in;
+                in.radius = v.color(kRadius) * float(v.number(kScale));
+                in.ior = float(v.number(kIor));
+                in.anisotropy = float(v.number(kAnisotropy));
+                in.method = v.choice(kMethod) == 1 ? SubsurfaceMethod::RandomWalkFixedRadius
+                                                   : SubsurfaceMethod::RandomWalk;
+                int walked = 0;
+                for (int c = 0; c < 3; ++c) walked += in.radius[c] >= SubsurfaceLimits::kMinRadius;
+                // Between a texture's checked extremes some channels only may be walked, which
+                // read_subsurface_inputs rejects: black, as the registry's failed build is.
+                if (walked != 0 && walked != 3)
+                    return Material(std::nullopt, std::nullopt, std::nullopt);
+                in.walked = walked == 3;
                 // Cycles after a diffuse bounce (and at radius 0): a Lambertian surface.
                 Material fallback(LambertReflection(color), std::nullopt, std::nullopt);
                 if (!in.walked || max_component(color) <= 0.f) return fallback;

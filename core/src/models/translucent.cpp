@@ -41,11 +41,10 @@ const ModelInfo& translucent_model() {
             "and wi on opposite sides of the surface, 0 on the same side",
         .params = {models::color("transmittance", "0.8",
                                  "the transmitted fraction rho (Blender's Color), in [0, 1]")},
-        .build =
-            [](ParamReader& r, Children) {
-                return Material(InlineBxDF(
-                    TranslucentTransmission(r.color("transmittance", Rgb(0.8f), 0.0, 1.0))));
-            },
+        .read = [](ParamReader& r,
+                   ParamValues& v) { r.color(v, 0, Rgb(0.8f), 0.0, 1.0); },  // transmittance
+        .make = [](const ParamValues& v,
+                   Children) { return Material(InlineBxDF(TranslucentTransmission(v.color(0)))); },
         .pov_finish = false};
     return m;
 }

@@ -66,11 +66,14 @@ const ModelInfo& velvet_model() {
                    models::number("sigma", "1",
                                   "Blender's Sigma, the spread of the sheen, in [0, 1] (below "
                                   "0.01 it is 0.01)")},
-        .build =
-            [](ParamReader& r, Children) {
-                const Rgb color = r.color("reflectance", Rgb(0.8f), 0.0, 1.0);
-                return Material(
-                    InlineBxDF(VelvetReflection(color, float(r.number("sigma", 1.0, 0.0, 1.0)))));
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.color(v, 0, Rgb(0.8f), 0.0, 1.0);  // reflectance
+                r.number(v, 1, 1.0, 0.0, 1.0);       // sigma
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(InlineBxDF(VelvetReflection(v.color(0), float(v.number(1)))));
             },
         .diffuse_param = "reflectance"};
     return m;
