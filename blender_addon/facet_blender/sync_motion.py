@@ -19,9 +19,14 @@ Hair (sync_hair.py), as Cycles 3.4 samples its curve keys at the motion steps: a
 object's shape moves by the object's matrices ("motion") and, when it may deform and Deformation
 is on, gets its points at the steps ("motion_positions", object space). Particle hair is
 exported in world space: with Deformation on its keys are read again at the steps (the
-emitter's motion and the hair's own); with it off the still keys follow the emitter's matrices
-rigidly (M_step M_frame^-1 p). Strands that change in number or key count between steps render
-without motion blur (reported, by object and hair).
+emitter's motion and the hair's own: "motion_positions", world space). With Deformation off
+on an emitter that moves, the hair is moved by the emitter's matrices as Cycles 3.4 moves it
+(particle hair is geometry in the emitter's object space; without deformation motion only
+the object's transform motion moves it, interpolated decomposed, a rotation by slerp): its
+points are carried into the emitter's object space (M_frame^-1 p), its "transform" is the
+emitter's matrix at the frame and its "motion" the emitter's matrices at the steps, so that a
+spinning emitter's strands sweep the arc and do not cut the chord. Strands that change in
+number or key count between steps render without motion blur (reported, by object and hair).
 
 Emitting meshes move and deform like any other (the core samples them at the path's time, as
 Cycles 3.4's triangle lights are). Lamps (point, spot, area, sun) are not evaluated at the
@@ -216,9 +221,10 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
     finally:
         frame_set(frame0[0], frame0[1])
     for k, (src, read) in sorted(hair.items()):
-        steps = hair_steps[k] if read else _rigid_hair(data["shapes"][k], frame_mats[src[1]],
-                                                       mats[src[1]])
-        _add_hair_deformation(data["shapes"][k], src[1], steps, problems)
+        if read:
+            _add_hair_deformation(data["shapes"][k], src[1], hair_steps[k], problems)
+        else:
+            _carry_hair(data["shapes"][k], frame_mats[src[1]], mats[src[1]])
     for name in sorted(deforming):
         d = _deformation(name, meshes[name], mesh_sources[name], problems)
         if d is None:
@@ -251,18 +257,20 @@ def _read_hair_step(obj, src):
     return sync_hair.particle_step_points(obj, src[2], src[3])
 
 
-def _rigid_hair(shape, frame_matrix, step_mats):
-    """A world-space hair shape's points carried by the emitter's matrices (M_step
-    M_frame^-1 p): its motion steps without deformation."""
-    counts = [c - 2 for c in shape["counts"]]
+def _carry_hair(shape, frame_matrix, step_mats):
+    """A world-space particle hair shape moved by its emitter's matrices at the steps
+    (`step_mats`, its matrix at the frame `frame_matrix`), as Cycles moves particle hair
+    without deformation motion: its points carried into the emitter's object space, placed by
+    the frame's matrix ("transform") and moved by the steps' ("motion"). A still emitter
+    leaves the shape as it is."""
+    if all(m == step_mats[0] for m in step_mats[1:]):
+        return
     p = np.array(shape["points"], np.float64).reshape(-1, 3)
-    ph = np.concatenate([p, np.ones((len(p), 1))], axis=1)
-    inv = np.linalg.inv(frame_matrix)
-    out = []
-    for m in step_mats:
-        q = (np.array(m, np.float64) @ inv @ ph.T).T[:, :3]
-        out.append((counts, [float(v) for v in q.ravel()]))
-    return out
+    inv = np.linalg.inv(np.asarray(frame_matrix, np.float64))
+    q = p @ inv[:3, :3].T + inv[:3, 3]
+    shape["points"] = [float(v) for v in q.ravel()]
+    shape["transform"] = [[float(v) for v in row] for row in np.asarray(frame_matrix)]
+    shape["motion"] = [[[float(v) for v in row] for row in m] for m in step_mats]
 
 
 def _add_hair_deformation(shape, name, steps, problems):

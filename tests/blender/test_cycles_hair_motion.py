@@ -5,9 +5,10 @@ Export (no render): the hair sphere of test_cycles_hair.py (300 hairs grown from
 radius 0.04, tip 0.02) keyframed to move 3 units per frame along x (linear), at frame 1 with
 shutter 0.5 centred on it and the object's default 3 motion steps: its hair shape gets
 "motion_positions" of 3 steps, each the still points translated by the emitter's own step
-translation (to 1e-5); the same with the object's Deformation off (the still keys carried by the
-emitter's matrices); the object's Motion Blur off, or the viewport's export (no frame_set): still
-hair; nothing is reported as rendered without motion blur. A CURVES object (Add > Curves > Random) moving 1.5
+translation (to 1e-5); with the object's Deformation off the hair shape gets the emitter's 3
+matrices as its "motion" instead (no "motion_positions"); the object's Motion Blur off, or the
+viewport's export (no frame_set): still hair; nothing is reported as rendered without motion
+blur. A CURVES object (Add > Curves > Random) moving 1.5
 units per frame gets the object's 3 matrices as its shape's "motion" and no deformation steps.
 A CURVES object whose points a geometry nodes modifier slides 1.5 units per frame gets
 "motion_positions" of 3 steps 0.375 apart, and renders against Cycles within the same bounds
@@ -21,9 +22,17 @@ each; the bounds of the other Cycles tests (test_cycles_motion.py):
   noise floor (the same between Cycles seeds 1 and 2).
 The same for the deforming CURVES object (Add > Curves > Random in front of the factory cube,
 as test_cycles_hair.py's Curves case).
-Ability to fail (also for the deforming Curves): Facet with the hair's motion steps dropped (the sphere blurred, its hair
-sharp at the frame: what the addon rendered before) must break a bound, and so must Facet with
-motion blur off altogether (numbers printed)."""
+The same for the furry sphere spinning SPIN = 90 degrees about z over the shutter with
+Deformation off, seen from above (case_spin): its hair shape carries the emitter's matrices as
+its "motion" (points in the emitter's object space, no "motion_positions"), which Facet
+interpolates decomposed (the rotation by slerp) as Cycles 3.4 moves particle hair with its
+object's transform motion; the control exports the still keys carried by the emitter's
+matrices as "motion_positions" (interpolated linearly: the strands cut the chord between
+steps) and must break a bound.
+Ability to fail (also for the deforming Curves): Facet with the hair's motion steps dropped
+(the sphere blurred, its hair sharp at the frame: what the addon rendered before) must break a
+bound, and so must Facet with motion blur off altogether (numbers printed)."""
+import math
 import os
 import sys
 
@@ -42,6 +51,7 @@ MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
 MAX_DEPTH = 2
 SLIDE = 1.5  # the deforming Curves' slide, units per frame
+SPIN = 90.0  # the spinning emitter's turn over the shutter, degrees
 
 
 def export(frame_set=None):
@@ -80,7 +90,8 @@ def blur_on(scene):
     scene.cycles.motion_blur_position = 'CENTER'
 
 
-def moving_fur_scene():
+def fur_scene():
+    """The furry sphere "Ball" at the origin (still), its sun and dark world."""
     scene = bt.factory_scene(W, H)
     bpy.data.objects.remove(bpy.data.objects["Cube"])
     bpy.data.objects.remove(bpy.data.objects["Light"])
@@ -97,7 +108,31 @@ def moving_fur_scene():
     scene.world.use_nodes = True
     bg = scene.world.node_tree.nodes["Background"]
     bg.inputs["Color"].default_value = (0.05, 0.05, 0.05, 1.0)
+    return scene, sphere
+
+
+def moving_fur_scene():
+    scene, sphere = fur_scene()
     move(sphere, -3.0, 3.0)
+    blur_on(scene)
+    return scene, sphere
+
+
+def spinning_fur_scene():
+    """The furry sphere spinning SPIN degrees about z over the shutter (linear keys, 2 SPIN
+    per frame; shutter 0.5 centred on frame 1: 3 steps SPIN / 2 apart) with Deformation off,
+    seen from above (the camera 6 units up, looking down z), so that the strands sweep their
+    arcs in the image plane."""
+    scene, sphere = fur_scene()
+    for frame, z in ((0, 0.0), (2, 4.0 * math.radians(SPIN))):
+        sphere.rotation_euler = (0.0, 0.0, z)
+        sphere.keyframe_insert("rotation_euler", frame=frame)
+    for fc in sphere.animation_data.action.fcurves:
+        for kp in fc.keyframe_points:
+            kp.interpolation = 'LINEAR'
+    sphere.cycles.use_deform_motion = False
+    scene.camera.location = (0.0, 0.0, 6.0)
+    scene.camera.rotation_euler = (0.0, 0.0, 0.0)
     blur_on(scene)
     return scene, sphere
 
@@ -129,10 +164,15 @@ def case_export():
     ball = [s for s in data["shapes"] if s.get("name") == "Ball"]
     bt.check(ball and len(ball[0].get("motion", ())) == 3, "the emitter moves by its matrices")
     bt.check(not [p for p in problems if "motion blur" in p], "nothing reported: %s" % problems)
-    # Deformation off: the still keys carried by the emitter's matrices.
+    # Deformation off: the hair moved by the emitter's matrices (its shape's motion), its
+    # points in the emitter's object space (the emitter at the origin at frame 1: unchanged).
     sphere.cycles.use_deform_motion = False
     data, problems = export(scene_frame_set)
-    check_translated(hair_of(data), [-0.75, 0.0, 0.75])
+    hd = hair_of(data)
+    bt.check("motion_positions" not in hd and hd.get("motion") == ball[0]["motion"],
+             "Deformation off: the emitter's matrices as the hair's motion: %s"
+             % [r[0][3] for r in hd.get("motion", [])])
+    bt.check(np.allclose(hd["points"], h["points"], atol=1e-5), "object space = world space")
     sphere.cycles.use_deform_motion = True
     # The object's Motion Blur off: still hair (as Cycles), nothing reported.
     sphere.cycles.use_motion_blur = False
@@ -210,6 +250,60 @@ def case_render(out):
              % (ratio, rel))
 
 
+def chord_export(shape, frame_matrix, step_mats):
+    """The linear export that sync_motion._carry_hair replaces: the world-space points carried
+    by the emitter's matrices (M_step M_frame^-1 p) as motion_positions, which the core
+    interpolates linearly: a spinning emitter's strands cut the chord between steps."""
+    p = np.array(shape["points"]).reshape(-1, 3)
+    rel = [np.array(m) @ np.linalg.inv(frame_matrix) for m in step_mats]
+    shape["motion_positions"] = [[float(v) for v in (p @ r[:3, :3].T + r[:3, 3]).ravel()]
+                                 for r in rel]
+
+
+def case_spin(out):
+    """The furry sphere spinning SPIN degrees over the shutter, Deformation off: its hair
+    shape gets the emitter's 3 matrices as its motion (no motion_positions), its points in the
+    emitter's object space (placed by its transform where the still export puts them); against
+    Cycles within the bounds; the chord export (chord_export) must break one."""
+    scene, sphere = spinning_fur_scene()
+    data, problems = export(scene_frame_set)
+    h = hair_of(data)
+    ball = [s for s in data["shapes"] if s.get("name") == "Ball"][0]
+    m = h.get("motion", [])
+    bt.check(len(m) == 3 and m == ball.get("motion") and "motion_positions" not in h,
+             "the spinning emitter's matrices as the hair's motion, no motion_positions: %s"
+             % sorted(h))
+    angles = [math.degrees(math.atan2(r[1][0], r[0][0])) % 360.0 for r in m]
+    bt.check(np.allclose(np.diff(angles), SPIN / 2.0, atol=1e-3), "steps %s" % angles)
+    sphere.cycles.use_motion_blur = False
+    still = hair_of(export(scene_frame_set)[0])
+    sphere.cycles.use_motion_blur = True
+    bt.check("transform" not in still and "motion" not in still, "still hair: world space")
+    t = np.array(h["transform"])
+    p = np.array(h["points"]).reshape(-1, 3) @ t[:3, :3].T + t[:3, 3]
+    bt.check(np.allclose(p, np.array(still["points"]).reshape(-1, 3), atol=1e-5),
+             "the object-space points placed by the transform: off by %g"
+             % np.abs(p - np.array(still["points"]).reshape(-1, 3)).max())
+    bt.check(not [p for p in problems if "motion blur" in p], "nothing reported: %s" % problems)
+    imgs = renders(scene, "spin", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("spinning", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the spinning furry sphere: mean ratio %.4f within %g, block RMSE %.2f <= %g x "
+             "floor" % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    from facet_blender import sync_motion
+    saved = sync_motion._carry_hair
+    sync_motion._carry_hair = chord_export
+    try:
+        chord = renders(scene, "spin_chord", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_motion._carry_hair = saved
+    ratio, rel = compare("chord", chord, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "the chord export breaks a bound (mean ratio %.4f, block RMSE %.2f x floor): the "
+             "test can fail" % (ratio, rel))
+
+
 def wave_modifier(ob, speed):
     """A geometry nodes modifier moving every point of `ob` by speed (frame - 1) along x: the
     points deform over the shutter (the object itself stays)."""
@@ -281,6 +375,7 @@ def main():
     bt.enable_addon()
     case_export()
     case_curves_export()
+    case_spin(out)
     case_render(out)
     case_curves_deform_render(out)
 
