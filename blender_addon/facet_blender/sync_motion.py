@@ -18,15 +18,16 @@ it renders without deformation blur, as Cycles does, and the report names the ob
 Hair (sync_hair.py), as Cycles 3.4 samples its curve keys at the motion steps: a CURVES
 object's shape moves by the object's matrices ("motion") and, when it may deform and Deformation
 is on, gets its points at the steps ("motion_positions", object space). Particle hair is
-exported in world space: with Deformation on its keys are read again at the steps (the
-emitter's motion and the hair's own: "motion_positions", world space). With Deformation off
-on an emitter that moves, the hair is moved by the emitter's matrices as Cycles 3.4 moves it
-(particle hair is geometry in the emitter's object space; without deformation motion only
-the object's transform motion moves it, interpolated decomposed, a rotation by slerp): its
-points are carried into the emitter's object space (M_frame^-1 p), its "transform" is the
-emitter's matrix at the frame and its "motion" the emitter's matrices at the steps, so that a
-spinning emitter's strands sweep the arc and do not cut the chord. Strands that change in
-number or key count between steps render without motion blur (reported, by object and hair).
+exported in world space. On an emitter that moves, it is moved by the emitter's matrices as
+Cycles 3.4 moves it (particle hair is geometry in the emitter's object space, moved by the
+object's transform motion, interpolated decomposed, a rotation by slerp): its points are
+carried into the emitter's object space (M_frame^-1 p), its "transform" is the emitter's
+matrix at the frame and its "motion" the emitter's matrices at the steps, so that a spinning
+emitter's strands sweep the arc and do not cut the chord; with Deformation on its keys are
+read again at the steps and carried into the emitter's space at each step (M_i^-1 p_i), and
+become "motion_positions" where they move in it (the hair's own motion). On a still emitter,
+Deformation on gives the keys at the steps in world space. Strands that change in number or
+key count between steps render without motion blur (reported, by object and hair).
 
 Emitting meshes move and deform like any other (the core samples them at the path's time, as
 Cycles 3.4's triangle lights are). Lamps (point, spot, area, sun) are not evaluated at the
@@ -221,10 +222,14 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
     finally:
         frame_set(frame0[0], frame0[1])
     for k, (src, read) in sorted(hair.items()):
+        shape, steps = data["shapes"][k], hair_steps.get(k)
+        if src[0] == "particle" and _carry_hair(shape, frame_mats[src[1]], mats[src[1]]) \
+                and read:
+            # World-space keys at the steps -> the emitter's object space at each step.
+            steps = [None if st is None else (st[0], _to_object(st[1], m))
+                     for st, m in zip(steps, mats[src[1]])]
         if read:
-            _add_hair_deformation(data["shapes"][k], src[1], hair_steps[k], problems)
-        else:
-            _carry_hair(data["shapes"][k], frame_mats[src[1]], mats[src[1]])
+            _add_hair_deformation(shape, src[1], steps, problems)
     for name in sorted(deforming):
         d = _deformation(name, meshes[name], mesh_sources[name], problems)
         if d is None:
@@ -257,20 +262,25 @@ def _read_hair_step(obj, src):
     return sync_hair.particle_step_points(obj, src[2], src[3])
 
 
+def _to_object(points, matrix):
+    """Flat world-space points -> the flat points in the space of object matrix `matrix`."""
+    inv = np.linalg.inv(np.asarray(matrix, np.float64))
+    q = np.asarray(points, np.float64).reshape(-1, 3) @ inv[:3, :3].T + inv[:3, 3]
+    return [float(v) for v in q.ravel()]
+
+
 def _carry_hair(shape, frame_matrix, step_mats):
     """A world-space particle hair shape moved by its emitter's matrices at the steps
-    (`step_mats`, its matrix at the frame `frame_matrix`), as Cycles moves particle hair
-    without deformation motion: its points carried into the emitter's object space, placed by
-    the frame's matrix ("transform") and moved by the steps' ("motion"). A still emitter
-    leaves the shape as it is."""
+    (`step_mats`, its matrix at the frame `frame_matrix`), as Cycles moves particle hair (in
+    the emitter's object space, by the object's motion): its points carried into the
+    emitter's object space, placed by the frame's matrix ("transform") and moved by the
+    steps' ("motion"); True. A still emitter leaves the shape as it is (False)."""
     if all(m == step_mats[0] for m in step_mats[1:]):
-        return
-    p = np.array(shape["points"], np.float64).reshape(-1, 3)
-    inv = np.linalg.inv(np.asarray(frame_matrix, np.float64))
-    q = p @ inv[:3, :3].T + inv[:3, 3]
-    shape["points"] = [float(v) for v in q.ravel()]
+        return False
+    shape["points"] = _to_object(shape["points"], frame_matrix)
     shape["transform"] = [[float(v) for v in row] for row in np.asarray(frame_matrix)]
     shape["motion"] = [[[float(v) for v in row] for row in m] for m in step_mats]
+    return True
 
 
 def _add_hair_deformation(shape, name, steps, problems):
@@ -282,7 +292,12 @@ def _add_hair_deformation(shape, name, steps, problems):
                         "or key count differs between motion steps): rendered without "
                         "deformation motion blur, as Cycles does" % (name, shape["name"]))
         return
-    if all(st[1] == steps[0][1] for st in steps[1:]):
+    # Keys that do not move (to rounding: a rigid emitter's keys carried into its space at
+    # each step) need no deformation.
+    first = np.asarray(steps[0][1], np.float64)
+    tol = 1e-6 * max(float(np.abs(first).max(initial=0.0)), 1e-6)
+    if all(np.abs(np.asarray(st[1], np.float64) - first).max(initial=0.0) <= tol
+           for st in steps[1:]):
         return
     shape["motion_positions"] = [st[1] for st in steps]
 
