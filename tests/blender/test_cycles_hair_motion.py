@@ -43,6 +43,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
                                 "python"))
 from facet_testsupport import blender_harness as bt  # noqa: E402
 from facet_testsupport import cycles_scene as cs  # noqa: E402
+from facet_testsupport.motion_scene import (  # noqa: E402
+    blur_on, export, linear, scene_frame_set)
 
 W, H = 64, 48
 BLOCK = 8
@@ -52,16 +54,6 @@ RMSE_FACTOR = 3.0
 MAX_DEPTH = 2
 SLIDE = 1.5  # the deforming Curves' slide, units per frame
 SPIN = 90.0  # the spinning emitter's turn over the shutter, degrees
-
-
-def export(frame_set=None):
-    from facet_blender import export as ex
-    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={},
-                           frame_set=frame_set)
-
-
-def scene_frame_set(frame, subframe):
-    bpy.context.scene.frame_set(frame, subframe=subframe)
 
 
 def diffuse(name, colour):
@@ -78,16 +70,8 @@ def move(obj, x0=-1.5, x1=1.5):
     for frame, x in ((0, x0), (2, x1)):
         obj.location = (x, y, z)
         obj.keyframe_insert("location", frame=frame)
-    for fc in obj.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
+    linear(obj)
 
-
-def blur_on(scene):
-    scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = 0.5
-    scene.cycles.motion_blur_position = 'CENTER'
 
 
 def fur_scene():
@@ -127,9 +111,7 @@ def spinning_fur_scene():
     for frame, z in ((0, 0.0), (2, 4.0 * math.radians(SPIN))):
         sphere.rotation_euler = (0.0, 0.0, z)
         sphere.keyframe_insert("rotation_euler", frame=frame)
-    for fc in sphere.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
+    linear(sphere)
     sphere.cycles.use_deform_motion = False
     scene.camera.location = (0.0, 0.0, 6.0)
     scene.camera.rotation_euler = (0.0, 0.0, 0.0)

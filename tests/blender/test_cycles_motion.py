@@ -29,6 +29,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
                                 "python"))
 from facet_testsupport import blender_harness as bt  # noqa: E402
 from facet_testsupport import cycles_scene as cs  # noqa: E402
+from facet_testsupport.motion_scene import (  # noqa: E402
+    blur_on, export, grey_floor, linear, scene_frame_set)
 
 W, H = 64, 48
 BLOCK = 8
@@ -45,16 +47,6 @@ def block_rmse(a, b):
     return cs.block_rmse(a, b, BLOCK)
 
 
-def export(frame_set=None):
-    from facet_blender import export as ex
-    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={},
-                           frame_set=frame_set)
-
-
-def scene_frame_set(frame, subframe):
-    bpy.context.scene.frame_set(frame, subframe=subframe)
-
-
 def moving_scene():
     scene = bt.factory_scene(W, H)
     cube = bpy.data.objects["Cube"]
@@ -62,20 +54,9 @@ def moving_scene():
     for frame, x in ((0, -1.5), (2, 1.5)):
         cube.location = (x, 0.0, 0.0)
         cube.keyframe_insert("location", frame=frame)
-    for fc in cube.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
-    scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = 0.5
-    scene.cycles.motion_blur_position = 'CENTER'
-    bpy.ops.mesh.primitive_plane_add(size=20.0, location=(0.0, 0.0, -0.5))
-    floor = bpy.context.active_object
-    mat, nt, out = bt.new_material("FloorMat")
-    d = nt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
-    nt.links.new(d.outputs[0], out.inputs["Surface"])
-    floor.data.materials.append(mat)
+    linear(cube)
+    blur_on(scene)
+    grey_floor(-0.5)
     return scene, cube
 
 
@@ -205,9 +186,7 @@ def case_rotate_and_camera(out):
     for frame, angle in ((0, -90.0), (2, 90.0)):
         cube.rotation_euler = (0.0, 0.0, angle * 3.141592653589793 / 180.0)
         cube.keyframe_insert("rotation_euler", frame=frame)
-    for fc in cube.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
+    linear(cube)
     cam = scene.camera
     cases = [("rotating", None)]
 
@@ -218,9 +197,7 @@ def case_rotate_and_camera(out):
         for frame, dx in ((0, -1.0), (2, 1.0)):
             cam.location.x = x0 + dx
             cam.keyframe_insert("location", frame=frame)
-        for fc in cam.animation_data.action.fcurves:
-            for kp in fc.keyframe_points:
-                kp.interpolation = 'LINEAR'
+        linear(cam)
     cases.append(("camera", camera_moves))
     for name, setup in cases:
         if setup is not None:
@@ -335,9 +312,7 @@ def twisting_scene(smooth=False):
     for frame, deg in ((0, -360.0), (2, 360.0)):
         mod.angle = deg * 3.141592653589793 / 180.0
         box.keyframe_insert('modifiers["Twist"].angle', frame=frame)
-    for fc in box.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
+    linear(box)
     scene.frame_set(1)
     return scene, box
 

@@ -23,6 +23,8 @@ sys.path.insert(0, os.path.join(os.path.dirname(os.path.abspath(__file__)), ".."
                                 "python"))
 from facet_testsupport import blender_harness as bt  # noqa: E402
 from facet_testsupport import cycles_scene as cs  # noqa: E402
+from facet_testsupport.motion_scene import (  # noqa: E402
+    blur_on, export, grey_floor, linear, scene_frame_set)
 
 W, H = 64, 48
 BLOCK = 8
@@ -31,21 +33,6 @@ MEAN_TOL = 0.02
 RMSE_FACTOR = 3.0
 MAX_DEPTH = 2
 
-
-def export(frame_set=None):
-    from facet_blender import export as ex
-    return ex.export_scene(bpy.context.evaluated_depsgraph_get(), mesh_cache={},
-                           frame_set=frame_set)
-
-
-def scene_frame_set(frame, subframe):
-    bpy.context.scene.frame_set(frame, subframe=subframe)
-
-
-def linear(obj):
-    for fc in obj.animation_data.action.fcurves:
-        for kp in fc.keyframe_points:
-            kp.interpolation = 'LINEAR'
 
 
 def emitter_scene():
@@ -64,17 +51,8 @@ def emitter_scene():
     nt.links.new(e.outputs[0], out.inputs["Surface"])
     cube.data.materials.clear()
     cube.data.materials.append(mat)
-    scene.frame_set(1)
-    scene.render.use_motion_blur = True
-    scene.render.motion_blur_shutter = 0.5
-    scene.cycles.motion_blur_position = 'CENTER'
-    bpy.ops.mesh.primitive_plane_add(size=20.0, location=(0.0, 0.0, -0.5))
-    floor = bpy.context.active_object
-    fmat, fnt, fout = bt.new_material("FloorMat")
-    d = fnt.nodes.new("ShaderNodeBsdfDiffuse")
-    d.inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
-    fnt.links.new(d.outputs[0], fout.inputs["Surface"])
-    floor.data.materials.append(fmat)
+    blur_on(scene)
+    grey_floor(-0.5)
     return scene, cube
 
 
