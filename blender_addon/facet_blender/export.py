@@ -19,7 +19,7 @@ import json
 
 import numpy as np
 
-from . import bake, gaps, hooks, materials, units
+from . import bake, gaps, hooks, materials, textures, units
 # By data type, as Cycles' sync (blender_camera.cpp, blender_mesh.cpp, blender_light.cpp, ...).
 from . import sync_camera, sync_hair, sync_motion, sync_volume
 from .sync_camera import export_camera
@@ -447,7 +447,7 @@ def _ray_length_lines(scene, camera, materials):
     return ["material '%s': Light Path Ray Length of camera rays is measured from the camera; "
             "Cycles measures it from Clip Start (%g m nearer along the view axis), so camera "
             "rays read it longer by %g m / cos(angle to the view axis)" % (name, start, start)
-            for name, data in materials if '"ray_length"' in json.dumps(data)]
+            for name, data in materials if textures.reads_ray(data, "ray_length")]
 
 
 def _is_shadow_catcher(obj):

@@ -318,12 +318,16 @@ def _light_path(src):
     return Result({"light_path": {"output": output}}, None, [])
 
 
-def reads_ray(tex):
-    """Whether a texture dict (or any value) reads the ray's Light Path state."""
+def reads_ray(tex, output=None):
+    """Whether a texture dict (or any value: a material's data) reads the ray's Light Path
+    state (`output`: that output of it)."""
     if isinstance(tex, dict):
-        return "light_path" in tex or any(reads_ray(v) for v in tex.values())
+        lp = tex.get("light_path")
+        if isinstance(lp, dict) and (output is None or lp.get("output") == output):
+            return True
+        return any(reads_ray(v, output) for v in tex.values())
     if isinstance(tex, (list, tuple)):
-        return any(reads_ray(v) for v in tex)
+        return any(reads_ray(v, output) for v in tex)
     return False
 
 
