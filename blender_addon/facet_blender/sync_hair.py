@@ -4,7 +4,9 @@ Cycles 3.4's blender/curves.cpp exports them to Embree.
 Particle hair (a mesh's PARTICLE_SYSTEM modifiers of type HAIR rendered as paths): every strand
 Blender evaluates (the children alone when the system has children, the parents otherwise, as
 Cycles), 2^render_step + 1 keys each (2^display_step + 1 and Display Amount's share of the
-children in the viewport's depsgraph, as Cycles) from ParticleSystem.co_hair (world space).
+children in the viewport's depsgraph, as Cycles) from ParticleSystem.co_hair (world space),
+carried into the emitter's object space and placed by its matrix, as Cycles places them (so
+that its scale scales the radii: the core's curves take the cube root of the volume scale).
 The radius at a key is Cycles' shaperadius(): with t the key's length along the strand over
 the strand's length, r = (1 - t)^p (root - tip) + tip, p = 1 + shape (shape < 0) or
 1 / (1 - shape) (shape > 0), root = radius_scale / 2 * root_radius, tip = radius_scale / 2 *
@@ -68,6 +70,18 @@ def _expanded(counts):
 
 def _flat(points):
     return [float(v) for v in np.asarray(points, np.float64).ravel()]
+
+
+def to_object(points, matrix):
+    """World-space points (n x 3, or flat) -> the flat points in the space of object matrix
+    `matrix`."""
+    inv = np.linalg.inv(np.asarray(matrix, np.float64))
+    q = np.asarray(points, np.float64).reshape(-1, 3) @ inv[:3, :3].T + inv[:3, 3]
+    return _flat(q)
+
+
+def _placement(matrix):
+    return [[float(matrix[r][c]) for c in range(4)] for r in range(4)]
 
 
 def _strands_shape(points, radii, counts, profile, uvs=None, cycles_index=None):
@@ -135,7 +149,7 @@ def particle_step_points(obj, mod_name, render):
 
 def export_particle_hair(obj, scene, reads_uv, problems, render=True):
     """The evaluated mesh object's rendered hair particle systems -> [(shape dict without
-    material, material or None, modifier name)], world space. `reads_uv(material)`: whether it
+    material, material or None, modifier name)], in the object's space placed by its matrix. `reads_uv(material)`: whether it
     reads UVs; `render`: the depsgraph is a final render's (else the viewport's: Display Steps
     and Display Amount, as Cycles' viewport render)."""
     out = []
@@ -199,6 +213,8 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
         rad = _positive(np.concatenate(radii), root, subject, problems)
         shape = _strands_shape(np.concatenate(points), rad, counts, profile,
                                uvs if textured else None, np.array(kept, np.int64))
+        shape["points"] = to_object(shape["points"], obj.matrix_world)
+        shape["transform"] = _placement(obj.matrix_world)
         shape["name"] = "%s hair '%s'" % (obj.original.name, ps.name)
         out.append((shape, mat, mod.name))
     return out
@@ -297,6 +313,6 @@ def export_curves_object(obj, matrix, scene, reads_uv, problems):
     shape = _strands_shape(pos[idx], radii, [int(c) for c in counts_all[keep]], _profile(scene),
                            uvs, np.nonzero(keep)[0])
     shape["name"] = obj.original.name
-    shape["transform"] = [[float(matrix[r][c]) for c in range(4)] for r in range(4)]
+    shape["transform"] = _placement(matrix)
     return shape, mat
 

@@ -38,6 +38,8 @@ import math
 
 import numpy as np
 
+from . import sync_hair
+
 CURVE_CELLS = 256  # the shutter curve's cells (Cycles tabulates it as finely: RAMP_TABLE_SIZE)
 
 
@@ -198,8 +200,6 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
         wanted[cam.name] = step_count(cam)
     if not wanted:
         return
-    frame_mats = {src[1]: np.array(scene.objects[src[1]].evaluated_get(depsgraph).matrix_world)
-                  for src, _ in hair.values()}
     frame0 = (scene.frame_current, scene.frame_subframe)
     times = {}
     for name, n in wanted.items():
@@ -223,11 +223,12 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
         frame_set(frame0[0], frame0[1])
     for k, (src, read) in sorted(hair.items()):
         shape, steps = data["shapes"][k], hair_steps.get(k)
-        if src[0] == "particle" and _carry_hair(shape, frame_mats[src[1]], mats[src[1]]) \
-                and read:
-            # World-space keys at the steps -> the emitter's object space at each step.
-            steps = [None if st is None else (st[0], _to_object(st[1], m))
-                     for st, m in zip(steps, mats[src[1]])]
+        if src[0] == "particle":
+            _carry_hair(shape, mats[src[1]])
+            if read:
+                # World-space keys at the steps -> the emitter's object space at each step.
+                steps = [None if st is None else (st[0], sync_hair.to_object(st[1], m))
+                         for st, m in zip(steps, mats[src[1]])]
         if read:
             _add_hair_deformation(shape, src[1], steps, problems)
     for name in sorted(deforming):
@@ -256,29 +257,18 @@ def add_motion(depsgraph, data, frame_set, shape_objects, problems, mesh_sources
 
 def _read_hair_step(obj, src):
     """A hair shape's (strand counts, flat points) read from the evaluated `obj` at a step."""
-    from . import sync_hair
     if src[0] == "curves":
         return sync_hair.curves_step_points(obj)
     return sync_hair.particle_step_points(obj, src[2], src[3])
 
 
-def _to_object(points, matrix):
-    """Flat world-space points -> the flat points in the space of object matrix `matrix`."""
-    inv = np.linalg.inv(np.asarray(matrix, np.float64))
-    q = np.asarray(points, np.float64).reshape(-1, 3) @ inv[:3, :3].T + inv[:3, 3]
-    return [float(v) for v in q.ravel()]
-
-
-def _carry_hair(shape, frame_matrix, step_mats):
-    """A world-space particle hair shape moved by its emitter's matrices at the steps
-    (`step_mats`, its matrix at the frame `frame_matrix`), as Cycles moves particle hair (in
-    the emitter's object space, by the object's motion): its points carried into the
-    emitter's object space, placed by the frame's matrix ("transform") and moved by the
-    steps' ("motion"); True. A still emitter leaves the shape as it is (False)."""
+def _carry_hair(shape, step_mats):
+    """A particle hair shape (in its emitter's object space, placed by the frame's matrix)
+    moved by the emitter's matrices at the steps (`step_mats`), as Cycles moves particle hair
+    (by the object's motion): "motion"; True. A still emitter leaves the shape as it is
+    (False)."""
     if all(m == step_mats[0] for m in step_mats[1:]):
         return False
-    shape["points"] = _to_object(shape["points"], frame_matrix)
-    shape["transform"] = [[float(v) for v in row] for row in np.asarray(frame_matrix)]
     shape["motion"] = [[[float(v) for v in row] for row in m] for m in step_mats]
     return True
 

@@ -14,8 +14,11 @@ Cycles tests state them (test_cycles_motion.py):
 - |mean luminance ratio Facet / Cycles - 1| <= 2% (Cycles: its two seeds' mean);
 - block RMSE (8 x 8 blocks' mean luminance, Facet seed 1 against Cycles seed 1) <= 3 x the
   noise floor (the same between Cycles seeds 1 and 2).
-The same for the random Curves object (a Diffuse BSDF, the sun). Ability to fail: Facet with
-every radius halved must break a bound, in both (numbers printed)."""
+The same for the random Curves object (a Diffuse BSDF, the sun), and for the furry sphere
+scaled by 0.5 (Cycles places particle hair by its emitter's matrix and scales the radii by the
+cube root of its volume scale). Ability to fail: Facet with every radius halved must break a
+bound, in the first two; the scaled sphere's hair exported in world space, radii unscaled, in
+the third (numbers printed)."""
 import os
 import sys
 
@@ -238,6 +241,34 @@ def case_render(out):
              "can fail" % (ratio, rel))
 
 
+def case_scaled_render(out):
+    """The furry sphere scaled by 0.5: its hair placed by the emitter's matrix, so the radii
+    scale as Cycles scales them; the control: world-space keys with unscaled radii."""
+    scene, sphere, mod = hair_scene()
+    sphere.scale = (0.5, 0.5, 0.5)
+    h = [s for s in export()[0]["shapes"] if s["type"] == "curves"][0]
+    bt.check(np.allclose(np.array(h["transform"])[:3, :3], 0.5 * np.eye(3)),
+             "placed by the emitter's matrix: %s" % h.get("transform"))
+    imgs = renders(scene, "scaled", out)
+    c1, c2 = imgs['CYCLES']
+    ratio, rel = compare("scaled", imgs['FACET'][0], c1, c2)
+    bt.check(abs(ratio - 1.0) <= MEAN_TOL and rel <= RMSE_FACTOR,
+             "the scaled furry sphere: mean ratio %.4f within %g, block RMSE %.2f <= %g x floor"
+             % (ratio, MEAN_TOL, rel, RMSE_FACTOR))
+    from facet_blender import sync_hair
+    saved = sync_hair.to_object, sync_hair._placement
+    sync_hair.to_object = lambda p, m: sync_hair._flat(p)
+    sync_hair._placement = lambda m: np.eye(4).tolist()
+    try:
+        world = renders(scene, "scaled_world", out, engines=('FACET',))['FACET'][0]
+    finally:
+        sync_hair.to_object, sync_hair._placement = saved
+    ratio, rel = compare("world", world, c1, c2)
+    bt.check(abs(ratio - 1.0) > MEAN_TOL or rel > RMSE_FACTOR,
+             "unscaled radii break a bound (mean ratio %.4f, block RMSE %.2f x floor): the test "
+             "can fail" % (ratio, rel))
+
+
 def case_curves_render(out):
     """Blender 3.4's random hair curves with a Diffuse BSDF under a sun against Cycles; the
     control: radii halved."""
@@ -272,6 +303,7 @@ def main():
     case_export()
     case_curves_render(out)
     case_render(out)
+    case_scaled_render(out)
 
 
 bt.run(main)
