@@ -23,9 +23,11 @@ preview_renders = 0  # material preview renders so far
 test_break = None
 
 # Counters of the viewport (Rendered shading): view_draw calls that drew an image, images
-# published by the worker, sessions started, the mean of the latest image, and denoised images
-# published (Denoise Viewport); viewport_denoised: the last (merged halves, denoised) pair.
-viewport_stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0, "denoised": 0}
+# published by the worker, sessions started, the mean of the latest image, denoised images
+# published (Denoise Viewport) and the mean samples per pixel of the last session that finished
+# (below Viewport Samples where adaptive sampling stopped tiles); viewport_denoised: the last (merged halves, denoised) pair.
+viewport_stats = {"draws": 0, "images": 0, "restarts": 0, "mean": 0.0, "denoised": 0,
+                  "mean_spp": 0.0}
 viewport_denoised = None
 
 # Counters of the exporter: meshes converted by sync_mesh.mesh_arrays (the viewport converts

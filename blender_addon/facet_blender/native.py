@@ -618,6 +618,11 @@ class Session:
         """The facet.RenderPart this session rendered (its sample range)."""
         return self._s.part()
 
+    def mean_spp(self):
+        """The samples per pixel taken on average (below spp where adaptive sampling
+        stopped tiles early)."""
+        return float(self._s.stats.mean_spp)
+
 
 def merged_shadow_catcher_pass(parts):
     """The Shadow Catcher pass of the render the parts (facet.RenderPart) make up together,

@@ -66,6 +66,13 @@ class FacetRenderSettings(bpy.types.PropertyGroup):
                                       "unbiased estimate and can blur detail no feature shows")
     viewport_spp: IntProperty(name="Viewport Samples", default=256, min=1, max=1 << 20,
                               description="samples per pixel the viewport refines to")
+    # The viewport's adaptive sampling, apart from the final render's as Cycles keeps them
+    # (its viewport Noise Threshold is off by default); Min Samples automatic.
+    viewport_adaptive_threshold: FloatProperty(
+        name="Viewport Noise Threshold", default=0.0, min=0.0, max=1.0, precision=4,
+        description="adaptive sampling in the viewport (as Noise Threshold, Min Samples "
+                    "automatic); 0 = off. Off while Denoise Viewport is on (its half-buffers "
+                    "are sample ranges)")
     viewport_denoise: BoolProperty(name="Denoise Viewport", default=False,
                                    description="denoise the viewport image once refinement "
                                                "ends (all Viewport Samples done): the samples "

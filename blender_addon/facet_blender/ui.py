@@ -75,6 +75,9 @@ class FACET_PT_render(FacetPanel, bpy.types.Panel):
         lay.prop(fs, "integrator")
         lay.prop(fs, "spp")
         lay.prop(fs, "viewport_spp")
+        sub = lay.row()
+        sub.active = not fs.viewport_denoise
+        sub.prop(fs, "viewport_adaptive_threshold")
         lay.prop(fs, "time_budget")
         col = lay.column(align=True)
         col.prop(fs, "adaptive_threshold")

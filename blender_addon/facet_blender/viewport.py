@@ -7,6 +7,8 @@ uploads the latest finished pass and draws it.
   view or the region size changed (Blender calls only view_draw for zoom, orbit and resize).
   A new post cancels the running session within a pass; the worker builds the new scene (GIL
   released) and renders.
+- Viewport Noise Threshold (Render Properties > Facet): adaptive sampling in the viewport,
+  apart from the final render's Noise Threshold (as Cycles keeps them); off while denoising.
 - Denoise Viewport (Render Properties > Facet): the samples are rendered as two sessions over
   [0, n/2) and [n/2, n), the half-buffers; while the second refines, the image shown is the
   two merged (weighted by their sample counts). Once refinement ends, the core's denoiser
@@ -22,6 +24,18 @@ import traceback
 import numpy as np
 
 from . import export, hooks, native, pixels, units
+
+
+def viewport_adaptive(render, fs):
+    """The viewport's adaptive sampling in the exported render settings `render`: Viewport
+    Noise Threshold (0 = off) with Min Samples automatic, in place of the final render's;
+    off with Denoise Viewport (its half-buffers are sample ranges, which an adaptive render
+    cannot be split into)."""
+    render.pop("adaptive_min_samples", None)
+    if fs.viewport_adaptive_threshold > 0.0 and not fs.viewport_denoise:
+        render["adaptive_threshold"] = fs.viewport_adaptive_threshold
+    else:
+        render.pop("adaptive_threshold", None)
 
 
 def view_camera(context):
@@ -82,17 +96,23 @@ class ViewportSession:
             forget_changed(self.mesh_cache, depsgraph)
             data, problems = export.export_scene(depsgraph, camera=view_camera(context),
                                                  mesh_cache=self.mesh_cache)
-            data["render"]["spp"] = depsgraph.scene.facet.viewport_spp
-            self.denoise = depsgraph.scene.facet.viewport_denoise
+            fs = depsgraph.scene.facet
+            data["render"]["spp"] = fs.viewport_spp
+            self.denoise = fs.viewport_denoise
+            viewport_adaptive(data["render"], fs)
             self.update(data)
         except Exception as e:
             traceback.print_exc()
             engine.update_stats("", "Facet: %s" % e)
 
     def view_draw(self, engine, context, depsgraph):
-        """The engine's view_draw: restarts when the view changed, draws the latest image."""
+        """The engine's view_draw: restarts when the view changed, draws the latest image;
+        a render that failed shows its error in the viewport's stats."""
         self.set_camera(view_camera(context))
         self.draw(engine, context, depsgraph.scene)
+        errors = self.errors  # the worker replaces the list, never empties it
+        if errors:
+            engine.update_stats("", "Facet: %s" % errors[-1])
 
     def update(self, data):
         self.data = data
@@ -160,6 +180,7 @@ class ViewportSession:
             hooks.viewport_stats["restarts"] += 1
             try:
                 self._render(data, denoise)
+                self.errors = []
             except Exception as e:  # shown by view_draw's engine as a report
                 traceback.print_exc()
                 self.errors.append(str(e))
@@ -200,6 +221,7 @@ class ViewportSession:
 
             if not session.render(on_pass):
                 return  # restarted or stopped: no denoising of a partial image
+            hooks.viewport_stats["mean_spp"] = session.mean_spp()
             halves.append(session.image())
         if denoise:
             img = native.denoise_halves(scene, halves[0][:, :, :3], halves[1][:, :, :3], n,

@@ -1,8 +1,10 @@
 """The 3D view's Rendered shading under Xvfb (Mesa software OpenGL): Facet's view_update /
 view_draw draw a non-empty image, and the image changes after the cube is moved (a screenshot
 test) without re-exporting the cube's mesh; with Denoise Viewport on, the image shown once
-refinement ends is the denoised one (smoother than the merged halves, same mean); then the
-material tab's previews are rendered by Facet. Runs with the UI:
+refinement ends is the denoised one (smoother than the merged halves, same mean), also with a
+Viewport Noise Threshold set (set aside while denoising); without denoising that threshold
+makes the session adaptive (mean samples per pixel below Viewport Samples); then the material
+tab's previews are rendered by Facet. Runs with the UI:
 `xvfb-run blender --factory-startup --python test_viewport.py`."""
 import os
 import sys
@@ -112,6 +114,9 @@ def step():
             world.node_tree.nodes["Background"].inputs["Color"].default_value = (0.5, 0.5, 0.5, 1)
             bpy.context.scene.facet.viewport_spp = 8  # 4 per half: keeps the phase short
             bpy.context.scene.facet.viewport_denoise = True
+            # A Viewport Noise Threshold is set aside while denoising (the halves are sample
+            # ranges, which an adaptive session refuses): the denoised image must still come.
+            bpy.context.scene.facet.viewport_adaptive_threshold = 0.1
             state["t"] = time.time()
             state["phase"] = 5
             return 0.5
@@ -137,6 +142,23 @@ def step():
                      % (roughness(den), roughness(merged)))
             bt.check(abs(den.mean() - merged.mean()) <= 0.02 * merged.mean(),
                      "denoised mean %.4g ~ merged %.4g" % (den.mean(), merged.mean()))
+            # Viewport Noise Threshold without denoising: the session stops its tiles early.
+            hooks.viewport_stats["mean_spp"] = 0.0
+            bpy.context.scene.facet.viewport_denoise = False
+            bpy.context.scene.facet.viewport_spp = 32
+            bpy.context.scene.update_tag()  # as a click in the panel: the view updates
+            state["t"] = time.time()
+            state["restarts"] = hooks.viewport_stats["restarts"]
+            state["phase"] = 6
+            return 0.5
+        if phase == 6:  # a whole adaptive session
+            if hooks.viewport_stats["mean_spp"] == 0.0 and time.time() - state["t"] < 90:
+                return 0.3
+            spp = hooks.viewport_stats["mean_spp"]
+            # Threshold 0.1 (Min Samples automatic: 16) on the grey-world floor and the cube:
+            # the tiles stop before 32 (a session ignoring the threshold takes all 32).
+            bt.check(0.0 < spp < 28.0, "Viewport Noise Threshold 0.1: mean %.1f spp of 32 "
+                     "(restarts %d -> %s)" % (spp, state["restarts"], hooks.viewport_stats))
             # Material previews (bl_use_preview): show the material tab.
             for area in bpy.context.window.screen.areas:
                 if area.type == 'PROPERTIES':
