@@ -1,9 +1,12 @@
 # Bit-identity of facet-farm against `facet render`: several tile sizes and sample chunks,
 # 2 worker processes x 1 thread and 1 in-process worker x 3 threads, stills and animations (per frame and
-# per tile), the library entry point and the command (facet-farm, python3 -m facet.farm).
+# per tile), adaptive renders (tiles only), the library entry point and the command (facet-farm,
+# python3 -m facet.farm).
+import json
 import subprocess
 import sys
 
+import numpy as np
 import pytest
 
 import facet
@@ -41,6 +44,49 @@ def test_still_bit_identical(still, client, tmp_path, tile, chunk):
     assert stats["slots"] in (2, 3)
     assert_same(image, ref)
     assert_same(facet.read_image(str(out)), ref)
+
+
+def adaptive_scene(path, threshold=0.05):
+    def edit(d):
+        d["render"]["adaptive_threshold"] = threshold
+    # 72 x 40: the image edge cuts the 16-pixel tile grid.
+    return write_scene(path, 72, 40, 64, edit=edit)
+
+
+@pytest.mark.parametrize("tile", [16, 48, None])
+def test_adaptive_bit_identical(client, tmp_path, tile):
+    """An adaptive render (render.adaptive_threshold) is split by tiles on the 16-pixel grid,
+    each task taking the whole sample range: the CLI's adaptive image bit for bit, and its
+    mean samples per pixel (--stats-json) to rounding."""
+    scene = adaptive_scene(tmp_path / "adaptive.json")
+    ref = cli_render(scene, tmp_path / "ref.exr", "--stats-json", str(tmp_path / "st.json"))
+    cli_spp = json.loads((tmp_path / "st.json").read_text())["mean_spp"]
+    plain = cli_render(scene, tmp_path / "plain.exr", "--adaptive-threshold", "0")
+    assert cli_spp < 64 and not np.array_equal(ref, plain)  # the tiles stopped early
+    stats = {}
+    [image] = farm.render_files([str(scene)], [str(tmp_path / "o.exr")], client=client,
+                                tile_size=tile, stats=stats)
+    assert_same(image, ref)
+    assert stats["mean_spp"][0] == pytest.approx(cli_spp, rel=1e-12)
+
+
+def test_adaptive_options_and_errors(client, tmp_path):
+    """--adaptive-threshold / --adaptive-min-samples override the scene's, as the CLI's; a
+    sample chunk, a tile off the grid, --denoise and bad values are errors naming the option."""
+    scene = write_scene(tmp_path / "plain.json", 48, 32, 32)
+    ref = cli_render(scene, tmp_path / "ref.exr", "--adaptive-threshold", "0.05",
+                     "--adaptive-min-samples", "8")
+    [image] = farm.render_files([str(scene)], [str(tmp_path / "o.exr")], client=client,
+                                tile_size=32, adaptive_threshold=0.05, adaptive_min_samples=8)
+    assert_same(image, ref)
+    adaptive = adaptive_scene(tmp_path / "adaptive.json")
+    for kw, where in [(dict(sample_chunk=8), "--sample-chunk"), (dict(tile_size=20), "--tile-size"),
+                      (dict(denoise=True), "--denoise"),
+                      (dict(adaptive_threshold=1.5), "--adaptive-threshold"),
+                      (dict(adaptive_threshold=float("nan")), "--adaptive-threshold"),
+                      (dict(adaptive_min_samples=-1), "--adaptive-min-samples")]:
+        with pytest.raises(farm.FarmError, match=where):
+            farm.render_files([str(adaptive)], [str(tmp_path / "e.exr")], client=client, **kw)
 
 
 def test_seed_and_spp_override(still, client, tmp_path):

@@ -6,7 +6,10 @@ returns the ``facet.RenderPart`` (fixed-point film sums). The parts merge into e
 ``facet render`` gives for the same scene and seed (film.h: integer sums, fixed tile grid), so
 neither the split, the number of workers nor the order in which tasks finish or are retried
 changes a bit of the image. An animation (several scene files) is one task per frame, or per
-tile of each frame when there are fewer frames than task slots.
+tile of each frame when there are fewer frames than task slots. An adaptive render (the scene's
+render.adaptive_threshold > 0) is split by tiles on the sessions' 16-pixel tile grid only: each
+task renders its region's whole sample range and returns the region's image, which is exactly
+the whole render's pixels there (render.h), so the pasted tiles are `facet render`'s image.
 
 Conventions:
   - Geometry travels with the tasks: the client reads each scene file, strips its mesh arrays
@@ -83,6 +86,7 @@ class ScenePayload:
     base_dir: str = "."       # absolute: the scene file's directory (error messages)
     sent_fingerprint: int | None = None  # of the description as the workers rebuild it
     digest: str = ""          # of the JSON (absolute asset paths) and the mesh files' bytes
+    adaptive: bool = False    # render.adaptive_threshold > 0: split by tiles only
 
     @property
     def key(self) -> str:
@@ -152,14 +156,27 @@ def _absolute_asset_paths(text: str, base: pathlib.Path) -> str:
 
 
 def load_payload(path: str, spp: int | None = None, seed: int | None = None,
-                 validate: bool = True) -> ScenePayload:
+                 validate: bool = True, adaptive_threshold: float | None = None,
+                 adaptive_min_samples: int | None = None) -> ScenePayload:
     """Reads a scene file into a payload; with `validate`, builds it once here so that a bad
-    scene is one FarmError naming the file and JSON pointer before any task is sent."""
+    scene is one FarmError naming the file and JSON pointer before any task is sent. The
+    adaptive options (None: the scene's) are written into the scene's render settings, which
+    the workers' sessions read."""
     path = str(path)
     try:
         desc = facet.read_scene_description(path)
     except (ValueError, RuntimeError, OSError) as e:
         raise FarmError(str(e)) from None
+    if adaptive_threshold is not None:
+        if not (0.0 <= adaptive_threshold <= 1.0):  # also NaN
+            raise FarmError(f"--adaptive-threshold: must be in [0, 1] (0 = off), got "
+                            f"{adaptive_threshold}")
+        desc.render.adaptive_threshold = float(adaptive_threshold)
+    if adaptive_min_samples is not None:
+        if adaptive_min_samples < 0:
+            raise FarmError(f"--adaptive-min-samples: must be >= 0 (0 = automatic), got "
+                            f"{adaptive_min_samples}")
+        desc.render.adaptive_min_samples = int(adaptive_min_samples)
     if validate:
         try:
             scene = facet.build_scene(desc, name=path)
@@ -201,7 +218,7 @@ def load_payload(path: str, spp: int | None = None, seed: int | None = None,
                            width=desc.camera.width, height=desc.camera.height,
                            spp=int(spp if spp is not None else settings.spp),
                            seed=int(seed if seed is not None else settings.seed),
-                           base_dir=str(base))
+                           base_dir=str(base), adaptive=settings.adaptive_threshold > 0.0)
     h = hashlib.sha1(payload.json.encode())
     for name in sorted(files):
         h.update(name.encode())
@@ -287,13 +304,27 @@ def _scene_data(payload: ScenePayload) -> ScenePayload:
     return payload
 
 
+@dataclasses.dataclass
+class AdaptivePiece:
+    """A tile of an adaptive render: its region's image (the whole render's pixels there) and
+    the mean samples per pixel its tiles took."""
+
+    region: tuple
+    image: np.ndarray
+    mean_spp: float
+
+
 def render_piece(payload: ScenePayload, region, samples, threads: int):
-    """The Dask task: renders `region` x `samples` of the payload's scene; a facet.RenderPart."""
+    """The Dask task: renders `region` x `samples` of the payload's scene; a facet.RenderPart,
+    or for an adaptive render (all its samples) an AdaptivePiece."""
     scene = _worker_scene(payload)
     session = facet.RenderSession(scene, spp=payload.spp, seed=payload.seed, region=region,
                                   samples=samples, threads=threads, time_budget=0)
     if not session.render(lambda info: not _cancel.is_set()):
         raise FarmError("cancelled")
+    if payload.adaptive:
+        return AdaptivePiece(tuple(region), np.asarray(session.image(), dtype=np.float32),
+                             float(session.stats.mean_spp))
     part = session.part()
     part.name = f"{payload.name} region {tuple(region)} samples {tuple(samples)}"
     return part
@@ -336,22 +367,36 @@ def half_chunks(spp: int, chunk: int | None):
             [(h + a, h + b) for a, b in chunks(spp - h, chunk or spp - h)])
 
 
+# The sessions' tile grid (render.h kDefaultTileSize): an adaptive render's tasks are regions on
+# it, where a region's pixels are the whole render's.
+ADAPTIVE_GRID = 16
+
+
 def plan_still(width: int, height: int, spp: int, slots: int, tile_size: int | None = None,
-               sample_chunk: int | None = None):
+               sample_chunk: int | None = None, adaptive: bool = False):
     """(regions, sample ranges) of a still, in the order the tasks are submitted (Dask runs
     independent tasks roughly in that order). Default: the largest tile of 512, 256, 128 or 64
     px giving at least 8 tiles per task slot, so a task is long against the scheduler's ~ms per
     task; and the last 2 tiles per slot cut in 4 x 4, so the wait for the last task (slots idle
     while it runs) is a sixteenth of a tile. Regions need not lie on one grid: any split merges
-    to the same image."""
+    to the same image. An adaptive render: regions on the 16-pixel grid (tile sizes multiples of
+    16), the whole sample range each."""
     if tile_size is not None and tile_size < 1:
         raise FarmError(f"--tile-size: must be >= 1, got {tile_size}")
     if sample_chunk is not None and sample_chunk < 1:
         raise FarmError(f"--sample-chunk: must be >= 1, got {sample_chunk}")
+    if adaptive and sample_chunk is not None and sample_chunk < spp:
+        raise FarmError("--sample-chunk: an adaptive render (render.adaptive_threshold > 0) is "
+                        "not split by sample range (its tiles stop at sample counts of their "
+                        "own); it is split by tiles only")
+    if adaptive and tile_size is not None and tile_size % ADAPTIVE_GRID:
+        raise FarmError(f"--tile-size: an adaptive render (render.adaptive_threshold > 0) is "
+                        f"split on its {ADAPTIVE_GRID}-pixel tile grid: give a multiple of "
+                        f"{ADAPTIVE_GRID}, got {tile_size}")
     samples = chunks(spp, sample_chunk or spp)
     if tile_size is not None:
         return tiles(width, height, tile_size), samples
-    size = 64
+    size = 64  # all candidates and their quarters are multiples of ADAPTIVE_GRID
     for candidate in (512, 256, 128):
         if len(tiles(width, height, candidate)) >= 8 * slots:
             size = candidate
@@ -425,6 +470,16 @@ def _place(job, part):
     job.image[y0:y1, x0:x1] = img
 
 
+def _place_adaptive(job, piece):
+    """Pastes an adaptive render's tile (AdaptivePiece) into the job's image."""
+    p = job.payload
+    if job.image is None:
+        job.image = np.zeros((p.height, p.width, piece.image.shape[2]), dtype=np.float32)
+    x0, y0, x1, y1 = piece.region
+    job.image[y0:y1, x0:x1] = piece.image
+    job.samples_taken += piece.mean_spp * (x1 - x0) * (y1 - y0)
+
+
 def _place_halves(job, tile):
     """Pastes a complete tile's two half-buffers (the sums of its parts below and above
     spp/2) into job.halves."""
@@ -478,6 +533,13 @@ class Job:
     raw_outputs: list = dataclasses.field(default_factory=list)  # the image before denoising
     halves: list | None = None      # the two half-buffer images (denoise)
     features: dict | None = None    # features and their variances (denoise: feature_piece)
+    samples_taken: float = 0.0      # adaptive: the samples its tiles took, summed
+
+    @property
+    def mean_spp(self) -> float:
+        """The mean samples per pixel (an adaptive render's; else its spp)."""
+        p = self.payload
+        return self.samples_taken / (p.width * p.height) if p.adaptive else float(p.spp)
 
     @property
     def tasks(self) -> int:
@@ -518,6 +580,18 @@ def _write(image, outputs):
     for out in outputs:
         pathlib.Path(out).parent.mkdir(parents=True, exist_ok=True)
         facet.write_image(image, out)
+
+
+def _finish(jobs, j, tiles_left):
+    """Job j's last piece arrived: denoise if asked, write its outputs."""
+    job = jobs[j]
+    tiles_left[j] = -1
+    if job.denoise:
+        _write(job.image, job.raw_outputs)
+        job.image, job.halves, job.features = _denoised(job), None, None
+    _write(job.image, job.outputs)
+    if len(jobs) > 1 and job.outputs:
+        job.image = None  # animations: written, dropped
 
 
 def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
@@ -582,6 +656,15 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             else:
                 if on_result:
                     on_result(part)
+                if isinstance(part, AdaptivePiece):
+                    _place_adaptive(jobs[j], part)
+                    del pending[j][r]
+                    tiles_left[j] -= 1
+                    if progress:
+                        progress.step()
+                    if tiles_left[j] == 0:
+                        _finish(jobs, j, tiles_left)
+                    continue
                 tile = pending[j][r]
                 tile.append(part)
                 if len(tile) == len(jobs[j].samples):
@@ -593,14 +676,7 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             if progress:
                 progress.step()
             if tiles_left[j] == 0:
-                job = jobs[j]
-                tiles_left[j] = -1
-                if job.denoise:
-                    _write(job.image, job.raw_outputs)
-                    job.image, job.halves, job.features = _denoised(job), None, None
-                _write(job.image, job.outputs)
-                if len(jobs) > 1 and job.outputs:
-                    job.image = None  # animations: written, dropped
+                _finish(jobs, j, tiles_left)
     except KeyboardInterrupt:
         _cancel.set()
         raise
@@ -701,7 +777,9 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
                  spp: int | None = None, seed: int | None = None, workers: int | None = None,
                  threads: int | None = None, task_threads: int = 1, timeout: float = 10.0,
                  progress: bool | None = None, client=None, stats: dict | None = None,
-                 denoise: bool = False, denoise_raw: Sequence[str] = ()):
+                 denoise: bool = False, denoise_raw: Sequence[str] = (),
+                 adaptive_threshold: float | None = None,
+                 adaptive_min_samples: int | None = None):
     """Renders scene files (one still, or the frames of an animation) on Dask; see main()."""
     if not scenes:
         raise FarmError("no scene given")
@@ -715,11 +793,17 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
                         "(out/frame_####.exr)")
     t0 = time.monotonic()
     # Validate every scene here first: a bad one is one error, before any cluster starts.
-    payloads = [load_payload(s, spp=spp, seed=seed, validate=True) for s in scenes]
+    payloads = [load_payload(s, spp=spp, seed=seed, validate=True,
+                             adaptive_threshold=adaptive_threshold,
+                             adaptive_min_samples=adaptive_min_samples) for s in scenes]
     for payload in payloads:
         if denoise and payload.spp < 2:
             raise FarmError(f"{payload.name}: --denoise: needs at least 2 samples per pixel, "
                             f"got {payload.spp}")
+        if denoise and payload.adaptive:
+            raise FarmError(f"{payload.name}: --denoise: cannot be combined with adaptive "
+                            f"sampling (render.adaptive_threshold > 0): the denoiser's "
+                            f"half-buffers are sample ranges")
     t_load = time.monotonic()
     cluster = None
     own_client = client is None
@@ -741,7 +825,7 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
                 samples = [(0, payload.spp)]
             else:
                 regions, samples = plan_still(payload.width, payload.height, payload.spp, slots,
-                                              tile_size, sample_chunk)
+                                              tile_size, sample_chunk, payload.adaptive)
             if denoise:
                 samples = half_chunks(payload.spp, sample_chunk)
             number = frame_number(payload.name, k + 1)
@@ -756,7 +840,8 @@ def render_files(scenes: Sequence[str], outputs: Sequence[str], scheduler: str |
         t_end = time.monotonic()
         if stats is not None:
             stats.update(load_s=t_load - t0, cluster_s=t_cluster - t_load,
-                         render_s=t_end - t_cluster, tasks=total, slots=slots)
+                         render_s=t_end - t_cluster, tasks=total, slots=slots,
+                         mean_spp=[job.mean_spp for job in jobs])
         return images
     finally:
         if own_client and client is not None:
@@ -782,6 +867,12 @@ def _parser():
     r.add_argument("--sample-chunk", type=int, help="samples per task (default: all)")
     r.add_argument("--spp", type=int, help="samples per pixel (default: the scene's)")
     r.add_argument("--seed", type=int, help="sampler seed (default: the scene's)")
+    r.add_argument("--adaptive-threshold", type=float,
+                   help="adaptive sampling's noise threshold in [0, 1], 0 = off (default: the "
+                   "scene's render.adaptive_threshold); split by tiles only")
+    r.add_argument("--adaptive-min-samples", type=int,
+                   help="adaptive sampling's minimum samples, 0 = automatic (default: the "
+                   "scene's)")
     r.add_argument("--workers", type=int, default=0,
                    help="local cluster: worker processes (default 0: one worker thread per core "
                    "in this process)")
@@ -827,7 +918,8 @@ def _main(args) -> int:
                      seed=args.seed, workers=args.workers, threads=args.threads,
                      task_threads=args.task_threads,
                      timeout=args.timeout, progress=args.progress, denoise=args.denoise,
-                     denoise_raw=args.denoise_raw)
+                     denoise_raw=args.denoise_raw, adaptive_threshold=args.adaptive_threshold,
+                     adaptive_min_samples=args.adaptive_min_samples)
     except FarmError as e:
         print(f"facet-farm: error: {e}", file=sys.stderr)
         return 1
