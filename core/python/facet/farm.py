@@ -656,18 +656,13 @@ def run_jobs(client, jobs: Sequence[Job], threads_per_task: int = 1,
             else:
                 if on_result:
                     on_result(part)
-                if isinstance(part, AdaptivePiece):
+                tile = pending[j][r]
+                tile.append(part)
+                if isinstance(part, AdaptivePiece):  # a whole tile of an adaptive render
                     _place_adaptive(jobs[j], part)
                     del pending[j][r]
                     tiles_left[j] -= 1
-                    if progress:
-                        progress.step()
-                    if tiles_left[j] == 0:
-                        _finish(jobs, j, tiles_left)
-                    continue
-                tile = pending[j][r]
-                tile.append(part)
-                if len(tile) == len(jobs[j].samples):
+                elif len(tile) == len(jobs[j].samples):
                     _place(jobs[j], _sum_parts(tile))
                     if jobs[j].denoise:
                         _place_halves(jobs[j], tile)
