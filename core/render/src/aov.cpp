@@ -6,6 +6,7 @@
 #include <tbb/task_arena.h>
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <optional>
 #include <stdexcept>
@@ -59,11 +60,14 @@ struct PixelSums {
 // coincident surfaces, as the media kernel's kMaxNullCrossings).
 constexpr int kMaxPassed = 64;
 
-// One camera sample's first hit added to `sums` (aov.h conventions).
-void add_sample(const Scene& scene, const Ray& ray, Sampler& s, std::uint32_t which, bool variances,
-                PixelSums& sums) {
-    SurfaceHit hit;
-    if (!scene.intersect(ray, hit)) return;
+constexpr std::size_t kLanes = Scene::kPacketSize;
+
+// One camera sample's first hit added to `sums` (aov.h conventions): `first` is what `ray` hit
+// (null for a miss).
+void add_sample(const Scene& scene, const Ray& ray, const SurfaceHit* first, Sampler& s,
+                std::uint32_t which, bool variances, PixelSums& sums) {
+    if (!first) return;
+    SurfaceHit hit = *first;
     RayState rs;  // a camera ray's Light Path state (light_path textures)
     if (scene.features().has_ray_visibility) [[unlikely]] {
         // What camera rays see (integrator.h, "Ray visibility"): shapes they do not see are
@@ -176,16 +180,32 @@ Aovs render_aovs(const Scene& scene, const AovOptions& o) {
                 const int px = r.x0 + x, py = r.y0 + y;  // in the image
                 const std::uint32_t ps = Sampler::pixel_seed_hashed(px, py, seed_hash);
                 PixelSums sums;
-                for (int i = 0; i < o.spp; ++i) {
-                    Sampler s(ps, std::uint32_t(i), 0u);
-                    const Vec2 f = o.spp == 1 ? Vec2(0.5f) : s.get_2d();
-                    const Vec2 film(float(px) + f.x, float(py) + f.y);
-                    Ray ray = cam.generate_ray(film);
-                    if (cam.has_lens()) {
-                        Sampler lens(ps, std::uint32_t(i), kLensDimension);
-                        ray = cam.generate_ray(film, lens.get_2d());
+                // The pixel's camera rays 8 at a time in one Embree packet query (coherent: one
+                // pixel's), each then added in sample order.
+                for (int i0 = 0; i0 < o.spp; i0 += int(kLanes)) {
+                    const std::size_t lanes = std::min(kLanes, std::size_t(o.spp - i0));
+                    RayPacket packet;
+                    std::array<Ray, kLanes> rays;
+                    for (std::size_t k = 0; k < lanes; ++k) {
+                        const std::uint32_t i = std::uint32_t(i0) + std::uint32_t(k);
+                        Sampler s(ps, i, 0u);
+                        const Vec2 f = o.spp == 1 ? Vec2(0.5f) : s.get_2d();
+                        const Vec2 film(float(px) + f.x, float(py) + f.y);
+                        rays[k] = cam.generate_ray(film);
+                        if (cam.has_lens()) {
+                            Sampler lens(ps, i, kLensDimension);
+                            rays[k] = cam.generate_ray(film, lens.get_2d());
+                        }
+                        packet.set(k, rays[k]);
                     }
-                    add_sample(scene, ray, s, o.which, variances, sums);
+                    std::array<SurfaceHit, kLanes> hits;
+                    bool found[kLanes];
+                    scene.intersect_packet(packet, lanes, hits.data(), found);
+                    for (std::size_t k = 0; k < lanes; ++k) {
+                        Sampler s(ps, std::uint32_t(i0) + std::uint32_t(k), 0u);
+                        add_sample(scene, rays[k], found[k] ? &hits[k] : nullptr, s, o.which,
+                                   variances, sums);
+                    }
                 }
                 if (o.which & kAovAlbedo) {
                     out.albedo.at(x, y) = mean(sums.albedo, n);
