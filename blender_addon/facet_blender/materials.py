@@ -72,6 +72,9 @@ per material (they would fire on every default material).
   normal maps and
   bumps move to the combination (the core applies a combination's own); different ones are
   reported and the first's kept.
+- A linear BSDF's constant Color above 1 (Cycles' plain factor): the `add` of ceil(max) copies
+  of Color / n, exact (split_over_unity); Multiscatter GGX and colours above 8: clamped,
+  reported.
 - Normal inputs: Normal Map and Bump nodes -> `normal_map` / `bump` (normals.py). Inputs a
   conversion does not read (Tangent, ...) and the Material Output's Displacement are reported
   when something is linked to them.
@@ -185,6 +188,10 @@ def convert(mat, obj=None):
     data, emission = ctx.shader(src, "the Material Output's Surface")
     notes = []
     data, emission, switches = light_path_switches(data, emission, notes)
+    data = split_over_unity(data, notes)
+    for sw in switches:
+        if "material" in sw:
+            sw["material"] = split_over_unity(sw["material"], notes)
     for note in notes:
         ctx.gap(src, note, "feeds the Material Output's Surface")
     if is_transparent(data):
@@ -625,6 +632,50 @@ def _linear_sum(bsdfs):
     data = dict(rest[0])
     data["reflectance"] = refl
     return data
+
+
+# Models whose BSDF is linear in one colour parameter with range [0, 1]: the core's reflectance
+# or transmittance, where Cycles takes a BSDF's Color as a plain factor (a Glossy BSDF of
+# Color 1.25 reflects 1.25 times what one of Color 1 does).
+_LINEAR_COLOUR = {"lambert": "reflectance", "mirror": "reflectance", "ggx": "reflectance",
+                  "beckmann": "reflectance", "oren_nayar": "reflectance",
+                  "translucent": "transmittance"}
+_MAX_SPLIT = 8  # copies: a colour above 8 is clamped (reported)
+
+
+def split_over_unity(data, notes):
+    """A material tree whose linear BSDFs (_LINEAR_COLOUR) have a constant colour above 1 ->
+    the same f in the core's ranges: each such BSDF becomes the `add` of n = ceil(max) copies
+    of colour / n (exact: f is linear in it; the copies' normal map or bump moves to the
+    combination, which the core shades with). Energy-compensated lobes (Multiscatter GGX: not
+    linear in the colour) and colours above _MAX_SPLIT are clamped to 1 with a note; textured
+    colours are left to the core's range check."""
+    if not isinstance(data, dict):
+        return data
+    if data.get("model") in ("mix", "add"):
+        return dict(data, materials=[split_over_unity(d, notes) for d in data["materials"]])
+    key = _LINEAR_COLOUR.get(data.get("model"))
+    if key is None or key not in data or is_texture(data[key]):
+        return data
+    colour = units.rgb3(data[key])
+    top = max(colour)
+    if top <= 1.0:
+        return data
+    n = math.ceil(top)
+    if data.get("energy_compensation") or n > _MAX_SPLIT:
+        notes.append("its %s's Color %s is above 1 (Cycles' factor); Facet's %s is at most 1"
+                     "%s: clamped" % (data["model"], _fmt(tuple(colour)), key,
+                                      " with energy compensation" if n <= _MAX_SPLIT else
+                                      " and is split into at most %d copies" % _MAX_SPLIT))
+        return dict(data, **{key: [min(c, 1.0) for c in colour]})
+    normal = {k: data[k] for k in NORMAL_KEYS if k in data}
+    part = {k: v for k, v in data.items() if k not in NORMAL_KEYS}
+    part[key] = [c / n for c in colour]
+    out = dict(part)
+    for _ in range(n - 1):
+        out = {"model": "add", "materials": [dict(part), out]}
+    out.update(normal)
+    return out
 
 
 def _hoist_normals(children, notes):

@@ -20,7 +20,9 @@ maps" and "Bump maps"), exactly as Cycles 3.4 evaluates them where the core can 
   reported, and the shading normal used.
 - Principled's Clearcoat Normal: clearcoat() (the core's principled has one shading normal).
 """
-from . import gaps, nodegraph
+import json
+
+from . import gaps, nodegraph, textures
 
 # The tangent-space normal of a texel that leaves the normal unchanged.
 FLAT = (0.5, 0.5, 1.0)
@@ -74,6 +76,10 @@ def _normal_map(ctx, src, feeds, out):
         ctx.gap(src, "a Color Attribute into its Color (the core's normal maps are images)",
                 used)
         return
+    if not textures.reads_uv_only(color):
+        ctx.gap(src, "a texture that reads %s into its Color (the core's normal maps read UVs "
+                "only)" % _point_read(color), used)
+        return
     nm = dict(color)
     if nm.pop("scale", 1.0) != 1.0:
         ctx.gap(src, "a scaled colour into its Color", used)
@@ -111,11 +117,36 @@ def _bump(ctx, src, feeds, out):
         ctx.gap(src, "a Color Attribute as its Height (the core's bumps read images or "
                 "checkers)", "feeds %s; the shading normal is used" % feeds)
         return
+    if not textures.reads_uv_only(height):
+        ctx.gap(src, "a texture that reads %s as its Height (the core's bumps read UVs only)"
+                % _point_read(height), "feeds %s; the shading normal is used" % feeds)
+        return
     bump = dict(height)
     bump["distance"] = distance
     if strength != 1.0:
         bump["strength"] = strength
     out["bump"] = bump
+
+
+def _point_read(tex):
+    """What of the point a texture reads besides UVs, for a report line."""
+    if textures.reads_ray(tex):
+        return "the ray (Light Path)"
+    if "hair_info" in json.dumps(tex):
+        return "the strand (Hair Info)"
+    coords = sorted({c for c in _coordinates(tex) if c != "uv"})
+    return "%s coordinates" % "/".join(c.title() for c in coords)
+
+
+def _coordinates(tex):
+    if isinstance(tex, dict):
+        if "coordinates" in tex:
+            yield tex["coordinates"]
+        for v in tex.values():
+            yield from _coordinates(v)
+    elif isinstance(tex, (list, tuple)):
+        for v in tex:
+            yield from _coordinates(v)
 
 
 # The keys of a material that are its shading normal (materials.NORMAL_KEYS).

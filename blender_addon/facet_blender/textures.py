@@ -331,6 +331,21 @@ def reads_ray(tex, output=None):
     return False
 
 
+def reads_uv_only(tex):
+    """Whether a texture dict reads the hit's UVs and nothing else of the point (what the
+    core's opacity, normal and bump maps accept): no procedural texture in Generated, Object
+    or view coordinates, no Hair Info, no Light Path."""
+    if isinstance(tex, dict):
+        if "light_path" in tex or "hair_info" in tex:
+            return False
+        if tex.get("coordinates", "uv") != "uv":
+            return False
+        return all(reads_uv_only(v) for v in tex.values())
+    if isinstance(tex, (list, tuple)):
+        return all(reads_uv_only(v) for v in tex)
+    return True
+
+
 # Hair Info outputs -> the hair_info texture's outputs.
 _HAIR_INFO = {'Random': "random", 'Intercept': "intercept", 'Is Strand': "is_strand"}
 

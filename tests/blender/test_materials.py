@@ -1,7 +1,8 @@
 """Cycles node materials -> Facet materials (materials.py): Diffuse, Glossy GGX / Beckmann /
 Sharp / Multiscatter GGX, Anisotropic, Principled (dielectric, metal, mixed), Emission; a
 texture feeding an input and an unsupported distribution are reported by material, node and
-input name (the node graph itself: tests/blender/test_nodegraph.py); the
+input name; a Color above 1 becomes an `add` of copies (exact) or is clamped (reported); a
+Normal Map of a texture that reads more than UVs is reported (the node graph itself: tests/blender/test_nodegraph.py); the
 Facet panel's model and parameters reach the core by the core's names (and the core validates
 them)."""
 import os
@@ -59,6 +60,45 @@ def main():
     c = conv(m)
     bt.check(c.data["model"] == "ggx" and any("GA" in p and "ASHIKHMIN" in p for p in c.problems),
              "Ashikhmin-Shirley reported: %s" % c.problems)
+    # A BSDF Color above 1 (Cycles' plain factor; the core's reflectance is at most 1): the
+    # add of ceil(max) copies of Color / n, exact (f is linear in it), the normal map on the
+    # combination (render against Cycles: test_cycles_over_unity.py).
+    m, _ = node_material("G125", "ShaderNodeBsdfGlossy", _distribution='SHARP',
+                         Color=(1.25, 1.25, 0.5, 1.0))
+    c = materials.convert(m)
+    kids = c.data.get("materials", [])
+    bt.check(c.data["model"] == "add" and len(kids) == 2 and
+             all(k["model"] == "mirror" and close(k["reflectance"], [0.625, 0.625, 0.25])
+                 for k in kids) and not c.problems,
+             "Glossy Sharp Color 1.25 -> add of 2 mirrors of 0.625: %s" % c.data)
+    m, _ = node_material("D25", "ShaderNodeBsdfDiffuse", Color=(2.5, 1.0, 0.1, 1.0))
+    c = materials.convert(m)
+    flat = [c.data["materials"][0], c.data["materials"][1]["materials"][0],
+            c.data["materials"][1]["materials"][1]] if c.data["model"] == "add" else []
+    bt.check(len(flat) == 3 and all(close(k["reflectance"], [2.5 / 3, 1 / 3, 0.1 / 3])
+                                     for k in flat),
+             "Diffuse Color 2.5 -> 3 lamberts of Color / 3: %s" % c.data)
+    m, _ = node_material("GM2", "ShaderNodeBsdfGlossy", _distribution='MULTI_GGX',
+                         Roughness=0.4, Color=(1.5, 1.0, 1.0, 1.0))
+    c = conv(m)
+    bt.check(c.data["model"] == "ggx" and close(c.data["reflectance"], [1.0, 1.0, 1.0]) and
+             any("GM2" in p and "clamped" in p for p in c.problems),
+             "Multiscatter GGX Color 1.5 (not linear in it): clamped, reported: %s" % c.problems)
+    # A Normal Map of a procedural texture in Object coordinates: the core's normal maps read
+    # UVs only; reported (not a failed render), the shading normal used.
+    m, node = node_material("NMO", "ShaderNodeBsdfDiffuse")
+    nt = m.node_tree
+    tc, magic = nt.nodes.new("ShaderNodeTexCoord"), nt.nodes.new("ShaderNodeTexMagic")
+    nm = nt.nodes.new("ShaderNodeNormalMap")
+    nt.links.new(tc.outputs["Object"], magic.inputs["Vector"])
+    nt.links.new(magic.outputs["Color"], nm.inputs["Color"])
+    nt.links.new(nm.outputs["Normal"], node.inputs["Normal"])
+    c = conv(m)
+    bt.check("normal_map" not in c.data and
+             any("NMO" in p and "Object coordinates" in p and "UVs only" in p
+                 for p in c.problems),
+             "Normal Map of an Object-coordinate Magic texture: reported: %s" % c.problems)
+
     # Cycles 3.4's Anisotropic BSDF (SVM closure setup, not Principled's aspect): alpha 0.25,
     # anisotropy 0.5 -> alpha_x 0.125, alpha_y 0.5; -0.5 swaps them.
     for aniso, want in ((0.5, (0.125, 0.5)), (-0.5, (0.5, 0.125))):
