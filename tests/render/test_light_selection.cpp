@@ -9,6 +9,7 @@
 
 #include "facet/render/light.h"
 #include "facet/render/render.h"
+#include "facet/render/sampler.h"
 #include "facet/render/scene.h"
 #include "facet/testsupport/render_test_util.h"
 
@@ -132,6 +133,63 @@ TEST(LightSelection, PmfIsProportionalToPower) {
     }
 }
 
+// The choice by the light sample's own first coordinate (LightDistribution::sample with a
+// context): the rescaled u lies in [0, 1), and the points a pixel's Sobol samples send to each
+// light stay stratified in 2D. Two lights of pmf 0.3 and 0.7, each with a smooth "light sample"
+// integrand f_i(u) (f_0 = x y, f_1 = (x + y)^2: integrals 1/4 and 7/6), the one-sample estimate
+// f_i(u') / pmf_i averaged over 256 samples of a pixel (Sampler, one 2D dimension), over 2000
+// pixels. Unbiased: the mean within 5 standard errors of 17/12. Stratified: the per-pixel
+// variance is below a quarter of the same estimator's with the light chosen by a dimension of its
+// own and u left as it is (each light then gets a random subset of the 2D points, as independent
+// samples would; measured ratio 0.029, so a choice that broke the 2D stratification fails).
+TEST(LightSelection, ChoiceKeepsTheLightSampleStratified) {
+    std::vector<fr::Light> lights;
+    lights.push_back(fr::Light::point({0, 0, 0}, Rgb(30.f)));
+    lights.push_back(fr::Light::point({0, 0, 0}, Rgb(70.f)));
+    const fr::LightDistribution d(lights, 1.f);
+    ASSERT_NEAR(d.pmf(0), 0.3f, 1e-6f);
+    const fr::LightSampleContext ctx{Vec3(0.f), Vec3(0.f, 0.f, 1.f)};
+    const auto f = [](std::uint32_t i, Vec2 u) {
+        return i == 0 ? double(u.x) * u.y : (double(u.x) + u.y) * (double(u.x) + u.y);
+    };
+    constexpr int kPixels = 2000, kSpp = 256;
+    constexpr double kExact = 0.25 + 7.0 / 6.0;
+    double sum[2] = {0, 0}, sum2[2] = {0, 0};  // [0]: by u.x (rescaled), [1]: own dimension
+    for (int px = 0; px < kPixels; ++px) {
+        const std::uint32_t seed = fr::Sampler::pixel_seed(px, 0, 7);
+        double est[2] = {0, 0};
+        for (int k = 0; k < kSpp; ++k) {
+            fr::Sampler s(seed, std::uint32_t(k), 1);
+            const float u_choice = s.get_1d();
+            const Vec2 u0 = s.get_2d();
+            Vec2 u = u0;
+            float pmf = 0.f;
+            const std::uint32_t i = d.sample(ctx, u_choice, u, pmf);
+            ASSERT_GE(u.x, 0.f);
+            ASSERT_LT(u.x, 1.f);
+            ASSERT_EQ(u.y, u0.y);
+            ASSERT_EQ(pmf, d.pmf(i));
+            est[0] += f(i, u) / pmf / kSpp;
+            float pmf_own = 0.f;
+            const std::uint32_t j = d.sample(u_choice, pmf_own);
+            est[1] += f(j, u0) / pmf_own / kSpp;
+        }
+        for (int m = 0; m < 2; ++m) {
+            sum[m] += est[m];
+            sum2[m] += est[m] * est[m];
+        }
+    }
+    double var[2];
+    for (int m = 0; m < 2; ++m) {
+        const double mean = sum[m] / kPixels;
+        var[m] = sum2[m] / kPixels - mean * mean;
+        EXPECT_NEAR(mean, kExact, 5.0 * std::sqrt(var[m] / kPixels)) << "estimator " << m;
+    }
+    std::printf("per-pixel variance: choice by u.x %.4g, by its own dimension %.4g (ratio %.4f)\n",
+                var[0], var[1], var[0] / var[1]);
+    EXPECT_LT(var[0], 0.25 * var[1]);
+}
+
 // Two point lights at the same place, powers 90 and 10 W, over a Lambertian plane. With the
 // choice in proportion to power the one-sample estimate f Li cos / pmf is the same whichever
 // light is chosen (Li / pmf = (Phi_1 + Phi_2) / (4 pi r^2) for both): the path integrator is
@@ -175,8 +233,11 @@ TEST(LightSelection, ColocatedStrongAndWeakLightsAreExactAtOneSample) {
 // difference (each pixel is an independent estimate, so SE = stddev(diff) / sqrt(pixels)). A pmf
 // left out of the MIS weights or of the light-sample estimate biases the mean by several percent,
 // tens of standard errors here. The direct integrator (every light sampled, no choice) is a third,
-// independent estimate of the same mean. Power selection must also be less noisy here, since the
-// weak light contributes little: its pixel-difference RMS between two seeds is lower.
+// independent estimate of the same mean. Which choice is less noisy here depends on the sample
+// count, not on correctness, and is printed only: the light sample's first coordinate also
+// chooses the light (LightDistribution::sample), so the uniform choice's 8 samples per pixel of
+// the strong light stay stratified, while the power choice's variance is mostly the weak light's
+// rare samples (pmf 1/51) weighted by 51 (measured at 16 spp: RMS 0.0122 power, 0.0085 uniform).
 TEST(LightSelection, PowerAndUniformSelectionConvergeToTheSameImage) {
     const fr::Scene scene = scene_from(R"(
         "camera": {"position": [0, 4, 2.5], "look_at": [0, 0, 0], "up": [0, 1, 0], "fov": 60,
@@ -212,7 +273,6 @@ TEST(LightSelection, PowerAndUniformSelectionConvergeToTheSameImage) {
         compare(uniform, render(scene, spp, kUniform, 22), "uniform, two seeds");
     std::printf("pixel-difference RMS between seeds: power %.5g, uniform %.5g (ratio %.3f)\n",
                 rms_power, rms_uniform, rms_power / rms_uniform);
-    EXPECT_LT(rms_power, rms_uniform);
 }
 
 // A quad light (two triangles forming a parallelogram) is sampled directly on the

@@ -271,7 +271,7 @@ struct PathState {
 // The sample values one path vertex may use (integrator.h: the dimensions of a vertex), drawn
 // for the 8 paths of a packet together (VertexSampleLanes).
 struct VertexSamples {
-    float light_choice;  // base + 0 (only with more than one light)
+    float light_choice;  // base + 0 (only with the light tree: LightDistribution::sample)
     Vec2 light;          // base + 1
     float lobe;          // base + 3 (not in the Lambert-only kernel)
     Vec2 bsdf;           // base + 4
@@ -286,9 +286,9 @@ struct VertexSampleLanes {
         lobe[kSamplerLanes], bsdf_x[kSamplerLanes], bsdf_y[kSamplerLanes], roulette[kSamplerLanes];
 
     template <std::uint32_t F>
-    void draw(const std::uint32_t* seeds, std::uint32_t index, int depth, int num_lights) {
+    void draw(const std::uint32_t* seeds, std::uint32_t index, int depth, bool tree_choice) {
         const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
-        if (num_lights > 1) sample_1d_lanes(seeds, index, base, light_choice);
+        if (tree_choice) sample_1d_lanes(seeds, index, base, light_choice);
         sample_2d_lanes(seeds, index, base + 1u, light_x, light_y);
         if constexpr ((F & kFeatLambertOnly) == 0) sample_1d_lanes(seeds, index, base + 3u, lobe);
         sample_2d_lanes(seeds, index, base + 4u, bsdf_x, bsdf_y);
@@ -344,10 +344,12 @@ template <std::uint32_t F>
         // dimension, so skipping one does not shift the others.
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
-        if (num_lights > 1) light_index = light_dist.sample(ctx, s.light_choice, select_pmf);
+        Vec2 u_light = s.light;
+        if (num_lights > 1)
+            light_index = light_dist.sample(ctx, s.light_choice, u_light, select_pmf);
         const Light& light = lights[light_index];
         // (select_pmf is 0 only when the light tree finds no light that can reach ctx.)
-        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, s.light, lane_time<F>(rays, k))
+        if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, u_light, lane_time<F>(rays, k))
                                        : std::nullopt) {
             // Reflection: the light must be on the viewer's side of the surface; transmission:
             // on either side (valid_side).
@@ -531,7 +533,8 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
     static_assert(kLanes == kSamplerLanes);
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
-    const int num_lights = int(scene.lights().size());
+    // The light choice's own dimension: only the light tree reads it (LightDistribution::sample).
+    const bool tree_choice = scene.lights().size() > 1 && light_dist.has_tree();
     std::array<PathState, kLanes> paths;
     VertexSampleLanes samples;
     std::array<bool, kLanes> alive, has_shadow, blocked;
@@ -558,7 +561,7 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
         // Past max_depth (and past the first bounce without indirect light or mirrors) a
         // vertex only looks for emission.
         if (depth < max_depth && (kIndirect || kSpecular || depth < 1))
-            samples.draw<F>(seeds, index, depth, num_lights);
+            samples.draw<F>(seeds, index, depth, tree_choice);
         bool any_shadow = false;
         for (std::size_t k = 0; k < n; ++k) {
             has_shadow[k] = false;
@@ -931,13 +934,13 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     const bool fresnel = sss.lobe.fresnel;
     const LightSampleContext ctx{exit.p, ens};
     const float u_light_choice = rng();
-    const Vec2 u_light(rng(), rng());
+    Vec2 u_light(rng(), rng());
     const Vec2 u_dir(rng(), rng());
     if (!light_dist.empty()) {
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
         if (scene.lights().size() > 1)
-            light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
+            light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
         const Light& light = scene.lights()[light_index];
         if (scene.features().has_ray_visibility &&
             !light_reaches(scene, light_index, BxDFFlags::Diffuse))  // the exit's lobe
@@ -1184,7 +1187,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             };
             s.set_dimension(base);
             const float u_light_choice = s.get_1d();
-            const Vec2 u_light = s.get_2d();
+            Vec2 u_light = s.get_2d();
             const float u_lobe = s.get_1d();
             const Vec2 u_bsdf = s.get_2d();
             const float u_roulette = s.get_1d();
@@ -1200,7 +1203,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
                 if (num_lights > 1)
-                    light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
+                    light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
                 const Light& light = lights[light_index];
                 if (ray_visibility && !light_reaches(scene, light_index, mb.flags()))
                     select_pmf = 0.f;
@@ -1283,7 +1286,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             const LightSampleContext ctx{p, Vec3(0.f)};
             s.set_dimension(base);
             const float u_light_choice = s.get_1d();
-            const Vec2 u_light = s.get_2d();
+            Vec2 u_light = s.get_2d();
             s.get_1d();  // the lobe choice: no lobes in a medium
             const Vec2 u_dir = s.get_2d();
             const float u_roulette = s.get_1d();
@@ -1291,7 +1294,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
                 if (num_lights > 1)
-                    light_index = light_dist.sample(ctx, u_light_choice, select_pmf);
+                    light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
                 const Light& light = lights[light_index];
                 // An emitter that volume-scatter rays do not see lights no medium (Cycles'
                 // SHADER_EXCLUDE_SCATTER).

@@ -20,14 +20,16 @@
 //    handled exactly (no MIS for them), Russian roulette from kRouletteDepth on, and at most
 //    max_depth bounces (max_depth = 0: only what camera rays see).
 //  - Sample dimensions (sampler.h): 0 is the film position; path vertex k uses the fixed block
-//    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D), light position (2D),
-//    lobe choice (1D), BSDF direction (2D), roulette (1D). Fixed blocks keep every kernel
-//    variant on the same sample values, so specialised and general kernels agree. The lens
-//    sample of a thin-lens camera (camera.h) is the 2D dimension kLensDimension, a reserved
-//    index far beyond any vertex block (which end below 1 + kDimsPerVertex (kMaxDepth + 1) in
-//    `path`, and (1 + lights) (max_depth + 1) in `direct`), drawn only when the camera has a
-//    lens: pinhole renders draw exactly the same samples as before lenses existed, and the
-//    other dimensions do not move when the aperture opens.
+//    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D; read by the light
+//    tree only: otherwise the light position's first coordinate chooses the light and is
+//    rescaled, LightDistribution::sample), light position (2D), lobe choice (1D), BSDF direction
+//    (2D), roulette (1D). Fixed blocks keep every kernel variant on the same sample values, so
+//    specialised and general kernels agree. The lens sample of a thin-lens camera (camera.h) is
+//    the 2D dimension kLensDimension, a reserved index far beyond any vertex block (which end
+//    below 1 + kDimsPerVertex (kMaxDepth + 1) in `path`, and (1 + lights) (max_depth + 1) in
+//    `direct`), drawn only when the camera has a lens: pinhole renders draw exactly the same
+//    samples as before lenses existed, and the other dimensions do not move when the aperture
+//    opens.
 //  - Transmission (kFeatTransmission; facet/dielectric.h): at a transmissive material the frame
 //    is the shape's own (z = outward shading normal, not flipped toward the viewer), light and
 //    BSDF directions may lie on either side (the geometric and the shading normal must agree on

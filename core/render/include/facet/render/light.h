@@ -351,11 +351,32 @@ class LightDistribution {
             return m_tree->sample(ctx.p, ctx.n, u, pmf);
         return sample(u, pmf);
     }
+    // The integrators' choice for a shadow ray, with the chosen light's own 2D sample u: without
+    // a tree the light is chosen by u.x, and u.x is then rescaled to [0, 1) over the chosen
+    // light's interval of the CDF, (u.x - cdf_{i-1}) / pmf_i, and handed on as the light
+    // sample's first coordinate (as Cycles 3.4's light_distribution_sample). One 2D point set
+    // then both picks the lights and places the samples on them: the pixel's samples that go to
+    // light i are the points of its interval of u.x, which a (0, 2)-sequence keeps stratified in
+    // 2D, where a choice by a dimension of its own sends light i a random subset of the light
+    // sample's points, stratified no better than independent samples. Conditioned on light i,
+    // (u.x, u.y) is uniform on [0, 1)^2, so the estimate stays unbiased. The tree (whose
+    // traversal consumes its u level by level) chooses by `u_choice` and leaves u as it is.
+    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx, float u_choice,
+                                                Vec2& u, float& pmf) const {
+        if (m_tree) [[unlikely]]
+            return m_tree->sample(ctx.p, ctx.n, u_choice, pmf);
+        const std::uint32_t i = sample(u.x, pmf);
+        const float lo = i > 0 ? m_cdf[i - 1] : 0.f;
+        // lo <= u.x < cdf_i, so the difference is >= 0; round-off may reach 1: clamp.
+        if (pmf > 0.f) u.x = std::min((u.x - lo) / pmf, kOneMinusEpsilon);
+        return i;
+    }
     [[gnu::always_inline]] float pmf(const LightSampleContext& ctx, std::size_t i) const {
         if (m_tree) [[unlikely]]
             return m_tree->pmf(ctx.p, ctx.n, std::uint32_t(i));
         return m_pmf[i];
     }
+    // Whether there is a tree (then sample(ctx, u_choice, u, pmf) reads u_choice).
     bool has_tree() const { return m_tree != nullptr; }
 
   private:
