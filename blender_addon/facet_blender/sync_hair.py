@@ -7,9 +7,10 @@ Cycles), 2^render_step + 1 keys each (2^display_step + 1 and Display Amount's sh
 children in the viewport's depsgraph, as Cycles) from ParticleSystem.co_hair (world space).
 The radius at a key is Cycles' shaperadius(): with t the key's length along the strand over
 the strand's length, r = (1 - t)^p (root - tip) + tip, p = 1 + shape (shape < 0) or
-1 / (1 - shape) (shape > 0), root = radius_scale / 2 * root_radius, tip = radius_scale / 2 *
-tip_radius; Close Tip makes the last key's radius 0. The material is the system's slot
-(ParticleSettings.material).
+1 / (1 - shape) (shape > 0), root = radius_scale / 2 * root_radius * s, tip = radius_scale / 2 *
+tip_radius * s, with s the emitter's scale: the cube root of |det| of its matrix (Cycles keeps
+the keys in object space and its Hair::apply_transform scales the radius so); Close Tip makes the
+last key's radius 0. The material is the system's slot (ParticleSettings.material).
 
 CURVES objects (Blender 3.4's hair curves): the control points (the `position` attribute) and
 the `radius` attribute (0.005 where there is none, Cycles' default), in object space, placed by
@@ -140,6 +141,8 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
     and Display Amount, as Cycles' viewport render)."""
     out = []
     profile = _profile(scene)
+    # The emitter's scale scales its hair's radius, as Cycles' Hair::apply_transform.
+    scale = abs(obj.matrix_world.determinant()) ** (1.0 / 3.0)
     first = 0  # Cycles numbers the strands of all the object's hair systems in one sequence
     for mod in obj.modifiers:
         if mod.type != 'PARTICLE_SYSTEM' or not mod.show_render:
@@ -152,7 +155,7 @@ def export_particle_hair(obj, scene, reads_uv, problems, render=True):
         totpart = len(ps.particles)
         strands, steps = _strand_range(ps, render)
         kept = []  # each exported strand's index in Cycles' sequence
-        half = st.radius_scale * 0.5
+        half = st.radius_scale * 0.5 * scale
         root, tip = half * st.root_radius, half * st.tip_radius
         points, radii, counts, uvs = [], [], [], []
         skipped = 0

@@ -3,7 +3,7 @@
 Export (no render): a sphere's particle hair system (300 hairs, 9 keys each at render_step 3)
 becomes one curves shape of 300 Catmull-Rom strands of 11 points (ends repeated) with Cycles'
 radius (radius_scale / 2 x root_radius at the root, the shape's taper, Close Tip's 0 raised
-and reported), its material slot, `flat` with Rounded Ribbons; children: the children only;
+and reported, times the emitter's scale), its material slot, `flat` with Rounded Ribbons; children: the children only;
 hidden from renders or with the view layer's Curves filter off: nothing. A CURVES object
 (Add > Curves > Random): its points, radius attribute and matrix; no curves: a line.
 
@@ -108,6 +108,14 @@ def case_export():
     bt.check([p for p in problems if "radius 0 (Close Tip" in p], "Close Tip reported: %s"
              % problems)
     mod.particle_system.settings.use_close_tip = False
+    # The emitter's scale scales the radius (Cycles' Hair::apply_transform: the cube root of the
+    # matrix's |det|): at scale 0.5 the root radius is 0.01.
+    sphere.scale = (0.5, 0.5, 0.5)
+    h = [s for s in export()[0]["shapes"] if s["type"] == "curves"][0]
+    r = np.array(h["radius"]).reshape(300, 11)
+    bt.check(np.allclose(r[:, 0], 0.01) and np.allclose(r[:, -1], 0.005),
+             "scale 0.5: radius 0.01 at the root, 0.005 at the tip: %s %s" % (r[0, 0], r[0, -1]))
+    sphere.scale = (1.0, 1.0, 1.0)
     # The hair of a moving emitter under motion blur moves with it (the emitter's matrices:
     # test_cycles_hair_motion.py), and nothing is reported.
     scene.render.use_motion_blur = True
