@@ -19,7 +19,9 @@ as MSE(ref Facet, ref Cycles) / 4, is subtracted from every MSE: what remains es
 render's error against its own engine's converged image (the difference of the two engines'
 means, a conversion matter the real-scene suite bounds, cancels out); the ratio without the
 subtraction is given beside it. Equal-error ratio: Facet's CPU time at Cycles' MSE at 0.01
-(interpolated log-log between the two Facet points around it) over Cycles' CPU time at 0.01.
+(interpolated log-log between the two Facet points around it; when every Facet point is above
+it, Facet's lowest MSE is at the cap, a uniform render, and its time is scaled by MSE / target)
+over Cycles' CPU time at 0.01.
 CPU time: user + system of the Blender process around bpy.ops.render.render() (export, sync,
 BVH and sampling; the machine is shared, so CPU time is the steadier measure). Writes the table
 between the markers of docs/realscenes.md and the plot docs/img/realscenes/adaptive.png.
@@ -52,13 +54,14 @@ def equal_error_time(points, target, key):
     """Facet's CPU seconds at MSE `target` along its points (log MSE linear in log CPU between
     the two points around the target; above its largest MSE, extrapolated from the two points
     with the largest); (seconds, how): how is "", "extrapolated" or, when every point's MSE is
-    above the target (Facet's lowest MSE is at the cap, Samples), "not reached" with the time of
-    its lowest-MSE point (a lower bound)."""
+    above the target (Facet's lowest MSE is at the cap, Samples: every tile took them all),
+    "beyond the cap": the lowest-MSE point's time times its MSE over the target (a render at
+    the cap is a uniform one, whose MSE falls as 1 / samples)."""
     pts = sorted(((p["cpu"], p[key]) for p in points if p[key] > 0), key=lambda q: -q[1])
     if len(pts) < 2:
-        return float("nan"), "not reached"
+        return float("nan"), "extrapolated"
     if target < pts[-1][1]:
-        return pts[-1][0], "not reached"
+        return pts[-1][0] * pts[-1][1] / target, "beyond the cap"
     i = next((k for k in range(len(pts) - 1) if pts[k][1] >= target >= pts[k + 1][1]), None)
     extrapolated = "" if i is not None else "extrapolated"
     if i is None:
@@ -86,44 +89,40 @@ def analyse(r):
 
 
 def _ratio(r, suffix=""):
-    """The ratio as the table gives it: "> x" when Facet does not reach Cycles' MSE."""
-    bound = "> " if r["extrapolated" + suffix] == "not reached" else ""
-    return "%s%.2f" % (bound, r["ratio" + suffix])
-
-
-def sort_key(r):
-    """The ratio, +inf where Facet does not reach Cycles' MSE (for the median)."""
-    return math.inf if r["extrapolated"] == "not reached" else r["ratio"]
+    """The ratio as the table gives it: "≈ x" when Facet's points do not reach Cycles' MSE."""
+    return "%s%.2f" % ("≈ " if r["extrapolated" + suffix] == "beyond the cap" else "",
+                       r["ratio" + suffix])
 
 
 def row(r):
     cyc, fac = r["cycles_default"], r["facet_default"]
     how = " (%s)" % r["extrapolated"] if r["extrapolated"] else ""
-    return ("| %s | %.3g | %.2f | %.3g | %.2f | %s%.2f%s | **%s** | %s | %.2f | %.4f |"
+    return ("| %s | %.3g | %.2f | %.3g | %.2f | %.2f / %.2f | %.2f%s | **%s** | %s | %.2f | %.4f |"
             % (r["scene"], cyc["mse_c"], cyc["cpu"], fac["mse_c"], fac["cpu"],
-               "> " if r["extrapolated"] == "not reached" else "", r["facet_equal_cpu"], how,
-               _ratio(r), _ratio(r, "_raw"), r["ref_mse"] / cyc["mse"], r["mean_ratio"]))
+               cyc["cpu"] / r["ref_cycles_cpu"], fac["cpu"] / r["ref_facet_cpu"],
+               r["facet_equal_cpu"], how, _ratio(r), _ratio(r, "_raw"),
+               r["ref_mse"] / cyc["mse"], r["mean_ratio"]))
 
 
 def table(results):
     r0 = results[0]
-    ratios = sorted(sort_key(r) for r in results)
+    ratios = sorted(r["ratio"] for r in results)
     med = statistics.median(ratios)
-    over = [r["scene"] for r in results if sort_key(r) > TARGET]
-    lines = ["| scene | Cycles at 0.01: MSE | CPU s | Facet at 0.01: MSE | CPU s | Facet's CPU s "
-             "at Cycles' MSE | equal-error ratio | without the reference's error subtracted | "
-             "reference's MSE / Cycles' | mean Facet / Cycles (references) |",
-             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
+    over = [r["scene"] for r in results if r["ratio"] > TARGET]
+    lines = ["| scene | Cycles at 0.01: MSE | CPU s | Facet at 0.01: MSE | CPU s | time at 0.01 "
+             "/ without adaptive sampling, Cycles / Facet | Facet's CPU s at Cycles' MSE | "
+             "equal-error ratio | without the reference's error subtracted | reference's MSE / "
+             "Cycles' | mean Facet / Cycles (references) |",
+             "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|"]
     lines += [row(r) for r in results]
     lines += ["", "%d scenes, %d × %d pixels, Samples (the cap) %d, Min Samples 0 (automatic); "
               "reference: the mean of Facet and Cycles without adaptive sampling at %d spp each. "
               "MSE in linear radiance², the reference's own error subtracted. Equal-error ratio "
               "(Facet's CPU time to reach Cycles' MSE at Cycles' default Noise Threshold 0.01, "
-              "over Cycles' CPU time; > x: Facet's lowest MSE, at the cap, is above Cycles'): "
-              "median **%.2f** (target ≤ %.1f: %s), range %.2f–%s; above 0.5: %s."
+              "over Cycles' CPU time; ≈: beyond Facet's points, its MSE at the cap scaled as "
+              "1 / time): median **%.2f** (target ≤ %.1f: %s), range %.2f–%.2f; above 0.5: %s."
               % (len(results), r0["width"], r0["height"], r0["max_spp"], r0["ref_spp"], med,
-                 TARGET, "met" if med <= TARGET else "not met", ratios[0],
-                 "%.2f" % ratios[-1] if ratios[-1] < math.inf else "not reached",
+                 TARGET, "met" if med <= TARGET else "not met", ratios[0], ratios[-1],
                  ", ".join(over) if over else "none")]
     return "\n".join(lines)
 
