@@ -55,8 +55,9 @@ def equal_error_time(points, target, key):
     the two points around the target; above its largest MSE, extrapolated from the two points
     with the largest); (seconds, how): how is "", "extrapolated" or, when every point's MSE is
     above the target (Facet's lowest MSE is at the cap, Samples: every tile took them all),
-    "beyond the cap": the lowest-MSE point's time times its MSE over the target (a render at
-    the cap is a uniform one, whose MSE falls as 1 / samples)."""
+    "beyond the cap": the lowest-MSE point's time times its MSE over the target (lower
+    thresholds no longer lower the MSE: each tile is at the cap or stops at Min Samples, such as
+    a black one, and a uniform render's MSE falls as 1 / samples)."""
     pts = sorted(((p["cpu"], p[key]) for p in points if p[key] > 0), key=lambda q: -q[1])
     if len(pts) < 2:
         return float("nan"), "extrapolated"
@@ -131,6 +132,7 @@ def plot(results, path):
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    from matplotlib.ticker import NullFormatter
     n = len(results)
     cols = 4
     rows = (n + cols - 1) // cols
@@ -145,6 +147,8 @@ def plot(results, path):
                     ax.plot([x], [y], "k*", ms=7)
         ax.axhline(r["cycles_default"]["mse_c"], color="grey", lw=0.6, ls=":")
         ax.set_title("%s: %s" % (r["scene"], _ratio(r)), fontsize=8)
+        ax.xaxis.set_minor_formatter(NullFormatter())
+        ax.yaxis.set_minor_formatter(NullFormatter())
         ax.tick_params(labelsize=6)
     for ax in axes.ravel()[n:]:
         ax.axis("off")
