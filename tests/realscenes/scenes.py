@@ -548,6 +548,30 @@ def stage_arealight_fog(scene):
     nt.links.new(vs.outputs[0], out.inputs["Volume"])
 
 
+def stage_suzanne_hair(scene):
+    """Suzanne from a Blender 2.48 file with particle hair: 500 strands grown from its vertices
+    (facet_testsupport.cycles_scene.add_fur: 9 keys at render step 3, root radius 0.02, tip
+    0.01), 0.35 long, as 3D Curves with a Principled Hair BSDF (Melanin 0.5, Roughness 0.3)
+    over a diffuse skin; ground, forest HDRI (issue 37: a hair scene in the time-vs-error
+    benchmark)."""
+    from facet_testsupport import cycles_scene as cs
+    scene, objs = open_suzanne()
+    skin = material("skin", "ShaderNodeBsdfDiffuse", {"Color": (0.7, 0.55, 0.45, 1.0)})[0]
+    hair = material("hair", "ShaderNodeBsdfHairPrincipled", {"Melanin": 0.5, "Roughness": 0.3},
+                    {"parametrization": 'MELANIN'})[0]
+    lo, hi = normalise(objs, 2.0)
+    for ob in objs:
+        ob.data.materials.clear()
+        ob.data.materials.append(skin)
+        ob.data.materials.append(hair)
+        mod = cs.add_fur(ob, min(500, len(ob.data.vertices)), material=2)
+        mod.particle_system.settings.hair_length = 0.35
+    scene.cycles_curves.shape = 'THICK'  # 3D Curves
+    ground(scene)
+    hdri_world(scene, "forest", 1.0, 120.0)
+    camera(scene, lo, hi, 20, 15)
+
+
 SCENES = [
     Scene("box_textured", stage_box_textured, "glTF2/BoxTextured-glTF/BoxTextured.gltf",
           ("image texture", "UV Map", "glTF metallic-roughness (Principled)",
@@ -608,6 +632,10 @@ SCENES = [
     Scene("arealight_fog", stage_arealight_fog, "BLEND/AreaLight_269.blend",
           ("old .blend", "world Volume Scatter (fog)", "square area lamps", "point lamp radius"),
           explained=(POINT_RADIUS,)),
+    Scene("suzanne_hair", stage_suzanne_hair, "BLEND/Suzanne_248.blend",
+          ("old .blend", "particle hair -> curves", "Principled Hair BSDF (melanin)",
+           "HDRI world"),
+          explained=(NEGATIVE_HDRI,)),
 ]
 
 

@@ -1,8 +1,9 @@
 """One scene of the real-scene suite (scenes.py), Facet engine against Cycles at equal settings.
 
 Run inside Blender: `blender -b --factory-startup --python test_realscene.py -- NAME OUTDIR
-[ci|preview|bench|timeerror [WIDTH HEIGHT SPP]]` (tests/realscenes/CMakeLists.txt,
-bench/realscenes_bench.py, bench/realscenes_time_error.py).
+[ci|preview|bench|timeerror [WIDTH HEIGHT SPP] | adaptive WIDTH HEIGHT MAX_SPP REF_SPP]`
+(tests/realscenes/CMakeLists.txt, bench/realscenes_bench.py, bench/realscenes_time_error.py,
+bench/realscenes_adaptive.py).
 
 Equal settings: the same resolution, samples per pixel and bounces (Facet max_depth = Cycles
 bounces + 1); Cycles without clamping (Clamp Direct 0, Clamp Indirect 0), Filter Glossy 0, no
@@ -160,6 +161,89 @@ def time_error(scene, name, out, width, height, spp):
              res["ratio_cpu"], res["ratio_wall"]))
 
 
+
+def mse(a, b):
+    """Mean squared difference over every pixel and channel."""
+    return float(np.mean((a - b) ** 2))
+
+
+# Profile `adaptive`: the noise thresholds swept (Cycles' default is 0.01).
+CYCLES_THRESHOLDS = (0.1, 0.03, 0.01)
+FACET_THRESHOLDS = (0.03, 0.01)  # then halved (or tripled) until Cycles' MSE at 0.01 is bracketed
+REFERENCE_SEED = 101
+
+
+def adaptive(scene, name, out, width, height, max_spp, ref_spp):
+    """Profile `adaptive` (bench/realscenes_adaptive.py): both engines with adaptive sampling on,
+    Min Samples 0 (automatic), Samples = max_spp the cap, each at its defaults otherwise (Facet's
+    light selection left at the panel's default; Cycles unbiased: Clamp 0, Filter Glossy 0, the
+    suite's bounces), seed 1; Cycles at CYCLES_THRESHOLDS, Facet from FACET_THRESHOLDS on until
+    its points bracket Cycles' MSE at 0.01 (halving down to 0.00125 while the MSE falls,
+    tripling up to 0.3). The reference is the mean of a non-adaptive Facet and a non-adaptive Cycles render at ref_spp
+    (seed REFERENCE_SEED): neither engine's own small systematic difference favours it. Its own
+    error is estimated from its halves: MSE(ref_F, ref_C) / 4 (the halves' noise and, if any,
+    their difference of means, each entering the reference by half). Every render records
+    MSE against the reference, CPU seconds (user + system of this process around the render)
+    and wall seconds."""
+    from facet_blender import export as ex
+    scene.facet.property_unset("light_selection")
+    base = os.path.join(out, "adaptive_%s" % name)
+    res = {"scene": name, "width": width, "height": height, "max_spp": max_spp,
+           "ref_spp": ref_spp, "cycles": [], "facet": []}
+    c = scene.cycles
+    c.use_adaptive_sampling = False
+    scene.facet.adaptive_threshold = 0.0
+    c.samples = scene.facet.spp = ref_spp
+    ref = {}
+    for engine in ('FACET', 'CYCLES'):
+        img, wall, cpu = timed_render(scene, engine, "%s_ref_%s.exr" % (base, engine.lower()),
+                                      REFERENCE_SEED)
+        ref[engine] = img
+        res["ref_%s_cpu" % engine.lower()] = cpu
+        res["ref_%s_mean" % engine.lower()] = float(luminance(img).mean())
+    reference = 0.5 * (ref['FACET'] + ref['CYCLES'])
+    res["ref_mse"] = mse(ref['FACET'], ref['CYCLES']) / 4.0
+    res["mean_ratio"] = res["ref_facet_mean"] / max(res["ref_cycles_mean"], 1e-30)
+
+    def point(engine, t):
+        if engine == 'CYCLES':
+            c.use_adaptive_sampling = True
+            c.adaptive_threshold, c.adaptive_min_samples, c.samples = t, 0, max_spp
+        else:
+            fs = scene.facet
+            fs.adaptive_threshold, fs.adaptive_min_samples, fs.spp = t, 0, max_spp
+            rs = ex.export_render_settings(scene)  # what the engine renders with
+            if (rs.get("adaptive_threshold") != fs.adaptive_threshold
+                    or rs.get("adaptive_min_samples") != 0 or rs["spp"] != max_spp):
+                raise RuntimeError("Facet's adaptive settings are not exported as set: %s" % rs)
+        img, wall, cpu = timed_render(scene, engine, "%s_%s_%g.exr" % (base, engine.lower(), t),
+                                      1)
+        p = {"threshold": t, "cpu": cpu, "wall": wall, "mse": mse(img, reference),
+             "mean": float(luminance(img).mean())}
+        res[engine.lower()].append(p)
+        print("%s %s threshold %g: MSE %.4g, CPU %.2f s, wall %.2f s"
+              % (name, engine, t, p["mse"], cpu, wall), flush=True)
+        return p
+
+    for t in CYCLES_THRESHOLDS:
+        point('CYCLES', t)
+    target = res["cycles"][-1]["mse"]
+    for t in FACET_THRESHOLDS:
+        point('FACET', t)
+    while min(p["mse"] for p in res["facet"]) > target:
+        t = min(p["threshold"] for p in res["facet"]) / 2
+        best = min(p["mse"] for p in res["facet"])
+        if t < 0.00125 or point('FACET', t)["mse"] > 0.999 * best:
+            break  # (no gain: every tile at the cap, Samples)
+    while max(p["mse"] for p in res["facet"]) < target:
+        t = max(p["threshold"] for p in res["facet"]) * 3
+        if t > 0.3:
+            break
+        point('FACET', t)
+    with open(base + ".json", "w") as f:
+        json.dump(res, f, indent=1)
+
+
 def main():
     name, out = bt.args()[0], bt.args()[1]
     profile = bt.args()[2] if len(bt.args()) > 2 else "ci"
@@ -174,12 +258,14 @@ def main():
     scene = bpy.context.scene  # staging may have opened a .blend
     # Profiles: ci (the CTest size, checked), preview (the CTest size, pending scenes too, not
     # checked), bench (bench/realscenes_bench.py: larger, not checked, with Power selection too).
-    width, height, spp = entry.bench if profile in ("bench", "timeerror") else entry.ci
+    width, height, spp = entry.bench if profile in ("bench", "timeerror", "adaptive") else entry.ci
     if len(bt.args()) > 5:  # explicit width height spp (bench/realscenes_bench.py --size/--spp)
         width, height, spp = (int(v) for v in bt.args()[3:6])
     settings(scene, width, height, spp, entry.max_depth, entry.light_selection)
     if profile == "timeerror":
         return time_error(scene, name, out, width, height, spp)
+    if profile == "adaptive":  # W H MAX_SPP REF_SPP (bench/realscenes_adaptive.py)
+        return adaptive(scene, name, out, width, height, spp, int(bt.args()[6]))
     base = os.path.join(out, "realscene_%s" % name)
     from facet_blender import hooks
     facet, t_facet = cs.render(scene, 'FACET', base + "_facet.exr", 1,
