@@ -134,21 +134,19 @@ TEST(LightSelection, PmfIsProportionalToPower) {
 }
 
 // The choice by the light sample's own first coordinate (LightDistribution::sample with a
-// context): the rescaled u lies in [0, 1), and the points a pixel's Sobol samples send to each
-// light stay stratified in 2D. Two lights of pmf 0.3 and 0.7, each with a smooth "light sample"
-// integrand f_i(u) (f_0 = x y, f_1 = (x + y)^2: integrals 1/4 and 7/6), the one-sample estimate
+// context), by the power distribution and by the light tree (whose traversal rescales u.x level
+// by level and leaves the rest: LightTree::sample_reusing): the rescaled u lies in [0, 1), and
+// the points a pixel's Sobol samples send to each light stay stratified in 2D. Two lights of
+// power 30 and 70 (the tree's pmfs are its own), each with a smooth "light sample" integrand
+// f_i(u) (f_0 = x y, f_1 = (x + y)^2: integrals 1/4 and 7/6), the one-sample estimate
 // f_i(u') / pmf_i averaged over 256 samples of a pixel (Sampler, one 2D dimension), over 2000
 // pixels. Unbiased: the mean within 5 standard errors of 17/12. Stratified: the per-pixel
 // variance is below a quarter of the same estimator's with the light chosen by a dimension of its
 // own and u left as it is (each light then gets a random subset of the 2D points, as independent
-// samples would; measured ratio 0.029, so a choice that broke the 2D stratification fails).
-TEST(LightSelection, ChoiceKeepsTheLightSampleStratified) {
-    std::vector<fr::Light> lights;
-    lights.push_back(fr::Light::point({0, 0, 0}, Rgb(30.f)));
-    lights.push_back(fr::Light::point({0, 0, 0}, Rgb(70.f)));
-    const fr::LightDistribution d(lights, 1.f);
-    ASSERT_NEAR(d.pmf(0), 0.3f, 1e-6f);
-    const fr::LightSampleContext ctx{Vec3(0.f), Vec3(0.f, 0.f, 1.f)};
+// samples would; measured ratio 0.029 by power and 0.031 by the tree, so a choice that broke the
+// 2D stratification fails).
+static void expect_choice_keeps_stratification(const fr::LightDistribution& d, const char* what) {
+    const fr::LightSampleContext ctx{Vec3(0.f, 0.f, 2.f), Vec3(0.f, 0.f, 1.f)};
     const auto f = [](std::uint32_t i, Vec2 u) {
         return i == 0 ? double(u.x) * u.y : (double(u.x) + u.y) * (double(u.x) + u.y);
     };
@@ -165,13 +163,13 @@ TEST(LightSelection, ChoiceKeepsTheLightSampleStratified) {
             Vec2 u = u0;
             float pmf = 0.f;
             const std::uint32_t i = d.sample(ctx, u_choice, u, pmf);
-            ASSERT_GE(u.x, 0.f);
-            ASSERT_LT(u.x, 1.f);
-            ASSERT_EQ(u.y, u0.y);
-            ASSERT_EQ(pmf, d.pmf(i));
+            ASSERT_GE(u.x, 0.f) << what;
+            ASSERT_LT(u.x, 1.f) << what;
+            ASSERT_EQ(u.y, u0.y) << what;
+            ASSERT_EQ(pmf, d.pmf(ctx, i)) << what;
             est[0] += f(i, u) / pmf / kSpp;
             float pmf_own = 0.f;
-            const std::uint32_t j = d.sample(u_choice, pmf_own);
+            const std::uint32_t j = d.sample(ctx, u_choice, pmf_own);
             est[1] += f(j, u0) / pmf_own / kSpp;
         }
         for (int m = 0; m < 2; ++m) {
@@ -183,11 +181,24 @@ TEST(LightSelection, ChoiceKeepsTheLightSampleStratified) {
     for (int m = 0; m < 2; ++m) {
         const double mean = sum[m] / kPixels;
         var[m] = sum2[m] / kPixels - mean * mean;
-        EXPECT_NEAR(mean, kExact, 5.0 * std::sqrt(var[m] / kPixels)) << "estimator " << m;
+        EXPECT_NEAR(mean, kExact, 5.0 * std::sqrt(var[m] / kPixels)) << what << " " << m;
     }
-    std::printf("per-pixel variance: choice by u.x %.4g, by its own dimension %.4g (ratio %.4f)\n",
-                var[0], var[1], var[0] / var[1]);
-    EXPECT_LT(var[0], 0.25 * var[1]);
+    std::printf("%s: per-pixel variance: choice by u.x %.4g, by its own dimension %.4g "
+                "(ratio %.4f)\n",
+                what, var[0], var[1], var[0] / var[1]);
+    EXPECT_LT(var[0], 0.25 * var[1]) << what;
+}
+
+TEST(LightSelection, ChoiceKeepsTheLightSampleStratified) {
+    std::vector<fr::Light> lights;
+    lights.push_back(fr::Light::point({-1, 0, 0}, Rgb(30.f)));
+    lights.push_back(fr::Light::point({1, 0, 0}, Rgb(70.f)));
+    const fr::LightDistribution d(lights, 1.f);
+    ASSERT_NEAR(d.pmf(0), 0.3f, 1e-6f);
+    expect_choice_keeps_stratification(d, "power");
+    const fr::LightDistribution tree = fr::LightDistribution::tree(lights, 10.f);
+    ASSERT_TRUE(tree.has_tree());
+    expect_choice_keeps_stratification(tree, "tree");
 }
 
 // Two point lights at the same place, powers 90 and 10 W, over a Lambertian plane. With the

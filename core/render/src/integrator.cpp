@@ -271,7 +271,7 @@ struct PathState {
 // The sample values one path vertex may use (integrator.h: the dimensions of a vertex), drawn
 // for the 8 paths of a packet together (VertexSampleLanes).
 struct VertexSamples {
-    float light_choice;  // base + 0 (only with the light tree: LightDistribution::sample)
+    float light_choice;  // base + 0 (not drawn: no choice reads it, LightDistribution::sample)
     Vec2 light;          // base + 1
     float lobe;          // base + 3 (not in the Lambert-only kernel)
     Vec2 bsdf;           // base + 4
@@ -286,9 +286,8 @@ struct VertexSampleLanes {
         lobe[kSamplerLanes], bsdf_x[kSamplerLanes], bsdf_y[kSamplerLanes], roulette[kSamplerLanes];
 
     template <std::uint32_t F>
-    void draw(const std::uint32_t* seeds, std::uint32_t index, int depth, bool tree_choice) {
+    void draw(const std::uint32_t* seeds, std::uint32_t index, int depth) {
         const std::uint32_t base = 1u + std::uint32_t(kDimsPerVertex * depth);
-        if (tree_choice) sample_1d_lanes(seeds, index, base, light_choice);
         sample_2d_lanes(seeds, index, base + 1u, light_x, light_y);
         if constexpr ((F & kFeatLambertOnly) == 0) sample_1d_lanes(seeds, index, base + 3u, lobe);
         sample_2d_lanes(seeds, index, base + 4u, bsdf_x, bsdf_y);
@@ -533,8 +532,6 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
     static_assert(kLanes == kSamplerLanes);
     constexpr bool kIndirect = (F & kFeatIndirect) != 0;
     constexpr bool kSpecular = (F & kFeatSpecular) != 0;
-    // The light choice's own dimension: only the light tree reads it (LightDistribution::sample).
-    const bool tree_choice = scene.lights().size() > 1 && light_dist.has_tree();
     std::array<PathState, kLanes> paths;
     VertexSampleLanes samples;
     std::array<bool, kLanes> alive, has_shadow, blocked;
@@ -561,7 +558,7 @@ void path_packet(const Scene& scene, const LightDistribution& light_dist, std::s
         // Past max_depth (and past the first bounce without indirect light or mirrors) a
         // vertex only looks for emission.
         if (depth < max_depth && (kIndirect || kSpecular || depth < 1))
-            samples.draw<F>(seeds, index, depth, tree_choice);
+            samples.draw<F>(seeds, index, depth);
         bool any_shadow = false;
         for (std::size_t k = 0; k < n; ++k) {
             has_shadow[k] = false;

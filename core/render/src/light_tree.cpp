@@ -166,12 +166,14 @@ float LightTree::infinite_share() const {
     return float(m_infinite.size()) / float(m_infinite.size() + 1);
 }
 
-std::uint32_t LightTree::sample(const Vec3& p, const Vec3& n, float u, float& pmf) const {
+std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u,
+                                        float& pmf) const {
     pmf = 0.f;
     const float p_inf = infinite_share();
     if (u < p_inf) {
-        const std::size_t k =
-            std::min(std::size_t(u / p_inf * float(m_infinite.size())), m_infinite.size() - 1);
+        const float x = u / p_inf * float(m_infinite.size());
+        const std::size_t k = std::min(std::size_t(x), m_infinite.size() - 1);
+        u = std::clamp(x - float(k), 0.f, kOneMinusEpsilon);
         pmf = p_inf / float(m_infinite.size());
         return m_infinite[k];
     }

@@ -20,8 +20,8 @@
 //    handled exactly (no MIS for them), Russian roulette from kRouletteDepth on, and at most
 //    max_depth bounces (max_depth = 0: only what camera rays see).
 //  - Sample dimensions (sampler.h): 0 is the film position; path vertex k uses the fixed block
-//    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D; read by the light
-//    tree only: otherwise the light position's first coordinate chooses the light and is
+//    [1 + kDimsPerVertex k, 1 + kDimsPerVertex (k + 1)): light choice (1D; read by none: the
+//    light position's first coordinate chooses the light, through the light tree too, and is
 //    rescaled, LightDistribution::sample), light position (2D), lobe choice (1D), BSDF direction
 //    (2D), roulette (1D). Fixed blocks keep every kernel variant on the same sample values, so
 //    specialised and general kernels agree. The lens sample of a thin-lens camera (camera.h) is

@@ -359,12 +359,15 @@ class LightDistribution {
     // light i are the points of its interval of u.x, which a (0, 2)-sequence keeps stratified in
     // 2D, where a choice by a dimension of its own sends light i a random subset of the light
     // sample's points, stratified no better than independent samples. Conditioned on light i,
-    // (u.x, u.y) is uniform on [0, 1)^2, so the estimate stays unbiased. The tree (whose
-    // traversal consumes its u level by level) chooses by `u_choice` and leaves u as it is.
-    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx, float u_choice,
-                                                Vec2& u, float& pmf) const {
+    // (u.x, u.y) is uniform on [0, 1)^2, so the estimate stays unbiased. The tree chooses by
+    // u.x the same way: its traversal rescales u.x over each chosen child's share, and what is
+    // left of it is the light sample's first coordinate (LightTree::sample_reusing). `u_choice`
+    // is unused; the integrators keep its dimension so that the others do not shift.
+    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx,
+                                                [[maybe_unused]] float u_choice, Vec2& u,
+                                                float& pmf) const {
         if (m_tree) [[unlikely]]
-            return m_tree->sample(ctx.p, ctx.n, u_choice, pmf);
+            return m_tree->sample_reusing(ctx.p, ctx.n, u.x, pmf);
         const std::uint32_t i = sample(u.x, pmf);
         const float lo = i > 0 ? m_cdf[i - 1] : 0.f;
         // lo <= u.x < cdf_i, so the difference is >= 0; round-off may reach 1: clamp.
@@ -376,7 +379,7 @@ class LightDistribution {
             return m_tree->pmf(ctx.p, ctx.n, std::uint32_t(i));
         return m_pmf[i];
     }
-    // Whether there is a tree (then sample(ctx, u_choice, u, pmf) reads u_choice).
+    // Whether there is a tree.
     bool has_tree() const { return m_tree != nullptr; }
 
   private:

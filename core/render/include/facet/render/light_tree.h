@@ -59,7 +59,14 @@ class LightTree {
     bool empty() const { return m_nodes.empty() && m_infinite.empty(); }
     // Index of the light chosen by u in [0, 1) for the point p with normal n (0: none), and
     // its probability in `pmf` (0 when no light could be chosen; the index is then 0).
-    std::uint32_t sample(const Vec3& p, const Vec3& n, float u, float& pmf) const;
+    std::uint32_t sample(const Vec3& p, const Vec3& n, float u, float& pmf) const {
+        return sample_reusing(p, n, u, pmf);
+    }
+    // The same, leaving in u what is left of it: the traversal rescales u to [0, 1) over each
+    // chosen child's share, so conditioned on the light chosen the final u is uniform on
+    // [0, 1) and can serve as a coordinate of that light's sample (light.h,
+    // LightDistribution::sample).
+    std::uint32_t sample_reusing(const Vec3& p, const Vec3& n, float& u, float& pmf) const;
     // The probability that sample(p, n, .) chooses light i.
     float pmf(const Vec3& p, const Vec3& n, std::uint32_t light) const;
 
