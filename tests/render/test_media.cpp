@@ -613,28 +613,34 @@ fr::RenderOptions volume_options(fr::VolumeSampling v, int spp, std::uint64_t se
 // (factor 2 on each strategy) or the transmittance to the equiangular point fails by far more.
 TEST(MediaEquiangular, PointLightInFogMatchesQuadrature) {
     const int spp = std::max(64, int(512 * fr::testing::stress_scale()));
-    const double sigma_s[3] = {0.3, 0.15, 0.6}, sigma_a[3] = {0.05, 0.2, 0.0}, g = 0.3;
-    const Vec3 c(0.f, 0.7f, 1.f);
-    const double power = 20.0;
-    for (bool wall : {false, true}) {
-        const double wall_z = 0.0;
-        const fr::Scene scene =
-            fr::testing::scene_from(point_light_fog(sigma_s, sigma_a, g, c, power, wall, wall_z));
-        for (auto v : {fr::VolumeSampling::MultipleImportance, fr::VolumeSampling::Distance}) {
-            const fr::Image img = fr::render(scene, volume_options(v, spp, 31));
-            for (int ch = 0; ch < 3; ++ch) {
-                const double expected =
-                    point_light_quadrature(sigma_s[ch], sigma_s[ch] + sigma_a[ch], g, c, power,
-                                           wall ? 4.0 - wall_z : double(facet::kInfinity));
-                const MeanSe m = mean_se(img.pixels(), ch);
-                EXPECT_NEAR(m.mean, expected, 5.0 * m.se + 1e-6)
-                    << (wall ? "wall" : "infinite") << ", "
-                    << (v == fr::VolumeSampling::Distance ? "distance" : "mis") << ", channel "
-                    << ch;
-                EXPECT_GT(expected, 0.01);
+    const double g = 0.3;
+    // Thin fog (sigma_t,max D = 0.42: the equiangular distance alone) with the lamp 3 units
+    // along the ray, and a 10 times denser one (4.2: both distances by MIS) with the lamp 0.4
+    // along it; the lamp 0.7 from the ray in both.
+    for (double scale : {1.0, 10.0})
+        for (bool wall : {false, true}) {
+            const Vec3 c(0.f, 0.7f, scale > 1.0 ? 3.6f : 1.f);
+            const double power = scale > 1.0 ? 100.0 : 20.0;
+            const double sigma_s[3] = {0.3 * scale, 0.15 * scale, 0.6 * scale},
+                         sigma_a[3] = {0.05 * scale, 0.2 * scale, 0.0};
+            const double wall_z = 0.0;
+            const fr::Scene scene = fr::testing::scene_from(
+                point_light_fog(sigma_s, sigma_a, g, c, power, wall, wall_z));
+            for (auto v : {fr::VolumeSampling::MultipleImportance, fr::VolumeSampling::Distance}) {
+                const fr::Image img = fr::render(scene, volume_options(v, spp, 31));
+                for (int ch = 0; ch < 3; ++ch) {
+                    const double expected =
+                        point_light_quadrature(sigma_s[ch], sigma_s[ch] + sigma_a[ch], g, c, power,
+                                               wall ? 4.0 - wall_z : double(facet::kInfinity));
+                    const MeanSe m = mean_se(img.pixels(), ch);
+                    EXPECT_NEAR(m.mean, expected, 5.0 * m.se + 1e-6)
+                        << "density x" << scale << ", " << (wall ? "wall" : "infinite") << ", "
+                        << (v == fr::VolumeSampling::Distance ? "distance" : "mis") << ", channel "
+                        << ch;
+                    EXPECT_GT(expected, 0.01);
+                }
             }
         }
-    }
 }
 
 namespace {
@@ -669,9 +675,9 @@ const char* const kFogScene =
 // (b) The MIS estimator and the free-flight one agree in mean on a fog scene with multiple
 // scattering, surfaces and every kind of light: the per-pixel difference of two independent
 // renders has mean 0 within 5 of its standard errors (from the differences' own spread), in
-// every channel, with the power/view light choice and with the light tree (whose position-
-// dependent choice the MIS estimator must not use for its segment samples: a mismatched pmf in
-// the phase function's MIS weight biases the image by several standard errors).
+// every channel, with the view light choice and with the light tree (whose position-dependent
+// choice the segment samples do not use; a phase-hit weight against the tree's pmf instead of
+// theirs, which breaks the weights' sum, does not show at this noise).
 TEST(MediaEquiangular, AgreesWithFreeFlightSamplingOnAFogScene) {
     const int spp = std::max(64, int(256 * fr::testing::stress_scale()));
     const fr::Scene scene = fr::testing::scene_from(kFogScene);
@@ -695,13 +701,14 @@ TEST(MediaEquiangular, AgreesWithFreeFlightSamplingOnAFogScene) {
 
 // (c) The noise falls in thin fog lit by a point lamp: the variance per sample (the pixels'
 // spread squared times spp: every pixel estimates nearly the same radiance) of the MIS
-// estimator is below the free-flight one's by the factor asserted here. Measured: see
-// kMinVarianceRatio. Free flight rarely stops near the lamp in fog of optical depth ~0.05 per
-// unit, where most of the in-scattered light comes from.
+// estimator is below the free-flight one's by kMinVarianceRatio. Free flight rarely stops near
+// the lamp in fog of optical depth 0.05 per unit, where most of the in-scattered light comes
+// from (sigma_t D = 0.025: the equiangular distance alone). Measured: 55 (Sobol samples, as
+// rendered; with both distances by MIS 48, and 61 with independent samples). The assertion
+// leaves a factor of 3 for the spread of the two variance estimates (64 pixels each: ~18%
+// relative standard error each). Free flight alone, or MIS weights that favour it, fail.
 TEST(MediaEquiangular, LowersTheVarianceInThinFog) {
-    // Measured ratio: free flight / MIS variance per sample = RATIO (spp 64, 64 pixels); the
-    // assertion leaves a factor of ~3 of margin for the spread of the variance estimates.
-    constexpr double kMinVarianceRatio = 10.0;
+    constexpr double kMinVarianceRatio = 16.0;
     const int spp = 64;
     const double sigma_s[3] = {0.05, 0.05, 0.05}, sigma_a[3] = {0.0, 0.0, 0.0};
     const fr::Scene scene = fr::testing::scene_from(
@@ -709,11 +716,8 @@ TEST(MediaEquiangular, LowersTheVarianceInThinFog) {
     double var[2];
     int i = 0;
     for (auto v : {fr::VolumeSampling::MultipleImportance, fr::VolumeSampling::Distance}) {
-        fr::RenderOptions o = volume_options(v, spp, 51);
-        o.independent_samples = std::getenv("INDEP") != nullptr;
-        const fr::Image img = fr::render(scene, o);
+        const fr::Image img = fr::render(scene, volume_options(v, spp, 51));
         const MeanSe m = mean_se(img.pixels(), 1);
-        std::printf("mean %.6g se %.3g\n", m.mean, m.se);
         var[i++] = m.spread * m.spread * spp;
     }
     std::printf("variance per sample: mis %.4g, free flight %.4g, ratio %.3g\n", var[0], var[1],

@@ -55,19 +55,19 @@
 //    other surface blocks it), MIS (power heuristic) against phase-function sampling for
 //    lights that rays can hit, then a new direction from the phase function. In a homogeneous
 //    scattering medium (VolumeSampling::MultipleImportance, the default) the next-event
-//    estimate is instead the segment's: before its free flight, a light is chosen (by the
-//    distribution's position-independent pmf: a light tree's choice at one point could miss a
-//    light that lights another point of the segment) and a point c on it sampled from the
-//    segment's origin; one of two distances then carries the light sample, each chosen with
-//    probability 1/2 (one-sample MIS, Cycles 3.4's "Multiple Importance"): the free-flight
-//    distance (when the flight scatters) or an equiangular one toward c (medium.h,
-//    Equiangular), weighted 2 p_s^2 / (p_free^2 + p_equi^2) (power heuristic over the two
-//    distance densities, the free-flight one the channel-MIS density). The light is sampled
-//    again from the chosen point with the same numbers. Without a point to aim at (a distant
-//    or environment light, a failed sample, c on the ray's line) the free-flight distance
-//    carries it alone (weight 1). The scattering vertex then only samples the phase function,
-//    and a light its direction hits is weighted against the same position-independent pmf.
-//    Grid media keep the vertex's own estimate. `null` surfaces
+//    estimate is instead the segment's (segment_light): before its free flight, a light is
+//    chosen (by the distribution's position-independent pmf: a light tree's choice at one
+//    point could miss a light that lights another point of the segment) and a point c on it
+//    sampled from the segment's origin; the light is then sampled from two points, the
+//    free-flight distance (when the flight scatters) and an equiangular distance toward c
+//    (medium.h, Equiangular), each weighted by the power heuristic of its distance density
+//    against the other's (two-sample MIS; the free-flight density is the channel-MIS one),
+//    with the same light numbers; where the medium is thin over the equiangular density's
+//    scale (kEquiangularAloneDepth) the equiangular one alone. Without a point to aim at (a distant or environment light,
+//    a failed sample, c on the ray's line) the free-flight distance carries it alone. The
+//    scattering vertex then only samples the phase function, and a light its direction hits
+//    is weighted against the same position-independent pmf. Runs with a shadow catcher and
+//    grid media keep the vertex's own estimate. `null` surfaces
 //    are crossed without a vertex (max_depth counts surface and medium vertices only). An
 //    infinite ray in a world medium with sigma_t > 0 in every channel never reaches the
 //    environment (transmittance 0), as in Cycles; a channel with sigma_t = 0 sees it. The
@@ -230,10 +230,10 @@ struct KernelCounters {
 // top-left pixel is (film_x0, film_y0), row-major with film_width pixels per row (the tile lies
 // inside it). Rows are traced in packets aligned to multiples of 8 pixels of the image (render.h).
 // Never throws, allocates or logs.
-// How the media kernel picks the point of a homogeneous medium's next-event estimate (the
-// conventions' "Media"): free-flight and equiangular distances combined by MIS (Cycles 3.4's
-// "Multiple Importance", the default), or the free-flight distance alone (its scattering
-// vertex; comparisons and tests). Both converge to the same image.
+// How the media kernel places a homogeneous medium's next-event estimates (the conventions'
+// "Media"): at free-flight and equiangular distances combined by MIS (the default), or at the
+// free-flight distance alone (its scattering vertex; comparisons and tests). Both converge to
+// the same image.
 enum class VolumeSampling : std::uint8_t { MultipleImportance, Distance };
 
 struct TileJob {

@@ -248,6 +248,8 @@ class Equiangular {
         m_t_max = t_max;
     }
     bool valid() const { return m_d > 0.f && m_theta_b > m_theta_a && std::isfinite(m_d); }
+    // D, the distance of c from the ray's line: the scale of the density around its peak.
+    float distance() const { return m_d; }
     // The distance for u in [0, 1), clamped into [0, t_max] against rounding (the caller skips
     // t >= t_max). Call only when valid().
     float sample(float u) const {
