@@ -63,11 +63,11 @@
 //    (medium.h, Equiangular), each weighted by the power heuristic of its distance density
 //    against the other's (two-sample MIS; the free-flight density is the channel-MIS one),
 //    with the same light numbers; where the medium is thin over the equiangular density's
-//    scale (kEquiangularAloneDepth) the equiangular one alone. Without a point to aim at (a distant or environment light,
-//    a failed sample, c on the ray's line) the free-flight distance carries it alone. The
-//    scattering vertex then only samples the phase function, and a light its direction hits
-//    is weighted against the same position-independent pmf. Runs with a shadow catcher and
-//    grid media keep the vertex's own estimate. `null` surfaces
+//    scale (kEquiangularAloneDepth) the equiangular one alone. Without a point to aim at (a
+//    distant or environment light, a failed sample, c on the ray's line) the free-flight
+//    distance carries it alone. The scattering vertex then only samples the phase function,
+//    and a light its direction hits is weighted against the same position-independent pmf.
+//    Runs with a shadow catcher and grid media keep the vertex's own estimate. `null` surfaces
 //    are crossed without a vertex (max_depth counts surface and medium vertices only). An
 //    infinite ray in a world medium with sigma_t > 0 in every channel never reaches the
 //    environment (transmittance 0), as in Cycles; a channel with sigma_t = 0 sees it. The
