@@ -7,10 +7,12 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <string>
 #include <vector>
 
 #include "facet/render/integrator.h"
+#include "facet/render/medium.h"
 #include "facet/render/pov_export.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
@@ -497,4 +499,228 @@ TEST(MediaKernel, ThreadsAndRegionsGiveTheSamePixels) {
     for (int y = 50; y < 141; ++y)
         for (int x = 37; x < 130; ++x) differ += part.at(x - 37, y - 50) != two.at(x, y);
     EXPECT_EQ(differ, 0);
+}
+
+// ---- equiangular distance sampling (medium.h Equiangular; integrator.h "Media") ----
+
+// The equiangular density integrates to 1 over its segment and sample() inverts its CDF: the
+// integral of pdf() from 0 to sample(u), by composite Simpson in double (20000 intervals over
+// a range of a few D: error < 1e-7), is u within 1e-4 (float evaluation of pdf and tan).
+// Segments before, around and past the light's foot, one of infinite length.
+TEST(MediaEquiangular, SampleInvertsTheDensity) {
+    const Vec3 o(0.f, 0.f, 0.f), d(0.f, 0.f, 1.f);
+    struct Case {
+        float t_max;
+        Vec3 c;
+    };
+    const Case cases[] = {{10.f, Vec3(1.f, 0.f, 4.f)},
+                          {2.f, Vec3(0.f, 0.5f, 6.f)},
+                          {5.f, Vec3(0.3f, 0.f, -2.f)},
+                          {facet::kInfinity, Vec3(0.f, 2.f, 3.f)}};
+    for (const Case& k : cases) {
+        const fr::Equiangular e(o, d, k.t_max, k.c);
+        ASSERT_TRUE(e.valid());
+        auto integral = [&](double t1) {
+            const int n = 20000;
+            const double h = t1 / n;
+            double s = double(e.pdf(0.f)) + double(e.pdf(float(t1)));
+            for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * double(e.pdf(float(i * h)));
+            return s * h / 3.0;
+        };
+        for (float u : {0.05f, 0.3f, 0.5f, 0.77f, 0.95f}) {
+            const float t = e.sample(u);
+            ASSERT_GE(t, 0.f);
+            ASSERT_LT(t, k.t_max);
+            EXPECT_NEAR(integral(t), u, 1e-4) << "t_max " << k.t_max << " u " << u;
+        }
+        if (std::isfinite(k.t_max)) {
+            EXPECT_NEAR(integral(std::nextafter(k.t_max, 0.f)), 1.0, 1e-4);
+        }
+        EXPECT_EQ(e.pdf(-0.1f), 0.f);
+    }
+    EXPECT_FALSE(fr::Equiangular(o, d, 5.f, Vec3(0.f, 0.f, 2.f)).valid());  // c on the ray
+}
+
+namespace {
+
+// A point light of power `power` at c in an infinite world fog (sigma_s, sigma_a per channel,
+// HG g), seen along the camera axis from o toward -z with a field of view of 0.2 degrees (the
+// pixels' rays differ by < 0.002 rad: the light's 1/r^2 changes by < 1e-5 relatively to second
+// order, the first order cancels over the symmetric pixels), single scattering (max_depth 1).
+// With `wall`, a black plane at z = wall_z ends the rays.
+std::string point_light_fog(const double sigma_s[3], const double sigma_a[3], double g,
+                            const Vec3& c, double power, bool wall, double wall_z) {
+    auto rgb = [](const double v[3]) {
+        return "[" + std::to_string(v[0]) + ", " + std::to_string(v[1]) + ", " +
+               std::to_string(v[2]) + "]";
+    };
+    std::string s = R"("camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 0.2,
+                                  "width": 8, "height": 8},
+           "media": {"fog": {"kind": "homogeneous", "sigma_s": )" +
+                    rgb(sigma_s) + R"(, "sigma_a": )" + rgb(sigma_a) + R"(, "g": )" +
+                    std::to_string(g) + R"(}},
+           "world_medium": "fog",
+           "materials": {"black": {"model": "lambert", "reflectance": 0}},
+           "shapes": [)";
+    if (wall)
+        s += R"({"type": "plane", "point": [0, 0, )" + std::to_string(wall_z) +
+             R"(], "normal": [0, 0, 1], "material": "black"})";
+    s += R"(],
+           "lights": [{"type": "point", "position": [)" +
+         std::to_string(c.x) + ", " + std::to_string(c.y) + ", " + std::to_string(c.z) +
+         R"(], "power": )" + std::to_string(power) + R"(}],
+           "render": {"max_depth": 1})";
+    return s;
+}
+
+// The single-scattered radiance along the ray o + t d (t < t_max) of the scene above, by
+// composite Simpson in double over [0, min(t_max, 400)] (200000 intervals; the integrand's
+// peak near the light is ~1 wide, and beyond 400 it is below exp(-40) of its peak):
+//   L = int sigma_s p(cos) (Phi / 4 pi) / r^2 exp(-sigma_t t) exp(-sigma_t r) dt,
+// r = |c - x|, cos = -dot(wi, wo) with wi = (c - x) / r, wo = -d (HG: the angle between the
+// light's direction of travel and the way to the viewer).
+double point_light_quadrature(double sigma_s, double sigma_t, double g, const Vec3& c, double power,
+                              double t_max) {
+    const double o[3] = {0, 0, 4}, d[3] = {0, 0, -1};
+    auto f = [&](double t) {
+        const double x[3] = {o[0] + d[0] * t, o[1] + d[1] * t, o[2] + d[2] * t};
+        const double v[3] = {double(c.x) - x[0], double(c.y) - x[1], double(c.z) - x[2]};
+        const double r = std::sqrt(v[0] * v[0] + v[1] * v[1] + v[2] * v[2]);
+        const double cos = (v[0] * d[0] + v[1] * d[1] + v[2] * d[2]) / r;  // -dot(wi, -d)
+        const double p = (1 - g * g) / (4 * M_PI * std::pow(1 + g * g - 2 * g * cos, 1.5));
+        return sigma_s * p * power / (4 * M_PI) / (r * r) * std::exp(-sigma_t * (t + r));
+    };
+    const double b = std::min(t_max, 400.0);
+    const int n = 200000;
+    const double h = b / n;
+    double s = f(0.0) + f(b);
+    for (int i = 1; i < n; ++i) s += (i % 2 ? 4.0 : 2.0) * f(i * h);
+    return s * h / 3.0;
+}
+
+fr::RenderOptions volume_options(fr::VolumeSampling v, int spp, std::uint64_t seed) {
+    fr::RenderOptions o = fr::testing::test_options("path", spp, seed);
+    o.volume_sampling = v;
+    return o;
+}
+
+}  // namespace
+
+// (a) A point light in an infinite homogeneous fog, single scattering, against the quadrature
+// above (written independently of the renderer): both distance samplings, on an infinite
+// segment and on one ended by a black wall past the light, have mean within 5 standard errors
+// (of the 64 pixels' spread) of it in every channel. An estimator that dropped the MIS weights
+// (factor 2 on each strategy) or the transmittance to the equiangular point fails by far more.
+TEST(MediaEquiangular, PointLightInFogMatchesQuadrature) {
+    const int spp = std::max(64, int(512 * fr::testing::stress_scale()));
+    const double g = 0.3;
+    // Thin fog (sigma_t,max D = 0.42: the equiangular distance alone) with the lamp 3 units
+    // along the ray, and a 10 times denser one (4.2: both distances by MIS) with the lamp 0.4
+    // along it; the lamp 0.7 from the ray in both.
+    for (double scale : {1.0, 10.0})
+        for (bool wall : {false, true}) {
+            const Vec3 c(0.f, 0.7f, scale > 1.0 ? 3.6f : 1.f);
+            const double power = scale > 1.0 ? 100.0 : 20.0;
+            const double sigma_s[3] = {0.3 * scale, 0.15 * scale, 0.6 * scale},
+                         sigma_a[3] = {0.05 * scale, 0.2 * scale, 0.0};
+            const double wall_z = 0.0;
+            const fr::Scene scene = fr::testing::scene_from(
+                point_light_fog(sigma_s, sigma_a, g, c, power, wall, wall_z));
+            for (auto v : {fr::VolumeSampling::MultipleImportance, fr::VolumeSampling::Distance}) {
+                const fr::Image img = fr::render(scene, volume_options(v, spp, 31));
+                for (int ch = 0; ch < 3; ++ch) {
+                    const double expected =
+                        point_light_quadrature(sigma_s[ch], sigma_s[ch] + sigma_a[ch], g, c, power,
+                                               wall ? 4.0 - wall_z : double(facet::kInfinity));
+                    const MeanSe m = mean_se(img.pixels(), ch);
+                    EXPECT_NEAR(m.mean, expected, 5.0 * m.se + 1e-6)
+                        << "density x" << scale << ", " << (wall ? "wall" : "infinite") << ", "
+                        << (v == fr::VolumeSampling::Distance ? "distance" : "mis") << ", channel "
+                        << ch;
+                    EXPECT_GT(expected, 0.01);
+                }
+            }
+        }
+}
+
+namespace {
+
+// A fog scene for comparing the two samplings: a world fog, a box of denser fog, a floor and a
+// diffuse sphere, lit by a point lamp, a sphere lamp, a quad lamp inside the fog and a dim
+// environment (a light without a point to aim at); multiple scattering (max_depth 6).
+const char* const kFogScene =
+    R"("camera": {"position": [0, 1.2, 5], "look_at": [0, 0.7, 0], "fov": 40,
+                  "width": 24, "height": 18},
+       "media": {"air": {"kind": "homogeneous", "sigma_s": [0.08, 0.1, 0.12], "sigma_a": 0.01,
+                         "g": 0.2},
+                 "dense": {"kind": "homogeneous", "sigma_s": 1.5, "sigma_a": [0.1, 0.3, 0.5],
+                           "g": -0.3}},
+       "world_medium": "air",
+       "materials": {"floor": {"model": "lambert", "reflectance": 0.5},
+                     "red": {"model": "lambert", "reflectance": [0.7, 0.2, 0.2]},
+                     "box": {"model": "null", "interior": "dense"}},
+       "shapes": [
+         {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor"},
+         {"type": "sphere", "center": [0.9, 0.5, 0], "radius": 0.5, "material": "red"},
+         {"type": "box", "min": [-1.6, 0.01, -0.5], "max": [-0.6, 1.0, 0.5], "material": "box"},
+         {"type": "quad", "emission": 4,
+          "vertices": [[-0.3, 2.2, -0.3], [0.3, 2.2, -0.3], [0.3, 2.2, 0.3], [-0.3, 2.2, 0.3]]}],
+       "lights": [{"type": "point", "position": [-0.2, 1.4, 1.0], "power": 30},
+                  {"type": "point", "position": [1.5, 1.5, -0.5], "power": 40, "radius": 0.2},
+                  {"type": "environment", "radiance": 0.1}],
+       "render": {"max_depth": 6})";
+
+}  // namespace
+
+// (b) The MIS estimator and the free-flight one agree in mean on a fog scene with multiple
+// scattering, surfaces and every kind of light: the per-pixel difference of two independent
+// renders has mean 0 within 5 of its standard errors (from the differences' own spread), in
+// every channel, with the view light choice and with the light tree (whose position-dependent
+// choice the segment samples do not use; a phase-hit weight against the tree's pmf instead of
+// theirs, which breaks the weights' sum, does not show at this noise).
+TEST(MediaEquiangular, AgreesWithFreeFlightSamplingOnAFogScene) {
+    const int spp = std::max(64, int(256 * fr::testing::stress_scale()));
+    const fr::Scene scene = fr::testing::scene_from(kFogScene);
+    for (auto sel : {fr::LightSelection::Auto, fr::LightSelection::Tree}) {
+        fr::RenderOptions a = volume_options(fr::VolumeSampling::MultipleImportance, spp, 41);
+        fr::RenderOptions b = volume_options(fr::VolumeSampling::Distance, spp, 42);
+        a.light_selection = b.light_selection = sel;
+        const fr::Image ia = fr::render(scene, a), ib = fr::render(scene, b);
+        std::vector<Rgb> diff;
+        for (std::size_t i = 0; i < ia.pixels().size(); ++i)
+            diff.push_back(ia.pixels()[i] - ib.pixels()[i]);
+        for (int c = 0; c < 3; ++c) {
+            const MeanSe d = mean_se(diff, c), m = mean_se(ia.pixels(), c);
+            EXPECT_NEAR(d.mean, 0.0, 5.0 * d.se + 1e-6)
+                << "channel " << c << ", image mean " << m.mean
+                << (sel == fr::LightSelection::Tree ? " (tree)" : "");
+            EXPECT_GT(m.mean, 0.02);
+        }
+    }
+}
+
+// (c) The noise falls in thin fog lit by a point lamp: the variance per sample (the pixels'
+// spread squared times spp: every pixel estimates nearly the same radiance) of the MIS
+// estimator is below the free-flight one's by kMinVarianceRatio. Free flight rarely stops near
+// the lamp in fog of optical depth 0.05 per unit, where most of the in-scattered light comes
+// from (sigma_t D = 0.025: the equiangular distance alone). Measured: 55 (Sobol samples, as
+// rendered; with both distances by MIS 48, and 61 with independent samples). The assertion
+// leaves a factor of 3 for the spread of the two variance estimates (64 pixels each: ~18%
+// relative standard error each). Free flight alone, or MIS weights that favour it, fail.
+TEST(MediaEquiangular, LowersTheVarianceInThinFog) {
+    constexpr double kMinVarianceRatio = 16.0;
+    const int spp = 64;
+    const double sigma_s[3] = {0.05, 0.05, 0.05}, sigma_a[3] = {0.0, 0.0, 0.0};
+    const fr::Scene scene = fr::testing::scene_from(
+        point_light_fog(sigma_s, sigma_a, 0.0, Vec3(0.f, 0.5f, 1.f), 20.0, false, 0.0));
+    double var[2];
+    int i = 0;
+    for (auto v : {fr::VolumeSampling::MultipleImportance, fr::VolumeSampling::Distance}) {
+        const fr::Image img = fr::render(scene, volume_options(v, spp, 51));
+        const MeanSe m = mean_se(img.pixels(), 1);
+        var[i++] = m.spread * m.spread * spp;
+    }
+    std::printf("variance per sample: mis %.4g, free flight %.4g, ratio %.3g\n", var[0], var[1],
+                var[1] / var[0]);
+    EXPECT_GT(var[1], kMinVarianceRatio * var[0]);
 }

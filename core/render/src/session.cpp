@@ -163,6 +163,8 @@ std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& rs,
     h = mix(h, rs.spp == 1 ? 1u : 0u);  // pixel-centre camera rays
     h = mix(h, (o.independent_samples ? 1u : 0u) | (std::uint64_t(ls) << 3) |
                    (ls == LightSelection::Uniform ? 2u : 0u) | (o.force_general_kernel ? 4u : 0u));
+    if (o.volume_sampling != VolumeSampling::MultipleImportance)
+        h = mix(h, 0x564f4c0000ull | std::uint64_t(o.volume_sampling));
     if (rs.adaptive_threshold > 0.0) {
         std::uint64_t bits;
         std::memcpy(&bits, &rs.adaptive_threshold, sizeof bits);
@@ -254,6 +256,7 @@ struct RenderSession::State {
         proto.max_depth = choice.max_depth;
         proto.light_distribution = &light_dist;
         proto.independent_samples = options.independent_samples;
+        proto.volume_sampling = options.volume_sampling;
         proto.alpha = film.alpha_sums();
         proto.catcher = film.catcher_sums();
         arena.execute([&] {

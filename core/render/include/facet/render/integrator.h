@@ -55,13 +55,28 @@
 //    event estimation with the phase function and the transmittance of the shadow ray (which
 //    crosses `null` surfaces, multiplying the transmittance of each medium it passes; any
 //    other surface blocks it), MIS (power heuristic) against phase-function sampling for
-//    lights that rays can hit, then a new direction from the phase function. `null` surfaces
+//    lights that rays can hit, then a new direction from the phase function. In a homogeneous
+//    scattering medium (VolumeSampling::MultipleImportance, the default) the next-event
+//    estimate is instead the segment's (segment_light): before its free flight, a light is
+//    chosen (by the distribution's position-independent pmf: a light tree's choice at one
+//    point could miss a light that lights another point of the segment) and a point c on it
+//    sampled from the segment's origin; the light is then sampled from two points, the
+//    free-flight distance (when the flight scatters) and an equiangular distance toward c
+//    (medium.h, Equiangular), each weighted by the power heuristic of its distance density
+//    against the other's (two-sample MIS; the free-flight density is the channel-MIS one),
+//    with the same light numbers; where the medium is thin over the equiangular density's
+//    scale (kEquiangularAloneDepth) the equiangular one alone. Without a point to aim at (a
+//    distant or environment light, a failed sample, c on the ray's line) the free-flight
+//    distance carries it alone. The scattering vertex then only samples the phase function,
+//    and a light its direction hits is weighted against the same position-independent pmf.
+//    Runs with a shadow catcher and grid media keep the vertex's own estimate. `null` surfaces
 //    are crossed without a vertex (max_depth counts surface and medium vertices only). An
 //    infinite ray in a world medium with sigma_t > 0 in every channel never reaches the
 //    environment (transmittance 0), as in Cycles; a channel with sigma_t = 0 sees it. The
 //    camera's media are found once per tile by a ray from the camera position (the
 //    boundaries it leaves before entering them again). Sample dimensions: their own block
-//    per segment, kMediaDimsPerSegment wide (a `null` crossing is a segment). Grid media
+//    per segment, kMediaDimsPerSegment wide (a `null` crossing is a segment; integrator.cpp
+//    lists them). Grid media
 //    track against their majorants (medium.h) with a generator seeded from the segment's last
 //    dimension, so a segment's tracking never shifts another's dimensions. Area lamps
 //    that camera rays see are not attenuated by media.
@@ -217,6 +232,12 @@ struct KernelCounters {
 // top-left pixel is (film_x0, film_y0), row-major with film_width pixels per row (the tile lies
 // inside it). Rows are traced in packets aligned to multiples of 8 pixels of the image (render.h).
 // Never throws, allocates or logs.
+// How the media kernel places a homogeneous medium's next-event estimates (the conventions'
+// "Media"): at free-flight and equiangular distances combined by MIS (the default), or at the
+// free-flight distance alone (its scattering vertex; comparisons and tests). Both converge to
+// the same image.
+enum class VolumeSampling : std::uint8_t { MultipleImportance, Distance };
+
 struct TileJob {
     int x0, y0, x1, y1;
     int film_x0, film_y0, film_width;
@@ -229,6 +250,7 @@ struct TileJob {
     const LightDistribution* light_distribution;
     // Independent uniform samples instead of the Sobol sequence (RenderOptions).
     bool independent_samples = false;
+    VolumeSampling volume_sampling = VolumeSampling::MultipleImportance;  // RenderOptions
     // The film's coverage sums (film.h, same layout as `sums`), written by the alpha kernels
     // only (kFeatAlpha) and only with a transparent film; null otherwise.
     FixedSum* alpha = nullptr;

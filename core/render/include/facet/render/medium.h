@@ -227,6 +227,46 @@ class Medium {
     float m_sigma_t_max = 0.f;                            // grid kind: max_c sigma_t[c]
 };
 
+// Equiangular sampling of a distance along a ray segment toward a point c (Kulla & Fajardo
+// 2012, "Importance Sampling Techniques for Path Tracing in Participating Media", §4.1): on
+// o + t d, t in [0, t_max) (t_max may be +inf), with density proportional to 1 / |o + t d - c|^2,
+// the falloff of a point light's irradiance. With Delta = dot(c - o, d) the foot of c on the
+// ray's line and D the distance of c from that line,
+//   t = Delta + D tan(theta),  theta uniform in [theta_a, theta_b],
+//   theta_a = atan2(-Delta, D), theta_b = atan2(t_max - Delta, D),
+//   pdf(t) = D / ((theta_b - theta_a) (D^2 + (t - Delta)^2))   (per unit length).
+// d is a unit vector. Not valid (no density) when c lies on the ray's line (D = 0) or the
+// segment subtends no angle.
+class Equiangular {
+  public:
+    Equiangular(const Vec3& o, const Vec3& d, float t_max, const Vec3& c) {
+        const Vec3 oc = c - o;
+        m_delta = glm::dot(oc, d);
+        m_d = glm::length(oc - d * m_delta);  // no cancellation when d points at c
+        m_theta_a = std::atan2(-m_delta, m_d);
+        m_theta_b = std::atan2(t_max - m_delta, m_d);
+        m_t_max = t_max;
+    }
+    bool valid() const { return m_d > 0.f && m_theta_b > m_theta_a && std::isfinite(m_d); }
+    // D, the distance of c from the ray's line: the scale of the density around its peak.
+    float distance() const { return m_d; }
+    // The distance for u in [0, 1), clamped into [0, t_max] against rounding (the caller skips
+    // t >= t_max). Call only when valid().
+    float sample(float u) const {
+        const float t = m_delta + m_d * std::tan(m_theta_a + u * (m_theta_b - m_theta_a));
+        return std::fmin(std::fmax(t, 0.f), m_t_max);
+    }
+    // pdf(t) per unit length (0 when not valid, or t outside [0, t_max)).
+    float pdf(float t) const {
+        if (!valid() || !(t >= 0.f && t < m_t_max)) return 0.f;
+        const float x = t - m_delta;
+        return m_d / ((m_theta_b - m_theta_a) * (m_d * m_d + x * x));
+    }
+
+  private:
+    float m_delta = 0.f, m_d = 0.f, m_theta_a = 0.f, m_theta_b = 0.f, m_t_max = 0.f;
+};
+
 // Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,
 // absorption_color = 1: no absorption) as coefficients, the one place this conversion is written
 // (the scene format's Cycles keys and the Blender addon both use it):

@@ -86,6 +86,9 @@ struct RenderOptions {
     // Independent uniform samples instead of Owen-scrambled Sobol (the peer of the time-to-error
     // benchmark; --sampler independent). Images converge to the same value, more slowly.
     bool independent_samples = false;
+    // The media kernel's next-event distance in homogeneous media (integrator.h,
+    // VolumeSampling): free-flight and equiangular by MIS (the default), or free flight alone.
+    VolumeSampling volume_sampling = VolumeSampling::MultipleImportance;
     Progress::Mode progress = Progress::Mode::Silent;
     int tile_size = kDefaultTileSize;
     // Crop window of the full image (--region); unset = the whole image.
