@@ -19,9 +19,11 @@
 //    reads the constants once (ModelInfo::read of `params`, the parameters `base` was built
 //    from), and at() sets the varying values and calls ModelInfo::make with the children given.
 //    It is the same code on the same values as the registry's build: bit for bit.
-//  - make() returns nullopt where the model or a varying parameter is not staged (the
-//    families' Blinn exponents, anisotropic alpha_u/alpha_v, conductor eta/k, a composite's ior
-//    with a glossy lobe, a composite's f0 with energy compensation); callers then build per hit.
+//  - A model with a family (ModelInfo::staged) takes the family's build below where it covers
+//    the varying parameters; where it does not (Blinn exponents, anisotropic alpha_u/alpha_v,
+//    conductor eta/k, a composite's ior with a glossy lobe or its f0 with energy compensation)
+//    the model's unit, which has the two-stage builder too, is staged as above. make() returns
+//    nullopt only for a model without either (a principled's subsurface walk: the caller).
 //
 // Exactness against make_material at the same values:
 //  - bit for bit for lambert, oren_nayar, principled, mirror, ggx/beckmann/blinn (the same

@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace facet::render {
 
@@ -13,15 +14,26 @@ namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
 
-// A combination's sub-materials at p: its textured children built there (one allocation
-// each), the constant ones shared.
+// A combination's sub-materials at p: its textured children built there, the constant ones
+// shared. Material::Combination holds its children by shared_ptr: a textured child goes into a
+// material of this thread's pool that nothing else holds any more (use count 1), so once the
+// pool has grown to the nesting depth a hit allocates nothing.
 using Children2 = std::array<std::shared_ptr<const Material>, 2>;
+std::shared_ptr<const Material> pooled(Material m) {
+    thread_local std::vector<std::shared_ptr<Material>> pool;
+    for (std::shared_ptr<Material>& slot : pool) {
+        if (slot.use_count() != 1) continue;
+        *slot = std::move(m);
+        return slot;
+    }
+    pool.push_back(std::make_shared<Material>(std::move(m)));
+    return pool.back();
+}
 void textured_children(const Scene& scene, const TexturedMaterial& tm, const TexturePoint& p,
                        Children2& children) {
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
-                                            scene.textured_material(std::size_t(c.textured), p))
+        children[k] = c.textured >= 0 ? pooled(scene.textured_material(std::size_t(c.textured), p))
                                       : c.constant;
     }
 }
@@ -163,10 +175,10 @@ Material Scene::textured_material(std::size_t index, const TexturePoint& p) cons
             std::span(out.data(), tm.num_staged),
             std::span(children.data(), std::min(tm.children.size(), children.size())));
     }
-    return textured_material_rebuilt(index, p);
+    return unstaged_material(index, p);
 }
 
-Material Scene::textured_material_rebuilt(std::size_t index, const TexturePoint& p) const {
+Material Scene::unstaged_material(std::size_t index, const TexturePoint& p) const {
     const TexturedMaterial& tm = m_textured[index];
     ParamSet params = tm.params;
     for (const TexturedMaterial::Slot& s : tm.slots) {
