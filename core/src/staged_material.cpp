@@ -88,7 +88,10 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
                 matches = base.oren_nayar() != nullptr;
                 break;
             case StagedFamily::Principled:
-                matches = bool(base.principled());
+                // Not with a subsurface weight: the walk (on where its conditions hold) is the
+                // unit's.
+                matches = base.principled() && base.principled()->params().subsurface == 0.f &&
+                          std::find(varying.begin(), varying.end(), "subsurface") == varying.end();
                 break;
             case StagedFamily::Mirror:
                 matches = bool(base.mirror());

@@ -508,22 +508,52 @@ TEST(StagedMaterial, MixOfNewlyStagedChildrenIsBitIdentical) {
             0.0, 5);
 }
 
-// The one kind left to the per-hit registry build (TexturedMaterial: a principled with its
-// subsurface walk on): not staged, and the same as the reference.
-TEST(StagedMaterial, PrincipledWithSubsurfaceWalkIsRebuilt) {
-    const fr::Scene s = scene_with(R"({"model": "principled", "subsurface": 0.5, "base_color": )" +
-                                   tex(random_image("c40", 3, 0.2f, 116), 1) + "}");
-    ASSERT_EQ(s.textured_materials().size(), 1u);
-    EXPECT_FALSE(s.textured_materials()[0].staged);
+// A principled with a subsurface weight: the unit's builder (the walk is on where Cycles'
+// conditions hold, which a texture can change from hit to hit), the walk's coefficients and
+// the surface closures beside it as the reference's. The surface closures go into the
+// per-thread pool (pooled_material), reused from hit to hit.
+void expect_same_walk(const fr::Scene& s) {
     std::mt19937 rng(5);
     std::uniform_real_distribution<float> u01(0.f, 1.f);
+    int walked = 0;
     for (int i = 0; i < kUvs; ++i) {
         const Vec2 uv(u01(rng), u01(rng));
         const Material a = s.textured_material(0, uv, {}), b = reference(s, 0, uv);
-        ASSERT_TRUE(a.subsurface() && b.subsurface());
-        const Vec3 wo = random_direction(rng, true), wi = random_direction(rng, false);
-        expect_close(a.eval(wo, wi).f, b.eval(wo, wi).f, 0.0, "f");
+        ASSERT_EQ(bool(a.subsurface()), bool(b.subsurface()));
+        if (!a.subsurface()) continue;
+        ++walked;
+        const facet::SubsurfaceWalk &wa = a.subsurface()->lobe.walk,
+                                    &wb = b.subsurface()->lobe.walk;
+        EXPECT_EQ(a.subsurface()->lobe.weight, b.subsurface()->lobe.weight);
+        EXPECT_EQ(wa.sigma_t, wb.sigma_t);
+        EXPECT_EQ(wa.alpha, wb.alpha);
+        EXPECT_EQ(wa.g, wb.g);
+        EXPECT_EQ(a.subsurface()->probability, b.subsurface()->probability);
+        ASSERT_EQ(bool(a.subsurface()->surface), bool(b.subsurface()->surface));
+        if (!a.subsurface()->surface) continue;
+        for (int j = 0; j < 10; ++j) {
+            const Vec3 wo = random_direction(rng, true), wi = random_direction(rng, false);
+            expect_close(a.subsurface()->surface->eval(wo, wi).f,
+                         b.subsurface()->surface->eval(wo, wi).f, 0.0, "surface f");
+        }
     }
+    EXPECT_GT(walked, 0);
+}
+
+TEST(StagedMaterial, PrincipledWithSubsurfaceWalkIsBitIdentical) {
+    const fr::Scene s =
+        scene_with(R"({"model": "principled", "subsurface": 0.5, "base_color": )" +
+                   tex(random_image("c40", 3, 0.2f, 116), 1) + R"(, "roughness": )" +
+                   tex(random_image("g55", 1, 0.f, 117), 1) + "}");
+    compare(s, 0.0);
+    expect_same_walk(s);
+    // A textured weight and radius: the walk on at some hits, off at others.
+    const fr::Scene t = scene_with(
+        R"({"model": "principled", "subsurface": )" + tex(random_image("g56", 1, 0.f, 118), 1) +
+        R"(, "subsurface_radius": )" + tex(random_image("c41", 3, 0.5f, 119), 2) +
+        R"(, "metallic": )" + tex(random_image("g57", 1, 0.f, 120), 1) + "}");
+    compare(t, 0.0);
+    expect_same_walk(t);
 }
 
 // glTF metallic-roughness through its conversion (Debian's assimp-testmodels; skipped when

@@ -22,8 +22,8 @@
 //  - A model with a family (ModelInfo::staged) takes the family's build below where it covers
 //    the varying parameters; where it does not (Blinn exponents, anisotropic alpha_u/alpha_v,
 //    conductor eta/k, a composite's ior with a glossy lobe or its f0 with energy compensation)
-//    the model's unit, which has the two-stage builder too, is staged as above. make() returns
-//    nullopt only for a model without either (a principled's subsurface walk: the caller).
+//    the model's unit, which has the two-stage builder too, is staged as above (every unit has
+//    one: make() returns nullopt only for a parameter that is not a number or a colour).
 //
 // Exactness against make_material at the same values:
 //  - bit for bit for lambert, oren_nayar, principled, mirror, ggx/beckmann/blinn (the same

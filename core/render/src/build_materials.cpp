@@ -509,6 +509,10 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         }
     }
     stage(tm, *m_builder.materials().back(), conversion);
+    if (!tm.staged)
+        fail(ptr, "model '" + m.model +
+                      "': its textured parameters have no per-hit build (a conversion without "
+                      "convert_values or a source without a numeric default)");
     for (const auto& s : tm.slots)
         tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
     for (const auto* map :
@@ -563,15 +567,11 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
             m_builder.materials().back()};
 }
 
-// The staged per-hit build of a textured material (facet/staged_material.h), where the model
-// and its textured parameters allow it. `base` is the material at the textures' largest
-// values (with a conversion: its sources' largest), validated by build_model.
+// The staged per-hit build of a textured material (facet/staged_material.h); left null where a
+// conversion cannot be staged (build_model's error). `base` is the material at the textures'
+// largest values (with a conversion: its sources' largest), validated by build_model.
 void Builder::stage(TexturedMaterial& tm, const Material& base,
                     const MaterialConversion* conversion) {
-    // A subsurface walk is built by the model itself (the families' lobes have none; a
-    // two-stage unit builds it).
-    const ModelInfo* info = find_model(tm.model);
-    if (base.subsurface() && !(info && info->make)) return;
     using Range = StagedMaterial::Range;
     constexpr std::size_t kMax = TexturedMaterial::kMaxStaged;
     auto value = [](const TexturedMaterial::Slot& s, const Rgb& v) {

@@ -83,11 +83,14 @@ const ModelInfo& thin_dielectric_model() {
             "thin pane (window glass): both interfaces' reflections summed, R' = R + "
             "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
         .params = {ior_param(), transmittance_param()},
-        .build =
-            [](ParamReader& r, Children) {
-                const float eta = float(r.number("ior", 1.5, 1e-3, models::kMaxIor));
-                const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
-                return Material(ThinDielectricBxDF(eta, tr));
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.number(v, 0, 1.5, 1e-3, models::kMaxIor);  // ior
+                r.color(v, 1, Rgb(1.f), 0.0, 1.0);           // transmittance
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(ThinDielectricBxDF(float(v.number(0)), v.color(1)));
             },
         .staged = StagedFamily::ThinDielectric,
         .pov_finish = false};

@@ -336,9 +336,7 @@ struct ShapeInfo : ShapeSurface {
 // the textures are evaluated into a block of values and the model's lobes are set from them by
 // its staged build (`staged`, facet/staged_material.h): no allocation and no string handling
 // per hit. `model`, `params` and `convert` describe the material as the registry builds it from
-// constants (make_material): the reference the staged build is tested against, and the per-hit
-// build of the one kind the staged build does not cover (`staged` null: a principled material
-// whose subsurface walk is on, whose per-hit build allocates its surface closures anyway).
+// constants (make_material): the reference the staged build is tested against.
 struct TexturedMaterial {
     std::string model;
     ParamSet params;  // the constant parameters and a placeholder for every textured one
@@ -353,11 +351,11 @@ struct TexturedMaterial {
     // at every hit (pure, never throws). Null: the slots are the model's parameters.
     using Convert = ParamSet (*)(const ParamSet&);
     Convert convert = nullptr;
-    // The staged build (facet/staged_material.h); null only in the case named above.
+    // The staged build (facet/staged_material.h).
     //  - Without a conversion, value i of `staged` is slot i's (a number: its r channel).
     //  - With one, `convert_values` maps the sources (`sources`: the constants, slot i's value
     //    at sources[slot_source[i]]) onto `staged`'s values, as `convert` does on ParamSets.
-    static constexpr std::size_t kMaxStaged = 16;  // values or sources (ParamValues::kMax)
+    static constexpr std::size_t kMaxStaged = ParamValues::kMax;  // values or sources
     std::shared_ptr<const StagedMaterial> staged;
     using ConvertValues = void (*)(const DVec3* sources, DVec3* outputs);
     ConvertValues convert_values = nullptr;
@@ -724,9 +722,6 @@ class Scene {
 
   private:
     friend struct Builder;
-    // The per-hit build of a textured material without a staged build (TexturedMaterial): its
-    // ParamSet with the values set, through the registry.
-    Material unstaged_material(std::size_t index, const TexturePoint& p) const;
     // Any hit with t in (0, r.tmax) (planes outside Embree, then Embree's occlusion query).
     bool occluded_ray(const Ray& r) const;
     // The same at shutter time `time` (motion blur).
