@@ -462,7 +462,7 @@ TEST(StagedMaterial, CompositeIorAndCompensatedF0AreBitIdentical) {
             0.0);
 }
 
-// More than 8 textured parameters (TexturedMaterial::kMaxStaged is 16): 15 of principled's
+// More than 8 textured parameters (the staged block holds ParamValues::kMax): 15 of principled's
 // (its subsurface left at 0: no walk) and every texturable one of a conductor composite.
 TEST(StagedMaterial, ManyTexturedParametersAreBitIdentical) {
     std::string p = R"({"model": "principled")";
