@@ -2,6 +2,9 @@
 
 #include "facet/reflectance.h"
 
+#include <algorithm>
+#include <vector>
+
 namespace facet {
 
 namespace {
@@ -423,6 +426,22 @@ std::optional<BSDFSample> Material::sample_f(const Vec3& wo, float uc, Vec2 u, M
     s->pdf = e.pdf;
     if (!(s->pdf > 0.f)) return std::nullopt;
     return s;
+}
+
+std::shared_ptr<const Material> pooled_material(Material m) {
+    // Searched from the back, a few entries deep: the entries a long-lived material keeps (a
+    // constant material built at scene load on this thread) stay behind the ones per-hit
+    // builds release.
+    constexpr std::size_t kSearch = 16;
+    thread_local std::vector<std::shared_ptr<Material>> pool;
+    for (std::size_t k = 0; k < std::min(pool.size(), kSearch); ++k) {
+        std::shared_ptr<Material>& slot = pool[pool.size() - 1 - k];
+        if (slot.use_count() != 1) continue;
+        *slot = std::move(m);
+        return slot;
+    }
+    pool.push_back(std::make_shared<Material>(std::move(m)));
+    return pool.back();
 }
 
 }  // namespace facet

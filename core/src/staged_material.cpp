@@ -54,11 +54,10 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
                                                    const ParamSet& params,
                                                    std::span<const std::string> varying,
                                                    std::span<const Range> ranges) {
-    StagedMaterial s(base);
-    using F = Family;
     const ModelInfo* info = find_model(model);
-    if (info && info->make) {
-        // A two-stage unit: its own reader, once, and its builder per hit.
+    // A two-stage unit: its own reader, once, and its builder per hit.
+    auto unit = [&]() -> std::optional<StagedMaterial> {
+        StagedMaterial s(base);
         for (const std::string& name : varying) {
             const ParamInfo* p = info->param(name);
             if (!p || (p->type != ParamType::Number && p->type != ParamType::Color))
@@ -73,207 +72,227 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
         }
         s.m_unit = info;
         return s;
-    }
-    // The model's unit names its family (facet/registry.h); the base must be that model.
-    const StagedFamily family = info ? info->staged : StagedFamily::None;
-    bool matches = false;
-    switch (family) {
-        case StagedFamily::Lambert:
-            matches = bool(base.diffuse());
-            break;
-        case StagedFamily::OrenNayar:
-            matches = base.oren_nayar() != nullptr;
-            break;
-        case StagedFamily::Principled:
-            matches = bool(base.principled());
-            break;
-        case StagedFamily::Mirror:
-            matches = bool(base.mirror());
-            break;
-        case StagedFamily::Microfacet:
-            matches = bool(base.glossy());
-            break;
-        case StagedFamily::Dielectric:
-            matches = bool(base.dielectric());
-            break;
-        case StagedFamily::ThinDielectric:
-            matches = bool(base.thin_dielectric());
-            break;
-        case StagedFamily::Composite:
-            matches = !base.combination() && !base.transmissive();
-            break;
-        case StagedFamily::None:
-            break;
-    }
-    if (!matches) return std::nullopt;
-    s.m_family = family;
-    const F f = s.m_family;
-    const Fresnel::Kind fresnel_kind = f == F::Mirror       ? base.mirror()->fresnel().kind()
-                                       : f == F::Microfacet ? base.glossy()->fresnel().kind()
-                                       : base.glossy()      ? base.glossy()->fresnel().kind()
-                                       : base.mirror()      ? base.mirror()->fresnel().kind()
-                                                            : Fresnel::Kind::Constant;
-    const bool reflectance =
-        f == F::Lambert || f == F::OrenNayar || f == F::Mirror || f == F::Microfacet;
-    const bool fresnel = f == F::Mirror || f == F::Microfacet || f == F::Composite;
-    const bool blinn =
-        base.glossy() && base.glossy()->distribution().kind() == DistributionKind::Blinn;
-    for (const std::string& name : varying) {
-        Slot slot{Param::Reflectance};
-        if (f == F::Principled) {
-            const auto* it =
-                std::find_if(std::begin(kPrincipledFields), std::end(kPrincipledFields),
-                             [&](const PrincipledField& p) { return name == p.name; });
-            if (it == std::end(kPrincipledFields)) return std::nullopt;
-            slot = {it->color ? Param::PrincipledColor : Param::PrincipledNumber, it->color,
-                    it->number};
-        } else if (name == "reflectance" && reflectance) {
-            slot.param = Param::Reflectance;
-        } else if (name == "sigma" && f == F::OrenNayar) {
-            slot.param = Param::Sigma;
-        } else if (name == "alpha" && !blinn &&
-                   (f == F::Microfacet || f == F::Dielectric || f == F::Composite)) {
-            slot.param = Param::Alpha;
-        } else if (name == "f0" && fresnel && fresnel_kind == Fresnel::Kind::Schlick) {
-            slot.param = Param::F0;
-        } else if (name == "ior" && ((fresnel && fresnel_kind == Fresnel::Kind::Dielectric) ||
-                                     f == F::Dielectric || f == F::ThinDielectric)) {
-            // A composite's glossy albedo is not linear in the IOR: not tabulated.
-            if (f == F::Composite && base.glossy()) return std::nullopt;
-            slot.param = Param::Ior;
-        } else if (name == "transmittance" && (f == F::Dielectric || f == F::ThinDielectric)) {
-            slot.param = Param::Transmittance;
-        } else if (name == "diffuse_reflectance" && f == F::Composite) {
-            slot.param = Param::Diffuse;
-        } else if (name == "glossy_reflectance" && f == F::Composite) {
-            slot.param = Param::Glossy;
-        } else if (name == "mirror_reflectance" && f == F::Composite) {
-            slot.param = Param::Mirror;
-        } else {
-            return std::nullopt;
-        }
-        s.m_slots.push_back(slot);
-    }
-    s.m_constants = s.constants();
-    const bool fresnel_varies = std::any_of(s.m_slots.begin(), s.m_slots.end(), [](const Slot& sl) {
-        return sl.param == Param::F0 || sl.param == Param::Ior;
-    });
-    if (!fresnel_varies && base.glossy() && base.glossy()->energy_compensation()) {
-        s.m_f_avg_const = true;
-        s.m_f_avg = base.glossy()->fresnel().average();
-    }
-    // The textured roughness's range: the nodes of every table over alpha (uniform in
-    // sqrt(alpha); one node at its value when the texture is constant).
-    bool alpha_given = false;
-    double alpha_lo = 0.0, alpha_hi = 0.0;
-    for (std::size_t i = 0; i < s.m_slots.size(); ++i) {
-        if (s.m_slots[i].param != Param::Alpha) continue;
-        alpha_given = true;
-        if (ranges[i].hi.x > ranges[i].lo.x) {
-            s.m_alpha_varies = true;
-            alpha_lo = std::max(ranges[i].lo.x, 0.0), alpha_hi = ranges[i].hi.x;
-        } else {
-            alpha_lo = alpha_hi = ranges[i].lo.x;
-        }
-    }
-    const int nodes = s.m_alpha_varies ? kAlphaNodes : 1;
-    s.m_s_lo = float(std::sqrt(alpha_lo));
-    s.m_s_step =
-        s.m_alpha_varies ? float((std::sqrt(alpha_hi) - std::sqrt(alpha_lo)) / (nodes - 1)) : 0.f;
-    // The distribution at node i (d0 itself when alpha is not textured).
-    auto node_distribution = [&](int i, const MicrofacetDistribution& d0) {
-        const float sq = s.m_s_lo + float(i) * s.m_s_step;
-        return alpha_given ? isotropic(d0.kind(), s.m_alpha_varies ? sq * sq : float(alpha_lo))
-                           : d0;
     };
-    // A compensated isotropic glossy lobe's own tables, once (MicrofacetReflection::
-    // Compensation): from the base when alpha is not textured (exact), else per node.
-    auto glossy_tables = [&](const MicrofacetReflection& g) {
-        if (!g.energy_compensation() || !g.multiple_scattering_is_isotropic()) return;
-        if (!alpha_given) {
-            s.m_comp.push_back(g.compensation());
-            return;
+    // A family's lobes with their tables built once (the header comment).
+    auto by_family = [&]() -> std::optional<StagedMaterial> {
+        StagedMaterial s(base);
+        using F = Family;
+        // The model's unit names its family (facet/registry.h); the base must be that model.
+        const StagedFamily family = info ? info->staged : StagedFamily::None;
+        bool matches = false;
+        switch (family) {
+            case StagedFamily::Lambert:
+                matches = bool(base.diffuse());
+                break;
+            case StagedFamily::OrenNayar:
+                matches = base.oren_nayar() != nullptr;
+                break;
+            case StagedFamily::Principled:
+                // Not with a subsurface weight: the walk (on where its conditions hold) is the
+                // unit's.
+                matches = base.principled() && base.principled()->params().subsurface == 0.f &&
+                          std::find(varying.begin(), varying.end(), "subsurface") == varying.end();
+                break;
+            case StagedFamily::Mirror:
+                matches = bool(base.mirror());
+                break;
+            case StagedFamily::Microfacet:
+                matches = bool(base.glossy());
+                break;
+            case StagedFamily::Dielectric:
+                matches = bool(base.dielectric());
+                break;
+            case StagedFamily::ThinDielectric:
+                matches = bool(base.thin_dielectric());
+                break;
+            case StagedFamily::Composite:
+                matches = !base.combination() && !base.transmissive();
+                break;
+            case StagedFamily::None:
+                break;
         }
-        for (int i = 0; i < nodes; ++i)
-            s.m_comp.push_back(MicrofacetReflection(node_distribution(i, g.distribution()),
-                                                    Fresnel::none(), Rgb(1.f), true)
-                                   .compensation());
-    };
-    if (f == F::Microfacet) glossy_tables(*base.glossy());
-    if (f == F::Dielectric && base.dielectric()->energy_compensation()) {
-        // The tables depend on the IOR too: a textured one keeps the per-hit build.
-        const bool ior_varies = std::any_of(s.m_slots.begin(), s.m_slots.end(),
-                                            [](const Slot& sl) { return sl.param == Param::Ior; });
-        const DielectricBxDF& d = *base.dielectric();
-        if (!ior_varies && !alpha_given) s.m_dcomp.push_back(d.compensation());
-        // A textured alpha keeps the per-hit build too: tables over sqrt(alpha) interpolated
-        // (linear or Catmull-Rom, 48 nodes) differed from it by 3.2e-3 relative in f, above the
-        // 2e-3 the other staged tables meet; not resolved this round.
-        if (!ior_varies && alpha_given && !s.m_alpha_varies)
-            s.m_dcomp.push_back(
-                DielectricBxDF(d.eta(), Rgb(1.f), node_distribution(0, d.distribution()), true)
-                    .compensation());
-    }
-    if (f != F::Composite || !base.glossy()) return s;
+        if (!matches) return std::nullopt;
+        s.m_family = family;
+        const F f = s.m_family;
+        const Fresnel::Kind fresnel_kind = f == F::Mirror       ? base.mirror()->fresnel().kind()
+                                           : f == F::Microfacet ? base.glossy()->fresnel().kind()
+                                           : base.glossy()      ? base.glossy()->fresnel().kind()
+                                           : base.mirror()      ? base.mirror()->fresnel().kind()
+                                                                : Fresnel::Kind::Constant;
+        const bool reflectance =
+            f == F::Lambert || f == F::OrenNayar || f == F::Mirror || f == F::Microfacet;
+        const bool fresnel = f == F::Mirror || f == F::Microfacet || f == F::Composite;
+        const bool blinn =
+            base.glossy() && base.glossy()->distribution().kind() == DistributionKind::Blinn;
+        for (const std::string& name : varying) {
+            Slot slot{Param::Reflectance};
+            if (f == F::Principled) {
+                const auto* it =
+                    std::find_if(std::begin(kPrincipledFields), std::end(kPrincipledFields),
+                                 [&](const PrincipledField& p) { return name == p.name; });
+                if (it == std::end(kPrincipledFields)) return std::nullopt;
+                slot = {it->color ? Param::PrincipledColor : Param::PrincipledNumber, it->color,
+                        it->number};
+            } else if (name == "reflectance" && reflectance) {
+                slot.param = Param::Reflectance;
+            } else if (name == "sigma" && f == F::OrenNayar) {
+                slot.param = Param::Sigma;
+            } else if (name == "alpha" && !blinn &&
+                       (f == F::Microfacet || f == F::Dielectric || f == F::Composite)) {
+                slot.param = Param::Alpha;
+            } else if (name == "f0" && fresnel && fresnel_kind == Fresnel::Kind::Schlick) {
+                slot.param = Param::F0;
+            } else if (name == "ior" && ((fresnel && fresnel_kind == Fresnel::Kind::Dielectric) ||
+                                         f == F::Dielectric || f == F::ThinDielectric)) {
+                // A composite's glossy albedo is not linear in the IOR: not tabulated.
+                if (f == F::Composite && base.glossy()) return std::nullopt;
+                slot.param = Param::Ior;
+            } else if (name == "transmittance" && (f == F::Dielectric || f == F::ThinDielectric)) {
+                slot.param = Param::Transmittance;
+            } else if (name == "diffuse_reflectance" && f == F::Composite) {
+                slot.param = Param::Diffuse;
+            } else if (name == "glossy_reflectance" && f == F::Composite) {
+                slot.param = Param::Glossy;
+            } else if (name == "mirror_reflectance" && f == F::Composite) {
+                slot.param = Param::Mirror;
+            } else {
+                return std::nullopt;
+            }
+            s.m_slots.push_back(slot);
+        }
+        s.m_constants = s.constants();
+        const bool fresnel_varies = std::any_of(
+            s.m_slots.begin(), s.m_slots.end(),
+            [](const Slot& sl) { return sl.param == Param::F0 || sl.param == Param::Ior; });
+        if (!fresnel_varies && base.glossy() && base.glossy()->energy_compensation()) {
+            s.m_f_avg_const = true;
+            s.m_f_avg = base.glossy()->fresnel().average();
+        }
+        // The textured roughness's range: the nodes of every table over alpha (uniform in
+        // sqrt(alpha); one node at its value when the texture is constant).
+        bool alpha_given = false;
+        double alpha_lo = 0.0, alpha_hi = 0.0;
+        for (std::size_t i = 0; i < s.m_slots.size(); ++i) {
+            if (s.m_slots[i].param != Param::Alpha) continue;
+            alpha_given = true;
+            if (ranges[i].hi.x > ranges[i].lo.x) {
+                s.m_alpha_varies = true;
+                alpha_lo = std::max(ranges[i].lo.x, 0.0), alpha_hi = ranges[i].hi.x;
+            } else {
+                alpha_lo = alpha_hi = ranges[i].lo.x;
+            }
+        }
+        const int nodes = s.m_alpha_varies ? kAlphaNodes : 1;
+        s.m_s_lo = float(std::sqrt(alpha_lo));
+        s.m_s_step = s.m_alpha_varies
+                         ? float((std::sqrt(alpha_hi) - std::sqrt(alpha_lo)) / (nodes - 1))
+                         : 0.f;
+        // The distribution at node i (d0 itself when alpha is not textured).
+        auto node_distribution = [&](int i, const MicrofacetDistribution& d0) {
+            const float sq = s.m_s_lo + float(i) * s.m_s_step;
+            return alpha_given ? isotropic(d0.kind(), s.m_alpha_varies ? sq * sq : float(alpha_lo))
+                               : d0;
+        };
+        // A compensated isotropic glossy lobe's own tables, once (MicrofacetReflection::
+        // Compensation): from the base when alpha is not textured (exact), else per node.
+        auto glossy_tables = [&](const MicrofacetReflection& g) {
+            if (!g.energy_compensation() || !g.multiple_scattering_is_isotropic()) return;
+            if (!alpha_given) {
+                s.m_comp.push_back(g.compensation());
+                return;
+            }
+            for (int i = 0; i < nodes; ++i)
+                s.m_comp.push_back(MicrofacetReflection(node_distribution(i, g.distribution()),
+                                                        Fresnel::none(), Rgb(1.f), true)
+                                       .compensation());
+        };
+        if (f == F::Microfacet) glossy_tables(*base.glossy());
+        if (f == F::Dielectric && base.dielectric()->energy_compensation()) {
+            // The tables depend on the IOR too: a textured one keeps the per-hit build.
+            const bool ior_varies =
+                std::any_of(s.m_slots.begin(), s.m_slots.end(),
+                            [](const Slot& sl) { return sl.param == Param::Ior; });
+            const DielectricBxDF& d = *base.dielectric();
+            if (!ior_varies && !alpha_given) s.m_dcomp.push_back(d.compensation());
+            // A textured alpha keeps the per-hit build too: tables over sqrt(alpha) interpolated
+            // (linear or Catmull-Rom, 48 nodes) differed from it by 3.2e-3 relative in f, above the
+            // 2e-3 the other staged tables meet; not resolved this round.
+            if (!ior_varies && alpha_given && !s.m_alpha_varies)
+                s.m_dcomp.push_back(
+                    DielectricBxDF(d.eta(), Rgb(1.f), node_distribution(0, d.distribution()), true)
+                        .compensation());
+        }
+        if (f != F::Composite || !base.glossy()) return s;
 
-    // The composite's glossy albedo table Eg(mu) (facet/material.h), once.
-    const MicrofacetReflection& g = *base.glossy();
-    for (std::size_t i = 0; i < s.m_slots.size(); ++i) {
-        const Param p = s.m_slots[i].param;
-        s.m_f0_varies = s.m_f0_varies || p == Param::F0;
-        s.m_glossy_varies =
-            s.m_glossy_varies || p == Param::F0 || p == Param::Glossy || p == Param::Alpha;
-    }
-    // With compensation, the lobe's albedo is not linear in F0 (F_ms, Kulla & Conty eq. 16).
-    if (s.m_f0_varies && g.energy_compensation()) return std::nullopt;
-    glossy_tables(g);
-    const bool mirror_varies = std::any_of(s.m_slots.begin(), s.m_slots.end(), [](const Slot& sl) {
-        return sl.param == Param::Mirror;
-    });
-    if (!s.m_glossy_varies) {
-        for (int k = 0; k < Material::kTableSize; ++k)
-            s.m_eg_const[k] = phi_averaged_albedo(g, mu_node(k));
-        // Only the diffuse (and perhaps mirror) reflectance varies: with a constant mirror,
-        // Es_avg is the same at every hit, computed as Material's constructor would.
-        if (!mirror_varies) {
-            s.m_es_avg_const = true;
-            s.m_es_const =
-                Material::specular_average(s.m_eg_const, base.mirror() ? &*base.mirror() : nullptr);
+        // The composite's glossy albedo table Eg(mu) (facet/material.h), once.
+        const MicrofacetReflection& g = *base.glossy();
+        for (std::size_t i = 0; i < s.m_slots.size(); ++i) {
+            const Param p = s.m_slots[i].param;
+            s.m_f0_varies = s.m_f0_varies || p == Param::F0;
+            s.m_glossy_varies =
+                s.m_glossy_varies || p == Param::F0 || p == Param::Glossy || p == Param::Alpha;
         }
-        return s;
-    }
-    s.m_eg_a.assign(std::size_t(s.m_f0_varies ? nodes : 0), {});
-    s.m_eg_b.assign(std::size_t(nodes), {});
-    for (int i = 0; i < nodes; ++i) {
-        const MicrofacetDistribution d = node_distribution(i, g.distribution());
-        const Fresnel f_b = s.m_f0_varies ? Fresnel::schlick(Rgb(0.f)) : g.fresnel();
-        const MicrofacetReflection lobe_b(d, f_b, Rgb(1.f), g.energy_compensation());
-        for (int k = 0; k < Material::kTableSize; ++k)
-            s.m_eg_b[std::size_t(i)][k] = phi_averaged_albedo(lobe_b, mu_node(k));
-        if (!s.m_f0_varies) continue;
-        const MicrofacetReflection lobe_1(d, Fresnel::schlick(Rgb(1.f)), Rgb(1.f), false);
-        for (int k = 0; k < Material::kTableSize; ++k)
-            s.m_eg_a[std::size_t(i)][k] =
-                phi_averaged_albedo(lobe_1, mu_node(k)) - s.m_eg_b[std::size_t(i)][k];
-    }
-    // Es_avg per node: the average is linear in the table, so it is interpolated with Eg
-    // (without the clamp of Es to [0, 1], which the registry's ks + km <= 1 makes inactive).
-    for (const Material::AlbedoTable& t : s.m_eg_b) s.m_hb.push_back(Material::table_average(t));
-    for (const Material::AlbedoTable& t : s.m_eg_a) s.m_ha.push_back(Material::table_average(t));
-    // The mirror lobe's part per unit km: Schlick's F is linear in f0 (F(f0) = f0 (F(1) -
-    // F(0)) + F(0)); another Fresnel is constant here (a textured IOR is not staged with a
-    // glossy lobe).
-    Material::AlbedoTable m0, m1;
-    const Fresnel fr0 = s.m_f0_varies ? Fresnel::schlick(Rgb(0.f)) : g.fresnel();
-    for (int k = 0; k < Material::kTableSize; ++k) {
-        m0[k] = MirrorReflection(fr0, Rgb(1.f)).reflectance(mu_node(k));
-        m1[k] = s.m_f0_varies
+        // With compensation, the lobe's albedo is not linear in F0 (F_ms, Kulla & Conty eq. 16).
+        if (s.m_f0_varies && g.energy_compensation()) return std::nullopt;
+        glossy_tables(g);
+        const bool mirror_varies =
+            std::any_of(s.m_slots.begin(), s.m_slots.end(),
+                        [](const Slot& sl) { return sl.param == Param::Mirror; });
+        if (!s.m_glossy_varies) {
+            for (int k = 0; k < Material::kTableSize; ++k)
+                s.m_eg_const[k] = phi_averaged_albedo(g, mu_node(k));
+            // Only the diffuse (and perhaps mirror) reflectance varies: with a constant mirror,
+            // Es_avg is the same at every hit, computed as Material's constructor would.
+            if (!mirror_varies) {
+                s.m_es_avg_const = true;
+                s.m_es_const = Material::specular_average(
+                    s.m_eg_const, base.mirror() ? &*base.mirror() : nullptr);
+            }
+            return s;
+        }
+        s.m_eg_a.assign(std::size_t(s.m_f0_varies ? nodes : 0), {});
+        s.m_eg_b.assign(std::size_t(nodes), {});
+        for (int i = 0; i < nodes; ++i) {
+            const MicrofacetDistribution d = node_distribution(i, g.distribution());
+            const Fresnel f_b = s.m_f0_varies ? Fresnel::schlick(Rgb(0.f)) : g.fresnel();
+            const MicrofacetReflection lobe_b(d, f_b, Rgb(1.f), g.energy_compensation());
+            for (int k = 0; k < Material::kTableSize; ++k)
+                s.m_eg_b[std::size_t(i)][k] = phi_averaged_albedo(lobe_b, mu_node(k));
+            if (!s.m_f0_varies) continue;
+            const MicrofacetReflection lobe_1(d, Fresnel::schlick(Rgb(1.f)), Rgb(1.f), false);
+            for (int k = 0; k < Material::kTableSize; ++k)
+                s.m_eg_a[std::size_t(i)][k] =
+                    phi_averaged_albedo(lobe_1, mu_node(k)) - s.m_eg_b[std::size_t(i)][k];
+        }
+        // Es_avg per node: the average is linear in the table, so it is interpolated with Eg
+        // (without the clamp of Es to [0, 1], which the registry's ks + km <= 1 makes inactive).
+        for (const Material::AlbedoTable& t : s.m_eg_b)
+            s.m_hb.push_back(Material::table_average(t));
+        for (const Material::AlbedoTable& t : s.m_eg_a)
+            s.m_ha.push_back(Material::table_average(t));
+        // The mirror lobe's part per unit km: Schlick's F is linear in f0 (F(f0) = f0 (F(1) -
+        // F(0)) + F(0)); another Fresnel is constant here (a textured IOR is not staged with a
+        // glossy lobe).
+        Material::AlbedoTable m0, m1;
+        const Fresnel fr0 = s.m_f0_varies ? Fresnel::schlick(Rgb(0.f)) : g.fresnel();
+        for (int k = 0; k < Material::kTableSize; ++k) {
+            m0[k] = MirrorReflection(fr0, Rgb(1.f)).reflectance(mu_node(k));
+            m1[k] =
+                s.m_f0_varies
                     ? MirrorReflection(Fresnel::schlick(Rgb(1.f)), Rgb(1.f)).reflectance(mu_node(k))
                     : m0[k];
-    }
-    s.m_hm_b = Material::table_average(m0);
-    s.m_hm_a = Material::table_average(m1) - s.m_hm_b;
-    return s;
+        }
+        s.m_hm_b = Material::table_average(m0);
+        s.m_hm_a = Material::table_average(m1) - s.m_hm_b;
+        return s;
+    };
+    // A unit with a family takes the family's build where it stages these parameters (its
+    // tables over the textured range), else its own two-stage builder (everything derived from
+    // the values, such as compensation tables, computed per hit).
+    if (info && info->make && info->staged == StagedFamily::None) return unit();
+    if (std::optional<StagedMaterial> f = by_family()) return f;
+    if (info && info->make) return unit();
+    return std::nullopt;
 }
 
 void StagedMaterial::alpha_node(float alpha, std::size_t& i, float& t) const {

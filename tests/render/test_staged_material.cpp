@@ -1,8 +1,9 @@
 // The staged build of textured materials (facet/staged_material.h, TexturedMaterial::staged)
-// against the per-hit registry build it replaces (Scene::textured_material_rebuilt): for each
-// model family with textured parameters, the materials at random uv must agree — bit for bit
-// where the arithmetic is the same, within a stated tolerance where the composite's glossy
-// albedo table is interpolated over roughness.
+// against the same model built from constants by the registry (make_material of the textures'
+// values at the hit, reference() below): for each model with textured parameters (random
+// texels), the materials at random uv must agree — bit for bit where the arithmetic is the
+// same, within a stated tolerance where the composite's glossy albedo table is interpolated
+// over roughness.
 #include <gtest/gtest.h>
 
 #include <OpenImageIO/imageio.h>
@@ -90,10 +91,31 @@ void expect_close(const Rgb& a, const Rgb& b, double tol, const char* what) {
     for (int c = 0; c < 3; ++c) expect_close(a[c], b[c], tol, what);
 }
 
-// Random uv per material (each rebuilt reference recomputes the registry's tables: ~1 ms).
+// The material `m` of `s` at uv built from constants: the textures' values there (clamped
+// to their ranges, as the per-hit path does) set in its ParamSet, through the registry; a
+// combination's textured children likewise.
+Material reference(const fr::Scene& s, std::size_t m, Vec2 uv) {
+    const fr::TexturedMaterial& tm = s.textured_materials()[m];
+    facet::ParamSet params = tm.params;
+    const fr::UvFootprint fp{};
+    const fr::TexturePoint p{uv, &fp, glm::vec4(1.f)};
+    for (const fr::TexturedMaterial::Slot& sl : tm.slots) {
+        const Rgb v =
+            glm::clamp(sl.texture->eval(p), sl.texture->min_value(), sl.texture->max_value());
+        params.set(sl.name, sl.color ? facet::ParamValue(v) : facet::ParamValue(double(v.r)));
+    }
+    std::vector<std::shared_ptr<const Material>> children;
+    for (const fr::TexturedMaterial::Child& c : tm.children)
+        children.push_back(c.textured >= 0 ? std::make_shared<const Material>(
+                                                 reference(s, std::size_t(c.textured), uv))
+                                           : c.constant);
+    return facet::make_material(tm.model, tm.convert ? tm.convert(params) : params, children);
+}
+
+// Random uv per material (each reference recomputes the registry's tables: ~1 ms).
 constexpr int kUvs = 20;
 
-// Compares the staged and the rebuilt material at kUvs random uv, 20 direction pairs each:
+// Compares the staged material and the reference at kUvs random uv, 20 direction pairs each:
 // eval (f, pdf) always, sample_f when bit-exactness is expected (lobe choice is then equal).
 // `count` textured materials (a combination's textured children come first): the last is
 // compared.
@@ -106,7 +128,7 @@ void compare(const fr::Scene& s, double tol, std::size_t count = 1) {
     for (int i = 0; i < kUvs; ++i) {
         const Vec2 uv(u01(rng), u01(rng));
         const Material a = s.textured_material(m, uv, {});
-        const Material b = s.textured_material_rebuilt(m, uv, {});
+        const Material b = reference(s, m, uv);
         ASSERT_EQ(a.flags(), b.flags());
         for (int j = 0; j < 20; ++j) {
             const Vec3 wo = random_direction(rng, !b.transmissive());
@@ -242,7 +264,7 @@ TEST(StagedMaterial, SubsurfaceIsBitIdentical) {
     for (int i = 0; i < kUvs; ++i) {
         const Vec2 uv(u01(rng), u01(rng));
         const Material a = s.textured_material(0, uv, {});
-        const Material b = s.textured_material_rebuilt(0, uv, {});
+        const Material b = reference(s, 0, uv);
         ASSERT_TRUE(a.subsurface() && b.subsurface());
         const facet::SubsurfaceWalk &wa = a.subsurface()->lobe.walk,
                                     &wb = b.subsurface()->lobe.walk;
@@ -379,19 +401,159 @@ TEST(StagedMaterial, CompensatedLobesWithTexturedRoughnessAreClose) {
     std::cout << "largest relative difference " << g_largest << "\n";
 }
 
-// Not staged (an anisotropic textured roughness): the per-hit registry build, as before.
-TEST(StagedMaterial, UnstagedParametersFallBack) {
-    const fr::Scene s = scene_with(R"({"model": "ggx", "alpha_u": 0.2, "alpha_v": )" +
-                                   tex(random_image("g14", 1, 0.f, 27), 0.5) + "}");
-    ASSERT_EQ(s.textured_materials().size(), 1u);
-    EXPECT_FALSE(s.textured_materials()[0].staged);
-    // A compensated dielectric with a textured alpha is staged but builds its tables per hit
-    // (they depend on alpha): it must keep its compensation (it lost it before).
-    const fr::Scene d = scene_with(R"({"model": "dielectric", "energy_compensation": true, )"
-                                   R"("alpha": )" +
-                                   tex(random_image("g15", 1, 0.1f, 28), 0.5) + "}");
-    ASSERT_EQ(d.textured_materials().size(), 1u);
-    expect_compensated(d);
+// The parameters a family's tables do not cover go through the model unit's own two-stage
+// builder (ModelInfo::read once, make per hit): Blinn exponents, anisotropic roughness,
+// conductor eta and k, a composite's IOR beside a glossy lobe and its f0 under energy
+// compensation. The same builder on the same values as the registry: the same bits.
+TEST(StagedMaterial, BlinnExponentsAreBitIdentical) {
+    compare(scene_with(R"({"model": "blinn", "exponent": )" +
+                       tex(random_image("g40", 1, 0.f, 70), 300) + R"(, "reflectance": )" +
+                       tex(random_image("c30", 3, 0.f, 71), 1) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "blinn", "exponent_u": 20, "exponent_v": )" +
+                       tex(random_image("g41", 1, 0.f, 72), 500) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "composite", "distribution": "blinn", "exponent": )" +
+                       tex(random_image("g42", 1, 0.f, 73), 300) + R"(, "diffuse_reflectance": )" +
+                       tex(random_image("c31", 3, 0.f, 74), 1) + "}"),
+            0.0);
+}
+
+TEST(StagedMaterial, AnisotropicRoughnessIsBitIdentical) {
+    compare(scene_with(R"({"model": "ggx", "alpha_u": 0.2, "alpha_v": )" +
+                       tex(random_image("g14", 1, 0.f, 27), 0.5) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "beckmann", "energy_compensation": true, "alpha_u": )" +
+                       tex(random_image("g43", 1, 0.f, 75), 0.6) + R"(, "alpha_v": )" +
+                       tex(random_image("g44", 1, 0.f, 76), 0.3) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "dielectric", "alpha_u": )" +
+                       tex(random_image("g45", 1, 0.f, 77), 0.5) + R"(, "alpha_v": )" +
+                       tex(random_image("g46", 1, 0.f, 78), 0.5) + R"(, "ior": 1.4})"),
+            0.0);
+    compare(scene_with(R"({"model": "composite", "alpha_u": 0.1, "alpha_v": )" +
+                       tex(random_image("g47", 1, 0.f, 79), 0.7) + R"(, "glossy_reflectance": )" +
+                       tex(random_image("c32", 3, 0.f, 80), 1) + "}"),
+            0.0);
+}
+
+TEST(StagedMaterial, ConductorEtaAndKAreBitIdentical) {
+    compare(scene_with(R"({"model": "mirror", "fresnel": "conductor", "eta": )" +
+                       tex(random_image("c33", 3, 0.1f, 81), 3) + R"(, "k": )" +
+                       tex(random_image("c34", 3, 0.f, 82), 6) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "ggx", "fresnel": "conductor", "alpha": )" +
+                       tex(random_image("g48", 1, 0.f, 83), 0.6) + R"(, "k": )" +
+                       tex(random_image("c35", 3, 0.f, 84), 6) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "composite", "fresnel": "conductor", "eta": )" +
+                       tex(random_image("c36", 3, 0.1f, 85), 3) + R"(, "alpha": 0.3})"),
+            0.0);
+}
+
+TEST(StagedMaterial, CompositeIorAndCompensatedF0AreBitIdentical) {
+    compare(scene_with(R"({"model": "composite", "ior": )" +
+                       tex(random_image("g49", 1, 0.4f, 86), 2.5) + R"(, "alpha": )" +
+                       tex(random_image("g50", 1, 0.f, 87), 0.8) + "}"),
+            0.0);
+    compare(scene_with(R"({"model": "composite", "energy_compensation": true, )"
+                       R"("fresnel": "schlick", "f0": )" +
+                       tex(random_image("c37", 3, 0.f, 88), 1) + R"(, "alpha": 0.4})"),
+            0.0);
+}
+
+// More than 8 textured parameters (the staged block holds ParamValues::kMax): 15 of principled's
+// (its subsurface left at 0: no walk) and every texturable one of a conductor composite.
+TEST(StagedMaterial, ManyTexturedParametersAreBitIdentical) {
+    std::string p = R"({"model": "principled")";
+    unsigned seed = 90;
+    for (const char* c : {"base_color", "subsurface_color"})
+        p += std::string(", \"") + c + "\": " + tex(random_image(c, 3, 0.f, seed++), 1);
+    for (const char* n : {"metallic", "specular", "specular_tint", "roughness", "anisotropic",
+                          "anisotropic_rotation", "sheen", "sheen_tint", "clearcoat",
+                          "clearcoat_roughness", "transmission", "transmission_roughness"})
+        p += std::string(", \"") + n + "\": " + tex(random_image(n, 1, 0.f, seed++), 1);
+    p += R"(, "ior": )" + tex(random_image("pior", 1, 0.4f, seed++), 2.5) + "}";
+    const fr::Scene principled = scene_with(p);
+    ASSERT_EQ(principled.textured_materials()[0].slots.size(), 15u);
+    compare(principled, 0.0);
+    std::string c = R"({"model": "composite", "fresnel": "conductor")";
+    for (const char* n : {"diffuse_reflectance", "glossy_reflectance", "eta", "k"})
+        c += std::string(", \"") + n + "\": " + tex(random_image(n, 3, 0.1f, seed++), 0.5);
+    c += R"(, "mirror_reflectance": )" + tex(random_image("mr", 3, 0.f, seed++), 0.5);
+    for (const char* n : {"alpha_u", "alpha_v"})
+        c += std::string(", \"") + n + "\": " + tex(random_image(n, 1, 0.f, seed++), 0.6);
+    const fr::Scene composite = scene_with(c + "}");
+    ASSERT_EQ(composite.textured_materials()[0].slots.size(), 7u);
+    compare(composite, 0.0);
+}
+
+// Textured children of newly staged kinds under a textured weight: each child staged, built at
+// the hit into the per-thread pool of child materials (texture.cpp), reused from hit to hit.
+TEST(StagedMaterial, MixOfNewlyStagedChildrenIsBitIdentical) {
+    compare(scene_with(R"({"model": "mix", "weight": )" + tex(random_image("g51", 1, 0.f, 110), 1) +
+                       R"(, "materials": [{"model": "blinn", "exponent": )" +
+                       tex(random_image("g52", 1, 0.f, 111), 300) +
+                       R"(}, {"model": "mirror", "fresnel": "conductor", "k": )" +
+                       tex(random_image("c38", 3, 0.f, 112), 6) + "}]}"),
+            0.0, 3);
+    compare(scene_with(R"({"model": "add", "materials": [{"model": "ggx", "alpha_u": 0.3, )"
+                       R"("alpha_v": )" +
+                       tex(random_image("g53", 1, 0.f, 113), 0.5) +
+                       R"(}, {"model": "mix", "weight": 0.3, "materials": [)"
+                       R"({"model": "lambert", "reflectance": )" +
+                       tex(random_image("c39", 3, 0.f, 114), 1) +
+                       R"(}, {"model": "dielectric", "alpha_u": 0.2, "alpha_v": )" +
+                       tex(random_image("g54", 1, 0.f, 115), 0.4) + "}]}]}"),
+            0.0, 5);
+}
+
+// A principled with a subsurface weight: the unit's builder (the walk is on where Cycles'
+// conditions hold, which a texture can change from hit to hit), the walk's coefficients and
+// the surface closures beside it as the reference's. The surface closures go into the
+// per-thread pool (pooled_material), reused from hit to hit.
+void expect_same_walk(const fr::Scene& s) {
+    std::mt19937 rng(5);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    int walked = 0;
+    for (int i = 0; i < kUvs; ++i) {
+        const Vec2 uv(u01(rng), u01(rng));
+        const Material a = s.textured_material(0, uv, {}), b = reference(s, 0, uv);
+        ASSERT_EQ(bool(a.subsurface()), bool(b.subsurface()));
+        if (!a.subsurface()) continue;
+        ++walked;
+        const facet::SubsurfaceWalk &wa = a.subsurface()->lobe.walk,
+                                    &wb = b.subsurface()->lobe.walk;
+        EXPECT_EQ(a.subsurface()->lobe.weight, b.subsurface()->lobe.weight);
+        EXPECT_EQ(wa.sigma_t, wb.sigma_t);
+        EXPECT_EQ(wa.alpha, wb.alpha);
+        EXPECT_EQ(wa.g, wb.g);
+        EXPECT_EQ(a.subsurface()->probability, b.subsurface()->probability);
+        ASSERT_EQ(bool(a.subsurface()->surface), bool(b.subsurface()->surface));
+        if (!a.subsurface()->surface) continue;
+        for (int j = 0; j < 10; ++j) {
+            const Vec3 wo = random_direction(rng, true), wi = random_direction(rng, false);
+            expect_close(a.subsurface()->surface->eval(wo, wi).f,
+                         b.subsurface()->surface->eval(wo, wi).f, 0.0, "surface f");
+        }
+    }
+    EXPECT_GT(walked, 0);
+}
+
+TEST(StagedMaterial, PrincipledWithSubsurfaceWalkIsBitIdentical) {
+    const fr::Scene s =
+        scene_with(R"({"model": "principled", "subsurface": 0.5, "base_color": )" +
+                   tex(random_image("c40", 3, 0.2f, 116), 1) + R"(, "roughness": )" +
+                   tex(random_image("g55", 1, 0.f, 117), 1) + "}");
+    compare(s, 0.0);
+    expect_same_walk(s);
+    // A textured weight and radius: the walk on at some hits, off at others.
+    const fr::Scene t = scene_with(
+        R"({"model": "principled", "subsurface": )" + tex(random_image("g56", 1, 0.f, 118), 1) +
+        R"(, "subsurface_radius": )" + tex(random_image("c41", 3, 0.5f, 119), 2) +
+        R"(, "metallic": )" + tex(random_image("g57", 1, 0.f, 120), 1) + "}");
+    compare(t, 0.0);
+    expect_same_walk(t);
 }
 
 // glTF metallic-roughness through its conversion (Debian's assimp-testmodels; skipped when
@@ -417,7 +579,7 @@ TEST(StagedMaterial, GltfMetallicRoughnessIsClose) {
         for (int i = 0; i < kUvs; ++i) {
             const Vec2 uv(u01(rng), u01(rng));
             const Material a = s.textured_material(m, uv, {});
-            const Material b = s.textured_material_rebuilt(m, uv, {});
+            const Material b = reference(s, m, uv);
             ASSERT_EQ(a.flags(), b.flags());
             for (int j = 0; j < 10; ++j) {
                 const Vec3 wo = random_direction(rng, true), wi = random_direction(rng, false);

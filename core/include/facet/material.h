@@ -249,4 +249,10 @@ class Material {
 // The weight w of b of a view-dependent mix at wo (Material::MixWeight; Constant: param).
 float mix_weight(Material::MixWeight kind, float param, const Vec3& wo);
 
+// A shared copy of `m` for a material built per hit (a combination's child, a subsurface
+// material's surface closures): `m` moved into a material of this thread's pool that nothing
+// else holds any more (use count 1), so that once the pool has grown to the depth of the
+// nesting a per-hit build allocates nothing.
+std::shared_ptr<const Material> pooled_material(Material m);
+
 }  // namespace facet

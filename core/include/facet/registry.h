@@ -68,8 +68,8 @@ struct ParamInfo {
     std::vector<std::string> choices = {};  // a String parameter's values (the reader checks)
 };
 
-// How a model's textured parameters are set per hit without the registry
-// (facet/staged_material.h): the staged build's family, or None (built from its ParamSet).
+// The family whose staged build (facet/staged_material.h) sets a textured model's lobes per hit
+// with tables built once, or None (the unit's own two-stage builder, ModelInfo::make).
 enum class StagedFamily : std::uint8_t {
     None,
     Lambert,
@@ -92,7 +92,7 @@ using Children = std::span<const std::shared_ptr<const Material>>;
 // per-hit build neither allocates nor looks up names.
 class ParamValues {
   public:
-    static constexpr std::size_t kMax = 16;  // parameters of a two-stage model, at most
+    static constexpr std::size_t kMax = 24;  // parameters of a two-stage model, at most
     DVec3& operator[](std::size_t i) { return m_values[i]; }
     const DVec3& operator[](std::size_t i) const { return m_values[i]; }
     double number(std::size_t i) const { return m_values[i].x; }

@@ -14,14 +14,16 @@
 //    varying parameters (the scene builder uses their largest): its constants are read from it.
 //    The caller guarantees that every value passed to at() lies in the ranges given to make()
 //    and is valid for the model (the scene builder validates the extremes of each texture).
-//  - A model unit with a two-stage builder (ModelInfo::read and make: principled_hair, hair,
-//    translucent, velvet, mix, add, subsurface) is staged whatever its varying parameters: make()
-//    reads the constants once (ModelInfo::read of `params`, the parameters `base` was built
-//    from), and at() sets the varying values and calls ModelInfo::make with the children given.
-//    It is the same code on the same values as the registry's build: bit for bit.
-//  - make() returns nullopt where the model or a varying parameter is not staged (the
-//    families' Blinn exponents, anisotropic alpha_u/alpha_v, conductor eta/k, a composite's ior
-//    with a glossy lobe, a composite's f0 with energy compensation); callers then build per hit.
+//  - Every model unit builds in two stages (ModelInfo::read and make), so any model is staged
+//    whatever its varying parameters: make() reads the constants once (ModelInfo::read of
+//    `params`, the parameters `base` was built from), and at() sets the varying values and calls
+//    ModelInfo::make with the children given. It is the same code on the same values as the
+//    registry's build: bit for bit. make() returns nullopt only for a varying parameter that is
+//    not a number or a colour.
+//  - A model with a family (ModelInfo::staged) takes the family's build below instead where it
+//    covers the varying parameters (not: Blinn exponents, anisotropic alpha_u/alpha_v,
+//    conductor eta/k, a composite's ior with a glossy lobe or its f0 with energy compensation,
+//    a principled with a subsurface weight), with its tables built once.
 //
 // Exactness against make_material at the same values:
 //  - bit for bit for lambert, oren_nayar, principled, mirror, ggx/beckmann/blinn (the same
@@ -43,7 +45,7 @@
 //    tabulated on kAlphaNodes nodes in sqrt(alpha) and interpolated by Catmull-Rom (E(mu) and
 //    E_avg with the same weights, so f_ms still integrates to 1 - E(mu_o)). An anisotropic lobe, or
 //    a dielectric with a textured IOR or alpha, still builds them per hit.
-// Tested against the per-hit registry build (tests/render/test_staged_material.cpp).
+// Tested against the model built from constants (tests/render/test_staged_material.cpp).
 #pragma once
 
 #include <optional>

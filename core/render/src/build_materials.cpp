@@ -482,7 +482,10 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         }
         return ps;
     };
-    const std::uint32_t all = (1u << std::min<std::size_t>(tm.slots.size(), 8)) - 1u;
+    if (tm.slots.size() > TexturedMaterial::kMaxStaged)
+        fail(ptr,
+             "more than " + std::to_string(TexturedMaterial::kMaxStaged) + " textured parameters");
+    const std::uint32_t all = (1u << tm.slots.size()) - 1u;
     std::vector<std::uint32_t> corners{0u, all};
     if (conversion) {
         if (tm.slots.size() > 8) fail(ptr, "more than 8 textured sources");
@@ -506,6 +509,10 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
         }
     }
     stage(tm, *m_builder.materials().back(), conversion);
+    if (!tm.staged)
+        fail(ptr, "model '" + m.model +
+                      "': its textured parameters have no per-hit build (a conversion without "
+                      "convert_values or a source without a numeric default)");
     for (const auto& s : tm.slots)
         tm.params.set(s.name, s.color ? ParamValue(Rgb(0.f)) : ParamValue(0.0));
     for (const auto* map :
@@ -560,15 +567,11 @@ Builder::BuiltMaterial Builder::build_model(const MaterialDesc& m, const std::st
             m_builder.materials().back()};
 }
 
-// The staged per-hit build of a textured material (facet/staged_material.h), where the model
-// and its textured parameters allow it. `base` is the material at the textures' largest
-// values (with a conversion: its sources' largest), validated by build_model.
+// The staged per-hit build of a textured material (facet/staged_material.h); left null where a
+// conversion cannot be staged (build_model's error). `base` is the material at the textures'
+// largest values (with a conversion: its sources' largest), validated by build_model.
 void Builder::stage(TexturedMaterial& tm, const Material& base,
                     const MaterialConversion* conversion) {
-    // A subsurface walk is built by the model itself (the families' lobes have none; a
-    // two-stage unit builds it).
-    const ModelInfo* info = find_model(tm.model);
-    if (base.subsurface() && !(info && info->make)) return;
     using Range = StagedMaterial::Range;
     constexpr std::size_t kMax = TexturedMaterial::kMaxStaged;
     auto value = [](const TexturedMaterial::Slot& s, const Rgb& v) {
@@ -603,7 +606,18 @@ void Builder::stage(TexturedMaterial& tm, const Material& base,
                 tm.slot_source[std::size_t(slot - tm.slots.begin())] = std::uint8_t(i);
                 continue;
             }
-            if (!tm.params.has(name)) return;  // a default: not staged
+            if (!tm.params.has(name)) {
+                // A default: its documented value (ParamInfo::default_value, one number or
+                // three).
+                std::istringstream text(conversion->sources[i].default_value);
+                double x[3];
+                int n = 0;
+                while (n < 3 && text >> x[n]) ++n;
+                if (n == 1) tm.sources[i] = DVec3(x[0]);
+                if (n == 3) tm.sources[i] = DVec3(x[0], x[1], x[2]);
+                if (n != 1 && n != 3) return;
+                continue;
+            }
             const ParamValue& v = tm.params.values().at(name);
             if (const double* d = std::get_if<double>(&v))
                 tm.sources[i] = DVec3(*d);

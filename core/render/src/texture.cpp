@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <vector>
 
 namespace facet::render {
 
@@ -13,16 +14,16 @@ namespace {
 
 constexpr float kPi = 3.14159265358979323846f;
 
-// A combination's sub-materials at p: its textured children built there (one allocation
-// each), the constant ones shared.
+// A combination's sub-materials at p: its textured children built there (into this thread's
+// pool: pooled_material, facet/material.h), the constant ones shared.
 using Children2 = std::array<std::shared_ptr<const Material>, 2>;
 void textured_children(const Scene& scene, const TexturedMaterial& tm, const TexturePoint& p,
                        Children2& children) {
     for (std::size_t k = 0; k < tm.children.size() && k < children.size(); ++k) {
         const TexturedMaterial::Child& c = tm.children[k];
-        children[k] = c.textured >= 0 ? std::make_shared<const Material>(
-                                            scene.textured_material(std::size_t(c.textured), p))
-                                      : c.constant;
+        children[k] = c.textured >= 0
+                          ? pooled_material(scene.textured_material(std::size_t(c.textured), p))
+                          : c.constant;
     }
 }
 
@@ -144,46 +145,22 @@ Material Scene::textured_material(std::size_t index, const TexturePoint& p) cons
         if (tm.diffuse_black_ok || max_component(v) > 0.f)
             return tm.diffuse_base->with_diffuse_reflectance(v);
     }
-    if (tm.staged) {
-        // The staged build: the slots' values (through the conversion's sources) set the lobes.
-        std::array<DVec3, TexturedMaterial::kMaxStaged> in, out;
-        if (tm.convert_values) std::copy(tm.sources.begin(), tm.sources.end(), in.begin());
-        for (std::size_t i = 0; i < tm.slots.size(); ++i) {
-            const TexturedMaterial::Slot& s = tm.slots[i];
-            const Rgb v =
-                glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
-            (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
-                s.color ? DVec3(v) : DVec3(double(v.r));
-        }
-        if (tm.convert_values) tm.convert_values(in.data(), out.data());
-        if (tm.children.empty()) return tm.staged->at(std::span(out.data(), tm.num_staged));
-        Children2 children;
-        textured_children(*this, tm, p, children);
-        return tm.staged->at(
-            std::span(out.data(), tm.num_staged),
-            std::span(children.data(), std::min(tm.children.size(), children.size())));
-    }
-    return textured_material_rebuilt(index, p);
-}
-
-Material Scene::textured_material_rebuilt(std::size_t index, const TexturePoint& p) const {
-    const TexturedMaterial& tm = m_textured[index];
-    ParamSet params = tm.params;
-    for (const TexturedMaterial::Slot& s : tm.slots) {
+    // The staged build: the slots' values (through the conversion's sources) set the lobes.
+    std::array<DVec3, TexturedMaterial::kMaxStaged> in, out;
+    if (tm.convert_values) std::copy(tm.sources.begin(), tm.sources.end(), in.begin());
+    for (std::size_t i = 0; i < tm.slots.size(); ++i) {
+        const TexturedMaterial::Slot& s = tm.slots[i];
         const Rgb v =
             glm::clamp(s.texture->eval(p), s.texture->min_value(), s.texture->max_value());
-        params.set(s.name, s.color ? ParamValue(v) : ParamValue(double(v.r)));
+        (tm.convert_values ? in[tm.slot_source[i]] : out[i]) =
+            s.color ? DVec3(v) : DVec3(double(v.r));
     }
+    if (tm.convert_values) tm.convert_values(in.data(), out.data());
+    if (tm.children.empty()) return tm.staged->at(std::span(out.data(), tm.num_staged));
     Children2 children;
     textured_children(*this, tm, p, children);
-    try {
-        return make_material(
-            tm.model, tm.convert ? tm.convert(params) : params,
-            std::span(children.data(), std::min(tm.children.size(), children.size())));
-    } catch (const ParamError&) {
-        // Unreachable after build_scene's checks; the render loop never throws.
-        return Material(std::nullopt, std::nullopt, std::nullopt);
-    }
+    return tm.staged->at(std::span(out.data(), tm.num_staged),
+                         std::span(children.data(), std::min(tm.children.size(), children.size())));
 }
 
 }  // namespace facet::render

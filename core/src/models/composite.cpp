@@ -3,6 +3,21 @@
 
 namespace facet {
 
+namespace {
+// The parameters' indices in the table (ParamValues), and the distribution's choices.
+enum Param : std::size_t {
+    kDiffuse,
+    kGlossy,
+    kMirror,
+    kDistribution,
+    kAlpha,
+    kExponent = 7,
+    kFresnel = 10,
+    kCompensation = 15
+};
+enum Kind : int { kGgx, kBeckmann, kBlinn };
+}  // namespace
+
 const ModelInfo& composite_model() {
     static const ModelInfo m{
         .name = "composite",
@@ -20,21 +35,35 @@ const ModelInfo& composite_model() {
              models::exponent_params(),
              models::fresnel_params("dielectric"),
              {models::energy_compensation_param()}}),
-        .build =
-            [](ParamReader& r, Children) {
-                const Rgb kd = r.color("diffuse_reflectance", Rgb(0.5f), 0.0, 1.0);
-                const Rgb ks = r.color("glossy_reflectance", Rgb(1.f), 0.0, 1.0);
-                const Rgb km = r.color("mirror_reflectance", Rgb(0.f), 0.0, 1.0);
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.color(v, kDiffuse, Rgb(0.5f), 0.0, 1.0);
+                const Rgb ks = r.color(v, kGlossy, Rgb(1.f), 0.0, 1.0);
+                const Rgb km = r.color(v, kMirror, Rgb(0.f), 0.0, 1.0);
                 for (int c = 0; c < 3; ++c)
                     if (ks[c] + km[c] > 1.f + 1e-6f)
                         throw r.error(
                             "mirror_reflectance",
                             "glossy_reflectance + mirror_reflectance must be <= 1 per channel "
                             "(energy conservation)");
-                const MicrofacetDistribution d = r.distribution(r.choice("distribution"));
-                const Fresnel fr = r.fresnel();
-                const bool ec = r.boolean("energy_compensation", false);
-                return Material::composite(kd, ks, km, d, fr, ec);
+                const int kind = r.choice(v, kDistribution);
+                r.distribution(r.choice(r.name(kDistribution)));  // the checks
+                if (kind == kBlinn)
+                    read_roughness(r, v, kExponent, 50.0, models::kMaxExponent);
+                else
+                    read_roughness(r, v, kAlpha, 0.2, models::kMaxAlpha);
+                read_fresnel(r, v, kFresnel);
+                v[kCompensation] = DVec3(r.boolean(r.name(kCompensation), false) ? 1.0 : 0.0);
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                const int kind = v.choice(kDistribution);
+                const MicrofacetDistribution d =
+                    kind == kBlinn      ? make_distribution(DistributionKind::Blinn, v, kExponent)
+                    : kind == kBeckmann ? make_distribution(DistributionKind::Beckmann, v, kAlpha)
+                                        : make_distribution(DistributionKind::GGX, v, kAlpha);
+                return Material::composite(v.color(kDiffuse), v.color(kGlossy), v.color(kMirror), d,
+                                           make_fresnel(v, kFresnel), v.flag(kCompensation));
             },
         .diffuse_param = "diffuse_reflectance",
         .diffuse_lobe = true,

@@ -15,6 +15,9 @@ ParamInfo transmittance_param() {
     return models::color("transmittance", "1", "scale on the transmitted light (tint), in [0, 1]");
 }
 
+// dielectric's parameters' indices in its table (ParamValues).
+enum Param : std::size_t { kIor, kTransmittance, kAlpha, kDistribution = 5, kCompensation };
+
 }  // namespace
 
 const ModelInfo& dielectric_model() {
@@ -42,22 +45,31 @@ const ModelInfo& dielectric_model() {
                                 "(Kulla & Conty 2017 extended to refraction, "
                                 "facet/dielectric.h): reflection + transmission conserve energy "
                                 "at transmittance 1")},
-        .build =
-            [](ParamReader& r, Children) {
-                const float eta = float(r.number("ior", 1.5, 1e-3, models::kMaxIor));
-                const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
-                const std::string kind = r.choice("distribution");
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.number(v, kIor, 1.5, 1e-3, models::kMaxIor);
+                r.color(v, kTransmittance, Rgb(1.f), 0.0, 1.0);
+                r.choice(v, kDistribution);
                 auto [au, av] = r.roughness_pair("alpha", 0.0, models::kMaxAlpha);
-                const bool ec = r.boolean("energy_compensation", false);
+                read_roughness(r, v, kAlpha, 0.0, models::kMaxAlpha);
+                const bool ec = r.boolean(r.name(kCompensation), false);
+                v[kCompensation] = DVec3(ec ? 1.0 : 0.0);
                 if (ec && au != av)
                     throw r.error(
                         "energy_compensation",
                         "is not available for anisotropic dielectrics (alpha_u != alpha_v)");
-                return Material(DielectricBxDF(eta, tr,
-                                               kind == "ggx"
-                                                   ? MicrofacetDistribution::ggx(au, av)
-                                                   : MicrofacetDistribution::beckmann(au, av),
-                                               ec));
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                const MicrofacetDistribution d =
+                    make_distribution(v.choice(kDistribution) == 0 ? DistributionKind::GGX
+                                                                   : DistributionKind::Beckmann,
+                                      v, kAlpha);
+                // Compensation is isotropic only: textured alpha_u and alpha_v that differ at
+                // a hit (build_scene checked the extremes) leave it out there.
+                const auto [au, av] = make_roughness(v, kAlpha);
+                return Material(DielectricBxDF(float(v.number(kIor)), v.color(kTransmittance), d,
+                                               v.flag(kCompensation) && au == av));
             },
         .staged = StagedFamily::Dielectric,
         .pov_finish = false};
@@ -71,11 +83,14 @@ const ModelInfo& thin_dielectric_model() {
             "thin pane (window glass): both interfaces' reflections summed, R' = R + "
             "T^2 R / (1 - R^2); transmission straight through with T' = 1 - R'",
         .params = {ior_param(), transmittance_param()},
-        .build =
-            [](ParamReader& r, Children) {
-                const float eta = float(r.number("ior", 1.5, 1e-3, models::kMaxIor));
-                const Rgb tr = r.color("transmittance", Rgb(1.f), 0.0, 1.0);
-                return Material(ThinDielectricBxDF(eta, tr));
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.number(v, 0, 1.5, 1e-3, models::kMaxIor);  // ior
+                r.color(v, 1, Rgb(1.f), 0.0, 1.0);           // transmittance
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(ThinDielectricBxDF(float(v.number(0)), v.color(1)));
             },
         .staged = StagedFamily::ThinDielectric,
         .pov_finish = false};

@@ -14,7 +14,8 @@ const ModelInfo& holdout_model() {
             "a hole in the image: alpha 0 and colour 0 where camera rays reach it (Blender's "
             "Holdout shader); black to other rays",
         .params = {},
-        .build = [](ParamReader&, Children) { return Material::holdout(); },
+        .read = [](ParamReader&, ParamValues&) {},
+        .make = [](const ParamValues&, Children) { return Material::holdout(); },
         .pov_finish = false};
     return m;
 }

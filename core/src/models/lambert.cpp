@@ -8,10 +8,11 @@ const ModelInfo& lambert_model() {
         .name = "lambert",
         .summary = "ideal diffuse reflection f = rho/pi (Cohen & Wallace eq. 2.33-2.36)",
         .params = {models::color("reflectance", "0.5", "diffuse reflectance rho, in [0, 1]")},
-        .build =
-            [](ParamReader& r, Children) {
-                return Material(LambertReflection(r.color("reflectance", Rgb(0.5f), 0.0, 1.0)),
-                                std::nullopt, std::nullopt);
+        .read = [](ParamReader& r,
+                   ParamValues& v) { r.color(v, 0, Rgb(0.5f), 0.0, 1.0); },  // reflectance
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(LambertReflection(v.color(0)), std::nullopt, std::nullopt);
             },
         .diffuse_param = "reflectance",
         .diffuse_lobe = true,

@@ -227,4 +227,70 @@ MicrofacetDistribution ParamReader::distribution(const std::string& kind) {
                          : MicrofacetDistribution::beckmann(au, av);
 }
 
+namespace {
+// The parameter at index i of a group is the one the group's layout says (a unit's table out
+// of step with its indices is a programming error, caught when any material is read).
+void expect_name(const ParamReader& r, std::size_t i, const std::string& name) {
+    if (r.name(i) != name)
+        throw std::logic_error("model table: parameter " + std::to_string(i) + " is '" + r.name(i) +
+                               "', expected '" + name + "'");
+}
+}  // namespace
+
+void read_fresnel(ParamReader& r, ParamValues& v, std::size_t i) {
+    expect_name(r, i, "fresnel"), expect_name(r, i + 4, "f0");
+    r.fresnel();  // the checks (forbidden members, eta > 0)
+    r.choice(v, i);
+    r.number(v, i + 1, 1.5, 1e-3, models::kMaxIor);
+    r.color(v, i + 2, Rgb(1.657f, 0.880f, 0.521f), 0.0, models::kMaxIor);
+    r.color(v, i + 3, Rgb(9.224f, 6.270f, 4.837f), 0.0, models::kMaxIor);
+    r.color(v, i + 4, Rgb(0.04f), 0.0, 1.0);
+}
+
+Fresnel make_fresnel(const ParamValues& v, std::size_t i) {
+    // The order of models::fresnel_params' choices: none, dielectric, conductor, schlick.
+    switch (v.choice(i)) {
+        case 1:
+            return Fresnel::dielectric(float(v.number(i + 1)));
+        case 2:
+            return Fresnel::conductor(v.color(i + 2), v.color(i + 3));
+        case 3:
+            return Fresnel::schlick(v.color(i + 4));
+        default:
+            return Fresnel::none();
+    }
+}
+
+void read_roughness(ParamReader& r, ParamValues& v, std::size_t i, double def, double hi) {
+    const std::string& base = r.name(i);
+    expect_name(r, i + 1, base + "_u"), expect_name(r, i + 2, base + "_v");
+    r.roughness_pair(base, def, hi);  // the checks
+    if (r.has(base + "_u")) {
+        v[i] = DVec3(-1.0);
+        r.number(v, i + 1, def, 0.0, hi), r.number(v, i + 2, def, 0.0, hi);
+    } else {
+        r.number(v, i, def, 0.0, hi);
+        v[i + 1] = v[i + 2] = DVec3(-1.0);
+    }
+}
+
+std::pair<float, float> make_roughness(const ParamValues& v, std::size_t i) {
+    if (v.number(i + 1) >= 0.0) return {float(v.number(i + 1)), float(v.number(i + 2))};
+    const float x = float(v.number(i));
+    return {x, x};
+}
+
+MicrofacetDistribution make_distribution(DistributionKind kind, const ParamValues& v,
+                                         std::size_t i) {
+    const auto [u, w] = make_roughness(v, i);
+    switch (kind) {
+        case DistributionKind::Blinn:
+            return MicrofacetDistribution::blinn(u, w);
+        case DistributionKind::Beckmann:
+            return MicrofacetDistribution::beckmann(u, w);
+        default:
+            return MicrofacetDistribution::ggx(u, w);
+    }
+}
+
 }  // namespace facet

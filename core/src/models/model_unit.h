@@ -88,6 +88,21 @@ class ParamReader {
     const ParamSet& m_params;
 };
 
+// The shared groups for the two-stage units (ModelInfo::read and make), `i` the index of the
+// group's first parameter in the model's table. read_* makes the checks of fresnel() and
+// roughness_pair() and stores every parameter of the group at its index (given or its default);
+// the make_* functions build from those values alone (no strings, no throw).
+// Fresnel group (models::fresnel_params) at i: fresnel, ior, eta, k, f0.
+void read_fresnel(ParamReader& r, ParamValues& v, std::size_t i);
+Fresnel make_fresnel(const ParamValues& v, std::size_t i);
+// Roughness group (models::alpha_params, exponent_params) at i: x, x_u, x_v. x_u and x_v hold
+// -1 unless given (the lobe is then anisotropic and x is unused).
+void read_roughness(ParamReader& r, ParamValues& v, std::size_t i, double def, double hi);
+std::pair<float, float> make_roughness(const ParamValues& v, std::size_t i);
+// The microfacet distribution of `kind` from the roughness group at i.
+MicrofacetDistribution make_distribution(DistributionKind kind, const ParamValues& v,
+                                         std::size_t i);
+
 // The walk parameters (models::subsurface_walk_params) read and checked; radius times `scale`.
 struct SubsurfaceInputs {
     Rgb radius{0.f};

@@ -33,7 +33,9 @@ const ModelInfo& null_model() {
             "an invisible surface: rays pass straight through (wi = -wo, weight 1); the "
             "boundary of a material's interior medium",
         .params = {},
-        .build = [](ParamReader&, Children) { return Material(InlineBxDF(NullTransmission())); },
+        .read = [](ParamReader&, ParamValues&) {},
+        .make = [](const ParamValues&,
+                   Children) { return Material(InlineBxDF(NullTransmission())); },
         .pov_finish = false,
         .pass_through = true};
     return m;

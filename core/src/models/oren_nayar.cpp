@@ -14,11 +14,14 @@ const ModelInfo& oren_nayar_model() {
                    models::number("sigma", "0.5",
                                   "roughness as Blender's Diffuse BSDF Roughness (not radians), "
                                   "in [0, 1]; 0 is Lambert")},
-        .build =
-            [](ParamReader& r, Children) {
-                const Rgb rho = r.color("reflectance", Rgb(0.5f), 0.0, 1.0);
-                return Material(
-                    InlineBxDF(OrenNayarReflection(rho, float(r.number("sigma", 0.5, 0.0, 1.0)))));
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                r.color(v, 0, Rgb(0.5f), 0.0, 1.0);  // reflectance
+                r.number(v, 1, 0.5, 0.0, 1.0);       // sigma
+            },
+        .make =
+            [](const ParamValues& v, Children) {
+                return Material(InlineBxDF(OrenNayarReflection(v.color(0), float(v.number(1)))));
             },
         .diffuse_param = "reflectance",
         .staged = StagedFamily::OrenNayar};

@@ -3,6 +3,40 @@
 
 namespace facet {
 
+namespace {
+// The parameters' indices in the table (ParamValues): principled's own, then the walk's
+// (models::subsurface_walk_params).
+enum Param : std::size_t {
+    kBaseColor,
+    kSubsurface,
+    kSubsurfaceColor,
+    kMetallic,
+    kIor = 13,
+    kTransmissionRoughness = 15,
+    kDistribution,
+    kRadius,
+    kWalkIor,
+    kAnisotropy,
+    kMethod
+};
+using P = PrincipledParams;
+// The number fields from metallic to transmission_roughness, in the table's order.
+constexpr float P::*kNumbers[] = {&P::metallic,
+                                  &P::specular,
+                                  &P::specular_tint,
+                                  &P::roughness,
+                                  &P::anisotropic,
+                                  &P::anisotropic_rotation,
+                                  &P::sheen,
+                                  &P::sheen_tint,
+                                  &P::clearcoat,
+                                  &P::clearcoat_roughness,
+                                  &P::ior,
+                                  &P::transmission,
+                                  &P::transmission_roughness};
+static_assert(std::size(kNumbers) == kTransmissionRoughness - kMetallic + 1);
+}  // namespace
+
 const ModelInfo& principled_model() {
     static const ModelInfo m{
         .name = "principled",
@@ -52,30 +86,46 @@ const ModelInfo& principled_model() {
                   "Kulla-Conty compensation lobe, so a white metal reflects everything)",
                   {"ggx", "multi_ggx"})},
              models::subsurface_walk_params("subsurface_")}),
-        .build =
-            [](ParamReader& r, Children) {
+        .read =
+            [](ParamReader& r, ParamValues& v) {
+                const PrincipledParams d;
+                r.color(v, kBaseColor, d.base_color, 0.0, 1.0);
+                const float subsurface = float(r.number(v, kSubsurface, d.subsurface, 0.0, 1.0));
+                r.color(v, kSubsurfaceColor, d.subsurface_color, 0.0, 1.0);
+                for (std::size_t i = kMetallic; i <= kTransmissionRoughness; ++i) {
+                    if (i == kIor) continue;
+                    r.number(v, i, double(d.*kNumbers[i - kMetallic]), 0.0, 1.0);
+                }
+                r.number(v, kIor, d.ior, 1e-3, models::kMaxIor);
+                r.choice(v, kDistribution);
+                read_subsurface_inputs(r, "subsurface_", subsurface);  // the checks
+                r.color(v, kRadius, Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
+                r.number(v, kWalkIor, 1.4, 1.01, 3.8);
+                r.number(v, kAnisotropy, 0.0, 0.0, 0.9);
+                r.choice(v, kMethod);
+            },
+        .make =
+            [](const ParamValues& v, Children) {
                 PrincipledParams p;
-                auto unit = [&](const char* key, float def) {
-                    return float(r.number(key, def, 0.0, 1.0));
-                };
-                p.base_color = r.color("base_color", p.base_color, 0.0, 1.0);
-                p.subsurface = unit("subsurface", p.subsurface);
-                p.subsurface_color = r.color("subsurface_color", p.subsurface_color, 0.0, 1.0);
-                p.metallic = unit("metallic", p.metallic);
-                p.specular = unit("specular", p.specular);
-                p.specular_tint = unit("specular_tint", p.specular_tint);
-                p.roughness = unit("roughness", p.roughness);
-                p.anisotropic = unit("anisotropic", p.anisotropic);
-                p.anisotropic_rotation = unit("anisotropic_rotation", p.anisotropic_rotation);
-                p.sheen = unit("sheen", p.sheen);
-                p.sheen_tint = unit("sheen_tint", p.sheen_tint);
-                p.clearcoat = unit("clearcoat", p.clearcoat);
-                p.clearcoat_roughness = unit("clearcoat_roughness", p.clearcoat_roughness);
-                p.ior = float(r.number("ior", p.ior, 1e-3, models::kMaxIor));
-                p.transmission = unit("transmission", p.transmission);
-                p.transmission_roughness = unit("transmission_roughness", p.transmission_roughness);
-                p.multiscatter = r.choice("distribution") == "multi_ggx";
-                const SubsurfaceInputs in = read_subsurface_inputs(r, "subsurface_", p.subsurface);
+                p.base_color = v.color(kBaseColor);
+                p.subsurface = float(v.number(kSubsurface));
+                p.subsurface_color = v.color(kSubsurfaceColor);
+                for (std::size_t i = kMetallic; i <= kTransmissionRoughness; ++i)
+                    p.*kNumbers[i - kMetallic] = float(v.number(i));
+                p.multiscatter = v.choice(kDistribution) == 1;
+                SubsurfaceInputs in;
+                in.radius = v.color(kRadius) * p.subsurface;
+                in.ior = float(v.number(kWalkIor));
+                in.anisotropy = float(v.number(kAnisotropy));
+                in.method = v.choice(kMethod) == 1 ? SubsurfaceMethod::RandomWalkFixedRadius
+                                                   : SubsurfaceMethod::RandomWalk;
+                int walked = 0;
+                for (int c = 0; c < 3; ++c) walked += in.radius[c] >= SubsurfaceLimits::kMinRadius;
+                // Between a texture's checked extremes some channels only may be walked, which
+                // read_subsurface_inputs rejects: black, as the registry's failed build is.
+                if (walked != 0 && walked != 3)
+                    return Material(std::nullopt, std::nullopt, std::nullopt);
+                in.walked = walked == 3;
                 Material fallback{PrincipledBxDF(p)};
                 // Cycles' switch between its diffuse closure and the BSSRDF.
                 const Rgb mixed = glm::mix(p.base_color, p.subsurface_color, p.subsurface);
@@ -92,7 +142,7 @@ const ModelInfo& principled_model() {
                 s.lobe.fresnel = true;
                 const PrincipledBxDF surface = PrincipledBxDF::subsurface_surface(p);
                 if (surface.flags() != BxDFFlags::None) {
-                    s.surface = std::make_shared<const Material>(surface);
+                    s.surface = pooled_material(Material(surface));
                     // Cycles' sample weights: the BSSRDF's mean weight times its 3 channels;
                     // the surface closures' sum is taken as 1 here (a selection probability:
                     // any positive choice is unbiased).

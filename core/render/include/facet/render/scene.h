@@ -333,10 +333,10 @@ struct ShapeInfo : ShapeSurface {
 
 // A material some of whose parameters are textures: the model and its constant parameters, and
 // for each textured parameter the texture and whether the model reads it as a colour. At a hit
-// the textures are evaluated and the model's lobes are set from the values by its staged build
-// (`staged`, facet/staged_material.h); where the model is not staged, the model is built from
-// the full ParamSet by the core's registry, exactly as a constant material is
-// (facet/registry.h; Scene::textured_material_rebuilt).
+// the textures are evaluated into a block of values and the model's lobes are set from them by
+// its staged build (`staged`, facet/staged_material.h): no allocation and no string handling
+// per hit. `model`, `params` and `convert` describe the material as the registry builds it from
+// constants (make_material): the reference the staged build is tested against.
 struct TexturedMaterial {
     std::string model;
     ParamSet params;  // the constant parameters and a placeholder for every textured one
@@ -351,12 +351,11 @@ struct TexturedMaterial {
     // at every hit (pure, never throws). Null: the slots are the model's parameters.
     using Convert = ParamSet (*)(const ParamSet&);
     Convert convert = nullptr;
-    // The staged build (facet/staged_material.h), when the model and its textured parameters
-    // allow it; null: the model is built from the ParamSet at every hit.
+    // The staged build (facet/staged_material.h).
     //  - Without a conversion, value i of `staged` is slot i's (a number: its r channel).
     //  - With one, `convert_values` maps the sources (`sources`: the constants, slot i's value
     //    at sources[slot_source[i]]) onto `staged`'s values, as `convert` does on ParamSets.
-    static constexpr std::size_t kMaxStaged = 8;  // values or sources
+    static constexpr std::size_t kMaxStaged = ParamValues::kMax;  // values or sources
     std::shared_ptr<const StagedMaterial> staged;
     using ConvertValues = void (*)(const DVec3* sources, DVec3* outputs);
     ConvertValues convert_values = nullptr;
@@ -379,9 +378,8 @@ struct TexturedMaterial {
     float bump_distance = 1.f, bump_step = 1e-3f, bump_strength = 1.f;
     // Set when the only textured parameter is a diffuse reflectance (lambert "reflectance",
     // composite "diffuse_reflectance"): the material built at the texture's largest value, whose
-    // diffuse lobe material_at replaces per hit (Material::with_diffuse_reflectance) instead of
-    // building the model from a ParamSet (which allocates and, for composite, recomputes the
-    // albedo table).
+    // diffuse lobe material_at replaces per hit (Material::with_diffuse_reflectance): the same
+    // bits as the staged build, without building the other lobes again.
     const Material* diffuse_base = nullptr;
     bool diffuse_black_ok = false;  // lambert: a black value is still its one lobe
     // The sub-materials of a combination (mix, add), in order: a constant material, or
@@ -659,8 +657,7 @@ class Scene {
     Material material_at(const SurfaceHit& hit, const UvFootprint& fp = {},
                          const Vec3& wo = Vec3(0.f), const Vec3& ns = Vec3(0.f),
                          const RayState* rs = nullptr) const;
-    // Textured material `index` at uv: as material_at (staged where built), or built from its
-    // ParamSet by the registry (the reference the staged build is tested against).
+    // Textured material `index` at uv, as material_at builds it.
     // `color` is the hit's vertex colour (SurfaceHit::color), read by vertex_color textures.
     Material textured_material(std::size_t index, Vec2 uv, const UvFootprint& fp,
                                const glm::vec4& color = glm::vec4(1.f)) const {
@@ -668,11 +665,6 @@ class Scene {
     }
     // Textured material `index` at texture point p (its footprint non-null).
     Material textured_material(std::size_t index, const TexturePoint& p) const;
-    Material textured_material_rebuilt(std::size_t index, Vec2 uv, const UvFootprint& fp,
-                                       const glm::vec4& color = glm::vec4(1.f)) const {
-        return textured_material_rebuilt(index, TexturePoint{uv, &fp, color});
-    }
-    Material textured_material_rebuilt(std::size_t index, const TexturePoint& p) const;
     // What textures read at a hit (TexturePoint): its uv, vertex colour, object-space point
     // and generated coordinates, with footprint fp (material_at adds the Hair Info values on
     // curves with ShapeInfo::needs_strand: curves neither emit nor have normal, bump or opacity
