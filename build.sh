@@ -9,6 +9,10 @@ cmake --build build -j"$(nproc)"
 mkdir -p out
 build/core/cli/facet render scenes/showcase.json -o out/showcase_facet.exr -o out/showcase_facet.png
 build/core/cli/facet brdf plot --model ggx --alpha 0.3 --theta 45 -o out/ggx_lobe.png
+# The second showcase (tools/make_showcase_media.py): subsurface scattering, a liquid in glass,
+# hair and a lamp's beam through fog.
+build/core/cli/facet render scenes/showcase_media.json -o out/showcase_media_facet.exr \
+  -o out/showcase_media_facet.png
 # The same showcase inside headless Blender with the Facet addon (installed from the zip into a
 # user scripts directory in the build tree, not the user's own Blender configuration).
 if [ -f build/blender_addon/facet_blender.zip ] && command -v blender > /dev/null; then

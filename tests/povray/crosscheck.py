@@ -242,6 +242,7 @@ INEXPRESSIBLE = {
     "glass": "/materials/rough/model",          # a dielectric transmits: POV's interior differs
     "fog_box": "/render/max_depth",             # media: POV-Ray's scatter once (max_depth 1)
     "subsurface": "/materials/skin/subsurface",  # random-walk SSS: a finish is the fallback
+    "showcase_media": "/render/max_depth",       # the juice's medium (POV's scatter once)
 }
 
 
