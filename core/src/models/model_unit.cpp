@@ -293,4 +293,20 @@ MicrofacetDistribution make_distribution(DistributionKind kind, const ParamValue
     }
 }
 
+std::optional<SubsurfaceInputs> make_subsurface_inputs(const ParamValues& v, const Rgb& radius,
+                                                       std::size_t ior, std::size_t anisotropy,
+                                                       std::size_t method) {
+    SubsurfaceInputs in;
+    in.radius = radius;
+    in.ior = float(v.number(ior));
+    in.anisotropy = float(v.number(anisotropy));
+    in.method = v.choice(method) == 1 ? SubsurfaceMethod::RandomWalkFixedRadius
+                                      : SubsurfaceMethod::RandomWalk;
+    int walked = 0;
+    for (int c = 0; c < 3; ++c) walked += in.radius[c] >= SubsurfaceLimits::kMinRadius;
+    if (walked != 0 && walked != 3) return std::nullopt;
+    in.walked = walked == 3;
+    return in;
+}
+
 }  // namespace facet

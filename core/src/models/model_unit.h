@@ -5,6 +5,7 @@
 // Conventions: facet/registry.h (names, ranges, errors as ParamError naming the parameter).
 #pragma once
 
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -111,5 +112,12 @@ struct SubsurfaceInputs {
     bool walked = false;  // every channel's radius is above Cycles' minimum (else none is)
 };
 SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefix, float scale);
+// The same from a model's evaluated block (a per-hit build): the radius (already scaled), and
+// the IOR, anisotropy and method at those indices of `v`. nullopt when only some channels'
+// radius reaches Cycles' minimum, which read_subsurface_inputs rejects (a texture can give that
+// between its checked extremes): the model then builds black, as a failed build is.
+std::optional<SubsurfaceInputs> make_subsurface_inputs(const ParamValues& v, const Rgb& radius,
+                                                       std::size_t ior, std::size_t anisotropy,
+                                                       std::size_t method);
 
 }  // namespace facet

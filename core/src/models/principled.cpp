@@ -113,19 +113,10 @@ const ModelInfo& principled_model() {
                 for (std::size_t i = kMetallic; i <= kTransmissionRoughness; ++i)
                     p.*kNumbers[i - kMetallic] = float(v.number(i));
                 p.multiscatter = v.choice(kDistribution) == 1;
-                SubsurfaceInputs in;
-                in.radius = v.color(kRadius) * p.subsurface;
-                in.ior = float(v.number(kWalkIor));
-                in.anisotropy = float(v.number(kAnisotropy));
-                in.method = v.choice(kMethod) == 1 ? SubsurfaceMethod::RandomWalkFixedRadius
-                                                   : SubsurfaceMethod::RandomWalk;
-                int walked = 0;
-                for (int c = 0; c < 3; ++c) walked += in.radius[c] >= SubsurfaceLimits::kMinRadius;
-                // Between a texture's checked extremes some channels only may be walked, which
-                // read_subsurface_inputs rejects: black, as the registry's failed build is.
-                if (walked != 0 && walked != 3)
-                    return Material(std::nullopt, std::nullopt, std::nullopt);
-                in.walked = walked == 3;
+                const std::optional<SubsurfaceInputs> walk = make_subsurface_inputs(
+                    v, v.color(kRadius) * p.subsurface, kWalkIor, kAnisotropy, kMethod);
+                if (!walk) return Material(std::nullopt, std::nullopt, std::nullopt);
+                const SubsurfaceInputs& in = *walk;
                 Material fallback{PrincipledBxDF(p)};
                 // Cycles' switch between its diffuse closure and the BSSRDF.
                 const Rgb mixed = glm::mix(p.base_color, p.subsurface_color, p.subsurface);

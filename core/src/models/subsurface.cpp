@@ -84,19 +84,10 @@ const ModelInfo& subsurface_model() {
         .make =
             [](const ParamValues& v, Children) {
                 const Rgb color = v.color(kColor);
-                SubsurfaceInputs in;
-                in.radius = v.color(kRadius) * float(v.number(kScale));
-                in.ior = float(v.number(kIor));
-                in.anisotropy = float(v.number(kAnisotropy));
-                in.method = v.choice(kMethod) == 1 ? SubsurfaceMethod::RandomWalkFixedRadius
-                                                   : SubsurfaceMethod::RandomWalk;
-                int walked = 0;
-                for (int c = 0; c < 3; ++c) walked += in.radius[c] >= SubsurfaceLimits::kMinRadius;
-                // Between a texture's checked extremes some channels only may be walked, which
-                // read_subsurface_inputs rejects: black, as the registry's failed build is.
-                if (walked != 0 && walked != 3)
-                    return Material(std::nullopt, std::nullopt, std::nullopt);
-                in.walked = walked == 3;
+                const std::optional<SubsurfaceInputs> walk = make_subsurface_inputs(
+                    v, v.color(kRadius) * float(v.number(kScale)), kIor, kAnisotropy, kMethod);
+                if (!walk) return Material(std::nullopt, std::nullopt, std::nullopt);
+                const SubsurfaceInputs& in = *walk;
                 // Cycles after a diffuse bounce (and at radius 0): a Lambertian surface.
                 Material fallback(LambertReflection(color), std::nullopt, std::nullopt);
                 if (!in.walked || max_component(color) <= 0.f) return fallback;
