@@ -183,9 +183,10 @@ static void expect_choice_keeps_stratification(const fr::LightDistribution& d, c
         var[m] = sum2[m] / kPixels - mean * mean;
         EXPECT_NEAR(mean, kExact, 5.0 * std::sqrt(var[m] / kPixels)) << what << " " << m;
     }
-    std::printf("%s: per-pixel variance: choice by u.x %.4g, by its own dimension %.4g "
-                "(ratio %.4f)\n",
-                what, var[0], var[1], var[0] / var[1]);
+    std::printf(
+        "%s: per-pixel variance: choice by u.x %.4g, by its own dimension %.4g "
+        "(ratio %.4f)\n",
+        what, var[0], var[1], var[0] / var[1]);
     EXPECT_LT(var[0], 0.25 * var[1]) << what;
 }
 

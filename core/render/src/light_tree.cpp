@@ -166,8 +166,7 @@ float LightTree::infinite_share() const {
     return float(m_infinite.size()) / float(m_infinite.size() + 1);
 }
 
-std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u,
-                                        float& pmf) const {
+std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u, float& pmf) const {
     pmf = 0.f;
     const float p_inf = infinite_share();
     if (u < p_inf) {
