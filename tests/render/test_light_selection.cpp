@@ -164,7 +164,7 @@ static void expect_choice_keeps_stratification(const fr::LightDistribution& d, c
             const Vec2 u0 = s.get_2d();
             Vec2 u = u0;
             float pmf = 0.f;
-            const std::uint32_t i = d.sample(ctx, u_choice, u, pmf);
+            const std::uint32_t i = d.sample(ctx, u, pmf);
             ASSERT_GE(u.x, 0.f) << what;
             ASSERT_LT(u.x, 1.f) << what;
             ASSERT_EQ(u.y, u0.y) << what;

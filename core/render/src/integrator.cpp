@@ -271,19 +271,19 @@ struct PathState {
 // The sample values one path vertex may use (integrator.h: the dimensions of a vertex), drawn
 // for the 8 paths of a packet together (VertexSampleLanes).
 struct VertexSamples {
-    float light_choice;  // base + 0 (not drawn: no choice reads it, LightDistribution::sample)
-    Vec2 light;          // base + 1
-    float lobe;          // base + 3 (not in the Lambert-only kernel)
-    Vec2 bsdf;           // base + 4
-    float roulette;      // base + 6 (only from kRouletteDepth on)
+    // (base + 0, the light choice's dimension, is read by none: LightDistribution::sample)
+    Vec2 light;      // base + 1
+    float lobe;      // base + 3 (not in the Lambert-only kernel)
+    Vec2 bsdf;       // base + 4
+    float roulette;  // base + 6 (only from kRouletteDepth on)
 };
 
 // The samples of one depth for every lane of a packet: each dimension of the vertex block is
 // drawn for all lanes at once (sample_*_lanes, vectorised), and only the dimensions the kernel
 // can read at this depth. Lane k gets exactly the values its own Sampler would give.
 struct VertexSampleLanes {
-    alignas(32) float light_choice[kSamplerLanes], light_x[kSamplerLanes], light_y[kSamplerLanes],
-        lobe[kSamplerLanes], bsdf_x[kSamplerLanes], bsdf_y[kSamplerLanes], roulette[kSamplerLanes];
+    alignas(32) float light_x[kSamplerLanes], light_y[kSamplerLanes], lobe[kSamplerLanes],
+        bsdf_x[kSamplerLanes], bsdf_y[kSamplerLanes], roulette[kSamplerLanes];
 
     template <std::uint32_t F>
     void draw(const std::uint32_t* seeds, std::uint32_t index, int depth) {
@@ -295,11 +295,7 @@ struct VertexSampleLanes {
     }
     // Lane k's values (the entries that draw() skipped are never read).
     VertexSamples lane(std::size_t k) const {
-        return {light_choice[k],
-                {light_x[k], light_y[k]},
-                lobe[k],
-                {bsdf_x[k], bsdf_y[k]},
-                roulette[k]};
+        return {{light_x[k], light_y[k]}, lobe[k], {bsdf_x[k], bsdf_y[k]}, roulette[k]};
     }
 };
 
@@ -344,8 +340,7 @@ template <std::uint32_t F>
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
         Vec2 u_light = s.light;
-        if (num_lights > 1)
-            light_index = light_dist.sample(ctx, s.light_choice, u_light, select_pmf);
+        if (num_lights > 1) light_index = light_dist.sample(ctx, u_light, select_pmf);
         const Light& light = lights[light_index];
         // (select_pmf is 0 only when the light tree finds no light that can reach ctx.)
         if (auto ls = select_pmf > 0.f ? sample_light<F>(light, ctx, u_light, lane_time<F>(rays, k))
@@ -938,14 +933,13 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     const Frame frame = Frame::from_z(ens);
     const bool fresnel = sss.lobe.fresnel;
     const LightSampleContext ctx{exit.p, ens};
-    const float u_light_choice = rng();
+    rng();  // the light choice's draw, read by none: the later draws keep their values
     Vec2 u_light(rng(), rng());
     const Vec2 u_dir(rng(), rng());
     if (!light_dist.empty()) {
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
-        if (scene.lights().size() > 1)
-            light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
+        if (scene.lights().size() > 1) light_index = light_dist.sample(ctx, u_light, select_pmf);
         const Light& light = scene.lights()[light_index];
         if (scene.features().has_ray_visibility &&
             !light_reaches(scene, light_index, BxDFFlags::Diffuse))  // the exit's lobe
@@ -1290,8 +1284,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                     st.cross(interior, entering(w, hit.ng));
                 return st;
             };
-            s.set_dimension(base);
-            const float u_light_choice = s.get_1d();
+            s.set_dimension(base + 1u);  // past the light choice's dimension (read by none)
             Vec2 u_light = s.get_2d();
             const float u_lobe = s.get_1d();
             const Vec2 u_bsdf = s.get_2d();
@@ -1307,8 +1300,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
                 const Material& mb = *bm;
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
-                if (num_lights > 1)
-                    light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
+                if (num_lights > 1) light_index = light_dist.sample(ctx, u_light, select_pmf);
                 const Light& light = lights[light_index];
                 if (ray_visibility && !light_reaches(scene, light_index, mb.flags()))
                     select_pmf = 0.f;
@@ -1391,8 +1383,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             const Medium& med = media[std::size_t(stack.current())];
             const Vec3 p = ray.o + ray.d * t;
             const LightSampleContext ctx{p, Vec3(0.f)};
-            s.set_dimension(base);
-            const float u_light_choice = s.get_1d();
+            s.set_dimension(base + 1u);  // past the light choice's dimension (read by none)
             Vec2 u_light = s.get_2d();
             s.get_1d();  // the lobe choice: no lobes in a medium
             const Vec2 u_dir = s.get_2d();
@@ -1400,8 +1391,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             if (!segment_nee && !light_dist.empty()) {
                 float select_pmf = 1.f;
                 std::uint32_t light_index = 0;
-                if (num_lights > 1)
-                    light_index = light_dist.sample(ctx, u_light_choice, u_light, select_pmf);
+                if (num_lights > 1) light_index = light_dist.sample(ctx, u_light, select_pmf);
                 const Light& light = lights[light_index];
                 // An emitter that volume-scatter rays do not see lights no medium (Cycles'
                 // SHADER_EXCLUDE_SCATTER).

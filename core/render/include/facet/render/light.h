@@ -361,10 +361,8 @@ class LightDistribution {
     // sample's points, stratified no better than independent samples. Conditioned on light i,
     // (u.x, u.y) is uniform on [0, 1)^2, so the estimate stays unbiased. The tree chooses by
     // u.x the same way: its traversal rescales u.x over each chosen child's share, and what is
-    // left of it is the light sample's first coordinate (LightTree::sample_reusing). `u_choice`
-    // is unused; the integrators keep its dimension so that the others do not shift.
-    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx,
-                                                [[maybe_unused]] float u_choice, Vec2& u,
+    // left of it is the light sample's first coordinate (LightTree::sample_reusing).
+    [[gnu::always_inline]] std::uint32_t sample(const LightSampleContext& ctx, Vec2& u,
                                                 float& pmf) const {
         if (m_tree) [[unlikely]]
             return m_tree->sample_reusing(ctx.p, ctx.n, u.x, pmf);
