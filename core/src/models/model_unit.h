@@ -112,6 +112,10 @@ struct SubsurfaceInputs {
     bool walked = false;  // every channel's radius is above Cycles' minimum (else none is)
 };
 SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefix, float scale);
+// The walk's radius, IOR, anisotropy and method into those indices of a unit's block (their
+// defaults and ranges as read_subsurface_inputs's).
+void read_subsurface_values(ParamReader& r, ParamValues& v, std::size_t radius, std::size_t ior,
+                            std::size_t anisotropy, std::size_t method);
 // The same from a model's evaluated block (a per-hit build): the radius (already scaled), and
 // the IOR, anisotropy and method at those indices of `v`. nullopt when only some channels'
 // radius reaches Cycles' minimum, which read_subsurface_inputs rejects (a texture can give that

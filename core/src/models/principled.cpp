@@ -99,10 +99,7 @@ const ModelInfo& principled_model() {
                 r.number(v, kIor, d.ior, 1e-3, models::kMaxIor);
                 r.choice(v, kDistribution);
                 read_subsurface_inputs(r, "subsurface_", subsurface);  // the checks
-                r.color(v, kRadius, Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
-                r.number(v, kWalkIor, 1.4, 1.01, 3.8);
-                r.number(v, kAnisotropy, 0.0, 0.0, 0.9);
-                r.choice(v, kMethod);
+                read_subsurface_values(r, v, kRadius, kWalkIor, kAnisotropy, kMethod);
             },
         .make =
             [](const ParamValues& v, Children) {

@@ -54,6 +54,14 @@ SubsurfaceInputs read_subsurface_inputs(ParamReader& r, const std::string& prefi
     return in;
 }
 
+void read_subsurface_values(ParamReader& r, ParamValues& v, std::size_t radius, std::size_t ior,
+                            std::size_t anisotropy, std::size_t method) {
+    r.color(v, radius, Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
+    r.number(v, ior, 1.4, 1.01, 3.8);
+    r.number(v, anisotropy, 0.0, 0.0, 0.9);
+    r.choice(v, method);
+}
+
 namespace {
 // The parameters' indices in subsurface's table (ParamValues); method 1 is the fixed radius.
 enum Param : std::size_t { kColor, kScale, kRadius, kIor, kAnisotropy, kMethod };
@@ -76,10 +84,7 @@ const ModelInfo& subsurface_model() {
                 r.color(v, kColor, Rgb(0.8f), 0.0, 1.0);
                 const float scale = float(r.number(v, kScale, 1.0, 0.0, 1e30));
                 read_subsurface_inputs(r, "", scale);  // the checks
-                r.color(v, kRadius, Rgb(1.f, 0.2f, 0.1f), 0.0, 1e30);
-                r.number(v, kIor, 1.4, 1.01, 3.8);
-                r.number(v, kAnisotropy, 0.0, 0.0, 0.9);
-                r.choice(v, kMethod);
+                read_subsurface_values(r, v, kRadius, kIor, kAnisotropy, kMethod);
             },
         .make =
             [](const ParamValues& v, Children) {
