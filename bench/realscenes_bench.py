@@ -43,6 +43,42 @@ def run_profile(build, name, out, profile, size_spp, prefix):
         return json.load(f)
 
 
+def update_summary(summary, names, docs_only, measure, show):
+    """The per-scene rows of the JSON list `summary`: as they are (docs_only), or with the scenes
+    `names` (every scene of the suite when empty) measured again by measure(name), each row
+    printed by show(row) and replacing its old one; written back, in the suite's order."""
+    if docs_only:
+        with open(summary) as f:
+            return json.load(f)
+    results = []
+    if names and os.path.exists(summary):
+        with open(summary) as f:
+            results = json.load(f)
+    order = [s.name for s in scenes.SCENES if not s.pending]
+    for name in names or order:
+        r = measure(name)
+        show(r)
+        results = [x for x in results if x["scene"] != name] + [r]
+    results.sort(key=lambda x: order.index(x["scene"]) if x["scene"] in order else 99)
+    with open(summary, "w") as f:
+        json.dump(results, f, indent=1)
+    return results
+
+
+def write_docs(text, begin, end, draw, image):
+    """`text` between the markers `begin` and `end` of docs/realscenes.md, and draw(path) the plot
+    docs/img/realscenes/`image`."""
+    img = os.path.join(ROOT, "docs", "img", "realscenes")
+    os.makedirs(img, exist_ok=True)
+    draw(os.path.join(img, image))
+    doc = os.path.join(ROOT, "docs", "realscenes.md")
+    with open(doc) as f:
+        old = f.read()
+    i, j = old.index(begin) + len(begin), old.index(end)
+    with open(doc, "w") as f:
+        f.write(old[:i] + "\n" + text + "\n" + old[j:])
+
+
 def run(build, name, out, size, spp):
     size_spp = []
     if size or spp:

@@ -17,14 +17,11 @@ the steadier measure) and, beside it, wall seconds. Writes the table between the
 docs/realscenes.md and the plot docs/img/realscenes/time_error.png.
 """
 import argparse
-import json
 import os
 import statistics
 import sys
 
 ROOT = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-sys.path.insert(0, os.path.join(ROOT, "tests", "realscenes"))
-import scenes  # noqa: E402
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import realscenes_bench  # noqa: E402
 
@@ -94,35 +91,13 @@ def main():
     out = a.out or os.path.join(a.build, "realscenes_te")
     os.makedirs(out, exist_ok=True)
     summary = os.path.join(out, "realscenes_time_error.json")
-    if a.docs_only:
-        with open(summary) as f:
-            results = json.load(f)
-    else:
-        # Scenes named on the command line replace their rows of the last run's summary.
-        results = []
-        if a.scenes and os.path.exists(summary):
-            with open(summary) as f:
-                results = json.load(f)
-        order = [s.name for s in scenes.SCENES if not s.pending]
-        for name in a.scenes or order:
-            r = run(a.build, name, out, a.size, a.spp)
-            print(row(r), flush=True)
-            results = [x for x in results if x["scene"] != name] + [r]
-        results.sort(key=lambda x: order.index(x["scene"]) if x["scene"] in order else 99)
-        with open(summary, "w") as f:
-            json.dump(results, f, indent=1)
+    results = realscenes_bench.update_summary(
+        summary, a.scenes, a.docs_only, lambda name: run(a.build, name, out, a.size, a.spp),
+        lambda r: print(row(r), flush=True))
     print(table(results))
-    if a.no_docs:
-        return
-    img = os.path.join(ROOT, "docs", "img", "realscenes")
-    os.makedirs(img, exist_ok=True)
-    plot(results, os.path.join(img, "time_error.png"))
-    doc = os.path.join(ROOT, "docs", "realscenes.md")
-    with open(doc) as f:
-        text = f.read()
-    i, j = text.index(BEGIN) + len(BEGIN), text.index(END)
-    with open(doc, "w") as f:
-        f.write(text[:i] + "\n" + table(results) + "\n" + text[j:])
+    if not a.no_docs:
+        realscenes_bench.write_docs(table(results), BEGIN, END,
+                                    lambda path: plot(results, path), "time_error.png")
 
 
 if __name__ == "__main__":

@@ -20,8 +20,6 @@ maps" and "Bump maps"), exactly as Cycles 3.4 evaluates them where the core can 
   reported, and the shading normal used.
 - Principled's Clearcoat Normal: clearcoat() (the core's principled has one shading normal).
 """
-import json
-
 from . import gaps, nodegraph, textures
 
 # The tangent-space normal of a texel that leaves the normal unchanged.
@@ -132,21 +130,22 @@ def _point_read(tex):
     """What of the point a texture reads besides UVs, for a report line."""
     if textures.reads_ray(tex):
         return "the ray (Light Path)"
-    if "hair_info" in json.dumps(tex):
+    keys = list(_keys(tex))
+    if any(k == "hair_info" for k, _ in keys):
         return "the strand (Hair Info)"
-    coords = sorted({c for c in _coordinates(tex) if c != "uv"})
+    coords = sorted({v for k, v in keys if k == "coordinates" and v != "uv"})
     return "%s coordinates" % "/".join(c.title() for c in coords)
 
 
-def _coordinates(tex):
+def _keys(tex):
+    """Every (key, value) of a texture dict, nested ones too."""
     if isinstance(tex, dict):
-        if "coordinates" in tex:
-            yield tex["coordinates"]
-        for v in tex.values():
-            yield from _coordinates(v)
+        for k, v in tex.items():
+            yield k, v
+            yield from _keys(v)
     elif isinstance(tex, (list, tuple)):
         for v in tex:
-            yield from _coordinates(v)
+            yield from _keys(v)
 
 
 # The keys of a material that are its shading normal (materials.NORMAL_KEYS).
