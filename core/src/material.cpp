@@ -249,8 +249,14 @@ std::array<float, 3> Material::lobe_probabilities(const Vec3& wo) const {
     float mu = glm::clamp(wo.z, 0.f, 1.f);
     std::array<float, 3> w{0.f, 0.f, 0.f};
     // Albedo of each lobe at wo (luminance): diffuse gets rho_d (1 - Es) (see header).
-    if (m_diffuse) w[0] = luminance(m_diffuse->rho() * diffuse_scale(mu));
-    if (m_glossy) w[1] = luminance(glossy_albedo(mu));
+    // Eg(mu) once for both lobes (diffuse_scale reads it too; the same bits).
+    const Rgb eg = m_diffuse || m_glossy ? glossy_albedo(mu) : Rgb(0.f);
+    if (m_diffuse) {
+        Rgb es = eg;  // specular_albedo(mu)
+        if (m_mirror) es += m_mirror->reflectance(mu);
+        w[0] = luminance(m_diffuse->rho() * (Rgb(1.f) - glm::clamp(es, Rgb(0.f), Rgb(1.f))));
+    }
+    if (m_glossy) w[1] = luminance(eg);
     if (m_mirror) w[2] = luminance(m_mirror->reflectance(mu));
     float sum = w[0] + w[1] + w[2];
     if (!(sum > 0.f)) {

@@ -12,6 +12,7 @@
 #include <cstdlib>
 #include <filesystem>
 #include <fstream>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -253,6 +254,45 @@ TEST(Textures, BilinearBetweenTwoTexels) {
     // Repeat blends across the edge: u = 0 is half way between b (x = -1) and a (x = 0).
     const fr::Texture r = image_texture(img, fr::TextureFilter::Linear, fr::TextureWrap::Repeat);
     EXPECT_EQ(r.eval({0.f, 0.5f}).r, 0.5f * (a + b));
+}
+
+// Textures sharing one image's lookup at a point (TexturePoint::memo, as a textured
+// material's slots share it): every channel choice, scale, filter and UV transform gives the
+// bits of its own lookup, and a texture with another transform or image does not take the
+// shared texels. Exact equality: the shared texels are the same computation.
+TEST(Textures, SharedImageLookupsGiveEachTexturesOwnBits) {
+    fr::TexelImage img;
+    img.width = 5, img.height = 3, img.channels = 4, img.alpha_channel = 3;
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> u01(0.f, 1.f);
+    for (int i = 0; i < 5 * 3 * 4; ++i) img.texels.push_back(u01(rng));
+    auto shared = std::make_shared<fr::TexelImage>(img);
+    auto mips = std::make_shared<const std::vector<fr::TexelImage>>(fr::build_mip_levels(img));
+    auto other = std::make_shared<fr::TexelImage>(img);
+    for (float& t : other->texels) t = 1.f - t;
+    fr::TextureDesc plain, scaled, moved;
+    scaled.scale = 0.7;
+    moved.uv_offset = {0.3f, 0.1f};
+    std::vector<fr::Texture> ts;
+    for (int ch : {fr::Texture::kAllChannels, 0, 1, 2, 3, int(fr::Texture::kLuminance)}) {
+        for (auto f : {fr::TextureFilter::Linear, fr::TextureFilter::Mipmap,
+                       fr::TextureFilter::Closest}) {
+            ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Repeat, ch, plain, mips));
+            ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Mirror, ch, scaled, mips));
+            ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Repeat, ch, moved, mips));
+            ts.push_back(fr::Texture::image(other, f, fr::TextureWrap::Repeat, ch, plain, mips));
+        }
+    }
+    for (int i = 0; i < 200; ++i) {
+        const Vec2 uv(3.f * u01(rng) - 1.f, 3.f * u01(rng) - 1.f);
+        const fr::UvFootprint fp{Vec2(u01(rng), 0.f), Vec2(0.f, 2.f * u01(rng))};
+        fr::ImageLookupMemo memo;
+        fr::TexturePoint p{uv, &fp};
+        p.memo = &memo;
+        std::shuffle(ts.begin(), ts.end(), rng);
+        for (const fr::Texture& t : ts)
+            ASSERT_EQ(t.eval(p), t.eval(uv, fp)) << i;
+    }
 }
 
 namespace {

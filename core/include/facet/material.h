@@ -208,7 +208,10 @@ class Material {
     Rgb diffuse_f(const Vec3& wo, const Vec3& wi) const;
 
   private:
-    Material() = default;  // composite() with an AlbedoRef fills the lobes, then init()
+    // composite() with an AlbedoRef fills the lobes, then init(). User-provided: a defaulted
+    // constructor lets GCC 12 zero the whole object (kilobytes of disengaged optionals) at each
+    // per-hit build.
+    Material() noexcept {}
     // The constructors' common part: flags and, for two or more lobes, the tables (eg_ref to
     // read, with es_avg given or computed, or computed).
     void init(const Rgb* es_avg = nullptr, const AlbedoRef* eg_ref = nullptr);

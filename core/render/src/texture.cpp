@@ -61,7 +61,7 @@ glm::dmat4 mapping_point_matrix(const glm::dvec3& loc, const glm::dvec3& rot,
     return m;
 }
 
-int wrap_index(int i, int n, TextureWrap wrap) {
+int wrap_index_outside(int i, int n, TextureWrap wrap) {
     switch (wrap) {
         case TextureWrap::Clamp:
             return std::clamp(i, 0, n - 1);
@@ -109,6 +109,8 @@ Material Scene::material_at(const SurfaceHit& hit, const UvFootprint& fp, const 
                             const Vec3& ns, const RayState* rs) const {
     TexturePoint p = texture_point(hit, fp, wo, ns);
     p.ray = rs;
+    ImageLookupMemo memo;
+    p.memo = &memo;
     if (const ShapeInfo& s = m_shapes[hit.shape]; s.needs_strand && s.kind == ShapeKind::Curves) {
         p.strand_random = hit.strand_random;
         p.strand_v = hit.strand_v;

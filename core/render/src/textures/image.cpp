@@ -62,8 +62,31 @@ class ImageSource final : public TextureSource {
     Vec2 m_b{0.f};
 
     Rgb eval(const TexturePoint& p) const override {
-        if (m_paged) return lookup(PagedLevels{*m_paged}, p.uv, p.footprint);
-        return lookup(WholeLevels{*m_image, m_mips.get()}, p.uv, p.footprint);
+        // Channels first .. first + count - 1 of the texels, filtered (channel choice and scale
+        // come after filtering, as a Blender Image Texture node's outputs do).
+        const bool beyond = m_channel > 3 && m_channel != Texture::kLuminance;
+        const int first = beyond ? m_channel : 0;
+        const int count = beyond ? 1 : std::min(m_image->channels, 4);
+        const Vec2 t = m_a * p.uv + m_b;
+        const float lambda =
+            p.footprint && m_filter == TextureFilter::Mipmap ? mip_level(*p.footprint) : 0.f;
+        ImageLookupMemo local;
+        ImageLookupMemo& memo = p.memo ? *p.memo : local;
+        // Every input of the filtered texels is in the key, so a shared value is the one this
+        // lookup would compute (textures that read one image at one point share it).
+        if (!(p.memo && memo.image == m_image.get() && memo.mips == m_mips.get() &&
+              memo.first == first &&
+              memo.filter == std::uint8_t(m_filter) && memo.wrap == std::uint8_t(m_wrap) &&
+              memo.t == t && memo.lambda == lambda)) {
+            if (m_paged)
+                lookup(PagedLevels{*m_paged}, t, lambda, first, count, memo.raw);
+            else
+                lookup(WholeLevels{*m_image, m_mips.get()}, t, lambda, first, count, memo.raw);
+            memo.image = m_image.get(), memo.mips = m_mips.get(), memo.first = first;
+            memo.t = t, memo.lambda = lambda;
+            memo.filter = std::uint8_t(m_filter), memo.wrap = std::uint8_t(m_wrap);
+        }
+        return value(memo.raw, first);
     }
     float mip_level(const UvFootprint& fp) const override {
         const Vec2 size(float(m_image->width), float(m_image->height));
@@ -75,58 +98,89 @@ class ImageSource final : public TextureSource {
     const TexelImage* texel_image() const override { return m_image.get(); }
     TextureFilter filter() const override { return m_filter; }
 
-    // One texel's channels p as the texture's value, times scale.
-    Rgb value(const float* p, int channels) const {
+    // The texture's value from channels `first`.. of a texel (or of filtered texels) p, times
+    // scale.
+    Rgb value(const float* p, int first) const {
+        const int channels = m_image->channels;
         Rgb c;
         if (m_channel == Texture::kAllChannels) {
             c = channels >= 3 ? Rgb(p[0], p[1], p[2]) : Rgb(p[0]);
         } else if (m_channel == Texture::kLuminance) {
             c = Rgb(channels >= 3 ? luminance(Rgb(p[0], p[1], p[2])) : p[0]);
         } else {
-            c = Rgb(p[m_channel]);
+            c = Rgb(p[m_channel - first]);
         }
         return c * m_scale;
     }
 
-    // Bilinear between the texel centres of `level` around the transformed coordinates t.
-    template <class Levels>
-    Rgb bilinear(const Levels& levels, int level, Vec2 t) const {
+    // Channels first .. first + N - 1 of one texel into out.
+    template <int N, class Levels>
+    static void texel_channels(const Levels& levels, int level, int x, int y, int first,
+                               float* out) {
+        float scratch[kMaxPagedChannels];
+        const float* p = levels.texel(level, x, y, scratch) + first;
+        for (int k = 0; k < N; ++k) out[k] = p[k];
+    }
+
+    // Bilinear between the texel centres of `level` around the transformed coordinates t:
+    // channels first .. first + N - 1 into out.
+    template <int N, class Levels>
+    void bilinear(const Levels& levels, int level, Vec2 t, int first, float* out) const {
         const int w = levels.width(level), h = levels.height(level);
-        const int c = m_image->channels;
         // Continuous texel coordinates: x right from the left edge, y down from the top edge.
         const float gx = t.x * float(w) - 0.5f, gy = (1.f - t.y) * float(h) - 0.5f;
         const int x0 = texel_index(gx), y0 = texel_index(gy);
         const float ax = gx - float(x0), ay = gy - float(y0);
         const int xa = wrap_index(x0, w, m_wrap), xb = wrap_index(x0 + 1, w, m_wrap);
         const int ya = wrap_index(y0, h, m_wrap), yb = wrap_index(y0 + 1, h, m_wrap);
-        float scratch[kMaxPagedChannels];
-        auto texel = [&](int x, int y) { return value(levels.texel(level, x, y, scratch), c); };
-        return (1.f - ay) * ((1.f - ax) * texel(xa, ya) + ax * texel(xb, ya)) +
-               ay * ((1.f - ax) * texel(xa, yb) + ax * texel(xb, yb));
+        float a[N], b[N], c[N], d[N];
+        texel_channels<N>(levels, level, xa, ya, first, a);
+        texel_channels<N>(levels, level, xb, ya, first, b);
+        texel_channels<N>(levels, level, xa, yb, first, c);
+        texel_channels<N>(levels, level, xb, yb, first, d);
+        for (int k = 0; k < N; ++k)
+            out[k] = (1.f - ay) * ((1.f - ax) * a[k] + ax * b[k]) +
+                     ay * ((1.f - ax) * c[k] + ax * d[k]);
     }
 
-    // The filtered value at uv over footprint fp (null: level 0) through `levels`, the whole
-    // image's or the paged image's: one code for both, so the same bits.
-    template <class Levels>
-    Rgb lookup(const Levels& levels, Vec2 uv, const UvFootprint* fp) const {
-        const Vec2 t = m_a * uv + m_b;
+    // The filtered channels at the transformed coordinates t, MIP level lambda (0: level 0),
+    // through `levels`, the whole image's or the paged image's: one code for both, so the
+    // same bits.
+    template <int N, class Levels>
+    void filtered(const Levels& levels, Vec2 t, float lambda, int first, float* out) const {
         if (m_filter == TextureFilter::Closest) {
             const int w = levels.width(0), h = levels.height(0);
-            float scratch[kMaxPagedChannels];
-            return value(
-                levels.texel(0, wrap_index(texel_index(t.x * float(w)), w, m_wrap),
-                             wrap_index(texel_index((1.f - t.y) * float(h)), h, m_wrap), scratch),
-                m_image->channels);
+            texel_channels<N>(levels, 0, wrap_index(texel_index(t.x * float(w)), w, m_wrap),
+                              wrap_index(texel_index((1.f - t.y) * float(h)), h, m_wrap), first,
+                              out);
+            return;
         }
         // Mipmap with a footprint: the level (conventions); otherwise (and when magnified)
         // level 0, exactly "linear".
-        const float lambda = fp && m_filter == TextureFilter::Mipmap ? mip_level(*fp) : 0.f;
-        if (!(lambda > 0.f)) return bilinear(levels, 0, t);
+        if (!(lambda > 0.f)) return bilinear<N>(levels, 0, t, first, out);
         const int last = levels.count() - 1;  // index of the 1 x 1 level
-        if (lambda >= float(last)) return bilinear(levels, last, t);
+        if (lambda >= float(last)) return bilinear<N>(levels, last, t, first, out);
         const int l = int(std::floor(lambda));
-        const float a = lambda - float(l);
-        return (1.f - a) * bilinear(levels, l, t) + a * bilinear(levels, l + 1, t);
+        const float s = lambda - float(l);
+        float lo[N], hi[N];
+        bilinear<N>(levels, l, t, first, lo);
+        bilinear<N>(levels, l + 1, t, first, hi);
+        for (int k = 0; k < N; ++k) out[k] = (1.f - s) * lo[k] + s * hi[k];
+    }
+
+    template <class Levels>
+    void lookup(const Levels& levels, Vec2 t, float lambda, int first, int count,
+                float* out) const {
+        switch (count) {
+            case 1:
+                return filtered<1>(levels, t, lambda, first, out);
+            case 2:
+                return filtered<2>(levels, t, lambda, first, out);
+            case 3:
+                return filtered<3>(levels, t, lambda, first, out);
+            default:
+                return filtered<4>(levels, t, lambda, first, out);
+        }
     }
 };
 
@@ -198,7 +252,7 @@ Texture Texture::image(std::shared_ptr<const TexelImage> img, TextureFilter filt
     Rgb lo(INFINITY), hi(-INFINITY);
     auto extend = [&](const float* row) {
         for (int x = 0; x < im.width; ++x) {
-            const Rgb v = s->value(row + std::size_t(x) * std::size_t(im.channels), im.channels);
+            const Rgb v = s->value(row + std::size_t(x) * std::size_t(im.channels), 0);
             lo = glm::min(lo, v);
             hi = glm::max(hi, v);
         }

@@ -162,6 +162,19 @@ struct RayState {
     std::uint8_t kinds = 1u;  // kLpCamera
 };
 
+// The last image lookup at a hit: an image's filtered texels (channels `first`.., before a
+// texture's channel choice and scale) at transformed coordinates `t` and MIP level `lambda`.
+// Textures that read the same image at the same point share it (Scene::textured_material).
+struct ImageLookupMemo {
+    const void* image = nullptr;  // the TexelImage; null: empty
+    const void* mips = nullptr;   // its MIP levels (null: none)
+    Vec2 t{0.f};
+    float lambda = 0.f;
+    int first = 0;
+    std::uint8_t filter = 0, wrap = 0;
+    float raw[4] = {0.f, 0.f, 0.f, 0.f};
+};
+
 // What a texture reads at a hit.
 struct TexturePoint {
     Vec2 uv{0.f};                            // the hit's uv (shapes that compute it)
@@ -189,6 +202,9 @@ struct TexturePoint {
     // The Light Path state of the ray that reached the hit (kTextureReadsRay; null outside the
     // kernel that tracks it: a camera ray's at length 0 is read then).
     const RayState* ray = nullptr;
+    // Where image lookups at this point are shared (null: none kept). Valid for one hit: the
+    // images it names belong to the scene being rendered.
+    ImageLookupMemo* memo = nullptr;
 };
 
 // What a texture reads besides its parameters (bits of Texture::inputs()).
@@ -284,7 +300,10 @@ void uv_transform(const TextureDesc& d, glm::mat2& a, Vec2& b);
 glm::dmat4 mapping_point_matrix(const glm::dvec3& location, const glm::dvec3& rotation,
                                 const glm::dvec3& scale);
 
-// Wraps texel index i into [0, n) by `wrap` (conventions).
-int wrap_index(int i, int n, TextureWrap wrap);
+// Wraps texel index i into [0, n) by `wrap` (conventions); indices inside are themselves.
+int wrap_index_outside(int i, int n, TextureWrap wrap);
+inline int wrap_index(int i, int n, TextureWrap wrap) {
+    return unsigned(i) < unsigned(n) ? i : wrap_index_outside(i, n, wrap);
+}
 
 }  // namespace facet::render
