@@ -9,6 +9,7 @@
 #include <cstdio>
 
 #include "chi2.h"
+#include "facet/bessel.h"
 #include "facet/registry.h"
 
 namespace facet {
@@ -456,6 +457,45 @@ TEST(PrincipledHair, NoNaNAtTheEdges) {
             }
         }
     EXPECT_EQ(bad, 0);
+}
+
+// facet/bessel.h: I0(x) exp(a - x) against the library's I0 (std::cyl_bessel_i, double) below
+// 700, where exp(x) still fits a double, and against the asymptotic expansion to 1/x^8 above
+// (its remainder below 1e-21 there), at 1e-13 relative: the expansions' own error is 1.2e-14
+// (header), and an error in one of their 41 coefficients moves the value by far more. The scale
+// exp(a) is applied without overflow or underflow where the product is representable.
+TEST(PrincipledHair, BesselI0ScaledMatchesTheLibrary) {
+    double worst = 0.0, worst_x = 0.0;
+    auto check = [&](double x, double want) {
+        const double got = bessel_i0_scaled(x, 0.0);
+        const double rel = std::fabs(got / want - 1.0);
+        if (rel > worst) worst = rel, worst_x = x;
+        EXPECT_NEAR(got, want, 1e-13 * want) << "x " << x;
+    };
+    for (int i = 0; i <= 70000; ++i) {  // [0, 700] in steps of 0.01, both pieces and the seam
+        const double x = 0.01 * i;
+        check(x, std::cyl_bessel_i(0.0, x) * std::exp(-x));
+    }
+    for (double x = 700.0; x < 1e12; x *= 1.01) {
+        double term = 1.0, sum = 1.0;  // sum_k ((2k - 1)!!)^2 / (k! (8x)^k)
+        for (int k = 1; k <= 8; ++k) {
+            term *= (2.0 * k - 1.0) * (2.0 * k - 1.0) / (k * 8.0 * x);
+            sum += term;
+        }
+        check(x, sum / std::sqrt(2.0 * kPiD * x));
+    }
+    std::printf("  I0(x) exp(-x): worst relative difference %.2e (x = %.2f)\n", worst, worst_x);
+    // The scale: exp(a) on both pieces, a product that underflows to 0 and one that would not fit
+    // as I0(x) and exp(a) apart.
+    for (double x : {0.0, 3.0, 5.0, 5.0001, 40.0, 1e5})
+        for (double a : {-1.0, -30.0})
+            EXPECT_NEAR(bessel_i0_scaled(x, a), bessel_i0_scaled(x, 0.0) * std::exp(a),
+                        1e-14 * bessel_i0_scaled(x, 0.0) * std::exp(a));
+    EXPECT_EQ(bessel_i0_scaled(2.0, -2000.0), 0.0);
+    const double big = bessel_i0_scaled(2000.0, -10.0);  // I0(2000) overflows a double
+    EXPECT_NEAR(
+        big, std::exp(-10.0) / std::sqrt(2.0 * kPiD * 2000.0) * (1.0 + 1.0 / 16000.0 + 9.0 / 512e6),
+        1e-8 * big);
 }
 
 // ---- hair: Cycles 3.4's bsdf_hair.h, written again in double

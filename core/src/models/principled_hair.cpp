@@ -26,15 +26,19 @@
 //    or uniform. pdf() is the density this draws, including the Jacobian of the tilt and the
 //    fold at the poles, and the R lobe is drawn with its own (coat) variance: Cycles' pdf leaves
 //    out the tilt's Jacobian and draws R with v, so its pdf is not its sampler's density there.
-//  - Evaluation: the modified Bessel function I0 is evaluated to double precision (Cycles'
-//    float series stops after ten terms, 0.3% low at x = cos theta_i cos theta_o / v = 10 and
-//    2% at 12, and its asymptote above 12 is 0.6% low there), and the exponent of M_p as
-//    (cos(theta_i + theta_o) - 1) / v without cancellation.
+//  - Evaluation: the modified Bessel function I0 is evaluated to double precision
+//    (facet/bessel.h, 1.2e-14 relative; Cycles' float series stops after ten terms, 0.3% low at
+//    x = cos theta_i cos theta_o / v = 10 and 2% at 12, and its asymptote above 12 is 0.6% low
+//    there), and the exponent of M_p as (cos(theta_i + theta_o) - 1) / v without cancellation.
+//    What depends on wo alone (Setup) is computed once per eval or sample_f, the lobes' tilts by
+//    the angle-addition formulas from the sine and cosine of alpha, and the density of a tilted
+//    lobe reuses the lobe's own M_p where its preimage is theta_i + shift.
 // Conventions: facet/inline_bxdf.h; flagged Transmission (wi on either side: a fibre scatters
 // over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
 #include <algorithm>
 #include <cmath>
 
+#include "facet/bessel.h"
 #include "facet/fresnel.h"
 #include "model_unit.h"
 
@@ -44,46 +48,23 @@ namespace {
 
 constexpr double kPi2D = 2.0 * kPiD;
 
-// log(I0(x)) - x for x >= 0: the series below 30, the asymptotic expansion to 1/x^3 above
-// (relative error < 2e-7 at 30).
-double log_i0_minus_x(double x) {
-    if (x > 30.0) {
-        const double r = 1.0 / x;
-        return -0.5 * std::log(kPi2D * x) +
-               std::log1p(r * (0.125 + r * (9.0 / 128.0 + r * (225.0 / 3072.0))));
-    }
-    const double q = 0.25 * x * x;
-    double term = 1.0, sum = 1.0;
-    for (int k = 1; k < 200; ++k) {
-        term *= q / (double(k) * double(k));
-        sum += term;
-        if (term < 1e-17 * sum) break;
-    }
-    return std::log(sum) - x;
-}
-
 // d'Eon's longitudinal lobe M(theta_i, theta_o; v) = csch(1/v) / (2 v) exp(-sin_i sin_o / v)
-// I0(cos_i cos_o / v), normalised as int M cos theta_i dtheta_i = 1 over [-pi/2, pi/2].
-double longitudinal(double si, double ci, double so, double co, double v) {
+// I0(cos_i cos_o / v), normalised as int M cos theta_i dtheta_i = 1 over [-pi/2, pi/2], given
+// norm = csch(1/v) exp(1/v) / (2 v) = 1 / (v (1 - exp(-2/v))): exp(-1/v) joins the exponent,
+// which is written (cos(t_i + t_o) - 1) / v without cancellation.
+double longitudinal(double si, double ci, double so, double co, double v, double norm) {
     const double c = ci * co - si * so, s = si * co + ci * so;
     const double cos_sum_m1 = c > 0.0 ? -s * s / (1.0 + c) : c - 1.0;  // cos(t_i + t_o) - 1
-    // csch(1/v) / (2 v) = exp(-1/v) / (v (1 - exp(-2/v))); exp(-1/v) joins the exponent.
-    return std::exp(log_i0_minus_x(ci * co / v) + cos_sum_m1 / v) / (v * -std::expm1(-2.0 / v));
+    const double inv_v = 1.0 / v;
+    return norm * bessel_i0_scaled(ci * co * inv_v, cos_sum_m1 * inv_v);
+}
+
+double longitudinal_norm(double v) {
+    return 1.0 / (v * -std::expm1(-2.0 / v));
 }
 
 double wrap_angle(double a) {
     return a - kPi2D * std::floor((a + kPiD) / kPi2D);
-}
-
-// The logistic of scale s trimmed to [-pi, pi] (normalised there) at x, and its inverse CDF.
-double trimmed_logistic(double x, double s) {
-    const double e = std::exp(-std::fabs(x) / s);
-    return e / (s * (1.0 + e) * (1.0 + e)) / std::tanh(kPiD / (2.0 * s));
-}
-double sample_trimmed_logistic(double u, double s) {
-    const double c = 1.0 / (1.0 + std::exp(kPiD / s));  // the logistic's CDF at -pi
-    const double y = u * (1.0 - 2.0 * c) + c;
-    return std::clamp(-s * std::log((1.0 - y) / y), -kPiD, kPiD);
 }
 
 // Cycles' map of a roughness in [0, 1] to the logistic variance v.
@@ -99,40 +80,25 @@ class PrincipledHair {
     // Cycles' randomisation); alpha the tilt in radians; eta >= 1.
     PrincipledHair(const Rgb& sigma, double roughness, double radial, double coat, double alpha,
                    double eta)
-        : m_sigma(sigma), m_alpha(float(alpha)), m_eta(float(eta)) {
+        : m_sigma(sigma), m_eta(float(eta)) {
         const double r = std::clamp(roughness, 0.001, 1.0), rs = std::clamp(radial, 0.001, 1.0);
         const double r0 = std::clamp((1.0 - std::clamp(coat, 0.0, 1.0)) * r, 0.001, 1.0);
         m_v = float(variance_of(r));
         m_v0 = float(variance_of(r0));
         m_s = float((0.265 * rs + 1.194 * rs * rs + 5.372 * std::pow(rs, 22.0)) *
                     std::sqrt(kPiD / 8.0));
+        for (int p = 0; p < 3; ++p) m_norm[p] = float(longitudinal_norm(lobe_variance(p)));
+        const double s = m_s;
+        m_logistic = float(1.0 / (s * std::tanh(kPiD / (2.0 * s))));
+        m_logistic_cdf = float(1.0 / (1.0 + std::exp(kPiD / s)));
+        m_sin_alpha = float(std::sin(double(float(alpha))));
+        m_cos_alpha = float(std::cos(double(float(alpha))));
     }
 
     BSDFEval eval(const Vec3& wo, const Vec3& wi) const {
         Setup g;
         if (!setup(wo, g)) return {};
-        const double si = std::clamp(double(wi.x), -1.0, 1.0);
-        const double ci = std::sqrt(double(wi.y) * wi.y + double(wi.z) * wi.z);
-        const double phi = std::atan2(double(glm::dot(wi, g.z)), double(glm::dot(wi, g.y))) +
-                           0.5 * kPiD;  // phi_i - phi_o, phi_o = -pi/2
-        const double theta_i = std::atan2(si, ci);
-        DVec3 F(0.0);
-        double pdf = 0.0;
-        for (int p = 0; p < 3; ++p) {
-            const double shift = lobe_shift(p), v = lobe_variance(p);
-            const double n = trimmed_logistic(
-                wrap_angle(phi - (2.0 * p * g.gamma_t - 2.0 * g.gamma_o + p * kPiD)), m_s);
-            // Cycles' hair_alpha_angles: sin(theta_i + shift), |cos(theta_i + shift)|.
-            const double st = std::sin(theta_i + shift), ct = std::fabs(std::cos(theta_i + shift));
-            F += g.ap[p] * (longitudinal(st, ct, g.sin_o, g.cos_o, v) * n);
-            pdf += g.w[p] * tilted_density(theta_i, ci, -shift, g, v) * n;
-        }
-        const double m3 = longitudinal(si, ci, g.sin_o, g.cos_o, 4.0 * m_v) / kPi2D;
-        F += g.ap[3] * m3;
-        pdf += g.w[3] * m3;
-        const double cos_n = std::fabs(double(wi.z));
-        if (!(cos_n > 0.0)) return {Rgb(0.f), float(pdf)};
-        return {Rgb(F / cos_n), float(pdf)};
+        return eval(g, wi);
     }
 
     std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const {
@@ -152,16 +118,19 @@ class PrincipledHair {
         const double st =
             std::clamp(-fac * g.sin_o + sin_fac * std::cos(kPi2D * u.y) * g.cos_o, -1.0, 1.0);
         // Tilted: theta_i = theta' - shift, folded at the poles (sin kept, |cos|).
-        const double theta = std::asin(st) - (p < 3 ? lobe_shift(p) : 0.0);
-        const double si = std::sin(theta), ci = std::fabs(std::cos(theta));
-        const double phi = p < 3 ? 2.0 * p * g.gamma_t - 2.0 * g.gamma_o + p * kPiD +
-                                       sample_trimmed_logistic(u_phi, m_s)
-                                 : kPi2D * u_phi;
+        const double ct = std::sqrt(std::max(0.0, 1.0 - st * st));
+        double si = st, ci = ct;
+        if (p < 3) {
+            const Angle a = lobe_shift(p, g);
+            si = st * a.c - ct * a.s;
+            ci = std::fabs(ct * a.c + st * a.s);
+        }
+        const double phi = p < 3 ? g.center[p] + sample_trimmed_logistic(u_phi) : kPi2D * u_phi;
         const double phi_i = phi - 0.5 * kPiD;
         const DVec3 w = DVec3(si, 0.0, 0.0) + (ci * std::cos(phi_i)) * DVec3(g.y) +
                         (ci * std::sin(phi_i)) * DVec3(g.z);
         const Vec3 wi(glm::normalize(w));
-        const BSDFEval e = eval(wo, wi);
+        const BSDFEval e = eval(g, wi);
         if (!(e.pdf > 0.f) || !(wi.z != 0.f) || !is_finite(e.f)) return std::nullopt;
         return BSDFSample{e.f, wi, e.pdf, flags()};
     }
@@ -169,10 +138,16 @@ class PrincipledHair {
     BxDFFlags flags() const { return BxDFFlags::Glossy | BxDFFlags::Transmission; }
 
   private:
-    // What depends on wo alone: the fibre frame, the angles and the attenuations.
+    struct Angle {
+        double s, c;  // sine and cosine
+    };
+
+    // What depends on wo alone: the fibre frame, the angles, the attenuations and the tilts.
     struct Setup {
         Vec3 y, z;  // the fibre frame's Y and Z in the local frame (X = x)
-        double sin_o, cos_o, gamma_o, gamma_t;
+        double sin_o, cos_o;
+        double center[3];  // N_p's centres 2 p gamma_t - 2 gamma_o + p pi
+        Angle shift[3];    // the lobes' tilts (lobe_shift)
         DVec3 ap[4];
         double w[4];  // lobe probabilities (luminance of A_p, normalised)
     };
@@ -191,8 +166,17 @@ class PrincipledHair {
         const double sin_gt = h * g.cos_o / std::sqrt(eta * eta - g.sin_o * g.sin_o);
         const double cos_go = std::sqrt(std::max(0.0, 1.0 - h * h));
         const double cos_gt = std::sqrt(std::max(0.0, 1.0 - sin_gt * sin_gt));
-        g.gamma_o = std::asin(h);
-        g.gamma_t = std::asin(std::clamp(sin_gt, -1.0, 1.0));
+        const double gamma_o = std::asin(h);
+        const double gamma_t = std::asin(std::clamp(sin_gt, -1.0, 1.0));
+        for (int p = 0; p < 3; ++p) g.center[p] = 2.0 * p * gamma_t - 2.0 * gamma_o + p * kPiD;
+        // The tilt alpha from its sine and cosine (made a unit pair again in double), and the
+        // lobes' 2 alpha, -alpha and -4 alpha by the double-angle formulas.
+        const double sa0 = m_sin_alpha, ca0 = m_cos_alpha, len = std::sqrt(sa0 * sa0 + ca0 * ca0);
+        const double sa = sa0 / len, ca = ca0 / len;
+        const double s2 = 2.0 * sa * ca, c2 = ca * ca - sa * sa;
+        g.shift[0] = {s2, c2};
+        g.shift[1] = {-sa, ca};
+        g.shift[2] = {-2.0 * s2 * c2, c2 * c2 - s2 * s2};
         const DVec3 T = glm::exp(-DVec3(m_sigma) * (2.0 * cos_gt / cos_t));
         const double f = fresnel_dielectric(float(g.cos_o * cos_go), m_eta);
         g.ap[0] = DVec3(f);
@@ -212,36 +196,74 @@ class PrincipledHair {
         return total > 0.0;
     }
 
+    // f and pdf at wi for the wo of `g`.
+    BSDFEval eval(const Setup& g, const Vec3& wi) const {
+        const double si = std::clamp(double(wi.x), -1.0, 1.0);
+        const double ci = std::sqrt(double(wi.y) * wi.y + double(wi.z) * wi.z);
+        const double phi = std::atan2(double(glm::dot(wi, g.z)), double(glm::dot(wi, g.y))) +
+                           0.5 * kPiD;  // phi_i - phi_o, phi_o = -pi/2
+        DVec3 F(0.0);
+        double pdf = 0.0;
+        for (int p = 0; p < 3; ++p) {
+            const double v = lobe_variance(p), norm = m_norm[p];
+            const Angle a = lobe_shift(p, g);
+            const double n = trimmed_logistic(wrap_angle(phi - g.center[p]));
+            // Cycles' hair_alpha_angles: sin(theta_i + shift), |cos(theta_i + shift)|.
+            const double st = si * a.c + ci * a.s, ct = ci * a.c - si * a.s;
+            const double m = longitudinal(st, std::fabs(ct), g.sin_o, g.cos_o, v, norm);
+            F += g.ap[p] * (m * n);
+            pdf += g.w[p] * tilted_density(si, ci, ct, m, a, g, v, norm) * n;
+        }
+        const double m3 =
+            longitudinal(si, ci, g.sin_o, g.cos_o, lobe_variance(3), m_norm[2]) / kPi2D;
+        F += g.ap[3] * m3;
+        pdf += g.w[3] * m3;
+        const double cos_n = std::fabs(double(wi.z));
+        if (!(cos_n > 0.0)) return {Rgb(0.f), float(pdf)};
+        return {Rgb(F / cos_n), float(pdf)};
+    }
+
     // The tilt of lobe p's peak (Cycles' hair_alpha_angles: R +2 alpha, TT -alpha, TRT -4 alpha
     // on theta_i) and its variance.
-    double lobe_shift(int p) const {
-        return p == 0 ? 2.0 * m_alpha : p == 1 ? -double(m_alpha) : -4.0 * m_alpha;
-    }
+    static Angle lobe_shift(int p, const Setup& g) { return g.shift[p]; }
     double lobe_variance(int p) const {
         return p == 0 ? double(m_v0) : p == 1 ? 0.25 * m_v : 4.0 * m_v;  // TRT and the rest: 4v
     }
 
-    // The density per solid angle at theta_i (cos theta_i = ci) of theta' ~ M(theta') cos theta'
-    // on [-pi/2, pi/2] moved to theta' + delta and folded back at the poles (sin kept, cos made
-    // positive): the sum over theta_i's preimages of M cos theta', over cos theta_i.
-    static double tilted_density(double theta_i, double ci, double delta, const Setup& g,
-                                 double v) {
+    // The logistic of scale s trimmed to [-pi, pi] (normalised there) at x, and its inverse CDF.
+    double trimmed_logistic(double x) const {
+        const double e = std::exp(-std::fabs(x) / double(m_s));
+        return e * double(m_logistic) / ((1.0 + e) * (1.0 + e));
+    }
+    double sample_trimmed_logistic(double u) const {
+        const double c = m_logistic_cdf;  // the logistic's CDF at -pi
+        const double y = u * (1.0 - 2.0 * c) + c;
+        return std::clamp(-double(m_s) * std::log((1.0 - y) / y), -kPiD, kPiD);
+    }
+
+    // The density per solid angle at theta_i (sin si, cos ci) of theta' ~ M(theta') cos theta'
+    // on [-pi/2, pi/2] moved by -shift (sine and cosine a) and folded back at the poles (sin
+    // kept, cos made positive): the sum over theta_i's preimages theta_i + shift and
+    // pi - theta_i + shift of M cos theta', over ci, for those at |theta'| <= pi/2 (a
+    // non-negative cosine). The first preimage's M at cos ct is m (eval's own lobe value).
+    static double tilted_density(double si, double ci, double ct, double m, Angle a, const Setup& g,
+                                 double v, double norm) {
         if (!(ci > 0.0)) return 0.0;
-        double sum = 0.0;
-        for (double base : {theta_i, kPiD - theta_i}) {
-            double t = base - delta;
-            t -= kPi2D * std::round(t / kPi2D);
-            if (std::fabs(t) <= 0.5 * kPiD) {
-                const double ct = std::cos(t);
-                sum += longitudinal(std::sin(t), ct, g.sin_o, g.cos_o, v) * ct;
-            }
-        }
+        double sum = ct >= 0.0 ? m * ct : 0.0;
+        // pi - theta_i + shift: sine sin(theta_i - shift), cosine -cos(theta_i - shift).
+        const double ct2 = -(ci * a.c + si * a.s);
+        if (ct2 >= 0.0)
+            sum += longitudinal(si * a.c - ci * a.s, ct2, g.sin_o, g.cos_o, v, norm) * ct2;
         return sum / ci;
     }
 
     Rgb m_sigma;
     float m_v, m_v0, m_s;  // variances of TT (x 1/4), TRT (x 4) and R; logistic scale
-    float m_alpha, m_eta;
+    float m_norm[3];       // longitudinal_norm of the variances of R, TT, and TRT (and the rest)
+    float m_logistic;      // 1 / (s tanh(pi / (2 s))): the trimmed logistic's normalisation
+    float m_logistic_cdf;  // the logistic's CDF at -pi, 1 / (1 + exp(pi / s))
+    float m_sin_alpha, m_cos_alpha;  // the tilt alpha (offset)
+    float m_eta;
 };
 
 // Cycles' absorption of a hair of the given colour at azimuthal roughness x (Chiang et al.'s
