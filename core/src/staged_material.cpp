@@ -12,6 +12,10 @@
 namespace facet {
 
 namespace {
+// Nodes of a compensated dielectric's tables over sqrt(alpha) when alpha varies: its
+// transmission tables change faster with alpha than a reflection lobe's (48 nodes, as
+// kAlphaNodes, left 3.2e-3 relative in f).
+constexpr int kDielectricAlphaNodes = 144;
 
 using P = PrincipledParams;
 struct PrincipledField {
@@ -214,13 +218,21 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
                             [](const Slot& sl) { return sl.param == Param::Ior; });
             const DielectricBxDF& d = *base.dielectric();
             if (!ior_varies && !alpha_given) s.m_dcomp.push_back(d.compensation());
-            // A textured alpha keeps the per-hit build too: tables over sqrt(alpha) interpolated
-            // (linear or Catmull-Rom, 48 nodes) differed from it by 3.2e-3 relative in f, above the
-            // 2e-3 the other staged tables meet; not resolved this round.
-            if (!ior_varies && alpha_given && !s.m_alpha_varies)
-                s.m_dcomp.push_back(
-                    DielectricBxDF(d.eta(), Rgb(1.f), node_distribution(0, d.distribution()), true)
-                        .compensation());
+            // A textured alpha: the lobe's tables on kDielectricAlphaNodes nodes in sqrt(alpha)
+            // over the texture's range, interpolated by Catmull-Rom (dielectric_compensation).
+            if (!ior_varies && alpha_given) {
+                const int dn = s.m_alpha_varies ? kDielectricAlphaNodes : 1;
+                for (int k = 0; k < dn; ++k) {
+                    const float sq =
+                        dn == 1 ? 0.f
+                                : s.m_s_lo + float(k) * s.m_s_step * float(kAlphaNodes - 1) /
+                                                 float(dn - 1);
+                    const MicrofacetDistribution nd =
+                        dn == 1 ? node_distribution(0, d.distribution())
+                                : isotropic(d.distribution().kind(), sq * sq);
+                    s.m_dcomp.push_back(DielectricBxDF(d.eta(), Rgb(1.f), nd, true).compensation());
+                }
+            }
         }
         if (f != F::Composite || !base.glossy()) return s;
 
@@ -344,7 +356,12 @@ MicrofacetReflection::Compensation StagedMaterial::glossy_compensation(std::size
 
 DielectricBxDF::Compensation StagedMaterial::dielectric_compensation(std::size_t i, float t) const {
     if (!m_alpha_varies) return m_dcomp[0];
-    const CubicNodes n = cubic_nodes(i, t, m_dcomp.size() - 1);
+    // (i, t) on the kAlphaNodes grid, mapped onto the dielectric's finer one.
+    const std::size_t last = m_dcomp.size() - 1;
+    const float x = std::clamp((float(i) + t) * float(last) / float(kAlphaNodes - 1), 0.f,
+                               float(last));
+    const std::size_t j = std::min(std::size_t(x), last - 1);
+    const CubicNodes n = cubic_nodes(j, x - float(j), last);
     DielectricBxDF::Compensation c;
     c.e.fill(0.f);
     c.e_avg[0] = c.e_avg[1] = 0.f;

@@ -383,13 +383,13 @@ TEST(StagedMaterial, CompensatedLobesWithTexturedRoughnessAreClose) {
                    tex(random_image("g16", 1, 0.f, 33), 1) + R"(, "reflectance": )" +
                    tex(random_image("c18", 3, 0.f, 34), 1) + "}");
     compare(ggx, kTol);
-    // A compensated dielectric with a textured alpha is rebuilt per hit (staged_material.cpp):
-    // bit for bit, and compensated (the staged build dropped its compensation before).
+    // A compensated dielectric with a textured alpha: its own finer node tables
+    // (staged_material.cpp), within the same tolerance, and compensated.
     const fr::Scene glass =
         scene_with(R"({"model": "dielectric", "energy_compensation": true, "ior": 1.5, )"
                    R"("alpha": )" +
                    tex(random_image("g17", 1, 0.2f, 35), 0.8) + "}");
-    compare(glass, 0.0);
+    compare(glass, kTol);
     expect_compensated(glass);
     const fr::Scene comp =
         scene_with(R"({"model": "composite", "energy_compensation": true, "alpha": )" +
