@@ -1059,10 +1059,32 @@ Rgb segment_light(const Scene& scene, const LightDistribution& light_dist, const
         (scene.features().has_ray_visibility &&
          (scene.light_visibility()[li] & kRayVolumeScatter) == 0))
         return Rgb(0.f);
-    // The point the equiangular distance aims at.
+    // The point c the equiangular distance aims at: a light sample from the segment's origin,
+    // or for an area lamp a point of its surface, uniform by area (no solid-angle sampling from
+    // a point that may lie behind the lamp), with the distances on the part of the segment in
+    // front of the one-sided lamp (behind it nothing is lit: a camera above a lamp that shines
+    // down still aims at it below). Each light sample samples the light again from its point.
+    const AreaLamp* lamp = light.get<AreaLamp>();
     std::optional<Equiangular> eq;
-    if (auto ls0 = sample_light<F>(light, LightSampleContext{ray.o, Vec3(0.f)}, u_light, time);
-        ls0 && ls0->pdf > 0.f && std::isfinite(ls0->dist)) {
+    float t_lo = 0.f, t_hi = t_hit;
+    if (lamp) {
+        const float h0 = glm::dot(ray.o - lamp->center, lamp->normal);
+        const float dh = glm::dot(ray.d, lamp->normal);
+        if (dh > 0.f)
+            t_lo = std::fmax(-h0 / dh, 0.f);
+        else if (dh < 0.f)
+            t_hi = std::fmin(h0 / -dh, t_hit);
+        else if (!(h0 > 0.f))
+            return Rgb(0.f);
+        if (!(t_hi > t_lo)) return Rgb(0.f);
+        const Vec2 q = lamp->ellipse ? sample_uniform_disk_concentric(u_light)
+                                     : Vec2(2.f * u_light.x - 1.f, 2.f * u_light.y - 1.f);
+        const Vec3 c = lamp->center + q.x * lamp->e1 + q.y * lamp->e2;
+        const Equiangular e(ray.o, ray.d, t_lo, t_hi, c);
+        if (e.valid()) eq = e;
+    } else if (auto ls0 =
+                   sample_light<F>(light, LightSampleContext{ray.o, Vec3(0.f)}, u_light, time);
+               ls0 && ls0->pdf > 0.f && std::isfinite(ls0->dist)) {
         const Equiangular e(ray.o, ray.d, t_hit, ls0->p_light);
         if (e.valid()) eq = e;
     }
@@ -1072,7 +1094,8 @@ Rgb segment_light(const Scene& scene, const LightDistribution& light_dist, const
     auto sample_at = [&](float t, const Rgb& weight) {
         if (!(max3(weight) > 0.f)) return Rgb(0.f);
         const Vec3 p = ray.o + ray.d * t;
-        const auto ls = sample_light<F>(light, LightSampleContext{p, Vec3(0.f)}, u_light, time);
+        const LightSampleContext ctx{p, Vec3(0.f)};
+        const auto ls = sample_light<F>(light, ctx, u_light, time);
         if (!ls || !(ls->pdf > 0.f)) return Rgb(0.f);
         const float ph = med.phase().eval(-ray.d, ls->wi);
         const Rgb contrib = ph * ls->li;
