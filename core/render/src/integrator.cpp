@@ -760,11 +760,26 @@ constexpr std::uint32_t kMediaDimsPerSegment = 14;
 constexpr std::uint32_t kSegmentLightDim = 10;
 
 // The uniform generator of a segment's tracking in grid media (Medium::sample_free_flight,
-// ratio_transmittance): a PCG32 seeded from the sampler (Sampler::get_seed).
-struct TrackingRng {
-    pcg32 rng;
-    explicit TrackingRng(std::uint64_t seed) : rng(seed) {}
-    float operator()() { return float(rng() >> 8) * 0x1p-24f; }
+// ratio_transmittance) and of subsurface walks: a PCG32 seeded from the sampler at dimension
+// `dim` (Sampler::get_seed) on its first draw, so segments that draw nothing (homogeneous media,
+// no medium) do not hash the seed.
+class TrackingRng {
+  public:
+    TrackingRng(const Sampler& s, std::uint32_t dim) : m_sampler(s) {
+        m_sampler.set_dimension(dim);
+    }
+    float operator()() {
+        if (!m_seeded) [[unlikely]] {
+            m_rng = pcg32(m_sampler.get_seed());
+            m_seeded = true;
+        }
+        return float(m_rng() >> 8) * 0x1p-24f;
+    }
+
+  private:
+    Sampler m_sampler;
+    pcg32 m_rng;
+    bool m_seeded = false;
 };
 // A path crosses at most this many `null` surfaces in a row, and a shadow ray this many
 // boundaries: a bound against rays that float error traps between two coincident surfaces.
@@ -1169,8 +1184,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
         const std::uint32_t base = 1u + kMediaDimsPerSegment * segment;
         const float t_hit = found ? hit.t : kInfinity;
         float t = t_hit;
-        s.set_dimension(base + 9u);
-        TrackingRng rng(s.get_seed());
+        TrackingRng rng(s, base + 9u);
         bool segment_nee = false;  // the segment's light sample replaces its vertex's
         if (const std::int32_t mi = stack.current(); mi >= 0) {
             const Medium& med = media[std::size_t(mi)];
@@ -1406,9 +1420,14 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             const Medium& med = media[std::size_t(stack.current())];
             const Vec3 p = ray.o + ray.d * t;
             const LightSampleContext ctx{p, Vec3(0.f)};
-            s.set_dimension(base + 1u);  // past the light choice's dimension (read by none)
-            Vec2 u_light = s.get_2d();
-            s.get_1d();  // the lobe choice: no lobes in a medium
+            // The light sample's numbers (past the light choice's dimension, read by none) when
+            // the segment's samples do not replace it; no lobe choice in a medium.
+            Vec2 u_light(0.f);
+            if (!segment_nee) {
+                s.set_dimension(base + 1u);
+                u_light = s.get_2d();
+            }
+            s.set_dimension(base + 3u);  // the direction's (a pair takes one dimension index)
             const Vec2 u_dir = s.get_2d();
             const float u_roulette = s.get_1d();
             if (!segment_nee && !light_dist.empty()) {
