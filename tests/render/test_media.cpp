@@ -615,9 +615,9 @@ TEST(MediaEquiangular, PointLightInFogMatchesQuadrature) {
     const int spp = std::max(64, int(512 * fr::testing::stress_scale()));
     const double g = 0.3;
     // Thin fog (sigma_t,max D = 0.42: the equiangular distance alone) with the lamp 3 units
-    // along the ray, and a 10 times denser one (4.2: both distances by MIS) with the lamp 0.4
-    // along it; the lamp 0.7 from the ray in both.
-    for (double scale : {1.0, 10.0})
+    // along the ray, and a 5 and a 10 times denser one (2.1: both distances by MIS; 4.2: the
+    // free flight alone) with the lamp 0.4 along it; the lamp 0.7 from the ray in all.
+    for (double scale : {1.0, 5.0, 10.0})
         for (bool wall : {false, true}) {
             const Vec3 c(0.f, 0.7f, scale > 1.0 ? 3.6f : 1.f);
             const double power = scale > 1.0 ? 100.0 : 20.0;

@@ -1047,6 +1047,13 @@ inline float power_weight(float a, float b) {
 // shadow ray. Above it both, by MIS. On the thin-fog test of test_media.cpp (sigma_t D = 0.025)
 // the variance per sample is 2.7e-6 alone, 3.1e-6 with both by MIS.
 constexpr float kEquiangularAloneDepth = 0.5f;
+// At or above this optical depth sigma_t,max D the free flight's density (scale 1 / sigma_t) is
+// narrower than the light's falloff (scale D), which varies by at most 1 / 4 over a mean free
+// path: the free-flight distance alone carries the light sample, saving the equiangular one's
+// shadow ray. Variance per sample of free flight alone against both by MIS: 0.99 at 4, 1.00 at
+// 8 (a point lamp in fog, single scattering); cubes_volume (realscenes, sigma_t D between 4 and
+// 8): the same noise, 18% fewer instructions.
+constexpr float kFreeFlightAloneDepth = 4.f;
 
 // The light samples of a segment [0, t_hit) of `ray` in homogeneous scattering medium `med`
 // (integrator.h conventions, "Media"): one light chosen by u_choice and a point c on it by
@@ -1121,10 +1128,11 @@ Rgb segment_light(const Scene& scene, const LightDistribution& light_dist, const
         const float w = light.hittable() ? power_heuristic(lp, ph) : 1.f;
         return weight * contrib * tr * (w / lp);
     };
-    // Thin over the light's scale: the equiangular distance alone.
+    // Thin over the light's scale: the equiangular distance alone; dense: the free flight's.
     const Rgb& st = med.sigma_t();
-    const bool both =
-        !eq || std::fmax(std::fmax(st.r, st.g), st.b) * eq->distance() >= kEquiangularAloneDepth;
+    const float depth_d = eq ? std::fmax(std::fmax(st.r, st.g), st.b) * eq->distance() : 0.f;
+    if (depth_d >= kFreeFlightAloneDepth) eq.reset();
+    const bool both = !eq || depth_d >= kEquiangularAloneDepth;
     Rgb L(0.f);
     if (both && t_ff < t_hit)  // the free flight scattered inside the segment
         L += sample_at(t_ff, eq ? beta_ff * power_weight(free_pdf(t_ff), eq->pdf(t_ff)) : beta_ff);
