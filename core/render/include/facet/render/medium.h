@@ -104,6 +104,8 @@ class Medium {
     // Transmittance exp(-sigma_t t) of a segment of length t >= 0 (t may be +inf: 0 in every
     // channel with sigma_t > 0, 1 where sigma_t = 0).
     Rgb transmittance(float t) const {
+        if (m_sigma_t.r == m_sigma_t.g && m_sigma_t.g == m_sigma_t.b)  // grey: one exp
+            return Rgb(channel_transmittance(m_sigma_t.r, t));
         return {channel_transmittance(m_sigma_t.r, t), channel_transmittance(m_sigma_t.g, t),
                 channel_transmittance(m_sigma_t.b, t)};
     }
@@ -239,32 +241,36 @@ class Medium {
 // segment subtends no angle.
 class Equiangular {
   public:
-    Equiangular(const Vec3& o, const Vec3& d, float t_max, const Vec3& c) {
+    Equiangular(const Vec3& o, const Vec3& d, float t_max, const Vec3& c)
+        : Equiangular(o, d, 0.f, t_max, c) {}
+    // Over [t_min, t_max) (0 <= t_min).
+    Equiangular(const Vec3& o, const Vec3& d, float t_min, float t_max, const Vec3& c) {
         const Vec3 oc = c - o;
         m_delta = glm::dot(oc, d);
         m_d = glm::length(oc - d * m_delta);  // no cancellation when d points at c
-        m_theta_a = std::atan2(-m_delta, m_d);
+        m_theta_a = std::atan2(t_min - m_delta, m_d);
         m_theta_b = std::atan2(t_max - m_delta, m_d);
+        m_t_min = t_min;
         m_t_max = t_max;
     }
     bool valid() const { return m_d > 0.f && m_theta_b > m_theta_a && std::isfinite(m_d); }
     // D, the distance of c from the ray's line: the scale of the density around its peak.
     float distance() const { return m_d; }
-    // The distance for u in [0, 1), clamped into [0, t_max] against rounding (the caller skips
-    // t >= t_max). Call only when valid().
+    // The distance for u in [0, 1), clamped into [t_min, t_max] against rounding (the caller
+    // skips t >= t_max). Call only when valid().
     float sample(float u) const {
         const float t = m_delta + m_d * std::tan(m_theta_a + u * (m_theta_b - m_theta_a));
-        return std::fmin(std::fmax(t, 0.f), m_t_max);
+        return std::fmin(std::fmax(t, m_t_min), m_t_max);
     }
-    // pdf(t) per unit length (0 when not valid, or t outside [0, t_max)).
+    // pdf(t) per unit length (0 when not valid, or t outside [t_min, t_max)).
     float pdf(float t) const {
-        if (!valid() || !(t >= 0.f && t < m_t_max)) return 0.f;
+        if (!valid() || !(t >= m_t_min && t < m_t_max)) return 0.f;
         const float x = t - m_delta;
         return m_d / ((m_theta_b - m_theta_a) * (m_d * m_d + x * x));
     }
 
   private:
-    float m_delta = 0.f, m_d = 0.f, m_theta_a = 0.f, m_theta_b = 0.f, m_t_max = 0.f;
+    float m_delta = 0.f, m_d = 0.f, m_theta_a = 0.f, m_theta_b = 0.f, m_t_min = 0.f, m_t_max = 0.f;
 };
 
 // Cycles' Principled Volume parameters (Blender 3.4; Volume Scatter is color = its colour,
