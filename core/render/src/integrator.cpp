@@ -746,14 +746,16 @@ struct MediumStack {
 };
 
 // Dimensions of one segment of a media path (sampler.h; a block of its own per segment), from
-// the block's start:
-//   0 light choice, 1-2 light position (the vertex's light sample: a surface's, a grid
-//     medium's, or any medium's with VolumeSampling::Distance),
-//   3 lobe choice, 4-5 direction (BSDF or phase function), 6 roulette,
+// the block's start (a 2D pair takes one dimension index: Sampler::get_2d):
+//   0 light choice (read by none: LightDistribution::sample), 1 light position (the vertex's
+//     light sample: a surface's, a grid medium's, or any medium's with
+//     VolumeSampling::Distance),
+//   2 lobe choice (surfaces), 3 direction (BSDF or phase function), 4 roulette,
 //   7 channel choice, 8 free-flight distance,
 //   9 the seed of the segment's tracking generator (grid media: TrackingRng),
-//   10 light choice, 11-12 light position of the segment's light samples in a homogeneous
-//     medium (segment_light), 13 its equiangular distance.
+//   10 light choice, 11 light position of the segment's light samples in a homogeneous
+//     medium (segment_light), 12 its equiangular distance; 5, 6 and 13 are unused (kept so
+//     that samples keep their values).
 // A segment takes the same dimensions whatever it meets, so its vertex's light sample and the
 // segment's are independent.
 constexpr std::uint32_t kMediaDimsPerSegment = 14;
