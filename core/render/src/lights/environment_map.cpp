@@ -168,6 +168,9 @@ EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
     float q[2][2];
     for (int j = 0; j < 2; ++j)
         for (int i = 0; i < 2; ++i) q[j][i] = g[j][i] + g[j][i + 1] + g[j + 1][i] + g[j + 1][i + 1];
+    // (A chosen cell has a positive mean; its float quadrant sums could underflow to 0 only
+    // for texels near the smallest floats: no sample then.)
+    if (!(q[0][0] + q[0][1] + q[1][0] + q[1][1] > 0.f)) return s;
     Vec2 o = c.offset;
     const int jv = choose_half(o.y, q[0][0] + q[0][1], q[1][0] + q[1][1]);
     const int iu = choose_half(o.x, q[jv][0], q[jv][1]);
