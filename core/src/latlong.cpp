@@ -60,6 +60,7 @@ LatLongDistribution::LatLongDistribution(int width, int height,
     for (double r : row_sum) total += r;
     m_black = !(total > 0.0) || !std::isfinite(total);
     if (m_black) return;
+    m_scale = double(W) * double(H) / total;
     m_row_cdf.resize(std::size_t(H));
     m_col_cdf.resize(n);
     m_cell_pdf.resize(n);
@@ -98,18 +99,24 @@ float LatLongDistribution::pdf(Vec2 uv) const {
     return cell_pdf(x, y) / (2.f * kPi * kPi * sin_theta);
 }
 
+LatLongDistribution::Cell LatLongDistribution::sample_cell(Vec2 u) const {
+    Cell c;
+    const std::size_t W = std::size_t(m_width);
+    c.y = int(sample_cdf(m_row_cdf.data(), m_row_guide.data(), m_row_cdf.size(), u.y, c.offset.y));
+    const std::size_t row = std::size_t(c.y) * W;
+    c.x = int(sample_cdf(&m_col_cdf[row], &m_col_guide[row], W, u.x, c.offset.x));
+    return c;
+}
+
 LatLongDistribution::Sample LatLongDistribution::sample(Vec2 u) const {
     Sample s;
     if (m_black) return s;
-    float dv = 0.f, du = 0.f;
-    const std::size_t W = std::size_t(m_width);
-    const int y = int(sample_cdf(m_row_cdf.data(), m_row_guide.data(), m_row_cdf.size(), u.y, dv));
-    const std::size_t row = std::size_t(y) * W;
-    const int x = int(sample_cdf(&m_col_cdf[row], &m_col_guide[row], W, u.x, du));
-    s.uv = Vec2((float(x) + du) / float(m_width), (float(y) + dv) / float(m_height));
+    const Cell c = sample_cell(u);
+    s.uv = Vec2((float(c.x) + c.offset.x) / float(m_width),
+                (float(c.y) + c.offset.y) / float(m_height));
     const float sin_theta = std::sin(kPi * s.uv.y);
     if (!(sin_theta > 0.f)) return s;
-    s.pdf = cell_pdf(x, y) / (2.f * kPi * kPi * sin_theta);
+    s.pdf = cell_pdf(c.x, c.y) / (2.f * kPi * kPi * sin_theta);
     return s;
 }
 

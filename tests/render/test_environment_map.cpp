@@ -162,9 +162,9 @@ double mean_grey(const fr::Image& img) {
 
 // Chi-square of sample_li against pdf_li with bins of bx x by texels in the map's (u, v): each
 // sample's direction is binned by `to_uv`, and a bin's expected probability is exact, the sum
-// over its texels of pdf_li at the texel centre times the solid angle Jacobian
-// 2 pi^2 sin(theta) du dv (pdf * sin(theta) is constant over a texel:
-// PdfIsTheTableOverTheSolidAngle checks that at points inside every texel).
+// over its texels' four quadrants of pdf_li at the quadrant's centre times the solid angle
+// Jacobian 2 pi^2 sin(theta) du dv (pdf * sin(theta) is bilinear over each quadrant, so its
+// value at the centre is its mean: PdfFollowsTheBilinearLookup checks the form).
 void check_sampling_uv_bins(const fr::Scene& scene, int bx, int by,
                             const std::function<Vec2(const Vec3&)>& to_uv, const char* what) {
     const fr::Light& env = *scene.environment();
@@ -190,13 +190,16 @@ void check_sampling_uv_bins(const fr::Scene& scene, int bx, int by,
     }
     double mass = 0.0;
     for (int y = 0; y < H; ++y)
-        for (int x = 0; x < W; ++x) {
-            const Vec2 c((x + 0.5f) / W, (y + 0.5f) / H);
-            const double p = double(env.pdf_li({}, m.uv_to_direction(c), Vec3(0.f), Vec3(0.f))) *
-                             2.0 * kPi * kPi * std::sin(kPi * c.y) / (double(W) * H);
-            expected[std::size_t((y / by) * nx + x / bx)] += n * p;
-            mass += p;
-        }
+        for (int x = 0; x < W; ++x)
+            for (int q = 0; q < 4; ++q) {
+                const Vec2 c((x + 0.25f + 0.5f * float(q % 2)) / W,
+                             (y + 0.25f + 0.5f * float(q / 2)) / H);
+                const double p =
+                    double(env.pdf_li({}, m.uv_to_direction(c), Vec3(0.f), Vec3(0.f))) * 2.0 * kPi *
+                    kPi * std::sin(kPi * c.y) / (4.0 * W * H);
+                expected[std::size_t((y / by) * nx + x / bx)] += n * p;
+                mass += p;
+            }
     EXPECT_NEAR(mass, 1.0, 1e-5) << what;
     expected.back() = std::max(0.0, n * (1.0 - mass));
     const facet::test::Chi2Statistic st = facet::test::chi2_statistic(observed, expected);
@@ -254,40 +257,90 @@ TEST(EnvironmentMap, ChiSquareSkyRotatedAndTilted) {
         "sky, tilted and rotated");
 }
 
-TEST(EnvironmentMap, PdfIsTheTableOverTheSolidAngle) {
-    // pdf(d) = p(u, v) / (2 pi^2 sin theta) with p constant over each texel's cell: at 3 x 3
-    // points inside every texel, pdf * 2 pi^2 sin(theta) is the same value (a wrong Jacobian,
-    // e.g. sin theta of the row's centre, varies within the row), and the cells' p sum to 1 over
-    // the unit square: the pdf integrates to 1 over the sphere (exactly: no quadrature).
-    // Tolerance: float round-off of the direction and (u, v) round trip, 1e-4 relative.
+TEST(EnvironmentMap, PdfFollowsTheBilinearLookup) {
+    // pdf(d) = Y(d) s(y) / (2 pi^2 sin theta) (environment_map.h): Y the luminance of the
+    // bilinear lookup, s(y) constant along a texel row. At 3 x 3 points inside every texel,
+    // pdf * 2 pi^2 sin(theta) / Y is the row's one value (a wrong Jacobian, e.g. sin theta of
+    // the row's centre, varies within the row; a density constant over the texel varies with
+    // Y), and pdf * 2 pi^2 sin(theta) integrates to 1 over the unit square (its value at each
+    // texel quadrant's centre is the quadrant's mean). Tolerance: float round-off of the
+    // direction and (u, v) round trip, 1e-4 relative.
     const std::string path = write_map("pdfsky.exr", 64, 32, sky_texel);
     const fr::Scene scene = scene_from(env_scene(file_key(path) + R"(, "up": [0, 1, 1],
                                      "rotate": {"axis": [1, 0, 0], "angle": 20})"));
     const fr::Light& env = *scene.environment();
     const fr::EnvironmentMap& m = *env.map();
     const int W = m.width(), H = m.height();
+    auto density = [&](Vec2 uv) {  // pdf per unit (u, v) square
+        const Vec3 d = m.uv_to_direction(uv);
+        return double(env.pdf_li({}, d, Vec3(0.f), Vec3(0.f))) * 2.0 * kPi * kPi *
+               std::sin(kPi * uv.y);
+    };
+    auto lum = [&](Vec2 uv) {
+        const Rgb c = m.eval(m.uv_to_direction(uv));
+        return 0.2126 * c.r + 0.7152 * c.g + 0.0722 * c.b;
+    };
     double total = 0.0;
-    for (int y = 0; y < H; ++y)
+    for (int y = 0; y < H; ++y) {
+        double row = -1.0;
         for (int x = 0; x < W; ++x) {
-            double cell = -1.0;
             for (int j = 0; j < 3; ++j)
                 for (int i = 0; i < 3; ++i) {
                     const Vec2 uv((x + 0.2f + 0.3f * i) / W, (y + 0.2f + 0.3f * j) / H);
-                    const Vec3 d = m.uv_to_direction(uv);
-                    const double p = double(env.pdf_li({}, d, Vec3(0.f), Vec3(0.f))) * 2.0 * kPi *
-                                     kPi * std::sin(kPi * uv.y);
-                    if (cell < 0.0) cell = p;
-                    ASSERT_NEAR(p, cell, 1e-4 * cell) << "texel " << x << ", " << y;
+                    const double r = density(uv) / lum(uv);
+                    if (row < 0.0) row = r;
+                    ASSERT_NEAR(r, row, 1e-4 * row) << "texel " << x << ", " << y;
                 }
-            total += cell / (double(W) * H);
+            for (int q = 0; q < 4; ++q)
+                total += density({(x + 0.25f + 0.5f * float(q % 2)) / W,
+                                  (y + 0.25f + 0.5f * float(q / 2)) / H}) /
+                         (4.0 * W * H);
         }
+    }
     EXPECT_NEAR(total, 1.0, 1e-5);
+}
+
+TEST(EnvironmentMap, GreyMapSampleWeightIsConstantAlongARow) {
+    // For a grey map the density is proportional to the radiance the lookup returns, so every
+    // light sample carries the same weight L / pdf up to sin(theta) against the row's
+    // sin(theta_y): L / pdf * sin(theta_y) / sin(theta) is one constant, the map's integral
+    // 2 pi^2 / scale. A density constant over each texel (the cell mean of the bilinear lookup)
+    // fails this next to a bright texel: L / pdf then varies by the lookup's range within the
+    // cell (tens of times here), the rare large samples next to an HDRI's sun. Tolerance:
+    // float round-off, 1e-3 relative.
+    const int W = 64, H = 32;
+    const std::string path = write_map("greysun.exr", W, H, [](int x, int y) {
+        if (x == 20 && y == 11) return Rgb(1e4f);
+        if (x == 21 && y == 11) return Rgb(50.f);
+        return Rgb(0.2f + 0.01f * float((x * 7 + y * 3) % 11));
+    });
+    const fr::Scene scene = scene_from(env_scene(file_key(path)));
+    const fr::Light& env = *scene.environment();
+    const fr::EnvironmentMap& m = *env.map();
+    pcg32 rng(5);
+    double ref = -1.0;
+    int near_sun = 0;
+    const int n = 20000;
+    for (int i = 0; i < n; ++i) {
+        const auto ls =
+            env.sample_li({}, {facet::test::uniform_float(rng), facet::test::uniform_float(rng)});
+        ASSERT_TRUE(ls);
+        const Vec2 uv = m.direction_to_uv(ls->wi);
+        const int y = std::min(int(uv.y * H), H - 1);
+        const double w =
+            double(ls->li.g) / ls->pdf * std::sin(kPi * (y + 0.5) / H) / std::sin(kPi * uv.y);
+        if (ref < 0.0) ref = w;
+        ASSERT_NEAR(w, ref, 1e-3 * ref) << "sample " << i << " at u " << uv.x << " v " << uv.y;
+        near_sun += std::fabs(uv.x * W - 20.5f) < 1.f && std::fabs(uv.y * H - 11.5f) < 1.f;
+    }
+    EXPECT_GT(near_sun, n / 4);  // the sun holds most of the power
 }
 
 TEST(EnvironmentMap, BrightTexelKeepsItsOwnCell) {
     // A 1-texel sun of a 512 x 256 map (its texel 1/131072 of the map) holds the share of
-    // samples its power gives, at full resolution: p(sun cell) / p(background cell) = 1e4 up to
-    // the bilinear cell means (3/4)^2 of the texel itself and 1/8 spill into the neighbours.
+    // samples its power gives, at full resolution, and is sampled only where the bilinear
+    // lookup is non-zero: within one texel of the sun's centre, by the lookup's shape (half
+    // the density half-way to the next texel centre, none at that centre).
     const int W = 512, H = 256, sx = 300, sy = 70;
     const std::string path = write_map("sun512.exr", W, H, [&](int x, int y) {
         return x == sx && y == sy ? Rgb(1e4f) : Rgb(0.f);
@@ -295,19 +348,19 @@ TEST(EnvironmentMap, BrightTexelKeepsItsOwnCell) {
     const fr::Scene scene = scene_from(env_scene(file_key(path)));
     const fr::EnvironmentMap& m = *scene.environment()->map();
     const Vec3 sun = m.uv_to_direction({(sx + 0.5f) / W, (sy + 0.5f) / H});
+    const Vec3 half = m.uv_to_direction({(sx + 1.f) / W, (sy + 0.5f) / H});
     const Vec3 next = m.uv_to_direction({(sx + 1.5f) / W, (sy + 0.5f) / H});
-    // Every sample lands in the 3 x 3 texels around the sun (the only non-zero lookup there).
     pcg32 rng(3);
     for (int i = 0; i < 1000; ++i) {
         const auto ls = scene.environment()->sample_li(
             {}, {facet::test::uniform_float(rng), facet::test::uniform_float(rng)});
         ASSERT_TRUE(ls);
         const Vec2 uv = m.direction_to_uv(ls->wi);
-        EXPECT_LE(std::fabs(uv.x * W - (sx + 0.5f)), 1.5f + 1e-3f);
-        EXPECT_LE(std::fabs(uv.y * H - (sy + 0.5f)), 1.5f + 1e-3f);
+        EXPECT_LE(std::fabs(uv.x * W - (sx + 0.5f)), 1.f + 1e-3f);
+        EXPECT_LE(std::fabs(uv.y * H - (sy + 0.5f)), 1.f + 1e-3f);
     }
-    // Cell means: 0.75^2 at the sun's texel, 0.75 * 0.125 at its side neighbours (same row).
-    EXPECT_NEAR(m.pdf(sun) / m.pdf(next), 0.75 / 0.125, 1e-3);
+    EXPECT_NEAR(m.pdf(sun) / m.pdf(half), 2.0, 2e-3);
+    EXPECT_EQ(m.pdf(next), 0.f);
 }
 
 TEST(EnvironmentMap, FurnaceLambertSphereInConstantMapFileRendersRho) {

@@ -52,6 +52,16 @@ class LatLongDistribution {
     };
     // (u, v) by the density from u in [0, 1)^2.
     Sample sample(Vec2 u) const;
+    // The cell that sample(u) lands in and where in it: uv = ((x + offset.x) / W,
+    // (y + offset.y) / H) with the offset in [0, 1)^2, uniform within the cell given the cell
+    // (for a caller that places the sample within the cell by a density of its own).
+    struct Cell {
+        int x = 0, y = 0;
+        Vec2 offset{0.f};
+    };
+    Cell sample_cell(Vec2 u) const;
+    // W H / sum w: the cell density is p = scale() * w(x, y) (0 when black).
+    double scale() const { return m_scale; }
     // Solid-angle density of the direction with coordinates uv.
     float pdf(Vec2 uv) const;
 
@@ -65,6 +75,7 @@ class LatLongDistribution {
     std::vector<float> m_row_cdf, m_col_cdf, m_cell_pdf;
     // Cutpoint tables of the cdfs (facet/cdf_search.h): H entries, and W per row.
     std::vector<std::uint32_t> m_row_guide, m_col_guide;
+    double m_scale = 0.0;
     bool m_black = true;
 };
 

@@ -10,6 +10,7 @@
 #include "facet/render/light.h"
 #include "facet/render/scene.h"
 #include "facet/render/texel_image.h"
+#include "facet/sampling.h"
 
 namespace facet::render {
 
@@ -19,6 +20,33 @@ namespace {
 // texel itself and the one after, per axis: the tent of texel i, centred at i + 0.5, covers
 // [i, i + 1] with 1 - |t| and half of each neighbour's cell, which gives 1/8, 3/4, 1/8.
 constexpr double kCellTent[3] = {0.125, 0.75, 0.125};
+
+// Rec. 709 luminance, the importance density's measure of a colour (environment_map.h).
+inline float luminance(const Rgb& c) {
+    return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
+
+// x in [0, 1) with density proportional to (1 - x) a + x b (a, b >= 0) from u in [0, 1): the
+// inverse of its cdf, written so that it neither cancels nor divides by a - b (pbrt-v4's
+// SampleLinear); u itself when both ends are 0.
+inline float sample_linear(float u, float a, float b) {
+    if (!(a + b > 0.f)) return u;
+    if (u == 0.f && a == 0.f) return 0.f;
+    const float x = u * (a + b) / (a + std::sqrt((1.f - u) * a * a + u * b * b));
+    return std::min(x, kOneMinusEpsilon);
+}
+
+// Which of two parts of weights w0, w1 (not both 0) u in [0, 1) chooses, u rescaled to [0, 1)
+// within the chosen part (so that it stays uniform and stratified).
+inline int choose_half(float& u, float w0, float w1) {
+    const float p0 = w0 / (w0 + w1);
+    if (u < p0) {
+        u = std::min(u / p0, kOneMinusEpsilon);
+        return 0;
+    }
+    u = std::min((u - p0) / (1.f - p0), kOneMinusEpsilon);
+    return 1;
+}
 
 }  // namespace
 
@@ -62,6 +90,19 @@ EnvironmentMap::EnvironmentMap(const TexelImage& image, const Rgb& multiplier,
     }
     m_mean = Rgb(radiant / (4.0 * kPiD));
     m_distribution = LatLongDistribution(W, H, lum);
+    // p(u, v) = Y(u, v) sin(theta_y) W H / sum w (conventions): the factor of each row.
+    m_row_factor.resize(std::size_t(H));
+    for (int y = 0; y < H; ++y)
+        m_row_factor[std::size_t(y)] =
+            float(std::sin(kPiD * (y + 0.5) / H) * m_distribution.scale());
+}
+
+float EnvironmentMap::pdf_at(Vec2 uv, const Rgb& radiance) const {
+    if (m_distribution.black()) return 0.f;
+    const float sin_theta = std::sin(kPi * uv.y);
+    if (!(sin_theta > 0.f)) return 0.f;
+    const int y = std::min(int(uv.y * float(m_height)), m_height - 1);
+    return luminance(radiance) * m_row_factor[std::size_t(y)] / (2.f * kPi * kPi * sin_theta);
 }
 
 Vec2 EnvironmentMap::direction_to_uv(const Vec3& d) const {
@@ -90,16 +131,59 @@ Rgb EnvironmentMap::eval(const Vec3& d) const {
 }
 
 float EnvironmentMap::pdf(const Vec3& d) const {
-    return m_distribution.pdf(direction_to_uv(d));
+    const Vec2 uv = direction_to_uv(d);
+    return pdf_at(uv, lookup(uv));
 }
 
 EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
     Sample s;
-    const LatLongDistribution::Sample t = m_distribution.sample(u);
-    if (!(t.pdf > 0.f)) return s;
-    s.wi = uv_to_direction(t.uv);
-    s.pdf = t.pdf;
-    s.radiance = lookup(t.uv);
+    if (m_distribution.black()) return s;
+    // The cell by its mean luminance, then the point within it by the bilinear lookup's
+    // luminance (conventions): the cell's 2 x 2 quadrants are each bilinear between the
+    // luminances g at the cell's corners, edge midpoints and centre (the texel's own value
+    // there; half-way between two texels on the cell's edges).
+    const LatLongDistribution::Cell c = m_distribution.sample_cell(u);
+    const int W = m_width, H = m_height;
+    float t[3][3];  // texel luminances: rows y - 1 .. y + 1 (clamped), columns x - 1 .. x + 1
+    for (int j = 0; j < 3; ++j) {
+        const int yy = std::clamp(c.y + j - 1, 0, H - 1);
+        for (int i = 0; i < 3; ++i) {
+            int xx = c.x + i - 1;
+            xx = xx < 0 ? xx + W : xx >= W ? xx - W : xx;
+            t[j][i] = luminance(texel(xx, yy));
+        }
+    }
+    float r[3][3], g[3][3];  // along x, then along y: edge, centre, edge
+    for (int j = 0; j < 3; ++j) {
+        r[j][0] = 0.5f * (t[j][0] + t[j][1]);
+        r[j][1] = t[j][1];
+        r[j][2] = 0.5f * (t[j][1] + t[j][2]);
+    }
+    for (int i = 0; i < 3; ++i) {
+        g[0][i] = 0.5f * (r[0][i] + r[1][i]);
+        g[1][i] = r[1][i];
+        g[2][i] = 0.5f * (r[1][i] + r[2][i]);
+    }
+    // Quadrant weights (a bilinear patch's mean is its corners' mean; the 1/4 cancels).
+    float q[2][2];
+    for (int j = 0; j < 2; ++j)
+        for (int i = 0; i < 2; ++i) q[j][i] = g[j][i] + g[j][i + 1] + g[j + 1][i] + g[j + 1][i + 1];
+    // (A chosen cell has a positive mean; its float quadrant sums could underflow to 0 only
+    // for texels near the smallest floats: no sample then.)
+    if (!(q[0][0] + q[0][1] + q[1][0] + q[1][1] > 0.f)) return s;
+    Vec2 o = c.offset;
+    const int jv = choose_half(o.y, q[0][0] + q[0][1], q[1][0] + q[1][1]);
+    const int iu = choose_half(o.x, q[jv][0], q[jv][1]);
+    // Within the quadrant: v by the marginal (linear), then u given v (linear).
+    const float f00 = g[jv][iu], f10 = g[jv][iu + 1], f01 = g[jv + 1][iu], f11 = g[jv + 1][iu + 1];
+    const float fy = sample_linear(o.y, f00 + f10, f01 + f11);
+    const float fx = sample_linear(o.x, f00 + fy * (f01 - f00), f10 + fy * (f11 - f10));
+    const Vec2 uv(std::min((float(c.x) + 0.5f * (float(iu) + fx)) / float(W), 1.f),
+                  std::min((float(c.y) + 0.5f * (float(jv) + fy)) / float(H), 1.f));
+    s.radiance = lookup(uv);
+    s.pdf = pdf_at(uv, s.radiance);
+    if (!(s.pdf > 0.f)) return s;
+    s.wi = uv_to_direction(uv);
     return s;
 }
 

@@ -19,19 +19,25 @@
 //    ((x + 0.5) / W, (y + 0.5) / H); wrapping around in u (the seam is continuous), clamped to
 //    the first and last row in v. Radiance = multiplier * lookup (RGB; a grey image is grey,
 //    alpha is ignored).
-//  - Importance sampling: facet::LatLongDistribution (facet/latlong.h, shared with the POV-Ray
-//    bridge), a piecewise-constant density over (u, v) with one cell per texel, marginal over
-//    rows and conditional within a row. Cell (x, y) has weight
-//        w(x, y) = Ybar(x, y) * sin(theta_y),   theta_y = pi (y + 0.5) / H,
-//    where Ybar is the mean of the bilinear lookup's Rec. 709 luminance over the texel's cell
-//    (the 3x3 neighbourhood weighted by the tent-filter cell means [1/8, 3/4, 1/8] in each
-//    axis), so a cell gets a non-zero weight wherever the bilinear lookup is non-zero there:
-//    every direction with radiance has a non-zero density (an unbiased sampler on its own, as the
-//    `direct` integrator uses it). The density is at full resolution (no coarser table): a
-//    1-texel sun keeps its own cell. Per solid angle (d omega = 2 pi^2 sin theta du dv):
-//        pdf(d) = p(u, v) / (2 pi^2 sin theta),  p(u, v) = W H w(x, y) / sum w,
-//    and 0 at the poles (sin theta = 0) and where the lookup is black everywhere in the cell.
-//    sample() and pdf() agree exactly up to float round-off at cell edges.
+//  - Importance sampling: a density proportional to the luminance Y of the bilinear lookup
+//    itself (Rec. 709 of the texels as stored, multiplier included), per (u, v)
+//        p(u, v) = Y(u, v) sin(theta_y) W H / sum w,   theta_y = pi (y + 0.5) / H,
+//    y the texel row of v, and per solid angle (d omega = 2 pi^2 sin theta du dv)
+//        pdf(d) = p(u, v) / (2 pi^2 sin theta),
+//    0 at the poles (sin theta = 0) and wherever the lookup is black. Sampling takes two steps:
+//     1. the texel's cell by facet::LatLongDistribution (facet/latlong.h, shared with the
+//        POV-Ray bridge), one cell per texel with weight w(x, y) = Ybar(x, y) sin(theta_y),
+//        Ybar the mean of Y over the cell (the 3x3 neighbourhood weighted by the tent-filter
+//        cell means [1/8, 3/4, 1/8] in each axis); full resolution, no coarser table;
+//     2. the point within the cell by Y: the cell's four quadrants (split at the texel's
+//        centre) are each bilinear between Y at the cell's corners, edge midpoints and centre,
+//        so a quadrant is chosen by its mean and the point within it by the bilinear density
+//        (marginal in v, then u given v; both linear), from the cell's uniform offset, which
+//        keeps the sample stratified.
+//    For a grey map every light sample then carries the same weight L / pdf up to
+//    sin theta / sin theta_y; a density constant over each cell (step 1 alone) varies by the
+//    lookup's range within the cell, tens of times beside a one-texel sun. sample() and pdf()
+//    agree up to float round-off.
 #pragma once
 
 #include <memory>
@@ -77,13 +83,16 @@ class EnvironmentMap {
   private:
     Rgb texel(int x, int y) const { return m_texels[std::size_t(y) * m_width + x]; }
     Rgb lookup(Vec2 uv) const;  // bilinear, without the multiplier
+    // The density at (u, v) whose lookup is `radiance` (the same pdf for sample() and pdf()).
+    float pdf_at(Vec2 uv, const Rgb& radiance) const;
 
     int m_width = 0, m_height = 0;
     std::vector<Rgb> m_texels;  // RGB per texel, multiplier applied
     glm::mat3 m_frame{1.f};     // M: map -> world
     glm::mat3 m_inverse{1.f};   // M^T: world -> map
     Rgb m_mean{0.f};
-    LatLongDistribution m_distribution;  // the importance density over the cells
+    LatLongDistribution m_distribution;  // the cells' choice (their mean luminances)
+    std::vector<float> m_row_factor;     // sin(theta_y) W H / sum w per row
 };
 
 }  // namespace facet::render
