@@ -223,10 +223,10 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
             if (!ior_varies && alpha_given) {
                 const int dn = s.m_alpha_varies ? kDielectricAlphaNodes : 1;
                 for (int k = 0; k < dn; ++k) {
-                    const float sq =
-                        dn == 1 ? 0.f
-                                : s.m_s_lo + float(k) * s.m_s_step * float(kAlphaNodes - 1) /
-                                                 float(dn - 1);
+                    const float sq = dn == 1
+                                         ? 0.f
+                                         : s.m_s_lo + float(k) * s.m_s_step *
+                                                          float(kAlphaNodes - 1) / float(dn - 1);
                     const MicrofacetDistribution nd =
                         dn == 1 ? node_distribution(0, d.distribution())
                                 : isotropic(d.distribution().kind(), sq * sq);
@@ -358,8 +358,8 @@ DielectricBxDF::Compensation StagedMaterial::dielectric_compensation(std::size_t
     if (!m_alpha_varies) return m_dcomp[0];
     // (i, t) on the kAlphaNodes grid, mapped onto the dielectric's finer one.
     const std::size_t last = m_dcomp.size() - 1;
-    const float x = std::clamp((float(i) + t) * float(last) / float(kAlphaNodes - 1), 0.f,
-                               float(last));
+    const float x =
+        std::clamp((float(i) + t) * float(last) / float(kAlphaNodes - 1), 0.f, float(last));
     const std::size_t j = std::min(std::size_t(x), last - 1);
     const CubicNodes n = cubic_nodes(j, x - float(j), last);
     DielectricBxDF::Compensation c;

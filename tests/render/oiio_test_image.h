@@ -8,6 +8,7 @@
 #include <OpenImageIO/imageio.h>
 
 #include <filesystem>
+#include <random>
 #include <string>
 #include <vector>
 
@@ -38,6 +39,19 @@ inline std::string test_temp_dir(const std::string& prefix) {
         std::filesystem::temp_directory_path() / (prefix + "_" + std::to_string(::getpid()));
     std::filesystem::create_directories(d);
     return d.string();
+}
+
+// An 8 x 8 float image of c channels, texels uniform in [lo, 1] (seeded: reproducible),
+// written as <dir>/<name>.exr; returns its path.
+inline std::string random_test_image(const std::string& dir, const std::string& name, int c,
+                                     float lo, unsigned seed) {
+    std::mt19937 rng(seed);
+    std::uniform_real_distribution<float> u(lo, 1.f);
+    std::vector<float> px(std::size_t(8 * 8 * c));
+    for (float& x : px) x = u(rng);
+    const std::string path = dir + "/" + name + ".exr";
+    write_test_image(path, 8, 8, c, px, OIIO::TypeDesc::FLOAT);
+    return path;
 }
 
 // The closest hit along ray (o, d) in a scene whose only shape is `shape` with the checker

@@ -3,8 +3,8 @@
 // the global operator new with one that counts the calls made while counting is on.
 //  - Scene::textured_material, the per-hit path, is called at many uv for textured models of
 //    every kind that keeps state (principled with a subsurface walk, a mix of textured
-//    children, subsurface, compensated composite and dielectric, principled hair): after one warm-up
-//    call per thread (the pool's first use), no call may allocate.
+//    children, subsurface, compensated composite and dielectric, principled hair): after one
+//    warm-up call per thread (the pool's first use), no call may allocate.
 //  - A whole render at 1 and at 8 samples per pixel (1 thread): the 7 extra samples of every
 //    pixel (thousands of textured hits) may not add allocations beyond the render's own
 //    per-pass bookkeeping, bounded by a small constant.
@@ -15,9 +15,9 @@
 #include <algorithm>
 #include <atomic>
 #include <cstdlib>
+#include <memory>
 #include <new>
 #include <random>
-#include <memory>
 #include <string>
 #include <vector>
 
@@ -45,7 +45,8 @@ void* operator new(std::size_t n, std::align_val_t a) {
     if (g_counting.load(std::memory_order_relaxed))
         g_allocations.fetch_add(1, std::memory_order_relaxed);
     const std::size_t al = std::size_t(a);
-    if (void* p = std::aligned_alloc(al, (std::max<std::size_t>(n, 1) + al - 1) / al * al)) return p;
+    if (void* p = std::aligned_alloc(al, (std::max<std::size_t>(n, 1) + al - 1) / al * al))
+        return p;
     throw std::bad_alloc();
 }
 void* operator new[](std::size_t n, std::align_val_t a) {
@@ -94,15 +95,9 @@ std::string temp_dir() {
     return fr::testing::test_temp_dir("facet_alloc");
 }
 
-// An 8 x 8 float image of c channels, texels uniform in [lo, 1] (seeded).
+// An 8 x 8 float image of c channels, texels uniform in [lo, 1] (seeded: reproducible).
 std::string random_image(const std::string& name, int c, float lo, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(lo, 1.f);
-    std::vector<float> px(std::size_t(8 * 8 * c));
-    for (float& x : px) x = u(rng);
-    const std::string path = temp_dir() + "/" + name + ".exr";
-    fr::testing::write_test_image(path, 8, 8, c, px, OIIO::TypeDesc::FLOAT);
-    return path;
+    return fr::testing::random_test_image(temp_dir(), name, c, lo, seed);
 }
 
 std::string tex(const std::string& path, double scale = 1.0) {
@@ -126,10 +121,11 @@ std::vector<std::string> stateful_materials() {
     return {
         R"({"model": "principled", "base_color": )" + c + R"(, "roughness": )" + g +
             R"(, "subsurface": )" + g + R"(, "subsurface_radius": [1, 0.5, 0.25]})",
-        R"({"model": "mix", "weight": )" + g + R"(, "materials": [{"model": "lambert", "reflectance": )" +
-            c + R"(}, {"model": "ggx", "alpha": )" + g + "}]}",
-        R"({"model": "subsurface", "color": )" + c + R"(, "scale": )" + tex(random_image("s", 1, 0.1f, 3), 0.5) +
-            "}",
+        R"({"model": "mix", "weight": )" + g +
+            R"(, "materials": [{"model": "lambert", "reflectance": )" + c +
+            R"(}, {"model": "ggx", "alpha": )" + g + "}]}",
+        R"({"model": "subsurface", "color": )" + c + R"(, "scale": )" +
+            tex(random_image("s", 1, 0.1f, 3), 0.5) + "}",
         R"({"model": "composite", "diffuse_reflectance": )" + c +
             R"(, "glossy_reflectance": 0.5, "alpha": )" + g + R"(, "energy_compensation": true})",
         R"({"model": "dielectric", "alpha": )" + tex(random_image("a", 1, 0.05f, 5), 0.5) +
@@ -194,12 +190,13 @@ TEST(PerHitAllocations, RenderAllocationsDoNotGrowWithSamples) {
         const std::string& m = names[k];
         const fr::Scene& s = *scenes()[k];
         auto render = [&](int spp) {
-            return allocations_in([&] { fr::render(s, fr::testing::test_options("path", spp, 1, 1)); });
+            return allocations_in(
+                [&] { fr::render(s, fr::testing::test_options("path", spp, 1, 1)); });
         };
         render(1);  // warm-up: thread pools and per-thread pools
         const long a1 = render(1), a8 = render(8);
-        EXPECT_LE(a8 - a1, kSlack) << m << ": " << a1 << " allocations at 1 spp, " << a8
-                                   << " at 8 spp";
+        EXPECT_LE(a8 - a1, kSlack)
+            << m << ": " << a1 << " allocations at 1 spp, " << a8 << " at 8 spp";
     }
 }
 

@@ -35,13 +35,7 @@ std::string temp_dir() {
 
 // An 8 x 8 float image of c channels, texels uniform in [lo, 1] (seeded: reproducible).
 std::string random_image(const std::string& name, int c, float lo, unsigned seed) {
-    std::mt19937 rng(seed);
-    std::uniform_real_distribution<float> u(lo, 1.f);
-    std::vector<float> px(std::size_t(8 * 8 * c));
-    for (float& x : px) x = u(rng);
-    const std::string path = temp_dir() + "/" + name + ".exr";
-    fr::testing::write_test_image(path, 8, 8, c, px, OIIO::TypeDesc::FLOAT);
-    return path;
+    return fr::testing::random_test_image(temp_dir(), name, c, lo, seed);
 }
 
 // A bilinear image texture (continuous values between texels) of the given scale.

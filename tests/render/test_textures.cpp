@@ -275,8 +275,8 @@ TEST(Textures, SharedImageLookupsGiveEachTexturesOwnBits) {
     moved.uv_offset = {0.3f, 0.1f};
     std::vector<fr::Texture> ts;
     for (int ch : {fr::Texture::kAllChannels, 0, 1, 2, 3, int(fr::Texture::kLuminance)}) {
-        for (auto f : {fr::TextureFilter::Linear, fr::TextureFilter::Mipmap,
-                       fr::TextureFilter::Closest}) {
+        for (auto f :
+             {fr::TextureFilter::Linear, fr::TextureFilter::Mipmap, fr::TextureFilter::Closest}) {
             ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Repeat, ch, plain, mips));
             ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Mirror, ch, scaled, mips));
             ts.push_back(fr::Texture::image(shared, f, fr::TextureWrap::Repeat, ch, moved, mips));
@@ -290,8 +290,7 @@ TEST(Textures, SharedImageLookupsGiveEachTexturesOwnBits) {
         fr::TexturePoint p{uv, &fp};
         p.memo = &memo;
         std::shuffle(ts.begin(), ts.end(), rng);
-        for (const fr::Texture& t : ts)
-            ASSERT_EQ(t.eval(p), t.eval(uv, fp)) << i;
+        for (const fr::Texture& t : ts) ASSERT_EQ(t.eval(p), t.eval(uv, fp)) << i;
     }
 }
 

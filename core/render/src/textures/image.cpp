@@ -75,9 +75,8 @@ class ImageSource final : public TextureSource {
         // Every input of the filtered texels is in the key, so a shared value is the one this
         // lookup would compute (textures that read one image at one point share it).
         if (!(p.memo && memo.image == m_image.get() && memo.mips == m_mips.get() &&
-              memo.first == first &&
-              memo.filter == std::uint8_t(m_filter) && memo.wrap == std::uint8_t(m_wrap) &&
-              memo.t == t && memo.lambda == lambda)) {
+              memo.first == first && memo.filter == std::uint8_t(m_filter) &&
+              memo.wrap == std::uint8_t(m_wrap) && memo.t == t && memo.lambda == lambda)) {
             if (m_paged)
                 lookup(PagedLevels{*m_paged}, t, lambda, first, count, memo.raw);
             else
@@ -139,8 +138,8 @@ class ImageSource final : public TextureSource {
         texel_channels<N>(levels, level, xa, yb, first, c);
         texel_channels<N>(levels, level, xb, yb, first, d);
         for (int k = 0; k < N; ++k)
-            out[k] = (1.f - ay) * ((1.f - ax) * a[k] + ax * b[k]) +
-                     ay * ((1.f - ax) * c[k] + ax * d[k]);
+            out[k] =
+                (1.f - ay) * ((1.f - ax) * a[k] + ax * b[k]) + ay * ((1.f - ax) * c[k] + ax * d[k]);
     }
 
     // The filtered channels at the transformed coordinates t, MIP level lambda (0: level 0),
