@@ -176,6 +176,12 @@ def step():
             from facet_blender import ui
             bt.check(bool(ui._plot) and "Material" in ui._plot[0].keys,
                      "the Facet material panel drew the lobe plot of 'Material'")
+            state["t"] = time.time()
+            state["phase"] = 7
+            return 0.3
+        if phase == 7:  # the screenshot and the exit once no preview render is in flight
+            if bpy.app.is_job_running('RENDER_PREVIEW') and time.time() - state["t"] < 60:
+                return 0.3
             for win in bpy.context.window_manager.windows:
                 for area in win.screen.areas:
                     if area.type == 'PROPERTIES':

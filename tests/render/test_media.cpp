@@ -648,11 +648,12 @@ namespace {
 // A fog scene for comparing the two samplings: a world fog, a box of denser fog, a floor and a
 // diffuse sphere, lit by a point lamp, a sphere lamp, a quad lamp inside the fog and a dim
 // environment (a light without a point to aim at); multiple scattering (max_depth 6).
-const char* const kFogScene =
-    R"("camera": {"position": [0, 1.2, 5], "look_at": [0, 0.7, 0], "fov": 40,
-                  "width": 24, "height": 18},
-       "media": {"air": {"kind": "homogeneous", "sigma_s": [0.08, 0.1, 0.12], "sigma_a": 0.01,
-                         "g": 0.2},
+// The fog scenes' media (a world fog of anisotropy g, a box of denser fog), materials and
+// first shapes (a floor, a diffuse sphere, the box), for a camera before and lights after.
+std::string fog_scene_parts(double g) {
+    return R"("media": {"air": {"kind": "homogeneous", "sigma_s": [0.08, 0.1, 0.12],
+                                 "sigma_a": 0.01, "g": )" +
+           std::to_string(g) + R"(},
                  "dense": {"kind": "homogeneous", "sigma_s": 1.5, "sigma_a": [0.1, 0.3, 0.5],
                            "g": -0.3}},
        "world_medium": "air",
@@ -662,13 +663,40 @@ const char* const kFogScene =
        "shapes": [
          {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor"},
          {"type": "sphere", "center": [0.9, 0.5, 0], "radius": 0.5, "material": "red"},
-         {"type": "box", "min": [-1.6, 0.01, -0.5], "max": [-0.6, 1.0, 0.5], "material": "box"},
+         {"type": "box", "min": [-1.6, 0.01, -0.5], "max": [-0.6, 1.0, 0.5], "material": "box"})";
+}
+
+const std::string kFogScene =
+    R"("camera": {"position": [0, 1.2, 5], "look_at": [0, 0.7, 0], "fov": 40,
+                  "width": 24, "height": 18},
+       )" + fog_scene_parts(0.2) + R"(,
          {"type": "quad", "emission": 4,
           "vertices": [[-0.3, 2.2, -0.3], [0.3, 2.2, -0.3], [0.3, 2.2, 0.3], [-0.3, 2.2, 0.3]]}],
        "lights": [{"type": "point", "position": [-0.2, 1.4, 1.0], "power": 30},
                   {"type": "point", "position": [1.5, 1.5, -0.5], "power": 40, "radius": 0.2},
                   {"type": "environment", "radiance": 0.1}],
        "render": {"max_depth": 6})";
+
+// Renders `scene` with both distances by MIS and with free flight alone (seeds a, b) and
+// expects the per-pixel difference to have mean 0 within 5 of its standard errors (from the
+// differences' own spread) in every channel; `what` names the case.
+void expect_mis_agrees_with_free_flight(const fr::Scene& scene, int spp, std::uint64_t seed_a,
+                                        std::uint64_t seed_b, fr::LightSelection sel,
+                                        const std::string& what) {
+    fr::RenderOptions a = volume_options(fr::VolumeSampling::MultipleImportance, spp, seed_a);
+    fr::RenderOptions b = volume_options(fr::VolumeSampling::Distance, spp, seed_b);
+    a.light_selection = b.light_selection = sel;
+    const fr::Image ia = fr::render(scene, a), ib = fr::render(scene, b);
+    std::vector<Rgb> diff;
+    for (std::size_t i = 0; i < ia.pixels().size(); ++i)
+        diff.push_back(ia.pixels()[i] - ib.pixels()[i]);
+    for (int c = 0; c < 3; ++c) {
+        const MeanSe d = mean_se(diff, c), m = mean_se(ia.pixels(), c);
+        EXPECT_NEAR(d.mean, 0.0, 5.0 * d.se + 1e-6)
+            << what << ": channel " << c << ", image mean " << m.mean;
+        EXPECT_GT(m.mean, 0.02) << what;
+    }
+}
 
 }  // namespace
 
@@ -681,22 +709,8 @@ const char* const kFogScene =
 TEST(MediaEquiangular, AgreesWithFreeFlightSamplingOnAFogScene) {
     const int spp = std::max(64, int(256 * fr::testing::stress_scale()));
     const fr::Scene scene = fr::testing::scene_from(kFogScene);
-    for (auto sel : {fr::LightSelection::Auto, fr::LightSelection::Tree}) {
-        fr::RenderOptions a = volume_options(fr::VolumeSampling::MultipleImportance, spp, 41);
-        fr::RenderOptions b = volume_options(fr::VolumeSampling::Distance, spp, 42);
-        a.light_selection = b.light_selection = sel;
-        const fr::Image ia = fr::render(scene, a), ib = fr::render(scene, b);
-        std::vector<Rgb> diff;
-        for (std::size_t i = 0; i < ia.pixels().size(); ++i)
-            diff.push_back(ia.pixels()[i] - ib.pixels()[i]);
-        for (int c = 0; c < 3; ++c) {
-            const MeanSe d = mean_se(diff, c), m = mean_se(ia.pixels(), c);
-            EXPECT_NEAR(d.mean, 0.0, 5.0 * d.se + 1e-6)
-                << "channel " << c << ", image mean " << m.mean
-                << (sel == fr::LightSelection::Tree ? " (tree)" : "");
-            EXPECT_GT(m.mean, 0.02);
-        }
-    }
+    expect_mis_agrees_with_free_flight(scene, spp, 41, 42, fr::LightSelection::Auto, "auto");
+    expect_mis_agrees_with_free_flight(scene, spp, 41, 42, fr::LightSelection::Tree, "tree");
 }
 
 namespace {
@@ -706,21 +720,10 @@ namespace {
 // its plane, and a light sample from their origin finds nothing), a disc tilted toward the
 // scene, an ellipse inside the dense box shining sideways; a floor and a sphere; multiple
 // scattering (max_depth 5).
-const char* const kAreaLampFogScene =
+const std::string kAreaLampFogScene =
     R"("camera": {"position": [0, 3.5, 5], "look_at": [0, 0.5, 0], "fov": 40,
                   "width": 24, "height": 18},
-       "media": {"air": {"kind": "homogeneous", "sigma_s": [0.08, 0.1, 0.12], "sigma_a": 0.01,
-                         "g": 0.3},
-                 "dense": {"kind": "homogeneous", "sigma_s": 1.5, "sigma_a": [0.1, 0.3, 0.5],
-                           "g": -0.3}},
-       "world_medium": "air",
-       "materials": {"floor": {"model": "lambert", "reflectance": 0.5},
-                     "red": {"model": "lambert", "reflectance": [0.7, 0.2, 0.2]},
-                     "box": {"model": "null", "interior": "dense"}},
-       "shapes": [
-         {"type": "plane", "point": [0, 0, 0], "normal": [0, 1, 0], "material": "floor"},
-         {"type": "sphere", "center": [0.9, 0.5, 0], "radius": 0.5, "material": "red"},
-         {"type": "box", "min": [-1.6, 0.01, -0.5], "max": [-0.6, 1.0, 0.5], "material": "box"}],
+       )" + fog_scene_parts(0.3) + R"(],
        "lights": [{"type": "area", "position": [0, 2, 0.5], "direction": [0, -1, 0],
                    "shape": "rectangle", "size": 1.5, "size_y": 0.5, "power": 60},
                   {"type": "area", "position": [1.8, 1.2, 1.5], "look_at": [0, 0.3, 0],
@@ -738,17 +741,7 @@ const char* const kAreaLampFogScene =
 TEST(MediaEquiangular, AreaLampsAgreeWithFreeFlightSampling) {
     const int spp = std::max(64, int(256 * fr::testing::stress_scale()));
     const fr::Scene scene = fr::testing::scene_from(kAreaLampFogScene);
-    fr::RenderOptions a = volume_options(fr::VolumeSampling::MultipleImportance, spp, 43);
-    fr::RenderOptions b = volume_options(fr::VolumeSampling::Distance, spp, 44);
-    const fr::Image ia = fr::render(scene, a), ib = fr::render(scene, b);
-    std::vector<Rgb> diff;
-    for (std::size_t i = 0; i < ia.pixels().size(); ++i)
-        diff.push_back(ia.pixels()[i] - ib.pixels()[i]);
-    for (int c = 0; c < 3; ++c) {
-        const MeanSe d = mean_se(diff, c), m = mean_se(ia.pixels(), c);
-        EXPECT_NEAR(d.mean, 0.0, 5.0 * d.se + 1e-6) << "channel " << c << ", image mean " << m.mean;
-        EXPECT_GT(m.mean, 0.02);
-    }
+    expect_mis_agrees_with_free_flight(scene, spp, 43, 44, fr::LightSelection::Auto, "area lamps");
 }
 
 // (c) The noise falls in thin fog lit by a point lamp: the variance per sample (the pixels'
