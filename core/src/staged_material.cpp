@@ -220,17 +220,19 @@ std::optional<StagedMaterial> StagedMaterial::make(std::string_view model, const
             if (!ior_varies && !alpha_given) s.m_dcomp.push_back(d.compensation());
             // A textured alpha: the lobe's tables on kDielectricAlphaNodes nodes in sqrt(alpha)
             // over the texture's range, interpolated by Catmull-Rom (dielectric_compensation).
-            if (!ior_varies && alpha_given) {
-                const int dn = s.m_alpha_varies ? kDielectricAlphaNodes : 1;
+            if (!ior_varies && alpha_given && !s.m_alpha_varies)
+                s.m_dcomp.push_back(
+                    DielectricBxDF(d.eta(), Rgb(1.f), node_distribution(0, d.distribution()), true)
+                        .compensation());
+            if (!ior_varies && s.m_alpha_varies) {
+                const int dn = kDielectricAlphaNodes;
                 for (int k = 0; k < dn; ++k) {
-                    const float sq = dn == 1
-                                         ? 0.f
-                                         : s.m_s_lo + float(k) * s.m_s_step *
-                                                          float(kAlphaNodes - 1) / float(dn - 1);
-                    const MicrofacetDistribution nd =
-                        dn == 1 ? node_distribution(0, d.distribution())
-                                : isotropic(d.distribution().kind(), sq * sq);
-                    s.m_dcomp.push_back(DielectricBxDF(d.eta(), Rgb(1.f), nd, true).compensation());
+                    const float sq =
+                        s.m_s_lo + float(k) * s.m_s_step * float(kAlphaNodes - 1) / float(dn - 1);
+                    s.m_dcomp.push_back(DielectricBxDF(d.eta(), Rgb(1.f),
+                                                       isotropic(d.distribution().kind(), sq * sq),
+                                                       true)
+                                            .compensation());
                 }
             }
         }

@@ -669,7 +669,8 @@ std::string fog_scene_parts(double g) {
 const std::string kFogScene =
     R"("camera": {"position": [0, 1.2, 5], "look_at": [0, 0.7, 0], "fov": 40,
                   "width": 24, "height": 18},
-       )" + fog_scene_parts(0.2) + R"(,
+       )" +
+    fog_scene_parts(0.2) + R"(,
          {"type": "quad", "emission": 4,
           "vertices": [[-0.3, 2.2, -0.3], [0.3, 2.2, -0.3], [0.3, 2.2, 0.3], [-0.3, 2.2, 0.3]]}],
        "lights": [{"type": "point", "position": [-0.2, 1.4, 1.0], "power": 30},
@@ -723,7 +724,8 @@ namespace {
 const std::string kAreaLampFogScene =
     R"("camera": {"position": [0, 3.5, 5], "look_at": [0, 0.5, 0], "fov": 40,
                   "width": 24, "height": 18},
-       )" + fog_scene_parts(0.3) + R"(],
+       )" +
+    fog_scene_parts(0.3) + R"(],
        "lights": [{"type": "area", "position": [0, 2, 0.5], "direction": [0, -1, 0],
                    "shape": "rectangle", "size": 1.5, "size_y": 0.5, "power": 60},
                   {"type": "area", "position": [1.8, 1.2, 1.5], "look_at": [0, 0.3, 0],
