@@ -122,15 +122,15 @@ py::array_t<float, py::array::c_style> float_rows(py::handle obj, const char* wh
     if (!f) throw py::error_already_set();
     const float* p = f.data();
     const py::ssize_t n = f.shape(0);
+    // The check reads every value; the message is only formatted for the row that fails.
     for (py::ssize_t i = 0; i < n; ++i) {
         bool finite = true;
+        for (py::ssize_t j = 0; j < cols; ++j) finite = finite && std::isfinite(p[cols * i + j]);
+        if (finite) continue;
         std::string row;
-        for (py::ssize_t j = 0; j < cols; ++j) {
-            finite = finite && std::isfinite(p[cols * i + j]);
+        for (py::ssize_t j = 0; j < cols; ++j)
             row += (j ? ", " : "") + std::to_string(p[cols * i + j]);
-        }
-        if (!finite)
-            bad_argument(what, "row " + std::to_string(i) + " is not finite (" + row + ")");
+        bad_argument(what, "row " + std::to_string(i) + " is not finite (" + row + ")");
     }
     return f;
 }
