@@ -224,6 +224,12 @@ Material::Material(const PrincipledBxDF& principled)
       m_special(true),
       m_anisotropic(principled.anisotropic()) {}
 
+Material::Material(std::in_place_type_t<PrincipledBxDF>, const PrincipledParams& params)
+    : m_principled(std::in_place, params), m_special(true) {
+    m_flags = m_principled->flags();
+    m_anisotropic = m_principled->anisotropic();
+}
+
 Rgb Material::glossy_albedo(float mu) const {
     if (!m_has_table) return Rgb(0.f);
     float x = clamp_unit(mu) * float(kTableSize - 1);

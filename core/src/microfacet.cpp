@@ -48,6 +48,11 @@ Vec3 normalize_or_normal(double x, double y, double z) {
     return Vec3(float(x * inv), float(y * inv), float(z * inv));
 }
 
+// std::fmax(a, b) for floats, inline (GCC calls libm's fmaxf): b when a is NaN, a when b is.
+inline float fmax_inline(float a, float b) {
+    return a > b ? a : (b == b ? b : a);
+}
+
 }  // namespace
 
 // ---------------------------------------------------------------------------------------------
@@ -56,11 +61,11 @@ Vec3 normalize_or_normal(double x, double y, double z) {
 MicrofacetDistribution MicrofacetDistribution::ggx(float alpha_u, float alpha_v) {
     MicrofacetDistribution d;
     d.m_kind = DistributionKind::GGX;
-    d.m_ax = std::fmax(alpha_u, kMinAlpha);
-    d.m_ay = std::fmax(alpha_v, kMinAlpha);
+    d.m_ax = fmax_inline(alpha_u, kMinAlpha);
+    d.m_ay = fmax_inline(alpha_v, kMinAlpha);
     d.m_inv_ax = 1.f / d.m_ax;
     d.m_inv_ay = 1.f / d.m_ay;
-    d.m_equivalent_alpha = std::sqrt(std::fmax(alpha_u, 0.f) * std::fmax(alpha_v, 0.f));
+    d.m_equivalent_alpha = std::sqrt(fmax_inline(alpha_u, 0.f) * fmax_inline(alpha_v, 0.f));
     d.m_norm = float(1.0 / (kPiD * double(d.m_ax) * double(d.m_ay)));
     return d;
 }

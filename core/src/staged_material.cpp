@@ -427,7 +427,7 @@ Material StagedMaterial::at(std::span<const DVec3> values, Children children) co
             else
                 p.*m_slots[i].number = float(values[i].x);
         }
-        return Material(PrincipledBxDF(p));
+        return Material(std::in_place_type<PrincipledBxDF>, p);
     }
     Values v = m_constants;
     for (std::size_t i = 0; i < m_slots.size(); ++i) {

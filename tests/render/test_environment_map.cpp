@@ -7,6 +7,7 @@
 
 #include <OpenImageIO/imageio.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <filesystem>
@@ -20,6 +21,7 @@
 #include <unistd.h>
 
 #include "../core/chi2.h"
+#include "facet/latlong.h"
 #include "facet/render/environment_map.h"
 #include "facet/render/light.h"
 #include "facet/render/pov_export.h"
@@ -468,6 +470,47 @@ TEST(EnvironmentMap, MappingIsBlendersEquirectangularZUp) {
     // "radiance" multiplies.
     expect_rgb(look(light + R"(, "radiance": [2, 3, 0.5])", {1, 0, 0}, {0, 0, 1}),
                mean(3, 4) * Rgb(2.f, 3.f, 0.5f), "multiplier");
+}
+
+// latlong_uv takes its angles from atan2_approx (a polynomial, latlong.h): against the exact
+// (u, v) in double, over random directions and the axes, poles and signed zeros. Tolerance
+// 2.5e-7: the polynomial's 2e-8 rad plus float rounding of u = 0.5 - phi / 2pi near 1 (ulp
+// 6e-8) and of the polynomial's terms; an error of 1e-5 (a cruder approximation) would move
+// lookups by 1% of a texel of a 1024-wide map and fail here.
+TEST(EnvironmentMap, LatLongUvMatchesTheExactAnglesClosely) {
+    auto exact = [](const Vec3& l) {
+        const double x = l.x, y = l.y, z = l.z;
+        const double u = 0.5 - std::atan2(y, x) / (2.0 * kPi);
+        const double v = std::atan2(std::sqrt(x * x + y * y), z) / kPi;
+        return std::pair<double, double>(std::clamp(u, 0.0, 1.0), std::clamp(v, 0.0, 1.0));
+    };
+    double worst = 0.0;
+    auto check = [&](Vec3 l) {
+        float sin_theta = -1.f;
+        const Vec2 uv = facet::latlong_uv(l, sin_theta);
+        const auto [u, v] = exact(l);
+        worst = std::max({worst, std::abs(double(uv.x) - u), std::abs(double(uv.y) - v)});
+        ASSERT_NEAR(uv.x, u, 2.5e-7) << l.x << " " << l.y << " " << l.z;
+        ASSERT_NEAR(uv.y, v, 2.5e-7) << l.x << " " << l.y << " " << l.z;
+        EXPECT_NEAR(sin_theta, std::sqrt(double(l.x) * l.x + double(l.y) * l.y), 1e-7);
+    };
+    for (const Vec3& l :
+         {Vec3(1, 0, 0), Vec3(-1, 0, 0), Vec3(-1, -0.f, 0), Vec3(0, 1, 0), Vec3(0, -1, 0),
+          Vec3(0, 0, 1), Vec3(0, 0, -1), Vec3(1, 1, 0), Vec3(-1, 1e-30f, 0), Vec3(1e-30f, -1, 0)})
+        check(glm::normalize(l));
+    std::uint64_t state = 12345;
+    auto next = [&] {
+        state = state * 6364136223846793005ull + 1442695040888963407ull;
+        return float(double(state >> 11) * 0x1.0p-53);
+    };
+    for (int i = 0; i < 200000; ++i) {
+        const Vec3 d(2.f * next() - 1.f, 2.f * next() - 1.f, 2.f * next() - 1.f);
+        if (glm::length(d) > 1e-3f) check(glm::normalize(d));
+    }
+    EXPECT_EQ(facet::atan2_approx(0.f, 0.f), 0.f);
+    EXPECT_EQ(facet::atan2_approx(-0.f, -1.f), -float(kPi));
+    EXPECT_TRUE(std::isnan(facet::atan2_approx(std::nanf(""), 1.f)));
+    RecordProperty("worst_uv_error", std::to_string(worst));
 }
 
 TEST(EnvironmentMap, RotateAndUpOrientTheMapAsDocumented) {

@@ -30,10 +30,17 @@
 
 namespace facet {
 
-// (u, v) of a unit direction in the map's frame, clamped into [0, 1] (a NaN direction gives 0).
+// (u, v) of a unit direction in the map's frame, clamped into [0, 1] (a NaN direction gives 0);
+// the second form also gives sin theta = sqrt(l.x^2 + l.y^2). The angles come from
+// atan2_approx: within 2.5e-7 of the exact (u, v) (tests/render/test_environment_map.cpp).
 Vec2 latlong_uv(const Vec3& l);
-// The unit direction (map frame) of (u, v).
+Vec2 latlong_uv(const Vec3& l, float& sin_theta);
+// The unit direction (map frame) of (u, v); the second form also gives sin theta = sin(pi v).
 Vec3 latlong_direction(Vec2 uv);
+Vec3 latlong_direction(Vec2 uv, float& sin_theta);
+// atan2(y, x) in (-pi, pi] within 3e-7 rad (a polynomial: Abramowitz & Stegun 4.4.49), with
+// std::atan2's signs and atan2(0, 0) = 0; NaN in, NaN out.
+float atan2_approx(float y, float x);
 
 class LatLongDistribution {
   public:

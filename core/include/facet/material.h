@@ -108,8 +108,10 @@ class Material {
     // A transmissive material: the dielectric interface or the thin pane alone.
     explicit Material(const DielectricBxDF& dielectric);
     explicit Material(const ThinDielectricBxDF& thin);
-    // Blender's Principled BSDF (facet/principled.h), alone.
+    // Blender's Principled BSDF (facet/principled.h), alone; the second form builds it in place
+    // from its parameters (the per-hit build: no copy of the BxDF).
     explicit Material(const PrincipledBxDF& principled);
+    Material(std::in_place_type_t<PrincipledBxDF>, const PrincipledParams& params);
     // A model unit's BxDF (facet/inline_bxdf.h), alone.
     explicit Material(const InlineBxDF& unit);
 

@@ -470,13 +470,13 @@ bool path_vertex(const Scene& scene, const LightDistribution& light_dist, PathSt
         if (depth > 0 || kEmission) {
             if (!found) {
                 if (const Light* env = scene.environment()) {
-                    const Rgb le = env->le_escape(ray_d);
                     if (depth == 0 || p.specular_bounce) {
-                        p.L += p.beta * le;
+                        p.L += p.beta * env->le_escape(ray_d);
                     } else {
+                        float pdf;
+                        const Rgb le = env->le_escape(ray_d, p.prev_ctx, pdf);
                         const float lp =
-                            light_dist.pmf(p.prev_ctx, std::size_t(env - lights.data())) *
-                            env->pdf_li(p.prev_ctx, ray_d, Vec3(0.f), Vec3(0.f));
+                            light_dist.pmf(p.prev_ctx, std::size_t(env - lights.data())) * pdf;
                         p.L += p.beta * le * power_heuristic(p.prev_bsdf_pdf, lp);
                     }
                 }
@@ -1257,12 +1257,12 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             // after a delta lobe; otherwise MIS-weighted against light sampling).
             if (!found) {
                 if (const Light* env = scene.environment()) {
-                    const Rgb le = env->le_escape(ray.d);
                     if (depth == 0 || specular_bounce) {
-                        L += beta * le;
+                        L += beta * env->le_escape(ray.d);
                     } else {
-                        const float lp = prev_pmf(std::size_t(env - lights.data())) *
-                                         env->pdf_li(prev_ctx, ray.d, Vec3(0.f), Vec3(0.f));
+                        float pdf;
+                        const Rgb le = env->le_escape(ray.d, prev_ctx, pdf);
+                        const float lp = prev_pmf(std::size_t(env - lights.data())) * pdf;
                         L += beta * le * power_heuristic(prev_pdf, lp);
                     }
                 }

@@ -69,6 +69,17 @@ Rgb Light::le_escape(const Vec3& d) const {
     });
 }
 
+Rgb Light::le_escape(const Vec3& d, const LightSampleContext& ctx, float& pdf) const {
+    return visit([&](const auto& t) {
+        if constexpr (requires { t.le_escape(d, pdf); }) {
+            return t.le_escape(d, pdf);
+        } else {
+            pdf = pdf_li(ctx, d, Vec3(0.f), Vec3(0.f));
+            return le_escape(d);
+        }
+    });
+}
+
 Rgb Light::power(float scene_radius) const {
     return visit([&](const auto& t) { return t.power(scene_radius); });
 }

@@ -31,29 +31,50 @@ void cos_sin_reduced(float cos_a, float sin_a, float cos_b, float sin_b, float& 
 
 }  // namespace
 
-float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
-    if (!(b.phi > 0.f)) return 0.f;
-    const Vec3 pc = 0.5f * (b.lo + b.hi);
-    const Vec3 dv = p - pc;
-    const float dist2 = glm::dot(dv, dv);
+LightTree::NodeBounds LightTree::NodeBounds::of(const LightBounds& b) {
+    NodeBounds nb;
+    nb.centre = 0.5f * (b.lo + b.hi);
     const Vec3 diag = b.hi - b.lo;
-    const float r2 = 0.25f * glm::dot(diag, diag);  // the box's half diagonal, squared
+    nb.r2 = 0.25f * glm::dot(diag, diag);  // the box's half diagonal, squared
+    nb.w = b.w;
+    nb.cos_o = b.cos_theta_o;
+    nb.sin_o = safe_sqrt_f(1.f - b.cos_theta_o * b.cos_theta_o);
+    nb.cos_e = b.cos_theta_e;
+    nb.phi = b.phi;
+    nb.two_sided = b.two_sided;
+    // theta_o = pi: theta_w - theta_o <= 0 for every p, so theta' = 0 (cos 1) whatever w and
+    // theta_b are: the cone's terms need not be computed (the same value, bit for bit).
+    nb.omni = b.cos_theta_o == -1.f;
+    return nb;
+}
+
+float LightTree::NodeBounds::importance(const Vec3& p, const Vec3& n) const {
+    if (!(phi > 0.f)) return 0.f;
+    const Vec3 dv = p - centre;
+    const float dist2 = glm::dot(dv, dv);
     const float d2 = std::max(dist2, r2);
+    const bool normal = n != Vec3(0.f);
+    if (omni && !normal) {
+        const float importance = phi / d2;
+        return std::isfinite(importance) && importance > 0.f ? importance : 0.f;
+    }
     // theta_b: the cone the box (its bounding sphere) subtends from p; all of it from inside.
     const float cos_b = dist2 > r2 ? safe_sqrt_f(1.f - r2 / dist2) : -1.f;
     const float sin_b = safe_sqrt_f(1.f - cos_b * cos_b);
-    // theta_w: from the cone's axis to the direction toward p.
     const Vec3 wi = dist2 > 0.f ? dv / std::sqrt(dist2) : Vec3(0.f, 0.f, 1.f);
-    float cos_w = glm::dot(b.w, wi);
-    if (b.two_sided) cos_w = std::fabs(cos_w);
-    const float sin_w = safe_sqrt_f(1.f - cos_w * cos_w);
-    const float sin_o = safe_sqrt_f(1.f - b.cos_theta_o * b.cos_theta_o);
-    float cos_wo, sin_wo, cos_x, sin_x;
-    cos_sin_reduced(cos_w, sin_w, b.cos_theta_o, sin_o, cos_wo, sin_wo);  // theta_w - theta_o
-    cos_sin_reduced(cos_wo, sin_wo, cos_b, sin_b, cos_x, sin_x);          // ... - theta_b
-    if (cos_x < b.cos_theta_e || !(cos_x >= -1.f)) return 0.f;  // beyond theta_o + theta_e
-    float importance = b.phi * cos_x / d2;
-    if (n != Vec3(0.f)) {
+    float cos_x = 1.f;
+    if (!omni) {
+        // theta_w: from the cone's axis to the direction toward p.
+        float cos_w = glm::dot(w, wi);
+        if (two_sided) cos_w = std::fabs(cos_w);
+        const float sin_w = safe_sqrt_f(1.f - cos_w * cos_w);
+        float cos_wo, sin_wo, sin_x;
+        cos_sin_reduced(cos_w, sin_w, cos_o, sin_o, cos_wo, sin_wo);  // theta_w - theta_o
+        cos_sin_reduced(cos_wo, sin_wo, cos_b, sin_b, cos_x, sin_x);  // ... - theta_b
+        if (cos_x < cos_e || !(cos_x >= -1.f)) return 0.f;            // beyond theta_o + theta_e
+    }
+    float importance = phi * cos_x / d2;
+    if (normal) {
         // theta_i: from the normal at p to the direction toward the box, less theta_b.
         const float cos_i = std::fabs(glm::dot(wi, n));
         const float sin_i = safe_sqrt_f(1.f - cos_i * cos_i);
@@ -62,6 +83,10 @@ float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
         importance *= std::max(0.f, cos_ip);
     }
     return std::isfinite(importance) && importance > 0.f ? importance : 0.f;
+}
+
+float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
+    return LightTree::NodeBounds::of(b).importance(p, n);
 }
 
 LightBounds union_bounds(const LightBounds& a, const LightBounds& b) {
@@ -132,7 +157,8 @@ std::uint32_t LightTree::build_node(std::vector<std::pair<std::uint32_t, LightBo
         Node& leaf = m_nodes[index];
         leaf.leaf = true;
         leaf.child_or_light = items[begin].first;
-        leaf.bounds = items[begin].second;
+        leaf.bounds = NodeBounds::of(items[begin].second);
+        leaf.full = items[begin].second;
         m_trail[items[begin].first] = trail;
         m_depth[items[begin].first] = depth;
         return index;
@@ -156,7 +182,8 @@ std::uint32_t LightTree::build_node(std::vector<std::pair<std::uint32_t, LightBo
     const std::uint32_t second =
         build_node(items, mid, end, trail | (std::uint64_t(1) << depth), depth + 1);
     m_nodes[index].child_or_light = second;
-    m_nodes[index].bounds = union_bounds(m_nodes[first].bounds, m_nodes[second].bounds);
+    m_nodes[index].full = union_bounds(m_nodes[first].full, m_nodes[second].full);
+    m_nodes[index].bounds = NodeBounds::of(m_nodes[index].full);
     return index;
 }
 
@@ -180,23 +207,28 @@ std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u, 
     u = std::min((u - p_inf) / (1.f - p_inf), kOneMinusEpsilon);
     float prob = 1.f - p_inf;
     std::uint32_t node = 0;
+    // A chosen child's importance is > 0 (its share of u is), so only a root leaf needs its
+    // own evaluation.
+    bool positive = false;
     while (!m_nodes[node].leaf) {
         const std::uint32_t c0 = node + 1, c1 = m_nodes[node].child_or_light;
-        const float i0 = light_importance(m_nodes[c0].bounds, p, n);
-        const float i1 = light_importance(m_nodes[c1].bounds, p, n);
+        const float i0 = m_nodes[c0].bounds.importance(p, n);
+        const float i1 = m_nodes[c1].bounds.importance(p, n);
         if (!(i0 + i1 > 0.f)) return 0;
         const float p0 = i0 / (i0 + i1);
         if (u < p0) {
             node = c0;
             u = std::min(u / p0, kOneMinusEpsilon);
             prob *= p0;
+            positive = i0 > 0.f;
         } else {
             node = c1;
             u = std::min((u - p0) / (1.f - p0), kOneMinusEpsilon);
             prob *= 1.f - p0;
+            positive = i1 > 0.f;
         }
     }
-    if (!(light_importance(m_nodes[node].bounds, p, n) > 0.f)) return 0;
+    if (!positive && !(m_nodes[node].bounds.importance(p, n) > 0.f)) return 0;
     pmf = prob;
     return m_nodes[node].child_or_light;
 }
@@ -209,21 +241,24 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, std::uint32_t light) const {
     if (depth < 0) return 0.f;
     float prob = 1.f - p_inf;
     std::uint32_t node = 0;
+    bool positive = false;  // as in sample_reusing, but this path may take a child of 0
     for (int k = 0; k < depth; ++k) {
         const std::uint32_t c0 = node + 1, c1 = m_nodes[node].child_or_light;
-        const float i0 = light_importance(m_nodes[c0].bounds, p, n);
-        const float i1 = light_importance(m_nodes[c1].bounds, p, n);
+        const float i0 = m_nodes[c0].bounds.importance(p, n);
+        const float i1 = m_nodes[c1].bounds.importance(p, n);
         if (!(i0 + i1 > 0.f)) return 0.f;
         const float p0 = i0 / (i0 + i1);
         if ((m_trail[light] >> k) & 1u) {
             node = c1;
             prob *= 1.f - p0;
+            positive = i1 > 0.f;
         } else {
             node = c0;
             prob *= p0;
+            positive = i0 > 0.f;
         }
     }
-    if (!(light_importance(m_nodes[node].bounds, p, n) > 0.f)) return 0.f;
+    if (!positive && !(m_nodes[node].bounds.importance(p, n) > 0.f)) return 0.f;
     return prob;
 }
 

@@ -67,6 +67,8 @@ EnvironmentMap::EnvironmentMap(const TexelImage& image, const Rgb& multiplier,
             for (int k = 0; k < 3; ++k) c[k] = image.at(x, y, colour_channels == 3 ? k : 0);
             m_texels[std::size_t(y) * W + x] = c * multiplier;
         }
+    m_luminance.resize(n);
+    for (std::size_t i = 0; i < n; ++i) m_luminance[i] = luminance(m_texels[i]);
 
     // Cell weights (conventions): cell mean of the bilinear luminance (the sin(theta) Jacobian
     // is the distribution's, latlong.h); the mean radiance by the rows' exact solid angles.
@@ -80,7 +82,7 @@ EnvironmentMap::EnvironmentMap(const TexelImage& image, const Rgb& multiplier,
             for (int j = -1; j <= 1; ++j) {
                 const int yy = std::clamp(y + j, 0, H - 1);
                 for (int i = -1; i <= 1; ++i) {
-                    const int xx = ((x + i) % W + W) % W;
+                    const int xx = x + i < 0 ? x + i + W : x + i >= W ? x + i - W : x + i;
                     mean += kCellTent[j + 1] * kCellTent[i + 1] * glm::dvec3(texel(xx, yy));
                 }
             }
@@ -97,9 +99,8 @@ EnvironmentMap::EnvironmentMap(const TexelImage& image, const Rgb& multiplier,
             float(std::sin(kPiD * (y + 0.5) / H) * m_distribution.scale());
 }
 
-float EnvironmentMap::pdf_at(Vec2 uv, const Rgb& radiance) const {
+float EnvironmentMap::pdf_at(Vec2 uv, const Rgb& radiance, float sin_theta) const {
     if (m_distribution.black()) return 0.f;
-    const float sin_theta = std::sin(kPi * uv.y);
     if (!(sin_theta > 0.f)) return 0.f;
     const int y = std::min(int(uv.y * float(m_height)), m_height - 1);
     return luminance(radiance) * m_row_factor[std::size_t(y)] / (2.f * kPi * kPi * sin_theta);
@@ -117,7 +118,8 @@ Rgb EnvironmentMap::lookup(Vec2 uv) const {
     const float fx = uv.x * float(m_width) - 0.5f, fy = uv.y * float(m_height) - 0.5f;
     const float x0f = std::floor(fx), y0f = std::floor(fy);
     const float tx = fx - x0f, ty = fy - y0f;
-    int x0 = int(x0f) % m_width;
+    // uv.x in [0, 1] puts x0 in [-1, W - 1]: one step wraps it (no integer division).
+    int x0 = std::min(int(x0f), m_width - 1);
     if (x0 < 0) x0 += m_width;
     const int x1 = x0 + 1 == m_width ? 0 : x0 + 1;
     const int y0 = std::clamp(int(y0f), 0, m_height - 1);
@@ -131,8 +133,17 @@ Rgb EnvironmentMap::eval(const Vec3& d) const {
 }
 
 float EnvironmentMap::pdf(const Vec3& d) const {
-    const Vec2 uv = direction_to_uv(d);
-    return pdf_at(uv, lookup(uv));
+    float pdf;
+    eval_pdf(d, pdf);
+    return pdf;
+}
+
+Rgb EnvironmentMap::eval_pdf(const Vec3& d, float& pdf) const {
+    float sin_theta;
+    const Vec2 uv = latlong_uv(m_inverse * d, sin_theta);
+    const Rgb radiance = lookup(uv);
+    pdf = pdf_at(uv, radiance, sin_theta);
+    return radiance;
 }
 
 EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
@@ -150,7 +161,7 @@ EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
         for (int i = 0; i < 3; ++i) {
             int xx = c.x + i - 1;
             xx = xx < 0 ? xx + W : xx >= W ? xx - W : xx;
-            t[j][i] = luminance(texel(xx, yy));
+            t[j][i] = m_luminance[std::size_t(yy) * std::size_t(W) + std::size_t(xx)];
         }
     }
     float r[3][3], g[3][3];  // along x, then along y: edge, centre, edge
@@ -180,10 +191,12 @@ EnvironmentMap::Sample EnvironmentMap::sample(Vec2 u) const {
     const float fx = sample_linear(o.x, f00 + fy * (f01 - f00), f10 + fy * (f11 - f10));
     const Vec2 uv(std::min((float(c.x) + 0.5f * (float(iu) + fx)) / float(W), 1.f),
                   std::min((float(c.y) + 0.5f * (float(jv) + fy)) / float(H), 1.f));
+    float sin_theta;
+    const Vec3 local = latlong_direction(uv, sin_theta);
     s.radiance = lookup(uv);
-    s.pdf = pdf_at(uv, s.radiance);
+    s.pdf = pdf_at(uv, s.radiance, sin_theta);
     if (!(s.pdf > 0.f)) return s;
-    s.wi = uv_to_direction(uv);
+    s.wi = m_frame * local;
     return s;
 }
 

@@ -64,6 +64,8 @@ class EnvironmentMap {
     Rgb eval(const Vec3& d) const;
     // Solid-angle density with which sample() returns the unit world direction d.
     float pdf(const Vec3& d) const;
+    // eval(d), and pdf(d) in `pdf`, from one (u, v) and one lookup (an escaping ray's MIS).
+    Rgb eval_pdf(const Vec3& d, float& pdf) const;
     struct Sample {
         Vec3 wi{0.f};  // unit, world space
         float pdf = 0.f;
@@ -83,13 +85,15 @@ class EnvironmentMap {
   private:
     Rgb texel(int x, int y) const { return m_texels[std::size_t(y) * m_width + x]; }
     Rgb lookup(Vec2 uv) const;  // bilinear, without the multiplier
-    // The density at (u, v) whose lookup is `radiance` (the same pdf for sample() and pdf()).
-    float pdf_at(Vec2 uv, const Rgb& radiance) const;
+    // The density at (u, v) whose lookup is `radiance`, sin_theta = sin(pi v) (the same pdf for
+    // sample() and pdf()).
+    float pdf_at(Vec2 uv, const Rgb& radiance, float sin_theta) const;
 
     int m_width = 0, m_height = 0;
-    std::vector<Rgb> m_texels;  // RGB per texel, multiplier applied
-    glm::mat3 m_frame{1.f};     // M: map -> world
-    glm::mat3 m_inverse{1.f};   // M^T: world -> map
+    std::vector<Rgb> m_texels;       // RGB per texel, multiplier applied
+    std::vector<float> m_luminance;  // the texels' luminances (sample(): the point in a cell)
+    glm::mat3 m_frame{1.f};          // M: map -> world
+    glm::mat3 m_inverse{1.f};        // M^T: world -> map
     Rgb m_mean{0.f};
     LatLongDistribution m_distribution;  // the cells' choice (their mean luminances)
     std::vector<float> m_row_factor;     // sin(theta_y) W H / sum w per row

@@ -244,6 +244,9 @@ class Light {
     // arriving along a ray that escapes the scene in direction d. 0 for types without.
     Rgb le(const Vec3& n_light, const Vec3& w) const;
     Rgb le_escape(const Vec3& d) const;
+    // le_escape(d), and pdf_li(ctx, d, 0, 0) in `pdf`: an escaping ray's MIS weight (one lookup
+    // where the type has le_escape(d, pdf)).
+    Rgb le_escape(const Vec3& d, const LightSampleContext& ctx, float& pdf) const;
     // Total emitted power (W per channel) for choosing lights in proportion to power; lights at
     // infinity (directional, environment) use the radius of the scene's bounding sphere.
     Rgb power(float scene_radius) const;

@@ -90,6 +90,7 @@ struct LightBounds {
 // and, when it has them (otherwise 0, +inf or null):
 //   Rgb le(const Vec3& n_light, const Vec3& w) const;  radiance leaving its surface toward w
 //   Rgb le_escape(const Vec3& d) const;                radiance of an escaping ray
+//   Rgb le_escape(const Vec3& d, float& pdf) const;    the same with pdf_li's density of d
 //   float camera_hit(const Vec3& o, const Vec3& d) const;  a camera ray's hit, not traced
 //   const EnvironmentMap* map() const;
 //   std::optional<LightBounds> bounds() const;        where it emits (lights with a position;

@@ -70,9 +70,23 @@ class LightTree {
     // The probability that sample(p, n, .) chooses light i.
     float pmf(const Vec3& p, const Vec3& n, std::uint32_t light) const;
 
+    // A node's bounds as the importance reads them: the box's centre and squared half
+    // diagonal and the cone's sin theta_o precomputed, and whether the cone is every direction
+    // (theta_o = pi: point lights and their unions), whose cone terms are skipped.
+    struct NodeBounds {
+        Vec3 centre{0.f};
+        float r2 = 0.f;
+        Vec3 w{0.f, 0.f, 1.f};
+        float cos_o = -1.f, sin_o = 0.f, cos_e = 0.f, phi = 0.f;
+        bool two_sided = false, omni = true;
+        static NodeBounds of(const LightBounds& b);
+        float importance(const Vec3& p, const Vec3& n) const;  // light_importance
+    };
+
   private:
     struct Node {
-        LightBounds bounds;
+        NodeBounds bounds;
+        LightBounds full;                  // the union the node's bounds come from (build)
         std::uint32_t child_or_light = 0;  // interior: the second child's index; leaf: light
         bool leaf = false;                 // interior nodes' first child follows them
     };

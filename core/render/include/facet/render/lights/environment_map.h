@@ -19,6 +19,7 @@ struct EnvironmentMapLight {
         return m->pdf(wi);
     }
     Rgb le_escape(const Vec3& d) const { return m->eval(d); }
+    Rgb le_escape(const Vec3& d, float& pdf) const { return m->eval_pdf(d, pdf); }
     Rgb power(float scene_radius) const {
         return m->mean_radiance() * (4.f * kPi * kPi * scene_radius * scene_radius);
     }
