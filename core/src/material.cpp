@@ -124,6 +124,13 @@ Material::Material(const ThinDielectricBxDF& thin)
 Material::Material(const InlineBxDF& unit)
     : m_unit(unit), m_flags(unit.flags()), m_special(true), m_anisotropic(unit.reads_tangent()) {}
 
+float Material::Subsurface::probability(const Vec3& wo) const {
+    if (!surface) return 1.f;
+    const std::optional<PrincipledBxDF>& p = surface->principled();
+    const float s = p ? p->sample_weight(wo) : 1.f;
+    return weight / (weight + s);
+}
+
 Material Material::with_subsurface(Material fallback, Subsurface s) {
     fallback.m_subsurface.emplace(std::move(s));
     return fallback;

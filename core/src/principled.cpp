@@ -332,6 +332,7 @@ PrincipledBxDF::AtWo PrincipledBxDF::at_wo(const Vec3& wo, float etap) const {
     float sum = 0.f;
     int n = 0;
     for (int k = 0; k < kLobes; ++k) sum += w[k], n += present[k];
+    a.weight = sum;
     for (int k = 0; k < kLobes; ++k)
         a.p[k] = sum > 0.f ? w[k] / sum : (present[k] ? 1.f / float(n) : 0.f);
     return a;
@@ -414,6 +415,12 @@ bool PrincipledBxDF::mirrored(const Vec3& wo, Vec3& o, AtWo& a) const {
     o = inside ? mirror_z(wo) : wo;
     a = at_wo(o, inside ? 1.f / m_params.ior : m_params.ior);
     return true;
+}
+
+float PrincipledBxDF::sample_weight(const Vec3& wo) const {
+    Vec3 o;
+    AtWo a;
+    return mirrored(wo, o, a) ? a.weight : 0.f;
 }
 
 std::array<float, PrincipledBxDF::kLobes> PrincipledBxDF::lobe_probabilities(const Vec3& wo) const {

@@ -228,11 +228,76 @@ TEST(SubsurfaceWalk, Deterministic) {
     for (int c = 0; c < 3; ++c) EXPECT_EQ(a.mean[c], b.mean[c]);
 }
 
+// The start numbers (a renderer's stratified dimensions) are the entry's and the first step's:
+// the overload without them draws them first from u(), in that order, so the two walk alike;
+// and the walk reads them (another entry pair changes where it leaves).
+TEST(SubsurfaceWalk, StartNumbersAreTheFirstDraws) {
+    const SubsurfaceWalk walk = SubsurfaceWalk::make(Rgb(0.8f, 0.4f, 0.2f), Rgb(1.f), 0.3f);
+    const Vec3 n(0.f, 0.f, 1.f);
+    Uniform a(11), b(11);
+    int exits = 0, moved = 0;
+    for (int i = 0; i < 200; ++i) {
+        Rgb beta_a(1.f), beta_b(1.f), beta_c(1.f);
+        const auto ea = subsurface_random_walk(walk, Vec3(0.f), n, n, beta_a, a, HalfSpace{});
+        SubsurfaceWalkStart start;
+        start.entry.x = b();
+        start.entry.y = b();
+        start.first.x = b();
+        start.first.y = b();
+        Uniform c = b;  // the same later draws
+        const auto eb =
+            subsurface_random_walk(walk, Vec3(0.f), n, n, beta_b, start, b, HalfSpace{});
+        ASSERT_EQ(bool(ea), bool(eb));
+        if (ea) {
+            ++exits;
+            EXPECT_EQ(ea->p, eb->p);
+            EXPECT_EQ(ea->steps, eb->steps);
+            EXPECT_EQ(beta_a, beta_b);
+        }
+        start.entry = Vec2(1.f - start.entry.x, 0.5f * start.entry.y);
+        const auto ec =
+            subsurface_random_walk(walk, Vec3(0.f), n, n, beta_c, start, c, HalfSpace{});
+        if (ea && ec) moved += ea->p != ec->p;
+    }
+    EXPECT_GT(exits, 100);
+    EXPECT_GT(moved, exits / 2);
+}
+
+// The lobe's selection probability at wo weighs the walk's sample weight (the mean closure
+// weight) against the surface closures' at wo (Cycles' sample weights: the specular's Fresnel
+// at wo, the retro-reflection's roughness FV), as Cycles picks among closures. The wax of the
+// real scene suzanne_sss: at normal incidence the surface closures reflect ~4%, so the walk is
+// chosen 94% of the time (the fixed 3 m / (3 m + 1) = 0.64 left a third of the paths to them:
+// sigma 1.25x Cycles' on the object); at grazing the specular's Fresnel outweighs it.
+TEST(SubsurfaceModels, LobeProbabilityFollowsTheSampleWeightsAtWo) {
+    const Rgb wax(0.8f, 0.55f, 0.45f);
+    const Material m = make_material("principled", ParamSet{{"base_color", wax},
+                                                            {"subsurface", 0.1},
+                                                            {"subsurface_color", wax},
+                                                            {"roughness", 0.4}});
+    const Material::Subsurface* s = m.subsurface();
+    ASSERT_NE(s, nullptr);
+    ASSERT_NE(s->surface, nullptr);
+    ASSERT_TRUE(s->surface->principled().has_value());
+    EXPECT_FLOAT_EQ(s->weight, (wax.r + wax.g + wax.b) / 3.f);  // w_d = 1
+    float previous = 1.f;
+    for (float c : {1.f, 0.8f, 0.5f, 0.3f, 0.1f, 0.02f}) {
+        const Vec3 wo(std::sqrt(1.f - c * c), 0.f, c);
+        const float ws = s->surface->principled()->sample_weight(wo);
+        const float p = s->probability(wo);
+        EXPECT_FLOAT_EQ(p, s->weight / (s->weight + ws)) << c;
+        EXPECT_LT(p, previous) << c;  // Fresnel: the surface weighs more toward grazing
+        previous = p;
+    }
+    EXPECT_GT(s->probability(Vec3(0.f, 0.f, 1.f)), 0.9f);
+    EXPECT_LT(s->probability(glm::normalize(Vec3(1.f, 0.f, 0.02f))), 0.5f);
+}
+
 TEST(SubsurfaceModels, BuildTheWalkAndTheFallback) {
     const Material node = make_material("subsurface", ParamSet{{"color", Rgb(0.8f, 0.5f, 0.3f)}});
     ASSERT_NE(node.subsurface(), nullptr);
     EXPECT_EQ(node.subsurface()->surface, nullptr);
-    EXPECT_FLOAT_EQ(node.subsurface()->probability, 1.f);
+    EXPECT_FLOAT_EQ(node.subsurface()->probability(Vec3(0.f, 0.f, 1.f)), 1.f);
     ASSERT_TRUE(node.diffuse().has_value());  // the fallback: Lambert of the colour
     // Scale 0: no walk.
     EXPECT_EQ(make_material("subsurface", ParamSet{{"scale", 0.0}}).subsurface(), nullptr);
@@ -242,8 +307,9 @@ TEST(SubsurfaceModels, BuildTheWalkAndTheFallback) {
     ASSERT_NE(p.subsurface(), nullptr);
     EXPECT_TRUE(p.subsurface()->lobe.fresnel);
     ASSERT_NE(p.subsurface()->surface, nullptr);
-    EXPECT_GT(p.subsurface()->probability, 0.f);
-    EXPECT_LT(p.subsurface()->probability, 1.f);
+    const Vec3 normal(0.f, 0.f, 1.f), grazing = glm::normalize(Vec3(1.f, 0.f, 0.05f));
+    EXPECT_GT(p.subsurface()->probability(grazing), 0.f);
+    EXPECT_LT(p.subsurface()->probability(normal), 1.f);
     // Metallic 1: no diffuse weight, no walk.
     EXPECT_EQ(
         make_material("principled", ParamSet{{"subsurface", 1.0}, {"metallic", 1.0}}).subsurface(),

@@ -269,7 +269,9 @@ TEST(StagedMaterial, SubsurfaceIsBitIdentical) {
         EXPECT_EQ(wa.g, wb.g);
         EXPECT_EQ(wa.diffusion_length, wb.diffusion_length);
         EXPECT_EQ(wa.phase_log, wb.phase_log);
-        EXPECT_EQ(a.subsurface()->probability, b.subsurface()->probability);
+        EXPECT_EQ(a.subsurface()->weight, b.subsurface()->weight);
+        for (const Vec3 wo : {Vec3(0.f, 0.f, 1.f), glm::normalize(Vec3(0.9f, 0.f, 0.1f))})
+            EXPECT_EQ(a.subsurface()->probability(wo), b.subsurface()->probability(wo));
     }
 }
 
@@ -522,7 +524,9 @@ void expect_same_walk(const fr::Scene& s) {
         EXPECT_EQ(wa.sigma_t, wb.sigma_t);
         EXPECT_EQ(wa.alpha, wb.alpha);
         EXPECT_EQ(wa.g, wb.g);
-        EXPECT_EQ(a.subsurface()->probability, b.subsurface()->probability);
+        EXPECT_EQ(a.subsurface()->weight, b.subsurface()->weight);
+        for (const Vec3 wo : {Vec3(0.f, 0.f, 1.f), glm::normalize(Vec3(0.9f, 0.f, 0.1f))})
+            EXPECT_EQ(a.subsurface()->probability(wo), b.subsurface()->probability(wo));
         ASSERT_EQ(bool(a.subsurface()->surface), bool(b.subsurface()->surface));
         if (!a.subsurface()->surface) continue;
         for (int j = 0; j < 10; ++j) {

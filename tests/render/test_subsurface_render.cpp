@@ -117,6 +117,44 @@ TEST(SubsurfaceKernel, ThreadsAndRegionsGiveTheSamePixels) {
     EXPECT_GT(s, 0.0);
 }
 
+// The walk's entry direction and first step and its exit's light sample and direction take the
+// path's stratified sample dimensions (integrator.cpp, kMediaDimsPerSegment): a sphere of the
+// Subsurface Scattering node (no surface closures: every camera path walks) with short walks
+// under a uniform environment is less noisy with Sobol samples than with independent ones.
+// Noise: sigma = RMS(seed 1 - seed 2) / sqrt(2) over the sphere's pixels and channels. Measured
+// (32 x 32, 64 spp): Sobol / independent 0.87; 1.03 when the walk and the exit drew from the
+// segment's generator. Bound 0.95: about 4 standard errors of the ratio (about 2000 values per
+// estimate, ~1.5% each) from either.
+TEST(SubsurfaceNoise, WalkAndExitAreStratified) {
+    const fr::Scene scene = fr::testing::scene_from(
+        R"("camera": {"position": [0, 0, 4], "look_at": [0, 0, 0], "fov": 35, "width": 32,
+                      "height": 32},
+           "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material":
+                       {"model": "subsurface", "color": [0.8, 0.5, 0.4],
+                        "radius": [0.3, 0.1, 0.05]}}],
+           "lights": [{"type": "environment", "radiance": 0.5}],
+           "render": {"max_depth": 8})");
+    auto sigma = [&](bool independent) {
+        fr::RenderOptions o = fr::testing::test_options("path", 64, 1);
+        o.independent_samples = independent;
+        const fr::Image a = fr::render(scene, o);
+        o.seed = 2;
+        const fr::Image b = fr::render(scene, o);
+        double s2 = 0.0;
+        int n = 0;
+        for (std::size_t i = 0; i < a.pixels().size(); ++i) {
+            const Rgb &p = a.pixels()[i], &q = b.pixels()[i];
+            if (p.g == 0.5f || q.g == 0.5f) continue;  // the environment
+            for (int c = 0; c < 3; ++c) s2 += double(p[c] - q[c]) * double(p[c] - q[c]), ++n;
+        }
+        EXPECT_GT(n, 1500);
+        return std::sqrt(s2 / (2.0 * n));
+    };
+    const double sobol = sigma(false), independent = sigma(true);
+    EXPECT_LT(sobol / independent, 0.95)
+        << "sigma Sobol " << sobol << ", independent " << independent;
+}
+
 // export-pov: a walk has no POV-Ray equivalent; the error names the JSON pointer (principled:
 // its subsurface parameter). Principled with subsurface 0 exports.
 TEST(SubsurfaceErrors, PovExportNamesThePointer) {

@@ -126,7 +126,13 @@ class Material {
         // The BSDF closures beside the lobe (Principled's specular, sheen, retro-reflection,
         // ...); null when there are none (the Subsurface Scattering node).
         std::shared_ptr<const Material> surface;
-        float probability = 1.f;  // of choosing the lobe at a vertex (else `surface`)
+        // The lobe's sample weight (the average of lobe.weight: about what the walk returns).
+        float weight = 1.f;
+        // The probability of choosing the lobe at a vertex seen from wo (local frame), else
+        // `surface`: 1 without surface closures; else in proportion to the sample weights, the
+        // lobe's against the surface's at wo (PrincipledBxDF::sample_weight; 1 for a surface
+        // of another kind), as Cycles picks among its closures.
+        float probability(const Vec3& wo) const;
     };
     static Material with_subsurface(Material fallback, Subsurface s);
     const Subsurface* subsurface() const { return m_subsurface ? &*m_subsurface : nullptr; }

@@ -137,6 +137,11 @@ class PrincipledBxDF {
     // sends nothing toward wo's side). sample_f chooses lobe k for uc in [sum_{j<k} p_j,
     // sum_{j<=k} p_j); the reflectance quadrature integrates each lobe's samples apart.
     std::array<float, kLobes> lobe_probabilities(const Vec3& wo) const;
+    // The sum of the lobes' sample weights at wo (what lobe_probabilities normalises: each
+    // lobe's average colour times its Fresnel at wo, Cycles' closure sample weights); 0 when the
+    // model sends nothing toward wo's side. A caller weighs the model against other closures
+    // with it (the subsurface lobe beside subsurface_surface()).
+    float sample_weight(const Vec3& wo) const;
     // The compensated dielectric that stands for the glass lobes with multiscatter (or null).
     const DielectricBxDF* multiscatter_glass() const { return m_glass_ms ? &*m_glass_ms : nullptr; }
     // Whether the specular lobe has the multiscatter compensation (multiscatter and roughness
@@ -165,6 +170,7 @@ class PrincipledBxDF {
         float fm = 0.f;                 // Fresnel of the macro normal at wo (glass split)
         float ms_o = 0.f;               // 1 - E(mu_o) of the multiscatter compensation
         std::array<float, kLobes> p{};  // selection probabilities (sum 1 when any lobe)
+        float weight = 0.f;             // the sum of the lobes' sample weights
     };
     AtWo at_wo(const Vec3& wo, float etap) const;
     // wo mirrored to the upper side (o) and its AtWo; false when the model sends nothing

@@ -32,8 +32,10 @@
 //    (sigma_s* = sigma_s (1 - g), guided fraction 0.75). It ends when a segment reaches the
 //    object's surface (the exit) or after kMaxBounces steps (no exit: the path ends) or when
 //    every channel's weight is below 1e-8.
-//  - Random numbers come from a caller's uniform generator `u()` in [0, 1): the number of
-//    steps is unbounded, so the walk draws from a generator seeded per walk (deterministic).
+//  - Random numbers: the entry direction and the first step (channel, distance) take the
+//    caller's SubsurfaceWalkStart (a renderer's stratified sample dimensions: they decide most
+//    of where a short walk leaves); the later steps draw from a caller's uniform generator
+//    `u()` in [0, 1) (their number is unbounded: a generator seeded per walk, deterministic).
 //  - Directions are world vectors; distances are in scene units.
 #pragma once
 
@@ -110,6 +112,14 @@ struct SubsurfaceExit {
     int steps = 0;  // segments walked
 };
 
+// The random numbers a walk starts with, in [0, 1)^2 each: the entry direction's, and the first
+// step's channel choice (x) and distance (y). A renderer takes them from its stratified sample
+// dimensions (one pair each): the entry and the first step decide most of where a short walk
+// leaves.
+struct SubsurfaceWalkStart {
+    Vec2 entry{0.f}, first{0.f};
+};
+
 namespace subsurface_detail {
 
 inline float dwivedi_eval(float v, float phase_log, float cos_theta) {
@@ -141,15 +151,18 @@ inline Rgb transmittance(const Rgb& sigma_t, float t) {
 //     leaves the entry point (the caller keeps it off the entry triangle). It keeps the hit
 //     of the last call that found one: the exit's.
 //   u() -> float in [0, 1).
+//   start: the numbers of the entry direction and of the first step's channel and distance
+//     (the caller's stratified sample dimensions); the overload without it draws them from u()
+//     (entry, then first step: the order the walk uses them in).
 template <class Intersect, class Uniform>
 std::optional<SubsurfaceExit> subsurface_random_walk(const SubsurfaceWalk& w, const Vec3& p,
                                                      const Vec3& n, const Vec3& ng, Rgb& beta,
-                                                     Uniform&& u, Intersect&& intersect) {
+                                                     const SubsurfaceWalkStart& start, Uniform&& u,
+                                                     Intersect&& intersect) {
     using namespace subsurface_detail;
     using L = SubsurfaceLimits;
     // Into the object: cosine-weighted about -n (the diffuse transmission of the entry).
-    const float u0 = u(), u1 = u();
-    const Vec3 local = sample_cosine_hemisphere(Vec2(u0, u1));
+    const Vec3 local = sample_cosine_hemisphere(start.entry);
     Vec3 d = Frame::from_z(-n).from_local(local);
     if (!(glm::dot(-ng, d) > 0.f)) return std::nullopt;
     if (!(w.diffusion_length > 1.f)) return std::nullopt;
@@ -176,10 +189,10 @@ std::optional<SubsurfaceExit> subsurface_random_walk(const SubsurfaceWalk& w, co
         for (int c = 0; c < 3; ++c) weights[c] = std::fabs(weights[c]);
         const float sum = weights.r + weights.g + weights.b;
         const Rgb channel_pdf = sum > 0.f ? weights / sum : Rgb(1.f / 3.f);
-        const float rc = u();
+        const float rc = bounce == 0 ? start.first.x : u();
         const int ch = rc < channel_pdf.r ? 0 : rc < channel_pdf.r + channel_pdf.g ? 1 : 2;
         float sample_sigma_t = sigma_t[ch];
-        const float rt = u();
+        const float rt = bounce == 0 ? start.first.y : u();
 
         float backward_fraction = 0.f, forward_pdf_factor = 0.f, backward_pdf_factor = 0.f;
         float forward_stretch = 1.f, backward_stretch = 1.f;
@@ -259,6 +272,18 @@ std::optional<SubsurfaceExit> subsurface_random_walk(const SubsurfaceWalk& w, co
             return std::nullopt;
     }
     return std::nullopt;
+}
+
+template <class Intersect, class Uniform>
+std::optional<SubsurfaceExit> subsurface_random_walk(const SubsurfaceWalk& w, const Vec3& p,
+                                                     const Vec3& n, const Vec3& ng, Rgb& beta,
+                                                     Uniform&& u, Intersect&& intersect) {
+    SubsurfaceWalkStart start;
+    start.entry.x = u();
+    start.entry.y = u();
+    start.first.x = u();
+    start.first.y = u();
+    return subsurface_random_walk(w, p, n, ng, beta, start, u, intersect);
 }
 
 }  // namespace facet

@@ -750,21 +750,24 @@ struct MediumStack {
 //   0 light choice (read by none: LightDistribution::sample), 1 light position (the vertex's
 //     light sample: a surface's, a grid medium's, or any medium's with
 //     VolumeSampling::Distance),
-//   2 lobe choice (surfaces), 3 direction (BSDF or phase function), 4 roulette,
+//   2 lobe choice (surfaces), 3 direction (BSDF or phase function; a subsurface walk's entry
+//     direction), 4 roulette,
+//   5 light position of a subsurface walk's exit vertex, 6 its cosine-sampled direction,
 //   7 channel choice, 8 free-flight distance,
-//   9 the seed of the segment's tracking generator (grid media: TrackingRng),
+//   9 the seed of the segment's tracking generator (grid media: TrackingRng; the steps of a
+//     subsurface walk after its first),
 //   10 light choice, 11 light position of the segment's light samples in a homogeneous
-//     medium (segment_light), 12 its equiangular distance; 5, 6 and 13 are unused (kept so
-//     that samples keep their values).
+//     medium (segment_light), 12 its equiangular distance, 13 a subsurface walk's first step
+//     (channel choice, distance).
 // A segment takes the same dimensions whatever it meets, so its vertex's light sample and the
 // segment's are independent.
 constexpr std::uint32_t kMediaDimsPerSegment = 14;
 constexpr std::uint32_t kSegmentLightDim = 10;
 
 // The uniform generator of a segment's tracking in grid media (Medium::sample_free_flight,
-// ratio_transmittance) and of subsurface walks: a PCG32 seeded from the sampler at dimension
-// `dim` (Sampler::get_seed) on its first draw, so segments that draw nothing (homogeneous media,
-// no medium) do not hash the seed.
+// ratio_transmittance) and of subsurface walks' later steps: a PCG32 seeded from the sampler at
+// dimension `dim` (Sampler::get_seed) on its first draw, so segments that draw nothing (homogeneous
+// media, no medium) do not hash the seed.
 class TrackingRng {
   public:
     TrackingRng(const Sampler& s, std::uint32_t dim) : m_sampler(s) {
@@ -908,17 +911,26 @@ inline bool roulette(Rgb& beta, int depth, float u) {
     return true;
 }
 
+// The stratified numbers of a walk and its exit vertex (the segment's dimensions: see
+// kMediaDimsPerSegment); the walk's later steps draw from the tracking generator.
+struct SubsurfaceSamples {
+    SubsurfaceWalkStart start;
+    Vec2 light{0.f}, direction{0.f};  // the exit's light sample and cosine-sampled direction
+};
+
 // A random walk inside the object of `hit` (integrator.h, "Subsurface"; facet/subsurface.h) and
 // the exit vertex: next-event estimation and a cosine-sampled direction with the exit lobe.
 // beta holds the lobe's weight over its selection probability on entry; on return (true) the
 // path's weight after the exit's sample, L the exit's light sample, `ray` the next ray. False:
-// the walk found no exit (the path ends). The walk's and the exit's random numbers come from
-// `rng` (the number of steps is unbounded).
+// the walk found no exit (the path ends). The entry, the first step and the exit take their
+// numbers from the segment's sample dimensions (u_sss), the later steps from `rng` (their number
+// is unbounded).
 template <std::uint32_t F>
 bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, const SurfaceHit& hit,
                      const Vec3& wo_w, float time, const MediumStack& stack,
-                     const Material::Subsurface& sss, TrackingRng& rng, KernelCounters& c,
-                     Rgb& beta, Rgb& L, Ray& ray, float& prev_pdf, LightSampleContext& prev_ctx) {
+                     const Material::Subsurface& sss, const SubsurfaceSamples& u_sss,
+                     TrackingRng& rng, KernelCounters& c, Rgb& beta, Rgb& L, Ray& ray,
+                     float& prev_pdf, LightSampleContext& prev_ctx) {
     // The entry's normals on the viewer's side (the walk goes into the other).
     const bool front = glm::dot(hit.ng, wo_w) > 0.f;
     const Vec3 n = front ? hit.ns : -hit.ns, ng = front ? hit.ng : -hit.ng;
@@ -942,7 +954,7 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
         return kInfinity;
     };
     const std::optional<SubsurfaceExit> ex =
-        subsurface_random_walk(sss.lobe.walk, hit.p, n, ng, beta, rng, intersect);
+        subsurface_random_walk(sss.lobe.walk, hit.p, n, ng, beta, u_sss.start, rng, intersect);
     if (!ex || !(max3(beta) > 0.f)) return false;
     // The exit vertex, seen from outside (the side the walk's last segment points to).
     const bool along = glm::dot(exit.ng, ex->d) > 0.f;
@@ -950,9 +962,8 @@ bool subsurface_walk(const Scene& scene, const LightDistribution& light_dist, co
     const Frame frame = Frame::from_z(ens);
     const bool fresnel = sss.lobe.fresnel;
     const LightSampleContext ctx{exit.p, ens};
-    rng();  // the light choice's draw, read by none: the later draws keep their values
-    Vec2 u_light(rng(), rng());
-    const Vec2 u_dir(rng(), rng());
+    Vec2 u_light = u_sss.light;
+    const Vec2 u_dir = u_sss.direction;
     if (!light_dist.empty()) {
         float select_pmf = 1.f;
         std::uint32_t light_index = 0;
@@ -1341,7 +1352,7 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             // 1 - p_walk; their pdfs carry that factor in MIS).
             const Material::Subsurface* sss = diffuse_ancestor ? nullptr : m.subsurface();
             const Material* bm = sss ? sss->surface.get() : &m;
-            const float p_walk = sss ? sss->probability : 0.f;
+            const float p_walk = sss ? sss->probability(sh.wo) : 0.f;
             const float p_bsdf = 1.f - p_walk;
             if (bm && !light_dist.empty() && has_non_specular<F>(*bm)) {
                 const Material& mb = *bm;
@@ -1374,8 +1385,15 @@ Rgb media_path_li(const Scene& scene, const LightDistribution& light_dist, Ray r
             // The walk, after the light sample of the closures beside it (Cycles' entry).
             if (sss && u_lobe < p_walk) {
                 beta *= sss->lobe.weight / p_walk;
-                if (!subsurface_walk<F>(scene, light_dist, hit, wo_w, time, stack, *sss, rng, c,
-                                        beta, L, ray, prev_pdf, prev_ctx))
+                SubsurfaceSamples u_sss;
+                u_sss.start.entry = u_bsdf;  // the closures' direction pair, unused by a walk
+                s.set_dimension(base + 5u);
+                u_sss.light = s.get_2d();
+                u_sss.direction = s.get_2d();
+                s.set_dimension(base + 13u);
+                u_sss.start.first = s.get_2d();
+                if (!subsurface_walk<F>(scene, light_dist, hit, wo_w, time, stack, *sss, u_sss, rng,
+                                        c, beta, L, ray, prev_pdf, prev_ctx))
                     break;
                 prev_fixed_pmf = false;
                 specular_bounce = false;

@@ -128,15 +128,10 @@ const ModelInfo& principled_model() {
                     mixed, subsurface_effective_radius(in.radius, mixed, in.ior, in.method),
                     in.anisotropy);
                 s.lobe.fresnel = true;
+                s.weight = (s.lobe.weight.r + s.lobe.weight.g + s.lobe.weight.b) / 3.f;
                 const PrincipledBxDF surface = PrincipledBxDF::subsurface_surface(p);
-                if (surface.flags() != BxDFFlags::None) {
+                if (surface.flags() != BxDFFlags::None)
                     s.surface = pooled_material(Material(surface));
-                    // Cycles' sample weights: the BSSRDF's mean weight times its 3 channels;
-                    // the surface closures' sum is taken as 1 here (a selection probability:
-                    // any positive choice is unbiased).
-                    const float m = s.lobe.weight.r + s.lobe.weight.g + s.lobe.weight.b;
-                    s.probability = m / (m + 1.f);
-                }
                 return Material::with_subsurface(std::move(fallback), std::move(s));
             },
         .diffuse_param = "",

@@ -102,7 +102,7 @@ const ModelInfo& subsurface_model() {
                     color, subsurface_effective_radius(in.radius, color, in.ior, in.method),
                     in.anisotropy);
                 s.lobe.fresnel = false;
-                s.probability = 1.f;
+                s.weight = (color.r + color.g + color.b) / 3.f;
                 return Material::with_subsurface(std::move(fallback), std::move(s));
             },
         .diffuse_param = "",

@@ -83,12 +83,13 @@
 //  - Subsurface (SceneFeatures::has_subsurface; facet/subsurface.h, docs/subsurface.md): scenes
 //    with a subsurface material run the media kernel. At a surface vertex of such a material on
 //    a path without a diffuse bounce, the walk is chosen with Material::Subsurface::probability
-//    (the lobe dimension); else its surface closures are sampled (NEE and BSDF pdfs scaled by
-//    the probability of choosing them). The walk runs inside the hit's shape (rays that meet
-//    other shapes pass them), then the exit vertex does NEE and samples its cosine lobe; the
-//    walk and the exit take their random numbers from the segment's tracking generator. Any
-//    diffuse sample (and the walk) sets the path's diffuse ancestor (Cycles' flag): later hits
-//    on subsurface materials see their fallback BSDF.
+//    at wo (the lobe dimension); else its surface closures are sampled (NEE and BSDF pdfs
+//    scaled by the probability of choosing them). The walk runs inside the hit's shape (rays
+//    that meet other shapes pass them), then the exit vertex does NEE and samples its cosine
+//    lobe; the entry direction, the first step and the exit's light sample and direction take
+//    the segment's sample dimensions (stratified over the pixel's samples), the later steps the
+//    segment's tracking generator. Any diffuse sample (and the walk) sets the path's diffuse
+//    ancestor (Cycles' flag): later hits on subsurface materials see their fallback BSDF.
 //  - Ray visibility (SceneFeatures::has_ray_visibility; scene.h RayVisibility, scenes/FORMAT.md
 //    "Ray visibility"): scenes with a shape that some kind of ray does not see run the media
 //    kernel, whose paths carry their current ray's kind as Cycles 3.4's path flags give it:
