@@ -37,6 +37,7 @@
 // over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "facet/bessel.h"
 #include "facet/fresnel.h"
@@ -96,14 +97,15 @@ class PrincipledHair {
     }
 
     BSDFEval eval(const Vec3& wo, const Vec3& wi) const {
-        Setup g;
-        if (!setup(wo, g)) return {};
-        return eval(g, wi);
+        const Setup* g = setup_of(wo);
+        if (!g) return {};
+        return eval(*g, wi);
     }
 
     std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const {
-        Setup g;
-        if (!setup(wo, g)) return std::nullopt;
+        const Setup* pg = setup_of(wo);
+        if (!pg) return std::nullopt;
+        const Setup& g = *pg;
         // The lobe, and uc rescaled within its interval for phi.
         int p = 0;
         double rest = uc;
@@ -151,6 +153,36 @@ class PrincipledHair {
         DVec3 ap[4];
         double w[4];  // lobe probabilities (luminance of A_p, normalised)
     };
+
+    // What setup() reads: wo and the parameters it depends on, compared bit for bit.
+    struct SetupKey {
+        float wo[3], sigma[3], eta, sin_alpha, cos_alpha;
+    };
+    static_assert(sizeof(Rgb) == 3 * sizeof(float) && sizeof(SetupKey) == 9 * sizeof(float));
+
+    // The setup for wo: the last one this thread computed when its key matches (a path vertex
+    // evaluates its light sample, then samples its next direction, both from the same wo), else
+    // computed now. Null when wo has no frame. The same values as computing it each time.
+    const Setup* setup_of(const Vec3& wo) const {
+        struct Cache {
+            SetupKey key;
+            Setup g;
+            bool ok = false, valid = false;
+        };
+        thread_local Cache cache;
+        SetupKey key;
+        std::memcpy(key.wo, &wo, sizeof key.wo);
+        std::memcpy(key.sigma, &m_sigma, sizeof key.sigma);
+        key.eta = m_eta;
+        key.sin_alpha = m_sin_alpha;
+        key.cos_alpha = m_cos_alpha;
+        if (!cache.valid || std::memcmp(&key, &cache.key, sizeof key) != 0) {
+            cache.key = key;
+            cache.ok = setup(wo, cache.g);
+            cache.valid = true;
+        }
+        return cache.ok ? &cache.g : nullptr;
+    }
 
     bool setup(const Vec3& wo, Setup& g) const {
         const double r2 = double(wo.y) * wo.y + double(wo.z) * wo.z;
