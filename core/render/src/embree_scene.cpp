@@ -445,20 +445,38 @@ void copy_times(RTCRay8& r, const RayPacket& rays) {
     for (std::size_t k = 0; k < 8; ++k) r.time[k] = rays.time[k];
 }
 
-// The occlusion packet `r`, traced in the main scene under `valid`, then in the curves' scene
-// (EmbreeBackend::curve_scene) for the lanes nothing blocked yet. Out of line: only scenes with
-// curves call it.
-[[gnu::noinline]] void occluded_curves8(RTCScene curves, const int (&valid)[8], RTCRay8& r) {
+// The queries of a scene with curves (EmbreeBackend::curve_scene): the main scene, then the
+// curves' scene within the nearest hit so far (which a nearer curve replaces), or for the lanes
+// nothing blocked yet. Out of line, chosen by one test before the query: scenes without curves
+// trace as before.
+[[gnu::noinline]] void intersect1_with_curves(const EmbreeBackend& be, RTCIntersectContext& ctx,
+                                              RTCRayHit& rh) {
+    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    rtcIntersect1(be.curve_scene.get(), &ctx, &rh);
+}
+
+[[gnu::noinline]] void intersect8_with_curves(const int (&valid)[8], const EmbreeBackend& be,
+                                              RTCIntersectContext& ctx, RTCRayHit8& rh) {
+    rtcIntersect8(valid, be.scene.get(), &ctx, &rh);
+    rtcIntersect8(valid, be.curve_scene.get(), &ctx, &rh);
+}
+
+[[gnu::noinline]] void occluded1_with_curves(const EmbreeBackend& be, RTCIntersectContext& ctx,
+                                             RTCRay& r) {
+    rtcOccluded1(be.scene.get(), &ctx, &r);
+    if (!(r.tfar < 0.f)) rtcOccluded1(be.curve_scene.get(), &ctx, &r);
+}
+
+[[gnu::noinline]] void occluded8_with_curves(const int (&valid)[8], const EmbreeBackend& be,
+                                             RTCIntersectContext& ctx, RTCRay8& r) {
+    rtcOccluded8(valid, be.scene.get(), &ctx, &r);
     alignas(32) int open[8];
     bool any = false;
     for (std::size_t k = 0; k < 8; ++k) {
         open[k] = valid[k] && !(r.tfar[k] < 0.f) ? -1 : 0;
         any |= open[k] != 0;
     }
-    if (!any) return;
-    RTCIntersectContext ctx;
-    rtcInitIntersectContext(&ctx);
-    rtcOccluded8(open, curves, &ctx, &r);
+    if (any) rtcOccluded8(open, be.curve_scene.get(), &ctx, &r);
 }
 
 // The closest-hit packet of `rays`: the rays as they are, and a hit record that says "no hit
@@ -1239,10 +1257,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
     init_rayhit(rh, ray);
-    rtcIntersect1(be.scene.get(), &ctx, &rh);
-    // The curves' scene next, within the nearest hit so far (which a nearer curve replaces).
     if (be.curve_scene) [[unlikely]]
-        rtcIntersect1(be.curve_scene.get(), &ctx, &rh);
+        intersect1_with_curves(be, ctx, rh);
+    else
+        rtcIntersect1(be.scene.get(), &ctx, &rh);
     return be.surface_extras
                ? complete_hit<true>(ray, 0.f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
@@ -1259,10 +1277,10 @@ bool Scene::intersect(const Ray& ray, float time, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rh.ray.time = time;
-    rtcIntersect1(be.scene.get(), &ctx, &rh);
-    // The curves' scene next, within the nearest hit so far (which a nearer curve replaces).
     if (be.curve_scene) [[unlikely]]
-        rtcIntersect1(be.curve_scene.get(), &ctx, &rh);
+        intersect1_with_curves(be, ctx, rh);
+    else
+        rtcIntersect1(be.scene.get(), &ctx, &rh);
     return be.surface_extras
                ? complete_hit<true>(ray, time, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
@@ -1372,9 +1390,10 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     init_rayhit8(rh, rays);
     if (impl.backend->has_motion) [[unlikely]]
         copy_times(rh.ray, rays);
-    rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     if (impl.backend->curve_scene) [[unlikely]]
-        rtcIntersect8(valid, impl.backend->curve_scene.get(), &ctx, &rh);
+        intersect8_with_curves(valid, *impl.backend, ctx, rh);
+    else
+        rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     // The hit records read per-triangle data that Embree's traversal did not touch (its leaves
     // hold their own vertex copies): on a large mesh these are cache misses. Ask for all lanes'
     // lines first so that the misses overlap instead of queueing one lane at a time.
@@ -1433,9 +1452,10 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
     copy_rays(r, rays);
     if (impl.backend->has_motion) [[unlikely]]
         copy_times(r, rays);
-    rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     if (impl.backend->curve_scene) [[unlikely]]
-        occluded_curves8(impl.backend->curve_scene.get(), valid, r);
+        occluded8_with_curves(valid, *impl.backend, ctx, r);
+    else
+        rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
         if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
 }
@@ -1464,9 +1484,10 @@ bool Scene::occluded_ray_at(const Ray& r, float time) const {
     RTCRay ray;
     init_ray(ray, r, r.tmax);
     ray.time = time;
-    rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
-    if (impl.backend->curve_scene && !(ray.tfar < 0.f)) [[unlikely]]
-        rtcOccluded1(impl.backend->curve_scene.get(), &ctx, &ray);
+    if (impl.backend->curve_scene) [[unlikely]]
+        occluded1_with_curves(*impl.backend, ctx, ray);
+    else
+        rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
     return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
@@ -1486,8 +1507,10 @@ std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) co
         RTCRayHit8 rh;
         init_rayhit8(rh, packet);
         if (shadow) {
-            rtcOccluded8(valid, scene, &ctx, &rh.ray);
-            if (curves) occluded_curves8(curves, valid, rh.ray);
+            if (curves)
+                occluded8_with_curves(valid, *m_impl->backend, ctx, rh.ray);
+            else
+                rtcOccluded8(valid, scene, &ctx, &rh.ray);
             for (std::size_t k = 0; k < kPacketSize; ++k) hits += valid[k] && rh.ray.tfar[k] < 0.f;
         } else {
             rtcIntersect8(valid, scene, &ctx, &rh);
