@@ -81,12 +81,15 @@ class FinalSession:
         catcher_pass = not engine.is_preview and passes.shadow_catcher_pass(depsgraph.view_layer)
         # Denoising renders the samples in two halves [0, n/2) and [n/2, n): the half-buffers.
         ranges = [(0, rs["spp"] // 2), (rs["spp"] // 2, rs["spp"])] if denoise else [None]
+        # The Depth pass from the render's own camera samples (one session; passes.write).
+        depth_pass = not denoise and not engine.is_preview and \
+            passes.wants_depth(depsgraph.view_layer)
         sessions = [native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                    max_depth=rs["max_depth"], integrator=rs["integrator"],
                                    time_budget=rs.get("time_budget", 0.0), region=region,
                                    light_selection=scene.facet.light_selection, samples=r,
                                    adaptive_threshold=0.0 if denoise else None,
-                                   shadow_catcher_pass=catcher_pass)
+                                   shadow_catcher_pass=catcher_pass, depth_pass=depth_pass)
                     for r in ranges]
         t_export = time.perf_counter() - t0
         # With a border, Blender's render rectangle is the border: result coordinates are
@@ -127,7 +130,8 @@ class FinalSession:
             # The view layer's other passes (passes.py): only those enabled, each computed once.
             crop = region or (0, 0, width, height)
             written = passes.write(result, fscene, depsgraph.view_layer, min(rs["spp"], 64),
-                                   rs["seed"], threads, crop)
+                                   rs["seed"], threads, crop,
+                                   depth=sessions[0].depth() if depth_pass else None)
             if catcher_pass:  # of the whole render: the two halves' merged sums
                 passes.write_shadow_catcher(
                     result, sessions[0].shadow_catcher_pass() if len(sessions) == 1 else

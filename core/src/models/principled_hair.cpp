@@ -30,9 +30,10 @@
 //    (facet/bessel.h, 1.2e-14 relative; Cycles' float series stops after ten terms, 0.3% low at
 //    x = cos theta_i cos theta_o / v = 10 and 2% at 12, and its asymptote above 12 is 0.6% low
 //    there), and the exponent of M_p as (cos(theta_i + theta_o) - 1) / v without cancellation.
-//    What depends on wo alone (Setup) is computed once per eval or sample_f, the lobes' tilts by
-//    the angle-addition formulas from the sine and cosine of alpha, and the density of a tilted
-//    lobe reuses the lobe's own M_p where its preimage is theta_i + shift.
+//    What depends on wo alone (Setup) is computed once per wo (each thread keeps the last one
+//    for the next eval or sample_f with the same wo and parameters: setup_of), the lobes' tilts
+//    by the angle-addition formulas from the sine and cosine of alpha, and the density of a
+//    tilted lobe reuses the lobe's own M_p where its preimage is theta_i + shift.
 // Conventions: facet/inline_bxdf.h; flagged Transmission (wi on either side: a fibre scatters
 // over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
 #include <algorithm>
