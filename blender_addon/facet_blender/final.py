@@ -82,8 +82,8 @@ class FinalSession:
         # Denoising renders the samples in two halves [0, n/2) and [n/2, n): the half-buffers.
         ranges = [(0, rs["spp"] // 2), (rs["spp"] // 2, rs["spp"])] if denoise else [None]
         # The Depth pass from the render's own camera samples (one session; passes.write).
-        depth_pass = not denoise and not engine.is_preview and \
-            passes.wants_depth(depsgraph.view_layer)
+        depth_pass = (not denoise and not engine.is_preview
+                      and passes.wants_depth(depsgraph.view_layer))
         sessions = [native.Session(fscene, spp=rs["spp"], threads=threads, seed=rs["seed"],
                                    max_depth=rs["max_depth"], integrator=rs["integrator"],
                                    time_budget=rs.get("time_budget", 0.0), region=region,
