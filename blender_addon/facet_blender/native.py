@@ -572,10 +572,12 @@ class Session:
 
     def __init__(self, scene, spp=None, threads=0, seed=None, max_depth=None, integrator=None,
                  time_budget=None, region=None, light_selection=None, samples=None,
-                 adaptive_threshold=None, shadow_catcher_pass=False):
+                 adaptive_threshold=None, shadow_catcher_pass=False, depth_pass=False):
         kw = {"threads": int(threads)}
         if shadow_catcher_pass:  # image() is then Cycles' Combined with that pass (render.h)
             kw["shadow_catcher_pass"] = True
+        if depth_pass:  # depth(): the Depth pass of the render's camera samples
+            kw["depth_pass"] = True
         if adaptive_threshold is not None:  # None: the scene's (its render settings)
             kw["adaptive_threshold"] = float(adaptive_threshold)
         if samples is not None:
@@ -613,6 +615,13 @@ class Session:
     def shadow_catcher_pass(self):
         """The Shadow Catcher pass, float32 (h, w, 3), top row first."""
         return np.asarray(self._s.shadow_catcher_pass(), dtype=np.float32)
+
+    def depth(self):
+        """The Depth pass summed while rendering (depth_pass=True), float32 (h, w), top row
+        first; None when the scene does not allow it (motion blur, ray visibility: then
+        passes.write renders it)."""
+        d = self._s.depth()
+        return None if d is None else np.asarray(d, dtype=np.float32)[:, :, 0]
 
     def part(self):
         """The facet.RenderPart this session rendered (its sample range)."""

@@ -6,7 +6,10 @@ when enabled (nothing is computed otherwise):
 - Depth ("Z"): distance from the camera along its view axis, as Cycles 3.4's Z pass
   (camera_z_depth: the camera-space z of the hit), 1e10 where nothing is hit; Facet averages
   the samples that hit, Cycles averages all samples with 0 for misses and writes 1e10 only
-  where every sample missed (silhouette pixels differ).
+  where every sample missed (silhouette pixels differ). As Cycles, from the render's own camera
+  samples (the session sums it while rendering: RenderOptions::depth_pass), unless the scene
+  has motion blur or ray visibility or the render is denoised: then from the first-hit pass
+  below, whose samples are the render's first min(spp, 64).
 - Normal ("XYZ"): the world-space shading normal (after normal and bump maps) turned toward
   the viewer, averaged over the pixel's samples, 0 where nothing is hit (as Cycles).
 - Emit ("RGB"): the radiance the surface seen emits toward the camera (not the world: that
@@ -80,19 +83,28 @@ def write_shadow_catcher(result, image):
     result.layers[0].passes[SHADOW_CATCHER[0]].rect.foreach_set(flat)
 
 
-def write(result, fscene, view_layer, spp, seed, threads, crop):
+def wants_depth(view_layer):
+    """Whether the view layer asks for a pass of the core's depth (Depth, Denoising Depth)."""
+    return any(p[1] == "depth" for p in enabled(view_layer))
+
+
+def write(result, fscene, view_layer, spp, seed, threads, crop, depth=None):
     """Computes the enabled passes over the whole image and writes the `crop` (x0, y0, x1, y1
-    of the core's top-down image; the border) into the render result's passes. Returns the
-    names written."""
+    of the core's top-down image; the border) into the render result's passes; `depth`, the
+    render session's Depth pass of the crop (float32 (h, w), native.Session.depth()), when it
+    has one. Returns the names written."""
     want = [p for p in enabled(view_layer)]
     if not want:
         return []
-    imgs = native.render_aovs(fscene, sorted({p[1] for p in want}), spp=spp, seed=seed,
-                              threads=threads)
+    cores = sorted({p[1] for p in want} - ({"depth"} if depth is not None else set()))
+    imgs = native.render_aovs(fscene, cores, spp=spp, seed=seed, threads=threads) if cores else {}
     x0, y0, x1, y1 = crop
     layer = result.layers[0]
     for name, core, n, _, _, _ in want:
-        img = imgs[core][y0:y1, x0:x1]
+        if core == "depth" and depth is not None:
+            img = depth[:, :, None]  # the crop's already
+        else:
+            img = imgs[core][y0:y1, x0:x1]
         flat = np.ascontiguousarray(img[::-1, :, :n], dtype=np.float32).reshape(-1, n)
         layer.passes[name].rect.foreach_set(flat)
     return [p[0] for p in want]

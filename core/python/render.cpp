@@ -5,8 +5,9 @@
 //    meaning "the scene's setting": spp, threads (0 = every hardware thread), seed, integrator
 //    ('path' | 'direct'), max_depth, region=(x0, y0, x1, y1), samples=(s0, s1), time_budget (s),
 //    tile_size, pass_seconds, force_general_kernel, uniform_light_selection,
-//    independent_samples, adaptive_threshold, adaptive_min_samples, shadow_catcher_pass. Bad
-//    values raise ValueError naming the option.
+//    independent_samples, adaptive_threshold, adaptive_min_samples, shadow_catcher_pass,
+//    depth_pass (RenderSession only: its depth()). Bad values raise ValueError naming the
+//    option.
 //  - The GIL is released while a pass renders. Between passes the session calls back into
 //    Python with the GIL held: it checks for signals (Ctrl-C), then calls the progress callable
 //    (if any) with a PassInfo; a False return cancels. A KeyboardInterrupt (or any exception of
@@ -139,7 +140,8 @@ const char* const kOptionNames[] = {"spp",
                                     "independent_samples",
                                     "adaptive_threshold",
                                     "adaptive_min_samples",
-                                    "shadow_catcher_pass"};
+                                    "shadow_catcher_pass",
+                                    "depth_pass"};
 
 template <class T>
 T option_value(py::handle v, const char* name, const char* expected) {
@@ -227,6 +229,8 @@ RenderOptions options_from(const py::kwargs& kw, const char* function, py::objec
             o.adaptive_min_samples = option_value<int>(value, k.c_str(), "an int >= 0");
         else if (k == "shadow_catcher_pass")
             o.shadow_catcher_pass = option_value<bool>(value, k.c_str(), "a bool");
+        else if (k == "depth_pass")
+            o.depth_pass = option_value<bool>(value, k.c_str(), "a bool");
         else {
             std::vector<std::string> names(std::begin(kOptionNames), std::end(kOptionNames));
             if (progress) names.push_back("progress");
@@ -552,6 +556,18 @@ void bind_render(py::module_& m) {
             "The Shadow Catcher pass over the region (h, w, 3): the light the shadow catchers "
             "kept (scenes/FORMAT.md, Shadow catchers), 1 where none is seen")
         .def(
+            "depth",
+            [](const PySession& s) -> py::object {
+                s.check_between_passes("depth");
+                Image d = s.session->depth();
+                if (d.width() == 0) return py::none();
+                return py::object(image_array(std::move(d)));
+            },
+            "The Depth pass of the session's camera samples over the region (h, w, 3, the depth "
+            "in every channel), as render_aovs' 'depth' at the same spp and seed, when the "
+            "session was made with depth_pass=True and the scene allows it (no motion blur, no "
+            "ray visibility: render.h's depth_pass_available); None otherwise")
+        .def(
             "part",
             [](const PySession& s) {
                 s.check_between_passes("part");
@@ -580,6 +596,9 @@ void bind_render(py::module_& m) {
             }
             py::object progress = py::none();
             const RenderOptions options = options_from(kw, "render", &progress);
+            if (options.depth_pass)
+                bad_argument("depth_pass",
+                             "only a RenderSession keeps the Depth pass (RenderSession.depth())");
             if (denoised) {
                 if (!progress.is_none())
                     bad_argument("progress", "not available with denoise=True");

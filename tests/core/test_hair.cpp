@@ -459,6 +459,56 @@ TEST(PrincipledHair, NoNaNAtTheEdges) {
     EXPECT_EQ(bad, 0);
 }
 
+// A thread keeps the last setup of wo (principled_hair.cpp, setup_of) for the next call with
+// the same wo and parameters: any call gives what it gives alone. Materials that differ in each
+// parameter the setup reads (absorption, ior, offset), and in one it does not (roughness), are
+// evaluated and sampled at the same wo one after the other; each answer equals, bit for bit, that
+// material's answer after a call at another wo (a fresh setup), and the pairs' answers differ
+// (a cache that kept the first material's setup for the second would return the first's values
+// for the setup's part and fail).
+TEST(PrincipledHair, SetupReuseGivesEachMaterialItsOwnValues) {
+    const Material base = principled_hair(ParamSet{{"color", 0.3}, {"offset", 0.05}});
+    const std::vector<Material> others = {
+        principled_hair(ParamSet{{"color", 0.6}, {"offset", 0.05}}),
+        principled_hair(ParamSet{{"color", 0.3}, {"offset", 0.05}, {"ior", 1.8}}),
+        principled_hair(ParamSet{{"color", 0.3}, {"offset", -0.1}}),
+        principled_hair(ParamSet{{"color", 0.3}, {"offset", 0.05}, {"roughness", 0.6}})};
+    const Vec3 wo = wo_at(20.0, 0.4), elsewhere = wo_at(-35.0, -0.2);
+    const Vec3 wi = dir(70.0, 40.0);
+    const float uc = 0.37f;
+    const Vec2 u(0.61f, 0.23f);
+    auto fresh_eval = [&](const Material& m) {
+        (void)m.eval(elsewhere, wi);
+        return m.eval(wo, wi);
+    };
+    auto fresh_sample = [&](const Material& m) {
+        (void)m.eval(elsewhere, wi);
+        return m.sample_f(wo, uc, u);
+    };
+    for (std::size_t i = 0; i < others.size(); ++i) {
+        SCOPED_TRACE("material " + std::to_string(i));
+        const Material& m = others[i];
+        const BSDFEval want_base = fresh_eval(base), want = fresh_eval(m);
+        const auto want_sample = fresh_sample(m);
+        ASSERT_TRUE(want_sample.has_value());
+        EXPECT_NE(want.f, want_base.f);
+        // The other material right after base at the same wo, and base right after it.
+        (void)base.eval(wo, wi);
+        const BSDFEval got = m.eval(wo, wi);
+        EXPECT_EQ(got.f, want.f);
+        EXPECT_EQ(got.pdf, want.pdf);
+        const BSDFEval got_base = base.eval(wo, wi);
+        EXPECT_EQ(got_base.f, want_base.f);
+        EXPECT_EQ(got_base.pdf, want_base.pdf);
+        (void)base.eval(wo, wi);
+        const auto got_sample = m.sample_f(wo, uc, u);
+        ASSERT_TRUE(got_sample.has_value());
+        EXPECT_EQ(got_sample->wi, want_sample->wi);
+        EXPECT_EQ(got_sample->f, want_sample->f);
+        EXPECT_EQ(got_sample->pdf, want_sample->pdf);
+    }
+}
+
 // facet/bessel.h: I0(x) exp(a - x) against the library's I0 (std::cyl_bessel_i, double) below
 // 700, where exp(x) still fits a double, and against the asymptotic expansion to 1/x^8 above
 // (its remainder below 1e-21 there), at 1e-13 relative: the expansions' own error is 1.2e-14

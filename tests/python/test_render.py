@@ -250,3 +250,20 @@ def test_adaptive_sampling_from_python_and_the_scene_settings():
         facet.render(scene, adaptive_threshold=0.05, samples=(0, 8))
     with pytest.raises(ValueError, match="adaptive"):
         facet.render(scene, adaptive_threshold=0.05, denoise=True)
+
+
+def test_session_depth_pass_is_the_aov_depth_of_its_samples(scene):
+    # RenderSession(depth_pass=True).depth(): render_aovs' depth at the same spp and seed, bit
+    # for bit (render.h); None without the option; render() has no session to keep it in.
+    s = facet.RenderSession(scene, spp=4, seed=7, threads=2, depth_pass=True)
+    s.render(None)
+    depth = s.depth()
+    want = facet.render_aovs(scene, ["depth"], spp=4, seed=7)["depth"]
+    assert depth.shape == want.shape == (ts.HEIGHT, ts.WIDTH, 3)
+    np.testing.assert_array_equal(depth, want)
+    assert (depth[:, :, 0] < 1e9).any()  # something is hit (else the pass would be all misses)
+    plain = facet.RenderSession(scene, spp=4, seed=7, threads=2)
+    plain.render(None)
+    assert plain.depth() is None
+    with pytest.raises(ValueError, match=r"^depth_pass: only a RenderSession keeps"):
+        facet.render(scene, spp=2, depth_pass=True)

@@ -5,6 +5,7 @@
 // sphere_sweep, and the errors for bad input.
 #include <gtest/gtest.h>
 
+#include <array>
 #include <cmath>
 #include <random>
 #include <string>
@@ -424,6 +425,102 @@ TEST(Curves, InstancedCurvesHitAsTheirFlattenedCopy) {
         EXPECT_EQ(a.shape, 1u);  // the prototype's shape, after the instance
     }
     EXPECT_GT(hits, 20);
+}
+
+// Curves among other shapes (embree_scene.cpp traces the scene's curves in an Embree scene of
+// their own after the rest): every query answers with the nearest of all shapes. Two curves
+// shapes (a grid of vertical Catmull-Rom strands through a box, horizontal linear strands
+// across it) with a box, an exact sphere and an infinite plane; random rays whose nearest hit is
+// a strand in front of the box, the box in front of a strand, and so on. The reference is each
+// shape alone in a scene of its own: the full scene's t is the least of theirs (the same Embree
+// intersection of the same shape, 1e-6 relative for rounding of the query's order) and its shape
+// is that one; packets (intersect_packet, occluded_packet) and single rays (intersect,
+// occluded) agree, and a ray is occluded iff something lies before its tmax.
+TEST(Curves, CurvesAmongOtherShapesGiveTheNearestHit) {
+    std::string grid, grid_counts, across;
+    for (int i = 0; i < 5; ++i) {
+        for (int j = 0; j < 5; ++j) {
+            const double x = -0.8 + 0.4 * i, y = -0.8 + 0.4 * j;
+            for (double z : {-3.0, -1.5, 1.5, 3.0})
+                grid += (grid.empty() ? "" : ", ") + std::to_string(x) + ", " + std::to_string(y) +
+                        ", " + std::to_string(z);
+            grid_counts += std::string(grid_counts.empty() ? "" : ", ") + "4";
+        }
+    }
+    for (double z : {-0.9, 0.0, 0.9})
+        across += std::string(across.empty() ? "" : ", ") + "-2, 0.3, " + std::to_string(z) +
+                  ", 2, 0.3, " + std::to_string(z);
+    const std::vector<std::string> shapes = {
+        R"({"type": "box", "min": [-0.5, -0.5, -0.5], "max": [0.5, 0.5, 0.5], "material": "m"})",
+        R"({"type": "curves", "material": "m", "basis": "catmull_rom", "points": [)" + grid +
+            R"(], "counts": [)" + grid_counts + R"(], "radius": 0.06})",
+        R"({"type": "sphere", "center": [0, 0, 1.1], "radius": 0.3, "material": "m"})",
+        R"({"type": "curves", "material": "m", "basis": "linear", "points": [)" + across +
+            R"(], "counts": [2, 2, 2], "radius": 0.04})",
+        R"({"type": "plane", "point": [0, 0, -1.4], "normal": [0, 0, 1], "material": "m"})"};
+    auto scene_of = [&](const std::vector<std::size_t>& which) {
+        std::string list;
+        for (std::size_t i : which) list += (list.empty() ? "" : ", ") + shapes[i];
+        return fr::testing::scene_from(
+            R"("materials": {"m": {"model": "lambert", "reflectance": 0.5}}, "shapes": [)" + list +
+            "]," + kRest);
+    };
+    const fr::Scene all = scene_of({0, 1, 2, 3, 4});
+    std::vector<fr::Scene> alone;
+    for (std::size_t i = 0; i < shapes.size(); ++i) alone.push_back(scene_of({i}));
+    std::mt19937 rng(11);
+    std::uniform_real_distribution<float> U(-1.f, 1.f);
+    std::vector<int> nearest_count(shapes.size(), 0);
+    int blocked = 0;
+    for (int batch = 0; batch < 400; ++batch) {
+        const std::size_t n = 1 + std::size_t(batch) % fr::Scene::kPacketSize;
+        std::array<fr::Ray, fr::Scene::kPacketSize> rays;
+        fr::RayPacket packet;
+        std::array<bool, fr::Scene::kPacketSize> active, found, shadowed;
+        std::array<fr::SurfaceHit, fr::Scene::kPacketSize> hits;
+        for (std::size_t k = 0; k < n; ++k) {
+            const Vec3 o =
+                4.f * glm::normalize(Vec3(U(rng), U(rng), U(rng)) + Vec3(0.f, 0.f, 0.3f));
+            const Vec3 target(U(rng), U(rng), 1.3f * U(rng));
+            rays[k].o = o;
+            rays[k].d = glm::normalize(target - o);
+            rays[k].tmax = k % 2 == 0 ? facet::kInfinity : 6.f * (U(rng) + 1.f);
+            packet.set(k, rays[k]);
+            active[k] = true;
+        }
+        all.intersect_packet(packet, n, hits.data(), found.data(), active.data());
+        all.occluded_packet(packet, n, active.data(), shadowed.data());
+        for (std::size_t k = 0; k < n; ++k) {
+            SCOPED_TRACE("batch " + std::to_string(batch) + " lane " + std::to_string(k));
+            float best = facet::kInfinity;
+            std::size_t best_shape = shapes.size();
+            for (std::size_t i = 0; i < shapes.size(); ++i) {
+                fr::SurfaceHit h;
+                if (alone[i].intersect(rays[k], h) && h.t < best) {
+                    best = h.t;
+                    best_shape = i;
+                }
+            }
+            fr::SurfaceHit single;
+            const bool f = all.intersect(rays[k], single);
+            ASSERT_EQ(f, best_shape < shapes.size());
+            ASSERT_EQ(found[k], f);
+            EXPECT_EQ(shadowed[k], f);
+            // (A single shadow ray from o, offset along d by o's rounding error.)
+            EXPECT_EQ(all.occluded(rays[k].o, rays[k].d, rays[k].d, rays[k].tmax), f);
+            blocked += f;
+            if (!f) continue;
+            ++nearest_count[best_shape];
+            EXPECT_EQ(single.shape, std::uint32_t(best_shape));
+            EXPECT_NEAR(single.t, best, 1e-6f * best);
+            EXPECT_EQ(hits[k].shape, single.shape);
+            EXPECT_NEAR(hits[k].t, single.t, 1e-6f * single.t);
+        }
+    }
+    // Every shape is the nearest for some rays (the curves in front of the box and behind it).
+    for (std::size_t i = 0; i < shapes.size(); ++i)
+        EXPECT_GT(nearest_count[i], 20) << "shape " << i;
+    EXPECT_GT(blocked, 300);
 }
 
 // A render of hair (round and flat, each basis) gives a finite image.

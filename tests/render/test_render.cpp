@@ -2,9 +2,11 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "facet/render/aov.h"
 #include "facet/render/render.h"
 #include "facet/render/scene.h"
 #include "facet/testsupport/render_test_util.h"
@@ -352,6 +354,89 @@ TEST(RenderDeterminism, ThreadCountDoesNotChangeTheImage) {
     int differing = 0;
     for (size_t i = 0; i < s1.pixels().size(); ++i) differing += s1.pixels()[i] != s2.pixels()[i];
     EXPECT_GT(differing, int(s1.pixels().size()) / 2);
+}
+
+// The Depth pass summed while rendering (RenderOptions::depth_pass) is render_aovs' depth pass
+// at the same spp and seed: the same camera rays (sample dimension 0, the lens's), the same
+// first hits, the same fixed-point sums, so the same value in every pixel (compared bit for bit:
+// the kernel traces a packet of 8 pixels, render_aovs one of 8 samples of a pixel, and Embree
+// answers each ray alike here). The Cornell box, a field of hair strands over a quad (curves),
+// with a region; without the option, or where the pass is not available (ray visibility), the
+// session has none. Fails when the kernel skips the pass (every pixel would be the miss value).
+TEST(RenderSession, DepthPassEqualsTheAovPass) {
+    std::string strands, counts;
+    for (int i = 0; i < 40; ++i) {
+        const double x = -0.8 + 0.04 * i, y = 0.1 * std::sin(3.0 * i);
+        strands += (strands.empty() ? "" : ", ") + std::to_string(x) + ", " + std::to_string(y) +
+                   ", -1.2,  " + std::to_string(x) + ", " + std::to_string(y) + ", -1,  " +
+                   std::to_string(x + 0.1) + ", " + std::to_string(y) + ", 0.5,  " +
+                   std::to_string(x + 0.2) + ", " + std::to_string(y) + ", 1.2";
+        counts += std::string(counts.empty() ? "" : ", ") + "4";
+    }
+    const std::string hair =
+        R"("materials": {"m": {"model": "lambert", "reflectance": 0.5}},
+           "shapes": [{"type": "curves", "material": "m", "basis": "catmull_rom", "points": [)" +
+        strands + R"(], "counts": [)" + counts +
+        R"(], "radius": 0.012},
+           {"type": "quad", "vertices": [[-2, 1, -2], [2, 1, -2], [2, 1, 2], [-2, 1, 2]],
+            "material": "m"}],
+           "camera": {"position": [0, -5, 0], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 30,
+                      "width": 48, "height": 40},
+           "lights": [{"type": "environment", "radiance": 1}])";
+    struct Case {
+        const char* name;
+        fr::Scene scene;
+        std::optional<fr::Region> region;
+    };
+    Case cases[] = {{"cornell", fr::load_scene(std::string(FACET_SCENES_DIR) + "/cornell_box.json"),
+                     std::nullopt},
+                    {"hair", scene_from(hair), std::nullopt},
+                    {"hair region", scene_from(hair), fr::Region{5, 7, 41, 30}}};
+    for (Case& c : cases) {
+        SCOPED_TRACE(c.name);
+        ASSERT_TRUE(fr::depth_pass_available(c.scene));
+        fr::RenderOptions o = test_options("path", 8, 2);
+        o.seed = 5;
+        o.max_depth = 2;
+        o.region = c.region;
+        o.depth_pass = true;
+        fr::RenderSession session(c.scene, o);
+        session.render();
+        const fr::Image depth = session.depth();
+        fr::AovOptions ao;
+        ao.which = fr::kAovDepth;
+        ao.spp = 8;
+        ao.seed = 5;
+        ao.region = c.region;
+        const fr::Image want = fr::render_aovs(c.scene, ao).depth;
+        ASSERT_EQ(depth.width(), want.width());
+        ASSERT_EQ(depth.height(), want.height());
+        int differing = 0, missed = 0;
+        for (std::size_t i = 0; i < want.pixels().size(); ++i) {
+            differing += depth.pixels()[i] != want.pixels()[i];
+            missed += want.pixels()[i].x == fr::kMissDepth;
+        }
+        EXPECT_EQ(differing, 0);
+        EXPECT_LT(missed, int(want.pixels().size()) / 2);  // the scenes fill most of the view
+        fr::RenderOptions without = o;
+        without.depth_pass = false;
+        fr::RenderSession plain(c.scene, without);
+        plain.render();
+        EXPECT_EQ(plain.depth().width(), 0);
+    }
+    const fr::Scene invisible = scene_from(
+        R"("materials": {"m": {"model": "lambert", "reflectance": 0.5}},
+           "shapes": [{"type": "sphere", "center": [0, 0, 0], "radius": 1, "material": "m",
+                       "visibility": {"camera": false}}],
+           "camera": {"position": [0, -5, 0], "look_at": [0, 0, 0], "up": [0, 0, 1], "fov": 30,
+                      "width": 8, "height": 8},
+           "lights": [{"type": "environment", "radiance": 1}])");
+    EXPECT_FALSE(fr::depth_pass_available(invisible));
+    fr::RenderOptions o = test_options("path", 2, 1);
+    o.depth_pass = true;
+    fr::RenderSession session(invisible, o);
+    session.render();
+    EXPECT_EQ(session.depth().width(), 0);
 }
 
 // Specialised kernels compute the same estimator with fewer branches and the same sample

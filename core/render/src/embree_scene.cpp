@@ -39,6 +39,14 @@ using ScenePtr = std::unique_ptr<RTCSceneTy, SceneDeleter>;
 struct EmbreeBackend {
     DevicePtr device;
     ScenePtr scene;
+    // The scene's own curves (not a prototype's), in an Embree scene of their own traced after
+    // `scene` (null without curves): built without RTC_SCENE_FLAG_ROBUST, which the triangles'
+    // watertightness needs (no ray may slip between two triangles sharing an edge) and curves
+    // do not (no two strands share a surface), and which costs their traversal (docs/curves.md,
+    // "What a hair sample costs"). The main scene then holds no filter function either (unless
+    // a cut-out mesh does), so its triangles take Embree's filterless path. The curves' geometry
+    // ids follow the main scene's, so that one geom_to_mesh maps both.
+    ScenePtr curve_scene;
     std::vector<std::int32_t> geom_to_mesh;  // Embree geomID -> index in Impl::meshes (-1: user)
     unsigned analytic_geom = RTC_INVALID_GEOMETRY_ID;
     std::mutex error_mutex;
@@ -437,6 +445,40 @@ void copy_times(RTCRay8& r, const RayPacket& rays) {
     for (std::size_t k = 0; k < 8; ++k) r.time[k] = rays.time[k];
 }
 
+// The queries of a scene with curves (EmbreeBackend::curve_scene): the main scene, then the
+// curves' scene within the nearest hit so far (which a nearer curve replaces), or for the lanes
+// nothing blocked yet. Out of line, chosen by one test before the query: scenes without curves
+// trace as before.
+[[gnu::noinline]] void intersect1_with_curves(const EmbreeBackend& be, RTCIntersectContext& ctx,
+                                              RTCRayHit& rh) {
+    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    rtcIntersect1(be.curve_scene.get(), &ctx, &rh);
+}
+
+[[gnu::noinline]] void intersect8_with_curves(const int (&valid)[8], const EmbreeBackend& be,
+                                              RTCIntersectContext& ctx, RTCRayHit8& rh) {
+    rtcIntersect8(valid, be.scene.get(), &ctx, &rh);
+    rtcIntersect8(valid, be.curve_scene.get(), &ctx, &rh);
+}
+
+[[gnu::noinline]] void occluded1_with_curves(const EmbreeBackend& be, RTCIntersectContext& ctx,
+                                             RTCRay& r) {
+    rtcOccluded1(be.scene.get(), &ctx, &r);
+    if (!(r.tfar < 0.f)) rtcOccluded1(be.curve_scene.get(), &ctx, &r);
+}
+
+[[gnu::noinline]] void occluded8_with_curves(const int (&valid)[8], const EmbreeBackend& be,
+                                             RTCIntersectContext& ctx, RTCRay8& r) {
+    rtcOccluded8(valid, be.scene.get(), &ctx, &r);
+    alignas(32) int open[8];
+    bool any = false;
+    for (std::size_t k = 0; k < 8; ++k) {
+        open[k] = valid[k] && !(r.tfar[k] < 0.f) ? -1 : 0;
+        any |= open[k] != 0;
+    }
+    if (any) rtcOccluded8(open, be.curve_scene.get(), &ctx, &r);
+}
+
 // The closest-hit packet of `rays`: the rays as they are, and a hit record that says "no hit
 // yet" (geomID and instID invalid), which is all Embree needs in it.
 void init_rayhit8(RTCRayHit8& rh, const RayPacket& rays) {
@@ -564,10 +606,12 @@ void attach_mesh(RTCDevice device, RTCScene scene, std::vector<MeshGeom>& meshes
 // Attaches curves `c` of `curves` to `scene` as Embree curve geometry (its points and radii,
 // its segments' first control points; a round linear strand's segment flags, so that the
 // spheres between its segments are not intersected), with the self-hit filter
-// (curve_filter); `geom_to_mesh` maps the geometry id to -2 - c. Embree holds the arrays then,
+// (curve_filter); `geom_to_mesh` maps the geometry id to -2 - c. The id is `id` when given
+// (EmbreeBackend::curve_scene), Embree's next free one otherwise. Embree holds the arrays then,
 // and hits read its copies.
 void attach_curves(RTCDevice device, RTCScene scene, std::vector<CurveGeom>& curves, std::size_t c,
-                   std::vector<std::int32_t>& geom_to_mesh, const std::string& name) {
+                   std::vector<std::int32_t>& geom_to_mesh, const std::string& name,
+                   unsigned id = RTC_INVALID_GEOMETRY_ID) {
     CurveGeom& cg = curves[c];
     using B = CurveGeom::Basis;
     RTCGeometryType type = RTC_GEOMETRY_TYPE_ROUND_LINEAR_CURVE;
@@ -633,7 +677,10 @@ void attach_curves(RTCDevice device, RTCScene scene, std::vector<CurveGeom>& cur
     rtcSetGeometryIntersectFilterFunction(g, curve_filter);
     rtcSetGeometryOccludedFilterFunction(g, curve_filter);
     rtcCommitGeometry(g);
-    const unsigned id = rtcAttachGeometry(scene, g);
+    if (id == RTC_INVALID_GEOMETRY_ID)
+        id = rtcAttachGeometry(scene, g);
+    else
+        rtcAttachGeometryByID(scene, g, id);
     rtcReleaseGeometry(g);
     if (geom_to_mesh.size() <= id) geom_to_mesh.resize(id + 1, -1);
     geom_to_mesh[id] = -2 - std::int32_t(c);
@@ -665,8 +712,6 @@ void Scene::Impl::build(const std::string& name) {
 
     for (std::size_t m = 0; m < meshes.size(); ++m)
         attach_mesh(be.device.get(), be.scene.get(), meshes, m, be.geom_to_mesh, name);
-    for (std::size_t c = 0; c < curves.size(); ++c)
-        attach_curves(be.device.get(), be.scene.get(), curves, c, be.geom_to_mesh, name);
     for (AnalyticPrim& prim : prims) prim.err_floor = analytic_error_floor(prim);
     if (!prims.empty()) {
         RTCGeometry g = rtcNewGeometry(be.device.get(), RTC_GEOMETRY_TYPE_USER);
@@ -683,6 +728,16 @@ void Scene::Impl::build(const std::string& name) {
         }
     }
     build_instances(name);
+    if (!curves.empty()) {
+        // Ids after every one of the main scene's (geom_to_mesh covers them all).
+        be.curve_scene.reset(rtcNewScene(be.device.get()));
+        rtcSetSceneBuildQuality(be.curve_scene.get(), RTC_BUILD_QUALITY_HIGH);
+        const unsigned first = unsigned(be.geom_to_mesh.size());
+        for (std::size_t c = 0; c < curves.size(); ++c)
+            attach_curves(be.device.get(), be.curve_scene.get(), curves, c, be.geom_to_mesh, name,
+                          first + unsigned(c));
+        rtcCommitScene(be.curve_scene.get());
+    }
     std::size_t record_bytes = 0;
     auto mesh_extras = [](const MeshGeom& mg) {
         return mg.part >= 0 || !mg.tri_uvs.empty() || mg.spherical || !mg.tri_colors.empty();
@@ -1202,7 +1257,10 @@ bool Scene::intersect(const Ray& ray, SurfaceHit& hit) const {
     rtcInitIntersectContext(&ctx);
     RTCRayHit rh;
     init_rayhit(rh, ray);
-    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    if (be.curve_scene) [[unlikely]]
+        intersect1_with_curves(be, ctx, rh);
+    else
+        rtcIntersect1(be.scene.get(), &ctx, &rh);
     return be.surface_extras
                ? complete_hit<true>(ray, 0.f, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
@@ -1219,7 +1277,10 @@ bool Scene::intersect(const Ray& ray, float time, SurfaceHit& hit) const {
     RTCRayHit rh;
     init_rayhit(rh, ray);
     rh.ray.time = time;
-    rtcIntersect1(be.scene.get(), &ctx, &rh);
+    if (be.curve_scene) [[unlikely]]
+        intersect1_with_curves(be, ctx, rh);
+    else
+        rtcIntersect1(be.scene.get(), &ctx, &rh);
     return be.surface_extras
                ? complete_hit<true>(ray, time, rh.hit.instID[0], rh.hit.geomID, rh.hit.primID,
                                     rh.hit.u, rh.hit.v, rh.ray.tfar, hit)
@@ -1329,7 +1390,10 @@ void Scene::intersect_packet(const RayPacket& rays, std::size_t n, SurfaceHit* h
     init_rayhit8(rh, rays);
     if (impl.backend->has_motion) [[unlikely]]
         copy_times(rh.ray, rays);
-    rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
+    if (impl.backend->curve_scene) [[unlikely]]
+        intersect8_with_curves(valid, *impl.backend, ctx, rh);
+    else
+        rtcIntersect8(valid, impl.backend->scene.get(), &ctx, &rh);
     // The hit records read per-triangle data that Embree's traversal did not touch (its leaves
     // hold their own vertex copies): on a large mesh these are cache misses. Ask for all lanes'
     // lines first so that the misses overlap instead of queueing one lane at a time.
@@ -1388,7 +1452,10 @@ void Scene::occluded_packet(const RayPacket& rays, std::size_t n, const bool* ac
     copy_rays(r, rays);
     if (impl.backend->has_motion) [[unlikely]]
         copy_times(r, rays);
-    rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
+    if (impl.backend->curve_scene) [[unlikely]]
+        occluded8_with_curves(valid, *impl.backend, ctx, r);
+    else
+        rtcOccluded8(valid, impl.backend->scene.get(), &ctx, &r);
     for (std::size_t k = 0; k < n; ++k)
         if (trace[k]) blocked[k] = r.tfar[k] < 0.f;  // Embree sets tfar = -inf on a hit
 }
@@ -1417,13 +1484,17 @@ bool Scene::occluded_ray_at(const Ray& r, float time) const {
     RTCRay ray;
     init_ray(ray, r, r.tmax);
     ray.time = time;
-    rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
+    if (impl.backend->curve_scene) [[unlikely]]
+        occluded1_with_curves(*impl.backend, ctx, ray);
+    else
+        rtcOccluded1(impl.backend->scene.get(), &ctx, &ray);
     return ray.tfar < 0.f;  // Embree sets tfar = -inf on a hit
 }
 
 std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) const {
     if (!m_impl->backend) return 0;
     RTCScene scene = m_impl->backend->scene.get();
+    RTCScene curves = m_impl->backend->curve_scene.get();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     std::uint64_t hits = 0;
@@ -1436,10 +1507,14 @@ std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) co
         RTCRayHit8 rh;
         init_rayhit8(rh, packet);
         if (shadow) {
-            rtcOccluded8(valid, scene, &ctx, &rh.ray);
+            if (curves)
+                occluded8_with_curves(valid, *m_impl->backend, ctx, rh.ray);
+            else
+                rtcOccluded8(valid, scene, &ctx, &rh.ray);
             for (std::size_t k = 0; k < kPacketSize; ++k) hits += valid[k] && rh.ray.tfar[k] < 0.f;
         } else {
             rtcIntersect8(valid, scene, &ctx, &rh);
+            if (curves) rtcIntersect8(valid, curves, &ctx, &rh);
             for (std::size_t k = 0; k < kPacketSize; ++k)
                 hits += valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
         }
@@ -1450,6 +1525,7 @@ std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) co
 std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
     if (!m_impl->backend) return 0;
     RTCScene scene = m_impl->backend->scene.get();
+    RTCScene curves = m_impl->backend->curve_scene.get();
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
     std::uint64_t hits = 0;
@@ -1458,6 +1534,7 @@ std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
             RTCRay ray;
             init_ray(ray, r, r.tmax);
             rtcOccluded1(scene, &ctx, &ray);
+            if (curves && !(ray.tfar < 0.f)) rtcOccluded1(curves, &ctx, &ray);
             hits += ray.tfar < 0.f;
         }
     } else {
@@ -1465,6 +1542,7 @@ std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
             RTCRayHit rh;
             init_rayhit(rh, r);
             rtcIntersect1(scene, &ctx, &rh);
+            if (curves) rtcIntersect1(curves, &ctx, &rh);
             hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         }
     }

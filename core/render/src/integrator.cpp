@@ -1575,6 +1575,19 @@ inline void add_catcher_sums(FixedSum* px, const Rgb* L, const CatcherSample* cs
 
 // ---- tile loop ----
 
+// The Depth pass of a camera packet (TileJob::depth): lanes [k0, k1) that hit add their first
+// hit's view-axis depth (aov.h's, as render_aovs computes it) to `depth` and count to `count`
+// (the film pixels of lanes k0...). Out of line: renders without the pass skip it with one test.
+[[gnu::noinline]] void add_camera_depth(const Camera& cam, const SurfaceHit* hits,
+                                        const bool* found, std::size_t k0, std::size_t k1,
+                                        FixedSum* depth, std::uint32_t* count) {
+    for (std::size_t k = k0; k < k1; ++k) {
+        if (!found[k]) continue;
+        depth[k - k0] += to_fixed(glm::dot(hits[k].p - cam.position, cam.forward));
+        ++count[k - k0];
+    }
+}
+
 template <IntegratorKind I, std::uint32_t F>
 void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelCounters& c) {
     const Camera& cam = scene.camera();
@@ -1685,6 +1698,12 @@ void render_tile(const Scene& scene, const TileJob& job, FixedRgb* sums, KernelC
                 scene.intersect_packet(rays, n, hits.data(), found.data());
                 c.camera_rays += n;
                 c.rays += n;
+                if constexpr ((F & kFeatMotion) == 0) {
+                    if (job.depth) [[unlikely]]
+                        add_camera_depth(cam, hits.data(), found.data(), k0, k1,
+                                         job.depth + (film_px - sums),
+                                         job.depth_hits + (film_px - sums));
+                }
                 if constexpr ((F & kFeatMedia) != 0) {
                     for (std::size_t k = 0; k < n; ++k) {
                         Sampler s(ss[k], index, 1u);

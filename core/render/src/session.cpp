@@ -15,6 +15,8 @@
 
 #include "facet/render/render.h"
 
+#include "facet/render/aov.h"
+
 namespace facet::render {
 
 namespace {
@@ -184,6 +186,10 @@ struct RenderSession::State {
     Film film;
     // Adaptive sampling: each pixel's sum at its tile's last checkpoint (film layout).
     std::vector<FixedRgb> checkpoint_sums;
+    // The Depth pass's sums and counts (RenderOptions::depth_pass, TileJob::depth; film
+    // layout), empty when not taken.
+    std::vector<FixedSum> depth_sums;
+    std::vector<std::uint32_t> depth_hits;
     RenderStats stats;
     int target = 0;  // sample end the session renders toward
     // Read before every tile: kept off the cache lines the render loop writes.
@@ -259,6 +265,10 @@ struct RenderSession::State {
         proto.volume_sampling = options.volume_sampling;
         proto.alpha = film.alpha_sums();
         proto.catcher = film.catcher_sums();
+        if (!depth_sums.empty()) {
+            proto.depth = depth_sums.data();
+            proto.depth_hits = depth_hits.data();
+        }
         arena.execute([&] {
             tbb::parallel_for(
                 tbb::blocked_range<std::size_t>(0, tiles.size(), 1),
@@ -327,6 +337,13 @@ RenderSession::RenderSession(const Scene& scene, const RenderOptions& options)
         }
     }
     s.film = Film(reg, scene.settings().film_transparent, scene.features().has_shadow_catcher);
+    // (A kernel with motion blur, e.g. the general one when forced, does not sum the pass.)
+    if (options.depth_pass && depth_pass_available(scene) &&
+        (s.choice.features & kFeatMotion) == 0) {
+        const std::size_t pixels = std::size_t(reg.width()) * std::size_t(reg.height());
+        s.depth_sums.assign(pixels, FixedSum(0));
+        s.depth_hits.assign(pixels, 0u);
+    }
     if (s.adaptive()) s.checkpoint_sums.assign(s.film.sum_values().size(), FixedRgb{});
     s.target = s.rs.sample_end;
     s.stats.kernel = s.choice;
@@ -457,6 +474,20 @@ Image RenderSession::image() const {
 Image RenderSession::shadow_catcher_pass() const {
     m->sync_counts();
     return m->film.resolve_shadow_catcher_pass();
+}
+Image RenderSession::depth() const {
+    const State& s = *m;
+    if (s.depth_sums.empty()) return Image();
+    Image img(s.rs.region.width(), s.rs.region.height());
+    for (std::size_t i = 0; i < s.depth_sums.size(); ++i) {
+        const std::uint32_t n = s.depth_hits[i];
+        const float z = n ? float(from_fixed(s.depth_sums[i]) / double(n)) : kMissDepth;
+        img.pixels()[i] = Rgb(z);
+    }
+    return img;
+}
+bool depth_pass_available(const Scene& scene) {
+    return !scene.features().has_motion && !scene.features().has_ray_visibility;
 }
 const Film& RenderSession::film() const {
     m->sync_counts();

@@ -30,13 +30,15 @@
 //    (facet/bessel.h, 1.2e-14 relative; Cycles' float series stops after ten terms, 0.3% low at
 //    x = cos theta_i cos theta_o / v = 10 and 2% at 12, and its asymptote above 12 is 0.6% low
 //    there), and the exponent of M_p as (cos(theta_i + theta_o) - 1) / v without cancellation.
-//    What depends on wo alone (Setup) is computed once per eval or sample_f, the lobes' tilts by
-//    the angle-addition formulas from the sine and cosine of alpha, and the density of a tilted
-//    lobe reuses the lobe's own M_p where its preimage is theta_i + shift.
+//    What depends on wo alone (Setup) is computed once per wo (each thread keeps the last one
+//    for the next eval or sample_f with the same wo and parameters: setup_of), the lobes' tilts
+//    by the angle-addition formulas from the sine and cosine of alpha, and the density of a
+//    tilted lobe reuses the lobe's own M_p where its preimage is theta_i + shift.
 // Conventions: facet/inline_bxdf.h; flagged Transmission (wi on either side: a fibre scatters
 // over the whole sphere), so the frame is the shape's (facet/dielectric.h); kReadsTangent.
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "facet/bessel.h"
 #include "facet/fresnel.h"
@@ -96,14 +98,15 @@ class PrincipledHair {
     }
 
     BSDFEval eval(const Vec3& wo, const Vec3& wi) const {
-        Setup g;
-        if (!setup(wo, g)) return {};
-        return eval(g, wi);
+        const Setup* g = setup_of(wo);
+        if (!g) return {};
+        return eval(*g, wi);
     }
 
     std::optional<BSDFSample> sample_f(const Vec3& wo, float uc, Vec2 u) const {
-        Setup g;
-        if (!setup(wo, g)) return std::nullopt;
+        const Setup* pg = setup_of(wo);
+        if (!pg) return std::nullopt;
+        const Setup& g = *pg;
         // The lobe, and uc rescaled within its interval for phi.
         int p = 0;
         double rest = uc;
@@ -151,6 +154,36 @@ class PrincipledHair {
         DVec3 ap[4];
         double w[4];  // lobe probabilities (luminance of A_p, normalised)
     };
+
+    // What setup() reads: wo and the parameters it depends on, compared bit for bit.
+    struct SetupKey {
+        float wo[3], sigma[3], eta, sin_alpha, cos_alpha;
+    };
+    static_assert(sizeof(Rgb) == 3 * sizeof(float) && sizeof(SetupKey) == 9 * sizeof(float));
+
+    // The setup for wo: the last one this thread computed when its key matches (a path vertex
+    // evaluates its light sample, then samples its next direction, both from the same wo), else
+    // computed now. Null when wo has no frame. The same values as computing it each time.
+    const Setup* setup_of(const Vec3& wo) const {
+        struct Cache {
+            SetupKey key;
+            Setup g;
+            bool ok = false, valid = false;
+        };
+        thread_local Cache cache;
+        SetupKey key;
+        std::memcpy(key.wo, &wo, sizeof key.wo);
+        std::memcpy(key.sigma, &m_sigma, sizeof key.sigma);
+        key.eta = m_eta;
+        key.sin_alpha = m_sin_alpha;
+        key.cos_alpha = m_cos_alpha;
+        if (!cache.valid || std::memcmp(&key, &cache.key, sizeof key) != 0) {
+            cache.key = key;
+            cache.ok = setup(wo, cache.g);
+            cache.valid = true;
+        }
+        return cache.ok ? &cache.g : nullptr;
+    }
 
     bool setup(const Vec3& wo, Setup& g) const {
         const double r2 = double(wo.y) * wo.y + double(wo.z) * wo.z;

@@ -258,6 +258,11 @@ struct TileJob {
     // The film's shadow-catcher sums (film.h, CatcherSums; same pixel layout, kCatcherSums a
     // pixel), written by the alpha media kernel in a scene with a catcher; null otherwise.
     FixedSum* catcher = nullptr;
+    // The Depth pass's sums (RenderOptions::depth_pass): per film pixel (the layout of `sums`)
+    // the fixed-point sum of the camera samples' first-hit view-axis depths and their count,
+    // written by kernels without motion blur; null otherwise.
+    FixedSum* depth = nullptr;
+    std::uint32_t* depth_hits = nullptr;
 };
 using TileKernel = void (*)(const Scene& scene, const TileJob& job, FixedRgb* sums,
                             KernelCounters& counters);

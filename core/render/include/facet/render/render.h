@@ -107,6 +107,12 @@ struct RenderOptions {
     // such a render, the matte and its alpha (film.h), instead of the approximation. The pass
     // itself is shadow_catcher_pass(), with or without this.
     bool shadow_catcher_pass = false;
+    // The Depth pass of the render's own camera samples (depth()): each pixel's view-axis depth
+    // of its camera rays' first hits, as aov.h's kAovDepth (the mean over the samples that hit,
+    // kMissDepth where none does), summed while rendering instead of tracing camera rays again.
+    // Taken where those first hits are what camera rays see (depth_pass_available()): not
+    // under motion blur or ray visibility (render_aovs then).
+    bool depth_pass = false;
 };
 
 struct RenderStats {
@@ -171,6 +177,10 @@ class RenderSession {
     Image image() const;
     // The Shadow Catcher pass over the region (film.h; all 1 in a scene without a catcher).
     Image shadow_catcher_pass() const;
+    // The Depth pass over the region (RenderOptions::depth_pass; one channel repeated in RGB, as
+    // render_aovs' depth): an empty image when the options did not ask for it or it is not
+    // available (depth_pass_available()).
+    Image depth() const;
     const Film& film() const;
     // The part this session has rendered (requires every tile to be complete: throws
     // std::logic_error after a cancellation that left some tile behind; std::invalid_argument
@@ -197,5 +207,10 @@ const char* light_selection_name(LightSelection selection);
 
 std::uint64_t part_fingerprint(const Scene& scene, const ResolvedSettings& settings,
                                const RenderOptions& options);
+
+// Whether a render of this scene can sum the Depth pass of its camera samples
+// (RenderOptions::depth_pass): its camera rays' first hits are the surfaces they see (no ray
+// visibility) at the still camera (no motion blur).
+bool depth_pass_available(const Scene& scene);
 
 }  // namespace facet::render
