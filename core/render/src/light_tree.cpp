@@ -48,32 +48,36 @@ LightTree::NodeBounds LightTree::NodeBounds::of(const LightBounds& b) {
     return nb;
 }
 
-float LightTree::NodeBounds::importance(const Vec3& p, const Vec3& n) const {
-    if (!(phi > 0.f)) return 0.f;
-    const Vec3 dv = p - centre;
+namespace {
+
+// NodeBounds::importance, inlined into the traversals (each evaluates two nodes per level).
+[[gnu::always_inline]] inline float node_importance(const LightTree::NodeBounds& b, const Vec3& p,
+                                                    const Vec3& n) {
+    if (!(b.phi > 0.f)) return 0.f;
+    const Vec3 dv = p - b.centre;
     const float dist2 = glm::dot(dv, dv);
-    const float d2 = std::max(dist2, r2);
+    const float d2 = std::max(dist2, b.r2);
     const bool normal = n != Vec3(0.f);
-    if (omni && !normal) {
-        const float importance = phi / d2;
+    if (b.omni && !normal) {
+        const float importance = b.phi / d2;
         return std::isfinite(importance) && importance > 0.f ? importance : 0.f;
     }
     // theta_b: the cone the box (its bounding sphere) subtends from p; all of it from inside.
-    const float cos_b = dist2 > r2 ? safe_sqrt_f(1.f - r2 / dist2) : -1.f;
+    const float cos_b = dist2 > b.r2 ? safe_sqrt_f(1.f - b.r2 / dist2) : -1.f;
     const float sin_b = safe_sqrt_f(1.f - cos_b * cos_b);
     const Vec3 wi = dist2 > 0.f ? dv / std::sqrt(dist2) : Vec3(0.f, 0.f, 1.f);
     float cos_x = 1.f;
-    if (!omni) {
+    if (!b.omni) {
         // theta_w: from the cone's axis to the direction toward p.
-        float cos_w = glm::dot(w, wi);
-        if (two_sided) cos_w = std::fabs(cos_w);
+        float cos_w = glm::dot(b.w, wi);
+        if (b.two_sided) cos_w = std::fabs(cos_w);
         const float sin_w = safe_sqrt_f(1.f - cos_w * cos_w);
         float cos_wo, sin_wo, sin_x;
-        cos_sin_reduced(cos_w, sin_w, cos_o, sin_o, cos_wo, sin_wo);  // theta_w - theta_o
-        cos_sin_reduced(cos_wo, sin_wo, cos_b, sin_b, cos_x, sin_x);  // ... - theta_b
-        if (cos_x < cos_e || !(cos_x >= -1.f)) return 0.f;            // beyond theta_o + theta_e
+        cos_sin_reduced(cos_w, sin_w, b.cos_o, b.sin_o, cos_wo, sin_wo);  // theta_w - theta_o
+        cos_sin_reduced(cos_wo, sin_wo, cos_b, sin_b, cos_x, sin_x);      // ... - theta_b
+        if (cos_x < b.cos_e || !(cos_x >= -1.f)) return 0.f;  // beyond theta_o + theta_e
     }
-    float importance = phi * cos_x / d2;
+    float importance = b.phi * cos_x / d2;
     if (normal) {
         // theta_i: from the normal at p to the direction toward the box, less theta_b.
         const float cos_i = std::fabs(glm::dot(wi, n));
@@ -83,6 +87,12 @@ float LightTree::NodeBounds::importance(const Vec3& p, const Vec3& n) const {
         importance *= std::max(0.f, cos_ip);
     }
     return std::isfinite(importance) && importance > 0.f ? importance : 0.f;
+}
+
+}  // namespace
+
+float LightTree::NodeBounds::importance(const Vec3& p, const Vec3& n) const {
+    return node_importance(*this, p, n);
 }
 
 float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
@@ -212,8 +222,8 @@ std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u, 
     bool positive = false;
     while (!m_nodes[node].leaf) {
         const std::uint32_t c0 = node + 1, c1 = m_nodes[node].child_or_light;
-        const float i0 = m_nodes[c0].bounds.importance(p, n);
-        const float i1 = m_nodes[c1].bounds.importance(p, n);
+        const float i0 = node_importance(m_nodes[c0].bounds, p, n);
+        const float i1 = node_importance(m_nodes[c1].bounds, p, n);
         if (!(i0 + i1 > 0.f)) return 0;
         const float p0 = i0 / (i0 + i1);
         if (u < p0) {
@@ -228,7 +238,7 @@ std::uint32_t LightTree::sample_reusing(const Vec3& p, const Vec3& n, float& u, 
             positive = i1 > 0.f;
         }
     }
-    if (!positive && !(m_nodes[node].bounds.importance(p, n) > 0.f)) return 0;
+    if (!positive && !(node_importance(m_nodes[node].bounds, p, n) > 0.f)) return 0;
     pmf = prob;
     return m_nodes[node].child_or_light;
 }
@@ -244,8 +254,8 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, std::uint32_t light) const {
     bool positive = false;  // as in sample_reusing, but this path may take a child of 0
     for (int k = 0; k < depth; ++k) {
         const std::uint32_t c0 = node + 1, c1 = m_nodes[node].child_or_light;
-        const float i0 = m_nodes[c0].bounds.importance(p, n);
-        const float i1 = m_nodes[c1].bounds.importance(p, n);
+        const float i0 = node_importance(m_nodes[c0].bounds, p, n);
+        const float i1 = node_importance(m_nodes[c1].bounds, p, n);
         if (!(i0 + i1 > 0.f)) return 0.f;
         const float p0 = i0 / (i0 + i1);
         if ((m_trail[light] >> k) & 1u) {
@@ -258,7 +268,7 @@ float LightTree::pmf(const Vec3& p, const Vec3& n, std::uint32_t light) const {
             positive = i0 > 0.f;
         }
     }
-    if (!positive && !(m_nodes[node].bounds.importance(p, n) > 0.f)) return 0.f;
+    if (!positive && !(node_importance(m_nodes[node].bounds, p, n) > 0.f)) return 0.f;
     return prob;
 }
 
