@@ -84,7 +84,7 @@ void add_sample(const Scene& scene, const Ray& ray, const SurfaceHit* first, Sam
     ++sums.hits;
     const Camera& cam = scene.camera();
     if (which & kAovDepth) {
-        const float z = glm::dot(hit.p - cam.position, cam.forward);
+        const float z = view_axis_depth(cam, hit.p);
         sums.depth += to_fixed(z);
         if (variances) {
             const double zc = std::min(double(z), kMaxSquaredDepth);
@@ -221,8 +221,7 @@ Aovs render_aovs(const Scene& scene, const AovOptions& o) {
                 }
                 if (o.which & kAovEmission) out.emission.at(x, y) = mean(sums.emission, n);
                 if (o.which & kAovDepth) {
-                    out.depth.at(x, y) = Rgb(
-                        sums.hits ? float(from_fixed(sums.depth) / double(sums.hits)) : kMissDepth);
+                    out.depth.at(x, y) = Rgb(resolved_depth(sums.depth, sums.hits));
                     if (variances)
                         out.depth_variance.at(x, y) =
                             Rgb(mean_variance(sums.depth, sums.depth_sq, sums.hits));

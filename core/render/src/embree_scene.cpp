@@ -1513,8 +1513,10 @@ std::uint64_t Scene::trace_raw_packet(std::span<const Ray> rays, bool shadow) co
                 rtcOccluded8(valid, scene, &ctx, &rh.ray);
             for (std::size_t k = 0; k < kPacketSize; ++k) hits += valid[k] && rh.ray.tfar[k] < 0.f;
         } else {
-            rtcIntersect8(valid, scene, &ctx, &rh);
-            if (curves) rtcIntersect8(valid, curves, &ctx, &rh);
+            if (curves)
+                intersect8_with_curves(valid, *m_impl->backend, ctx, rh);
+            else
+                rtcIntersect8(valid, scene, &ctx, &rh);
             for (std::size_t k = 0; k < kPacketSize; ++k)
                 hits += valid[k] && rh.hit.geomID[k] != RTC_INVALID_GEOMETRY_ID;
         }
@@ -1533,16 +1535,20 @@ std::uint64_t Scene::trace_raw(std::span<const Ray> rays, bool shadow) const {
         for (const Ray& r : rays) {
             RTCRay ray;
             init_ray(ray, r, r.tmax);
-            rtcOccluded1(scene, &ctx, &ray);
-            if (curves && !(ray.tfar < 0.f)) rtcOccluded1(curves, &ctx, &ray);
+            if (curves)
+                occluded1_with_curves(*m_impl->backend, ctx, ray);
+            else
+                rtcOccluded1(scene, &ctx, &ray);
             hits += ray.tfar < 0.f;
         }
     } else {
         for (const Ray& r : rays) {
             RTCRayHit rh;
             init_rayhit(rh, r);
-            rtcIntersect1(scene, &ctx, &rh);
-            if (curves) rtcIntersect1(curves, &ctx, &rh);
+            if (curves)
+                intersect1_with_curves(*m_impl->backend, ctx, rh);
+            else
+                rtcIntersect1(scene, &ctx, &rh);
             hits += rh.hit.geomID != RTC_INVALID_GEOMETRY_ID;
         }
     }

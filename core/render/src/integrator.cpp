@@ -15,6 +15,7 @@
 
 #include "facet/frame.h"
 #include "facet/registry.h"
+#include "facet/render/aov.h"
 #include "facet/render/sampler.h"
 #include "facet/sampling.h"
 #include "light_path.h"
@@ -1583,7 +1584,7 @@ inline void add_catcher_sums(FixedSum* px, const Rgb* L, const CatcherSample* cs
                                         FixedSum* depth, std::uint32_t* count) {
     for (std::size_t k = k0; k < k1; ++k) {
         if (!found[k]) continue;
-        depth[k - k0] += to_fixed(glm::dot(hits[k].p - cam.position, cam.forward));
+        depth[k - k0] += to_fixed(view_axis_depth(cam, hits[k].p));
         ++count[k - k0];
     }
 }

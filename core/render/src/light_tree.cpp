@@ -50,7 +50,7 @@ LightTree::NodeBounds LightTree::NodeBounds::of(const LightBounds& b) {
 
 namespace {
 
-// NodeBounds::importance, inlined into the traversals (each evaluates two nodes per level).
+// light_importance of a node, inlined into the traversals (each evaluates two nodes per level).
 [[gnu::always_inline]] inline float node_importance(const LightTree::NodeBounds& b, const Vec3& p,
                                                     const Vec3& n) {
     if (!(b.phi > 0.f)) return 0.f;
@@ -91,12 +91,8 @@ namespace {
 
 }  // namespace
 
-float LightTree::NodeBounds::importance(const Vec3& p, const Vec3& n) const {
-    return node_importance(*this, p, n);
-}
-
 float light_importance(const LightBounds& b, const Vec3& p, const Vec3& n) {
-    return LightTree::NodeBounds::of(b).importance(p, n);
+    return node_importance(LightTree::NodeBounds::of(b), p, n);
 }
 
 LightBounds union_bounds(const LightBounds& a, const LightBounds& b) {

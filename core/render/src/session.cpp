@@ -479,11 +479,8 @@ Image RenderSession::depth() const {
     const State& s = *m;
     if (s.depth_sums.empty()) return Image();
     Image img(s.rs.region.width(), s.rs.region.height());
-    for (std::size_t i = 0; i < s.depth_sums.size(); ++i) {
-        const std::uint32_t n = s.depth_hits[i];
-        const float z = n ? float(from_fixed(s.depth_sums[i]) / double(n)) : kMissDepth;
-        img.pixels()[i] = Rgb(z);
-    }
+    for (std::size_t i = 0; i < s.depth_sums.size(); ++i)
+        img.pixels()[i] = Rgb(resolved_depth(s.depth_sums[i], s.depth_hits[i]));
     return img;
 }
 bool depth_pass_available(const Scene& scene) {

@@ -51,6 +51,16 @@ namespace facet::render {
 
 inline constexpr float kMissDepth = 1e10f;
 
+// The depth of a point p seen by the camera (conventions: along its view axis), and a pixel's
+// Depth value from the fixed-point sum of its hits' depths and their count (the mean;
+// kMissDepth where none hit). Shared by render_aovs and RenderSession::depth.
+inline float view_axis_depth(const Camera& cam, const Vec3& p) {
+    return glm::dot(p - cam.position, cam.forward);
+}
+inline float resolved_depth(FixedSum sum, std::uint32_t hits) {
+    return hits ? float(from_fixed(sum) / double(hits)) : kMissDepth;
+}
+
 enum AovBits : std::uint32_t {
     kAovAlbedo = 1u << 0,
     kAovNormal = 1u << 1,

@@ -80,7 +80,6 @@ class LightTree {
         float cos_o = -1.f, sin_o = 0.f, cos_e = 0.f, phi = 0.f;
         bool two_sided = false, omni = true;
         static NodeBounds of(const LightBounds& b);
-        float importance(const Vec3& p, const Vec3& n) const;  // light_importance
     };
 
   private:
